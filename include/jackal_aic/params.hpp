@@ -1,0 +1,95 @@
+#pragma once
+/**
+ * \file params.hpp
+ * \brief Parameters of the active inference controller, with validation.
+ *
+ * One struct for the whole controller (rates, gains, precisions, robot geometry,
+ * limits). Defaults are the thesis's "improved" controller (table 5-8: belief loop
+ * 1 kHz, action loop 50 Hz, tau = 0.001, k_mu = 0.01, k_a = 8, p = 3) with the
+ * variances of table C-1. ROS-free.
+ */
+
+#include <string>
+#include <vector>
+
+#include "jackal_aic/types.hpp"
+
+namespace jackal_aic
+{
+/// Integration scheme for the belief (and action) updates (spec section 5).
+enum class Integrator
+{
+  kEuler,  ///< forward Euler, as in the thesis (eq. 3-15, 3-16)
+  kExact   ///< zero-order-hold exact discretization of the linear belief dynamics (Phi = exp(M h))
+};
+
+/// Parse "euler" / "exact" (case-sensitive). \return false if the name is unknown (out untouched).
+bool integratorFromString(const std::string& name, Integrator* out);
+/// "euler" or "exact".
+std::string toString(Integrator integrator);
+
+/// One violated rule of AicParams::validate().
+struct ParamViolation
+{
+  std::string name;     ///< parameter name as in the YAML file, e.g. "tau" or "var_mu[2]"
+  std::string value;    ///< offending value, printed
+  std::string allowed;  ///< allowed range, e.g. "> 0 and finite"
+  /// "tau = -1 (allowed: > 0 and finite)".
+  std::string toString() const;
+};
+
+/**
+ * \brief Parameters of ActiveInferenceController (thesis tables C-1 and 5-8).
+ *
+ * Variances: `var_mu` and `var_y` hold sigma^2 per generalized order; precisions are
+ * Pi = 1 / sigma^2 (spec section 4, following Pezzato's var_q / var_mu). Either
+ * p+1 values (one scalar per order, used for every channel) or, optionally,
+ * one value per channel and order, order-major: 3(p+1) values for var_mu
+ * (index i*3 + channel) and 5(p+1) values for var_y (index i*5 + channel).
+ */
+struct AicParams
+{
+  double belief_rate = 1000.0;  ///< belief update rate [Hz], > 0, >= action_rate
+  double action_rate = 50.0;    ///< action update rate [Hz], > 0
+  double tau = 0.001;           ///< attractor time constant tau [s], > 0 (eq. 3-7)
+  double k_mu = 0.01;           ///< belief learning rate k_mu [-], > 0 (eq. 3-15)
+  double k_a = 8.0;             ///< action learning rate k_a [-], > 0 (eq. 3-16)
+  int embedding_order = 3;      ///< p: generalized orders 0..p, 1 <= p <= kMaxEmbeddingOrder
+
+  /// sigma^2_mu per order (size p+1) or per order and channel (size 3(p+1)); each finite and > 0.
+  std::vector<double> var_mu{ 1.5, 2.0, 4.0, 8.0 };
+  /// sigma^2_y per order (size p+1) or per order and channel (size 5(p+1)); each finite and > 0.
+  std::vector<double> var_y{ 2.0, 2.0, 1.0e5, 1.0e5 };
+
+  double wheel_radius = 0.098;        ///< r [m], > 0
+  double slip_factor = 1.0;           ///< alpha [-], > 0
+  double wheel_separation = 0.5621;   ///< virtual wheel separation b_hat [m], > 0
+  double max_wheel_speed = 20.0;      ///< |a_i| clamp [rad/s], > 0 (2.0 m/s top speed / 0.098 m ~ 20.4 rad/s)
+  /// Beliefs whose any element exceeds this magnitude are declared runaway [SI units of each order], > 0.
+  double runaway_limit = 1.0e3;
+  /// If true, the accelerometer-x row of R maps onto mu^(1) (kinematically better option, spec section 2);
+  /// false = thesis model (accelerometer rows zero).
+  bool accel_in_model = false;
+  Integrator integrator = Integrator::kEuler;  ///< belief integrator
+
+  /// Number of generalized orders, p + 1.
+  int numOrders() const { return embedding_order + 1; }
+
+  /**
+   * \brief Check every rule; report every violation (empty vector = valid).
+   *
+   * Rules: rates finite and > 0; belief_rate >= action_rate; tau, k_mu, k_a finite
+   * and > 0; 1 <= embedding_order <= kMaxEmbeddingOrder; var_mu of size p+1 or
+   * 3(p+1), var_y of size p+1 or 5(p+1), every variance finite and > 0;
+   * wheel_radius, slip_factor, wheel_separation, max_wheel_speed, runaway_limit
+   * finite and > 0.
+   */
+  std::vector<ParamViolation> validate() const;
+
+  /// Precision Pi_mu^(i) per channel, 3 x (p+1) (column i = order i), 1/sigma^2. Requires a valid struct.
+  MuTilde precisionMu() const;
+  /// Precision Pi_y^(i) per channel, 5 x (p+1), 1/sigma^2. Requires a valid struct.
+  YTilde precisionY() const;
+};
+
+}  // namespace jackal_aic

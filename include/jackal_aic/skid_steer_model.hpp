@@ -1,0 +1,47 @@
+#pragma once
+/**
+ * \file skid_steer_model.hpp
+ * \brief Generative model of the sensory data of a skid-steer base (thesis eq. 3-1 ... 3-4;
+ *        extended differential drive, Mandow et al. 2007; spec section 2). ROS-free.
+ */
+
+#include "jackal_aic/types.hpp"
+
+namespace jackal_aic
+{
+/**
+ * \brief The matrices G (3x2), R (5x3) and K (2x5) of the skid-steer generative model.
+ *
+ * G = r alpha [[1/2, 1/2], [0, 0], [-1/b, 1/b]]  so that mu = G (omega_L, omega_R);
+ * R: gyro row (0,0,1), wheel rows = pinv(G) (Eigen's complete orthogonal decomposition),
+ *    accelerometer rows zero (thesis model);
+ * K = dy/da = [[-r alpha/b, 1, 0, 0, 0], [r alpha/b, 0, 1, 0, 0]].
+ */
+class SkidSteerModel
+{
+public:
+  /**
+   * \param wheel_radius      r [m], finite and > 0
+   * \param slip_factor       alpha [-], finite and > 0
+   * \param wheel_separation  b_hat [m], finite and > 0
+   * \throws std::invalid_argument otherwise
+   */
+  SkidSteerModel(double wheel_radius, double slip_factor, double wheel_separation);
+
+  const KinematicMatrix& G() const { return G_; }  ///< mu = G a, [m/rad] and [1/rad]
+  const SensorMatrix& R() const { return R_; }     ///< y = R mu
+  const ForwardMatrix& K() const { return K_; }    ///< dy/da
+
+  /// Body twist (x_dot, y_dot, theta_dot) from wheel speeds (omega_L, omega_R) [rad/s] (eq. 3-1).
+  Vector3 twistFromWheels(const Vector2& omega) const { return G_ * omega; }
+  /// Wheel speeds (omega_L, omega_R) [rad/s] realizing a twist (v_x [m/s], ., omega_z [rad/s]) (pinv(G)).
+  Vector2 wheelsFromTwist(const Vector3& mu) const;
+
+private:
+  KinematicMatrix G_;
+  SensorMatrix R_;
+  ForwardMatrix K_;
+  Eigen::Matrix<double, kADim, kMuDim> G_pinv_;
+};
+
+}  // namespace jackal_aic

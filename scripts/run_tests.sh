@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# The test command (README quick start, and CI through .ci/run): install what is missing,
+# build into the git-ignored workspace, run every gtest and rostest, print
+# "N passed, N failed, N skipped" and exit non-zero on any failure.
+# `catkin_make run_tests` exits 0 even when tests fail: the verdict is catkin_test_results.
+set -uo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+source "$here/ws_env.sh"
+
+bash "$here/setup_deps.sh" || { echo "run_tests: installing dependencies failed"; echo "0 passed, 1 failed"; exit 1; }
+bash "$here/build.sh" || { echo "run_tests: build failed"; echo "0 passed, 1 failed"; exit 1; }
+bash "$here/build.sh" tests || { echo "run_tests: building the tests failed"; echo "0 passed, 1 failed"; exit 1; }
+
+results="$ws/build/test_results"
+rm -rf "$results"
+cd "$ws"
+# -j1: the rostests measure rates and step responses; running them side by side on a
+# 2-core machine would measure the machine, not the controller.
+catkin_make "${catkin_args[@]}" run_tests -j1 2>&1 | tee "$ws/run_tests.log" | grep -E "^\[ *(RUN|OK|FAILED|PASSED) *\]|^\[ROSTEST\]|^\[Testcase|FAILURE|Error|error:" || true
+
+summary="$(catkin_test_results --verbose "$results" 2>&1)"
+verdict=$?
+echo "$summary" | grep -v "^Skipping" | tail -40
+line="$(echo "$summary" | grep -E '^Summary:' | tail -1)"
+tests=$(echo "$line" | sed -nE 's/.* ([0-9]+) tests.*/\1/p')
+errors=$(echo "$line" | sed -nE 's/.* ([0-9]+) errors.*/\1/p')
+failures=$(echo "$line" | sed -nE 's/.* ([0-9]+) failures.*/\1/p')
+skipped=$(echo "$line" | sed -nE 's/.* ([0-9]+) skipped.*/\1/p')
+tests=${tests:-0}; errors=${errors:-0}; failures=${failures:-0}; skipped=${skipped:-0}
+failed=$((errors + failures))
+passed=$((tests - failed - skipped))
+if [ "$tests" -eq 0 ]; then
+  echo "run_tests: no test results found under $results"
+  failed=$((failed + 1))
+fi
+[ "$verdict" -ne 0 ] && [ "$failed" -eq 0 ] && failed=1
+echo "${passed} passed, ${failed} failed, ${skipped} skipped"
+[ "$failed" -eq 0 ]
