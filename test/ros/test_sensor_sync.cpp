@@ -163,8 +163,27 @@ TEST(SensorSync, TooCloseAndGaps)
   EXPECT_TRUE(s.first);  // 0.98 s > max_gap: new history
   EXPECT_EQ(s.h, 0.0);
   sync.restartHistory();
-  ASSERT_TRUE(sync.addJointState(joints(kT0 + 1.02), &s));
+  EXPECT_FALSE(sync.addJointState(joints(kT0 + 1.02), &s));  // IMU cache emptied by the restart
+  ASSERT_TRUE(sync.addImu(imu(kT0 + 1.03)));
+  ASSERT_TRUE(sync.addJointState(joints(kT0 + 1.04), &s));
   EXPECT_TRUE(s.first);
+}
+
+TEST(SensorSync, RecoversFromAFutureStampAfterRestart)
+{
+  SensorSynchronizer sync(config());
+  SensorSample s;
+  ASSERT_TRUE(sync.addImu(imu(kT0)));
+  ASSERT_TRUE(sync.addJointState(joints(kT0), &s));
+  ASSERT_TRUE(sync.addImu(imu(kT0 + 1.0e6)));  // one message stamped far in the future
+  ASSERT_TRUE(sync.addJointState(joints(kT0 + 1.0e6), &s));
+  EXPECT_FALSE(sync.addImu(imu(kT0 + 0.02)));  // every later message now looks backwards
+  EXPECT_FALSE(sync.addJointState(joints(kT0 + 0.02), &s));
+  sync.restartHistory();  // what the node does once the sensors went stale
+  ASSERT_TRUE(sync.addImu(imu(kT0 + 0.3)));
+  ASSERT_TRUE(sync.addJointState(joints(kT0 + 0.3), &s));
+  EXPECT_TRUE(s.first);
+  EXPECT_NEAR(s.y(kGyroZ), 0.3, kValueTol);
 }
 
 }  // namespace
