@@ -63,7 +63,9 @@ class InvalidParamsTest(unittest.TestCase):
         return [self.binary, "__name:=" + name]
 
     def test_valid_parameters_keep_running(self):
-        proc = subprocess.Popen(self.args("aic_valid", {}), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        # integers where the node reads doubles (as a hand-written YAML may have them) are valid
+        valid = {"belief_rate": 1000, "action_rate": 50, "k_a": 8, "var_y": [2, 2, 100000, 100000]}
+        proc = subprocess.Popen(self.args("aic_valid", valid), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                 text=True)
         try:
             out, err = proc.communicate(timeout=self.alive_time)
