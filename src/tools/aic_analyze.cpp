@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Eigenvalues>
 #include <yaml-cpp/yaml.h>
 
 #include "jackal_aic/params.hpp"
@@ -459,6 +460,17 @@ int main(int argc, char** argv)
             << ", p = " << params.embedding_order << ", file rates " << params.belief_rate << " / "
             << params.action_rate << " Hz, file integrator " << toString(params.integrator) << "\n"
             << "  plant: " << plant_text << "; step of v_x 0 -> " << target << " m/s over " << duration << " s\n";
+  {
+    // Belief stiffness (spec section 10): Euler is stable only while h * |lambda| < 2 for the fastest
+    // (real) mode of the continuous belief dynamics.
+    const ClosedLoopModel m(params, plant);
+    const Eigen::EigenSolver<Eigen::MatrixXd> es(m.M(), false);
+    const double lambda_max = es.eigenvalues().cwiseAbs().maxCoeff();
+    const double pi_mu0 = params.precisionMu().col(0).maxCoeff();
+    std::cout << "  belief stiffness: order-0 gain k_mu * Pi_mu0 / tau^2 = " << fmt(params.k_mu * pi_mu0 / (params.tau * params.tau))
+              << " 1/s; fastest mode of dmu/dt |lambda|max = " << fmt(lambda_max)
+              << " 1/s -> Euler needs belief_rate > " << fmt(lambda_max / 2.0) << " Hz\n";
+  }
   if (!defaulted.empty())
   {
     std::cout << "  keys not in the file (defaults used):";
