@@ -210,6 +210,13 @@ std::string limitText(const StabilityLimit& l, bool lower_is_better, bool csv)
   {
     return csv ? "nan" : "none";
   }
+  if (!l.stable_at_range_end)
+  {
+    // A stable band that does not reach the normally stable end of the range: "low..high".
+    const double a = lower_is_better ? l.value : l.band_start;
+    const double b = lower_is_better ? l.band_start : l.value;
+    return fmt(a, 4) + ".." + fmt(b, 4);
+  }
   if (l.unbounded)
   {
     return (lower_is_better ? "<=" : ">=") + fmt(l.value, 3);
@@ -481,13 +488,13 @@ int main(int argc, char** argv)
     std::cout << "\n";
   }
   std::cout << "\n";
-  std::printf("%9s %9s %-7s %12s %-8s %9s %9s %9s %10s | %10s %10s %10s\n", "belief_Hz", "action_Hz", "integ",
+  std::printf("%9s %9s %-7s %12s %-8s %9s %9s %9s %10s | %16s %16s %16s\n", "belief_Hz", "action_Hz", "integ",
               "spec_radius", "stable", "rise_s", "settle_s", "overshoot%", "ss_error", "min_tau", "max_k_mu",
               "max_k_a");
   for (const auto& r : rows)
   {
     const bool m = r.pred.stable && r.pred.velocity_valid;
-    std::printf("%9g %9g %-7s %12s %-8s %9s %9s %9s %10s | %10s %10s %10s\n", r.belief_rate, r.action_rate,
+    std::printf("%9g %9g %-7s %12s %-8s %9s %9s %9s %10s | %16s %16s %16s\n", r.belief_rate, r.action_rate,
                 toString(r.integrator).c_str(), fmt(r.pred.spectral_radius, 6).c_str(),
                 r.pred.stable ? "yes" : "NO", m ? fmt(r.pred.velocity.rise_time).c_str() : "-",
                 m ? fmt(r.pred.velocity.settling_time).c_str() : "-",
@@ -500,7 +507,7 @@ int main(int argc, char** argv)
   std::cout << "\nspec_radius: per action period (stable < 1). rise 10-90 %, settling +-5 % of the set point, "
                "from the linear model (no clamp).\n"
                "min_tau / max_k_mu / max_k_a: stability limits with the other parameters as in the file "
-               "(none = unstable over the whole scan range).\n";
+               "(none = unstable over the whole scan range; A..B = stable only between A and B).\n";
   if (plant.type == PlantModel::Type::kPointMass)
   {
     std::cout << "note: with the point plant, y^(1) (finite differences of the wheel speeds = of a) feeds back into\n"
