@@ -24,6 +24,12 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 ClosedLoopModel::ClosedLoopModel(const AicParams& params, const PlantModel& plant) : params_(params), plant_(plant)
 {
   ActiveInferenceController c(params);  // validates
+  {
+    // Probe with unit vectors: the runaway limit (not modelled) must not reject them.
+    AicParams probe_params = params;
+    probe_params.runaway_limit = kMaxRunawayLimit;
+    c.setParams(probe_params);
+  }
   if (plant.type == PlantModel::Type::kFirstOrder && !(std::isfinite(plant.time_constant) && plant.time_constant > 0.0))
   {
     throw std::invalid_argument("ClosedLoopModel: plant time_constant = " + std::to_string(plant.time_constant) +
@@ -50,9 +56,10 @@ ClosedLoopModel::ClosedLoopModel(const AicParams& params, const PlantModel& plan
   const YTilde y0 = YTilde::Zero(kYDim, n);
   auto probe = [&](const MuTilde& mu, const YTilde& y, const Vector3& d, Eigen::Ref<Eigen::VectorXd> dmu,
                    Eigen::Ref<Eigen::VectorXd> da) {
-    c.setBeliefs(mu);
-    c.setMeasurement(y);
-    c.setGoal(d);
+    if (!c.setBeliefs(mu) || !c.setMeasurement(y) || !c.setGoal(d))
+    {
+      throw std::logic_error("ClosedLoopModel: probing the controller failed");
+    }
     const MuTilde f = c.muDot();
     dmu = Eigen::Map<const Eigen::VectorXd>(f.data(), nm);
     da = c.aDot();

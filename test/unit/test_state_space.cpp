@@ -184,6 +184,16 @@ TEST(StateSpace, PredictStepOfStandardSet)
   EXPECT_NEAR(pred.velocity.steady_state_error, 0.0, 0.01);
 }
 
+TEST(StateSpace, IndependentOfRunawayLimitAndClamp)
+{
+  AicParams p;
+  p.tau = 0.03;
+  const ClosedLoopModel reference(p);
+  p.runaway_limit = 0.5;  // below the probe vectors' magnitude
+  p.max_wheel_speed = 0.5;
+  EXPECT_TRUE(ClosedLoopModel(p).phi().isApprox(reference.phi(), 1e-14));
+}
+
 TEST(StateSpace, RejectsBadInput)
 {
   AicParams p;
