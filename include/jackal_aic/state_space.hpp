@@ -129,13 +129,20 @@ struct StabilityLimit
   double value;
   /// True if the whole range is stable (value is then the end of the range: a bound, not a limit).
   bool unbounded;
+  /// Where the stable band found begins, seen from the stable end of the range (tau: its largest
+  /// stable value; gains: the smallest). Equals the range end if that end is stable; otherwise the
+  /// parameter is unstable between the range end and band_start too. NaN if nothing is stable.
+  double band_start;
+  /// True if the range end on the stable side (tau: hi; gains: lo) is stable.
+  bool stable_at_range_end;
 };
 
 /**
  * \brief Stability limit of one parameter, others fixed, at the rates and integrator of params.
  *
- * A log-spaced grid over [lo, hi] locates the boundary nearest to the stable end (tau: the large
- * end; gains: the small end); bisection in log space refines it to 0.1 %.
+ * A log-spaced grid over [lo, hi], walked from the end where the parameter is normally stable
+ * (tau: hi; gains: lo), finds the first stable band; bisection in log space refines its edges to 0.1 %.
+ * The limit is the edge of that band away from the stable end.
  * \throws std::invalid_argument on invalid params or a bad range.
  */
 StabilityLimit scanStabilityLimit(const AicParams& params, const PlantModel& plant, ScanParameter parameter,

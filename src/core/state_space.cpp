@@ -24,6 +24,12 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 ClosedLoopModel::ClosedLoopModel(const AicParams& params, const PlantModel& plant) : params_(params), plant_(plant)
 {
   ActiveInferenceController c(params);  // validates
+  {
+    // Probe with unit vectors: the runaway limit (not modelled) must not reject them.
+    AicParams probe_params = params;
+    probe_params.runaway_limit = kMaxRunawayLimit;
+    c.setParams(probe_params);
+  }
   if (plant.type == PlantModel::Type::kFirstOrder && !(std::isfinite(plant.time_constant) && plant.time_constant > 0.0))
   {
     throw std::invalid_argument("ClosedLoopModel: plant time_constant = " + std::to_string(plant.time_constant) +
@@ -50,9 +56,10 @@ ClosedLoopModel::ClosedLoopModel(const AicParams& params, const PlantModel& plan
   const YTilde y0 = YTilde::Zero(kYDim, n);
   auto probe = [&](const MuTilde& mu, const YTilde& y, const Vector3& d, Eigen::Ref<Eigen::VectorXd> dmu,
                    Eigen::Ref<Eigen::VectorXd> da) {
-    c.setBeliefs(mu);
-    c.setMeasurement(y);
-    c.setGoal(d);
+    if (!c.setBeliefs(mu) || !c.setMeasurement(y) || !c.setGoal(d))
+    {
+      throw std::logic_error("ClosedLoopModel: probing the controller failed");
+    }
     const MuTilde f = c.muDot();
     dmu = Eigen::Map<const Eigen::VectorXd>(f.data(), nm);
     da = c.aDot();
@@ -298,8 +305,19 @@ StabilityLimit scanStabilityLimit(const AicParams& params, const PlantModel& pla
   }
   if (first_stable < 0)
   {
-    return { kNaN, false };
+    return { kNaN, false, kNaN, false };
   }
+  // Refine the start of the band (between an unstable and a stable grid point).
+  auto refine = [&](double l_stable, double l_unstable) {
+    while (std::abs(l_stable - l_unstable) > 1e-3)
+    {
+      const double mid = 0.5 * (l_stable + l_unstable);
+      (stable_at(std::exp(mid)) ? l_stable : l_unstable) = mid;
+    }
+    return std::exp(l_stable);
+  };
+  const double band_start =
+      first_stable == 0 ? grid(0) : refine(std::log(grid(first_stable)), std::log(grid(first_stable - 1)));
   int first_unstable = -1;
   for (int i = first_stable + 1; i < grid_points; ++i)
   {
@@ -311,16 +329,10 @@ StabilityLimit scanStabilityLimit(const AicParams& params, const PlantModel& pla
   }
   if (first_unstable < 0)
   {
-    return { from_hi ? lo : hi, true };
+    return { from_hi ? lo : hi, true, band_start, first_stable == 0 };
   }
-  double ls = std::log(grid(first_unstable - 1));  // stable
-  double lu = std::log(grid(first_unstable));      // unstable
-  while (std::abs(ls - lu) > 1e-3)
-  {
-    const double mid = 0.5 * (ls + lu);
-    (stable_at(std::exp(mid)) ? ls : lu) = mid;
-  }
-  return { std::exp(ls), false };
+  return { refine(std::log(grid(first_unstable - 1)), std::log(grid(first_unstable))), false, band_start,
+           first_stable == 0 };
 }
 
 }  // namespace jackal_aic

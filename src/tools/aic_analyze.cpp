@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Eigenvalues>
 #include <yaml-cpp/yaml.h>
 
 #include "jackal_aic/params.hpp"
@@ -208,6 +209,13 @@ std::string limitText(const StabilityLimit& l, bool lower_is_better, bool csv)
   if (std::isnan(l.value))
   {
     return csv ? "nan" : "none";
+  }
+  if (!l.stable_at_range_end)
+  {
+    // A stable band that does not reach the normally stable end of the range: "low..high".
+    const double a = lower_is_better ? l.value : l.band_start;
+    const double b = lower_is_better ? l.band_start : l.value;
+    return fmt(a, 4) + ".." + fmt(b, 4);
   }
   if (l.unbounded)
   {
@@ -459,6 +467,17 @@ int main(int argc, char** argv)
             << ", p = " << params.embedding_order << ", file rates " << params.belief_rate << " / "
             << params.action_rate << " Hz, file integrator " << toString(params.integrator) << "\n"
             << "  plant: " << plant_text << "; step of v_x 0 -> " << target << " m/s over " << duration << " s\n";
+  {
+    // Belief stiffness (spec section 10): Euler is stable only while h * |lambda| < 2 for the fastest
+    // (real) mode of the continuous belief dynamics.
+    const ClosedLoopModel m(params, plant);
+    const Eigen::EigenSolver<Eigen::MatrixXd> es(m.M(), false);
+    const double lambda_max = es.eigenvalues().cwiseAbs().maxCoeff();
+    const double pi_mu0 = params.precisionMu().col(0).maxCoeff();
+    std::cout << "  belief stiffness: order-0 gain k_mu * Pi_mu0 / tau^2 = " << fmt(params.k_mu * pi_mu0 / (params.tau * params.tau))
+              << " 1/s; fastest mode of dmu/dt |lambda|max = " << fmt(lambda_max)
+              << " 1/s -> Euler needs belief_rate > " << fmt(lambda_max / 2.0) << " Hz\n";
+  }
   if (!defaulted.empty())
   {
     std::cout << "  keys not in the file (defaults used):";
@@ -469,13 +488,13 @@ int main(int argc, char** argv)
     std::cout << "\n";
   }
   std::cout << "\n";
-  std::printf("%9s %9s %-7s %12s %-8s %9s %9s %9s %10s | %10s %10s %10s\n", "belief_Hz", "action_Hz", "integ",
+  std::printf("%9s %9s %-7s %12s %-8s %9s %9s %9s %10s | %16s %16s %16s\n", "belief_Hz", "action_Hz", "integ",
               "spec_radius", "stable", "rise_s", "settle_s", "overshoot%", "ss_error", "min_tau", "max_k_mu",
               "max_k_a");
   for (const auto& r : rows)
   {
     const bool m = r.pred.stable && r.pred.velocity_valid;
-    std::printf("%9g %9g %-7s %12s %-8s %9s %9s %9s %10s | %10s %10s %10s\n", r.belief_rate, r.action_rate,
+    std::printf("%9g %9g %-7s %12s %-8s %9s %9s %9s %10s | %16s %16s %16s\n", r.belief_rate, r.action_rate,
                 toString(r.integrator).c_str(), fmt(r.pred.spectral_radius, 6).c_str(),
                 r.pred.stable ? "yes" : "NO", m ? fmt(r.pred.velocity.rise_time).c_str() : "-",
                 m ? fmt(r.pred.velocity.settling_time).c_str() : "-",
@@ -488,7 +507,7 @@ int main(int argc, char** argv)
   std::cout << "\nspec_radius: per action period (stable < 1). rise 10-90 %, settling +-5 % of the set point, "
                "from the linear model (no clamp).\n"
                "min_tau / max_k_mu / max_k_a: stability limits with the other parameters as in the file "
-               "(none = unstable over the whole scan range).\n";
+               "(none = unstable over the whole scan range; A..B = stable only between A and B).\n";
   if (plant.type == PlantModel::Type::kPointMass)
   {
     std::cout << "note: with the point plant, y^(1) (finite differences of the wheel speeds = of a) feeds back into\n"

@@ -159,6 +159,8 @@ TEST(StateSpace, ScanFindsEulerTauLimit)
   const auto lim = scanStabilityLimit(p, lagPlant(), ScanParameter::kTau, 1e-4, 1.0);
   ASSERT_FALSE(std::isnan(lim.value));
   EXPECT_FALSE(lim.unbounded);
+  EXPECT_TRUE(lim.stable_at_range_end);
+  EXPECT_EQ(lim.band_start, 1.0);
   // Order-0 belief gain k_mu Pi_mu0 / tau^2 must stay below ~2 / h: tau >~ sqrt(k_mu Pi_mu0 h / 2).
   const double estimate = std::sqrt(p.k_mu / 1.5 * 1e-3 / 2.0);
   EXPECT_GT(lim.value, 0.5 * estimate);
@@ -182,6 +184,16 @@ TEST(StateSpace, PredictStepOfStandardSet)
   EXPECT_NEAR(pred.velocity.steady_state_error, 0.0, 0.01);
 }
 
+TEST(StateSpace, IndependentOfRunawayLimitAndClamp)
+{
+  AicParams p;
+  p.tau = 0.03;
+  const ClosedLoopModel reference(p);
+  p.runaway_limit = 0.5;  // below the probe vectors' magnitude
+  p.max_wheel_speed = 0.5;
+  EXPECT_TRUE(ClosedLoopModel(p).phi().isApprox(reference.phi(), 1e-14));
+}
+
 TEST(StateSpace, RejectsBadInput)
 {
   AicParams p;
@@ -195,4 +207,29 @@ TEST(StateSpace, RejectsBadInput)
   EXPECT_THROW(scanStabilityLimit(p, PlantModel(), ScanParameter::kKA, 1.0, 0.5), std::invalid_argument);
   p.tau = -1.0;
   EXPECT_THROW(ClosedLoopModel m(p), std::invalid_argument);
+}
+
+TEST(StateSpace, ScanReportsAStableBandAwayFromTheRangeEnd)
+{
+  // Thesis standard set, 50 Hz Euler, 0.05 s wheel lag: unstable at k_mu = 0.01 (spectral radius
+  // ~1.019) but stable in a band of larger k_mu; the scan must say so instead of a plain limit.
+  AicParams p;
+  p.belief_rate = 50.0;
+  p.tau = 0.03;
+  p.integrator = Integrator::kEuler;
+  PlantModel plant;
+  plant.type = PlantModel::Type::kFirstOrder;
+  plant.time_constant = 0.05;
+  EXPECT_FALSE(ClosedLoopModel(p, plant).stable());
+  const auto lim = scanStabilityLimit(p, plant, ScanParameter::kKMu, 1e-4, 1e4);
+  ASSERT_FALSE(std::isnan(lim.value));
+  EXPECT_FALSE(lim.stable_at_range_end);
+  EXPECT_LT(lim.band_start, lim.value);
+  AicParams q = p;
+  q.k_mu = std::sqrt(lim.band_start * lim.value);  // inside the band
+  EXPECT_TRUE(ClosedLoopModel(q, plant).stable());
+  q.k_mu = lim.band_start * 0.98;
+  EXPECT_FALSE(ClosedLoopModel(q, plant).stable());
+  q.k_mu = lim.value * 1.02;
+  EXPECT_FALSE(ClosedLoopModel(q, plant).stable());
 }
