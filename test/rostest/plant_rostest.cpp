@@ -24,6 +24,7 @@
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 namespace
 {
@@ -143,12 +144,18 @@ protected:
     drive_pub_.publish(d);
   }
 
+  void TearDown() override
+  {
+    // Stop callbacks before the data they write is destroyed.
+    timer_.stop();
+    odom_sub_.shutdown();
+    js_sub_.shutdown();
+    imu_sub_.shutdown();
+    ros::WallDuration(0.1).sleep();
+  }
+
   static constexpr int kSilent = 100;
-  ros::NodeHandle nh_;
-  ros::NodeHandle pnh_;
-  ros::Subscriber odom_sub_, js_sub_, imu_sub_;
-  ros::Publisher drive_pub_;
-  ros::WallTimer timer_;
+  // Data first: members are destroyed in reverse order, so the ROS handles go first.
   std::mutex mutex_;
   int mode_ = kSilent;
   double left_ = 0.0, right_ = 0.0;
@@ -156,6 +163,11 @@ protected:
   std::vector<double> js_stamps_, js_wall_, imu_wall_;
   std::vector<std::string> js_names_;
   std::vector<sensor_msgs::Imu> imu_;
+  ros::NodeHandle nh_;
+  ros::NodeHandle pnh_;
+  ros::Subscriber odom_sub_, js_sub_, imu_sub_;
+  ros::Publisher drive_pub_;
+  ros::WallTimer timer_;
 };
 
 constexpr double kStartupWall = 30.0;  // s of wall time allowed for the plant to come up
@@ -334,7 +346,14 @@ TEST_F(PlantRosTest, BadUrdfExitsNonZero)
   std::string bad, config;
   ASSERT_TRUE(pnh_.getParam("bad_urdf", bad));
   ASSERT_TRUE(pnh_.getParam("plant_config", config));
-  const std::string cmd = "rosrun jackal_aic jackal_plant_node __name:=jackal_plant_bad_urdf _urdf:=" + bad +
+  // The plant node is built next to this test executable (devel/lib/jackal_aic).
+  char self[4096];
+  const ssize_t n = readlink("/proc/self/exe", self, sizeof(self) - 1);
+  ASSERT_GT(n, 0);
+  self[n] = '\0';
+  std::string dir(self);
+  dir = dir.substr(0, dir.rfind('/'));
+  const std::string cmd = dir + "/jackal_plant_node __name:=jackal_plant_bad_urdf _urdf:=" + bad +
                           " _plant_config:=" + config + " 2>&1";
   FILE* p = popen(cmd.c_str(), "r");
   ASSERT_NE(p, nullptr);

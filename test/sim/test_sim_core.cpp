@@ -190,6 +190,8 @@ TEST(PlantParams, UnknownKeysAndMissingFilesAreErrors)
 TEST(WheelSpeedServo, TorqueIsLimitedAndReleasedIsZero)
 {
   MotorParams m;
+  m.setpoint_slew_rate = 0.0;
+  m.command_delay = 0.0;
   m.speed_kp = 10.0;
   m.max_torque = 2.0;
   m.stall_torque = 4.0;
@@ -206,9 +208,25 @@ TEST(WheelSpeedServo, TorqueIsLimitedAndReleasedIsZero)
   EXPECT_DOUBLE_EQ(s.update(5.0, 0.003), 0.0);
 }
 
+TEST(WheelSpeedServo, SlewRateRampsTheSetPoint)
+{
+  MotorParams m;
+  m.command_delay = 0.0;
+  m.setpoint_slew_rate = 10.0;  // rad/s^2
+  WheelSpeedServo s(m, 0.001);
+  s.setSetpoint(5.0, 0.0);
+  s.update(0.0, 0.0);  // engages from rest
+  for (int k = 1; k <= 100; ++k)
+  {
+    s.update(0.0, 0.001 * k);
+  }
+  EXPECT_NEAR(s.effectiveSetpoint(), 1.0, 0.011);  // 10 rad/s^2 for 0.1 s
+}
+
 TEST(WheelSpeedServo, CommandDelayHoldsTheCommand)
 {
   MotorParams m;
+  m.setpoint_slew_rate = 0.0;
   m.command_delay = 0.01;
   WheelSpeedServo s(m, 0.001);
   s.setSetpoint(5.0, 0.0);
