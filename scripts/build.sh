@@ -5,7 +5,19 @@
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/ws_env.sh"
 mkdir -p "$ws/src"
-[ -e "$ws/src/jackal_aic" ] || ln -s "$repo" "$ws/src/jackal_aic"
+# The package in the workspace is a folder of links to the repository's top-level entries,
+# all but .ws and .git: a link to the whole repository would put the workspace inside its
+# own package, so `find -L` (rosrun, roslaunch) would loop and find every executable twice.
+[ -L "$ws/src/jackal_aic" ] && rm "$ws/src/jackal_aic"
+mkdir -p "$ws/src/jackal_aic"
+shopt -s dotglob nullglob
+for entry in "$repo"/*; do
+  name="$(basename "$entry")"
+  case "$name" in .ws|.git) continue ;; esac
+  [ -L "$ws/src/jackal_aic/$name" ] || ln -s "$entry" "$ws/src/jackal_aic/$name"
+done
+shopt -u dotglob nullglob
+find "$ws/src/jackal_aic" -maxdepth 1 -xtype l -delete  # entries removed from the repository
 if [ ! -e "$ws/src/jackal_msgs" ]; then
   if [ -f /opt/ros/noetic/share/jackal_msgs/package.xml ] || [ -f /usr/share/jackal_msgs/package.xml ]; then
     echo "build: using the installed jackal_msgs"
