@@ -34,7 +34,8 @@ public:
     kOk,           ///< state advanced
     kNoMeasurement,///< no measurement yet: state not moved
     kBadInterval,  ///< h <= 0 or non-finite: state not moved
-    kRunaway       ///< beliefs or action became non-finite or exceeded runaway_limit: state reset to zero
+    kRunaway       ///< beliefs or action became non-finite, or a belief exceeded runaway_limit: beliefs and
+                   ///< action reset to zero (goal and held measurement kept), runawayCount() incremented
   };
 
   /// \throws std::invalid_argument listing every violation if params.validate() is not empty.
@@ -49,28 +50,39 @@ public:
   const AicParams& params() const { return params_; }
   const SkidSteerModel& model() const { return model_; }
 
-  /// Desired twist mu_d = (v_x [m/s], 0, omega_z [rad/s]). Non-finite input is ignored, returns false.
+  /// Desired twist mu_d = (v_x [m/s], 0, omega_z [rad/s]). Non-finite input or an element beyond
+  /// runaway_limit is ignored, returns false.
   bool setGoal(const Vector3& mu_d);
   const Vector3& goal() const { return mu_d_; }
 
   /**
    * \brief Latest generalized measurement y_tilde (5 x (p+1)), held until the next one.
-   * \return false (and ignored) if it has the wrong number of columns or a non-finite entry.
+   * \return false (and ignored) if it has the wrong number of columns, a non-finite entry, or an
+   *         entry beyond kMaxMeasurementMagnitude.
    */
   bool setMeasurement(const YTilde& y_tilde);
   bool hasMeasurement() const { return has_measurement_; }
 
   /**
-   * \brief One belief step: mu_tilde += h * (D mu_tilde - k_mu dF/dmu_tilde) (eq. 3-15, Euler)
-   *        or the exact zero-order-hold step.
+   * \brief One belief step (thesis eq. 3-15) with the measurement and goal held.
+   *
+   * Euler: mu_tilde += h * (D mu_tilde - k_mu dF/dmu_tilde).
+   * Exact: the belief dynamics are linear, dx/dt = M x + c with x = vec(mu_tilde) and c constant
+   * over the step, so x(h) = x + Psi(h) (M x + c) with Psi(h) = int_0^h exp(M s) ds, computed with
+   * exp([[M, I], [0, 0]] h) (Eigen MatrixFunctions) when params or h change by more than
+   * kExactStepTolerance (relative), otherwise reused with the first-order correction
+   * Psi(h) ~ Psi(h0) + (h - h0) exp(M h0). Stable for any h > 0 when the continuous dynamics are.
    * \param h  belief step [s], finite and > 0
+   * \return kOk; kBadInterval (state kept); kNoMeasurement (state kept); kRunaway (see Status).
    */
   Status updateBeliefs(double h);
 
   /**
    * \brief One action step: a += h * (-k_a sum_i K Pi_y^(i) eps_y^(i)) (eq. 3-16), then clamp to
-   *        +-max_wheel_speed.
+   *        +-max_wheel_speed. da/dt does not depend on a, so this Euler step is exact for held
+   *        beliefs and measurement, whatever the integrator setting.
    * \param h  action step [s], finite and > 0
+   * \return kOk; kBadInterval (state kept); kNoMeasurement (state kept); kRunaway (see Status).
    */
   Status updateAction(double h);
 
@@ -99,8 +111,46 @@ public:
   /// Number of runaway resets since construction.
   std::uint64_t runawayCount() const { return runaway_count_; }
 
+  /**
+   * \brief Overwrite the beliefs (e.g. to start from the measured twist, or for analysis).
+   * \param mu  3 x (p+1) beliefs, finite, each |entry| <= runaway_limit
+   * \return false (state unchanged) on a wrong number of columns, a non-finite entry or one beyond runaway_limit.
+   */
+  bool setBeliefs(const MuTilde& mu);
+
+  /// Relative change of h beyond which the exact integrator recomputes its matrices (smaller
+  /// changes use a first-order correction Psi(h) ~ Psi(h0) + (h - h0) Phi(h0)).
+  static constexpr double kExactStepTolerance = 0.02;
+
+  /// Largest accepted |entry| of a generalized measurement [channel units / s^i]. Far above any
+  /// finite difference of a real signal (20 rad/s / (1 ms)^5 = 2e16), low enough that the free
+  /// energy and its gradient cannot overflow with validated parameters.
+  static constexpr double kMaxMeasurementMagnitude = 1.0e100;
+
+  /// Number of times the exact integrator computed its matrix exponential (for tests and diagnostics).
+  std::uint64_t exactRecomputeCount() const { return exact_recompute_count_; }
+
 private:
-  // Implementation-defined members (state, cached precisions, exact-integrator matrices).
+  /// Max size of the stacked belief vector vec(mu_tilde) = 3 (p+1).
+  static constexpr int kMaxStateDim = kMuDim * kMaxOrders;
+  using StateMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kMaxStateDim, kMaxStateDim>;
+  using StateVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxStateDim, 1>;
+
+  /// eps_y for given beliefs and measurement (eq. 3-8; plus the optional accelerometer coupling).
+  void computeEpsY(const MuTilde& mu, const YTilde& y_tilde, YTilde* eps_y) const;
+  /// eps_mu for given beliefs and goal (eq. 3-9).
+  void computeEpsMu(const MuTilde& mu, const Vector3& mu_d, MuTilde* eps_mu) const;
+  /// dF/dmu_tilde (eq. 3-13).
+  void computeDfDmu(const MuTilde& mu, const YTilde& y_tilde, const Vector3& mu_d, MuTilde* grad) const;
+  /// dmu_tilde/dt (eq. 3-15).
+  void computeMuDot(const MuTilde& mu, const YTilde& y_tilde, const Vector3& mu_d, MuTilde* mu_dot) const;
+  /// Cache precisions, model, the belief dynamics matrix M; invalidate the exact step.
+  void applyParams(const AicParams& params);
+  /// Compute Phi = exp(M h), Psi = int_0^h exp(M s) ds for the exact integrator (no heap).
+  void computeExactStep(double h);
+  /// Zero beliefs and action after a runaway.
+  void runawayReset();
+
   AicParams params_;
   SkidSteerModel model_;
   MuTilde mu_;
@@ -109,6 +159,14 @@ private:
   Vector2 a_ = Vector2::Zero();
   bool has_measurement_ = false;
   std::uint64_t runaway_count_ = 0;
+
+  MuTilde pi_mu_;   ///< Pi_mu, 3 x (p+1)
+  YTilde pi_y_;     ///< Pi_y, 5 x (p+1)
+  StateMatrix M_;   ///< linear part of dmu_tilde/dt on vec(mu_tilde)
+  StateMatrix phi_; ///< exp(M h_exact)
+  StateMatrix psi_; ///< int_0^h exp(M s) ds
+  double exact_h_ = 0.0;  ///< h for which phi_/psi_ hold; 0 = not computed
+  std::uint64_t exact_recompute_count_ = 0;
 };
 
 /// Human-readable name of a status, e.g. "runaway".
