@@ -304,6 +304,21 @@ TEST(Plant, NonFiniteCommandIsIgnored)
   EXPECT_TRUE(plant.baseLinearVelocity().allFinite());
 }
 
+TEST(Plant, ImuMeasuresAccelerationAndYawRate)
+{
+  Plant plant(loadRobotDescription(kUrdf), quietParams());  // accelerometer window 0.02 s
+  plant.step(500);
+  plant.setWheelSpeeds(6.0, 8.0);
+  plant.step(300);  // inside the set-point ramp: accelerating
+  const double v0 = plant.baseLinearVelocity().x();
+  plant.step(20);
+  const double accel = (plant.baseLinearVelocity().x() - v0) / 0.02;
+  EXPECT_GT(accel, 0.5);
+  EXPECT_NEAR(plant.imuTruth().linear_acceleration.x(), accel, 0.1 * accel + 0.05);
+  EXPECT_NEAR(plant.imuTruth().angular_velocity.z(), plant.baseAngularVelocity().z(), 1e-9);
+  EXPECT_GT(plant.imuTruth().angular_velocity.z(), 0.0);  // right side faster: left turn
+}
+
 TEST(Plant, InvalidParamsThrow)
 {
   PlantParams p = quietParams();
