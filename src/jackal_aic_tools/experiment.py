@@ -194,18 +194,36 @@ def _json_default(o):
 
 
 def _drive(exp, sim, rec, wheel_radius, wheel_sep):
-    """Wait for the streams, settle, play the profile. Returns (t0 [s], status, reason)."""
+    """Runner side: a node of our own on the simulator's master, then drive_profile()."""
+    import rospy
+    rospy.init_node("aic_experiment", anonymous=True, disable_signals=True)
+    try:
+        return drive_profile(exp.profile, rec, exp.controller, settle=exp.settle,
+                             ready_timeout=exp.ready_timeout, rate=exp.rate, limits=exp.limits,
+                             wheel_radius=wheel_radius, wheel_sep=wheel_sep,
+                             died=lambda: sim.listener.died, name=exp.name)
+    finally:
+        rospy.signal_shutdown("experiment done")
+
+
+def drive_profile(profile, rec, controller="aic", settle=1.0, ready_timeout=60.0, rate=50.0, limits=None,
+                  wheel_radius=0.098, wheel_sep=0.5621, died=lambda: [], name="run"):
+    """Play ``profile`` on /jackal_AIC/set_point (rospy node already initialised) while
+    ``rec`` records; wait first for /odom, /cmd_drive (and the belief for the AIC), then
+    hold zero for ``settle`` [s]. Stops early when check_stability() finds divergence or
+    ``died()`` lists dead nodes. Returns (t0 [s] = profile start, status ok|unstable|failed,
+    reason); t0 is None if the run never started."""
     import rospy
     from geometry_msgs.msg import Twist, TwistStamped
     from nav_msgs.msg import Odometry
     from jackal_msgs.msg import Drive
 
-    rospy.init_node("aic_experiment", anonymous=True, disable_signals=True)
-    rospy.Subscriber("/odom", Odometry, rec.on_odom, queue_size=200, tcp_nodelay=True)
-    rospy.Subscriber("/jackal_AIC/belief", TwistStamped, rec.on_belief, queue_size=2000, tcp_nodelay=True)
-    rospy.Subscriber("/cmd_drive", Drive, rec.on_drive, queue_size=200, tcp_nodelay=True)
+    limits = limits or recording.StabilityLimits()
+    subs = [rospy.Subscriber("/odom", Odometry, rec.on_odom, queue_size=200, tcp_nodelay=True),
+            rospy.Subscriber("/jackal_AIC/belief", TwistStamped, rec.on_belief, queue_size=2000, tcp_nodelay=True),
+            rospy.Subscriber("/cmd_drive", Drive, rec.on_drive, queue_size=200, tcp_nodelay=True)]
     pub = rospy.Publisher("/jackal_AIC/set_point", Twist, queue_size=10)
-    period = 1.0 / exp.rate
+    period = 1.0 / rate
 
     def publish(vx, wz, record):
         m = Twist()
@@ -214,59 +232,66 @@ def _drive(exp, sim, rec, wheel_radius, wheel_sep):
         if record:
             rec.on_setpoint(rospy.Time.now(), m)
 
-    need = ["odom", "drive"] + (["belief"] if exp.controller == "aic" else [])
-    deadline = time.time() + exp.ready_timeout
-    while True:
-        if sim.listener.died:
-            return None, "failed", "node(s) died before the run: %s" % sim.listener.died
-        missing = [s for s in need if rec.count(s) == 0]
-        if not missing:
-            break
-        if time.time() > deadline:
-            return None, "failed", "no message on %s within %.0f s" % (", ".join(missing), exp.ready_timeout)
-        publish(0.0, 0.0, False)
-        time.sleep(period)
-    # settle at rest, then start the profile clock
-    t_settle = rospy.Time.now().to_sec() + exp.settle
-    while rospy.Time.now().to_sec() < t_settle and time.time() < deadline + 60.0:
-        publish(0.0, 0.0, False)
-        time.sleep(period)
-    t0 = rospy.Time.now().to_sec()
-    nominal = [s._replace(t0=t0 + s.t0, t1=t0 + s.t1) for s in exp.profile.segments()]
-    wall_limit = time.time() + 4.0 * exp.profile.duration + 30.0
-    status, reason = "ok", ""
-    k = 0
-    while True:
-        now = rospy.Time.now().to_sec()
-        t = now - t0
-        if t >= exp.profile.duration:
-            break
-        if time.time() > wall_limit:
-            status, reason = "failed", "simulated time stalled (wall limit reached at t=%.2f s)" % t
-            break
-        vx, wz = exp.profile.value(t)
-        publish(vx, wz, True)
-        k += 1
-        if sim.listener.died:
-            status, reason = "failed", "node(s) died during the run: %s" % sim.listener.died
-            break
-        if k % 5 == 0:
-            why = recording.check_stability(rec.arrays(), nominal, now, exp.limits, wheel_radius, wheel_sep)
+    try:
+        need = ["odom", "drive"] + (["belief"] if controller == "aic" else [])
+        deadline = time.time() + ready_timeout
+        while True:
+            if died():
+                return None, "failed", "node(s) died before the run: %s" % died()
+            missing = [s for s in need if rec.count(s) == 0]
+            if not missing:
+                break
+            if time.time() > deadline:
+                return None, "failed", "no message on %s within %.0f s" % (", ".join(missing), ready_timeout)
+            publish(0.0, 0.0, False)
+            time.sleep(period)
+        # settle at rest, then start the profile clock
+        t_settle = rospy.Time.now().to_sec() + settle
+        wall_settle = time.time() + 10.0 * settle + 30.0
+        while rospy.Time.now().to_sec() < t_settle:
+            if time.time() > wall_settle:
+                return None, "failed", "time does not advance (is /clock published?)"
+            publish(0.0, 0.0, False)
+            time.sleep(period)
+        t0 = rospy.Time.now().to_sec()
+        nominal = [s._replace(t0=t0 + s.t0, t1=t0 + s.t1) for s in profile.segments()]
+        wall_limit = time.time() + 4.0 * profile.duration + 30.0
+        status, reason = "ok", ""
+        k = 0
+        while not rospy.is_shutdown():
+            now = rospy.Time.now().to_sec()
+            t = now - t0
+            if t >= profile.duration:
+                break
+            if time.time() > wall_limit:
+                status, reason = "failed", "time stalled (wall limit reached at t=%.2f s)" % t
+                break
+            vx, wz = profile.value(t)
+            publish(vx, wz, True)
+            k += 1
+            if died():
+                status, reason = "failed", "node(s) died during the run: %s" % died()
+                break
+            if k % 5 == 0:
+                why = recording.check_stability(rec.arrays(), nominal, now, limits, wheel_radius, wheel_sep)
+                if why:
+                    status, reason = "unstable", why
+                    log.warning("run %s stopped at t=%.2f s: %s", name, t, why)
+                    break
+            time.sleep(period)
+        if status == "ok":  # a final look at everything recorded
+            why = recording.check_stability(rec.arrays(), nominal, rospy.Time.now().to_sec(), limits,
+                                            wheel_radius, wheel_sep)
             if why:
                 status, reason = "unstable", why
-                log.warning("run %s stopped at t=%.2f s: %s", exp.name, t, why)
-                break
-        time.sleep(period)
-    if status == "ok":  # a final look at everything recorded
-        why = recording.check_stability(rec.arrays(), nominal, rospy.Time.now().to_sec(), exp.limits,
-                                        wheel_radius, wheel_sep)
-        if why:
-            status, reason = "unstable", why
-    for _ in range(3):
-        publish(0.0, 0.0, False)
-        time.sleep(period)
-    rospy.signal_shutdown("experiment done")
-    return t0, status, reason
+        for _ in range(3):
+            publish(0.0, 0.0, False)
+            time.sleep(period)
+        return t0, status, reason
+    finally:
+        for s in subs:
+            s.unregister()
+        pub.unregister()
 
 
 def analyse(arr, segs, t0, wheel_radius, wheel_sep):
