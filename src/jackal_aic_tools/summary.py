@@ -15,8 +15,12 @@ def main(argv):
         return 1
     results = []
     for p in argv:
-        with open(p) as f:
-            results.append(json.load(f))
+        try:
+            with open(p) as f:
+                results.append(json.load(f))
+        except (OSError, ValueError) as e:
+            results.append({"name": p, "controller": "?", "status": "failed",
+                            "reason": "no readable result (%s)" % e, "segments": [], "files": {}})
     print(report.run_table(results))
     for r in results:
         if r["status"] != "ok":
