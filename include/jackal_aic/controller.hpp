@@ -99,8 +99,41 @@ public:
   /// Number of runaway resets since construction.
   std::uint64_t runawayCount() const { return runaway_count_; }
 
+  /**
+   * \brief Overwrite the beliefs (e.g. to start from the measured twist, or for analysis).
+   * \param mu  3 x (p+1) beliefs, finite
+   * \return false (state unchanged) on a wrong number of columns or a non-finite entry.
+   */
+  bool setBeliefs(const MuTilde& mu);
+
+  /// Relative change of h beyond which the exact integrator recomputes its matrices (smaller
+  /// changes use a first-order correction Psi(h) ~ Psi(h0) + (h - h0) Phi(h0)).
+  static constexpr double kExactStepTolerance = 0.02;
+
+  /// Number of times the exact integrator computed its matrix exponential (for tests and diagnostics).
+  std::uint64_t exactRecomputeCount() const { return exact_recompute_count_; }
+
 private:
-  // Implementation-defined members (state, cached precisions, exact-integrator matrices).
+  /// Max size of the stacked belief vector vec(mu_tilde) = 3 (p+1).
+  static constexpr int kMaxStateDim = kMuDim * kMaxOrders;
+  using StateMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kMaxStateDim, kMaxStateDim>;
+  using StateVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxStateDim, 1>;
+
+  /// eps_y for given beliefs and measurement (eq. 3-8; plus the optional accelerometer coupling).
+  void computeEpsY(const MuTilde& mu, const YTilde& y_tilde, YTilde* eps_y) const;
+  /// eps_mu for given beliefs and goal (eq. 3-9).
+  void computeEpsMu(const MuTilde& mu, const Vector3& mu_d, MuTilde* eps_mu) const;
+  /// dF/dmu_tilde (eq. 3-13).
+  void computeDfDmu(const MuTilde& mu, const YTilde& y_tilde, const Vector3& mu_d, MuTilde* grad) const;
+  /// dmu_tilde/dt (eq. 3-15).
+  void computeMuDot(const MuTilde& mu, const YTilde& y_tilde, const Vector3& mu_d, MuTilde* mu_dot) const;
+  /// Cache precisions, model, the belief dynamics matrix M; invalidate the exact step.
+  void applyParams(const AicParams& params);
+  /// Compute Phi = exp(M h), Psi = int_0^h exp(M s) ds for the exact integrator (no heap).
+  void computeExactStep(double h);
+  /// Zero beliefs and action after a runaway.
+  void runawayReset();
+
   AicParams params_;
   SkidSteerModel model_;
   MuTilde mu_;
@@ -109,6 +142,14 @@ private:
   Vector2 a_ = Vector2::Zero();
   bool has_measurement_ = false;
   std::uint64_t runaway_count_ = 0;
+
+  MuTilde pi_mu_;   ///< Pi_mu, 3 x (p+1)
+  YTilde pi_y_;     ///< Pi_y, 5 x (p+1)
+  StateMatrix M_;   ///< linear part of dmu_tilde/dt on vec(mu_tilde)
+  StateMatrix phi_; ///< exp(M h_exact)
+  StateMatrix psi_; ///< int_0^h exp(M s) ds
+  double exact_h_ = 0.0;  ///< h for which phi_/psi_ hold; 0 = not computed
+  std::uint64_t exact_recompute_count_ = 0;
 };
 
 /// Human-readable name of a status, e.g. "runaway".

@@ -85,6 +85,7 @@ private:
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor, kMaxOrders, kMaxOrders> q_;
   GeneralizedSignal y_tilde_;
   GeneralizedSignal stacked_;  ///< scratch: [y_k, y^(0)_{k-1}, ..., y^(p-1)_{k-1}] per channel
+  GeneralizedSignal next_;     ///< scratch: candidate y_tilde_k, committed only if finite
   std::uint64_t accepted_ = 0;
   std::uint64_t rejected_ = 0;
 };

@@ -1,0 +1,178 @@
+/// Tests of ActiveInferenceController (thesis eq. 3-6 ... 3-16; spec sections 4-5).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "jackal_aic/controller.hpp"
+
+using namespace jackal_aic;
+using Status = ActiveInferenceController::Status;
+
+namespace
+{
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+AicParams thesisStandard()
+{
+  AicParams p;
+  p.belief_rate = 50.0;
+  p.action_rate = 50.0;
+  p.tau = 0.03;
+  p.k_mu = 0.01;
+  p.k_a = 8.0;
+  return p;
+}
+
+/// Generalized measurement of a plant that follows the action exactly: wheel speeds = a,
+/// gyro = r alpha / b (a_R - a_L), higher orders zero (a is piecewise constant).
+YTilde perfectMeasurement(const ActiveInferenceController& c)
+{
+  YTilde y = YTilde::Zero(kYDim, c.params().numOrders());
+  const Vector2 a = c.action();
+  const Vector3 twist = c.model().twistFromWheels(a);
+  y(kGyroZ, 0) = twist(2);
+  y(kOmegaLeft, 0) = a(0);
+  y(kOmegaRight, 0) = a(1);
+  return y;
+}
+}  // namespace
+
+TEST(Controller, RejectsInvalidParams)
+{
+  AicParams p;
+  p.tau = -1.0;
+  EXPECT_THROW(ActiveInferenceController c(p), std::invalid_argument);
+  ActiveInferenceController c{ AicParams() };
+  EXPECT_THROW(c.setParams(p), std::invalid_argument);
+  EXPECT_EQ(c.params().tau, AicParams().tau);
+}
+
+TEST(Controller, DoesNotMoveBeforeFirstMeasurement)
+{
+  ActiveInferenceController c{ thesisStandard() };
+  c.setGoal(Vector3(0.5, 0.0, 0.0));
+  EXPECT_EQ(c.updateBeliefs(0.02), Status::kNoMeasurement);
+  EXPECT_EQ(c.updateAction(0.02), Status::kNoMeasurement);
+  EXPECT_TRUE(c.mu().isZero());
+  EXPECT_TRUE(c.action().isZero());
+}
+
+TEST(Controller, BadIntervalKeepsState)
+{
+  ActiveInferenceController c{ thesisStandard() };
+  c.setGoal(Vector3(0.5, 0.0, 0.2));
+  ASSERT_TRUE(c.setMeasurement(YTilde::Zero(5, 4)));
+  ASSERT_EQ(c.updateBeliefs(0.02), Status::kOk);
+  ASSERT_EQ(c.updateAction(0.02), Status::kOk);
+  const MuTilde mu = c.mu();
+  const Vector2 a = c.action();
+  for (double bad : { 0.0, -0.02, kNaN, kInf })
+  {
+    EXPECT_EQ(c.updateBeliefs(bad), Status::kBadInterval);
+    EXPECT_EQ(c.updateAction(bad), Status::kBadInterval);
+    EXPECT_EQ(c.mu(), mu);
+    EXPECT_EQ(c.action(), a);
+  }
+}
+
+TEST(Controller, RejectsNonFiniteInputs)
+{
+  ActiveInferenceController c{ thesisStandard() };
+  EXPECT_FALSE(c.setGoal(Vector3(kNaN, 0.0, 0.0)));
+  EXPECT_TRUE(c.goal().isZero());
+  YTilde y = YTilde::Zero(5, 4);
+  y(1, 2) = kInf;
+  EXPECT_FALSE(c.setMeasurement(y));
+  EXPECT_FALSE(c.hasMeasurement());
+  EXPECT_FALSE(c.setMeasurement(YTilde::Zero(5, 3)));  // wrong number of orders
+  c.setAction(Vector2(kNaN, 1.0));
+  EXPECT_TRUE(c.action().isZero());
+  c.setAction(Vector2(100.0, -100.0));
+  EXPECT_EQ(c.action()(0), 20.0);
+  EXPECT_EQ(c.action()(1), -20.0);
+}
+
+TEST(Controller, ConvergesWithPerfectPlantEuler)
+{
+  constexpr double kVelocityTol = 0.01;  // m/s
+  constexpr double kYawTol = 0.01;       // rad/s
+  ActiveInferenceController c{ thesisStandard() };
+  const Vector3 goal(0.5, 0.0, 0.3);
+  c.setGoal(goal);
+  const double h = 1.0 / 50.0;
+  for (int k = 0; k < 50 * 60; ++k)
+  {
+    ASSERT_TRUE(c.setMeasurement(perfectMeasurement(c)));
+    ASSERT_EQ(c.updateBeliefs(h), Status::kOk);
+    ASSERT_EQ(c.updateAction(h), Status::kOk);
+  }
+  const Vector3 twist = c.model().twistFromWheels(c.action());
+  EXPECT_NEAR(twist(0), goal(0), kVelocityTol);
+  EXPECT_NEAR(twist(2), goal(2), kYawTol);
+  EXPECT_NEAR(c.mu()(0, 0), goal(0), kVelocityTol);
+}
+
+TEST(Controller, RunawayIsDetectedAndReset)
+{
+  AicParams p = thesisStandard();
+  p.tau = 0.001;  // Euler-unstable at 50 Hz (spec section 10)
+  p.runaway_limit = 100.0;
+  ActiveInferenceController c{ p };
+  c.setGoal(Vector3(1.0, 0.0, 0.0));
+  ASSERT_TRUE(c.setMeasurement(YTilde::Zero(5, 4)));
+  bool runaway = false;
+  for (int k = 0; k < 1000 && !runaway; ++k)
+  {
+    const Status s = c.updateBeliefs(0.02);
+    ASSERT_TRUE(s == Status::kOk || s == Status::kRunaway);
+    EXPECT_TRUE(c.mu().allFinite());
+    EXPECT_LE(c.mu().cwiseAbs().maxCoeff(), p.runaway_limit);
+    runaway = s == Status::kRunaway;
+  }
+  EXPECT_TRUE(runaway);
+  EXPECT_EQ(c.runawayCount(), 1u);
+  EXPECT_TRUE(c.mu().isZero());
+  EXPECT_TRUE(c.action().isZero());
+  c.reset();
+  EXPECT_FALSE(c.hasMeasurement());
+}
+
+TEST(Controller, ActionIsClamped)
+{
+  AicParams p = thesisStandard();
+  p.max_wheel_speed = 1.0;
+  ActiveInferenceController c{ p };
+  c.setGoal(Vector3(2.0, 0.0, 0.0));
+  ASSERT_TRUE(c.setMeasurement(YTilde::Zero(5, 4)));
+  for (int k = 0; k < 500; ++k)
+  {
+    c.updateBeliefs(0.02);
+    c.updateAction(0.02);
+    EXPECT_LE(c.action().cwiseAbs().maxCoeff(), 1.0);
+  }
+  EXPECT_EQ(c.action()(0), 1.0);
+}
+
+TEST(Controller, SetParamsKeepsOrResetsState)
+{
+  ActiveInferenceController c{ thesisStandard() };
+  c.setGoal(Vector3(0.5, 0.0, 0.0));
+  ASSERT_TRUE(c.setMeasurement(YTilde::Zero(5, 4)));
+  c.updateBeliefs(0.02);
+  const MuTilde mu = c.mu();
+  AicParams p = thesisStandard();
+  p.k_a = 10.0;
+  c.setParams(p);
+  EXPECT_EQ(c.mu(), mu);
+  EXPECT_TRUE(c.hasMeasurement());
+  p.embedding_order = 2;
+  p.var_mu = { 1.0, 1.0, 1.0 };
+  p.var_y = { 1.0, 1.0, 1.0 };
+  c.setParams(p);
+  EXPECT_EQ(c.mu().cols(), 3);
+  EXPECT_TRUE(c.mu().isZero());
+  EXPECT_FALSE(c.hasMeasurement());
+}

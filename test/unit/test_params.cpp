@@ -1,0 +1,163 @@
+/// Tests of AicParams::validate() (one test per rule), precisions and integrator names.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "jackal_aic/params.hpp"
+
+using jackal_aic::AicParams;
+using jackal_aic::Integrator;
+
+namespace
+{
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPrecisionTol = 1e-12;  // 1/variance units
+
+bool hasViolation(const AicParams& p, const std::string& name)
+{
+  const auto v = p.validate();
+  return std::any_of(v.begin(), v.end(), [&](const jackal_aic::ParamViolation& x) { return x.name == name; });
+}
+
+/// Every positive-finite scalar rule, checked for 0, negative, NaN and Inf.
+void expectPositiveRule(double AicParams::*member, const std::string& name)
+{
+  for (double bad : { 0.0, -1.0, kNaN, kInf })
+  {
+    AicParams p;
+    p.*member = bad;
+    EXPECT_TRUE(hasViolation(p, name)) << name << " = " << bad;
+  }
+  AicParams ok;
+  EXPECT_FALSE(hasViolation(ok, name));
+}
+}  // namespace
+
+TEST(Params, DefaultsAreValid)
+{
+  EXPECT_TRUE(AicParams().validate().empty());
+}
+
+TEST(Params, BeliefRate) { expectPositiveRule(&AicParams::belief_rate, "belief_rate"); }
+TEST(Params, ActionRate) { expectPositiveRule(&AicParams::action_rate, "action_rate"); }
+TEST(Params, Tau) { expectPositiveRule(&AicParams::tau, "tau"); }
+TEST(Params, KMu) { expectPositiveRule(&AicParams::k_mu, "k_mu"); }
+TEST(Params, KA) { expectPositiveRule(&AicParams::k_a, "k_a"); }
+TEST(Params, WheelRadius) { expectPositiveRule(&AicParams::wheel_radius, "wheel_radius"); }
+TEST(Params, SlipFactor) { expectPositiveRule(&AicParams::slip_factor, "slip_factor"); }
+TEST(Params, WheelSeparation) { expectPositiveRule(&AicParams::wheel_separation, "wheel_separation"); }
+TEST(Params, MaxWheelSpeed) { expectPositiveRule(&AicParams::max_wheel_speed, "max_wheel_speed"); }
+TEST(Params, RunawayLimit) { expectPositiveRule(&AicParams::runaway_limit, "runaway_limit"); }
+
+TEST(Params, BeliefRateNotBelowActionRate)
+{
+  AicParams p;
+  p.belief_rate = 20.0;
+  p.action_rate = 50.0;
+  EXPECT_TRUE(hasViolation(p, "belief_rate"));
+  p.belief_rate = 50.0;
+  EXPECT_TRUE(p.validate().empty());
+}
+
+TEST(Params, EmbeddingOrderRange)
+{
+  for (int bad : { 0, -1, 6, 100 })
+  {
+    AicParams p;
+    p.embedding_order = bad;
+    EXPECT_TRUE(hasViolation(p, "embedding_order")) << bad;
+  }
+  for (int ok = 1; ok <= jackal_aic::kMaxEmbeddingOrder; ++ok)
+  {
+    AicParams p;
+    p.embedding_order = ok;
+    p.var_mu.assign(ok + 1, 1.0);
+    p.var_y.assign(ok + 1, 1.0);
+    EXPECT_TRUE(p.validate().empty()) << ok;
+  }
+}
+
+TEST(Params, VarianceSizes)
+{
+  AicParams p;  // p = 3
+  p.var_mu = { 1.0, 1.0 };
+  EXPECT_TRUE(hasViolation(p, "var_mu.size()"));
+  p.var_mu.assign(12, 1.0);  // 3 channels x 4 orders
+  EXPECT_FALSE(hasViolation(p, "var_mu.size()"));
+  p.var_y.assign(12, 1.0);  // wrong: per channel needs 20
+  EXPECT_TRUE(hasViolation(p, "var_y.size()"));
+  p.var_y.assign(20, 1.0);
+  EXPECT_TRUE(p.validate().empty());
+  p.var_y.clear();
+  EXPECT_TRUE(hasViolation(p, "var_y.size()"));
+}
+
+TEST(Params, VarianceValues)
+{
+  for (double bad : { 0.0, -2.0, kNaN, kInf })
+  {
+    AicParams p;
+    p.var_mu[2] = bad;
+    p.var_y[0] = bad;
+    EXPECT_TRUE(hasViolation(p, "var_mu[2]")) << bad;
+    EXPECT_TRUE(hasViolation(p, "var_y[0]")) << bad;
+  }
+}
+
+TEST(Params, IntegratorValue)
+{
+  AicParams p;
+  p.integrator = static_cast<Integrator>(7);
+  EXPECT_TRUE(hasViolation(p, "integrator"));
+}
+
+TEST(Params, ReportsEveryViolation)
+{
+  AicParams p;
+  p.tau = -1.0;
+  p.k_mu = kNaN;
+  p.wheel_radius = 0.0;
+  const auto v = p.validate();
+  ASSERT_EQ(v.size(), 3u);
+  EXPECT_EQ(v[0].toString(), "tau = -1 (allowed: > 0 and finite)");
+}
+
+TEST(Params, Precisions)
+{
+  AicParams p;
+  const auto pi_mu = p.precisionMu();
+  ASSERT_EQ(pi_mu.cols(), 4);
+  for (int c = 0; c < 3; ++c)
+  {
+    EXPECT_NEAR(pi_mu(c, 0), 1.0 / 1.5, kPrecisionTol);
+    EXPECT_NEAR(pi_mu(c, 3), 1.0 / 8.0, kPrecisionTol);
+  }
+  p.var_y.assign(20, 1.0);
+  p.var_y[2 * 5 + 4] = 4.0;  // order 2, channel 4
+  const auto pi_y = p.precisionY();
+  EXPECT_NEAR(pi_y(4, 2), 0.25, kPrecisionTol);
+  EXPECT_NEAR(pi_y(3, 2), 1.0, kPrecisionTol);
+}
+
+TEST(Params, PrecisionsRejectMismatch)
+{
+  AicParams p;
+  p.var_mu = { 1.0 };
+  EXPECT_THROW(p.precisionMu(), std::invalid_argument);
+}
+
+TEST(Params, IntegratorNames)
+{
+  Integrator i = Integrator::kEuler;
+  EXPECT_TRUE(jackal_aic::integratorFromString("exact", &i));
+  EXPECT_EQ(i, Integrator::kExact);
+  EXPECT_FALSE(jackal_aic::integratorFromString("Euler", &i));
+  EXPECT_EQ(i, Integrator::kExact);
+  EXPECT_TRUE(jackal_aic::integratorFromString("euler", &i));
+  EXPECT_EQ(jackal_aic::toString(i), "euler");
+  EXPECT_FALSE(jackal_aic::integratorFromString("euler", nullptr));
+}
