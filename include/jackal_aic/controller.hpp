@@ -49,13 +49,15 @@ public:
   const AicParams& params() const { return params_; }
   const SkidSteerModel& model() const { return model_; }
 
-  /// Desired twist mu_d = (v_x [m/s], 0, omega_z [rad/s]). Non-finite input is ignored, returns false.
+  /// Desired twist mu_d = (v_x [m/s], 0, omega_z [rad/s]). Non-finite input or an element beyond
+  /// runaway_limit is ignored, returns false.
   bool setGoal(const Vector3& mu_d);
   const Vector3& goal() const { return mu_d_; }
 
   /**
    * \brief Latest generalized measurement y_tilde (5 x (p+1)), held until the next one.
-   * \return false (and ignored) if it has the wrong number of columns or a non-finite entry.
+   * \return false (and ignored) if it has the wrong number of columns, a non-finite entry, or an
+   *         entry beyond kMaxMeasurementMagnitude.
    */
   bool setMeasurement(const YTilde& y_tilde);
   bool hasMeasurement() const { return has_measurement_; }
@@ -101,14 +103,19 @@ public:
 
   /**
    * \brief Overwrite the beliefs (e.g. to start from the measured twist, or for analysis).
-   * \param mu  3 x (p+1) beliefs, finite
-   * \return false (state unchanged) on a wrong number of columns or a non-finite entry.
+   * \param mu  3 x (p+1) beliefs, finite, each |entry| <= runaway_limit
+   * \return false (state unchanged) on a wrong number of columns, a non-finite entry or one beyond runaway_limit.
    */
   bool setBeliefs(const MuTilde& mu);
 
   /// Relative change of h beyond which the exact integrator recomputes its matrices (smaller
   /// changes use a first-order correction Psi(h) ~ Psi(h0) + (h - h0) Phi(h0)).
   static constexpr double kExactStepTolerance = 0.02;
+
+  /// Largest accepted |entry| of a generalized measurement [channel units / s^i]. Far above any
+  /// finite difference of a real signal (20 rad/s / (1 ms)^5 = 2e16), low enough that the free
+  /// energy and its gradient cannot overflow with validated parameters.
+  static constexpr double kMaxMeasurementMagnitude = 1.0e100;
 
   /// Number of times the exact integrator computed its matrix exponential (for tests and diagnostics).
   std::uint64_t exactRecomputeCount() const { return exact_recompute_count_; }

@@ -28,6 +28,23 @@ bool integratorFromString(const std::string& name, Integrator* out);
 /// "euler" or "exact".
 std::string toString(Integrator integrator);
 
+/// \name Sanity bounds of AicParams::validate() (guards against absurd values that would
+/// overflow the free energy or its gradient; far outside any useful setting).
+///@{
+constexpr double kMaxRate = 1.0e6;       ///< largest belief/action rate [Hz]
+constexpr double kMinTau = 1.0e-6;       ///< smallest tau [s]
+constexpr double kMaxTau = 1.0e3;        ///< largest tau [s]
+constexpr double kMaxGain = 1.0e6;       ///< largest k_mu and k_a [-]
+constexpr double kMinVariance = 1.0e-9;  ///< smallest sigma^2 (precision <= 1e9)
+constexpr double kMaxVariance = 1.0e12;  ///< largest sigma^2
+constexpr double kMinLength = 1.0e-4;    ///< smallest wheel_radius, wheel_separation [m]
+constexpr double kMaxLength = 100.0;     ///< largest wheel_radius, wheel_separation [m]
+constexpr double kMinSlipFactor = 1.0e-3;  ///< smallest slip_factor [-]
+constexpr double kMaxSlipFactor = 1.0e3;   ///< largest slip_factor [-]
+constexpr double kMaxWheelSpeedLimit = 1.0e4;  ///< largest max_wheel_speed [rad/s]
+constexpr double kMaxRunawayLimit = 1.0e12;    ///< largest runaway_limit
+///@}
+
 /// One violated rule of AicParams::validate().
 struct ParamViolation
 {
@@ -78,11 +95,14 @@ struct AicParams
   /**
    * \brief Check every rule; report every violation (empty vector = valid).
    *
-   * Rules: rates finite and > 0; belief_rate >= action_rate; tau, k_mu, k_a finite
-   * and > 0; 1 <= embedding_order <= kMaxEmbeddingOrder; var_mu of size p+1 or
-   * 3(p+1), var_y of size p+1 or 5(p+1), every variance finite and > 0;
-   * wheel_radius, slip_factor, wheel_separation, max_wheel_speed, runaway_limit
-   * finite and > 0.
+   * Rules: rates finite, > 0 and <= kMaxRate; belief_rate >= action_rate;
+   * tau in [kMinTau, kMaxTau]; k_mu, k_a finite, > 0 and <= kMaxGain;
+   * 1 <= embedding_order <= kMaxEmbeddingOrder; var_mu of size p+1 or
+   * 3(p+1), var_y of size p+1 or 5(p+1), every variance in [kMinVariance, kMaxVariance];
+   * wheel_radius, wheel_separation in [kMinLength, kMaxLength]; slip_factor in
+   * [kMinSlipFactor, kMaxSlipFactor]; max_wheel_speed in (0, kMaxWheelSpeedLimit];
+   * runaway_limit in (0, kMaxRunawayLimit]; integrator a known enumerator.
+   * Each violation names the YAML key (e.g. "var_mu[2]"), the value and the allowed range.
    */
   std::vector<ParamViolation> validate() const;
 

@@ -96,7 +96,7 @@ void ActiveInferenceController::applyParams(const AicParams& params)
 
 bool ActiveInferenceController::setGoal(const Vector3& mu_d)
 {
-  if (!mu_d.allFinite())
+  if (!mu_d.allFinite() || mu_d.cwiseAbs().maxCoeff() > params_.runaway_limit)
   {
     return false;
   }
@@ -106,7 +106,8 @@ bool ActiveInferenceController::setGoal(const Vector3& mu_d)
 
 bool ActiveInferenceController::setMeasurement(const YTilde& y_tilde)
 {
-  if (y_tilde.cols() != params_.numOrders() || !y_tilde.allFinite())
+  if (y_tilde.cols() != params_.numOrders() || !y_tilde.allFinite() ||
+      y_tilde.cwiseAbs().maxCoeff() > kMaxMeasurementMagnitude)
   {
     return false;
   }
@@ -117,7 +118,7 @@ bool ActiveInferenceController::setMeasurement(const YTilde& y_tilde)
 
 bool ActiveInferenceController::setBeliefs(const MuTilde& mu)
 {
-  if (mu.cols() != params_.numOrders() || !mu.allFinite())
+  if (mu.cols() != params_.numOrders() || !mu.allFinite() || mu.cwiseAbs().maxCoeff() > params_.runaway_limit)
   {
     return false;
   }

@@ -51,17 +51,20 @@ namespace
 std::string formatValue(double v)
 {
   std::ostringstream os;
-  os.precision(17);
+  os.precision(15);
   os << v;
   return os.str();
 }
 
-/// Adds a violation if v is not finite and > 0.
-void requirePositive(const std::string& name, double v, std::vector<ParamViolation>* out)
+/// Adds a violation if v is not finite or outside [lo, hi] (lo excluded if lo_open).
+void requireRange(const std::string& name, double v, double lo, bool lo_open, double hi,
+                  std::vector<ParamViolation>* out)
 {
-  if (!(std::isfinite(v) && v > 0.0))
+  const bool ok = std::isfinite(v) && (lo_open ? v > lo : v >= lo) && v <= hi;
+  if (!ok)
   {
-    out->push_back({ name, formatValue(v), "> 0 and finite" });
+    out->push_back({ name, formatValue(v),
+                     (lo_open ? "> " : ">= ") + formatValue(lo) + " and <= " + formatValue(hi) + ", finite" });
   }
 }
 }  // namespace
@@ -69,16 +72,16 @@ void requirePositive(const std::string& name, double v, std::vector<ParamViolati
 std::vector<ParamViolation> AicParams::validate() const
 {
   std::vector<ParamViolation> v;
-  requirePositive("belief_rate", belief_rate, &v);
-  requirePositive("action_rate", action_rate, &v);
+  requireRange("belief_rate", belief_rate, 0.0, true, kMaxRate, &v);
+  requireRange("action_rate", action_rate, 0.0, true, kMaxRate, &v);
   if (std::isfinite(belief_rate) && std::isfinite(action_rate) && belief_rate > 0.0 && action_rate > 0.0 &&
       belief_rate < action_rate)
   {
     v.push_back({ "belief_rate", formatValue(belief_rate), ">= action_rate (" + formatValue(action_rate) + ")" });
   }
-  requirePositive("tau", tau, &v);
-  requirePositive("k_mu", k_mu, &v);
-  requirePositive("k_a", k_a, &v);
+  requireRange("tau", tau, kMinTau, false, kMaxTau, &v);
+  requireRange("k_mu", k_mu, 0.0, true, kMaxGain, &v);
+  requireRange("k_a", k_a, 0.0, true, kMaxGain, &v);
 
   const bool order_ok = embedding_order >= 1 && embedding_order <= kMaxEmbeddingOrder;
   if (!order_ok)
@@ -107,17 +110,17 @@ std::vector<ParamViolation> AicParams::validate() const
     }
     for (std::size_t i = 0; i < var.size(); ++i)
     {
-      requirePositive(name + "[" + std::to_string(i) + "]", var[i], &v);
+      requireRange(name + "[" + std::to_string(i) + "]", var[i], kMinVariance, false, kMaxVariance, &v);
     }
   };
   check_variances("var_mu", var_mu, kMuDim);
   check_variances("var_y", var_y, kYDim);
 
-  requirePositive("wheel_radius", wheel_radius, &v);
-  requirePositive("slip_factor", slip_factor, &v);
-  requirePositive("wheel_separation", wheel_separation, &v);
-  requirePositive("max_wheel_speed", max_wheel_speed, &v);
-  requirePositive("runaway_limit", runaway_limit, &v);
+  requireRange("wheel_radius", wheel_radius, kMinLength, false, kMaxLength, &v);
+  requireRange("slip_factor", slip_factor, kMinSlipFactor, false, kMaxSlipFactor, &v);
+  requireRange("wheel_separation", wheel_separation, kMinLength, false, kMaxLength, &v);
+  requireRange("max_wheel_speed", max_wheel_speed, 0.0, true, kMaxWheelSpeedLimit, &v);
+  requireRange("runaway_limit", runaway_limit, 0.0, true, kMaxRunawayLimit, &v);
   if (integrator != Integrator::kEuler && integrator != Integrator::kExact)
   {
     v.push_back({ "integrator", std::to_string(static_cast<int>(integrator)), "euler | exact" });

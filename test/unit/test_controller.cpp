@@ -88,6 +88,16 @@ TEST(Controller, RejectsNonFiniteInputs)
   EXPECT_FALSE(c.setMeasurement(y));
   EXPECT_FALSE(c.hasMeasurement());
   EXPECT_FALSE(c.setMeasurement(YTilde::Zero(5, 3)));  // wrong number of orders
+  y.setZero();
+  y(3, 3) = 2.0 * ActiveInferenceController::kMaxMeasurementMagnitude;
+  EXPECT_FALSE(c.setMeasurement(y));
+  EXPECT_FALSE(c.hasMeasurement());
+  EXPECT_FALSE(c.setGoal(Vector3(0.0, 0.0, 2.0 * c.params().runaway_limit)));
+  MuTilde mu = MuTilde::Zero(3, 4);
+  mu(1, 1) = kNaN;
+  EXPECT_FALSE(c.setBeliefs(mu));
+  EXPECT_FALSE(c.setBeliefs(MuTilde::Zero(3, 2)));
+  EXPECT_TRUE(c.mu().isZero());
   c.setAction(Vector2(kNaN, 1.0));
   EXPECT_TRUE(c.action().isZero());
   c.setAction(Vector2(100.0, -100.0));

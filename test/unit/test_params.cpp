@@ -23,10 +23,10 @@ bool hasViolation(const AicParams& p, const std::string& name)
   return std::any_of(v.begin(), v.end(), [&](const jackal_aic::ParamViolation& x) { return x.name == name; });
 }
 
-/// Every positive-finite scalar rule, checked for 0, negative, NaN and Inf.
-void expectPositiveRule(double AicParams::*member, const std::string& name)
+/// Every bounded scalar rule, checked for 0, negative, NaN, Inf and just above its upper bound.
+void expectPositiveRule(double AicParams::*member, const std::string& name, double upper)
 {
-  for (double bad : { 0.0, -1.0, kNaN, kInf })
+  for (double bad : { 0.0, -1.0, kNaN, kInf, upper * 1.01 })
   {
     AicParams p;
     p.*member = bad;
@@ -34,6 +34,8 @@ void expectPositiveRule(double AicParams::*member, const std::string& name)
   }
   AicParams ok;
   EXPECT_FALSE(hasViolation(ok, name));
+  ok.*member = upper;
+  EXPECT_FALSE(hasViolation(ok, name)) << name << " = " << upper << " must be allowed";
 }
 }  // namespace
 
@@ -42,16 +44,35 @@ TEST(Params, DefaultsAreValid)
   EXPECT_TRUE(AicParams().validate().empty());
 }
 
-TEST(Params, BeliefRate) { expectPositiveRule(&AicParams::belief_rate, "belief_rate"); }
-TEST(Params, ActionRate) { expectPositiveRule(&AicParams::action_rate, "action_rate"); }
-TEST(Params, Tau) { expectPositiveRule(&AicParams::tau, "tau"); }
-TEST(Params, KMu) { expectPositiveRule(&AicParams::k_mu, "k_mu"); }
-TEST(Params, KA) { expectPositiveRule(&AicParams::k_a, "k_a"); }
-TEST(Params, WheelRadius) { expectPositiveRule(&AicParams::wheel_radius, "wheel_radius"); }
-TEST(Params, SlipFactor) { expectPositiveRule(&AicParams::slip_factor, "slip_factor"); }
-TEST(Params, WheelSeparation) { expectPositiveRule(&AicParams::wheel_separation, "wheel_separation"); }
-TEST(Params, MaxWheelSpeed) { expectPositiveRule(&AicParams::max_wheel_speed, "max_wheel_speed"); }
-TEST(Params, RunawayLimit) { expectPositiveRule(&AicParams::runaway_limit, "runaway_limit"); }
+TEST(Params, BeliefRate) { expectPositiveRule(&AicParams::belief_rate, "belief_rate", jackal_aic::kMaxRate); }
+TEST(Params, ActionRate) { expectPositiveRule(&AicParams::action_rate, "action_rate", jackal_aic::kMaxRate); }
+TEST(Params, Tau) { expectPositiveRule(&AicParams::tau, "tau", jackal_aic::kMaxTau); }
+TEST(Params, KMu) { expectPositiveRule(&AicParams::k_mu, "k_mu", jackal_aic::kMaxGain); }
+TEST(Params, KA) { expectPositiveRule(&AicParams::k_a, "k_a", jackal_aic::kMaxGain); }
+TEST(Params, WheelRadius) { expectPositiveRule(&AicParams::wheel_radius, "wheel_radius", jackal_aic::kMaxLength); }
+TEST(Params, SlipFactor) { expectPositiveRule(&AicParams::slip_factor, "slip_factor", jackal_aic::kMaxSlipFactor); }
+TEST(Params, WheelSeparation) { expectPositiveRule(&AicParams::wheel_separation, "wheel_separation", jackal_aic::kMaxLength); }
+TEST(Params, MaxWheelSpeed) { expectPositiveRule(&AicParams::max_wheel_speed, "max_wheel_speed", jackal_aic::kMaxWheelSpeedLimit); }
+TEST(Params, RunawayLimit) { expectPositiveRule(&AicParams::runaway_limit, "runaway_limit", jackal_aic::kMaxRunawayLimit); }
+
+TEST(Params, LowerSanityBounds)
+{
+  AicParams p;
+  p.tau = jackal_aic::kMinTau * 0.99;
+  p.wheel_radius = jackal_aic::kMinLength * 0.99;
+  p.wheel_separation = jackal_aic::kMinLength * 0.99;
+  p.slip_factor = jackal_aic::kMinSlipFactor * 0.99;
+  EXPECT_TRUE(hasViolation(p, "tau"));
+  EXPECT_TRUE(hasViolation(p, "wheel_radius"));
+  EXPECT_TRUE(hasViolation(p, "wheel_separation"));
+  EXPECT_TRUE(hasViolation(p, "slip_factor"));
+  p.tau = jackal_aic::kMinTau;
+  p.wheel_radius = jackal_aic::kMinLength;
+  p.wheel_separation = jackal_aic::kMinLength;
+  p.slip_factor = jackal_aic::kMinSlipFactor;
+  p.belief_rate = 1000.0;  // belief_rate >= action_rate still holds
+  EXPECT_TRUE(p.validate().empty());
+}
 
 TEST(Params, BeliefRateNotBelowActionRate)
 {
@@ -98,7 +119,7 @@ TEST(Params, VarianceSizes)
 
 TEST(Params, VarianceValues)
 {
-  for (double bad : { 0.0, -2.0, kNaN, kInf })
+  for (double bad : { 0.0, -2.0, kNaN, kInf, jackal_aic::kMinVariance * 0.99, jackal_aic::kMaxVariance * 1.01 })
   {
     AicParams p;
     p.var_mu[2] = bad;
@@ -123,7 +144,9 @@ TEST(Params, ReportsEveryViolation)
   p.wheel_radius = 0.0;
   const auto v = p.validate();
   ASSERT_EQ(v.size(), 3u);
-  EXPECT_EQ(v[0].toString(), "tau = -1 (allowed: > 0 and finite)");
+  EXPECT_EQ(v[0].toString(), "tau = -1 (allowed: >= 1e-06 and <= 1000, finite)");
+  EXPECT_EQ(v[1].name, "k_mu");
+  EXPECT_EQ(v[2].name, "wheel_radius");
 }
 
 TEST(Params, Precisions)
