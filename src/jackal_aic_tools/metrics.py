@@ -54,7 +54,8 @@ def step_metrics(t, y, t_step, initial, target):
     \\param initial  level before the step
     \\param target   set point after the step
     \\return dict with METRIC_KEYS: rise_time [s], settling_time [s], overshoot [% of the
-            step], steady_state_error [same unit as y]; a value is None (NaN from the
+            step], steady_state_error [same unit as y; target - value, mean over the
+            last 0.5 s]; a value is None (NaN from the
             CLI) when undefined, e.g. never settled.
     Raises MetricsError when the CLI fails.
     """
@@ -63,10 +64,19 @@ def step_metrics(t, y, t_step, initial, target):
     if len(t) < 2:
         raise MetricsError("step_metrics: fewer than two samples after the step")
     cli = find_cli()
+    # the CLI wants strictly increasing stamps: keep the first of equal stamps
+    keep_t, keep_y = [], []
+    for a, b in zip(t, y):
+        if not keep_t or a > keep_t[-1]:
+            keep_t.append(a)
+            keep_y.append(b)
+    if len(keep_t) < 2:
+        raise MetricsError("step_metrics: fewer than two distinct stamps after the step")
+    t, y = keep_t, keep_y
     fd, path = tempfile.mkstemp(prefix="aic_metrics_", suffix=".csv")
     try:
         with os.fdopen(fd, "w") as f:
-            f.write("t,y\n")
+            f.write("time,value\n")
             for a, b in zip(t, y):
                 f.write("%.9f,%.9g\n" % (a, b))
         cmd = _command(cli, path, t_step, initial, target)
@@ -80,8 +90,8 @@ def step_metrics(t, y, t_step, initial, target):
 
 
 def _command(cli, path, t_step, initial, target):
-    return [cli, "--t-step", repr(float(t_step)), "--initial", repr(float(initial)),
-            "--target", repr(float(target)), path]
+    return [cli, path, "--step-time", repr(float(t_step)), "--initial", repr(float(initial)),
+            "--target", repr(float(target))]
 
 
 def _parse(stdout):
@@ -91,6 +101,6 @@ def _parse(stdout):
     d = json.loads(line[-1])
     res = {}
     for k in METRIC_KEYS:
-        v = d.get(k)
+        v = d.get({"overshoot": "overshoot_percent"}.get(k, k))
         res[k] = float(v) if v is not None and math.isfinite(float(v)) else None
     return res
