@@ -358,6 +358,10 @@ void AicNode::activate()
   controller_->setGoal(mu_d_);
   controller_->setMeasurement(generalizer_->yTilde());
   controller_->setAction(measured_wheels_);  // bumpless start from the measured wheel speeds
+  // Beliefs start at the measured twist (mu^(0) = G omega), higher orders zero.
+  MuTilde mu = MuTilde::Zero(kMuDim, params_.aic.numOrders());
+  mu.col(0) = controller_->model().twistFromWheels(measured_wheels_);
+  controller_->setBeliefs(mu);
   active_ = true;
   ROS_INFO_STREAM("jackal_AIC: running (start from measured wheels " << measured_wheels_.transpose()
                                                                      << " rad/s, goal " << mu_d_.transpose() << ")");
