@@ -1,0 +1,163 @@
+#pragma once
+/**
+ * \file plant_params.hpp
+ * \brief Parameters of the simulated Jackal (physics, contacts, the MCU wheel-speed loop,
+ *        sensors), with defaults, units, validation, and loading from sim/config/plant.yaml.
+ *
+ * ROS-free (yaml-cpp). One struct per component, each with validate() returning every
+ * violation by name; PlantParams::validate() collects them all.
+ */
+
+#include <array>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace jackal_aic
+{
+namespace sim
+{
+/// Thrown on an unreadable or invalid plant parameter file; what() names the file and
+/// every offending key with its value and the allowed range.
+class PlantParamsError : public std::runtime_error
+{
+public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Rigid-body simulation settings.
+struct PhysicsParams
+{
+  double step = 0.001;             ///< fixed ODE step [s], (0, 0.01]
+  double gravity = 9.81;           ///< magnitude of gravity, along -z [m/s^2], > 0
+  double initial_x = 0.0;          ///< initial base_link x in odom [m]
+  double initial_y = 0.0;          ///< initial base_link y in odom [m]
+  double initial_yaw = 0.0;        ///< initial heading [rad]
+  double initial_clearance = 0.0;  ///< wheel bottom above the ground at start [m], >= 0
+
+  std::vector<std::string> validate() const;
+};
+
+/// Wheel-ground (and chassis-ground) contact, as Gazebo's ODE <surface> parameters.
+struct ContactParams
+{
+  double mu1 = 0.5;                    ///< Coulomb friction along the rolling direction (fdir1) [-], >= 0
+  double mu2 = 0.5;                    ///< Coulomb friction along the axle [-], >= 0
+  double kp = 1.0e7;                   ///< contact stiffness [N/m], > 0
+  double kd = 1.0;                     ///< contact damping [N s/m], >= 0
+  double max_correcting_vel = 100.0;   ///< ODE contact_max_correcting_vel [m/s], > 0
+  double surface_layer = 0.001;        ///< ODE contact_surface_layer (allowed penetration) [m], >= 0
+  int max_contacts = 4;                ///< contact points per wheel-ground pair, [1, 16]
+
+  std::vector<std::string> validate() const;
+};
+
+/**
+ * MCU wheel-speed loop of one side (one motor drives both wheels of a side), expressed at
+ * the wheels: PI speed servo on the side's mean wheel speed, torque limited by the motor
+ * current limit and by the supply voltage (back-EMF: a DC motor's available torque falls
+ * linearly from the stall torque at rest to zero at the no-load speed), plus drivetrain
+ * friction per wheel.
+ */
+struct MotorParams
+{
+  double speed_kp = 3.0;              ///< proportional gain [N m / (rad/s)], >= 0
+  double speed_ki = 30.0;             ///< integral gain [N m / rad], >= 0
+  double max_torque = 1.2;            ///< current (torque) limit of one side, at the wheels [N m], > 0
+  double stall_torque = 0.0;          ///< voltage limit: stall torque of one side [N m]; 0 = no voltage limit
+  double no_load_speed = 0.0;         ///< voltage limit: no-load wheel speed [rad/s], > 0 if stall_torque > 0
+  double setpoint_time_constant = 0.0;  ///< first-order lag on the set point inside the MCU [s], >= 0
+  double command_delay = 0.0;         ///< transport delay /cmd_drive -> MCU [s], [0, 0.5]
+  double coulomb_friction = 0.0;      ///< drivetrain Coulomb friction per wheel [N m], >= 0
+  double viscous_friction = 0.0;      ///< drivetrain viscous friction per wheel [N m / (rad/s)], >= 0
+  double coupling_damping = 1.0;      ///< front-rear drivetrain coupling on a side [N m / (rad/s)], >= 0
+  double max_wheel_speed = 25.0;      ///< set points are clamped to +-this [rad/s], > 0
+
+  std::vector<std::string> validate() const;
+};
+
+/// Noise model of one sensor stream.
+struct StreamParams
+{
+  double rate = 50.0;      ///< publication rate [Hz], > 0; the period is rounded to whole physics steps
+  double delay = 0.0;      ///< age of the data in a sample [s], [0, 1]
+  double dropout = 0.0;    ///< probability that a sample is not published [-], [0, 1)
+
+  std::vector<std::string> validate(const std::string& prefix) const;
+};
+
+/// Joint-state sensor (wheel encoders).
+struct JointStateSensorParams : StreamParams
+{
+  double position_noise_std = 0.0;  ///< Gaussian noise on positions [rad], >= 0
+  double velocity_noise_std = 0.0;  ///< Gaussian noise on velocities [rad/s], >= 0
+  double velocity_bias = 0.0;       ///< constant offset on velocities [rad/s]
+
+  std::vector<std::string> validate() const;
+};
+
+/// IMU (angular velocity, specific force, orientation), in the IMU frame.
+struct ImuSensorParams : StreamParams
+{
+  double gyro_noise_std = 0.0;         ///< Gaussian noise per axis [rad/s], >= 0
+  std::array<double, 3> gyro_bias{};   ///< constant offset per axis [rad/s]
+  double accel_noise_std = 0.0;        ///< Gaussian noise per axis [m/s^2], >= 0
+  std::array<double, 3> accel_bias{};  ///< constant offset per axis [m/s^2]
+  double orientation_noise_std = 0.0;  ///< Gaussian noise per Euler angle [rad], >= 0
+
+  std::vector<std::string> validate() const;
+};
+
+/// All sensors.
+struct SensorParams
+{
+  std::uint32_t seed = 42;  ///< random seed of every noise and dropout draw
+  JointStateSensorParams joint_states;
+  ImuSensorParams imu;
+
+  std::vector<std::string> validate() const;
+};
+
+/// Settings of the ROS node around the plant (ignored by the ROS-free core).
+struct PlantNodeParams
+{
+  double real_time_factor = 1.0;  ///< plant seconds per wall second; 0 = as fast as possible, [0, 100]
+  double odom_rate = 50.0;        ///< /odom and tf rate [Hz], (0, 1000]
+  double clock_rate = 1000.0;     ///< /clock rate with use_sim_time [Hz], (0, 1000]
+  double cmd_timeout = 0.5;       ///< /cmd_drive silence after which set points are zeroed [s]; 0 = never
+  std::string odom_frame = "odom";  ///< world frame name
+
+  std::vector<std::string> validate() const;
+};
+
+/// Everything the plant needs besides the URDF.
+struct PlantParams
+{
+  PhysicsParams physics;
+  ContactParams contact;
+  MotorParams motor;
+  SensorParams sensors;
+  PlantNodeParams node;
+
+  /// Every violation, as "key = value (allowed range)"; empty when valid.
+  std::vector<std::string> validate() const;
+};
+
+/**
+ * \brief Load plant parameters from a YAML file; keys absent from the file keep their
+ *        defaults.
+ * \param path      YAML file (sections physics, contact, motor, sensors, node)
+ * \param overrides "dotted.key=value" strings applied on top of the file
+ *                  (e.g. "motor.max_torque=1.5", "sensors.imu.gyro_bias=[0,0,0.01]")
+ * \throws PlantParamsError on an unreadable file, a malformed value, an unknown override
+ *         key, or any violation of validate() (all listed).
+ */
+PlantParams loadPlantParams(const std::string& path, const std::vector<std::string>& overrides = {});
+
+/// As loadPlantParams() from a YAML string (source names it in errors).
+PlantParams parsePlantParams(const std::string& yaml, const std::string& source,
+                             const std::vector<std::string>& overrides = {});
+
+}  // namespace sim
+}  // namespace jackal_aic

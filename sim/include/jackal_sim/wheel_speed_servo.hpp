@@ -1,0 +1,75 @@
+#pragma once
+/**
+ * \file wheel_speed_servo.hpp
+ * \brief The Jackal MCU's wheel-speed loop for one side (one motor per side).
+ *
+ * ROS-free. A PI speed servo on the side's measured wheel speed, whose torque is limited
+ * by the motor current limit (max_torque) and, optionally, by the supply voltage: a DC
+ * motor's torque at speed w can lie only between -T_s (1 + w / w_0) and T_s (1 - w / w_0)
+ * (stall torque T_s, no-load speed w_0). An optional first-order lag on the set point and a
+ * transport delay model the command path. Anti-windup: the integrator does not grow while
+ * the output is saturated in the direction of the error.
+ */
+
+#include <deque>
+#include <utility>
+
+#include "jackal_sim/plant_params.hpp"
+
+namespace jackal_aic
+{
+namespace sim
+{
+/// PI wheel-speed servo with torque and voltage limits (one side).
+class WheelSpeedServo
+{
+public:
+  /// \param params motor parameters (validated by the caller)
+  /// \param step   update period [s], > 0
+  WheelSpeedServo(const MotorParams& params, double step);
+
+  /// Command a wheel speed [rad/s] (clamped to +-max_wheel_speed) at time t [s].
+  void setSetpoint(double setpoint, double t);
+  /// Release the motor at time t [s] (MODE_NONE): zero torque, integrator cleared.
+  void release(double t);
+
+  /**
+   * \brief One servo update.
+   * \param measured_speed side wheel speed [rad/s]
+   * \param t              current time [s] (for the command delay)
+   * \return drive torque of the side at the wheels [N m], within the limits; 0 when released
+   */
+  double update(double measured_speed, double t);
+
+  /// Torque limits [N m] (min, max) available at wheel speed w [rad/s].
+  std::pair<double, double> torqueLimits(double w) const;
+
+  /// Set point in effect after delay and lag [rad/s].
+  double effectiveSetpoint() const { return filtered_setpoint_; }
+  /// True when the motor is driven (a velocity command is in effect).
+  bool enabled() const { return enabled_; }
+  /// Last torque output [N m].
+  double torque() const { return torque_; }
+  /// Clear all state (released, zero set point, empty delay line).
+  void reset();
+
+private:
+  struct Command
+  {
+    double time;
+    bool enabled;
+    double setpoint;
+  };
+
+  MotorParams params_;
+  double step_;
+  std::deque<Command> pending_;  ///< commands waiting out the transport delay
+  bool enabled_ = false;
+  double setpoint_ = 0.0;
+  double filtered_setpoint_ = 0.0;
+  double integral_ = 0.0;  ///< integrator state [N m]
+  double torque_ = 0.0;
+};
+
+}  // namespace sim
+}  // namespace jackal_aic

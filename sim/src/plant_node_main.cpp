@@ -1,0 +1,21 @@
+/// jackal_plant_node: the simulated Jackal (see jackal_sim/ros/plant_node.hpp).
+#include <exception>
+
+#include <ros/ros.h>
+
+#include "jackal_sim/ros/plant_node.hpp"
+
+int main(int argc, char** argv)
+{
+  ros::init(argc, argv, "jackal_plant");
+  try
+  {
+    jackal_aic::sim::PlantNode node(ros::NodeHandle(), ros::NodeHandle("~"));
+    return node.run();
+  }
+  catch (const std::exception& e)
+  {
+    ROS_FATAL("jackal_plant: %s", e.what());
+    return 1;
+  }
+}

@@ -1,0 +1,394 @@
+#include "jackal_sim/plant_params.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <yaml-cpp/yaml.h>
+
+namespace jackal_aic
+{
+namespace sim
+{
+namespace
+{
+std::string num(double v)
+{
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+void check(std::vector<std::string>* e, bool ok, const std::string& key, double v, const std::string& range)
+{
+  if (!ok || !std::isfinite(v))
+  {
+    e->push_back(key + " = " + num(v) + " (allowed: " + range + ")");
+  }
+}
+
+void append(std::vector<std::string>* to, const std::vector<std::string>& from)
+{
+  to->insert(to->end(), from.begin(), from.end());
+}
+
+/// Reads the keys of one YAML map into fields; records malformed values and unknown keys.
+class Section
+{
+public:
+  Section(const YAML::Node& node, std::string prefix, std::vector<std::string>* errors)
+    : node_(node), prefix_(std::move(prefix)), errors_(errors)
+  {
+    if (node_ && !node_.IsMap() && !node_.IsNull())
+    {
+      errors_->push_back(prefix_ + " must be a map");
+      node_ = YAML::Node();
+    }
+  }
+  ~Section()
+  {
+    if (!node_ || !node_.IsMap())
+    {
+      return;
+    }
+    for (const auto& kv : node_)
+    {
+      const std::string k = kv.first.as<std::string>();
+      if (known_.count(k) == 0)
+      {
+        errors_->push_back(prefix_ + "." + k + " is not a known parameter");
+      }
+    }
+  }
+  template <typename T>
+  void get(const std::string& key, T* value)
+  {
+    known_.insert(key);
+    if (!node_ || !node_.IsMap() || !node_[key])
+    {
+      return;
+    }
+    try
+    {
+      *value = node_[key].as<T>();
+    }
+    catch (const YAML::Exception&)
+    {
+      errors_->push_back(prefix_ + "." + key + " has a malformed value");
+    }
+  }
+  void get3(const std::string& key, std::array<double, 3>* value)
+  {
+    known_.insert(key);
+    if (!node_ || !node_.IsMap() || !node_[key])
+    {
+      return;
+    }
+    const YAML::Node n = node_[key];
+    try
+    {
+      if (!n.IsSequence() || n.size() != 3)
+      {
+        throw YAML::Exception(YAML::Mark(), "size");
+      }
+      for (int i = 0; i < 3; ++i)
+      {
+        (*value)[i] = n[i].as<double>();
+      }
+    }
+    catch (const YAML::Exception&)
+    {
+      errors_->push_back(prefix_ + "." + key + " must be a list of 3 numbers");
+    }
+  }
+  Section sub(const std::string& key)
+  {
+    known_.insert(key);
+    return Section(node_ && node_.IsMap() ? node_[key] : YAML::Node(), prefix_ + "." + key, errors_);
+  }
+
+private:
+  YAML::Node node_;
+  std::string prefix_;
+  std::vector<std::string>* errors_;
+  std::set<std::string> known_;
+};
+
+void readStream(Section& s, StreamParams* p)
+{
+  s.get("rate", &p->rate);
+  s.get("delay", &p->delay);
+  s.get("dropout", &p->dropout);
+}
+
+/// Apply "a.b.c=value" to a YAML tree (value parsed as YAML).
+void applyOverride(YAML::Node root, const std::string& ov, const std::string& source)
+{
+  const auto eq = ov.find('=');
+  if (eq == std::string::npos || eq == 0)
+  {
+    throw PlantParamsError("plant parameters '" + source + "': override '" + ov + "' is not of the form key=value");
+  }
+  const std::string key = ov.substr(0, eq);
+  YAML::Node value;
+  try
+  {
+    value = YAML::Load(ov.substr(eq + 1));
+  }
+  catch (const YAML::Exception& ex)
+  {
+    throw PlantParamsError("plant parameters '" + source + "': override '" + ov + "' has a malformed value");
+  }
+  std::vector<std::string> parts;
+  std::stringstream ss(key);
+  for (std::string part; std::getline(ss, part, '.');)
+  {
+    parts.push_back(part);
+  }
+  // Walk with fresh handles (yaml-cpp node assignment rebinds).
+  std::vector<YAML::Node> chain{ root };
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i)
+  {
+    YAML::Node next = chain.back()[parts[i]];
+    chain.push_back(next);
+  }
+  chain.back()[parts.back()] = value;
+}
+}  // namespace
+
+std::vector<std::string> PhysicsParams::validate() const
+{
+  std::vector<std::string> e;
+  check(&e, step > 0.0 && step <= 0.01, "physics.step", step, "(0, 0.01] s");
+  check(&e, gravity > 0.0 && gravity < 100.0, "physics.gravity", gravity, "(0, 100) m/s^2");
+  check(&e, true, "physics.initial_x", initial_x, "finite m");
+  check(&e, true, "physics.initial_y", initial_y, "finite m");
+  check(&e, true, "physics.initial_yaw", initial_yaw, "finite rad");
+  check(&e, initial_clearance >= 0.0 && initial_clearance <= 1.0, "physics.initial_clearance", initial_clearance,
+        "[0, 1] m");
+  return e;
+}
+
+std::vector<std::string> ContactParams::validate() const
+{
+  std::vector<std::string> e;
+  check(&e, mu1 >= 0.0 && mu1 <= 100.0, "contact.mu1", mu1, "[0, 100]");
+  check(&e, mu2 >= 0.0 && mu2 <= 100.0, "contact.mu2", mu2, "[0, 100]");
+  check(&e, kp > 0.0, "contact.kp", kp, "> 0 N/m");
+  check(&e, kd >= 0.0, "contact.kd", kd, ">= 0 N s/m");
+  check(&e, max_correcting_vel > 0.0, "contact.max_correcting_vel", max_correcting_vel, "> 0 m/s");
+  check(&e, surface_layer >= 0.0 && surface_layer < 0.05, "contact.surface_layer", surface_layer, "[0, 0.05) m");
+  check(&e, max_contacts >= 1 && max_contacts <= 16, "contact.max_contacts", max_contacts, "[1, 16]");
+  return e;
+}
+
+std::vector<std::string> MotorParams::validate() const
+{
+  std::vector<std::string> e;
+  check(&e, speed_kp >= 0.0, "motor.speed_kp", speed_kp, ">= 0 N m s/rad");
+  check(&e, speed_ki >= 0.0, "motor.speed_ki", speed_ki, ">= 0 N m/rad");
+  check(&e, speed_kp > 0.0 || speed_ki > 0.0, "motor.speed_kp", speed_kp, "speed_kp or speed_ki > 0");
+  check(&e, max_torque > 0.0, "motor.max_torque", max_torque, "> 0 N m");
+  check(&e, stall_torque >= 0.0, "motor.stall_torque", stall_torque, ">= 0 N m (0 = no voltage limit)");
+  check(&e, stall_torque == 0.0 || no_load_speed > 0.0, "motor.no_load_speed", no_load_speed,
+        "> 0 rad/s when stall_torque > 0");
+  check(&e, setpoint_time_constant >= 0.0 && setpoint_time_constant <= 5.0, "motor.setpoint_time_constant",
+        setpoint_time_constant, "[0, 5] s");
+  check(&e, command_delay >= 0.0 && command_delay <= 0.5, "motor.command_delay", command_delay, "[0, 0.5] s");
+  check(&e, coulomb_friction >= 0.0, "motor.coulomb_friction", coulomb_friction, ">= 0 N m");
+  check(&e, viscous_friction >= 0.0, "motor.viscous_friction", viscous_friction, ">= 0 N m s/rad");
+  check(&e, coupling_damping >= 0.0, "motor.coupling_damping", coupling_damping, ">= 0 N m s/rad");
+  check(&e, max_wheel_speed > 0.0, "motor.max_wheel_speed", max_wheel_speed, "> 0 rad/s");
+  return e;
+}
+
+std::vector<std::string> StreamParams::validate(const std::string& prefix) const
+{
+  std::vector<std::string> e;
+  check(&e, rate > 0.0 && rate <= 1000.0, prefix + ".rate", rate, "(0, 1000] Hz");
+  check(&e, delay >= 0.0 && delay <= 1.0, prefix + ".delay", delay, "[0, 1] s");
+  check(&e, dropout >= 0.0 && dropout < 1.0, prefix + ".dropout", dropout, "[0, 1)");
+  return e;
+}
+
+std::vector<std::string> JointStateSensorParams::validate() const
+{
+  auto e = StreamParams::validate("sensors.joint_states");
+  check(&e, position_noise_std >= 0.0, "sensors.joint_states.position_noise_std", position_noise_std, ">= 0 rad");
+  check(&e, velocity_noise_std >= 0.0, "sensors.joint_states.velocity_noise_std", velocity_noise_std,
+        ">= 0 rad/s");
+  check(&e, true, "sensors.joint_states.velocity_bias", velocity_bias, "finite rad/s");
+  return e;
+}
+
+std::vector<std::string> ImuSensorParams::validate() const
+{
+  auto e = StreamParams::validate("sensors.imu");
+  check(&e, gyro_noise_std >= 0.0, "sensors.imu.gyro_noise_std", gyro_noise_std, ">= 0 rad/s");
+  check(&e, accel_noise_std >= 0.0, "sensors.imu.accel_noise_std", accel_noise_std, ">= 0 m/s^2");
+  check(&e, orientation_noise_std >= 0.0, "sensors.imu.orientation_noise_std", orientation_noise_std, ">= 0 rad");
+  for (int i = 0; i < 3; ++i)
+  {
+    check(&e, true, "sensors.imu.gyro_bias[" + std::to_string(i) + "]", gyro_bias[i], "finite rad/s");
+    check(&e, true, "sensors.imu.accel_bias[" + std::to_string(i) + "]", accel_bias[i], "finite m/s^2");
+  }
+  return e;
+}
+
+std::vector<std::string> SensorParams::validate() const
+{
+  auto e = joint_states.validate();
+  append(&e, imu.validate());
+  return e;
+}
+
+std::vector<std::string> PlantNodeParams::validate() const
+{
+  std::vector<std::string> e;
+  check(&e, real_time_factor >= 0.0 && real_time_factor <= 100.0, "node.real_time_factor", real_time_factor,
+        "[0, 100] (0 = as fast as possible)");
+  check(&e, odom_rate > 0.0 && odom_rate <= 1000.0, "node.odom_rate", odom_rate, "(0, 1000] Hz");
+  check(&e, clock_rate > 0.0 && clock_rate <= 1000.0, "node.clock_rate", clock_rate, "(0, 1000] Hz");
+  check(&e, cmd_timeout >= 0.0, "node.cmd_timeout", cmd_timeout, ">= 0 s (0 = never)");
+  if (odom_frame.empty())
+  {
+    e.push_back("node.odom_frame is empty (allowed: a frame name)");
+  }
+  return e;
+}
+
+std::vector<std::string> PlantParams::validate() const
+{
+  auto e = physics.validate();
+  append(&e, node.validate());
+  append(&e, contact.validate());
+  append(&e, motor.validate());
+  append(&e, sensors.validate());
+  return e;
+}
+
+PlantParams loadPlantParams(const std::string& path, const std::vector<std::string>& overrides)
+{
+  std::ifstream in(path);
+  if (!in.good())
+  {
+    throw PlantParamsError("plant parameter file '" + path + "' does not exist or cannot be read");
+  }
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parsePlantParams(ss.str(), path, overrides);
+}
+
+PlantParams parsePlantParams(const std::string& yaml, const std::string& source,
+                             const std::vector<std::string>& overrides)
+{
+  YAML::Node root;
+  try
+  {
+    root = YAML::Load(yaml);
+  }
+  catch (const YAML::Exception& ex)
+  {
+    throw PlantParamsError("plant parameter file '" + source + "' is malformed YAML: " + ex.what());
+  }
+  if (root.IsNull())
+  {
+    root = YAML::Node(YAML::NodeType::Map);
+  }
+  if (!root.IsMap())
+  {
+    throw PlantParamsError("plant parameter file '" + source + "' must be a YAML map");
+  }
+  for (const auto& ov : overrides)
+  {
+    applyOverride(root, ov, source);
+  }
+
+  PlantParams p;
+  std::vector<std::string> errors;
+  {
+    Section s(root["physics"], "physics", &errors);
+    s.get("step", &p.physics.step);
+    s.get("gravity", &p.physics.gravity);
+    s.get("initial_x", &p.physics.initial_x);
+    s.get("initial_y", &p.physics.initial_y);
+    s.get("initial_yaw", &p.physics.initial_yaw);
+    s.get("initial_clearance", &p.physics.initial_clearance);
+  }
+  {
+    Section s(root["contact"], "contact", &errors);
+    s.get("mu1", &p.contact.mu1);
+    s.get("mu2", &p.contact.mu2);
+    s.get("kp", &p.contact.kp);
+    s.get("kd", &p.contact.kd);
+    s.get("max_correcting_vel", &p.contact.max_correcting_vel);
+    s.get("surface_layer", &p.contact.surface_layer);
+    s.get("max_contacts", &p.contact.max_contacts);
+  }
+  {
+    Section s(root["motor"], "motor", &errors);
+    MotorParams& m = p.motor;
+    s.get("speed_kp", &m.speed_kp);
+    s.get("speed_ki", &m.speed_ki);
+    s.get("max_torque", &m.max_torque);
+    s.get("stall_torque", &m.stall_torque);
+    s.get("no_load_speed", &m.no_load_speed);
+    s.get("setpoint_time_constant", &m.setpoint_time_constant);
+    s.get("command_delay", &m.command_delay);
+    s.get("coulomb_friction", &m.coulomb_friction);
+    s.get("viscous_friction", &m.viscous_friction);
+    s.get("coupling_damping", &m.coupling_damping);
+    s.get("max_wheel_speed", &m.max_wheel_speed);
+  }
+  {
+    Section s(root["sensors"], "sensors", &errors);
+    s.get("seed", &p.sensors.seed);
+    {
+      Section j = s.sub("joint_states");
+      readStream(j, &p.sensors.joint_states);
+      j.get("position_noise_std", &p.sensors.joint_states.position_noise_std);
+      j.get("velocity_noise_std", &p.sensors.joint_states.velocity_noise_std);
+      j.get("velocity_bias", &p.sensors.joint_states.velocity_bias);
+    }
+    {
+      Section i = s.sub("imu");
+      readStream(i, &p.sensors.imu);
+      i.get("gyro_noise_std", &p.sensors.imu.gyro_noise_std);
+      i.get3("gyro_bias", &p.sensors.imu.gyro_bias);
+      i.get("accel_noise_std", &p.sensors.imu.accel_noise_std);
+      i.get3("accel_bias", &p.sensors.imu.accel_bias);
+      i.get("orientation_noise_std", &p.sensors.imu.orientation_noise_std);
+    }
+  }
+  {
+    Section s(root["node"], "node", &errors);
+    s.get("real_time_factor", &p.node.real_time_factor);
+    s.get("odom_rate", &p.node.odom_rate);
+    s.get("clock_rate", &p.node.clock_rate);
+    s.get("cmd_timeout", &p.node.cmd_timeout);
+    s.get("odom_frame", &p.node.odom_frame);
+  }
+  for (const auto& kv : root)
+  {
+    const std::string k = kv.first.as<std::string>();
+    if (k != "physics" && k != "contact" && k != "motor" && k != "sensors" && k != "node")
+    {
+      errors.push_back(k + " is not a known section (physics, contact, motor, sensors, node)");
+    }
+  }
+  append(&errors, p.validate());
+  if (!errors.empty())
+  {
+    std::string msg = "plant parameter file '" + source + "' is invalid:";
+    for (const auto& e : errors)
+    {
+      msg += "\n  " + e;
+    }
+    throw PlantParamsError(msg);
+  }
+  return p;
+}
+
+}  // namespace sim
+}  // namespace jackal_aic

@@ -1,0 +1,101 @@
+#include "jackal_sim/wheel_speed_servo.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace jackal_aic
+{
+namespace sim
+{
+WheelSpeedServo::WheelSpeedServo(const MotorParams& params, double step) : params_(params), step_(step)
+{
+}
+
+void WheelSpeedServo::reset()
+{
+  pending_.clear();
+  enabled_ = false;
+  setpoint_ = 0.0;
+  filtered_setpoint_ = 0.0;
+  integral_ = 0.0;
+  torque_ = 0.0;
+}
+
+void WheelSpeedServo::setSetpoint(double setpoint, double t)
+{
+  if (!std::isfinite(setpoint))
+  {
+    return;
+  }
+  const double s = std::clamp(setpoint, -params_.max_wheel_speed, params_.max_wheel_speed);
+  pending_.push_back({ t + params_.command_delay, true, s });
+}
+
+void WheelSpeedServo::release(double t)
+{
+  pending_.push_back({ t + params_.command_delay, false, 0.0 });
+}
+
+std::pair<double, double> WheelSpeedServo::torqueLimits(double w) const
+{
+  double lo = -params_.max_torque;
+  double hi = params_.max_torque;
+  if (params_.stall_torque > 0.0)
+  {
+    const double ts = params_.stall_torque;
+    const double w0 = params_.no_load_speed;
+    hi = std::min(hi, ts * (1.0 - w / w0));
+    lo = std::max(lo, -ts * (1.0 + w / w0));
+  }
+  return { lo, hi };
+}
+
+double WheelSpeedServo::update(double measured_speed, double t)
+{
+  // Commands whose transport delay has elapsed take effect in order.
+  while (!pending_.empty() && pending_.front().time <= t + 1e-12)
+  {
+    const Command c = pending_.front();
+    pending_.pop_front();
+    if (c.enabled && !enabled_)
+    {
+      // Engaging from released: start the loop from the current state.
+      filtered_setpoint_ = measured_speed;
+      integral_ = 0.0;
+    }
+    enabled_ = c.enabled;
+    setpoint_ = c.setpoint;
+  }
+  if (!enabled_)
+  {
+    integral_ = 0.0;
+    filtered_setpoint_ = measured_speed;
+    torque_ = 0.0;
+    return 0.0;
+  }
+  if (params_.setpoint_time_constant > 0.0)
+  {
+    filtered_setpoint_ += (setpoint_ - filtered_setpoint_) * (1.0 - std::exp(-step_ / params_.setpoint_time_constant));
+  }
+  else
+  {
+    filtered_setpoint_ = setpoint_;
+  }
+  const double error = filtered_setpoint_ - measured_speed;
+  const auto [lo, hi] = torqueLimits(measured_speed);
+  const double unsat = params_.speed_kp * error + integral_ + params_.speed_ki * error * step_;
+  const double out = std::clamp(unsat, std::min(lo, hi), std::max(lo, hi));
+  // Conditional integration: hold the integrator while saturated in the error's direction.
+  const bool saturated_up = unsat > out && error > 0.0;
+  const bool saturated_down = unsat < out && error < 0.0;
+  if (!saturated_up && !saturated_down)
+  {
+    integral_ += params_.speed_ki * error * step_;
+    integral_ = std::clamp(integral_, -params_.max_torque, params_.max_torque);
+  }
+  torque_ = std::isfinite(out) ? out : 0.0;
+  return torque_;
+}
+
+}  // namespace sim
+}  // namespace jackal_aic
