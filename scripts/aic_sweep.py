@@ -220,7 +220,7 @@ def main(argv=None):
                 r, s = headline(res)
                 print("        %s  rise %s s  settling %s s%s" % (res["status"], report.fmt(r), report.fmt(s),
                       ("  (" + res["reason"] + ")") if res["status"] != "ok" else ""), flush=True)
-            grid[(fmt_val(rv), cc)] = cache[key]
+            grid[(fmt_val(rv), fmt_val(list(cc)))] = cache[key]
 
     # the table
     headers = [rows_dim + (" [m/s]" if rows_dim == "step" else "")]
@@ -231,7 +231,7 @@ def main(argv=None):
     for rv in dvals[rows_dim]:
         row = [fmt_val(rv)]
         for cc in col_combos:
-            res = grid[(fmt_val(rv), cc)]
+            res = grid[(fmt_val(rv), fmt_val(list(cc)))]
             if res["status"] != "ok":
                 row += [res["status"], ""]
             else:
@@ -272,7 +272,7 @@ def combined_plot(path, row_vals, rows_dim, col_combos, col_dims, grid, title):
     for ax, rv in zip(axes[:, 0], row_vals):
         sp_done = False
         for k, cc in enumerate(col_combos):
-            res = grid[(fmt_val(rv), cc)]
+            res = grid[(fmt_val(rv), fmt_val(list(cc)))]
             lab = ", ".join(label(d, v) for d, v in zip(col_dims, cc)) or "measured"
             if res["status"] != "ok":
                 lab += " [%s]" % res["status"]

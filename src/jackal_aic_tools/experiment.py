@@ -42,13 +42,19 @@ def parse_override(text):
     key = key.strip()
     if not key:
         raise ValueError("override %r has an empty key" % text)
-    v = yaml.safe_load(val)
-    if isinstance(v, str):  # YAML 1.1 reads 1e5 as a string
+    return key, _numbers(yaml.safe_load(val))
+
+
+def _numbers(v):
+    """YAML 1.1 reads 1e5 (no dot) as a string: make such strings floats, in lists too."""
+    if isinstance(v, list):
+        return [_numbers(x) for x in v]
+    if isinstance(v, str):
         try:
-            v = float(v)
+            return float(v)
         except ValueError:
-            pass
-    return key, v
+            return v
+    return v
 
 
 def write_config(base_path, overrides, out_path):
@@ -105,7 +111,15 @@ class Simulator(object):
             uuid, [(self.launch_file, self.launch_args)], port=self.port,
             process_listeners=[self.listener], force_log=not self.verbose, show_summary=self.verbose)
         self.parent.start(auto_terminate=False)
+        import rospkg
+        self.log_dir = os.path.join(rospkg.get_log_dir(), uuid)
         return self
+
+    def deaths(self):
+        """Nodes that died, with where their logs are."""
+        if not self.listener.died:
+            return []
+        return ["%s (exit %s)" % d for d in self.listener.died] + ["logs: %s" % self.log_dir]
 
     def __exit__(self, *exc):
         self.listener.armed = False
@@ -201,7 +215,7 @@ def _drive(exp, sim, rec, wheel_radius, wheel_sep):
         return drive_profile(exp.profile, rec, exp.controller, settle=exp.settle,
                              ready_timeout=exp.ready_timeout, rate=exp.rate, limits=exp.limits,
                              wheel_radius=wheel_radius, wheel_sep=wheel_sep,
-                             died=lambda: sim.listener.died, name=exp.name)
+                             died=sim.deaths, name=exp.name)
     finally:
         rospy.signal_shutdown("experiment done")
 

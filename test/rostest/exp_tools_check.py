@@ -160,7 +160,7 @@ class OverrideTest(unittest.TestCase):
     def test_parse(self):
         self.assertEqual(experiment.parse_override("tau=0.01"), ("tau", 0.01))
         self.assertEqual(experiment.parse_override("var_y=1e5"), ("var_y", 1e5))
-        self.assertEqual(experiment.parse_override("var_y=[2, 1e5]")[1][0], 2)
+        self.assertEqual(experiment.parse_override("var_y=[2, 1e5]")[1], [2, 1e5])
         self.assertEqual(experiment.parse_override("integrator=exact"), ("integrator", "exact"))
         with self.assertRaises(ValueError):
             experiment.parse_override("tau")
