@@ -34,7 +34,8 @@ public:
     kOk,           ///< state advanced
     kNoMeasurement,///< no measurement yet: state not moved
     kBadInterval,  ///< h <= 0 or non-finite: state not moved
-    kRunaway       ///< beliefs or action became non-finite or exceeded runaway_limit: state reset to zero
+    kRunaway       ///< beliefs or action became non-finite, or a belief exceeded runaway_limit: beliefs and
+                   ///< action reset to zero (goal and held measurement kept), runawayCount() incremented
   };
 
   /// \throws std::invalid_argument listing every violation if params.validate() is not empty.
@@ -63,16 +64,25 @@ public:
   bool hasMeasurement() const { return has_measurement_; }
 
   /**
-   * \brief One belief step: mu_tilde += h * (D mu_tilde - k_mu dF/dmu_tilde) (eq. 3-15, Euler)
-   *        or the exact zero-order-hold step.
+   * \brief One belief step (thesis eq. 3-15) with the measurement and goal held.
+   *
+   * Euler: mu_tilde += h * (D mu_tilde - k_mu dF/dmu_tilde).
+   * Exact: the belief dynamics are linear, dx/dt = M x + c with x = vec(mu_tilde) and c constant
+   * over the step, so x(h) = x + Psi(h) (M x + c) with Psi(h) = int_0^h exp(M s) ds, computed with
+   * exp([[M, I], [0, 0]] h) (Eigen MatrixFunctions) when params or h change by more than
+   * kExactStepTolerance (relative), otherwise reused with the first-order correction
+   * Psi(h) ~ Psi(h0) + (h - h0) exp(M h0). Stable for any h > 0 when the continuous dynamics are.
    * \param h  belief step [s], finite and > 0
+   * \return kOk; kBadInterval (state kept); kNoMeasurement (state kept); kRunaway (see Status).
    */
   Status updateBeliefs(double h);
 
   /**
    * \brief One action step: a += h * (-k_a sum_i K Pi_y^(i) eps_y^(i)) (eq. 3-16), then clamp to
-   *        +-max_wheel_speed.
+   *        +-max_wheel_speed. da/dt does not depend on a, so this Euler step is exact for held
+   *        beliefs and measurement, whatever the integrator setting.
    * \param h  action step [s], finite and > 0
+   * \return kOk; kBadInterval (state kept); kNoMeasurement (state kept); kRunaway (see Status).
    */
   Status updateAction(double h);
 

@@ -84,8 +84,10 @@ struct AicParams
   double max_wheel_speed = 20.0;      ///< |a_i| clamp [rad/s], > 0 (2.0 m/s top speed / 0.098 m ~ 20.4 rad/s)
   /// Beliefs whose any element exceeds this magnitude are declared runaway [SI units of each order], > 0.
   double runaway_limit = 1.0e3;
-  /// If true, the accelerometer-x row of R maps onto mu^(1) (kinematically better option, spec section 2);
-  /// false = thesis model (accelerometer rows zero).
+  /// If true, the accelerometer-x row of R maps onto mu^(1) (kinematically better option, spec section 2):
+  /// eps_y^(i)[accel_x] = y^(i)[accel_x] - x_dot^(i+1) for i < p (and the gradient gains the matching
+  /// term); K is unchanged (the accelerometer depends on da/dt, not a). false = thesis model
+  /// (accelerometer rows zero). Note: /imu/data includes gravity; on level ground accel x has none.
   bool accel_in_model = false;
   Integrator integrator = Integrator::kEuler;  ///< belief integrator
 

@@ -1,0 +1,518 @@
+/**
+ * \file aic_analyze.cpp
+ * \brief CLI: linear analysis of an active inference controller configuration (thesis ch. 4,
+ *        appendix A; spec section 7) on top of jackal_aic::ClosedLoopModel.
+ *
+ * Reads the same YAML parameter files as the jackal_AIC node (node-only keys are ignored,
+ * unknown keys are warned about) and prints, per belief rate and integrator: the spectral radius
+ * of the dual-rate closed loop, stable or not, the predicted step metrics of v_x, and the
+ * stability limits (smallest stable tau, largest stable k_mu and k_a, the others fixed).
+ * Run with --help for the options. Exit 0 on success, 1 on a bad file or invalid parameters,
+ * 2 on bad arguments.
+ */
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <iomanip>
+#include <iostream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Eigenvalues>
+#include <yaml-cpp/yaml.h>
+
+#include "jackal_aic/params.hpp"
+#include "jackal_aic/state_space.hpp"
+
+using namespace jackal_aic;
+
+namespace
+{
+const char* kUsage =
+    "usage: aic_analyze CONFIG.yaml [options]\n"
+    "  --rates R1,R2,...        belief rates to analyse [Hz] (default 50,100,1000); the action rate is\n"
+    "                           the file's action_rate (or the belief rate if that is lower)\n"
+    "  --integrators LIST       euler,exact (default both)\n"
+    "  --plant point|first-order  plant in the loop (default point: wheels follow the command, thesis ch. 4)\n"
+    "  --plant-time-constant T  first-order wheel-speed time constant [s] (default 0.15; implies first-order)\n"
+    "  --target V               step of the goal v_x from 0 [m/s] (default 0.5)\n"
+    "  --duration S             simulated time of the predicted step [s] (default 20)\n"
+    "  --set KEY=VALUE          override a YAML key (repeatable), e.g. --set tau=0.01\n"
+    "  --no-scan                skip the stability-limit scans\n"
+    "  --csv                    machine-readable CSV instead of the table\n"
+    "Scan ranges: tau [1e-5, 10] s, k_mu and k_a [1e-4, 1e4].\n";
+
+[[noreturn]] void fail(int code, const std::string& msg)
+{
+  std::cerr << "aic_analyze: error: " << msg << "\n";
+  if (code == 2)
+  {
+    std::cerr << kUsage;
+  }
+  std::exit(code);
+}
+
+std::vector<std::string> split(const std::string& s, char sep)
+{
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, sep))
+  {
+    out.push_back(item);
+  }
+  return out;
+}
+
+bool parseDouble(const std::string& s, double* out)
+{
+  if (s.empty())
+  {
+    return false;
+  }
+  char* end = nullptr;
+  *out = std::strtod(s.c_str(), &end);
+  return *end == '\0' && std::isfinite(*out);
+}
+
+/// Reads the controller keys of a node YAML file into params. Throws std::runtime_error with the key on type errors.
+AicParams loadParams(const YAML::Node& root, const std::string& file, std::vector<std::string>* defaulted)
+{
+  static const std::set<std::string> kNodeOnly{ "sensor_timeout", "set_point_timeout", "left_joints", "right_joints" };
+  AicParams p;
+  std::set<std::string> seen;
+  auto scalar = [&](const char* key, double* out) {
+    seen.insert(key);
+    const YAML::Node n = root[key];
+    if (!n)
+    {
+      defaulted->push_back(key);
+      return;
+    }
+    try
+    {
+      *out = n.as<double>();
+    }
+    catch (const YAML::Exception&)
+    {
+      throw std::runtime_error(file + ": key '" + key + "' must be a number");
+    }
+  };
+  auto vec = [&](const char* key, std::vector<double>* out) {
+    seen.insert(key);
+    const YAML::Node n = root[key];
+    if (!n)
+    {
+      defaulted->push_back(key);
+      return;
+    }
+    try
+    {
+      *out = n.as<std::vector<double>>();
+    }
+    catch (const YAML::Exception&)
+    {
+      throw std::runtime_error(file + ": key '" + key + "' must be a list of numbers");
+    }
+  };
+  scalar("belief_rate", &p.belief_rate);
+  scalar("action_rate", &p.action_rate);
+  scalar("tau", &p.tau);
+  scalar("k_mu", &p.k_mu);
+  scalar("k_a", &p.k_a);
+  seen.insert("embedding_order");
+  if (root["embedding_order"])
+  {
+    try
+    {
+      p.embedding_order = root["embedding_order"].as<int>();
+    }
+    catch (const YAML::Exception&)
+    {
+      throw std::runtime_error(file + ": key 'embedding_order' must be an integer");
+    }
+  }
+  else
+  {
+    defaulted->push_back("embedding_order");
+  }
+  vec("var_mu", &p.var_mu);
+  vec("var_y", &p.var_y);
+  scalar("wheel_radius", &p.wheel_radius);
+  scalar("slip_factor", &p.slip_factor);
+  scalar("wheel_separation", &p.wheel_separation);
+  scalar("max_wheel_speed", &p.max_wheel_speed);
+  scalar("runaway_limit", &p.runaway_limit);
+  seen.insert("accel_in_model");
+  if (root["accel_in_model"])
+  {
+    try
+    {
+      p.accel_in_model = root["accel_in_model"].as<bool>();
+    }
+    catch (const YAML::Exception&)
+    {
+      throw std::runtime_error(file + ": key 'accel_in_model' must be true or false");
+    }
+  }
+  else
+  {
+    defaulted->push_back("accel_in_model");
+  }
+  seen.insert("integrator");
+  if (root["integrator"])
+  {
+    std::string name;
+    try
+    {
+      name = root["integrator"].as<std::string>();
+    }
+    catch (const YAML::Exception&)
+    {
+      throw std::runtime_error(file + ": key 'integrator' must be a string");
+    }
+    if (!integratorFromString(name, &p.integrator))
+    {
+      throw std::runtime_error(file + ": integrator '" + name + "' (allowed: euler, exact)");
+    }
+  }
+  else
+  {
+    defaulted->push_back("integrator");
+  }
+  for (const auto& kv : root)
+  {
+    const std::string key = kv.first.as<std::string>();
+    if (!seen.count(key) && !kNodeOnly.count(key))
+    {
+      std::cerr << "aic_analyze: warning: " << file << ": unknown key '" << key << "' ignored\n";
+    }
+  }
+  return p;
+}
+
+std::string fmt(double v, int precision = 4)
+{
+  if (std::isnan(v))
+  {
+    return "-";
+  }
+  std::ostringstream os;
+  os << std::setprecision(precision) << v;
+  return os.str();
+}
+
+std::string limitText(const StabilityLimit& l, bool lower_is_better, bool csv)
+{
+  if (std::isnan(l.value))
+  {
+    return csv ? "nan" : "none";
+  }
+  if (!l.stable_at_range_end)
+  {
+    // A stable band that does not reach the normally stable end of the range: "low..high".
+    const double a = lower_is_better ? l.value : l.band_start;
+    const double b = lower_is_better ? l.band_start : l.value;
+    return fmt(a, 4) + ".." + fmt(b, 4);
+  }
+  if (l.unbounded)
+  {
+    return (lower_is_better ? "<=" : ">=") + fmt(l.value, 3);
+  }
+  return fmt(l.value, 4);
+}
+
+struct Row
+{
+  double belief_rate;
+  double action_rate;
+  Integrator integrator;
+  PredictedStep pred;
+  StabilityLimit tau, k_mu, k_a;
+  bool scanned;
+};
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  std::string file;
+  std::vector<double> rates{ 50.0, 100.0, 1000.0 };
+  std::vector<Integrator> integrators{ Integrator::kEuler, Integrator::kExact };
+  PlantModel plant;
+  double target = 0.5;
+  double duration = 20.0;
+  bool csv = false;
+  bool scan = true;
+  std::vector<std::pair<std::string, std::string>> overrides;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc)
+      {
+        fail(2, "option " + a + " needs a value");
+      }
+      return argv[++i];
+    };
+    if (a == "-h" || a == "--help")
+    {
+      std::cout << kUsage;
+      return 0;
+    }
+    else if (a == "--csv")
+    {
+      csv = true;
+    }
+    else if (a == "--no-scan")
+    {
+      scan = false;
+    }
+    else if (a == "--rates")
+    {
+      rates.clear();
+      for (const auto& r : split(value(), ','))
+      {
+        double x = 0.0;
+        if (!parseDouble(r, &x) || x <= 0.0)
+        {
+          fail(2, "--rates: '" + r + "' is not a positive number");
+        }
+        rates.push_back(x);
+      }
+      if (rates.empty())
+      {
+        fail(2, "--rates: empty list");
+      }
+    }
+    else if (a == "--integrators")
+    {
+      integrators.clear();
+      for (const auto& name : split(value(), ','))
+      {
+        Integrator integ;
+        if (!integratorFromString(name, &integ))
+        {
+          fail(2, "--integrators: '" + name + "' (allowed: euler, exact)");
+        }
+        integrators.push_back(integ);
+      }
+      if (integrators.empty())
+      {
+        fail(2, "--integrators: empty list");
+      }
+    }
+    else if (a == "--plant")
+    {
+      const std::string v = value();
+      if (v == "point")
+      {
+        plant.type = PlantModel::Type::kPointMass;
+      }
+      else if (v == "first-order")
+      {
+        plant.type = PlantModel::Type::kFirstOrder;
+      }
+      else
+      {
+        fail(2, "--plant '" + v + "' (allowed: point, first-order)");
+      }
+    }
+    else if (a == "--plant-time-constant")
+    {
+      const std::string v = value();
+      if (!parseDouble(v, &plant.time_constant) || plant.time_constant <= 0.0)
+      {
+        fail(2, "--plant-time-constant '" + v + "' must be > 0");
+      }
+      plant.type = PlantModel::Type::kFirstOrder;
+    }
+    else if (a == "--target")
+    {
+      const std::string v = value();
+      if (!parseDouble(v, &target) || target == 0.0)
+      {
+        fail(2, "--target '" + v + "' must be a non-zero number");
+      }
+    }
+    else if (a == "--duration")
+    {
+      const std::string v = value();
+      if (!parseDouble(v, &duration) || duration <= 1.0)
+      {
+        fail(2, "--duration '" + v + "' must be > 1 s");
+      }
+    }
+    else if (a == "--set")
+    {
+      const std::string v = value();
+      const auto eq = v.find('=');
+      if (eq == std::string::npos || eq == 0)
+      {
+        fail(2, "--set '" + v + "' must be KEY=VALUE");
+      }
+      overrides.emplace_back(v.substr(0, eq), v.substr(eq + 1));
+    }
+    else if (a.rfind("-", 0) == 0)
+    {
+      fail(2, "unknown option " + a);
+    }
+    else if (file.empty())
+    {
+      file = a;
+    }
+    else
+    {
+      fail(2, "more than one config file (" + file + ", " + a + ")");
+    }
+  }
+  if (file.empty())
+  {
+    fail(2, "no config file");
+  }
+
+  AicParams params;
+  std::vector<std::string> defaulted;
+  try
+  {
+    YAML::Node root = YAML::LoadFile(file);
+    if (!root.IsMap())
+    {
+      fail(1, file + ": expected a map of parameters at the top level");
+    }
+    for (const auto& kv : overrides)
+    {
+      root[kv.first] = YAML::Load(kv.second);
+    }
+    params = loadParams(root, file, &defaulted);
+  }
+  catch (const YAML::BadFile&)
+  {
+    fail(1, "cannot read '" + file + "'");
+  }
+  catch (const YAML::Exception& e)
+  {
+    fail(1, file + ": YAML error: " + e.what());
+  }
+  catch (const std::runtime_error& e)
+  {
+    fail(1, e.what());
+  }
+  const auto violations = params.validate();
+  if (!violations.empty())
+  {
+    for (const auto& v : violations)
+    {
+      std::cerr << "aic_analyze: error: " << file << ": " << v.toString() << "\n";
+    }
+    return 1;
+  }
+
+  std::vector<Row> rows;
+  try
+  {
+    for (double br : rates)
+    {
+      for (Integrator integ : integrators)
+      {
+        AicParams p = params;
+        p.belief_rate = br;
+        p.action_rate = std::min(params.action_rate, br);
+        p.integrator = integ;
+        if (std::abs(br / p.action_rate - std::round(br / p.action_rate)) > 1e-9 * br / p.action_rate)
+        {
+          fail(2, "belief rate " + fmt(br) + " Hz is not a multiple of the action rate " + fmt(p.action_rate) + " Hz");
+        }
+        Row r{ br, p.action_rate, integ, predictStep(p, plant, target, duration), {}, {}, {}, scan };
+        if (scan)
+        {
+          r.tau = scanStabilityLimit(p, plant, ScanParameter::kTau, 1e-5, 10.0);
+          r.k_mu = scanStabilityLimit(p, plant, ScanParameter::kKMu, 1e-4, 1e4);
+          r.k_a = scanStabilityLimit(p, plant, ScanParameter::kKA, 1e-4, 1e4);
+        }
+        rows.push_back(r);
+      }
+    }
+  }
+  catch (const std::invalid_argument& e)
+  {
+    fail(1, e.what());
+  }
+
+  const std::string plant_text = plant.type == PlantModel::Type::kPointMass ?
+                                     "point (wheels follow the command)" :
+                                     "first-order, time constant " + fmt(plant.time_constant) + " s";
+  if (csv)
+  {
+    std::cout << "belief_rate_hz,action_rate_hz,integrator,spectral_radius,stable,rise_time_s,settling_time_s,"
+                 "overshoot_percent,steady_state_error_mps,min_stable_tau_s,max_stable_k_mu,max_stable_k_a\n";
+    for (const auto& r : rows)
+    {
+      const bool m = r.pred.stable && r.pred.velocity_valid;
+      std::cout << r.belief_rate << "," << r.action_rate << "," << toString(r.integrator) << ","
+                << fmt(r.pred.spectral_radius, 8) << "," << (r.pred.stable ? "true" : "false") << ","
+                << (m ? fmt(r.pred.velocity.rise_time, 6) : "nan") << ","
+                << (m ? fmt(r.pred.velocity.settling_time, 6) : "nan") << ","
+                << (m ? fmt(r.pred.velocity.overshoot_percent, 6) : "nan") << ","
+                << (m ? fmt(r.pred.velocity.steady_state_error, 6) : "nan") << ","
+                << (r.scanned ? limitText(r.tau, true, true) : "nan") << ","
+                << (r.scanned ? limitText(r.k_mu, false, true) : "nan") << ","
+                << (r.scanned ? limitText(r.k_a, false, true) : "nan") << "\n";
+    }
+    return 0;
+  }
+  std::cout << "config: " << file << "\n"
+            << "  tau = " << params.tau << " s, k_mu = " << params.k_mu << ", k_a = " << params.k_a
+            << ", p = " << params.embedding_order << ", file rates " << params.belief_rate << " / "
+            << params.action_rate << " Hz, file integrator " << toString(params.integrator) << "\n"
+            << "  plant: " << plant_text << "; step of v_x 0 -> " << target << " m/s over " << duration << " s\n";
+  {
+    // Belief stiffness (spec section 10): Euler is stable only while h * |lambda| < 2 for the fastest
+    // (real) mode of the continuous belief dynamics.
+    const ClosedLoopModel m(params, plant);
+    const Eigen::EigenSolver<Eigen::MatrixXd> es(m.M(), false);
+    const double lambda_max = es.eigenvalues().cwiseAbs().maxCoeff();
+    const double pi_mu0 = params.precisionMu().col(0).maxCoeff();
+    std::cout << "  belief stiffness: order-0 gain k_mu * Pi_mu0 / tau^2 = " << fmt(params.k_mu * pi_mu0 / (params.tau * params.tau))
+              << " 1/s; fastest mode of dmu/dt |lambda|max = " << fmt(lambda_max)
+              << " 1/s -> Euler needs belief_rate > " << fmt(lambda_max / 2.0) << " Hz\n";
+  }
+  if (!defaulted.empty())
+  {
+    std::cout << "  keys not in the file (defaults used):";
+    for (const auto& k : defaulted)
+    {
+      std::cout << " " << k;
+    }
+    std::cout << "\n";
+  }
+  std::cout << "\n";
+  std::printf("%9s %9s %-7s %12s %-8s %9s %9s %9s %10s | %16s %16s %16s\n", "belief_Hz", "action_Hz", "integ",
+              "spec_radius", "stable", "rise_s", "settle_s", "overshoot%", "ss_error", "min_tau", "max_k_mu",
+              "max_k_a");
+  for (const auto& r : rows)
+  {
+    const bool m = r.pred.stable && r.pred.velocity_valid;
+    std::printf("%9g %9g %-7s %12s %-8s %9s %9s %9s %10s | %16s %16s %16s\n", r.belief_rate, r.action_rate,
+                toString(r.integrator).c_str(), fmt(r.pred.spectral_radius, 6).c_str(),
+                r.pred.stable ? "yes" : "NO", m ? fmt(r.pred.velocity.rise_time).c_str() : "-",
+                m ? fmt(r.pred.velocity.settling_time).c_str() : "-",
+                m ? fmt(r.pred.velocity.overshoot_percent).c_str() : "-",
+                m ? fmt(r.pred.velocity.steady_state_error).c_str() : "-",
+                r.scanned ? limitText(r.tau, true, false).c_str() : "-",
+                r.scanned ? limitText(r.k_mu, false, false).c_str() : "-",
+                r.scanned ? limitText(r.k_a, false, false).c_str() : "-");
+  }
+  std::cout << "\nspec_radius: per action period (stable < 1). rise 10-90 %, settling +-5 % of the set point, "
+               "from the linear model (no clamp).\n"
+               "min_tau / max_k_mu / max_k_a: stability limits with the other parameters as in the file "
+               "(none = unstable over the whole scan range; A..B = stable only between A and B).\n";
+  if (plant.type == PlantModel::Type::kPointMass)
+  {
+    std::cout << "note: with the point plant, y^(1) (finite differences of the wheel speeds = of a) feeds back into\n"
+                 "      da/dt as a sampled derivative; it is unstable once k_a / var_y[1] exceeds ~1. A lagging wheel\n"
+                 "      loop changes that: try --plant-time-constant 0.05 (the Jackal's small-step response, jackal.md).\n";
+  }
+  return 0;
+}

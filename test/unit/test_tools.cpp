@@ -1,0 +1,95 @@
+/// Bad-input paths and basic output of the CLI tools aic_analyze and aic_step_metrics.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace
+{
+struct Result
+{
+  int code;
+  std::string out;  ///< stdout and stderr
+};
+
+Result run(const std::string& command)
+{
+  Result r{ -1, "" };
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (pipe == nullptr)
+  {
+    return r;
+  }
+  char buf[512];
+  while (fgets(buf, sizeof(buf), pipe) != nullptr)
+  {
+    r.out += buf;
+  }
+  const int status = pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string writeFile(const std::string& name, const std::string& text)
+{
+  const std::string path = std::string(::testing::TempDir()) + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+const std::string kAnalyze = AIC_ANALYZE_BIN;
+const std::string kMetrics = AIC_STEP_METRICS_BIN;
+const std::string kData = TEST_DATA_DIR;
+}  // namespace
+
+TEST(AicAnalyze, ThesisSetsShowSpecSection10)
+{
+  const Result r = run(kAnalyze + " " + kData + "/thesis_improved.yaml --csv --rates 1000 --no-scan"
+                                   " --plant-time-constant 0.15");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("1000,50,euler,"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(",false,"), std::string::npos) << r.out;  // euler unstable
+  EXPECT_NE(r.out.find("1000,50,exact,0.98"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(",true,"), std::string::npos) << r.out;   // exact stable
+}
+
+TEST(AicAnalyze, BadArgumentsAndFiles)
+{
+  EXPECT_EQ(run(kAnalyze).code, 2);
+  EXPECT_EQ(run(kAnalyze + " " + kData + "/thesis_standard.yaml --bogus").code, 2);
+  EXPECT_EQ(run(kAnalyze + " " + kData + "/thesis_standard.yaml --rates 50,x").code, 2);
+  EXPECT_EQ(run(kAnalyze + " " + kData + "/thesis_standard.yaml --rates 75 --no-scan").code, 2);
+  EXPECT_EQ(run(kAnalyze + " " + kData + "/thesis_standard.yaml --integrators rk4").code, 2);
+  const Result missing = run(kAnalyze + " /nonexistent/file.yaml");
+  EXPECT_EQ(missing.code, 1);
+  EXPECT_NE(missing.out.find("cannot read"), std::string::npos);
+  const Result invalid = run(kAnalyze + " " + writeFile("aic_bad.yaml", "tau: -1\nfoo: 2\n") + " --no-scan");
+  EXPECT_EQ(invalid.code, 1);
+  EXPECT_NE(invalid.out.find("tau = -1"), std::string::npos) << invalid.out;
+  EXPECT_NE(invalid.out.find("unknown key 'foo'"), std::string::npos) << invalid.out;
+  EXPECT_EQ(run(kAnalyze + " " + writeFile("aic_type.yaml", "k_mu: [1, 2]\n")).code, 1);
+  EXPECT_EQ(run(kAnalyze + " " + writeFile("aic_syntax.yaml", "tau: [\n")).code, 1);
+  EXPECT_EQ(run(kAnalyze + " " + writeFile("aic_integ.yaml", "integrator: rk4\n")).code, 1);
+}
+
+TEST(AicStepMetrics, ComputesAndRejects)
+{
+  std::string csv = "time,value\n";
+  for (int k = 0; k <= 100; ++k)
+  {
+    csv += std::to_string(k * 0.01) + "," + (k < 10 ? "0" : "1") + "\n";
+  }
+  const std::string path = writeFile("aic_step.csv", csv);
+  const Result ok = run(kMetrics + " " + path + " --step-time 0.1 --initial 0 --target 1");
+  ASSERT_EQ(ok.code, 0) << ok.out;
+  EXPECT_NE(ok.out.find("\"overshoot_percent\": 0"), std::string::npos) << ok.out;
+  EXPECT_EQ(run(kMetrics + " " + path + " --initial 0 --target 1").code, 2);                          // no step time
+  EXPECT_EQ(run(kMetrics + " " + path + " --step-time 0.1 --initial 0 --target 1 --x 1").code, 2);   // unknown option
+  EXPECT_EQ(run(kMetrics + " " + path + " --step-time 0.1 --initial 0 --target 0").code, 1);         // zero step
+  EXPECT_EQ(run(kMetrics + " " + path + " --step-time 0.1 --initial 0 --target 1 --value-column v").code, 1);
+  EXPECT_EQ(run(kMetrics + " /nonexistent.csv --step-time 0.1 --initial 0 --target 1").code, 1);
+  const std::string bad = writeFile("aic_bad.csv", "time,value\n0,0\n0.1,abc\n");
+  EXPECT_EQ(run(kMetrics + " " + bad + " --step-time 0 --initial 0 --target 1").code, 1);
+}
