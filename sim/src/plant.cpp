@@ -270,6 +270,16 @@ void Plant::collide()
       contact.surface.mu2 = c.mu2;
       contact.surface.soft_erp = o.erp;
       contact.surface.soft_cfm = o.cfm;
+      if (c.slip1 > 0.0)
+      {
+        contact.surface.mode |= dContactSlip1;
+        contact.surface.slip1 = c.slip1;
+      }
+      if (c.slip2 > 0.0)
+      {
+        contact.surface.mode |= dContactSlip2;
+        contact.surface.slip2 = c.slip2;
+      }
       const Eigen::Vector3d normal = vec(contact.geom.normal);
       Eigen::Vector3d fdir = a.cross(normal);
       if (fdir.norm() > 1e-6)

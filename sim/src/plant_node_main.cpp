@@ -1,5 +1,6 @@
 /// jackal_plant_node: the simulated Jackal (see jackal_sim/ros/plant_node.hpp).
 #include <exception>
+#include <iostream>
 
 #include <ros/ros.h>
 
@@ -16,6 +17,8 @@ int main(int argc, char** argv)
   catch (const std::exception& e)
   {
     ROS_FATAL("jackal_plant: %s", e.what());
+    // Also on stderr directly: the process exits at once, before rosout could carry it.
+    std::cerr << "jackal_plant: fatal: " << e.what() << std::endl;
     return 1;
   }
 }

@@ -175,6 +175,8 @@ std::vector<std::string> ContactParams::validate() const
   std::vector<std::string> e;
   check(&e, mu1 >= 0.0 && mu1 <= 100.0, "contact.mu1", mu1, "[0, 100]");
   check(&e, mu2 >= 0.0 && mu2 <= 100.0, "contact.mu2", mu2, "[0, 100]");
+  check(&e, slip1 >= 0.0 && slip1 <= 1.0, "contact.slip1", slip1, "[0, 1] m/(s N)");
+  check(&e, slip2 >= 0.0 && slip2 <= 1.0, "contact.slip2", slip2, "[0, 1] m/(s N)");
   check(&e, kp > 0.0, "contact.kp", kp, "> 0 N/m");
   check(&e, kd >= 0.0, "contact.kd", kd, ">= 0 N s/m");
   check(&e, max_correcting_vel > 0.0, "contact.max_correcting_vel", max_correcting_vel, "> 0 m/s");
@@ -193,6 +195,7 @@ std::vector<std::string> MotorParams::validate() const
   check(&e, stall_torque >= 0.0, "motor.stall_torque", stall_torque, ">= 0 N m (0 = no voltage limit)");
   check(&e, stall_torque == 0.0 || no_load_speed > 0.0, "motor.no_load_speed", no_load_speed,
         "> 0 rad/s when stall_torque > 0");
+  check(&e, setpoint_slew_rate >= 0.0, "motor.setpoint_slew_rate", setpoint_slew_rate, ">= 0 rad/s^2 (0 = none)");
   check(&e, setpoint_time_constant >= 0.0 && setpoint_time_constant <= 5.0, "motor.setpoint_time_constant",
         setpoint_time_constant, "[0, 5] s");
   check(&e, command_delay >= 0.0 && command_delay <= 0.5, "motor.command_delay", command_delay, "[0, 0.5] s");
@@ -320,6 +323,8 @@ PlantParams parsePlantParams(const std::string& yaml, const std::string& source,
     Section s(root["contact"], "contact", &errors);
     s.get("mu1", &p.contact.mu1);
     s.get("mu2", &p.contact.mu2);
+    s.get("slip1", &p.contact.slip1);
+    s.get("slip2", &p.contact.slip2);
     s.get("kp", &p.contact.kp);
     s.get("kd", &p.contact.kd);
     s.get("max_correcting_vel", &p.contact.max_correcting_vel);
@@ -334,6 +339,7 @@ PlantParams parsePlantParams(const std::string& yaml, const std::string& source,
     s.get("max_torque", &m.max_torque);
     s.get("stall_torque", &m.stall_torque);
     s.get("no_load_speed", &m.no_load_speed);
+    s.get("setpoint_slew_rate", &m.setpoint_slew_rate);
     s.get("setpoint_time_constant", &m.setpoint_time_constant);
     s.get("command_delay", &m.command_delay);
     s.get("coulomb_friction", &m.coulomb_friction);

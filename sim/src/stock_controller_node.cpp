@@ -13,6 +13,7 @@
  */
 #include <cmath>
 #include <exception>
+#include <iostream>
 #include <mutex>
 
 #include <geometry_msgs/Twist.h>
@@ -100,6 +101,7 @@ int main(int argc, char** argv)
   catch (const std::exception& e)
   {
     ROS_FATAL("stock_controller: %s", e.what());
+    std::cerr << "stock_controller: fatal: " << e.what() << std::endl;
     return 1;
   }
   return 0;

@@ -16,6 +16,7 @@ void WheelSpeedServo::reset()
   pending_.clear();
   enabled_ = false;
   setpoint_ = 0.0;
+  ramped_setpoint_ = 0.0;
   filtered_setpoint_ = 0.0;
   integral_ = 0.0;
   torque_ = 0.0;
@@ -61,6 +62,7 @@ double WheelSpeedServo::update(double measured_speed, double t)
     {
       // Engaging from released: start the loop from the current state.
       filtered_setpoint_ = measured_speed;
+      ramped_setpoint_ = measured_speed;
       integral_ = 0.0;
     }
     enabled_ = c.enabled;
@@ -70,16 +72,27 @@ double WheelSpeedServo::update(double measured_speed, double t)
   {
     integral_ = 0.0;
     filtered_setpoint_ = measured_speed;
+    ramped_setpoint_ = measured_speed;
     torque_ = 0.0;
     return 0.0;
   }
-  if (params_.setpoint_time_constant > 0.0)
+  if (params_.setpoint_slew_rate > 0.0)
   {
-    filtered_setpoint_ += (setpoint_ - filtered_setpoint_) * (1.0 - std::exp(-step_ / params_.setpoint_time_constant));
+    const double max_change = params_.setpoint_slew_rate * step_;
+    ramped_setpoint_ += std::clamp(setpoint_ - ramped_setpoint_, -max_change, max_change);
   }
   else
   {
-    filtered_setpoint_ = setpoint_;
+    ramped_setpoint_ = setpoint_;
+  }
+  if (params_.setpoint_time_constant > 0.0)
+  {
+    filtered_setpoint_ +=
+        (ramped_setpoint_ - filtered_setpoint_) * (1.0 - std::exp(-step_ / params_.setpoint_time_constant));
+  }
+  else
+  {
+    filtered_setpoint_ = ramped_setpoint_;
   }
   const double error = filtered_setpoint_ - measured_speed;
   const auto [lo, hi] = torqueLimits(measured_speed);

@@ -44,6 +44,8 @@ struct ContactParams
 {
   double mu1 = 0.5;                    ///< Coulomb friction along the rolling direction (fdir1) [-], >= 0
   double mu2 = 0.5;                    ///< Coulomb friction along the axle [-], >= 0
+  double slip1 = 0.0;                  ///< ODE force-dependent slip along fdir1 [m/(s N)], >= 0 (Gazebo slip1)
+  double slip2 = 0.02;                  ///< ODE force-dependent slip along the axle [m/(s N)], >= 0 (Gazebo slip2)
   double kp = 1.0e7;                   ///< contact stiffness [N/m], > 0
   double kd = 1.0;                     ///< contact damping [N s/m], >= 0
   double max_correcting_vel = 100.0;   ///< ODE contact_max_correcting_vel [m/s], > 0
@@ -55,22 +57,24 @@ struct ContactParams
 
 /**
  * MCU wheel-speed loop of one side (one motor drives both wheels of a side), expressed at
- * the wheels: PI speed servo on the side's mean wheel speed, torque limited by the motor
- * current limit and by the supply voltage (back-EMF: a DC motor's available torque falls
+ * the wheels: the set point passes a transport delay, an optional slew-rate limit (ramp)
+ * and an optional first-order lag, then a PI speed servo on the side's mean wheel speed,
+ * torque limited by the motor current limit and by the supply voltage (back-EMF: a DC motor's available torque falls
  * linearly from the stall torque at rest to zero at the no-load speed), plus drivetrain
  * friction per wheel.
  */
 struct MotorParams
 {
-  double speed_kp = 3.0;              ///< proportional gain [N m / (rad/s)], >= 0
-  double speed_ki = 30.0;             ///< integral gain [N m / rad], >= 0
-  double max_torque = 1.2;            ///< current (torque) limit of one side, at the wheels [N m], > 0
-  double stall_torque = 0.0;          ///< voltage limit: stall torque of one side [N m]; 0 = no voltage limit
-  double no_load_speed = 0.0;         ///< voltage limit: no-load wheel speed [rad/s], > 0 if stall_torque > 0
+  double speed_kp = 7.0;              ///< proportional gain [N m / (rad/s)], >= 0
+  double speed_ki = 60.0;             ///< integral gain [N m / rad], >= 0
+  double max_torque = 4.0;            ///< current (torque) limit of one side, at the wheels [N m], > 0
+  double stall_torque = 4.5;          ///< voltage limit: stall torque of one side [N m]; 0 = no voltage limit
+  double no_load_speed = 22.0;         ///< voltage limit: no-load wheel speed [rad/s], > 0 if stall_torque > 0
+  double setpoint_slew_rate = 14.0;    ///< MCU ramp of the speed set point [rad/s^2]; 0 = none
   double setpoint_time_constant = 0.0;  ///< first-order lag on the set point inside the MCU [s], >= 0
-  double command_delay = 0.0;         ///< transport delay /cmd_drive -> MCU [s], [0, 0.5]
-  double coulomb_friction = 0.0;      ///< drivetrain Coulomb friction per wheel [N m], >= 0
-  double viscous_friction = 0.0;      ///< drivetrain viscous friction per wheel [N m / (rad/s)], >= 0
+  double command_delay = 0.08;         ///< transport delay /cmd_drive -> MCU [s], [0, 0.5]
+  double coulomb_friction = 0.27;      ///< drivetrain Coulomb friction per wheel [N m], >= 0
+  double viscous_friction = 0.07;      ///< drivetrain viscous friction per wheel [N m / (rad/s)], >= 0
   double coupling_damping = 1.0;      ///< front-rear drivetrain coupling on a side [N m / (rad/s)], >= 0
   double max_wheel_speed = 25.0;      ///< set points are clamped to +-this [rad/s], > 0
 

@@ -8,7 +8,8 @@
  * motor's torque at speed w can lie only between -T_s (1 + w / w_0) and T_s (1 - w / w_0)
  * (stall torque T_s, no-load speed w_0). An optional first-order lag on the set point and a
  * transport delay model the command path. Anti-windup: the integrator does not grow while
- * the output is saturated in the direction of the error.
+ * the output is saturated in the direction of the error. Set-point path: transport delay,
+ * then slew-rate limit (ramp), then first-order lag, each optional.
  */
 
 #include <deque>
@@ -66,6 +67,7 @@ private:
   std::deque<Command> pending_;  ///< commands waiting out the transport delay
   bool enabled_ = false;
   double setpoint_ = 0.0;
+  double ramped_setpoint_ = 0.0;
   double filtered_setpoint_ = 0.0;
   double integral_ = 0.0;  ///< integrator state [N m]
   double torque_ = 0.0;
