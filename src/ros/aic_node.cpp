@@ -88,10 +88,10 @@ double LoopStats::record(double interval)
   {
     ++overruns;
   }
-  if (interval > AicNode::kMaxIntervalFactor * nominal_period)
+  if (interval > max_factor * nominal_period)
   {
     ++clamped;
-    interval = AicNode::kMaxIntervalFactor * nominal_period;
+    interval = max_factor * nominal_period;
   }
   return interval;
 }
@@ -155,7 +155,9 @@ bool AicNode::init()
       boost::bind(&AicNode::reconfigureCallback, this, boost::placeholders::_1, boost::placeholders::_2));
 
   belief_stats_.nominal_period = 1.0 / params_.aic.belief_rate;
+  belief_stats_.max_factor = kMaxBeliefIntervalFactor;
   action_stats_.nominal_period = 1.0 / params_.aic.action_rate;
+  action_stats_.max_factor = kMaxActionIntervalFactor;
   belief_freq_min_ = belief_freq_max_ = params_.aic.belief_rate;
   action_freq_min_ = action_freq_max_ = params_.aic.action_rate;
   updater_ = std::make_unique<diagnostic_updater::Updater>(nh_, pnh_);
@@ -395,17 +397,35 @@ void AicNode::beliefTimerCallback(const ros::TimerEvent& event)
 {
   const ros::WallTime start = ros::WallTime::now();
   applyPendingParams();
-  const double h = belief_stats_.record(intervalOf(event));
+  const double interval = belief_stats_.record(intervalOf(event));
   belief_freq_->tick();
   const ros::Time now = ros::Time::now();
   updateState(now);
-  if (active_ && controller_->updateBeliefs(h) == ActiveInferenceController::Status::kRunaway)
+  // Catch up: a late tick integrates its interval in steps of about one nominal period. The
+  // fractional remainder is carried over (bounded), so early and late ticks average out to
+  // belief_rate steps per second; every callback runs at least one step.
+  belief_step_debt_ += interval / belief_stats_.nominal_period;
+  const int steps = std::clamp(static_cast<int>(std::floor(belief_step_debt_ + 0.5)), 1,
+                               static_cast<int>(kMaxBeliefIntervalFactor));
+  belief_step_debt_ = std::clamp(belief_step_debt_ - steps, -1.0, 1.0);
+  const double h = interval / steps;
+  belief_stats_.catch_up_steps += static_cast<std::uint64_t>(steps - 1);
+  for (int i = 0; i < steps; ++i)
   {
-    handleRunaway(now, "belief update");
+    if (active_ && controller_->updateBeliefs(h) == ActiveInferenceController::Status::kRunaway)
+    {
+      handleRunaway(now, "belief update");
+    }
+    publishBelief(event.current_real - ros::Duration(h * (steps - 1 - i)));
   }
+  belief_stats_.window_max_duration =
+      std::max(belief_stats_.window_max_duration, (ros::WallTime::now() - start).toSec());
+}
 
+void AicNode::publishBelief(const ros::Time& stamp)
+{
   geometry_msgs::TwistStamped belief;
-  belief.header.stamp = event.current_real;
+  belief.header.stamp = stamp;
   belief.header.frame_id = "base_link";
   const auto mu0 = controller_->mu().col(0);
   if (mu0.allFinite())
@@ -416,11 +436,9 @@ void AicNode::beliefTimerCallback(const ros::TimerEvent& event)
   }
   else
   {
-    ++guarded_outputs_;  // never publish a non-finite number; the runaway check resets next tick
+    ++guarded_outputs_;  // never publish a non-finite number (the controller resets on runaway)
   }
   belief_pub_.publish(belief);
-  belief_stats_.window_max_duration =
-      std::max(belief_stats_.window_max_duration, (ros::WallTime::now() - start).toSec());
 }
 
 void AicNode::actionTimerCallback(const ros::TimerEvent& event)
@@ -720,6 +738,7 @@ void AicNode::loopDiagnostics(diagnostic_updater::DiagnosticStatusWrapper& stat)
     stat.addf(std::string(names[i]) + " max callback duration [ms]", "%.3f", 1e3 * s.window_max_duration);
     stat.add(std::string(names[i]) + " overruns (interval > 2 periods)", s.overruns);
     stat.add(std::string(names[i]) + " clamped intervals", s.clamped);
+    stat.add(std::string(names[i]) + " catch-up steps", s.catch_up_steps);
     late = late || s.window_max_duration > s.nominal_period;
   }
   if (late)

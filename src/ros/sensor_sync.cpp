@@ -57,8 +57,17 @@ const char* toString(DropReason reason)
   return "unknown";
 }
 
-SensorSynchronizer::SensorSynchronizer(const Config& config) : config_(config), imu_cache_(kImuCacheSize)
+SensorSynchronizer::SensorSynchronizer(const Config& config)
+  : config_(config), imu_cache_(std::make_unique<message_filters::Cache<sensor_msgs::Imu>>(kImuCacheSize))
 {
+}
+
+void SensorSynchronizer::restartHistory()
+{
+  has_previous_sample_ = false;
+  last_imu_stamp_ = ros::Time();
+  last_joint_stamp_ = ros::Time();
+  imu_cache_ = std::make_unique<message_filters::Cache<sensor_msgs::Imu>>(kImuCacheSize);
 }
 
 void SensorSynchronizer::setConfig(const Config& config)
@@ -87,7 +96,7 @@ bool SensorSynchronizer::addImu(const sensor_msgs::Imu::ConstPtr& msg)
                                            " not after the previous " + std::to_string(last_imu_stamp_.toSec()));
   }
   last_imu_stamp_ = msg->header.stamp;
-  imu_cache_.add(msg);
+  imu_cache_->add(msg);
   return true;
 }
 
@@ -135,7 +144,7 @@ bool SensorSynchronizer::addJointState(const sensor_msgs::JointState::ConstPtr& 
   const ros::Time from = stamp > ros::Time(0) + skew ? stamp - skew : ros::Time(0);
   sensor_msgs::Imu::ConstPtr imu;
   double best = std::numeric_limits<double>::infinity();
-  for (const auto& candidate : imu_cache_.getInterval(from, stamp + skew))
+  for (const auto& candidate : imu_cache_->getInterval(from, stamp + skew))
   {
     const double d = std::abs((candidate->header.stamp - stamp).toSec());
     if (d < best)

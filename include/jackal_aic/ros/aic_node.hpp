@@ -14,7 +14,12 @@
  *
  * Threading: one thread (ros::spin). Subscribers validate and store; the belief timer
  * (belief_rate) integrates the beliefs, the action timer (action_rate) the action and
- * publishes the command. dynamic_reconfigure writes a validated copy of the parameters
+ * publishes the command. Both integrate over the measured interval between their
+ * callbacks (ros::TimerEvent current_real - last_real), clamped: the action loop to 3
+ * periods; the belief loop to 10 periods, split into steps of about one nominal period
+ * (a late tick is caught up with the steps it missed, one ~belief message per step, each
+ * stamped with the time its belief refers to), so the belief topic carries belief_rate
+ * updates per second even when the OS delays the timer. dynamic_reconfigure writes a validated copy of the parameters
  * under a mutex; the timers apply it at the start of their next tick.
  *
  * Safety: the controller runs only while sensor samples are fresh (sensor_timeout),
@@ -65,9 +70,11 @@ const char* toString(NodeState state);
 struct LoopStats
 {
   double nominal_period = 0.0;    ///< 1 / rate [s]
+  double max_factor = 3.0;        ///< longer intervals are clamped to max_factor * nominal_period
   std::uint64_t ticks = 0;        ///< callbacks since start
   std::uint64_t overruns = 0;     ///< measured interval > 2 nominal periods (a tick was missed)
-  std::uint64_t clamped = 0;      ///< interval clamped to kMaxIntervalFactor periods
+  std::uint64_t clamped = 0;      ///< intervals clamped to max_factor periods
+  std::uint64_t catch_up_steps = 0;  ///< extra integration steps run to cover missed ticks
   double window_max_interval = 0.0;   ///< largest measured interval in the window [s]
   double window_abs_jitter_sum = 0.0; ///< sum of |interval - nominal| in the window [s]
   std::uint64_t window_ticks = 0;
@@ -97,8 +104,11 @@ public:
    */
   bool init();
 
-  /// The largest interval a loop integrates over, in nominal periods (longer gaps are clamped).
-  static constexpr double kMaxIntervalFactor = 3.0;
+  /// The largest interval the action loop integrates over, in nominal periods (longer gaps are clamped).
+  static constexpr double kMaxActionIntervalFactor = 3.0;
+  /// The largest interval the belief loop integrates over, in nominal periods; it is split into
+  /// steps of about one nominal period each (catch-up), so a late tick never means a long Euler step.
+  static constexpr double kMaxBeliefIntervalFactor = 10.0;
 
 private:
   void jointStateCallback(const sensor_msgs::JointState::ConstPtr& msg);
@@ -120,6 +130,7 @@ private:
   /// Final guard: clamp to +-max_wheel_speed, zero if non-finite, publish MODE_VELOCITY.
   void publishCommand(double omega_left, double omega_right);
   void publishDebug();
+  void publishBelief(const ros::Time& stamp);
 
   AICConfig configFromParams(const NodeParams& params) const;
   SensorSynchronizer::Config syncConfig(const NodeParams& params) const;
@@ -152,6 +163,7 @@ private:
   double belief_freq_min_ = 0.0, belief_freq_max_ = 0.0, action_freq_min_ = 0.0, action_freq_max_ = 0.0;
   std::unique_ptr<diagnostic_updater::FrequencyStatus> belief_freq_, action_freq_;
   LoopStats belief_stats_, action_stats_;
+  double belief_step_debt_ = 0.0;  ///< belief steps owed (in nominal periods), carried between ticks, in [-1, 1]
 
   // State.
   NodeState state_ = NodeState::kWaiting;

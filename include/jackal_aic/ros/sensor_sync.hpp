@@ -18,6 +18,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -89,8 +90,15 @@ public:
    */
   bool addJointState(const sensor_msgs::JointState::ConstPtr& msg, SensorSample* out);
 
-  /// Forget the sample history (next sample is a first sample); keeps IMU cache and counters.
-  void restartHistory() { has_previous_sample_ = false; }
+  /**
+   * \brief Forget the sample history: the next sample is a first sample, the stamp order
+   *        checks start afresh and the IMU cache is emptied; counters are kept.
+   *
+   * Called when the sensors went stale, so that one message with a stamp far in the
+   * future (which makes every later message look "backwards") blocks the streams only
+   * until the sensor timeout, not for ever.
+   */
+  void restartHistory();
 
   /// Dropped inputs per DropReason since construction.
   const std::array<std::uint64_t, static_cast<int>(DropReason::kCount)>& dropCounts() const { return drops_; }
@@ -100,7 +108,7 @@ private:
   bool drop(DropReason reason, const std::string& detail);
 
   Config config_;
-  message_filters::Cache<sensor_msgs::Imu> imu_cache_;
+  std::unique_ptr<message_filters::Cache<sensor_msgs::Imu>> imu_cache_;
   ros::Time last_imu_stamp_;
   ros::Time last_joint_stamp_;
   ros::Time previous_sample_stamp_;

@@ -1,0 +1,197 @@
+/**
+ * \file test_sensor_sync.cpp
+ * \brief gtest (no roscore) of SensorSynchronizer: joint lookup by name, validation, drop
+ *        counting, IMU pairing by stamp, sample intervals and gaps.
+ */
+#include <cmath>
+#include <limits>
+
+#include <gtest/gtest.h>
+#include <ros/time.h>
+
+#include "jackal_aic/ros/sensor_sync.hpp"
+
+namespace jackal_aic
+{
+namespace
+{
+constexpr double kValueTol = 1e-12;   // rad/s, m/s^2 (values are copied or averaged)
+constexpr double kIntervalTol = 1e-9;  // s
+constexpr double kT0 = 1000.0;         // s, an arbitrary non-zero start stamp
+
+SensorSynchronizer::Config config()
+{
+  SensorSynchronizer::Config c;
+  c.left_joints = { "front_left_wheel", "rear_left_wheel" };
+  c.right_joints = { "front_right_wheel", "rear_right_wheel" };
+  c.imu_max_skew = 0.025;
+  c.min_sample_interval = 0.005;
+  c.max_gap = 0.25;
+  return c;
+}
+
+sensor_msgs::JointState::Ptr joints(double t, double left = 1.0, double right = 2.0)
+{
+  sensor_msgs::JointState::Ptr msg(new sensor_msgs::JointState);
+  msg->header.stamp = ros::Time(t);
+  // non-standard order with an extra joint: lookup must be by name
+  msg->name = { "rear_right_wheel", "caster", "front_left_wheel", "rear_left_wheel", "front_right_wheel" };
+  msg->velocity = { right + 0.5, 99.0, left - 0.5, left + 0.5, right - 0.5 };
+  msg->position = { 0.0, 0.0, 0.0, 0.0, 0.0 };
+  return msg;
+}
+
+sensor_msgs::Imu::Ptr imu(double t, double gyro_z = 0.3)
+{
+  sensor_msgs::Imu::Ptr msg(new sensor_msgs::Imu);
+  msg->header.stamp = ros::Time(t);
+  msg->angular_velocity.z = gyro_z;
+  msg->linear_acceleration.x = 0.4;
+  msg->linear_acceleration.y = -0.1;
+  msg->linear_acceleration.z = 9.81;
+  return msg;
+}
+
+std::uint64_t drops(const SensorSynchronizer& s, DropReason r)
+{
+  return s.dropCounts()[static_cast<std::size_t>(r)];
+}
+
+TEST(SensorSync, PairsByNameAndAverages)
+{
+  SensorSynchronizer sync(config());
+  ASSERT_TRUE(sync.addImu(imu(kT0 + 0.005)));
+  SensorSample s;
+  ASSERT_TRUE(sync.addJointState(joints(kT0), &s));
+  EXPECT_TRUE(s.first);
+  EXPECT_NEAR(s.y(kOmegaLeft), 1.0, kValueTol);
+  EXPECT_NEAR(s.y(kOmegaRight), 2.0, kValueTol);
+  EXPECT_NEAR(s.y(kGyroZ), 0.3, kValueTol);
+  EXPECT_NEAR(s.y(kAccelX), 0.4, kValueTol);
+  EXPECT_NEAR(s.y(kAccelY), -0.1, kValueTol);
+
+  ASSERT_TRUE(sync.addImu(imu(kT0 + 0.025, 0.7)));
+  ASSERT_TRUE(sync.addJointState(joints(kT0 + 0.02), &s));
+  EXPECT_FALSE(s.first);
+  EXPECT_NEAR(s.h, 0.02, kIntervalTol);
+  EXPECT_NEAR(s.y(kGyroZ), 0.7, kValueTol);  // closest IMU (5 ms) rather than the older one (15 ms)
+}
+
+TEST(SensorSync, DropsInvalidJointStates)
+{
+  SensorSynchronizer sync(config());
+  ASSERT_TRUE(sync.addImu(imu(kT0)));
+  SensorSample s;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+
+  auto missing = joints(kT0);
+  missing->name[3] = "unknown";
+  EXPECT_FALSE(sync.addJointState(missing, &s));
+  EXPECT_EQ(drops(sync, DropReason::kJointNames), 1u);
+
+  auto short_velocity = joints(kT0);
+  short_velocity->velocity.pop_back();
+  EXPECT_FALSE(sync.addJointState(short_velocity, &s));
+  auto long_position = joints(kT0);
+  long_position->position.push_back(0.0);
+  EXPECT_FALSE(sync.addJointState(long_position, &s));
+  EXPECT_EQ(drops(sync, DropReason::kJointArrays), 2u);
+
+  for (double bad : { nan, inf, -inf })
+  {
+    auto v = joints(kT0);
+    v->velocity[2] = bad;
+    EXPECT_FALSE(sync.addJointState(v, &s));
+    auto p = joints(kT0);
+    p->position[0] = bad;
+    EXPECT_FALSE(sync.addJointState(p, &s));
+  }
+  EXPECT_EQ(drops(sync, DropReason::kJointNonFinite), 6u);
+
+  auto unused = joints(kT0);
+  unused->velocity[1] = nan;  // the caster is not configured: ignored
+  EXPECT_TRUE(sync.addJointState(unused, &s));
+
+  EXPECT_FALSE(sync.addJointState(joints(kT0), &s));          // same stamp
+  EXPECT_FALSE(sync.addJointState(joints(kT0 - 1.0), &s));    // backwards
+  EXPECT_FALSE(sync.addJointState(joints(0.0), &s));          // zero
+  EXPECT_EQ(drops(sync, DropReason::kJointStamp), 3u);
+  EXPECT_EQ(sync.acceptedSamples(), 1u);
+}
+
+TEST(SensorSync, DropsInvalidImu)
+{
+  SensorSynchronizer sync(config());
+  auto bad = imu(kT0);
+  bad->linear_acceleration.x = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(sync.addImu(bad));
+  bad = imu(kT0);
+  bad->angular_velocity.y = -std::numeric_limits<double>::infinity();
+  EXPECT_FALSE(sync.addImu(bad));
+  EXPECT_EQ(drops(sync, DropReason::kImuNonFinite), 2u);
+  auto unused = imu(kT0);
+  unused->orientation.x = std::numeric_limits<double>::quiet_NaN();  // orientation is not used
+  EXPECT_TRUE(sync.addImu(unused));
+  EXPECT_FALSE(sync.addImu(imu(kT0)));
+  EXPECT_FALSE(sync.addImu(imu(0.0)));
+  EXPECT_EQ(drops(sync, DropReason::kImuStamp), 2u);
+}
+
+TEST(SensorSync, NoImuWithinSkew)
+{
+  SensorSynchronizer sync(config());
+  SensorSample s;
+  EXPECT_FALSE(sync.addJointState(joints(kT0), &s));  // no IMU at all
+  ASSERT_TRUE(sync.addImu(imu(kT0 + 0.02)));
+  EXPECT_FALSE(sync.addJointState(joints(kT0 + 0.1), &s));  // IMU 80 ms old
+  EXPECT_EQ(drops(sync, DropReason::kNoImu), 2u);
+}
+
+TEST(SensorSync, TooCloseAndGaps)
+{
+  SensorSynchronizer sync(config());
+  SensorSample s;
+  ASSERT_TRUE(sync.addImu(imu(kT0)));
+  ASSERT_TRUE(sync.addJointState(joints(kT0), &s));
+  EXPECT_FALSE(sync.addJointState(joints(kT0 + 0.001), &s));
+  EXPECT_EQ(drops(sync, DropReason::kTooClose), 1u);
+  ASSERT_TRUE(sync.addJointState(joints(kT0 + 0.02), &s));
+  EXPECT_NEAR(s.h, 0.02, kIntervalTol);  // from the last accepted sample
+  ASSERT_TRUE(sync.addImu(imu(kT0 + 1.0)));
+  ASSERT_TRUE(sync.addJointState(joints(kT0 + 1.0), &s));
+  EXPECT_TRUE(s.first);  // 0.98 s > max_gap: new history
+  EXPECT_EQ(s.h, 0.0);
+  sync.restartHistory();
+  EXPECT_FALSE(sync.addJointState(joints(kT0 + 1.02), &s));  // IMU cache emptied by the restart
+  ASSERT_TRUE(sync.addImu(imu(kT0 + 1.03)));
+  ASSERT_TRUE(sync.addJointState(joints(kT0 + 1.04), &s));
+  EXPECT_TRUE(s.first);
+}
+
+TEST(SensorSync, RecoversFromAFutureStampAfterRestart)
+{
+  SensorSynchronizer sync(config());
+  SensorSample s;
+  ASSERT_TRUE(sync.addImu(imu(kT0)));
+  ASSERT_TRUE(sync.addJointState(joints(kT0), &s));
+  ASSERT_TRUE(sync.addImu(imu(kT0 + 1.0e6)));  // one message stamped far in the future
+  ASSERT_TRUE(sync.addJointState(joints(kT0 + 1.0e6), &s));
+  EXPECT_FALSE(sync.addImu(imu(kT0 + 0.02)));  // every later message now looks backwards
+  EXPECT_FALSE(sync.addJointState(joints(kT0 + 0.02), &s));
+  sync.restartHistory();  // what the node does once the sensors went stale
+  ASSERT_TRUE(sync.addImu(imu(kT0 + 0.3)));
+  ASSERT_TRUE(sync.addJointState(joints(kT0 + 0.3), &s));
+  EXPECT_TRUE(s.first);
+  EXPECT_NEAR(s.y(kGyroZ), 0.3, kValueTol);
+}
+
+}  // namespace
+}  // namespace jackal_aic
+
+int main(int argc, char** argv)
+{
+  ros::Time::init();  // throttled warnings read the clock
+  testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}

@@ -1,0 +1,54 @@
+"""Helpers shared by the jackal_AIC rostests: recorders that keep (time, message) pairs.
+
+Times are message stamps where the message has a header, otherwise the receipt time
+(rospy.get_rostime() in the callback): jackal_msgs/Drive and geometry_msgs/Twist carry
+no stamp.
+"""
+import math
+import threading
+
+import rospy
+
+
+class Recorder:
+    """Subscribe to a topic and keep (time, msg) for every message."""
+
+    def __init__(self, topic, msg_type, use_stamp=False, queue_size=100000):
+        self.items = []
+        self.lock = threading.Lock()
+        self.use_stamp = use_stamp
+        self.sub = rospy.Subscriber(topic, msg_type, self.callback, queue_size=queue_size, tcp_nodelay=True)
+
+    def callback(self, msg):
+        t = msg.header.stamp.to_sec() if self.use_stamp else rospy.get_rostime().to_sec()
+        with self.lock:
+            self.items.append((t, msg))
+
+    def snapshot(self):
+        with self.lock:
+            return list(self.items)
+
+    def span(self):
+        items = self.snapshot()
+        return items[-1][0] - items[0][0] if len(items) > 1 else 0.0
+
+
+def wait_for(predicate, timeout, period=0.05):
+    """Poll predicate() until it is true or `timeout` seconds of ROS time pass; return its last value."""
+    deadline = rospy.get_rostime() + rospy.Duration(timeout)
+    while not rospy.is_shutdown() and rospy.get_rostime() < deadline:
+        if predicate():
+            return True
+        rospy.sleep(period)
+    return predicate()
+
+
+def rate_of(times):
+    """Average rate [Hz] of a sorted list of times: (n - 1) / span."""
+    if len(times) < 2 or times[-1] <= times[0]:
+        return 0.0
+    return (len(times) - 1) / (times[-1] - times[0])
+
+
+def finite(values):
+    return all(math.isfinite(v) for v in values)

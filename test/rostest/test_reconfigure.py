@@ -1,0 +1,45 @@
+#!/usr/bin/env python3
+"""rostest: dynamic_reconfigure changes apply live, invalid ones are refused.
+
+1. action_rate -> `new_action_rate`: /cmd_drive follows (rate from receipt times, +-tolerance).
+2. belief_rate below action_rate: refused; the server reports the old value.
+
+Parameters (~): new_action_rate [Hz], rate_tolerance [-], duration [s].
+"""
+import sys
+import unittest
+
+import dynamic_reconfigure.client
+import rospy
+import rostest
+from jackal_msgs.msg import Drive
+
+from aic_test_utils import Recorder, rate_of, wait_for
+
+
+class ReconfigureTest(unittest.TestCase):
+    def test_live_change_and_refusal(self):
+        new_rate = float(rospy.get_param("~new_action_rate", 25.0))
+        tolerance = float(rospy.get_param("~rate_tolerance", 0.1))
+        duration = float(rospy.get_param("~duration", 3.0))
+        client = dynamic_reconfigure.client.Client("/jackal_AIC", timeout=30)
+        cmd = Recorder("/cmd_drive", Drive)
+        self.assertTrue(wait_for(lambda: cmd.span() >= 1.0, 30.0))
+
+        result = client.update_configuration({"action_rate": new_rate})
+        self.assertAlmostEqual(result["action_rate"], new_rate)
+        t_change = rospy.get_rostime().to_sec() + 0.5  # let the new period take effect
+        self.assertTrue(wait_for(lambda: cmd.snapshot()[-1][0] >= t_change + duration, 3 * duration + 10))
+        rate = rate_of([t for t, _ in cmd.snapshot() if t_change <= t <= t_change + duration])
+        print("MEASURED /cmd_drive after reconfigure: %.2f Hz (asked %.1f)" % (rate, new_rate), file=sys.stderr)
+        self.assertAlmostEqual(rate, new_rate, delta=tolerance * new_rate)
+
+        before = client.get_configuration(timeout=10)["belief_rate"]
+        result = client.update_configuration({"belief_rate": new_rate / 2.0})
+        self.assertAlmostEqual(result["belief_rate"], before, msg="belief_rate < action_rate was accepted")
+        self.assertAlmostEqual(rospy.get_param("/jackal_AIC/belief_rate"), before)
+
+
+if __name__ == "__main__":
+    rospy.init_node("test_reconfigure")
+    rostest.rosrun("jackal_aic", "test_reconfigure", ReconfigureTest, sys.argv)
