@@ -9,14 +9,17 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 source "$here/ws_env.sh"
 bash "$here/setup_deps.sh"
 bash "$here/build.sh"
+set +u  # the catkin setup scripts read unset variables
 source_ws
+set -u
 v="${AIC_DEMO_V:-0.5}"
 out="${AIC_RESULTS_DIR:-$repo/results}/demo"
 mkdir -p "$out"
 rc=0
 for c in aic stock; do
   echo "demo: ${v} m/s step with the ${c} controller ..."
-  rosrun jackal_aic aic_experiment.py --controller "$c" --v "$v" --hold 3 --out "$out" \
+  # the devel-space wrapper (rosrun would also search the workspace nested in the source tree)
+  "$ws/devel/lib/jackal_aic/aic_experiment.py" --controller "$c" --v "$v" --hold 3 --out "$out" \
     --name "demo_${c}_step_${v}" > "$out/demo_${c}.log" 2>&1 || rc=$?
   [ "$rc" -eq 0 ] || { echo "demo: the ${c} run did not finish cleanly (exit $rc); its log: $out/demo_${c}.log"; tail -5 "$out/demo_${c}.log"; }
 done
