@@ -263,6 +263,8 @@ def drive_profile(profile, rec, controller="aic", settle=1.0, ready_timeout=60.0
         t_settle = rospy.Time.now().to_sec() + settle
         wall_settle = time.time() + 10.0 * settle + 30.0
         while rospy.Time.now().to_sec() < t_settle:
+            if died():
+                return None, "failed", "node(s) died before the run: %s" % died()
             if time.time() > wall_settle:
                 return None, "failed", "time does not advance (is /clock published?)"
             publish(0.0, 0.0, False)

@@ -17,6 +17,7 @@ by the core's aic_step_metrics (through jackal_aic_tools). Expectations are <par
   ~ready_timeout      wall time to wait for the streams [s]                 [30]
 """
 import math
+import signal
 import sys
 import unittest
 
@@ -26,6 +27,23 @@ import rostest
 from jackal_aic_tools import experiment, metrics, profiles, recording
 
 PKG = "jackal_aic"
+
+# Signals received. roslaunch interrupts the test when a required node (the controller,
+# the plant) dies; the default handler would kill this process before it writes its
+# result file, and rostest would then count 0 tests and report success. Instead the
+# signal is recorded and the running check fails with a message.
+_signals = []
+
+
+def _on_signal(signum, _frame):
+    _signals.append(signum)
+
+
+def _stopped():
+    if _signals:
+        return ["the launch is shutting down (signal %d): did a required node (controller, plant) die? "
+                "See its log" % _signals[0]]
+    return []
 
 
 class StepResponseCheck(unittest.TestCase):
@@ -51,7 +69,7 @@ class StepResponseCheck(unittest.TestCase):
         rec = recording.Recorder()
         t0, status, reason = experiment.drive_profile(
             prof, rec, controller, settle=1.0, ready_timeout=float(p("ready_timeout", 30.0)), limits=limits,
-            wheel_radius=wheel_radius, wheel_sep=wheel_sep, name=rospy.get_name())
+            wheel_radius=wheel_radius, wheel_sep=wheel_sep, died=_stopped, name=rospy.get_name())
         self.assertIsNotNone(t0, "the run did not start: %s" % reason)
         self.assertEqual(status, "ok", "closed loop %s: %s" % (status, reason))
         arr = rec.arrays()
@@ -83,5 +101,7 @@ class StepResponseCheck(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    rospy.init_node("step_response_check")
+    signal.signal(signal.SIGINT, _on_signal)
+    signal.signal(signal.SIGTERM, _on_signal)
+    rospy.init_node("step_response_check", disable_signals=True)
     rostest.rosrun(PKG, "step_response_check", StepResponseCheck, sys.argv)
