@@ -3,7 +3,8 @@
 # from rest each, headless. Installs what is missing, builds into the git-ignored .ws/
 # (reused when run again), prints the metrics table and the paths of the plots.
 #   bash scripts/demo.sh            # results in results/demo/
-#   AIC_DEMO_V=1.0 bash scripts/demo.sh
+#   AIC_DEMO_V=1.0 bash scripts/demo.sh                       # another step size [m/s]
+#   AIC_DEMO_ARGS="--set k_a=10 --set var_y=[2,20,1e5,1e5]" bash scripts/demo.sh  # more runner args
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 source "$here/ws_env.sh"
@@ -18,9 +19,11 @@ mkdir -p "$out"
 rc=0
 for c in aic stock; do
   echo "demo: ${v} m/s step with the ${c} controller ..."
+  rc=0
   # the devel-space wrapper (rosrun would also search the workspace nested in the source tree)
+  # shellcheck disable=SC2086
   "$ws/devel/lib/jackal_aic/aic_experiment.py" --controller "$c" --v "$v" --hold 3 --out "$out" \
-    --name "demo_${c}_step_${v}" > "$out/demo_${c}.log" 2>&1 || rc=$?
+    --name "demo_${c}_step_${v}" ${AIC_DEMO_ARGS:-} > "$out/demo_${c}.log" 2>&1 || rc=$?
   [ "$rc" -eq 0 ] || { echo "demo: the ${c} run did not finish cleanly (exit $rc); its log: $out/demo_${c}.log"; tail -5 "$out/demo_${c}.log"; }
 done
 echo
