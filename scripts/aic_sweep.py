@@ -142,14 +142,12 @@ def run_one(a, combo, out_dir, idx):
         try:
             proc.wait(timeout=limit)
         except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGINT)
-            try:
-                proc.wait(timeout=20)
-            except subprocess.TimeoutExpired:
-                os.killpg(proc.pid, signal.SIGKILL)
-                proc.wait()
+            _stop(proc)
             return {"name": name, "status": "failed", "reason": "timed out after %.0f s" % limit,
                     "segments": [], "log": log_path}
+        except KeyboardInterrupt:  # the run is in its own session: stop it too
+            _stop(proc)
+            raise
     jpath = os.path.join(out_dir, name + ".json")
     if not os.path.exists(jpath):
         tail = open(log_path).read()[-400:]
@@ -160,6 +158,16 @@ def run_one(a, combo, out_dir, idx):
     res["log"] = log_path
     res["wall"] = time.time() - t
     return res
+
+
+def _stop(proc):
+    """Interrupt a run (its roslaunch shuts the simulator and master down), then kill."""
+    os.killpg(proc.pid, signal.SIGINT)
+    try:
+        proc.wait(timeout=20)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.wait()
 
 
 def headline(res):
