@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include <geometry_msgs/Twist.h>
 #include <jackal_msgs/Drive.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
@@ -338,6 +339,50 @@ TEST_F(PlantRosTest, ModeNoneCoasts)
   }
   // It coasted (travelled some distance), it was not braked to a stop at once.
   EXPECT_GT(s.back().x - s.front().x, 0.01);
+}
+
+/// stock_controller_node on the plant: a linear set point gives that body speed (open loop,
+/// the plant has little longitudinal slip) and cmd_drive streams at 50 Hz.
+TEST_F(PlantRosTest, StockControllerTracksSetPoint)
+{
+  const double v = param("set_point");          // m/s
+  const double tol = param("relative_tolerance");
+  const double settle = param("settle_time");   // s of plant time
+  const double window = param("measure_time");  // s of plant time
+  ros::Publisher sp = nh_.advertise<geometry_msgs::Twist>("jackal_AIC/set_point", 10);
+  std::vector<double> drive_wall;
+  std::mutex drive_mutex;
+  ros::Subscriber drive_sub = nh_.subscribe<jackal_msgs::Drive>(
+      "cmd_drive", 100, [&](const jackal_msgs::Drive::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(drive_mutex);
+        if (m->mode == jackal_msgs::Drive::MODE_VELOCITY)
+        {
+          drive_wall.push_back(ros::WallTime::now().toSec());
+        }
+      });
+  ASSERT_TRUE(waitFor([&] { return !odom_.empty(); }, kStartupWall));
+  const double t0 = lastOdomStamp();
+  geometry_msgs::Twist twist;
+  twist.linear.x = v;
+  // Stream the set point at 20 Hz (the stock controller times out after 0.25 s).
+  while (ros::ok() && lastOdomStamp() < t0 + settle + window)
+  {
+    sp.publish(twist);
+    ros::WallDuration(0.05).sleep();
+  }
+  const auto s = odomBetween(t0 + settle, t0 + settle + window);
+  ASSERT_GT(s.size(), 10u);
+  std::vector<double> vx;
+  for (const auto& o : s)
+  {
+    vx.push_back(o.vx);
+  }
+  EXPECT_NEAR(mean(vx), v, tol * v);
+  drive_sub.shutdown();
+  std::lock_guard<std::mutex> lock(drive_mutex);
+  ASSERT_GT(drive_wall.size(), 20u);
+  const double rate = (drive_wall.size() - 1) / (drive_wall.back() - drive_wall.front());
+  EXPECT_NEAR(rate, 50.0, 5.0) << "cmd_drive rate [Hz]";
 }
 
 /// A bad URDF path: the node exits non-zero and names the path.

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 
+#include "jackal_sim/calibration.hpp"
 #include "jackal_sim/plant.hpp"
 #include "jackal_sim/plant_params.hpp"
 #include "jackal_sim/robot_description.hpp"
@@ -303,6 +304,21 @@ TEST(Plant, NonFiniteCommandIsIgnored)
   EXPECT_TRUE(plant.baseLinearVelocity().allFinite());
 }
 
+TEST(Plant, ImuMeasuresAccelerationAndYawRate)
+{
+  Plant plant(loadRobotDescription(kUrdf), quietParams());  // accelerometer window 0.02 s
+  plant.step(500);
+  plant.setWheelSpeeds(6.0, 8.0);
+  plant.step(300);  // inside the set-point ramp: accelerating
+  const double v0 = plant.baseLinearVelocity().x();
+  plant.step(20);
+  const double accel = (plant.baseLinearVelocity().x() - v0) / 0.02;
+  EXPECT_GT(accel, 0.5);
+  EXPECT_NEAR(plant.imuTruth().linear_acceleration.x(), accel, 0.1 * accel + 0.05);
+  EXPECT_NEAR(plant.imuTruth().angular_velocity.z(), plant.baseAngularVelocity().z(), 1e-9);
+  EXPECT_GT(plant.imuTruth().angular_velocity.z(), 0.0);  // right side faster: left turn
+}
+
 TEST(Plant, InvalidParamsThrow)
 {
   PlantParams p = quietParams();
@@ -419,6 +435,25 @@ TEST(StockController, LimitsAccelerationVelocityAndTimesOut)
   EXPECT_NEAR(c.lastLinear(), 0.0, 1e-12);
   EXPECT_FALSE(c.setCommand(std::nan(""), 0.0, t));
   EXPECT_THROW(StockController(StockControllerParams{ -1.0 }), std::invalid_argument);
+}
+
+// ---------------------------------------------------------------- calibration
+/// The committed plant.yaml reproduces the robot's stock step responses (issue 4's
+/// acceptance: 0.5 and 1.0 m/s within 25 %, 0.1 m/s within 50 %, rise grows with the step).
+TEST(Calibration, StockStepsMatchTheRobotTable)
+{
+  const RobotDescription d = loadRobotDescription(kUrdf);
+  const PlantParams p = loadPlantParams(kConfig);
+  double previous_rise = 0.0;
+  for (const RobotStepReference& row : kRobotStepTable)
+  {
+    const jackal_aic::StepMetrics m = stepMetricsOf(runStockStep(d, p, row.step));
+    EXPECT_NEAR(m.settling_time, row.settling, row.tolerance * row.settling) << "step " << row.step << " m/s";
+    EXPECT_NEAR(m.rise_time, row.rise, row.tolerance * row.rise) << "step " << row.step << " m/s";
+    EXPECT_GT(m.rise_time, previous_rise) << "rise time must grow with the step";
+    EXPECT_TRUE(m.settled);
+    previous_rise = m.rise_time;
+  }
 }
 
 int main(int argc, char** argv)
