@@ -248,8 +248,9 @@ def main(argv=None):
         rows.append(row)
     fixed_txt = ", ".join(label(d, v) for d, v in fixed)
     prof = cli.make_profile(a)
-    title = "Sweep %s: profile %s, config %s%s; rise 10-90 %% and settling +-5 %% of /odom %s" % (
-        name, prof.name, os.path.basename(a.config), (", " + fixed_txt) if fixed_txt else "",
+    title = "Sweep %s: profile %s, config %s%s%s; rise 10-90 %% and settling +-5 %% of /odom %s" % (
+        name, prof.name, os.path.basename(a.config), (" + " + " ".join(a.set)) if a.set else "",
+        (", " + fixed_txt) if fixed_txt else "",
         "(worst transition)" if len(prof.segments()) > 1 else "")
     table = report.format_table(headers, rows)
     print()
