@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Demo: the AIC and the Jackal's stock controller on the simulated Jackal, a 0.5 m/s step
+# from rest each, headless. Installs what is missing, builds into the git-ignored .ws/
+# (reused when run again), prints the metrics table and the paths of the plots.
+#   bash scripts/demo.sh            # results in results/demo/
+#   AIC_DEMO_V=1.0 bash scripts/demo.sh                       # another step size [m/s]
+#   AIC_DEMO_ARGS="--set k_a=10 --set var_y=[2,20,1e5,1e5]" bash scripts/demo.sh  # more runner args
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+source "$here/ws_env.sh"
+bash "$here/setup_deps.sh"
+bash "$here/build.sh"
+set +u  # the catkin setup scripts read unset variables
+source_ws
+set -u
+v="${AIC_DEMO_V:-0.5}"
+out="${AIC_RESULTS_DIR:-$repo/results}/demo"
+mkdir -p "$out"
+rc=0
+for c in aic stock; do
+  echo "demo: ${v} m/s step with the ${c} controller ..."
+  rc=0
+  # the devel-space wrapper (rosrun would also search the workspace nested in the source tree)
+  # shellcheck disable=SC2086
+  "$ws/devel/lib/jackal_aic/aic_experiment.py" --controller "$c" --v "$v" --hold 3 --out "$out" \
+    --name "demo_${c}_step_${v}" ${AIC_DEMO_ARGS:-} > "$out/demo_${c}.log" 2>&1 || rc=$?
+  [ "$rc" -eq 0 ] || { echo "demo: the ${c} run did not finish cleanly (exit $rc); its log: $out/demo_${c}.log"; tail -5 "$out/demo_${c}.log"; }
+done
+echo
+echo "Step response, ${v} m/s from rest (rise 10-90 %, settling +-5 %; drive cmd = the twist the wheel commands ask for):"
+/usr/bin/python3 -m jackal_aic_tools.summary "$out/demo_aic_step_${v}.json" "$out/demo_stock_step_${v}.json"

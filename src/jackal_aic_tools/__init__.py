@@ -1,0 +1,6 @@
+"""Experiment tooling for jackal_aic: set-point profiles, recording, stability
+monitoring, step metrics (through the core's ``aic_step_metrics`` CLI), tables and plots.
+
+Used by ``scripts/aic_experiment.py``, ``scripts/aic_sweep.py`` and the step-response
+rostests. Metric definitions follow the spec, section 9 (thesis ch. 5).
+"""

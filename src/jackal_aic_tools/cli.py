@@ -1,0 +1,91 @@
+"""Command-line helpers shared by aic_experiment.py and aic_sweep.py."""
+import os
+
+from . import profiles, recording
+
+
+def package_path():
+    """Source path of jackal_aic (through rospack), or None."""
+    try:
+        import rospkg
+        return rospkg.RosPack().get_path("jackal_aic")
+    except Exception:  # rospkg raises several kinds; all mean "not found"
+        return None
+
+
+def default_results_dir():
+    """$AIC_RESULTS_DIR, else <package source>/results (git-ignored) in a source checkout,
+    else ./results."""
+    env = os.environ.get("AIC_RESULTS_DIR")
+    if env:
+        return env
+    pkg = package_path()
+    if pkg and os.path.isdir(os.path.join(os.path.realpath(pkg), ".git")) or \
+            (pkg and os.path.exists(os.path.join(os.path.realpath(pkg), ".git"))):
+        return os.path.join(os.path.realpath(pkg), "results")
+    return os.path.abspath("results")
+
+
+def add_profile_args(p):
+    g = p.add_argument_group("set-point profile")
+    g.add_argument("--profile", choices=("step", "angular", "square", "csv"), default="step",
+                   help="step: linear step to --v; angular: step to --w; square: wave between "
+                        "--low and --high; csv: --csv file (default: %(default)s)")
+    g.add_argument("--v", type=float, default=0.5, help="linear step size [m/s] (default %(default)s)")
+    g.add_argument("--w", type=float, default=1.0, help="angular step size [rad/s] (default %(default)s)")
+    g.add_argument("--t-step", type=float, default=0.5, help="time of the step after the profile starts [s]")
+    g.add_argument("--hold", type=float, default=3.0, help="how long the step is held [s] (default %(default)s)")
+    g.add_argument("--low", type=float, default=0.1, help="square wave low level [m/s] (default %(default)s)")
+    g.add_argument("--high", type=float, default=0.5, help="square wave high level [m/s] (default %(default)s)")
+    g.add_argument("--period", type=float, default=4.0, help="square wave period [s] (default %(default)s)")
+    g.add_argument("--cycles", type=int, default=2, help="square wave periods (default %(default)s)")
+    g.add_argument("--csv", help="CSV profile with header t,vx[,wz]; the last row's t ends it")
+
+
+def make_profile(a):
+    if a.profile == "step":
+        return profiles.step(v=a.v, t_step=a.t_step, hold=a.hold)
+    if a.profile == "angular":
+        return profiles.step(v=0.0, w=a.w, t_step=a.t_step, hold=a.hold)
+    if a.profile == "square":
+        return profiles.square(a.low, a.high, a.period, a.cycles)
+    if not a.csv:
+        raise ValueError("--profile csv needs --csv FILE")
+    return profiles.from_csv(a.csv)
+
+
+def add_run_args(p):
+    g = p.add_argument_group("simulator and controller")
+    g.add_argument("--config", help="controller YAML (default: <jackal_aic>/config/default.yaml)")
+    g.add_argument("--launch", help="launch file (default: <jackal_aic>/launch/sim.launch); it gets "
+                                    "config:=<written YAML> controller:=<aic|stock>")
+    g.add_argument("--launch-arg", action="append", default=[], metavar="NAME:=VALUE",
+                   help="extra launch argument, e.g. plant_config:=/path.yaml or use_sim_time:=true (repeatable)")
+    g.add_argument("--settle", type=float, default=1.0, help="rest time before the profile starts [s]")
+    g.add_argument("--ready-timeout", type=float, default=60.0,
+                   help="wall time to wait for /odom, /cmd_drive and the belief [s]")
+    g.add_argument("--bound-v", type=float, default=3.0, help="|v| [m/s] beyond which a run is unstable")
+    g.add_argument("--bound-w", type=float, default=8.0, help="|w| [rad/s] beyond which a run is unstable")
+    g.add_argument("--verbose", action="store_true", help="show the nodes' output")
+
+
+def resolve_defaults(a):
+    pkg = package_path()
+    if not a.config:
+        if not pkg:
+            raise ValueError("jackal_aic not found by rospack: source the workspace or pass --config")
+        a.config = os.path.join(pkg, "config", "default.yaml")
+    if not a.launch:
+        if not pkg:
+            raise ValueError("jackal_aic not found by rospack: source the workspace or pass --launch")
+        a.launch = os.path.join(pkg, "launch", "sim.launch")
+    for f in (a.config, a.launch):
+        if not os.path.isfile(f):
+            raise ValueError("no such file: %s" % f)
+    for la in a.launch_arg:
+        if ":=" not in la:
+            raise ValueError("--launch-arg %r is not NAME:=VALUE" % la)
+
+
+def limits(a):
+    return recording.StabilityLimits(v_bound=a.bound_v, w_bound=a.bound_w)

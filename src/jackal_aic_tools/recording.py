@@ -1,0 +1,177 @@
+"""Recording of an experiment's streams and the stability monitor.
+
+Streams (topic contract in COMMON.md / design.md), each kept as a list of
+(stamp [s], a, b):
+  set point  /jackal_AIC/set_point  geometry_msgs/Twist     (publication time, vx, wz)
+  measured   /odom                  nav_msgs/Odometry       (header stamp, twist.linear.x, twist.angular.z; base_link)
+  belief     /jackal_AIC/belief     geometry_msgs/TwistStamped (header stamp, linear.x, angular.z)
+  drive      /cmd_drive             jackal_msgs/Drive       (receipt time, left, right [rad/s])
+"""
+import math
+import threading
+
+import numpy as np
+
+from . import profiles
+
+STREAMS = ("setpoint", "odom", "belief", "drive")
+
+
+class Recorder(object):
+    """Thread-safe store of the four streams; callbacks are safe to pass to rospy."""
+
+    def __init__(self, bag=None):
+        self.lock = threading.Lock()
+        self.data = {s: [] for s in STREAMS}
+        self.bad_stamps = 0
+        self.bag = bag
+
+    def _add(self, stream, stamp, a, b, topic=None, msg=None, now=None):
+        with self.lock:
+            self.data[stream].append((stamp, float(a), float(b)))
+            if self.bag is not None and msg is not None:
+                self.bag.write(topic, msg, now)
+
+    def _stamp(self, msg):
+        import rospy
+        now = rospy.Time.now()
+        st = msg.header.stamp
+        if st.is_zero():
+            self.bad_stamps += 1
+            st = now
+        return st.to_sec(), now
+
+    def on_odom(self, msg):
+        st, now = self._stamp(msg)
+        tw = msg.twist.twist
+        self._add("odom", st, tw.linear.x, tw.angular.z, "/odom", msg, now)
+
+    def on_belief(self, msg):
+        st, now = self._stamp(msg)
+        self._add("belief", st, msg.twist.linear.x, msg.twist.angular.z, "/jackal_AIC/belief", msg, now)
+
+    def on_drive(self, msg):
+        import rospy
+        now = rospy.Time.now()
+        self._add("drive", now.to_sec(), msg.drivers[0], msg.drivers[1], "/cmd_drive", msg, now)
+
+    def on_setpoint(self, stamp, msg):
+        """Record a set point we published at ``stamp`` (rospy.Time)."""
+        self._add("setpoint", stamp.to_sec(), msg.linear.x, msg.angular.z,
+                  "/jackal_AIC/set_point", msg, stamp)
+
+    def arrays(self):
+        """Copy of every stream as an (n, 3) numpy array [stamp, a, b]."""
+        with self.lock:
+            return {s: np.array(self.data[s], dtype=float).reshape(-1, 3) for s in STREAMS}
+
+    def count(self, stream):
+        with self.lock:
+            return len(self.data[stream])
+
+
+def drive_equivalent(drive, wheel_radius, wheel_separation):
+    """Drive commands (n,3: stamp, left, right [rad/s]) as the body twist they ask for
+    (n,3: stamp, vx [m/s], wz [rad/s]) with the kinematics of spec section 2."""
+    out = np.empty_like(drive)
+    out[:, 0] = drive[:, 0]
+    out[:, 1] = wheel_radius * 0.5 * (drive[:, 1] + drive[:, 2])
+    out[:, 2] = wheel_radius * (drive[:, 2] - drive[:, 1]) / wheel_separation
+    return out
+
+
+class StabilityLimits(object):
+    """When a run counts as diverged.
+
+    v_bound [m/s], w_bound [rad/s]: |measured or believed twist| beyond these; any
+    non-finite value; or oscillation: once a set-point level has been held ``osc_after``
+    [s], the measured or commanded velocity in the last ``osc_window`` [s] spans more than
+    ``osc_frac`` of max(|step|, ``osc_floor``) and crosses the set point (with that
+    hysteresis) at least ``osc_crossings`` times.
+    """
+
+    def __init__(self, v_bound=3.0, w_bound=8.0, osc_after=1.5, osc_window=1.0, osc_frac=0.5,
+                 osc_floor=0.1, osc_crossings=3):
+        self.v_bound = v_bound
+        self.w_bound = w_bound
+        self.osc_after = osc_after
+        self.osc_window = osc_window
+        self.osc_frac = osc_frac
+        self.osc_floor = osc_floor
+        self.osc_crossings = osc_crossings
+
+
+def _crossings(err, hyst):
+    """Number of sign changes of err with hysteresis ``hyst`` (noise does not count)."""
+    state = 0
+    n = 0
+    for e in err:
+        s = 1 if e > hyst else (-1 if e < -hyst else 0)
+        if s != 0:
+            if state != 0 and s != state:
+                n += 1
+            state = s
+    return n
+
+
+def check_stability(arr, segments_abs, now, limits, wheel_radius, wheel_separation):
+    """None if the run looks sane at time ``now`` [s], else the reason it diverged.
+
+    arr: Recorder.arrays(); segments_abs: list of Segment with absolute t0/t1 [s].
+    """
+    for s in ("odom", "belief", "drive"):
+        a = arr[s]
+        if a.size and not np.all(np.isfinite(a)):
+            return "non-finite value on %s" % s
+    for s in ("odom", "belief"):
+        a = arr[s]
+        if a.size:
+            if np.max(np.abs(a[:, 1])) > limits.v_bound:
+                return "|%s linear.x| %.3g m/s beyond %.3g m/s" % (s, np.max(np.abs(a[:, 1])), limits.v_bound)
+            if np.max(np.abs(a[:, 2])) > limits.w_bound:
+                return "|%s angular.z| %.3g rad/s beyond %.3g rad/s" % (s, np.max(np.abs(a[:, 2])), limits.w_bound)
+    # oscillation on the level currently held
+    drive = drive_equivalent(arr["drive"], wheel_radius, wheel_separation) if arr["drive"].size else arr["drive"]
+    for seg in segments_abs:
+        if not (seg.t0 + limits.osc_after <= now <= seg.t1 + 0.05):
+            continue
+        ci = 1 + profiles.CHANNELS.index(seg.channel)
+        scale = max(abs(seg.target - seg.start), limits.osc_floor)
+        lo = max(seg.t0 + limits.osc_after - limits.osc_window, now - limits.osc_window)
+        for name, a in (("measured velocity", arr["odom"]), ("drive command", drive)):
+            if not a.size:
+                continue
+            w = a[(a[:, 0] >= lo) & (a[:, 0] <= now), ci]
+            if w.size < 4:
+                continue
+            span = np.max(w) - np.min(w)
+            if span > limits.osc_frac * scale and \
+                    _crossings(w - seg.target, 0.25 * limits.osc_frac * scale) >= limits.osc_crossings:
+                return "oscillation: %s spans %.3g %s around %.3g in the last %.2g s" % (
+                    name, span, profiles.UNITS[seg.channel], seg.target, limits.osc_window)
+    return None
+
+
+def actual_segments(profile, setpoints, t0):
+    """Profile segments with absolute times [s]: each transition starts at the stamp of the
+    first published set point carrying the new value (not the nominal profile time).
+
+    setpoints: (n,3) array [stamp, vx, wz] of what was published; t0: profile start [s].
+    """
+    segs = profile.segments()
+    out = []
+    for seg in segs:
+        ci = 1 + profiles.CHANNELS.index(seg.channel)
+        t_nom = t0 + seg.t0
+        ts = t_nom
+        if setpoints.size:
+            idx = np.nonzero((setpoints[:, 0] >= t_nom - 1e-6) & (setpoints[:, ci] == seg.target))[0]
+            if idx.size:
+                ts = setpoints[idx[0], 0]
+        out.append(profiles.Segment(ts, t0 + seg.t1, seg.channel, seg.start, seg.target))
+    # a segment ends where the next one on the same channel starts
+    fixed = []
+    for k, s in enumerate(out):
+        nxt = [o.t0 for o in out[k + 1:] if o.channel == s.channel]
+        fixed.append(s._replace(t1=nxt[0] if nxt else s.t1))
+    return fixed

@@ -1,0 +1,114 @@
+"""Tables and plots of experiment results (matplotlib, Agg backend: headless)."""
+import math
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from . import profiles, recording  # noqa: E402
+
+SIGNAL_LABEL = {"measured": "measured (/odom)", "belief": "belief", "drive": "drive cmd"}
+
+
+def fmt(v, spec="%.3f"):
+    return "-" if v is None or (isinstance(v, float) and not math.isfinite(v)) else spec % v
+
+
+def plot_run(path, arr, t0, profile, result, wheel_radius, wheel_sep):
+    """PNG of one run: per channel, set point, measured velocity and belief [m/s or rad/s];
+    below, the drive commands left/right [rad/s]. Returns ``path``."""
+    chans = profile.channels()
+    fig, axes = plt.subplots(len(chans) + 1, 1, sharex=True, figsize=(9, 3.0 * (len(chans) + 1)))
+    for ax, ch in zip(axes, chans):
+        ci = 1 + profiles.CHANNELS.index(ch)
+        sp = arr["setpoint"]
+        if sp.size:
+            # the set point before the first recorded one is the rest level
+            ax.step(np.r_[min(0.0, sp[0, 0] - t0), sp[:, 0] - t0, sp[-1, 0] - t0 + 0.02],
+                    np.r_[0.0, sp[:, ci], sp[-1, ci]], where="post",
+                    color="k", lw=1.2, ls="--", label="set point")
+        for stream, label, color in (("odom", "measured (/odom)", "C0"), ("belief", "belief (/jackal_AIC/belief)", "C1")):
+            a = arr[stream]
+            if a.size:
+                ax.plot(a[:, 0] - t0, a[:, ci], color=color, lw=1.2, label=label)
+        d = arr["drive"]
+        if d.size:
+            eq = recording.drive_equivalent(d, wheel_radius, wheel_sep)
+            ax.plot(eq[:, 0] - t0, eq[:, ci], color="C2", lw=0.9, alpha=0.7,
+                    label="drive cmd as twist")
+        name = "linear velocity x" if ch == "vx" else "angular velocity z"
+        ax.set_ylabel("%s [%s]" % (name, profiles.UNITS[ch]))
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="lower right", fontsize=8)
+        txt = segment_summary(result, ch)
+        if txt:
+            ax.text(0.99, 0.5, txt, transform=ax.transAxes, va="center", ha="right", fontsize=8,
+                    family="monospace",
+                    bbox=dict(boxstyle="round", fc="white", alpha=0.8))
+    ax = axes[-1]
+    d = arr["drive"]
+    if d.size:
+        ax.step(d[:, 0] - t0, d[:, 1], where="post", color="C2", lw=1.0, label="left wheels (/cmd_drive)")
+        ax.step(d[:, 0] - t0, d[:, 2], where="post", color="C3", lw=1.0, ls=":", label="right wheels (/cmd_drive)")
+    ax.set_ylabel("drive command [rad/s]")
+    ax.set_xlabel("time since profile start [s]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="lower right", fontsize=8)
+    title = "%s: %s, %s" % (result["name"], result["controller"], result["profile"])
+    if result["status"] != "ok":
+        title += "  [%s: %s]" % (result["status"].upper(), result["reason"])
+    axes[0].set_title(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def segment_summary(result, ch):
+    lines = []
+    for seg in result.get("segments", [])[:3]:
+        if seg["channel"] != ch:
+            continue
+        m = seg["metrics"].get("measured") or {}
+        lines.append("%g->%g: rise %s s, settle %s s, OS %s %%" % (
+            seg["start"], seg["target"], fmt(m.get("rise_time")), fmt(m.get("settling_time")),
+            fmt(m.get("overshoot"), "%.1f")))
+    return "\n".join(lines)
+
+
+def format_table(headers, rows):
+    """Fixed-width text table; every cell is a string."""
+    widths = [max(len(str(h)), *(len(str(r[i])) for r in rows)) if rows else len(str(h))
+              for i, h in enumerate(headers)]
+    line = "  ".join(str(h).ljust(w) for h, w in zip(headers, widths))
+    out = [line, "  ".join("-" * w for w in widths)]
+    for r in rows:
+        out.append("  ".join(str(c).ljust(w) for c, w in zip(r, widths)))
+    return "\n".join(out)
+
+
+def run_table(results, signals=("measured", "belief", "drive")):
+    """Metrics table of one or more runs: one row per run, transition and signal."""
+    headers = ["run", "controller", "status", "transition", "signal", "rise [s]", "settling [s]",
+               "overshoot [%]", "ss error"]
+    rows = []
+    for r in results:
+        if not r.get("segments"):
+            rows.append([r["name"], r["controller"], r["status"], "-", "-", "-", "-", "-", "-"])
+            continue
+        for seg in r["segments"]:
+            unit = profiles.UNITS[seg["channel"]]
+            tr = "%s %g->%g %s" % (seg["channel"], seg["start"], seg["target"], unit)
+            for sig in signals:
+                m = seg["metrics"].get(sig)
+                if m is None:
+                    continue
+                if "error" in m:
+                    rows.append([r["name"], r["controller"], r["status"], tr, SIGNAL_LABEL[sig],
+                                 "error: " + m["error"][:60], "", "", ""])
+                    continue
+                rows.append([r["name"], r["controller"], r["status"], tr, SIGNAL_LABEL[sig],
+                             fmt(m["rise_time"]), fmt(m["settling_time"]), fmt(m["overshoot"], "%.1f"),
+                             fmt(m["steady_state_error"], "%.4f") + " " + unit])
+    return format_table(headers, rows)

@@ -1,0 +1,192 @@
+#!/usr/bin/env python3
+"""Unit checks of jackal_aic_tools (profiles, stability monitor, segment timing, the
+metrics wrapper around aic_step_metrics) without a simulator; run by exp_tools.test."""
+import math
+import os
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+
+from jackal_aic_tools import experiment, metrics, profiles, recording
+
+PKG = "jackal_aic"
+kTimeTol = 0.02  # s: the metrics' interpolation on a 1 kHz series
+kPctTol = 0.5    # %
+
+
+def first_order(t, t_step, start, target, tc):
+    """Response of a first-order lag with time constant tc [s] to a step at t_step."""
+    return np.where(t < t_step, start, target + (start - target) * np.exp(-(t - t_step) / tc))
+
+
+def stream(t, v, w=None):
+    return np.column_stack([t, v, np.zeros_like(v) if w is None else w])
+
+
+class ProfileTest(unittest.TestCase):
+
+    def test_step(self):
+        p = profiles.step(v=0.5, t_step=0.5, hold=3.0)
+        self.assertEqual(p.value(0.49), (0.0, 0.0))
+        self.assertEqual(p.value(0.5), (0.5, 0.0))
+        self.assertAlmostEqual(p.duration, 3.5)
+        self.assertEqual(p.segments(), [profiles.Segment(0.5, 3.5, "vx", 0.0, 0.5)])
+        self.assertEqual(p.channels(), ["vx"])
+
+    def test_angular_step(self):
+        p = profiles.step(v=0.0, w=1.0)
+        self.assertEqual(p.channels(), ["wz"])
+        self.assertEqual(p.value(1.0), (0.0, 1.0))
+
+    def test_square(self):
+        p = profiles.square(0.1, 0.5, period=4.0, cycles=2, t_lead=2.0)
+        segs = p.segments()
+        self.assertEqual([(s.start, s.target) for s in segs],
+                         [(0.0, 0.1), (0.1, 0.5), (0.5, 0.1), (0.1, 0.5), (0.5, 0.1)])
+        self.assertAlmostEqual(segs[1].t0, 2.5)
+        self.assertAlmostEqual(segs[1].t1, 4.5)
+        self.assertAlmostEqual(p.duration, 10.5)
+
+    def test_csv(self):
+        with tempfile.NamedTemporaryFile("w", suffix=".csv", delete=False) as f:
+            f.write("t,vx,wz\n0,0,0\n1,0.3,0\n2,0.3,0.5\n3,0,0\n")
+        try:
+            p = profiles.from_csv(f.name)
+            self.assertEqual(p.value(1.5), (0.3, 0.0))
+            self.assertEqual(p.value(2.5), (0.3, 0.5))
+            self.assertAlmostEqual(p.duration, 3.0)
+            self.assertEqual(len(p.segments()), 2)
+        finally:
+            os.unlink(f.name)
+
+    def test_bad_profiles(self):
+        with self.assertRaises(ValueError):
+            profiles.Profile([(1.0, 0.1, 0.0), (0.5, 0.2, 0.0)], 2.0, "backwards")
+        with self.assertRaises(ValueError):
+            profiles.Profile([(0.0, float("nan"), 0.0)], 2.0, "nan")
+        with self.assertRaises(ValueError):
+            profiles.square(period=0.0)
+        with tempfile.NamedTemporaryFile("w", suffix=".csv", delete=False) as f:
+            f.write("time,speed\n0,0\n1,1\n")
+        try:
+            with self.assertRaises(ValueError):
+                profiles.from_csv(f.name)
+        finally:
+            os.unlink(f.name)
+
+
+class StabilityTest(unittest.TestCase):
+
+    def setUp(self):
+        self.lim = recording.StabilityLimits()
+        self.seg = [profiles.Segment(0.5, 5.0, "vx", 0.0, 0.5)]
+        self.t = np.arange(0.0, 5.0, 0.02)
+
+    def arr(self, v):
+        s = stream(self.t, v)
+        d = np.column_stack([self.t, v / 0.098, v / 0.098])
+        return {"setpoint": stream(self.t, np.full_like(v, 0.5)), "odom": s, "belief": s, "drive": d}
+
+    def test_converging_is_stable(self):
+        v = first_order(self.t, 0.5, 0.0, 0.5, 0.15)
+        self.assertIsNone(recording.check_stability(self.arr(v), self.seg, 4.9, self.lim, 0.098, 0.5621))
+
+    def test_slow_monotonic_is_stable(self):
+        v = first_order(self.t, 0.5, 0.0, 0.5, 2.0)
+        self.assertIsNone(recording.check_stability(self.arr(v), self.seg, 4.9, self.lim, 0.098, 0.5621))
+
+    def test_oscillation(self):
+        v = 0.5 + 0.4 * np.sin(2 * math.pi * 3.0 * self.t)
+        why = recording.check_stability(self.arr(v), self.seg, 4.9, self.lim, 0.098, 0.5621)
+        self.assertIsNotNone(why)
+        self.assertIn("oscillation", why)
+
+    def test_small_noise_is_not_oscillation(self):
+        v = first_order(self.t, 0.5, 0.0, 0.5, 0.15) + 0.01 * np.sin(2 * math.pi * 10.0 * self.t)
+        self.assertIsNone(recording.check_stability(self.arr(v), self.seg, 4.9, self.lim, 0.098, 0.5621))
+
+    def test_bound_and_nonfinite(self):
+        v = first_order(self.t, 0.5, 0.0, 0.5, 0.15)
+        a = self.arr(v)
+        a["belief"] = a["belief"].copy()
+        a["belief"][100, 1] = 50.0
+        self.assertIn("beyond", recording.check_stability(a, self.seg, 4.9, self.lim, 0.098, 0.5621))
+        a = self.arr(v)
+        a["drive"] = a["drive"].copy()
+        a["drive"][100, 2] = float("inf")
+        self.assertIn("non-finite", recording.check_stability(a, self.seg, 4.9, self.lim, 0.098, 0.5621))
+
+    def test_actual_segments_use_published_stamps(self):
+        p = profiles.step(v=0.5, t_step=0.5, hold=2.0)
+        t0 = 100.0
+        sp = stream(np.array([100.0, 100.48, 100.52, 100.54]), np.array([0.0, 0.0, 0.5, 0.5]))
+        segs = recording.actual_segments(p, sp, t0)
+        self.assertAlmostEqual(segs[0].t0, 100.52)
+        self.assertAlmostEqual(segs[0].t1, 102.5)
+
+
+class MetricsTest(unittest.TestCase):
+    """The wrapper feeds aic_step_metrics correctly (numbers checked against the analytic
+    first-order response: rise = tc ln 9, settling = tc ln 20)."""
+
+    def test_first_order_step(self):
+        tc = 0.2
+        t = np.arange(10.0, 13.0, 0.001)
+        y = first_order(t, 10.5, 0.1, 0.6, tc)
+        m = metrics.step_metrics(t[t >= 10.5], y[t >= 10.5], 10.5, 0.1, 0.6)
+        self.assertAlmostEqual(m["rise_time"], tc * math.log(9.0), delta=kTimeTol)
+        # band = 5 % of the final value 0.6 = 0.03 = 6 % of the 0.5 step
+        self.assertAlmostEqual(m["settling_time"], tc * math.log(0.5 / 0.03), delta=kTimeTol)
+        self.assertAlmostEqual(m["overshoot"], 0.0, delta=kPctTol)
+        self.assertAlmostEqual(m["steady_state_error"], 0.0, delta=1e-3)
+
+    def test_never_settles_is_none(self):
+        t = np.arange(0.0, 2.0, 0.01)
+        y = 0.5 + 0.2 * np.sin(2 * math.pi * 2 * t)
+        m = metrics.step_metrics(t, y, 0.0, 0.0, 0.5)
+        self.assertIsNone(m["settling_time"])
+
+    def test_duplicate_stamps_are_dropped(self):
+        t = [0.0, 0.1, 0.1, 0.2, 0.3]
+        y = [0.0, 0.3, 0.3, 0.5, 0.5]
+        m = metrics.step_metrics(t, y, 0.0, 0.0, 0.5)
+        self.assertIsNotNone(m["rise_time"])
+
+
+class OverrideTest(unittest.TestCase):
+
+    def test_parse(self):
+        self.assertEqual(experiment.parse_override("tau=0.01"), ("tau", 0.01))
+        self.assertEqual(experiment.parse_override("var_y=1e5"), ("var_y", 1e5))
+        self.assertEqual(experiment.parse_override("var_y=[2, 1e5]")[1], [2, 1e5])
+        self.assertEqual(experiment.parse_override("integrator=exact"), ("integrator", "exact"))
+        with self.assertRaises(ValueError):
+            experiment.parse_override("tau")
+
+    def test_unknown_key_refused(self):
+        with tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False) as f:
+            f.write("tau: 0.001\nk_a: 8.0\n")
+        out = f.name + ".out.yaml"
+        try:
+            cfg = experiment.write_config(f.name, {"tau": 0.01}, out)
+            self.assertEqual(cfg["tau"], 0.01)
+            with self.assertRaises(ValueError):
+                experiment.write_config(f.name, {"taw": 0.01}, out)
+        finally:
+            os.unlink(f.name)
+            if os.path.exists(out):
+                os.unlink(out)
+
+
+def suite():
+    """Every test case of this file (for rosunit, which loads one name)."""
+    loader = unittest.TestLoader()
+    return unittest.TestSuite(loader.loadTestsFromTestCase(c)
+                              for c in (ProfileTest, StabilityTest, MetricsTest, OverrideTest))
+
+
+if __name__ == "__main__":
+    import rosunit
+    rosunit.unitrun(PKG, "exp_tools", "__main__.suite")
