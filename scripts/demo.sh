@@ -20,7 +20,6 @@ rc=0
 for c in aic stock; do
   echo "demo: ${v} m/s step with the ${c} controller ..."
   rc=0
-  # the devel-space wrapper (rosrun would also search the workspace nested in the source tree)
   # shellcheck disable=SC2086
   "$ws/devel/lib/jackal_aic/aic_experiment.py" --controller "$c" --v "$v" --hold 3 --out "$out" \
     --name "demo_${c}_step_${v}" ${AIC_DEMO_ARGS:-} > "$out/demo_${c}.log" 2>&1 || rc=$?
