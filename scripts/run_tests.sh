@@ -11,6 +11,11 @@ bash "$here/setup_deps.sh" || { echo "run_tests: installing dependencies failed"
 bash "$here/build.sh" || { echo "run_tests: build failed"; echo "0 passed, 1 failed"; exit 1; }
 bash "$here/build.sh" tests || { echo "run_tests: building the tests failed"; echo "0 passed, 1 failed"; exit 1; }
 
+# The tests' Python nodes import this workspace's message and tool modules (jackal_msgs,
+# jackal_aic, jackal_aic_tools): run them in the workspace's environment.
+set +u  # the catkin setup scripts read unset variables
+source_ws
+set -u
 results="$ws/build/test_results"
 rm -rf "$results"
 cd "$ws"
