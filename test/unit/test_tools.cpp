@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <sys/wait.h>
 
 namespace
@@ -70,6 +71,20 @@ TEST(AicAnalyze, BadArgumentsAndFiles)
   EXPECT_NE(invalid.out.find("tau = -1"), std::string::npos) << invalid.out;
   EXPECT_NE(invalid.out.find("unknown key 'foo'"), std::string::npos) << invalid.out;
   EXPECT_EQ(run(kAnalyze + " " + writeFile("aic_type.yaml", "k_mu: [1, 2]\n")).code, 1);
+  // A key of the wrong type is an error naming the key and the expected type.
+  const std::pair<const char*, const char*> kTypeErrors[] = {
+    { "tau: fast\n", "key 'tau' must be a number" },
+    { "embedding_order: 1.5\n", "key 'embedding_order' must be an integer" },
+    { "var_y: 2\n", "key 'var_y' must be a list of numbers" },
+    { "accel_in_model: maybe\n", "key 'accel_in_model' must be true or false" },
+    { "integrator: [euler]\n", "key 'integrator' must be a string" },
+  };
+  for (const auto& [yaml, message] : kTypeErrors)
+  {
+    const Result typed = run(kAnalyze + " " + writeFile("aic_typed.yaml", yaml) + " --no-scan");
+    EXPECT_EQ(typed.code, 1) << yaml;
+    EXPECT_NE(typed.out.find(message), std::string::npos) << yaml << typed.out;
+  }
   EXPECT_EQ(run(kAnalyze + " " + writeFile("aic_syntax.yaml", "tau: [\n")).code, 1);
   EXPECT_EQ(run(kAnalyze + " " + writeFile("aic_integ.yaml", "integrator: rk4\n")).code, 1);
 }
