@@ -81,7 +81,11 @@ bool parseDouble(const std::string& s, double* out)
 /// Reads the controller keys of a node YAML file into params. Throws std::runtime_error with the key on type errors.
 AicParams loadParams(const YAML::Node& root, const std::string& file, std::vector<std::string>* defaulted)
 {
-  static const std::set<std::string> kNodeOnly{ "sensor_timeout", "set_point_timeout", "left_joints", "right_joints" };
+  // Keys of the node's private namespace that are not controller parameters (NodeParams; diagnostic_updater).
+  static const std::set<std::string> kNodeOnly{ "sensor_timeout",    "set_point_timeout", "imu_max_skew",
+                                                "min_sample_interval", "max_linear_speed",  "max_angular_speed",
+                                                "runaway_hold_time", "left_joints",       "right_joints",
+                                                "diagnostic_period" };
   AicParams p;
   std::set<std::string> seen;
   // Reads `key` into *out if present (otherwise the key is recorded as defaulted and false returned);

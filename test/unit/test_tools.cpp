@@ -89,6 +89,20 @@ TEST(AicAnalyze, BadArgumentsAndFiles)
   EXPECT_EQ(run(kAnalyze + " " + writeFile("aic_integ.yaml", "integrator: rk4\n")).code, 1);
 }
 
+TEST(AicAnalyze, NodeOnlyKeysAreNotWarnedAbout)
+{
+  // Every node-only key of config/*.yaml (NodeParams) is ignored quietly; a typo is still warned about.
+  const std::string yaml =
+      "sensor_timeout: 0.25\nset_point_timeout: 0.5\nimu_max_skew: 0.025\nmin_sample_interval: 0.005\n"
+      "max_linear_speed: 2.0\nmax_angular_speed: 4.0\nrunaway_hold_time: 1.0\ndiagnostic_period: 1.0\n"
+      "left_joints: [front_left_wheel, rear_left_wheel]\nright_joints: [front_right_wheel, rear_right_wheel]\n";
+  const Result quiet = run(kAnalyze + " " + writeFile("aic_node_keys.yaml", yaml) + " --no-scan");
+  EXPECT_EQ(quiet.code, 0) << quiet.out;
+  EXPECT_EQ(quiet.out.find("unknown key"), std::string::npos) << quiet.out;
+  const Result typo = run(kAnalyze + " " + writeFile("aic_typo.yaml", yaml + "sensor_timout: 0.25\n") + " --no-scan");
+  EXPECT_NE(typo.out.find("unknown key 'sensor_timout'"), std::string::npos) << typo.out;
+}
+
 TEST(AicStepMetrics, ComputesAndRejects)
 {
   std::string csv = "time,value\n";
