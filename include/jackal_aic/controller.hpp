@@ -47,12 +47,15 @@ public:
    * \throws std::invalid_argument (state unchanged) if params.validate() is not empty.
    */
   void setParams(const AicParams& params);
+  /// The parameters in use (always valid).
   const AicParams& params() const { return params_; }
+  /// The generative model (G, R, K; eq. 3-1 ... 3-4) built from params().
   const SkidSteerModel& model() const { return model_; }
 
-  /// Desired twist mu_d = (v_x [m/s], 0, omega_z [rad/s]). Non-finite input or an element beyond
-  /// runaway_limit is ignored, returns false.
+  /// Desired twist mu_d = (v_x [m/s], 0, omega_z [rad/s]), the attractor of f(mu) = (mu_d - mu) / tau
+  /// (eq. 3-7). Non-finite input or an element beyond runaway_limit is ignored, returns false.
   bool setGoal(const Vector3& mu_d);
+  /// The goal mu_d in use [m/s, m/s, rad/s]; zero until setGoal().
   const Vector3& goal() const { return mu_d_; }
 
   /**
@@ -61,6 +64,7 @@ public:
    *         entry beyond kMaxMeasurementMagnitude.
    */
   bool setMeasurement(const YTilde& y_tilde);
+  /// True once a measurement has been accepted (since construction or the last reset()).
   bool hasMeasurement() const { return has_measurement_; }
 
   /**
@@ -88,7 +92,8 @@ public:
 
   /// Zero beliefs and action, forget the measurement (goal kept).
   void reset();
-  /// Set the action (e.g. to the measured wheel speeds for a bumpless start); clamped; non-finite ignored.
+  /// Set the action a = (omega_L, omega_R) [rad/s] (e.g. to the measured wheel speeds for a bumpless start);
+  /// clamped to +-max_wheel_speed; a non-finite input is ignored (action unchanged).
   void setAction(const Vector2& a);
 
   const MuTilde& mu() const { return mu_; }          ///< beliefs, 3 x (p+1)

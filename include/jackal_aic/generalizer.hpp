@@ -60,7 +60,9 @@ public:
   /// Forget everything (state to zero, not initialized); counters kept.
   void reset();
 
+  /// Number of channels n (rows of yTilde()).
   int channels() const { return channels_; }
+  /// Embedding order p (yTilde() has p + 1 columns).
   int embeddingOrder() const { return p_; }
   /// Number of accepted samples since construction.
   std::uint64_t acceptedCount() const { return accepted_; }

@@ -28,13 +28,18 @@ public:
    */
   SkidSteerModel(double wheel_radius, double slip_factor, double wheel_separation);
 
-  const KinematicMatrix& G() const { return G_; }  ///< mu = G a, [m/rad] and [1/rad]
-  const SensorMatrix& R() const { return R_; }     ///< y = R mu
-  const ForwardMatrix& K() const { return K_; }    ///< dy/da
+  /// Kinematic map G, 3 x 2: mu = G (omega_L, omega_R) (eq. 3-1 ... 3-4); rows x_dot and y_dot in [m/rad],
+  /// row theta_dot in [-] (r alpha / b_hat).
+  const KinematicMatrix& G() const { return G_; }
+  /// Sensor model R, 5 x 3: g(mu) = R mu (eq. 3-1 ... 3-4): gyro row (0, 0, 1), wheel rows pinv(G), accelerometer rows zero.
+  const SensorMatrix& R() const { return R_; }
+  /// Forward model K = dy/da, 2 x 5, one row per action (spec section 2; used by the action update, eq. 3-16).
+  const ForwardMatrix& K() const { return K_; }
 
   /// Body twist (x_dot, y_dot, theta_dot) from wheel speeds (omega_L, omega_R) [rad/s] (eq. 3-1).
   Vector3 twistFromWheels(const Vector2& omega) const { return G_ * omega; }
-  /// Wheel speeds (omega_L, omega_R) [rad/s] realizing a twist (v_x [m/s], ., omega_z [rad/s]) (pinv(G)).
+  /// Wheel speeds (omega_L, omega_R) [rad/s] realizing a twist (v_x [m/s], ., omega_z [rad/s]) (pinv(G));
+  /// the y_dot element is ignored (G cannot produce it). No checks: a non-finite twist gives non-finite speeds.
   Vector2 wheelsFromTwist(const Vector3& mu) const;
 
 private:

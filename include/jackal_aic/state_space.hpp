@@ -22,12 +22,13 @@ namespace jackal_aic
 /// Plant in the loop: the wheel-speed response to the command a.
 struct PlantModel
 {
+  /// Kind of wheel-speed response.
   enum class Type
   {
     kPointMass,  ///< the wheels follow the command exactly and at once (thesis ch. 4: y = a)
     kFirstOrder  ///< per side d(omega)/dt = (a - omega) / time_constant
   };
-  Type type = Type::kPointMass;
+  Type type = Type::kPointMass;  ///< kind of plant
   double time_constant = 0.1;  ///< [s], > 0 (first order only)
 };
 
@@ -66,6 +67,7 @@ public:
    */
   ClosedLoopModel(const AicParams& params, const PlantModel& plant = PlantModel());
 
+  /// Dimension of z: 3(p+1) + 2 + 5(p+1) + 2.
   int stateDim() const { return static_cast<int>(phi_.rows()); }
   /// Belief steps per action period N.
   int beliefStepsPerPeriod() const { return n_belief_steps_; }
@@ -80,13 +82,15 @@ public:
 
   /**
    * \brief Predicted response to a step of the goal from rest (z = 0) at t = 0.
-   * \param mu_d      goal after the step
+   * \param mu_d      goal after the step (v_x [m/s], 0, omega_z [rad/s]), finite
    * \param duration  [s], > 0
    * \return one sample per action period, from t = 0 to duration.
+   * \throws std::invalid_argument if duration is not > 0 or mu_d is not finite
    */
   std::vector<ResponseSample> stepResponse(const Vector3& mu_d, double duration) const;
 
-  /// Continuous-time belief dynamics: dmu/dt = M vec(mu) + N_y vec(y_tilde) + N_d mu_d.
+  /// Continuous-time belief dynamics (eq. 3-15 before discretization): dmu/dt = M vec(mu) + N_y vec(y_tilde)
+  /// + N_d mu_d; M is 3(p+1) x 3(p+1).
   const Eigen::MatrixXd& M() const { return m_; }
 
 private:
@@ -108,8 +112,14 @@ struct PredictedStep
 };
 
 /**
- * \brief Predicts the step response of v_x from 0 to `target` [m/s] and its metrics.
- * \param duration  simulated time [s] (the steady-state error uses its last 0.5 s)
+ * \brief Predicts the step response of v_x from 0 to `target` [m/s] and its metrics (spec sections 7, 9).
+ * \param params    controller parameters (valid)
+ * \param plant     plant in the loop
+ * \param target    goal v_x after the step [m/s], finite (0 gives velocity_valid = false)
+ * \param duration  simulated time [s], > 0 (the steady-state error uses its last 0.5 s)
+ * \return stability and metrics; an unstable or diverging response gives velocity_valid = false, not an error.
+ * \throws std::invalid_argument as ClosedLoopModel's constructor and stepResponse() do (invalid params or
+ *         plant, non-integer rate ratio, duration <= 0, non-finite target).
  */
 PredictedStep predictStep(const AicParams& params, const PlantModel& plant, double target, double duration);
 
@@ -143,7 +153,12 @@ struct StabilityLimit
  * A log-spaced grid over [lo, hi], walked from the end where the parameter is normally stable
  * (tau: hi; gains: lo), finds the first stable band; bisection in log space refines its edges to 0.1 %.
  * The limit is the edge of that band away from the stable end.
- * \throws std::invalid_argument on invalid params or a bad range.
+ * \param params       controller parameters; the scanned one is overwritten by each grid value
+ * \param plant        plant in the loop
+ * \param parameter    which of tau [s], k_mu [-], k_a [-] to vary
+ * \param lo, hi       the range [parameter units], 0 < lo < hi, finite
+ * \param grid_points  number of log-spaced grid values, >= 2
+ * \throws std::invalid_argument on invalid params, a bad range or grid_points < 2.
  */
 StabilityLimit scanStabilityLimit(const AicParams& params, const PlantModel& plant, ScanParameter parameter,
                                   double lo, double hi, int grid_points = 61);

@@ -28,14 +28,14 @@ constexpr int kYDim = 5;
 /// Action dimension: wheel speed commands (omega_L, omega_R) [rad/s].
 constexpr int kADim = 2;
 
-/// Indices into the sensor vector y.
+/// Indices into the sensor vector y (rows of y_tilde, eps_y, Pi_y and of R; spec section 1).
 enum SensorIndex : int
 {
-  kGyroZ = 0,
-  kOmegaLeft = 1,
-  kOmegaRight = 2,
-  kAccelX = 3,
-  kAccelY = 4
+  kGyroZ = 0,       ///< IMU yaw rate [rad/s]
+  kOmegaLeft = 1,   ///< mean left wheel speed omega_L [rad/s]
+  kOmegaRight = 2,  ///< mean right wheel speed omega_R [rad/s]
+  kAccelX = 3,      ///< IMU specific force along x [m/s^2]
+  kAccelY = 4       ///< IMU specific force along y [m/s^2]
 };
 
 /// Generalized beliefs mu_tilde: 3 x (p+1), column i = mu^(i).
@@ -46,8 +46,11 @@ using YTilde = Eigen::Matrix<double, kYDim, Eigen::Dynamic, Eigen::ColMajor, kYD
 using GeneralizedSignal = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, Eigen::Dynamic,
                                         kMaxOrders>;
 
+/// Action-sized vector, e.g. the wheel speed commands a = (omega_L, omega_R) [rad/s].
 using Vector2 = Eigen::Matrix<double, kADim, 1>;
+/// Belief-sized vector, e.g. mu^(0) or the goal mu_d = (x_dot [m/s], y_dot [m/s], theta_dot [rad/s]).
 using Vector3 = Eigen::Matrix<double, kMuDim, 1>;
+/// Sensor-sized vector: one sample y, indexed by SensorIndex [channel units].
 using Vector5 = Eigen::Matrix<double, kYDim, 1>;
 
 /// Sensor model R (5 x 3): y = R mu.

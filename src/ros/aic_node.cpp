@@ -287,7 +287,6 @@ void AicNode::updateState(const ros::Time& now)
   const bool warm = generalizer_->initialized() && warm_samples_ >= params_.aic.numOrders();
 
   NodeState next = NodeState::kRunning;
-  std::ostringstream reason;
   const bool changing = [&] {
     if (now < runaway_until_)
     {
@@ -315,6 +314,8 @@ void AicNode::updateState(const ros::Time& now)
   {
     return;
   }
+  // Only on a change of state: this runs every belief tick.
+  std::ostringstream reason;
   switch (next)
   {
     case NodeState::kRunaway:
@@ -511,29 +512,24 @@ void AicNode::publishDebug()
       ++guarded_outputs_;
     }
   }
-  if (eps_y_pub_.getNumSubscribers() > 0)
-  {
-    const YTilde eps_y = controller_->epsY();
-    if (allFinite(eps_y))
+  // eps_y, eps_mu: built only for a subscriber (a message allocates), never published non-finite.
+  auto publishErrors = [this](const ros::Publisher& pub, const auto& errors) {
+    if (allFinite(errors))
     {
-      eps_y_pub_.publish(toMultiArray(eps_y, "channel"));
+      pub.publish(toMultiArray(errors, "channel"));
     }
     else
     {
       ++guarded_outputs_;
     }
+  };
+  if (eps_y_pub_.getNumSubscribers() > 0)
+  {
+    publishErrors(eps_y_pub_, controller_->epsY());
   }
   if (eps_mu_pub_.getNumSubscribers() > 0)
   {
-    const MuTilde eps_mu = controller_->epsMu();
-    if (allFinite(eps_mu))
-    {
-      eps_mu_pub_.publish(toMultiArray(eps_mu, "channel"));
-    }
-    else
-    {
-      ++guarded_outputs_;
-    }
+    publishErrors(eps_mu_pub_, controller_->epsMu());
   }
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <set>
 #include <sstream>
+#include <type_traits>
 
 #include <ros/console.h>
 #include <ros/param.h>
@@ -42,7 +43,18 @@ void read(const ros::NodeHandle& pnh, const std::string& key, T* value, const st
     ROS_INFO_STREAM("jackal_AIC: parameter ~" << key << " not set, using the default");
     return;
   }
-  if (!pnh.getParam(key, *value))
+  if constexpr (std::is_same_v<T, int>)
+  {
+    // roscpp's getParam(int&) rounds a double (2.5 -> 3) instead of failing: require an XML-RPC int.
+    XmlRpc::XmlRpcValue raw;
+    if (!pnh.getParam(key, raw) || raw.getType() != XmlRpc::XmlRpcValue::TypeInt)
+    {
+      violations->push_back({ key, rawValue(pnh, key), expected });
+      return;
+    }
+    *value = static_cast<int>(raw);
+  }
+  else if (!pnh.getParam(key, *value))
   {
     violations->push_back({ key, rawValue(pnh, key), expected });
   }

@@ -18,6 +18,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <Eigen/Eigenvalues>
@@ -80,107 +81,52 @@ bool parseDouble(const std::string& s, double* out)
 /// Reads the controller keys of a node YAML file into params. Throws std::runtime_error with the key on type errors.
 AicParams loadParams(const YAML::Node& root, const std::string& file, std::vector<std::string>* defaulted)
 {
-  static const std::set<std::string> kNodeOnly{ "sensor_timeout", "set_point_timeout", "left_joints", "right_joints" };
+  // Keys of the node's private namespace that are not controller parameters (NodeParams; diagnostic_updater).
+  static const std::set<std::string> kNodeOnly{ "sensor_timeout",    "set_point_timeout", "imu_max_skew",
+                                                "min_sample_interval", "max_linear_speed",  "max_angular_speed",
+                                                "runaway_hold_time", "left_joints",       "right_joints",
+                                                "diagnostic_period" };
   AicParams p;
   std::set<std::string> seen;
-  auto scalar = [&](const char* key, double* out) {
+  // Reads `key` into *out if present (otherwise the key is recorded as defaulted and false returned);
+  // a value that is not a T throws "<file>: key '<key>' must be <expected>".
+  auto get = [&](const char* key, auto* out, const char* expected) {
     seen.insert(key);
     const YAML::Node n = root[key];
     if (!n)
     {
       defaulted->push_back(key);
-      return;
+      return false;
     }
     try
     {
-      *out = n.as<double>();
+      *out = n.as<std::remove_pointer_t<decltype(out)>>();
     }
     catch (const YAML::Exception&)
     {
-      throw std::runtime_error(file + ": key '" + key + "' must be a number");
+      throw std::runtime_error(file + ": key '" + key + "' must be " + expected);
     }
+    return true;
   };
-  auto vec = [&](const char* key, std::vector<double>* out) {
-    seen.insert(key);
-    const YAML::Node n = root[key];
-    if (!n)
-    {
-      defaulted->push_back(key);
-      return;
-    }
-    try
-    {
-      *out = n.as<std::vector<double>>();
-    }
-    catch (const YAML::Exception&)
-    {
-      throw std::runtime_error(file + ": key '" + key + "' must be a list of numbers");
-    }
-  };
-  scalar("belief_rate", &p.belief_rate);
-  scalar("action_rate", &p.action_rate);
-  scalar("tau", &p.tau);
-  scalar("k_mu", &p.k_mu);
-  scalar("k_a", &p.k_a);
-  seen.insert("embedding_order");
-  if (root["embedding_order"])
+  const char* const number = "a number";
+  get("belief_rate", &p.belief_rate, number);
+  get("action_rate", &p.action_rate, number);
+  get("tau", &p.tau, number);
+  get("k_mu", &p.k_mu, number);
+  get("k_a", &p.k_a, number);
+  get("embedding_order", &p.embedding_order, "an integer");
+  get("var_mu", &p.var_mu, "a list of numbers");
+  get("var_y", &p.var_y, "a list of numbers");
+  get("wheel_radius", &p.wheel_radius, number);
+  get("slip_factor", &p.slip_factor, number);
+  get("wheel_separation", &p.wheel_separation, number);
+  get("max_wheel_speed", &p.max_wheel_speed, number);
+  get("runaway_limit", &p.runaway_limit, number);
+  get("accel_in_model", &p.accel_in_model, "true or false");
+  std::string name;
+  if (get("integrator", &name, "a string") && !integratorFromString(name, &p.integrator))
   {
-    try
-    {
-      p.embedding_order = root["embedding_order"].as<int>();
-    }
-    catch (const YAML::Exception&)
-    {
-      throw std::runtime_error(file + ": key 'embedding_order' must be an integer");
-    }
-  }
-  else
-  {
-    defaulted->push_back("embedding_order");
-  }
-  vec("var_mu", &p.var_mu);
-  vec("var_y", &p.var_y);
-  scalar("wheel_radius", &p.wheel_radius);
-  scalar("slip_factor", &p.slip_factor);
-  scalar("wheel_separation", &p.wheel_separation);
-  scalar("max_wheel_speed", &p.max_wheel_speed);
-  scalar("runaway_limit", &p.runaway_limit);
-  seen.insert("accel_in_model");
-  if (root["accel_in_model"])
-  {
-    try
-    {
-      p.accel_in_model = root["accel_in_model"].as<bool>();
-    }
-    catch (const YAML::Exception&)
-    {
-      throw std::runtime_error(file + ": key 'accel_in_model' must be true or false");
-    }
-  }
-  else
-  {
-    defaulted->push_back("accel_in_model");
-  }
-  seen.insert("integrator");
-  if (root["integrator"])
-  {
-    std::string name;
-    try
-    {
-      name = root["integrator"].as<std::string>();
-    }
-    catch (const YAML::Exception&)
-    {
-      throw std::runtime_error(file + ": key 'integrator' must be a string");
-    }
-    if (!integratorFromString(name, &p.integrator))
-    {
-      throw std::runtime_error(file + ": integrator '" + name + "' (allowed: euler, exact)");
-    }
-  }
-  else
-  {
-    defaulted->push_back("integrator");
+    throw std::runtime_error(file + ": integrator '" + name + "' (allowed: euler, exact)");
   }
   for (const auto& kv : root)
   {

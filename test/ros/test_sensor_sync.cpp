@@ -96,7 +96,10 @@ TEST(SensorSync, DropsInvalidJointStates)
   auto long_position = joints(kT0);
   long_position->position.push_back(0.0);
   EXPECT_FALSE(sync.addJointState(long_position, &s));
-  EXPECT_EQ(drops(sync, DropReason::kJointArrays), 2u);
+  auto short_effort = joints(kT0);
+  short_effort->effort = { 0.0, 0.0 };  // neither empty nor name size
+  EXPECT_FALSE(sync.addJointState(short_effort, &s));
+  EXPECT_EQ(drops(sync, DropReason::kJointArrays), 3u);
 
   for (double bad : { nan, inf, -inf })
   {
@@ -106,8 +109,12 @@ TEST(SensorSync, DropsInvalidJointStates)
     auto p = joints(kT0);
     p->position[0] = bad;
     EXPECT_FALSE(sync.addJointState(p, &s));
+    auto e = joints(kT0);
+    e->effort = { 0.0, 0.0, 0.0, 0.0, 0.0 };
+    e->effort[4] = bad;
+    EXPECT_FALSE(sync.addJointState(e, &s));
   }
-  EXPECT_EQ(drops(sync, DropReason::kJointNonFinite), 6u);
+  EXPECT_EQ(drops(sync, DropReason::kJointNonFinite), 9u);
 
   auto unused = joints(kT0);
   unused->velocity[1] = nan;  // the caster is not configured: ignored

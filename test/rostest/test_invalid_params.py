@@ -34,6 +34,18 @@ CASES = [
     ("left_joint_name_empty", {"left_joints": ["front_left_wheel", ""]}, "left_joints[1]"),
     ("tau_not_a_number", {"tau": "fast"}, "tau"),
     ("integrator_unknown", {"integrator": "rk4"}, "integrator"),
+    ("order_not_an_integer", {"embedding_order": 2.5}, "embedding_order"),
+    # node-only rules (NodeParams::validate)
+    ("belief_rate_beyond_max_loop_rate", {"belief_rate": 20000.0}, "belief_rate"),
+    ("sensor_timeout_zero", {"sensor_timeout": 0.0}, "sensor_timeout"),
+    ("set_point_timeout_negative", {"set_point_timeout": -0.5}, "set_point_timeout"),
+    ("imu_max_skew_zero", {"imu_max_skew": 0.0}, "imu_max_skew"),
+    ("min_sample_interval_beyond_sensor_timeout", {"min_sample_interval": 0.3}, "min_sample_interval"),
+    ("max_linear_speed_zero", {"max_linear_speed": 0.0}, "max_linear_speed"),
+    ("max_angular_speed_negative", {"max_angular_speed": -4.0}, "max_angular_speed"),
+    ("runaway_hold_time_negative", {"runaway_hold_time": -1.0}, "runaway_hold_time"),
+    ("left_joint_listed_twice", {"left_joints": ["front_left_wheel", "front_left_wheel"]}, "left_joints[1]"),
+    ("joint_on_both_sides", {"right_joints": ["front_right_wheel", "front_left_wheel"]}, "right_joints"),
 ]
 
 

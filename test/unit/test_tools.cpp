@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <sys/wait.h>
 
 namespace
@@ -70,8 +71,36 @@ TEST(AicAnalyze, BadArgumentsAndFiles)
   EXPECT_NE(invalid.out.find("tau = -1"), std::string::npos) << invalid.out;
   EXPECT_NE(invalid.out.find("unknown key 'foo'"), std::string::npos) << invalid.out;
   EXPECT_EQ(run(kAnalyze + " " + writeFile("aic_type.yaml", "k_mu: [1, 2]\n")).code, 1);
+  // A key of the wrong type is an error naming the key and the expected type.
+  const std::pair<const char*, const char*> kTypeErrors[] = {
+    { "tau: fast\n", "key 'tau' must be a number" },
+    { "embedding_order: 1.5\n", "key 'embedding_order' must be an integer" },
+    { "var_y: 2\n", "key 'var_y' must be a list of numbers" },
+    { "accel_in_model: maybe\n", "key 'accel_in_model' must be true or false" },
+    { "integrator: [euler]\n", "key 'integrator' must be a string" },
+  };
+  for (const auto& [yaml, message] : kTypeErrors)
+  {
+    const Result typed = run(kAnalyze + " " + writeFile("aic_typed.yaml", yaml) + " --no-scan");
+    EXPECT_EQ(typed.code, 1) << yaml;
+    EXPECT_NE(typed.out.find(message), std::string::npos) << yaml << typed.out;
+  }
   EXPECT_EQ(run(kAnalyze + " " + writeFile("aic_syntax.yaml", "tau: [\n")).code, 1);
   EXPECT_EQ(run(kAnalyze + " " + writeFile("aic_integ.yaml", "integrator: rk4\n")).code, 1);
+}
+
+TEST(AicAnalyze, NodeOnlyKeysAreNotWarnedAbout)
+{
+  // Every node-only key of config/*.yaml (NodeParams) is ignored quietly; a typo is still warned about.
+  const std::string yaml =
+      "sensor_timeout: 0.25\nset_point_timeout: 0.5\nimu_max_skew: 0.025\nmin_sample_interval: 0.005\n"
+      "max_linear_speed: 2.0\nmax_angular_speed: 4.0\nrunaway_hold_time: 1.0\ndiagnostic_period: 1.0\n"
+      "left_joints: [front_left_wheel, rear_left_wheel]\nright_joints: [front_right_wheel, rear_right_wheel]\n";
+  const Result quiet = run(kAnalyze + " " + writeFile("aic_node_keys.yaml", yaml) + " --no-scan");
+  EXPECT_EQ(quiet.code, 0) << quiet.out;
+  EXPECT_EQ(quiet.out.find("unknown key"), std::string::npos) << quiet.out;
+  const Result typo = run(kAnalyze + " " + writeFile("aic_typo.yaml", yaml + "sensor_timout: 0.25\n") + " --no-scan");
+  EXPECT_NE(typo.out.find("unknown key 'sensor_timout'"), std::string::npos) << typo.out;
 }
 
 TEST(AicStepMetrics, ComputesAndRejects)

@@ -77,11 +77,13 @@ struct LoopStats
   std::uint64_t catch_up_steps = 0;  ///< extra integration steps run to cover missed ticks
   double window_max_interval = 0.0;   ///< largest measured interval in the window [s]
   double window_abs_jitter_sum = 0.0; ///< sum of |interval - nominal| in the window [s]
-  std::uint64_t window_ticks = 0;
+  std::uint64_t window_ticks = 0;     ///< callbacks in the window
   double window_max_duration = 0.0;   ///< longest callback execution in the window [s]
 
-  /// Record one measured interval (s); return the interval to integrate with (clamped).
+  /// Record one measured interval [s]; a non-finite or non-positive one (first tick) counts as
+  /// nominal_period. \return the interval to integrate with [s], clamped to max_factor * nominal_period.
   double record(double interval);
+  /// Zero the window_* statistics (after each diagnostics publication); counters are kept.
   void resetWindow();
 };
 

@@ -77,7 +77,9 @@ public:
     double max_gap = 0.25;                  ///< [s], > 0: longer gaps restart the history
   };
 
+  /// \param config  joint names and limits; not checked here (NodeParams::validate() does that).
   explicit SensorSynchronizer(const Config& config);
+  /// Replace the configuration (dynamic_reconfigure); history, IMU cache and counters are kept.
   void setConfig(const Config& config);
 
   /// Validate an Imu message; keep it for pairing. \return false if dropped.
@@ -102,6 +104,7 @@ public:
 
   /// Dropped inputs per DropReason since construction.
   const std::array<std::uint64_t, static_cast<int>(DropReason::kCount)>& dropCounts() const { return drops_; }
+  /// Samples returned by addJointState() since construction.
   std::uint64_t acceptedSamples() const { return accepted_; }
 
 private:
