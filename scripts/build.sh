@@ -26,5 +26,9 @@ if [ ! -e "$ws/src/jackal_msgs" ]; then
     ln -s "$repo/compat/jackal_msgs" "$ws/src/jackal_msgs"
   fi
 fi
+# catkin snapshots the workspace environment (build/catkin_generated/setup_cached.sh, used
+# by run_tests) at the first configure, and adds devel's Python folder to PYTHONPATH only
+# if it exists by then: create it first, or the Python test nodes cannot import jackal_msgs.
+mkdir -p "$ws/devel/lib/python3/dist-packages"
 cd "$ws"
 catkin_make "${catkin_args[@]}" -j"${JOBS:-2}" "$@"
