@@ -75,14 +75,14 @@ bool printTopSpeed(const RobotDescription& desc, const PlantParams& params)
     {
       row_ok = d.v_odom >= (1.0 - kTopSpeedTolerance) * sc.a && straight;
       std::snprintf(robot, sizeof(robot), "%.1f (manual)", kRobotTopSpeed);
-      std::snprintf(band, sizeof(band), "odom >= %.2f, true~odom 5%%", (1.0 - kTopSpeedTolerance) * sc.a);
+      std::snprintf(band, sizeof(band), "odom >= %.2f, |true-odom|<5%%", (1.0 - kTopSpeedTolerance) * sc.a);
     }
     else
     {
       const double hi = (1.0 + kMotorTopSpeedTolerance) * kThesisTopSpeed;
       row_ok = d.v_odom >= kRobotTopSpeed && d.v_odom <= hi && straight;
-      std::snprintf(robot, sizeof(robot), "%.1f-%.1f (man./thes.)", kRobotTopSpeed, kThesisTopSpeed);
-      std::snprintf(band, sizeof(band), "odom in [%.2f, %.2f], true~odom", kRobotTopSpeed, hi);
+      std::snprintf(robot, sizeof(robot), "%.1f; thesis %.1f", kRobotTopSpeed, kThesisTopSpeed);
+      std::snprintf(band, sizeof(band), "%.2f <= odom <= %.2f", kRobotTopSpeed, hi);
     }
     std::printf("%-30s | %7.2f %7.2f | %7.3f %8.3f | %-19s | %-28s | %s\n", sc.label, d.wheel_left, d.wheel_right,
                 d.v_odom, d.v_true, robot, band, row_ok ? "ok" : "OUT");
