@@ -1,6 +1,7 @@
 #include "jackal_sim/calibration.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "jackal_sim/plant.hpp"
@@ -65,6 +66,79 @@ StepRecord runStockStep(const RobotDescription& description, PlantParams params,
       out.command.push_back(stock.lastLinear());
     }
   }
+  return out;
+}
+
+double SteadyDrive::effectiveSeparation() const
+{
+  if (!(std::abs(yaw_rate) > 1e-6))
+  {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  return wheel_radius * (wheel_right - wheel_left) / yaw_rate;
+}
+
+SteadyDrive runSteadyDrive(const RobotDescription& description, PlantParams params, const SteadyScenario& scenario,
+                           double settle, double measure)
+{
+  if (!std::isfinite(scenario.a) || !std::isfinite(scenario.b) || !(settle > 0.0) || !(measure > 0.0) ||
+      !std::isfinite(settle + measure))
+  {
+    throw std::invalid_argument("runSteadyDrive: inputs must be finite, times positive");
+  }
+  JointStateSensorParams& js = params.sensors.joint_states;
+  js.position_noise_std = 0.0;
+  js.velocity_noise_std = 0.0;
+  js.velocity_bias = 0.0;
+  js.dropout = 0.0;
+  Plant plant(description, params);
+  SensorModel sensors(params.sensors, params.physics.step);
+  StockController stock;
+  const double h = params.physics.step;
+  const auto ctrl_period = static_cast<std::uint64_t>(std::llround(1.0 / (stock.params().publish_rate * h)));
+  const auto total = static_cast<std::uint64_t>(std::llround((settle + measure) / h));
+  const bool use_stock = scenario.input == DriveInput::kStockTwist;
+  if (!use_stock)
+  {
+    plant.setWheelSpeeds(scenario.a, scenario.b);
+  }
+  SteadyDrive out;
+  out.wheel_radius = description.wheelRadius();
+  std::size_t n = 0;
+  for (std::uint64_t k = 0; k < total; ++k)
+  {
+    if (use_stock && k % ctrl_period == 0)
+    {
+      const double t = plant.time();
+      stock.setCommand(scenario.a, scenario.b, t);  // streamed, as teleop or a planner would
+      const WheelSpeedCommand c = stock.update(t);
+      plant.setWheelSpeeds(c.left, c.right);
+    }
+    plant.step();
+    sensors.record(plant);
+    JointStateSample s;
+    if (sensors.pollJointStates(&s) && plant.time() >= settle - 1e-9)
+    {
+      out.wheel_left += 0.5 * (s.velocity[kFrontLeft] + s.velocity[kRearLeft]);
+      out.wheel_right += 0.5 * (s.velocity[kFrontRight] + s.velocity[kRearRight]);
+      const Eigen::Vector3d v = plant.baseLinearVelocity();
+      out.v_true += v.x();
+      out.v_lateral += v.y();
+      out.yaw_rate += plant.baseAngularVelocity().z();
+      ++n;
+    }
+  }
+  if (n == 0)
+  {
+    throw std::invalid_argument("runSteadyDrive: no joint-state sample in the measuring window");
+  }
+  const double inv = 1.0 / static_cast<double>(n);
+  out.wheel_left *= inv;
+  out.wheel_right *= inv;
+  out.v_true *= inv;
+  out.v_lateral *= inv;
+  out.yaw_rate *= inv;
+  out.v_odom = out.wheel_radius * 0.5 * (out.wheel_left + out.wheel_right);
   return out;
 }
 

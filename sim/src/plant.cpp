@@ -250,6 +250,7 @@ void Plant::collide()
   Ode& o = *ode_;
   const ContactParams& c = params_.contact;
   const int max_contacts = c.max_contacts;
+  const bool cone = c.friction_model == "cone";
   for (int i = 0; i < kNumWheels; ++i)
   {
     const int n = dCollide(o.wheel_geom[i], o.ground, max_contacts, o.scratch.data(), sizeof(dContactGeom));
@@ -266,10 +267,29 @@ void Plant::collide()
       dContact contact{};
       contact.geom = o.scratch[k];
       contact.surface.mode = dContactMu2 | dContactSoftERP | dContactSoftCFM | dContactApprox1;
-      contact.surface.mu = c.mu1;
-      contact.surface.mu2 = c.mu2;
       contact.surface.soft_erp = o.erp;
       contact.surface.soft_cfm = o.cfm;
+      const Eigen::Vector3d normal = vec(contact.geom.normal);
+      // Sliding velocity of the tyre over the (static) ground at the contact point,
+      // tangential part, from the state at the start of this step.
+      dVector3 pv;
+      dBodyGetPointVel(o.wheel[i], contact.geom.pos[0], contact.geom.pos[1], contact.geom.pos[2], pv);
+      Eigen::Vector3d sliding = vec(pv);
+      sliding -= sliding.dot(normal) * normal;
+      // Friction pyramid: mu1 N along fdir1, mu2 N across, each with its force-dependent
+      // slip (tyre compliance). "pyramid": fdir1 is the wheel's rolling direction
+      // (perpendicular to the axle, in the ground plane), as in Gazebo. "cone": fdir1 follows
+      // the contact's sliding velocity, so with mu1 = mu2 and slip1 = slip2 the friction
+      // force opposes the sliding whatever its direction (isotropic Coulomb friction,
+      // regularised by the compliance below mu N); a contact that hardly slides keeps the
+      // rolling direction.
+      Eigen::Vector3d fdir = a.cross(normal);
+      if (cone && sliding.norm() > c.sliding_threshold)
+      {
+        fdir = sliding;
+      }
+      contact.surface.mu = c.mu1;
+      contact.surface.mu2 = c.mu2;
       if (c.slip1 > 0.0)
       {
         contact.surface.mode |= dContactSlip1;
@@ -280,8 +300,6 @@ void Plant::collide()
         contact.surface.mode |= dContactSlip2;
         contact.surface.slip2 = c.slip2;
       }
-      const Eigen::Vector3d normal = vec(contact.geom.normal);
-      Eigen::Vector3d fdir = a.cross(normal);
       if (fdir.norm() > 1e-6)
       {
         fdir.normalize();

@@ -64,5 +64,86 @@ StepRecord runStockStep(const RobotDescription& description, PlantParams params,
 /// Step metrics of a record (v_odom if ground_truth is false, else v_true).
 StepMetrics stepMetricsOf(const StepRecord& record, bool ground_truth = false);
 
+// ------------------------------------------------------------------ steady-state checks
+
+/// The Jackal's top speed [m/s] (Clearpath's manual; the stock controller's limit too).
+constexpr double kRobotTopSpeed = 2.0;
+/// The top speed the thesis quotes [m/s].
+constexpr double kThesisTopSpeed = 2.5;
+/// Accepted shortfall of the steady speed for a kRobotTopSpeed command [-]: the plant must
+/// reach the command (its wheel servo has an integrator), within numerical noise.
+constexpr double kTopSpeedTolerance = 0.01;
+/// Accepted excess of the motor-limited top speed over kThesisTopSpeed [-].
+constexpr double kMotorTopSpeedTolerance = 0.10;
+/// Virtual wheel separation b_hat identified on the robot [m] (thesis; the controllers'
+/// wheel_separation). The stock controller's 1.5 x 0.37559 m = 0.5634 m agrees.
+constexpr double kRobotWheelSeparation = 0.5621;
+/// Accepted relative error of the plant's effective wheel separation [-].
+constexpr double kSeparationTolerance = 0.10;
+/// Accepted relative error of the ground-truth speed against r omega when driving
+/// straight [-] (issue 4: r omega within 5 %).
+constexpr double kStraightSpeedTolerance = 0.05;
+
+/// What drives the plant in a steady run.
+enum class DriveInput
+{
+  kStockTwist,  ///< the stock controller (50 Hz), streamed twist set point (linear [m/s], angular [rad/s])
+  kWheelSpeeds  ///< MCU wheel-speed set points directly (left, right [rad/s]), as /cmd_drive
+};
+
+/// A constant drive from rest and what it is compared with.
+struct SteadyScenario
+{
+  const char* label;  ///< short description for the table
+  DriveInput input;   ///< what a and b mean
+  double a;           ///< linear [m/s] or left wheel speed [rad/s]
+  double b;           ///< angular [rad/s] or right wheel speed [rad/s]
+};
+
+/// Means over the measuring window of a constant drive: 50 Hz joint-state samples (noise,
+/// bias and dropout off) and the ground truth at the same instants.
+struct SteadyDrive
+{
+  double wheel_left = 0.0;   ///< mean left wheel speed (front and rear) [rad/s]
+  double wheel_right = 0.0;  ///< mean right wheel speed [rad/s]
+  double v_odom = 0.0;       ///< wheel-odometry forward speed r (wL + wR) / 2 [m/s]
+  double v_true = 0.0;       ///< ground-truth forward speed in base_link [m/s]
+  double v_lateral = 0.0;    ///< ground-truth lateral speed in base_link [m/s]
+  double yaw_rate = 0.0;     ///< ground-truth yaw rate (the noise-free gyro) [rad/s]
+  double wheel_radius = 0.0; ///< r [m]
+
+  /// Effective (virtual) wheel separation r (wR - wL) / yaw_rate [m]: the b_hat with which
+  /// an ideal differential drive would turn as the plant does. NaN if the yaw rate is ~0.
+  double effectiveSeparation() const;
+};
+
+/// Top-speed scenarios: the stock controller at its 2.0 m/s limit, and the wheel set
+/// points at the MCU's clamp (motor-limited speed).
+constexpr std::array<SteadyScenario, 2> kTopSpeedScenarios{
+  { { "stock, 2.0 m/s command", DriveInput::kStockTwist, kRobotTopSpeed, 0.0 },
+    { "motor limit, wheels 25 rad/s", DriveInput::kWheelSpeeds, 25.0, 25.0 } }
+};
+
+/// Effective-separation scenarios: turning in place at two wheel speeds, the stock
+/// controller turning in place and driving an arc.
+constexpr std::array<SteadyScenario, 4> kSeparationScenarios{
+  { { "in place, wheels -5/+5 rad/s", DriveInput::kWheelSpeeds, -5.0, 5.0 },
+    { "in place, wheels -10/+10 rad/s", DriveInput::kWheelSpeeds, -10.0, 10.0 },
+    { "in place, stock 0.5 rad/s", DriveInput::kStockTwist, 0.0, 0.5 },
+    { "arc, stock 0.5 m/s + 0.5 rad/s", DriveInput::kStockTwist, 0.5, 0.5 } }
+};
+
+/**
+ * \brief Drive a fresh plant from rest with a constant input and average the steady state.
+ * \param description robot model
+ * \param params      plant parameters (joint-state noise, bias and dropout switched off)
+ * \param scenario    the drive
+ * \param settle      time before the measuring window [s], > 0
+ * \param measure     length of the measuring window [s], > 0
+ * \throws std::invalid_argument on non-finite inputs or non-positive times
+ */
+SteadyDrive runSteadyDrive(const RobotDescription& description, PlantParams params, const SteadyScenario& scenario,
+                           double settle = 4.0, double measure = 2.0);
+
 }  // namespace sim
 }  // namespace jackal_aic

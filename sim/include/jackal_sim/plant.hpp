@@ -4,9 +4,11 @@
  * \brief The simulated Jackal: an ODE skid-steer plant built from a RobotDescription.
  *
  * ROS-free (ODE, Eigen). A chassis body and four wheel bodies joined by hinges, a ground
- * plane, soft wheel-ground contacts with finite Coulomb friction whose first direction
- * (fdir1) follows each wheel's rolling direction (so the robot skids when it turns), and
- * the MCU wheel-speed loop per side (WheelSpeedServo). Fixed step (PhysicsParams::step).
+ * plane, soft wheel-ground contacts with finite Coulomb friction (so the robot skids when
+ * it turns) whose first direction (fdir1) follows each contact's sliding velocity
+ * (ContactParams::friction_model "cone": isotropic Coulomb friction) or each wheel's rolling
+ * direction ("pyramid", Gazebo's), and the MCU wheel-speed loop per side (WheelSpeedServo).
+ * Fixed step (PhysicsParams::step).
  *
  * Contact softness follows Gazebo's ODE binding: with stiffness kp, damping kd and step h,
  * ERP = h kp / (h kp + kd) and CFM = 1 / (h kp + kd).

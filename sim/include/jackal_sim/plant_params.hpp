@@ -39,13 +39,33 @@ struct PhysicsParams
   std::vector<std::string> validate() const;
 };
 
-/// Wheel-ground (and chassis-ground) contact, as Gazebo's ODE <surface> parameters.
+/**
+ * Wheel-ground (and chassis-ground) contact, as Gazebo's ODE <surface> parameters, plus the
+ * choice of friction law.
+ *
+ * friction_model "pyramid" is ODE's (and Gazebo's) default: two independent Coulomb limits
+ * mu1 N along the rolling direction (fdir1) and mu2 N along the axle. It is anisotropic: a
+ * wheel that slides both along and across its rolling direction (every wheel of a
+ * skid-steer robot turning) gets the full mu N in both directions, so the longitudinal
+ * (driving) forces win over the lateral (resisting) ones and the robot turns almost like
+ * an ideal differential drive (effective separation ~ the track).
+ * friction_model "cone" is isotropic Coulomb friction, as rubber sliding on a hard floor:
+ * a contact whose tangential sliding speed exceeds sliding_threshold gets a friction force
+ * of magnitude <= mu1 N opposite to its sliding velocity (ODE: the pyramid's fdir1 follows
+ * the sliding velocity at the start of the step; with mu1 = mu2 and slip1 = slip2, both
+ * required, the law is isotropic and, through the compliance, linear below mu N);
+ * slower contacts keep fdir1 along the rolling direction. For a skid-steer
+ * robot turning in place this predicts an effective separation of track + wheelbase^2 /
+ * track (0.558 m for the Jackal; identified on the robot: 0.5621 m).
+ */
 struct ContactParams
 {
+  std::string friction_model = "cone";  ///< "cone" (isotropic Coulomb) or "pyramid" (ODE/Gazebo default)
+  double sliding_threshold = 0.001;    ///< cone: sliding speed above which fdir1 follows the sliding [m/s], > 0
   double mu1 = 0.5;                    ///< Coulomb friction along the rolling direction (fdir1) [-], >= 0
   double mu2 = 0.5;                    ///< Coulomb friction along the axle [-], >= 0
-  double slip1 = 0.0;                  ///< ODE force-dependent slip along fdir1 [m/(s N)], >= 0 (Gazebo slip1)
-  double slip2 = 0.02;                  ///< ODE force-dependent slip along the axle [m/(s N)], >= 0 (Gazebo slip2)
+  double slip1 = 0.001;                ///< ODE force-dependent slip along fdir1 [m/(s N)], >= 0 (Gazebo slip1)
+  double slip2 = 0.001;                 ///< ODE force-dependent slip along the axle [m/(s N)], >= 0 (Gazebo slip2)
   double kp = 1.0e7;                   ///< contact stiffness [N/m], > 0
   double kd = 1.0;                     ///< contact damping [N s/m], >= 0
   double max_correcting_vel = 100.0;   ///< ODE contact_max_correcting_vel [m/s], > 0
@@ -68,13 +88,13 @@ struct MotorParams
   double speed_kp = 7.0;              ///< proportional gain [N m / (rad/s)], >= 0
   double speed_ki = 60.0;             ///< integral gain [N m / rad], >= 0
   double max_torque = 4.0;            ///< current (torque) limit of one side, at the wheels [N m], > 0
-  double stall_torque = 4.5;          ///< voltage limit: stall torque of one side [N m]; 0 = no voltage limit
-  double no_load_speed = 22.0;         ///< voltage limit: no-load wheel speed [rad/s], > 0 if stall_torque > 0
+  double stall_torque = 6.0;          ///< voltage limit: stall torque of one side [N m]; 0 = no voltage limit
+  double no_load_speed = 26.0;        ///< voltage limit: no-load wheel speed [rad/s], > 0 if stall_torque > 0
   double setpoint_slew_rate = 14.0;    ///< MCU ramp of the speed set point [rad/s^2]; 0 = none
   double setpoint_time_constant = 0.0;  ///< first-order lag on the set point inside the MCU [s], >= 0
-  double command_delay = 0.08;         ///< transport delay /cmd_drive -> MCU [s], [0, 0.5]
+  double command_delay = 0.1;          ///< transport delay /cmd_drive -> MCU [s], [0, 0.5]
   double coulomb_friction = 0.27;      ///< drivetrain Coulomb friction per wheel [N m], >= 0
-  double viscous_friction = 0.07;      ///< drivetrain viscous friction per wheel [N m / (rad/s)], >= 0
+  double viscous_friction = 0.01;      ///< drivetrain viscous friction per wheel [N m / (rad/s)], >= 0
   double coupling_damping = 1.0;      ///< front-rear drivetrain coupling on a side [N m / (rad/s)], >= 0
   double max_wheel_speed = 25.0;      ///< set points are clamped to +-this [rad/s], > 0
 
