@@ -17,7 +17,10 @@ if [ -f /opt/ros/noetic/setup.bash ]; then
   [ -d /etc/ros/rosdep/sources.list.d ] || $SUDO rosdep init
   rosdep update
   # jackal_msgs comes from ros-noetic-jackal-msgs here.
-  rosdep install --from-paths "$repo" --ignore-src -y
+  # -r: go on past a key this rosdep database cannot resolve; the two system libraries whose
+  # rosdep keys we could not verify are then installed by their Ubuntu names.
+  rosdep install --from-paths "$repo" --ignore-src -y -r || true
+  $SUDO apt-get install -y libode-dev libbenchmark-dev
   exit 0
 fi
 
