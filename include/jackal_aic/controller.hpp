@@ -83,8 +83,10 @@ public:
 
   /**
    * \brief One action step: a += h * (-k_a sum_i K Pi_y^(i) eps_y^(i)) (eq. 3-16), then clamp to
-   *        +-max_wheel_speed. da/dt does not depend on a, so this Euler step is exact for held
-   *        beliefs and measurement, whatever the integrator setting.
+   *        +-max_wheel_speed and, if max_action_lead > 0, to within +-max_action_lead of the
+   *        measured wheel speeds y^(0)[omega_L], y^(0)[omega_R] (anti-windup, not in the thesis).
+   *        da/dt does not depend on a, so this Euler step is exact for held beliefs and
+   *        measurement, whatever the integrator setting.
    * \param h  action step [s], finite and > 0
    * \return kOk; kBadInterval (state kept); kNoMeasurement (state kept); kRunaway (see Status).
    */

@@ -84,6 +84,17 @@ struct AicParams
   double max_wheel_speed = 20.0;      ///< |a_i| clamp [rad/s], > 0 (2.0 m/s top speed / 0.098 m ~ 20.4 rad/s)
   /// Beliefs whose any element exceeds this magnitude are declared runaway [SI units of each order], > 0.
   double runaway_limit = 1.0e3;
+  /**
+   * Anti-windup [rad/s], >= 0; 0 = off (the thesis controller). When > 0, after each action
+   * step every wheel command a_i is kept within +-max_action_lead of the measured wheel speed
+   * y^(0)[omega_i] (conditional integration). Not part of the thesis: the action update
+   * (eq. 3-16) integrates the prediction error whatever the plant can follow, so while the
+   * wheel loop is slew- or torque-limited on a large step the action runs ahead of the
+   * wheels and the velocity overshoots when they catch up. In steady state a = measured
+   * wheel speed, so the limit is inactive; set it above the lead the wheel loop needs for a
+   * step the plant follows without saturating.
+   */
+  double max_action_lead = 0.0;
   /// If true, the accelerometer-x row of R maps onto mu^(1) (kinematically better option, spec section 2):
   /// eps_y^(i)[accel_x] = y^(i)[accel_x] - x_dot^(i+1) for i < p (and the gradient gains the matching
   /// term); K is unchanged (the accelerometer depends on da/dt, not a). false = thesis model
@@ -103,7 +114,8 @@ struct AicParams
    * 3(p+1), var_y of size p+1 or 5(p+1), every variance in [kMinVariance, kMaxVariance];
    * wheel_radius, wheel_separation in [kMinLength, kMaxLength]; slip_factor in
    * [kMinSlipFactor, kMaxSlipFactor]; max_wheel_speed in (0, kMaxWheelSpeedLimit];
-   * runaway_limit in (0, kMaxRunawayLimit]; integrator a known enumerator.
+   * runaway_limit in (0, kMaxRunawayLimit]; max_action_lead in [0, kMaxWheelSpeedLimit];
+   * integrator a known enumerator.
    * Each violation names the YAML key (e.g. "var_mu[2]"), the value and the allowed range.
    */
   std::vector<ParamViolation> validate() const;

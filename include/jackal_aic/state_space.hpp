@@ -54,7 +54,7 @@ struct ResponseSample
  *  4. the plant over T with the new a held (point mass: omega = a; first order: exact ZOH).
  * z_{k+1} = Phi z_k + Gamma mu_d. The continuous belief and action dynamics are taken from
  * ActiveInferenceController::muDot()/aDot() (so model and controller share one implementation
- * of the equations); the clamp and the runaway reset are not modelled (linear analysis).
+ * of the equations); the clamp, max_action_lead and the runaway reset are not modelled (linear analysis).
  */
 class ClosedLoopModel
 {

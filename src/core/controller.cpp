@@ -324,8 +324,17 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
     runawayReset();
     return Status::kRunaway;
   }
-  const double lim = params_.max_wheel_speed;
-  a_ = next.cwiseMax(-lim).cwiseMin(lim);
+  Vector2 a = next;
+  if (params_.max_action_lead > 0.0)
+  {
+    // Conditional integration: the action may lead the measured wheel speeds by at most
+    // max_action_lead, so it cannot wind up while the wheel loop saturates.
+    const Vector2 omega(y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0));
+    const Vector2 lead = Vector2::Constant(params_.max_action_lead);
+    a = a.cwiseMax(omega - lead).cwiseMin(omega + lead);
+  }
+  const double lim = params_.max_wheel_speed;  // applied last: the wheel clamp always wins
+  a_ = a.cwiseMax(-lim).cwiseMin(lim);
   return Status::kOk;
 }
 

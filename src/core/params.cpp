@@ -121,6 +121,7 @@ std::vector<ParamViolation> AicParams::validate() const
   requireRange("wheel_separation", wheel_separation, kMinLength, false, kMaxLength, &v);
   requireRange("max_wheel_speed", max_wheel_speed, 0.0, true, kMaxWheelSpeedLimit, &v);
   requireRange("runaway_limit", runaway_limit, 0.0, true, kMaxRunawayLimit, &v);
+  requireRange("max_action_lead", max_action_lead, 0.0, false, kMaxWheelSpeedLimit, &v);
   if (integrator != Integrator::kEuler && integrator != Integrator::kExact)
   {
     v.push_back({ "integrator", std::to_string(static_cast<int>(integrator)), "euler | exact" });

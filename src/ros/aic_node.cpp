@@ -549,6 +549,7 @@ AICConfig AicNode::configFromParams(const NodeParams& params) const
   c.embedding_order = a.embedding_order;
   c.accel_in_model = a.accel_in_model;
   c.runaway_limit = a.runaway_limit;
+  c.max_action_lead = a.max_action_lead;
   c.wheel_radius = a.wheel_radius;
   c.slip_factor = a.slip_factor;
   c.wheel_separation = a.wheel_separation;
@@ -603,6 +604,7 @@ void AicNode::reconfigureCallback(AICConfig& config, std::uint32_t /*level*/)
   a.embedding_order = config.embedding_order;
   a.accel_in_model = config.accel_in_model;
   a.runaway_limit = config.runaway_limit;
+  a.max_action_lead = config.max_action_lead;
   a.wheel_radius = config.wheel_radius;
   a.slip_factor = config.slip_factor;
   a.wheel_separation = config.wheel_separation;

@@ -96,7 +96,7 @@ const std::set<std::string>& knownKeys()
 {
   static const std::set<std::string> keys = {
     "belief_rate", "action_rate", "tau", "k_mu", "k_a", "embedding_order", "var_mu", "var_y",
-    "wheel_radius", "slip_factor", "wheel_separation", "max_wheel_speed", "runaway_limit",
+    "wheel_radius", "slip_factor", "wheel_separation", "max_wheel_speed", "runaway_limit", "max_action_lead",
     "accel_in_model", "integrator", "sensor_timeout", "set_point_timeout", "imu_max_skew",
     "min_sample_interval", "max_linear_speed", "max_angular_speed", "runaway_hold_time",
     "left_joints", "right_joints", "diagnostic_period",
@@ -188,6 +188,7 @@ void loadNodeParams(const ros::NodeHandle& pnh, NodeParams* params, std::vector<
   read(pnh, "wheel_separation", &aic.wheel_separation, number, violations);
   read(pnh, "max_wheel_speed", &aic.max_wheel_speed, number, violations);
   read(pnh, "runaway_limit", &aic.runaway_limit, number, violations);
+  read(pnh, "max_action_lead", &aic.max_action_lead, number, violations);
   read(pnh, "accel_in_model", &aic.accel_in_model, "true or false", violations);
   std::string integrator = toString(aic.integrator);
   read(pnh, "integrator", &integrator, "euler or exact", violations);

@@ -122,6 +122,7 @@ AicParams loadParams(const YAML::Node& root, const std::string& file, std::vecto
   get("wheel_separation", &p.wheel_separation, number);
   get("max_wheel_speed", &p.max_wheel_speed, number);
   get("runaway_limit", &p.runaway_limit, number);
+  get("max_action_lead", &p.max_action_lead, number);
   get("accel_in_model", &p.accel_in_model, "true or false");
   std::string name;
   if (get("integrator", &name, "a string") && !integratorFromString(name, &p.integrator))

@@ -166,6 +166,61 @@ TEST(Controller, ActionIsClamped)
   EXPECT_EQ(c.action()(0), 1.0);
 }
 
+TEST(Controller, MaxActionLeadBoundsTheActionAroundTheMeasuredWheels)
+{
+  constexpr double kLead = 2.0;          // rad/s
+  constexpr double kWheelsLeft = 3.0;    // rad/s, measured
+  constexpr double kWheelsRight = -1.0;  // rad/s, measured
+  constexpr double kTol = 1e-12;         // rad/s
+  // A plant stuck at fixed wheel speeds while the goal asks for far more: without the limit
+  // the action winds up to the wheel clamp; with it, it stays within kLead of the wheels.
+  YTilde y = YTilde::Zero(kYDim, 4);
+  y(kOmegaLeft, 0) = kWheelsLeft;
+  y(kOmegaRight, 0) = kWheelsRight;
+  for (const double lead : { 0.0, kLead })
+  {
+    AicParams p = thesisStandard();
+    p.max_action_lead = lead;
+    ActiveInferenceController c{ p };
+    c.setGoal(Vector3(2.0, 0.0, 0.0));
+    ASSERT_TRUE(c.setMeasurement(y));
+    for (int k = 0; k < 500; ++k)
+    {
+      c.updateBeliefs(0.02);
+      ASSERT_EQ(c.updateAction(0.02), Status::kOk);
+    }
+    if (lead > 0.0)
+    {
+      EXPECT_NEAR(c.action()(0), kWheelsLeft + kLead, kTol);
+      EXPECT_NEAR(c.action()(1), kWheelsRight + kLead, kTol);
+    }
+    else
+    {
+      EXPECT_EQ(c.action()(0), p.max_wheel_speed);  // wound up to the clamp
+    }
+  }
+}
+
+TEST(Controller, MaxActionLeadNeverBreaksTheWheelClamp)
+{
+  AicParams p = thesisStandard();
+  p.max_wheel_speed = 5.0;
+  p.max_action_lead = 1.0;
+  ActiveInferenceController c{ p };
+  c.setGoal(Vector3(0.0, 0.0, 0.0));
+  YTilde y = YTilde::Zero(kYDim, 4);
+  y(kOmegaLeft, 0) = 50.0;   // measured far beyond the clamp (e.g. pushed downhill)
+  y(kOmegaRight, 0) = -50.0;
+  ASSERT_TRUE(c.setMeasurement(y));
+  for (int k = 0; k < 100; ++k)
+  {
+    c.updateBeliefs(0.02);
+    c.updateAction(0.02);
+    EXPECT_LE(c.action().cwiseAbs().maxCoeff(), 5.0);
+    EXPECT_TRUE(c.action().allFinite());
+  }
+}
+
 TEST(Controller, SetParamsKeepsOrResetsState)
 {
   ActiveInferenceController c{ thesisStandard() };

@@ -55,6 +55,20 @@ TEST(Params, WheelSeparation) { expectPositiveRule(&AicParams::wheel_separation,
 TEST(Params, MaxWheelSpeed) { expectPositiveRule(&AicParams::max_wheel_speed, "max_wheel_speed", jackal_aic::kMaxWheelSpeedLimit); }
 TEST(Params, RunawayLimit) { expectPositiveRule(&AicParams::runaway_limit, "runaway_limit", jackal_aic::kMaxRunawayLimit); }
 
+TEST(Params, MaxActionLead)
+{
+  for (double bad : { -1.0, kNaN, kInf, jackal_aic::kMaxWheelSpeedLimit * 1.01 })
+  {
+    AicParams p;
+    p.max_action_lead = bad;
+    EXPECT_TRUE(hasViolation(p, "max_action_lead")) << bad;
+  }
+  AicParams p;
+  EXPECT_FALSE(hasViolation(p, "max_action_lead"));  // 0 = off
+  p.max_action_lead = 3.0;
+  EXPECT_FALSE(hasViolation(p, "max_action_lead"));
+}
+
 TEST(Params, LowerSanityBounds)
 {
   AicParams p;
