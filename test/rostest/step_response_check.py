@@ -10,6 +10,7 @@ by the core's aic_step_metrics (through jackal_aic_tools). Expectations are <par
   ~hold               how long the step is held [s]                         [3.0]
   ~low, ~high         square-wave levels [m/s]                              [0.1, 0.5]
   ~period, ~cycles    square-wave period [s] and number of periods          [4.0, 2]
+  ~lead_in            square wave: how long the first level is held [s]     [2.0]
   ~settle_limit       every transition settles (+-5 %) within this [s]      [1.0]
   ~overshoot_limit    overshoot of every transition below this [% of step]  [20]
   ~sse_limit          |steady-state error| below this [% of the set point]  [2]
@@ -56,7 +57,7 @@ class StepResponseCheck(unittest.TestCase):
             prof = profiles.step(v=float(p("step", 0.5)), t_step=0.5, hold=float(p("hold", 3.0)))
         elif kind == "square":
             prof = profiles.square(float(p("low", 0.1)), float(p("high", 0.5)), float(p("period", 4.0)),
-                                   int(p("cycles", 2)))
+                                   int(p("cycles", 2)), t_lead=float(p("lead_in", 2.0)))
         else:
             self.fail("~profile must be step or square, not %r" % kind)
         settle_limit = float(p("settle_limit", 1.0))      # s
