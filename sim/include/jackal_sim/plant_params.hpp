@@ -36,6 +36,8 @@ struct PhysicsParams
   double initial_yaw = 0.0;        ///< initial heading [rad]
   double initial_clearance = 0.0;  ///< wheel bottom above the ground at start [m], >= 0
 
+  /// Every violated rule of the members above, one message each naming the YAML key, its
+  /// value and the allowed range ("motor.stall_torque = -1 (allowed: > 0)"); empty = valid.
   std::vector<std::string> validate() const;
 };
 
@@ -72,6 +74,8 @@ struct ContactParams
   double surface_layer = 0.001;        ///< ODE contact_surface_layer (allowed penetration) [m], >= 0
   int max_contacts = 4;                ///< contact points per wheel-ground pair, [1, 16]
 
+  /// Every violated rule of the members above, one message each naming the YAML key, its
+  /// value and the allowed range ("motor.stall_torque = -1 (allowed: > 0)"); empty = valid.
   std::vector<std::string> validate() const;
 };
 
@@ -98,6 +102,8 @@ struct MotorParams
   double coupling_damping = 1.0;      ///< front-rear drivetrain coupling on a side [N m / (rad/s)], >= 0
   double max_wheel_speed = 25.0;      ///< set points are clamped to +-this [rad/s], > 0
 
+  /// Every violated rule of the members above, one message each naming the YAML key, its
+  /// value and the allowed range ("motor.stall_torque = -1 (allowed: > 0)"); empty = valid.
   std::vector<std::string> validate() const;
 };
 
@@ -108,6 +114,7 @@ struct StreamParams
   double delay = 0.0;      ///< age of the data in a sample [s], [0, 1]
   double dropout = 0.0;    ///< probability that a sample is not published [-], [0, 1)
 
+  /// As the other validate()s, with the YAML keys prefixed by \p prefix (e.g. "sensors.imu.").
   std::vector<std::string> validate(const std::string& prefix) const;
 };
 
@@ -118,6 +125,8 @@ struct JointStateSensorParams : StreamParams
   double velocity_noise_std = 0.0;  ///< Gaussian noise on velocities [rad/s], >= 0
   double velocity_bias = 0.0;       ///< constant offset on velocities [rad/s]
 
+  /// Every violated rule of the members above, one message each naming the YAML key, its
+  /// value and the allowed range ("motor.stall_torque = -1 (allowed: > 0)"); empty = valid.
   std::vector<std::string> validate() const;
 };
 
@@ -130,6 +139,8 @@ struct ImuSensorParams : StreamParams
   std::array<double, 3> accel_bias{};  ///< constant offset per axis [m/s^2]
   double orientation_noise_std = 0.0;  ///< Gaussian noise per Euler angle [rad], >= 0
 
+  /// Every violated rule of the members above, one message each naming the YAML key, its
+  /// value and the allowed range ("motor.stall_torque = -1 (allowed: > 0)"); empty = valid.
   std::vector<std::string> validate() const;
 };
 
@@ -140,6 +151,8 @@ struct SensorParams
   JointStateSensorParams joint_states;
   ImuSensorParams imu;
 
+  /// Every violated rule of the members above, one message each naming the YAML key, its
+  /// value and the allowed range ("motor.stall_torque = -1 (allowed: > 0)"); empty = valid.
   std::vector<std::string> validate() const;
 };
 
@@ -152,6 +165,8 @@ struct PlantNodeParams
   double cmd_timeout = 0.5;       ///< /cmd_drive silence after which set points are zeroed [s]; 0 = never
   std::string odom_frame = "odom";  ///< world frame name
 
+  /// Every violated rule of the members above, one message each naming the YAML key, its
+  /// value and the allowed range ("motor.stall_torque = -1 (allowed: > 0)"); empty = valid.
   std::vector<std::string> validate() const;
 };
 
@@ -165,6 +180,8 @@ struct PlantParams
   PlantNodeParams node;
 
   /// Every violation, as "key = value (allowed range)"; empty when valid.
+  /// Every violated rule of the members above, one message each naming the YAML key, its
+  /// value and the allowed range ("motor.stall_torque = -1 (allowed: > 0)"); empty = valid.
   std::vector<std::string> validate() const;
 };
 

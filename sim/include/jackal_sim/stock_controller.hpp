@@ -67,10 +67,13 @@ public:
   WheelSpeedCommand update(double t);
 
   /// Limited linear and angular speed of the last update [m/s], [rad/s].
+  /// Linear velocity [m/s] of the last output twist, after the velocity and acceleration limits.
   double lastLinear() const { return last0_linear_; }
+  /// Angular velocity [rad/s] of the last output twist, after the velocity and acceleration limits.
   double lastAngular() const { return last0_angular_; }
   /// True if the last update found the command older than cmd_vel_timeout.
   bool timedOut() const { return timed_out_; }
+  /// The parameters in force (validated at construction).
   const StockControllerParams& params() const { return params_; }
 
 private:
