@@ -15,7 +15,18 @@ namespace sim
 namespace
 {
 constexpr double kStepPhase = 0.01;  // s after a controller tick at which the set point changes
+
+/// The robot's table was measured from its own wheel odometry: calibrate on noiseless,
+/// bias-free, gap-free joint states.
+void makeJointStatesIdeal(PlantParams* params)
+{
+  JointStateSensorParams& js = params->sensors.joint_states;
+  js.position_noise_std = 0.0;
+  js.velocity_noise_std = 0.0;
+  js.velocity_bias = 0.0;
+  js.dropout = 0.0;
 }
+}  // namespace
 
 StepRecord runStockStep(const RobotDescription& description, PlantParams params, double step, double settle_before,
                         double record)
@@ -24,11 +35,7 @@ StepRecord runStockStep(const RobotDescription& description, PlantParams params,
   {
     throw std::invalid_argument("runStockStep: step must be finite and non-zero, times positive");
   }
-  JointStateSensorParams& js = params.sensors.joint_states;
-  js.position_noise_std = 0.0;
-  js.velocity_noise_std = 0.0;
-  js.velocity_bias = 0.0;
-  js.dropout = 0.0;
+  makeJointStatesIdeal(&params);
   Plant plant(description, params);
   SensorModel sensors(params.sensors, params.physics.step);
   StockController stock;
@@ -86,11 +93,7 @@ SteadyDrive runSteadyDrive(const RobotDescription& description, PlantParams para
   {
     throw std::invalid_argument("runSteadyDrive: inputs must be finite, times positive");
   }
-  JointStateSensorParams& js = params.sensors.joint_states;
-  js.position_noise_std = 0.0;
-  js.velocity_noise_std = 0.0;
-  js.velocity_bias = 0.0;
-  js.dropout = 0.0;
+  makeJointStatesIdeal(&params);
   Plant plant(description, params);
   SensorModel sensors(params.sensors, params.physics.step);
   StockController stock;
