@@ -9,7 +9,7 @@ parameter's values), columns = rise and settling time of the measured velocity (
 per setting of the other swept dimensions.
 
 Examples:
-  # tau at belief rates 50 and 1000 Hz (issue 5), rows = tau:
+  # tau at belief rates 50 and 1000 Hz (thesis table 5-3), rows = tau:
   aic_sweep.py --tau 0.03 0.01 0.001 --belief-rate 50 1000 --rows tau
   # the thesis's step sizes, AIC against stock:
   aic_sweep.py --step 0.1 0.3 0.5 1.0 --controller aic stock

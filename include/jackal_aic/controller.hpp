@@ -16,9 +16,9 @@ namespace jackal_aic
 /**
  * \brief Active inference controller: beliefs mu_tilde (3 x (p+1)), action a (2) [rad/s].
  *
- * Usage (double loop, spec section 5): setGoal(mu_d); whenever a generalized
- * sensor sample arrives, setMeasurement(y_tilde); at the belief rate
- * updateBeliefs(h_mu); at the action rate updateAction(h_a); send action().
+ * Usage (double loop, thesis table 5-8; doc/active_inference.md, 'Update rules'):
+ * setGoal(mu_d); whenever a generalized sensor sample arrives, setMeasurement(y_tilde);
+ * at the belief rate updateBeliefs(h_mu); at the action rate updateAction(h_a); send action().
  * Neither update moves before the first setMeasurement().
  *
  * Not thread-safe; no heap allocation and no exceptions in setGoal,

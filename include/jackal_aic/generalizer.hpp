@@ -2,7 +2,7 @@
 /**
  * \file generalizer.hpp
  * \brief Generalized coordinates of a sampled signal by backward finite differences
- *        (thesis eq. 3-17 ... 3-22; Hijne 2020; spec section 6). ROS-free.
+ *        (thesis eq. 3-17 ... 3-22; Hijne 2020; doc/active_inference.md). ROS-free.
  */
 
 #include <cstdint>

@@ -16,7 +16,7 @@
 
 namespace jackal_aic
 {
-/// Integration scheme for the belief (and action) updates (spec section 5).
+/// Integration scheme for the belief (and action) updates (doc/active_inference.md, 'Integrators').
 enum class Integrator
 {
   kEuler,  ///< forward Euler, as in the thesis (eq. 3-15, 3-16)
@@ -59,8 +59,8 @@ struct ParamViolation
  * \brief Parameters of ActiveInferenceController (thesis tables C-1 and 5-8).
  *
  * Variances: `var_mu` and `var_y` hold sigma^2 per generalized order; precisions are
- * Pi = 1 / sigma^2 (spec section 4, following Pezzato's var_q / var_mu). Either
- * p+1 values (one scalar per order, used for every channel) or, optionally,
+ * Pi = 1 / sigma^2 (following Pezzato et al. 2020's var_q / var_mu; doc/active_inference.md).
+ * Either p+1 values (one scalar per order, used for every channel) or, optionally,
  * one value per channel and order, order-major: 3(p+1) values for var_mu
  * (index i*3 + channel) and 5(p+1) values for var_y (index i*5 + channel).
  */
@@ -95,7 +95,7 @@ struct AicParams
    * step the plant follows without saturating.
    */
   double max_action_lead = 0.0;
-  /// If true, the accelerometer-x row of R maps onto mu^(1) (kinematically better option, spec section 2):
+  /// If true, the accelerometer-x row of R maps onto mu^(1) (kinematically better option, not in the thesis):
   /// eps_y^(i)[accel_x] = y^(i)[accel_x] - x_dot^(i+1) for i < p (and the gradient gains the matching
   /// term); K is unchanged (the accelerometer depends on da/dt, not a). false = thesis model
   /// (accelerometer rows zero). Note: /imu/data includes gravity; on level ground accel x has none.

@@ -2,7 +2,7 @@
 /**
  * \file skid_steer_model.hpp
  * \brief Generative model of the sensory data of a skid-steer base (thesis eq. 3-1 ... 3-4;
- *        extended differential drive, Mandow et al. 2007; spec section 2). ROS-free.
+ *        extended differential drive, Mandow et al. 2007; doc/active_inference.md). ROS-free.
  */
 
 #include "jackal_aic/types.hpp"
@@ -33,7 +33,7 @@ public:
   const KinematicMatrix& G() const { return G_; }
   /// Sensor model R, 5 x 3: g(mu) = R mu (eq. 3-1 ... 3-4): gyro row (0, 0, 1), wheel rows pinv(G), accelerometer rows zero.
   const SensorMatrix& R() const { return R_; }
-  /// Forward model K = dy/da, 2 x 5, one row per action (spec section 2; used by the action update, eq. 3-16).
+  /// Forward model K = dy/da, 2 x 5, one row per action (eq. 3-4; used by the action update, eq. 3-16).
   const ForwardMatrix& K() const { return K_; }
 
   /// Body twist (x_dot, y_dot, theta_dot) from wheel speeds (omega_L, omega_R) [rad/s] (eq. 3-1).

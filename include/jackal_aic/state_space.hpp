@@ -2,10 +2,10 @@
 /**
  * \file state_space.hpp
  * \brief Linear closed-loop model of the active inference controller for analysis
- *        (thesis ch. 4 and appendix A; spec section 7): beliefs + action + finite-difference
- *        generalizer + an optional first-order wheel-speed plant, discretized at the belief and
- *        the action rates (dual rate), with step response, spectral radius and stability scans.
- *        ROS-free.
+ *        (thesis ch. 4 and appendix A; doc/active_inference.md): beliefs + action +
+ *        finite-difference generalizer + an optional first-order wheel-speed plant,
+ *        discretized at the belief and the action rates (dual rate), with step response,
+ *        spectral radius and stability scans. ROS-free.
  */
 
 #include <string>
@@ -112,7 +112,8 @@ struct PredictedStep
 };
 
 /**
- * \brief Predicts the step response of v_x from 0 to `target` [m/s] and its metrics (spec sections 7, 9).
+ * \brief Predicts the step response of v_x from 0 to `target` [m/s] and its metrics
+ *        (thesis ch. 4, 5; doc/active_inference.md).
  * \param params    controller parameters (valid)
  * \param plant     plant in the loop
  * \param target    goal v_x after the step [m/s], finite (0 gives velocity_valid = false)

@@ -2,9 +2,9 @@
 /**
  * \file step_metrics.hpp
  * \brief Step-response metrics from a sampled time series with uneven stamps (thesis ch. 5;
- *        spec section 9): rise time 10-90 %, settling time +-5 %, overshoot, steady-state error.
- *        ROS-free. The one implementation used by the tests, the CLI `aic_step_metrics`
- *        and (through that CLI) the experiment scripts.
+ *        doc/active_inference.md): rise time 10-90 %, settling time +-5 %, overshoot,
+ *        steady-state error. ROS-free. The one implementation used by the tests, the CLI
+ *        `aic_step_metrics` and (through that CLI) the experiment scripts.
  */
 
 #include <string>
@@ -15,7 +15,7 @@ namespace jackal_aic
 /// What the settling band is a percentage of.
 enum class SettlingBandBasis
 {
-  kFinalValue,  ///< band = settling_band * |target| (spec section 9: "+-5 % of the final value"; default)
+  kFinalValue,  ///< band = settling_band * |target| (thesis ch. 5: "+-5 % of the final value"; default)
   kStepSize     ///< band = settling_band * |target - initial|
 };
 

@@ -28,7 +28,8 @@ constexpr int kYDim = 5;
 /// Action dimension: wheel speed commands (omega_L, omega_R) [rad/s].
 constexpr int kADim = 2;
 
-/// Indices into the sensor vector y (rows of y_tilde, eps_y, Pi_y and of R; spec section 1).
+/// Indices into the sensor vector y (rows of y_tilde, eps_y, Pi_y and of R;
+/// doc/active_inference.md, 'Signals and units').
 enum SensorIndex : int
 {
   kGyroZ = 0,       ///< IMU yaw rate [rad/s]

@@ -2,7 +2,7 @@
  * \file plant_calibrate.cpp
  * \brief plant_calibrate: run the stock controller on the ODE plant (faster than real
  *        time, no ROS) for velocity steps from rest and print settling and rise times
- *        beside the real Jackal's (thesis table 3-1b, shared/spec/jackal.md).
+ *        beside the real Jackal's (thesis table 3-1b, doc/jackal.md).
  *
  * What is compared and how (see jackal_sim/calibration.hpp): wheel-odometry body speed
  * r (omega_L + omega_R) / 2 from the 50 Hz joint states, as the robot's own estimate was;

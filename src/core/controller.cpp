@@ -1,6 +1,7 @@
 /**
  * \file controller.cpp
- * \brief Active inference controller (thesis eq. 3-6 ... 3-16; Pezzato et al. 2020; spec sections 4-5).
+ * \brief Active inference controller (thesis eq. 3-6 ... 3-16; Pezzato et al. 2020; doc/active_inference.md,
+ *        'Prediction errors and free energy' to 'Integrators').
  */
 #include "jackal_aic/controller.hpp"
 

@@ -1,6 +1,7 @@
 /**
  * \file params.cpp
- * \brief AicParams validation and precisions (spec sections 4 and 8).
+ * \brief AicParams validation and precisions (thesis tables C-1 and 5-8; doc/active_inference.md,
+ *        'Prediction errors and free energy' and 'Parameter sets of the thesis').
  */
 #include "jackal_aic/params.hpp"
 

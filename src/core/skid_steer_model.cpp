@@ -1,6 +1,7 @@
 /**
  * \file skid_steer_model.cpp
- * \brief G, R, K of the skid-steer generative model (thesis eq. 3-1 ... 3-4; spec section 2).
+ * \brief G, R, K of the skid-steer generative model (thesis eq. 3-1 ... 3-4;
+ *        doc/active_inference.md, 'Generative model of the sensory data').
  */
 #include "jackal_aic/skid_steer_model.hpp"
 

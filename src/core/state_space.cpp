@@ -1,6 +1,7 @@
 /**
  * \file state_space.cpp
- * \brief Dual-rate linear closed-loop model (thesis ch. 4, appendix A; spec section 7).
+ * \brief Dual-rate linear closed-loop model (thesis ch. 4, appendix A;
+ *        doc/active_inference.md, 'State-space model for analysis').
  */
 #include "jackal_aic/state_space.hpp"
 

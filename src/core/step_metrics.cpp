@@ -1,6 +1,7 @@
 /**
  * \file step_metrics.cpp
- * \brief Step-response metrics (thesis ch. 5; spec section 9).
+ * \brief Step-response metrics (thesis ch. 5; doc/active_inference.md,
+ *        'Step-response metrics and experiments').
  */
 #include "jackal_aic/step_metrics.hpp"
 

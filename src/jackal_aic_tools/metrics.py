@@ -1,7 +1,7 @@
 """Step metrics through the core's ``aic_step_metrics`` CLI (the one implementation of the
-metric definitions, spec section 9: rise 10-90 %, settling +-5 %, overshoot % of the step,
-steady-state error over the last 0.5 s). This module only prepares its input and parses
-its JSON output; it computes nothing itself.
+metric definitions of thesis ch. 5, doc/active_inference.md: rise 10-90 %, settling +-5 %,
+overshoot % of the step, steady-state error over the last 0.5 s). This module only prepares
+its input and parses its JSON output; it computes nothing itself.
 """
 import json
 import math

@@ -2,7 +2,8 @@
 
 A profile maps profile time t [s] (0 = start of the profile) to a desired body twist
 (linear.x [m/s], angular.z [rad/s]) and lists its transitions ("segments"), each of which
-is analysed as one step response (spec section 9; thesis ch. 5 experiments).
+is analysed as one step response (thesis ch. 5 experiments; doc/active_inference.md,
+'Step-response metrics and experiments').
 """
 import csv
 import math

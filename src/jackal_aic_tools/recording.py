@@ -1,6 +1,6 @@
 """Recording of an experiment's streams and the stability monitor.
 
-Streams (topic contract in COMMON.md / design.md), each kept as a list of
+Streams (topics as in README.md, 'Topics', and doc/jackal_aic_node.md), each kept as a list of
 (stamp [s], a, b):
   set point  /jackal_AIC/set_point  geometry_msgs/Twist     (publication time, vx, wz)
   measured   /odom                  nav_msgs/Odometry       (header stamp, twist.linear.x, twist.angular.z; base_link)
@@ -72,7 +72,8 @@ class Recorder(object):
 
 def drive_equivalent(drive, wheel_radius, wheel_separation):
     """Drive commands (n,3: stamp, left, right [rad/s]) as the body twist they ask for
-    (n,3: stamp, vx [m/s], wz [rad/s]) with the kinematics of spec section 2."""
+    (n,3: stamp, vx [m/s], wz [rad/s]) with the kinematics G of thesis eq. 3-1
+    (doc/active_inference.md)."""
     out = np.empty_like(drive)
     out[:, 0] = drive[:, 0]
     out[:, 1] = wheel_radius * 0.5 * (drive[:, 1] + drive[:, 2])

@@ -1,7 +1,8 @@
 /**
  * \file aic_analyze.cpp
  * \brief CLI: linear analysis of an active inference controller configuration (thesis ch. 4,
- *        appendix A; spec section 7) on top of jackal_aic::ClosedLoopModel.
+ *        appendix A; doc/active_inference.md, 'State-space model for analysis') on top of
+ *        jackal_aic::ClosedLoopModel.
  *
  * Reads the same YAML parameter files as the jackal_AIC node (node-only keys are ignored,
  * unknown keys are warned about) and prints, per belief rate and integrator: the spectral radius
@@ -415,8 +416,8 @@ int main(int argc, char** argv)
             << params.action_rate << " Hz, file integrator " << toString(params.integrator) << "\n"
             << "  plant: " << plant_text << "; step of v_x 0 -> " << target << " m/s over " << duration << " s\n";
   {
-    // Belief stiffness (spec section 10): Euler is stable only while h * |lambda| < 2 for the fastest
-    // (real) mode of the continuous belief dynamics.
+    // Belief stiffness (doc/active_inference.md, 'Analysis notes'): Euler is stable only while
+    // h * |lambda| < 2 for the fastest (real) mode of the continuous belief dynamics.
     const ClosedLoopModel m(params, plant);
     const Eigen::EigenSolver<Eigen::MatrixXd> es(m.M(), false);
     const double lambda_max = es.eigenvalues().cwiseAbs().maxCoeff();
@@ -459,7 +460,7 @@ int main(int argc, char** argv)
   {
     std::cout << "note: with the point plant, y^(1) (finite differences of the wheel speeds = of a) feeds back into\n"
                  "      da/dt as a sampled derivative; it is unstable once k_a / var_y[1] exceeds ~1. A lagging wheel\n"
-                 "      loop changes that: try --plant-time-constant 0.05 (the Jackal's small-step response, jackal.md).\n";
+                 "      loop changes that: try --plant-time-constant 0.05 (the Jackal's small-step response, doc/jackal.md).\n";
   }
   return 0;
 }

@@ -1,4 +1,4 @@
-/// Google Benchmark of the controller's update path (issue 2 targets: updateBeliefs at p = 3
+/// Google Benchmark of the controller's update path (targets: updateBeliefs at p = 3
 /// under 1 us, updateAction under 0.5 us). Built with the tests, not run as a test:
 ///   .ws/devel/lib/jackal_aic/bench_controller
 #include <benchmark/benchmark.h>

@@ -3,7 +3,7 @@
 
 With config/thesis_improved.yaml (tau = 0.001 s, forward Euler at 1 kHz) the printed
 belief update is unstable (order-0 gain k_mu Pi_mu / tau^2 ~ 6.7e3 1/s, h * gain ~ 6.7 > 2,
-spec/active_inference.md section 10): the node must catch every divergence.
+doc/active_inference.md, 'Analysis notes'): the node must catch every divergence.
 
 Parameters (~): duration [s] (recorded /cmd_drive span), max_wheel_speed [rad/s],
 min_runaways (least "runaway resets" reported in diagnostics).

@@ -460,8 +460,8 @@ TEST(StockController, LimitsAccelerationVelocityAndTimesOut)
 }
 
 // ---------------------------------------------------------------- calibration
-/// The committed plant.yaml reproduces the robot's stock step responses (issue 4's
-/// acceptance: 0.5 and 1.0 m/s within 25 %, 0.1 m/s within 50 %, rise grows with the step).
+/// The committed plant.yaml reproduces the robot's stock step responses (the
+/// calibration band of sim/README.md: 0.5 and 1.0 m/s within 25 %, 0.1 m/s within 50 %, rise grows with the step).
 TEST(Calibration, StockStepsMatchTheRobotTable)
 {
   const RobotDescription d = loadRobotDescription(kUrdf);

@@ -1,4 +1,4 @@
-/// Tests of ActiveInferenceController (thesis eq. 3-6 ... 3-16; spec sections 4-5).
+/// Tests of ActiveInferenceController (thesis eq. 3-6 ... 3-16; doc/active_inference.md).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -128,7 +128,7 @@ TEST(Controller, ConvergesWithPerfectPlantEuler)
 TEST(Controller, RunawayIsDetectedAndReset)
 {
   AicParams p = thesisStandard();
-  p.tau = 0.001;  // Euler-unstable at 50 Hz (spec section 10)
+  p.tau = 0.001;  // Euler-unstable at 50 Hz (doc/active_inference.md, 'Analysis notes')
   p.runaway_limit = 100.0;
   ActiveInferenceController c{ p };
   c.setGoal(Vector3(1.0, 0.0, 0.0));

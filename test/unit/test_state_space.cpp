@@ -119,7 +119,7 @@ PlantModel lagPlant()
 }
 }  // namespace
 
-TEST(StateSpace, StabilityAgreesWithSpecSection10)
+TEST(StateSpace, StabilityAgreesWithBeliefStiffness)
 {
   // tau = 0.001, k_mu = 0.01, var_mu0 = 1.5: belief gain ~ 6.7e3 1/s, Euler needs h * gain < 2.
   AicParams p;  // improved set: 1 kHz beliefs, 50 Hz action

@@ -45,7 +45,7 @@ const std::string kMetrics = AIC_STEP_METRICS_BIN;
 const std::string kData = TEST_DATA_DIR;
 }  // namespace
 
-TEST(AicAnalyze, ThesisSetsShowSpecSection10)
+TEST(AicAnalyze, ThesisSetsShowBeliefStiffness)
 {
   const Result r = run(kAnalyze + " " + kData + "/thesis_improved.yaml --csv --rates 1000 --no-scan"
                                    " --plant-time-constant 0.15");

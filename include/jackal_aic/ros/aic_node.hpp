@@ -3,7 +3,7 @@
  * \file aic_node.hpp
  * \brief The jackal_AIC node: runs the ActiveInferenceController on ROS timers.
  *
- * Topics (see design.md, "The node's ROS interface"):
+ * Topics (see doc/jackal_aic_node.md, "Topics"):
  *   in:  /joint_states (sensor_msgs/JointState), /imu/data (sensor_msgs/Imu),
  *        ~set_point (geometry_msgs/Twist: linear.x [m/s], angular.z [rad/s])
  *   out: /cmd_drive (jackal_msgs/Drive, MODE_VELOCITY, drivers [rad/s]) every action tick;

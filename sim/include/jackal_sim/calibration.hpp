@@ -2,7 +2,7 @@
 /**
  * \file calibration.hpp
  * \brief Step responses of the stock controller on the plant, compared with the real
- *        Jackal's (thesis table 3-1b, shared/spec/jackal.md). ROS-free; used by the
+ *        Jackal's (thesis table 3-1b, doc/jackal.md). ROS-free; used by the
  *        plant_calibrate tool and by the calibration gtest.
  *
  * What is compared: the robot's table was measured from the robot's own velocity estimate,
@@ -25,7 +25,7 @@ namespace jackal_aic
 {
 namespace sim
 {
-/// One row of the robot's table, with the acceptance band of issue 4.
+/// One row of the robot's table, with its acceptance band (sim/README.md, 'Calibration').
 struct RobotStepReference
 {
   double step;       ///< set-point step from rest [m/s]
@@ -81,7 +81,7 @@ constexpr double kRobotWheelSeparation = 0.5621;
 /// Accepted relative error of the plant's effective wheel separation [-].
 constexpr double kSeparationTolerance = 0.10;
 /// Accepted relative error of the ground-truth speed against r omega when driving
-/// straight [-] (issue 4: r omega within 5 %).
+/// straight [-] (sim/README.md, 'Calibration': r omega within 5 %).
 constexpr double kStraightSpeedTolerance = 0.05;
 
 /// What drives the plant in a steady run.
