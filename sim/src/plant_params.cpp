@@ -203,6 +203,14 @@ std::vector<std::string> MotorParams::validate() const
   check(&e, speed_ki >= 0.0, "motor.speed_ki", speed_ki, ">= 0 N m/rad");
   check(&e, speed_kp > 0.0 || speed_ki > 0.0, "motor.speed_kp", speed_kp, "speed_kp or speed_ki > 0");
   check(&e, max_torque > 0.0, "motor.max_torque", max_torque, "> 0 N m");
+  check(&e, integral_limit >= 0.0, "motor.integral_limit", integral_limit, ">= 0 N m (0 = max_torque)");
+  check(&e, integral_error_limit >= 0.0, "motor.integral_error_limit", integral_error_limit,
+        ">= 0 rad/s (0 = none)");
+  check(&e, proportional_limit >= 0.0, "motor.proportional_limit", proportional_limit, ">= 0 N m (0 = none)");
+  check(&e, setpoint_feedforward >= 0.0 && setpoint_feedforward <= 100.0, "motor.setpoint_feedforward",
+        setpoint_feedforward, "[0, 100] N m s/rad (0 = off)");
+  check(&e, accel_feedforward >= 0.0 && accel_feedforward <= 10.0, "motor.accel_feedforward", accel_feedforward,
+        "[0, 10] N m s^2/rad (0 = off)");
   check(&e, stall_torque >= 0.0, "motor.stall_torque", stall_torque, ">= 0 N m (0 = no voltage limit)");
   check(&e, stall_torque == 0.0 || no_load_speed > 0.0, "motor.no_load_speed", no_load_speed,
         "> 0 rad/s when stall_torque > 0");
@@ -350,6 +358,11 @@ PlantParams parsePlantParams(const std::string& yaml, const std::string& source,
     s.get("speed_kp", &m.speed_kp);
     s.get("speed_ki", &m.speed_ki);
     s.get("max_torque", &m.max_torque);
+    s.get("integral_limit", &m.integral_limit);
+    s.get("accel_feedforward", &m.accel_feedforward);
+    s.get("proportional_limit", &m.proportional_limit);
+    s.get("integral_error_limit", &m.integral_error_limit);
+    s.get("setpoint_feedforward", &m.setpoint_feedforward);
     s.get("stall_torque", &m.stall_torque);
     s.get("no_load_speed", &m.no_load_speed);
     s.get("setpoint_slew_rate", &m.setpoint_slew_rate);

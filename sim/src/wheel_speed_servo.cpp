@@ -20,6 +20,9 @@ void WheelSpeedServo::reset()
   filtered_setpoint_ = 0.0;
   integral_ = 0.0;
   torque_ = 0.0;
+  last_command_time_ = 0.0;
+  setpoint_rate_ = 0.0;
+  feedforward_ = 0.0;
 }
 
 void WheelSpeedServo::setSetpoint(double setpoint, double t)
@@ -65,11 +68,24 @@ double WheelSpeedServo::update(double measured_speed, double t)
       ramped_setpoint_ = measured_speed;
       integral_ = 0.0;
     }
+    // Set-point rate for the feedforward: difference of consecutive commands over their interval
+    // (a first command after release, or a release, has none).
+    if (c.enabled && enabled_)
+    {
+      const double interval = std::max(c.time - last_command_time_, step_);
+      setpoint_rate_ = (c.setpoint - setpoint_) / interval;
+    }
+    else
+    {
+      setpoint_rate_ = 0.0;
+    }
+    last_command_time_ = c.time;
     enabled_ = c.enabled;
     setpoint_ = c.setpoint;
   }
   if (!enabled_)
   {
+    feedforward_ = 0.0;
     integral_ = 0.0;
     filtered_setpoint_ = measured_speed;
     ramped_setpoint_ = measured_speed;
@@ -96,15 +112,25 @@ double WheelSpeedServo::update(double measured_speed, double t)
   }
   const double error = filtered_setpoint_ - measured_speed;
   const auto [lo, hi] = torqueLimits(measured_speed);
-  const double unsat = params_.speed_kp * error + integral_ + params_.speed_ki * error * step_;
+  feedforward_ = params_.accel_feedforward * setpoint_rate_ + params_.setpoint_feedforward * error;
+  double proportional = params_.speed_kp * error;
+  if (params_.proportional_limit > 0.0)
+  {
+    proportional = std::clamp(proportional, -params_.proportional_limit, params_.proportional_limit);
+  }
+  const double integrated_error = params_.integral_error_limit > 0.0 ?
+                                      std::clamp(error, -params_.integral_error_limit, params_.integral_error_limit) :
+                                      error;
+  const double unsat = proportional + integral_ + params_.speed_ki * integrated_error * step_ + feedforward_;
   const double out = std::clamp(unsat, std::min(lo, hi), std::max(lo, hi));
   // Conditional integration: hold the integrator while saturated in the error's direction.
   const bool saturated_up = unsat > out && error > 0.0;
   const bool saturated_down = unsat < out && error < 0.0;
   if (!saturated_up && !saturated_down)
   {
-    integral_ += params_.speed_ki * error * step_;
-    integral_ = std::clamp(integral_, -params_.max_torque, params_.max_torque);
+    integral_ += params_.speed_ki * integrated_error * step_;
+    const double limit = params_.integral_limit > 0.0 ? params_.integral_limit : params_.max_torque;
+    integral_ = std::clamp(integral_, -limit, limit);
   }
   torque_ = std::isfinite(out) ? out : 0.0;
   return torque_;

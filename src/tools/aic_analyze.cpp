@@ -26,6 +26,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "jackal_aic/params.hpp"
+#include "jackal_aic/params_yaml.hpp"
 #include "jackal_aic/state_space.hpp"
 
 using namespace jackal_aic;
@@ -77,68 +78,6 @@ bool parseDouble(const std::string& s, double* out)
   char* end = nullptr;
   *out = std::strtod(s.c_str(), &end);
   return *end == '\0' && std::isfinite(*out);
-}
-
-/// Reads the controller keys of a node YAML file into params. Throws std::runtime_error with the key on type errors.
-AicParams loadParams(const YAML::Node& root, const std::string& file, std::vector<std::string>* defaulted)
-{
-  // Keys of the node's private namespace that are not controller parameters (NodeParams; diagnostic_updater).
-  static const std::set<std::string> kNodeOnly{ "sensor_timeout",    "set_point_timeout", "imu_max_skew",
-                                                "min_sample_interval", "max_linear_speed",  "max_angular_speed",
-                                                "runaway_hold_time", "left_joints",       "right_joints",
-                                                "diagnostic_period" };
-  AicParams p;
-  std::set<std::string> seen;
-  // Reads `key` into *out if present (otherwise the key is recorded as defaulted and false returned);
-  // a value that is not a T throws "<file>: key '<key>' must be <expected>".
-  auto get = [&](const char* key, auto* out, const char* expected) {
-    seen.insert(key);
-    const YAML::Node n = root[key];
-    if (!n)
-    {
-      defaulted->push_back(key);
-      return false;
-    }
-    try
-    {
-      *out = n.as<std::remove_pointer_t<decltype(out)>>();
-    }
-    catch (const YAML::Exception&)
-    {
-      throw std::runtime_error(file + ": key '" + key + "' must be " + expected);
-    }
-    return true;
-  };
-  const char* const number = "a number";
-  get("belief_rate", &p.belief_rate, number);
-  get("action_rate", &p.action_rate, number);
-  get("tau", &p.tau, number);
-  get("k_mu", &p.k_mu, number);
-  get("k_a", &p.k_a, number);
-  get("embedding_order", &p.embedding_order, "an integer");
-  get("var_mu", &p.var_mu, "a list of numbers");
-  get("var_y", &p.var_y, "a list of numbers");
-  get("wheel_radius", &p.wheel_radius, number);
-  get("slip_factor", &p.slip_factor, number);
-  get("wheel_separation", &p.wheel_separation, number);
-  get("max_wheel_speed", &p.max_wheel_speed, number);
-  get("runaway_limit", &p.runaway_limit, number);
-  get("max_action_lead", &p.max_action_lead, number);
-  get("accel_in_model", &p.accel_in_model, "true or false");
-  std::string name;
-  if (get("integrator", &name, "a string") && !integratorFromString(name, &p.integrator))
-  {
-    throw std::runtime_error(file + ": integrator '" + name + "' (allowed: euler, exact)");
-  }
-  for (const auto& kv : root)
-  {
-    const std::string key = kv.first.as<std::string>();
-    if (!seen.count(key) && !kNodeOnly.count(key))
-    {
-      std::cerr << "aic_analyze: warning: " << file << ": unknown key '" << key << "' ignored\n";
-    }
-  }
-  return p;
 }
 
 std::string fmt(double v, int precision = 4)
@@ -333,7 +272,12 @@ int main(int argc, char** argv)
     {
       root[kv.first] = YAML::Load(kv.second);
     }
-    params = loadParams(root, file, &defaulted);
+    std::vector<std::string> unknown;
+    params = aicParamsFromYaml(root, file, &defaulted, &unknown);
+    for (const auto& key : unknown)
+    {
+      std::cerr << "aic_analyze: warning: " << file << ": unknown key '" << key << "' ignored\n";
+    }
   }
   catch (const YAML::BadFile&)
   {

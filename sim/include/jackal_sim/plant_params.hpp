@@ -89,15 +89,37 @@ struct ContactParams
  */
 struct MotorParams
 {
-  double speed_kp = 7.0;              ///< proportional gain [N m / (rad/s)], >= 0
-  double speed_ki = 60.0;             ///< integral gain [N m / rad], >= 0
+  double speed_kp = 15.09;              ///< proportional gain [N m / (rad/s)], >= 0
+  double speed_ki = 1.004;             ///< integral gain [N m / rad], >= 0
   double max_torque = 4.0;            ///< current (torque) limit of one side, at the wheels [N m], > 0
+  /// Clamp of the PI integrator [N m], >= 0; 0 = max_torque. Below max_torque the integral path alone
+  /// cannot drive the motor to its limit: on a large error the torque is integral_limit + speed_kp * error,
+  /// so a set point further ahead of the wheels accelerates them faster.
+  double integral_limit = 0.0;
+  /// Clamp of the proportional path Kp * e [N m], >= 0; 0 = none. The high-gain proportional path
+  /// makes small steps fast and well damped but cannot, on its own, push a large error harder than this.
+  double proportional_limit = 0.9751;
+  /// Clamp of the error the integrator integrates [rad/s], >= 0; 0 = none: dI/dt = speed_ki * clamp(e,
+  /// +-integral_error_limit). The integral path then grows at a bounded rate whatever the error: it
+  /// builds the large steady torques of a turn in place within a second or two, yet adds little during
+  /// the short large-error transient of a straight step.
+  double integral_error_limit = 0.6699;
+  /// Voltage (speed) feedforward [N m / (rad/s)], >= 0; 0 = off. Driving the motor at the set point's
+  /// no-load voltage makes the back-EMF give a torque of this gain times (set point - wheel speed)
+  /// (ideally stall_torque / no_load_speed), outside the PI's limits: a set point further ahead of the
+  /// wheels accelerates them harder.
+  double setpoint_feedforward = 0.03119;
+  /// Acceleration feedforward of the set point [N m s^2/rad] (an inertia, kg m^2), >= 0; 0 = off.
+  /// The MCU adds accel_feedforward * (rate of change of the received set point) to the PI torque,
+  /// the rate estimated from consecutive received commands and held until the next one: a ramping
+  /// command (the AIC's) gets a sustained torque, a step (the stock controller's) one period's kick.
+  double accel_feedforward = 0.0779;
   double stall_torque = 6.0;          ///< voltage limit: stall torque of one side [N m]; 0 = no voltage limit
   double no_load_speed = 26.0;        ///< voltage limit: no-load wheel speed [rad/s], > 0 if stall_torque > 0
-  double setpoint_slew_rate = 14.0;    ///< MCU ramp of the speed set point [rad/s^2]; 0 = none
-  double setpoint_time_constant = 0.0;  ///< first-order lag on the set point inside the MCU [s], >= 0
-  double command_delay = 0.1;          ///< transport delay /cmd_drive -> MCU [s], [0, 0.5]
-  double coulomb_friction = 0.27;      ///< drivetrain Coulomb friction per wheel [N m], >= 0
+  double setpoint_slew_rate = 0.0;    ///< MCU ramp of the speed set point [rad/s^2]; 0 = none
+  double setpoint_time_constant = 0.006778;  ///< first-order lag on the set point inside the MCU [s], >= 0
+  double command_delay = 0.1174;          ///< transport delay /cmd_drive -> MCU [s], [0, 0.5]
+  double coulomb_friction = 0.1106;      ///< drivetrain Coulomb friction per wheel [N m], >= 0
   double viscous_friction = 0.01;      ///< drivetrain viscous friction per wheel [N m / (rad/s)], >= 0
   double coupling_damping = 1.0;      ///< front-rear drivetrain coupling on a side [N m / (rad/s)], >= 0
   double max_wheel_speed = 25.0;      ///< set points are clamped to +-this [rad/s], > 0

@@ -8,8 +8,14 @@
  * motor's torque at speed w can lie only between -T_s (1 + w / w_0) and T_s (1 - w / w_0)
  * (stall torque T_s, no-load speed w_0). An optional first-order lag on the set point and a
  * transport delay model the command path. Anti-windup: the integrator does not grow while
- * the output is saturated in the direction of the error. Set-point path: transport delay,
- * then slew-rate limit (ramp), then first-order lag, each optional.
+ * the output is saturated in the direction of the error; the integrator is clamped to
+ * +-integral_limit. Acceleration feedforward: the rate of change of the received set point,
+ * estimated from consecutive commands (difference over their interval, held until the next
+ * command), times accel_feedforward, is added to the PI torque before the limits.
+ * Set-point path: transport delay, then slew-rate limit (ramp), then first-order lag, each
+ * optional. Torque = clamp(sat(Kp e) + I + K_v e + J_ff * rate, limits) with e = filtered set
+ * point - measured speed, sat() the optional proportional_limit, K_v the voltage (set-point)
+ * feedforward's back-EMF gain (setpoint_feedforward).
  */
 
 #include <deque>
@@ -51,6 +57,8 @@ public:
   bool enabled() const { return enabled_; }
   /// Last torque output [N m].
   double torque() const { return torque_; }
+  /// Acceleration feedforward part of the last torque, before the limits [N m].
+  double feedforward() const { return feedforward_; }
   /// Clear all state (released, zero set point, empty delay line).
   void reset();
 
@@ -70,6 +78,9 @@ private:
   double ramped_setpoint_ = 0.0;
   double filtered_setpoint_ = 0.0;
   double integral_ = 0.0;  ///< integrator state [N m]
+  double last_command_time_ = 0.0;  ///< when the last received set point took effect [s]
+  double setpoint_rate_ = 0.0;      ///< rate of change of the received set point [rad/s^2], held
+  double feedforward_ = 0.0;        ///< last feedforward torque [N m]
   double torque_ = 0.0;
 };
 

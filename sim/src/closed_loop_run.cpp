@@ -1,0 +1,299 @@
+/**
+ * \file closed_loop_run.cpp
+ * \brief closed_loop_run: one set-point profile with the stock controller or the AIC on the
+ *        ODE plant core, headless and faster than real time (jackal_sim/closed_loop.hpp: the
+ *        node's scheduling on simulated time). Prints one JSON object with the metrics of
+ *        every transition of the profile for the measured (wheel-odometry), ground-truth,
+ *        belief and drive-command speeds; optionally the trace as CSV. The experiment engine
+ *        of aic_reproduce.py (--backend core); the ROS backend runs the nodes instead.
+ *
+ * Usage: closed_loop_run --controller aic|stock [--aic-config FILE] [--aic-set key=value]...
+ *            [--config PLANT.yaml] [--set key=value]... [--urdf FILE]
+ *            (--step V | --square LOW HIGH) [--period S] [--cycles N] [--rest S] [--hold S]
+ *            [--noise] [--csv FILE]
+ *   --step V          0 until --rest, then V [m/s] for --hold seconds
+ *   --square LOW HIGH 0 until --rest, LOW for --rest seconds (lead-in), then --cycles periods of
+ *                     HIGH / LOW, each half --period / 2
+ *   --noise           keep the plant YAML's sensor noise (default: ideal sensors, reproducible)
+ * JSON: {"runaways", "max_abs_speed", "segments": [{"t_step", "initial", "target", "measured": {...},
+ *        "truth": {...}, "belief": {...}, "drive": {...}}]} with rise, settling, overshoot, sse, settled.
+ * Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.
+ */
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "jackal_aic/params_yaml.hpp"
+#include "jackal_aic/step_metrics.hpp"
+#include "jackal_sim/closed_loop.hpp"
+#include "jackal_sim/plant_params.hpp"
+#include "jackal_sim/robot_description.hpp"
+
+#ifndef JACKAL_SIM_SOURCE_DIR
+#define JACKAL_SIM_SOURCE_DIR "."
+#endif
+
+using namespace jackal_aic;
+using namespace jackal_aic::sim;
+
+namespace
+{
+const char* kUsage =
+    "usage: closed_loop_run --controller aic|stock [--aic-config FILE] [--aic-set key=value]...\n"
+    "           [--config PLANT.yaml] [--set key=value]... [--urdf FILE]\n"
+    "           (--step V | --square LOW HIGH) [--period S] [--cycles N] [--rest S] [--hold S]\n"
+    "           [--noise] [--csv FILE]\n";
+
+[[noreturn]] void usageError(const std::string& msg)
+{
+  std::cerr << "closed_loop_run: " << msg << "\n" << kUsage;
+  std::exit(2);
+}
+
+double number(const std::string& s, const char* what)
+{
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (s.empty() || *end != '\0' || !std::isfinite(v))
+  {
+    usageError(std::string(what) + ": '" + s + "' is not a number");
+  }
+  return v;
+}
+
+std::string num(double v)
+{
+  if (!std::isfinite(v))
+  {
+    return "null";
+  }
+  std::ostringstream os;
+  os.precision(6);
+  os << v;
+  return os.str();
+}
+
+std::string metricsJson(const std::vector<double>& t, const std::vector<double>& y, double t_step, double t_end,
+                        double initial, double target)
+{
+  StepMetricsOptions o;
+  o.step_time = t_step;
+  o.end_time = t_end;
+  o.initial = initial;
+  o.target = target;
+  std::vector<double> tt;
+  std::vector<double> yy;
+  for (std::size_t i = 0; i < t.size(); ++i)
+  {
+    if (std::isfinite(y[i]))
+    {
+      tt.push_back(t[i]);
+      yy.push_back(y[i]);
+    }
+  }
+  if (tt.size() < 2)
+  {
+    return "null";
+  }
+  const StepMetrics m = computeStepMetrics(tt, yy, o);
+  std::ostringstream os;
+  os << "{\"rise\": " << num(m.rise_time) << ", \"settling\": " << num(m.settling_time)
+     << ", \"overshoot\": " << num(m.overshoot_percent) << ", \"sse\": " << num(m.steady_state_error)
+     << ", \"settled\": " << (m.settled ? "true" : "false") << "}";
+  return os.str();
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  const std::string root = JACKAL_SIM_SOURCE_DIR;
+  std::string urdf = root + "/sim/urdf/jackal.urdf";
+  std::string config = root + "/sim/config/plant.yaml";
+  std::string aic_config = root + "/config/thesis_equivalent.yaml";
+  std::vector<std::string> overrides;
+  std::vector<std::string> aic_overrides;
+  std::string controller;
+  std::string csv;
+  bool have_step = false;
+  bool have_square = false;
+  double step = 0.0;
+  double low = 0.0;
+  double high = 0.0;
+  double period = 4.0;
+  int cycles = 2;
+  double rest = 1.0;
+  double hold = 3.0;
+  bool noise = false;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc)
+      {
+        usageError(a + " needs a value");
+      }
+      return argv[++i];
+    };
+    if (a == "--controller")
+      controller = next();
+    else if (a == "--aic-config")
+      aic_config = next();
+    else if (a == "--aic-set")
+      aic_overrides.push_back(next());
+    else if (a == "--config")
+      config = next();
+    else if (a == "--set")
+      overrides.push_back(next());
+    else if (a == "--urdf")
+      urdf = next();
+    else if (a == "--step")
+    {
+      step = number(next(), "--step");
+      have_step = true;
+    }
+    else if (a == "--square")
+    {
+      low = number(next(), "--square LOW");
+      high = number(next(), "--square HIGH");
+      have_square = true;
+    }
+    else if (a == "--period")
+      period = number(next(), "--period");
+    else if (a == "--cycles")
+      cycles = static_cast<int>(number(next(), "--cycles"));
+    else if (a == "--rest")
+      rest = number(next(), "--rest");
+    else if (a == "--hold")
+      hold = number(next(), "--hold");
+    else if (a == "--noise")
+      noise = true;
+    else if (a == "--csv")
+      csv = next();
+    else if (a == "--help" || a == "-h")
+    {
+      std::cout << kUsage;
+      return 0;
+    }
+    else
+      usageError("unknown argument '" + a + "'");
+  }
+  if (controller != "aic" && controller != "stock")
+  {
+    usageError("--controller must be aic or stock");
+  }
+  if (have_step == have_square)
+  {
+    usageError("give exactly one of --step and --square");
+  }
+  if (!(rest > 0.2) || !(hold > 0.0) || !(period > 0.0) || cycles < 1 || cycles > 100)
+  {
+    usageError("--rest must be > 0.2 s, --hold and --period > 0, --cycles in [1, 100]");
+  }
+
+  ClosedLoopConfig c;
+  c.controller = controller == "aic" ? LoopController::kAic : LoopController::kStock;
+  c.ideal_sensors = !noise;
+  // Set-point changes 10 ms after a 50 Hz tick, as the identification runs.
+  const double t0 = rest + 0.01;
+  if (have_step)
+  {
+    c.profile = stepProfile(t0, step);
+    c.duration = t0 + hold;
+  }
+  else
+  {
+    c.profile.push_back({ 0.0, 0.0, 0.0 });
+    c.profile.push_back({ t0, low, 0.0 });
+    double t = t0 + rest;
+    for (int k = 0; k < cycles; ++k)
+    {
+      c.profile.push_back({ t, high, 0.0 });
+      c.profile.push_back({ t + 0.5 * period, low, 0.0 });
+      t += period;
+    }
+    c.duration = t;
+  }
+
+  RobotDescription desc;
+  PlantParams params;
+  try
+  {
+    desc = loadRobotDescription(urdf);
+    params = loadPlantParams(config, overrides);
+    if (c.controller == LoopController::kAic)
+    {
+      c.aic = loadAicParams(aic_config, aic_overrides);
+    }
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "closed_loop_run: " << e.what() << "\n";
+    return 1;
+  }
+  ClosedLoopRecord rec;
+  try
+  {
+    rec = runClosedLoop(desc, params, c);
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "closed_loop_run: " << e.what() << "\n";
+    return 1;
+  }
+
+  if (!csv.empty())
+  {
+    std::ofstream f(csv);
+    f << "t,set_point,v_odom,v_true,yaw_odom,yaw_true,command,belief\n";
+    for (std::size_t k = 0; k < rec.time.size(); ++k)
+    {
+      f << rec.time[k] - t0 << "," << rec.set_point[k] << "," << rec.v_odom[k] << "," << rec.v_true[k] << ","
+        << rec.yaw_odom[k] << "," << rec.yaw_true[k] << "," << rec.command[k] << ","
+        << (std::isfinite(rec.belief[k]) ? num(rec.belief[k]) : "") << "\n";
+    }
+    if (!f)
+    {
+      std::cerr << "closed_loop_run: cannot write " << csv << "\n";
+      return 1;
+    }
+  }
+
+  double max_abs = 0.0;
+  for (double v : rec.v_true)
+  {
+    max_abs = std::max(max_abs, std::abs(v));
+  }
+  std::cout << "{\"controller\": \"" << controller << "\", \"runaways\": " << rec.runaways
+            << ", \"max_abs_speed\": " << num(max_abs) << ", \"t0\": " << num(t0) << ", \"segments\": [";
+  bool first = true;
+  for (std::size_t s = 1; s < c.profile.size(); ++s)
+  {
+    const double t_step = c.profile[s].start;
+    if (t_step < t0 - 1e-9)
+    {
+      continue;
+    }
+    const double t_end = s + 1 < c.profile.size() ? c.profile[s + 1].start : c.duration;
+    const double initial = c.profile[s - 1].linear;
+    const double target = c.profile[s].linear;
+    if (initial == target)
+    {
+      continue;
+    }
+    std::cout << (first ? "" : ", ") << "{\"t_step\": " << num(t_step - t0) << ", \"initial\": " << num(initial)
+              << ", \"target\": " << num(target)
+              << ", \"measured\": " << metricsJson(rec.time, rec.v_odom, t_step, t_end, initial, target)
+              << ", \"truth\": " << metricsJson(rec.time, rec.v_true, t_step, t_end, initial, target)
+              << ", \"belief\": " << metricsJson(rec.time, rec.belief, t_step, t_end, initial, target)
+              << ", \"drive\": " << metricsJson(rec.time, rec.command, t_step, t_end, initial, target) << "}";
+    first = false;
+  }
+  std::cout << "]}\n";
+  return 0;
+}

@@ -1,0 +1,275 @@
+/**
+ * \file plant_fit.cpp
+ * \brief plant_fit: run every robot step response of sim/config/robot_steps.yaml (thesis
+ *        tables 3-1b stock controller, 3-1a / 5-1 / 5-2 active inference controller) on the
+ *        ODE plant, headless and faster than real time, and print the fit table: simulated
+ *        settling and rise time beside the robot's, the error of each entry, each table's
+ *        mean error and acceptance, and the identification cost.
+ *
+ * The AIC rows run the thesis-equivalent controller (config/thesis_equivalent.yaml) at each
+ * row's belief and action rates, scheduled as the jackal_AIC node (jackal_sim/closed_loop.hpp).
+ * The plant's speed is measured from wheel odometry, as the robot's was.
+ * Acceptance (doc/robot_data.md): stock entries within +-20 % (0.5, 1.0 m/s) and +-50 % (0.1 m/s);
+ * each AIC table within 25 % mean |error|; and the steady checks (turning in place at -10/+10 rad/s
+ * the servo holds the wheel speeds; the stock controller reaches the 2.0 m/s top speed), whose
+ * misses are added to the cost.
+ *
+ * Usage: plant_fit [--urdf FILE] [--config PLANT.yaml] [--set key=value]... [--aic-config FILE]
+ *                  [--data FILE] [--tables ID,ID,...] [--json] [--check]
+ * --json prints one JSON object (entries, tables, cost) instead of the table: the interface
+ * of scripts/plant_identify.py. --check exits 1 unless every table is accepted.
+ * Exit 2 on bad arguments, 1 on unreadable or invalid files.
+ */
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "jackal_aic/params_yaml.hpp"
+#include "jackal_sim/identification.hpp"
+#include "jackal_sim/plant_params.hpp"
+#include "jackal_sim/robot_description.hpp"
+
+#ifndef JACKAL_SIM_SOURCE_DIR
+#define JACKAL_SIM_SOURCE_DIR "."
+#endif
+
+using namespace jackal_aic;
+using namespace jackal_aic::sim;
+
+namespace
+{
+const char* kUsage =
+    "usage: plant_fit [--urdf FILE] [--config PLANT.yaml] [--set key=value]... [--aic-config FILE]\n"
+    "                 [--data FILE] [--tables ID,ID,...] [--json] [--check]\n";
+
+std::string jsonNumber(double v)
+{
+  if (!std::isfinite(v))
+  {
+    return "null";
+  }
+  std::ostringstream os;
+  os.precision(6);
+  os << v;
+  return os.str();
+}
+
+std::string fmtTime(double v)
+{
+  char buf[32];
+  if (std::isfinite(v))
+    std::snprintf(buf, sizeof(buf), "%.3f", v);
+  else
+    std::snprintf(buf, sizeof(buf), "   --");
+  return buf;
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  const std::string root = JACKAL_SIM_SOURCE_DIR;
+  std::string urdf = root + "/sim/urdf/jackal.urdf";
+  std::string config = root + "/sim/config/plant.yaml";
+  std::string aic_config = root + "/config/thesis_equivalent.yaml";
+  std::string data = root + "/sim/config/robot_steps.yaml";
+  std::vector<std::string> overrides;
+  std::set<std::string> only;
+  bool json = false;
+  bool check = false;
+  for (int i = 1; i < argc; ++i)
+  {
+    const std::string a = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc)
+      {
+        std::cerr << kUsage;
+        std::exit(2);
+      }
+      return argv[++i];
+    };
+    if (a == "--urdf")
+      urdf = next();
+    else if (a == "--config")
+      config = next();
+    else if (a == "--set")
+      overrides.push_back(next());
+    else if (a == "--aic-config")
+      aic_config = next();
+    else if (a == "--data")
+      data = next();
+    else if (a == "--tables")
+    {
+      std::stringstream ss(next());
+      std::string id;
+      while (std::getline(ss, id, ','))
+      {
+        only.insert(id);
+      }
+    }
+    else if (a == "--json")
+      json = true;
+    else if (a == "--check")
+      check = true;
+    else if (a == "--help" || a == "-h")
+    {
+      std::cout << kUsage;
+      return 0;
+    }
+    else
+    {
+      std::cerr << "plant_fit: unknown argument '" << a << "'\n" << kUsage;
+      return 2;
+    }
+  }
+
+  RobotDescription desc;
+  PlantParams params;
+  AicParams aic;
+  std::vector<RobotStepTable> tables;
+  try
+  {
+    desc = loadRobotDescription(urdf);
+    params = loadPlantParams(config, overrides);
+    aic = loadAicParams(aic_config);
+    for (const RobotStepTable& t : loadRobotStepTables(data))
+    {
+      if (only.empty() || only.count(t.id))
+      {
+        tables.push_back(t);
+      }
+    }
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "plant_fit: " << e.what() << "\n";
+    return 1;
+  }
+  if (tables.empty())
+  {
+    std::cerr << "plant_fit: no table selected\n";
+    return 2;
+  }
+
+  std::vector<FitEntry> entries;
+  try
+  {
+    // Rows that ask for the same run (e.g. the 50 Hz rows of tables 3-1a, 5-1 and 5-2) run once.
+    std::vector<FitEntry> done;
+    for (const RobotStepTable& t : tables)
+    {
+      for (const RobotStepRow& row : t.rows)
+      {
+        const bool stock = t.controller == LoopController::kStock;
+        const FitEntry* same = nullptr;
+        for (const FitEntry& d : done)
+        {
+          const bool d_stock = d.table_controller == LoopController::kStock;
+          if (d_stock == stock && d.robot.step == row.step &&
+              (stock || (d.robot.belief_rate == row.belief_rate && d.robot.action_rate == row.action_rate)))
+          {
+            same = &d;
+          }
+        }
+        entries.push_back(same ? rescoreFitEntry(*same, t, row) : runFitEntry(desc, params, aic, t, row));
+        done.push_back(entries.back());
+      }
+    }
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "plant_fit: " << e.what() << "\n";
+    return 1;
+  }
+  const std::vector<TableFit> fits = summarizeFit(tables, entries);
+  const SteadyChecks steady = runSteadyChecks(desc, params);
+  const double cost = fitCost(fits) + steady.penalty;
+  bool all_ok = steady.turn_ok && steady.top_speed_ok;
+  for (const TableFit& f : fits)
+  {
+    all_ok = all_ok && f.accepted;
+  }
+
+  if (json)
+  {
+    std::cout << "{\"cost\": " << jsonNumber(cost) << ", \"accepted\": " << (all_ok ? "true" : "false")
+              << ", \"tables\": [";
+    for (std::size_t i = 0; i < fits.size(); ++i)
+    {
+      std::cout << (i ? ", " : "") << "{\"id\": \"" << fits[i].id << "\", \"mean_abs_error\": "
+                << jsonNumber(fits[i].mean_abs_error) << ", \"cost\": " << jsonNumber(fits[i].cost)
+                << ", \"accepted\": " << (fits[i].accepted ? "true" : "false") << "}";
+    }
+    std::cout << "], \"steady\": {\"turn_hold_error\": " << jsonNumber(steady.turn_hold_error)
+              << ", \"stock_turn_error\": " << jsonNumber(steady.stock_turn_error)
+              << ", \"top_speed\": " << jsonNumber(steady.top_speed) << ", \"penalty\": " << jsonNumber(steady.penalty)
+              << "}, \"entries\": [";
+    for (std::size_t i = 0; i < entries.size(); ++i)
+    {
+      const FitEntry& e = entries[i];
+      std::cout << (i ? ", " : "") << "{\"table\": \"" << e.table << "\", \"step\": " << jsonNumber(e.robot.step)
+                << ", \"belief_rate\": " << jsonNumber(e.robot.belief_rate)
+                << ", \"action_rate\": " << jsonNumber(e.robot.action_rate)
+                << ", \"settling\": " << jsonNumber(e.sim.settling_time)
+                << ", \"rise\": " << jsonNumber(e.sim.rise_time)
+                << ", \"overshoot\": " << jsonNumber(e.sim.overshoot_percent)
+                << ", \"robot_settling\": " << jsonNumber(e.robot.settling)
+                << ", \"robot_rise\": " << jsonNumber(e.robot.rise)
+                << ", \"settling_error\": " << jsonNumber(e.settling_error)
+                << ", \"rise_error\": " << jsonNumber(e.rise_error) << ", \"runaways\": " << e.runaways << "}";
+    }
+    std::cout << "]}\n";
+    return (check && !all_ok) ? 1 : 0;
+  }
+
+  std::printf("plant_fit: robot step responses on the ODE plant (wheel-odometry speed; rise 10-90 %%, settling "
+              "+-5 %%)\n  urdf %s\n  plant %s\n  AIC %s\n  data %s\n",
+              urdf.c_str(), config.c_str(), aic_config.c_str(), data.c_str());
+  for (const auto& o : overrides)
+  {
+    std::printf("  override %s\n", o.c_str());
+  }
+  std::string current;
+  for (const FitEntry& e : entries)
+  {
+    if (e.table != current)
+    {
+      current = e.table;
+      for (const RobotStepTable& t : tables)
+      {
+        if (t.id == current)
+        {
+          std::printf("\n%s: %s (%s)\n", t.id.c_str(), t.title.c_str(), t.source.c_str());
+        }
+      }
+      std::printf("%-6s %-6s %-6s | %-24s | %-24s | %s\n", "step", "belief", "action", "settling [s]",
+                  "rise [s]", "overshoot");
+      std::printf("%-6s %-6s %-6s | %7s %7s %8s | %7s %7s %8s | %s\n", "[m/s]", "[Hz]", "[Hz]", "sim", "robot",
+                  "error", "sim", "robot", "error", "[%]");
+    }
+    std::printf("%-6.1f %-6.0f %-6.0f | %7s %7.2f %+7.0f%% | %7s %7.2f %+7.0f%% | %6.1f%s\n", e.robot.step,
+                e.robot.belief_rate, e.robot.action_rate, fmtTime(e.sim.settling_time).c_str(), e.robot.settling,
+                100.0 * e.settling_error, fmtTime(e.sim.rise_time).c_str(), e.robot.rise, 100.0 * e.rise_error,
+                e.sim.overshoot_percent, e.runaways ? "  RUNAWAY" : "");
+  }
+  std::printf("\n%-6s | %-16s | %-9s | %s\n", "table", "mean |error| [%]", "cost", "accepted");
+  for (const TableFit& f : fits)
+  {
+    std::printf("%-6s | %16.1f | %9.3f | %s\n", f.id.c_str(), 100.0 * f.mean_abs_error, f.cost,
+                f.accepted ? "yes" : "NO");
+  }
+  std::printf("\nsteady checks: turning in place at 5 and 10 rad/s the servo holds the wheels within %.3f rad/s "
+              "(accepted <= %.2f); the stock controller turns in place at 0.5 rad/s within %.0f %% (accepted <= "
+              "10 %%): %s; stock controller at 2.0 m/s reaches %.3f m/s: %s; penalty %.3f\n",
+              steady.turn_hold_error, kTurnHoldTolerance, 100.0 * steady.stock_turn_error,
+              steady.turn_ok ? "ok" : "NO", steady.top_speed, steady.top_speed_ok ? "ok" : "NO", steady.penalty);
+  std::printf("identification cost %.4f; acceptance (stock entries within 20 %% / 50 %% at 0.1 m/s, AIC tables "
+              "within 25 %% mean): %s\n",
+              cost, all_ok ? "PASS" : "FAIL");
+  return (check && !all_ok) ? 1 : 0;
+}
