@@ -21,9 +21,13 @@ Tables (--tables, default all):
   5-9   improved controller (tau = 0.001, belief loop 1 kHz, action 50 Hz, exact integrator, on
         the thesis-equivalent variances) against the stock controller, steps 0.3 / 0.5 / 1.0 m/s
   5-10  square waves (0.1, 0.5), (0.1, 1.0), (0.2, 1.2) m/s: improved controller and stock
-Sweeps and limits run the action loop at 50 Hz. A run is "unstable" when the controller hit
-its runaway limit, the speed exceeded 3 m/s, or the response had not settled (+-5 %) by the
-end of the hold.
+Sweeps and limits run the action loop at 50 Hz. A run is "unstable" ("unst." in a table)
+when the controller hit its runaway limit, the speed exceeded 3 m/s, or a held level
+oscillates (the rule of aic_experiment.py, jackal_aic_tools.recording.StabilityLimits: in
+the last second of a level held >= 1.5 s the measured velocity spans more than half the
+step and crosses the set point 3 times). A stable run that has not settled (+-5 %) by the
+end of the 3 s hold is "slow" ("n.s." in a table, no settling time); stability limits
+(table 5-7) count only unstable runs as unstable.
 
 Backends:
   core (default)  closed_loop_run: the controller core and the plant core in one process on
@@ -51,6 +55,8 @@ from concurrent.futures import ThreadPoolExecutor
 
 import yaml
 
+from jackal_aic_tools import recording
+
 ALL_TABLES = ["3-1", "5-1", "5-2", "5-4", "5-5", "5-6", "5-7", "5-9", "5-10"]
 RATES = [50, 100, 1000]
 SQUARES = [(0.1, 0.5), (0.1, 1.0), (0.2, 1.2)]
@@ -58,6 +64,7 @@ IMPROVED = {"tau": 0.001, "belief_rate": 1000, "action_rate": 50, "integrator": 
 HOLD = 3.0           # s a step is held (the identification's record length)
 SQUARE_PERIOD = 4.0  # s
 BOUND_V = 3.0        # m/s: beyond it a run is unstable
+LIMITS = recording.StabilityLimits(v_bound=BOUND_V)  # the oscillation rule of aic_experiment.py
 ROW_LIMIT = [0]      # --rows: only the first N rows of each table are run (0 = all)
 
 
@@ -119,16 +126,41 @@ class Run(object):
         return "".join(c if c.isalnum() or c in "._-" else "_" for c in "_".join(parts))
 
 
-def verdict(runaways, max_abs, segments):
-    """ok | unstable, and why."""
+def trace_oscillation(trace_path, segments):
+    """The reason a closed_loop_run trace (CSV t, set_point, v_odom, ...) oscillates on a held
+    level, by the rule of jackal_aic_tools.recording.StabilityLimits, else None."""
+    if not trace_path or not os.path.exists(trace_path):
+        return None
+    with open(trace_path) as f:
+        rows = list(csv.DictReader(f))
+    t = [float(r["t"]) for r in rows]
+    v = [float(r["v_odom"]) for r in rows]
+    if not t:
+        return None
+    for i, seg in enumerate(segments):
+        t1 = segments[i + 1]["t_step"] if i + 1 < len(segments) else t[-1]
+        if t1 - seg["t_step"] < LIMITS.osc_after:
+            continue
+        window = [x for tt, x in zip(t, v) if t1 - LIMITS.osc_window <= tt <= t1]
+        span = recording.oscillation(window, seg["initial"], seg["target"], LIMITS)
+        if span is not None:
+            return "oscillation: measured velocity spans %.3g m/s around %g m/s" % (span, seg["target"])
+    return None
+
+
+def verdict(runaways, max_abs, segments, oscillating=None):
+    """ok | slow | unstable, and why. unstable: runaway, |v| > BOUND_V, or ``oscillating`` (a
+    reason); slow: stable, but a segment not settled (+-5 %) by its end."""
     if runaways:
         return "unstable", "runaway"
     if max_abs is not None and max_abs > BOUND_V:
         return "unstable", "speed beyond %g m/s" % BOUND_V
+    if oscillating:
+        return "unstable", oscillating
     for s in segments:
         m = s.get("measured") or {}
         if not m.get("settled", False):
-            return "unstable", "not settled at %g m/s" % s["target"]
+            return "slow", "not settled at %g m/s" % s["target"]
     return "ok", ""
 
 
@@ -156,7 +188,8 @@ class CoreBackend(object):
         if out.returncode != 0:
             return {"status": "failed", "reason": out.stderr.strip()[-300:], "segments": []}
         res = json.loads(out.stdout)
-        status, reason = verdict(res["runaways"], res["max_abs_speed"], res["segments"])
+        status, reason = verdict(res["runaways"], res["max_abs_speed"], res["segments"],
+                                 trace_oscillation(trace_path, res["segments"]))
         return {"status": status, "reason": reason, "segments": res["segments"], "trace": trace_path}
 
 
@@ -195,9 +228,12 @@ class RosBackend(object):
                 continue
             m = s["metrics"].get("measured", {})
             segments.append({"t_step": s["t_step"], "initial": s["start"], "target": s["target"],
+                             # aic_experiment's metrics (jackal_aic_tools.metrics): settling_time is
+                             # None when the response never stayed inside the +-5 % band.
                              "measured": {"rise": m.get("rise_time"), "settling": m.get("settling_time"),
-                                          "overshoot": m.get("overshoot_percent"),
-                                          "sse": m.get("steady_state_error"), "settled": m.get("settled", False)}})
+                                          "overshoot": m.get("overshoot"),
+                                          "sse": m.get("steady_state_error"),
+                                          "settled": m.get("settling_time") is not None}})
         status = res.get("status", "failed")
         if status == "ok":
             status, reason = verdict(0, None, segments)
@@ -238,8 +274,9 @@ class Runner(object):
 
 
 def metric(res, name, seg=0):
-    """A measured-speed metric of segment seg, or None (unstable or undefined)."""
-    if res["status"] != "ok" or len(res["segments"]) <= seg:
+    """A measured-speed metric of segment seg, or None (unstable, or undefined: a slow run's
+    settling time)."""
+    if res["status"] not in ("ok", "slow") or len(res["segments"]) <= seg:
         return None
     v = (res["segments"][seg].get("measured") or {}).get(name)
     return v if v is not None and math.isfinite(v) else None
@@ -256,8 +293,14 @@ def robot_tables(path):
     return out
 
 
-def cell(v, spec="%.2f"):
-    return "unst." if v is None else spec % v
+def cell(v, spec="%.2f", res=None):
+    """v formatted, or why there is no value: "unst." (unstable run), "n.s." (stable, not
+    settled within the hold), "-" (undefined)."""
+    if v is not None:
+        return spec % v
+    if res is None or res["status"] == "unstable":
+        return "unst."
+    return "n.s." if res["status"] == "slow" else "-"
 
 
 def err(sim, robot):
@@ -307,8 +350,8 @@ def step_pair(runner, tables_robot, tid, key, res):
     """Settling, rise cells (sim, robot, error) for a row with robot data."""
     s, r = metric(res, "settling"), metric(res, "rise")
     robot = tables_robot.get(tid, {}).get(key)
-    cells = [cell(s), cell(robot[0]) if robot else "", err(s, robot[0] if robot else None),
-             cell(r), cell(robot[1]) if robot else "", err(r, robot[1] if robot else None)]
+    cells = [cell(s, res=res), cell(robot[0]) if robot else "", err(s, robot[0] if robot else None),
+             cell(r, res=res), cell(robot[1]) if robot else "", err(r, robot[1] if robot else None)]
     errs = []
     if robot:
         for sim_v, rob_v in ((s, robot[0]), (r, robot[1])):
@@ -362,13 +405,13 @@ def table_sweep(runner, plots, tid, param, values, symbol):
     for rate in RATES:
         headers += ["%d Hz settling [s]" % rate, "%d Hz rise [s]" % rate]
     t = Table(tid, "%s sweep at belief rates 50 / 100 / 1000 Hz, action 50 Hz, 0.5 m/s step "
-                   "(others at C-1 values; \"unst.\" = unstable)" % symbol, headers)
+                   "(others at C-1 values; \"unst.\" = unstable, \"n.s.\" = not settled in 3 s)" % symbol, headers)
     runs_plot = []
     for val in lim(values):
         row = [fmt_val(val)]
         for rate in RATES:
             res = runner.get(Run("aic", 0.5, params={param: val, "belief_rate": rate, "action_rate": 50}))
-            row += [cell(metric(res, "settling")), cell(metric(res, "rise"))]
+            row += [cell(metric(res, "settling"), res=res), cell(metric(res, "rise"), res=res)]
             runs_plot.append(("%s=%s, %d Hz" % (param, fmt_val(val), rate), res))
         t.add(row)
     plots.append((t, runs_plot))
@@ -376,8 +419,11 @@ def table_sweep(runner, plots, tid, param, values, symbol):
 
 
 def stable(runner, param, value, rate):
+    """Not unstable (a slow run is stable) at param = value, belief rate [Hz], 0.5 m/s step."""
     res = runner.get(Run("aic", 0.5, params={param: value, "belief_rate": rate, "action_rate": 50}))
-    return res["status"] == "ok"
+    if res["status"] == "failed":
+        raise RuntimeError("run failed: %s" % res["reason"])
+    return res["status"] in ("ok", "slow")
 
 
 def bisect_limit(runner, param, rate, lo, hi, lower_is_limit, iterations):
@@ -407,8 +453,8 @@ def table_5_7(runner, a):
         row = [str(rate)]
         for param, lo, hi, lower in (("tau", 1e-4, 0.1, True), ("k_mu", 1e-3, 100.0, False),
                                      ("k_a", 1.0, 1000.0, False)):
-            lim, bracket = bisect_limit(runner, param, rate, lo, hi, lower, a.bisections)
-            row += [cell(lim, "%.3g") if lim is not None else "none", bracket]
+            limit, bracket = bisect_limit(runner, param, rate, lo, hi, lower, a.bisections)
+            row += [cell(limit, "%.3g") if limit is not None else "none", bracket]
         t.add(row)
     return t
 
@@ -425,9 +471,9 @@ def table_5_9(runner, plots):
         ratio = ""
         if metric(ri, "rise") and metric(rs, "rise"):
             ratio = "%.2f" % (metric(ri, "rise") / metric(rs, "rise"))
-        t.add(["%.1f" % v, cell(metric(ri, "settling")), cell(metric(ri, "rise")),
-               cell(metric(ri, "overshoot"), "%.1f"), cell(metric(rs, "settling")), cell(metric(rs, "rise")),
-               cell(metric(rs, "overshoot"), "%.1f"), ratio])
+        t.add(["%.1f" % v, cell(metric(ri, "settling"), res=ri), cell(metric(ri, "rise"), res=ri),
+               cell(metric(ri, "overshoot"), "%.1f", ri), cell(metric(rs, "settling"), res=rs),
+               cell(metric(rs, "rise"), res=rs), cell(metric(rs, "overshoot"), "%.1f", rs), ratio])
         runs_plot += [("improved %g m/s" % v, ri), ("stock %g m/s" % v, rs)]
     plots.append((t, runs_plot))
     return t
@@ -451,7 +497,7 @@ def table_5_10(runner, plots):
                 for m in ("rise", "settling", "overshoot"):
                     xs = [metric(res, m, i) for i in segs]
                     vals.append(None if not xs or any(x is None for x in xs) else max(xs))
-                row += [cell(vals[0]), cell(vals[1]), cell(vals[2], "%.1f")]
+                row += [cell(vals[0], res=res), cell(vals[1], res=res), cell(vals[2], "%.1f", res)]
             t.add(row)
             runs_plot.append(("%s %g-%g" % (name, low, high), res))
     plots.append((t, runs_plot))

@@ -39,5 +39,7 @@ if [ "$tests" -eq 0 ]; then
   failed=$((failed + 1))
 fi
 [ "$verdict" -ne 0 ] && [ "$failed" -eq 0 ] && failed=1
+# Every failure's message, one short block each, last: a log cut to its tail still says why.
+python3 "$here/failure_summary.py" "$results" || true
 echo "${passed} passed, ${failed} failed, ${skipped} skipped"
 [ "$failed" -eq 0 ]

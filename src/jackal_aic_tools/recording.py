@@ -115,6 +115,21 @@ def _crossings(err, hyst):
     return n
 
 
+def oscillation(values, start, target, limits):
+    """The span [units of values] if ``values`` (1-D, the last ``limits.osc_window`` seconds of
+    one held set-point level ``target``, reached from ``start``) oscillate by the rule of
+    :class:`StabilityLimits`, else None. Fewer than 4 samples never count."""
+    w = np.asarray(values, dtype=float)
+    if w.size < 4:
+        return None
+    scale = max(abs(target - start), limits.osc_floor)
+    span = float(np.max(w) - np.min(w))
+    if span > limits.osc_frac * scale and \
+            _crossings(w - target, 0.25 * limits.osc_frac * scale) >= limits.osc_crossings:
+        return span
+    return None
+
+
 def check_stability(arr, segments_abs, now, limits, wheel_radius, wheel_separation):
     """None if the run looks sane at time ``now`` [s], else the reason it diverged.
 
@@ -137,17 +152,12 @@ def check_stability(arr, segments_abs, now, limits, wheel_radius, wheel_separati
         if not (seg.t0 + limits.osc_after <= now <= seg.t1 + 0.05):
             continue
         ci = 1 + profiles.CHANNELS.index(seg.channel)
-        scale = max(abs(seg.target - seg.start), limits.osc_floor)
         lo = max(seg.t0 + limits.osc_after - limits.osc_window, now - limits.osc_window)
         for name, a in (("measured velocity", arr["odom"]), ("drive command", drive)):
             if not a.size:
                 continue
-            w = a[(a[:, 0] >= lo) & (a[:, 0] <= now), ci]
-            if w.size < 4:
-                continue
-            span = np.max(w) - np.min(w)
-            if span > limits.osc_frac * scale and \
-                    _crossings(w - seg.target, 0.25 * limits.osc_frac * scale) >= limits.osc_crossings:
+            span = oscillation(a[(a[:, 0] >= lo) & (a[:, 0] <= now), ci], seg.start, seg.target, limits)
+            if span is not None:
                 return "oscillation: %s spans %.3g %s around %.3g in the last %.2g s" % (
                     name, span, profiles.UNITS[seg.channel], seg.target, limits.osc_window)
     return None
