@@ -23,9 +23,9 @@ Tables (--tables, default all):
   5-10  square waves (0.1, 0.5), (0.1, 1.0), (0.2, 1.2) m/s: improved controller and stock
 Sweeps and limits run the action loop at 50 Hz. A run is "unstable" ("unst." in a table)
 when the controller hit its runaway limit, the speed exceeded 3 m/s, or a held level
-oscillates (the rule of aic_experiment.py, jackal_aic_tools.recording.StabilityLimits: in
-the last second of a level held >= 1.5 s the measured velocity spans more than half the
-step and crosses the set point 3 times). A stable run that has not settled (+-5 %) by the
+oscillates (the rule of aic_experiment.py, jackal_aic_tools.recording.StabilityLimits, over
+a longer window: in the last 1.5 s of a level held >= 1.5 s the measured velocity or the
+drive command spans more than half the step and crosses the set point twice). A stable run that has not settled (+-5 %) by the
 end of the 3 s hold is "slow" ("n.s." in a table, no settling time); stability limits
 (table 5-7) count only unstable runs as unstable.
 
@@ -64,7 +64,10 @@ IMPROVED = {"tau": 0.001, "belief_rate": 1000, "action_rate": 50, "integrator": 
 HOLD = 3.0           # s a step is held (the identification's record length)
 SQUARE_PERIOD = 4.0  # s
 BOUND_V = 3.0        # m/s: beyond it a run is unstable
-LIMITS = recording.StabilityLimits(v_bound=BOUND_V)  # the oscillation rule of aic_experiment.py
+# The oscillation rule of aic_experiment.py over the last 1.5 s of each level (not 1 s): with
+# the plant's 0.12 s command delay a sustained oscillation has a period of 0.5-1 s, and two
+# crossings of the set point in 1.5 s (a full period) already count.
+LIMITS = recording.StabilityLimits(v_bound=BOUND_V, osc_window=1.5, osc_crossings=2)
 ROW_LIMIT = [0]      # --rows: only the first N rows of each table are run (0 = all)
 
 
@@ -134,17 +137,17 @@ def trace_oscillation(trace_path, segments):
     with open(trace_path) as f:
         rows = list(csv.DictReader(f))
     t = [float(r["t"]) for r in rows]
-    v = [float(r["v_odom"]) for r in rows]
     if not t:
         return None
     for i, seg in enumerate(segments):
         t1 = segments[i + 1]["t_step"] if i + 1 < len(segments) else t[-1]
         if t1 - seg["t_step"] < LIMITS.osc_after:
             continue
-        window = [x for tt, x in zip(t, v) if t1 - LIMITS.osc_window <= tt <= t1]
-        span = recording.oscillation(window, seg["initial"], seg["target"], LIMITS)
-        if span is not None:
-            return "oscillation: measured velocity spans %.3g m/s around %g m/s" % (span, seg["target"])
+        for col, what in (("v_odom", "measured velocity"), ("command", "drive command")):
+            window = [float(r[col]) for tt, r in zip(t, rows) if t1 - LIMITS.osc_window <= tt <= t1]
+            span = recording.oscillation(window, seg["initial"], seg["target"], LIMITS)
+            if span is not None:
+                return "oscillation: %s spans %.3g m/s around %g m/s" % (what, span, seg["target"])
     return None
 
 
