@@ -30,6 +30,14 @@ struct PlantModel
   };
   Type type = Type::kPointMass;  ///< kind of plant
   double time_constant = 0.1;  ///< [s], > 0 (first order only)
+  /// Static gain K of the wheel loop [-], > 0: the wheels settle at K times the command
+  /// (first order: d(omega)/dt = (K a(t - delay) - omega) / time_constant; point mass: omega = K a(t - delay)).
+  double gain = 1.0;
+  /// Dead time between a command and the wheel loop's response [s], >= 0, at most 50 action
+  /// periods (the MCU's and the bus's latency; the simulated Jackal's wheel loop: ~0.12 s,
+  /// doc/robot_data.md). Modelled exactly for a multiple of the action period and, in between,
+  /// by splitting the period at the switching instant (the command is piecewise constant).
+  double delay = 0.0;
 };
 
 /// One sample of a predicted response, at the start of an action period (just after the sensor sample).
@@ -44,14 +52,16 @@ struct ResponseSample
 /**
  * \brief The closed loop controller + plant as one linear, periodic discrete-time system.
  *
- * State z = [vec(mu_tilde) (3(p+1)), a (2), vec(y_tilde) (5(p+1)), omega (2)], sampled at the
- * start of each action period T = 1/action_rate. One period, in the order the node runs it:
+ * State z = [vec(mu_tilde) (3(p+1)), a (2), vec(y_tilde) (5(p+1)), omega (2), past commands (2L)],
+ * sampled at the start of each action period T = 1/action_rate; L = ceil(delay / T) past
+ * commands a_{k-1}, ..., a_{k-L} (none without delay). One period, in the order the node runs it:
  *  1. sensor sample of the plant: y^(0) = (gyro = G_3 omega, omega_L, omega_R, accel_x = G_1 d(omega)/dt, 0)
  *     (accel_x is 0 for the point mass), generalized with the thesis's Q (eq. 3-22) at h = T;
  *  2. N = belief_rate / action_rate belief steps of h = 1/belief_rate (Euler, eq. 3-15, or exact ZOH),
  *     measurement and goal held;
  *  3. one action step a += T da/dt (eq. 3-16);
- *  4. the plant over T with the new a held (point mass: omega = a; first order: exact ZOH).
+ *  4. the plant over T with the delayed command a(t - delay) (point mass: omega = K a(t - delay) at
+ *     the period's end; first order: exact ZOH over the two pieces of the period).
  * z_{k+1} = Phi z_k + Gamma mu_d. The continuous belief and action dynamics are taken from
  * ActiveInferenceController::muDot()/aDot() (so model and controller share one implementation
  * of the equations); the clamp, max_action_lead and the runaway reset are not modelled (linear analysis).
@@ -62,12 +72,13 @@ public:
   /**
    * \param params  controller parameters (rates, integrator and all gains are used)
    * \param plant   plant in the loop
-   * \throws std::invalid_argument if params are invalid, the plant time constant is not > 0, or
+   * \throws std::invalid_argument if params are invalid, the plant time constant or gain is not
+   *         > 0 and finite, the delay is negative, non-finite or above 50 action periods, or
    *         belief_rate / action_rate is not an integer (within 1e-9 relative)
    */
   ClosedLoopModel(const AicParams& params, const PlantModel& plant = PlantModel());
 
-  /// Dimension of z: 3(p+1) + 2 + 5(p+1) + 2.
+  /// Dimension of z: 3(p+1) + 2 + 5(p+1) + 2 + 2L.
   int stateDim() const { return static_cast<int>(phi_.rows()); }
   /// Belief steps per action period N.
   int beliefStepsPerPeriod() const { return n_belief_steps_; }
@@ -97,6 +108,7 @@ private:
   AicParams params_;
   PlantModel plant_;
   int n_belief_steps_ = 1;
+  int i_w_ = 0;  ///< index of omega in z
   Eigen::MatrixXd m_, n_y_, n_d_;  ///< belief dynamics
   Eigen::MatrixXd a_mu_, a_y_;     ///< action dynamics da/dt = a_mu vec(mu) + a_y vec(y)
   Eigen::MatrixXd phi_, gamma_;

@@ -149,7 +149,16 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
     const double sp_linear = seg ? seg->linear : 0.0;
     const double sp_angular = seg ? seg->angular : 0.0;
 
-    if (!aic)
+    if (config.controller == LoopController::kOpenLoop)
+    {
+      if (k % stock_period == 0)
+      {
+        command_left = (sp_linear - 0.5 * b_hat * sp_angular) / r;
+        command_right = (sp_linear + 0.5 * b_hat * sp_angular) / r;
+        plant.setWheelSpeeds(command_left, command_right);
+      }
+    }
+    else if (!aic)
     {
       if (k % stock_period == 0)
       {
@@ -221,6 +230,9 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
     out.yaw_true.push_back(plant.baseAngularVelocity().z());
     out.command.push_back(r * 0.5 * (command_left + command_right));
     out.belief.push_back(aic && out.active ? controller->mu()(0, 0) : std::numeric_limits<double>::quiet_NaN());
+    out.angular_set_point.push_back(sp_angular);
+    out.command_yaw.push_back(r * (command_right - command_left) / b_hat);
+    out.belief_yaw.push_back(aic && out.active ? controller->mu()(2, 0) : std::numeric_limits<double>::quiet_NaN());
 
     if (aic && have_imu)
     {

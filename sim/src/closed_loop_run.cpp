@@ -7,10 +7,13 @@
  *        belief and drive-command speeds; optionally the trace as CSV. The experiment engine
  *        of aic_reproduce.py (--backend core); the ROS backend runs the nodes instead.
  *
- * Usage: closed_loop_run --controller aic|stock [--aic-config FILE] [--aic-set key=value]...
+ * Usage: closed_loop_run --controller aic|stock|open [--aic-config FILE] [--aic-set key=value]...
  *            [--config PLANT.yaml] [--set key=value]... [--urdf FILE]
- *            (--step V | --square LOW HIGH) [--period S] [--cycles N] [--rest S] [--hold S]
- *            [--noise] [--csv FILE]
+ *            (--step V | --square LOW HIGH) [--channel linear|angular] [--period S] [--cycles N]
+ *            [--rest S] [--hold S] [--noise] [--csv FILE]
+ *   --controller open  no controller: the set point's wheel speeds go to the MCU as they are
+ *   --channel angular  the step / square values are yaw rates [rad/s] (linear set point 0);
+ *                      metrics on the yaw rate
  *   --step V          0 until --rest, then V [m/s] for --hold seconds
  *   --square LOW HIGH 0 until --rest, LOW for --rest seconds (lead-in), then --cycles periods of
  *                     HIGH / LOW, each half --period / 2
@@ -45,10 +48,10 @@ using namespace jackal_aic::sim;
 namespace
 {
 const char* kUsage =
-    "usage: closed_loop_run --controller aic|stock [--aic-config FILE] [--aic-set key=value]...\n"
+    "usage: closed_loop_run --controller aic|stock|open [--aic-config FILE] [--aic-set key=value]...\n"
     "           [--config PLANT.yaml] [--set key=value]... [--urdf FILE]\n"
-    "           (--step V | --square LOW HIGH) [--period S] [--cycles N] [--rest S] [--hold S]\n"
-    "           [--noise] [--csv FILE]\n";
+    "           (--step V | --square LOW HIGH) [--channel linear|angular] [--period S] [--cycles N]\n"
+    "           [--rest S] [--hold S] [--noise] [--csv FILE]\n";
 
 [[noreturn]] void usageError(const std::string& msg)
 {
@@ -130,6 +133,7 @@ int main(int argc, char** argv)
   double rest = 1.0;
   double hold = 3.0;
   bool noise = false;
+  std::string channel = "linear";
   for (int i = 1; i < argc; ++i)
   {
     const std::string a = argv[i];
@@ -163,6 +167,8 @@ int main(int argc, char** argv)
       high = number(next(), "--square HIGH");
       have_square = true;
     }
+    else if (a == "--channel")
+      channel = next();
     else if (a == "--period")
       period = number(next(), "--period");
     else if (a == "--cycles")
@@ -183,10 +189,15 @@ int main(int argc, char** argv)
     else
       usageError("unknown argument '" + a + "'");
   }
-  if (controller != "aic" && controller != "stock")
+  if (controller != "aic" && controller != "stock" && controller != "open")
   {
-    usageError("--controller must be aic or stock");
+    usageError("--controller must be aic, stock or open");
   }
+  if (channel != "linear" && channel != "angular")
+  {
+    usageError("--channel must be linear or angular");
+  }
+  const bool angular = channel == "angular";
   if (have_step == have_square)
   {
     usageError("give exactly one of --step and --square");
@@ -197,24 +208,29 @@ int main(int argc, char** argv)
   }
 
   ClosedLoopConfig c;
-  c.controller = controller == "aic" ? LoopController::kAic : LoopController::kStock;
+  c.controller = controller == "aic" ? LoopController::kAic
+                 : controller == "open" ? LoopController::kOpenLoop : LoopController::kStock;
+  // A set point on the chosen channel, 0 on the other.
+  auto sp = [angular](double start, double value) -> SetPointSegment {
+    return angular ? SetPointSegment{ start, 0.0, value } : SetPointSegment{ start, value, 0.0 };
+  };
   c.ideal_sensors = !noise;
   // Set-point changes 10 ms after a 50 Hz tick, as the identification runs.
   const double t0 = rest + 0.01;
   if (have_step)
   {
-    c.profile = stepProfile(t0, step);
+    c.profile = { sp(0.0, 0.0), sp(t0, step) };
     c.duration = t0 + hold;
   }
   else
   {
-    c.profile.push_back({ 0.0, 0.0, 0.0 });
-    c.profile.push_back({ t0, low, 0.0 });
+    c.profile.push_back(sp(0.0, 0.0));
+    c.profile.push_back(sp(t0, low));
     double t = t0 + rest;
     for (int k = 0; k < cycles; ++k)
     {
-      c.profile.push_back({ t, high, 0.0 });
-      c.profile.push_back({ t + 0.5 * period, low, 0.0 });
+      c.profile.push_back(sp(t, high));
+      c.profile.push_back(sp(t + 0.5 * period, low));
       t += period;
     }
     c.duration = t;
@@ -250,12 +266,13 @@ int main(int argc, char** argv)
   if (!csv.empty())
   {
     std::ofstream f(csv);
-    f << "t,set_point,v_odom,v_true,yaw_odom,yaw_true,command,belief\n";
+    f << "t,set_point,v_odom,v_true,yaw_odom,yaw_true,command,belief,angular_set_point,command_yaw,belief_yaw\n";
     for (std::size_t k = 0; k < rec.time.size(); ++k)
     {
       f << rec.time[k] - t0 << "," << rec.set_point[k] << "," << rec.v_odom[k] << "," << rec.v_true[k] << ","
         << rec.yaw_odom[k] << "," << rec.yaw_true[k] << "," << rec.command[k] << ","
-        << (std::isfinite(rec.belief[k]) ? num(rec.belief[k]) : "") << "\n";
+        << (std::isfinite(rec.belief[k]) ? num(rec.belief[k]) : "") << "," << rec.angular_set_point[k] << ","
+        << rec.command_yaw[k] << "," << (std::isfinite(rec.belief_yaw[k]) ? num(rec.belief_yaw[k]) : "") << "\n";
     }
     if (!f)
     {
@@ -269,7 +286,8 @@ int main(int argc, char** argv)
   {
     max_abs = std::max(max_abs, std::abs(v));
   }
-  std::cout << "{\"controller\": \"" << controller << "\", \"runaways\": " << rec.runaways
+  std::cout << "{\"controller\": \"" << controller << "\", \"channel\": \"" << channel
+            << "\", \"runaways\": " << rec.runaways
             << ", \"max_abs_speed\": " << num(max_abs) << ", \"t0\": " << num(t0) << ", \"segments\": [";
   bool first = true;
   for (std::size_t s = 1; s < c.profile.size(); ++s)
@@ -280,18 +298,22 @@ int main(int argc, char** argv)
       continue;
     }
     const double t_end = s + 1 < c.profile.size() ? c.profile[s + 1].start : c.duration;
-    const double initial = c.profile[s - 1].linear;
-    const double target = c.profile[s].linear;
+    const double initial = angular ? c.profile[s - 1].angular : c.profile[s - 1].linear;
+    const double target = angular ? c.profile[s].angular : c.profile[s].linear;
+    const auto& measured = angular ? rec.yaw_odom : rec.v_odom;
+    const auto& truth = angular ? rec.yaw_true : rec.v_true;
+    const auto& belief = angular ? rec.belief_yaw : rec.belief;
+    const auto& drive = angular ? rec.command_yaw : rec.command;
     if (initial == target)
     {
       continue;
     }
     std::cout << (first ? "" : ", ") << "{\"t_step\": " << num(t_step - t0) << ", \"initial\": " << num(initial)
               << ", \"target\": " << num(target)
-              << ", \"measured\": " << metricsJson(rec.time, rec.v_odom, t_step, t_end, initial, target)
-              << ", \"truth\": " << metricsJson(rec.time, rec.v_true, t_step, t_end, initial, target)
-              << ", \"belief\": " << metricsJson(rec.time, rec.belief, t_step, t_end, initial, target)
-              << ", \"drive\": " << metricsJson(rec.time, rec.command, t_step, t_end, initial, target) << "}";
+              << ", \"measured\": " << metricsJson(rec.time, measured, t_step, t_end, initial, target)
+              << ", \"truth\": " << metricsJson(rec.time, truth, t_step, t_end, initial, target)
+              << ", \"belief\": " << metricsJson(rec.time, belief, t_step, t_end, initial, target)
+              << ", \"drive\": " << metricsJson(rec.time, drive, t_step, t_end, initial, target) << "}";
     first = false;
   }
   std::cout << "]}\n";

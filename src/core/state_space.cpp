@@ -36,6 +36,16 @@ ClosedLoopModel::ClosedLoopModel(const AicParams& params, const PlantModel& plan
     throw std::invalid_argument("ClosedLoopModel: plant time_constant = " + std::to_string(plant.time_constant) +
                                 " (allowed: > 0 and finite)");
   }
+  if (!(std::isfinite(plant.gain) && plant.gain > 0.0))
+  {
+    throw std::invalid_argument("ClosedLoopModel: plant gain = " + std::to_string(plant.gain) +
+                                " (allowed: > 0 and finite)");
+  }
+  if (!(std::isfinite(plant.delay) && plant.delay >= 0.0 && plant.delay <= 50.0 / params.action_rate))
+  {
+    throw std::invalid_argument("ClosedLoopModel: plant delay = " + std::to_string(plant.delay) +
+                                " s (allowed: 0 ... 50 action periods)");
+  }
   const double ratio = params.belief_rate / params.action_rate;
   n_belief_steps_ = static_cast<int>(std::lround(ratio));
   if (std::abs(ratio - n_belief_steps_) > 1e-9 * ratio)
@@ -117,13 +127,27 @@ ClosedLoopModel::ClosedLoopModel(const AicParams& params, const PlantModel& plan
   }
   const Eigen::MatrixXd bbn = sum * bb;  // nm x (ny + 3)
 
+  // Delay d = (m + f) T, 0 <= f < 1: over period k the plant gets a_{k-m-1} for f T, then a_{k-m}.
+  const double T = 1.0 / params.action_rate;
+  const double periods_delay = plant.delay / T;
+  int m_delay = static_cast<int>(std::floor(periods_delay + 1e-9));
+  double f_delay = periods_delay - m_delay;
+  if (f_delay < 1e-9)
+  {
+    f_delay = 0.0;
+  }
+  const int n_hist = m_delay + (f_delay > 0.0 ? 1 : 0);  // past commands kept: a_{k-1} ... a_{k-L}
+
   // State layout.
   const int i_mu = 0;
   const int i_a = nm;
   const int i_y = nm + kADim;
   const int i_w = nm + kADim + ny;
-  const int dim = i_w + kADim;
-  const double T = 1.0 / params.action_rate;
+  const int i_h = i_w + kADim;  // past command j (1-based) at i_h + 2 (j - 1)
+  const int dim = i_h + kADim * n_hist;
+  i_w_ = i_w;
+  // Index in z (after stage 3) of the command a_{k-j}: j = 0 is a, j >= 1 the history.
+  auto command_index = [&](int j) { return j == 0 ? i_a : i_h + kADim * (j - 1); };
   const SkidSteerModel& model = c.model();
 
   // Each stage is an affine map of the full state [z; mu_d]; compose them.
@@ -138,10 +162,12 @@ ClosedLoopModel::ClosedLoopModel(const AicParams& params, const PlantModel& plan
     sw.row(kGyroZ) = model.G().row(2);
     sw(kOmegaLeft, 0) = 1.0;
     sw(kOmegaRight, 1) = 1.0;
+    // The command in effect at the end of the last period (a_{k-m}, with a the newest).
+    const int i_u = command_index(m_delay);
     if (plant.type == PlantModel::Type::kFirstOrder)
     {
-      // accel_x = G_1 d(omega)/dt = G_1 (a - omega) / T_p
-      sa.row(kAccelX) = model.G().row(0) / plant.time_constant;
+      // accel_x = G_1 d(omega)/dt = G_1 (K u - omega) / T_p
+      sa.row(kAccelX) = plant.gain * model.G().row(0) / plant.time_constant;
       sw.row(kAccelX) = -model.G().row(0) / plant.time_constant;
     }
     const Eigen::MatrixXd q = Generalizer::buildQ(params.embedding_order, T);
@@ -151,7 +177,7 @@ ClosedLoopModel::ClosedLoopModel(const AicParams& params, const PlantModel& plan
     {
       const int row = i_y + kYDim * i;
       s1.block(row, i_w, kYDim, kADim) += q(i, 0) * sw;
-      s1.block(row, i_a, kYDim, kADim) += q(i, 0) * sa;
+      s1.block(row, i_u, kYDim, kADim) += q(i, 0) * sa;
       for (int j = 1; j <= i; ++j)
       {
         s1.block(row, i_y + kYDim * (j - 1), kYDim, kYDim) += q(i, j) * Eigen::MatrixXd::Identity(kYDim, kYDim);
@@ -163,22 +189,39 @@ ClosedLoopModel::ClosedLoopModel(const AicParams& params, const PlantModel& plan
   s2.block(i_mu, i_mu, nm, nm) = abn;
   s2.block(i_mu, i_y, nm, ny) = bbn.leftCols(ny);
   s2.block(i_mu, dim, nm, kMuDim) = bbn.rightCols(kMuDim);
-  // Stage 3: action step a += T (a_mu mu + a_y y).
+  // Stage 3: shift the past commands (a_{k-1} into slot 1), then the action step a += T (a_mu mu + a_y y).
+  Eigen::MatrixXd s3shift = identity();
+  for (int j = n_hist; j >= 1; --j)
+  {
+    const int dst = command_index(j);
+    const int src = j == 1 ? i_a : command_index(j - 1);
+    s3shift.block(dst, 0, kADim, da).setZero();
+    s3shift.block(dst, src, kADim, kADim) = Eigen::MatrixXd::Identity(kADim, kADim);
+  }
   Eigen::MatrixXd s3 = identity();
   s3.block(i_a, i_mu, kADim, nm) += T * a_mu_;
   s3.block(i_a, i_y, kADim, ny) += T * a_y_;
-  // Stage 4: plant over T with a held.
+  s3 = s3 * s3shift;
+  // Stage 4: plant over T: a_{k-m-1} for f T (f > 0), then a_{k-m} for (1 - f) T.
   Eigen::MatrixXd s4 = identity();
-  s4.block(i_w, i_w, kADim, kADim).setZero();
+  s4.block(i_w, 0, kADim, da).setZero();
+  const Eigen::MatrixXd eye2 = Eigen::MatrixXd::Identity(kADim, kADim);
+  const int i_late = command_index(m_delay);                          // a_{k-m}
+  const int i_early = f_delay > 0.0 ? command_index(m_delay + 1) : -1;  // a_{k-m-1}
   if (plant.type == PlantModel::Type::kFirstOrder)
   {
-    const double e = std::exp(-T / plant.time_constant);
-    s4.block(i_w, i_w, kADim, kADim) = e * Eigen::MatrixXd::Identity(kADim, kADim);
-    s4.block(i_w, i_a, kADim, kADim) = (1.0 - e) * Eigen::MatrixXd::Identity(kADim, kADim);
+    const double e1 = std::exp(-f_delay * T / plant.time_constant);
+    const double e2 = std::exp(-(1.0 - f_delay) * T / plant.time_constant);
+    s4.block(i_w, i_w, kADim, kADim) = e1 * e2 * eye2;
+    if (i_early >= 0)
+    {
+      s4.block(i_w, i_early, kADim, kADim) += e2 * (1.0 - e1) * plant.gain * eye2;
+    }
+    s4.block(i_w, i_late, kADim, kADim) += (1.0 - e2) * plant.gain * eye2;
   }
   else
   {
-    s4.block(i_w, i_a, kADim, kADim) = Eigen::MatrixXd::Identity(kADim, kADim);
+    s4.block(i_w, i_late, kADim, kADim) = plant.gain * eye2;
   }
   const Eigen::MatrixXd full = s4 * s3 * s2 * s1;
   phi_ = full.topLeftCorner(dim, dim);
@@ -203,7 +246,7 @@ std::vector<ResponseSample> ClosedLoopModel::stepResponse(const Vector3& mu_d, d
   }
   const double T = 1.0 / params_.action_rate;
   const int nm = kMuDim * params_.numOrders();
-  const int i_w = stateDim() - kADim;
+  const int i_w = i_w_;
   const int periods = static_cast<int>(std::floor(duration / T + 1e-9));
   std::vector<ResponseSample> out;
   out.reserve(static_cast<std::size_t>(periods) + 1);

@@ -26,6 +26,17 @@ std::vector<ResponseSample> simulate(const AicParams& params, const PlantModel& 
   const int periods = static_cast<int>(std::floor(duration / T + 1e-9));
   Vector2 w = Vector2::Zero();
   std::vector<ResponseSample> out;
+  // The plant's input at time t: the command sent at the start of period floor((t - delay) / T),
+  // zero before the first one (looked up by time, independently of the model's history slots).
+  std::vector<Vector2> sent;
+  auto input = [&](double t) -> Vector2 {
+    const double j = std::floor((t - plant.delay) / T);
+    if (j < 0.0 || sent.empty())
+    {
+      return Vector2::Zero();
+    }
+    return sent[std::min(static_cast<std::size_t>(j), sent.size() - 1)];
+  };
   for (int k = 0; k <= periods; ++k)
   {
     out.push_back({ k * T, c.model().twistFromWheels(w), c.mu().col(0), c.action() });
@@ -35,7 +46,8 @@ std::vector<ResponseSample> simulate(const AicParams& params, const PlantModel& 
     y(kOmegaRight) = w(1);
     if (plant.type == PlantModel::Type::kFirstOrder)
     {
-      y(kAccelX) = c.model().G().row(0).dot(c.action() - w) / plant.time_constant;
+      // The input in effect at the end of the last period.
+      y(kAccelX) = c.model().G().row(0).dot(plant.gain * input(k * T - 1e-6 * T) - w) / plant.time_constant;
     }
     gen.update(y, T);
     const YTilde yt = gen.yTilde();
@@ -45,14 +57,29 @@ std::vector<ResponseSample> simulate(const AicParams& params, const PlantModel& 
       c.updateBeliefs(h);
     }
     c.updateAction(T);
-    if (plant.type == PlantModel::Type::kFirstOrder)
+    sent.push_back(c.action());
+    // Pieces of this period on which the input is constant: split where a delayed command arrives.
+    const double t0 = k * T;
+    const double t1 = (k + 1) * T;
+    std::vector<double> cuts = { t0 };
+    const double frac = plant.delay / T - std::floor(plant.delay / T);
+    if (frac > 1e-9 && frac < 1.0 - 1e-9)
     {
-      const double e = std::exp(-T / plant.time_constant);
-      w = e * w + (1.0 - e) * c.action();
+      cuts.push_back(t0 + frac * T);
     }
-    else
+    cuts.push_back(t1);
+    for (std::size_t i = 0; i + 1 < cuts.size(); ++i)
     {
-      w = c.action();
+      const Vector2 u = plant.gain * input(0.5 * (cuts[i] + cuts[i + 1]));
+      if (plant.type == PlantModel::Type::kFirstOrder)
+      {
+        const double e = std::exp(-(cuts[i + 1] - cuts[i]) / plant.time_constant);
+        w = e * w + (1.0 - e) * u;
+      }
+      else
+      {
+        w = u;
+      }
     }
   }
   return out;
@@ -194,6 +221,48 @@ TEST(StateSpace, IndependentOfRunawayLimitAndClamp)
   EXPECT_TRUE(ClosedLoopModel(p).phi().isApprox(reference.phi(), 1e-14));
 }
 
+TEST(StateSpace, MatchesTimeDomainWithGainAndDelay)
+{
+  // Delays of whole action periods and in between, on both plant types and both integrators.
+  for (Integrator integ : { Integrator::kEuler, Integrator::kExact })
+  {
+    for (double delay : { 0.02, 0.047, 0.117 })
+    {
+      AicParams p;
+      p.tau = 0.03;
+      p.belief_rate = 200.0;
+      p.integrator = integ;
+      p.accel_in_model = true;
+      p.k_a = 4.0;
+      p.var_y = { 2.0, 1.0e5, 1.0e5, 1.0e5 };
+      PlantModel plant;
+      plant.type = PlantModel::Type::kFirstOrder;
+      plant.time_constant = 0.08;
+      plant.gain = 0.9;
+      plant.delay = delay;
+      SCOPED_TRACE("delay " + std::to_string(delay));
+      expectSameResponse(p, plant);
+      plant.type = PlantModel::Type::kPointMass;
+      expectSameResponse(p, plant);
+    }
+  }
+}
+
+TEST(StateSpace, DelayDestabilizesAFastActionLoop)
+{
+  // The same gains that are stable without latency oscillate with the simulated Jackal's 0.12 s.
+  AicParams p;
+  p.tau = 0.03;
+  p.k_a = 20.0;
+  p.var_y = { 2.0, 1.0e5, 1.0e5, 1.0e5 };
+  PlantModel plant;
+  plant.type = PlantModel::Type::kFirstOrder;
+  plant.time_constant = 0.05;
+  EXPECT_TRUE(ClosedLoopModel(p, plant).stable());
+  plant.delay = 0.12;
+  EXPECT_FALSE(ClosedLoopModel(p, plant).stable());
+}
+
 TEST(StateSpace, RejectsBadInput)
 {
   AicParams p;
@@ -203,6 +272,16 @@ TEST(StateSpace, RejectsBadInput)
   PlantModel plant;
   plant.type = PlantModel::Type::kFirstOrder;
   plant.time_constant = 0.0;
+  EXPECT_THROW(ClosedLoopModel m(p, plant), std::invalid_argument);
+  plant.time_constant = 0.1;
+  plant.gain = 0.0;
+  EXPECT_THROW(ClosedLoopModel m(p, plant), std::invalid_argument);
+  plant.gain = std::nan("");
+  EXPECT_THROW(ClosedLoopModel m(p, plant), std::invalid_argument);
+  plant.gain = 1.0;
+  plant.delay = -0.01;
+  EXPECT_THROW(ClosedLoopModel m(p, plant), std::invalid_argument);
+  plant.delay = 1.01;  // 50 action periods at 50 Hz is 1 s
   EXPECT_THROW(ClosedLoopModel m(p, plant), std::invalid_argument);
   EXPECT_THROW(scanStabilityLimit(p, PlantModel(), ScanParameter::kKA, 1.0, 0.5), std::invalid_argument);
   p.tau = -1.0;

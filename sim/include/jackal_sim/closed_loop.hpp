@@ -40,7 +40,11 @@ namespace sim
 enum class LoopController
 {
   kStock,  ///< the Jackal's stock controller (diff_drive_controller mapping, 50 Hz)
-  kAic     ///< the active inference controller (jackal_aic core), scheduled as the node
+  kAic,    ///< the active inference controller (jackal_aic core), scheduled as the node
+  /// No controller: every 50 Hz tick the set point's wheel speeds (inverse kinematics of the
+  /// stock controller, r and its b_hat) go to the MCU as they are. The wheel loop's own
+  /// response, for identifying it (aic_tune.py).
+  kOpenLoop
 };
 
 /// One piece of a piecewise-constant set-point profile.
@@ -74,6 +78,9 @@ struct ClosedLoopRecord
   std::vector<double> yaw_true;   ///< ground-truth yaw rate [rad/s]
   std::vector<double> command;    ///< body speed of the last drive command r (a_L + a_R) / 2 [m/s]
   std::vector<double> belief;     ///< AIC belief mu^(0) x_dot [m/s] (NaN for the stock controller)
+  std::vector<double> angular_set_point;  ///< yaw-rate set point in force [rad/s]
+  std::vector<double> command_yaw;  ///< yaw rate of the last drive command r (a_R - a_L) / b_hat [rad/s]
+  std::vector<double> belief_yaw;   ///< AIC belief mu^(0) theta_dot [rad/s] (NaN for the others)
   std::uint64_t runaways = 0;     ///< AIC runaway resets during the run
   bool active = false;            ///< AIC: the controller started (p + 1 samples and a set point)
 };
