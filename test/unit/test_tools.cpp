@@ -1,10 +1,11 @@
-/// Bad-input paths and basic output of the CLI tools aic_analyze and aic_step_metrics.
+/// Bad-input paths and basic output of the CLI tools aic_analyze, aic_step_metrics and aic_predict.
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <fstream>
 #include <string>
 #include <utility>
+#include <vector>
 #include <sys/wait.h>
 
 namespace
@@ -121,4 +122,42 @@ TEST(AicStepMetrics, ComputesAndRejects)
   EXPECT_EQ(run(kMetrics + " /nonexistent.csv --step-time 0.1 --initial 0 --target 1").code, 1);
   const std::string bad = writeFile("aic_bad.csv", "time,value\n0,0\n0.1,abc\n");
   EXPECT_EQ(run(kMetrics + " " + bad + " --step-time 0 --initial 0 --target 1").code, 1);
+}
+
+TEST(AicPredict, OneJsonLinePerCandidateAndErrorsPerLine)
+{
+  const std::string in = writeFile("predict_in.txt",
+                                   "tau=0.03 var_y=[2,1e5,1e5,1e5] plant.time_constant=0.05\n"
+                                   "tau=0.03 var_y=[2,1e5,1e5,1e5] k_a=20 plant.time_constant=0.05 plant.delay=0.12\n"
+                                   "k_a=-1\n"
+                                   "plant.gain=0\n"
+                                   "plant.nonsense=1\n"
+                                   "\n");
+  const Result r = run(std::string(AIC_PREDICT_BIN) + " " + kData + "/../../config/thesis_standard.yaml < " + in);
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::vector<std::string> lines;
+  std::size_t start = 0;
+  for (std::size_t i = 0; i < r.out.size(); ++i)
+  {
+    if (r.out[i] == '\n')
+    {
+      lines.push_back(r.out.substr(start, i - start));
+      start = i + 1;
+    }
+  }
+  ASSERT_EQ(lines.size(), 6u) << r.out;
+  // Without latency the loop is stable and settles; with the simulated Jackal's 0.12 s it is not.
+  EXPECT_NE(lines[0].find("\"stable\": true"), std::string::npos) << lines[0];
+  EXPECT_EQ(lines[0].find("\"settling\": null"), std::string::npos) << lines[0];
+  EXPECT_NE(lines[1].find("\"stable\": false"), std::string::npos) << lines[1];
+  EXPECT_NE(lines[1].find("\"settling\": null"), std::string::npos) << lines[1];
+  EXPECT_NE(lines[2].find("\"ok\": false"), std::string::npos) << lines[2];
+  EXPECT_NE(lines[2].find("k_a"), std::string::npos) << lines[2];
+  EXPECT_NE(lines[3].find("plant gain"), std::string::npos) << lines[3];
+  EXPECT_NE(lines[4].find("unknown plant key"), std::string::npos) << lines[4];
+  EXPECT_EQ(lines[5], "{}");
+  // Bad arguments.
+  EXPECT_EQ(run(std::string(AIC_PREDICT_BIN)).code, 2);
+  EXPECT_EQ(run(std::string(AIC_PREDICT_BIN) + " /nonexistent.yaml < /dev/null").code, 1);
+  EXPECT_EQ(run(std::string(AIC_PREDICT_BIN) + " x.yaml --duration -1").code, 2);
 }
