@@ -76,8 +76,8 @@ class InvalidParamsTest(unittest.TestCase):
 
     def test_valid_parameters_keep_running(self):
         # integers where the node reads doubles (as a hand-written YAML may have them) are valid
-        valid = {"belief_rate": 1000, "action_rate": 50, "k_a": 8, "embedding_order": 3,
-                 "var_y": [2, 2, 100000, 100000]}
+        # (var_y: one per order of default.yaml's embedding order, 2)
+        valid = {"belief_rate": 1000, "action_rate": 50, "k_a": 8, "var_y": [2, 20, 100000]}
         proc = subprocess.Popen(self.args("aic_valid", valid), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                 text=True)
         try:
