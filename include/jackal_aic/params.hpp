@@ -28,8 +28,8 @@ bool integratorFromString(const std::string& name, Integrator* out);
 /// "euler" or "exact".
 std::string toString(Integrator integrator);
 
-/// \name Sanity bounds of AicParams::validate() (guards against absurd values that would
-/// overflow the free energy or its gradient; far outside any useful setting).
+/// \name Sanity bounds of AicParams::validate(), used by the parameter schema (guards against
+/// absurd values that would overflow the free energy or its gradient; far outside any useful setting).
 ///@{
 constexpr double kMaxRate = 1.0e6;       ///< largest belief/action rate [Hz]
 constexpr double kMinTau = 1.0e-6;       ///< smallest tau [s]
@@ -108,14 +108,14 @@ struct AicParams
   /**
    * \brief Check every rule; report every violation (empty vector = valid).
    *
-   * Rules: rates finite, > 0 and <= kMaxRate; belief_rate >= action_rate;
-   * tau in [kMinTau, kMaxTau]; k_mu, k_a finite, > 0 and <= kMaxGain;
-   * 1 <= embedding_order <= kMaxEmbeddingOrder; var_mu of size p+1 or
-   * 3(p+1), var_y of size p+1 or 5(p+1), every variance in [kMinVariance, kMaxVariance];
-   * wheel_radius, wheel_separation in [kMinLength, kMaxLength]; slip_factor in
-   * [kMinSlipFactor, kMaxSlipFactor]; max_wheel_speed in (0, kMaxWheelSpeedLimit];
+   * The ranges are those of the parameter schema (include/jackal_aic/param_schema.hpp,
+   * the controller keys): rates finite, > 0 and <= kMaxRate; tau in [kMinTau, kMaxTau];
+   * k_mu, k_a finite, > 0 and <= kMaxGain; 1 <= embedding_order <= kMaxEmbeddingOrder;
+   * var_mu of size p+1 or 3(p+1), var_y of size p+1 or 5(p+1), every variance in
+   * [kMinVariance, kMaxVariance]; wheel_radius, wheel_separation in [kMinLength, kMaxLength];
+   * slip_factor in [kMinSlipFactor, kMaxSlipFactor]; max_wheel_speed in (0, kMaxWheelSpeedLimit];
    * runaway_limit in (0, kMaxRunawayLimit]; max_action_lead in [0, kMaxWheelSpeedLimit];
-   * integrator a known enumerator.
+   * integrator a known enumerator. Plus the cross rule belief_rate >= action_rate.
    * Each violation names the YAML key (e.g. "var_mu[2]"), the value and the allowed range.
    */
   std::vector<ParamViolation> validate() const;

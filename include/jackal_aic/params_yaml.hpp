@@ -1,11 +1,12 @@
 #pragma once
 /**
  * \file params_yaml.hpp
- * \brief Read the controller keys of a jackal_AIC YAML file (config/*.yaml) into AicParams,
- *        outside ROS (aic_analyze, plant_identify). ROS-free; yaml-cpp only.
+ * \brief Read the controller keys of a jackal_AIC YAML file (config/\*.yaml) into AicParams,
+ *        outside ROS (aic_analyze, closed_loop_run, plant_fit). ROS-free; yaml-cpp only.
  *
- * The node reads the same files through rosparam (src/ros/node_params.cpp); node-only keys
- * (timeouts, joint names, ...) are skipped here, unknown keys are reported.
+ * Keys, types and defaults are those of the parameter schema
+ * (include/jackal_aic/param_schema.hpp); the node reads the same files through rosparam
+ * (src/ros/node_params.cpp). Node-only keys are skipped here, unknown keys are reported.
  */
 
 #include <string>
@@ -13,26 +14,44 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "jackal_aic/param_schema.hpp"
 #include "jackal_aic/params.hpp"
 
 namespace jackal_aic
 {
 /**
+ * \brief A parsed YAML map as a ParamSource: kDouble accepts any number (an integer too),
+ *        kInt an integer, kBool true/false, lists sequences of those.
+ */
+class YamlParamSource : public ParamSource
+{
+public:
+  /// \param root  the file's top-level map (a non-map has no keys)
+  explicit YamlParamSource(YAML::Node root) : root_(std::move(root)) {}
+  Status read(const std::string& key, ParamType type, ParamValue* out) const override;
+  std::string raw(const std::string& key) const override;
+  std::vector<std::string> keys() const override;
+
+private:
+  YAML::Node root_;
+};
+
+/**
  * \brief Controller parameters from a parsed YAML map (absent keys keep AicParams' defaults).
  * \param root       the file's top-level map
  * \param file       the file's name, for messages
- * \param defaulted  out: keys absent from the file (their defaults were used); may be null
- * \param unknown    out: keys that are neither controller nor node-only keys; may be null
+ * \param defaulted  out: controller keys absent from the file (their defaults were used); may be null
+ * \param unknown    out: keys that are in no scope of the schema (typos); may be null
  * \return the parameters, not validated (call AicParams::validate())
- * \throws std::runtime_error "<file>: key '<key>' must be <type>" on a value of the wrong type,
- *         or on an unknown integrator name
+ * \throws std::runtime_error "<file>: key '<key>' must be <type> (got <value>)" on a value of
+ *         the wrong type or an unknown integrator name (the first such key)
  */
 AicParams aicParamsFromYaml(const YAML::Node& root, const std::string& file, std::vector<std::string>* defaulted,
                             std::vector<std::string>* unknown);
 
 /**
- * \brief As aicParamsFromYaml() from a file, with "key=value" overrides (value parsed as YAML)
- *        applied on top, and validated.
+ * \brief As aicParamsFromYaml() from a file, with "key=value" overrides (applyOverrides(),
+ *        include/jackal_aic/yaml_overrides.hpp) applied on top, and validated.
  * \throws std::runtime_error on an unreadable file, a YAML error, a malformed override, a value of
  *         the wrong type, or invalid parameters (every violation listed)
  */

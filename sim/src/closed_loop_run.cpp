@@ -32,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "jackal_aic/cli.hpp"
 #include "jackal_aic/params_yaml.hpp"
 #include "jackal_aic/step_metrics.hpp"
 #include "jackal_sim/closed_loop.hpp"
@@ -47,29 +48,6 @@ using namespace jackal_aic::sim;
 
 namespace
 {
-const char* kUsage =
-    "usage: closed_loop_run --controller aic|stock|open [--aic-config FILE] [--aic-set key=value]...\n"
-    "           [--config PLANT.yaml] [--set key=value]... [--urdf FILE]\n"
-    "           (--step V | --square LOW HIGH) [--channel linear|angular] [--period S] [--cycles N]\n"
-    "           [--rest S] [--hold S] [--noise] [--csv FILE]\n";
-
-[[noreturn]] void usageError(const std::string& msg)
-{
-  std::cerr << "closed_loop_run: " << msg << "\n" << kUsage;
-  std::exit(2);
-}
-
-double number(const std::string& s, const char* what)
-{
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (s.empty() || *end != '\0' || !std::isfinite(v))
-  {
-    usageError(std::string(what) + ": '" + s + "' is not a number");
-  }
-  return v;
-}
-
 std::string num(double v)
 {
   if (!std::isfinite(v))
@@ -123,8 +101,6 @@ int main(int argc, char** argv)
   std::vector<std::string> aic_overrides;
   std::string controller;
   std::string csv;
-  bool have_step = false;
-  bool have_square = false;
   double step = 0.0;
   double low = 0.0;
   double high = 0.0;
@@ -134,77 +110,62 @@ int main(int argc, char** argv)
   double hold = 3.0;
   bool noise = false;
   std::string channel = "linear";
-  for (int i = 1; i < argc; ++i)
+  std::vector<double> square;
+  CLI::App app{ "One set-point profile with the stock controller or the AIC on the ODE plant core, headless and "
+                "faster than real time; prints one JSON object with the metrics of every transition.",
+                "closed_loop_run" };
+  app.add_option("--controller", controller, "aic, stock or open (no controller: the set point's wheel speeds go to the MCU as they are)")
+      ->required();
+  app.add_option("--aic-config", aic_config, "controller YAML")->capture_default_str();
+  addOverrideOption(app, "--aic-set", &aic_overrides, "override a controller key (repeatable)");
+  app.add_option("--config", config, "plant YAML")->capture_default_str();
+  addOverrideOption(app, "--set", &overrides, "override a plant key, dotted (repeatable)");
+  app.add_option("--urdf", urdf, "robot model")->capture_default_str();
+  CLI::Option* step_opt =
+      app.add_option("--step", step, "0 until --rest, then V [m/s] (or [rad/s]) for --hold seconds")->check(finiteNumber());
+  CLI::Option* square_opt = app.add_option("--square", square,
+                                           "LOW HIGH: 0 until --rest, LOW for --rest seconds (lead-in), then --cycles "
+                                           "periods of HIGH / LOW, each half --period / 2")
+                                ->expected(2)
+                                ->check(finiteNumber());
+  app.add_option("--channel", channel,
+                 "linear or angular: the step / square values are yaw rates [rad/s] (linear set point 0); metrics "
+                 "on the yaw rate")
+      ->capture_default_str();
+  app.add_option("--period", period, "square period [s]")->check(finiteNumber())->capture_default_str();
+  app.add_option("--cycles", cycles, "square periods, 1..100")->capture_default_str();
+  app.add_option("--rest", rest, "rest before the profile [s], > 0.2")->check(finiteNumber())->capture_default_str();
+  app.add_option("--hold", hold, "step hold time [s]")->check(finiteNumber())->capture_default_str();
+  app.add_flag("--noise", noise, "keep the plant YAML's sensor noise (default: ideal sensors, reproducible)");
+  app.add_option("--csv", csv, "write the trace as CSV");
+  app.footer("Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.");
+  if (const int code = parseCommandLine(app, argc, argv); code >= 0)
   {
-    const std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc)
-      {
-        usageError(a + " needs a value");
-      }
-      return argv[++i];
-    };
-    if (a == "--controller")
-      controller = next();
-    else if (a == "--aic-config")
-      aic_config = next();
-    else if (a == "--aic-set")
-      aic_overrides.push_back(next());
-    else if (a == "--config")
-      config = next();
-    else if (a == "--set")
-      overrides.push_back(next());
-    else if (a == "--urdf")
-      urdf = next();
-    else if (a == "--step")
-    {
-      step = number(next(), "--step");
-      have_step = true;
-    }
-    else if (a == "--square")
-    {
-      low = number(next(), "--square LOW");
-      high = number(next(), "--square HIGH");
-      have_square = true;
-    }
-    else if (a == "--channel")
-      channel = next();
-    else if (a == "--period")
-      period = number(next(), "--period");
-    else if (a == "--cycles")
-      cycles = static_cast<int>(number(next(), "--cycles"));
-    else if (a == "--rest")
-      rest = number(next(), "--rest");
-    else if (a == "--hold")
-      hold = number(next(), "--hold");
-    else if (a == "--noise")
-      noise = true;
-    else if (a == "--csv")
-      csv = next();
-    else if (a == "--help" || a == "-h")
-    {
-      std::cout << kUsage;
-      return 0;
-    }
-    else
-      usageError("unknown argument '" + a + "'");
+    return code;
+  }
+  const bool have_step = step_opt->count() > 0;
+  const bool have_square = square_opt->count() > 0;
+  if (have_square)
+  {
+    low = square[0];
+    high = square[1];
   }
   if (controller != "aic" && controller != "stock" && controller != "open")
   {
-    usageError("--controller must be aic, stock or open");
+    return badArgument(app, "--controller must be aic, stock or open");
   }
   if (channel != "linear" && channel != "angular")
   {
-    usageError("--channel must be linear or angular");
+    return badArgument(app, "--channel must be linear or angular");
   }
   const bool angular = channel == "angular";
   if (have_step == have_square)
   {
-    usageError("give exactly one of --step and --square");
+    return badArgument(app, "give exactly one of --step and --square");
   }
   if (!(rest > 0.2) || !(hold > 0.0) || !(period > 0.0) || cycles < 1 || cycles > 100)
   {
-    usageError("--rest must be > 0.2 s, --hold and --period > 0, --cycles in [1, 100]");
+    return badArgument(app, "--rest must be > 0.2 s, --hold and --period > 0, --cycles in [1, 100]");
   }
 
   ClosedLoopConfig c;

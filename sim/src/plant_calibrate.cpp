@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "jackal_aic/cli.hpp"
 #include "jackal_sim/calibration.hpp"
 #include "jackal_sim/plant.hpp"
 #include "jackal_sim/plant_params.hpp"
@@ -43,11 +44,6 @@ using namespace jackal_aic::sim;
 
 namespace
 {
-void usage()
-{
-  std::cerr << "usage: plant_calibrate [--urdf FILE] [--config FILE] [--set key=value]... [--csv FILE] [--check]\n";
-}
-
 constexpr double kSettle = 4.0;   // s from rest before the steady-state window
 constexpr double kMeasure = 2.0;  // s, steady-state window
 
@@ -134,32 +130,17 @@ int main(int argc, char** argv)
   std::string csv;
   std::vector<std::string> overrides;
   bool check = false;
-  for (int i = 1; i < argc; ++i)
+  CLI::App app{ "The stock controller on the ODE plant for velocity steps from rest, beside the real Jackal's "
+                "settling and rise times (thesis table 3-1b), then the top-speed and wheel-separation checks.",
+                "plant_calibrate" };
+  app.add_option("--urdf", urdf, "robot model")->capture_default_str();
+  app.add_option("--config", config, "plant YAML")->capture_default_str();
+  jackal_aic::addOverrideOption(app, "--set", &overrides, "override a plant key, dotted (repeatable)");
+  app.add_option("--csv", csv, "write the step traces as CSV");
+  app.add_flag("--check", check, "exit 1 unless every acceptance band holds");
+  if (const int code = jackal_aic::parseCommandLine(app, argc, argv); code >= 0)
   {
-    const std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc)
-      {
-        usage();
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (a == "--urdf")
-      urdf = next();
-    else if (a == "--config")
-      config = next();
-    else if (a == "--set")
-      overrides.push_back(next());
-    else if (a == "--csv")
-      csv = next();
-    else if (a == "--check")
-      check = true;
-    else
-    {
-      usage();
-      return 2;
-    }
+    return code;
   }
   RobotDescription desc;
   PlantParams params;

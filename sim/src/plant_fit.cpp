@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "jackal_aic/cli.hpp"
 #include "jackal_aic/params_yaml.hpp"
 #include "jackal_sim/identification.hpp"
 #include "jackal_sim/plant_params.hpp"
@@ -44,10 +45,6 @@ using namespace jackal_aic::sim;
 
 namespace
 {
-const char* kUsage =
-    "usage: plant_fit [--urdf FILE] [--config PLANT.yaml] [--set key=value]... [--aic-config FILE]\n"
-    "                 [--data FILE] [--tables ID,ID,...] [--json] [--check]\n";
-
 std::string jsonNumber(double v)
 {
   if (!std::isfinite(v))
@@ -82,51 +79,24 @@ int main(int argc, char** argv)
   std::set<std::string> only;
   bool json = false;
   bool check = false;
-  for (int i = 1; i < argc; ++i)
+  std::vector<std::string> table_ids;
+  CLI::App app{ "Every robot step response of the data file on the ODE plant (stock controller and the "
+                "thesis-equivalent AIC), headless: the fit table, or one JSON object with --json.",
+                "plant_fit" };
+  app.add_option("--urdf", urdf, "robot model")->capture_default_str();
+  app.add_option("--config", config, "plant YAML")->capture_default_str();
+  addOverrideOption(app, "--set", &overrides, "override a plant key, dotted (repeatable)");
+  app.add_option("--aic-config", aic_config, "controller YAML of the AIC rows")->capture_default_str();
+  app.add_option("--data", data, "the robot's step tables")->capture_default_str();
+  app.add_option("--tables", table_ids, "table ids to run, comma-separated (default all)")->delimiter(',');
+  app.add_flag("--json", json, "print one JSON object (the interface of scripts/plant_identify.py)");
+  app.add_flag("--check", check, "exit 1 unless every table is accepted");
+  app.footer("Exit 2 on bad arguments, 1 on unreadable or invalid files.");
+  if (const int code = parseCommandLine(app, argc, argv); code >= 0)
   {
-    const std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc)
-      {
-        std::cerr << kUsage;
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (a == "--urdf")
-      urdf = next();
-    else if (a == "--config")
-      config = next();
-    else if (a == "--set")
-      overrides.push_back(next());
-    else if (a == "--aic-config")
-      aic_config = next();
-    else if (a == "--data")
-      data = next();
-    else if (a == "--tables")
-    {
-      std::stringstream ss(next());
-      std::string id;
-      while (std::getline(ss, id, ','))
-      {
-        only.insert(id);
-      }
-    }
-    else if (a == "--json")
-      json = true;
-    else if (a == "--check")
-      check = true;
-    else if (a == "--help" || a == "-h")
-    {
-      std::cout << kUsage;
-      return 0;
-    }
-    else
-    {
-      std::cerr << "plant_fit: unknown argument '" << a << "'\n" << kUsage;
-      return 2;
-    }
+    return code;
   }
+  only.insert(table_ids.begin(), table_ids.end());
 
   RobotDescription desc;
   PlantParams params;

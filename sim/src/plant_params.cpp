@@ -7,6 +7,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "jackal_aic/yaml_overrides.hpp"
+
 namespace jackal_aic
 {
 namespace sim
@@ -122,39 +124,6 @@ void readStream(Section& s, StreamParams* p)
   s.get("dropout", &p->dropout);
 }
 
-/// Apply "a.b.c=value" to a YAML tree (value parsed as YAML).
-void applyOverride(YAML::Node root, const std::string& ov, const std::string& source)
-{
-  const auto eq = ov.find('=');
-  if (eq == std::string::npos || eq == 0)
-  {
-    throw PlantParamsError("plant parameters '" + source + "': override '" + ov + "' is not of the form key=value");
-  }
-  const std::string key = ov.substr(0, eq);
-  YAML::Node value;
-  try
-  {
-    value = YAML::Load(ov.substr(eq + 1));
-  }
-  catch (const YAML::Exception& ex)
-  {
-    throw PlantParamsError("plant parameters '" + source + "': override '" + ov + "' has a malformed value");
-  }
-  std::vector<std::string> parts;
-  std::stringstream ss(key);
-  for (std::string part; std::getline(ss, part, '.');)
-  {
-    parts.push_back(part);
-  }
-  // Walk with fresh handles (yaml-cpp node assignment rebinds).
-  std::vector<YAML::Node> chain{ root };
-  for (std::size_t i = 0; i + 1 < parts.size(); ++i)
-  {
-    YAML::Node next = chain.back()[parts[i]];
-    chain.push_back(next);
-  }
-  chain.back()[parts.back()] = value;
-}
 }  // namespace
 
 std::vector<std::string> PhysicsParams::validate() const
@@ -322,9 +291,13 @@ PlantParams parsePlantParams(const std::string& yaml, const std::string& source,
   {
     throw PlantParamsError("plant parameter file '" + source + "' must be a YAML map");
   }
-  for (const auto& ov : overrides)
+  try
   {
-    applyOverride(root, ov, source);
+    applyOverrides(root, overrides);  // the shared KEY=VALUE parser (jackal_aic/yaml_overrides.hpp)
+  }
+  catch (const std::invalid_argument& e)
+  {
+    throw PlantParamsError("plant parameters '" + source + "': " + e.what());
   }
 
   PlantParams p;

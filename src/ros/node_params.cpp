@@ -1,9 +1,12 @@
+/**
+ * \file node_params.cpp
+ * \brief NodeParams from the parameter server through the parameter schema
+ *        (doc/jackal_aic_node.md, 'Parameters').
+ */
 #include "jackal_aic/ros/node_params.hpp"
 
-#include <cmath>
-#include <set>
+#include <algorithm>
 #include <sstream>
-#include <type_traits>
 
 #include <ros/console.h>
 #include <ros/param.h>
@@ -13,18 +16,56 @@ namespace jackal_aic
 {
 namespace
 {
-std::string num(double v)
+template <class T>
+ParamSource::Status readAs(const ros::NodeHandle& nh, const std::string& key, ParamValue* out)
 {
-  std::ostringstream os;
-  os << v;
-  return os.str();
+  T value{};
+  if (!nh.getParam(key, value))
+  {
+    return ParamSource::Status::kWrongType;
+  }
+  *out = value;
+  return ParamSource::Status::kOk;
+}
+}  // namespace
+
+ParamSource::Status RosParamSource::read(const std::string& key, ParamType type, ParamValue* out) const
+{
+  if (!nh_.hasParam(key))
+  {
+    return Status::kMissing;
+  }
+  switch (type)
+  {
+    case ParamType::kDouble:
+      return readAs<double>(nh_, key, out);
+    case ParamType::kInt:
+    {
+      // roscpp's getParam(int&) rounds a double (2.5 -> 3) instead of failing: require an XML-RPC int.
+      XmlRpc::XmlRpcValue raw;
+      if (!nh_.getParam(key, raw) || raw.getType() != XmlRpc::XmlRpcValue::TypeInt)
+      {
+        return Status::kWrongType;
+      }
+      *out = static_cast<int>(raw);
+      return Status::kOk;
+    }
+    case ParamType::kBool:
+      return readAs<bool>(nh_, key, out);
+    case ParamType::kString:
+      return readAs<std::string>(nh_, key, out);
+    case ParamType::kDoubleList:
+      return readAs<std::vector<double>>(nh_, key, out);
+    case ParamType::kStringList:
+      return readAs<std::vector<std::string>>(nh_, key, out);
+  }
+  return Status::kWrongType;
 }
 
-/// The raw value of a parameter, printed, for a violation message.
-std::string rawValue(const ros::NodeHandle& pnh, const std::string& key)
+std::string RosParamSource::raw(const std::string& key) const
 {
   XmlRpc::XmlRpcValue raw;
-  if (!pnh.getParam(key, raw))
+  if (!nh_.getParam(key, raw))
   {
     return "<missing>";
   }
@@ -33,189 +74,49 @@ std::string rawValue(const ros::NodeHandle& pnh, const std::string& key)
   return os.str();
 }
 
-/// Read `key` into `value` if present; a present key of the wrong type is a violation.
-template <class T>
-void read(const ros::NodeHandle& pnh, const std::string& key, T* value, const std::string& expected,
-          std::vector<ParamViolation>* violations)
-{
-  if (!pnh.hasParam(key))
-  {
-    ROS_INFO_STREAM("jackal_AIC: parameter ~" << key << " not set, using the default");
-    return;
-  }
-  if constexpr (std::is_same_v<T, int>)
-  {
-    // roscpp's getParam(int&) rounds a double (2.5 -> 3) instead of failing: require an XML-RPC int.
-    XmlRpc::XmlRpcValue raw;
-    if (!pnh.getParam(key, raw) || raw.getType() != XmlRpc::XmlRpcValue::TypeInt)
-    {
-      violations->push_back({ key, rawValue(pnh, key), expected });
-      return;
-    }
-    *value = static_cast<int>(raw);
-  }
-  else if (!pnh.getParam(key, *value))
-  {
-    violations->push_back({ key, rawValue(pnh, key), expected });
-  }
-}
-
-void requirePositive(const std::string& name, double value, std::vector<ParamViolation>* violations)
-{
-  if (!std::isfinite(value) || value <= 0.0)
-  {
-    violations->push_back({ name, num(value), "> 0 and finite" });
-  }
-}
-
-void checkJointList(const std::string& name, const std::vector<std::string>& joints,
-                    std::vector<ParamViolation>* violations)
-{
-  if (joints.empty())
-  {
-    violations->push_back({ name, "[]", "a non-empty list of joint names" });
-    return;
-  }
-  std::set<std::string> seen;
-  for (std::size_t i = 0; i < joints.size(); ++i)
-  {
-    const std::string item = name + "[" + std::to_string(i) + "]";
-    if (joints[i].empty())
-    {
-      violations->push_back({ item, "\"\"", "a non-empty joint name" });
-    }
-    else if (!seen.insert(joints[i]).second)
-    {
-      violations->push_back({ item, joints[i], "a name not listed twice" });
-    }
-  }
-}
-
-/// Keys the node reads (or that dynamic_reconfigure and diagnostic_updater write) in ~.
-const std::set<std::string>& knownKeys()
-{
-  static const std::set<std::string> keys = {
-    "belief_rate", "action_rate", "tau", "k_mu", "k_a", "embedding_order", "var_mu", "var_y",
-    "wheel_radius", "slip_factor", "wheel_separation", "max_wheel_speed", "runaway_limit", "max_action_lead",
-    "accel_in_model", "integrator", "sensor_timeout", "set_point_timeout", "imu_max_skew",
-    "min_sample_interval", "max_linear_speed", "max_angular_speed", "runaway_hold_time",
-    "left_joints", "right_joints", "diagnostic_period",
-    // written by the dynamic_reconfigure server (cfg/AIC.cfg)
-    "var_mu_0", "var_mu_1", "var_mu_2", "var_mu_3", "var_mu_4", "var_mu_5",
-    "var_y_0", "var_y_1", "var_y_2", "var_y_3", "var_y_4", "var_y_5",
-  };
-  return keys;
-}
-
-void warnUnknownKeys(const ros::NodeHandle& pnh)
+std::vector<std::string> RosParamSource::keys() const
 {
   std::vector<std::string> names;
+  std::vector<std::string> out;
   if (!ros::param::getParamNames(names))
   {
-    return;
+    return out;
   }
-  const std::string prefix = pnh.getNamespace() + "/";
+  const std::string prefix = nh_.getNamespace() + "/";
   for (const auto& full : names)
   {
     if (full.compare(0, prefix.size(), prefix) != 0)
     {
       continue;
     }
-    std::string key = full.substr(prefix.size());
-    key = key.substr(0, key.find('/'));
-    if (knownKeys().count(key) == 0 && key.compare(0, 8, "groups") != 0)
+    const std::string rest = full.substr(prefix.size());
+    const std::string key = rest.substr(0, rest.find('/'));
+    if (std::find(out.begin(), out.end(), key) == out.end())
     {
-      ROS_WARN_STREAM("jackal_AIC: unknown parameter ~" << key << " ignored (typo?)");
+      out.push_back(key);
     }
   }
-}
-}  // namespace
-
-std::vector<ParamViolation> NodeParams::validate() const
-{
-  std::vector<ParamViolation> violations = aic.validate();
-  if (std::isfinite(aic.belief_rate) && aic.belief_rate > kMaxLoopRate)
-  {
-    violations.push_back({ "belief_rate", num(aic.belief_rate), "<= " + num(kMaxLoopRate) + " Hz" });
-  }
-  if (std::isfinite(aic.action_rate) && aic.action_rate > kMaxLoopRate)
-  {
-    violations.push_back({ "action_rate", num(aic.action_rate), "<= " + num(kMaxLoopRate) + " Hz" });
-  }
-  requirePositive("sensor_timeout", sensor_timeout, &violations);
-  requirePositive("set_point_timeout", set_point_timeout, &violations);
-  requirePositive("imu_max_skew", imu_max_skew, &violations);
-  requirePositive("max_linear_speed", max_linear_speed, &violations);
-  requirePositive("max_angular_speed", max_angular_speed, &violations);
-  if (!std::isfinite(min_sample_interval) || min_sample_interval < 0.0 ||
-      (std::isfinite(sensor_timeout) && min_sample_interval >= sensor_timeout))
-  {
-    violations.push_back({ "min_sample_interval", num(min_sample_interval), ">= 0 and < sensor_timeout" });
-  }
-  if (!std::isfinite(runaway_hold_time) || runaway_hold_time < 0.0)
-  {
-    violations.push_back({ "runaway_hold_time", num(runaway_hold_time), ">= 0 and finite" });
-  }
-  checkJointList("left_joints", left_joints, &violations);
-  checkJointList("right_joints", right_joints, &violations);
-  for (const auto& name : left_joints)
-  {
-    for (const auto& other : right_joints)
-    {
-      if (!name.empty() && name == other)
-      {
-        violations.push_back({ "right_joints", name, "a joint not also in left_joints" });
-      }
-    }
-  }
-  return violations;
+  return out;
 }
 
 void loadNodeParams(const ros::NodeHandle& pnh, NodeParams* params, std::vector<ParamViolation>* violations)
 {
-  AicParams& aic = params->aic;
-  const std::string number = "a number";
-  read(pnh, "belief_rate", &aic.belief_rate, number, violations);
-  read(pnh, "action_rate", &aic.action_rate, number, violations);
-  read(pnh, "tau", &aic.tau, number, violations);
-  read(pnh, "k_mu", &aic.k_mu, number, violations);
-  read(pnh, "k_a", &aic.k_a, number, violations);
-  read(pnh, "embedding_order", &aic.embedding_order, "an integer", violations);
-  read(pnh, "var_mu", &aic.var_mu, "a list of numbers", violations);
-  read(pnh, "var_y", &aic.var_y, "a list of numbers", violations);
-  read(pnh, "wheel_radius", &aic.wheel_radius, number, violations);
-  read(pnh, "slip_factor", &aic.slip_factor, number, violations);
-  read(pnh, "wheel_separation", &aic.wheel_separation, number, violations);
-  read(pnh, "max_wheel_speed", &aic.max_wheel_speed, number, violations);
-  read(pnh, "runaway_limit", &aic.runaway_limit, number, violations);
-  read(pnh, "max_action_lead", &aic.max_action_lead, number, violations);
-  read(pnh, "accel_in_model", &aic.accel_in_model, "true or false", violations);
-  std::string integrator = toString(aic.integrator);
-  read(pnh, "integrator", &integrator, "euler or exact", violations);
-  if (!integratorFromString(integrator, &aic.integrator))
+  const RosParamSource source(pnh);
+  const ParamLoadReport report =
+      loadParams(source, { ParamScope::kController, ParamScope::kNode }, /*with_reconfigure=*/true, params);
+  for (const auto& key : report.defaulted)
   {
-    violations->push_back({ "integrator", integrator, "euler or exact" });
-  }
-
-  read(pnh, "sensor_timeout", &params->sensor_timeout, number, violations);
-  read(pnh, "set_point_timeout", &params->set_point_timeout, number, violations);
-  read(pnh, "imu_max_skew", &params->imu_max_skew, number, violations);
-  read(pnh, "min_sample_interval", &params->min_sample_interval, number, violations);
-  read(pnh, "max_linear_speed", &params->max_linear_speed, number, violations);
-  read(pnh, "max_angular_speed", &params->max_angular_speed, number, violations);
-  read(pnh, "runaway_hold_time", &params->runaway_hold_time, number, violations);
-
-  const std::string names = "a non-empty list of joint names";
-  for (const auto& key : { std::string("left_joints"), std::string("right_joints") })
-  {
-    auto* list = key == "left_joints" ? &params->left_joints : &params->right_joints;
-    // A missing key leaves the list empty, which validate() reports as a violation.
-    if (pnh.hasParam(key) && !pnh.getParam(key, *list))
+    const ParamSpec* spec = findParam(key);
+    if (spec != nullptr && !spec->required)
     {
-      violations->push_back({ key, rawValue(pnh, key), names });
+      ROS_INFO_STREAM("jackal_AIC: parameter ~" << key << " not set, using the default");
     }
   }
-  warnUnknownKeys(pnh);
+  violations->insert(violations->end(), report.errors.begin(), report.errors.end());
+  for (const auto& key : report.unknown)
+  {
+    ROS_WARN_STREAM("jackal_AIC: unknown parameter ~" << key << " ignored (typo?)");
+  }
 }
 
 }  // namespace jackal_aic

@@ -8,8 +8,9 @@
  * unknown keys are warned about) and prints, per belief rate and integrator: the spectral radius
  * of the dual-rate closed loop, stable or not, the predicted step metrics of v_x, and the
  * stability limits (smallest stable tau, largest stable k_mu and k_a, the others fixed).
- * Run with --help for the options. Exit 0 on success, 1 on a bad file or invalid parameters,
- * 2 on bad arguments.
+ * Keys are those of the parameter schema (include/jackal_aic/param_schema.hpp); --set uses the
+ * shared override parser (include/jackal_aic/yaml_overrides.hpp). Run with --help for the
+ * options (CLI11). Exit 0 on success, 1 on a bad file or invalid parameters, 2 on bad arguments.
  */
 #include <cmath>
 #include <cstdio>
@@ -25,59 +26,20 @@
 #include <Eigen/Eigenvalues>
 #include <yaml-cpp/yaml.h>
 
+#include "jackal_aic/cli.hpp"
 #include "jackal_aic/params.hpp"
 #include "jackal_aic/params_yaml.hpp"
 #include "jackal_aic/state_space.hpp"
+#include "jackal_aic/yaml_overrides.hpp"
 
 using namespace jackal_aic;
 
 namespace
 {
-const char* kUsage =
-    "usage: aic_analyze CONFIG.yaml [options]\n"
-    "  --rates R1,R2,...        belief rates to analyse [Hz] (default 50,100,1000); the action rate is\n"
-    "                           the file's action_rate (or the belief rate if that is lower)\n"
-    "  --integrators LIST       euler,exact (default both)\n"
-    "  --plant point|first-order  plant in the loop (default point: wheels follow the command, thesis ch. 4)\n"
-    "  --plant-time-constant T  first-order wheel-speed time constant [s] (default 0.15; implies first-order)\n"
-    "  --target V               step of the goal v_x from 0 [m/s] (default 0.5)\n"
-    "  --duration S             simulated time of the predicted step [s] (default 20)\n"
-    "  --set KEY=VALUE          override a YAML key (repeatable), e.g. --set tau=0.01\n"
-    "  --no-scan                skip the stability-limit scans\n"
-    "  --csv                    machine-readable CSV instead of the table\n"
-    "Scan ranges: tau [1e-5, 10] s, k_mu and k_a [1e-4, 1e4].\n";
-
 [[noreturn]] void fail(int code, const std::string& msg)
 {
   std::cerr << "aic_analyze: error: " << msg << "\n";
-  if (code == 2)
-  {
-    std::cerr << kUsage;
-  }
   std::exit(code);
-}
-
-std::vector<std::string> split(const std::string& s, char sep)
-{
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  std::string item;
-  while (std::getline(ss, item, sep))
-  {
-    out.push_back(item);
-  }
-  return out;
-}
-
-bool parseDouble(const std::string& s, double* out)
-{
-  if (s.empty())
-  {
-    return false;
-  }
-  char* end = nullptr;
-  *out = std::strtod(s.c_str(), &end);
-  return *end == '\0' && std::isfinite(*out);
 }
 
 std::string fmt(double v, int precision = 4)
@@ -126,137 +88,111 @@ int main(int argc, char** argv)
 {
   std::string file;
   std::vector<double> rates{ 50.0, 100.0, 1000.0 };
-  std::vector<Integrator> integrators{ Integrator::kEuler, Integrator::kExact };
+  std::vector<std::string> integrator_names{ "euler", "exact" };
+  std::string plant_name = "point";
   PlantModel plant;
   double target = 0.5;
   double duration = 20.0;
   bool csv = false;
-  bool scan = true;
-  std::vector<std::pair<std::string, std::string>> overrides;
-  for (int i = 1; i < argc; ++i)
+  bool no_scan = false;
+  std::vector<std::string> overrides;
+
+  CLI::App app{ "Linear analysis of an active inference controller configuration: spectral radius of the dual-rate "
+                "closed loop, predicted step response of v_x and stability limits per belief rate and integrator "
+                "(thesis ch. 4; doc/active_inference.md).",
+                "aic_analyze" };
+  app.add_option("CONFIG", file, "controller YAML (config/*.yaml)")->required();
+  app.add_option("--rates", rates,
+                 "belief rates to analyse [Hz], comma-separated; the action rate is the file's action_rate (or the "
+                 "belief rate if that is lower)")
+      ->delimiter(',')
+      ->check(finiteNumber())
+      ->capture_default_str();
+  app.add_option("--integrators", integrator_names, "euler,exact (default both)")->delimiter(',');
+  app.add_option("--plant", plant_name, "plant in the loop: point (wheels follow the command, thesis ch. 4) or "
+                                        "first-order")
+      ->capture_default_str();
+  CLI::Option* tc = app.add_option("--plant-time-constant", plant.time_constant,
+                                   "first-order wheel-speed time constant [s] (implies first-order)")
+                        ->check(finiteNumber())
+                        ->capture_default_str();
+  app.add_option("--target", target, "step of the goal v_x from 0 [m/s]")->check(finiteNumber())->capture_default_str();
+  app.add_option("--duration", duration, "simulated time of the predicted step [s]")
+      ->check(finiteNumber())
+      ->capture_default_str();
+  addOverrideOption(app, "--set", &overrides, "override a YAML key (repeatable), e.g. --set tau=0.01");
+  app.add_flag("--no-scan", no_scan, "skip the stability-limit scans");
+  app.add_flag("--csv", csv, "machine-readable CSV instead of the table");
+  app.footer("Scan ranges: tau [1e-5, 10] s, k_mu and k_a [1e-4, 1e4]. Exit 0 on success, 1 on a bad file or "
+             "invalid parameters, 2 on bad arguments.");
+  if (const int code = parseCommandLine(app, argc, argv); code >= 0)
   {
-    const std::string a = argv[i];
-    auto value = [&]() -> std::string {
-      if (i + 1 >= argc)
-      {
-        fail(2, "option " + a + " needs a value");
-      }
-      return argv[++i];
-    };
-    if (a == "-h" || a == "--help")
+    return code;
+  }
+  const bool scan = !no_scan;
+  for (double r : rates)
+  {
+    if (r <= 0.0)
     {
-      std::cout << kUsage;
-      return 0;
-    }
-    else if (a == "--csv")
-    {
-      csv = true;
-    }
-    else if (a == "--no-scan")
-    {
-      scan = false;
-    }
-    else if (a == "--rates")
-    {
-      rates.clear();
-      for (const auto& r : split(value(), ','))
-      {
-        double x = 0.0;
-        if (!parseDouble(r, &x) || x <= 0.0)
-        {
-          fail(2, "--rates: '" + r + "' is not a positive number");
-        }
-        rates.push_back(x);
-      }
-      if (rates.empty())
-      {
-        fail(2, "--rates: empty list");
-      }
-    }
-    else if (a == "--integrators")
-    {
-      integrators.clear();
-      for (const auto& name : split(value(), ','))
-      {
-        Integrator integ;
-        if (!integratorFromString(name, &integ))
-        {
-          fail(2, "--integrators: '" + name + "' (allowed: euler, exact)");
-        }
-        integrators.push_back(integ);
-      }
-      if (integrators.empty())
-      {
-        fail(2, "--integrators: empty list");
-      }
-    }
-    else if (a == "--plant")
-    {
-      const std::string v = value();
-      if (v == "point")
-      {
-        plant.type = PlantModel::Type::kPointMass;
-      }
-      else if (v == "first-order")
-      {
-        plant.type = PlantModel::Type::kFirstOrder;
-      }
-      else
-      {
-        fail(2, "--plant '" + v + "' (allowed: point, first-order)");
-      }
-    }
-    else if (a == "--plant-time-constant")
-    {
-      const std::string v = value();
-      if (!parseDouble(v, &plant.time_constant) || plant.time_constant <= 0.0)
-      {
-        fail(2, "--plant-time-constant '" + v + "' must be > 0");
-      }
-      plant.type = PlantModel::Type::kFirstOrder;
-    }
-    else if (a == "--target")
-    {
-      const std::string v = value();
-      if (!parseDouble(v, &target) || target == 0.0)
-      {
-        fail(2, "--target '" + v + "' must be a non-zero number");
-      }
-    }
-    else if (a == "--duration")
-    {
-      const std::string v = value();
-      if (!parseDouble(v, &duration) || duration <= 1.0)
-      {
-        fail(2, "--duration '" + v + "' must be > 1 s");
-      }
-    }
-    else if (a == "--set")
-    {
-      const std::string v = value();
-      const auto eq = v.find('=');
-      if (eq == std::string::npos || eq == 0)
-      {
-        fail(2, "--set '" + v + "' must be KEY=VALUE");
-      }
-      overrides.emplace_back(v.substr(0, eq), v.substr(eq + 1));
-    }
-    else if (a.rfind("-", 0) == 0)
-    {
-      fail(2, "unknown option " + a);
-    }
-    else if (file.empty())
-    {
-      file = a;
-    }
-    else
-    {
-      fail(2, "more than one config file (" + file + ", " + a + ")");
+      return badArgument(app, "--rates: '" + fmt(r) + "' is not a positive number");
     }
   }
-  if (file.empty())
+  if (rates.empty())
   {
-    fail(2, "no config file");
+    return badArgument(app, "--rates: empty list");
+  }
+  std::vector<Integrator> integrators;
+  for (const auto& name : integrator_names)
+  {
+    Integrator integ;
+    if (!integratorFromString(name, &integ))
+    {
+      return badArgument(app, "--integrators: '" + name + "' (allowed: euler, exact)");
+    }
+    integrators.push_back(integ);
+  }
+  if (integrators.empty())
+  {
+    return badArgument(app, "--integrators: empty list");
+  }
+  if (plant_name == "point")
+  {
+    plant.type = PlantModel::Type::kPointMass;
+  }
+  else if (plant_name == "first-order")
+  {
+    plant.type = PlantModel::Type::kFirstOrder;
+  }
+  else
+  {
+    return badArgument(app, "--plant '" + plant_name + "' (allowed: point, first-order)");
+  }
+  if (tc->count() > 0)
+  {
+    if (plant.time_constant <= 0.0)
+    {
+      return badArgument(app, "--plant-time-constant '" + fmt(plant.time_constant) + "' must be > 0");
+    }
+    plant.type = PlantModel::Type::kFirstOrder;
+  }
+  if (target == 0.0)
+  {
+    return badArgument(app, "--target must be a non-zero number");
+  }
+  if (duration <= 1.0)
+  {
+    return badArgument(app, "--duration '" + fmt(duration) + "' must be > 1 s");
+  }
+  for (const auto& o : overrides)
+  {
+    try
+    {
+      parseOverride(o);
+    }
+    catch (const std::invalid_argument& e)
+    {
+      return badArgument(app, std::string("--set: ") + e.what());
+    }
   }
 
   AicParams params;
@@ -268,10 +204,7 @@ int main(int argc, char** argv)
     {
       fail(1, file + ": expected a map of parameters at the top level");
     }
-    for (const auto& kv : overrides)
-    {
-      root[kv.first] = YAML::Load(kv.second);
-    }
+    applyOverrides(root, overrides);  // the shared KEY=VALUE parser
     std::vector<std::string> unknown;
     params = aicParamsFromYaml(root, file, &defaulted, &unknown);
     for (const auto& key : unknown)
@@ -286,6 +219,10 @@ int main(int argc, char** argv)
   catch (const YAML::Exception& e)
   {
     fail(1, file + ": YAML error: " + e.what());
+  }
+  catch (const std::invalid_argument& e)
+  {
+    fail(2, std::string("--set: ") + e.what());
   }
   catch (const std::runtime_error& e)
   {

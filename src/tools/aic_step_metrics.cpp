@@ -8,30 +8,22 @@
  *            [--time-column time] [--value-column value] [--end-time T_END]
  *            [--band-basis final|step] [--settling-band 0.05] [--window 0.5]
  * FILE "-" reads standard input. The CSV has a header line naming the columns; lines starting
- * with '#' and empty lines are skipped. Exit 0 on success, 1 on bad data, 2 on bad arguments.
+ * with '#' and empty lines are skipped. Command line on CLI11 (include/jackal_aic/cli.hpp).
+ * Exit 0 on success, 1 on bad data, 2 on bad arguments.
  */
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
-#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "jackal_aic/cli.hpp"
 #include "jackal_aic/step_metrics.hpp"
 
 namespace
 {
-const char* kUsage =
-    "usage: aic_step_metrics FILE.csv --step-time T --initial Y0 --target Y1\n"
-    "         [--time-column NAME (default time)] [--value-column NAME (default value)]\n"
-    "         [--end-time T_END] [--band-basis final|step (default final)]\n"
-    "         [--settling-band FRACTION (default 0.05)] [--window SECONDS (default 0.5)]\n"
-    "FILE '-' reads stdin. Prints one JSON line: rise_time, settling_time [s from the step],\n"
-    "overshoot_percent [% of step], steady_state_error [target - value, time-weighted mean over\n"
-    "the last WINDOW s]. The final value of the settling band is the set point TARGET.\n";
-
 std::string trim(const std::string& s)
 {
   const auto b = s.find_first_not_of(" \t\r\"");
@@ -69,10 +61,6 @@ bool parseDouble(const std::string& s, double* out)
 [[noreturn]] void fail(int code, const std::string& msg)
 {
   std::cerr << "aic_step_metrics: error: " << msg << "\n";
-  if (code == 2)
-  {
-    std::cerr << kUsage;
-  }
   std::exit(code);
 }
 }  // namespace
@@ -80,85 +68,47 @@ bool parseDouble(const std::string& s, double* out)
 int main(int argc, char** argv)
 {
   std::string file;
-  std::map<std::string, std::string> opts{ { "--time-column", "time" }, { "--value-column", "value" } };
-  const std::vector<std::string> known{ "--step-time", "--initial",     "--target",       "--time-column",
-                                        "--value-column", "--end-time", "--band-basis", "--settling-band",
-                                        "--window" };
-  for (int i = 1; i < argc; ++i)
-  {
-    const std::string a = argv[i];
-    if (a == "-h" || a == "--help")
-    {
-      std::cout << kUsage;
-      return 0;
-    }
-    if (a.rfind("--", 0) == 0)
-    {
-      bool ok = false;
-      for (const auto& k : known)
-      {
-        ok = ok || k == a;
-      }
-      if (!ok)
-      {
-        fail(2, "unknown option " + a);
-      }
-      if (i + 1 >= argc)
-      {
-        fail(2, "option " + a + " needs a value");
-      }
-      opts[a] = argv[++i];
-    }
-    else if (file.empty())
-    {
-      file = a;
-    }
-    else
-    {
-      fail(2, "more than one input file (" + file + ", " + a + ")");
-    }
-  }
-  if (file.empty())
-  {
-    fail(2, "no input file");
-  }
+  std::string time_column = "time";
+  std::string value_column = "value";
+  std::string band_basis = "final";
   jackal_aic::StepMetricsOptions o;
-  auto number = [&](const std::string& key, double* out, bool required) {
-    const auto it = opts.find(key);
-    if (it == opts.end())
-    {
-      if (required)
-      {
-        fail(2, "missing " + key);
-      }
-      return;
-    }
-    if (!parseDouble(it->second, out) || !std::isfinite(*out))
-    {
-      fail(2, key + " '" + it->second + "' is not a finite number");
-    }
-  };
-  number("--step-time", &o.step_time, true);
-  number("--initial", &o.initial, true);
-  number("--target", &o.target, true);
-  number("--end-time", &o.end_time, false);
-  number("--settling-band", &o.settling_band, false);
-  number("--window", &o.steady_state_window, false);
-  if (opts.count("--band-basis"))
+  CLI::App app{ "Step-response metrics of one column of a CSV file, printed as one JSON line: rise_time, "
+                "settling_time [s from the step], overshoot_percent [% of step], steady_state_error [target - value, "
+                "time-weighted mean over the last WINDOW s]. The final value of the settling band is the set point "
+                "TARGET.",
+                "aic_step_metrics" };
+  app.add_option("FILE", file, "CSV with a header line naming the columns; '-' reads stdin")->required();
+  app.add_option("--step-time", o.step_time, "time of the set-point step [s]")->required()->check(jackal_aic::finiteNumber());
+  app.add_option("--initial", o.initial, "value before the step")->required()->check(jackal_aic::finiteNumber());
+  app.add_option("--target", o.target, "set point after the step")->required()->check(jackal_aic::finiteNumber());
+  app.add_option("--time-column", time_column, "name of the time column")->capture_default_str();
+  app.add_option("--value-column", value_column, "name of the value column")->capture_default_str();
+  app.add_option("--end-time", o.end_time, "ignore samples after this time [s]")->check(jackal_aic::finiteNumber());
+  app.add_option("--band-basis", band_basis, "settling band relative to the final value or the step size: final|step")
+      ->capture_default_str();
+  app.add_option("--settling-band", o.settling_band, "settling band [fraction]")
+      ->check(jackal_aic::finiteNumber())
+      ->capture_default_str();
+  app.add_option("--window", o.steady_state_window, "steady-state window [s]")
+      ->check(jackal_aic::finiteNumber())
+      ->capture_default_str();
+  app.footer("Lines starting with '#' and empty lines are skipped. Exit 0 on success, 1 on bad data, 2 on bad "
+             "arguments.");
+  if (const int code = jackal_aic::parseCommandLine(app, argc, argv); code >= 0)
   {
-    const std::string& b = opts["--band-basis"];
-    if (b == "final")
-    {
-      o.band_basis = jackal_aic::SettlingBandBasis::kFinalValue;
-    }
-    else if (b == "step")
-    {
-      o.band_basis = jackal_aic::SettlingBandBasis::kStepSize;
-    }
-    else
-    {
-      fail(2, "--band-basis '" + b + "' (allowed: final, step)");
-    }
+    return code;
+  }
+  if (band_basis == "final")
+  {
+    o.band_basis = jackal_aic::SettlingBandBasis::kFinalValue;
+  }
+  else if (band_basis == "step")
+  {
+    o.band_basis = jackal_aic::SettlingBandBasis::kStepSize;
+  }
+  else
+  {
+    return jackal_aic::badArgument(app, "--band-basis '" + band_basis + "' (allowed: final, step)");
   }
 
   std::ifstream fin;
@@ -192,11 +142,11 @@ int main(int argc, char** argv)
   int vcol = -1;
   for (std::size_t c = 0; c < header.size(); ++c)
   {
-    if (header[c] == opts["--time-column"])
+    if (header[c] == time_column)
     {
       tcol = static_cast<int>(c);
     }
-    if (header[c] == opts["--value-column"])
+    if (header[c] == value_column)
     {
       vcol = static_cast<int>(c);
     }
@@ -208,7 +158,7 @@ int main(int argc, char** argv)
     {
       names += (names.empty() ? "" : ", ") + h;
     }
-    fail(1, "column '" + (tcol < 0 ? opts["--time-column"] : opts["--value-column"]) + "' not in the header (" +
+    fail(1, "column '" + (tcol < 0 ? time_column : value_column) + "' not in the header (" +
                 names + ")");
   }
   std::vector<double> t;
@@ -226,8 +176,8 @@ int main(int argc, char** argv)
     if (static_cast<int>(cells.size()) <= std::max(tcol, vcol) || !parseDouble(cells[tcol], &tv) ||
         !parseDouble(cells[vcol], &vv))
     {
-      fail(1, "line " + std::to_string(line_no) + ": cannot read columns '" + opts["--time-column"] + "' and '" +
-                  opts["--value-column"] + "' as numbers: " + line);
+      fail(1, "line " + std::to_string(line_no) + ": cannot read columns '" + time_column + "' and '" +
+                  value_column + "' as numbers: " + line);
     }
     t.push_back(tv);
     v.push_back(vv);

@@ -1,0 +1,55 @@
+#pragma once
+/**
+ * \file node_params.hpp
+ * \brief Parameters of the jackal_AIC node as plain data: the controller's AicParams plus
+ *        the node-only settings (timeouts, joint names, sensor pairing, set-point limits),
+ *        with their validation. ROS-free; the node reads them from its private namespace
+ *        (include/jackal_aic/ros/node_params.hpp), the keys and ranges are those of the
+ *        parameter schema (include/jackal_aic/param_schema.hpp; doc/jackal_aic_node.md,
+ *        'Parameters').
+ */
+
+#include <string>
+#include <vector>
+
+#include "jackal_aic/params.hpp"
+
+namespace jackal_aic
+{
+/// Largest loop rate the node accepts for either timer [Hz] (a roscpp timer reaches ~5 kHz here).
+constexpr double kMaxLoopRate = 10000.0;
+
+/**
+ * \brief Everything the node reads from its private namespace.
+ *
+ * Keys are the member names (YAML keys of config/\*.yaml). Controller parameters live in
+ * `aic` and keep the names of AicParams. Defaults here are the schema's defaults.
+ */
+struct NodeParams
+{
+  AicParams aic;  ///< controller parameters (thesis tables C-1 / 5-8); validated by AicParams::validate()
+
+  double sensor_timeout = 0.25;     ///< no accepted sensor sample for this long -> zero command [s], > 0
+  double set_point_timeout = 0.5;   ///< no set point for this long -> zero command [s], > 0
+  /// Largest |stamp(imu) - stamp(joint_states)| for the two to form one sample [s], > 0.
+  double imu_max_skew = 0.025;
+  /// Samples closer than this to the previous one (by stamp) are dropped as duplicates [s], >= 0, < sensor_timeout.
+  double min_sample_interval = 0.005;
+  double max_linear_speed = 2.0;    ///< |set point linear.x| is clamped to this [m/s], > 0 (Jackal top speed)
+  double max_angular_speed = 4.0;   ///< |set point angular.z| is clamped to this [rad/s], > 0 (stock controller limit)
+  double runaway_hold_time = 1.0;   ///< after a runaway reset, zero command for this long [s], >= 0
+  std::vector<std::string> left_joints;   ///< joints averaged into omega_L; required, non-empty
+  std::vector<std::string> right_joints;  ///< joints averaged into omega_R; required, non-empty
+
+  /**
+   * \brief Every violated rule: the AicParams rules (AicParams::validate()), the ranges of
+   *        the node-only keys in the parameter schema (positive timeouts and limits,
+   *        non-empty joint lists without empty or duplicate names), and the node's own
+   *        rules: rates <= kMaxLoopRate, min_sample_interval < sensor_timeout, left and
+   *        right joints disjoint.
+   * \return one ParamViolation per violated rule, named by YAML key; empty = valid
+   */
+  std::vector<ParamViolation> validate() const;
+};
+
+}  // namespace jackal_aic

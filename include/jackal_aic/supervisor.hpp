@@ -1,0 +1,261 @@
+#pragma once
+/**
+ * \file supervisor.hpp
+ * \brief What the jackal_AIC node decides, without ROS: the node's state machine and
+ *        watchdogs, set-point checks, the loops' catch-up scheduling and statistics. The
+ *        clock is injected (Clock), so every transition is testable without roscore.
+ *        Behaviour: doc/jackal_aic_node.md, 'Loops' and 'Safety'.
+ *
+ * The node (src/ros/aic_node.cpp) is wiring: it reports inputs (sampleAccepted(),
+ * setPoint(), ...), asks update() at every timer tick and carries out the Transition
+ * (activate the controller, publish a zero command, restart the sample history, log).
+ */
+
+#include <cstdint>
+#include <string>
+
+#include "jackal_aic/node_params.hpp"
+#include "jackal_aic/types.hpp"
+
+namespace jackal_aic
+{
+/// A monotonic time source [s]; the node wraps ros::Time::now(), the tests a settable value.
+class Clock
+{
+public:
+  virtual ~Clock() = default;
+  /// The current time [s] (any epoch; only differences are used).
+  virtual double now() const = 0;
+};
+
+/// What the node is doing (reported in diagnostics as toString(state)).
+enum class NodeState
+{
+  kWaiting,  ///< no sensor sample or no set point yet, or warming up the generalizer: zero command
+  kRunning,  ///< controller active
+  kStale,    ///< sensors or set point timed out: zero command, diagnostics WARN
+  kRunaway   ///< runaway reset, holding zero command: diagnostics ERROR
+};
+
+/// "waiting", "running", "stale", "runaway".
+const char* toString(NodeState state);
+
+/// The largest interval the action loop integrates over, in nominal periods (longer gaps are clamped).
+constexpr double kMaxActionIntervalFactor = 3.0;
+/// The largest interval the belief loop integrates over, in nominal periods; it is split into
+/// steps of about one nominal period each (catch-up), so a late tick never means a long Euler step.
+constexpr double kMaxBeliefIntervalFactor = 10.0;
+
+/// Statistics of one timer loop; the window_* fields are reset at every diagnostics publication.
+struct LoopStats
+{
+  double nominal_period = 0.0;    ///< 1 / rate [s]
+  double max_factor = 3.0;        ///< longer intervals are clamped to max_factor * nominal_period
+  std::uint64_t ticks = 0;        ///< callbacks since start
+  std::uint64_t overruns = 0;     ///< measured interval > 2 nominal periods (a tick was missed)
+  std::uint64_t clamped = 0;      ///< intervals clamped to max_factor periods
+  std::uint64_t catch_up_steps = 0;  ///< extra integration steps run to cover missed ticks
+  double window_max_interval = 0.0;   ///< largest measured interval in the window [s]
+  double window_abs_jitter_sum = 0.0; ///< sum of |interval - nominal| in the window [s]
+  std::uint64_t window_ticks = 0;     ///< callbacks in the window
+  double window_max_duration = 0.0;   ///< longest callback execution in the window [s]
+
+  /// Record one measured interval [s]; a non-finite or non-positive one (first tick) counts as
+  /// nominal_period. \return the interval to integrate with [s], clamped to max_factor * nominal_period.
+  double record(double interval);
+  /// Zero the window_* statistics (after each diagnostics publication); counters are kept.
+  void resetWindow();
+};
+
+/**
+ * \brief Scheduling of one timer loop: clamps the measured interval and, with catch-up,
+ *        splits it into integration steps of about one nominal period.
+ *
+ * Catch-up (the belief loop): the interval in nominal periods is added to a step debt;
+ * the tick runs round(debt) steps, at least 1 and at most max_factor, of h = interval /
+ * steps each, and keeps the remainder (bounded to [-1, 1]) for the next tick, so early and
+ * late ticks average out to `rate` steps per second. Without catch-up (the action loop)
+ * every tick is one step over the clamped interval.
+ */
+class LoopScheduler
+{
+public:
+  /// One tick's integration plan.
+  struct Tick
+  {
+    int steps = 1;          ///< integration steps to run, >= 1
+    double h = 0.0;         ///< step length [s] (interval / steps)
+    double interval = 0.0;  ///< the clamped interval [s]
+  };
+
+  /**
+   * \param rate        nominal rate [Hz], > 0
+   * \param max_factor  longest interval integrated, in nominal periods (kMaxBeliefIntervalFactor, ...)
+   * \param catch_up    split long intervals into steps of about one period
+   */
+  LoopScheduler(double rate, double max_factor, bool catch_up);
+
+  /// Change the nominal rate [Hz], > 0 (the step debt is kept).
+  void setRate(double rate);
+  /// Nominal rate [Hz].
+  double rate() const { return 1.0 / stats_.nominal_period; }
+  /// Nominal period [s].
+  double nominalPeriod() const { return stats_.nominal_period; }
+
+  /// Plan one tick from the measured interval since the previous one [s] (<= 0 or non-finite: first tick).
+  Tick tick(double measured_interval);
+  /// Record how long a callback took [s] (for the window's longest callback).
+  void recordDuration(double seconds);
+  /// The loop's statistics.
+  const LoopStats& stats() const { return stats_; }
+  /// Start a new statistics window (counters are kept).
+  void resetWindow() { stats_.resetWindow(); }
+
+private:
+  LoopStats stats_;
+  bool catch_up_;
+  double debt_ = 0.0;  ///< steps owed, in nominal periods, in [-1, 1] between ticks
+};
+
+/// Outcome of a set-point check (Supervisor::setPoint()).
+enum class SetPointResult
+{
+  kAccepted,  ///< finite and within the limits
+  kClamped,   ///< finite; linear.x or angular.z clamped to max_linear_speed / max_angular_speed
+  kDropped    ///< a NaN/Inf in some field: ignored
+};
+
+/**
+ * \brief The jackal_AIC node's state machine, watchdogs and loop scheduling
+ *        (doc/jackal_aic_node.md, 'Safety' and 'Loops').
+ *
+ * States and transitions, evaluated by update() at the clock's time:
+ * - kRunaway while a runaway hold is on (runaway() starts one of runaway_hold_time);
+ * - else kWaiting with no sensor sample yet, or with fresh sensors and no set point yet,
+ *   or with fresh sensors and set point while fewer than p+1 samples have reached the
+ *   generalizer since its (re)start (warm-up);
+ * - else kStale if the last accepted sample is older than sensor_timeout or the last set
+ *   point older than set_point_timeout;
+ * - else kRunning.
+ * Entering kRunning activates the controller; leaving it deactivates it (zero command at
+ * once). Losing the sensors also restarts the sample history (the generalizer warms up
+ * again). The controller is active exactly in kRunning.
+ * Not thread-safe: call from the node's one spinner thread.
+ */
+class Supervisor
+{
+public:
+  /// What update(), runaway() or historyRestarted() asks the node to do.
+  struct Transition
+  {
+    bool changed = false;          ///< the state changed
+    NodeState from = NodeState::kWaiting;  ///< state before
+    NodeState to = NodeState::kWaiting;    ///< state after
+    bool restart_history = false;  ///< sensors lost: reset the generalizer and the pairing history
+    /// Entered kRunning: reset the controller, start it from the measured wheel speeds.
+    bool activate() const { return changed && to == NodeState::kRunning; }
+    /// Left kRunning: stop the controller and publish a zero command now.
+    bool deactivate() const { return changed && from == NodeState::kRunning; }
+    /// Entered kStale: log a warning with reason().
+    bool warn() const { return changed && to == NodeState::kStale; }
+  };
+
+  /**
+   * \param params  timeouts, hold time, set-point limits, embedding order (warm-up length),
+   *                loop rates; validated (NodeParams::validate())
+   * \param clock   time source; must outlive the supervisor
+   */
+  Supervisor(const NodeParams& params, const Clock& clock);
+
+  /// Take new validated parameters (timeouts, limits, warm-up length, loop rates); the state is kept.
+  void setParams(const NodeParams& params);
+
+  // ---- inputs
+  /// The generalizer (re)started its history (first sample after a gap): the warm-up starts over.
+  void historyRestarted() { warm_samples_ = 0; }
+  /// A sample reached the generalizer (fresh sensors; one more warm-up sample).
+  void sampleAccepted(const Vector2& measured_wheels);
+  /// A valid Imu message arrived (for diagnostics only).
+  void imuAccepted();
+  /**
+   * \brief Check a set point (geometry_msgs/Twist fields) and, unless dropped, take it as the goal.
+   * \param fields  linear x, y, z [m/s], angular x, y, z [rad/s]
+   * \return kDropped (any NaN/Inf: ignored, counted), kClamped (|linear.x| > max_linear_speed or
+   *         |angular.z| > max_angular_speed: clamped, counted) or kAccepted; the goal is
+   *         (linear.x, 0, angular.z) after clamping
+   */
+  SetPointResult setPoint(const double (&fields)[6]);
+
+  // ---- decisions
+  /// Watchdogs at the clock's time (every timer tick). See the class comment.
+  Transition update();
+  /**
+   * \brief The controller reported a runaway: hold a zero command for runaway_hold_time.
+   * \param where  "belief update" or "action update", for the reason
+   * \return the transition (to kRunaway; deactivate() is true when it was running)
+   */
+  Transition runaway(const std::string& where);
+  /**
+   * \brief The embedding order changed live: the warm-up starts over; if running, go to
+   *        kWaiting ("embedding order changed; warming up") and deactivate.
+   */
+  Transition embeddingOrderChanged();
+
+  // ---- state
+  NodeState state() const { return state_; }
+  /// Why the node is in its state, e.g. "no set point yet on ~set_point".
+  const std::string& reason() const { return reason_; }
+  /// True exactly in kRunning.
+  bool active() const { return state_ == NodeState::kRunning; }
+  /// The goal mu_d = (linear.x [m/s], 0, angular.z [rad/s]) of the last accepted set point.
+  const Vector3& goal() const { return goal_; }
+  /// Wheel speeds (omega_L, omega_R) [rad/s] of the last accepted sample.
+  const Vector2& measuredWheels() const { return measured_wheels_; }
+  /// Samples accepted since the last history restart (at most kMaxOrders + 1).
+  int warmSamples() const { return warm_samples_; }
+
+  /// Age of the last accepted sample / Imu / set point [s]; -1 if there was none.
+  double sampleAge() const;
+  double imuAge() const;
+  double setPointAge() const;
+  /// Sample / set point received within its timeout.
+  bool sensorsFresh() const;
+  bool setPointFresh() const;
+
+  // ---- counters
+  std::uint64_t runaways() const { return runaways_; }
+  std::uint64_t staleEvents() const { return stale_events_; }
+  std::uint64_t setPointDrops() const { return set_point_drops_; }
+  std::uint64_t setPointClamps() const { return set_point_clamps_; }
+
+  // ---- loops
+  LoopScheduler& beliefLoop() { return belief_loop_; }
+  LoopScheduler& actionLoop() { return action_loop_; }
+  const LoopScheduler& beliefLoop() const { return belief_loop_; }
+  const LoopScheduler& actionLoop() const { return action_loop_; }
+
+private:
+  Transition enter(NodeState next, std::string reason);
+
+  const Clock& clock_;
+  double sensor_timeout_;
+  double set_point_timeout_;
+  double runaway_hold_time_;
+  double max_linear_speed_;
+  double max_angular_speed_;
+  int num_orders_;
+  LoopScheduler belief_loop_;
+  LoopScheduler action_loop_;
+
+  NodeState state_ = NodeState::kWaiting;
+  std::string reason_ = "no sensor sample yet";
+  bool has_sample_ = false, has_imu_ = false, has_set_point_ = false;
+  double last_sample_ = 0.0, last_imu_ = 0.0, last_set_point_ = 0.0;  ///< receipt times [s]
+  double runaway_until_;  ///< end of the runaway hold [s]; -inf: none
+  int warm_samples_ = 0;
+  Vector2 measured_wheels_ = Vector2::Zero();
+  Vector3 goal_ = Vector3::Zero();
+  std::uint64_t runaways_ = 0, stale_events_ = 0, set_point_drops_ = 0, set_point_clamps_ = 0;
+};
+
+}  // namespace jackal_aic

@@ -1,0 +1,50 @@
+/**
+ * \file node_params.cpp
+ * \brief NodeParams::validate(): the schema's ranges plus the node's own rules
+ *        (doc/jackal_aic_node.md, 'Parameters').
+ */
+#include "jackal_aic/node_params.hpp"
+
+#include <cmath>
+#include <utility>
+
+#include "jackal_aic/param_schema.hpp"
+
+namespace jackal_aic
+{
+std::vector<ParamViolation> NodeParams::validate() const
+{
+  std::vector<ParamViolation> violations = aic.validate();
+  const std::pair<const char*, double> rates[] = { { "belief_rate", aic.belief_rate },
+                                                    { "action_rate", aic.action_rate } };
+  for (const auto& [key, rate] : rates)
+  {
+    if (std::isfinite(rate) && rate > kMaxLoopRate)
+    {
+      violations.push_back({ key, formatParamValue(rate), "<= " + formatParamValue(kMaxLoopRate) + " Hz" });
+    }
+  }
+  for (auto& v : checkParamRanges(*this, ParamScope::kNode))
+  {
+    violations.push_back(std::move(v));
+  }
+  if (std::isfinite(min_sample_interval) && min_sample_interval >= 0.0 && std::isfinite(sensor_timeout) &&
+      min_sample_interval >= sensor_timeout)
+  {
+    violations.push_back({ "min_sample_interval", formatParamValue(min_sample_interval),
+                           ">= 0 and < sensor_timeout (" + formatParamValue(sensor_timeout) + ")" });
+  }
+  for (const auto& name : left_joints)
+  {
+    for (const auto& other : right_joints)
+    {
+      if (!name.empty() && name == other)
+      {
+        violations.push_back({ "right_joints", name, "a joint not also in left_joints" });
+      }
+    }
+  }
+  return violations;
+}
+
+}  // namespace jackal_aic

@@ -1,0 +1,296 @@
+/**
+ * \file supervisor.cpp
+ * \brief The jackal_AIC node's state machine, watchdogs and loop scheduling
+ *        (doc/jackal_aic_node.md, 'Loops' and 'Safety'). ROS-free.
+ */
+#include "jackal_aic/supervisor.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <utility>
+
+namespace jackal_aic
+{
+const char* toString(NodeState state)
+{
+  switch (state)
+  {
+    case NodeState::kWaiting:
+      return "waiting";
+    case NodeState::kRunning:
+      return "running";
+    case NodeState::kStale:
+      return "stale";
+    case NodeState::kRunaway:
+      return "runaway";
+  }
+  return "unknown";
+}
+
+// ---------------------------------------------------------------------------
+// Loops
+
+double LoopStats::record(double interval)
+{
+  if (!std::isfinite(interval) || interval <= 0.0)
+  {
+    interval = nominal_period;
+  }
+  ++ticks;
+  ++window_ticks;
+  window_max_interval = std::max(window_max_interval, interval);
+  window_abs_jitter_sum += std::abs(interval - nominal_period);
+  if (interval > 2.0 * nominal_period)
+  {
+    ++overruns;
+  }
+  if (interval > max_factor * nominal_period)
+  {
+    ++clamped;
+    interval = max_factor * nominal_period;
+  }
+  return interval;
+}
+
+void LoopStats::resetWindow()
+{
+  window_max_interval = 0.0;
+  window_abs_jitter_sum = 0.0;
+  window_ticks = 0;
+  window_max_duration = 0.0;
+}
+
+LoopScheduler::LoopScheduler(double rate, double max_factor, bool catch_up) : catch_up_(catch_up)
+{
+  stats_.nominal_period = 1.0 / rate;
+  stats_.max_factor = max_factor;
+}
+
+void LoopScheduler::setRate(double rate)
+{
+  stats_.nominal_period = 1.0 / rate;
+}
+
+LoopScheduler::Tick LoopScheduler::tick(double measured_interval)
+{
+  Tick t;
+  t.interval = stats_.record(measured_interval);
+  if (!catch_up_)
+  {
+    t.h = t.interval;
+    return t;
+  }
+  // A late tick integrates its interval in steps of about one nominal period; the fractional
+  // remainder is carried over (bounded), so early and late ticks average out to `rate` steps
+  // per second; every tick runs at least one step.
+  debt_ += t.interval / stats_.nominal_period;
+  t.steps = std::clamp(static_cast<int>(std::floor(debt_ + 0.5)), 1, static_cast<int>(stats_.max_factor));
+  debt_ = std::clamp(debt_ - t.steps, -1.0, 1.0);
+  t.h = t.interval / t.steps;
+  stats_.catch_up_steps += static_cast<std::uint64_t>(t.steps - 1);
+  return t;
+}
+
+void LoopScheduler::recordDuration(double seconds)
+{
+  stats_.window_max_duration = std::max(stats_.window_max_duration, seconds);
+}
+
+// ---------------------------------------------------------------------------
+// Supervisor
+
+Supervisor::Supervisor(const NodeParams& params, const Clock& clock)
+  : clock_(clock)
+  , sensor_timeout_(params.sensor_timeout)
+  , set_point_timeout_(params.set_point_timeout)
+  , runaway_hold_time_(params.runaway_hold_time)
+  , max_linear_speed_(params.max_linear_speed)
+  , max_angular_speed_(params.max_angular_speed)
+  , num_orders_(params.aic.numOrders())
+  , belief_loop_(params.aic.belief_rate, kMaxBeliefIntervalFactor, true)
+  , action_loop_(params.aic.action_rate, kMaxActionIntervalFactor, false)
+  , runaway_until_(-std::numeric_limits<double>::infinity())
+{
+}
+
+void Supervisor::setParams(const NodeParams& params)
+{
+  sensor_timeout_ = params.sensor_timeout;
+  set_point_timeout_ = params.set_point_timeout;
+  runaway_hold_time_ = params.runaway_hold_time;
+  max_linear_speed_ = params.max_linear_speed;
+  max_angular_speed_ = params.max_angular_speed;
+  num_orders_ = params.aic.numOrders();
+  belief_loop_.setRate(params.aic.belief_rate);
+  action_loop_.setRate(params.aic.action_rate);
+}
+
+void Supervisor::sampleAccepted(const Vector2& measured_wheels)
+{
+  warm_samples_ = std::min(warm_samples_ + 1, kMaxOrders + 1);
+  measured_wheels_ = measured_wheels;
+  has_sample_ = true;
+  last_sample_ = clock_.now();
+}
+
+void Supervisor::imuAccepted()
+{
+  has_imu_ = true;
+  last_imu_ = clock_.now();
+}
+
+SetPointResult Supervisor::setPoint(const double (&fields)[6])
+{
+  for (double v : fields)
+  {
+    if (!std::isfinite(v))
+    {
+      ++set_point_drops_;
+      return SetPointResult::kDropped;
+    }
+  }
+  double vx = fields[0];
+  double wz = fields[5];
+  SetPointResult result = SetPointResult::kAccepted;
+  // Validated limits are > 0 (NodeParams::validate()), so clamp's bounds are ordered.
+  const double vx_max = max_linear_speed_;
+  const double wz_max = max_angular_speed_;
+  if (std::abs(vx) > vx_max || std::abs(wz) > wz_max)
+  {
+    ++set_point_clamps_;
+    vx = std::clamp(vx, -vx_max, vx_max);
+    wz = std::clamp(wz, -wz_max, wz_max);
+    result = SetPointResult::kClamped;
+  }
+  goal_ << vx, 0.0, wz;
+  has_set_point_ = true;
+  last_set_point_ = clock_.now();
+  return result;
+}
+
+Supervisor::Transition Supervisor::update()
+{
+  const double now = clock_.now();
+  const bool sensors_fresh = has_sample_ && now - last_sample_ <= sensor_timeout_;
+  const bool set_point_fresh = has_set_point_ && now - last_set_point_ <= set_point_timeout_;
+  const bool warm = warm_samples_ >= num_orders_;
+
+  NodeState next = NodeState::kRunning;
+  if (now < runaway_until_)
+  {
+    next = NodeState::kRunaway;
+  }
+  else if (!has_sample_ || (sensors_fresh && (!has_set_point_ || (set_point_fresh && !warm))))
+  {
+    next = NodeState::kWaiting;
+  }
+  else if (!sensors_fresh || !set_point_fresh)
+  {
+    next = NodeState::kStale;
+  }
+
+  bool restart = false;
+  if (has_sample_ && !sensors_fresh && warm_samples_ > 0)
+  {
+    // Sensors are gone: the next sample starts a new history (and a new warm-up).
+    warm_samples_ = 0;
+    restart = true;
+  }
+  if (next == state_)
+  {
+    Transition t;
+    t.from = t.to = state_;
+    t.restart_history = restart;
+    return t;
+  }
+  // Only on a change of state: this runs every belief tick.
+  std::ostringstream reason;
+  switch (next)
+  {
+    case NodeState::kRunaway:
+      reason << "runaway reset; zero command until the hold time ends";
+      break;
+    case NodeState::kWaiting:
+      reason << (!has_sample_ ? "no sensor sample yet" : !has_set_point_ ? "no set point yet on ~set_point" :
+                                                                            "warming up the generalizer");
+      break;
+    case NodeState::kStale:
+      if (!sensors_fresh)
+      {
+        reason << "no sensor sample for " << (now - last_sample_) << " s (sensor_timeout " << sensor_timeout_
+               << " s)";
+      }
+      else
+      {
+        reason << "no set point for " << (now - last_set_point_) << " s (set_point_timeout " << set_point_timeout_
+               << " s)";
+      }
+      ++stale_events_;
+      break;
+    case NodeState::kRunning:
+      reason << "controlling";
+      break;
+  }
+  Transition t = enter(next, reason.str());
+  t.restart_history = restart;
+  return t;
+}
+
+Supervisor::Transition Supervisor::runaway(const std::string& where)
+{
+  ++runaways_;
+  runaway_until_ = clock_.now() + runaway_hold_time_;
+  return enter(NodeState::kRunaway, "runaway in the " + where);
+}
+
+Supervisor::Transition Supervisor::embeddingOrderChanged()
+{
+  warm_samples_ = 0;
+  if (!active())
+  {
+    Transition t;
+    t.from = t.to = state_;
+    return t;
+  }
+  return enter(NodeState::kWaiting, "embedding order changed; warming up");
+}
+
+Supervisor::Transition Supervisor::enter(NodeState next, std::string reason)
+{
+  Transition t;
+  t.from = state_;
+  t.to = next;
+  t.changed = next != state_;
+  state_ = next;
+  reason_ = std::move(reason);
+  return t;
+}
+
+double Supervisor::sampleAge() const
+{
+  return has_sample_ ? clock_.now() - last_sample_ : -1.0;
+}
+
+double Supervisor::imuAge() const
+{
+  return has_imu_ ? clock_.now() - last_imu_ : -1.0;
+}
+
+double Supervisor::setPointAge() const
+{
+  return has_set_point_ ? clock_.now() - last_set_point_ : -1.0;
+}
+
+bool Supervisor::sensorsFresh() const
+{
+  return has_sample_ && clock_.now() - last_sample_ <= sensor_timeout_;
+}
+
+bool Supervisor::setPointFresh() const
+{
+  return has_set_point_ && clock_.now() - last_set_point_ <= set_point_timeout_;
+}
+
+}  // namespace jackal_aic

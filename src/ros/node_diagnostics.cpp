@@ -1,0 +1,145 @@
+/**
+ * \file node_diagnostics.cpp
+ * \brief /diagnostics of the jackal_AIC node (doc/jackal_aic_node.md, 'Diagnostics').
+ */
+#include "jackal_aic/ros/node_diagnostics.hpp"
+
+#include <string>
+#include <utility>
+
+namespace jackal_aic
+{
+namespace
+{
+/// Window (in diagnostics publications) of the FrequencyStatus tasks.
+constexpr int kFrequencyWindow = 5;
+/// Relative tolerance of the achieved loop rates before diagnostics warn [-].
+constexpr double kFrequencyTolerance = 0.1;
+}  // namespace
+
+NodeDiagnostics::NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Supervisor& supervisor,
+                                 const SensorSynchronizer& sync, std::function<ControllerReport()> controller)
+  : supervisor_(supervisor), sync_(sync), report_(std::move(controller))
+{
+  setRates(supervisor.beliefLoop().rate(), supervisor.actionLoop().rate());
+  updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh);
+  updater_->setHardwareID("jackal_aic");
+  belief_freq_ = std::make_unique<diagnostic_updater::FrequencyStatus>(
+      diagnostic_updater::FrequencyStatusParam(&belief_freq_min_, &belief_freq_max_, kFrequencyTolerance,
+                                               kFrequencyWindow),
+      "belief loop rate");
+  action_freq_ = std::make_unique<diagnostic_updater::FrequencyStatus>(
+      diagnostic_updater::FrequencyStatusParam(&action_freq_min_, &action_freq_max_, kFrequencyTolerance,
+                                               kFrequencyWindow),
+      "action loop rate (/cmd_drive)");
+  updater_->add(*belief_freq_);
+  updater_->add(*action_freq_);
+  updater_->add("loops", this, &NodeDiagnostics::loops);
+  updater_->add("sensors", this, &NodeDiagnostics::sensors);
+  updater_->add("controller", this, &NodeDiagnostics::controller);
+}
+
+void NodeDiagnostics::setRates(double belief_rate, double action_rate)
+{
+  belief_freq_min_ = belief_freq_max_ = belief_rate;
+  action_freq_min_ = action_freq_max_ = action_rate;
+}
+
+void NodeDiagnostics::loops(diagnostic_updater::DiagnosticStatusWrapper& stat)
+{
+  LoopScheduler* loops[2] = { &supervisor_.beliefLoop(), &supervisor_.actionLoop() };
+  const char* names[2] = { "belief", "action" };
+  bool late = false;
+  for (int i = 0; i < 2; ++i)
+  {
+    const LoopStats& s = loops[i]->stats();
+    const double mean_jitter = s.window_ticks > 0 ? s.window_abs_jitter_sum / s.window_ticks : 0.0;
+    stat.addf(std::string(names[i]) + " nominal period [ms]", "%.3f", 1e3 * s.nominal_period);
+    stat.addf(std::string(names[i]) + " mean |jitter| [ms]", "%.3f", 1e3 * mean_jitter);
+    stat.addf(std::string(names[i]) + " max interval [ms]", "%.3f", 1e3 * s.window_max_interval);
+    stat.addf(std::string(names[i]) + " max callback duration [ms]", "%.3f", 1e3 * s.window_max_duration);
+    stat.add(std::string(names[i]) + " overruns (interval > 2 periods)", s.overruns);
+    stat.add(std::string(names[i]) + " clamped intervals", s.clamped);
+    stat.add(std::string(names[i]) + " catch-up steps", s.catch_up_steps);
+    late = late || s.window_max_duration > s.nominal_period;
+  }
+  if (late)
+  {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "a callback took longer than its period");
+  }
+  else
+  {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "loops on time");
+  }
+  loops[0]->resetWindow();
+  loops[1]->resetWindow();
+}
+
+void NodeDiagnostics::sensors(diagnostic_updater::DiagnosticStatusWrapper& stat)
+{
+  const ControllerReport report = report_();
+  stat.addf("sample age [s] (-1: never)", "%.3f", supervisor_.sampleAge());
+  stat.addf("imu age [s] (-1: never)", "%.3f", supervisor_.imuAge());
+  stat.addf("set point age [s] (-1: never)", "%.3f", supervisor_.setPointAge());
+  stat.add("accepted samples", sync_.acceptedSamples());
+  std::uint64_t dropped = 0;
+  for (int i = 0; i < static_cast<int>(DropReason::kCount); ++i)
+  {
+    const std::uint64_t n = sync_.dropCounts()[static_cast<std::size_t>(i)];
+    dropped += n;
+    stat.add(std::string("dropped: ") + toString(static_cast<DropReason>(i)), n);
+  }
+  stat.add("dropped: generalizer/controller refused", report.generalizer_drops);
+  stat.add("dropped: set point non-finite", supervisor_.setPointDrops());
+  stat.add("set points clamped", supervisor_.setPointClamps());
+  stat.add("stale events", supervisor_.staleEvents());
+  const bool sensors_stale = !supervisor_.sensorsFresh();
+  const bool set_point_stale = !supervisor_.setPointFresh();
+  if (sensors_stale || set_point_stale)
+  {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                 sensors_stale ? "sensor samples stale or missing" : "set point stale or missing");
+  }
+  else if (dropped + supervisor_.setPointDrops() + report.generalizer_drops > 0)
+  {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "fresh (some inputs were dropped)");
+  }
+  else
+  {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "fresh");
+  }
+}
+
+void NodeDiagnostics::controller(diagnostic_updater::DiagnosticStatusWrapper& stat)
+{
+  const ControllerReport report = report_();
+  const std::string& reason = supervisor_.reason();
+  stat.add("state", toString(supervisor_.state()));
+  stat.add("reason", reason);
+  stat.add("runaway resets", supervisor_.runaways());
+  stat.add("non-finite outputs suppressed", report.guarded_outputs);
+  stat.addf("free energy", "%g", report.free_energy);
+  stat.addf("goal v_x [m/s]", "%.3f", supervisor_.goal()(0));
+  stat.addf("goal omega_z [rad/s]", "%.3f", supervisor_.goal()(2));
+  stat.addf("belief v_x [m/s]", "%.3f", report.belief_vx);
+  stat.addf("belief omega_z [rad/s]", "%.3f", report.belief_wz);
+  stat.addf("command left [rad/s]", "%.3f", report.command(0));
+  stat.addf("command right [rad/s]", "%.3f", report.command(1));
+  switch (supervisor_.state())
+  {
+    case NodeState::kRunning:
+      stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "running");
+      break;
+    case NodeState::kWaiting:
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "waiting: " + reason);
+      break;
+    case NodeState::kStale:
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "stale: " + reason);
+      break;
+    case NodeState::kRunaway:
+      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "runaway: " + reason);
+      break;
+  }
+}
+
+}  // namespace jackal_aic

@@ -1,0 +1,97 @@
+/**
+ * \file aic_params.cpp
+ * \brief CLI: print what is generated from the parameter schema
+ *        (include/jackal_aic/param_schema.hpp, include/jackal_aic/param_docs.hpp):
+ *
+ *   aic_params --cfg        > cfg/AIC.cfg       the dynamic_reconfigure definition
+ *   aic_params --markdown                       the parameter table of doc/jackal_aic_node.md
+ *   aic_params --yaml                           every key with its default, commented
+ *   aic_params --check FILE                     read a controller YAML like the node: unknown
+ *                                               keys, type errors and violations; exit 1 on any
+ *
+ * Exit 0 on success, 1 on a bad file, 2 on bad arguments.
+ */
+#include <iostream>
+#include <string>
+
+#include <yaml-cpp/yaml.h>
+
+#include "jackal_aic/cli.hpp"
+#include "jackal_aic/param_docs.hpp"
+#include "jackal_aic/param_schema.hpp"
+#include "jackal_aic/params_yaml.hpp"
+
+using namespace jackal_aic;
+
+namespace
+{
+/// Every key of a YAML file checked as the node would (both scopes): 0 if clean, 1 otherwise.
+int checkFile(const std::string& file)
+{
+  YAML::Node root;
+  try
+  {
+    root = YAML::LoadFile(file);
+  }
+  catch (const YAML::Exception& e)
+  {
+    std::cerr << "aic_params: " << file << ": " << e.what() << "\n";
+    return 1;
+  }
+  NodeParams params;
+  const ParamLoadReport report =
+      loadParams(YamlParamSource(root), { ParamScope::kController, ParamScope::kNode }, false, &params);
+  int problems = 0;
+  for (const auto& key : report.unknown)
+  {
+    std::cerr << "aic_params: " << file << ": unknown key '" << key << "'\n";
+    ++problems;
+  }
+  for (const auto& e : report.errors)
+  {
+    std::cerr << "aic_params: " << file << ": key '" << e.name << "' must be " << e.allowed << " (got " << e.value
+              << ")\n";
+    ++problems;
+  }
+  if (report.errors.empty())
+  {
+    for (const auto& v : params.validate())
+    {
+      std::cerr << "aic_params: " << file << ": " << v.toString() << "\n";
+      ++problems;
+    }
+  }
+  if (problems == 0)
+  {
+    std::cout << file << ": ok\n";
+  }
+  return problems == 0 ? 0 : 1;
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  bool cfg = false;
+  bool markdown = false;
+  bool yaml = false;
+  std::string check;
+  CLI::App app{ "Print what is generated from the jackal_AIC parameter schema, or check a YAML against it.",
+                "aic_params" };
+  auto* group = app.add_option_group("output", "exactly one of");
+  group->add_flag("--cfg", cfg, "cfg/AIC.cfg (dynamic_reconfigure), generated");
+  group->add_flag("--markdown", markdown, "the parameter table of doc/jackal_aic_node.md");
+  group->add_flag("--yaml", yaml, "every key with its default, as a commented YAML file");
+  group->add_option("--check", check, "check a YAML file (config/*.yaml) as the node reads it");
+  group->require_option(1);
+  app.footer("Exit 0 on success, 1 on a bad file, 2 on bad arguments.");
+  if (const int code = parseCommandLine(app, argc, argv); code >= 0)
+  {
+    return code;
+  }
+  if (!check.empty())
+  {
+    return checkFile(check);
+  }
+  std::cout << (cfg ? reconfigureCfgScript() : markdown ? parameterTableMarkdown() : parameterYamlTemplate());
+  return 0;
+}

@@ -1,0 +1,77 @@
+/**
+ * \file yaml_overrides.cpp
+ * \brief "KEY=VALUE" overrides on top of a YAML tree (include/jackal_aic/yaml_overrides.hpp).
+ */
+#include "jackal_aic/yaml_overrides.hpp"
+
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+namespace jackal_aic
+{
+namespace
+{
+std::vector<std::string> keyParts(const std::string& key)
+{
+  std::vector<std::string> parts;
+  std::stringstream ss(key);
+  for (std::string part; std::getline(ss, part, '.');)
+  {
+    parts.push_back(part);
+  }
+  if (!key.empty() && key.back() == '.')
+  {
+    parts.emplace_back();
+  }
+  return parts;
+}
+}  // namespace
+
+Override parseOverride(const std::string& text)
+{
+  const auto eq = text.find('=');
+  const std::string key = eq == std::string::npos ? std::string() : text.substr(0, eq);
+  bool ok = !key.empty();
+  for (const auto& part : keyParts(key))
+  {
+    ok = ok && !part.empty();
+  }
+  if (!ok)
+  {
+    throw std::invalid_argument("override '" + text + "' is not of the form key=value");
+  }
+  return { key, text.substr(eq + 1) };
+}
+
+void applyOverrides(YAML::Node root, const std::vector<std::string>& overrides)
+{
+  std::vector<std::pair<std::vector<std::string>, YAML::Node>> parsed;
+  for (const std::string& text : overrides)
+  {
+    const Override o = parseOverride(text);
+    YAML::Node value;
+    try
+    {
+      value = YAML::Load(o.value);
+    }
+    catch (const YAML::Exception&)
+    {
+      throw std::invalid_argument("override '" + text + "' has a malformed value");
+    }
+    parsed.emplace_back(keyParts(o.key), value);
+  }
+  for (const auto& [parts, value] : parsed)
+  {
+    // Walk with fresh handles (yaml-cpp node assignment rebinds).
+    std::vector<YAML::Node> chain{ root };
+    for (std::size_t i = 0; i + 1 < parts.size(); ++i)
+    {
+      YAML::Node next = chain.back()[parts[i]];
+      chain.push_back(next);
+    }
+    chain.back()[parts.back()] = value;
+  }
+}
+
+}  // namespace jackal_aic
