@@ -93,8 +93,8 @@ const std::vector<ParamSpec>& paramSchema();
 /// The row of `key`, or nullptr if the schema has no such key.
 const ParamSpec* findParam(const std::string& key);
 
-/// The schema's default of a spec (from a default-constructed NodeParams).
-ParamValue defaultValue(const ParamSpec& spec);
+/// The schema's default of a row (from a default-constructed NodeParams).
+ParamValue defaultValue(const ParamSpec& row);
 
 /// Keys other programs write into the node's private namespace: "diagnostic_period"
 /// (diagnostic_updater) and "groups" (dynamic_reconfigure). Known, never read by us.
@@ -103,18 +103,18 @@ const std::vector<std::string>& foreignKeys();
 /**
  * \brief One dynamic_reconfigure parameter (a row of cfg/AIC.cfg), derived from the schema.
  *
- * A live scalar spec gives one entry named like the key; a live per-order list gives
+ * A live scalar row gives one entry named like the key; a live per-order list gives
  * kMaxOrders slots "<key>_<i>" (type kDouble) for element i (the first channel's value
  * in the per-channel form).
  */
 struct ReconfigureEntry
 {
   std::string name;        ///< cfg name, e.g. "tau" or "var_mu_2"
-  const ParamSpec* spec;   ///< the schema row
+  const ParamSpec* row;    ///< the schema row
   int slot;                ///< generalized order of a list slot, -1 for a scalar
   ParamType type;          ///< kDouble, kInt, kBool or kString
   ParamValue default_value;  ///< the default shown (scalar default, or slot_defaults[slot])
-  std::string description;   ///< cfg description: the spec's, with the unit and the order of a slot
+  std::string description;   ///< cfg description: the row's, with the unit and the order of a slot
 };
 
 /// Every dynamic_reconfigure parameter, in schema order.
@@ -126,19 +126,19 @@ const std::vector<ReconfigureEntry>& reconfigureEntries();
  */
 bool isKnownKey(const std::string& key, bool with_reconfigure);
 
-/// What a value of the spec must be, for messages: "a number", "an integer", "true or false",
+/// What a value of a row must be, for messages: "a number", "an integer", "true or false",
 /// "a string: euler or exact", "a list of numbers", "a list of strings".
-std::string expectedText(const ParamSpec& spec);
+std::string expectedText(const ParamSpec& row);
 
-/// The allowed range of a spec as text, e.g. "> 0 and <= 1000000, finite", ">= 0 and finite",
+/// The allowed range of a row as text, e.g. "> 0 and <= 1000000, finite", ">= 0 and finite",
 /// "integer in [1, 5]", "euler | exact".
-std::string rangeText(const ParamSpec& spec);
+std::string rangeText(const ParamSpec& row);
 
 /// A value printed for messages and docs (numbers with up to 15 significant digits, lists as [a, b]).
 std::string formatParamValue(const ParamValue& value);
 
 /**
- * \brief Range violations of every spec of `scope` in `params`, in schema order.
+ * \brief Range violations of every row of `scope` in `params`, in schema order.
  *
  * Checks the table's rules only (see ParamSpec); cross-parameter rules (belief_rate >=
  * action_rate, the node's rules) are added by AicParams::validate() / NodeParams::validate().

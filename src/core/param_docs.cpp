@@ -200,7 +200,7 @@ std::string reconfigureCfgScript()
   std::string current_group;
   for (const ReconfigureEntry& e : reconfigureEntries())
   {
-    const std::string group = e.spec->group;
+    const std::string group = e.row->group;
     bool known = false;
     for (const auto& g : groups)
     {
@@ -211,17 +211,17 @@ std::string reconfigureCfgScript()
       groups.push_back(group);
       os << "\n" << group << " = gen.add_group(" << pyString(group) << ")\n";
     }
-    os << group << ".add(" << pyString(e.name) << ", " << cfgType(e.type) << ", " << e.spec->level << ", "
+    os << group << ".add(" << pyString(e.name) << ", " << cfgType(e.type) << ", " << e.row->level << ", "
        << pyString(e.description) << ", " << pyValue(e.default_value);
     if (e.type == ParamType::kDouble || e.type == ParamType::kInt)
     {
-      const ParamValue min = e.type == ParamType::kInt ? ParamValue(static_cast<int>(e.spec->min)) :
-                                                         ParamValue(e.spec->min);
+      const ParamValue min = e.type == ParamType::kInt ? ParamValue(static_cast<int>(e.row->min)) :
+                                                         ParamValue(e.row->min);
       os << ", " << pyValue(min);
-      if (std::isfinite(e.spec->max))
+      if (std::isfinite(e.row->max))
       {
-        const ParamValue max = e.type == ParamType::kInt ? ParamValue(static_cast<int>(e.spec->max)) :
-                                                           ParamValue(e.spec->max);
+        const ParamValue max = e.type == ParamType::kInt ? ParamValue(static_cast<int>(e.row->max)) :
+                                                           ParamValue(e.row->max);
         os << ", " << pyValue(max);
       }
     }

@@ -160,23 +160,23 @@ std::string formatNumber(double v)
   return os.str();
 }
 
-/// Adds a violation if v is not finite or outside the spec's range.
-void checkNumber(const ParamSpec& spec, const std::string& name, double v, std::vector<ParamViolation>* out)
+/// Adds a violation if v is not finite or outside the row's range.
+void checkNumber(const ParamSpec& row, const std::string& name, double v, std::vector<ParamViolation>* out)
 {
-  const bool ok = std::isfinite(v) && (spec.min_exclusive ? v > spec.min : v >= spec.min) && v <= spec.max;
+  const bool ok = std::isfinite(v) && (row.min_exclusive ? v > row.min : v >= row.min) && v <= row.max;
   if (!ok)
   {
-    out->push_back({ name, formatNumber(v), rangeText(spec) });
+    out->push_back({ name, formatNumber(v), rangeText(row) });
   }
 }
 
 /// Size rule of a per-order list (ParamSpec::channels > 0).
-void checkListSize(const ParamSpec& spec, const std::vector<double>& var, int embedding_order,
+void checkListSize(const ParamSpec& row, const std::vector<double>& var, int embedding_order,
                    std::vector<ParamViolation>* out)
 {
-  const std::string key = spec.key;
+  const std::string key = row.key;
   const bool order_ok = embedding_order >= 1 && embedding_order <= kMaxEmbeddingOrder;
-  const int channels = spec.channels;
+  const int channels = row.channels;
   if (order_ok)
   {
     const std::size_t n = static_cast<std::size_t>(embedding_order + 1);
@@ -195,9 +195,9 @@ void checkListSize(const ParamSpec& spec, const std::vector<double>& var, int em
   }
 }
 
-void checkStringList(const ParamSpec& spec, const std::vector<std::string>& names, std::vector<ParamViolation>* out)
+void checkStringList(const ParamSpec& row, const std::vector<std::string>& names, std::vector<ParamViolation>* out)
 {
-  const std::string key = spec.key;
+  const std::string key = row.key;
   if (names.empty())
   {
     out->push_back({ key, "[]", "a non-empty list of joint names" });
@@ -242,9 +242,9 @@ const ParamSpec* findParam(const std::string& key)
   return nullptr;
 }
 
-ParamValue defaultValue(const ParamSpec& spec)
+ParamValue defaultValue(const ParamSpec& row)
 {
-  return spec.get(NodeParams());
+  return row.get(NodeParams());
 }
 
 const std::vector<std::string>& foreignKeys()
@@ -308,9 +308,9 @@ bool isKnownKey(const std::string& key, bool with_reconfigure)
   return false;
 }
 
-std::string expectedText(const ParamSpec& spec)
+std::string expectedText(const ParamSpec& row)
 {
-  switch (spec.type)
+  switch (row.type)
   {
     case ParamType::kDouble:
       return "a number";
@@ -321,9 +321,9 @@ std::string expectedText(const ParamSpec& spec)
     case ParamType::kString:
     {
       std::string text = "a string";
-      for (std::size_t i = 0; i < spec.choices.size(); ++i)
+      for (std::size_t i = 0; i < row.choices.size(); ++i)
       {
-        text += (i == 0 ? ": " : " or ") + spec.choices[i];
+        text += (i == 0 ? ": " : " or ") + row.choices[i];
       }
       return text;
     }
@@ -335,22 +335,22 @@ std::string expectedText(const ParamSpec& spec)
   return "a value";
 }
 
-std::string rangeText(const ParamSpec& spec)
+std::string rangeText(const ParamSpec& row)
 {
-  switch (spec.type)
+  switch (row.type)
   {
     case ParamType::kInt:
-      return "integer in [" + formatNumber(spec.min) + ", " + formatNumber(spec.max) + "]";
+      return "integer in [" + formatNumber(row.min) + ", " + formatNumber(row.max) + "]";
     case ParamType::kDouble:
     case ParamType::kDoubleList:
     {
-      std::string text = (spec.min_exclusive ? "> " : ">= ") + formatNumber(spec.min);
-      return std::isinf(spec.max) ? text + " and finite" : text + " and <= " + formatNumber(spec.max) + ", finite";
+      std::string text = (row.min_exclusive ? "> " : ">= ") + formatNumber(row.min);
+      return std::isinf(row.max) ? text + " and finite" : text + " and <= " + formatNumber(row.max) + ", finite";
     }
     case ParamType::kString:
     {
       std::string text;
-      for (const auto& c : spec.choices)
+      for (const auto& c : row.choices)
       {
         text += (text.empty() ? "" : " | ") + c;
       }
@@ -397,51 +397,51 @@ std::string formatParamValue(const ParamValue& value)
 std::vector<ParamViolation> checkParamRanges(const NodeParams& params, ParamScope scope)
 {
   std::vector<ParamViolation> out;
-  for (const ParamSpec& spec : paramSchema())
+  for (const ParamSpec& row : paramSchema())
   {
-    if (spec.scope != scope)
+    if (row.scope != scope)
     {
       continue;
     }
-    const ParamValue value = spec.get(params);
-    switch (spec.type)
+    const ParamValue value = row.get(params);
+    switch (row.type)
     {
       case ParamType::kDouble:
-        checkNumber(spec, spec.key, std::get<double>(value), &out);
+        checkNumber(row, row.key, std::get<double>(value), &out);
         break;
       case ParamType::kInt:
       {
         const int v = std::get<int>(value);
-        if (v < spec.min || v > spec.max)
+        if (v < row.min || v > row.max)
         {
-          out.push_back({ spec.key, std::to_string(v), rangeText(spec) });
+          out.push_back({ row.key, std::to_string(v), rangeText(row) });
         }
         break;
       }
       case ParamType::kDoubleList:
       {
         const auto& list = std::get<std::vector<double>>(value);
-        if (spec.channels > 0)
+        if (row.channels > 0)
         {
-          checkListSize(spec, list, params.aic.embedding_order, &out);
+          checkListSize(row, list, params.aic.embedding_order, &out);
         }
         for (std::size_t i = 0; i < list.size(); ++i)
         {
-          checkNumber(spec, std::string(spec.key) + "[" + std::to_string(i) + "]", list[i], &out);
+          checkNumber(row, std::string(row.key) + "[" + std::to_string(i) + "]", list[i], &out);
         }
         break;
       }
       case ParamType::kString:
       {
         const auto& s = std::get<std::string>(value);
-        if (!spec.choices.empty() && std::find(spec.choices.begin(), spec.choices.end(), s) == spec.choices.end())
+        if (!row.choices.empty() && std::find(row.choices.begin(), row.choices.end(), s) == row.choices.end())
         {
-          out.push_back({ spec.key, s, rangeText(spec) });
+          out.push_back({ row.key, s, rangeText(row) });
         }
         break;
       }
       case ParamType::kStringList:
-        checkStringList(spec, std::get<std::vector<std::string>>(value), &out);
+        checkStringList(row, std::get<std::vector<std::string>>(value), &out);
         break;
       case ParamType::kBool:
         break;
@@ -454,25 +454,25 @@ ParamLoadReport loadParams(const ParamSource& source, const std::vector<ParamSco
                            NodeParams* params)
 {
   ParamLoadReport report;
-  for (const ParamSpec& spec : paramSchema())
+  for (const ParamSpec& row : paramSchema())
   {
-    if (std::find(scopes.begin(), scopes.end(), spec.scope) == scopes.end())
+    if (std::find(scopes.begin(), scopes.end(), row.scope) == scopes.end())
     {
       continue;
     }
     ParamValue value;
-    switch (source.read(spec.key, spec.type, &value))
+    switch (source.read(row.key, row.type, &value))
     {
       case ParamSource::Status::kMissing:
-        report.defaulted.push_back(spec.key);
+        report.defaulted.push_back(row.key);
         break;
       case ParamSource::Status::kWrongType:
-        report.errors.push_back({ spec.key, source.raw(spec.key), expectedText(spec) });
+        report.errors.push_back({ row.key, source.raw(row.key), expectedText(row) });
         break;
       case ParamSource::Status::kOk:
-        if (!spec.set(*params, value))
+        if (!row.set(*params, value))
         {
-          report.errors.push_back({ spec.key, source.raw(spec.key), expectedText(spec) });
+          report.errors.push_back({ row.key, source.raw(row.key), expectedText(row) });
         }
         break;
     }

@@ -106,8 +106,8 @@ void loadNodeParams(const ros::NodeHandle& pnh, NodeParams* params, std::vector<
       loadParams(source, { ParamScope::kController, ParamScope::kNode }, /*with_reconfigure=*/true, params);
   for (const auto& key : report.defaulted)
   {
-    const ParamSpec* spec = findParam(key);
-    if (spec != nullptr && !spec->required)
+    const ParamSpec* row = findParam(key);
+    if (row != nullptr && !row->required)
     {
       ROS_INFO_STREAM("jackal_AIC: parameter ~" << key << " not set, using the default");
     }

@@ -100,12 +100,12 @@ AICConfig configFromParams(const NodeParams& params, const AICConfig& base)
   {
     if (e.slot < 0)
     {
-      setConfigValue(&c, e.name, e.spec->get(params));
+      setConfigValue(&c, e.name, e.row->get(params));
       continue;
     }
     // Per-order variances; with the per-channel form, the first channel of each order is shown.
-    const auto list = std::get<std::vector<double>>(e.spec->get(params));
-    const std::size_t stride = list.size() == static_cast<std::size_t>(orders) ? 1 : e.spec->channels;
+    const auto list = std::get<std::vector<double>>(e.row->get(params));
+    const std::size_t stride = list.size() == static_cast<std::size_t>(orders) ? 1 : e.row->channels;
     const std::size_t index = static_cast<std::size_t>(e.slot) * stride;
     if (e.slot < orders && index < list.size())
     {
@@ -130,13 +130,13 @@ ReconfigureOutcome paramsFromRequest(const AICConfig& request, const AICConfig& 
       continue;
     }
     out.changed.push_back(e.name);
-    if (e.slot >= 0 || e.spec->key == std::string("embedding_order"))
+    if (e.slot >= 0 || e.row->key == std::string("embedding_order"))
     {
       lists_touched = true;
     }
-    if (e.slot < 0 && !e.spec->set(out.params, value))
+    if (e.slot < 0 && !e.row->set(out.params, value))
     {
-      out.violations.push_back({ e.name, formatParamValue(value), expectedText(*e.spec) });
+      out.violations.push_back({ e.name, formatParamValue(value), expectedText(*e.row) });
     }
   }
   if (lists_touched && !perOrder(base.aic))
@@ -148,22 +148,22 @@ ReconfigureOutcome paramsFromRequest(const AICConfig& request, const AICConfig& 
   {
     const int orders = out.params.aic.numOrders();
     const int base_orders = base.aic.numOrders();
-    for (const ParamSpec& spec : paramSchema())
+    for (const ParamSpec& row : paramSchema())
     {
-      if (spec.type != ParamType::kDoubleList || spec.slots() == 0 || orders < 1 || orders > spec.slots())
+      if (row.type != ParamType::kDoubleList || row.slots() == 0 || orders < 1 || orders > row.slots())
       {
         continue;  // an out-of-range order is reported by validate()
       }
-      const auto old_list = std::get<std::vector<double>>(spec.get(base));
+      const auto old_list = std::get<std::vector<double>>(row.get(base));
       std::vector<double> list(static_cast<std::size_t>(orders));
       for (int i = 0; i < orders; ++i)
       {
-        const std::string slot = std::string(spec.key) + "_" + std::to_string(i);
+        const std::string slot = std::string(row.key) + "_" + std::to_string(i);
         const ParamValue value = configValue(request, slot);
         const bool keep = i < base_orders && value == configValue(reference, slot);
         list[static_cast<std::size_t>(i)] = keep ? old_list[static_cast<std::size_t>(i)] : std::get<double>(value);
       }
-      spec.set(out.params, list);
+      row.set(out.params, list);
     }
   }
   for (auto& v : out.params.validate())

@@ -15,6 +15,8 @@
  *   {"ok": false, "error": "..."}           (invalid parameters or plant)
  * An empty line is answered with an empty object. Exit 0 at end of input; 1 if CONFIG cannot
  * be read; 2 on bad arguments. The tuner (scripts/aic_tune.py) keeps one process open.
+ * Command line on CLI11, overrides through the shared parser (include/jackal_aic/cli.hpp,
+ * include/jackal_aic/yaml_overrides.hpp).
  */
 #include <cmath>
 #include <cstdlib>
@@ -23,8 +25,10 @@
 #include <string>
 #include <vector>
 
+#include "jackal_aic/cli.hpp"
 #include "jackal_aic/params_yaml.hpp"
 #include "jackal_aic/state_space.hpp"
+#include "jackal_aic/yaml_overrides.hpp"
 
 using namespace jackal_aic;
 
@@ -84,31 +88,26 @@ std::string predictLine(const std::string& config, const std::string& line, doub
   PlantModel plant;
   while (in >> tok)
   {
-    const auto eq = tok.find('=');
-    const std::string key = tok.substr(0, eq);
-    if (key.rfind("plant.", 0) == 0)
+    const Override o = parseOverride(tok);  // the shared KEY=VALUE parser
+    if (o.key.rfind("plant.", 0) == 0)
     {
-      if (eq == std::string::npos)
-      {
-        throw std::runtime_error("'" + tok + "' is not KEY=VALUE");
-      }
-      const double v = plantNumber(key, tok.substr(eq + 1));
-      if (key == "plant.time_constant")
+      const double v = plantNumber(o.key, o.value);
+      if (o.key == "plant.time_constant")
       {
         plant.type = PlantModel::Type::kFirstOrder;
         plant.time_constant = v;
       }
-      else if (key == "plant.gain")
+      else if (o.key == "plant.gain")
       {
         plant.gain = v;
       }
-      else if (key == "plant.delay")
+      else if (o.key == "plant.delay")
       {
         plant.delay = v;
       }
       else
       {
-        throw std::runtime_error("unknown plant key '" + key + "' (plant.time_constant, plant.gain, plant.delay)");
+        throw std::runtime_error("unknown plant key '" + o.key + "' (plant.time_constant, plant.gain, plant.delay)");
       }
     }
     else
@@ -150,44 +149,24 @@ std::string predictLine(const std::string& config, const std::string& line, doub
 
 int main(int argc, char** argv)
 {
-  const char* usage = "usage: aic_predict CONFIG.yaml [--target V (m/s, default 0.5)] [--duration S (default 3)]\n"
-                      "  stdin: one candidate per line, KEY=VALUE overrides and plant.time_constant|gain|delay=...\n";
   std::string config;
   double target = 0.5;
   double duration = 3.0;
-  for (int i = 1; i < argc; ++i)
+  CLI::App app{ "Batch predictions of the dual-rate closed-loop state-space model, one candidate per stdin line: "
+                "whitespace-separated KEY=VALUE overrides of the YAML and plant.time_constant|gain|delay=...; one "
+                "JSON object per line.",
+                "aic_predict" };
+  app.add_option("CONFIG", config, "controller YAML")->required();
+  app.add_option("--target", target, "step of v_x from 0 [m/s], non-zero")->check(finiteNumber())->capture_default_str();
+  app.add_option("--duration", duration, "simulated time [s], > 0")->check(finiteNumber())->capture_default_str();
+  app.footer("Exit 0 at end of input; 1 if CONFIG cannot be read; 2 on bad arguments.");
+  if (const int code = parseCommandLine(app, argc, argv); code >= 0)
   {
-    const std::string a = argv[i];
-    if ((a == "--target" || a == "--duration") && i + 1 < argc)
-    {
-      char* end = nullptr;
-      const double v = std::strtod(argv[++i], &end);
-      if (*end != '\0' || !std::isfinite(v) || (a == "--duration" && v <= 0.0) || (a == "--target" && v == 0.0))
-      {
-        std::cerr << "aic_predict: bad value for " << a << "\n" << usage;
-        return 2;
-      }
-      (a == "--target" ? target : duration) = v;
-    }
-    else if (a == "--help" || a == "-h")
-    {
-      std::cout << usage;
-      return 0;
-    }
-    else if (config.empty() && a.rfind("--", 0) != 0)
-    {
-      config = a;
-    }
-    else
-    {
-      std::cerr << "aic_predict: unexpected argument '" << a << "'\n" << usage;
-      return 2;
-    }
+    return code;
   }
-  if (config.empty())
+  if (target == 0.0 || duration <= 0.0)
   {
-    std::cerr << usage;
-    return 2;
+    return badArgument(app, "--target must be non-zero and --duration > 0");
   }
   try
   {

@@ -77,17 +77,17 @@ TEST(ReconfigureConfig, AicConfigAgreesWithTheSchema)
                                  [&](const AICConfig::AbstractParamDescriptionConstPtr& d) { return d->name == e.name; });
     ASSERT_NE(it, descriptions.end()) << "cfg/AIC.cfg lacks " << e.name;
     EXPECT_EQ((*it)->type, cfgTypeName(e.type));
-    EXPECT_EQ(static_cast<int>((*it)->level), e.spec->level);
+    EXPECT_EQ(static_cast<int>((*it)->level), e.row->level);
     EXPECT_EQ(configValue(AICConfig::__getDefault__(), e.name), e.default_value);
     if (e.type == ParamType::kDouble)
     {
-      EXPECT_EQ(std::get<double>(configValue(AICConfig::__getMin__(), e.name)), e.spec->min);
-      EXPECT_EQ(std::get<double>(configValue(AICConfig::__getMax__(), e.name)), e.spec->max);  // inf: none
+      EXPECT_EQ(std::get<double>(configValue(AICConfig::__getMin__(), e.name)), e.row->min);
+      EXPECT_EQ(std::get<double>(configValue(AICConfig::__getMax__(), e.name)), e.row->max);  // inf: none
     }
     else if (e.type == ParamType::kInt)
     {
-      EXPECT_EQ(std::get<int>(configValue(AICConfig::__getMin__(), e.name)), static_cast<int>(e.spec->min));
-      EXPECT_EQ(std::get<int>(configValue(AICConfig::__getMax__(), e.name)), static_cast<int>(e.spec->max));
+      EXPECT_EQ(std::get<int>(configValue(AICConfig::__getMin__(), e.name)), static_cast<int>(e.row->min));
+      EXPECT_EQ(std::get<int>(configValue(AICConfig::__getMax__(), e.name)), static_cast<int>(e.row->max));
     }
   }
   EXPECT_EQ(cfg_names, schema_names) << "cfg/AIC.cfg and the schema name different parameters";

@@ -59,18 +59,18 @@ bool names(const std::vector<ParamViolation>& v, const std::string& name)
   return false;
 }
 
-/// A value of a double spec, or every element of a list spec, set to x.
-void setNumber(const ParamSpec& spec, NodeParams* p, double x)
+/// A value of a double row, or every element of a list row, set to x.
+void setNumber(const ParamSpec& row, NodeParams* p, double x)
 {
-  if (spec.type == ParamType::kDouble)
+  if (row.type == ParamType::kDouble)
   {
-    ASSERT_TRUE(spec.set(*p, x));
+    ASSERT_TRUE(row.set(*p, x));
   }
   else
   {
-    auto list = std::get<std::vector<double>>(spec.get(*p));
+    auto list = std::get<std::vector<double>>(row.get(*p));
     list.assign(list.size(), x);
-    ASSERT_TRUE(spec.set(*p, list));
+    ASSERT_TRUE(row.set(*p, list));
   }
 }
 
@@ -262,17 +262,17 @@ TEST(ParamSchema, ReconfigureEntries)
   for (const ReconfigureEntry& e : reconfigureEntries())
   {
     EXPECT_TRUE(names_seen.insert(e.name).second) << e.name;
-    EXPECT_TRUE(e.spec->live) << e.name;
+    EXPECT_TRUE(e.row->live) << e.name;
     EXPECT_TRUE(isKnownKey(e.name, true)) << e.name;
     if (e.slot >= 0)
     {
       ++slots;
       EXPECT_EQ(e.type, ParamType::kDouble);
-      EXPECT_EQ(e.name, std::string(e.spec->key) + "_" + std::to_string(e.slot));
+      EXPECT_EQ(e.name, std::string(e.row->key) + "_" + std::to_string(e.slot));
     }
     else
     {
-      EXPECT_EQ(e.default_value, defaultValue(*e.spec)) << e.name;
+      EXPECT_EQ(e.default_value, defaultValue(*e.row)) << e.name;
     }
   }
   EXPECT_EQ(slots, 2 * kMaxOrders);  // var_mu_0..5, var_y_0..5
