@@ -17,10 +17,10 @@ if [ -f /opt/ros/noetic/setup.bash ]; then
   [ -d /etc/ros/rosdep/sources.list.d ] || $SUDO rosdep init
   rosdep update
   # jackal_msgs comes from ros-noetic-jackal-msgs here.
-  # -r: go on past a key this rosdep database cannot resolve; the two system libraries whose
+  # -r: go on past a key this rosdep database cannot resolve; the system libraries whose
   # rosdep keys we could not verify are then installed by their Ubuntu names.
   rosdep install --from-paths "$repo" --ignore-src -y -r || true
-  $SUDO apt-get install -y libode-dev libbenchmark-dev
+  $SUDO apt-get install -y libode-dev libbenchmark-dev libcli11-dev
   exit 0
 fi
 

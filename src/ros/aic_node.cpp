@@ -4,14 +4,6 @@
  */
 #include "jackal_aic/ros/aic_node.hpp"
 
-#include <algorithm>
-#include <cmath>
-
-#include <geometry_msgs/TwistStamped.h>
-#include <jackal_msgs/Drive.h>
-#include <std_msgs/Float64.h>
-#include <std_msgs/Float64MultiArray.h>
-
 #include "jackal_aic/ros/node_params.hpp"
 
 namespace jackal_aic
@@ -39,27 +31,6 @@ SensorSynchronizer::Config syncConfig(const NodeParams& params)
   c.min_sample_interval = params.min_sample_interval;
   c.max_gap = params.sensor_timeout;
   return c;
-}
-
-std_msgs::Float64MultiArray toMultiArray(const Eigen::Ref<const Eigen::MatrixXd>& m)
-{
-  std_msgs::Float64MultiArray msg;
-  msg.layout.dim.resize(2);
-  msg.layout.dim[0].label = "channel";
-  msg.layout.dim[0].size = static_cast<unsigned int>(m.rows());
-  msg.layout.dim[0].stride = static_cast<unsigned int>(m.rows() * m.cols());
-  msg.layout.dim[1].label = "order";
-  msg.layout.dim[1].size = static_cast<unsigned int>(m.cols());
-  msg.layout.dim[1].stride = static_cast<unsigned int>(m.cols());
-  msg.data.resize(static_cast<std::size_t>(m.rows() * m.cols()));
-  for (int r = 0; r < m.rows(); ++r)
-  {
-    for (int c = 0; c < m.cols(); ++c)
-    {
-      msg.data[static_cast<std::size_t>(r * m.cols() + c)] = m(r, c);
-    }
-  }
-  return msg;
 }
 }  // namespace
 
@@ -98,11 +69,7 @@ bool AicNode::init()
   sync_ = std::make_unique<SensorSynchronizer>(syncConfig(params_));
   supervisor_ = std::make_unique<Supervisor>(params_, clock_);
 
-  cmd_pub_ = nh_.advertise<jackal_msgs::Drive>("cmd_drive", 1);
-  belief_pub_ = pnh_.advertise<geometry_msgs::TwistStamped>("belief", 50);
-  free_energy_pub_ = pnh_.advertise<std_msgs::Float64>("free_energy", 10);
-  eps_y_pub_ = pnh_.advertise<std_msgs::Float64MultiArray>("eps_y", 10);
-  eps_mu_pub_ = pnh_.advertise<std_msgs::Float64MultiArray>("eps_mu", 10);
+  outputs_ = std::make_unique<NodeOutputs>(nh_, pnh_);
 
   const auto hints = ros::TransportHints().tcpNoDelay();
   joint_sub_ = nh_.subscribe("joint_states", 10, &AicNode::jointStateCallback, this, hints);
@@ -254,28 +221,9 @@ void AicNode::beliefTimerCallback(const ros::TimerEvent& event)
     {
       handleRunaway("belief update");
     }
-    publishBelief(event.current_real - ros::Duration(tick.h * (tick.steps - 1 - i)));
+    outputs_->belief(event.current_real - ros::Duration(tick.h * (tick.steps - 1 - i)), controller_->mu());
   }
   supervisor_->beliefLoop().recordDuration((ros::WallTime::now() - start).toSec());
-}
-
-void AicNode::publishBelief(const ros::Time& stamp)
-{
-  geometry_msgs::TwistStamped belief;
-  belief.header.stamp = stamp;
-  belief.header.frame_id = "base_link";
-  const auto mu0 = controller_->mu().col(0);
-  if (mu0.allFinite())
-  {
-    belief.twist.linear.x = mu0(0);
-    belief.twist.linear.y = mu0(1);
-    belief.twist.angular.z = mu0(2);
-  }
-  else
-  {
-    ++guarded_outputs_;  // never publish a non-finite number (the controller resets on runaway)
-  }
-  belief_pub_.publish(belief);
 }
 
 void AicNode::actionTimerCallback(const ros::TimerEvent& event)
@@ -297,71 +245,18 @@ void AicNode::actionTimerCallback(const ros::TimerEvent& event)
   {
     publishCommand(controller_->action()(0), controller_->action()(1));
   }
-  publishDebug();
+  outputs_->debug(*controller_);
   supervisor_->actionLoop().recordDuration((ros::WallTime::now() - start).toSec());
-}
-
-void AicNode::publishCommand(double omega_left, double omega_right)
-{
-  if (!std::isfinite(omega_left) || !std::isfinite(omega_right))
-  {
-    ++guarded_outputs_;
-    ROS_ERROR_THROTTLE(1.0, "jackal_AIC: non-finite wheel command replaced by zero");
-    omega_left = 0.0;
-    omega_right = 0.0;
-  }
-  const double limit = params_.aic.max_wheel_speed;
-  jackal_msgs::Drive cmd;
-  cmd.mode = jackal_msgs::Drive::MODE_VELOCITY;
-  cmd.drivers[jackal_msgs::Drive::LEFT] = static_cast<float>(std::clamp(omega_left, -limit, limit));
-  cmd.drivers[jackal_msgs::Drive::RIGHT] = static_cast<float>(std::clamp(omega_right, -limit, limit));
-  cmd_pub_.publish(cmd);
-}
-
-void AicNode::publishDebug()
-{
-  // Diagnostics show the free energy: it is computed every action tick, published only for a subscriber.
-  last_free_energy_ = controller_->hasMeasurement() ? controller_->freeEnergy() : 0.0;
-  if (free_energy_pub_.getNumSubscribers() > 0)
-  {
-    if (std::isfinite(last_free_energy_))
-    {
-      std_msgs::Float64 f;
-      f.data = last_free_energy_;
-      free_energy_pub_.publish(f);
-    }
-    else
-    {
-      ++guarded_outputs_;
-    }
-  }
-  // eps_y, eps_mu: built only for a subscriber (a message allocates), never published non-finite.
-  auto publishErrors = [this](const ros::Publisher& pub, const auto& errors) {
-    if (pub.getNumSubscribers() == 0)
-    {
-      return;
-    }
-    if (errors.allFinite())
-    {
-      pub.publish(toMultiArray(errors));
-    }
-    else
-    {
-      ++guarded_outputs_;
-    }
-  };
-  publishErrors(eps_y_pub_, controller_->epsY());
-  publishErrors(eps_mu_pub_, controller_->epsMu());
 }
 
 ControllerReport AicNode::controllerReport() const
 {
   ControllerReport r;
-  r.free_energy = last_free_energy_;
+  r.free_energy = outputs_->lastFreeEnergy();
   r.belief_vx = controller_->mu()(0, 0);
   r.belief_wz = controller_->mu()(2, 0);
   r.command = supervisor_->active() ? controller_->action() : Vector2::Zero();
-  r.guarded_outputs = guarded_outputs_;
+  r.guarded_outputs = outputs_->guardedOutputs();
   r.generalizer_drops = generalizer_drops_;
   return r;
 }

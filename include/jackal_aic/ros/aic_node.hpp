@@ -10,7 +10,7 @@
  *        ~belief (geometry_msgs/TwistStamped, mu^(0)) every belief step;
  *        ~free_energy (std_msgs/Float64), ~eps_y, ~eps_mu (std_msgs/Float64MultiArray,
  *        rows = channels, cols = orders) every action tick (decimated from the belief rate);
- *        /diagnostics (NodeDiagnostics).
+ *        /diagnostics (NodeDiagnostics). Publishers and the finiteness guard: NodeOutputs.
  *
  * The node is wiring. The decisions are the ROS-free Supervisor's
  * (include/jackal_aic/supervisor.hpp: state machine, watchdogs, catch-up scheduling, loop
@@ -43,6 +43,7 @@
 #include "jackal_aic/generalizer.hpp"
 #include "jackal_aic/node_params.hpp"
 #include "jackal_aic/ros/node_diagnostics.hpp"
+#include "jackal_aic/ros/node_outputs.hpp"
 #include "jackal_aic/ros/node_reconfigure.hpp"
 #include "jackal_aic/ros/sensor_sync.hpp"
 #include "jackal_aic/supervisor.hpp"
@@ -89,10 +90,11 @@ private:
   /// Reset the controller and start it from the measured wheel speeds (bumpless).
   void activate();
   void handleRunaway(const char* where);
-  /// Final guard: clamp to +-max_wheel_speed, zero if non-finite, publish MODE_VELOCITY.
-  void publishCommand(double omega_left, double omega_right);
-  void publishDebug();
-  void publishBelief(const ros::Time& stamp);
+  /// Publish a wheel command through the final guard (NodeOutputs::command, +-max_wheel_speed).
+  void publishCommand(double omega_left, double omega_right)
+  {
+    outputs_->command(omega_left, omega_right, params_.aic.max_wheel_speed);
+  }
   ControllerReport controllerReport() const;
 
   ros::NodeHandle nh_;
@@ -106,14 +108,12 @@ private:
   std::unique_ptr<Supervisor> supervisor_;
   std::unique_ptr<NodeReconfigure> reconfigure_;
   std::unique_ptr<NodeDiagnostics> diagnostics_;
+  std::unique_ptr<NodeOutputs> outputs_;
 
   ros::Subscriber joint_sub_, imu_sub_, set_point_sub_;
-  ros::Publisher cmd_pub_, belief_pub_, free_energy_pub_, eps_y_pub_, eps_mu_pub_;
   ros::Timer belief_timer_, action_timer_, diagnostics_timer_;
 
   std::uint64_t generalizer_drops_ = 0;  ///< samples the generalizer or the controller refused
-  std::uint64_t guarded_outputs_ = 0;    ///< non-finite outputs suppressed
-  double last_free_energy_ = 0.0;
 };
 
 }  // namespace jackal_aic

@@ -1,0 +1,124 @@
+/**
+ * \file node_outputs.cpp
+ * \brief The jackal_AIC node's publishers with the final finiteness guard
+ *        (include/jackal_aic/ros/node_outputs.hpp; doc/jackal_aic_node.md, 'Topics').
+ */
+#include "jackal_aic/ros/node_outputs.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <geometry_msgs/TwistStamped.h>
+#include <jackal_msgs/Drive.h>
+#include <ros/console.h>
+#include <std_msgs/Float64.h>
+#include <std_msgs/Float64MultiArray.h>
+
+namespace jackal_aic
+{
+namespace
+{
+/// A matrix as Float64MultiArray: dim 0 "channel" (rows), dim 1 "order" (cols), row-major data.
+std_msgs::Float64MultiArray toMultiArray(const Eigen::Ref<const Eigen::MatrixXd>& m)
+{
+  std_msgs::Float64MultiArray msg;
+  msg.layout.dim.resize(2);
+  msg.layout.dim[0].label = "channel";
+  msg.layout.dim[0].size = static_cast<unsigned int>(m.rows());
+  msg.layout.dim[0].stride = static_cast<unsigned int>(m.rows() * m.cols());
+  msg.layout.dim[1].label = "order";
+  msg.layout.dim[1].size = static_cast<unsigned int>(m.cols());
+  msg.layout.dim[1].stride = static_cast<unsigned int>(m.cols());
+  msg.data.resize(static_cast<std::size_t>(m.rows() * m.cols()));
+  for (int r = 0; r < m.rows(); ++r)
+  {
+    for (int c = 0; c < m.cols(); ++c)
+    {
+      msg.data[static_cast<std::size_t>(r * m.cols() + c)] = m(r, c);
+    }
+  }
+  return msg;
+}
+}  // namespace
+
+NodeOutputs::NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh)
+{
+  cmd_pub_ = nh.advertise<jackal_msgs::Drive>("cmd_drive", 1);
+  belief_pub_ = pnh.advertise<geometry_msgs::TwistStamped>("belief", 50);
+  free_energy_pub_ = pnh.advertise<std_msgs::Float64>("free_energy", 10);
+  eps_y_pub_ = pnh.advertise<std_msgs::Float64MultiArray>("eps_y", 10);
+  eps_mu_pub_ = pnh.advertise<std_msgs::Float64MultiArray>("eps_mu", 10);
+}
+
+void NodeOutputs::command(double omega_left, double omega_right, double limit)
+{
+  if (!std::isfinite(omega_left) || !std::isfinite(omega_right))
+  {
+    ++guarded_outputs_;
+    ROS_ERROR_THROTTLE(1.0, "jackal_AIC: non-finite wheel command replaced by zero");
+    omega_left = 0.0;
+    omega_right = 0.0;
+  }
+  jackal_msgs::Drive cmd;
+  cmd.mode = jackal_msgs::Drive::MODE_VELOCITY;
+  cmd.drivers[jackal_msgs::Drive::LEFT] = static_cast<float>(std::clamp(omega_left, -limit, limit));
+  cmd.drivers[jackal_msgs::Drive::RIGHT] = static_cast<float>(std::clamp(omega_right, -limit, limit));
+  cmd_pub_.publish(cmd);
+}
+
+void NodeOutputs::belief(const ros::Time& stamp, const MuTilde& mu)
+{
+  geometry_msgs::TwistStamped belief;
+  belief.header.stamp = stamp;
+  belief.header.frame_id = "base_link";
+  const auto mu0 = mu.col(0);
+  if (mu0.allFinite())
+  {
+    belief.twist.linear.x = mu0(0);
+    belief.twist.linear.y = mu0(1);
+    belief.twist.angular.z = mu0(2);
+  }
+  else
+  {
+    ++guarded_outputs_;  // never publish a non-finite number (the controller resets on runaway)
+  }
+  belief_pub_.publish(belief);
+}
+
+void NodeOutputs::debug(const ActiveInferenceController& controller)
+{
+  // Diagnostics show the free energy: computed every action tick, published only for a subscriber.
+  last_free_energy_ = controller.hasMeasurement() ? controller.freeEnergy() : 0.0;
+  if (free_energy_pub_.getNumSubscribers() > 0)
+  {
+    if (std::isfinite(last_free_energy_))
+    {
+      std_msgs::Float64 f;
+      f.data = last_free_energy_;
+      free_energy_pub_.publish(f);
+    }
+    else
+    {
+      ++guarded_outputs_;
+    }
+  }
+  // eps_y, eps_mu: built only for a subscriber (a message allocates), never published non-finite.
+  auto publishErrors = [this](const ros::Publisher& pub, const auto& errors) {
+    if (pub.getNumSubscribers() == 0)
+    {
+      return;
+    }
+    if (errors.allFinite())
+    {
+      pub.publish(toMultiArray(errors));
+    }
+    else
+    {
+      ++guarded_outputs_;
+    }
+  };
+  publishErrors(eps_y_pub_, controller.epsY());
+  publishErrors(eps_mu_pub_, controller.epsMu());
+}
+
+}  // namespace jackal_aic
