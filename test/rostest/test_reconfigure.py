@@ -3,8 +3,11 @@
 
 1. action_rate -> `new_action_rate`: /cmd_drive follows (rate from receipt times, +-tolerance).
 2. belief_rate below action_rate: refused; the server reports the old value.
+3. Only the changed key is applied: a reconfigure of tau leaves k_a as the launch file set it
+   (`yaml_k_a`, 2000: beyond the old cfg range of k_a, within the schema's), in the server's
+   config and on the parameter server.
 
-Parameters (~): new_action_rate [Hz], rate_tolerance [-], duration [s].
+Parameters (~): new_action_rate [Hz], rate_tolerance [-], duration [s], yaml_k_a [-].
 """
 import sys
 import unittest
@@ -38,6 +41,18 @@ class ReconfigureTest(unittest.TestCase):
         result = client.update_configuration({"belief_rate": new_rate / 2.0})
         self.assertAlmostEqual(result["belief_rate"], before, msg="belief_rate < action_rate was accepted")
         self.assertAlmostEqual(rospy.get_param("/jackal_AIC/belief_rate"), before)
+
+    def test_only_the_changed_key_is_applied(self):
+        yaml_k_a = float(rospy.get_param("~yaml_k_a", 2000.0))
+        client = dynamic_reconfigure.client.Client("/jackal_AIC", timeout=30)
+        self.assertAlmostEqual(client.get_configuration(timeout=10)["k_a"], yaml_k_a)
+        tau = client.get_configuration(timeout=10)["tau"] * 2.0
+        result = client.update_configuration({"tau": tau})
+        self.assertAlmostEqual(result["tau"], tau)
+        self.assertAlmostEqual(result["k_a"], yaml_k_a, msg="a reconfigure of tau changed k_a")
+        self.assertAlmostEqual(rospy.get_param("/jackal_AIC/k_a"), yaml_k_a)
+        self.assertAlmostEqual(rospy.get_param("/jackal_AIC/tau"), tau)
+        print("MEASURED after tau -> %g: k_a %g (set %g)" % (tau, result["k_a"], yaml_k_a), file=sys.stderr)
 
 
 if __name__ == "__main__":
