@@ -202,6 +202,7 @@ public:
   Transition embeddingOrderChanged();
 
   // ---- state
+  /// The current state (reported in diagnostics as toString(state())).
   NodeState state() const { return state_; }
   /// Why the node is in its state, e.g. "no set point yet on ~set_point".
   const std::string& reason() const { return reason_; }
@@ -214,24 +215,35 @@ public:
   /// Samples accepted since the last history restart (at most kMaxOrders + 1).
   int warmSamples() const { return warm_samples_; }
 
-  /// Age of the last accepted sample / Imu / set point [s]; -1 if there was none.
+  /// Age of the last accepted sample [s] at the clock's time; -1 if there was none.
   double sampleAge() const;
+  /// Age of the last valid Imu message [s]; -1 if there was none.
   double imuAge() const;
+  /// Age of the last accepted set point [s]; -1 if there was none.
   double setPointAge() const;
-  /// Sample / set point received within its timeout.
+  /// A sample was accepted within sensor_timeout.
   bool sensorsFresh() const;
+  /// A set point was accepted within set_point_timeout.
   bool setPointFresh() const;
 
-  // ---- counters
+  // ---- counters (since start; shown in diagnostics)
+  /// Runaway resets (runaway() calls).
   std::uint64_t runaways() const { return runaways_; }
+  /// Entries into kStale.
   std::uint64_t staleEvents() const { return stale_events_; }
+  /// Set points dropped for a NaN/Inf field.
   std::uint64_t setPointDrops() const { return set_point_drops_; }
+  /// Set points clamped to max_linear_speed / max_angular_speed.
   std::uint64_t setPointClamps() const { return set_point_clamps_; }
 
   // ---- loops
+  /// The belief loop: belief_rate, intervals clamped to kMaxBeliefIntervalFactor periods, catch-up.
   LoopScheduler& beliefLoop() { return belief_loop_; }
+  /// The action loop: action_rate, intervals clamped to kMaxActionIntervalFactor periods, one step a tick.
   LoopScheduler& actionLoop() { return action_loop_; }
+  /// \copydoc beliefLoop()
   const LoopScheduler& beliefLoop() const { return belief_loop_; }
+  /// \copydoc actionLoop()
   const LoopScheduler& actionLoop() const { return action_loop_; }
 
 private:

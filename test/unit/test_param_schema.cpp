@@ -110,6 +110,7 @@ std::map<std::string, std::string> commentBlocks(const std::string& path)
   }
   return blocks;
 }
+void expectDocumentedAsTheSchema(const std::string& path);
 }  // namespace
 
 TEST(ParamSchema, KeysAreUniqueAndDefaultsValid)
@@ -318,18 +319,30 @@ TEST(ParamSchema, DocTableIsGenerated)
 
 TEST(ParamSchema, DefaultYamlAgreesWithTheSchema)
 {
-  // config/default.yaml: every schema key present; every key known; each documented with the
-  // schema's unit ("# [unit] ...") and default ("Default: x" / "Required"); a valid set.
+  // config/default.yaml: every schema key present; in every config/*.yaml each key known and
+  // documented with the schema's unit ("# [unit] ...") and default ("Default: x" / "Required").
   const std::string path = kSource + "/config/default.yaml";
   const YAML::Node root = YAML::LoadFile(path);
   for (const ParamSpec& s : paramSchema())
   {
     EXPECT_TRUE(root[s.key]) << "config/default.yaml lacks " << s.key;
   }
+  for (const char* file : { "config/default.yaml", "config/thesis_standard.yaml", "config/thesis_improved.yaml",
+                            "config/thesis_equivalent.yaml" })
+  {
+    expectDocumentedAsTheSchema(kSource + "/" + file);
+  }
+}
+
+namespace
+{
+/// Each key of a config file documented with the schema's unit and default.
+void expectDocumentedAsTheSchema(const std::string& path)
+{
   const auto blocks = commentBlocks(path);
   for (const auto& [key, block] : blocks)
   {
-    SCOPED_TRACE(key);
+    SCOPED_TRACE(path + ": " + key);
     EXPECT_TRUE(isKnownKey(key, false));
     const ParamSpec* s = findParam(key);
     if (s == nullptr)
@@ -370,6 +383,7 @@ TEST(ParamSchema, DefaultYamlAgreesWithTheSchema)
     }
   }
 }
+}  // namespace
 
 TEST(ParamSchema, EveryConfigFileIsValid)
 {

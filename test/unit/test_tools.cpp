@@ -161,3 +161,33 @@ TEST(AicPredict, OneJsonLinePerCandidateAndErrorsPerLine)
   EXPECT_EQ(run(std::string(AIC_PREDICT_BIN) + " /nonexistent.yaml < /dev/null").code, 1);
   EXPECT_EQ(run(std::string(AIC_PREDICT_BIN) + " x.yaml --duration -1").code, 2);
 }
+
+TEST(AicParams, GeneratesAndChecks)
+{
+  const std::string bin = AIC_PARAMS_BIN;
+  EXPECT_EQ(run(bin).code, 2);                       // exactly one output required
+  EXPECT_EQ(run(bin + " --cfg --yaml").code, 2);
+  EXPECT_EQ(run(bin + " --help").code, 0);
+  const Result cfg = run(bin + " --cfg");
+  ASSERT_EQ(cfg.code, 0) << cfg.out;
+  EXPECT_NE(cfg.out.find("gen.generate(PACKAGE, \"jackal_aic_node\", \"AIC\")"), std::string::npos);
+  const Result ok = run(bin + " --check " + std::string(SOURCE_DIR) + "/config/default.yaml");
+  EXPECT_EQ(ok.code, 0) << ok.out;
+  const Result bad = run(bin + " --check " + writeFile("params_bad.yaml", "tau: -1\nk_a: fast\nsensor_timout: 1\n"));
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_NE(bad.out.find("unknown key 'sensor_timout'"), std::string::npos) << bad.out;
+  EXPECT_NE(bad.out.find("key 'k_a' must be a number"), std::string::npos) << bad.out;
+}
+
+TEST(CommandLines, HelpExitsZeroAndBadArgumentsTwo)
+{
+  // One convention for every C++ tool (CLI11, include/jackal_aic/cli.hpp).
+  for (const std::string& bin : { kAnalyze, kMetrics, std::string(AIC_PREDICT_BIN), std::string(AIC_PARAMS_BIN) })
+  {
+    EXPECT_EQ(run(bin + " --help").code, 0) << bin;
+    EXPECT_EQ(run(bin + " --no-such-option").code, 2) << bin;
+  }
+  // A malformed override is a bad argument.
+  EXPECT_EQ(run(kAnalyze + " " + kData + "/thesis_standard.yaml --no-scan --set tau").code, 2);
+  EXPECT_EQ(run(kAnalyze + " " + kData + "/thesis_standard.yaml --no-scan --set tau=0.01 --set k_a=4").code, 0);
+}
