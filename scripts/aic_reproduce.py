@@ -55,7 +55,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import yaml
 
-from jackal_aic_tools import recording
+from jackal_aic_tools import cli, recording
 
 ALL_TABLES = ["3-1", "5-1", "5-2", "5-4", "5-5", "5-6", "5-7", "5-9", "5-10"]
 RATES = [50, 100, 1000]
@@ -77,31 +77,11 @@ def lim(values):
 
 
 def repo_root():
-    """The package's source folder (or, for an installed package, its share folder)."""
-    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    if os.path.isfile(os.path.join(here, "sim", "config", "robot_steps.yaml")):
-        return here
-    try:
-        import rospkg
-        return rospkg.RosPack().get_path("jackal_aic")
-    except Exception:  # rospkg missing or package not found: keep the script's folder
-        return here
+    return cli.source_root(__file__)
 
 
 def find_exe(name):
-    for d in [os.path.join(repo_root(), ".ws", "devel", "lib", "jackal_aic")] + \
-             os.environ.get("CMAKE_PREFIX_PATH", "").split(":"):
-        for c in (os.path.join(d, name), os.path.join(d, "lib", "jackal_aic", name)):
-            if os.path.isfile(c) and os.access(c, os.X_OK):
-                return c
-    try:
-        out = subprocess.run(["catkin_find", "--first-only", "jackal_aic", name], capture_output=True,
-                             text=True, check=False).stdout.strip()
-        if out:
-            return out
-    except OSError:
-        pass
-    sys.exit("aic_reproduce: %s not found (build the workspace: bash scripts/build.sh)" % name)
+    return cli.find_executable(name, __file__, "aic_reproduce")
 
 
 def fmt_val(v):

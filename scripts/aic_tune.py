@@ -46,8 +46,9 @@ import yaml
 from scipy.optimize import differential_evolution, least_squares, minimize
 from scipy.signal import lfilter
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(HERE)
+from jackal_aic_tools import cli
+
+ROOT = cli.source_root(__file__)
 RATES = {"belief_rate": 1000.0, "action_rate": 50.0, "integrator": "exact"}
 # Searched parameters: name -> (lower, upper), searched on log10.
 SPACE = {
@@ -61,19 +62,7 @@ STEPS = [0.3, 0.5, 1.0]  # m/s: the refinement's and verification's steps (0.1 r
 
 
 def find_exe(name):
-    for d in [os.path.join(ROOT, ".ws", "devel", "lib", "jackal_aic")] + \
-            os.environ.get("CMAKE_PREFIX_PATH", "").split(":"):
-        for c in (os.path.join(d, name), os.path.join(d, "lib", "jackal_aic", name)):
-            if os.path.isfile(c) and os.access(c, os.X_OK):
-                return c
-    try:
-        out = subprocess.run(["catkin_find", "--first-only", "jackal_aic", name], capture_output=True,
-                             text=True, check=False).stdout.strip()
-        if out:
-            return out
-    except OSError:
-        pass
-    sys.exit("aic_tune: %s not found (build the workspace: bash scripts/build.sh)" % name)
+    return cli.find_executable(name, __file__, "aic_tune")
 
 
 def yaml_float(x):

@@ -30,6 +30,8 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 from scipy.optimize import minimize
 
+from jackal_aic_tools import cli
+
 # Identified parameters: key -> (lower, upper, scale). "log": searched on log(value).
 PARAMETERS = {
     "speed_kp": (0.5, 20.0, "log"),             # N m / (rad/s)
@@ -55,32 +57,11 @@ DEFAULT_FIXED = {"setpoint_slew_rate": 0.0, "integral_limit": 0.0}
 
 
 def repo_root():
-    """The package's source folder (or, for an installed package, its share folder)."""
-    here = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    if os.path.isfile(os.path.join(here, "sim", "config", "robot_steps.yaml")):
-        return here
-    try:
-        import rospkg
-        return rospkg.RosPack().get_path("jackal_aic")
-    except Exception:  # rospkg missing or package not found: keep the script's folder
-        return here
+    return cli.source_root(__file__)
 
 
 def find_plant_fit(explicit):
-    if explicit:
-        return explicit
-    candidates = [os.path.join(repo_root(), ".ws", "devel", "lib", "jackal_aic", "plant_fit")]
-    try:
-        prefix = subprocess.run(["catkin_find", "--first-only", "jackal_aic", "plant_fit"], capture_output=True,
-                                text=True, check=False).stdout.strip()
-        if prefix:
-            candidates.insert(0, prefix)
-    except OSError:
-        pass
-    for c in candidates:
-        if os.path.isfile(c) and os.access(c, os.X_OK):
-            return c
-    sys.exit("plant_identify: plant_fit not found (build the workspace: bash scripts/build.sh)")
+    return explicit or cli.find_executable("plant_fit", __file__, "plant_identify")
 
 
 def to_value(key, u):

@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,23 @@ inline CLI::Validator finiteNumber()
         return std::isfinite(v) ? std::string() : "'" + text + "' is not a finite number";
       },
       "FINITE");
+}
+
+/**
+ * \brief A number as JSON text, the tools' machine-readable output: `precision` significant
+ *        digits, and `null` for NaN or +-Inf (JSON has no such numbers; a metric that is
+ *        undefined, such as the settling time of a response that never settles, is NaN).
+ */
+inline std::string jsonNumber(double v, int precision = 6)
+{
+  if (!std::isfinite(v))
+  {
+    return "null";
+  }
+  std::ostringstream os;
+  os.precision(precision);
+  os << v;
+  return os.str();
 }
 
 }  // namespace jackal_aic

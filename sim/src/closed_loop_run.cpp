@@ -48,18 +48,6 @@ using namespace jackal_aic::sim;
 
 namespace
 {
-std::string num(double v)
-{
-  if (!std::isfinite(v))
-  {
-    return "null";
-  }
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
-
 std::string metricsJson(const std::vector<double>& t, const std::vector<double>& y, double t_step, double t_end,
                         double initial, double target)
 {
@@ -84,8 +72,8 @@ std::string metricsJson(const std::vector<double>& t, const std::vector<double>&
   }
   const StepMetrics m = computeStepMetrics(tt, yy, o);
   std::ostringstream os;
-  os << "{\"rise\": " << num(m.rise_time) << ", \"settling\": " << num(m.settling_time)
-     << ", \"overshoot\": " << num(m.overshoot_percent) << ", \"sse\": " << num(m.steady_state_error)
+  os << "{\"rise\": " << jsonNumber(m.rise_time) << ", \"settling\": " << jsonNumber(m.settling_time)
+     << ", \"overshoot\": " << jsonNumber(m.overshoot_percent) << ", \"sse\": " << jsonNumber(m.steady_state_error)
      << ", \"settled\": " << (m.settled ? "true" : "false") << "}";
   return os.str();
 }
@@ -232,8 +220,8 @@ int main(int argc, char** argv)
     {
       f << rec.time[k] - t0 << "," << rec.set_point[k] << "," << rec.v_odom[k] << "," << rec.v_true[k] << ","
         << rec.yaw_odom[k] << "," << rec.yaw_true[k] << "," << rec.command[k] << ","
-        << (std::isfinite(rec.belief[k]) ? num(rec.belief[k]) : "") << "," << rec.angular_set_point[k] << ","
-        << rec.command_yaw[k] << "," << (std::isfinite(rec.belief_yaw[k]) ? num(rec.belief_yaw[k]) : "") << "\n";
+        << (std::isfinite(rec.belief[k]) ? jsonNumber(rec.belief[k]) : "") << "," << rec.angular_set_point[k] << ","
+        << rec.command_yaw[k] << "," << (std::isfinite(rec.belief_yaw[k]) ? jsonNumber(rec.belief_yaw[k]) : "") << "\n";
     }
     if (!f)
     {
@@ -249,7 +237,7 @@ int main(int argc, char** argv)
   }
   std::cout << "{\"controller\": \"" << controller << "\", \"channel\": \"" << channel
             << "\", \"runaways\": " << rec.runaways
-            << ", \"max_abs_speed\": " << num(max_abs) << ", \"t0\": " << num(t0) << ", \"segments\": [";
+            << ", \"max_abs_speed\": " << jsonNumber(max_abs) << ", \"t0\": " << jsonNumber(t0) << ", \"segments\": [";
   bool first = true;
   for (std::size_t s = 1; s < c.profile.size(); ++s)
   {
@@ -269,8 +257,8 @@ int main(int argc, char** argv)
     {
       continue;
     }
-    std::cout << (first ? "" : ", ") << "{\"t_step\": " << num(t_step - t0) << ", \"initial\": " << num(initial)
-              << ", \"target\": " << num(target)
+    std::cout << (first ? "" : ", ") << "{\"t_step\": " << jsonNumber(t_step - t0) << ", \"initial\": " << jsonNumber(initial)
+              << ", \"target\": " << jsonNumber(target)
               << ", \"measured\": " << metricsJson(rec.time, measured, t_step, t_end, initial, target)
               << ", \"truth\": " << metricsJson(rec.time, truth, t_step, t_end, initial, target)
               << ", \"belief\": " << metricsJson(rec.time, belief, t_step, t_end, initial, target)

@@ -45,18 +45,6 @@ using namespace jackal_aic::sim;
 
 namespace
 {
-std::string jsonNumber(double v)
-{
-  if (!std::isfinite(v))
-  {
-    return "null";
-  }
-  std::ostringstream os;
-  os.precision(6);
-  os << v;
-  return os.str();
-}
-
 std::string fmtTime(double v)
 {
   char buf[32];

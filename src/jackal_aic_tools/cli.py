@@ -89,3 +89,35 @@ def resolve_defaults(a):
 
 def limits(a):
     return recording.StabilityLimits(v_bound=a.bound_v, w_bound=a.bound_w)
+
+
+def source_root(script_file):
+    """The package's folder for a script at ``script_file``: its source checkout (the script's
+    parent folder when it holds sim/config/robot_steps.yaml), else the installed package's
+    share folder through rospack, else the script's parent folder."""
+    here = os.path.dirname(os.path.dirname(os.path.abspath(script_file)))
+    if os.path.isfile(os.path.join(here, "sim", "config", "robot_steps.yaml")):
+        return here
+    return package_path() or here
+
+
+def find_executable(name, script_file, tool):
+    """Path of the package's C++ tool ``name`` (closed_loop_run, plant_fit, aic_predict, ...): the
+    source checkout's workspace (<root>/.ws/devel/lib/jackal_aic), the sourced workspaces
+    ($CMAKE_PREFIX_PATH), then catkin_find. Exits with "<tool>: <name> not found (build ...)"."""
+    import subprocess
+    import sys
+    dirs = [os.path.join(source_root(script_file), ".ws", "devel", "lib", "jackal_aic")] + \
+        [d for d in os.environ.get("CMAKE_PREFIX_PATH", "").split(":") if d]
+    for d in dirs:
+        for c in (os.path.join(d, name), os.path.join(d, "lib", "jackal_aic", name)):
+            if os.path.isfile(c) and os.access(c, os.X_OK):
+                return c
+    try:
+        out = subprocess.run(["catkin_find", "--first-only", "jackal_aic", name], capture_output=True,
+                             text=True, check=False).stdout.strip()
+        if out:
+            return out
+    except OSError:
+        pass
+    sys.exit("%s: %s not found (build the workspace: bash scripts/build.sh)" % (tool, name))

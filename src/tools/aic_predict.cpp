@@ -34,18 +34,6 @@ using namespace jackal_aic;
 
 namespace
 {
-std::string num(double v)
-{
-  if (!std::isfinite(v))
-  {
-    return "null";
-  }
-  std::ostringstream os;
-  os.precision(8);
-  os << v;
-  return os.str();
-}
-
 std::string jsonEscape(const std::string& s)
 {
   std::string out;
@@ -119,7 +107,7 @@ std::string predictLine(const std::string& config, const std::string& line, doub
   const ClosedLoopModel model(p, plant);
   const double rho = model.spectralRadius();
   std::ostringstream os;
-  os << "{\"ok\": true, \"spectral_radius\": " << num(rho) << ", \"stable\": " << (rho < 1.0 ? "true" : "false");
+  os << "{\"ok\": true, \"spectral_radius\": " << jsonNumber(rho, 8) << ", \"stable\": " << (rho < 1.0 ? "true" : "false");
   double rise = NAN, settling = NAN, overshoot = NAN, sse = NAN, peak = NAN;
   if (rho < 1.0)
   {
@@ -141,8 +129,8 @@ std::string predictLine(const std::string& config, const std::string& line, doub
     overshoot = m.overshoot_percent;
     sse = m.steady_state_error;
   }
-  os << ", \"rise\": " << num(rise) << ", \"settling\": " << num(settling) << ", \"overshoot\": " << num(overshoot)
-     << ", \"sse\": " << num(sse) << ", \"peak_command\": " << num(peak) << "}";
+  os << ", \"rise\": " << jsonNumber(rise, 8) << ", \"settling\": " << jsonNumber(settling, 8) << ", \"overshoot\": " << jsonNumber(overshoot, 8)
+     << ", \"sse\": " << jsonNumber(sse, 8) << ", \"peak_command\": " << jsonNumber(peak, 8) << "}";
   return os.str();
 }
 }  // namespace
