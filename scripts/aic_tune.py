@@ -91,6 +91,7 @@ def candidate_overrides(x, order):
 
 
 def to_args(o):
+    """KEY=VALUE strings (the tools' override syntax) of a dict of controller values."""
     return ["%s=%s" % (k, yaml_list(v) if isinstance(v, list) else ("%.6g" % v if isinstance(v, float) else v))
             for k, v in sorted(o.items())]
 
@@ -98,6 +99,8 @@ def to_args(o):
 # --------------------------------------------------------------------------- 1. identification
 
 def run_closed_loop(args, csv_path=None):
+    """closed_loop_run with ``args`` (and --csv ``csv_path``): its JSON result as a dict.
+    Raises RuntimeError with the tool's message when it fails."""
     cmd = [find_exe("closed_loop_run")] + args
     if csv_path:
         cmd += ["--csv", csv_path]
@@ -171,6 +174,8 @@ class Predictor(object):
 
 
 def plant_corners(plant, frac):
+    """The nominal plant dict (gain [-], time_constant [s], delay [s]) and its four corners with
+    gain and delay scaled by 1 -+ frac."""
     base = {"time_constant": plant["time_constant"], "gain": plant["gain"], "delay": plant["delay"]}
     out = [base]
     for g in (1.0 - frac, 1.0 + frac):
@@ -180,6 +185,10 @@ def plant_corners(plant, frac):
 
 
 def model_cost(x, order, predictor, corners, a):
+    """Model score of search vector x (log10 of SPACE) at embedding order p [s-ish, lower is
+    better]: the worst predicted 0.5 m/s settling time over the plant corners, + 0.05 per %
+    of overshoot above a.overshoot, + 20 x the spectral radius above a.max_radius; 20-100
+    for a candidate that is invalid or unstable at any corner."""
     o = to_args(candidate_overrides(x, order))
     r = predictor(o, corners[0])
     if not r.get("ok") or not r.get("stable"):
@@ -204,6 +213,9 @@ def model_cost(x, order, predictor, corners, a):
 # --------------------------------------------------------------------------- 3. simulator
 
 def sim_step(overrides, v, base, noise=False, channel="linear", controller="aic", plant_sets=()):
+    """One step from rest to v (m/s, or rad/s on the angular channel) on the plant core, held
+    3 s: runaways, max |v|, and the measured metrics (rise, settling [s], overshoot [%], sse,
+    settled). plant_sets: plant KEY=VALUE overrides."""
     args = ["--controller", controller, "--step", str(v), "--hold", "3", "--channel", channel]
     if controller == "aic":
         args += ["--aic-config", base]
@@ -219,6 +231,9 @@ def sim_step(overrides, v, base, noise=False, channel="linear", controller="aic"
 
 
 def sim_cost(overrides, base, a):
+    """Simulator score [s, lower is better]: mean settling time over STEPS (an unsettled step
+    counts 3 s + its final relative error), + 0.05 per % overshoot above a.overshoot, + 0.2 per %
+    of steady-state error above 1 %; 10 on a runaway."""
     total = 0.0
     for v in STEPS:
         m = sim_step(overrides, v, base)

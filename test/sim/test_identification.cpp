@@ -7,6 +7,7 @@
  */
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -313,4 +314,38 @@ TEST(IdentifiedPlant, SteadyChecksHold)
   EXPECT_TRUE(c.turn_ok) << "turn-in-place wheel speed error " << c.turn_hold_error << " rad/s";
   EXPECT_TRUE(c.top_speed_ok) << "top speed " << c.top_speed << " m/s";
   EXPECT_DOUBLE_EQ(c.penalty, 0.0);
+}
+
+TEST(ClosedLoop, OpenLoopSendsTheSetPointsWheelSpeedsAndRecordsTheYaw)
+{
+  // No controller: the MCU gets the set point's wheel speeds, so the drive command is the set
+  // point at once and the wheels follow it (the wheel loop's own response, aic_tune.py).
+  ClosedLoopConfig c;
+  c.controller = LoopController::kOpenLoop;
+  c.profile = { { 0.0, 0.0, 0.0 }, { 1.01, 0.3, 0.0 }, { 3.01, 0.0, 1.0 } };
+  c.duration = 7.0;
+  const ClosedLoopRecord rec = runClosedLoop(loadRobotDescription(kUrdf), loadPlantParams(kPlant), c);
+  ASSERT_EQ(rec.command_yaw.size(), rec.time.size());
+  ASSERT_EQ(rec.belief_yaw.size(), rec.time.size());
+  ASSERT_EQ(rec.angular_set_point.size(), rec.time.size());
+  for (std::size_t k = 0; k < rec.time.size(); ++k)
+  {
+    const double t = rec.time[k];
+    if (t > 1.05 && t < 3.0)
+    {
+      EXPECT_NEAR(rec.command[k], 0.3, 1e-9) << "t " << t;
+      EXPECT_NEAR(rec.command_yaw[k], 0.0, 1e-9) << "t " << t;
+    }
+    if (t > 3.05)
+    {
+      EXPECT_NEAR(rec.command[k], 0.0, 1e-9) << "t " << t;
+      EXPECT_NEAR(rec.command_yaw[k], 1.0, 1e-9) << "t " << t;
+      EXPECT_EQ(rec.angular_set_point[k], 1.0);
+    }
+    EXPECT_TRUE(std::isnan(rec.belief_yaw[k]));  // no AIC
+  }
+  const std::size_t at_3s = static_cast<std::size_t>(std::lower_bound(rec.time.begin(), rec.time.end(), 3.0) -
+                                                     rec.time.begin());
+  EXPECT_NEAR(rec.v_odom[at_3s], 0.3, 0.015);  // the wheels reached the set point
+  EXPECT_GT(rec.yaw_odom.back(), 0.3);          // and turn once commanded to
 }

@@ -191,3 +191,19 @@ TEST(CommandLines, HelpExitsZeroAndBadArgumentsTwo)
   EXPECT_EQ(run(kAnalyze + " " + kData + "/thesis_standard.yaml --no-scan --set tau").code, 2);
   EXPECT_EQ(run(kAnalyze + " " + kData + "/thesis_standard.yaml --no-scan --set tau=0.01 --set k_a=4").code, 0);
 }
+
+TEST(ClosedLoopRun, ControllerAndChannelAreChecked)
+{
+  const std::string bin = CLOSED_LOOP_RUN_BIN;
+  Result r = run(bin + " --controller open --step 0.3 --channel sideways");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("channel"), std::string::npos) << r.out;
+  r = run(bin + " --controller pid --step 0.3");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("controller"), std::string::npos) << r.out;
+  // An angular open-loop step reports its metrics on the yaw rate.
+  r = run(bin + " --controller open --step 0.5 --channel angular --hold 1");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("\"channel\": \"angular\""), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"target\": 0.5"), std::string::npos) << r.out;
+}
