@@ -40,6 +40,10 @@ struct NodeParams
   double runaway_hold_time = 1.0;   ///< after a runaway reset, zero command for this long [s], >= 0
   std::vector<std::string> left_joints;   ///< joints averaged into omega_L; required, non-empty
   std::vector<std::string> right_joints;  ///< joints averaged into omega_R; required, non-empty
+  /// ~belief, ~free_energy, ~eps_y, ~eps_mu are published at most this often, from the newest state [Hz], > 0.
+  double debug_rate = 100.0;
+  /// Wall-clock belief thread: 0 = default scheduler, 1..99 = ask for SCHED_FIFO at this priority.
+  int realtime_priority = 0;
 
   /**
    * \brief Every violated rule: the AicParams rules (AicParams::validate()), the ranges of

@@ -148,6 +148,12 @@ std::vector<ParamSpec> buildSchema()
     { "right_joints", T::kStringList, N, "node", kNone, false, kNone, "-",
       "Joints (by name in /joint_states) whose velocities are averaged into omega_R; disjoint from left_joints",
       false, 0, true, 0, {}, {}, JACKAL_AIC_MEMBER(right_joints) },
+    { "debug_rate", T::kDouble, N, "node", 0.0, true, kMaxLoopRate, "Hz",
+      "~belief, ~free_energy, ~eps_y and ~eps_mu are published at most this often, from the newest belief",
+      false, 0, false, 0, {}, {}, JACKAL_AIC_MEMBER(debug_rate) },
+    { "realtime_priority", T::kInt, N, "node", 0.0, false, 99.0, "-",
+      "Belief thread (wall-clock mode): 0 = default scheduler, 1..99 = SCHED_FIFO at this priority if permitted",
+      false, 0, false, 0, {}, {}, JACKAL_AIC_MEMBER(realtime_priority) },
   };
   // clang-format on
 }
