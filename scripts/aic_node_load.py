@@ -59,7 +59,7 @@ def node_pid(name):
     return pid if code == 1 else None
 
 
-def measure_one(rate, config, duration, warmup):
+def measure_one(rate, config, duration, warmup, overrides):
     """Child process: one rate under its own master; prints one JSON line."""
     import rospy
     from diagnostic_msgs.msg import DiagnosticArray
@@ -68,7 +68,9 @@ def measure_one(rate, config, duration, warmup):
     launch = os.path.join(cli.package_path(), "launch", "sim.launch")
     with tempfile.TemporaryDirectory() as tmp:
         cfg = os.path.join(tmp, "config.yaml")
-        experiment.write_config(config, {"belief_rate": float(rate)}, cfg)
+        overrides = dict(overrides)
+        overrides["belief_rate"] = float(rate)
+        experiment.write_config(config, overrides, cfg)
         with experiment.Simulator(launch, ["config:=" + cfg, "use_sim_time:=false"]) as sim:
             rospy.init_node("aic_node_load", disable_signals=True)
             steps = []
@@ -82,7 +84,9 @@ def measure_one(rate, config, duration, warmup):
                             with lock:
                                 steps.append((msg.header.stamp.to_sec(), int(values["belief steps"]),
                                               int(values["belief overruns (interval > 2 periods)"]),
-                                              values.get("belief loop", "")))
+                                              values.get("belief loop", ""),
+                                              float(values["command latency p50 [ms] (sensor stamp -> /cmd_drive)"]),
+                                              float(values["command latency p99 [ms]"])))
 
             rospy.Subscriber("/diagnostics", DiagnosticArray, on_diag)
             pub = rospy.Publisher("/jackal_AIC/set_point", Twist, queue_size=1)
@@ -115,13 +119,15 @@ def measure_one(rate, config, duration, warmup):
                 window = [s for s in steps if s[0] >= t0 - 1.0]
             if len(window) < 2:
                 raise RuntimeError("too few diagnostics in the window")
-            (ta, na, oa, loop), (tb, nb, ob, _) = window[0], window[-1]
+            (ta, na, oa, loop, _, _), (tb, nb, ob, _, _, _) = window[0], window[-1]
+            p50s = sorted(w[4] for w in window[1:])
             belief_thread = sum(th1[k] - th0.get(k, 0.0) for k in th1 if k.startswith("aic_belief"))
             row = {
                 "rate": rate, "duration": t1 - t0, "loop": loop,
                 "node_cpu": (c1 - c0) / (t1 - t0), "belief_thread_cpu": belief_thread / (t1 - t0),
                 "plant_cpu": (p1 - p0) / (t1 - t0),
                 "belief_steps_rate": (nb - na) / (tb - ta), "belief_overruns": ob - oa,
+                "latency_p50_ms": p50s[len(p50s) // 2], "latency_p99_ms": max(w[5] for w in window[1:]),
                 "threads": {k: round(100 * (th1[k] - th0.get(k, 0.0)) / (t1 - t0), 2)
                             for k in th1 if th1[k] - th0.get(k, 0.0) > 0},
             }
@@ -138,26 +144,33 @@ def main(argv=None):
     p.add_argument("--warmup", type=float, default=5.0, help="ignored start [s] (default %(default)s)")
     p.add_argument("--config", default=os.path.join(cli.package_path(), "config", "default.yaml"),
                    help="controller YAML (default: config/default.yaml)")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a parameter of the configuration, e.g. --set action_trigger=sample")
     p.add_argument("--threads", action="store_true", help="also print the CPU share [%%] of each node thread")
     p.add_argument("--one", type=float, help=argparse.SUPPRESS)
     a = p.parse_args(argv)
     if a.duration <= 0 or a.warmup < 0:
         p.error("--duration must be > 0 and --warmup >= 0")
+    try:
+        overrides = dict(experiment.parse_override(o) for o in a.set)
+    except ValueError as e:
+        p.error(str(e))
     if a.one is not None:
-        measure_one(a.one, a.config, a.duration, a.warmup)
+        measure_one(a.one, a.config, a.duration, a.warmup, overrides)
         return 0
     try:
         rates = [float(r) for r in a.rates.split(",")]
     except ValueError:
         p.error("--rates: not a list of numbers: %s" % a.rates)
     print("| belief rate [Hz] | belief loop | node CPU (1 core) | belief thread CPU | belief steps [Hz] "
-          "| of nominal | overruns | plant CPU |")
-    print("|---|---|---|---|---|---|---|---|")
+          "| of nominal | overruns | latency p50 / p99 [ms] | plant CPU |")
+    print("|---|---|---|---|---|---|---|---|---|")
     failed = 0
     for rate in rates:
         # One process per rate: rospy joins one master per process.
         proc = subprocess.run([sys.executable, os.path.abspath(__file__), "--one", str(rate),
-                               "--duration", str(a.duration), "--warmup", str(a.warmup), "--config", a.config],
+                               "--duration", str(a.duration), "--warmup", str(a.warmup), "--config", a.config]
+                              + ["--set=" + o for o in a.set],
                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True)
         lines = [l for l in proc.stdout.splitlines() if l.startswith("RESULT ")]
         if proc.returncode != 0 or not lines:
@@ -165,9 +178,10 @@ def main(argv=None):
             print("| %.0f | failed: %s |" % (rate, (proc.stderr.strip().splitlines() or ["?"])[-1]))
             continue
         r = json.loads(lines[-1][len("RESULT "):])
-        print("| %.0f | %s | %.2f %% | %.2f %% | %.2f | %.3f %% | %d | %.1f %% |" % (
+        print("| %.0f | %s | %.2f %% | %.2f %% | %.2f | %.3f %% | %d | %.2f / %.2f | %.1f %% |" % (
             rate, r["loop"], 100 * r["node_cpu"], 100 * r["belief_thread_cpu"], r["belief_steps_rate"],
-            100 * r["belief_steps_rate"] / rate, r["belief_overruns"], 100 * r["plant_cpu"]))
+            100 * r["belief_steps_rate"] / rate, r["belief_overruns"], r["latency_p50_ms"], r["latency_p99_ms"],
+            100 * r["plant_cpu"]))
         if a.threads:
             print("|   | threads [%% of a core]: %s |" % ", ".join("%s %.2f" % kv for kv in sorted(
                 r["threads"].items(), key=lambda kv: -kv[1])))

@@ -12,6 +12,26 @@
 
 namespace jackal_aic
 {
+bool actionTriggerFromString(const std::string& name, ActionTrigger* out)
+{
+  if (name == "timer")
+  {
+    *out = ActionTrigger::kTimer;
+    return true;
+  }
+  if (name == "sample")
+  {
+    *out = ActionTrigger::kSample;
+    return true;
+  }
+  return false;
+}
+
+std::string toString(ActionTrigger trigger)
+{
+  return trigger == ActionTrigger::kSample ? "sample" : "timer";
+}
+
 std::vector<ParamViolation> NodeParams::validate() const
 {
   std::vector<ParamViolation> violations = aic.validate();

@@ -56,6 +56,17 @@ bool setIntegrator(NodeParams& p, const ParamValue& v)
   return name != nullptr && integratorFromString(*name, &p.aic.integrator);
 }
 
+ParamValue getActionTrigger(const NodeParams& p)
+{
+  return toString(p.action_trigger);
+}
+
+bool setActionTrigger(NodeParams& p, const ParamValue& v)
+{
+  const std::string* name = std::get_if<std::string>(&v);
+  return name != nullptr && actionTriggerFromString(*name, &p.action_trigger);
+}
+
 std::vector<ParamSpec> buildSchema()
 {
   using T = ParamType;
@@ -151,6 +162,10 @@ std::vector<ParamSpec> buildSchema()
     { "debug_rate", T::kDouble, N, "node", 0.0, true, kMaxLoopRate, "Hz",
       "~belief, ~free_energy, ~eps_y and ~eps_mu are published at most this often, from the newest belief",
       false, 0, false, 0, {}, {}, JACKAL_AIC_MEMBER(debug_rate) },
+    { "action_trigger", T::kString, N, "loops", kNone, false, kNone, "-",
+      "What starts an action step: timer (action_rate, the thesis) or sample (each accepted sensor sample, "
+      "so the command uses the newest data; the timer then only keeps /cmd_drive alive while inactive)",
+      false, 0, false, 0, { "timer", "sample" }, {}, &getActionTrigger, &setActionTrigger },
     { "realtime_priority", T::kInt, N, "node", 0.0, false, 99.0, "-",
       "Belief thread (wall-clock mode): 0 = default scheduler, 1..99 = SCHED_FIFO at this priority if permitted",
       false, 0, false, 0, {}, {}, JACKAL_AIC_MEMBER(realtime_priority) },

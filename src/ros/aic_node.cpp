@@ -152,10 +152,20 @@ void AicNode::jointStateCallback(const sensor_msgs::JointState::ConstPtr& msg)
     return;
   }
   supervisor_->sampleAccepted(Vector2(sample.y(kOmegaLeft), sample.y(kOmegaRight)));
-  if (supervisor_->active() && !controller_->setMeasurement(generalizer_->yTilde()))
+  newest_sample_stamp_ = sample.stamp;
+  if (!supervisor_->active())
+  {
+    return;
+  }
+  if (!controller_->setMeasurement(generalizer_->yTilde()))
   {
     ++generalizer_drops_;
     ROS_WARN_THROTTLE(1.0, "jackal_AIC: controller refused a generalized measurement");
+    return;
+  }
+  if (params_.action_trigger == ActionTrigger::kSample)
+  {
+    actionStep(sample.first ? -1.0 : sample.h);  // over the sensor interval (stamps), clamped to 3 periods
   }
 }
 
@@ -274,10 +284,26 @@ void AicNode::beliefTick(double interval, const ros::Time& stamp)
 
 void AicNode::actionTimerCallback(const ros::TimerEvent& event)
 {
-  const ros::WallTime start = ros::WallTime::now();
   const std::lock_guard<std::mutex> lock(mutex_);
   applyPendingParams();
-  const double h = supervisor_->actionLoop().tick(intervalOf(event)).h;
+  if (params_.action_trigger == ActionTrigger::kSample)
+  {
+    // The samples run the action; the timer keeps /cmd_drive alive with zeros while inactive.
+    carryOut(supervisor_->update());
+    if (!supervisor_->active())
+    {
+      diagnostics_->tickAction();
+      publishCommand(0.0, 0.0);
+    }
+    return;
+  }
+  actionStep(intervalOf(event));
+}
+
+void AicNode::actionStep(double interval)
+{
+  const ros::WallTime start = ros::WallTime::now();
+  const double h = supervisor_->actionLoop().tick(interval).h;
   diagnostics_->tickAction();
   carryOut(supervisor_->update());
   if (!supervisor_->active())
@@ -291,6 +317,8 @@ void AicNode::actionTimerCallback(const ros::TimerEvent& event)
   else
   {
     publishCommand(controller_->action()(0), controller_->action()(1));
+    // Age of the newest sensor data in this command: the sensor-to-command latency.
+    diagnostics_->commandLatency((ros::Time::now() - newest_sample_stamp_).toSec());
   }
   supervisor_->actionLoop().recordDuration((ros::WallTime::now() - start).toSec());
 }

@@ -67,6 +67,11 @@ void NodeDiagnostics::loops(diagnostic_updater::DiagnosticStatusWrapper& stat)
     stat.add(std::string(names[i]) + " steps", s.ticks + s.catch_up_steps);
     late = late || s.window_max_duration > s.nominal_period;
   }
+  stat.add("command latency samples", latency_.count());
+  stat.addf("command latency p50 [ms] (sensor stamp -> /cmd_drive)", "%.3f", 1e3 * latency_.quantile(0.5));
+  stat.addf("command latency p99 [ms]", "%.3f", 1e3 * latency_.quantile(0.99));
+  stat.addf("command latency max [ms]", "%.3f", 1e3 * latency_.max());
+  latency_.clear();
   if (late)
   {
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "a callback took longer than its period");

@@ -20,8 +20,9 @@
  * through loadNodeParams() and NodeReconfigure; diagnostics are NodeDiagnostics.
  *
  * Threading (doc/jackal_aic_node.md, 'Loops'). The spinner thread (ros::spin) runs the
- * subscribers (validate and store), the action timer (action_rate: the action step and the
- * command), the debug timer (debug_rate) and the diagnostics. The belief loop
+ * subscribers (validate and store; with action_trigger sample each accepted sample also
+ * runs the action step), the action timer (action_rate: the action step and the command),
+ * the debug timer (debug_rate) and the diagnostics. The belief loop
  * (belief_rate) integrates the beliefs in the steps the supervisor plans (a late tick is
  * caught up):
  *  - wall clock (use_sim_time false): on its own PeriodicThread, sleeping to absolute
@@ -100,6 +101,12 @@ private:
   void beliefTimerCallback(const ros::TimerEvent& event);
   void actionTimerCallback(const ros::TimerEvent& event);
   void debugTimerCallback(const ros::TimerEvent& event);
+  /**
+   * \brief One action step (call with the lock held): watchdogs, a += h da/dt (thesis eq.
+   *        3-16) over the interval [s] (-1: nominal; clamped to 3 periods), the command.
+   *        From the action timer (action_trigger timer) or each accepted sample (sample).
+   */
+  void actionStep(double interval);
   /// A debug topic gained or lost a subscriber: run the debug timer only while any has one.
   void debugSubscribersChanged();
   /**
@@ -145,6 +152,7 @@ private:
   std::uint64_t belief_steps_ = 0;       ///< belief integration steps since start (catch-up included)
   std::uint64_t published_steps_ = 0;    ///< belief_steps_ at the last debug publication
   ros::Time belief_stamp_;               ///< time of the newest belief step
+  ros::Time newest_sample_stamp_;        ///< stamp of the newest accepted sensor sample
   DebugSnapshot snapshot_;               ///< the debug timer's copy (spinner thread only)
 
   /// The wall-clock belief loop; null on simulated time. Declared last: destroyed (stopped) first.

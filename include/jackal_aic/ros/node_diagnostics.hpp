@@ -15,6 +15,7 @@
 #include <diagnostic_updater/update_functions.h>
 #include <ros/node_handle.h>
 
+#include "jackal_aic/periodic_thread.hpp"
 #include "jackal_aic/ros/sensor_sync.hpp"
 #include "jackal_aic/supervisor.hpp"
 #include "jackal_aic/types.hpp"
@@ -57,6 +58,9 @@ public:
   /// One belief / action timer callback (for the achieved rates).
   void tickBelief() { belief_freq_->tick(); }
   void tickAction() { action_freq_->tick(); }
+  /// The age [s] of the newest sensor sample when a command was published (the sensor-to-
+  /// command latency; a window's p50 / p99 / max are shown in "loops").
+  void commandLatency(double seconds) { latency_.add(seconds); }
   /// Poll the updater (publishes when ~diagnostic_period has passed).
   void update() { updater_->update(); }
 
@@ -69,6 +73,7 @@ private:
   const SensorSynchronizer& sync_;
   std::function<ControllerReport()> report_;
   std::string belief_loop_ = "ROS timer";
+  IntervalHistogram latency_;  ///< sensor-to-command latencies of the current window
   double belief_freq_min_ = 0.0, belief_freq_max_ = 0.0, action_freq_min_ = 0.0, action_freq_max_ = 0.0;
   std::unique_ptr<diagnostic_updater::Updater> updater_;
   std::unique_ptr<diagnostic_updater::FrequencyStatus> belief_freq_, action_freq_;
