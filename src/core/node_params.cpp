@@ -35,13 +35,17 @@ std::string toString(ActionTrigger trigger)
 std::vector<ParamViolation> NodeParams::validate() const
 {
   std::vector<ParamViolation> violations = aic.validate();
-  const std::pair<const char*, double> rates[] = { { "belief_rate", aic.belief_rate },
-                                                    { "action_rate", aic.action_rate } };
-  for (const auto& [key, rate] : rates)
+  // The node's own bounds below the core's (the loop rates: ParamSpec::node_max).
+  for (const ParamSpec& row : paramSchema())
   {
-    if (std::isfinite(rate) && rate > kMaxLoopRate)
+    if (row.type != ParamType::kDouble || !(row.node_max < row.max))
     {
-      violations.push_back({ key, formatParamValue(rate), "<= " + formatParamValue(kMaxLoopRate) + " Hz" });
+      continue;
+    }
+    const double v = std::get<double>(row.get(*this));
+    if (std::isfinite(v) && v > row.node_max)
+    {
+      violations.push_back({ row.key, formatParamValue(v), "<= " + formatParamValue(row.node_max) + " " + row.unit });
     }
   }
   for (auto& v : checkParamRanges(*this, ParamScope::kNode))

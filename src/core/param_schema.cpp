@@ -77,10 +77,10 @@ std::vector<ParamSpec> buildSchema()
     // ---- loops
     { "belief_rate", T::kDouble, C, "loops", 0.0, true, kMaxRate, "Hz",
       "Belief update rate (timer); >= action_rate; the node runs at most 10000 Hz",
-      true, 1, false, 0, {}, {}, JACKAL_AIC_MEMBER(aic.belief_rate) },
+      true, 1, false, 0, {}, {}, JACKAL_AIC_MEMBER(aic.belief_rate), kMaxLoopRate },
     { "action_rate", T::kDouble, C, "loops", 0.0, true, kMaxRate, "Hz",
       "Action update rate; /cmd_drive is published at this rate; the node runs at most 10000 Hz",
-      true, 1, false, 0, {}, {}, JACKAL_AIC_MEMBER(aic.action_rate) },
+      true, 1, false, 0, {}, {}, JACKAL_AIC_MEMBER(aic.action_rate), kMaxLoopRate },
     { "integrator", T::kString, C, "loops", kNone, false, kNone, "-",
       "Belief integrator: euler (thesis eq. 3-15, forward Euler) or exact (zero-order-hold exact step of the "
       "linear belief dynamics)",
