@@ -95,6 +95,16 @@ struct AicParams
    * step the plant follows without saturating.
    */
   double max_action_lead = 0.0;
+  /**
+   * Anti-windup of turning [rad/s], >= 0; 0 = off. When > 0, after the max_action_lead clamp
+   * the differential lead d = ((a_R - y[omega_R]) - (a_L - y[omega_L])) / 2 is kept within
+   * +-max_action_lead_turn, the common lead unchanged (so each wheel's lead stays within
+   * max_action_lead). A turn in place needs far more torque than a straight run (the wheels
+   * skid sideways), so while the wheels are held by friction a lead that suits a straight
+   * step winds the wheel loop up, and the turn overshoots when the wheels break free.
+   * Not in the thesis; doc/experiments.md, 'Tuning'.
+   */
+  double max_action_lead_turn = 0.0;
   /// If true, the accelerometer-x row of R maps onto mu^(1) (kinematically better option, not in the thesis):
   /// eps_y^(i)[accel_x] = y^(i)[accel_x] - x_dot^(i+1) for i < p (and the gradient gains the matching
   /// term); K is unchanged (the accelerometer depends on da/dt, not a). false = thesis model
@@ -114,7 +124,7 @@ struct AicParams
    * var_mu of size p+1 or 3(p+1), var_y of size p+1 or 5(p+1), every variance in
    * [kMinVariance, kMaxVariance]; wheel_radius, wheel_separation in [kMinLength, kMaxLength];
    * slip_factor in [kMinSlipFactor, kMaxSlipFactor]; max_wheel_speed in (0, kMaxWheelSpeedLimit];
-   * runaway_limit in (0, kMaxRunawayLimit]; max_action_lead in [0, kMaxWheelSpeedLimit];
+   * runaway_limit in (0, kMaxRunawayLimit]; max_action_lead and max_action_lead_turn in [0, kMaxWheelSpeedLimit];
    * integrator a known enumerator. Plus the cross rule belief_rate >= action_rate.
    * Each violation names the YAML key (e.g. "var_mu[2]"), the value and the allowed range.
    */

@@ -334,6 +334,16 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
     const Vector2 lead = Vector2::Constant(params_.max_action_lead);
     a = a.cwiseMax(omega - lead).cwiseMin(omega + lead);
   }
+  if (params_.max_action_lead_turn > 0.0)
+  {
+    // Differential (turning) lead bounded, common lead kept: e_L = c - d, e_R = c + d.
+    const Vector2 omega(y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0));
+    const double e_left = a(0) - omega(0);
+    const double e_right = a(1) - omega(1);
+    const double c = 0.5 * (e_left + e_right);
+    const double d = std::clamp(0.5 * (e_right - e_left), -params_.max_action_lead_turn, params_.max_action_lead_turn);
+    a = Vector2(omega(0) + c - d, omega(1) + c + d);
+  }
   const double lim = params_.max_wheel_speed;  // applied last: the wheel clamp always wins
   a_ = a.cwiseMax(-lim).cwiseMin(lim);
   return Status::kOk;

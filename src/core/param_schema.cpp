@@ -118,6 +118,10 @@ std::vector<ParamSpec> buildSchema()
       "Anti-windup, not in the thesis: each wheel command is kept within +-this of the measured wheel speed; "
       "0 = off",
       true, 0, false, 0, {}, {}, JACKAL_AIC_MEMBER(aic.max_action_lead) },
+    { "max_action_lead_turn", T::kDouble, C, "robot", 0.0, false, kMaxWheelSpeedLimit, "rad/s",
+      "Anti-windup of turning, not in the thesis: half the difference of the two wheels' leads is kept within "
+      "+-this (a turn in place winds the wheel loop up while friction holds the wheels); 0 = off",
+      true, 0, false, 0, {}, {}, JACKAL_AIC_MEMBER(aic.max_action_lead_turn) },
     // ---- robot (Clearpath Jackal; doc/jackal.md)
     { "wheel_radius", T::kDouble, C, "robot", kMinLength, false, kMaxLength, "m",
       "Wheel radius r (thesis eq. 3-1 to 3-4)",

@@ -201,6 +201,49 @@ TEST(Controller, MaxActionLeadBoundsTheActionAroundTheMeasuredWheels)
   }
 }
 
+TEST(Controller, MaxActionLeadTurnBoundsOnlyTheDifferentialLead)
+{
+  constexpr double kLead = 3.0;      // rad/s, per wheel
+  constexpr double kTurnLead = 1.0;  // rad/s, differential
+  constexpr double kTol = 1e-12;     // rad/s
+  // Wheels held still by friction while the goal asks for a turn in place (and, second, for a
+  // straight run): the turn lead bounds half the leads' difference; a straight goal, whose
+  // leads are equal, is not touched.
+  YTilde y = YTilde::Zero(kYDim, 4);
+  for (const bool turn : { true, false })
+  {
+    for (const double turn_lead : { 0.0, kTurnLead })
+    {
+      AicParams p = thesisStandard();
+      p.max_action_lead = kLead;
+      p.max_action_lead_turn = turn_lead;
+      ActiveInferenceController c{ p };
+      c.setGoal(turn ? Vector3(0.0, 0.0, 1.0) : Vector3(1.0, 0.0, 0.0));
+      ASSERT_TRUE(c.setMeasurement(y));
+      for (int k = 0; k < 500; ++k)
+      {
+        c.updateBeliefs(0.02);
+        ASSERT_EQ(c.updateAction(0.02), Status::kOk);
+      }
+      const double common = 0.5 * (c.action()(0) + c.action()(1));
+      const double differential = 0.5 * (c.action()(1) - c.action()(0));
+      SCOPED_TRACE(std::string(turn ? "turn" : "straight") + ", turn lead " + std::to_string(turn_lead));
+      EXPECT_LE(std::abs(c.action()(0)), kLead + kTol);
+      EXPECT_LE(std::abs(c.action()(1)), kLead + kTol);
+      if (turn)
+      {
+        EXPECT_NEAR(differential, turn_lead > 0.0 ? kTurnLead : kLead, kTol);  // wound up to the bound in force
+        EXPECT_NEAR(common, 0.0, 1e-9);
+      }
+      else
+      {
+        EXPECT_NEAR(common, kLead, kTol);  // the turn lead does not touch a straight run
+        EXPECT_NEAR(differential, 0.0, 1e-9);
+      }
+    }
+  }
+}
+
 TEST(Controller, MaxActionLeadNeverBreaksTheWheelClamp)
 {
   AicParams p = thesisStandard();

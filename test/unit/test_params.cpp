@@ -69,6 +69,20 @@ TEST(Params, MaxActionLead)
   EXPECT_FALSE(hasViolation(p, "max_action_lead"));
 }
 
+TEST(Params, MaxActionLeadTurn)
+{
+  for (double bad : { -1.0, kNaN, kInf, jackal_aic::kMaxWheelSpeedLimit * 1.01 })
+  {
+    AicParams p;
+    p.max_action_lead_turn = bad;
+    EXPECT_TRUE(hasViolation(p, "max_action_lead_turn")) << bad;
+  }
+  AicParams p;
+  EXPECT_FALSE(hasViolation(p, "max_action_lead_turn"));  // 0 = off
+  p.max_action_lead_turn = 1.0;
+  EXPECT_FALSE(hasViolation(p, "max_action_lead_turn"));
+}
+
 TEST(Params, LowerSanityBounds)
 {
   AicParams p;
