@@ -7,6 +7,7 @@
  */
 
 #include <cstdint>
+#include <string>
 
 #include <ros/node_handle.h>
 #include <ros/publisher.h>
@@ -17,7 +18,8 @@
 namespace jackal_aic
 {
 /**
- * \brief /cmd_drive, ~belief, ~free_energy, ~eps_y, ~eps_mu.
+ * \brief The command (/cmd_drive, or jackal_velocity_controller/cmd_vel in output mode
+ *        cmd_vel), ~belief, ~free_energy, ~eps_y, ~eps_mu.
  *
  * Every suppressed non-finite output is counted (guardedOutputs(), shown in diagnostics).
  */
@@ -25,11 +27,23 @@ class NodeOutputs
 {
 public:
   /**
-   * \param nh   public node handle: /cmd_drive (jackal_msgs/Drive, queue 1)
-   * \param pnh  private node handle: ~belief (geometry_msgs/TwistStamped, queue 50),
-   *             ~free_energy (std_msgs/Float64), ~eps_y, ~eps_mu (std_msgs/Float64MultiArray), queue 10
+   * \param nh           public node handle: cmd_drive (jackal_msgs/Drive, queue 1) in output mode
+   *                     cmd_drive, jackal_velocity_controller/cmd_vel (geometry_msgs/Twist, queue 1)
+   *                     in output mode cmd_vel; only the one of the mode is advertised
+   * \param pnh          private node handle: ~belief (geometry_msgs/TwistStamped, queue 50),
+   *                     ~free_energy (std_msgs/Float64), ~eps_y, ~eps_mu (std_msgs/Float64MultiArray), queue 10
+   * \param output_mode  "cmd_drive" or "cmd_vel" (validated by NodeParams::validate())
    */
-  NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh);
+  NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, const std::string& output_mode = "cmd_drive");
+
+  /// True in output mode cmd_vel.
+  bool cmdVelMode() const { return cmd_vel_mode_; }
+
+  /**
+   * \brief Output mode cmd_vel: publish a twist (linear.x [m/s], angular.z [rad/s]); a
+   *        non-finite value becomes zero (counted, ERROR logged at most once a second).
+   */
+  void twist(double linear, double angular);
 
   /**
    * \brief Publish a MODE_VELOCITY wheel command [rad/s], each wheel clamped to +-limit; a
@@ -56,6 +70,7 @@ public:
   std::uint64_t guardedOutputs() const { return guarded_outputs_; }
 
 private:
+  bool cmd_vel_mode_ = false;
   ros::Publisher cmd_pub_, belief_pub_, free_energy_pub_, eps_y_pub_, eps_mu_pub_;
   double last_free_energy_ = 0.0;
   std::uint64_t guarded_outputs_ = 0;

@@ -1,0 +1,208 @@
+#!/usr/bin/env python3
+"""The AIC through the stock base's path (launch/sim.launch base:=stock_diff_drive):
+output_mode cmd_vel -> stock diff drive (stock_controller_node) -> /cmd_drive -> plant.
+Metrics from message stamps by the core's aic_step_metrics (jackal_aic_tools.metrics).
+
+~mode steps: two simulations side by side, namespace ~direct_ns (the AIC publishing
+  /cmd_drive, base:=direct) and ~stock_ns (base:=stock_diff_drive), get the same set points
+  at the same time: a linear step (~step_v m/s) and an angular step (~step_w rad/s). Each
+  settles (+-5 % of ground-truth /odom) within ~settle_ratio x the direct path's settling
+  time; in the last ~steady_window s of each step every wheel command on the stock path's
+  /cmd_drive equals the wheel speeds the stock mapping gives for one of the AIC's last three
+  cmd_vel messages (its action) within ~wheel_tol rad/s.
+~mode stop: one simulation (base:=stock_diff_drive, no namespace): a ~step_v step, the stop
+  engaged mid-run (/stock_base/set_stop) for ~stop_time s: the AIC's command never grows
+  while stopped (~growth_tol); released: the first command is within ~bumpless_tol of the
+  measured speed (bumpless) and the resumed step overshoots by at most ~overshoot_limit %.
+"""
+import sys
+import threading
+import time
+import unittest
+
+import rospy
+import rostest
+from geometry_msgs.msg import Twist
+from jackal_msgs.msg import Drive
+from nav_msgs.msg import Odometry
+from std_msgs.msg import Bool
+
+from jackal_aic_tools import metrics
+
+PKG = "jackal_aic"
+R = 0.098                 # m, the stock controller's wheel radius (control.yaml)
+S = 1.5 * 0.37559         # m, its effective wheel separation
+RATE = 50.0               # Hz, set-point rate
+
+
+def wheels(lin, ang):
+    """diff_drive_controller's mapping (doc/jackal.md, 'The stock velocity controller')."""
+    return ((lin - ang * S / 2.0) / R, (lin + ang * S / 2.0) / R)
+
+
+class Tape:
+    """Thread-safe (stamp, a, b) records of one topic."""
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.rows = []
+
+    def add(self, t, a, b):
+        with self.lock:
+            self.rows.append((t, a, b))
+
+    def between(self, t0, t1):
+        with self.lock:
+            return [r for r in self.rows if t0 <= r[0] <= t1]
+
+
+def ns_topic(ns, name):
+    return ("/" + ns.strip("/") + "/" + name) if ns else "/" + name
+
+
+class Path:
+    """Set point publisher and recordings of one simulation."""
+
+    def __init__(self, ns):
+        self.odom, self.drive, self.cmd_vel = Tape(), Tape(), Tape()
+        now = lambda: rospy.Time.now().to_sec()
+        self.subs = [
+            rospy.Subscriber(ns_topic(ns, "odom"), Odometry,
+                             lambda m: self.odom.add(m.header.stamp.to_sec(), m.twist.twist.linear.x,
+                                                     m.twist.twist.angular.z), queue_size=200, tcp_nodelay=True),
+            rospy.Subscriber(ns_topic(ns, "cmd_drive"), Drive,
+                             lambda m: self.drive.add(now(), m.drivers[0], m.drivers[1]) if m.mode == 0 else None,
+                             queue_size=200, tcp_nodelay=True),
+            rospy.Subscriber(ns_topic(ns, "jackal_velocity_controller/cmd_vel"), Twist,
+                             lambda m: self.cmd_vel.add(now(), m.linear.x, m.angular.z), queue_size=200,
+                             tcp_nodelay=True)]
+        self.pub = rospy.Publisher(ns_topic(ns, "jackal_AIC/set_point"), Twist, queue_size=10)
+
+    def publish(self, v, w):
+        m = Twist()
+        m.linear.x, m.angular.z = v, w
+        self.pub.publish(m)
+
+
+def hold(paths, v, w, seconds):
+    """Publish (v, w) on every path at RATE for `seconds` of ROS time; return the start time."""
+    t0 = rospy.Time.now().to_sec()
+    while rospy.Time.now().to_sec() - t0 < seconds and not rospy.is_shutdown():
+        for p in paths:
+            p.publish(v, w)
+        time.sleep(1.0 / RATE)
+    return t0
+
+
+def wait_ready(test, paths, timeout):
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        for p in paths:
+            p.publish(0.0, 0.0)
+        if all(p.odom.rows and p.drive.rows for p in paths):
+            return
+        time.sleep(1.0 / RATE)
+    test.fail("no /odom or /cmd_drive within %.0f s" % timeout)
+
+
+def settling(tape, t_step, t_end, channel, initial, target):
+    rows = tape.between(t_step, t_end)
+    m = metrics.step_metrics([r[0] for r in rows], [r[1 + channel] for r in rows], t_step, initial, target)
+    return m
+
+
+class StockBaseCheck(unittest.TestCase):
+
+    def p(self, name, default):
+        return rospy.get_param("~" + name, default)
+
+    def test_stock_base(self):
+        mode = self.p("mode", "steps")
+        if mode == "steps":
+            self.check_steps()
+        elif mode == "stop":
+            self.check_stop()
+        else:
+            self.fail("~mode must be steps or stop, not %r" % mode)
+
+    def check_steps(self):
+        direct, stock = Path(self.p("direct_ns", "direct")), Path(self.p("stock_ns", "stock"))
+        wait_ready(self, [direct, stock], float(self.p("ready_timeout", 60.0)))
+        ratio = float(self.p("settle_ratio", 1.3))
+        hold_time = float(self.p("hold", 3.0))
+        window = float(self.p("steady_window", 1.0))
+        wheel_tol = float(self.p("wheel_tol", 1e-3))
+        hold([direct, stock], 0.0, 0.0, 1.0)
+        for channel, (v, w) in ((0, (float(self.p("step_v", 0.5)), 0.0)), (1, (0.0, float(self.p("step_w", 1.0))))):
+            target = v if channel == 0 else w
+            t_step = hold([direct, stock], v, w, hold_time)
+            t_end = t_step + hold_time
+            hold([direct, stock], 0.0, 0.0, 2.0)
+            what = "%s step %g" % ("linear" if channel == 0 else "angular", target)
+            md = settling(direct.odom, t_step, t_end, channel, 0.0, target)
+            ms = settling(stock.odom, t_step, t_end, channel, 0.0, target)
+            rospy.loginfo("%s: settling direct %s s, stock path %s s; overshoot %s / %s %%", what,
+                          md["settling_time"], ms["settling_time"], md["overshoot"], ms["overshoot"])
+            self.assertIsNotNone(md["settling_time"], "%s: the direct path never settled" % what)
+            self.assertIsNotNone(ms["settling_time"], "%s: the stock path never settled" % what)
+            self.assertLessEqual(ms["settling_time"], ratio * md["settling_time"],
+                                 "%s: stock path settles in %.3f s > %.1f x direct %.3f s"
+                                 % (what, ms["settling_time"], ratio, md["settling_time"]))
+            # Steady state: /cmd_drive = the stock mapping of one of the AIC's last cmd_vel commands.
+            cmds = stock.cmd_vel.between(t_step, t_end)
+            drives = stock.drive.between(t_end - window, t_end)
+            self.assertTrue(cmds and drives, "%s: no cmd_vel or cmd_drive in steady state" % what)
+            worst = 0.0
+            for (t, l, r) in drives:
+                before = [c for c in cmds if c[0] <= t][-3:]
+                if not before:
+                    continue
+                err = min(max(abs(l - a), abs(r - b)) for a, b in (wheels(c[1], c[2]) for c in before))
+                worst = max(worst, err)
+            rospy.loginfo("%s: %d /cmd_drive messages in steady state, largest |drive - action| %.2e rad/s",
+                          what, len(drives), worst)
+            self.assertLessEqual(worst, wheel_tol, "%s: /cmd_drive differs from the AIC's action by %.2e rad/s"
+                                 % (what, worst))
+
+    def check_stop(self):
+        path = Path("")
+        stop_pub = rospy.Publisher("/stock_base/set_stop", Bool, queue_size=1, latch=True)
+        wait_ready(self, [path], float(self.p("ready_timeout", 60.0)))
+        v = float(self.p("step_v", 0.5))
+        stop_time = float(self.p("stop_time", 1.5))
+        growth_tol = float(self.p("growth_tol", 0.02))     # m/s
+        bumpless_tol = float(self.p("bumpless_tol", 0.1))  # m/s
+        overshoot_limit = float(self.p("overshoot_limit", 10.0))  # % of the step
+        hold([path], 0.0, 0.0, 1.0)
+        hold([path], v, 0.0, 2.0)
+        stop_pub.publish(Bool(data=True))
+        t_stop = hold([path], v, 0.0, stop_time)
+        stop_pub.publish(Bool(data=False))
+        t_release = rospy.Time.now().to_sec()
+        hold([path], v, 0.0, 3.0)
+        t_end = rospy.Time.now().to_sec()
+        # Stopped: no growth of the command (the status reaches the AIC within a few ticks).
+        during = path.cmd_vel.between(t_stop + 0.1, t_release)
+        self.assertTrue(during, "no command while stopped")
+        first = during[0][1]
+        peak = max(c[1] for c in during)
+        rospy.loginfo("stopped: command %.3f m/s at the start, peak %.3f, end %.3f", first, peak, during[-1][1])
+        self.assertLessEqual(peak, first + growth_tol, "the command grew while stopped: %.3f -> %.3f m/s"
+                             % (first, peak))
+        # Released: bumpless (the first running command near the measured speed), then the step.
+        odom = path.odom.between(t_release - 0.1, t_release + 0.05)
+        after = path.cmd_vel.between(t_release, t_end)
+        self.assertTrue(odom and after)
+        v_meas = odom[-1][1]
+        rospy.loginfo("released at %.3f m/s measured; first command %.3f m/s", v_meas, after[0][1])
+        self.assertLessEqual(abs(after[0][1] - v_meas), bumpless_tol, "resume not bumpless: command %.3f m/s, "
+                             "measured %.3f m/s" % (after[0][1], v_meas))
+        m = settling(path.odom, t_release, t_end, 0, v_meas, v)
+        rospy.loginfo("resumed: settling %s s, overshoot %s %%", m["settling_time"], m["overshoot"])
+        self.assertIsNotNone(m["overshoot"])
+        self.assertLessEqual(m["overshoot"], overshoot_limit)
+
+
+if __name__ == "__main__":
+    rospy.init_node("stock_base_check")
+    rostest.rosrun(PKG, "stock_base_check", StockBaseCheck, sys.argv)
