@@ -24,6 +24,10 @@
 
 namespace jackal_aic
 {
+/// A limit changed a twist component by more than this [m/s or rad/s]: DiffDriveLimiter's
+/// `clipped` (smaller changes are rounding of a twist computed at exactly a limit).
+constexpr double kClipTolerance = 1e-9;
+
 /// diff_drive_controller's kinematics and limits; defaults: the Jackal's control.yaml.
 struct DiffDriveParams
 {
@@ -75,7 +79,7 @@ public:
    * \brief Limit a target twist.
    * \param target   wanted twist; a non-finite component is taken as 0
    * \param dt       time since the previous output [s]; non-finite or < 0 is taken as 0
-   * \param clipped  optional: set true if any limit changed the target
+   * \param clipped  optional: set true if a limit changed the target by more than kClipTolerance
    * \return the limited twist, which becomes the previous output
    */
   BodyTwist limit(const BodyTwist& target, double dt, bool* clipped = nullptr);

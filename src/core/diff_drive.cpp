@@ -29,12 +29,18 @@ double finiteOrZero(double x)
   return std::isfinite(x) ? x : 0.0;
 }
 
-/// SpeedLimiter::limit of one axis: velocity clamp, then the acceleration clamp over dt.
+/// SpeedLimiter::limit of one axis: velocity clamp, then the acceleration clamp over dt. A
+/// target within both limits is returned unchanged (bit-exact: previous + (v - previous) may
+/// differ from v in the last bit, which is no limit acting).
 double limitAxis(double target, double previous, double max_vel, double max_acc, double dt)
 {
   const double v = std::clamp(target, -max_vel, max_vel);
-  const double dv = std::clamp(v - previous, -max_acc * dt, max_acc * dt);
-  return previous + dv;
+  const double dv_max = max_acc * dt;
+  if (std::abs(v - previous) <= dv_max)
+  {
+    return v;
+  }
+  return previous + std::clamp(v - previous, -dv_max, dv_max);
 }
 
 DiffDriveParams validated(const DiffDriveParams& p)
@@ -95,7 +101,9 @@ BodyTwist DiffDriveLimiter::limit(const BodyTwist& target, double dt, bool* clip
       limitAxis(want.angular, last_.angular, params_.max_angular_velocity, params_.max_angular_acceleration, dt);
   if (clipped != nullptr)
   {
-    *clipped = out.linear != want.linear || out.angular != want.angular;
+    // Rounding (a twist computed from wheel speeds at exactly a limit) is no limit acting.
+    *clipped = std::abs(out.linear - want.linear) > kClipTolerance ||
+               std::abs(out.angular - want.angular) > kClipTolerance;
   }
   last_ = out;
   return out;

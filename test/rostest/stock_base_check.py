@@ -5,9 +5,13 @@ Metrics from message stamps by the core's aic_step_metrics (jackal_aic_tools.met
 
 ~mode steps: two simulations side by side, namespace ~direct_ns (the AIC publishing
   /cmd_drive, base:=direct) and ~stock_ns (base:=stock_diff_drive), get the same set points
-  at the same time: a linear step (~step_v m/s) and an angular step (~step_w rad/s). Each
-  settles (+-5 % of ground-truth /odom) within ~settle_ratio x the direct path's settling
-  time; in the last ~steady_window s of each step every wheel command on the stock path's
+  at the same time: ~repeats linear steps (~step_v m/s, held ~hold_v s) and ~repeats angular
+  steps (~step_w rad/s, held ~hold_w s), each from rest. The median settling time (+-5 % of
+  ground-truth /odom) of the stock path is within ~settle_ratio_v (linear) / ~settle_ratio_w
+  (angular) x the direct path's (the
+  median, because a step whose overshoot grazes the 5 % band settles one oscillation later:
+  single steps on a loaded 2-core machine scatter by ~0.2 s on either path); in the last
+  ~steady_window s of every step every wheel command on the stock path's
   /cmd_drive equals the wheel speeds the stock mapping gives for one of the AIC's last three
   cmd_vel messages (its action) within ~wheel_tol rad/s.
 ~mode stop: one simulation (base:=stock_diff_drive, no namespace): a ~step_v step, the stop
@@ -128,41 +132,48 @@ class StockBaseCheck(unittest.TestCase):
     def check_steps(self):
         direct, stock = Path(self.p("direct_ns", "direct")), Path(self.p("stock_ns", "stock"))
         wait_ready(self, [direct, stock], float(self.p("ready_timeout", 60.0)))
-        ratio = float(self.p("settle_ratio", 1.3))
-        hold_time = float(self.p("hold", 3.0))
+        ratios = (float(self.p("settle_ratio_v", 1.3)), float(self.p("settle_ratio_w", 1.3)))
+        repeats = int(self.p("repeats", 3))
         window = float(self.p("steady_window", 1.0))
         wheel_tol = float(self.p("wheel_tol", 1e-3))
+        rest = float(self.p("rest", 2.0))
         hold([direct, stock], 0.0, 0.0, 1.0)
-        for channel, (v, w) in ((0, (float(self.p("step_v", 0.5)), 0.0)), (1, (0.0, float(self.p("step_w", 1.0))))):
-            target = v if channel == 0 else w
-            t_step = hold([direct, stock], v, w, hold_time)
-            t_end = t_step + hold_time
-            hold([direct, stock], 0.0, 0.0, 2.0)
+        steps = ((0, float(self.p("step_v", 0.5)), float(self.p("hold_v", 3.0))),
+                 (1, float(self.p("step_w", 1.0)), float(self.p("hold_w", 5.0))))
+        for channel, target, hold_time in steps:
             what = "%s step %g" % ("linear" if channel == 0 else "angular", target)
-            md = settling(direct.odom, t_step, t_end, channel, 0.0, target)
-            ms = settling(stock.odom, t_step, t_end, channel, 0.0, target)
-            rospy.loginfo("%s: settling direct %s s, stock path %s s; overshoot %s / %s %%", what,
-                          md["settling_time"], ms["settling_time"], md["overshoot"], ms["overshoot"])
-            self.assertIsNotNone(md["settling_time"], "%s: the direct path never settled" % what)
-            self.assertIsNotNone(ms["settling_time"], "%s: the stock path never settled" % what)
-            self.assertLessEqual(ms["settling_time"], ratio * md["settling_time"],
-                                 "%s: stock path settles in %.3f s > %.1f x direct %.3f s"
-                                 % (what, ms["settling_time"], ratio, md["settling_time"]))
-            # Steady state: /cmd_drive = the stock mapping of one of the AIC's last cmd_vel commands.
-            cmds = stock.cmd_vel.between(t_step, t_end)
-            drives = stock.drive.between(t_end - window, t_end)
-            self.assertTrue(cmds and drives, "%s: no cmd_vel or cmd_drive in steady state" % what)
-            worst = 0.0
-            for (t, l, r) in drives:
-                before = [c for c in cmds if c[0] <= t][-3:]
-                if not before:
-                    continue
-                err = min(max(abs(l - a), abs(r - b)) for a, b in (wheels(c[1], c[2]) for c in before))
-                worst = max(worst, err)
-            rospy.loginfo("%s: %d /cmd_drive messages in steady state, largest |drive - action| %.2e rad/s",
-                          what, len(drives), worst)
-            self.assertLessEqual(worst, wheel_tol, "%s: /cmd_drive differs from the AIC's action by %.2e rad/s"
-                                 % (what, worst))
+            ratio = ratios[channel]
+            v, w = (target, 0.0) if channel == 0 else (0.0, target)
+            settle = {"direct": [], "stock": []}
+            for k in range(repeats):
+                t_step = hold([direct, stock], v, w, hold_time)
+                t_end = t_step + hold_time
+                hold([direct, stock], 0.0, 0.0, rest)
+                for name, path in (("direct", direct), ("stock", stock)):
+                    m = settling(path.odom, t_step, t_end, channel, 0.0, target)
+                    rospy.loginfo("%s #%d, %s path: settling %s s, overshoot %s %%", what, k + 1, name,
+                                  m["settling_time"], m["overshoot"])
+                    self.assertIsNotNone(m["settling_time"], "%s #%d: the %s path never settled within %.1f s"
+                                         % (what, k + 1, name, hold_time))
+                    settle[name].append(m["settling_time"])
+                # Steady state: /cmd_drive = the stock mapping of one of the AIC's last cmd_vel commands.
+                cmds = stock.cmd_vel.between(t_step, t_end)
+                drives = stock.drive.between(t_end - window, t_end)
+                self.assertTrue(cmds and drives, "%s: no cmd_vel or cmd_drive in steady state" % what)
+                worst = 0.0
+                for (t, l, r) in drives:
+                    before = [c for c in cmds if c[0] <= t][-3:]
+                    if before:
+                        worst = max(worst, min(max(abs(l - a), abs(r - b))
+                                               for a, b in (wheels(c[1], c[2]) for c in before)))
+                rospy.loginfo("%s #%d: %d /cmd_drive messages in steady state, largest |drive - action| %.2e rad/s",
+                              what, k + 1, len(drives), worst)
+                self.assertLessEqual(worst, wheel_tol, "%s #%d: /cmd_drive differs from the AIC's action by %.2e "
+                                     "rad/s" % (what, k + 1, worst))
+            md, ms = sorted(settle["direct"])[repeats // 2], sorted(settle["stock"])[repeats // 2]
+            rospy.loginfo("%s: median settling direct %.3f s, stock path %.3f s (ratio %.2f)", what, md, ms, ms / md)
+            self.assertLessEqual(ms, ratio * md, "%s: stock path settles in %.3f s (median) > %.1f x direct %.3f s"
+                                 % (what, ms, ratio, md))
 
     def check_stop(self):
         path = Path("")

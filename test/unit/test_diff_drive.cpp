@@ -3,6 +3,7 @@
  * \brief diff_drive_controller's mapping, its inverse, its limits and the node's cmd_vel
  *        output (include/jackal_aic/diff_drive.hpp; doc/jackal.md, 'The stock velocity controller').
  */
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -56,6 +57,24 @@ TEST(DiffDrive, InverseRoundTripsThroughTheStockMappingWithinTheLimits)
     EXPECT_EQ(r.wheels, wheels);
   }
   EXPECT_LT(worst, kWheelTol) << "largest |wheel error| " << worst << " rad/s";
+  // A sequence of commands that change within the acceleration limits (a random walk at
+  // 50 Hz) is never reported clipped: rounding is no limit acting.
+  CmdVelOutput walk(p);
+  walk.reset(Vector2::Zero());
+  stock.reset(BodyTwist{});
+  BodyTwist t{ 0.0, 0.0 };
+  std::uniform_real_distribution<double> dv(-0.3, 0.3), dw(-0.4, 0.4);  // < 0.4 m/s, 0.5 rad/s per 20 ms
+  for (int i = 0; i < 10000; ++i)
+  {
+    t.linear = std::clamp(t.linear + dv(rng), -p.max_linear_velocity, p.max_linear_velocity);
+    t.angular = std::clamp(t.angular + dw(rng), -p.max_angular_velocity, p.max_angular_velocity);
+    const Vector2 wheels = wheelsFromTwist(p, t);
+    const CmdVelOutput::Result r = walk.convert(wheels, 0.02);
+    ASSERT_FALSE(r.clipped) << i;
+    const Vector2 back = wheelsFromTwist(p, stock.limit(r.twist, 0.02));
+    ASSERT_LT((back - wheels).cwiseAbs().maxCoeff(), kWheelTol) << i;
+  }
+  EXPECT_EQ(walk.clips(), 0u);
   // The inverse alone, without limits: exact for any twist.
   for (int i = 0; i < 1000; ++i)
   {
