@@ -18,10 +18,11 @@ fi
 port="${CHECK_INSTALL_PORT:-11397}"
 log_dir="$(mktemp -d)"
 # A clean environment: only the install space (and the system's ROS for Debian's packages).
+rc=0
 env -i HOME="$HOME" PATH="/usr/bin:/bin" LANG=C.UTF-8 ROS_HOME="$log_dir" \
     ROS_MASTER_URI="http://localhost:$port" INSTALL="$ws/install" LOG_DIR="$log_dir" PORT="$port" \
     bash -c '
-set -u
+# (no set -u: the catkin setup scripts read unset variables)
 [ -f /opt/ros/noetic/setup.bash ] && source /opt/ros/noetic/setup.bash
 source "$INSTALL/setup.bash"
 found="$(rospack find jackal_aic)"
@@ -68,8 +69,7 @@ rc=$?
 kill -INT $launch 2>/dev/null; wait $launch 2>/dev/null
 [ $rc -eq 0 ] || tail -20 "$LOG_DIR/launch.log"
 exit $rc
-'
-rc=$?
+' || rc=$?
 rm -rf "$log_dir"
 [ $rc -eq 0 ] && echo "check_install: ok" || echo "check_install: FAILED"
 exit $rc
