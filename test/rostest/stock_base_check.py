@@ -16,7 +16,7 @@ Metrics from message stamps by the core's aic_step_metrics (jackal_aic_tools.met
   cmd_vel messages (its action) within ~wheel_tol rad/s.
 ~mode stop: one simulation (base:=stock_diff_drive, no namespace): a ~step_v step, the stop
   engaged mid-run (/stock_base/set_stop) for ~stop_time s: the AIC's command never grows
-  while stopped (~growth_tol); released: the first command is within ~bumpless_tol of the
+  while stopped (~growth_tol) and its diagnostics say why ("held: the MCU reports ..."); released: the first command is within ~bumpless_tol of the
   measured speed (bumpless) and the resumed step overshoots by at most ~overshoot_limit %.
 """
 import sys
@@ -29,6 +29,7 @@ import rostest
 from geometry_msgs.msg import Twist
 from jackal_msgs.msg import Drive
 from nav_msgs.msg import Odometry
+from diagnostic_msgs.msg import DiagnosticArray
 from std_msgs.msg import Bool
 
 from jackal_aic_tools import metrics
@@ -178,6 +179,9 @@ class StockBaseCheck(unittest.TestCase):
     def check_stop(self):
         path = Path("")
         stop_pub = rospy.Publisher("/stock_base/set_stop", Bool, queue_size=1, latch=True)
+        held = []  # diagnostics summaries of jackal_AIC's controller task saying why it holds
+        rospy.Subscriber("/diagnostics", DiagnosticArray, lambda m: held.extend(
+            st.message for st in m.status if "controller" in st.name and st.message.startswith("held:")))
         wait_ready(self, [path], float(self.p("ready_timeout", 60.0)))
         v = float(self.p("step_v", 0.5))
         stop_time = float(self.p("stop_time", 1.5))
@@ -200,6 +204,9 @@ class StockBaseCheck(unittest.TestCase):
         rospy.loginfo("stopped: command %.3f m/s at the start, peak %.3f, end %.3f", first, peak, during[-1][1])
         self.assertLessEqual(peak, first + growth_tol, "the command grew while stopped: %.3f -> %.3f m/s"
                              % (first, peak))
+        self.assertTrue(held, "no diagnostics 'held: ...' from jackal_AIC while stopped")
+        rospy.loginfo("diagnostics while stopped: %s", held[0])
+        self.assertIn("the MCU reports", held[0])
         # Released: bumpless (the first running command near the measured speed), then the step.
         odom = path.odom.between(t_release - 0.1, t_release + 0.05)
         after = path.cmd_vel.between(t_release, t_end)
