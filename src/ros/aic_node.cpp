@@ -187,7 +187,9 @@ void AicNode::carryOut(const Supervisor::Transition& t)
   }
   if (t.warn())
   {
-    ROS_WARN_STREAM("jackal_AIC: " << supervisor_->reason() << "; commanding zero");
+    // kStale: zero command; kHeld: the reason says the command holds the measured wheel speeds.
+    ROS_WARN_STREAM("jackal_AIC: " << supervisor_->reason()
+                                   << (supervisor_->state() == NodeState::kHeld ? "" : "; commanding zero"));
   }
   if (t.activate())
   {
