@@ -14,6 +14,7 @@ Metrics from message stamps by the core's aic_step_metrics (jackal_aic_tools.met
   ~steady_window s of every step every wheel command on the stock path's
   /cmd_drive equals the wheel speeds the stock mapping gives for one of the AIC's last three
   cmd_vel messages (its action) within ~wheel_tol rad/s.
+  The stock path's /cmd_drive has one publisher, the diff drive, and its cmd_vel one, the AIC.
 ~mode stop: one simulation (base:=stock_diff_drive, no namespace): a ~step_v step, the stop
   engaged mid-run (/stock_base/set_stop) for ~stop_time s: the AIC's command never grows
   while stopped (~growth_tol) and its diagnostics say why ("held: the MCU reports ..."); released: the first command is within ~bumpless_tol of the
@@ -138,6 +139,13 @@ class StockBaseCheck(unittest.TestCase):
         window = float(self.p("steady_window", 1.0))
         wheel_tol = float(self.p("wheel_tol", 1e-3))
         rest = float(self.p("rest", 2.0))
+        # Only one node publishes the stock path's /cmd_drive: the diff drive (as jackal_node on the robot).
+        import rosgraph
+        pubs = dict(rosgraph.Master(rospy.get_name()).getSystemState()[0])
+        stock_ns = "/" + self.p("stock_ns", "stock").strip("/")
+        self.assertEqual(pubs.get(stock_ns + "/cmd_drive"), [stock_ns + "/stock_base"],
+                         "publishers of %s/cmd_drive: %s" % (stock_ns, pubs.get(stock_ns + "/cmd_drive")))
+        self.assertEqual(pubs.get(stock_ns + "/jackal_velocity_controller/cmd_vel"), [stock_ns + "/jackal_AIC"])
         hold([direct, stock], 0.0, 0.0, 1.0)
         steps = ((0, float(self.p("step_v", 0.5)), float(self.p("hold_v", 3.0))),
                  (1, float(self.p("step_w", 1.0)), float(self.p("hold_w", 5.0))))
