@@ -20,6 +20,19 @@ namespace jackal_aic
 /// Largest loop rate the node accepts for either timer [Hz] (a roscpp timer reaches ~5 kHz here).
 constexpr double kMaxLoopRate = 10000.0;
 
+/// What starts an action step (doc/jackal_aic_node.md, 'Loops').
+enum class ActionTrigger
+{
+  kTimer,  ///< a free-running timer at action_rate (the thesis)
+  kSample  ///< each accepted sensor sample (the command uses the newest order-0 data); the
+           ///< timer then only keeps /cmd_drive alive with zeros while the controller is inactive
+};
+
+/// "timer" / "sample" -> ActionTrigger; false (out unchanged) for any other text.
+bool actionTriggerFromString(const std::string& name, ActionTrigger* out);
+/// ActionTrigger -> "timer" / "sample".
+std::string toString(ActionTrigger trigger);
+
 /**
  * \brief Everything the node reads from its private namespace.
  *
@@ -50,6 +63,12 @@ struct NodeParams
   /// cmd_vel mode: the stock diff_drive_controller's kinematics and limits (keys cmd_vel_<member>;
   /// defaults: the Jackal's jackal_control/config/control.yaml), each > 0.
   DiffDriveParams cmd_vel;
+  /// ~belief, ~free_energy, ~eps_y, ~eps_mu are published at most this often, from the newest state [Hz], > 0.
+  double debug_rate = 100.0;
+  /// Wall-clock belief thread: 0 = default scheduler, 1..99 = ask for SCHED_FIFO at this priority.
+  int realtime_priority = 0;
+  /// What starts an action step: the action_rate timer or each accepted sensor sample.
+  ActionTrigger action_trigger = ActionTrigger::kTimer;
 
   /**
    * \brief Every violated rule: the AicParams rules (AicParams::validate()), the ranges of

@@ -13,6 +13,7 @@
  * NodeParams (the member initializers of AicParams and NodeParams), so they exist once.
  */
 
+#include <limits>
 #include <string>
 #include <variant>
 #include <vector>
@@ -80,7 +81,12 @@ struct ParamSpec
    *         the member is unchanged then
    */
   bool (*set)(NodeParams& params, const ParamValue& value);
+  /// The node's own upper bound when below `max` (the loop rates: `max` is the core's sanity
+  /// bound, 1e6 Hz, the node runs at most kMaxLoopRate); +infinity = as `max`.
+  double node_max = std::numeric_limits<double>::infinity();
 
+  /// Upper bound in the node (NodeParams::validate(), cfg/AIC.cfg): min(max, node_max).
+  double nodeMax() const { return node_max < max ? node_max : max; }
   /// Number of reconfigure slots (0 unless a live per-order list).
   int slots() const { return static_cast<int>(slot_defaults.size()); }
   /// True for kDouble, kInt, kDoubleList (the range applies).

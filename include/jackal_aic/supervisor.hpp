@@ -52,12 +52,16 @@ constexpr double kMaxActionIntervalFactor = 3.0;
 /// The largest interval the belief loop integrates over, in nominal periods; it is split into
 /// steps of about one nominal period each (catch-up), so a late tick never means a long Euler step.
 constexpr double kMaxBeliefIntervalFactor = 10.0;
+/// ... but never less than this [s]: at 10 kHz ten periods are 1 ms, shorter than a scheduler
+/// preemption on a loaded machine; up to 10 ms are caught up at any rate (100 steps of ~2 us at 10 kHz).
+constexpr double kMinBeliefCatchUpInterval = 0.01;
 
 /// Statistics of one timer loop; the window_* fields are reset at every diagnostics publication.
 struct LoopStats
 {
   double nominal_period = 0.0;    ///< 1 / rate [s]
-  double max_factor = 3.0;        ///< longer intervals are clamped to max_factor * nominal_period
+  double max_factor = 3.0;        ///< longer intervals are clamped to maxInterval()
+  double min_max_interval = 0.0;  ///< maxInterval() is at least this [s]
   std::uint64_t ticks = 0;        ///< callbacks since start
   std::uint64_t overruns = 0;     ///< measured interval > 2 nominal periods (a tick was missed)
   std::uint64_t clamped = 0;      ///< intervals clamped to max_factor periods
@@ -67,8 +71,10 @@ struct LoopStats
   std::uint64_t window_ticks = 0;     ///< callbacks in the window
   double window_max_duration = 0.0;   ///< longest callback execution in the window [s]
 
+  /// The longest interval integrated [s]: max(max_factor * nominal_period, min_max_interval).
+  double maxInterval() const;
   /// Record one measured interval [s]; a non-finite or non-positive one (first tick) counts as
-  /// nominal_period. \return the interval to integrate with [s], clamped to max_factor * nominal_period.
+  /// nominal_period. \return the interval to integrate with [s], clamped to maxInterval().
   double record(double interval);
   /// Zero the window_* statistics (after each diagnostics publication); counters are kept.
   void resetWindow();
@@ -98,9 +104,11 @@ public:
   /**
    * \param rate        nominal rate [Hz], > 0
    * \param max_factor  longest interval integrated, in nominal periods (kMaxBeliefIntervalFactor, ...)
-   * \param catch_up    split long intervals into steps of about one period
+   * \param catch_up    split long intervals into steps of about one period (at most
+   *                    maxInterval() / nominal period steps a tick)
+   * \param min_max_interval  the longest interval integrated is at least this [s] (kMinBeliefCatchUpInterval)
    */
-  LoopScheduler(double rate, double max_factor, bool catch_up);
+  LoopScheduler(double rate, double max_factor, bool catch_up, double min_max_interval = 0.0);
 
   /// Change the nominal rate [Hz], > 0 (the step debt is kept).
   void setRate(double rate);

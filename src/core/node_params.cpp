@@ -12,16 +12,40 @@
 
 namespace jackal_aic
 {
+bool actionTriggerFromString(const std::string& name, ActionTrigger* out)
+{
+  if (name == "timer")
+  {
+    *out = ActionTrigger::kTimer;
+    return true;
+  }
+  if (name == "sample")
+  {
+    *out = ActionTrigger::kSample;
+    return true;
+  }
+  return false;
+}
+
+std::string toString(ActionTrigger trigger)
+{
+  return trigger == ActionTrigger::kSample ? "sample" : "timer";
+}
+
 std::vector<ParamViolation> NodeParams::validate() const
 {
   std::vector<ParamViolation> violations = aic.validate();
-  const std::pair<const char*, double> rates[] = { { "belief_rate", aic.belief_rate },
-                                                    { "action_rate", aic.action_rate } };
-  for (const auto& [key, rate] : rates)
+  // The node's own bounds below the core's (the loop rates: ParamSpec::node_max).
+  for (const ParamSpec& row : paramSchema())
   {
-    if (std::isfinite(rate) && rate > kMaxLoopRate)
+    if (row.type != ParamType::kDouble || !(row.node_max < row.max))
     {
-      violations.push_back({ key, formatParamValue(rate), "<= " + formatParamValue(kMaxLoopRate) + " Hz" });
+      continue;
+    }
+    const double v = std::get<double>(row.get(*this));
+    if (std::isfinite(v) && v > row.node_max)
+    {
+      violations.push_back({ row.key, formatParamValue(v), "<= " + formatParamValue(row.node_max) + " " + row.unit });
     }
   }
   for (auto& v : checkParamRanges(*this, ParamScope::kNode))

@@ -126,6 +126,10 @@ std::string rangeDoc(const ParamSpec& s)
   {
     return "p+1 or " + std::to_string(s.channels) + "(p+1) values, each " + rangeText(s);
   }
+  if (s.node_max < s.max)
+  {
+    return rangeText(s) + "; the node: <= " + shortestDecimal(s.node_max);
+  }
   return rangeText(s);
 }
 }  // namespace
@@ -218,10 +222,10 @@ std::string reconfigureCfgScript()
       const ParamValue min = e.type == ParamType::kInt ? ParamValue(static_cast<int>(e.row->min)) :
                                                          ParamValue(e.row->min);
       os << ", " << pyValue(min);
-      if (std::isfinite(e.row->max))
+      if (std::isfinite(e.row->nodeMax()))
       {
-        const ParamValue max = e.type == ParamType::kInt ? ParamValue(static_cast<int>(e.row->max)) :
-                                                           ParamValue(e.row->max);
+        const ParamValue max = e.type == ParamType::kInt ? ParamValue(static_cast<int>(e.row->nodeMax())) :
+                                                           ParamValue(e.row->nodeMax());
         os << ", " << pyValue(max);
       }
     }

@@ -56,6 +56,17 @@ bool setIntegrator(NodeParams& p, const ParamValue& v)
   return name != nullptr && integratorFromString(*name, &p.aic.integrator);
 }
 
+ParamValue getActionTrigger(const NodeParams& p)
+{
+  return toString(p.action_trigger);
+}
+
+bool setActionTrigger(NodeParams& p, const ParamValue& v)
+{
+  const std::string* name = std::get_if<std::string>(&v);
+  return name != nullptr && actionTriggerFromString(*name, &p.action_trigger);
+}
+
 std::vector<ParamSpec> buildSchema()
 {
   using T = ParamType;
@@ -66,10 +77,10 @@ std::vector<ParamSpec> buildSchema()
     // ---- loops
     { "belief_rate", T::kDouble, C, "loops", 0.0, true, kMaxRate, "Hz",
       "Belief update rate (timer); >= action_rate; the node runs at most 10000 Hz",
-      true, 1, false, 0, {}, {}, JACKAL_AIC_MEMBER(aic.belief_rate) },
+      true, 1, false, 0, {}, {}, JACKAL_AIC_MEMBER(aic.belief_rate), kMaxLoopRate },
     { "action_rate", T::kDouble, C, "loops", 0.0, true, kMaxRate, "Hz",
       "Action update rate; /cmd_drive is published at this rate; the node runs at most 10000 Hz",
-      true, 1, false, 0, {}, {}, JACKAL_AIC_MEMBER(aic.action_rate) },
+      true, 1, false, 0, {}, {}, JACKAL_AIC_MEMBER(aic.action_rate), kMaxLoopRate },
     { "integrator", T::kString, C, "loops", kNone, false, kNone, "-",
       "Belief integrator: euler (thesis eq. 3-15, forward Euler) or exact (zero-order-hold exact step of the "
       "linear belief dynamics)",
@@ -148,6 +159,16 @@ std::vector<ParamSpec> buildSchema()
     { "right_joints", T::kStringList, N, "node", kNone, false, kNone, "-",
       "Joints (by name in /joint_states) whose velocities are averaged into omega_R; disjoint from left_joints",
       false, 0, true, 0, {}, {}, JACKAL_AIC_MEMBER(right_joints) },
+    { "debug_rate", T::kDouble, N, "node", 0.0, true, kMaxLoopRate, "Hz",
+      "~belief, ~free_energy, ~eps_y and ~eps_mu are published at most this often, from the newest belief",
+      false, 0, false, 0, {}, {}, JACKAL_AIC_MEMBER(debug_rate) },
+    { "action_trigger", T::kString, N, "loops", kNone, false, kNone, "-",
+      "What starts an action step: timer (action_rate, the thesis) or sample (each accepted sensor sample, "
+      "so the command uses the newest data; the timer then only keeps /cmd_drive alive while inactive)",
+      false, 0, false, 0, { "timer", "sample" }, {}, &getActionTrigger, &setActionTrigger },
+    { "realtime_priority", T::kInt, N, "node", 0.0, false, 99.0, "-",
+      "Belief thread (wall-clock mode): 0 = default scheduler, 1..99 = SCHED_FIFO at this priority if permitted",
+      false, 0, false, 0, {}, {}, JACKAL_AIC_MEMBER(realtime_priority) },
     // ---- output (node only, read at start): cmd_drive, or cmd_vel through the stock diff drive
     { "output_mode", T::kString, N, "output", kNone, false, kNone, "-",
       "cmd_drive: publish the wheel commands as jackal_msgs/Drive on /cmd_drive (simulator, modified bases); "

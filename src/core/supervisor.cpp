@@ -34,6 +34,11 @@ const char* toString(NodeState state)
 // ---------------------------------------------------------------------------
 // Loops
 
+double LoopStats::maxInterval() const
+{
+  return std::max(max_factor * nominal_period, min_max_interval);
+}
+
 double LoopStats::record(double interval)
 {
   if (!std::isfinite(interval) || interval <= 0.0)
@@ -48,10 +53,10 @@ double LoopStats::record(double interval)
   {
     ++overruns;
   }
-  if (interval > max_factor * nominal_period)
+  if (interval > maxInterval())
   {
     ++clamped;
-    interval = max_factor * nominal_period;
+    interval = maxInterval();
   }
   return interval;
 }
@@ -64,10 +69,12 @@ void LoopStats::resetWindow()
   window_max_duration = 0.0;
 }
 
-LoopScheduler::LoopScheduler(double rate, double max_factor, bool catch_up) : catch_up_(catch_up)
+LoopScheduler::LoopScheduler(double rate, double max_factor, bool catch_up, double min_max_interval)
+  : catch_up_(catch_up)
 {
   stats_.nominal_period = 1.0 / rate;
   stats_.max_factor = max_factor;
+  stats_.min_max_interval = min_max_interval;
 }
 
 void LoopScheduler::setRate(double rate)
@@ -88,7 +95,8 @@ LoopScheduler::Tick LoopScheduler::tick(double measured_interval)
   // remainder is carried over (bounded), so early and late ticks average out to `rate` steps
   // per second; every tick runs at least one step.
   debt_ += t.interval / stats_.nominal_period;
-  t.steps = std::clamp(static_cast<int>(std::floor(debt_ + 0.5)), 1, static_cast<int>(stats_.max_factor));
+  const int max_steps = std::max(1, static_cast<int>(std::lround(stats_.maxInterval() / stats_.nominal_period)));
+  t.steps = std::clamp(static_cast<int>(std::floor(debt_ + 0.5)), 1, max_steps);
   debt_ = std::clamp(debt_ - t.steps, -1.0, 1.0);
   t.h = t.interval / t.steps;
   stats_.catch_up_steps += static_cast<std::uint64_t>(t.steps - 1);
@@ -111,7 +119,7 @@ Supervisor::Supervisor(const NodeParams& params, const Clock& clock)
   , max_linear_speed_(params.max_linear_speed)
   , max_angular_speed_(params.max_angular_speed)
   , num_orders_(params.aic.numOrders())
-  , belief_loop_(params.aic.belief_rate, kMaxBeliefIntervalFactor, true)
+  , belief_loop_(params.aic.belief_rate, kMaxBeliefIntervalFactor, true, kMinBeliefCatchUpInterval)
   , action_loop_(params.aic.action_rate, kMaxActionIntervalFactor, false)
   , runaway_until_(-std::numeric_limits<double>::infinity())
 {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "jackal_aic/ros/node_params.hpp"
 
@@ -41,6 +42,14 @@ AicNode::AicNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) : nh_(nh
 {
 }
 
+AicNode::~AicNode()
+{
+  if (belief_thread_)
+  {
+    belief_thread_->stop();
+  }
+}
+
 bool AicNode::init()
 {
   std::vector<ParamViolation> violations;
@@ -72,7 +81,7 @@ bool AicNode::init()
   sync_ = std::make_unique<SensorSynchronizer>(syncConfig(params_));
   supervisor_ = std::make_unique<Supervisor>(params_, clock_);
 
-  outputs_ = std::make_unique<NodeOutputs>(nh_, pnh_, params_.output_mode);
+  outputs_ = std::make_unique<NodeOutputs>(nh_, pnh_, [this] { debugSubscribersChanged(); }, params_.output_mode);
   if (outputs_->cmdVelMode())
   {
     cmd_vel_ = std::make_unique<CmdVelOutput>(params_.cmd_vel);  // validated above
@@ -89,14 +98,37 @@ bool AicNode::init()
   diagnostics_ = std::make_unique<NodeDiagnostics>(nh_, pnh_, *supervisor_, *sync_,
                                                    [this] { return controllerReport(); });
 
-  belief_timer_ = nh_.createTimer(ros::Duration(supervisor_->beliefLoop().nominalPeriod()),
-                                  &AicNode::beliefTimerCallback, this);
   action_timer_ = nh_.createTimer(ros::Duration(supervisor_->actionLoop().nominalPeriod()),
                                   &AicNode::actionTimerCallback, this);
-  diagnostics_timer_ = nh_.createTimer(ros::Duration(1.0 / kDiagnosticsPollRate),
-                                       [this](const ros::TimerEvent&) { diagnostics_->update(); });
+  // Started and stopped by debugSubscribersChanged(): no wake-ups while nobody listens.
+  debug_timer_ = nh_.createTimer(ros::Duration(1.0 / params_.debug_rate), &AicNode::debugTimerCallback, this,
+                                 false, false);
+  diagnostics_timer_ = nh_.createTimer(ros::Duration(1.0 / kDiagnosticsPollRate), [this](const ros::TimerEvent&) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    diagnostics_->update();
+  });
 
-  ROS_INFO_STREAM("jackal_AIC: belief " << params_.aic.belief_rate << " Hz, action " << params_.aic.action_rate
+  std::string loop = "ROS timer (simulated time)";
+  if (ros::Time::isSimTime())
+  {
+    belief_timer_ = nh_.createTimer(ros::Duration(supervisor_->beliefLoop().nominalPeriod()),
+                                    &AicNode::beliefTimerCallback, this);
+  }
+  else
+  {
+    belief_thread_ = std::make_unique<PeriodicThread>(
+        [this](double interval) { beliefTick(interval, ros::Time::now()); }, "aic_belief");
+    const std::string priority = belief_thread_->start(params_.aic.belief_rate, params_.realtime_priority);
+    loop = "real-time thread (clock_nanosleep, " + (priority.empty() ? std::string("default scheduler") : priority) + ")";
+    if (priority.find("refused") != std::string::npos)
+    {
+      ROS_WARN_STREAM("jackal_AIC: belief thread: " << priority);
+    }
+  }
+  diagnostics_->setBeliefLoop(loop);
+
+  ROS_INFO_STREAM("jackal_AIC: belief " << params_.aic.belief_rate << " Hz on a " << loop << ", action "
+                                        << params_.aic.action_rate
                                         << " Hz, tau " << params_.aic.tau << " s, k_mu " << params_.aic.k_mu
                                         << ", k_a " << params_.aic.k_a << ", p " << params_.aic.embedding_order
                                         << ", integrator " << toString(params_.aic.integrator)
@@ -109,6 +141,7 @@ bool AicNode::init()
 
 void AicNode::jointStateCallback(const sensor_msgs::JointState::ConstPtr& msg)
 {
+  const std::lock_guard<std::mutex> lock(mutex_);
   SensorSample sample;
   if (!sync_->addJointState(msg, &sample))
   {
@@ -127,15 +160,26 @@ void AicNode::jointStateCallback(const sensor_msgs::JointState::ConstPtr& msg)
     return;
   }
   supervisor_->sampleAccepted(Vector2(sample.y(kOmegaLeft), sample.y(kOmegaRight)));
-  if (supervisor_->active() && !controller_->setMeasurement(generalizer_->yTilde()))
+  newest_sample_stamp_ = sample.stamp;
+  if (!supervisor_->active())
+  {
+    return;
+  }
+  if (!controller_->setMeasurement(generalizer_->yTilde()))
   {
     ++generalizer_drops_;
     ROS_WARN_THROTTLE(1.0, "jackal_AIC: controller refused a generalized measurement");
+    return;
+  }
+  if (params_.action_trigger == ActionTrigger::kSample)
+  {
+    actionStep(sample.first ? -1.0 : sample.h);  // over the sensor interval (stamps), clamped to 3 periods
   }
 }
 
 void AicNode::imuCallback(const sensor_msgs::Imu::ConstPtr& msg)
 {
+  const std::lock_guard<std::mutex> lock(mutex_);
   if (sync_->addImu(msg))
   {
     supervisor_->imuAccepted();
@@ -146,6 +190,7 @@ void AicNode::setPointCallback(const geometry_msgs::Twist::ConstPtr& msg)
 {
   const double fields[6] = { msg->linear.x,  msg->linear.y,  msg->linear.z,
                              msg->angular.x, msg->angular.y, msg->angular.z };
+  const std::lock_guard<std::mutex> lock(mutex_);
   switch (supervisor_->setPoint(fields))
   {
     case SetPointResult::kDropped:
@@ -166,11 +211,13 @@ void AicNode::setPointCallback(const geometry_msgs::Twist::ConstPtr& msg)
 
 void AicNode::statusCallback(const jackal_msgs::Status::ConstPtr& msg)
 {
+  const std::lock_guard<std::mutex> lock(mutex_);
   supervisor_->mcuStatus(msg->drivers_active, msg->driver_external_stop_present, msg->driver_external_stop_stopped);
 }
 
 void AicNode::feedbackCallback(const jackal_msgs::Feedback::ConstPtr& msg)
 {
+  const std::lock_guard<std::mutex> lock(mutex_);
   supervisor_->mcuFeedback(msg->actual_mode);
 }
 
@@ -235,9 +282,18 @@ void AicNode::handleRunaway(const char* where)
 
 void AicNode::beliefTimerCallback(const ros::TimerEvent& event)
 {
+  beliefTick(intervalOf(event), event.current_real);
+}
+
+void AicNode::beliefTick(double interval, const ros::Time& stamp)
+{
   const ros::WallTime start = ros::WallTime::now();
-  applyPendingParams();
-  const LoopScheduler::Tick tick = supervisor_->beliefLoop().tick(intervalOf(event));
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (!belief_thread_)
+  {
+    applyPendingParams();  // on ROS timers both loops apply; the thread leaves it to the spinner
+  }
+  const LoopScheduler::Tick tick = supervisor_->beliefLoop().tick(interval);
   diagnostics_->tickBelief();
   carryOut(supervisor_->update());
   for (int i = 0; i < tick.steps; ++i)
@@ -246,16 +302,35 @@ void AicNode::beliefTimerCallback(const ros::TimerEvent& event)
     {
       handleRunaway("belief update");
     }
-    outputs_->belief(event.current_real - ros::Duration(tick.h * (tick.steps - 1 - i)), controller_->mu());
   }
+  belief_steps_ += static_cast<std::uint64_t>(tick.steps);
+  belief_stamp_ = stamp;
   supervisor_->beliefLoop().recordDuration((ros::WallTime::now() - start).toSec());
 }
 
 void AicNode::actionTimerCallback(const ros::TimerEvent& event)
 {
-  const ros::WallTime start = ros::WallTime::now();
+  const std::lock_guard<std::mutex> lock(mutex_);
   applyPendingParams();
-  const double h = supervisor_->actionLoop().tick(intervalOf(event)).h;
+  if (params_.action_trigger == ActionTrigger::kSample)
+  {
+    // The samples run the action; the timer keeps the command alive (zeros, or the measured
+    // wheel speeds while the MCU holds) while inactive.
+    carryOut(supervisor_->update());
+    if (!supervisor_->active())
+    {
+      diagnostics_->tickAction();
+      publishIdle();
+    }
+    return;
+  }
+  actionStep(intervalOf(event));
+}
+
+void AicNode::actionStep(double interval)
+{
+  const ros::WallTime start = ros::WallTime::now();
+  const double h = supervisor_->actionLoop().tick(interval).h;
   diagnostics_->tickAction();
   carryOut(supervisor_->update());
   if (!supervisor_->active())
@@ -269,8 +344,9 @@ void AicNode::actionTimerCallback(const ros::TimerEvent& event)
   else
   {
     publishCommand(controller_->action()(0), controller_->action()(1));
+    // Age of the newest sensor data in this command: the sensor-to-command latency.
+    diagnostics_->commandLatency((ros::Time::now() - newest_sample_stamp_).toSec());
   }
-  outputs_->debug(*controller_);
   supervisor_->actionLoop().recordDuration((ros::WallTime::now() - start).toSec());
 }
 
@@ -319,10 +395,36 @@ void AicNode::publishIdle()
   }
 }
 
+void AicNode::debugSubscribersChanged()
+{
+  if (outputs_->debugWanted())
+  {
+    debug_timer_.start();
+  }
+  else
+  {
+    debug_timer_.stop();
+  }
+}
+
+void AicNode::debugTimerCallback(const ros::TimerEvent&)
+{
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (belief_steps_ == published_steps_)
+    {
+      return;  // no belief step since the last publication (belief_rate < debug_rate, or not started)
+    }
+    published_steps_ = belief_steps_;
+    outputs_->capture(*controller_, belief_stamp_, &snapshot_);
+  }
+  outputs_->debug(snapshot_);  // outside the lock: publishing serializes messages
+}
+
 ControllerReport AicNode::controllerReport() const
 {
   ControllerReport r;
-  r.free_energy = outputs_->lastFreeEnergy();
+  r.free_energy = controller_->hasMeasurement() ? controller_->freeEnergy() : 0.0;
   r.belief_vx = controller_->mu()(0, 0);
   r.belief_wz = controller_->mu()(2, 0);
   r.command = supervisor_->active() ? controller_->action() : Vector2::Zero();
@@ -363,7 +465,14 @@ void AicNode::applyPendingParams()
   diagnostics_->setRates(next->aic.belief_rate, next->aic.action_rate);
   if (next->aic.belief_rate != params_.aic.belief_rate)
   {
-    belief_timer_.setPeriod(ros::Duration(supervisor_->beliefLoop().nominalPeriod()));
+    if (belief_thread_)
+    {
+      belief_thread_->setRate(next->aic.belief_rate);
+    }
+    else
+    {
+      belief_timer_.setPeriod(ros::Duration(supervisor_->beliefLoop().nominalPeriod()));
+    }
   }
   if (next->aic.action_rate != params_.aic.action_rate)
   {

@@ -50,6 +50,7 @@ void NodeDiagnostics::loops(diagnostic_updater::DiagnosticStatusWrapper& stat)
   LoopScheduler* loops[2] = { &supervisor_.beliefLoop(), &supervisor_.actionLoop() };
   const char* names[2] = { "belief", "action" };
   bool late = false;
+  stat.add("belief loop", belief_loop_);
   for (int i = 0; i < 2; ++i)
   {
     const LoopStats& s = loops[i]->stats();
@@ -61,8 +62,16 @@ void NodeDiagnostics::loops(diagnostic_updater::DiagnosticStatusWrapper& stat)
     stat.add(std::string(names[i]) + " overruns (interval > 2 periods)", s.overruns);
     stat.add(std::string(names[i]) + " clamped intervals", s.clamped);
     stat.add(std::string(names[i]) + " catch-up steps", s.catch_up_steps);
+    stat.add(std::string(names[i]) + " ticks", s.ticks);
+    // Integration steps since start: ticks plus catch-up steps (the rate the beliefs see).
+    stat.add(std::string(names[i]) + " steps", s.ticks + s.catch_up_steps);
     late = late || s.window_max_duration > s.nominal_period;
   }
+  stat.add("command latency samples", latency_.count());
+  stat.addf("command latency p50 [ms] (sensor stamp -> /cmd_drive)", "%.3f", 1e3 * latency_.quantile(0.5));
+  stat.addf("command latency p99 [ms]", "%.3f", 1e3 * latency_.quantile(0.99));
+  stat.addf("command latency max [ms]", "%.3f", 1e3 * latency_.max());
+  latency_.clear();
   if (late)
   {
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "a callback took longer than its period");

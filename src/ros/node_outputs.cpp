@@ -42,7 +42,8 @@ std_msgs::Float64MultiArray toMultiArray(const Eigen::Ref<const Eigen::MatrixXd>
 }
 }  // namespace
 
-NodeOutputs::NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, const std::string& output_mode)
+NodeOutputs::NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::function<void()> debug_subscribers_changed,
+                         const std::string& output_mode)
   : cmd_vel_mode_(output_mode == "cmd_vel")
 {
   // Only the command topic of the mode: on the robot, jackal_node is the one /cmd_drive publisher.
@@ -54,10 +55,22 @@ NodeOutputs::NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, const std::s
   {
     cmd_pub_ = nh.advertise<jackal_msgs::Drive>("cmd_drive", 1);
   }
-  belief_pub_ = pnh.advertise<geometry_msgs::TwistStamped>("belief", 50);
-  free_energy_pub_ = pnh.advertise<std_msgs::Float64>("free_energy", 10);
-  eps_y_pub_ = pnh.advertise<std_msgs::Float64MultiArray>("eps_y", 10);
-  eps_mu_pub_ = pnh.advertise<std_msgs::Float64MultiArray>("eps_mu", 10);
+  ros::SubscriberStatusCallback changed;
+  if (debug_subscribers_changed)
+  {
+    changed = [f = std::move(debug_subscribers_changed)](const ros::SingleSubscriberPublisher&) { f(); };
+  }
+  belief_pub_ = pnh.advertise<geometry_msgs::TwistStamped>("belief", 50, changed, changed);
+  free_energy_pub_ = pnh.advertise<std_msgs::Float64>("free_energy", 10, changed, changed);
+  eps_y_pub_ = pnh.advertise<std_msgs::Float64MultiArray>("eps_y", 10, changed, changed);
+  eps_mu_pub_ = pnh.advertise<std_msgs::Float64MultiArray>("eps_mu", 10, changed, changed);
+}
+
+bool NodeOutputs::debugWanted() const
+{
+  return belief_pub_.getNumSubscribers() + free_energy_pub_.getNumSubscribers() + eps_y_pub_.getNumSubscribers() +
+             eps_mu_pub_.getNumSubscribers() >
+         0;
 }
 
 void NodeOutputs::command(double omega_left, double omega_right, double limit)
@@ -110,16 +123,42 @@ void NodeOutputs::belief(const ros::Time& stamp, const MuTilde& mu)
   belief_pub_.publish(belief);
 }
 
-void NodeOutputs::debug(const ActiveInferenceController& controller)
+void NodeOutputs::capture(const ActiveInferenceController& controller, const ros::Time& stamp,
+                          DebugSnapshot* snapshot) const
 {
-  // Diagnostics show the free energy: computed every action tick, published only for a subscriber.
-  last_free_energy_ = controller.hasMeasurement() ? controller.freeEnergy() : 0.0;
+  snapshot->stamp = stamp;
+  snapshot->mu = controller.mu();
+  snapshot->free_energy = controller.hasMeasurement() ? controller.freeEnergy() : 0.0;
+  if (eps_y_pub_.getNumSubscribers() > 0)
+  {
+    snapshot->eps_y = controller.epsY();
+  }
+  else
+  {
+    snapshot->eps_y.resize(kYDim, 0);
+  }
+  if (eps_mu_pub_.getNumSubscribers() > 0)
+  {
+    snapshot->eps_mu = controller.epsMu();
+  }
+  else
+  {
+    snapshot->eps_mu.resize(kMuDim, 0);
+  }
+}
+
+void NodeOutputs::debug(const DebugSnapshot& snapshot)
+{
+  if (belief_pub_.getNumSubscribers() > 0)
+  {
+    belief(snapshot.stamp, snapshot.mu);
+  }
   if (free_energy_pub_.getNumSubscribers() > 0)
   {
-    if (std::isfinite(last_free_energy_))
+    if (std::isfinite(snapshot.free_energy))
     {
       std_msgs::Float64 f;
-      f.data = last_free_energy_;
+      f.data = snapshot.free_energy;
       free_energy_pub_.publish(f);
     }
     else
@@ -127,9 +166,9 @@ void NodeOutputs::debug(const ActiveInferenceController& controller)
       ++guarded_outputs_;
     }
   }
-  // eps_y, eps_mu: built only for a subscriber (a message allocates), never published non-finite.
+  // eps_y, eps_mu: captured only for a subscriber, never published non-finite.
   auto publishErrors = [this](const ros::Publisher& pub, const auto& errors) {
-    if (pub.getNumSubscribers() == 0)
+    if (errors.cols() == 0 || pub.getNumSubscribers() == 0)
     {
       return;
     }
@@ -142,8 +181,8 @@ void NodeOutputs::debug(const ActiveInferenceController& controller)
       ++guarded_outputs_;
     }
   };
-  publishErrors(eps_y_pub_, controller.epsY());
-  publishErrors(eps_mu_pub_, controller.epsMu());
+  publishErrors(eps_y_pub_, snapshot.eps_y);
+  publishErrors(eps_mu_pub_, snapshot.eps_mu);
 }
 
 }  // namespace jackal_aic

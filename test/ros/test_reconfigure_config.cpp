@@ -91,12 +91,12 @@ TEST(ReconfigureConfig, AicConfigAgreesWithTheSchema)
     if (e.type == ParamType::kDouble)
     {
       EXPECT_EQ(std::get<double>(configValue(AICConfig::__getMin__(), e.name)), e.row->min);
-      EXPECT_EQ(std::get<double>(configValue(AICConfig::__getMax__(), e.name)), e.row->max);  // inf: none
+      EXPECT_EQ(std::get<double>(configValue(AICConfig::__getMax__(), e.name)), e.row->nodeMax());  // inf: none
     }
     else if (e.type == ParamType::kInt)
     {
       EXPECT_EQ(std::get<int>(configValue(AICConfig::__getMin__(), e.name)), static_cast<int>(e.row->min));
-      EXPECT_EQ(std::get<int>(configValue(AICConfig::__getMax__(), e.name)), static_cast<int>(e.row->max));
+      EXPECT_EQ(std::get<int>(configValue(AICConfig::__getMax__(), e.name)), static_cast<int>(e.row->nodeMax()));
     }
   }
   EXPECT_EQ(cfg_names, schema_names) << "cfg/AIC.cfg and the schema name different parameters";

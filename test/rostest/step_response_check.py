@@ -16,6 +16,7 @@ by the core's aic_step_metrics (through jackal_aic_tools). Expectations are <par
   ~sse_limit          |steady-state error| below this [% of the set point]  [2]
   ~bound_v            |measured/believed v| beyond this = unstable [m/s]    [3.0]
   ~ready_timeout      wall time to wait for the streams [s]                 [30]
+  ~expect_param       "/name=value": fail unless that parameter is set so     [none]
 """
 import math
 import signal
@@ -64,6 +65,10 @@ class StepResponseCheck(unittest.TestCase):
         overshoot_limit = float(p("overshoot_limit", 20.0))  # % of the step
         sse_limit = float(p("sse_limit", 2.0))            # % of the set point
         limits = recording.StabilityLimits(v_bound=float(p("bound_v", 3.0)))
+        expected = p("expect_param", "")  # "/name=value": the launch file's setting reached the node
+        if expected:
+            name, value = expected.split("=", 1)
+            self.assertEqual(str(rospy.get_param(name, None)), value, "parameter %s" % name)
         wheel_radius = float(rospy.get_param("/jackal_AIC/wheel_radius", 0.098))
         wheel_sep = float(rospy.get_param("/jackal_AIC/wheel_separation", 0.5621))
 

@@ -1,15 +1,19 @@
 #!/usr/bin/env python3
 """rostest: /cmd_drive arrives at the action rate with the real jackal_msgs/Drive type and
-MD5; the belief topic arrives at the belief rate (measured from its stamps).
+MD5; the belief loop integrates at the belief rate (its step counter in /diagnostics,
+"loops" / "belief steps", over the diagnostics' stamps); ~belief arrives at
+min(debug_rate, belief_rate) (measured from its stamps).
 
-Parameters (~): expected_action_rate [Hz], expected_belief_rate [Hz], rate_tolerance [-]
-(relative, 0.1), warmup [s] (ignored first part), duration [s] (measured window).
+Parameters (~): expected_action_rate [Hz], expected_belief_rate [Hz], expected_debug_rate
+[Hz] (the ~belief topic), rate_tolerance [-] (relative, 0.1), warmup [s] (ignored first
+part), duration [s] (measured window).
 """
 import sys
 import unittest
 
 import rospy
 import rostest
+from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import TwistStamped
 from jackal_msgs.msg import Drive, DriveFeedback, Feedback, Status
 
@@ -27,11 +31,24 @@ class RatesTest(unittest.TestCase):
     def setUp(self):
         self.action_rate = float(rospy.get_param("~expected_action_rate"))
         self.belief_rate = float(rospy.get_param("~expected_belief_rate"))
+        self.debug_rate = float(rospy.get_param("~expected_debug_rate"))
         self.tolerance = float(rospy.get_param("~rate_tolerance", 0.1))
         self.warmup = float(rospy.get_param("~warmup", 1.0))
         self.duration = float(rospy.get_param("~duration", 5.0))
         self.cmd = Recorder("/cmd_drive", rospy.AnyMsg)
         self.belief = Recorder("/jackal_AIC/belief", TwistStamped, use_stamp=True)
+        self.diagnostics = Recorder("/diagnostics", DiagnosticArray, use_stamp=True)
+
+    def belief_steps(self):
+        """(stamp, belief steps since start) from each diagnostics publication of the node."""
+        out = []
+        for t, msg in self.diagnostics.snapshot():
+            for status in msg.status:
+                if status.name.endswith("loops"):
+                    values = {kv.key: kv.value for kv in status.values}
+                    if "belief steps" in values:
+                        out.append((t, int(values["belief steps"])))
+        return out
 
     def test_mcu_state_md5(self):
         self.assertEqual(Status._md5sum, STATUS_MD5)
@@ -48,9 +65,13 @@ class RatesTest(unittest.TestCase):
 
     def test_rates_type_and_md5(self):
         needed = self.warmup + self.duration
-        self.assertTrue(wait_for(lambda: self.cmd.span() >= needed and self.belief.span() >= needed, 3 * needed + 20),
-                        "not enough /cmd_drive or belief messages (spans %.2f s, %.2f s)"
-                        % (self.cmd.span(), self.belief.span()))
+        def steps_span():
+            steps = self.belief_steps()
+            return steps[-1][0] - steps[0][0] if len(steps) > 1 else 0.0
+        self.assertTrue(wait_for(lambda: self.cmd.span() >= needed and self.belief.span() >= needed
+                                 and steps_span() >= needed, 3 * needed + 20),
+                        "not enough /cmd_drive, belief or diagnostics messages (spans %.2f s, %.2f s, %.2f s)"
+                        % (self.cmd.span(), self.belief.span(), steps_span()))
         cmds = self.cmd.snapshot()
         header = cmds[0][1]._connection_header
         self.assertEqual(header["type"], "jackal_msgs/Drive")
@@ -65,14 +86,24 @@ class RatesTest(unittest.TestCase):
             return [t for t, _ in items if start <= t <= start + self.duration]
 
         action = rate_of(window(cmds))
-        belief = rate_of(window(self.belief.snapshot()))
-        rospy.loginfo("measured: /cmd_drive %.2f Hz (expected %.1f), belief %.2f Hz (expected %.1f)",
-                      action, self.action_rate, belief, self.belief_rate)
-        print("MEASURED cmd_drive_rate=%.2f Hz belief_rate=%.2f Hz" % (action, belief), file=sys.stderr)
+        topic = rate_of(window(self.belief.snapshot()))
+        steps = self.belief_steps()
+        start = steps[0][0] + self.warmup
+        steps = [(t, n) for t, n in steps if t >= start]
+        self.assertGreaterEqual(len(steps), 2, "too few diagnostics after the warm-up")
+        belief = (steps[-1][1] - steps[0][1]) / (steps[-1][0] - steps[0][0])
+        expected_topic = min(self.debug_rate, self.belief_rate)
+        rospy.loginfo("measured: /cmd_drive %.2f Hz (expected %.1f), belief steps %.2f Hz (expected %.1f), "
+                      "~belief %.2f Hz (expected %.1f)", action, self.action_rate, belief, self.belief_rate,
+                      topic, expected_topic)
+        print("MEASURED cmd_drive_rate=%.2f Hz belief_steps=%.2f Hz belief_topic=%.2f Hz"
+              % (action, belief, topic), file=sys.stderr)
         self.assertAlmostEqual(action, self.action_rate, delta=self.tolerance * self.action_rate,
                                msg="/cmd_drive at %.2f Hz" % action)
         self.assertAlmostEqual(belief, self.belief_rate, delta=self.tolerance * self.belief_rate,
-                               msg="belief at %.2f Hz" % belief)
+                               msg="belief steps at %.2f Hz" % belief)
+        self.assertAlmostEqual(topic, expected_topic, delta=self.tolerance * expected_topic,
+                               msg="~belief at %.2f Hz" % topic)
 
 
 if __name__ == "__main__":

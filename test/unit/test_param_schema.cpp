@@ -151,7 +151,7 @@ TEST(ParamSchema, ControllerKeysAreTheMembersOfAicParams)
         changed = true;
         break;
       case ParamType::kString:
-        changed = std::string("exact");
+        changed = s.choices.empty() ? std::string("x") : s.choices.back();  // not the default (the first)
         break;
       case ParamType::kDoubleList:
         changed = std::vector<double>{ 0.5, 0.5 };

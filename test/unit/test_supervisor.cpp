@@ -431,6 +431,26 @@ TEST(LoopScheduler, LongGapIsClampedToTenPeriods)
   EXPECT_EQ(loop.stats().clamped, 1u);
 }
 
+TEST(LoopScheduler, FastLoopsCatchUpAtLeastTenMilliseconds)
+{
+  // At 10 kHz ten periods are 1 ms, less than a preemption on a loaded machine: the belief
+  // loop still catches up to kMinBeliefCatchUpInterval (10 ms), in steps of one period.
+  LoopScheduler loop(10000.0, kMaxBeliefIntervalFactor, true, kMinBeliefCatchUpInterval);
+  auto t = loop.tick(0.005);
+  EXPECT_EQ(t.steps, 50);
+  EXPECT_NEAR(t.h, 1e-4, kTol);
+  EXPECT_EQ(loop.stats().clamped, 0u);
+  t = loop.tick(0.5);
+  EXPECT_EQ(t.steps, 100);
+  EXPECT_NEAR(t.interval, 0.010, kTol);
+  EXPECT_EQ(loop.stats().clamped, 1u);
+  EXPECT_NEAR(loop.stats().maxInterval(), 0.010, kTol);
+  // Slow loops keep ten periods (longer than the minimum).
+  LoopScheduler slow(50.0, kMaxBeliefIntervalFactor, true, kMinBeliefCatchUpInterval);
+  EXPECT_NEAR(slow.tick(1.0).interval, 0.2, kTol);
+  EXPECT_EQ(slow.tick(1.0).steps, 10);
+}
+
 TEST(LoopScheduler, FractionsAverageOut)
 {
   // 1.5 periods per tick: steps alternate 2, 1, 2, 1 ... so 1.5 steps per tick on average.

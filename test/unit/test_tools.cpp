@@ -207,3 +207,23 @@ TEST(ClosedLoopRun, ControllerAndChannelAreChecked)
   EXPECT_NE(r.out.find("\"channel\": \"angular\""), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("\"target\": 0.5"), std::string::npos) << r.out;
 }
+
+TEST(AicTiming, PrintsOneRowPerLoopAndRate)
+{
+  // Figures are machine-dependent (doc/jackal_aic_node.md quotes a run): check the table, not the timing.
+  const std::string bin = AIC_TIMING_BIN;
+  const Result r = run(bin + " --duration 0.3 --rates 200,500 --config " + std::string(SOURCE_DIR) +
+                       "/config/default.yaml --set tau=0.02");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("integrator exact"), std::string::npos) << r.out;
+  for (const char* row : { "| belief |      200 |", "| bare   |      200 |", "| belief |      500 |",
+                           "| bare   |      500 |" })
+  {
+    EXPECT_NE(r.out.find(row), std::string::npos) << row << "\n" << r.out;
+  }
+  EXPECT_EQ(run(bin + " --duration 0").code, 2);
+  EXPECT_EQ(run(bin + " --rates 0").code, 2);
+  EXPECT_EQ(run(bin + " --priority 100").code, 2);
+  EXPECT_EQ(run(bin + " --set tau=0.01").code, 2);  // an override needs a configuration
+  EXPECT_EQ(run(bin + " --duration 0.1 --config " + writeFile("timing_bad.yaml", "tau: -1\n")).code, 1);
+}

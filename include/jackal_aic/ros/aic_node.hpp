@@ -1,7 +1,8 @@
 #pragma once
 /**
  * \file aic_node.hpp
- * \brief The jackal_AIC node: runs the ActiveInferenceController on ROS timers.
+ * \brief The jackal_AIC node: runs the ActiveInferenceController, its belief loop on a
+ *        real-time thread (wall clock) or a ROS timer (use_sim_time), its action on a ROS timer.
  *
  * Topics (see doc/jackal_aic_node.md, "Topics"):
  *   in:  /joint_states (sensor_msgs/JointState), /imu/data (sensor_msgs/Imu),
@@ -10,9 +11,10 @@
  *   out: /cmd_drive (jackal_msgs/Drive, MODE_VELOCITY, drivers [rad/s]) every action tick, or in
  *        output mode cmd_vel jackal_velocity_controller/cmd_vel (geometry_msgs/Twist, the
  *        inverse of the stock diff drive: CmdVelOutput, include/jackal_aic/diff_drive.hpp);
- *        ~belief (geometry_msgs/TwistStamped, mu^(0)) every belief step;
- *        ~free_energy (std_msgs/Float64), ~eps_y, ~eps_mu (std_msgs/Float64MultiArray,
- *        rows = channels, cols = orders) every action tick (decimated from the belief rate);
+ *        ~belief (geometry_msgs/TwistStamped, mu^(0)), ~free_energy (std_msgs/Float64),
+ *        ~eps_y, ~eps_mu (std_msgs/Float64MultiArray, rows = channels, cols = orders) at
+ *        debug_rate (100 Hz) from the newest belief, when there is a new one, while any
+ *        of them has a subscriber (no debug timer wake-ups otherwise);
  *        /diagnostics (NodeDiagnostics). Publishers and the finiteness guard: NodeOutputs.
  *
  * The node is wiring. The decisions are the ROS-free Supervisor's
@@ -20,11 +22,21 @@
  * statistics); the parameters come from the schema (include/jackal_aic/param_schema.hpp)
  * through loadNodeParams() and NodeReconfigure; diagnostics are NodeDiagnostics.
  *
- * Threading: one thread (ros::spin). Subscribers validate and store; the belief timer
+ * Threading (doc/jackal_aic_node.md, 'Loops'). The spinner thread (ros::spin) runs the
+ * subscribers (validate and store; with action_trigger sample each accepted sample also
+ * runs the action step), the action timer (action_rate: the action step and the command),
+ * the debug timer (debug_rate) and the diagnostics. The belief loop
  * (belief_rate) integrates the beliefs in the steps the supervisor plans (a late tick is
- * caught up, one ~belief message per step, stamped with the time its belief refers to),
- * the action timer (action_rate) the action, and publishes the command. dynamic_reconfigure
- * queues a validated parameter set; the timers apply it at the start of their next tick.
+ * caught up):
+ *  - wall clock (use_sim_time false): on its own PeriodicThread, sleeping to absolute
+ *    CLOCK_MONOTONIC deadlines, optionally SCHED_FIFO (realtime_priority); a ROS timer
+ *    costs a wake-up of the spinner and a callback-queue round trip per period;
+ *  - simulated time: on a ROS timer (the thread could not follow /clock).
+ * One mutex guards the controller, the generalizer, the sensor pairing and the supervisor;
+ * each holder keeps it for one short step (a belief step is a few microseconds), and the
+ * debug timer copies a DebugSnapshot under it and publishes outside it. dynamic_reconfigure
+ * queues a validated parameter set; the action timer (and, on ROS timers, the belief timer)
+ * applies it at the start of its next tick.
  *
  * Safety: the controller runs only in the supervisor's kRunning state; otherwise the
  * command is zero, published at once on leaving kRunning. On (re)activation the controller
@@ -36,6 +48,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <mutex>
 
 #include <geometry_msgs/Twist.h>
 #include <jackal_msgs/Feedback.h>
@@ -48,6 +61,7 @@
 #include "jackal_aic/diff_drive.hpp"
 #include "jackal_aic/generalizer.hpp"
 #include "jackal_aic/node_params.hpp"
+#include "jackal_aic/periodic_thread.hpp"
 #include "jackal_aic/ros/node_diagnostics.hpp"
 #include "jackal_aic/ros/node_outputs.hpp"
 #include "jackal_aic/ros/node_reconfigure.hpp"
@@ -74,6 +88,10 @@ public:
    * \param pnh  private node handle (~: parameters, set point, debug topics)
    */
   AicNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh);
+  /// Stops the belief thread before anything it uses is destroyed.
+  ~AicNode();
+  AicNode(const AicNode&) = delete;
+  AicNode& operator=(const AicNode&) = delete;
 
   /**
    * \brief Read and validate the parameters, then create subscribers, publishers, timers,
@@ -90,8 +108,23 @@ private:
   void feedbackCallback(const jackal_msgs::Feedback::ConstPtr& msg);
   void beliefTimerCallback(const ros::TimerEvent& event);
   void actionTimerCallback(const ros::TimerEvent& event);
+  void debugTimerCallback(const ros::TimerEvent& event);
+  /**
+   * \brief One action step (call with the lock held): watchdogs, a += h da/dt (thesis eq.
+   *        3-16) over the interval [s] (-1: nominal; clamped to 3 periods), the command.
+   *        From the action timer (action_trigger timer) or each accepted sample (sample).
+   */
+  void actionStep(double interval);
+  /// A debug topic gained or lost a subscriber: run the debug timer only while any has one.
+  void debugSubscribersChanged();
+  /**
+   * \brief One belief-loop tick (either thread; takes the lock): plan the steps for the
+   *        measured interval [s] (-1: first tick), run the watchdogs, integrate the beliefs.
+   * \param stamp  the tick's time (ROS time), for the ~belief stamp
+   */
+  void beliefTick(double interval, const ros::Time& stamp);
 
-  /// Apply a parameter set queued by dynamic_reconfigure (between ticks).
+  /// Apply a parameter set queued by dynamic_reconfigure (between ticks; call with the lock held).
   void applyPendingParams();
   /// Carry out a supervisor transition: restart the history, warn, (de)activate.
   void carryOut(const Supervisor::Transition& t);
@@ -125,9 +158,19 @@ private:
   bool last_clipped_ = false;              ///< the last cmd_vel command was clipped
 
   ros::Subscriber joint_sub_, imu_sub_, set_point_sub_, status_sub_, feedback_sub_;
-  ros::Timer belief_timer_, action_timer_, diagnostics_timer_;
+  ros::Timer belief_timer_, action_timer_, diagnostics_timer_, debug_timer_;
 
+  /// Guards controller_, generalizer_, sync_, supervisor_, params_ and the belief bookkeeping below.
+  mutable std::mutex mutex_;
   std::uint64_t generalizer_drops_ = 0;  ///< samples the generalizer or the controller refused
+  std::uint64_t belief_steps_ = 0;       ///< belief integration steps since start (catch-up included)
+  std::uint64_t published_steps_ = 0;    ///< belief_steps_ at the last debug publication
+  ros::Time belief_stamp_;               ///< time of the newest belief step
+  ros::Time newest_sample_stamp_;        ///< stamp of the newest accepted sensor sample
+  DebugSnapshot snapshot_;               ///< the debug timer's copy (spinner thread only)
+
+  /// The wall-clock belief loop; null on simulated time. Declared last: destroyed (stopped) first.
+  std::unique_ptr<PeriodicThread> belief_thread_;
 };
 
 }  // namespace jackal_aic

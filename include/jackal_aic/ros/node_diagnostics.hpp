@@ -8,11 +8,14 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <string>
+#include <utility>
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <diagnostic_updater/update_functions.h>
 #include <ros/node_handle.h>
 
+#include "jackal_aic/periodic_thread.hpp"
 #include "jackal_aic/ros/sensor_sync.hpp"
 #include "jackal_aic/supervisor.hpp"
 #include "jackal_aic/types.hpp"
@@ -24,7 +27,7 @@ namespace jackal_aic
 /// The controller's side of the diagnostics, gathered by the node when they are published.
 struct ControllerReport
 {
-  double free_energy = 0.0;             ///< F of the last action tick
+  double free_energy = 0.0;             ///< F (thesis eq. 3-10) at the diagnostics publication
   double belief_vx = 0.0;               ///< mu^(0) x_dot [m/s]
   double belief_wz = 0.0;               ///< mu^(0) theta_dot [rad/s]
   Vector2 command = Vector2::Zero();    ///< wheel command (omega_L, omega_R) [rad/s], zero when inactive
@@ -55,9 +58,14 @@ public:
 
   /// The expected loop rates [Hz] (after a reconfigure).
   void setRates(double belief_rate, double action_rate);
+  /// How the belief loop runs, e.g. "real-time thread (clock_nanosleep, default scheduler)".
+  void setBeliefLoop(std::string description) { belief_loop_ = std::move(description); }
   /// One belief / action timer callback (for the achieved rates).
   void tickBelief() { belief_freq_->tick(); }
   void tickAction() { action_freq_->tick(); }
+  /// The age [s] of the newest sensor sample when a command was published (the sensor-to-
+  /// command latency; a window's p50 / p99 / max are shown in "loops").
+  void commandLatency(double seconds) { latency_.add(seconds); }
   /// Poll the updater (publishes when ~diagnostic_period has passed).
   void update() { updater_->update(); }
 
@@ -69,6 +77,8 @@ private:
   Supervisor& supervisor_;
   const SensorSynchronizer& sync_;
   std::function<ControllerReport()> report_;
+  std::string belief_loop_ = "ROS timer";
+  IntervalHistogram latency_;  ///< sensor-to-command latencies of the current window
   double belief_freq_min_ = 0.0, belief_freq_max_ = 0.0, action_freq_min_ = 0.0, action_freq_max_ = 0.0;
   std::unique_ptr<diagnostic_updater::Updater> updater_;
   std::unique_ptr<diagnostic_updater::FrequencyStatus> belief_freq_, action_freq_;

@@ -6,8 +6,10 @@
  *        non-finite number.
  */
 
+#include <atomic>
 #include <cstdint>
 #include <string>
+#include <functional>
 
 #include <ros/node_handle.h>
 #include <ros/publisher.h>
@@ -18,8 +20,21 @@
 namespace jackal_aic
 {
 /**
- * \brief The command (/cmd_drive, or jackal_velocity_controller/cmd_vel in output mode
- *        cmd_vel), ~belief, ~free_energy, ~eps_y, ~eps_mu.
+ * \brief The controller's state for the debug topics, copied under the node's lock by the
+ *        debug timer (debug_rate) so the publishing happens outside it. Fixed-size matrices:
+ *        no allocation.
+ */
+struct DebugSnapshot
+{
+  ros::Time stamp;           ///< time of the newest belief step the snapshot holds
+  MuTilde mu;                ///< beliefs, 3 x (p+1)
+  double free_energy = 0.0;  ///< F (thesis eq. 3-12); 0 before the first measurement
+  YTilde eps_y;              ///< eps_y, 5 x (p+1); 0 columns when nobody subscribes
+  MuTilde eps_mu;            ///< eps_mu, 3 x (p+1); 0 columns when nobody subscribes
+};
+
+/**
+ * \brief /cmd_drive, ~belief, ~free_energy, ~eps_y, ~eps_mu.
  *
  * Every suppressed non-finite output is counted (guardedOutputs(), shown in diagnostics).
  */
@@ -32,9 +47,16 @@ public:
    *                     in output mode cmd_vel; only the one of the mode is advertised
    * \param pnh          private node handle: ~belief (geometry_msgs/TwistStamped, queue 50),
    *                     ~free_energy (std_msgs/Float64), ~eps_y, ~eps_mu (std_msgs/Float64MultiArray), queue 10
+   * \param debug_subscribers_changed  called (on the spinner thread) whenever a debug topic
+   *                     gains or loses a subscriber, so the node runs its debug timer only when
+   *                     someone listens; may be empty
    * \param output_mode  "cmd_drive" or "cmd_vel" (validated by NodeParams::validate())
    */
-  NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, const std::string& output_mode = "cmd_drive");
+  NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::function<void()> debug_subscribers_changed = {},
+              const std::string& output_mode = "cmd_drive");
+
+  /// True if any of ~belief, ~free_energy, ~eps_y, ~eps_mu has a subscriber.
+  bool debugWanted() const;
 
   /// True in output mode cmd_vel.
   bool cmdVelMode() const { return cmd_vel_mode_; }
@@ -58,22 +80,24 @@ public:
   void belief(const ros::Time& stamp, const MuTilde& mu);
 
   /**
-   * \brief Compute the free energy of `controller` (0 before its first measurement; kept for
-   *        diagnostics) and publish it, eps_y (5 x (p+1)) and eps_mu (3 x (p+1), rows =
-   *        channels, cols = orders), each only for subscribers and only when finite.
+   * \brief Fill `snapshot` from `controller` (call under the node's lock): mu, the free
+   *        energy (0 before the first measurement), and eps_y / eps_mu only when someone
+   *        subscribes to them (else 0 columns).
    */
-  void debug(const ActiveInferenceController& controller);
+  void capture(const ActiveInferenceController& controller, const ros::Time& stamp, DebugSnapshot* snapshot) const;
 
-  /// Free energy F of the last debug() call.
-  double lastFreeEnergy() const { return last_free_energy_; }
-  /// Non-finite outputs suppressed so far.
-  std::uint64_t guardedOutputs() const { return guarded_outputs_; }
+  /**
+   * \brief Publish a snapshot: ~belief (as belief()), the free energy and eps_y / eps_mu
+   *        (rows = channels, cols = orders), each only for subscribers and only when finite.
+   */
+  void debug(const DebugSnapshot& snapshot);
+  /// Non-finite outputs suppressed so far (any thread).
+  std::uint64_t guardedOutputs() const { return guarded_outputs_.load(); }
 
 private:
   bool cmd_vel_mode_ = false;
   ros::Publisher cmd_pub_, belief_pub_, free_energy_pub_, eps_y_pub_, eps_mu_pub_;
-  double last_free_energy_ = 0.0;
-  std::uint64_t guarded_outputs_ = 0;
+  std::atomic<std::uint64_t> guarded_outputs_{ 0 };  ///< commands may be guarded on the belief thread
 };
 
 }  // namespace jackal_aic

@@ -1,0 +1,193 @@
+#!/usr/bin/env python3
+"""Measure what the jackal_AIC node costs on the simulated Jackal, in wall-clock time.
+
+For each belief rate: starts launch/sim.launch (the ODE plant and the node, wall clock)
+under its own ROS master, holds a 0.5 m/s set point, waits --warmup seconds, then over
+--duration seconds reads the node's CPU time from /proc/<pid>/stat (user + system, all
+threads, and per thread from /proc/<pid>/task/*/stat) and its belief step counter from
+/diagnostics ("loops" / "belief steps"), and prints one table row per rate:
+CPU share of one core (node; its belief thread), achieved belief step rate against the
+nominal, belief overruns, and the plant's CPU for scale.
+
+Example (the figures in doc/jackal_aic_node.md, 'Loops'):
+  aic_node_load.py --rates 1000,10000 --duration 30
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+from jackal_aic_tools import cli, experiment
+
+CLK_TCK = os.sysconf("SC_CLK_TCK")
+
+
+def cpu_seconds(stat_path):
+    """utime + stime [s] of a /proc/.../stat file (fields 14 and 15; the name may hold spaces)."""
+    with open(stat_path) as f:
+        text = f.read()
+    fields = text[text.rindex(")") + 2:].split()
+    return (int(fields[11]) + int(fields[12])) / float(CLK_TCK)
+
+
+def thread_times(pid):
+    """{thread name: CPU s} for every thread of ``pid`` (names as set by pthread_setname_np)."""
+    out = {}
+    task = "/proc/%d/task" % pid
+    for tid in os.listdir(task):
+        try:
+            with open(os.path.join(task, tid, "comm")) as f:
+                name = f.read().strip()
+            out[name + ":" + tid] = cpu_seconds(os.path.join(task, tid, "stat"))
+        except OSError:
+            pass
+    return out
+
+
+def node_pid(name):
+    import rosnode
+    import rosgraph
+    from xmlrpc.client import ServerProxy
+    uri = rosnode.get_api_uri(rosgraph.Master("/aic_node_load"), name)
+    if not uri:
+        return None
+    code, _, pid = ServerProxy(uri).getPid("/aic_node_load")
+    return pid if code == 1 else None
+
+
+def measure_one(rate, config, duration, warmup, overrides):
+    """Child process: one rate under its own master; prints one JSON line."""
+    import rospy
+    from diagnostic_msgs.msg import DiagnosticArray
+    from geometry_msgs.msg import Twist
+
+    launch = os.path.join(cli.package_path(), "launch", "sim.launch")
+    with tempfile.TemporaryDirectory() as tmp:
+        cfg = os.path.join(tmp, "config.yaml")
+        overrides = dict(overrides)
+        overrides["belief_rate"] = float(rate)
+        experiment.write_config(config, overrides, cfg)
+        with experiment.Simulator(launch, ["config:=" + cfg, "use_sim_time:=false"]) as sim:
+            rospy.init_node("aic_node_load", disable_signals=True)
+            steps = []
+            lock = threading.Lock()
+
+            def on_diag(msg):
+                for status in msg.status:
+                    if status.name.endswith("loops"):
+                        values = {kv.key: kv.value for kv in status.values}
+                        if "belief steps" in values:
+                            with lock:
+                                steps.append((msg.header.stamp.to_sec(), int(values["belief steps"]),
+                                              int(values["belief overruns (interval > 2 periods)"]),
+                                              values.get("belief loop", ""),
+                                              float(values["command latency p50 [ms] (sensor stamp -> /cmd_drive)"]),
+                                              float(values["command latency p99 [ms]"])))
+
+            rospy.Subscriber("/diagnostics", DiagnosticArray, on_diag)
+            pub = rospy.Publisher("/jackal_AIC/set_point", Twist, queue_size=1)
+            stop = threading.Event()
+
+            def hold():
+                t = Twist()
+                t.linear.x = 0.5
+                while not stop.is_set():
+                    pub.publish(t)
+                    time.sleep(0.05)
+
+            threading.Thread(target=hold, daemon=True).start()
+            deadline = time.time() + 60.0
+            pid = plant = None
+            while time.time() < deadline and (pid is None or plant is None):
+                pid = pid or node_pid("/jackal_AIC")
+                plant = plant or node_pid("/jackal_plant")
+                time.sleep(0.5)
+            if pid is None:
+                raise RuntimeError("no /jackal_AIC node: %s" % sim.deaths())
+            time.sleep(warmup)
+            t0 = time.time()
+            c0, p0, th0 = cpu_seconds("/proc/%d/stat" % pid), cpu_seconds("/proc/%d/stat" % plant), thread_times(pid)
+            time.sleep(duration)
+            t1 = time.time()
+            c1, p1, th1 = cpu_seconds("/proc/%d/stat" % pid), cpu_seconds("/proc/%d/stat" % plant), thread_times(pid)
+            stop.set()
+            with lock:
+                window = [s for s in steps if s[0] >= t0 - 1.0]
+            if len(window) < 2:
+                raise RuntimeError("too few diagnostics in the window")
+            (ta, na, oa, loop, _, _), (tb, nb, ob, _, _, _) = window[0], window[-1]
+            p50s = sorted(w[4] for w in window[1:])
+            belief_thread = sum(th1[k] - th0.get(k, 0.0) for k in th1 if k.startswith("aic_belief"))
+            row = {
+                "rate": rate, "duration": t1 - t0, "loop": loop,
+                "node_cpu": (c1 - c0) / (t1 - t0), "belief_thread_cpu": belief_thread / (t1 - t0),
+                "plant_cpu": (p1 - p0) / (t1 - t0),
+                "belief_steps_rate": (nb - na) / (tb - ta), "belief_overruns": ob - oa,
+                "latency_p50_ms": p50s[len(p50s) // 2], "latency_p99_ms": max(w[5] for w in window[1:]),
+                "threads": {k: round(100 * (th1[k] - th0.get(k, 0.0)) / (t1 - t0), 2)
+                            for k in th1 if th1[k] - th0.get(k, 0.0) > 0},
+            }
+            print("RESULT " + json.dumps(row))
+            sys.stdout.flush()
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                formatter_class=argparse.RawDescriptionHelpFormatter,
+                                epilog=__doc__.split("\n\n", 1)[1])
+    p.add_argument("--rates", default="1000,10000", help="belief rates [Hz], comma-separated (default %(default)s)")
+    p.add_argument("--duration", type=float, default=30.0, help="measured window [s] (default %(default)s)")
+    p.add_argument("--warmup", type=float, default=5.0, help="ignored start [s] (default %(default)s)")
+    p.add_argument("--config", default=os.path.join(cli.package_path(), "config", "default.yaml"),
+                   help="controller YAML (default: config/default.yaml)")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a parameter of the configuration, e.g. --set action_trigger=sample")
+    p.add_argument("--threads", action="store_true", help="also print the CPU share [%%] of each node thread")
+    p.add_argument("--one", type=float, help=argparse.SUPPRESS)
+    a = p.parse_args(argv)
+    if a.duration <= 0 or a.warmup < 0:
+        p.error("--duration must be > 0 and --warmup >= 0")
+    try:
+        overrides = dict(experiment.parse_override(o) for o in a.set)
+    except ValueError as e:
+        p.error(str(e))
+    if a.one is not None:
+        measure_one(a.one, a.config, a.duration, a.warmup, overrides)
+        return 0
+    try:
+        rates = [float(r) for r in a.rates.split(",")]
+    except ValueError:
+        p.error("--rates: not a list of numbers: %s" % a.rates)
+    print("| belief rate [Hz] | belief loop | node CPU (1 core) | belief thread CPU | belief steps [Hz] "
+          "| of nominal | overruns | latency p50 / p99 [ms] | plant CPU |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    failed = 0
+    for rate in rates:
+        # One process per rate: rospy joins one master per process.
+        proc = subprocess.run([sys.executable, os.path.abspath(__file__), "--one", str(rate),
+                               "--duration", str(a.duration), "--warmup", str(a.warmup), "--config", a.config]
+                              + ["--set=" + o for o in a.set],
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True)
+        lines = [l for l in proc.stdout.splitlines() if l.startswith("RESULT ")]
+        if proc.returncode != 0 or not lines:
+            failed += 1
+            print("| %.0f | failed: %s |" % (rate, (proc.stderr.strip().splitlines() or ["?"])[-1]))
+            continue
+        r = json.loads(lines[-1][len("RESULT "):])
+        print("| %.0f | %s | %.2f %% | %.2f %% | %.2f | %.3f %% | %d | %.2f / %.2f | %.1f %% |" % (
+            rate, r["loop"], 100 * r["node_cpu"], 100 * r["belief_thread_cpu"], r["belief_steps_rate"],
+            100 * r["belief_steps_rate"] / rate, r["belief_overruns"], r["latency_p50_ms"], r["latency_p99_ms"],
+            100 * r["plant_cpu"]))
+        if a.threads:
+            print("|   | threads [%% of a core]: %s |" % ", ".join("%s %.2f" % kv for kv in sorted(
+                r["threads"].items(), key=lambda kv: -kv[1])))
+        sys.stdout.flush()
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

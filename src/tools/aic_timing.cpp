@@ -1,0 +1,200 @@
+/**
+ * \file aic_timing.cpp
+ * \brief CLI: how well the jackal_AIC belief loop keeps real time on this machine, beside a
+ *        bare clock_nanosleep loop in the same run (doc/jackal_aic_node.md, 'Loops').
+ *
+ * For each rate, two PeriodicThreads run side by side for --duration seconds:
+ *  - "belief": the node's belief loop without ROS: under a mutex (as the node's), the
+ *    LoopScheduler plans the steps for the measured interval (catch-up), and the controller
+ *    (the configuration given, default config/default.yaml) integrates its beliefs that many
+ *    steps, against a held measurement of a 0.5 m/s step in progress;
+ *  - "bare": the same thread and deadlines with an empty step (the floor set by the kernel's
+ *    timer and scheduler).
+ * Printed per loop: the achieved wake-up rate and, for the belief loop, the integration
+ * step rate; the wake-up interval p50 / p99 / max; overruns (interval > 2 periods); and the
+ * thread's CPU share of one core.
+ *
+ * Usage: aic_timing [--duration S] [--rates 1000,10000] [--config FILE] [--set KEY=VALUE ...]
+ *                   [--priority N]
+ * Exit: 0 ran; 1 the configuration is invalid or the controller cannot be built; 2 bad arguments.
+ */
+#include <chrono>
+#include <memory>
+#include <stdexcept>
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "jackal_aic/cli.hpp"
+#include "jackal_aic/controller.hpp"
+#include "jackal_aic/params_yaml.hpp"
+#include "jackal_aic/periodic_thread.hpp"
+#include "jackal_aic/supervisor.hpp"
+
+namespace
+{
+using jackal_aic::ActiveInferenceController;
+using jackal_aic::AicParams;
+using jackal_aic::LoopScheduler;
+using jackal_aic::PeriodicStats;
+using jackal_aic::PeriodicThread;
+
+/// The node's belief loop without ROS (src/ros/aic_node.cpp, AicNode::beliefTick).
+class BeliefLoop
+{
+public:
+  BeliefLoop(const AicParams& params, double rate)
+    : controller_(params), scheduler_(rate, jackal_aic::kMaxBeliefIntervalFactor, true, jackal_aic::kMinBeliefCatchUpInterval)
+  {
+    // A 0.5 m/s step in progress: goal 0.5 m/s, wheels at 0.4 m/s and accelerating.
+    const double r = params.wheel_radius;
+    jackal_aic::YTilde y = jackal_aic::YTilde::Zero(jackal_aic::kYDim, params.numOrders());
+    y(jackal_aic::kOmegaLeft, 0) = y(jackal_aic::kOmegaRight, 0) = 0.4 / r;
+    if (params.numOrders() > 1)
+    {
+      y(jackal_aic::kOmegaLeft, 1) = y(jackal_aic::kOmegaRight, 1) = 1.0 / r;
+    }
+    controller_.setGoal(jackal_aic::Vector3(0.5, 0.0, 0.0));
+    if (!controller_.setMeasurement(y))
+    {
+      throw std::runtime_error("the controller refused the test measurement");
+    }
+  }
+
+  void tick(double interval)
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    const LoopScheduler::Tick t = scheduler_.tick(interval);
+    for (int i = 0; i < t.steps; ++i)
+    {
+      if (controller_.updateBeliefs(t.h) == ActiveInferenceController::Status::kRunaway)
+      {
+        ++runaways_;
+      }
+    }
+    steps_ += static_cast<std::uint64_t>(t.steps);
+  }
+
+  std::uint64_t steps() const
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return steps_;
+  }
+  std::uint64_t runaways() const
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return runaways_;
+  }
+
+private:
+  mutable std::mutex mutex_;
+  ActiveInferenceController controller_;
+  LoopScheduler scheduler_;
+  std::uint64_t steps_ = 0, runaways_ = 0;
+};
+
+void printRow(const char* loop, double rate, const PeriodicStats& s, double step_rate)
+{
+  char steps[32];
+  if (step_rate >= 0.0)
+  {
+    std::snprintf(steps, sizeof(steps), "%.2f", step_rate);
+  }
+  else
+  {
+    std::snprintf(steps, sizeof(steps), "-");
+  }
+  std::printf("| %-6s | %8.0f | %10.2f | %6.2f %% | %10s | %8.3f | %8.3f | %8.3f | %8llu | %6.2f %% |\n", loop, rate,
+              s.achievedRate(), 100.0 * s.achievedRate() / rate, steps, 1e3 * s.p50, 1e3 * s.p99, 1e3 * s.max,
+              static_cast<unsigned long long>(s.overruns), 100.0 * s.cpuShare());
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  CLI::App app("aic_timing: the belief loop's real-time figures beside a bare clock_nanosleep loop", "aic_timing");
+  double duration = 10.0;
+  std::vector<double> rates{ 1000.0, 10000.0 };
+  std::string config;
+  std::vector<std::string> overrides;
+  int priority = 0;
+  app.add_option("--duration", duration, "seconds per rate (default 10)")
+      ->check(jackal_aic::finiteNumber())
+      ->check(CLI::Range(0.1, 3600.0));
+  app.add_option("--rates", rates, "loop rates [Hz] (default 1000,10000)")
+      ->delimiter(',')
+      ->check(CLI::Range(1.0, 100000.0));
+  app.add_option("--config", config, "controller YAML (default: the built-in defaults; see config/default.yaml)")
+      ->check(CLI::ExistingFile);
+  jackal_aic::addOverrideOption(app, "--set", &overrides, "override a controller parameter, e.g. --set tau=0.01");
+  app.add_option("--priority", priority, "SCHED_FIFO priority for both threads, 1..99 (default 0: none)")
+      ->check(CLI::Range(0, 99));
+  const int parsed = jackal_aic::parseCommandLine(app, argc, argv);
+  if (parsed >= 0)
+  {
+    return parsed;
+  }
+
+  AicParams params;
+  try
+  {
+    params = config.empty() ? AicParams() : jackal_aic::loadAicParams(config, overrides);
+    if (config.empty() && !overrides.empty())
+    {
+      return jackal_aic::badArgument(app, "--set needs --config");
+    }
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "aic_timing: " << e.what() << "\n";
+    return 1;
+  }
+
+  const std::string source = config.empty() ? std::string(" (built-in defaults)") : ", " + config;
+  std::printf("aic_timing: %.1f s per rate; controller p = %d, integrator %s%s\n", duration, params.embedding_order,
+              jackal_aic::toString(params.integrator).c_str(), source.c_str());
+  std::printf("| loop   | rate [Hz] | achieved [Hz] | of nominal | steps [Hz] | p50 [ms] | p99 [ms] | max [ms] | overruns "
+              "| CPU (1 core) |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const double rate : rates)
+  {
+    params.belief_rate = rate;
+    std::unique_ptr<BeliefLoop> loop;
+    try
+    {
+      loop = std::make_unique<BeliefLoop>(params, rate);
+    }
+    catch (const std::exception& e)
+    {
+      std::cerr << "aic_timing: cannot build the controller: " << e.what() << "\n";
+      return 1;
+    }
+    PeriodicThread belief([&loop](double interval) { loop->tick(interval); }, "aic_belief");
+    PeriodicThread bare([](double) {}, "aic_bare");
+    for (PeriodicThread* t : { &belief, &bare })
+    {
+      const std::string message = t->start(rate, priority);
+      if (!message.empty())
+      {
+        std::fprintf(stderr, "aic_timing: %s\n", message.c_str());
+      }
+    }
+    std::this_thread::sleep_for(std::chrono::duration<double>(duration));
+    belief.stop();
+    bare.stop();
+    const PeriodicStats b = belief.stats();
+    const double step_rate = b.elapsed > 0.0 ? static_cast<double>(loop->steps()) / b.elapsed : 0.0;
+    printRow("belief", rate, b, step_rate);
+    printRow("bare", rate, bare.stats(), -1.0);
+    if (loop->runaways() > 0)
+    {
+      std::fprintf(stderr, "aic_timing: %llu runaway(s) in the belief loop at %.0f Hz\n",
+                   static_cast<unsigned long long>(loop->runaways()), rate);
+    }
+  }
+  return 0;
+}
