@@ -39,6 +39,13 @@ if [ "$tests" -eq 0 ]; then
   failed=$((failed + 1))
 fi
 [ "$verdict" -ne 0 ] && [ "$failed" -eq 0 ] && failed=1
+# The installed package (catkin_make install) runs the demo launch: scripts/check_install.sh.
+if bash "$here/check_install.sh"; then
+  passed=$((passed + 1))
+else
+  echo "run_tests: FAILURE: the installed package does not run the demo launch (scripts/check_install.sh)"
+  failed=$((failed + 1))
+fi
 # Every failure's message, one short block each, last: a log cut to its tail still says why.
 python3 "$here/failure_summary.py" "$results" || true
 echo "${passed} passed, ${failed} failed, ${skipped} skipped"

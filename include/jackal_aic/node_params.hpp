@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "jackal_aic/diff_drive.hpp"
 #include "jackal_aic/params.hpp"
 
 namespace jackal_aic
@@ -36,11 +37,14 @@ std::string toString(ActionTrigger trigger);
  * \brief Everything the node reads from its private namespace.
  *
  * Keys are the member names (YAML keys of config/\*.yaml). Controller parameters live in
- * `aic` and keep the names of AicParams. Defaults here are the schema's defaults.
+ * `aic` and keep the names of AicParams. Defaults here are the schema's defaults, and equal
+ * config/default.yaml's values (test_param_schema: DefaultYamlHoldsTheDefaults).
  */
 struct NodeParams
 {
-  AicParams aic;  ///< controller parameters (thesis tables C-1 / 5-8); validated by AicParams::validate()
+  /// Controller parameters; defaults: the recommended set (recommendedAicParams(), config/default.yaml);
+  /// validated by AicParams::validate().
+  AicParams aic = recommendedAicParams();
 
   double sensor_timeout = 0.25;     ///< no accepted sensor sample for this long -> zero command [s], > 0
   double set_point_timeout = 0.5;   ///< no set point for this long -> zero command [s], > 0
@@ -53,6 +57,12 @@ struct NodeParams
   double runaway_hold_time = 1.0;   ///< after a runaway reset, zero command for this long [s], >= 0
   std::vector<std::string> left_joints;   ///< joints averaged into omega_L; required, non-empty
   std::vector<std::string> right_joints;  ///< joints averaged into omega_R; required, non-empty
+  /// "cmd_drive" (jackal_msgs/Drive on /cmd_drive) or "cmd_vel" (geometry_msgs/Twist on
+  /// jackal_velocity_controller/cmd_vel, inverted through the stock diff drive); read at start.
+  std::string output_mode = "cmd_drive";
+  /// cmd_vel mode: the stock diff_drive_controller's kinematics and limits (keys cmd_vel_<member>;
+  /// defaults: the Jackal's jackal_control/config/control.yaml), each > 0.
+  DiffDriveParams cmd_vel;
   /// ~belief, ~free_energy, ~eps_y, ~eps_mu are published at most this often, from the newest state [Hz], > 0.
   double debug_rate = 100.0;
   /// Wall-clock belief thread: 0 = default scheduler, 1..99 = ask for SCHED_FIFO at this priority.

@@ -34,11 +34,18 @@ enum class NodeState
   kWaiting,  ///< no sensor sample or no set point yet, or warming up the generalizer: zero command
   kRunning,  ///< controller active
   kStale,    ///< sensors or set point timed out: zero command, diagnostics WARN
-  kRunaway   ///< runaway reset, holding zero command: diagnostics ERROR
+  kRunaway,  ///< runaway reset, holding zero command: diagnostics ERROR
+  kHeld      ///< the MCU reports a stop (mcuStatus(), mcuFeedback()): command = measured wheel speeds, diagnostics WARN
 };
 
-/// "waiting", "running", "stale", "runaway".
+/// "waiting", "running", "stale", "runaway", "held".
 const char* toString(NodeState state);
+
+/// A stop reported by jackal_msgs/Feedback (actual_mode MODE_NONE) counts for this long after
+/// the message [s]: the MCU publishes Feedback at 50 Hz, so a silent bridge does not hold forever.
+constexpr double kMcuFeedbackExpiry = 0.5;
+/// jackal_msgs/Drive MODE_NONE: the motors do not follow commands (Feedback actual_mode).
+constexpr int kMcuModeNone = -1;
 
 /// The largest interval the action loop integrates over, in nominal periods (longer gaps are clamped).
 constexpr double kMaxActionIntervalFactor = 3.0;
@@ -144,9 +151,14 @@ enum class SetPointResult
  *   generalizer since its (re)start (warm-up);
  * - else kStale if the last accepted sample is older than sensor_timeout or the last set
  *   point older than set_point_timeout;
+ * - else kHeld while the MCU reports a stop (mcuStopped(): jackal_msgs/Status with
+ *   drivers_active false or an external stop present and stopped, or a jackal_msgs/Feedback
+ *   with actual_mode MODE_NONE within kMcuFeedbackExpiry): the node commands the measured
+ *   wheel speeds, so the action does not wind up against motors that do not move;
  * - else kRunning.
- * Entering kRunning activates the controller; leaving it deactivates it (zero command at
- * once). Losing the sensors also restarts the sample history (the generalizer warms up
+ * Entering kRunning activates the controller (reset, started from the measured wheel speeds:
+ * bumpless, also on leaving kHeld); leaving it deactivates it (the idle command at once: zero,
+ * or the measured wheel speeds in kHeld). Losing the sensors also restarts the sample history (the generalizer warms up
  * again). The controller is active exactly in kRunning.
  * Not thread-safe: call from the node's one spinner thread.
  */
@@ -162,10 +174,10 @@ public:
     bool restart_history = false;  ///< sensors lost: reset the generalizer and the pairing history
     /// Entered kRunning: reset the controller, start it from the measured wheel speeds.
     bool activate() const { return changed && to == NodeState::kRunning; }
-    /// Left kRunning: stop the controller and publish a zero command now.
+    /// Left kRunning: stop the controller and publish the idle command now (zero; measured wheels in kHeld).
     bool deactivate() const { return changed && from == NodeState::kRunning; }
-    /// Entered kStale: log a warning with reason().
-    bool warn() const { return changed && to == NodeState::kStale; }
+    /// Entered kStale or kHeld: log a warning with reason().
+    bool warn() const { return changed && (to == NodeState::kStale || to == NodeState::kHeld); }
   };
 
   /**
@@ -193,6 +205,18 @@ public:
    *         (linear.x, 0, angular.z) after clamping
    */
   SetPointResult setPoint(const double (&fields)[6]);
+
+  /**
+   * \brief The MCU's jackal_msgs/Status (1 Hz, and at once when the run/stop loop changes):
+   *        the MCU stops the motors when drivers_active is false or an external stop is
+   *        present and stopped. Kept until the next Status.
+   */
+  void mcuStatus(bool drivers_active, bool external_stop_present, bool external_stop_stopped);
+  /**
+   * \brief The MCU's jackal_msgs/Feedback (50 Hz): actual_mode == kMcuModeNone (MODE_NONE)
+   *        means the motors do not follow commands; counts for kMcuFeedbackExpiry.
+   */
+  void mcuFeedback(int actual_mode);
 
   // ---- decisions
   /// Watchdogs at the clock's time (every timer tick). See the class comment.
@@ -222,6 +246,11 @@ public:
   const Vector2& measuredWheels() const { return measured_wheels_; }
   /// Samples accepted since the last history restart (at most kMaxOrders + 1).
   int warmSamples() const { return warm_samples_; }
+
+  /// The MCU reports a stop now (see mcuStatus(), mcuFeedback()); *why (optional) says which.
+  bool mcuStopped(std::string* why = nullptr) const;
+  /// MCU stops seen (entries into kHeld).
+  std::uint64_t mcuStops() const { return mcu_stops_; }
 
   /// Age of the last accepted sample [s] at the clock's time; -1 if there was none.
   double sampleAge() const;
@@ -276,6 +305,11 @@ private:
   Vector2 measured_wheels_ = Vector2::Zero();
   Vector3 goal_ = Vector3::Zero();
   std::uint64_t runaways_ = 0, stale_events_ = 0, set_point_drops_ = 0, set_point_clamps_ = 0;
+  bool mcu_drivers_active_ = true, mcu_external_stop_ = false;  ///< last Status: true / false = OK to move
+  bool has_mcu_mode_ = false;
+  int mcu_mode_ = 0;          ///< last Feedback actual_mode
+  double last_mcu_mode_ = 0.0;  ///< receipt time of the last Feedback [s]
+  std::uint64_t mcu_stops_ = 0;
 };
 
 }  // namespace jackal_aic

@@ -101,11 +101,11 @@ std::vector<ParamSpec> buildSchema()
     { "var_mu", T::kDoubleList, C, "active_inference", kMinVariance, false, kMaxVariance, "SI^2 of each order",
       "Belief variances sigma^2_mu, one per order 0..p or one per order and channel (x_dot, y_dot, theta_dot; "
       "order-major); precision Pi_mu = 1/sigma^2 (thesis table C-1)",
-      true, 0, false, kMuDim, {}, { 1.5, 2.0, 4.0, 8.0, 16.0, 32.0 }, JACKAL_AIC_MEMBER(aic.var_mu) },
+      true, 0, false, kMuDim, {}, { 4.047, 5.395, 10.79, 21.58, 43.16, 86.32 }, JACKAL_AIC_MEMBER(aic.var_mu) },
     { "var_y", T::kDoubleList, C, "active_inference", kMinVariance, false, kMaxVariance, "SI^2 of each order",
       "Sensor variances sigma^2_y, one per order 0..p or one per order and channel (gyro z, omega_L, omega_R, "
       "accel x, accel y; order-major); precision Pi_y = 1/sigma^2 (thesis table C-1)",
-      true, 0, false, kYDim, {}, { 2.0, 2.0, 1.0e5, 1.0e5, 1.0e5, 1.0e5 }, JACKAL_AIC_MEMBER(aic.var_y) },
+      true, 0, false, kYDim, {}, { 2.0, 64.99, 1.0e5, 1.0e5, 1.0e5, 1.0e5 }, JACKAL_AIC_MEMBER(aic.var_y) },
     { "accel_in_model", T::kBool, C, "active_inference", kNone, false, kNone, "-",
       "If true, the accelerometer-x row of the sensor model maps onto mu^(1); false is the thesis model "
       "(accelerometer rows zero)",
@@ -173,6 +173,33 @@ std::vector<ParamSpec> buildSchema()
     { "realtime_priority", T::kInt, N, "node", 0.0, false, 99.0, "-",
       "Belief thread (wall-clock mode): 0 = default scheduler, 1..99 = SCHED_FIFO at this priority if permitted",
       false, 0, false, 0, {}, {}, JACKAL_AIC_MEMBER(realtime_priority) },
+    // ---- output (node only, read at start): cmd_drive, or cmd_vel through the stock diff drive
+    { "output_mode", T::kString, N, "output", kNone, false, kNone, "-",
+      "cmd_drive: publish the wheel commands as jackal_msgs/Drive on /cmd_drive (simulator, modified bases); "
+      "cmd_vel: publish the twist the stock diff_drive_controller maps back onto them, as geometry_msgs/Twist "
+      "on jackal_velocity_controller/cmd_vel (an unmodified Jackal)",
+      false, 0, false, 0, { "cmd_drive", "cmd_vel" }, {}, JACKAL_AIC_MEMBER(output_mode) },
+    { "cmd_vel_wheel_radius", T::kDouble, N, "output", 0.0, true, kInf, "m",
+      "cmd_vel mode: the stock controller's wheel radius (jackal_control control.yaml)",
+      false, 0, false, 0, {}, {}, JACKAL_AIC_MEMBER(cmd_vel.wheel_radius) },
+    { "cmd_vel_wheel_separation", T::kDouble, N, "output", 0.0, true, kInf, "m",
+      "cmd_vel mode: the stock controller's wheel separation (the track, jackal_description)",
+      false, 0, false, 0, {}, {}, JACKAL_AIC_MEMBER(cmd_vel.wheel_separation) },
+    { "cmd_vel_wheel_separation_multiplier", T::kDouble, N, "output", 0.0, true, kInf, "-",
+      "cmd_vel mode: the stock controller's wheel_separation_multiplier (control.yaml)",
+      false, 0, false, 0, {}, {}, JACKAL_AIC_MEMBER(cmd_vel.wheel_separation_multiplier) },
+    { "cmd_vel_max_linear_velocity", T::kDouble, N, "output", 0.0, true, kInf, "m/s",
+      "cmd_vel mode: the stock controller's linear.x max_velocity; beyond it the command is clipped (anti-windup)",
+      false, 0, false, 0, {}, {}, JACKAL_AIC_MEMBER(cmd_vel.max_linear_velocity) },
+    { "cmd_vel_max_linear_acceleration", T::kDouble, N, "output", 0.0, true, kInf, "m/s^2",
+      "cmd_vel mode: the stock controller's linear.x max_acceleration",
+      false, 0, false, 0, {}, {}, JACKAL_AIC_MEMBER(cmd_vel.max_linear_acceleration) },
+    { "cmd_vel_max_angular_velocity", T::kDouble, N, "output", 0.0, true, kInf, "rad/s",
+      "cmd_vel mode: the stock controller's angular.z max_velocity",
+      false, 0, false, 0, {}, {}, JACKAL_AIC_MEMBER(cmd_vel.max_angular_velocity) },
+    { "cmd_vel_max_angular_acceleration", T::kDouble, N, "output", 0.0, true, kInf, "rad/s^2",
+      "cmd_vel mode: the stock controller's angular.z max_acceleration",
+      false, 0, false, 0, {}, {}, JACKAL_AIC_MEMBER(cmd_vel.max_angular_acceleration) },
   };
   // clang-format on
 }

@@ -49,6 +49,21 @@ std::string ParamViolation::toString() const
   return name + " = " + value + " (allowed: " + allowed + ")";
 }
 
+AicParams recommendedAicParams()
+{
+  AicParams p;  // rates 1000 / 50 Hz, robot geometry, runaway_limit: as table 5-8
+  p.integrator = Integrator::kExact;
+  p.tau = 0.01272;
+  p.k_mu = 0.3;
+  p.k_a = 11.98;
+  p.embedding_order = 2;
+  p.var_mu = { 4.047, 5.395, 10.79 };
+  p.var_y = { 2.0, 64.99, 1.0e5 };
+  p.max_action_lead = 3.0;
+  p.max_action_lead_turn = 1.0;
+  return p;
+}
+
 std::vector<ParamViolation> AicParams::validate() const
 {
   // The ranges are the schema's (include/jackal_aic/param_schema.hpp); the cross rule is here.

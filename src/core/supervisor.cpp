@@ -25,6 +25,8 @@ const char* toString(NodeState state)
       return "stale";
     case NodeState::kRunaway:
       return "runaway";
+    case NodeState::kHeld:
+      return "held";
   }
   return "unknown";
 }
@@ -149,6 +151,41 @@ void Supervisor::imuAccepted()
   last_imu_ = clock_.now();
 }
 
+void Supervisor::mcuStatus(bool drivers_active, bool external_stop_present, bool external_stop_stopped)
+{
+  mcu_drivers_active_ = drivers_active;
+  mcu_external_stop_ = external_stop_present && external_stop_stopped;
+}
+
+void Supervisor::mcuFeedback(int actual_mode)
+{
+  has_mcu_mode_ = true;
+  mcu_mode_ = actual_mode;
+  last_mcu_mode_ = clock_.now();
+}
+
+bool Supervisor::mcuStopped(std::string* why) const
+{
+  std::string reason;
+  if (!mcu_drivers_active_)
+  {
+    reason = "the MCU reports the motor drivers inactive (/status drivers_active false)";
+  }
+  else if (mcu_external_stop_)
+  {
+    reason = "the MCU reports an external stop engaged (/status driver_external_stop_stopped)";
+  }
+  else if (has_mcu_mode_ && mcu_mode_ == kMcuModeNone && clock_.now() - last_mcu_mode_ <= kMcuFeedbackExpiry)
+  {
+    reason = "the MCU reports actual_mode MODE_NONE (/feedback): the motors do not follow commands";
+  }
+  if (why != nullptr)
+  {
+    *why = reason;
+  }
+  return !reason.empty();
+}
+
 SetPointResult Supervisor::setPoint(const double (&fields)[6])
 {
   for (double v : fields)
@@ -198,6 +235,10 @@ Supervisor::Transition Supervisor::update()
   {
     next = NodeState::kStale;
   }
+  else if (mcuStopped())
+  {
+    next = NodeState::kHeld;
+  }
 
   bool restart = false;
   if (has_sample_ && !sensors_fresh && warm_samples_ > 0)
@@ -237,6 +278,14 @@ Supervisor::Transition Supervisor::update()
       }
       ++stale_events_;
       break;
+    case NodeState::kHeld:
+    {
+      std::string why;
+      mcuStopped(&why);
+      reason << why << "; holding the command at the measured wheel speeds";
+      ++mcu_stops_;
+      break;
+    }
     case NodeState::kRunning:
       reason << "controlling";
       break;

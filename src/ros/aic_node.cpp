@@ -4,6 +4,8 @@
  */
 #include "jackal_aic/ros/aic_node.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "jackal_aic/ros/node_params.hpp"
@@ -79,12 +81,18 @@ bool AicNode::init()
   sync_ = std::make_unique<SensorSynchronizer>(syncConfig(params_));
   supervisor_ = std::make_unique<Supervisor>(params_, clock_);
 
-  outputs_ = std::make_unique<NodeOutputs>(nh_, pnh_, [this] { debugSubscribersChanged(); });
+  outputs_ = std::make_unique<NodeOutputs>(nh_, pnh_, [this] { debugSubscribersChanged(); }, params_.output_mode);
+  if (outputs_->cmdVelMode())
+  {
+    cmd_vel_ = std::make_unique<CmdVelOutput>(params_.cmd_vel);  // validated above
+  }
 
   const auto hints = ros::TransportHints().tcpNoDelay();
   joint_sub_ = nh_.subscribe("joint_states", 10, &AicNode::jointStateCallback, this, hints);
   imu_sub_ = nh_.subscribe("imu/data", 10, &AicNode::imuCallback, this, hints);
   set_point_sub_ = pnh_.subscribe("set_point", 10, &AicNode::setPointCallback, this, hints);
+  status_sub_ = nh_.subscribe("status", 10, &AicNode::statusCallback, this, hints);
+  feedback_sub_ = nh_.subscribe("feedback", 10, &AicNode::feedbackCallback, this, hints);
 
   reconfigure_ = std::make_unique<NodeReconfigure>(pnh_, params_);
   diagnostics_ = std::make_unique<NodeDiagnostics>(nh_, pnh_, *supervisor_, *sync_,
@@ -201,6 +209,18 @@ void AicNode::setPointCallback(const geometry_msgs::Twist::ConstPtr& msg)
   controller_->setGoal(supervisor_->goal());
 }
 
+void AicNode::statusCallback(const jackal_msgs::Status::ConstPtr& msg)
+{
+  const std::lock_guard<std::mutex> lock(mutex_);
+  supervisor_->mcuStatus(msg->drivers_active, msg->driver_external_stop_present, msg->driver_external_stop_stopped);
+}
+
+void AicNode::feedbackCallback(const jackal_msgs::Feedback::ConstPtr& msg)
+{
+  const std::lock_guard<std::mutex> lock(mutex_);
+  supervisor_->mcuFeedback(msg->actual_mode);
+}
+
 // ---------------------------------------------------------------------------
 // Supervisor decisions.
 
@@ -214,7 +234,9 @@ void AicNode::carryOut(const Supervisor::Transition& t)
   }
   if (t.warn())
   {
-    ROS_WARN_STREAM("jackal_AIC: " << supervisor_->reason() << "; commanding zero");
+    // kStale: zero command; kHeld: the reason says the command holds the measured wheel speeds.
+    ROS_WARN_STREAM("jackal_AIC: " << supervisor_->reason()
+                                   << (supervisor_->state() == NodeState::kHeld ? "" : "; commanding zero"));
   }
   if (t.activate())
   {
@@ -222,7 +244,7 @@ void AicNode::carryOut(const Supervisor::Transition& t)
   }
   else if (t.deactivate())
   {
-    publishCommand(0.0, 0.0);  // at once, not at the next action tick
+    publishIdle();  // at once, not at the next action tick
   }
 }
 
@@ -233,6 +255,10 @@ void AicNode::activate()
   controller_->setGoal(supervisor_->goal());
   controller_->setMeasurement(generalizer_->yTilde());
   controller_->setAction(wheels);  // bumpless start from the measured wheel speeds
+  if (cmd_vel_)
+  {
+    cmd_vel_->reset(wheels);  // the stock controller's acceleration limit starts from the wheels too
+  }
   // Beliefs start at the measured twist (mu^(0) = G omega), higher orders zero.
   MuTilde mu = MuTilde::Zero(kMuDim, params_.aic.numOrders());
   mu.col(0) = controller_->model().twistFromWheels(wheels);
@@ -288,12 +314,13 @@ void AicNode::actionTimerCallback(const ros::TimerEvent& event)
   applyPendingParams();
   if (params_.action_trigger == ActionTrigger::kSample)
   {
-    // The samples run the action; the timer keeps /cmd_drive alive with zeros while inactive.
+    // The samples run the action; the timer keeps the command alive (zeros, or the measured
+    // wheel speeds while the MCU holds) while inactive.
     carryOut(supervisor_->update());
     if (!supervisor_->active())
     {
       diagnostics_->tickAction();
-      publishCommand(0.0, 0.0);
+      publishIdle();
     }
     return;
   }
@@ -308,7 +335,7 @@ void AicNode::actionStep(double interval)
   carryOut(supervisor_->update());
   if (!supervisor_->active())
   {
-    publishCommand(0.0, 0.0);
+    publishIdle();
   }
   else if (controller_->updateAction(h) == ActiveInferenceController::Status::kRunaway)
   {
@@ -321,6 +348,51 @@ void AicNode::actionStep(double interval)
     diagnostics_->commandLatency((ros::Time::now() - newest_sample_stamp_).toSec());
   }
   supervisor_->actionLoop().recordDuration((ros::WallTime::now() - start).toSec());
+}
+
+void AicNode::publishCommand(double omega_left, double omega_right)
+{
+  const double limit = params_.aic.max_wheel_speed;
+  if (!cmd_vel_)
+  {
+    outputs_->command(omega_left, omega_right, limit);
+    return;
+  }
+  if (!std::isfinite(omega_left) || !std::isfinite(omega_right))
+  {
+    ROS_ERROR_THROTTLE(1.0, "jackal_AIC: non-finite wheel command replaced by zero");
+  }
+  const Vector2 wheels(std::isfinite(omega_left) ? std::clamp(omega_left, -limit, limit) : 0.0,
+                       std::isfinite(omega_right) ? std::clamp(omega_right, -limit, limit) : 0.0);
+  // The stock controller limits over its own 50 Hz period; ours is the action period.
+  const CmdVelOutput::Result r = cmd_vel_->convert(wheels, supervisor_->actionLoop().nominalPeriod());
+  last_clipped_ = r.clipped;
+  if (r.clipped)
+  {
+    ROS_WARN_STREAM_THROTTLE(1.0, "jackal_AIC: wheel command " << wheels.transpose()
+                                                                << " rad/s exceeds the stock controller's limits; "
+                                                                   "clipped to "
+                                                                << r.wheels.transpose() << " rad/s ["
+                                                                << cmd_vel_->clips() << " so far]");
+    if (supervisor_->active())
+    {
+      controller_->setAction(r.wheels);  // anti-windup: the action is what the robot gets
+    }
+  }
+  outputs_->twist(r.twist.linear, r.twist.angular);
+}
+
+void AicNode::publishIdle()
+{
+  if (supervisor_->state() == NodeState::kHeld)
+  {
+    const Vector2& wheels = supervisor_->measuredWheels();  // no windup against stopped motors
+    publishCommand(wheels(0), wheels(1));
+  }
+  else
+  {
+    publishCommand(0.0, 0.0);
+  }
 }
 
 void AicNode::debugSubscribersChanged()
@@ -358,6 +430,9 @@ ControllerReport AicNode::controllerReport() const
   r.command = supervisor_->active() ? controller_->action() : Vector2::Zero();
   r.guarded_outputs = outputs_->guardedOutputs();
   r.generalizer_drops = generalizer_drops_;
+  r.output_mode = params_.output_mode;
+  r.output_clips = cmd_vel_ ? cmd_vel_->clips() : 0;
+  r.last_output_clipped = last_clipped_;
   return r;
 }
 

@@ -134,10 +134,25 @@ void NodeDiagnostics::controller(diagnostic_updater::DiagnosticStatusWrapper& st
   stat.addf("belief omega_z [rad/s]", "%.3f", report.belief_wz);
   stat.addf("command left [rad/s]", "%.3f", report.command(0));
   stat.addf("command right [rad/s]", "%.3f", report.command(1));
+  stat.add("output mode", report.output_mode);
+  stat.add("commands clipped to the stock controller's limits (cmd_vel)", report.output_clips);
+  stat.add("MCU stops", supervisor_.mcuStops());
   switch (supervisor_.state())
   {
     case NodeState::kRunning:
-      stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "running");
+      if (report.last_output_clipped)
+      {
+        stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                     "running; command clipped to the stock controller's velocity/acceleration limits "
+                     "(fed back as the action)");
+      }
+      else
+      {
+        stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "running");
+      }
+      break;
+    case NodeState::kHeld:
+      stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "held: " + reason);
       break;
     case NodeState::kWaiting:
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "waiting: " + reason);

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <geometry_msgs/Twist.h>
 #include <geometry_msgs/TwistStamped.h>
 #include <jackal_msgs/Drive.h>
 #include <ros/console.h>
@@ -41,9 +42,19 @@ std_msgs::Float64MultiArray toMultiArray(const Eigen::Ref<const Eigen::MatrixXd>
 }
 }  // namespace
 
-NodeOutputs::NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::function<void()> debug_subscribers_changed)
+NodeOutputs::NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::function<void()> debug_subscribers_changed,
+                         const std::string& output_mode)
+  : cmd_vel_mode_(output_mode == "cmd_vel")
 {
-  cmd_pub_ = nh.advertise<jackal_msgs::Drive>("cmd_drive", 1);
+  // Only the command topic of the mode: on the robot, jackal_node is the one /cmd_drive publisher.
+  if (cmd_vel_mode_)
+  {
+    cmd_pub_ = nh.advertise<geometry_msgs::Twist>("jackal_velocity_controller/cmd_vel", 1);
+  }
+  else
+  {
+    cmd_pub_ = nh.advertise<jackal_msgs::Drive>("cmd_drive", 1);
+  }
   ros::SubscriberStatusCallback changed;
   if (debug_subscribers_changed)
   {
@@ -75,6 +86,21 @@ void NodeOutputs::command(double omega_left, double omega_right, double limit)
   cmd.mode = jackal_msgs::Drive::MODE_VELOCITY;
   cmd.drivers[jackal_msgs::Drive::LEFT] = static_cast<float>(std::clamp(omega_left, -limit, limit));
   cmd.drivers[jackal_msgs::Drive::RIGHT] = static_cast<float>(std::clamp(omega_right, -limit, limit));
+  cmd_pub_.publish(cmd);
+}
+
+void NodeOutputs::twist(double linear, double angular)
+{
+  if (!std::isfinite(linear) || !std::isfinite(angular))
+  {
+    ++guarded_outputs_;
+    ROS_ERROR_THROTTLE(1.0, "jackal_AIC: non-finite twist command replaced by zero");
+    linear = 0.0;
+    angular = 0.0;
+  }
+  geometry_msgs::Twist cmd;
+  cmd.linear.x = linear;
+  cmd.angular.z = angular;
   cmd_pub_.publish(cmd);
 }
 

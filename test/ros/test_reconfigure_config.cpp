@@ -28,6 +28,15 @@ NodeParams validNodeParams()
   return p;
 }
 
+/// validNodeParams() with the thesis's controller (AicParams{}: table 5-8, p = 3), not the
+/// recommended defaults: four orders, so the slot tests see slots beyond p.
+NodeParams thesisNodeParams()
+{
+  NodeParams p = validNodeParams();
+  p.aic = AicParams();
+  return p;
+}
+
 const char* cfgTypeName(ParamType t)
 {
   switch (t)
@@ -96,7 +105,7 @@ TEST(ReconfigureConfig, AicConfigAgreesWithTheSchema)
 TEST(ReconfigureConfig, NoValidValueIsClamped)
 {
   // The cfg ranges hold every value the schema allows: clamping a valid set changes nothing.
-  NodeParams p = validNodeParams();
+  NodeParams p = thesisNodeParams();
   p.aic.k_a = 2000.0;
   p.aic.tau = 1e-6;
   p.aic.var_y = { 1e-9, 1e12, 1e5, 1e5 };
@@ -167,16 +176,17 @@ TEST(ReconfigureConfig, InvalidSetsAreRefused)
 
 TEST(ReconfigureConfig, VarianceSlotsAndEmbeddingOrder)
 {
-  const NodeParams base = validNodeParams();  // p = 3, one variance per order
+  const NodeParams base = thesisNodeParams();  // p = 3, one variance per order
   const AICConfig shown = configFromParams(base, AICConfig::__getDefault__());
   auto out = paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.var_y_1 = 20.0; }), shown, base);
   EXPECT_TRUE(out.violations.empty());
   EXPECT_EQ(out.params.aic.var_y, (std::vector<double>{ 2.0, 20.0, 1e5, 1e5 }));
   EXPECT_EQ(out.params.aic.var_mu, base.aic.var_mu);
-  // p 3 -> 5: the new orders take the slots shown (the cfg defaults here).
+  // p 3 -> 5: the new orders take the slots shown (base's four, then the cfg defaults).
   out = paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.embedding_order = 5; }), shown, base);
   EXPECT_TRUE(out.violations.empty());
-  EXPECT_EQ(out.params.aic.var_mu, (std::vector<double>{ 1.5, 2.0, 4.0, 8.0, 16.0, 32.0 }));
+  EXPECT_EQ(out.params.aic.var_mu, (std::vector<double>{ 1.5, 2.0, 4.0, 8.0, AICConfig::__getDefault__().var_mu_4,
+                                                         AICConfig::__getDefault__().var_mu_5 }));
   EXPECT_EQ(out.params.aic.var_y.size(), 6u);
   // p 3 -> 1: truncated.
   out = paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.embedding_order = 1; }), shown, base);
@@ -192,7 +202,7 @@ TEST(ReconfigureConfig, VarianceSlotsAndEmbeddingOrder)
 
 TEST(ReconfigureConfig, PerChannelVariancesAreNotLive)
 {
-  NodeParams base = validNodeParams();
+  NodeParams base = thesisNodeParams();
   base.aic.var_mu.assign(12, 1.0);
   base.aic.var_mu[3] = 2.0;  // order 1, channel 0
   ASSERT_TRUE(base.validate().empty());

@@ -46,6 +46,10 @@ CASES = [
     ("runaway_hold_time_negative", {"runaway_hold_time": -1.0}, "runaway_hold_time"),
     ("left_joint_listed_twice", {"left_joints": ["front_left_wheel", "front_left_wheel"]}, "left_joints[1]"),
     ("joint_on_both_sides", {"right_joints": ["front_right_wheel", "front_left_wheel"]}, "right_joints"),
+    ("output_mode_unknown", {"output_mode": "cmd_pwm"}, "output_mode"),
+    ("cmd_vel_wheel_radius_zero", {"cmd_vel_wheel_radius": 0.0}, "cmd_vel_wheel_radius"),
+    ("cmd_vel_max_linear_acceleration_nan", {"cmd_vel_max_linear_acceleration": float("nan")},
+     "cmd_vel_max_linear_acceleration"),
 ]
 
 

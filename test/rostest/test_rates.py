@@ -15,11 +15,16 @@ import rospy
 import rostest
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import TwistStamped
-from jackal_msgs.msg import Drive
+from jackal_msgs.msg import Drive, DriveFeedback, Feedback, Status
 
 from aic_test_utils import Recorder, rate_of, wait_for
 
 DRIVE_MD5 = "601cf097cd47c174590c366c6ddd5fb3"
+# The MCU state the node subscribes (/status, /feedback): the MD5 sums of Clearpath's
+# jackal_msgs (noetic-devel), which the robot's publishers send; compat/jackal_msgs must match.
+STATUS_MD5 = "c851ebcf9a6e20b196bc7894e285b4f6"
+FEEDBACK_MD5 = "3bdabb0ef46338ee5672d1b82220ab49"
+DRIVE_FEEDBACK_MD5 = "8dd0b7a3cfa20cfc5c054ddd9763609b"
 
 
 class RatesTest(unittest.TestCase):
@@ -44,6 +49,19 @@ class RatesTest(unittest.TestCase):
                     if "belief steps" in values:
                         out.append((t, int(values["belief steps"])))
         return out
+
+    def test_mcu_state_md5(self):
+        self.assertEqual(Status._md5sum, STATUS_MD5)
+        self.assertEqual(Feedback._md5sum, FEEDBACK_MD5)
+        self.assertEqual(DriveFeedback._md5sum, DRIVE_FEEDBACK_MD5)
+        # The node subscribes both with these types (its subscriptions as the master lists them).
+        import rosgraph
+        state = rosgraph.Master(rospy.get_name()).getSystemState()
+        topics = dict(rosgraph.Master(rospy.get_name()).getTopicTypes())
+        for topic, typ in (("/status", "jackal_msgs/Status"), ("/feedback", "jackal_msgs/Feedback")):
+            subs = [nodes for t, nodes in state[1] if t == topic]
+            self.assertTrue(subs and "/jackal_AIC" in subs[0], "jackal_AIC does not subscribe %s" % topic)
+            self.assertEqual(topics.get(topic), typ)
 
     def test_rates_type_and_md5(self):
         needed = self.warmup + self.duration

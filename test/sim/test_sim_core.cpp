@@ -463,7 +463,9 @@ TEST(StockController, LimitsAccelerationVelocityAndTimesOut)
   EXPECT_TRUE(c.timedOut());
   EXPECT_NEAR(c.lastLinear(), 0.0, 1e-12);
   EXPECT_FALSE(c.setCommand(std::nan(""), 0.0, t));
-  EXPECT_THROW(StockController(StockControllerParams{ -1.0 }), std::invalid_argument);
+  StockControllerParams bad;
+  bad.wheel_separation = -1.0;
+  EXPECT_THROW(StockController{ bad }, std::invalid_argument);
 }
 
 // ---------------------------------------------------------------- calibration

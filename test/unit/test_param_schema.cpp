@@ -334,6 +334,35 @@ TEST(ParamSchema, DefaultYamlAgreesWithTheSchema)
   }
 }
 
+TEST(ParamSchema, DefaultYamlHoldsTheDefaults)
+{
+  // The recommended configuration is what a missing key gives: config/default.yaml's value of
+  // every schema key equals the schema's default (NodeParams{}), which cfg/AIC.cfg shows too
+  // (CfgFileIsGenerated); and the defaults are a valid, not the diverging, controller.
+  const YAML::Node root = YAML::LoadFile(kSource + "/config/default.yaml");
+  for (const ParamSpec& s : paramSchema())
+  {
+    SCOPED_TRACE(s.key);
+    if (s.required || !root[s.key])
+    {
+      continue;  // presence: DefaultYamlAgreesWithTheSchema
+    }
+    NodeParams from_yaml;
+    const YAML::Node one = YAML::Load(std::string(s.key) + ": " + YAML::Dump(root[s.key]));
+    const ParamLoadReport r = loadParams(YamlParamSource(one), { ParamScope::kController, ParamScope::kNode },
+                                         false, &from_yaml);
+    ASSERT_TRUE(r.errors.empty());
+    EXPECT_EQ(formatParamValue(s.get(from_yaml)), formatParamValue(defaultValue(s)))
+        << "config/default.yaml and the code's default differ";
+    EXPECT_TRUE(s.get(from_yaml) == defaultValue(s));
+  }
+  NodeParams d;
+  d.left_joints = { "l" };
+  d.right_joints = { "r" };
+  EXPECT_TRUE(d.validate().empty());
+  EXPECT_EQ(d.aic.integrator, Integrator::kExact);  // forward Euler at these gains diverges
+}
+
 namespace
 {
 /// Each key of a config file documented with the schema's unit and default.

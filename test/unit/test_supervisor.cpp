@@ -310,6 +310,88 @@ TEST_F(SupervisorTest, AgesAndFreshness)
   EXPECT_TRUE(s.setPointFresh());  // <= 0.5 s
 }
 
+// ---- MCU stop (jackal_msgs/Status, jackal_msgs/Feedback)
+
+TEST_F(SupervisorTest, ExternalStopHoldsThenResumesBumpless)
+{
+  run();
+  s.mcuStatus(true, true, true);  // external stop present and stopped
+  feed(1);
+  const auto held = s.update();
+  EXPECT_TRUE(held.deactivate());  // the node publishes the idle command (measured wheels) at once
+  EXPECT_TRUE(held.warn());
+  EXPECT_EQ(s.state(), NodeState::kHeld);
+  EXPECT_FALSE(s.active());
+  EXPECT_NE(s.reason().find("external stop"), std::string::npos) << s.reason();
+  EXPECT_NE(s.reason().find("measured wheel speeds"), std::string::npos) << s.reason();
+  EXPECT_EQ(s.mcuStops(), 1u);
+  // Held while the stop lasts, however long (inputs fresh).
+  for (int i = 0; i < 100; ++i)
+  {
+    feed(1);
+    EXPECT_FALSE(s.update().changed);
+  }
+  s.mcuStatus(true, true, false);  // released
+  feed(1);
+  const auto resumed = s.update();
+  EXPECT_TRUE(resumed.activate());  // reset + start from the measured wheels: bumpless
+  EXPECT_FALSE(resumed.restart_history);
+  EXPECT_EQ(s.state(), NodeState::kRunning);
+}
+
+TEST_F(SupervisorTest, DriversInactiveHold)
+{
+  run();
+  s.mcuStatus(false, false, false);
+  feed(1);
+  EXPECT_TRUE(s.update().deactivate());
+  EXPECT_EQ(s.state(), NodeState::kHeld);
+  EXPECT_NE(s.reason().find("drivers_active false"), std::string::npos) << s.reason();
+  // An external stop present but not stopped is not a stop.
+  s.mcuStatus(true, true, false);
+  feed(1);
+  EXPECT_TRUE(s.update().activate());
+}
+
+TEST_F(SupervisorTest, FeedbackModeNoneHoldsAndExpires)
+{
+  run();
+  s.mcuFeedback(kMcuModeNone);
+  feed(1);
+  EXPECT_TRUE(s.update().deactivate());
+  EXPECT_EQ(s.state(), NodeState::kHeld);
+  EXPECT_NE(s.reason().find("MODE_NONE"), std::string::npos) << s.reason();
+  // Back to MODE_VELOCITY: running again.
+  s.mcuFeedback(0);
+  feed(1);
+  EXPECT_TRUE(s.update().activate());
+  // A MODE_NONE not repeated for longer than kMcuFeedbackExpiry no longer holds.
+  s.mcuFeedback(kMcuModeNone);
+  feed(1);
+  EXPECT_EQ(s.update().to, NodeState::kHeld);
+  for (int i = 0; i * 0.02 <= kMcuFeedbackExpiry; ++i)
+  {
+    feed(1);
+    s.update();
+  }
+  EXPECT_EQ(s.state(), NodeState::kRunning);
+}
+
+TEST_F(SupervisorTest, StaleSensorsOutrankAnMcuStop)
+{
+  // Without fresh sensors there are no measured wheel speeds to hold: zero command (kStale).
+  run();
+  s.mcuStatus(true, true, true);
+  clock.t += p.sensor_timeout + 0.01;
+  EXPECT_EQ(s.update().to, NodeState::kStale);
+  // Before any sample: waiting, not held.
+  FakeClock c2;
+  Supervisor fresh{ p, c2 };
+  fresh.mcuStatus(false, false, false);
+  EXPECT_EQ(fresh.update().to, NodeState::kWaiting);
+  EXPECT_TRUE(fresh.mcuStopped());
+}
+
 TEST(LoopScheduler, OnTimeTicksAreOneStep)
 {
   LoopScheduler loop(1000.0, kMaxBeliefIntervalFactor, true);
@@ -416,6 +498,7 @@ TEST(NodeStateNames, AreTheDiagnosticsStrings)
   EXPECT_STREQ(toString(NodeState::kRunning), "running");
   EXPECT_STREQ(toString(NodeState::kStale), "stale");
   EXPECT_STREQ(toString(NodeState::kRunaway), "runaway");
+  EXPECT_STREQ(toString(NodeState::kHeld), "held");
 }
 
 }  // namespace

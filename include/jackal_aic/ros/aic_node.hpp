@@ -7,7 +7,10 @@
  * Topics (see doc/jackal_aic_node.md, "Topics"):
  *   in:  /joint_states (sensor_msgs/JointState), /imu/data (sensor_msgs/Imu),
  *        ~set_point (geometry_msgs/Twist: linear.x [m/s], angular.z [rad/s])
- *   out: /cmd_drive (jackal_msgs/Drive, MODE_VELOCITY, drivers [rad/s]) every action tick;
+ *        /status (jackal_msgs/Status), /feedback (jackal_msgs/Feedback): the MCU's stop state
+ *   out: /cmd_drive (jackal_msgs/Drive, MODE_VELOCITY, drivers [rad/s]) every action tick, or in
+ *        output mode cmd_vel jackal_velocity_controller/cmd_vel (geometry_msgs/Twist, the
+ *        inverse of the stock diff drive: CmdVelOutput, include/jackal_aic/diff_drive.hpp);
  *        ~belief (geometry_msgs/TwistStamped, mu^(0)), ~free_energy (std_msgs/Float64),
  *        ~eps_y, ~eps_mu (std_msgs/Float64MultiArray, rows = channels, cols = orders) at
  *        debug_rate (100 Hz) from the newest belief, when there is a new one, while any
@@ -48,11 +51,14 @@
 #include <mutex>
 
 #include <geometry_msgs/Twist.h>
+#include <jackal_msgs/Feedback.h>
+#include <jackal_msgs/Status.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
 
 #include "jackal_aic/controller.hpp"
+#include "jackal_aic/diff_drive.hpp"
 #include "jackal_aic/generalizer.hpp"
 #include "jackal_aic/node_params.hpp"
 #include "jackal_aic/periodic_thread.hpp"
@@ -98,6 +104,8 @@ private:
   void jointStateCallback(const sensor_msgs::JointState::ConstPtr& msg);
   void imuCallback(const sensor_msgs::Imu::ConstPtr& msg);
   void setPointCallback(const geometry_msgs::Twist::ConstPtr& msg);
+  void statusCallback(const jackal_msgs::Status::ConstPtr& msg);
+  void feedbackCallback(const jackal_msgs::Feedback::ConstPtr& msg);
   void beliefTimerCallback(const ros::TimerEvent& event);
   void actionTimerCallback(const ros::TimerEvent& event);
   void debugTimerCallback(const ros::TimerEvent& event);
@@ -123,11 +131,15 @@ private:
   /// Reset the controller and start it from the measured wheel speeds (bumpless).
   void activate();
   void handleRunaway(const char* where);
-  /// Publish a wheel command through the final guard (NodeOutputs::command, +-max_wheel_speed).
-  void publishCommand(double omega_left, double omega_right)
-  {
-    outputs_->command(omega_left, omega_right, params_.aic.max_wheel_speed);
-  }
+  /**
+   * \brief Publish a wheel command [rad/s], clamped to +-max_wheel_speed, through the final
+   *        guard: as jackal_msgs/Drive, or in output mode cmd_vel as the twist CmdVelOutput
+   *        computes; a command clipped by the stock controller's limits is fed back as the
+   *        controller's action while it runs (anti-windup).
+   */
+  void publishCommand(double omega_left, double omega_right);
+  /// The command outside kRunning: the measured wheel speeds in kHeld (MCU stop), else zero.
+  void publishIdle();
   ControllerReport controllerReport() const;
 
   ros::NodeHandle nh_;
@@ -142,8 +154,10 @@ private:
   std::unique_ptr<NodeReconfigure> reconfigure_;
   std::unique_ptr<NodeDiagnostics> diagnostics_;
   std::unique_ptr<NodeOutputs> outputs_;
+  std::unique_ptr<CmdVelOutput> cmd_vel_;  ///< output mode cmd_vel only
+  bool last_clipped_ = false;              ///< the last cmd_vel command was clipped
 
-  ros::Subscriber joint_sub_, imu_sub_, set_point_sub_;
+  ros::Subscriber joint_sub_, imu_sub_, set_point_sub_, status_sub_, feedback_sub_;
   ros::Timer belief_timer_, action_timer_, diagnostics_timer_, debug_timer_;
 
   /// Guards controller_, generalizer_, sync_, supervisor_, params_ and the belief bookkeeping below.

@@ -20,6 +20,8 @@
 #include "jackal_aic/supervisor.hpp"
 #include "jackal_aic/types.hpp"
 
+#include <string>
+
 namespace jackal_aic
 {
 /// The controller's side of the diagnostics, gathered by the node when they are published.
@@ -31,6 +33,9 @@ struct ControllerReport
   Vector2 command = Vector2::Zero();    ///< wheel command (omega_L, omega_R) [rad/s], zero when inactive
   std::uint64_t guarded_outputs = 0;    ///< non-finite outputs suppressed
   std::uint64_t generalizer_drops = 0;  ///< samples the generalizer or the controller refused
+  std::string output_mode = "cmd_drive";  ///< output_mode parameter
+  std::uint64_t output_clips = 0;       ///< cmd_vel mode: commands clipped to the stock controller's limits
+  bool last_output_clipped = false;     ///< cmd_vel mode: the last command was clipped (anti-windup active)
 };
 
 /**

@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <string>
 #include <functional>
 
 #include <ros/node_handle.h>
@@ -41,17 +42,30 @@ class NodeOutputs
 {
 public:
   /**
-   * \param nh   public node handle: /cmd_drive (jackal_msgs/Drive, queue 1)
-   * \param pnh  private node handle: ~belief (geometry_msgs/TwistStamped, queue 50),
-   *             ~free_energy (std_msgs/Float64), ~eps_y, ~eps_mu (std_msgs/Float64MultiArray), queue 10
+   * \param nh           public node handle: cmd_drive (jackal_msgs/Drive, queue 1) in output mode
+   *                     cmd_drive, jackal_velocity_controller/cmd_vel (geometry_msgs/Twist, queue 1)
+   *                     in output mode cmd_vel; only the one of the mode is advertised
+   * \param pnh          private node handle: ~belief (geometry_msgs/TwistStamped, queue 50),
+   *                     ~free_energy (std_msgs/Float64), ~eps_y, ~eps_mu (std_msgs/Float64MultiArray), queue 10
    * \param debug_subscribers_changed  called (on the spinner thread) whenever a debug topic
-   *             gains or loses a subscriber, so the node runs its debug timer only when
-   *             someone listens; may be empty
+   *                     gains or loses a subscriber, so the node runs its debug timer only when
+   *                     someone listens; may be empty
+   * \param output_mode  "cmd_drive" or "cmd_vel" (validated by NodeParams::validate())
    */
-  NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::function<void()> debug_subscribers_changed = {});
+  NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::function<void()> debug_subscribers_changed = {},
+              const std::string& output_mode = "cmd_drive");
 
   /// True if any of ~belief, ~free_energy, ~eps_y, ~eps_mu has a subscriber.
   bool debugWanted() const;
+
+  /// True in output mode cmd_vel.
+  bool cmdVelMode() const { return cmd_vel_mode_; }
+
+  /**
+   * \brief Output mode cmd_vel: publish a twist (linear.x [m/s], angular.z [rad/s]); a
+   *        non-finite value becomes zero (counted, ERROR logged at most once a second).
+   */
+  void twist(double linear, double angular);
 
   /**
    * \brief Publish a MODE_VELOCITY wheel command [rad/s], each wheel clamped to +-limit; a
@@ -81,6 +95,7 @@ public:
   std::uint64_t guardedOutputs() const { return guarded_outputs_.load(); }
 
 private:
+  bool cmd_vel_mode_ = false;
   ros::Publisher cmd_pub_, belief_pub_, free_energy_pub_, eps_y_pub_, eps_mu_pub_;
   std::atomic<std::uint64_t> guarded_outputs_{ 0 };  ///< commands may be guarded on the belief thread
 };

@@ -11,25 +11,25 @@
  * jerk limits off); then
  *   omega_L = (v - w * s / 2) / r,   omega_R = (v + w * s / 2) / r,
  * with s = wheel_separation_multiplier * wheel_separation. No body-velocity feedback.
+ * The mapping and the limits are the core's (include/jackal_aic/diff_drive.hpp), shared with
+ * the jackal_AIC node's cmd_vel output mode, which inverts them.
  */
 
 #include <string>
 #include <vector>
+
+#include "jackal_aic/diff_drive.hpp"
 
 namespace jackal_aic
 {
 namespace sim
 {
 /// Parameters of the stock controller (defaults: the Jackal's control.yaml).
-struct StockControllerParams
+struct StockControllerParams : public jackal_aic::DiffDriveParams
 {
-  double wheel_separation = 0.37559;         ///< wheel joint separation (track) [m], > 0
-  double wheel_separation_multiplier = 1.5;  ///< absorbs skid-steer slip [-], > 0
-  double wheel_radius = 0.098;               ///< [m], > 0
-  double max_linear_velocity = 2.0;          ///< [m/s], > 0
-  double max_linear_acceleration = 20.0;     ///< [m/s^2], > 0
-  double max_angular_velocity = 4.0;         ///< [rad/s], > 0
-  double max_angular_acceleration = 25.0;    ///< [rad/s^2], > 0
+  // Kinematics and limits: jackal_aic::DiffDriveParams (wheel_separation, wheel_separation_multiplier,
+  // wheel_radius, max_linear_velocity, max_linear_acceleration, max_angular_velocity,
+  // max_angular_acceleration), defaults from the Jackal's control.yaml.
   double cmd_vel_timeout = 0.25;             ///< command age after which the target is zero [s], > 0
   double publish_rate = 50.0;                ///< update / publication rate [Hz], > 0
 
@@ -68,25 +68,22 @@ public:
 
   /// Limited linear and angular speed of the last update [m/s], [rad/s].
   /// Linear velocity [m/s] of the last output twist, after the velocity and acceleration limits.
-  double lastLinear() const { return last0_linear_; }
+  double lastLinear() const { return limiter_.last().linear; }
   /// Angular velocity [rad/s] of the last output twist, after the velocity and acceleration limits.
-  double lastAngular() const { return last0_angular_; }
+  double lastAngular() const { return limiter_.last().angular; }
   /// True if the last update found the command older than cmd_vel_timeout.
   bool timedOut() const { return timed_out_; }
   /// The parameters in force (validated at construction).
   const StockControllerParams& params() const { return params_; }
 
 private:
-  static double limit(double target, double previous, double max_vel, double max_acc, double dt);
-
   StockControllerParams params_;
+  jackal_aic::DiffDriveLimiter limiter_;
   double cmd_linear_ = 0.0;
   double cmd_angular_ = 0.0;
   double cmd_time_ = -1e9;
   bool have_update_ = false;
   double last_update_ = 0.0;
-  double last0_linear_ = 0.0;
-  double last0_angular_ = 0.0;
   bool timed_out_ = true;
 };
 
