@@ -68,7 +68,7 @@ struct NodeParams
   /// Wall-clock belief thread: 0 = default scheduler, 1..99 = ask for SCHED_FIFO at this priority.
   int realtime_priority = 0;
   /// What starts an action step: the action_rate timer or each accepted sensor sample.
-  ActionTrigger action_trigger = ActionTrigger::kTimer;
+  ActionTrigger action_trigger = ActionTrigger::kSample;
 
   /**
    * \brief Every violated rule: the AicParams rules (AicParams::validate()), the ranges of

@@ -16,6 +16,9 @@ namespace
 {
 /// Diagnostics updater is polled at this rate (it publishes every ~diagnostic_period, default 1 s) [Hz].
 constexpr double kDiagnosticsPollRate = 10.0;
+/// action_trigger sample: with no action step for this many action periods while running,
+/// the action timer repeats the held command.
+constexpr double kKeepAlivePeriods = 1.5;
 
 double intervalOf(const ros::TimerEvent& event)
 {
@@ -322,6 +325,12 @@ void AicNode::actionTimerCallback(const ros::TimerEvent& event)
       diagnostics_->tickAction();
       publishIdle();
     }
+    else if (clock_.now() - last_action_time_ > kKeepAlivePeriods * supervisor_->actionLoop().nominalPeriod())
+    {
+      // Samples late (not yet stale): repeat the held action, no integration, so the MCU
+      // keeps receiving commands at about action_rate.
+      publishCommand(controller_->action()(0), controller_->action()(1));
+    }
     return;
   }
   actionStep(intervalOf(event));
@@ -344,6 +353,7 @@ void AicNode::actionStep(double interval)
   else
   {
     publishCommand(controller_->action()(0), controller_->action()(1));
+    last_action_time_ = clock_.now();
     // Age of the newest sensor data in this command: the sensor-to-command latency.
     diagnostics_->commandLatency((ros::Time::now() - newest_sample_stamp_).toSec());
   }

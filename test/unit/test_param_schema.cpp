@@ -151,7 +151,18 @@ TEST(ParamSchema, ControllerKeysAreTheMembersOfAicParams)
         changed = true;
         break;
       case ParamType::kString:
-        changed = s.choices.empty() ? std::string("x") : s.choices.back();  // not the default (the first)
+      {
+        // A choice other than the default (any text without choices).
+        std::string other = "x";
+        for (const auto& c : s.choices)
+        {
+          if (ParamValue(c) != defaultValue(s))
+          {
+            other = c;
+          }
+        }
+        changed = other;
+      }
         break;
       case ParamType::kDoubleList:
         changed = std::vector<double>{ 0.5, 0.5 };

@@ -167,6 +167,7 @@ private:
   std::uint64_t published_steps_ = 0;    ///< belief_steps_ at the last debug publication
   ros::Time belief_stamp_;               ///< time of the newest belief step
   ros::Time newest_sample_stamp_;        ///< stamp of the newest accepted sensor sample
+  double last_action_time_ = 0.0;        ///< clock_ time of the last action step's command [s]
   DebugSnapshot snapshot_;               ///< the debug timer's copy (spinner thread only)
 
   /// The wall-clock belief loop; null on simulated time. Declared last: destroyed (stopped) first.
