@@ -73,9 +73,11 @@ public:
    * Euler: mu_tilde += h * (D mu_tilde - k_mu dF/dmu_tilde).
    * Exact: the belief dynamics are linear, dx/dt = M x + c with x = vec(mu_tilde) and c constant
    * over the step, so x(h) = x + Psi(h) (M x + c) with Psi(h) = int_0^h exp(M s) ds, computed with
-   * exp([[M, I], [0, 0]] h) (Eigen MatrixFunctions) when params or h change by more than
-   * kExactStepTolerance (relative), otherwise reused with the first-order correction
-   * Psi(h) ~ Psi(h0) + (h - h0) exp(M h0). Stable for any h > 0 when the continuous dynamics are.
+   * exp([[M, I], [0, 0]] h0) (Eigen MatrixFunctions) when the parameters change or
+   * |h - h0| ||M||_inf exceeds kExactSeriesLimit, otherwise reused through
+   * Psi(h) = Psi(h0) + exp(M h0) Psi(h - h0), Psi(dh) by its series to the dh^3 term (a
+   * jittery loop interval then costs three matrix-vector products, not an exponential).
+   * Stable for any h > 0 when the continuous dynamics are.
    * \param h  belief step [s], finite and > 0
    * \return kOk; kBadInterval (state kept); kNoMeasurement (state kept); kRunaway (see Status).
    */
@@ -125,9 +127,11 @@ public:
    */
   bool setBeliefs(const MuTilde& mu);
 
-  /// Relative change of h beyond which the exact integrator recomputes its matrices (smaller
-  /// changes use a first-order correction Psi(h) ~ Psi(h0) + (h - h0) Phi(h0)).
-  static constexpr double kExactStepTolerance = 0.02;
+  /// The exact integrator recomputes its matrices when |h - h0| ||M||_inf exceeds this [-];
+  /// smaller changes of h use Psi(h) = Psi(h0) + Phi(h0) Psi(h - h0) with Psi(h - h0) summed to
+  /// its third term (truncation error <= kExactSeriesLimit^3 / 24 ~ 7e-4 of the correction,
+  /// itself |h - h0| / h0 of the step).
+  static constexpr double kExactSeriesLimit = 0.25;
 
   /// Largest accepted |entry| of a generalized measurement [channel units / s^i]. Far above any
   /// finite difference of a real signal (20 rad/s / (1 ms)^5 = 2e16), low enough that the free
@@ -173,6 +177,7 @@ private:
   StateMatrix phi_; ///< exp(M h_exact)
   StateMatrix psi_; ///< int_0^h exp(M s) ds
   double exact_h_ = 0.0;  ///< h for which phi_/psi_ hold; 0 = not computed
+  double m_norm_ = 0.0;   ///< ||M||_inf [1/s], for the series criterion
   std::uint64_t exact_recompute_count_ = 0;
 };
 

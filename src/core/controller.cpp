@@ -90,6 +90,7 @@ void ActiveInferenceController::applyParams(const AicParams& params)
     computeMuDot(e, y0, zero3, &f);
     M_.col(j) = Eigen::Map<const Eigen::VectorXd>(f.data(), dim);
   }
+  m_norm_ = M_.cwiseAbs().rowwise().sum().maxCoeff();  // ||M||_inf [1/s]
   phi_.setZero(dim, dim);
   psi_.setZero(dim, dim);
   exact_h_ = 0.0;
@@ -278,7 +279,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
   MuTilde next(kMuDim, n);
   if (params_.integrator == Integrator::kExact)
   {
-    if (exact_h_ <= 0.0 || std::abs(h - exact_h_) > kExactStepTolerance * exact_h_)
+    if (exact_h_ <= 0.0 || std::abs(h - exact_h_) * m_norm_ > kExactSeriesLimit)
     {
       computeExactStep(h);
     }
@@ -289,8 +290,17 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
     const double dh = h - exact_h_;
     if (dh != 0.0)
     {
-      // First-order correction for a small change of h: dPsi/dh = Phi.
-      nv.noalias() += dh * (phi_ * fv);
+      // h = h0 + dh: Psi(h) = Psi(h0) + Phi(h0) Psi(dh) (exact, either sign of dh), with
+      // Psi(dh) = dh (I + dh M / 2 + dh^2 M^2 / 6 + ...) summed to the third term; the rest is
+      // below (|dh| ||M||)^3 / 24 <= kExactSeriesLimit^3 / 24 of the first.
+      StateVector g(dim);
+      g.noalias() = M_ * fv;
+      StateVector series(dim);
+      series.noalias() = dh * fv + (0.5 * dh * dh) * g;
+      StateVector g2(dim);
+      g2.noalias() = M_ * g;
+      series.noalias() += (dh * dh * dh / 6.0) * g2;
+      nv.noalias() += phi_ * series;
     }
     next += mu_;
   }

@@ -43,7 +43,7 @@ void BM_UpdateBeliefs(benchmark::State& state)
 }
 BENCHMARK(BM_UpdateBeliefs)->ArgsProduct({ { 1, 2, 3, 4, 5 }, { 0, 1 } })->ArgNames({ "p", "exact" });
 
-/// Exact integrator with a jittered h (+-1 %, within kExactStepTolerance: first-order correction path).
+/// Exact integrator with a jittered h (+-1 %, within kExactSeriesLimit: the series correction path).
 void BM_UpdateBeliefsExactJitter(benchmark::State& state)
 {
   ActiveInferenceController c = makeController(static_cast<int>(state.range(0)), Integrator::kExact);
