@@ -43,7 +43,7 @@ public:
 
   /**
    * \brief Replace the parameters. If the embedding order changes the state is reset,
-   *        otherwise beliefs and action are kept.
+   *        otherwise beliefs and action are kept (the action clamped to the new max_wheel_speed).
    * \throws std::invalid_argument (state unchanged) if params.validate() is not empty.
    */
   void setParams(const AicParams& params);

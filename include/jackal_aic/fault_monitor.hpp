@@ -27,11 +27,11 @@ struct FdiParams
   /// Isolation switch: false = the test runs and is reported, but no channel's Pi_y is ever zeroed.
   bool enabled = true;
   /// Detection threshold gamma on the precision-weighted residual s = Pi_r r^2 [-], > 0 (see FaultMonitor).
-  double threshold = 0.02;
+  double threshold = 0.06;
   /// Hysteresis: a channel is restored only while s < release_ratio * threshold [-], in (0, 1].
   double release_ratio = 0.25;
   /// s must exceed the threshold for this long before a channel is isolated [s], >= 0.
-  double detect_time = 0.1;
+  double detect_time = 0.2;
   /// s must stay below release_ratio * threshold for this long before the channel is restored [s], >= 0.
   double release_time = 1.0;
 
@@ -117,6 +117,9 @@ public:
   std::uint8_t sensorMask() const;
   /// The isolated channel (SensorIndex), or -1.
   int isolatedChannel() const { return isolated_; }
+  /// The channel the last confirmed detection found faulty (isolated or, with isolation off, only
+  /// reported), or -1 before one.
+  int suspectedChannel() const { return suspected_; }
   /// The last residual r [rad/s] and its precision-weighted square s [-] (NaN before the first test).
   double residual() const { return residual_; }
   double statistic() const { return statistic_; }
@@ -145,6 +148,7 @@ private:
   double pi_vx_ = 0.0, pi_wz_ = 0.0;  ///< Pi_mu^(0) of x_dot and theta_dot
   bool imu_available_ = true;
   int isolated_ = -1;
+  int suspected_ = -1;
   double above_for_ = -1.0;   ///< time s has been above the threshold [s]; -1 = below
   double below_for_ = 0.0;    ///< time s has been below the release level while isolated [s]
   std::array<double, 3> hypothesis_cost_{};  ///< accumulated cost per channel over the detection window

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "jackal_aic/fault_monitor.hpp"
 #include "jackal_aic/params.hpp"
 
 namespace jackal_aic
@@ -40,6 +41,8 @@ struct NodeParams
   double runaway_hold_time = 1.0;   ///< after a runaway reset, zero command for this long [s], >= 0
   std::vector<std::string> left_joints;   ///< joints averaged into omega_L; required, non-empty
   std::vector<std::string> right_joints;  ///< joints averaged into omega_R; required, non-empty
+  /// Sensor fault detection and isolation (keys fdi_*; doc/active_inference.md, 'Fault detection and isolation').
+  FdiParams fdi;
 
   /**
    * \brief Every violated rule: the AicParams rules (AicParams::validate()), the ranges of

@@ -57,6 +57,9 @@ void ActiveInferenceController::setParams(const AicParams& params)
   checked(params);
   const bool order_changed = params.embedding_order != params_.embedding_order;
   applyParams(params);
+  // A lower max_wheel_speed applies to the action held now, not only from the next action step
+  // (found by test/fuzz/fuzz_core.cpp).
+  a_ = a_.cwiseMax(-params.max_wheel_speed).cwiseMin(params.max_wheel_speed);
   if (order_changed)
   {
     const int n = params.numOrders();

@@ -181,6 +181,7 @@ FaultMonitor::Event FaultMonitor::update(const Vector5& y, const Vector3& mu0, d
       best = k;
     }
   }
+  suspected_ = kChannels[best];
   if (!fdi_.enabled)
   {
     ++detections_;

@@ -60,6 +60,7 @@ bool AicNode::init()
   {
     controller_ = std::make_unique<ActiveInferenceController>(params_.aic);
     generalizer_ = std::make_unique<Generalizer>(kYDim, params_.aic.embedding_order);
+    fault_monitor_ = std::make_unique<FaultMonitor>(params_.fdi, params_.aic);
   }
   catch (const std::exception& e)
   {
@@ -79,13 +80,17 @@ bool AicNode::init()
   reconfigure_ = std::make_unique<NodeReconfigure>(pnh_, params_);
   diagnostics_ = std::make_unique<NodeDiagnostics>(nh_, pnh_, *supervisor_, *sync_,
                                                    [this] { return controllerReport(); });
+  diagnostics_->addFaultMonitor(pnh_, *fault_monitor_);
 
   belief_timer_ = nh_.createTimer(ros::Duration(supervisor_->beliefLoop().nominalPeriod()),
                                   &AicNode::beliefTimerCallback, this);
   action_timer_ = nh_.createTimer(ros::Duration(supervisor_->actionLoop().nominalPeriod()),
                                   &AicNode::actionTimerCallback, this);
   diagnostics_timer_ = nh_.createTimer(ros::Duration(1.0 / kDiagnosticsPollRate),
-                                       [this](const ros::TimerEvent&) { diagnostics_->update(); });
+                                       [this](const ros::TimerEvent&) {
+                                         diagnostics_->update();
+                                         diagnostics_->publishHealth(FaultMonitor::Event::kNone, -1);
+                                       });
 
   ROS_INFO_STREAM("jackal_AIC: belief " << params_.aic.belief_rate << " Hz, action " << params_.aic.action_rate
                                         << " Hz, tau " << params_.aic.tau << " s, k_mu " << params_.aic.k_mu
@@ -105,6 +110,12 @@ void AicNode::jointStateCallback(const sensor_msgs::JointState::ConstPtr& msg)
   {
     return;
   }
+  if (!sample.imu_ok)
+  {
+    // Degraded mode (IMU missing or stale): the gyro channel is masked (Pi_y = 0); give it the
+    // wheels' yaw rate so that its generalized orders stay smooth when the IMU returns.
+    sample.y(kGyroZ) = controller_->model().twistFromWheels(Vector2(sample.y(kOmegaLeft), sample.y(kOmegaRight)))(2);
+  }
   if (sample.first || !generalizer_->initialized())
   {
     generalizer_->reset();
@@ -122,6 +133,20 @@ void AicNode::jointStateCallback(const sensor_msgs::JointState::ConstPtr& msg)
   {
     ++generalizer_drops_;
     ROS_WARN_THROTTLE(1.0, "jackal_AIC: controller refused a generalized measurement");
+  }
+  checkSensorFaults(sample);
+}
+
+void AicNode::checkSensorFaults(const SensorSample& sample)
+{
+  fault_monitor_->setImuAvailable(sample.imu_ok);
+  const int isolated_before = fault_monitor_->isolatedChannel();
+  const FaultMonitor::Event event = fault_monitor_->update(sample.y, controller_->mu().col(0), sample.h);
+  controller_->setSensorMask(fault_monitor_->sensorMask());
+  if (event != FaultMonitor::Event::kNone)
+  {
+    diagnostics_->publishHealth(event, event == FaultMonitor::Event::kRestored ? isolated_before
+                                                                                : fault_monitor_->suspectedChannel());
   }
 }
 
@@ -165,6 +190,7 @@ void AicNode::carryOut(const Supervisor::Transition& t)
     // Sensors are gone: the next sample starts a new history (and a new warm-up).
     generalizer_->reset();
     sync_->restartHistory();
+    fault_monitor_->reset();
   }
   if (t.warn())
   {
@@ -274,6 +300,7 @@ void AicNode::applyPendingParams()
   try
   {
     controller_->setParams(next->aic);
+    fault_monitor_->setParams(next->fdi, next->aic);
   }
   catch (const std::exception& e)
   {

@@ -62,6 +62,7 @@ struct LoopRun
   int isolated_channel = -1;
   int restorations = 0;
   int detections = 0;
+  int suspected_channel = -1;
   Vector3 twist_end = Vector3::Zero();  ///< mean true twist over the last 0.5 s
 };
 
@@ -136,6 +137,7 @@ LoopRun runClosedLoop(GoalFn goal, const Fault& fault, bool isolation, double du
     }
   }
   run.twist_end = sum / count;
+  run.suspected_channel = monitor.suspectedChannel();
   return run;
 }
 
@@ -331,7 +333,7 @@ TEST(ClosedLoopFdi, EncoderBiasIsIsolatedAndTheSpeedHeld)
   Fault bias;
   bias.kind = Fault::kBias;
   bias.channel = kOmegaLeft;
-  bias.value = 2.0;  // rad/s (0.2 m/s of wheel speed) on the left encoder
+  bias.value = 2.5;  // rad/s (0.25 m/s of wheel speed) on the left encoder (below max_action_lead)
   bias.start = 3.0;
   const LoopRun isolated = runClosedLoop(&straight, bias, true, 11.0, 0.05);
   std::printf("bias: isolated after %.2f s, v_x %.4f m/s isolated, ", isolated.isolated_at - bias.start, isolated.twist_end(0));
@@ -344,6 +346,7 @@ TEST(ClosedLoopFdi, EncoderBiasIsIsolatedAndTheSpeedHeld)
   std::printf("%.4f m/s without isolation\n", unisolated.twist_end(0));
   EXPECT_TRUE(std::isnan(unisolated.isolated_at));
   EXPECT_GE(unisolated.detections, 1);
+  EXPECT_EQ(unisolated.suspected_channel, kOmegaLeft);  // found, reported, not isolated
   EXPECT_GT(std::abs(unisolated.twist_end(0) - 0.5), kSpeedErrorTol * 0.5);
   EXPECT_GT(std::abs(unisolated.twist_end(0) - 0.5), 2.0 * std::abs(isolated.twist_end(0) - 0.5));
 }
@@ -353,7 +356,7 @@ TEST(ClosedLoopFdi, BiasRemovedRestoresTheChannel)
   Fault bias;
   bias.kind = Fault::kBias;
   bias.channel = kOmegaRight;
-  bias.value = -2.0;
+  bias.value = -2.5;
   bias.start = 2.0;
   bias.end = 4.0;
   const LoopRun run = runClosedLoop(&straight, bias, true, 7.0);
@@ -374,4 +377,16 @@ TEST(ClosedLoopFdi, GyroFreezeDuringATurnIsIsolated)
   EXPECT_NEAR(isolated.twist_end(0), 0.4, kSpeedErrorTol * 0.4);
   const LoopRun unisolated = runClosedLoop(&turnThenStraight, freeze, false, 6.0, 0.02);
   EXPECT_GT(std::abs(unisolated.twist_end(2)), 2.0 * std::abs(isolated.twist_end(2)) + 0.02);
+}
+
+TEST(SensorMask, LoweringTheWheelLimitClampsTheHeldAction)
+{
+  // Found by the fuzz target (test/fuzz/fuzz_core.cpp): setParams() kept an action beyond a lowered limit.
+  AicParams p = defaultParams();
+  ActiveInferenceController c(p);
+  c.setAction(Vector2(15.0, -15.0));
+  p.max_wheel_speed = 5.0;
+  c.setParams(p);
+  EXPECT_DOUBLE_EQ(c.action()(0), 5.0);
+  EXPECT_DOUBLE_EQ(c.action()(1), -5.0);
 }

@@ -8,6 +8,7 @@
  *        ~set_point (geometry_msgs/Twist: linear.x [m/s], angular.z [rad/s])
  *   out: /cmd_drive (jackal_msgs/Drive, MODE_VELOCITY, drivers [rad/s]) every action tick;
  *        ~belief (geometry_msgs/TwistStamped, mu^(0)) every belief step;
+ *        ~sensor_health (diagnostic_msgs/DiagnosticStatus, latched) on every fault event and at 10 Hz;
  *        ~free_energy (std_msgs/Float64), ~eps_y, ~eps_mu (std_msgs/Float64MultiArray,
  *        rows = channels, cols = orders) every action tick (decimated from the belief rate);
  *        /diagnostics (NodeDiagnostics). Publishers and the finiteness guard: NodeOutputs.
@@ -40,6 +41,7 @@
 #include <sensor_msgs/JointState.h>
 
 #include "jackal_aic/controller.hpp"
+#include "jackal_aic/fault_monitor.hpp"
 #include "jackal_aic/generalizer.hpp"
 #include "jackal_aic/node_params.hpp"
 #include "jackal_aic/ros/node_diagnostics.hpp"
@@ -96,6 +98,9 @@ private:
     outputs_->command(omega_left, omega_right, params_.aic.max_wheel_speed);
   }
   ControllerReport controllerReport() const;
+  /// Fault detection and isolation on one accepted sample: IMU availability, the residual test,
+  /// the controller's channel mask (Pi_y = 0 for isolated or missing channels), events to diagnostics.
+  void checkSensorFaults(const SensorSample& sample);
 
   ros::NodeHandle nh_;
   ros::NodeHandle pnh_;
@@ -104,6 +109,7 @@ private:
 
   std::unique_ptr<ActiveInferenceController> controller_;
   std::unique_ptr<Generalizer> generalizer_;
+  std::unique_ptr<FaultMonitor> fault_monitor_;  ///< sensor FDI (doc/active_inference.md)
   std::unique_ptr<SensorSynchronizer> sync_;
   std::unique_ptr<Supervisor> supervisor_;
   std::unique_ptr<NodeReconfigure> reconfigure_;
