@@ -12,8 +12,10 @@ parameter (sim/README.md, 'Fault injection'), and asserts on /odom (ground truth
                 last ~window s is <= ~speed_error_limit (fraction of v).
   gyro_freeze   turn at (v, ~turn_rate); the gyro freezes; the set point goes straight: the gyro is
                 isolated and the yaw rate over the last ~window s is below ~yaw_rate_limit.
-  payload       drive v straight; ~payload kg are added: the speed error over the last ~window s is
-                <= ~speed_error_limit and the node reports no runaway.
+  payload       ~payload kg are added at rest, then a step to (v, ~turn_rate): it settles within
+                ~settle_limit s, the speed error over the last ~window s is <= ~speed_error_limit,
+                the yaw rate within ~yaw_rate_limit of the set point (no runaway: |v_x| < 3 m/s).
+  friction      as payload, with the wheel-ground friction of ~side scaled by ~friction_scale.
 
 ~expect_worse true (with the node's fdi_enabled false): the same run must end OUTSIDE the limit
 (showing what isolation buys) and must not isolate anything.
@@ -244,15 +246,35 @@ class FaultCheck(unittest.TestCase):
         self.assertLess(abs(yaw), limit, "yaw rate %.3f rad/s with the gyro isolated" % yaw)
 
     def run_payload(self, v, window, expect_worse):
+        self.run_physical(v, window, "payload set %g" % float(p("payload", 10.0)))
+
+    def run_friction(self, v, window, expect_worse):
+        self.run_physical(v, window, "friction_%s set %g" % (p("side", "left"), float(p("friction_scale", 0.2))))
+
+    def run_physical(self, v, window, line):
+        """A physical fault injected at rest, then a step to (v, ~turn_rate): the step settles (+-5 %)
+        within ~settle_limit s, the speed error over the last window is <= ~speed_error_limit and the
+        yaw rate is within ~yaw_rate_limit of the set point."""
         limit = float(p("speed_error_limit", 0.05))
-        self.d.set(v)
-        rospy.sleep(3.0)
-        self.inject("payload set %g" % float(p("payload", 10.0)))
+        w = float(p("turn_rate", 0.0))
+        self.d.set(0.0)
+        rospy.sleep(1.0)
+        self.inject(line)
+        rospy.sleep(1.0)
+        t_step = rospy.get_rostime().to_sec()
+        self.d.set(v, w)
         rospy.sleep(float(p("hold", 5.0)))
         t_end = self.s.odom[-1][0]
-        err = abs(mean([o[1] for o in self.s.odom_between(t_end - window, t_end)]) - v) / v
-        rospy.loginfo("payload: speed error %.2f %%", 100 * err)
-        self.assertLessEqual(err, limit, "speed error %.2f %% with the payload" % (100 * err))
+        last = self.s.odom_between(t_end - window, t_end)
+        err = abs(mean([o[1] for o in last]) - v) / v
+        settle = settling_time(self.s.odom_between(t_step, t_end), t_step, 0.0, v)
+        yaw = mean([o[2] for o in last])
+        rospy.loginfo("%s: step to (%.2f m/s, %.2f rad/s) settles in %s s; speed error %.2f %% over the last %.1f s; "
+                      "yaw rate %.3f rad/s", p("scenario", ""), v, w, settle, 100 * err, window, yaw)
+        self.assertIsNotNone(settle, "the step never settled after '%s'" % line)
+        self.assertLessEqual(settle, float(p("settle_limit", 1.5)), "settling %.3f s after '%s'" % (settle, line))
+        self.assertLessEqual(err, limit, "speed error %.2f %% after '%s'" % (100 * err, line))
+        self.assertLess(abs(yaw - w), float(p("yaw_rate_limit", 0.1)), "yaw rate %.3f rad/s after '%s'" % (yaw, line))
 
 
 if __name__ == "__main__":
