@@ -7,7 +7,7 @@ parameter (sim/README.md, 'Fault injection'), and asserts on /odom (ground truth
   imu_loss      0 -> v step (healthy), back to 0, then the same step with the IMU dropping out
                 ~fault_delay s after it: the faulty step settles (+-5 %) within
                 ~settle_ratio x the healthy one, and sensor health reports the IMU missing.
-  encoder_bias  drive v straight; a bias of ~bias rad/s steps onto the left encoder: it is isolated
+  encoder_bias  drive v straight; a bias of ~bias rad/s steps onto the ~side (left) encoder: it is isolated
                 within ~isolation_limit s of the bias's first sample, and the speed error over the
                 last ~window s is <= ~speed_error_limit (fraction of v).
   gyro_freeze   turn at (v, ~turn_rate); the gyro freezes; the set point goes straight: the gyro is
@@ -194,13 +194,17 @@ class FaultCheck(unittest.TestCase):
         limit = float(p("speed_error_limit", 0.05))
         self.d.set(v)
         rospy.sleep(3.0)
-        t_set = self.inject("left_encoder bias %g" % bias)
+        side = p("side", "left")
+        t_set = self.inject("%s_encoder bias %g" % (side, bias))
         # Onset: the first joint_states whose left-right difference jumped by more than half the bias.
         rospy.sleep(float(p("hold", 8.0)))
         with self.s.lock:
             before = [j for j in self.s.joints if t_set - 1.0 <= j[0] < t_set]
+            sign = 1.0 if side == "left" else -1.0  # left - right moves by +bias (left) or -bias (right)
             base = mean([j[1] - j[2] for j in before])
-            onset = next((j[0] for j in self.s.joints if j[0] >= t_set and (j[1] - j[2]) - base > 0.5 * bias), None)
+            onset = next((j[0] for j in self.s.joints
+                          if j[0] >= t_set and sign * ((j[1] - j[2]) - base) * (1 if bias > 0 else -1) > 0.5 * abs(bias)),
+                         None)
         self.assertIsNotNone(onset, "the bias never showed on /joint_states")
         t_end = self.s.odom[-1][0]
         err = abs(mean([o[1] for o in self.s.odom_between(t_end - window, t_end)]) - v) / v
@@ -213,7 +217,7 @@ class FaultCheck(unittest.TestCase):
                                "isolation test shows nothing" % (100 * err))
             return
         self.assertTrue(iso, "the biased encoder was never isolated")
-        self.assertIn("omega_left", iso[0][1].get("last event", ""))
+        self.assertIn("omega_" + side, iso[0][1].get("last event", ""))
         # Both times are receipt times on this host's clock (the node stamps an event when the sample
         # that caused it arrives), so plant lag does not enter.
         self.assertLessEqual(iso[0][0] - onset, float(p("isolation_limit", 0.5)),
