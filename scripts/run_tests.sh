@@ -23,6 +23,9 @@ cd "$ws"
 # 2-core machine would measure the machine, not the controller.
 catkin_make "${catkin_args[@]}" run_tests -j1 2>&1 | tee "$ws/run_tests.log" | grep -E "^\[ *(RUN|OK|FAILED|PASSED) *\]|^\[ROSTEST\]|^\[Testcase|FAILURE|Error|error:" || true
 
+# The libFuzzer target over the core (clang, sanitizers), bounded: one more test result.
+bash "$here/fuzz.sh" "${FUZZ_SECONDS:-60}" "$results/jackal_aic/fuzz_core.xml" || true
+
 summary="$(catkin_test_results --verbose "$results" 2>&1)"
 verdict=$?
 echo "$summary" | grep -v "^Skipping" | tail -40

@@ -43,7 +43,7 @@ public:
 
   /**
    * \brief Replace the parameters. If the embedding order changes the state is reset,
-   *        otherwise beliefs and action are kept.
+   *        otherwise beliefs and action are kept (the action clamped to the new max_wheel_speed).
    * \throws std::invalid_argument (state unchanged) if params.validate() is not empty.
    */
   void setParams(const AicParams& params);
@@ -86,7 +86,8 @@ public:
   /**
    * \brief One action step: a += h * (-k_a sum_i K Pi_y^(i) eps_y^(i)) (eq. 3-16), then clamp to
    *        +-max_wheel_speed and, if max_action_lead > 0, to within +-max_action_lead of the
-   *        measured wheel speeds y^(0)[omega_L], y^(0)[omega_R] (anti-windup, not in the thesis).
+   *        measured wheel speeds y^(0)[omega_L], y^(0)[omega_R] (anti-windup, not in the thesis;
+   *        not applied to a wheel whose channel setSensorMask() masked).
    *        da/dt does not depend on a, so this Euler step is exact for held beliefs and
    *        measurement, whatever the integrator setting.
    * \param h  action step [s], finite and > 0
@@ -116,6 +117,21 @@ public:
   MuTilde muDot() const;
   /// Action rate of change da/dt = -k_a sum_i K Pi_y^(i) eps_y^(i) [rad/s^2] (eq. 3-16).
   Vector2 aDot() const;
+
+  /**
+   * \brief Use only some sensor channels: Pi_y^(i) of every order is set to zero for a channel whose
+   *        bit is clear (fault isolation, Baioumy et al. ECC 2021; doc/active_inference.md, 'Fault
+   *        detection and isolation'), so eps_y of that channel leaves the free energy (eq. 3-10), the
+   *        belief update (eq. 3-15) and the action update (eq. 3-16). Kept across setParams().
+   * \param mask  bit j (SensorIndex) set = channel j used; bits above kYDim are ignored
+   * Recomputes the belief dynamics (and, for the exact integrator, its matrix exponential at the next
+   * step) only if the mask changes. No heap allocation.
+   */
+  void setSensorMask(std::uint8_t mask);
+  /// The channel mask in use (all kYDim bits set by default).
+  std::uint8_t sensorMask() const { return sensor_mask_; }
+  /// Precisions Pi_y in use, 5 x (p+1): params().precisionY() with the masked channels' rows zero.
+  const YTilde& precisionY() const { return pi_y_; }
 
   /// Number of runaway resets since construction.
   std::uint64_t runawayCount() const { return runaway_count_; }
@@ -157,6 +173,8 @@ private:
   void computeMuDot(const MuTilde& mu, const YTilde& y_tilde, const Vector3& mu_d, MuTilde* mu_dot) const;
   /// Cache precisions, model, the belief dynamics matrix M; invalidate the exact step.
   void applyParams(const AicParams& params);
+  /// Pi_y from params_ and the sensor mask, the belief dynamics matrix M; invalidate the exact step.
+  void rebuildDynamics();
   /// Compute Phi = exp(M h), Psi = int_0^h exp(M s) ds for the exact integrator (no heap).
   void computeExactStep(double h);
   /// Zero beliefs and action after a runaway.
@@ -170,6 +188,7 @@ private:
   Vector2 a_ = Vector2::Zero();
   bool has_measurement_ = false;
   std::uint64_t runaway_count_ = 0;
+  std::uint8_t sensor_mask_ = (1u << kYDim) - 1u;  ///< bit j set = channel j used
 
   MuTilde pi_mu_;   ///< Pi_mu, 3 x (p+1)
   YTilde pi_y_;     ///< Pi_y, 5 x (p+1)

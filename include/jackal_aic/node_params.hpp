@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "jackal_aic/diff_drive.hpp"
+#include "jackal_aic/fault_monitor.hpp"
 #include "jackal_aic/params.hpp"
 
 namespace jackal_aic
@@ -69,6 +70,8 @@ struct NodeParams
   int realtime_priority = 0;
   /// What starts an action step: the action_rate timer or each accepted sensor sample.
   ActionTrigger action_trigger = ActionTrigger::kSample;
+  /// Sensor fault detection and isolation (keys fdi_*; doc/active_inference.md, 'Fault detection and isolation').
+  FdiParams fdi;
 
   /**
    * \brief Every violated rule: the AicParams rules (AicParams::validate()), the ranges of

@@ -288,8 +288,8 @@ void Plant::collide()
       {
         fdir = sliding;
       }
-      contact.surface.mu = c.mu1;
-      contact.surface.mu2 = c.mu2;
+      contact.surface.mu = c.mu1 * friction_scale_[kWheelSide[i]];
+      contact.surface.mu2 = c.mu2 * friction_scale_[kWheelSide[i]];
       if (c.slip1 > 0.0)
       {
         contact.surface.mode |= dContactSlip1;
@@ -327,6 +327,34 @@ void Plant::collide()
       dJointAttach(j, dGeomGetBody(contact.geom.g1), dGeomGetBody(contact.geom.g2));
     }
   }
+}
+
+bool Plant::setFrictionScale(Side side, double scale)
+{
+  if (!std::isfinite(scale) || scale < 0.0 || scale > 10.0)
+  {
+    return false;
+  }
+  friction_scale_[side] = scale;
+  return true;
+}
+
+bool Plant::setPayload(double payload)
+{
+  if (!std::isfinite(payload) || payload < 0.0 || payload > 1000.0)
+  {
+    return false;
+  }
+  dMass m;
+  dBodyGetMass(ode_->chassis, &m);
+  if (chassis_mass_ <= 0.0)
+  {
+    chassis_mass_ = m.mass;
+  }
+  dMassAdjust(&m, chassis_mass_ + payload);
+  dBodySetMass(ode_->chassis, &m);
+  payload_ = payload;
+  return true;
 }
 
 void Plant::step()

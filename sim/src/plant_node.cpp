@@ -75,6 +75,8 @@ PlantNode::PlantNode(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pn
   {
     clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
   }
+  fault_poll_period_ = periodSteps(5.0, params_.physics.step);
+  pollFaults();
   drive_sub_ = nh_.subscribe("cmd_drive", 10, &PlantNode::onDrive, this, ros::TransportHints().tcpNoDelay());
 
   ROS_INFO_STREAM("jackal_plant: URDF " << urdf << " (robot '" << description_.robot_name << "', wheel radius "
@@ -169,15 +171,38 @@ void PlantNode::stepOnce()
     clock.clock = stamp(plant_->time());
     clock_pub_.publish(clock);
   }
-  JointStateSample js;
-  if (sensors_->pollJointStates(&js))
+  if (k % fault_poll_period_ == 0)
   {
-    publishJointStates(js);
+    pollFaults();
+  }
+  applyFaults();
+  JointStateSample js;
+  double delay = 0.0;
+  if (sensors_->pollJointStates(&js) && faults_.applyJoints(plant_->time(), &js, &delay))
+  {
+    if (delay > 0.0 || !delayed_joints_.empty())
+    {
+      const double release = std::max(plant_->time() + delay, delayed_joints_.empty() ? 0.0 : delayed_joints_.back().first);
+      fillJointStates(js);
+      delayed_joints_.emplace_back(release, joint_msg_);
+    }
+    else
+    {
+      publishJointStates(js);
+    }
   }
   ImuSample imu;
-  if (sensors_->pollImu(&imu))
+  if (sensors_->pollImu(&imu) && faults_.applyImu(plant_->time(), &imu, &delay))
   {
-    publishImu(imu);
+    if (delay > 0.0 || !delayed_imu_.empty())
+    {
+      const double release = std::max(plant_->time() + delay, delayed_imu_.empty() ? 0.0 : delayed_imu_.back().first);
+      delayed_imu_.emplace_back(release, imuMessage(imu));
+    }
+    else
+    {
+      imu_pub_.publish(imuMessage(imu));
+    }
   }
   if (k % odom_period_ == 0)
   {
@@ -185,7 +210,70 @@ void PlantNode::stepOnce()
   }
 }
 
-void PlantNode::publishJointStates(const JointStateSample& s)
+void PlantNode::pollFaults()
+{
+  std::vector<std::string> lines;
+  pnh_.getParamCached("faults", lines);
+  if (lines == fault_lines_)
+  {
+    return;
+  }
+  fault_lines_ = lines;
+  std::vector<FaultSpec> specs;
+  for (const auto& line : lines)
+  {
+    FaultSpec f;
+    std::string error;
+    if (parseFaultSpec(line, &f, &error))
+    {
+      specs.push_back(f);
+      ROS_WARN_STREAM("jackal_plant: injecting fault '" << line << "' from t = " << plant_->time() + f.start
+                                                        << " s (plant time)");
+    }
+    else
+    {
+      ROS_ERROR_STREAM("jackal_plant: ignored fault '" << line << "' in " << pnh_.resolveName("faults") << ": "
+                                                       << error);
+    }
+  }
+  if (specs.empty())
+  {
+    ROS_INFO("jackal_plant: no faults injected");
+  }
+  faults_.setFaults(specs, plant_->time());
+}
+
+void PlantNode::applyFaults()
+{
+  const double t = plant_->time();
+  const double payload = faults_.payload(t);
+  if (payload != plant_->payload())
+  {
+    plant_->setPayload(payload);
+    ROS_WARN("jackal_plant: payload now %.2f kg", payload);
+  }
+  for (const Side side : { kLeft, kRight })
+  {
+    const double scale = faults_.frictionScale(side, t);
+    if (scale != plant_->frictionScale(side))
+    {
+      plant_->setFrictionScale(side, scale);
+      ROS_WARN("jackal_plant: %s wheel-ground friction scaled by %.3f", side == kLeft ? "left" : "right", scale);
+    }
+  }
+  while (!delayed_joints_.empty() && delayed_joints_.front().first <= t)
+  {
+    joint_pub_.publish(delayed_joints_.front().second);
+    delayed_joints_.pop_front();
+  }
+  while (!delayed_imu_.empty() && delayed_imu_.front().first <= t)
+  {
+    imu_pub_.publish(delayed_imu_.front().second);
+    delayed_imu_.pop_front();
+  }
+}
+
+void PlantNode::fillJointStates(const JointStateSample& s)
 {
   joint_msg_.header.stamp = stamp(s.stamp);
   for (int i = 0; i < kNumWheels; ++i)
@@ -194,10 +282,20 @@ void PlantNode::publishJointStates(const JointStateSample& s)
     joint_msg_.velocity[i] = s.velocity[i];
     joint_msg_.effort[i] = plant_->wheelTorque(i);
   }
+}
+
+void PlantNode::publishJointStates(const JointStateSample& s)
+{
+  fillJointStates(s);
   joint_pub_.publish(joint_msg_);
 }
 
 void PlantNode::publishImu(const ImuSample& s)
+{
+  imu_pub_.publish(imuMessage(s));
+}
+
+sensor_msgs::Imu PlantNode::imuMessage(const ImuSample& s) const
 {
   sensor_msgs::Imu m;
   m.header.stamp = stamp(s.stamp);
@@ -212,7 +310,7 @@ void PlantNode::publishImu(const ImuSample& s)
     m.angular_velocity_covariance[4 * k] = p.gyro_noise_std * p.gyro_noise_std;
     m.linear_acceleration_covariance[4 * k] = p.accel_noise_std * p.accel_noise_std;
   }
-  imu_pub_.publish(m);
+  return m;
 }
 
 void PlantNode::publishOdom()

@@ -57,6 +57,9 @@ void ActiveInferenceController::setParams(const AicParams& params)
   checked(params);
   const bool order_changed = params.embedding_order != params_.embedding_order;
   applyParams(params);
+  // A lower max_wheel_speed applies to the action held now, not only from the next action step
+  // (found by test/fuzz/fuzz_core.cpp).
+  a_ = a_.cwiseMax(-params.max_wheel_speed).cwiseMin(params.max_wheel_speed);
   if (order_changed)
   {
     const int n = params.numOrders();
@@ -72,7 +75,31 @@ void ActiveInferenceController::applyParams(const AicParams& params)
   params_ = params;
   model_ = SkidSteerModel(params.wheel_radius, params.slip_factor, params.wheel_separation);
   pi_mu_ = params.precisionMu();
+  rebuildDynamics();
+}
+
+void ActiveInferenceController::setSensorMask(std::uint8_t mask)
+{
+  mask &= static_cast<std::uint8_t>((1u << kYDim) - 1u);
+  if (mask == sensor_mask_)
+  {
+    return;
+  }
+  sensor_mask_ = mask;
+  rebuildDynamics();
+}
+
+void ActiveInferenceController::rebuildDynamics()
+{
+  const AicParams& params = params_;
   pi_y_ = params.precisionY();
+  for (int j = 0; j < kYDim; ++j)
+  {
+    if ((sensor_mask_ & (1u << j)) == 0)
+    {
+      pi_y_.row(j).setZero();
+    }
+  }
 
   // The belief dynamics are affine in mu_tilde: dmu/dt = M vec(mu) + (terms in y_tilde, mu_d).
   // Column j of M is dmu/dt at mu = e_j with y_tilde = 0 and mu_d = 0.
@@ -340,9 +367,18 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
   {
     // Conditional integration: the action may lead the measured wheel speeds by at most
     // max_action_lead, so it cannot wind up while the wheel loop saturates.
+    // A masked (isolated) wheel channel is not trusted, so it does not bound its command.
     const Vector2 omega(y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0));
     const Vector2 lead = Vector2::Constant(params_.max_action_lead);
-    a = a.cwiseMax(omega - lead).cwiseMin(omega + lead);
+    const Vector2 bounded = a.cwiseMax(omega - lead).cwiseMin(omega + lead);
+    if ((sensor_mask_ & (1u << kOmegaLeft)) != 0)
+    {
+      a(0) = bounded(0);
+    }
+    if ((sensor_mask_ & (1u << kOmegaRight)) != 0)
+    {
+      a(1) = bounded(1);
+    }
   }
   if (params_.max_action_lead_turn > 0.0)
   {

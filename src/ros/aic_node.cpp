@@ -75,6 +75,7 @@ bool AicNode::init()
   {
     controller_ = std::make_unique<ActiveInferenceController>(params_.aic);
     generalizer_ = std::make_unique<Generalizer>(kYDim, params_.aic.embedding_order);
+    fault_monitor_ = std::make_unique<FaultMonitor>(params_.fdi, params_.aic);
   }
   catch (const std::exception& e)
   {
@@ -100,6 +101,7 @@ bool AicNode::init()
   reconfigure_ = std::make_unique<NodeReconfigure>(pnh_, params_);
   diagnostics_ = std::make_unique<NodeDiagnostics>(nh_, pnh_, *supervisor_, *sync_,
                                                    [this] { return controllerReport(); });
+  diagnostics_->addFaultMonitor(pnh_, *fault_monitor_);
 
   action_timer_ = nh_.createTimer(ros::Duration(supervisor_->actionLoop().nominalPeriod()),
                                   &AicNode::actionTimerCallback, this);
@@ -109,6 +111,7 @@ bool AicNode::init()
   diagnostics_timer_ = nh_.createTimer(ros::Duration(1.0 / kDiagnosticsPollRate), [this](const ros::TimerEvent&) {
     const std::lock_guard<std::mutex> lock(mutex_);
     diagnostics_->update();
+    diagnostics_->publishHealth(FaultMonitor::Event::kNone, -1);
   });
 
   std::string loop = "ROS timer (simulated time)";
@@ -150,6 +153,12 @@ void AicNode::jointStateCallback(const sensor_msgs::JointState::ConstPtr& msg)
   {
     return;
   }
+  if (!sample.imu_ok)
+  {
+    // Degraded mode (IMU missing or stale): the gyro channel is masked (Pi_y = 0); give it the
+    // wheels' yaw rate so that its generalized orders stay smooth when the IMU returns.
+    sample.y(kGyroZ) = controller_->model().twistFromWheels(Vector2(sample.y(kOmegaLeft), sample.y(kOmegaRight)))(2);
+  }
   if (sample.first || !generalizer_->initialized())
   {
     generalizer_->reset();
@@ -174,9 +183,23 @@ void AicNode::jointStateCallback(const sensor_msgs::JointState::ConstPtr& msg)
     ROS_WARN_THROTTLE(1.0, "jackal_AIC: controller refused a generalized measurement");
     return;
   }
+  checkSensorFaults(sample);  // before the action: a channel isolated now is out of this step
   if (params_.action_trigger == ActionTrigger::kSample)
   {
     actionStep(sample.first ? -1.0 : sample.h);  // over the sensor interval (stamps), clamped to 3 periods
+  }
+}
+
+void AicNode::checkSensorFaults(const SensorSample& sample)
+{
+  fault_monitor_->setImuAvailable(sample.imu_ok);
+  const int isolated_before = fault_monitor_->isolatedChannel();
+  const FaultMonitor::Event event = fault_monitor_->update(sample.y, controller_->mu().col(0), sample.h);
+  controller_->setSensorMask(fault_monitor_->sensorMask());
+  if (event != FaultMonitor::Event::kNone)
+  {
+    diagnostics_->publishHealth(event, event == FaultMonitor::Event::kRestored ? isolated_before
+                                                                                : fault_monitor_->suspectedChannel());
   }
 }
 
@@ -234,6 +257,7 @@ void AicNode::carryOut(const Supervisor::Transition& t)
     // Sensors are gone: the next sample starts a new history (and a new warm-up).
     generalizer_->reset();
     sync_->restartHistory();
+    fault_monitor_->reset();
   }
   if (t.warn())
   {
@@ -459,6 +483,7 @@ void AicNode::applyPendingParams()
   try
   {
     controller_->setParams(next->aic);
+    fault_monitor_->setParams(next->fdi, next->aic);
   }
   catch (const std::exception& e)
   {

@@ -7,6 +7,8 @@
 #include <string>
 #include <utility>
 
+#include <ros/console.h>
+
 namespace jackal_aic
 {
 namespace
@@ -164,6 +166,96 @@ void NodeDiagnostics::controller(diagnostic_updater::DiagnosticStatusWrapper& st
       stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "runaway: " + reason);
       break;
   }
+}
+
+void NodeDiagnostics::addFaultMonitor(ros::NodeHandle& pnh, const FaultMonitor& monitor)
+{
+  monitor_ = &monitor;
+  health_pub_ = pnh.advertise<diagnostic_msgs::DiagnosticStatus>("sensor_health", 10, true);
+  updater_->add("sensor health", [this](diagnostic_updater::DiagnosticStatusWrapper& stat) { fillHealth(stat); });
+}
+
+void NodeDiagnostics::fillHealth(diagnostic_updater::DiagnosticStatusWrapper& stat) const
+{
+  if (monitor_ == nullptr)
+  {
+    return;
+  }
+  const FaultMonitor& m = *monitor_;
+  std::string missing;
+  for (int j = 0; j < kYDim; ++j)
+  {
+    const bool imu_channel = j == kGyroZ || j == kAccelX || j == kAccelY;
+    std::string health = "ok";
+    if (imu_channel && !m.imuAvailable())
+    {
+      health = "missing (no imu within imu_max_skew)";
+    }
+    else if (j == m.isolatedChannel())
+    {
+      health = m.params().enabled ? "isolated (Pi_y = 0)" : "faulty (isolation off)";
+    }
+    stat.add(FaultMonitor::channelName(j), health);
+  }
+  stat.add("isolation enabled", m.params().enabled ? "true" : "false");
+  stat.addf("residual r [rad/s]", "%.4f", m.residual());
+  stat.addf("statistic s = Pi_r r^2 [-]", "%.4g", m.statistic());
+  stat.addf("threshold [-]", "%.4g", m.params().threshold);
+  stat.add("isolations", m.isolations());
+  stat.add("restorations", m.restorations());
+  stat.add("detections (isolation off)", m.detections());
+  stat.addf("last detection delay [s]", "%.3f", m.lastDetectionDelay());
+  stat.add("last event", last_event_);
+  if (!m.imuAvailable())
+  {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "imu missing or stale: controlling on the wheel encoders");
+  }
+  else if (m.isolatedChannel() >= 0)
+  {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
+                 std::string("sensor fault: ") + FaultMonitor::channelName(m.isolatedChannel()) + " isolated");
+  }
+  else if (m.faultPresent())
+  {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "sensors disagree (residual above the threshold)");
+  }
+  else
+  {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "all channels healthy");
+  }
+}
+
+void NodeDiagnostics::publishHealth(FaultMonitor::Event event, int channel)
+{
+  if (monitor_ == nullptr)
+  {
+    return;
+  }
+  if (event != FaultMonitor::Event::kNone)
+  {
+    last_event_ = std::string(toString(event)) + " " + FaultMonitor::channelName(channel) + " at " +
+                  std::to_string(ros::Time::now().toSec());
+    if (event == FaultMonitor::Event::kRestored)
+    {
+      ROS_INFO_STREAM("jackal_AIC: sensor channel " << FaultMonitor::channelName(channel)
+                                                    << " agrees with the others again: restored");
+    }
+    else
+    {
+      ROS_WARN_STREAM("jackal_AIC: sensor fault: residual s = " << monitor_->statistic() << " above fdi_threshold "
+                                                                << monitor_->params().threshold << " for "
+                                                                << monitor_->lastDetectionDelay() << " s; channel "
+                                                                << FaultMonitor::channelName(channel)
+                                                                << (event == FaultMonitor::Event::kIsolated
+                                                                        ? " isolated (Pi_y = 0)"
+                                                                        : " suspected (fdi_enabled false: not isolated)"));
+    }
+  }
+  diagnostic_updater::DiagnosticStatusWrapper stat;
+  stat.name = "jackal_AIC: sensor health";
+  stat.hardware_id = "jackal_aic";
+  fillHealth(stat);
+  health_pub_.publish(static_cast<diagnostic_msgs::DiagnosticStatus>(stat));
 }
 
 }  // namespace jackal_aic

@@ -48,7 +48,7 @@ const char* toString(DropReason reason)
     case DropReason::kImuStamp:
       return "imu: zero or backwards stamp";
     case DropReason::kNoImu:
-      return "sample: no imu within imu_max_skew";
+      return "sample: no imu within imu_max_skew (sample used without the imu)";
     case DropReason::kTooClose:
       return "sample: closer than min_sample_interval";
     case DropReason::kCount:
@@ -155,8 +155,13 @@ bool SensorSynchronizer::addJointState(const sensor_msgs::JointState::ConstPtr& 
   }
   if (!imu)
   {
-    return drop(DropReason::kNoImu, "no imu message within " + std::to_string(config_.imu_max_skew) +
-                                        " s of joint_states stamp " + std::to_string(stamp.toSec()));
+    // Degraded mode: the encoders alone carry the twist; the sample goes on without the IMU
+    // (imu_ok false, IMU fields zero) and the node masks the IMU channels (Pi_y = 0).
+    ++drops_[static_cast<int>(DropReason::kNoImu)];
+    ROS_WARN_STREAM_THROTTLE(1.0, "jackal_AIC: no imu message within "
+                                      << config_.imu_max_skew << " s of joint_states stamp " << stamp.toSec()
+                                      << ": controlling on the wheel encoders alone ["
+                                      << drops_[static_cast<int>(DropReason::kNoImu)] << " such samples so far]");
   }
 
   double h = 0.0;
@@ -178,11 +183,12 @@ bool SensorSynchronizer::addJointState(const sensor_msgs::JointState::ConstPtr& 
   has_previous_sample_ = true;
   ++accepted_;
 
-  out->y(kGyroZ) = imu->angular_velocity.z;
+  out->imu_ok = static_cast<bool>(imu);
+  out->y(kGyroZ) = imu ? imu->angular_velocity.z : 0.0;
   out->y(kOmegaLeft) = mean[0];
   out->y(kOmegaRight) = mean[1];
-  out->y(kAccelX) = imu->linear_acceleration.x;
-  out->y(kAccelY) = imu->linear_acceleration.y;
+  out->y(kAccelX) = imu ? imu->linear_acceleration.x : 0.0;
+  out->y(kAccelY) = imu ? imu->linear_acceleration.y : 0.0;
   out->h = h;
   out->first = first;
   out->stamp = stamp;

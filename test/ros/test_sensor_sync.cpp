@@ -149,10 +149,18 @@ TEST(SensorSync, NoImuWithinSkew)
 {
   SensorSynchronizer sync(config());
   SensorSample s;
-  EXPECT_FALSE(sync.addJointState(joints(kT0), &s));  // no IMU at all
+  // Degraded mode: without an IMU within the skew the sample goes on, flagged, IMU fields zero.
+  ASSERT_TRUE(sync.addJointState(joints(kT0), &s));  // no IMU at all
+  EXPECT_FALSE(s.imu_ok);
+  EXPECT_EQ(s.y(kGyroZ), 0.0);
   ASSERT_TRUE(sync.addImu(imu(kT0 + 0.02)));
-  EXPECT_FALSE(sync.addJointState(joints(kT0 + 0.1), &s));  // IMU 80 ms old
+  ASSERT_TRUE(sync.addJointState(joints(kT0 + 0.1), &s));  // IMU 80 ms old: stale
+  EXPECT_FALSE(s.imu_ok);
   EXPECT_EQ(drops(sync, DropReason::kNoImu), 2u);
+  ASSERT_TRUE(sync.addImu(imu(kT0 + 0.12, 0.4)));
+  ASSERT_TRUE(sync.addJointState(joints(kT0 + 0.12), &s));
+  EXPECT_TRUE(s.imu_ok);
+  EXPECT_NEAR(s.y(kGyroZ), 0.4, kValueTol);
 }
 
 TEST(SensorSync, TooCloseAndGaps)
@@ -170,10 +178,13 @@ TEST(SensorSync, TooCloseAndGaps)
   EXPECT_TRUE(s.first);  // 0.98 s > max_gap: new history
   EXPECT_EQ(s.h, 0.0);
   sync.restartHistory();
-  EXPECT_FALSE(sync.addJointState(joints(kT0 + 1.02), &s));  // IMU cache emptied by the restart
+  ASSERT_TRUE(sync.addJointState(joints(kT0 + 1.02), &s));  // IMU cache emptied by the restart
+  EXPECT_FALSE(s.imu_ok);
+  EXPECT_TRUE(s.first);  // the restart starts a new history
   ASSERT_TRUE(sync.addImu(imu(kT0 + 1.03)));
   ASSERT_TRUE(sync.addJointState(joints(kT0 + 1.04), &s));
-  EXPECT_TRUE(s.first);
+  EXPECT_TRUE(s.imu_ok);
+  EXPECT_FALSE(s.first);
 }
 
 TEST(SensorSync, RecoversFromAFutureStampAfterRestart)

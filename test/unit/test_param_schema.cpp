@@ -148,7 +148,7 @@ TEST(ParamSchema, ControllerKeysAreTheMembersOfAicParams)
         changed = 2;
         break;
       case ParamType::kBool:
-        changed = true;
+        changed = !std::get<bool>(s.get(NodeParams()));  // not the default (fdi_enabled defaults to true)
         break;
       case ParamType::kString:
       {

@@ -15,6 +15,7 @@
  *        ~eps_y, ~eps_mu (std_msgs/Float64MultiArray, rows = channels, cols = orders) at
  *        debug_rate (100 Hz) from the newest belief, when there is a new one, while any
  *        of them has a subscriber (no debug timer wake-ups otherwise);
+ *        ~sensor_health (diagnostic_msgs/DiagnosticStatus, latched) on every fault event and at 10 Hz;
  *        /diagnostics (NodeDiagnostics). Publishers and the finiteness guard: NodeOutputs.
  *
  * The node is wiring. The decisions are the ROS-free Supervisor's
@@ -59,6 +60,7 @@
 
 #include "jackal_aic/controller.hpp"
 #include "jackal_aic/diff_drive.hpp"
+#include "jackal_aic/fault_monitor.hpp"
 #include "jackal_aic/generalizer.hpp"
 #include "jackal_aic/node_params.hpp"
 #include "jackal_aic/periodic_thread.hpp"
@@ -141,6 +143,9 @@ private:
   /// The command outside kRunning: the measured wheel speeds in kHeld (MCU stop), else zero.
   void publishIdle();
   ControllerReport controllerReport() const;
+  /// Fault detection and isolation on one accepted sample: IMU availability, the residual test,
+  /// the controller's channel mask (Pi_y = 0 for isolated or missing channels), events to diagnostics.
+  void checkSensorFaults(const SensorSample& sample);
 
   ros::NodeHandle nh_;
   ros::NodeHandle pnh_;
@@ -149,6 +154,7 @@ private:
 
   std::unique_ptr<ActiveInferenceController> controller_;
   std::unique_ptr<Generalizer> generalizer_;
+  std::unique_ptr<FaultMonitor> fault_monitor_;  ///< sensor FDI (doc/active_inference.md)
   std::unique_ptr<SensorSynchronizer> sync_;
   std::unique_ptr<Supervisor> supervisor_;
   std::unique_ptr<NodeReconfigure> reconfigure_;

@@ -14,8 +14,10 @@
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <diagnostic_updater/update_functions.h>
 #include <ros/node_handle.h>
+#include <ros/publisher.h>
 
 #include "jackal_aic/periodic_thread.hpp"
+#include "jackal_aic/fault_monitor.hpp"
 #include "jackal_aic/ros/sensor_sync.hpp"
 #include "jackal_aic/supervisor.hpp"
 #include "jackal_aic/types.hpp"
@@ -41,7 +43,7 @@ struct ControllerReport
 /**
  * \brief The node's diagnostic_updater tasks, published every ~diagnostic_period (1 s):
  *        "belief loop rate", "action loop rate (/cmd_drive)" (FrequencyStatus, +-10 %),
- *        "loops", "sensors", "controller" (keys as in doc/jackal_aic_node.md).
+ *        "loops", "sensors", "controller", "sensor health" (keys as in doc/jackal_aic_node.md).
  */
 class NodeDiagnostics
 {
@@ -69,6 +71,24 @@ public:
   /// Poll the updater (publishes when ~diagnostic_period has passed).
   void update() { updater_->update(); }
 
+  /**
+   * \brief Report sensor health: adds the "sensor health" task to /diagnostics and advertises
+   *        ~sensor_health (diagnostic_msgs/DiagnosticStatus, latched; published by publishHealth()).
+   * \param pnh      private node handle
+   * \param monitor  the node's fault monitor; must outlive this object
+   */
+  void addFaultMonitor(ros::NodeHandle& pnh, const FaultMonitor& monitor);
+  /**
+   * \brief Publish the channel health on ~sensor_health and, for an event, log it (WARN on an
+   *        isolation or a detection, INFO on a restoration). A no-op before addFaultMonitor().
+   * \param event  what the last FaultMonitor::update() changed (kNone: periodic publication)
+   * \param channel  the channel the event concerns (SensorIndex; -1 for none)
+   */
+  void publishHealth(FaultMonitor::Event event, int channel);
+  /// Health of the five sensor channels as a status: WARN while the IMU is missing or a channel
+  /// is isolated (or a fault is detected with isolation off), OK otherwise.
+  void fillHealth(diagnostic_updater::DiagnosticStatusWrapper& stat) const;
+
 private:
   void loops(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void sensors(diagnostic_updater::DiagnosticStatusWrapper& stat);
@@ -82,6 +102,9 @@ private:
   double belief_freq_min_ = 0.0, belief_freq_max_ = 0.0, action_freq_min_ = 0.0, action_freq_max_ = 0.0;
   std::unique_ptr<diagnostic_updater::Updater> updater_;
   std::unique_ptr<diagnostic_updater::FrequencyStatus> belief_freq_, action_freq_;
+  const FaultMonitor* monitor_ = nullptr;
+  ros::Publisher health_pub_;
+  std::string last_event_ = "none";
 };
 
 }  // namespace jackal_aic

@@ -8,7 +8,9 @@
  * hardware-synchronized): /joint_states drives sampling. When a valid JointState
  * arrives, it is paired with the valid Imu message, among those already received
  * (message_filters::Cache), whose stamp is closest to the JointState's stamp, provided
- * |stamp difference| <= imu_max_skew; otherwise the sample is dropped ("no IMU").
+ * |stamp difference| <= imu_max_skew; otherwise the sample is used without the IMU
+ * (SensorSample::imu_ok false, counted as kNoImu): the wheel encoders alone carry the twist
+ * (degraded mode, doc/jackal_aic_node.md, 'Degraded modes').
  * The sample's stamp is the JointState stamp and h is the difference between the stamps
  * of two consecutive accepted samples. No message is waited for, so pairing adds no
  * latency to the wheel speeds (the IMU is at most one IMU period old).
@@ -37,6 +39,9 @@ struct SensorSample
   Vector5 y = Vector5::Zero();  ///< (gyro z [rad/s], omega_L [rad/s], omega_R [rad/s], accel x, y [m/s^2])
   double h = 0.0;               ///< interval since the previous accepted sample [s]; 0 if first
   bool first = true;            ///< true: no usable previous sample (start or after a gap)
+  /// false: no valid Imu within imu_max_skew (missing or stale IMU); gyro and accel fields are then 0
+  /// and must not be used (the node masks those channels: Pi_y = 0, degraded mode).
+  bool imu_ok = true;
   ros::Time stamp;              ///< JointState stamp
 };
 
@@ -49,7 +54,8 @@ enum class DropReason : int
   kJointStamp,        ///< zero stamp, or not newer than the previous valid JointState
   kImuNonFinite,      ///< NaN/Inf in angular_velocity or linear_acceleration
   kImuStamp,          ///< zero stamp, or not newer than the previous valid Imu
-  kNoImu,             ///< no valid Imu within imu_max_skew of the JointState
+  kNoImu,             ///< no valid Imu within imu_max_skew of the JointState: not a drop, the sample goes on
+                      ///< without the IMU (SensorSample::imu_ok false); counted here
   kTooClose,          ///< sample closer than min_sample_interval to the previous one
   kCount
 };

@@ -65,6 +65,23 @@ public:
   /// MODE_NONE: both motors released (no drive torque; drivetrain friction remains).
   void releaseMotors();
 
+  /**
+   * \brief Fault injection: scale the wheel-ground friction (mu1, mu2) of one side's wheels,
+   *        e.g. 0.2 for a low-friction patch under that side (1 = the configured surface).
+   * \return false (unchanged) unless scale is finite and in [0, 10].
+   */
+  bool setFrictionScale(Side side, double scale);
+  /// The friction scale of a side [-].
+  double frictionScale(Side side) const { return friction_scale_[side]; }
+  /**
+   * \brief Fault injection: a payload [kg] added to the chassis (its inertia scaled with the mass,
+   *        centre of mass unchanged); 0 = none.
+   * \return false (unchanged) unless payload is finite and in [0, 1000].
+   */
+  bool setPayload(double payload);
+  /// The payload [kg].
+  double payload() const { return payload_; }
+
   /// Advance one fixed step.
   void step();
   /// Advance n fixed steps.
@@ -118,6 +135,9 @@ private:
   std::vector<Eigen::Vector3d> vel_ring_;
   std::size_t ring_head_ = 0;
   ImuTruth imu_;
+  std::array<double, 2> friction_scale_{ 1.0, 1.0 };
+  double payload_ = 0.0;
+  double chassis_mass_ = 0.0;  ///< chassis mass without payload [kg]
 };
 
 }  // namespace sim

@@ -38,6 +38,10 @@
 #include <sensor_msgs/JointState.h>
 #include <tf2_ros/transform_broadcaster.h>
 
+#include <deque>
+#include <vector>
+
+#include "jackal_sim/fault_injection.hpp"
 #include "jackal_sim/plant.hpp"
 #include "jackal_sim/plant_params.hpp"
 #include "jackal_sim/robot_description.hpp"
@@ -77,7 +81,15 @@ private:
   ros::Time stamp(double plant_time) const;
   void publishJointStates(const JointStateSample& s);
   void publishImu(const ImuSample& s);
+  /// joint_msg_ from a sample (stamp, positions, velocities, efforts).
+  void fillJointStates(const JointStateSample& s);
+  /// The Imu message of a sample.
+  sensor_msgs::Imu imuMessage(const ImuSample& s) const;
   void publishOdom();
+  /// Re-read ~faults (a list of fault lines, sim/include/jackal_sim/fault_injection.hpp) if it changed.
+  void pollFaults();
+  /// Apply the physical faults in force and publish the delayed messages that are due.
+  void applyFaults();
 
   ros::NodeHandle nh_;
   ros::NodeHandle pnh_;
@@ -103,6 +115,11 @@ private:
   ros::Publisher clock_pub_;
   tf2_ros::TransformBroadcaster tf_;
   sensor_msgs::JointState joint_msg_;
+  FaultInjector faults_;
+  std::vector<std::string> fault_lines_;
+  std::uint64_t fault_poll_period_ = 200;  ///< steps between reads of ~faults
+  std::deque<std::pair<double, sensor_msgs::JointState>> delayed_joints_;  ///< (release time, msg)
+  std::deque<std::pair<double, sensor_msgs::Imu>> delayed_imu_;
 };
 
 }  // namespace sim
