@@ -102,7 +102,7 @@ struct AicParams
    * Anti-windup of turning [rad/s], >= 0; 0 = off. When > 0, after the max_action_lead clamp
    * the differential lead d = ((a_R - y[omega_R]) - (a_L - y[omega_L])) / 2 is kept within
    * +-max_action_lead_turn, the common lead unchanged (so each wheel's lead stays within
-   * max_action_lead). A turn in place needs far more torque than a straight run (the wheels
+   * max_action_lead); not applied while a wheel channel is isolated (its reading is not trusted). A turn in place needs far more torque than a straight run (the wheels
    * skid sideways), so while the wheels are held by friction a lead that suits a straight
    * step winds the wheel loop up, and the turn overshoots when the wheels break free.
    * Not in the thesis; doc/experiments.md, 'Tuning'.

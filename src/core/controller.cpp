@@ -380,9 +380,11 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
       a(1) = bounded(1);
     }
   }
-  if (params_.max_action_lead_turn > 0.0)
+  const std::uint8_t wheels = (1u << kOmegaLeft) | (1u << kOmegaRight);
+  if (params_.max_action_lead_turn > 0.0 && (sensor_mask_ & wheels) == wheels)
   {
     // Differential (turning) lead bounded, common lead kept: e_L = c - d, e_R = c + d.
+    // Both wheel channels must be trusted: the lead is measured against them.
     const Vector2 omega(y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0));
     const double e_left = a(0) - omega(0);
     const double e_right = a(1) - omega(1);

@@ -244,6 +244,28 @@ TEST(Controller, MaxActionLeadTurnBoundsOnlyTheDifferentialLead)
   }
 }
 
+TEST(Controller, MaxActionLeadTurnIgnoresAnIsolatedWheel)
+{
+  // The turn lead is measured against both wheel readings: with one isolated (a biased
+  // encoder), it must not bound the command, or the faulty reading would steer the robot.
+  YTilde y = YTilde::Zero(kYDim, 4);
+  y(kOmegaLeft, 0) = 8.0;  // a biased left encoder
+  AicParams p = thesisStandard();
+  p.max_action_lead_turn = 0.5;
+  ActiveInferenceController c{ p };
+  c.setSensorMask(static_cast<std::uint8_t>(0x1F & ~(1u << kOmegaLeft)));
+  c.setGoal(Vector3(0.0, 0.0, 1.0));
+  ASSERT_TRUE(c.setMeasurement(y));
+  for (int k = 0; k < 200; ++k)
+  {
+    c.updateBeliefs(0.02);
+    ASSERT_EQ(c.updateAction(0.02), Status::kOk);
+  }
+  // Against the biased reading the differential lead would be held to 0.5 rad/s; it is not.
+  const double differential = 0.5 * ((c.action()(1) - y(kOmegaRight, 0)) - (c.action()(0) - y(kOmegaLeft, 0)));
+  EXPECT_GT(std::abs(differential), 0.5 + 1e-6);
+}
+
 TEST(Controller, MaxActionLeadNeverBreaksTheWheelClamp)
 {
   AicParams p = thesisStandard();
