@@ -10,8 +10,10 @@ parameter (sim/README.md, 'Fault injection'), and asserts on /odom (ground truth
   encoder_bias  drive v straight; a bias of ~bias rad/s steps onto the ~side (left) encoder: it is isolated
                 within ~isolation_limit s of the bias's first sample, and the speed error over the
                 last ~window s is <= ~speed_error_limit (fraction of v).
-  gyro_freeze   turn at (v, ~turn_rate); the gyro freezes; the set point goes straight: the gyro is
-                isolated and the yaw rate over the last ~window s is below ~yaw_rate_limit.
+  gyro_freeze   turn at (v, ~turn_rate) for ~turn_time s (long enough for the plant's turn to break
+                away and reach the set point, so the gyro freezes at about ~turn_rate); 1 s later the
+                set point goes straight: the gyro is isolated and the yaw rate over the last ~window s
+                is below ~yaw_rate_limit.
   payload       ~payload kg are added at rest, then a step to (v, ~turn_rate): it settles within
                 ~settle_limit s, the speed error over the last ~window s is <= ~speed_error_limit,
                 the yaw rate within ~yaw_rate_limit of the set point (no runaway: |v_x| < 3 m/s).
@@ -228,7 +230,7 @@ class FaultCheck(unittest.TestCase):
         rate = float(p("turn_rate", 0.8))
         limit = float(p("yaw_rate_limit", 0.1))
         self.d.set(v, rate)
-        rospy.sleep(3.0)
+        rospy.sleep(float(p("turn_time", 3.0)))
         t_set = self.inject("gyro freeze")
         rospy.sleep(1.0)
         t_straight = rospy.get_rostime().to_sec()
