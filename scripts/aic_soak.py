@@ -22,7 +22,7 @@ import subprocess
 import sys
 import time
 
-FAULTS = [  # (line, cause of a possible runaway?) -- durations keep each fault short
+FAULTS = [  # sim/README.md, 'Fault injection': TARGET KIND [VALUE] START DURATION [PERIOD]; each is short
     "left_encoder bias 2.5 0 4",
     "right_encoder bias -2.5 0 4",
     "gyro freeze 0 4",

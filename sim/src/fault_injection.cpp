@@ -87,8 +87,39 @@ bool parseFaultSpec(const std::string& text, FaultSpec* out, std::string* error)
     *error = "unknown kind '" + kind + "' (freeze, bias, spikes, delay, dropout, set)";
     return false;
   }
-  const char* names[4] = { "VALUE", "START", "DURATION", "PERIOD" };
-  double* fields[4] = { &f.value, &f.start, &f.duration, &f.period };
+  // The numbers that follow depend on the kind: freeze and dropout take no VALUE (so
+  // "gyro freeze 0 4" is a 4 s freeze from now, not a freeze from 4 s on), and only spikes has a
+  // PERIOD.
+  std::vector<const char*> names;
+  std::vector<double*> fields;
+  if (f.kind != Kind::kFreeze && f.kind != Kind::kDropout)
+  {
+    names.push_back("VALUE");
+    fields.push_back(&f.value);
+  }
+  names.insert(names.end(), { "START", "DURATION" });
+  fields.insert(fields.end(), { &f.start, &f.duration });
+  if (f.kind == Kind::kSpikes)
+  {
+    names.push_back("PERIOD");
+    fields.push_back(&f.period);
+  }
+  if (tok.size() - 2 > fields.size())
+  {
+    std::string form = "TARGET " + kind;
+    for (const char* n : names)
+    {
+      form += std::string(" [") + n + "]";
+    }
+    *error = "'" + text + "': too many numbers; '" + kind + "' takes " + form;
+    return false;
+  }
+  if ((f.kind == Kind::kBias || f.kind == Kind::kSpikes || f.kind == Kind::kDelay || f.kind == Kind::kSet) &&
+      tok.size() < 3)
+  {
+    *error = "'" + text + "': '" + kind + "' needs a VALUE";
+    return false;
+  }
   for (std::size_t i = 2; i < tok.size(); ++i)
   {
     if (!parseNumber(tok[i], names[i - 2], fields[i - 2], error))

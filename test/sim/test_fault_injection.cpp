@@ -36,6 +36,13 @@ TEST(FaultSpec, ParsesEveryField)
   EXPECT_LE(f.duration, 0.0);  // for ever
   ASSERT_TRUE(parseFaultSpec("payload set 10", &f, &error)) << error;
   ASSERT_TRUE(parseFaultSpec("friction_right set 0.2", &f, &error)) << error;
+  // freeze and dropout take no VALUE: the numbers are START and DURATION.
+  ASSERT_TRUE(parseFaultSpec("gyro freeze 0 4", &f, &error)) << error;
+  EXPECT_DOUBLE_EQ(f.start, 0.0);
+  EXPECT_DOUBLE_EQ(f.duration, 4.0);
+  ASSERT_TRUE(parseFaultSpec("joint_states dropout 1.5 0.15", &f, &error)) << error;
+  EXPECT_DOUBLE_EQ(f.start, 1.5);
+  EXPECT_DOUBLE_EQ(f.duration, 0.15);
 }
 
 TEST(FaultSpec, RejectsBadLinesWithAReason)
@@ -55,6 +62,11 @@ TEST(FaultSpec, RejectsBadLinesWithAReason)
     { "payload set -1", "payload VALUE" },
     { "friction_left set 11", "friction scale" },
     { "gyro bias 1 0 0 0.1 7", "expected TARGET KIND" },
+    { "gyro bias 1 0 0 0.1", "too many numbers" },  // PERIOD is for spikes only
+    { "gyro freeze 0 0 4", "too many numbers" },    // freeze takes no VALUE
+    { "imu dropout 1 2 3", "too many numbers" },
+    { "gyro bias", "needs a VALUE" },
+    { "payload set", "needs a VALUE" },
   };
   for (const auto& c : bad)
   {
@@ -72,7 +84,7 @@ TEST(FaultInjector, BiasFreezeDropoutDelayAndWindows)
   std::string e;
   ASSERT_TRUE(parseFaultSpec("left_encoder bias 2 1.0 1.0", &bias, &e));
   ASSERT_TRUE(parseFaultSpec("gyro freeze 0.5", &freeze, &e));
-  ASSERT_TRUE(parseFaultSpec("joint_states dropout 0 3.0 0.5", &drop, &e));
+  ASSERT_TRUE(parseFaultSpec("joint_states dropout 3.0 0.5", &drop, &e));
   ASSERT_TRUE(parseFaultSpec("imu delay 0.3 0 4.0", &delay, &e));
   inj.setFaults({ bias, freeze, drop, delay }, 10.0);  // activated at plant time 10 s
   double d = 0.0;

@@ -5,7 +5,10 @@
  *        faults (freeze, bias step, spike train, delay spike, dropout burst) on one sensor channel,
  *        and physical faults (a low-friction patch under one side, a payload). ROS-free.
  *
- * A fault is written as one line, "TARGET KIND [VALUE] [START] [DURATION] [PERIOD]":
+ * A fault is written as one line, "TARGET KIND [VALUE] [START] [DURATION] [PERIOD]", where VALUE is
+ * given only for the kinds that take one (bias, spikes, delay, set: required) and PERIOD only for
+ * spikes; so "gyro freeze 0 4" freezes the gyro now for 4 s and "gyro bias 0.5 2 4" adds 0.5 rad/s
+ * from 2 s on for 4 s:
  *   TARGET  left_encoder | right_encoder (both joints of the side) | gyro (angular_velocity.z) |
  *           imu (the whole Imu message) | joint_states (the whole JointState message) |
  *           friction_left | friction_right | payload
@@ -62,9 +65,11 @@ struct FaultSpec
 
 /**
  * \brief Parse one fault line.
- * \param text   "TARGET KIND [VALUE] [START] [DURATION] [PERIOD]"
+ * \param text   "TARGET KIND [VALUE] [START] [DURATION] [PERIOD]" (VALUE only for bias, spikes, delay
+ *               and set; PERIOD only for spikes)
  * \param out    filled on success
- * \param error  on failure: what is wrong (unknown target or kind, a non-number, a kind that does not
+ * \param error  on failure: what is wrong (unknown target or kind, a non-number, a missing VALUE, too
+ *               many numbers for the kind, a kind that does not
  *               apply to the target, a negative start, a non-positive period or delay, a friction scale
  *               outside [0, 10] or a payload outside [0, 1000] kg)
  * \return true on success
