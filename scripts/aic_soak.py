@@ -106,6 +106,15 @@ def main():
             os.killpg(launch.pid, signal.SIGKILL)
 
 
+def belief_steps(diag):
+    """(stamp of the diagnostics message [s], belief steps so far) from the node's "loops" status,
+    or None before the first one."""
+    loops = diag.get("jackal_AIC: loops")
+    if not loops or "belief steps" not in loops:
+        return None
+    return loops["_stamp"], int(loops["belief steps"])
+
+
 def soak(args, launch):
     import rospy
     from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
@@ -137,6 +146,7 @@ def soak(args, launch):
     def on_diag(m):
         for st in m.status:
             diag[st.name] = {kv.key: kv.value for kv in st.values}
+            diag[st.name]["_stamp"] = m.header.stamp.to_sec()
 
     def on_health(m):
         v = {kv.key: kv.value for kv in m.values}
@@ -165,6 +175,7 @@ def soak(args, launch):
     drive(args.warmup, state)
     rss0 = {n: proc_stats(p) for n, p in (("jackal_AIC", node_pid), ("jackal_plant", plant_pid))}
     c0, t0 = dict(counts), time.time()
+    steps0 = belief_steps(diag)
     injected = []
     end = t0 + 60.0 * args.minutes
     next_fault = t0 + args.fault_every
@@ -178,6 +189,7 @@ def soak(args, launch):
     rospy.set_param("/jackal_plant/faults", [])
     t1 = time.time()
     c1 = dict(counts)
+    steps1 = belief_steps(diag)
     rss1 = {n: proc_stats(p) for n, p in (("jackal_AIC", node_pid), ("jackal_plant", plant_pid))}
     span = t1 - t0
     print("soak: %.1f min, seed %d, %d faults injected (every %.0f s)" % (span / 60, args.seed, len(injected),
@@ -191,6 +203,11 @@ def soak(args, launch):
     print("  /cmd_drive   %.2f Hz (nominal 50: %+.2f %%)" % (cmd_rate, 100.0 * (cmd_rate / 50.0 - 1)))
     print("  /joint_states %.2f Hz (nominal 50: %+.2f %%; faults drop or delay some)" %
           (js_rate, 100.0 * (js_rate / 50.0 - 1)))
+    if steps0 and steps1 and steps1[0] > steps0[0]:
+        rate = (steps1[1] - steps0[1]) / (steps1[0] - steps0[0])
+        nominal = rospy.get_param("/jackal_AIC/belief_rate", 1000.0)
+        print("  belief steps %.2f Hz (nominal %g: %+.3f %%; from the diagnostics counter)" %
+              (rate, nominal, 100.0 * (rate / nominal - 1)))
     ctrl = diag.get("jackal_AIC: controller", {})
     sens = diag.get("jackal_AIC: sensors", {})
     loops = diag.get("jackal_AIC: loops", {})

@@ -14,11 +14,17 @@
  *   While stopped it sends MODE_NONE on /cmd_drive (the MCU's motor enable is off: the
  *   simulated motors are released) and reports drivers_active false, external stop stopped,
  *   Feedback actual_mode MODE_NONE.
+ *   With ~cycle_on_joint_states (sim.launch sets it for the stock base) the diff drive's cycle
+ *   runs on each joint_states message, as jackal_node's control loop publishes the joint states
+ *   and then the diff drive's /cmd_drive in the same cycle: a command that answers a cycle's
+ *   joint states is used at the next cycle, a fixed one-period delay rather than the phase of
+ *   two free-running 50 Hz clocks. The ~publish_rate timer then only runs the cycle when no
+ *   joint states came for 1.5 periods (the MCU keeps receiving commands).
  *
  * Subscribes ~input_topic (geometry_msgs/Twist: linear.x [m/s], angular.z [rad/s]; default
- * jackal_AIC/set_point) and, with ~publish_odom, joint_states (sensor_msgs/JointState: the
+ * jackal_AIC/set_point) and, with ~publish_odom or ~cycle_on_joint_states, joint_states (sensor_msgs/JointState: the
  * wheel velocities of ~left_joints, ~right_joints); publishes cmd_drive (jackal_msgs/Drive,
- * MODE_VELOCITY, [rad/s]) at ~publish_rate (50 Hz). Non-finite commands are dropped with a
+ * MODE_VELOCITY, [rad/s]) at ~publish_rate (50 Hz) or on each joint_states. Non-finite commands are dropped with a
  * throttled warning.
  * Private parameters (defaults = jackal_control/config/control.yaml): wheel_separation,
  * wheel_separation_multiplier, wheel_radius, max_linear_velocity, max_linear_acceleration,
@@ -50,6 +56,8 @@ using jackal_aic::sim::StockControllerParams;
 
 /// jackal_msgs/Status is published at least this often [s] (the MCU's 1 Hz).
 constexpr double kStatusPeriod = 1.0;
+/// ~cycle_on_joint_states: the timer runs the cycle after this many periods without joint states.
+constexpr double kFallbackPeriods = 1.5;
 
 class StockControllerNode
 {
@@ -59,6 +67,7 @@ public:
     const std::string input = pnh.param<std::string>("input_topic", "jackal_AIC/set_point");
     publish_odom_ = pnh.param("publish_odom", false);
     publish_mcu_ = pnh.param("publish_mcu_state", false);
+    cycle_on_joint_states_ = pnh.param("cycle_on_joint_states", false);
     stopped_ = pnh.param("stop", false);
     left_joints_ = pnh.param<std::vector<std::string>>("left_joints", { "front_left_wheel", "rear_left_wheel" });
     right_joints_ = pnh.param<std::vector<std::string>>("right_joints", { "front_right_wheel", "rear_right_wheel" });
@@ -67,6 +76,9 @@ public:
     if (publish_odom_)
     {
       odom_pub_ = nh.advertise<nav_msgs::Odometry>("jackal_velocity_controller/odom", 10);
+    }
+    if (publish_odom_ || cycle_on_joint_states_)
+    {
       joint_sub_ = nh.subscribe("joint_states", 10, &StockControllerNode::onJointState, this,
                                 ros::TransportHints().tcpNoDelay());
     }
@@ -83,9 +95,10 @@ public:
     }
     timer_ = nh.createTimer(ros::Duration(1.0 / controller_.params().publish_rate), &StockControllerNode::onTimer,
                             this);
-    ROS_INFO("stock_controller: diff_drive mapping, separation %.5f m x %.2f, radius %.3f m, %.1f Hz, input %s%s%s",
+    ROS_INFO("stock_controller: diff_drive mapping, separation %.5f m x %.2f, radius %.3f m, %.1f Hz%s, input %s%s%s",
              controller_.params().wheel_separation, controller_.params().wheel_separation_multiplier,
-             controller_.params().wheel_radius, controller_.params().publish_rate, sub_.getTopic().c_str(),
+             controller_.params().wheel_radius, controller_.params().publish_rate,
+             cycle_on_joint_states_ ? " (cycle on joint_states)" : "", sub_.getTopic().c_str(),
              publish_odom_ ? ", odometry" : "", publish_mcu_ ? ", /status and /feedback" : "");
   }
 
@@ -155,6 +168,14 @@ private:
   /// open-loop-free mode): v = r (wL + wR) / 2, w = r (wR - wL) / s.
   void onJointState(const sensor_msgs::JointState::ConstPtr& msg)
   {
+    if (cycle_on_joint_states_)
+    {
+      cycle();  // this cycle's /cmd_drive from the commands received before these joint states
+    }
+    if (!publish_odom_)
+    {
+      return;
+    }
     double wl = 0.0, wr = 0.0;
     if (!meanVelocity(*msg, left_joints_, &wl) || !meanVelocity(*msg, right_joints_, &wr))
     {
@@ -200,6 +221,21 @@ private:
   void onTimer(const ros::TimerEvent& e)
   {
     (void)e;
+    if (cycle_on_joint_states_)
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      if (!last_cycle_.isZero() &&
+          (ros::Time::now() - last_cycle_).toSec() < kFallbackPeriods / controller_.params().publish_rate)
+      {
+        return;  // the joint states run the cycle
+      }
+    }
+    cycle();
+  }
+
+  /// One diff-drive cycle: update the controller, publish /cmd_drive (and /feedback).
+  void cycle()
+  {
     jackal_msgs::Drive d;
     jackal_msgs::Feedback fb;
     {
@@ -212,6 +248,7 @@ private:
       fb.header.stamp = ros::Time::now();
       fb.commanded_mode = jackal_msgs::Drive::MODE_VELOCITY;
       fb.actual_mode = d.mode;
+      last_cycle_ = ros::Time::now();
     }
     pub_.publish(d);
     if (publish_mcu_)
@@ -222,7 +259,8 @@ private:
 
   std::mutex mutex_;
   StockController controller_;
-  bool publish_odom_ = false, publish_mcu_ = false, stopped_ = false;
+  bool publish_odom_ = false, publish_mcu_ = false, stopped_ = false, cycle_on_joint_states_ = false;
+  ros::Time last_cycle_;  ///< time of the last cycle (mutex_)
   std::vector<std::string> left_joints_, right_joints_;
   ros::Publisher pub_, odom_pub_, status_pub_, feedback_pub_;
   ros::Subscriber sub_, joint_sub_, stop_sub_;

@@ -111,7 +111,7 @@ bool AicNode::init()
   diagnostics_timer_ = nh_.createTimer(ros::Duration(1.0 / kDiagnosticsPollRate), [this](const ros::TimerEvent&) {
     const std::lock_guard<std::mutex> lock(mutex_);
     diagnostics_->update();
-    diagnostics_->publishHealth(FaultMonitor::Event::kNone, -1);
+    diagnostics_->pollHealth();
   });
 
   std::string loop = "ROS timer (simulated time)";

@@ -251,11 +251,31 @@ void NodeDiagnostics::publishHealth(FaultMonitor::Event event, int channel)
                                                                         : " suspected (fdi_enabled false: not isolated)"));
     }
   }
+  published_state_ = healthState();
+  published_at_ = ros::Time::now();
   diagnostic_updater::DiagnosticStatusWrapper stat;
   stat.name = "jackal_AIC: sensor health";
   stat.hardware_id = "jackal_aic";
   fillHealth(stat);
   health_pub_.publish(static_cast<diagnostic_msgs::DiagnosticStatus>(stat));
+}
+
+int NodeDiagnostics::healthState() const
+{
+  const FaultMonitor& m = *monitor_;
+  return (m.imuAvailable() ? 1 : 0) + 2 * (m.faultPresent() ? 1 : 0) + 4 * (m.isolatedChannel() + 1);
+}
+
+void NodeDiagnostics::pollHealth()
+{
+  if (monitor_ == nullptr)
+  {
+    return;
+  }
+  if (healthState() != published_state_ || (ros::Time::now() - published_at_).toSec() >= kHealthPeriod)
+  {
+    publishHealth(FaultMonitor::Event::kNone, -1);
+  }
 }
 
 }  // namespace jackal_aic

@@ -15,7 +15,7 @@
  *        ~eps_y, ~eps_mu (std_msgs/Float64MultiArray, rows = channels, cols = orders) at
  *        debug_rate (100 Hz) from the newest belief, when there is a new one, while any
  *        of them has a subscriber (no debug timer wake-ups otherwise);
- *        ~sensor_health (diagnostic_msgs/DiagnosticStatus, latched) on every fault event and at 10 Hz;
+ *        ~sensor_health (diagnostic_msgs/DiagnosticStatus, latched) on every fault event and channel-state change, and at 1 Hz;
  *        /diagnostics (NodeDiagnostics). Publishers and the finiteness guard: NodeOutputs.
  *
  * The node is wiring. The decisions are the ROS-free Supervisor's

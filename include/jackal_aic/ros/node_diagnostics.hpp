@@ -85,6 +85,14 @@ public:
    * \param channel  the channel the event concerns (SensorIndex; -1 for none)
    */
   void publishHealth(FaultMonitor::Event event, int channel);
+  /**
+   * \brief Periodic ~sensor_health: publishes (as publishHealth(kNone)) when the channel states
+   *        (IMU available, isolated channel, fault present) changed since the last publication,
+   *        or when kHealthPeriod has passed; call it often (the node: 10 Hz).
+   */
+  void pollHealth();
+  /// ~sensor_health is republished at least this often [s] (events and changes: at once).
+  static constexpr double kHealthPeriod = 1.0;
   /// Health of the five sensor channels as a status: WARN while the IMU is missing or a channel
   /// is isolated (or a fault is detected with isolation off), OK otherwise.
   void fillHealth(diagnostic_updater::DiagnosticStatusWrapper& stat) const;
@@ -105,6 +113,10 @@ private:
   const FaultMonitor* monitor_ = nullptr;
   ros::Publisher health_pub_;
   std::string last_event_ = "none";
+  int published_state_ = -1;  ///< healthState() at the last publication
+  ros::Time published_at_;    ///< time of the last publication
+  /// The channel states as one number (IMU available, isolated channel, fault present).
+  int healthState() const;
 };
 
 }  // namespace jackal_aic
