@@ -9,17 +9,20 @@
  *
  * Usage: closed_loop_run --controller aic|stock|open [--aic-config FILE] [--aic-set key=value]...
  *            [--config PLANT.yaml] [--set key=value]... [--urdf FILE]
- *            (--step V | --square LOW HIGH) [--channel linear|angular] [--period S] [--cycles N]
+ *            (--step V [--turn W] | --square LOW HIGH) [--channel linear|angular] [--period S] [--cycles N]
  *            [--rest S] [--hold S] [--noise] [--csv FILE]
  *   --controller open  no controller: the set point's wheel speeds go to the MCU as they are
  *   --channel angular  the step / square values are yaw rates [rad/s] (linear set point 0);
  *                      metrics on the yaw rate
  *   --step V          0 until --rest, then V [m/s] for --hold seconds
+ *   --turn W          with --step: a combined step, the yaw-rate set point steps to W [rad/s] at
+ *                     the same time; "angular_segments" gives the yaw rate's metrics
  *   --square LOW HIGH 0 until --rest, LOW for --rest seconds (lead-in), then --cycles periods of
  *                     HIGH / LOW, each half --period / 2
  *   --noise           keep the plant YAML's sensor noise (default: ideal sensors, reproducible)
  * JSON: {"runaways", "max_abs_speed", "segments": [{"t_step", "initial", "target", "measured": {...},
- *        "truth": {...}, "belief": {...}, "drive": {...}}]} with rise, settling, overshoot, sse, settled.
+ *        "truth": {...}, "belief": {...}, "drive": {...}}] [, "angular_segments": [...]]} with rise,
+ *        settling, overshoot, sse, settled.
  * Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.
  */
 
@@ -99,6 +102,7 @@ int main(int argc, char** argv)
   bool noise = false;
   std::string channel = "linear";
   std::vector<double> square;
+  double turn = 0.0;
   CLI::App app{ "One set-point profile with the stock controller or the AIC on the ODE plant core, headless and "
                 "faster than real time; prints one JSON object with the metrics of every transition.",
                 "closed_loop_run" };
@@ -120,6 +124,11 @@ int main(int argc, char** argv)
                  "linear or angular: the step / square values are yaw rates [rad/s] (linear set point 0); metrics "
                  "on the yaw rate")
       ->capture_default_str();
+  CLI::Option* turn_opt =
+      app.add_option("--turn", turn,
+                     "W [rad/s]: a combined step, --step V on the linear channel and W on the angular one at once "
+                     "(--channel linear); metrics for both (\"segments\": linear, \"angular_segments\": yaw rate)")
+          ->check(finiteNumber());
   app.add_option("--period", period, "square period [s]")->check(finiteNumber())->capture_default_str();
   app.add_option("--cycles", cycles, "square periods, 1..100")->capture_default_str();
   app.add_option("--rest", rest, "rest before the profile [s], > 0.2")->check(finiteNumber())->capture_default_str();
@@ -156,6 +165,12 @@ int main(int argc, char** argv)
     return badArgument(app, "--rest must be > 0.2 s, --hold and --period > 0, --cycles in [1, 100]");
   }
 
+  const bool combined = turn_opt->count() > 0;
+  if (combined && (!have_step || angular))
+  {
+    return badArgument(app, "--turn needs --step and --channel linear");
+  }
+
   ClosedLoopConfig c;
   c.controller = controller == "aic" ? LoopController::kAic
                  : controller == "open" ? LoopController::kOpenLoop : LoopController::kStock;
@@ -169,6 +184,10 @@ int main(int argc, char** argv)
   if (have_step)
   {
     c.profile = { sp(0.0, 0.0), sp(t0, step) };
+    if (combined)
+    {
+      c.profile[1].angular = turn;
+    }
     c.duration = t0 + hold;
   }
   else
@@ -237,34 +256,46 @@ int main(int argc, char** argv)
   }
   std::cout << "{\"controller\": \"" << controller << "\", \"channel\": \"" << channel
             << "\", \"runaways\": " << rec.runaways
-            << ", \"max_abs_speed\": " << jsonNumber(max_abs) << ", \"t0\": " << jsonNumber(t0) << ", \"segments\": [";
-  bool first = true;
-  for (std::size_t s = 1; s < c.profile.size(); ++s)
+            << ", \"max_abs_speed\": " << jsonNumber(max_abs) << ", \"t0\": " << jsonNumber(t0) << ", \"segments\": ";
+  // The transitions of one channel (angular: the yaw rate) as a JSON list of metrics.
+  auto segments = [&](bool yaw) {
+    std::ostringstream out;
+    out << "[";
+    bool first = true;
+    for (std::size_t s = 1; s < c.profile.size(); ++s)
+    {
+      const double t_step = c.profile[s].start;
+      if (t_step < t0 - 1e-9)
+      {
+        continue;
+      }
+      const double t_end = s + 1 < c.profile.size() ? c.profile[s + 1].start : c.duration;
+      const double initial = yaw ? c.profile[s - 1].angular : c.profile[s - 1].linear;
+      const double target = yaw ? c.profile[s].angular : c.profile[s].linear;
+      const auto& measured = yaw ? rec.yaw_odom : rec.v_odom;
+      const auto& truth = yaw ? rec.yaw_true : rec.v_true;
+      const auto& belief = yaw ? rec.belief_yaw : rec.belief;
+      const auto& drive = yaw ? rec.command_yaw : rec.command;
+      if (initial == target)
+      {
+        continue;
+      }
+      out << (first ? "" : ", ") << "{\"t_step\": " << jsonNumber(t_step - t0) << ", \"initial\": " << jsonNumber(initial)
+          << ", \"target\": " << jsonNumber(target)
+          << ", \"measured\": " << metricsJson(rec.time, measured, t_step, t_end, initial, target)
+          << ", \"truth\": " << metricsJson(rec.time, truth, t_step, t_end, initial, target)
+          << ", \"belief\": " << metricsJson(rec.time, belief, t_step, t_end, initial, target)
+          << ", \"drive\": " << metricsJson(rec.time, drive, t_step, t_end, initial, target) << "}";
+      first = false;
+    }
+    out << "]";
+    return out.str();
+  };
+  std::cout << segments(angular);
+  if (combined)
   {
-    const double t_step = c.profile[s].start;
-    if (t_step < t0 - 1e-9)
-    {
-      continue;
-    }
-    const double t_end = s + 1 < c.profile.size() ? c.profile[s + 1].start : c.duration;
-    const double initial = angular ? c.profile[s - 1].angular : c.profile[s - 1].linear;
-    const double target = angular ? c.profile[s].angular : c.profile[s].linear;
-    const auto& measured = angular ? rec.yaw_odom : rec.v_odom;
-    const auto& truth = angular ? rec.yaw_true : rec.v_true;
-    const auto& belief = angular ? rec.belief_yaw : rec.belief;
-    const auto& drive = angular ? rec.command_yaw : rec.command;
-    if (initial == target)
-    {
-      continue;
-    }
-    std::cout << (first ? "" : ", ") << "{\"t_step\": " << jsonNumber(t_step - t0) << ", \"initial\": " << jsonNumber(initial)
-              << ", \"target\": " << jsonNumber(target)
-              << ", \"measured\": " << metricsJson(rec.time, measured, t_step, t_end, initial, target)
-              << ", \"truth\": " << metricsJson(rec.time, truth, t_step, t_end, initial, target)
-              << ", \"belief\": " << metricsJson(rec.time, belief, t_step, t_end, initial, target)
-              << ", \"drive\": " << metricsJson(rec.time, drive, t_step, t_end, initial, target) << "}";
-    first = false;
+    std::cout << ", \"angular_segments\": " << segments(true);
   }
-  std::cout << "]}\n";
+  std::cout << "}\n";
   return 0;
 }

@@ -208,6 +208,25 @@ TEST(ClosedLoopRun, ControllerAndChannelAreChecked)
   EXPECT_NE(r.out.find("\"target\": 0.5"), std::string::npos) << r.out;
 }
 
+TEST(ClosedLoopRun, CombinedStepReportsBothChannels)
+{
+  const std::string bin = CLOSED_LOOP_RUN_BIN;
+  // --turn W: (V, W) at once; the linear metrics in "segments", the yaw rate's in "angular_segments".
+  Result r = run(bin + " --controller open --step 0.3 --turn 0.4 --hold 1");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto angular = r.out.find("\"angular_segments\": [{");
+  ASSERT_NE(angular, std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"target\": 0.3"), std::string::npos) << r.out;
+  EXPECT_GT(r.out.find("\"target\": 0.4"), angular) << r.out;
+  r = run(bin + " --controller open --square 0.1 0.5 --turn 0.4");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("--turn needs --step"), std::string::npos) << r.out;
+  r = run(bin + " --controller open --step 0.3 --turn 0.4 --channel angular");
+  EXPECT_EQ(r.code, 2) << r.out;
+  r = run(bin + " --controller open --step 0.3 --turn nan");
+  EXPECT_EQ(r.code, 2) << r.out;
+}
+
 TEST(AicTiming, PrintsOneRowPerLoopAndRate)
 {
   // Figures are machine-dependent (doc/jackal_aic_node.md quotes a run): check the table, not the timing.
