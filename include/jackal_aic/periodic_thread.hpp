@@ -90,12 +90,27 @@ class PeriodicThread
 public:
   /// The work of one period: measured interval since the previous call [s], -1 on the first.
   using Step = std::function<void(double interval)>;
+  /**
+   * \brief How the thread waits for a deadline: block until CLOCK_MONOTONIC reaches
+   *        `deadline_ns` [ns] (never return before it), possibly doing work meanwhile (the
+   *        node serves its sensor callbacks); `period_ns`: the current period [ns].
+   *        Default: sleepUntil(deadline_ns).
+   */
+  using Wait = std::function<void(std::int64_t deadline_ns, std::int64_t period_ns)>;
 
   /**
    * \param step  called once per period on the thread
    * \param name  thread name (pthread_setname_np, at most 15 characters shown in top/ps)
+   * \param wait  how to wait for each deadline (empty: sleepUntil)
+   * \throws std::invalid_argument for an empty step
    */
-  PeriodicThread(Step step, std::string name);
+  PeriodicThread(Step step, std::string name, Wait wait = Wait());
+
+  /// Sleep until CLOCK_MONOTONIC reaches `deadline_ns` [ns] (clock_nanosleep, TIMER_ABSTIME;
+  /// resumed after a signal). Returns at once for a past deadline.
+  static void sleepUntil(std::int64_t deadline_ns);
+  /// CLOCK_MONOTONIC now [ns] (the clock of the deadlines).
+  static std::int64_t monotonicNow();
   /// Stops the thread (joins it).
   ~PeriodicThread();
   PeriodicThread(const PeriodicThread&) = delete;
@@ -134,6 +149,7 @@ private:
 
   Step step_;
   std::string name_;
+  Wait wait_;
   std::thread thread_;
   std::atomic<bool> stop_{ false };
   std::atomic<std::int64_t> period_ns_{ 1000000 };

@@ -111,7 +111,8 @@ void IntervalHistogram::clear()
 
 // ---------------------------------------------------------------------------
 
-PeriodicThread::PeriodicThread(Step step, std::string name) : step_(std::move(step)), name_(std::move(name))
+PeriodicThread::PeriodicThread(Step step, std::string name, Wait wait)
+  : step_(std::move(step)), name_(std::move(name)), wait_(std::move(wait))
 {
   if (!step_)
   {
@@ -204,6 +205,19 @@ PeriodicStats PeriodicThread::stats() const
   return s;
 }
 
+void PeriodicThread::sleepUntil(std::int64_t deadline_ns)
+{
+  const timespec wake = fromNs(deadline_ns);
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &wake, nullptr) == EINTR)
+  {
+  }
+}
+
+std::int64_t PeriodicThread::monotonicNow()
+{
+  return monotonicNs();
+}
+
 void PeriodicThread::run()
 {
   std::int64_t deadline = monotonicNs();
@@ -212,9 +226,13 @@ void PeriodicThread::run()
   {
     const std::int64_t period = period_ns_.load(std::memory_order_relaxed);
     deadline += period;
-    const timespec wake = fromNs(deadline);
-    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &wake, nullptr) == EINTR)
+    if (wait_)
     {
+      wait_(deadline, period);
+    }
+    else
+    {
+      sleepUntil(deadline);
     }
     const std::int64_t now = monotonicNs();
     if (now - deadline > period)

@@ -19,6 +19,9 @@ constexpr double kDiagnosticsPollRate = 10.0;
 /// action_trigger sample: with no action step for this many action periods while running,
 /// the action timer repeats the held command.
 constexpr double kKeepAlivePeriods = 1.5;
+/// Belief periods up to this [ns] serve the subscribers once per tick (<= 2 ms of added sample
+/// latency, no wake-up per message); longer periods serve them as they arrive.
+constexpr std::int64_t kBatchedDispatchMaxPeriodNs = 2000000;
 
 double intervalOf(const ros::TimerEvent& event)
 {
@@ -91,12 +94,21 @@ bool AicNode::init()
     cmd_vel_ = std::make_unique<CmdVelOutput>(params_.cmd_vel);  // validated above
   }
 
+  // Wall clock: the belief thread serves the subscribers (waitServingSensors); simulated time:
+  // the spinner.
+  const bool belief_thread = !ros::Time::isSimTime();
+  ros::NodeHandle sensor_nh(nh_), sensor_pnh(pnh_);
+  if (belief_thread)
+  {
+    sensor_nh.setCallbackQueue(&sensor_queue_);
+    sensor_pnh.setCallbackQueue(&sensor_queue_);
+  }
   const auto hints = ros::TransportHints().tcpNoDelay();
-  joint_sub_ = nh_.subscribe("joint_states", 10, &AicNode::jointStateCallback, this, hints);
-  imu_sub_ = nh_.subscribe("imu/data", 10, &AicNode::imuCallback, this, hints);
-  set_point_sub_ = pnh_.subscribe("set_point", 10, &AicNode::setPointCallback, this, hints);
-  status_sub_ = nh_.subscribe("status", 10, &AicNode::statusCallback, this, hints);
-  feedback_sub_ = nh_.subscribe("feedback", 10, &AicNode::feedbackCallback, this, hints);
+  joint_sub_ = sensor_nh.subscribe("joint_states", 10, &AicNode::jointStateCallback, this, hints);
+  imu_sub_ = sensor_nh.subscribe("imu/data", 10, &AicNode::imuCallback, this, hints);
+  set_point_sub_ = sensor_pnh.subscribe("set_point", 10, &AicNode::setPointCallback, this, hints);
+  status_sub_ = sensor_nh.subscribe("status", 10, &AicNode::statusCallback, this, hints);
+  feedback_sub_ = sensor_nh.subscribe("feedback", 10, &AicNode::feedbackCallback, this, hints);
 
   reconfigure_ = std::make_unique<NodeReconfigure>(pnh_, params_);
   diagnostics_ = std::make_unique<NodeDiagnostics>(nh_, pnh_, *supervisor_, *sync_,
@@ -115,7 +127,7 @@ bool AicNode::init()
   });
 
   std::string loop = "ROS timer (simulated time)";
-  if (ros::Time::isSimTime())
+  if (!belief_thread)
   {
     belief_timer_ = nh_.createTimer(ros::Duration(supervisor_->beliefLoop().nominalPeriod()),
                                     &AicNode::beliefTimerCallback, this);
@@ -123,7 +135,8 @@ bool AicNode::init()
   else
   {
     belief_thread_ = std::make_unique<PeriodicThread>(
-        [this](double interval) { beliefTick(interval, ros::Time::now()); }, "aic_belief");
+        [this](double interval) { beliefTick(interval, ros::Time::now()); }, "aic_belief",
+        [this](std::int64_t deadline_ns, std::int64_t period_ns) { waitServingSensors(deadline_ns, period_ns); });
     const std::string priority = belief_thread_->start(params_.aic.belief_rate, params_.realtime_priority);
     loop = "real-time thread (clock_nanosleep, " + (priority.empty() ? std::string("default scheduler") : priority) + ")";
     if (priority.find("refused") != std::string::npos)
@@ -333,6 +346,21 @@ void AicNode::beliefTick(double interval, const ros::Time& stamp)
   belief_steps_ += static_cast<std::uint64_t>(tick.steps);
   belief_stamp_ = stamp;
   supervisor_->beliefLoop().recordDuration((ros::WallTime::now() - start).toSec());
+}
+
+void AicNode::waitServingSensors(std::int64_t deadline_ns, std::int64_t period_ns)
+{
+  if (period_ns <= kBatchedDispatchMaxPeriodNs)
+  {
+    PeriodicThread::sleepUntil(deadline_ns);
+    sensor_queue_.callAvailable(ros::WallDuration(0.0));  // what came during the period, then the step
+    return;
+  }
+  for (std::int64_t left = deadline_ns - PeriodicThread::monotonicNow(); left > 0;
+       left = deadline_ns - PeriodicThread::monotonicNow())
+  {
+    sensor_queue_.callAvailable(ros::WallDuration(static_cast<double>(left) * 1e-9));
+  }
 }
 
 void AicNode::actionTimerCallback(const ros::TimerEvent& event)

@@ -7,6 +7,7 @@
  */
 #include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <cmath>
 #include <mutex>
 #include <stdexcept>
@@ -88,8 +89,10 @@ TEST(PeriodicThread, RunsTheStepAtAboutTheRateWithMeasuredIntervals)
   EXPECT_EQ(s.wakeups, intervals.size());
   EXPECT_NEAR(s.elapsed, sum, 1e-6);  // the intervals tile the elapsed time
   EXPECT_EQ(s.rate, 500.0);
-  // Absolute deadlines: the mean interval is the period unless the machine starves us.
-  EXPECT_GT(s.achievedRate(), 250.0);
+  // Absolute deadlines: the mean interval is the period unless the machine starves us (a
+  // shared VM has been seen to lose half its CPU to its host for seconds: only a floor that
+  // tells "runs periodically" from "stuck").
+  EXPECT_GT(s.achievedRate(), 100.0);
   EXPECT_LT(s.achievedRate(), 510.0);
   EXPECT_GE(s.p99, s.p50);
   EXPECT_GE(s.max, s.p99);
@@ -116,6 +119,48 @@ TEST(PeriodicThread, SetRateTakesEffectAndStopIsIdempotent)
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
   t.stop();
   EXPECT_GT(calls.load(), before);
+}
+
+TEST(PeriodicThread, ACustomWaitGetsEachDeadlineAndItsPeriod)
+{
+  // The node's wait serves its subscribers until the deadline: the thread hands it each
+  // absolute deadline, one period apart, and runs the step after it returns.
+  std::mutex m;
+  std::vector<std::int64_t> deadlines, periods, step_times;
+  PeriodicThread t(
+      [&](double) {
+        const std::lock_guard<std::mutex> lock(m);
+        step_times.push_back(PeriodicThread::monotonicNow());
+      },
+      "test_wait",
+      [&](std::int64_t deadline, std::int64_t period) {
+        {
+          const std::lock_guard<std::mutex> lock(m);
+          deadlines.push_back(deadline);
+          periods.push_back(period);
+        }
+        PeriodicThread::sleepUntil(deadline);
+      });
+  t.start(200.0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  t.stop();
+  const std::lock_guard<std::mutex> lock(m);
+  ASSERT_GE(deadlines.size(), 5u);
+  ASSERT_GE(step_times.size(), deadlines.size() - 1);  // a wait may be cut short by stop()
+  for (std::size_t k = 0; k < step_times.size(); ++k)
+  {
+    EXPECT_EQ(periods[k], 5000000);
+    EXPECT_GE(step_times[k], deadlines[k]) << "step before its deadline";
+    if (k > 0)
+    {
+      // One period apart unless a late wake-up re-anchored the deadlines (loaded machine).
+      EXPECT_GE(deadlines[k] - deadlines[k - 1], 5000000);
+    }
+  }
+  // sleepUntil a past deadline returns at once.
+  const std::int64_t before = PeriodicThread::monotonicNow();
+  PeriodicThread::sleepUntil(before - 1000000);
+  EXPECT_LT(PeriodicThread::monotonicNow() - before, 50000000);
 }
 
 TEST(PeriodicThread, RefusesBadArguments)

@@ -23,16 +23,22 @@
  * statistics); the parameters come from the schema (include/jackal_aic/param_schema.hpp)
  * through loadNodeParams() and NodeReconfigure; diagnostics are NodeDiagnostics.
  *
- * Threading (doc/jackal_aic_node.md, 'Loops'). The spinner thread (ros::spin) runs the
- * subscribers (validate and store; with action_trigger sample each accepted sample also
- * runs the action step), the action timer (action_rate: the action step and the command),
- * the debug timer (debug_rate) and the diagnostics. The belief loop
- * (belief_rate) integrates the beliefs in the steps the supervisor plans (a late tick is
- * caught up):
+ * Threading (doc/jackal_aic_node.md, 'Loops'). The subscribers validate and store (with
+ * action_trigger sample each accepted sample also runs the action step). The spinner thread
+ * (ros::spin) runs the action timer (action_rate: the action step and the command; with
+ * action_trigger sample a keep-alive), the debug timer (debug_rate), the diagnostics and
+ * dynamic_reconfigure. The belief loop (belief_rate) integrates the beliefs in the steps the
+ * supervisor plans (a late tick is caught up):
  *  - wall clock (use_sim_time false): on its own PeriodicThread, sleeping to absolute
  *    CLOCK_MONOTONIC deadlines, optionally SCHED_FIFO (realtime_priority); a ROS timer
- *    costs a wake-up of the spinner and a callback-queue round trip per period;
- *  - simulated time: on a ROS timer (the thread could not follow /clock).
+ *    costs a wake-up of the spinner and a callback-queue round trip per period. The
+ *    subscribers run on this thread too, from their own callback queue: at belief periods
+ *    up to kBatchedDispatchMaxPeriod the queue is served once per tick, right after the
+ *    wake-up and before the belief step (no wake-up per message; a sample waits at most one
+ *    period), at longer periods as the messages arrive, while the thread waits for its
+ *    deadline;
+ *  - simulated time: on a ROS timer (the thread could not follow /clock), the subscribers
+ *    on the spinner.
  * One mutex guards the controller, the generalizer, the sensor pairing and the supervisor;
  * each holder keeps it for one short step (a belief step is a few microseconds), and the
  * debug timer copies a DebugSnapshot under it and publishes outside it. dynamic_reconfigure
@@ -54,6 +60,7 @@
 #include <geometry_msgs/Twist.h>
 #include <jackal_msgs/Feedback.h>
 #include <jackal_msgs/Status.h>
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
@@ -125,6 +132,14 @@ private:
    * \param stamp  the tick's time (ROS time), for the ~belief stamp
    */
   void beliefTick(double interval, const ros::Time& stamp);
+  /**
+   * \brief The belief thread's wait for its next deadline (PeriodicThread::Wait): serves
+   *        sensor_queue_ once after sleeping to the deadline (period <= kBatchedDispatchMaxPeriod)
+   *        or as messages arrive until the deadline (longer periods).
+   * \param deadline_ns  CLOCK_MONOTONIC deadline [ns]
+   * \param period_ns    the belief period [ns]
+   */
+  void waitServingSensors(std::int64_t deadline_ns, std::int64_t period_ns);
 
   /// Apply a parameter set queued by dynamic_reconfigure (between ticks; call with the lock held).
   void applyPendingParams();
@@ -163,6 +178,9 @@ private:
   std::unique_ptr<CmdVelOutput> cmd_vel_;  ///< output mode cmd_vel only
   bool last_clipped_ = false;              ///< the last cmd_vel command was clipped
 
+  /// The subscribers' queue while the belief thread runs (served by it); declared before the
+  /// subscribers, so it outlives them.
+  ros::CallbackQueue sensor_queue_;
   ros::Subscriber joint_sub_, imu_sub_, set_point_sub_, status_sub_, feedback_sub_;
   ros::Timer belief_timer_, action_timer_, diagnostics_timer_, debug_timer_;
 
