@@ -13,7 +13,9 @@ Metrics from message stamps by the core's aic_step_metrics (jackal_aic_tools.met
   single steps on a loaded 2-core machine scatter by ~0.2 s on either path); in the last
   ~steady_window s of every step every wheel command on the stock path's
   /cmd_drive equals the wheel speeds the stock mapping gives for one of the AIC's last three
-  cmd_vel messages before it or those received within 60 ms of it, within ~wheel_tol rad/s.
+  cmd_vel messages before it or those received within 60 ms of it, within ~wheel_tol rad/s
+  (in the median step). A step that never settles counts as infinitely slow; the median
+  must settle.
   The stock path's /cmd_drive has one publisher, the diff drive, and its cmd_vel one, the AIC.
 ~mode stop: one simulation (base:=stock_diff_drive, no namespace): a ~step_v step, the stop
   engaged mid-run (/stock_base/set_stop) for ~stop_time s: the AIC's command never grows
@@ -112,9 +114,13 @@ def wait_ready(test, paths, timeout):
 
 
 def settling(tape, t_step, t_end, channel, initial, target):
+    """Step metrics of one path's /odom over [t_step, t_end]; a step without the samples to measure
+    (a stalled machine) reports settling_time None (never settled), not an error."""
     rows = tape.between(t_step, t_end)
-    m = metrics.step_metrics([r[0] for r in rows], [r[1 + channel] for r in rows], t_step, initial, target)
-    return m
+    if len([r for r in rows if r[0] > t_step]) < 2:
+        rospy.logwarn("step at %.3f s: fewer than two /odom samples after it", t_step)
+        return {"settling_time": None, "overshoot": None}
+    return metrics.step_metrics([r[0] for r in rows], [r[1 + channel] for r in rows], t_step, initial, target)
 
 
 class StockBaseCheck(unittest.TestCase):
@@ -154,6 +160,7 @@ class StockBaseCheck(unittest.TestCase):
             ratio = ratios[channel]
             v, w = (target, 0.0) if channel == 0 else (0.0, target)
             settle = {"direct": [], "stock": []}
+            worst_per_step = []
             for k in range(repeats):
                 t_step = hold([direct, stock], v, w, hold_time)
                 t_end = t_step + hold_time
@@ -162,9 +169,12 @@ class StockBaseCheck(unittest.TestCase):
                     m = settling(path.odom, t_step, t_end, channel, 0.0, target)
                     rospy.loginfo("%s #%d, %s path: settling %s s, overshoot %s %%", what, k + 1, name,
                                   m["settling_time"], m["overshoot"])
-                    self.assertIsNotNone(m["settling_time"], "%s #%d: the %s path never settled within %.1f s"
-                                         % (what, k + 1, name, hold_time))
-                    settle[name].append(m["settling_time"])
+                    if m["settling_time"] is None:
+                        # Counted as infinitely slow: the median tolerates a minority of such
+                        # steps (a stalled VM ruins single steps on either path).
+                        rospy.logwarn("%s #%d: the %s path never settled within %.1f s", what, k + 1, name,
+                                      hold_time)
+                    settle[name].append(float("inf") if m["settling_time"] is None else m["settling_time"])
                 # Steady state: /cmd_drive = the stock mapping of one of the AIC's last cmd_vel commands.
                 cmds = stock.cmd_vel.between(t_step, t_end)
                 drives = stock.drive.between(t_end - window, t_end)
@@ -181,9 +191,15 @@ class StockBaseCheck(unittest.TestCase):
                                                for a, b in (wheels(c[1], c[2]) for c in before)))
                 rospy.loginfo("%s #%d: %d /cmd_drive messages in steady state, largest |drive - action| %.2e rad/s",
                               what, k + 1, len(drives), worst)
-                self.assertLessEqual(worst, wheel_tol, "%s #%d: /cmd_drive differs from the AIC's action by %.2e "
-                                     "rad/s" % (what, k + 1, worst))
+                worst_per_step.append(worst)
+            # The median step: /cmd_drive carries the AIC's action.
+            worst = sorted(worst_per_step)[repeats // 2]
+            self.assertLessEqual(worst, wheel_tol, "%s: /cmd_drive differs from the AIC's action by %.2e rad/s "
+                                 "(median step)" % (what, worst))
             md, ms = sorted(settle["direct"])[repeats // 2], sorted(settle["stock"])[repeats // 2]
+            self.assertTrue(md < float("inf") and ms < float("inf"),
+                            "%s: the median step never settled (direct %s, stock %s)" % (what, settle["direct"],
+                                                                                       settle["stock"]))
             rospy.loginfo("%s: median settling direct %.3f s, stock path %.3f s (ratio %.2f)", what, md, ms, ms / md)
             self.assertLessEqual(ms, ratio * md, "%s: stock path settles in %.3f s (median) > %.1f x direct %.3f s"
                                  % (what, ms, ratio, md))
