@@ -391,6 +391,29 @@ TEST(ParamSchema, DefaultYamlHoldsTheDefaults)
   EXPECT_EQ(d.aic.integrator, Integrator::kExact);  // forward Euler at these gains diverges
 }
 
+TEST(ParamSchema, RobotYamlIsDefaultYamlWithItsGain)
+{
+  // config/robot.yaml is config/default.yaml tuned for the stock diff drive's extra cycle: k_a
+  // and nothing else may differ (a change to default.yaml must reach robot.yaml too).
+  const YAML::Node def = YAML::LoadFile(kSource + "/config/default.yaml");
+  const YAML::Node robot = YAML::LoadFile(kSource + "/config/robot.yaml");
+  for (const ParamSpec& s : paramSchema())
+  {
+    SCOPED_TRACE(s.key);
+    ASSERT_EQ(static_cast<bool>(def[s.key]), static_cast<bool>(robot[s.key]));
+    if (!def[s.key])
+    {
+      continue;
+    }
+    if (std::string(s.key) == "k_a")
+    {
+      EXPECT_DOUBLE_EQ(robot[s.key].as<double>(), 9.0);
+      continue;
+    }
+    EXPECT_EQ(YAML::Dump(def[s.key]), YAML::Dump(robot[s.key])) << "config/robot.yaml drifted from default.yaml";
+  }
+}
+
 namespace
 {
 /// Each key of a config file documented with the schema's unit and default.
