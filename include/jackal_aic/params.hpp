@@ -133,6 +133,9 @@ struct AicParams
    */
   std::vector<ParamViolation> validate() const;
 
+  /// One line for logs: "belief B Hz, action A Hz, tau T s, k_mu K, k_a K, p P, integrator I".
+  std::string summary() const;
+
   /// Precision Pi_mu^(i) per channel, 3 x (p+1) (column i = order i), 1/sigma^2. Requires a valid struct.
   MuTilde precisionMu() const;
   /// Precision Pi_y^(i) per channel, 5 x (p+1), 1/sigma^2. Requires a valid struct.

@@ -263,6 +263,21 @@ public:
   /// A set point was accepted within set_point_timeout.
   bool setPointFresh() const;
 
+  /// An action step published a command now (action_trigger sample: see keepAliveDue()).
+  void actionPublished() { last_action_ = clock_.now(); }
+  /**
+   * \brief action_trigger sample: true while running when no action step has published for
+   *        kKeepAlivePeriods action periods (samples late, not yet stale): the action timer
+   *        then repeats the held command, so the MCU keeps receiving commands at about
+   *        action_rate.
+   */
+  bool keepAliveDue() const
+  {
+    return active() && clock_.now() - last_action_ > kKeepAlivePeriods * action_loop_.nominalPeriod();
+  }
+  /// keepAliveDue()'s threshold [action periods].
+  static constexpr double kKeepAlivePeriods = 1.5;
+
   // ---- counters (since start; shown in diagnostics)
   /// Runaway resets (runaway() calls).
   std::uint64_t runaways() const { return runaways_; }
@@ -303,6 +318,7 @@ private:
   double runaway_until_;  ///< end of the runaway hold [s]; -inf: none
   int warm_samples_ = 0;
   Vector2 measured_wheels_ = Vector2::Zero();
+  double last_action_ = 0.0;  ///< clock time of the last published action step [s]
   Vector3 goal_ = Vector3::Zero();
   std::uint64_t runaways_ = 0, stale_events_ = 0, set_point_drops_ = 0, set_point_clamps_ = 0;
   bool mcu_drivers_active_ = true, mcu_external_stop_ = false;  ///< last Status: true / false = OK to move

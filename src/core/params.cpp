@@ -64,6 +64,14 @@ AicParams recommendedAicParams()
   return p;
 }
 
+std::string AicParams::summary() const
+{
+  std::ostringstream out;
+  out << "belief " << belief_rate << " Hz, action " << action_rate << " Hz, tau " << tau << " s, k_mu " << k_mu
+      << ", k_a " << k_a << ", p " << embedding_order << ", integrator " << toString(integrator);
+  return out.str();
+}
+
 std::vector<ParamViolation> AicParams::validate() const
 {
   // The ranges are the schema's (include/jackal_aic/param_schema.hpp); the cross rule is here.

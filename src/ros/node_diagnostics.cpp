@@ -19,6 +19,25 @@ constexpr int kFrequencyWindow = 5;
 constexpr double kFrequencyTolerance = 0.1;
 }  // namespace
 
+ControllerReport ControllerReport::of(const ActiveInferenceController& controller, bool active)
+{
+  ControllerReport r;
+  r.free_energy = controller.hasMeasurement() ? controller.freeEnergy() : 0.0;
+  r.belief_vx = controller.mu()(0, 0);
+  r.belief_wz = controller.mu()(2, 0);
+  r.command = active ? controller.action() : Vector2::Zero();
+  return r;
+}
+
+void NodeDiagnostics::start(ros::NodeHandle& nh, std::mutex& mutex)
+{
+  poll_timer_ = nh.createTimer(ros::Duration(1.0 / kPollRate), [this, &mutex](const ros::TimerEvent&) {
+    const std::lock_guard<std::mutex> lock(mutex);
+    update();
+    pollHealth();
+  });
+}
+
 NodeDiagnostics::NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Supervisor& supervisor,
                                  const SensorSynchronizer& sync, std::function<ControllerReport()> controller)
   : supervisor_(supervisor), sync_(sync), report_(std::move(controller))

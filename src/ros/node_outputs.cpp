@@ -42,28 +42,59 @@ std_msgs::Float64MultiArray toMultiArray(const Eigen::Ref<const Eigen::MatrixXd>
 }
 }  // namespace
 
-NodeOutputs::NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::function<void()> debug_subscribers_changed,
-                         const std::string& output_mode)
-  : cmd_vel_mode_(output_mode == "cmd_vel")
+NodeOutputs::NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, const std::string& output_mode,
+                         const DiffDriveParams& cmd_vel, double debug_rate)
+  : debug_rate_(debug_rate)
 {
   // Only the command topic of the mode: on the robot, jackal_node is the one /cmd_drive publisher.
-  if (cmd_vel_mode_)
+  if (output_mode == "cmd_vel")
   {
+    cmd_vel_ = std::make_unique<CmdVelOutput>(cmd_vel);
     cmd_pub_ = nh.advertise<geometry_msgs::Twist>("jackal_velocity_controller/cmd_vel", 1);
   }
   else
   {
     cmd_pub_ = nh.advertise<jackal_msgs::Drive>("cmd_drive", 1);
   }
-  ros::SubscriberStatusCallback changed;
-  if (debug_subscribers_changed)
-  {
-    changed = [f = std::move(debug_subscribers_changed)](const ros::SingleSubscriberPublisher&) { f(); };
-  }
+  const ros::SubscriberStatusCallback changed = [this](const ros::SingleSubscriberPublisher&) {
+    debugSubscribersChanged();
+  };
   belief_pub_ = pnh.advertise<geometry_msgs::TwistStamped>("belief", 50, changed, changed);
   free_energy_pub_ = pnh.advertise<std_msgs::Float64>("free_energy", 10, changed, changed);
   eps_y_pub_ = pnh.advertise<std_msgs::Float64MultiArray>("eps_y", 10, changed, changed);
   eps_mu_pub_ = pnh.advertise<std_msgs::Float64MultiArray>("eps_mu", 10, changed, changed);
+}
+
+void NodeOutputs::startDebug(ros::NodeHandle& nh, Capture capture)
+{
+  const std::lock_guard<std::mutex> lock(debug_mutex_);
+  capture_ = std::move(capture);
+  debug_timer_ = nh.createTimer(
+      ros::Duration(1.0 / debug_rate_),
+      [this](const ros::TimerEvent&) {
+        if (capture_(&snapshot_))
+        {
+          debug(snapshot_);  // outside the node's lock: publishing serializes messages
+        }
+      },
+      false, debugWanted());
+}
+
+void NodeOutputs::debugSubscribersChanged()
+{
+  const std::lock_guard<std::mutex> lock(debug_mutex_);
+  if (!debug_timer_.isValid())
+  {
+    return;  // not started yet; startDebug() looks at the subscribers itself
+  }
+  if (debugWanted())
+  {
+    debug_timer_.start();
+  }
+  else
+  {
+    debug_timer_.stop();
+  }
 }
 
 bool NodeOutputs::debugWanted() const
@@ -71,6 +102,46 @@ bool NodeOutputs::debugWanted() const
   return belief_pub_.getNumSubscribers() + free_energy_pub_.getNumSubscribers() + eps_y_pub_.getNumSubscribers() +
              eps_mu_pub_.getNumSubscribers() >
          0;
+}
+
+NodeOutputs::WheelsResult NodeOutputs::wheels(double omega_left, double omega_right, double limit, double period)
+{
+  WheelsResult result;
+  if (!cmd_vel_)
+  {
+    command(omega_left, omega_right, limit);
+    return result;
+  }
+  if (!std::isfinite(omega_left) || !std::isfinite(omega_right))
+  {
+    ++guarded_outputs_;
+    ROS_ERROR_THROTTLE(1.0, "jackal_AIC: non-finite wheel command replaced by zero");
+  }
+  const Vector2 wheels(std::isfinite(omega_left) ? std::clamp(omega_left, -limit, limit) : 0.0,
+                       std::isfinite(omega_right) ? std::clamp(omega_right, -limit, limit) : 0.0);
+  // The stock controller limits over its own 50 Hz period; ours is the action period.
+  const CmdVelOutput::Result r = cmd_vel_->convert(wheels, period);
+  last_clipped_ = r.clipped;
+  if (r.clipped)
+  {
+    ROS_WARN_STREAM_THROTTLE(1.0, "jackal_AIC: wheel command " << wheels.transpose()
+                                                                << " rad/s exceeds the stock controller's limits; "
+                                                                   "clipped to "
+                                                                << r.wheels.transpose() << " rad/s ["
+                                                                << cmd_vel_->clips() << " so far]");
+    result.clipped = true;
+    result.wheels = r.wheels;
+  }
+  twist(r.twist.linear, r.twist.angular);
+  return result;
+}
+
+void NodeOutputs::resetWheels(const Vector2& wheels)
+{
+  if (cmd_vel_)
+  {
+    cmd_vel_->reset(wheels);
+  }
 }
 
 void NodeOutputs::command(double omega_left, double omega_right, double limit)

@@ -119,4 +119,24 @@ void loadNodeParams(const ros::NodeHandle& pnh, NodeParams* params, std::vector<
   }
 }
 
+bool loadValidNodeParams(const ros::NodeHandle& pnh, NodeParams* params)
+{
+  std::vector<ParamViolation> violations;
+  loadNodeParams(pnh, params, &violations);
+  for (auto& v : params->validate())
+  {
+    violations.push_back(std::move(v));
+  }
+  for (const auto& v : violations)
+  {
+    ROS_FATAL_STREAM("jackal_AIC: invalid parameter ~" << v.toString());
+  }
+  if (!violations.empty())
+  {
+    ROS_FATAL_STREAM("jackal_AIC: " << violations.size() << " invalid parameter(s) in " << pnh.getNamespace()
+                                    << "; exiting");
+  }
+  return violations.empty();
+}
+
 }  // namespace jackal_aic

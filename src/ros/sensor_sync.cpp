@@ -57,6 +57,17 @@ const char* toString(DropReason reason)
   return "unknown";
 }
 
+SensorSynchronizer::Config SensorSynchronizer::Config::fromParams(const NodeParams& params)
+{
+  Config c;
+  c.left_joints = params.left_joints;
+  c.right_joints = params.right_joints;
+  c.imu_max_skew = params.imu_max_skew;
+  c.min_sample_interval = params.min_sample_interval;
+  c.max_gap = params.sensor_timeout;
+  return c;
+}
+
 SensorSynchronizer::SensorSynchronizer(const Config& config)
   : config_(config), imu_cache_(std::make_unique<message_filters::Cache<sensor_msgs::Imu>>(kImuCacheSize))
 {

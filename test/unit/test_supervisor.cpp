@@ -392,6 +392,25 @@ TEST_F(SupervisorTest, StaleSensorsOutrankAnMcuStop)
   EXPECT_TRUE(fresh.mcuStopped());
 }
 
+TEST_F(SupervisorTest, KeepAliveOnlyWhileRunningAndActionLate)
+{
+  // action_trigger sample: the timer repeats the command after 1.5 action periods (30 ms at
+  // 50 Hz) without an action step, and only while running.
+  EXPECT_FALSE(s.keepAliveDue());  // waiting
+  run();
+  s.actionPublished();
+  clock.t += 0.029;
+  EXPECT_FALSE(s.keepAliveDue());
+  clock.t += 0.002;
+  EXPECT_TRUE(s.keepAliveDue());
+  s.actionPublished();
+  EXPECT_FALSE(s.keepAliveDue());
+  clock.t += 0.5;  // sensors and set point stale: not running, no keep-alive (zeros instead)
+  s.update();
+  ASSERT_FALSE(s.active());
+  EXPECT_FALSE(s.keepAliveDue());
+}
+
 TEST(LoopScheduler, OnTimeTicksAreOneStep)
 {
   LoopScheduler loop(1000.0, kMaxBeliefIntervalFactor, true);

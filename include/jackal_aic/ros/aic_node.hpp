@@ -65,12 +65,9 @@
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
 
-#include "jackal_aic/controller.hpp"
-#include "jackal_aic/diff_drive.hpp"
-#include "jackal_aic/fault_monitor.hpp"
-#include "jackal_aic/generalizer.hpp"
+#include "jackal_aic/sample_pipeline.hpp"
 #include "jackal_aic/node_params.hpp"
-#include "jackal_aic/periodic_thread.hpp"
+#include "jackal_aic/ros/belief_loop.hpp"
 #include "jackal_aic/ros/node_diagnostics.hpp"
 #include "jackal_aic/ros/node_outputs.hpp"
 #include "jackal_aic/ros/node_reconfigure.hpp"
@@ -115,31 +112,19 @@ private:
   void setPointCallback(const geometry_msgs::Twist::ConstPtr& msg);
   void statusCallback(const jackal_msgs::Status::ConstPtr& msg);
   void feedbackCallback(const jackal_msgs::Feedback::ConstPtr& msg);
-  void beliefTimerCallback(const ros::TimerEvent& event);
   void actionTimerCallback(const ros::TimerEvent& event);
-  void debugTimerCallback(const ros::TimerEvent& event);
   /**
    * \brief One action step (call with the lock held): watchdogs, a += h da/dt (thesis eq.
    *        3-16) over the interval [s] (-1: nominal; clamped to 3 periods), the command.
    *        From the action timer (action_trigger timer) or each accepted sample (sample).
    */
   void actionStep(double interval);
-  /// A debug topic gained or lost a subscriber: run the debug timer only while any has one.
-  void debugSubscribersChanged();
   /**
    * \brief One belief-loop tick (either thread; takes the lock): plan the steps for the
    *        measured interval [s] (-1: first tick), run the watchdogs, integrate the beliefs.
    * \param stamp  the tick's time (ROS time), for the ~belief stamp
    */
   void beliefTick(double interval, const ros::Time& stamp);
-  /**
-   * \brief The belief thread's wait for its next deadline (PeriodicThread::Wait): serves
-   *        sensor_queue_ once after sleeping to the deadline (period <= kBatchedDispatchMaxPeriod)
-   *        or as messages arrive until the deadline (longer periods).
-   * \param deadline_ns  CLOCK_MONOTONIC deadline [ns]
-   * \param period_ns    the belief period [ns]
-   */
-  void waitServingSensors(std::int64_t deadline_ns, std::int64_t period_ns);
 
   /// Apply a parameter set queued by dynamic_reconfigure (between ticks; call with the lock held).
   void applyPendingParams();
@@ -149,53 +134,45 @@ private:
   void activate();
   void handleRunaway(const char* where);
   /**
-   * \brief Publish a wheel command [rad/s], clamped to +-max_wheel_speed, through the final
-   *        guard: as jackal_msgs/Drive, or in output mode cmd_vel as the twist CmdVelOutput
-   *        computes; a command clipped by the stock controller's limits is fed back as the
-   *        controller's action while it runs (anti-windup).
+   * \brief Publish a wheel command [rad/s] (NodeOutputs::wheels(): clamped to
+   *        +-max_wheel_speed, final guard, /cmd_drive or cmd_vel); a command clipped by the stock
+   *        controller's limits is fed back as the controller's action while it runs (anti-windup).
    */
   void publishCommand(double omega_left, double omega_right);
   /// The command outside kRunning: the measured wheel speeds in kHeld (MCU stop), else zero.
   void publishIdle();
   ControllerReport controllerReport() const;
-  /// Fault detection and isolation on one accepted sample: IMU availability, the residual test,
-  /// the controller's channel mask (Pi_y = 0 for isolated or missing channels), events to diagnostics.
-  void checkSensorFaults(const SensorSample& sample);
 
   ros::NodeHandle nh_;
   ros::NodeHandle pnh_;
   NodeParams params_;
   RosClock clock_;
 
-  std::unique_ptr<ActiveInferenceController> controller_;
-  std::unique_ptr<Generalizer> generalizer_;
-  std::unique_ptr<FaultMonitor> fault_monitor_;  ///< sensor FDI (doc/active_inference.md)
+  /// Controller, generalizer and fault monitor (FDI: doc/active_inference.md), ROS-free.
+  std::unique_ptr<SamplePipeline> pipeline_;
   std::unique_ptr<SensorSynchronizer> sync_;
   std::unique_ptr<Supervisor> supervisor_;
   std::unique_ptr<NodeReconfigure> reconfigure_;
   std::unique_ptr<NodeDiagnostics> diagnostics_;
   std::unique_ptr<NodeOutputs> outputs_;
-  std::unique_ptr<CmdVelOutput> cmd_vel_;  ///< output mode cmd_vel only
-  bool last_clipped_ = false;              ///< the last cmd_vel command was clipped
 
   /// The subscribers' queue while the belief thread runs (served by it); declared before the
   /// subscribers, so it outlives them.
   ros::CallbackQueue sensor_queue_;
   ros::Subscriber joint_sub_, imu_sub_, set_point_sub_, status_sub_, feedback_sub_;
-  ros::Timer belief_timer_, action_timer_, diagnostics_timer_, debug_timer_;
+  ros::Timer action_timer_;
 
-  /// Guards controller_, generalizer_, sync_, supervisor_, params_ and the belief bookkeeping below.
+  /// Guards pipeline_, sync_, supervisor_, params_ and the belief bookkeeping below.
   mutable std::mutex mutex_;
   std::uint64_t generalizer_drops_ = 0;  ///< samples the generalizer or the controller refused
   std::uint64_t belief_steps_ = 0;       ///< belief integration steps since start (catch-up included)
   std::uint64_t published_steps_ = 0;    ///< belief_steps_ at the last debug publication
   ros::Time belief_stamp_;               ///< time of the newest belief step
   ros::Time newest_sample_stamp_;        ///< stamp of the newest accepted sensor sample
-  double last_action_time_ = 0.0;        ///< clock_ time of the last action step's command [s]
-  DebugSnapshot snapshot_;               ///< the debug timer's copy (spinner thread only)
 
-  /// The wall-clock belief loop; null on simulated time. Declared last: destroyed (stopped) first.
-  std::unique_ptr<PeriodicThread> belief_thread_;
+  bool belief_on_thread_ = false;  ///< the belief loop runs on its own thread (wall clock)
+  /// The belief loop (thread or timer). Declared last: destroyed (stopped) first.
+  std::unique_ptr<BeliefLoop> belief_loop_;
 };
 
 }  // namespace jackal_aic

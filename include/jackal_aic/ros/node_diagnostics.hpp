@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <utility>
 
@@ -15,7 +16,9 @@
 #include <diagnostic_updater/update_functions.h>
 #include <ros/node_handle.h>
 #include <ros/publisher.h>
+#include <ros/timer.h>
 
+#include "jackal_aic/controller.hpp"
 #include "jackal_aic/periodic_thread.hpp"
 #include "jackal_aic/fault_monitor.hpp"
 #include "jackal_aic/ros/sensor_sync.hpp"
@@ -38,6 +41,10 @@ struct ControllerReport
   std::string output_mode = "cmd_drive";  ///< output_mode parameter
   std::uint64_t output_clips = 0;       ///< cmd_vel mode: commands clipped to the stock controller's limits
   bool last_output_clipped = false;     ///< cmd_vel mode: the last command was clipped (anti-windup active)
+
+  /// The controller's part: F (0 before the first measurement), mu^(0) x_dot and theta_dot, and
+  /// the action as the command while `active` (zero otherwise); the rest stays default.
+  static ControllerReport of(const ActiveInferenceController& controller, bool active);
 };
 
 /**
@@ -70,6 +77,13 @@ public:
   void commandLatency(double seconds) { latency_.add(seconds); }
   /// Poll the updater (publishes when ~diagnostic_period has passed).
   void update() { updater_->update(); }
+  /**
+   * \brief Poll update() and pollHealth() at kPollRate on a timer of `nh` (the spinner), each
+   *        time under `mutex` (the node's lock: the report reads the controller).
+   */
+  void start(ros::NodeHandle& nh, std::mutex& mutex);
+  /// start()'s polling rate [Hz] (/diagnostics is published every ~diagnostic_period, default 1 s).
+  static constexpr double kPollRate = 10.0;
 
   /**
    * \brief Report sensor health: adds the "sensor health" task to /diagnostics and advertises
@@ -98,6 +112,7 @@ public:
   void fillHealth(diagnostic_updater::DiagnosticStatusWrapper& stat) const;
 
 private:
+  ros::Timer poll_timer_;
   void loops(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void sensors(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void controller(diagnostic_updater::DiagnosticStatusWrapper& stat);

@@ -11,11 +11,16 @@
 #include <string>
 #include <functional>
 
+#include <memory>
+#include <mutex>
+
 #include <ros/node_handle.h>
 #include <ros/publisher.h>
 #include <ros/time.h>
+#include <ros/timer.h>
 
 #include "jackal_aic/controller.hpp"
+#include "jackal_aic/diff_drive.hpp"
 
 namespace jackal_aic
 {
@@ -34,58 +39,88 @@ struct DebugSnapshot
 };
 
 /**
- * \brief /cmd_drive, ~belief, ~free_energy, ~eps_y, ~eps_mu.
+ * \brief The node's outputs: the wheel command (/cmd_drive, or in output mode cmd_vel the
+ *        twist the stock diff drive maps back onto it), and ~belief, ~free_energy, ~eps_y,
+ *        ~eps_mu at debug_rate while anyone subscribes.
  *
  * Every suppressed non-finite output is counted (guardedOutputs(), shown in diagnostics).
+ * Threading: wheels() and resetWheels() from the node's locked sections (either thread); the
+ * debug timer runs on the spinner and takes the node's lock only to copy a DebugSnapshot.
  */
 class NodeOutputs
 {
 public:
+  /// Copies the controller's state into a snapshot under the node's lock; false if there is
+  /// no new belief step since the last call (nothing to publish).
+  using Capture = std::function<bool(DebugSnapshot*)>;
+
   /**
    * \param nh           public node handle: cmd_drive (jackal_msgs/Drive, queue 1) in output mode
    *                     cmd_drive, jackal_velocity_controller/cmd_vel (geometry_msgs/Twist, queue 1)
    *                     in output mode cmd_vel; only the one of the mode is advertised
    * \param pnh          private node handle: ~belief (geometry_msgs/TwistStamped, queue 50),
    *                     ~free_energy (std_msgs/Float64), ~eps_y, ~eps_mu (std_msgs/Float64MultiArray), queue 10
-   * \param debug_subscribers_changed  called (on the spinner thread) whenever a debug topic
-   *                     gains or loses a subscriber, so the node runs its debug timer only when
-   *                     someone listens; may be empty
    * \param output_mode  "cmd_drive" or "cmd_vel" (validated by NodeParams::validate())
+   * \param cmd_vel      the stock diff drive's kinematics and limits (output mode cmd_vel; validated)
+   * \param debug_rate   [Hz] > 0: the debug topics' rate (startDebug())
    */
-  NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::function<void()> debug_subscribers_changed = {},
-              const std::string& output_mode = "cmd_drive");
+  NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, const std::string& output_mode = "cmd_drive",
+              const DiffDriveParams& cmd_vel = DiffDriveParams(), double debug_rate = 100.0);
 
+  /**
+   * \brief Publish the debug topics from `capture` at debug_rate, the timer running only while
+   *        any of them has a subscriber (no wake-ups otherwise). Call once, after construction.
+   */
+  void startDebug(ros::NodeHandle& nh, Capture capture);
   /// True if any of ~belief, ~free_energy, ~eps_y, ~eps_mu has a subscriber.
   bool debugWanted() const;
-
   /// True in output mode cmd_vel.
-  bool cmdVelMode() const { return cmd_vel_mode_; }
+  bool cmdVelMode() const { return cmd_vel_ != nullptr; }
+
+  /// What wheels() did to a command.
+  struct WheelsResult
+  {
+    bool clipped = false;  ///< cmd_vel mode: the stock controller's limits changed it
+    Vector2 wheels;        ///< what the motors will get [rad/s] (valid when clipped)
+  };
+  /**
+   * \brief Publish a wheel command (omega_L, omega_R) [rad/s] through the final guard: a
+   *        non-finite wheel becomes 0 (counted, ERROR at most once a second), each is clamped
+   *        to +-limit. Output mode cmd_drive: jackal_msgs/Drive MODE_VELOCITY. Output mode
+   *        cmd_vel: the twist CmdVelOutput computes (include/jackal_aic/diff_drive.hpp), with
+   *        the stock controller's acceleration limits over `period` [s]; a clipped command is
+   *        returned so the caller can feed it back (anti-windup) and is logged (WARN, 1/s).
+   */
+  WheelsResult wheels(double omega_left, double omega_right, double limit, double period);
+  /// cmd_vel mode: restart the stock controller's acceleration limit from a wheel state [rad/s]
+  /// (control (re)starts); no-op in cmd_drive mode.
+  void resetWheels(const Vector2& wheels);
+  /// cmd_vel mode: commands clipped so far (0 in cmd_drive mode).
+  std::uint64_t clips() const { return cmd_vel_ ? cmd_vel_->clips() : 0; }
+  /// cmd_vel mode: the last command was clipped.
+  bool lastClipped() const { return last_clipped_; }
 
   /**
    * \brief Output mode cmd_vel: publish a twist (linear.x [m/s], angular.z [rad/s]); a
    *        non-finite value becomes zero (counted, ERROR logged at most once a second).
    */
   void twist(double linear, double angular);
-
   /**
    * \brief Publish a MODE_VELOCITY wheel command [rad/s], each wheel clamped to +-limit; a
    *        non-finite command becomes zero (counted, ERROR logged at most once a second).
    */
   void command(double omega_left, double omega_right, double limit);
-
   /**
    * \brief Publish mu^(0) = (linear.x, linear.y, angular.z) of `mu` (3 x (p+1)) in frame
    *        base_link with `stamp`; a non-finite belief is published as zero (counted).
    */
   void belief(const ros::Time& stamp, const MuTilde& mu);
-
   /**
    * \brief Fill `snapshot` from `controller` (call under the node's lock): mu, the free
    *        energy (0 before the first measurement), and eps_y / eps_mu only when someone
    *        subscribes to them (else 0 columns).
    */
   void capture(const ActiveInferenceController& controller, const ros::Time& stamp, DebugSnapshot* snapshot) const;
-
   /**
    * \brief Publish a snapshot: ~belief (as belief()), the free energy and eps_y / eps_mu
    *        (rows = channels, cols = orders), each only for subscribers and only when finite.
@@ -95,9 +130,16 @@ public:
   std::uint64_t guardedOutputs() const { return guarded_outputs_.load(); }
 
 private:
-  bool cmd_vel_mode_ = false;
+  void debugSubscribersChanged();
+
+  std::unique_ptr<CmdVelOutput> cmd_vel_;  ///< output mode cmd_vel only
+  bool last_clipped_ = false;
   ros::Publisher cmd_pub_, belief_pub_, free_energy_pub_, eps_y_pub_, eps_mu_pub_;
   std::atomic<std::uint64_t> guarded_outputs_{ 0 };  ///< commands may be guarded on the belief thread
+  double debug_rate_;
+  Capture capture_;
+  ros::Timer debug_timer_;
+  std::mutex debug_mutex_;  ///< the timer against subscriber callbacks starting / stopping it
+  DebugSnapshot snapshot_;  ///< the debug timer's copy (spinner thread only)
 };
-
 }  // namespace jackal_aic

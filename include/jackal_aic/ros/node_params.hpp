@@ -52,4 +52,11 @@ private:
  */
 void loadNodeParams(const ros::NodeHandle& pnh, NodeParams* params, std::vector<ParamViolation>* violations);
 
+/**
+ * \brief loadNodeParams() then NodeParams::validate(); every violation is logged at FATAL as
+ *        "invalid parameter ~name = value (allowed: range)", then their count and namespace.
+ * \return true if the parameters are valid (the node may start); false: exit non-zero
+ */
+bool loadValidNodeParams(const ros::NodeHandle& pnh, NodeParams* params);
+
 }  // namespace jackal_aic

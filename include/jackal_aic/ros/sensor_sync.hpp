@@ -29,7 +29,9 @@
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
 
+#include "jackal_aic/node_params.hpp"
 #include "jackal_aic/types.hpp"
+
 
 namespace jackal_aic
 {
@@ -81,6 +83,10 @@ public:
     double imu_max_skew = 0.025;            ///< [s], > 0
     double min_sample_interval = 0.005;     ///< [s], >= 0
     double max_gap = 0.25;                  ///< [s], > 0: longer gaps restart the history
+
+    /// The node's keys: left_joints, right_joints, imu_max_skew, min_sample_interval, and
+    /// sensor_timeout as max_gap.
+    static Config fromParams(const NodeParams& params);
   };
 
   /// \param config  joint names and limits; not checked here (NodeParams::validate() does that).

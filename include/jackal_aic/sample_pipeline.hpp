@@ -1,0 +1,96 @@
+#pragma once
+/**
+ * \file sample_pipeline.hpp
+ * \brief The ROS-free path of one synchronized sensor sample through the controller:
+ *        degraded-mode fill, finite-difference generalization, the controller's measurement,
+ *        fault detection and isolation (doc/jackal_aic_node.md, 'Sensors', 'Fault detection
+ *        and isolation'; doc/active_inference.md).
+ */
+#include <memory>
+
+#include "jackal_aic/controller.hpp"
+#include "jackal_aic/fault_monitor.hpp"
+#include "jackal_aic/generalizer.hpp"
+#include "jackal_aic/params.hpp"
+#include "jackal_aic/types.hpp"
+
+namespace jackal_aic
+{
+/**
+ * \brief Owns the controller, the generalizer and the fault monitor of the jackal_AIC node and
+ *        carries a sample through them in the node's order. Not thread-safe: the node calls it
+ *        under its lock. No allocation on the per-sample path.
+ *
+ * Per sample: generalize() (always: the history must stay continuous while the node waits),
+ * then, only while the node runs, measure() (the controller's y_tilde, then the FDI test;
+ * doc/active_inference.md, 'Fault detection and isolation', after Baioumy et al., ECC 2021).
+ */
+class SamplePipeline
+{
+public:
+  /**
+   * \param aic  controller parameters (AicParams::validate() must pass)
+   * \param fdi  fault detection parameters (FdiParams::validate() must pass)
+   * \throws std::invalid_argument  if either is invalid (message lists every violation)
+   */
+  SamplePipeline(const AicParams& aic, const FdiParams& fdi);
+
+  /**
+   * \brief Generalize one sample (thesis eqs. 3-17 ... 3-22).
+   * \param y        (gyro z, omega_L, omega_R, accel x, accel y) [rad/s, rad/s, rad/s, m/s^2, m/s^2];
+   *                 modified: without the IMU (imu_ok false) the gyro slot gets the wheels' yaw
+   *                 rate (r alpha / b_hat)(omega_R - omega_L), so its generalized orders stay
+   *                 smooth for when the IMU returns (the channel itself is masked, Pi_y = 0)
+   * \param h        interval since the previous sample [s] (ignored on a first sample)
+   * \param imu_ok   the sample has a paired IMU message
+   * \param restart  the sample starts a new history (after a gap); so does an uninitialized
+   *                 generalizer. *restarted tells the caller which happened.
+   * \param restarted  out (may be null): true if the history was restarted
+   * \return the generalizer's status: kOk or kFirstSample = accepted; anything else = the sample
+   *         was refused and the state is unchanged
+   */
+  Generalizer::Status generalize(Vector5* y, double h, bool imu_ok, bool restart, bool* restarted = nullptr);
+
+  /// What measure() found.
+  struct Measurement
+  {
+    bool accepted = false;                                  ///< the controller took y_tilde
+    FaultMonitor::Event event = FaultMonitor::Event::kNone;  ///< FDI event of this sample
+    int event_channel = -1;  ///< the channel of the event (restored: the one released), else -1
+  };
+  /**
+   * \brief Give the controller the newest generalized measurement, then run the FDI test on
+   *        the sample (y as generalize() left it, its interval h [s], imu_ok) against the
+   *        belief mu^(0) and set the controller's channel mask (Pi_y = 0 for isolated or
+   *        missing channels), so a channel isolated now is out of the next action step.
+   */
+  Measurement measure(const Vector5& y, double h, bool imu_ok);
+
+  /// Forget the sensor history (sensors were lost): generalizer and fault monitor restart.
+  void restartHistory();
+
+  /**
+   * \brief (Re)start control bumplessly: reset the controller, set the goal mu_d [m/s, m/s,
+   *        rad/s] and the newest y_tilde, the action to the measured wheel speeds [rad/s], and the
+   *        beliefs to the measured twist (mu^(0) = G omega, higher orders zero).
+   */
+  void activate(const Vector2& wheels, const Vector3& goal);
+
+  /**
+   * \brief Apply new parameters between steps. A changed embedding order builds a new
+   *        generalizer (the history restarts: returns true).
+   * \throws std::invalid_argument  if either set is invalid; nothing is changed then
+   */
+  bool setParams(const AicParams& aic, const FdiParams& fdi);
+
+  ActiveInferenceController& controller() { return *controller_; }
+  const ActiveInferenceController& controller() const { return *controller_; }
+  FaultMonitor& faultMonitor() { return *fault_monitor_; }
+  const Generalizer& generalizer() const { return *generalizer_; }
+
+private:
+  std::unique_ptr<ActiveInferenceController> controller_;
+  std::unique_ptr<Generalizer> generalizer_;
+  std::unique_ptr<FaultMonitor> fault_monitor_;
+};
+}  // namespace jackal_aic

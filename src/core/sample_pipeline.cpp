@@ -1,0 +1,109 @@
+/**
+ * \file sample_pipeline.cpp
+ * \brief One sensor sample through generalizer, controller and fault monitor
+ *        (include/jackal_aic/sample_pipeline.hpp).
+ */
+#include "jackal_aic/sample_pipeline.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace jackal_aic
+{
+namespace
+{
+/// Throws std::invalid_argument listing every violation of both sets, if any.
+void requireValid(const AicParams& aic, const FdiParams& fdi)
+{
+  std::string message;
+  for (const auto& violations : { aic.validate(), fdi.validate() })
+  {
+    for (const auto& v : violations)
+    {
+      message += (message.empty() ? "" : "; ") + v.toString();
+    }
+  }
+  if (!message.empty())
+  {
+    throw std::invalid_argument("invalid parameters: " + message);
+  }
+}
+}  // namespace
+
+SamplePipeline::SamplePipeline(const AicParams& aic, const FdiParams& fdi)
+{
+  requireValid(aic, fdi);
+  controller_ = std::make_unique<ActiveInferenceController>(aic);
+  generalizer_ = std::make_unique<Generalizer>(kYDim, aic.embedding_order);
+  fault_monitor_ = std::make_unique<FaultMonitor>(fdi, aic);
+}
+
+Generalizer::Status SamplePipeline::generalize(Vector5* y, double h, bool imu_ok, bool restart, bool* restarted)
+{
+  if (!imu_ok)
+  {
+    // Degraded mode: the gyro channel is masked; the wheels' yaw rate keeps its history smooth.
+    (*y)(kGyroZ) = controller_->model().twistFromWheels(Vector2((*y)(kOmegaLeft), (*y)(kOmegaRight)))(2);
+  }
+  const bool restart_now = restart || !generalizer_->initialized();
+  if (restart_now)
+  {
+    generalizer_->reset();
+  }
+  if (restarted != nullptr)
+  {
+    *restarted = restart_now;
+  }
+  return generalizer_->update(*y, h);
+}
+
+SamplePipeline::Measurement SamplePipeline::measure(const Vector5& y, double h, bool imu_ok)
+{
+  Measurement m;
+  m.accepted = controller_->setMeasurement(generalizer_->yTilde());
+  if (!m.accepted)
+  {
+    return m;
+  }
+  fault_monitor_->setImuAvailable(imu_ok);
+  const int isolated_before = fault_monitor_->isolatedChannel();
+  m.event = fault_monitor_->update(y, controller_->mu().col(0), h);
+  controller_->setSensorMask(fault_monitor_->sensorMask());
+  if (m.event != FaultMonitor::Event::kNone)
+  {
+    m.event_channel =
+        m.event == FaultMonitor::Event::kRestored ? isolated_before : fault_monitor_->suspectedChannel();
+  }
+  return m;
+}
+
+void SamplePipeline::restartHistory()
+{
+  generalizer_->reset();
+  fault_monitor_->reset();
+}
+
+void SamplePipeline::activate(const Vector2& wheels, const Vector3& goal)
+{
+  controller_->reset();
+  controller_->setGoal(goal);
+  controller_->setMeasurement(generalizer_->yTilde());
+  controller_->setAction(wheels);  // bumpless start from the measured wheel speeds
+  MuTilde mu = MuTilde::Zero(kMuDim, controller_->params().numOrders());
+  mu.col(0) = controller_->model().twistFromWheels(wheels);
+  controller_->setBeliefs(mu);
+}
+
+bool SamplePipeline::setParams(const AicParams& aic, const FdiParams& fdi)
+{
+  requireValid(aic, fdi);
+  controller_->setParams(aic);
+  fault_monitor_->setParams(fdi, aic);
+  if (aic.embedding_order == generalizer_->embeddingOrder())
+  {
+    return false;
+  }
+  generalizer_ = std::make_unique<Generalizer>(kYDim, aic.embedding_order);
+  return true;
+}
+}  // namespace jackal_aic
