@@ -5,6 +5,8 @@
 # SECONDS: run time (default 60). JUNIT_XML: if given, the verdict is also written there as a
 # one-test JUnit file (how scripts/run_tests.sh counts it). FUZZ_WORKERS (default 1): that many
 # fuzzing processes side by side, for long runs; the printed execution count is their sum.
+# FUZZ_OUT (default .ws/fuzz): the folder of the binary, the corpus and the logs (a long run in its
+# own folder does not collide with the test suite's bounded run).
 # Exit 0 = clean; 1 = a crash, a sanitizer report or a finding of the target (non-finite / over-limit action, ...); 2 = clang or
 # libFuzzer missing (reported as a skipped test). The binary and the growing corpus live in
 # .ws/fuzz; test/fuzz/corpus holds committed seeds (inputs of past findings, run every time).
@@ -13,7 +15,7 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(dirname "$here")"
 seconds="${1:-60}"
 xml="${2:-}"
-out="$repo/.ws/fuzz"
+out="${FUZZ_OUT:-$repo/.ws/fuzz}"
 mkdir -p "$out/corpus"
 log="$out/fuzz_core.log"
 
