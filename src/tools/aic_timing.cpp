@@ -43,7 +43,7 @@ using jackal_aic::LoopScheduler;
 using jackal_aic::PeriodicStats;
 using jackal_aic::PeriodicThread;
 
-/// The node's belief loop without ROS (src/ros/aic_node.cpp, AicNode::beliefTick).
+/// The node's belief loop without ROS (src/ros/aic_node.cpp, AicNode::beliefTick; src/ros/belief_loop.cpp).
 class BeliefLoop
 {
 public:
