@@ -7,6 +7,7 @@
 
 #include "jackal_aic/controller.hpp"
 #include "jackal_aic/generalizer.hpp"
+#include "jackal_aic/sample_pipeline.hpp"
 
 namespace
 {
@@ -131,4 +132,30 @@ TEST(NoAlloc, GeneralizerUpdate)
     g.update(y, k % 2 ? 0.02 : 0.021);
   }
   EXPECT_EQ(counter.count(), 0);
+}
+
+TEST(NoAlloc, SamplePipelinePerSample)
+{
+  // The node's per-sample path: degraded-mode fill, generalization, measurement, FDI test and
+  // channel mask, with and without the IMU, including an isolation (a biased gyro).
+  AicParams p;
+  p.integrator = Integrator::kExact;
+  SamplePipeline pipeline(p, FdiParams());
+  Vector5 y = Vector5::Zero();
+  y(kOmegaLeft) = y(kOmegaRight) = 5.0;
+  pipeline.generalize(&y, 0.02, true, false);
+  pipeline.activate(Vector2(5.0, 5.0), Vector3(0.49, 0.0, 0.0));
+  AllocationCounter counter;
+  for (int k = 0; k < 200; ++k)
+  {
+    Vector5 s = Vector5::Zero();
+    s(kOmegaLeft) = s(kOmegaRight) = 5.0;
+    s(kGyroZ) = k > 50 ? 1.0 : 0.0;
+    const bool imu_ok = k >= 40 || k % 7 != 0;  // some IMU-less samples first
+    pipeline.generalize(&s, 0.02, imu_ok, false);
+    pipeline.measure(s, 0.02, imu_ok);
+    pipeline.controller().updateBeliefs(0.001);
+  }
+  EXPECT_EQ(counter.count(), 0);
+  EXPECT_EQ(pipeline.faultMonitor().isolatedChannel(), kGyroZ);  // the path with an isolation ran
 }
