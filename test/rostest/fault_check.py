@@ -251,6 +251,35 @@ class FaultCheck(unittest.TestCase):
         self.assertIn("gyro_z", iso[0][1].get("last event", ""))
         self.assertLess(abs(yaw), limit, "yaw rate %.3f rad/s with the gyro isolated" % yaw)
 
+    def run_transients(self, v, window, expect_worse):
+        """Transient sensor faults in a steady run at v: the ~faults lines (each 'TARGET KIND
+        [VALUE] START DURATION [PERIOD]', START relative to injection) at once. While they last
+        and 1 s after, the true speed stays within ~deviation_limit [m/s] of v and the yaw rate
+        within ~yaw_rate_limit; over the last window the speed error is <= ~speed_error_limit."""
+        lines = list(p("faults", ["gyro spikes 3 0 1 0.1", "joint_states delay 0.06 1.5 0.5",
+                                  "joint_states dropout 2.5 0.15", "left_encoder spikes 5 3.5 0.5 0.1"]))
+        limit = float(p("speed_error_limit", 0.05))
+        self.d.set(v)
+        rospy.sleep(3.0)
+        rospy.loginfo("%s: injecting %s", rospy.get_name(), lines)
+        rospy.set_param("/jackal_plant/faults", lines)
+        t_set = rospy.get_rostime().to_sec()
+        end = max(float(l.split()[-2 if l.split()[1] == "spikes" else -1]) + float(l.split()[-3 if l.split()[1] == "spikes" else -2])
+                  for l in lines)
+        rospy.sleep(end + 1.0 + float(p("hold", 3.0)))
+        during = self.s.odom_between(t_set, t_set + end + 1.0)
+        t_end = self.s.odom[-1][0]
+        last = self.s.odom_between(t_end - window, t_end)
+        dev = max(abs(o[1] - v) for o in during)
+        yaw = max(abs(o[2]) for o in during)
+        err = abs(mean([o[1] for o in last]) - v) / v
+        rospy.loginfo("transients: max |v - %.2f| %.3f m/s and max |yaw rate| %.3f rad/s during the faults; "
+                      "speed error %.2f %% over the last %.1f s; isolated during them: %s", v, dev, yaw, 100 * err,
+                      window, self.isolated_channels(t_set))
+        self.assertLessEqual(dev, float(p("deviation_limit", 0.1)), "speed off by %.3f m/s during the faults" % dev)
+        self.assertLessEqual(yaw, float(p("yaw_rate_limit", 0.2)), "yaw rate %.3f rad/s during the faults" % yaw)
+        self.assertLessEqual(err, limit, "speed error %.2f %% after the faults" % (100 * err))
+
     def run_payload(self, v, window, expect_worse):
         self.run_physical(v, window, "payload set %g" % float(p("payload", 10.0)))
 
