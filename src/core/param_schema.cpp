@@ -101,11 +101,11 @@ std::vector<ParamSpec> buildSchema()
     { "var_mu", T::kDoubleList, C, "active_inference", kMinVariance, false, kMaxVariance, "SI^2 of each order",
       "Belief variances sigma^2_mu, one per order 0..p or one per order and channel (x_dot, y_dot, theta_dot; "
       "order-major); precision Pi_mu = 1/sigma^2 (thesis table C-1)",
-      true, 0, false, kMuDim, {}, { 4.047, 5.395, 10.79, 21.58, 43.16, 86.32 }, JACKAL_AIC_MEMBER(aic.var_mu) },
+      true, 0, false, kMuDim, {}, { 0.1, 0.1333, 0.2667, 0.5333, 1.067, 2.133 }, JACKAL_AIC_MEMBER(aic.var_mu) },
     { "var_y", T::kDoubleList, C, "active_inference", kMinVariance, false, kMaxVariance, "SI^2 of each order",
       "Sensor variances sigma^2_y, one per order 0..p or one per order and channel (gyro z, omega_L, omega_R, "
       "accel x, accel y; order-major); precision Pi_y = 1/sigma^2 (thesis table C-1)",
-      true, 0, false, kYDim, {}, { 2.0, 64.99, 1.0e5, 1.0e5, 1.0e5, 1.0e5 }, JACKAL_AIC_MEMBER(aic.var_y) },
+      true, 0, false, kYDim, {}, { 2.0, 38.25, 1.0e5, 1.0e5, 1.0e5, 1.0e5 }, JACKAL_AIC_MEMBER(aic.var_y) },
     { "accel_in_model", T::kBool, C, "active_inference", kNone, false, kNone, "-",
       "If true, the accelerometer-x row of the sensor model maps onto mu^(1); false is the thesis model "
       "(accelerometer rows zero)",

@@ -53,14 +53,14 @@ AicParams recommendedAicParams()
 {
   AicParams p;  // rates 1000 / 50 Hz, robot geometry, runaway_limit: as table 5-8
   p.integrator = Integrator::kExact;
-  p.tau = 0.01272;
-  p.k_mu = 0.3;
-  p.k_a = 11.98;
+  p.tau = 0.01721;
+  p.k_mu = 0.02329;
+  p.k_a = 12.59;
   p.embedding_order = 2;
-  p.var_mu = { 4.047, 5.395, 10.79 };
-  p.var_y = { 2.0, 64.99, 1.0e5 };
-  p.max_action_lead = 3.0;
-  p.max_action_lead_turn = 1.0;
+  p.var_mu = { 0.1, 0.1333, 0.2667 };
+  p.var_y = { 2.0, 38.25, 1.0e5 };
+  p.max_action_lead = 4.367;
+  p.max_action_lead_turn = 1.1;
   return p;
 }
 
