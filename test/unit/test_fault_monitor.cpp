@@ -25,19 +25,11 @@ constexpr double kWheelTimeConstant = 0.1;  // s, first-order wheel loop of the 
 constexpr double kSpeedErrorTol = 0.05;   // relative, the "speed error <= 5 %"
 constexpr double kIsolationDeadline = 0.5;  // s, the "isolated within 0.5 s"
 
-/// config/default.yaml's controller (exact integrator, tau 0.01272, k_mu 0.3, k_a 11.98, p = 2).
+/// config/default.yaml's controller (the schema's defaults: exact integrator, p = 2, tau 0.01721,
+/// k_mu 0.02329, k_a 12.59, max_action_lead 4.367).
 AicParams defaultParams()
 {
-  AicParams p;
-  p.integrator = Integrator::kExact;
-  p.tau = 0.01272;
-  p.k_mu = 0.3;
-  p.k_a = 11.98;
-  p.embedding_order = 2;
-  p.var_mu = { 4.047, 5.395, 10.79 };
-  p.var_y = { 2.0, 64.99, 1.0e5 };
-  p.max_action_lead = 3.0;
-  return p;
+  return recommendedAicParams();
 }
 
 /// A fault applied to one channel of the sensor sample from a given time on.

@@ -138,9 +138,7 @@ TEST(NoAlloc, SamplePipelinePerSample)
 {
   // The node's per-sample path: degraded-mode fill, generalization, measurement, FDI test and
   // channel mask, with and without the IMU, including an isolation (a biased gyro).
-  AicParams p;
-  p.integrator = Integrator::kExact;
-  SamplePipeline pipeline(p, FdiParams());
+  SamplePipeline pipeline(recommendedAicParams(), FdiParams());
   Vector5 y = Vector5::Zero();
   y(kOmegaLeft) = y(kOmegaRight) = 5.0;
   pipeline.generalize(&y, 0.02, true, false);

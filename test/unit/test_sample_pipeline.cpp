@@ -21,11 +21,10 @@ constexpr double kTol = 1e-12;   // exact arithmetic of a few terms
 constexpr double kH = 0.02;      // s, the Jackal's 50 Hz sensor interval
 constexpr double kBeliefH = 0.001;  // s, 1 kHz belief steps
 
+/// config/default.yaml's controller.
 AicParams aicParams()
 {
-  AicParams p;  // schema defaults; exact integrator
-  p.integrator = Integrator::kExact;
-  return p;
+  return recommendedAicParams();
 }
 
 /// Wheels at omega [rad/s] both sides, gyro consistent (0), accelerometers 0.
