@@ -146,8 +146,8 @@ struct AicParams
  * \brief The recommended controller (config/default.yaml): what the node, the tools and
  *        cfg/AIC.cfg use for a missing key (NodeParams::aic). Tuned by scripts/aic_tune.py on
  *        the identified plant (doc/experiments.md, 'Tuning'): table 5-8's rates with the exact
- *        integrator, tau 0.01721 s, k_mu 0.02329, k_a 12.59, p = 2, sigma^2_mu (0.1, 0.1333,
- *        0.2667), sigma^2_y (2, 38.25, 1e5), max_action_lead 4.367 rad/s, max_action_lead_turn
+ *        integrator, tau 0.01721 s, k_mu 0.02329, k_a 12.59, p = 2, sigma^2_mu (0.5, 0.6667,
+ *        1.333), sigma^2_y (2, 38.25, 1e5), max_action_lead 4.367 rad/s, max_action_lead_turn
  *        1.1 rad/s. Valid (validate() empty).
  */
 AicParams recommendedAicParams();

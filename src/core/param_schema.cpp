@@ -101,7 +101,7 @@ std::vector<ParamSpec> buildSchema()
     { "var_mu", T::kDoubleList, C, "active_inference", kMinVariance, false, kMaxVariance, "SI^2 of each order",
       "Belief variances sigma^2_mu, one per order 0..p or one per order and channel (x_dot, y_dot, theta_dot; "
       "order-major); precision Pi_mu = 1/sigma^2 (thesis table C-1)",
-      true, 0, false, kMuDim, {}, { 0.1, 0.1333, 0.2667, 0.5333, 1.067, 2.133 }, JACKAL_AIC_MEMBER(aic.var_mu) },
+      true, 0, false, kMuDim, {}, { 0.5, 0.6667, 1.333, 2.667, 5.333, 10.67 }, JACKAL_AIC_MEMBER(aic.var_mu) },
     { "var_y", T::kDoubleList, C, "active_inference", kMinVariance, false, kMaxVariance, "SI^2 of each order",
       "Sensor variances sigma^2_y, one per order 0..p or one per order and channel (gyro z, omega_L, omega_R, "
       "accel x, accel y; order-major); precision Pi_y = 1/sigma^2 (thesis table C-1)",

@@ -57,7 +57,7 @@ AicParams recommendedAicParams()
   p.k_mu = 0.02329;
   p.k_a = 12.59;
   p.embedding_order = 2;
-  p.var_mu = { 0.1, 0.1333, 0.2667 };
+  p.var_mu = { 0.5, 0.6667, 1.333 };
   p.var_y = { 2.0, 38.25, 1.0e5 };
   p.max_action_lead = 4.367;
   p.max_action_lead_turn = 1.1;
