@@ -407,7 +407,7 @@ TEST(ParamSchema, RobotYamlIsDefaultYamlWithItsGain)
     }
     if (std::string(s.key) == "k_a")
     {
-      EXPECT_DOUBLE_EQ(robot[s.key].as<double>(), 10.0);
+      EXPECT_DOUBLE_EQ(robot[s.key].as<double>(), 10.5);
       continue;
     }
     EXPECT_EQ(YAML::Dump(def[s.key]), YAML::Dump(robot[s.key])) << "config/robot.yaml drifted from default.yaml";
