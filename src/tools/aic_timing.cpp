@@ -128,7 +128,7 @@ int main(int argc, char** argv)
   app.add_option("--rates", rates, "loop rates [Hz] (default 1000,10000)")
       ->delimiter(',')
       ->check(CLI::Range(1.0, 100000.0));
-  app.add_option("--config", config, "controller YAML (default: the built-in defaults; see config/default.yaml)")
+  app.add_option("--config", config, "controller YAML (default: the node's defaults, those of config/default.yaml)")
       ->check(CLI::ExistingFile);
   jackal_aic::addOverrideOption(app, "--set", &overrides, "override a controller parameter, e.g. --set tau=0.01");
   app.add_option("--priority", priority, "SCHED_FIFO priority for both threads, 1..99 (default 0: none)")
@@ -142,7 +142,7 @@ int main(int argc, char** argv)
   AicParams params;
   try
   {
-    params = config.empty() ? AicParams() : jackal_aic::loadAicParams(config, overrides);
+    params = config.empty() ? jackal_aic::recommendedAicParams() : jackal_aic::loadAicParams(config, overrides);
     if (config.empty() && !overrides.empty())
     {
       return jackal_aic::badArgument(app, "--set needs --config");
@@ -154,7 +154,7 @@ int main(int argc, char** argv)
     return 1;
   }
 
-  const std::string source = config.empty() ? std::string(" (built-in defaults)") : ", " + config;
+  const std::string source = config.empty() ? std::string(" (the node's defaults)") : ", " + config;
   std::printf("aic_timing: %.1f s per rate; controller p = %d, integrator %s%s\n", duration, params.embedding_order,
               jackal_aic::toString(params.integrator).c_str(), source.c_str());
   std::printf("| loop   | rate [Hz] | achieved [Hz] | of nominal | steps [Hz] | p50 [ms] | p99 [ms] | max [ms] | overruns "
