@@ -32,7 +32,6 @@ fails (bad file, tool error).
 import argparse
 import json
 import os
-import subprocess
 import sys
 from concurrent.futures import ThreadPoolExecutor
 
@@ -73,10 +72,7 @@ def closed_loop(controller, profile, aic_config, plant_config, plant_sets=()):
         cmd += ["--aic-config", aic_config]
     for s in plant_sets:
         cmd += ["--set", s]
-    out = subprocess.run(cmd, capture_output=True, text=True, check=False)
-    if out.returncode != 0:
-        raise RuntimeError("%s: %s" % (" ".join(cmd), out.stderr.strip()[-400:]))
-    return json.loads(out.stdout)
+    return cli.run_json_tool(cmd)
 
 
 def step_profile(v, channel="linear", hold=3.0):

@@ -130,10 +130,7 @@ def run_closed_loop(args, csv_path=None):
     cmd = [find_exe("closed_loop_run")] + args
     if csv_path:
         cmd += ["--csv", csv_path]
-    out = subprocess.run(cmd, capture_output=True, text=True, check=False)
-    if out.returncode != 0:
-        raise RuntimeError("closed_loop_run %s: %s" % (" ".join(args), out.stderr.strip()[-400:]))
-    return json.loads(out.stdout)
+    return cli.run_json_tool(cmd)
 
 
 def identify_plant(low, high, period=2.0, plant_config=None):

@@ -83,9 +83,13 @@ public:
    */
   bool setParams(const AicParams& aic, const FdiParams& fdi);
 
+  /// The controller (beliefs mu, action a, goal mu_d; thesis eqs. 3-15, 3-16): the node's belief
+  /// and action steps run on it directly.
   ActiveInferenceController& controller() { return *controller_; }
   const ActiveInferenceController& controller() const { return *controller_; }
+  /// The fault monitor (channel health for diagnostics; its mask is applied by measure()).
   FaultMonitor& faultMonitor() { return *fault_monitor_; }
+  /// The generalizer: y_tilde, 5 x (p+1), of the newest accepted sample.
   const Generalizer& generalizer() const { return *generalizer_; }
 
 private:

@@ -101,6 +101,19 @@ def source_root(script_file):
     return package_path() or here
 
 
+def run_json_tool(cmd):
+    """Run one of the package's C++ tools that print a JSON object on stdout (closed_loop_run,
+    aic_predict, plant_fit, ...): ``cmd`` is the argument list, the executable first. Returns the
+    parsed object (a dict). Raises RuntimeError with the command and the end of the tool's stderr
+    when it exits non-zero."""
+    import json
+    import subprocess
+    out = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    if out.returncode != 0:
+        raise RuntimeError("%s: %s" % (" ".join(cmd), out.stderr.strip()[-400:]))
+    return json.loads(out.stdout)
+
+
 def find_executable(name, script_file, tool):
     """Path of the package's C++ tool ``name`` (closed_loop_run, plant_fit, aic_predict, ...): the
     source checkout's workspace (<root>/.ws/devel/lib/jackal_aic), the sourced workspaces

@@ -102,6 +102,17 @@ def settling_time(samples, t_step, start, target, band=0.05):
     return (last_out - t_step) if last_out is not None else 0.0
 
 
+def fault_end(line):
+    """When a timed ~faults line 'TARGET KIND [VALUE] START DURATION [PERIOD]' ends [s after it
+    is read] (sim/README.md, 'Fault injection'): START + DURATION; VALUE is there for bias,
+    spikes, delay and set, PERIOD only for spikes."""
+    fields = line.split()
+    numbers = [float(x) for x in fields[2:]]
+    if fields[1] in ("bias", "spikes", "delay", "set"):
+        numbers = numbers[1:]
+    return numbers[0] + numbers[1]
+
+
 def mean(xs):
     return sum(xs) / len(xs) if xs else float("nan")
 
@@ -264,8 +275,7 @@ class FaultCheck(unittest.TestCase):
         rospy.loginfo("%s: injecting %s", rospy.get_name(), lines)
         rospy.set_param("/jackal_plant/faults", lines)
         t_set = rospy.get_rostime().to_sec()
-        end = max(float(l.split()[-2 if l.split()[1] == "spikes" else -1]) + float(l.split()[-3 if l.split()[1] == "spikes" else -2])
-                  for l in lines)
+        end = max(fault_end(l) for l in lines)
         rospy.sleep(end + 1.0 + float(p("hold", 3.0)))
         during = self.s.odom_between(t_set, t_set + end + 1.0)
         t_end = self.s.odom[-1][0]
