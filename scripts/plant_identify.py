@@ -107,6 +107,9 @@ def search(args):
     history = []
 
     def cost(u):
+        # The search space is the unit box: Nelder-Mead's own bounds= needs scipy >= 1.7
+        # (Ubuntu 20.04 has 1.3), so a vertex outside the box is evaluated at its projection.
+        u = np.clip(u, 0.0, 1.0)
         values = dict(fixed)
         values.update({k: to_value(k, x) for k, x in zip(keys, u)})
         c, _ = evaluate((plant_fit, config, values, extra))
@@ -121,9 +124,9 @@ def search(args):
         x = x0.copy()
         x[i] = x[i] + 0.15 if x[i] < 0.5 else x[i] - 0.15
         simplex.append(x)
-    res = minimize(cost, x0, method="Nelder-Mead", bounds=[(0.0, 1.0)] * len(keys),
+    res = minimize(cost, x0, method="Nelder-Mead",
                    options={"maxfev": max_evals, "xatol": 1e-3, "fatol": 1e-4, "initial_simplex": np.array(simplex)})
-    values = {k: to_value(k, x) for k, x in zip(keys, res.x)}
+    values = {k: to_value(k, x) for k, x in zip(keys, np.clip(res.x, 0.0, 1.0))}
     return float(res.fun), values, len(history)
 
 
