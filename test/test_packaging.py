@@ -1,10 +1,13 @@
 #!/usr/bin/env python3
 """unittest: the package's metadata, without a build.
 
-- every dependency key of package.xml is a key rosdep resolves: a system key of rosdep's
-  rule files or a released ROS Noetic package, as committed in test/data/rosdep_keys.txt
-  (which names its source); `rosdep check --from-paths . --ignore-src` does the same where
+- every dependency key of package.xml resolves on the robot's OS and here: a system key to
+  apt packages for ubuntu focal (Noetic's Ubuntu) and debian bookworm in the committed
+  snapshot of rosdep's rules (test/data/rosdep_apt_rules.yaml, which names its source), or a
+  released ROS Noetic package (test/data/rosdep_keys.txt); a key whose rule is null there
+  (cli11 on focal) fails; `rosdep check --from-paths . --ignore-src` does the same where
   rosdep has a database;
+- every Python file parses as Python 3.8 (Ubuntu 20.04's interpreter);
 - catkin_package(CATKIN_DEPENDS ...) in CMakeLists.txt names every ROS package whose
   headers the installed headers (include/jackal_aic/) include;
 - every ROS package package.xml depends on is used somewhere (sources, launch files,
@@ -17,7 +20,10 @@ import os
 import re
 import sys
 import unittest
+import ast
 import xml.etree.ElementTree as ET
+
+import yaml
 
 ROOT = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
 DEP_TAGS = ("depend", "build_depend", "build_export_depend", "exec_depend", "test_depend",
@@ -44,6 +50,45 @@ def read_keys(path):
             else:
                 current.add(line)
     return sections
+
+
+# The OSes every system key must resolve on: the robot's (Ubuntu 20.04) and the one CI builds on.
+CHECKED_OSES = ("focal", "bookworm")
+
+
+def read_apt_rules(path):
+    """{key: {os: [apt packages] or None}} of test/data/rosdep_apt_rules.yaml."""
+    with open(path, encoding="utf-8") as f:
+        rules = yaml.safe_load(f)
+    if not isinstance(rules, dict) or not rules:
+        raise ValueError("%s: expected a map of rosdep keys" % path)
+    return rules
+
+
+def unresolved(keys, rules, ros_keys, oses=CHECKED_OSES):
+    """[(key, os)] of the keys that are neither ROS packages nor system keys with apt packages on os."""
+    out = []
+    for key in sorted(set(keys)):
+        if key in ros_keys:
+            continue
+        for os_name in oses:
+            rule = rules.get(key)
+            if not rule or not rule.get(os_name):
+                out.append((key, os_name))
+    return out
+
+
+def python_files():
+    """Every Python file of the repository (scripts without the .py ending too)."""
+    out = []
+    for sub in ("src", "sim", "test", "scripts", "cfg"):
+        for base, _dirs, files in os.walk(os.path.join(ROOT, sub)):
+            for name in files:
+                path = os.path.join(base, name)
+                if name.endswith(".py") or name.endswith(".cfg"):
+                    out.append(path)
+    out.append(os.path.join(ROOT, "setup.py"))
+    return out
 
 
 def package_deps(path):
@@ -99,16 +144,36 @@ class TestPackaging(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.keys = read_keys(os.path.join(ROOT, "test", "data", "rosdep_keys.txt"))
+        cls.rules = read_apt_rules(os.path.join(ROOT, "test", "data", "rosdep_apt_rules.yaml"))
         cls.deps = package_deps(os.path.join(ROOT, "package.xml"))
         with open(os.path.join(ROOT, "CMakeLists.txt"), encoding="utf-8") as f:
             cls.cmake = f.read()
 
-    def test_every_key_resolves(self):
-        known = self.keys.get("system", set()) | self.keys.get("ros", set())
-        unknown = sorted({k for _t, k in self.deps if k not in known})
-        self.assertFalse(unknown, "package.xml keys rosdep does not know (see test/data/rosdep_keys.txt): %s"
-                         % unknown)
+    def test_every_key_resolves_on_focal_and_bookworm(self):
+        missing = unresolved([k for _t, k in self.deps], self.rules, self.keys["ros"])
+        self.assertFalse(missing, "package.xml keys without an apt rule (test/data/rosdep_apt_rules.yaml, "
+                         "test/data/rosdep_keys.txt): %s" % ", ".join("%s on %s" % m for m in missing))
         self.assertGreater(len(self.deps), 10)  # the parse saw the dependencies
+
+    def test_a_key_without_a_focal_rule_fails(self):
+        # cli11 has no apt package on Ubuntu 20.04 (null rule): adding it back must fail.
+        keys = [k for _t, k in self.deps] + ["cli11"]
+        self.assertEqual(unresolved(keys, self.rules, self.keys["ros"]), [("cli11", "focal")])
+        self.assertEqual(unresolved(["no-such-key"], self.rules, self.keys["ros"]),
+                         [("no-such-key", "focal"), ("no-such-key", "bookworm")])
+
+    def test_python_parses_as_3_8(self):
+        files = python_files()
+        self.assertGreater(len(files), 10)
+        bad = []
+        for path in files:
+            with open(path, encoding="utf-8") as f:
+                text = f.read()
+            try:
+                ast.parse(text, filename=path, feature_version=(3, 8))
+            except SyntaxError as e:
+                bad.append("%s:%s: %s" % (os.path.relpath(path, ROOT), e.lineno, e.msg))
+        self.assertFalse(bad, "not Python 3.8: %s" % bad)
 
     def test_ode_is_opende(self):
         keys = {k for _t, k in self.deps}

@@ -103,45 +103,39 @@ int main(int argc, char** argv)
   std::string channel = "linear";
   std::vector<double> square;
   double turn = 0.0;
-  CLI::App app{ "One set-point profile with the stock controller or the AIC on the ODE plant core, headless and "
-                "faster than real time; prints one JSON object with the metrics of every transition.",
-                "closed_loop_run" };
-  app.add_option("--controller", controller, "aic, stock or open (no controller: the set point's wheel speeds go to the MCU as they are)")
-      ->required();
-  app.add_option("--aic-config", aic_config, "controller YAML")->capture_default_str();
-  addOverrideOption(app, "--aic-set", &aic_overrides, "override a controller key (repeatable)");
-  app.add_option("--config", config, "plant YAML")->capture_default_str();
-  addOverrideOption(app, "--set", &overrides, "override a plant key, dotted (repeatable)");
-  app.add_option("--urdf", urdf, "robot model")->capture_default_str();
-  CLI::Option* step_opt =
-      app.add_option("--step", step, "0 until --rest, then V [m/s] (or [rad/s]) for --hold seconds")->check(finiteNumber());
-  CLI::Option* square_opt = app.add_option("--square", square,
-                                           "LOW HIGH: 0 until --rest, LOW for --rest seconds (lead-in), then --cycles "
-                                           "periods of HIGH / LOW, each half --period / 2")
-                                ->expected(2)
-                                ->check(finiteNumber());
-  app.add_option("--channel", channel,
-                 "linear or angular: the step / square values are yaw rates [rad/s] (linear set point 0); metrics "
-                 "on the yaw rate")
-      ->capture_default_str();
-  CLI::Option* turn_opt =
-      app.add_option("--turn", turn,
-                     "W [rad/s]: a combined step, --step V on the linear channel and W on the angular one at once "
-                     "(--channel linear); metrics for both (\"segments\": linear, \"angular_segments\": yaw rate)")
-          ->check(finiteNumber());
-  app.add_option("--period", period, "square period [s]")->check(finiteNumber())->capture_default_str();
-  app.add_option("--cycles", cycles, "square periods, 1..100")->capture_default_str();
-  app.add_option("--rest", rest, "rest before the profile [s], > 0.2")->check(finiteNumber())->capture_default_str();
-  app.add_option("--hold", hold, "step hold time [s]")->check(finiteNumber())->capture_default_str();
-  app.add_flag("--noise", noise, "keep the plant YAML's sensor noise (default: ideal sensors, reproducible)");
-  app.add_option("--csv", csv, "write the trace as CSV");
-  app.footer("Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.");
-  if (const int code = parseCommandLine(app, argc, argv); code >= 0)
+  CommandLine cl("closed_loop_run",
+                 "One set-point profile with the stock controller or the AIC on the ODE plant core, headless and "
+                 "faster than real time; prints one JSON object with the metrics of every transition.");
+  cl.option("controller", &controller,
+            "aic, stock or open (no controller: the set point's wheel speeds go to the MCU as they are)", true);
+  cl.option("aic-config", &aic_config, "controller YAML");
+  cl.overrides("aic-set", &aic_overrides, "override a controller key");
+  cl.option("config", &config, "plant YAML");
+  cl.overrides("set", &overrides, "override a plant key, dotted");
+  cl.option("urdf", &urdf, "robot model");
+  cl.option("step", &step, "0 until --rest, then V [m/s] (or [rad/s]) for --hold seconds");
+  cl.numbers("square", &square, 2,
+             "LOW HIGH: 0 until --rest, LOW for --rest seconds (lead-in), then --cycles periods of HIGH / LOW, each "
+             "half --period / 2");
+  cl.option("channel", &channel,
+            "linear or angular: the step / square values are yaw rates [rad/s] (linear set point 0); metrics on the "
+            "yaw rate");
+  cl.option("turn", &turn,
+            "W [rad/s]: a combined step, --step V on the linear channel and W on the angular one at once (--channel "
+            "linear); metrics for both (\"segments\": linear, \"angular_segments\": yaw rate)");
+  cl.option("period", &period, "square period [s]");
+  cl.option("cycles", &cycles, "square periods, 1..100");
+  cl.option("rest", &rest, "rest before the profile [s], > 0.2");
+  cl.option("hold", &hold, "step hold time [s]");
+  cl.flag("noise", &noise, "keep the plant YAML's sensor noise (default: ideal sensors, reproducible)");
+  cl.option("csv", &csv, "write the trace as CSV");
+  cl.footer("Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.");
+  if (const int code = cl.parse(argc, argv); code >= 0)
   {
     return code;
   }
-  const bool have_step = step_opt->count() > 0;
-  const bool have_square = square_opt->count() > 0;
+  const bool have_step = cl.given("step");
+  const bool have_square = cl.given("square");
   if (have_square)
   {
     low = square[0];
@@ -149,26 +143,26 @@ int main(int argc, char** argv)
   }
   if (controller != "aic" && controller != "stock" && controller != "open")
   {
-    return badArgument(app, "--controller must be aic, stock or open");
+    return cl.bad("--controller must be aic, stock or open");
   }
   if (channel != "linear" && channel != "angular")
   {
-    return badArgument(app, "--channel must be linear or angular");
+    return cl.bad("--channel must be linear or angular");
   }
   const bool angular = channel == "angular";
   if (have_step == have_square)
   {
-    return badArgument(app, "give exactly one of --step and --square");
+    return cl.bad("give exactly one of --step and --square");
   }
   if (!(rest > 0.2) || !(hold > 0.0) || !(period > 0.0) || cycles < 1 || cycles > 100)
   {
-    return badArgument(app, "--rest must be > 0.2 s, --hold and --period > 0, --cycles in [1, 100]");
+    return cl.bad("--rest must be > 0.2 s, --hold and --period > 0, --cycles in [1, 100]");
   }
 
-  const bool combined = turn_opt->count() > 0;
+  const bool combined = cl.given("turn");
   if (combined && (!have_step || angular))
   {
-    return badArgument(app, "--turn needs --step and --channel linear");
+    return cl.bad("--turn needs --step and --channel linear");
   }
 
   ClosedLoopConfig c;

@@ -130,15 +130,16 @@ int main(int argc, char** argv)
   std::string csv;
   std::vector<std::string> overrides;
   bool check = false;
-  CLI::App app{ "The stock controller on the ODE plant for velocity steps from rest, beside the real Jackal's "
-                "settling and rise times (thesis table 3-1b), then the top-speed and wheel-separation checks.",
-                "plant_calibrate" };
-  app.add_option("--urdf", urdf, "robot model")->capture_default_str();
-  app.add_option("--config", config, "plant YAML")->capture_default_str();
-  jackal_aic::addOverrideOption(app, "--set", &overrides, "override a plant key, dotted (repeatable)");
-  app.add_option("--csv", csv, "write the step traces as CSV");
-  app.add_flag("--check", check, "exit 1 unless every acceptance band holds");
-  if (const int code = jackal_aic::parseCommandLine(app, argc, argv); code >= 0)
+  jackal_aic::CommandLine cl("plant_calibrate",
+                             "The stock controller on the ODE plant for velocity steps from rest, beside the real "
+                             "Jackal's settling and rise times (thesis table 3-1b), then the top-speed and "
+                             "wheel-separation checks.");
+  cl.option("urdf", &urdf, "robot model");
+  cl.option("config", &config, "plant YAML");
+  cl.overrides("set", &overrides, "override a plant key, dotted");
+  cl.option("csv", &csv, "write the step traces as CSV");
+  cl.flag("check", &check, "exit 1 unless every acceptance band holds");
+  if (const int code = cl.parse(argc, argv); code >= 0)
   {
     return code;
   }

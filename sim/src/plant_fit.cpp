@@ -68,19 +68,19 @@ int main(int argc, char** argv)
   bool json = false;
   bool check = false;
   std::vector<std::string> table_ids;
-  CLI::App app{ "Every robot step response of the data file on the ODE plant (stock controller and the "
-                "thesis-equivalent AIC), headless: the fit table, or one JSON object with --json.",
-                "plant_fit" };
-  app.add_option("--urdf", urdf, "robot model")->capture_default_str();
-  app.add_option("--config", config, "plant YAML")->capture_default_str();
-  addOverrideOption(app, "--set", &overrides, "override a plant key, dotted (repeatable)");
-  app.add_option("--aic-config", aic_config, "controller YAML of the AIC rows")->capture_default_str();
-  app.add_option("--data", data, "the robot's step tables")->capture_default_str();
-  app.add_option("--tables", table_ids, "table ids to run, comma-separated (default all)")->delimiter(',');
-  app.add_flag("--json", json, "print one JSON object (the interface of scripts/plant_identify.py)");
-  app.add_flag("--check", check, "exit 1 unless every table is accepted");
-  app.footer("Exit 2 on bad arguments, 1 on unreadable or invalid files.");
-  if (const int code = parseCommandLine(app, argc, argv); code >= 0)
+  CommandLine cl("plant_fit",
+                 "Every robot step response of the data file on the ODE plant (stock controller and the "
+                 "thesis-equivalent AIC), headless: the fit table, or one JSON object with --json.");
+  cl.option("urdf", &urdf, "robot model");
+  cl.option("config", &config, "plant YAML");
+  cl.overrides("set", &overrides, "override a plant key, dotted");
+  cl.option("aic-config", &aic_config, "controller YAML of the AIC rows");
+  cl.option("data", &data, "the robot's step tables");
+  cl.list("tables", &table_ids, "table ids to run (default all)");
+  cl.flag("json", &json, "print one JSON object (the interface of scripts/plant_identify.py)");
+  cl.flag("check", &check, "exit 1 unless every table is accepted");
+  cl.footer("Exit 2 on bad arguments, 1 on unreadable or invalid files.");
+  if (const int code = cl.parse(argc, argv); code >= 0)
   {
     return code;
   }

@@ -10,7 +10,7 @@
  * stability limits (smallest stable tau, largest stable k_mu and k_a, the others fixed).
  * Keys are those of the parameter schema (include/jackal_aic/param_schema.hpp); --set uses the
  * shared override parser (include/jackal_aic/yaml_overrides.hpp). Run with --help for the
- * options (CLI11). Exit 0 on success, 1 on a bad file or invalid parameters, 2 on bad arguments.
+ * options (Boost.program_options). Exit 0 on success, 1 on a bad file or invalid parameters, 2 on bad arguments.
  */
 #include <cmath>
 #include <cstdio>
@@ -97,35 +97,26 @@ int main(int argc, char** argv)
   bool no_scan = false;
   std::vector<std::string> overrides;
 
-  CLI::App app{ "Linear analysis of an active inference controller configuration: spectral radius of the dual-rate "
-                "closed loop, predicted step response of v_x and stability limits per belief rate and integrator "
-                "(thesis ch. 4; doc/active_inference.md).",
-                "aic_analyze" };
-  app.add_option("CONFIG", file, "controller YAML (config/*.yaml)")->required();
-  app.add_option("--rates", rates,
-                 "belief rates to analyse [Hz], comma-separated; the action rate is the file's action_rate (or the "
-                 "belief rate if that is lower)")
-      ->delimiter(',')
-      ->check(finiteNumber())
-      ->capture_default_str();
-  app.add_option("--integrators", integrator_names, "euler,exact (default both)")->delimiter(',');
-  app.add_option("--plant", plant_name, "plant in the loop: point (wheels follow the command, thesis ch. 4) or "
-                                        "first-order")
-      ->capture_default_str();
-  CLI::Option* tc = app.add_option("--plant-time-constant", plant.time_constant,
-                                   "first-order wheel-speed time constant [s] (implies first-order)")
-                        ->check(finiteNumber())
-                        ->capture_default_str();
-  app.add_option("--target", target, "step of the goal v_x from 0 [m/s]")->check(finiteNumber())->capture_default_str();
-  app.add_option("--duration", duration, "simulated time of the predicted step [s]")
-      ->check(finiteNumber())
-      ->capture_default_str();
-  addOverrideOption(app, "--set", &overrides, "override a YAML key (repeatable), e.g. --set tau=0.01");
-  app.add_flag("--no-scan", no_scan, "skip the stability-limit scans");
-  app.add_flag("--csv", csv, "machine-readable CSV instead of the table");
-  app.footer("Scan ranges: tau [1e-5, 10] s, k_mu and k_a [1e-4, 1e4]. Exit 0 on success, 1 on a bad file or "
-             "invalid parameters, 2 on bad arguments.");
-  if (const int code = parseCommandLine(app, argc, argv); code >= 0)
+  CommandLine cl("aic_analyze",
+                 "Linear analysis of an active inference controller configuration: spectral radius of the dual-rate "
+                 "closed loop, predicted step response of v_x and stability limits per belief rate and integrator "
+                 "(thesis ch. 4; doc/active_inference.md).");
+  cl.positional("CONFIG", &file, "controller YAML (config/*.yaml)");
+  cl.list("rates", &rates,
+          "belief rates to analyse [Hz] (default 50,100,1000); the action rate is the file's action_rate (or the "
+          "belief rate if that is lower)");
+  cl.list("integrators", &integrator_names, "euler,exact (default both)");
+  cl.option("plant", &plant_name, "plant in the loop: point (wheels follow the command, thesis ch. 4) or first-order");
+  cl.option("plant-time-constant", &plant.time_constant,
+            "first-order wheel-speed time constant [s] (implies first-order)");
+  cl.option("target", &target, "step of the goal v_x from 0 [m/s]");
+  cl.option("duration", &duration, "simulated time of the predicted step [s]");
+  cl.overrides("set", &overrides, "override a YAML key, e.g. --set tau=0.01");
+  cl.flag("no-scan", &no_scan, "skip the stability-limit scans");
+  cl.flag("csv", &csv, "machine-readable CSV instead of the table");
+  cl.footer("Scan ranges: tau [1e-5, 10] s, k_mu and k_a [1e-4, 1e4]. Exit 0 on success, 1 on a bad file or "
+            "invalid parameters, 2 on bad arguments.");
+  if (const int code = cl.parse(argc, argv); code >= 0)
   {
     return code;
   }
@@ -134,12 +125,12 @@ int main(int argc, char** argv)
   {
     if (r <= 0.0)
     {
-      return badArgument(app, "--rates: '" + fmt(r) + "' is not a positive number");
+      return cl.bad("--rates: '" + fmt(r) + "' is not a positive number");
     }
   }
   if (rates.empty())
   {
-    return badArgument(app, "--rates: empty list");
+    return cl.bad("--rates: empty list");
   }
   std::vector<Integrator> integrators;
   for (const auto& name : integrator_names)
@@ -147,13 +138,13 @@ int main(int argc, char** argv)
     Integrator integ;
     if (!integratorFromString(name, &integ))
     {
-      return badArgument(app, "--integrators: '" + name + "' (allowed: euler, exact)");
+      return cl.bad("--integrators: '" + name + "' (allowed: euler, exact)");
     }
     integrators.push_back(integ);
   }
   if (integrators.empty())
   {
-    return badArgument(app, "--integrators: empty list");
+    return cl.bad("--integrators: empty list");
   }
   if (plant_name == "point")
   {
@@ -165,23 +156,23 @@ int main(int argc, char** argv)
   }
   else
   {
-    return badArgument(app, "--plant '" + plant_name + "' (allowed: point, first-order)");
+    return cl.bad("--plant '" + plant_name + "' (allowed: point, first-order)");
   }
-  if (tc->count() > 0)
+  if (cl.given("plant-time-constant"))
   {
     if (plant.time_constant <= 0.0)
     {
-      return badArgument(app, "--plant-time-constant '" + fmt(plant.time_constant) + "' must be > 0");
+      return cl.bad("--plant-time-constant '" + fmt(plant.time_constant) + "' must be > 0");
     }
     plant.type = PlantModel::Type::kFirstOrder;
   }
   if (target == 0.0)
   {
-    return badArgument(app, "--target must be a non-zero number");
+    return cl.bad("--target must be a non-zero number");
   }
   if (duration <= 1.0)
   {
-    return badArgument(app, "--duration '" + fmt(duration) + "' must be > 1 s");
+    return cl.bad("--duration '" + fmt(duration) + "' must be > 1 s");
   }
   for (const auto& o : overrides)
   {
@@ -191,7 +182,7 @@ int main(int argc, char** argv)
     }
     catch (const std::invalid_argument& e)
     {
-      return badArgument(app, std::string("--set: ") + e.what());
+      return cl.bad(std::string("--set: ") + e.what());
     }
   }
 

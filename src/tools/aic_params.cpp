@@ -75,18 +75,20 @@ int main(int argc, char** argv)
   bool markdown = false;
   bool yaml = false;
   std::string check;
-  CLI::App app{ "Print what is generated from the jackal_AIC parameter schema, or check a YAML against it.",
-                "aic_params" };
-  auto* group = app.add_option_group("output", "exactly one of");
-  group->add_flag("--cfg", cfg, "cfg/AIC.cfg (dynamic_reconfigure), generated");
-  group->add_flag("--markdown", markdown, "the parameter table of doc/jackal_aic_node.md");
-  group->add_flag("--yaml", yaml, "every key with its default, as a commented YAML file");
-  group->add_option("--check", check, "check a YAML file (config/*.yaml) as the node reads it");
-  group->require_option(1);
-  app.footer("Exit 0 on success, 1 on a bad file, 2 on bad arguments.");
-  if (const int code = parseCommandLine(app, argc, argv); code >= 0)
+  CommandLine cl("aic_params", "Print what is generated from the jackal_AIC parameter schema, or check a YAML against it.");
+  cl.flag("cfg", &cfg, "cfg/AIC.cfg (dynamic_reconfigure), generated");
+  cl.flag("markdown", &markdown, "the parameter table of doc/jackal_aic_node.md");
+  cl.flag("yaml", &yaml, "every key with its default, as a commented YAML file");
+  cl.option("check", &check, "check a YAML file (config/*.yaml) as the node reads it");
+  cl.footer("Give exactly one of --cfg, --markdown, --yaml and --check. Exit 0 on success, 1 on a bad file, 2 on "
+            "bad arguments.");
+  if (const int code = cl.parse(argc, argv); code >= 0)
   {
     return code;
+  }
+  if (int(cfg) + int(markdown) + int(yaml) + int(cl.given("check")) != 1)
+  {
+    return cl.bad("give exactly one of --cfg, --markdown, --yaml and --check");
   }
   if (!check.empty())
   {

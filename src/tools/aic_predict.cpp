@@ -15,7 +15,7 @@
  *   {"ok": false, "error": "..."}           (invalid parameters or plant)
  * An empty line is answered with an empty object. Exit 0 at end of input; 1 if CONFIG cannot
  * be read; 2 on bad arguments. The tuner (scripts/aic_tune.py) keeps one process open.
- * Command line on CLI11, overrides through the shared parser (include/jackal_aic/cli.hpp,
+ * Command line on Boost.program_options, overrides through the shared parser (include/jackal_aic/cli.hpp,
  * include/jackal_aic/yaml_overrides.hpp).
  */
 #include <cmath>
@@ -140,21 +140,21 @@ int main(int argc, char** argv)
   std::string config;
   double target = 0.5;
   double duration = 3.0;
-  CLI::App app{ "Batch predictions of the dual-rate closed-loop state-space model, one candidate per stdin line: "
-                "whitespace-separated KEY=VALUE overrides of the YAML and plant.time_constant|gain|delay=...; one "
-                "JSON object per line.",
-                "aic_predict" };
-  app.add_option("CONFIG", config, "controller YAML")->required();
-  app.add_option("--target", target, "step of v_x from 0 [m/s], non-zero")->check(finiteNumber())->capture_default_str();
-  app.add_option("--duration", duration, "simulated time [s], > 0")->check(finiteNumber())->capture_default_str();
-  app.footer("Exit 0 at end of input; 1 if CONFIG cannot be read; 2 on bad arguments.");
-  if (const int code = parseCommandLine(app, argc, argv); code >= 0)
+  CommandLine cl("aic_predict",
+                 "Batch predictions of the dual-rate closed-loop state-space model, one candidate per stdin line: "
+                 "whitespace-separated KEY=VALUE overrides of the YAML and plant.time_constant|gain|delay=...; one "
+                 "JSON object per line.");
+  cl.positional("CONFIG", &config, "controller YAML");
+  cl.option("target", &target, "step of v_x from 0 [m/s], non-zero");
+  cl.option("duration", &duration, "simulated time [s], > 0");
+  cl.footer("Exit 0 at end of input; 1 if CONFIG cannot be read; 2 on bad arguments.");
+  if (const int code = cl.parse(argc, argv); code >= 0)
   {
     return code;
   }
   if (target == 0.0 || duration <= 0.0)
   {
-    return badArgument(app, "--target must be non-zero and --duration > 0");
+    return cl.bad("--target must be non-zero and --duration > 0");
   }
   try
   {

@@ -8,7 +8,7 @@
  *            [--time-column time] [--value-column value] [--end-time T_END]
  *            [--band-basis final|step] [--settling-band 0.05] [--window 0.5]
  * FILE "-" reads standard input. The CSV has a header line naming the columns; lines starting
- * with '#' and empty lines are skipped. Command line on CLI11 (include/jackal_aic/cli.hpp).
+ * with '#' and empty lines are skipped. Command line on Boost.program_options (include/jackal_aic/cli.hpp).
  * Exit 0 on success, 1 on bad data, 2 on bad arguments.
  */
 #include <cmath>
@@ -72,29 +72,24 @@ int main(int argc, char** argv)
   std::string value_column = "value";
   std::string band_basis = "final";
   jackal_aic::StepMetricsOptions o;
-  CLI::App app{ "Step-response metrics of one column of a CSV file, printed as one JSON line: rise_time, "
-                "settling_time [s from the step], overshoot_percent [% of step], steady_state_error [target - value, "
-                "time-weighted mean over the last WINDOW s]. The final value of the settling band is the set point "
-                "TARGET.",
-                "aic_step_metrics" };
-  app.add_option("FILE", file, "CSV with a header line naming the columns; '-' reads stdin")->required();
-  app.add_option("--step-time", o.step_time, "time of the set-point step [s]")->required()->check(jackal_aic::finiteNumber());
-  app.add_option("--initial", o.initial, "value before the step")->required()->check(jackal_aic::finiteNumber());
-  app.add_option("--target", o.target, "set point after the step")->required()->check(jackal_aic::finiteNumber());
-  app.add_option("--time-column", time_column, "name of the time column")->capture_default_str();
-  app.add_option("--value-column", value_column, "name of the value column")->capture_default_str();
-  app.add_option("--end-time", o.end_time, "ignore samples after this time [s]")->check(jackal_aic::finiteNumber());
-  app.add_option("--band-basis", band_basis, "settling band relative to the final value or the step size: final|step")
-      ->capture_default_str();
-  app.add_option("--settling-band", o.settling_band, "settling band [fraction]")
-      ->check(jackal_aic::finiteNumber())
-      ->capture_default_str();
-  app.add_option("--window", o.steady_state_window, "steady-state window [s]")
-      ->check(jackal_aic::finiteNumber())
-      ->capture_default_str();
-  app.footer("Lines starting with '#' and empty lines are skipped. Exit 0 on success, 1 on bad data, 2 on bad "
-             "arguments.");
-  if (const int code = jackal_aic::parseCommandLine(app, argc, argv); code >= 0)
+  jackal_aic::CommandLine cl(
+      "aic_step_metrics",
+      "Step-response metrics of one column of a CSV file, printed as one JSON line: rise_time, settling_time [s from "
+      "the step], overshoot_percent [% of step], steady_state_error [target - value, time-weighted mean over the last "
+      "WINDOW s]. The final value of the settling band is the set point TARGET.");
+  cl.positional("FILE", &file, "CSV with a header line naming the columns; '-' reads stdin");
+  cl.option("step-time", &o.step_time, "time of the set-point step [s]", true);
+  cl.option("initial", &o.initial, "value before the step", true);
+  cl.option("target", &o.target, "set point after the step", true);
+  cl.option("time-column", &time_column, "name of the time column");
+  cl.option("value-column", &value_column, "name of the value column");
+  cl.option("end-time", &o.end_time, "ignore samples after this time [s]");
+  cl.option("band-basis", &band_basis, "settling band relative to the final value or the step size: final|step");
+  cl.option("settling-band", &o.settling_band, "settling band [fraction]");
+  cl.option("window", &o.steady_state_window, "steady-state window [s]");
+  cl.footer("Lines starting with '#' and empty lines are skipped. Exit 0 on success, 1 on bad data, 2 on bad "
+            "arguments.");
+  if (const int code = cl.parse(argc, argv); code >= 0)
   {
     return code;
   }
@@ -108,7 +103,7 @@ int main(int argc, char** argv)
   }
   else
   {
-    return jackal_aic::badArgument(app, "--band-basis '" + band_basis + "' (allowed: final, step)");
+    return cl.bad("--band-basis '" + band_basis + "' (allowed: final, step)");
   }
 
   std::ifstream fin;

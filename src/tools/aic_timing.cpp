@@ -22,6 +22,7 @@
 #include <memory>
 #include <stdexcept>
 #include <cstdio>
+#include <fstream>
 #include <exception>
 #include <iostream>
 #include <mutex>
@@ -116,27 +117,40 @@ void printRow(const char* loop, double rate, const PeriodicStats& s, double step
 
 int main(int argc, char** argv)
 {
-  CLI::App app("aic_timing: the belief loop's real-time figures beside a bare clock_nanosleep loop", "aic_timing");
+  jackal_aic::CommandLine cl("aic_timing",
+                             "aic_timing: the belief loop's real-time figures beside a bare clock_nanosleep loop");
   double duration = 10.0;
   std::vector<double> rates{ 1000.0, 10000.0 };
   std::string config;
   std::vector<std::string> overrides;
   int priority = 0;
-  app.add_option("--duration", duration, "seconds per rate (default 10)")
-      ->check(jackal_aic::finiteNumber())
-      ->check(CLI::Range(0.1, 3600.0));
-  app.add_option("--rates", rates, "loop rates [Hz] (default 1000,10000)")
-      ->delimiter(',')
-      ->check(CLI::Range(1.0, 100000.0));
-  app.add_option("--config", config, "controller YAML (default: the node's defaults, those of config/default.yaml)")
-      ->check(CLI::ExistingFile);
-  jackal_aic::addOverrideOption(app, "--set", &overrides, "override a controller parameter, e.g. --set tau=0.01");
-  app.add_option("--priority", priority, "SCHED_FIFO priority for both threads, 1..99 (default 0: none)")
-      ->check(CLI::Range(0, 99));
-  const int parsed = jackal_aic::parseCommandLine(app, argc, argv);
-  if (parsed >= 0)
+  cl.option("duration", &duration, "seconds per rate, [0.1, 3600]");
+  cl.list("rates", &rates, "loop rates [Hz], [1, 100000] (default 1000,10000)");
+  cl.option("config", &config, "controller YAML (default: the node's defaults, those of config/default.yaml)");
+  cl.overrides("set", &overrides, "override a controller parameter, e.g. --set tau=0.01");
+  cl.option("priority", &priority, "SCHED_FIFO priority for both threads, 1..99 (0: none)");
+  if (const int parsed = cl.parse(argc, argv); parsed >= 0)
   {
     return parsed;
+  }
+  if (!(duration >= 0.1 && duration <= 3600.0))
+  {
+    return cl.bad("--duration must be in [0.1, 3600] s");
+  }
+  for (double r : rates)
+  {
+    if (!(r >= 1.0 && r <= 100000.0))
+    {
+      return cl.bad("--rates: every rate must be in [1, 100000] Hz");
+    }
+  }
+  if (priority < 0 || priority > 99)
+  {
+    return cl.bad("--priority must be in [0, 99]");
+  }
+  if (!config.empty() && !std::ifstream(config).good())
+  {
+    return cl.bad("--config: cannot read '" + config + "'");
   }
 
   AicParams params;
@@ -145,7 +159,7 @@ int main(int argc, char** argv)
     params = config.empty() ? jackal_aic::recommendedAicParams() : jackal_aic::loadAicParams(config, overrides);
     if (config.empty() && !overrides.empty())
     {
-      return jackal_aic::badArgument(app, "--set needs --config");
+      return cl.bad("--set needs --config");
     }
   }
   catch (const std::exception& e)

@@ -181,7 +181,7 @@ TEST(AicParams, GeneratesAndChecks)
 
 TEST(CommandLines, HelpExitsZeroAndBadArgumentsTwo)
 {
-  // One convention for every C++ tool (CLI11, include/jackal_aic/cli.hpp).
+  // One convention for every C++ tool (Boost.program_options, include/jackal_aic/cli.hpp).
   for (const std::string& bin : { kAnalyze, kMetrics, std::string(AIC_PREDICT_BIN), std::string(AIC_PARAMS_BIN) })
   {
     EXPECT_EQ(run(bin + " --help").code, 0) << bin;
@@ -190,6 +190,30 @@ TEST(CommandLines, HelpExitsZeroAndBadArgumentsTwo)
   // A malformed override is a bad argument.
   EXPECT_EQ(run(kAnalyze + " " + kData + "/thesis_standard.yaml --no-scan --set tau").code, 2);
   EXPECT_EQ(run(kAnalyze + " " + kData + "/thesis_standard.yaml --no-scan --set tau=0.01 --set k_a=4").code, 0);
+}
+
+TEST(CommandLines, NumbersListsAndPositionals)
+{
+  // Long options only: "-0.5" is a value, not an option; lists are comma-separated; every
+  // number must be finite; a missing positional argument is named.
+  const std::string config = kData + "/thesis_standard.yaml";
+  EXPECT_EQ(run(kAnalyze + " " + config + " --no-scan --rates 50,100 --target -0.5").code, 0);
+  Result r = run(kAnalyze + " " + config + " --no-scan --target nan");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("not a finite number"), std::string::npos) << r.out;
+  r = run(kAnalyze + " " + config + " --no-scan --rates 50,,100");
+  EXPECT_EQ(r.code, 2) << r.out;
+  r = run(kAnalyze + " " + config + " --no-scan --rates 50,inf");
+  EXPECT_EQ(r.code, 2) << r.out;
+  r = run(kAnalyze + " --no-scan");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("missing argument CONFIG"), std::string::npos) << r.out;
+  r = run(std::string(AIC_PARAMS_BIN) + " --cfg --yaml");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("exactly one of"), std::string::npos) << r.out;
+  r = run(std::string(CLOSED_LOOP_RUN_BIN) + " --controller open --square 0.1 --hold 1");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("--square takes exactly 2 numbers"), std::string::npos) << r.out;
 }
 
 TEST(ClosedLoopRun, ControllerAndChannelAreChecked)
