@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""aic_scorecard.py: issue 9's acceptance set, the AIC against the stock controller, in one command.
+"""aic_scorecard.py: the tuning acceptance set, the AIC against the stock controller, in one command.
 
 Runs every profile on the simulated Jackal's plant core with `closed_loop_run` (headless, faster
 than real time, the plant YAML sim/config/plant.yaml, noisy sensors), once with the AIC
@@ -8,7 +8,7 @@ figures, the bound and PASS / FAIL. All metrics are of the measured velocity (wh
 the gyro on the angular channel; thesis ch. 5: rise 10-90 %, settling into +-5 % for good,
 overshoot in % of the step, steady-state error the mean over the last 0.5 s).
 
-Criteria (issue 9; doc/experiments.md, 'Tuning'):
+Criteria (doc/experiments.md, 'Tuning'):
   1. 0.5 m/s step from rest: AIC settling <= 0.8 x stock, AIC rise <= 0.7 x stock,
      overshoot <= 5 %, steady-state error <= 1 % (0.1, 0.3 and 1.0 m/s reported, not judged).
   2. The same 0.5 m/s criterion for every noise seed of --seeds (plant key sensors.seed).

@@ -25,7 +25,7 @@ Three stages, all reproducible from this command and the repository's plant:
    steps and steady-state error above 1 %, robustness (the 0.5 m/s step with the plant's
    command_delay -+20 %: settled, overshoot <= --robust-overshoot) and the 1 rad/s turn in place
    (settling <= --turn-ratio x stock). The winner is then run with noisy sensors next to the
-   stock controller; scripts/aic_scorecard.py checks issue 9's whole acceptance set.
+   stock controller; scripts/aic_scorecard.py checks the whole acceptance set.
 
 Prints the identified plant, the model's top candidates, the verification table, and writes
 the winner as a commented YAML (--write FILE; the base config's node keys are kept).

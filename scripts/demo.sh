@@ -5,6 +5,7 @@
 #   bash scripts/demo.sh            # results in results/demo/
 #   AIC_DEMO_V=1.0 bash scripts/demo.sh                       # another step size [m/s]
 #   AIC_DEMO_ARGS="--set k_a=10 --set var_y=[2,20,1e5,1e5]" bash scripts/demo.sh  # more runner args
+#   AIC_DEMO_DOC=1 bash scripts/demo.sh  # also write the documented figures: doc/results/demo.txt, doc/img/
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 source "$here/ws_env.sh"
@@ -27,4 +28,16 @@ for c in aic stock; do
 done
 echo
 echo "Step response, ${v} m/s from rest (rise 10-90 %, settling +-5 %; drive cmd = the twist the wheel commands ask for):"
-/usr/bin/python3 -m jackal_aic_tools.summary "$out/demo_aic_step_${v}.json" "$out/demo_stock_step_${v}.json"
+/usr/bin/python3 -m jackal_aic_tools.summary "$out/demo_aic_step_${v}.json" "$out/demo_stock_step_${v}.json" \
+  | tee "$out/summary.txt"
+if [ "${AIC_DEMO_DOC:-0}" = "1" ]; then
+  mkdir -p "$repo/doc/results" "$repo/doc/img"
+  {
+    echo "# Written by: AIC_DEMO_DOC=1 bash scripts/demo.sh (config/default.yaml, sim/config/plant.yaml)"
+    echo "# Step response, ${v} m/s from rest, node and plant in real time; rise 10-90 %, settling +-5 %;"
+    echo "# drive cmd = the twist the wheel commands ask for."
+    cat "$out/summary.txt"
+  } > "$repo/doc/results/demo.txt"
+  cp "$out/demo_aic_step_${v}.png" "$out/demo_stock_step_${v}.png" "$repo/doc/img/"
+  echo "demo: wrote doc/results/demo.txt and doc/img/demo_{aic,stock}_step_${v}.png"
+fi

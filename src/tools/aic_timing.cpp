@@ -1,6 +1,6 @@
 /**
  * \file aic_timing.cpp
- * \brief CLI: how well the jackal_AIC belief loop keeps real time on this machine, beside a
+ * \brief CLI: how well the jackal_AIC belief loop keeps real time on the machine it runs on, beside a
  *        bare clock_nanosleep loop in the same run (doc/jackal_aic_node.md, 'Loops').
  *
  * For each rate, two PeriodicThreads run side by side for --duration seconds:

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""rostest node: config/default.yaml meets issue 9's acceptance set on the plant core.
+"""rostest node: config/default.yaml meets the tuning acceptance set on the plant core.
 
 Runs scripts/aic_scorecard.py (closed_loop_run: the AIC and the stock controller on the
 simulated Jackal's plant core, headless, seeded sensor noise, so the figures are the same on

@@ -22,8 +22,8 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kSamplePeriod = 0.02;    // s, sensor and action period (50 Hz)
 constexpr double kBeliefPeriod = 0.001;   // s (1 kHz)
 constexpr double kWheelTimeConstant = 0.1;  // s, first-order wheel loop of the test plant
-constexpr double kSpeedErrorTol = 0.05;   // relative, the "speed error <= 5 %"
-constexpr double kIsolationDeadline = 0.5;  // s, the "isolated within 0.5 s"
+constexpr double kSpeedErrorTol = 0.05;   // relative: speed error <= 5 %
+constexpr double kIsolationDeadline = 0.5;  // s: isolated within 0.5 s
 
 /// config/default.yaml's controller (the schema's defaults: exact integrator, p = 2, tau 0.01721,
 /// k_mu 0.02329, k_a 12.59, max_action_lead 4.367).
