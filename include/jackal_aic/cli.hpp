@@ -142,8 +142,13 @@ public:
    */
   void overrides(const std::string& name, std::vector<std::string>* values, const std::string& help)
   {
-    options_.add_options()(name.c_str(), boost::program_options::value<std::vector<std::string>>(values)->composing(),
-                           (help + " (KEY=VALUE, repeatable)").c_str());
+    addRepeated(name, values, help + " (KEY=VALUE, repeatable)");
+  }
+
+  /// A repeatable "--NAME TEXT" (e.g. a file), one value per occurrence, in order.
+  void repeated(const std::string& name, std::vector<std::string>* values, const std::string& help)
+  {
+    addRepeated(name, values, help + " (repeatable)");
   }
 
   /// A required positional argument (e.g. the configuration file), in order of declaration.
@@ -243,6 +248,12 @@ public:
   }
 
 private:
+  void addRepeated(const std::string& name, std::vector<std::string>* values, const std::string& help)
+  {
+    options_.add_options()(name.c_str(), boost::program_options::value<std::vector<std::string>>(values)->composing(),
+                           help.c_str());
+  }
+
   static bool convert(const std::string& text, double* v)
   {
     char* end = nullptr;

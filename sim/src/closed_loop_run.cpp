@@ -8,9 +8,11 @@
  *        of aic_reproduce.py (--backend core); the ROS backend runs the nodes instead.
  *
  * Usage: closed_loop_run --controller aic|stock|open [--aic-config FILE] [--aic-set key=value]...
- *            [--config PLANT.yaml] [--set key=value]... [--urdf FILE]
+ *            [--config PLANT.yaml] [--overlay FILE]... [--set key=value]... [--urdf FILE]
  *            (--step V [--turn W] | --square LOW HIGH) [--channel linear|angular] [--period S] [--cycles N]
  *            [--rest S] [--hold S] [--noise] [--csv FILE]
+ *   --overlay FILE    plant YAML with only the keys that differ (e.g. sim/config/variants/*.yaml),
+ *                     applied after --config and before --set; repeatable, later ones win
  *   --controller open  no controller: the set point's wheel speeds go to the MCU as they are
  *   --channel angular  the step / square values are yaw rates [rad/s] (linear set point 0);
  *                      metrics on the yaw rate
@@ -38,6 +40,7 @@
 #include "jackal_aic/cli.hpp"
 #include "jackal_aic/params_yaml.hpp"
 #include "jackal_aic/step_metrics.hpp"
+#include "jackal_aic/yaml_overrides.hpp"
 #include "jackal_sim/closed_loop.hpp"
 #include "jackal_sim/plant_params.hpp"
 #include "jackal_sim/robot_description.hpp"
@@ -89,6 +92,7 @@ int main(int argc, char** argv)
   std::string config = root + "/sim/config/plant.yaml";
   std::string aic_config = root + "/config/thesis_equivalent.yaml";
   std::vector<std::string> overrides;
+  std::vector<std::string> overlays;
   std::vector<std::string> aic_overrides;
   std::string controller;
   std::string csv;
@@ -111,6 +115,7 @@ int main(int argc, char** argv)
   cl.option("aic-config", &aic_config, "controller YAML");
   cl.overrides("aic-set", &aic_overrides, "override a controller key");
   cl.option("config", &config, "plant YAML");
+  cl.repeated("overlay", &overlays, "plant YAML with only the keys that differ, after --config");
   cl.overrides("set", &overrides, "override a plant key, dotted");
   cl.option("urdf", &urdf, "robot model");
   cl.option("step", &step, "0 until --rest, then V [m/s] (or [rad/s]) for --hold seconds");
@@ -203,7 +208,14 @@ int main(int argc, char** argv)
   try
   {
     desc = loadRobotDescription(urdf);
-    params = loadPlantParams(config, overrides);
+    std::vector<std::string> plant_overrides;
+    for (const std::string& file : overlays)
+    {
+      const std::vector<std::string> o = loadOverlayFile(file);
+      plant_overrides.insert(plant_overrides.end(), o.begin(), o.end());
+    }
+    plant_overrides.insert(plant_overrides.end(), overrides.begin(), overrides.end());
+    params = loadPlantParams(config, plant_overrides);
     if (c.controller == LoopController::kAic)
     {
       c.aic = loadAicParams(aic_config, aic_overrides);
