@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include <diagnostic_updater/update_functions.h>
 #include <ros/console.h>
 
 namespace jackal_aic
@@ -36,6 +37,18 @@ void NodeDiagnostics::start(ros::NodeHandle& nh, std::mutex& mutex)
     update();
     pollHealth();
   });
+}
+
+NodeDiagnostics::~NodeDiagnostics() = default;
+
+void NodeDiagnostics::tickBelief()
+{
+  belief_freq_->tick();
+}
+
+void NodeDiagnostics::tickAction()
+{
+  action_freq_->tick();
 }
 
 NodeDiagnostics::NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Supervisor& supervisor,

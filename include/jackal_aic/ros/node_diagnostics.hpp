@@ -13,7 +13,6 @@
 #include <utility>
 
 #include <diagnostic_updater/diagnostic_updater.h>
-#include <diagnostic_updater/update_functions.h>
 #include <ros/node_handle.h>
 #include <ros/publisher.h>
 #include <ros/timer.h>
@@ -26,6 +25,14 @@
 #include "jackal_aic/types.hpp"
 
 #include <string>
+
+// update_functions.h is included by node_diagnostics.cpp only: diagnostic_updater 1.10
+// (Debian 11) defines TimeStampStatus::run in that header without `inline`, so a second
+// translation unit including it fails to link.
+namespace diagnostic_updater
+{
+class FrequencyStatus;
+}  // namespace diagnostic_updater
 
 namespace jackal_aic
 {
@@ -64,14 +71,16 @@ public:
    */
   NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Supervisor& supervisor,
                   const SensorSynchronizer& sync, std::function<ControllerReport()> controller);
+  ~NodeDiagnostics();
 
   /// The expected loop rates [Hz] (after a reconfigure).
   void setRates(double belief_rate, double action_rate);
   /// How the belief loop runs, e.g. "real-time thread (clock_nanosleep, default scheduler)".
   void setBeliefLoop(std::string description) { belief_loop_ = std::move(description); }
   /// One belief / action timer callback (for the achieved rates).
-  void tickBelief() { belief_freq_->tick(); }
-  void tickAction() { action_freq_->tick(); }
+  void tickBelief();
+  /// One action (command publication) tick.
+  void tickAction();
   /// The age [s] of the newest sensor sample when a command was published (the sensor-to-
   /// command latency; a window's p50 / p99 / max are shown in "loops").
   void commandLatency(double seconds) { latency_.add(seconds); }
