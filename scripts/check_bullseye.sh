@@ -19,6 +19,7 @@
 # the first time (the root is reused afterwards). Run by .ci/run after the test suite.
 #
 #   sudo bash scripts/check_bullseye.sh
+#   sudo bash scripts/check_bullseye.sh --doc     # also writes doc/results/bullseye.txt
 #   BULLSEYE_ROOT=/srv/bullseye BULLSEYE_ROSTEST=node_bad_input.test bash scripts/check_bullseye.sh
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -27,6 +28,12 @@ root="${BULLSEYE_ROOT:-/var/tmp/jackal_aic/bullseye}"
 mirror="${DEBIAN_MIRROR:-http://deb.debian.org/debian}"
 rostest_name="${BULLSEYE_ROSTEST:-node_bad_input.test}"
 jobs="${JOBS:-2}"
+doc=""
+case "${1:-}" in
+  --doc) doc="$repo/doc/results/bullseye.txt" ;;
+  "") ;;
+  *) echo "usage: check_bullseye.sh [--doc]" >&2; exit 2 ;;
+esac
 
 fail() {
   echo "check_bullseye: FAILURE: $*"
@@ -122,6 +129,19 @@ step plant_identify "$tools && python3 scripts/plant_identify.py --samples 2 --s
 step aic_tune "$tools && python3 scripts/aic_tune.py --orders 2 --popsize 2 --maxiter 1 --top 1 --refine-evals 2 --seeds 42 --jobs 1"
 gtest_summary="$(in_root 'catkin_test_results /ws/build/test_results' 2>&1 | grep -E '^Summary:' || true)"
 echo "check_bullseye: gtests: ${gtest_summary:-no results}"
-echo "check_bullseye: rostest $rostest_name: $(grep -E '^(SUMMARY|RESULT|\* RESULT)' "$root.rostest.log" | tr '\n' ' ')"
+rostest_summary="$(sed 's/\x1b\[[0-9;]*m//g' "$root.rostest.log" | grep -E '^ \* (RESULT|TESTS|ERRORS|FAILURES):' | head -4 |
+  sed 's/^ \* //' | tr '\n' ' ')"
+echo "check_bullseye: rostest $rostest_name: ${rostest_summary:-no summary}"
 echo "check_bullseye: $passed passed, $failed failed"
+if [ -n "$doc" ]; then
+  {
+    echo "# sudo bash scripts/check_bullseye.sh --doc (Debian 11 root by debootstrap; doc/platforms.md)"
+    echo "toolchain: $versions"
+    echo "packages: $(echo $pkgs)"
+    echo "gtests: ${gtest_summary:-no results}"
+    echo "rostest $rostest_name: ${rostest_summary:-no summary}"
+    echo "$passed passed, $failed failed (build, gtests, rostest, plant_identify.py, aic_tune.py)"
+  } > "$doc"
+  echo "check_bullseye: wrote $doc"
+fi
 [ "$failed" -eq 0 ]
