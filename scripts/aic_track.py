@@ -76,6 +76,7 @@ def default_variants():
 
 
 def _stem(path):
+    """File name without folder and extension."""
     return os.path.splitext(os.path.basename(path))[0]
 
 
@@ -114,6 +115,7 @@ def geometric_mean(values):
 
 
 def fmt(v, spec="%.3f"):
+    """v formatted with spec, '-' for None."""
     return "-" if v is None else spec % v
 
 
@@ -137,6 +139,8 @@ def run_rows(runs):
 
 
 def ratio_rows(ratios, gmean):
+    """Rows of the ratio table (AIC / stock per profile and variant, 2 decimals) and the geometric
+    mean row; gmean: metric -> (value, count)."""
     rows = [[q["profile"], q["variant"]] + [fmt(q["ratios"][m], "%.2f") for m in TABLE_METRICS] for q in ratios]
     rows.append(["geometric mean", "(n = %d)" % max(n for _, n in gmean.values())] +
                 [fmt(gmean[m][0], "%.2f") for m in TABLE_METRICS])
@@ -144,6 +148,7 @@ def ratio_rows(ratios, gmean):
 
 
 def metric_header(names):
+    """Column titles with units of the flat metrics ``names``."""
     return ["%s [%s]" % (HEADERS[m], UNITS[m]) for m in names]
 
 
@@ -191,6 +196,12 @@ def plot_pair(path, profile, traces, title, metrics):
     return path
 
 
+def shown(path):
+    """``path`` relative to the package's folder when it is inside it (for the results page)."""
+    rel = os.path.relpath(os.path.abspath(path), ROOT)
+    return path if rel.startswith("..") else rel
+
+
 def results_md(report_data, plots_rel):
     """The results page (markdown) of a suite run; plots_rel: profile -> image path relative to
     the page (the default plant's plots)."""
@@ -201,8 +212,8 @@ def results_md(report_data, plots_rel):
                d["command"], len(d["runs"]), d["simulated_time"], d["wall_time"], d["jobs"]), "",
            "- AIC configuration: `%s`; plant: `%s`; sensor noise of the plant YAML (seeded)." % (
                d["aic_config"], d["plant_config"]),
-           "- Variants: %s." % ", ".join("`%s`%s" % (v["name"], "" if v["overlay"] is None else " (`%s`)" % v["overlay"])
-                                          for v in d["variants"]),
+           "- Variants: %s." % ", ".join(
+               "`%s`%s" % (v["name"], "" if v["overlay"] is None else " (`%s`)" % shown(v["overlay"])) for v in d["variants"]),
            "- Profiles: %s." % ", ".join("`%s` (%.1f s)" % (p["name"], p["duration"]) for p in d["profiles"]),
            "", "## AIC / stock (ratios of the ground-truth figures; < 1: the AIC tracks better)", "",
            md_table(["profile", "variant"] + [HEADERS[m] for m in TABLE_METRICS],

@@ -6,6 +6,7 @@
 #include "jackal_aic/tracking_metrics.hpp"
 
 #include "jackal_aic/csv_table.hpp"
+#include "jackal_aic/json_number.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -40,14 +41,7 @@ std::string baseName(const std::string& path)
 
 std::string fmt(double v)
 {
-  if (!std::isfinite(v))
-  {
-    return "null";
-  }
-  std::ostringstream os;
-  os.precision(9);
-  os << v;
-  return os.str();
+  return jsonNumber(v, 9);
 }
 
 void checkSeries(const std::string& what, const std::vector<double>& time,

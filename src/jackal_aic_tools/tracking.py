@@ -44,6 +44,7 @@ def find_cli():
 
 
 def _run(cmd):
+    """Run the CLI; its JSON output as a dict, or TrackingError with its first error line."""
     out = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True, timeout=120)
     if out.returncode != 0:
         msg = out.stderr.strip().splitlines()

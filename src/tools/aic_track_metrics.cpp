@@ -12,7 +12,8 @@
  * TRACE: a header naming the columns; time in profile time [s] (0 = the profile's start). Every
  * pair of columns S_vx, S_wz is a measured body twist S [m/s, rad/s] (velocity tracking error
  * "tracking": {"S": ...}); columns x, y, heading [m, m, rad] are a measured pose (path drift
- * "path"). An empty cell leaves the sample out of that signal; a signal without any sample is null. '#' lines and empty lines are skipped.
+ * "path"). An empty cell leaves the sample out of that signal; a signal without any sample is
+ * null. '#' lines and empty lines are skipped.
  * Exit 0 on success, 1 on bad files or data, 2 on bad arguments.
  */
 #include <cmath>

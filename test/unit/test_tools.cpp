@@ -269,8 +269,9 @@ TEST(ClosedLoopRun, CsvProfileReportsTrackingAndPath)
   const std::string trace = std::string(::testing::TempDir()) + "track_trace.csv";
   Result r = run(bin + " --controller stock --profile " + profile + " --csv " + trace);
   ASSERT_EQ(r.code, 0) << r.out;
-  for (const char* key : { "\"profile\": \"track_profile\"", "\"duration\": 2,", "\"tracking\": {\"truth\": {\"vx\": {\"rms\": ",
-                           "\"odometry\": {\"vx\"", "\"path\": {\"final_position_error\": ", "\"segments\": []" })
+  for (const char* key :
+       { "\"profile\": \"track_profile\"", "\"duration\": 2,", "\"tracking\": {\"truth\": {\"vx\": {\"rms\": ",
+         "\"odometry\": {\"vx\"", "\"path\": {\"final_position_error\": ", "\"segments\": []" })
   {
     EXPECT_NE(r.out.find(key), std::string::npos) << key << "\n" << r.out;
   }
