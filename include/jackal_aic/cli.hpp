@@ -19,6 +19,8 @@
 
 #include <boost/program_options.hpp>
 
+#include "jackal_aic/json_number.hpp"
+
 namespace jackal_aic
 {
 /// Exit status of a tool for bad arguments.
@@ -302,22 +304,5 @@ private:
   std::vector<std::function<std::string()>> checks_;
   std::vector<std::shared_ptr<std::vector<std::string>>> keep_;
 };
-
-/**
- * \brief A number as JSON text, the tools' machine-readable output: `precision` significant
- *        digits, and `null` for NaN or +-Inf (JSON has no such numbers; a metric that is
- *        undefined, such as the settling time of a response that never settles, is NaN).
- */
-inline std::string jsonNumber(double v, int precision = 6)
-{
-  if (!std::isfinite(v))
-  {
-    return "null";
-  }
-  std::ostringstream os;
-  os.precision(precision);
-  os << v;
-  return os.str();
-}
 
 }  // namespace jackal_aic
