@@ -12,15 +12,18 @@
 #include <cstdio>
 #include <fstream>
 #include <functional>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "jackal_aic/params_yaml.hpp"
 #include "jackal_aic/step_metrics.hpp"
 #include "jackal_sim/closed_loop.hpp"
+#include "jackal_sim/csv_table.hpp"
 #include "jackal_sim/identification.hpp"
 #include "jackal_sim/plant.hpp"
 #include "jackal_sim/plant_params.hpp"
+#include "jackal_sim/replay.hpp"
 #include "jackal_sim/robot_description.hpp"
 #include "jackal_sim/wheel_speed_servo.hpp"
 
@@ -520,4 +523,83 @@ TEST(ClosedLoop, OpenLoopSendsTheSetPointsWheelSpeedsAndRecordsTheYaw)
                                                      rec.time.begin());
   EXPECT_NEAR(rec.v_odom[at_3s], 0.3, 0.015);  // the wheels reached the set point
   EXPECT_GT(rec.yaw_odom.back(), 0.3);          // and turn once commanded to
+}
+
+// ---------------------------------------------------------------- replay of a /cmd_drive stream
+TEST(CsvTable, ReadsColumnsAndNamesEveryError)
+{
+  std::istringstream ok("# a comment\n\nt, mode ,left,right\n0,0,1.5,-1.5\n0.02,-1,0,0\n");
+  const CsvTable t = readCsvTable(ok, "ok.csv");
+  ASSERT_EQ(t.rows.size(), 2u);
+  EXPECT_EQ(t.column("mode"), 1u);
+  EXPECT_DOUBLE_EQ(t.values("right")[0], -1.5);
+  EXPECT_NE(errorOf([&] { t.column("vx"); }).find("no column 'vx'"), std::string::npos);
+  const std::vector<std::pair<std::string, std::string>> bad{
+    { "", "no header" },
+    { "t,t\n0,1\n", "duplicate" },
+    { "t,vx\n0\n", "1 cells" },
+    { "t,vx\n0,abc\n", "'vx' is not a finite number" },
+    { "t,vx\n0,nan\n", "'vx' is not a finite number" },
+    { "t,vx\n", "no data rows" },
+  };
+  for (const auto& [text, message] : bad)
+  {
+    std::istringstream in(text);
+    const std::string e = errorOf([&] { readCsvTable(in, "bad.csv"); });
+    EXPECT_NE(e.find("bad.csv"), std::string::npos) << text;
+    EXPECT_NE(e.find(message), std::string::npos) << text << ": " << e;
+  }
+  EXPECT_NE(errorOf([] { readCsvFile("/nonexistent/x.csv"); }).find("/nonexistent/x.csv"), std::string::npos);
+}
+
+/// Replaying the stock controller's /cmd_drive stream is the same run as the closed loop with the
+/// stock controller (the same plant, the same commands at the same instants): the wheel odometry
+/// agrees sample by sample.
+TEST(Replay, StockCommandsReproduceTheClosedLoop)
+{
+  const RobotDescription d = loadRobotDescription(kUrdf);
+  const PlantParams p = loadPlantParams(kPlant);
+  ClosedLoopConfig c;
+  c.controller = LoopController::kStock;
+  c.profile = { { 0.0, 0.0, 0.0 }, { 1.01, 0.5, 0.0 }, { 2.51, 0.0, 1.0 } };
+  c.duration = 4.0;
+  const ClosedLoopRecord rec = runClosedLoop(d, p, c);
+  const std::vector<DriveCommand> commands = stockDriveCommands(c.profile, c.duration);
+  ASSERT_EQ(commands.size(), 200u);  // 50 Hz for 4 s
+  EXPECT_DOUBLE_EQ(commands[51].left, commands[51].right);
+  const std::vector<ReplaySample> rep = replayDriveCommands(d, p, commands, c.duration);
+  ASSERT_EQ(rep.size(), rec.time.size());
+  const double r = d.wheelRadius();
+  for (std::size_t k = 0; k < rep.size(); ++k)
+  {
+    const double wl = 0.5 * (rep[k].velocity[kFrontLeft] + rep[k].velocity[kRearLeft]);
+    const double wr = 0.5 * (rep[k].velocity[kFrontRight] + rep[k].velocity[kRearRight]);
+    EXPECT_DOUBLE_EQ(rep[k].time, rec.time[k]);
+    EXPECT_NEAR(r * 0.5 * (wl + wr), rec.v_odom[k], 1e-12) << "t " << rep[k].time;
+    EXPECT_NEAR(rep[k].yaw_true, rec.yaw_true[k], 1e-12) << "t " << rep[k].time;
+  }
+  EXPECT_GT(rep.back().yaw_true, 0.9);
+}
+
+TEST(Replay, ModeNoneReleasesAndBadStreamsAreRefused)
+{
+  const RobotDescription d = loadRobotDescription(kUrdf);
+  const PlantParams p = loadPlantParams(kPlant);
+  const std::vector<ReplaySample> rep =
+      replayDriveCommands(d, p, { { 0.0, true, 5.0, 5.0 }, { 1.0, false, 0.0, 0.0 } }, 1.5);
+  EXPECT_TRUE(rep.front().command_enabled);
+  EXPECT_FALSE(rep.back().command_enabled);
+  EXPECT_DOUBLE_EQ(rep.back().torque_left, 0.0);  // released (after the command latency)
+  EXPECT_GT(rep.back().velocity[kFrontLeft], 0.5);  // coasting
+  EXPECT_NE(errorOf([&] { replayDriveCommands(d, p, {}, 1.0); }).find("empty"), std::string::npos);
+  EXPECT_NE(errorOf([&] { replayDriveCommands(d, p, { { 0.5, true, 1, 1 }, { 0.2, true, 1, 1 } }, 1.0); })
+                .find("out-of-order"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { replayDriveCommands(d, p, { { 0.0, true, std::nan(""), 1 } }, 1.0); }).find("non-finite"),
+            std::string::npos);
+  EXPECT_NO_THROW(replayDriveCommands(d, p, { { 0.0, false, std::nan(""), 1 } }, 0.1));  // MODE_NONE: values ignored
+  EXPECT_NE(errorOf([&] { replayDriveCommands(d, p, { { 0.0, true, 1, 1 } }, -1.0); }).find("duration"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { stockDriveCommands({ { 0.0, INFINITY, 0.0 } }, 1.0); }).find("non-finite"),
+            std::string::npos);
 }
