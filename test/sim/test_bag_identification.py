@@ -145,6 +145,22 @@ class BadBags(unittest.TestCase):
         self.assertEqual(out.returncode, 1)
         self.assertIn("no /imu/data", out.stderr)
 
+    def test_plant_replay_refuses_bad_input(self):
+        replay = cli.find_executable("plant_replay", os.path.join(ROOT, "scripts", "plant_identify.py"), "test")
+        pwm = os.path.join(self.tmp.name, "pwm.csv")
+        with open(pwm, "w") as f:
+            f.write("t,mode,left,right\n0,1,0.5,0.5\n")
+        cases = [([], 2, "exactly one of --drive and --twist"),
+                 (["--drive", pwm, "--twist", pwm], 2, "exactly one"),
+                 (["--drive", pwm], 1, "no PWM or effort mode"),
+                 (["--twist", pwm], 1, "no column 'vx'"),
+                 (["--drive", os.path.join(self.tmp.name, "missing.csv")], 1, "cannot be opened"),
+                 (["--drive", pwm, "--duration", "-1"], 2, "--duration")]
+        for args, code, message in cases:
+            out = subprocess.run([replay] + args, capture_output=True, text=True, check=False)
+            self.assertEqual(out.returncode, code, args)
+            self.assertIn(message, out.stderr, args)
+
     def test_sequences_are_bounded(self):
         for name in bi.SEQUENCES:
             p = bi.sequence_profile(name)
