@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include <yaml-cpp/yaml.h>
 
@@ -82,6 +83,23 @@ double relativeError(double sim, double robot)
 {
   return std::isfinite(sim) ? (sim - robot) / robot : kUnsettledError;
 }
+
+/// One identification run with `config`'s controller: rest, then the step to (linear [m/s],
+/// angular [rad/s]) kIdentStepPhase after a 50 Hz tick, recorded for kIdentRecord; ideal sensors.
+/// *options gets the step metrics' options for a step of the given target.
+ClosedLoopRecord runIdentStep(const RobotDescription& description, const PlantParams& params,
+                              ClosedLoopConfig config, double linear, double angular, double target,
+                              StepMetricsOptions* options)
+{
+  const double t_step = kIdentRest + kIdentStepPhase;
+  config.profile = stepProfile(t_step, linear, angular);
+  config.duration = t_step + kIdentRecord;
+  config.ideal_sensors = true;
+  options->step_time = t_step;
+  options->initial = 0.0;
+  options->target = target;
+  return runClosedLoop(description, params, config);
+}
 }  // namespace
 
 FitEntry runFitEntry(const RobotDescription& description, const PlantParams& params, const AicParams& aic,
@@ -92,20 +110,37 @@ FitEntry runFitEntry(const RobotDescription& description, const PlantParams& par
   config.aic = aic;
   config.aic.belief_rate = row.belief_rate;
   config.aic.action_rate = row.action_rate;
-  const double t_step = kIdentRest + kIdentStepPhase;
-  config.profile = stepProfile(t_step, row.step);
-  config.duration = t_step + kIdentRecord;
-  config.ideal_sensors = true;
-  const ClosedLoopRecord rec = runClosedLoop(description, params, config);
-
   StepMetricsOptions o;
-  o.step_time = t_step;
-  o.initial = 0.0;
-  o.target = row.step;
+  const ClosedLoopRecord rec = runIdentStep(description, params, config, row.step, 0.0, row.step, &o);
   FitEntry e;
   e.sim = computeStepMetrics(rec.time, rec.v_odom, o);
   e.runaways = rec.runaways;
   return rescoreFitEntry(e, table, row);
+}
+
+std::vector<FitEntry> runFitEntries(const RobotDescription& description, const PlantParams& params,
+                                    const AicParams& aic, const std::vector<RobotStepTable>& tables)
+{
+  std::vector<FitEntry> entries;
+  for (const RobotStepTable& t : tables)
+  {
+    const bool stock = t.controller == LoopController::kStock;
+    for (const RobotStepRow& row : t.rows)
+    {
+      const FitEntry* same = nullptr;
+      for (const FitEntry& d : entries)
+      {
+        const bool d_stock = d.table_controller == LoopController::kStock;
+        if (d_stock == stock && d.robot.step == row.step &&
+            (stock || (d.robot.belief_rate == row.belief_rate && d.robot.action_rate == row.action_rate)))
+        {
+          same = &d;
+        }
+      }
+      entries.push_back(same ? rescoreFitEntry(*same, t, row) : runFitEntry(description, params, aic, t, row));
+    }
+  }
+  return entries;
 }
 
 FitEntry rescoreFitEntry(const FitEntry& run, const RobotStepTable& table, const RobotStepRow& row)
@@ -198,6 +233,34 @@ SteadyChecks runSteadyChecks(const RobotDescription& description, const PlantPar
   return c;
 }
 
+TurningChecks runTurningChecks(const RobotDescription& description, const PlantParams& params)
+{
+  auto run = [&](double linear, double angular, StepMetrics* odom, StepMetrics* truth) {
+    ClosedLoopConfig config;
+    config.controller = LoopController::kStock;
+    StepMetricsOptions o;
+    const ClosedLoopRecord rec = runIdentStep(description, params, config, linear, angular, angular, &o);
+    *odom = computeStepMetrics(rec.time, rec.yaw_odom, o);
+    *truth = computeStepMetrics(rec.time, rec.yaw_true, o);
+  };
+  TurningChecks c;
+  run(0.0, kTurnStep, &c.turn, &c.turn_truth);
+  run(kArcLinear, kArcAngular, &c.arc, &c.arc_truth);
+  double penalty = 0.0;
+  bool ok = true;
+  for (const auto& [value, target] : { std::pair<double, double>{ c.turn.rise_time, kTurnRiseTarget },
+                                       { c.turn.settling_time, kTurnSettlingTarget },
+                                       { c.arc.settling_time, kArcSettlingTarget } })
+  {
+    const double miss = std::isfinite(value) ? std::max(0.0, value / target - 1.0) : kUnsettledError;
+    penalty += miss * miss;
+    ok = ok && std::isfinite(value) && value <= target;
+  }
+  c.ok = ok;
+  c.penalty = kAcceptanceWeight * penalty;
+  return c;
+}
+
 double fitCost(const std::vector<TableFit>& fits)
 {
   double c = 0.0;
@@ -206,6 +269,23 @@ double fitCost(const std::vector<TableFit>& fits)
     c += f.cost;
   }
   return c;
+}
+
+FitReport runFit(const RobotDescription& description, const PlantParams& params, const AicParams& aic,
+                 const std::vector<RobotStepTable>& tables)
+{
+  FitReport r;
+  r.entries = runFitEntries(description, params, aic, tables);
+  r.fits = summarizeFit(tables, r.entries);
+  r.steady = runSteadyChecks(description, params);
+  r.turning = runTurningChecks(description, params);
+  r.cost = fitCost(r.fits) + r.steady.penalty + r.turning.penalty;
+  r.accepted = r.steady.turn_ok && r.steady.top_speed_ok && r.turning.ok;
+  for (const TableFit& f : r.fits)
+  {
+    r.accepted = r.accepted && f.accepted;
+  }
+  return r;
 }
 
 }  // namespace sim

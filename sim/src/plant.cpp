@@ -60,6 +60,21 @@ dBodyID makeBody(dWorldID world, const MassProperties& m, const Eigen::Isometry3
   return b;
 }
 
+/// The mass properties of `body` (in its link frame) with a point mass `mass` [kg] added at
+/// `position` (link frame) [m]: masses add, the centre of mass is their weighted mean, and each
+/// part's inertia moves to the new centre by the parallel-axis theorem, I + m ((d.d) 1 - d d^T).
+MassProperties withPointMass(const MassProperties& body, double mass, const Eigen::Vector3d& position)
+{
+  MassProperties out;
+  out.mass = body.mass + mass;
+  out.com = (body.mass * body.com + mass * position) / out.mass;
+  auto shift = [](double m, const Eigen::Vector3d& d) {
+    return (m * (d.dot(d) * Eigen::Matrix3d::Identity() - d * d.transpose())).eval();
+  };
+  out.inertia = body.inertia + shift(body.mass, body.com - out.com) + shift(mass, position - out.com);
+  return out;
+}
+
 /// Attach a geom to a body at `pose_in_link` (pose of the geom in the link frame; the
 /// body origin is the link's COM).
 void attachGeom(dGeomID g, dBodyID b, const Eigen::Vector3d& com, const Eigen::Isometry3d& pose_in_link)
@@ -134,6 +149,12 @@ Plant::Plant(const RobotDescription& description, const PlantParams& params, dou
   if (!(accel_window >= params_.physics.step) || !std::isfinite(accel_window))
   {
     throw std::invalid_argument("accelerometer window must be >= the physics step");
+  }
+  if (params_.payload.mass > 0.0)
+  {
+    const Eigen::Vector3d p(params_.payload.position[0], params_.payload.position[1], params_.payload.position[2]);
+    description_.chassis =
+        withPointMass(description_.chassis, params_.payload.mass, description_.chassis_in_base.inverse() * p);
   }
   const auto window_steps = static_cast<std::size_t>(std::lround(accel_window / params_.physics.step));
   vel_ring_.assign(window_steps + 1, Eigen::Vector3d::Zero());

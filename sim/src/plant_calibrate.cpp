@@ -9,8 +9,10 @@
  * metrics from jackal_aic::computeStepMetrics (rise 10-90 % of the step, settling into
  * +-5 % of the set point, from the set-point step). Ground truth is printed beside it.
  *
- * Usage: plant_calibrate [--urdf FILE] [--config FILE] [--set key=value]... [--csv FILE]
- *                        [--check]
+ * Usage: plant_calibrate [--urdf FILE] [--config FILE] [--overlay FILE]... [--set key=value]...
+ *                        [--csv FILE] [--check]
+ * --overlay: a plant YAML with only the keys that differ (sim/config/variants/), applied after
+ * --config and before --set; repeatable, later ones win.
  * Then the steady-state checks (jackal_sim/calibration.hpp): the top speed (the stock
  * controller commanding its 2.0 m/s limit, and the motor-limited speed with the wheel set
  * points at the MCU clamp) and the effective wheel separation r (wR - wL) / yaw rate in
@@ -33,6 +35,7 @@
 #include "jackal_aic/cli.hpp"
 #include "jackal_sim/calibration.hpp"
 #include "jackal_sim/plant.hpp"
+#include "jackal_sim/plant_cli.hpp"
 #include "jackal_sim/plant_params.hpp"
 #include "jackal_sim/robot_description.hpp"
 
@@ -125,18 +128,14 @@ bool printSeparation(const RobotDescription& desc, const PlantParams& params)
 
 int main(int argc, char** argv)
 {
-  std::string urdf = std::string(JACKAL_SIM_SOURCE_DIR) + "/sim/urdf/jackal.urdf";
-  std::string config = std::string(JACKAL_SIM_SOURCE_DIR) + "/sim/config/plant.yaml";
+  PlantOptions plant(JACKAL_SIM_SOURCE_DIR);
   std::string csv;
-  std::vector<std::string> overrides;
   bool check = false;
   jackal_aic::CommandLine cl("plant_calibrate",
                              "The stock controller on the ODE plant for velocity steps from rest, beside the real "
                              "Jackal's settling and rise times (thesis table 3-1b), then the top-speed and "
                              "wheel-separation checks.");
-  cl.option("urdf", &urdf, "robot model");
-  cl.option("config", &config, "plant YAML");
-  cl.overrides("set", &overrides, "override a plant key, dotted");
+  plant.addTo(&cl);
   cl.option("csv", &csv, "write the step traces as CSV");
   cl.flag("check", &check, "exit 1 unless every acceptance band holds");
   if (const int code = cl.parse(argc, argv); code >= 0)
@@ -147,8 +146,8 @@ int main(int argc, char** argv)
   PlantParams params;
   try
   {
-    desc = loadRobotDescription(urdf);
-    params = loadPlantParams(config, overrides);
+    desc = plant.description();
+    params = plant.params();
   }
   catch (const std::exception& e)
   {
@@ -156,11 +155,8 @@ int main(int argc, char** argv)
     return 1;
   }
   std::printf("plant_calibrate: stock controller on the ODE plant, steps from rest\n");
-  std::printf("  urdf %s\n  config %s\n", urdf.c_str(), config.c_str());
-  for (const auto& o : overrides)
-  {
-    std::printf("  override %s\n", o.c_str());
-  }
+  std::printf("  urdf %s\n  config %s\n", plant.urdf.c_str(), plant.config.c_str());
+  plant.printLayers();
   std::printf("  measured: wheel-odometry speed r*(wL+wR)/2 from 50 Hz joint states (the robot's own estimate);\n"
               "  metrics: jackal_aic::computeStepMetrics, rise 10-90 %% of the step, settling into +-5 %% of the\n"
               "  set point, times from the set-point step\n\n");

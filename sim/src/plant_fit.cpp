@@ -10,12 +10,16 @@
  * row's belief and action rates, scheduled as the jackal_AIC node (jackal_sim/closed_loop.hpp).
  * The plant's speed is measured from wheel odometry, as the robot's was.
  * Acceptance (doc/robot_data.md): stock entries within +-20 % (0.5, 1.0 m/s) and +-50 % (0.1 m/s);
- * each AIC table within 25 % mean |error|; and the steady checks (turning in place at -10/+10 rad/s
- * the servo holds the wheel speeds; the stock controller reaches the 2.0 m/s top speed), whose
- * misses are added to the cost.
+ * each AIC table within 25 % mean |error|; the steady checks (turning in place at -10/+10 rad/s
+ * the servo holds the wheel speeds; the stock controller reaches the 2.0 m/s top speed); and the
+ * turning targets (jackal_sim/identification.hpp: the stock controller's 1 rad/s turn in place
+ * rises within 0.5 s and settles within 0.8 s, a 0.5 m/s + 0.5 rad/s arc's yaw rate settles
+ * within 0.8 s), whose misses are added to the cost.
  *
- * Usage: plant_fit [--urdf FILE] [--config PLANT.yaml] [--set key=value]... [--aic-config FILE]
- *                  [--data FILE] [--tables ID,ID,...] [--json] [--check]
+ * Usage: plant_fit [--urdf FILE] [--config PLANT.yaml] [--overlay FILE]... [--set key=value]...
+ *                  [--aic-config FILE] [--data FILE] [--tables ID,ID,...] [--json] [--check]
+ * --overlay: a plant YAML with only the keys that differ (sim/config/variants/), applied after
+ * --config and before --set; repeatable, later ones win.
  * --json prints one JSON object (entries, tables, cost) instead of the table: the interface
  * of scripts/plant_identify.py. --check exits 1 unless every table is accepted.
  * Exit 2 on bad arguments, 1 on unreadable or invalid files.
@@ -33,6 +37,7 @@
 #include "jackal_aic/cli.hpp"
 #include "jackal_aic/params_yaml.hpp"
 #include "jackal_sim/identification.hpp"
+#include "jackal_sim/plant_cli.hpp"
 #include "jackal_sim/plant_params.hpp"
 #include "jackal_sim/robot_description.hpp"
 
@@ -59,11 +64,9 @@ std::string fmtTime(double v)
 int main(int argc, char** argv)
 {
   const std::string root = JACKAL_SIM_SOURCE_DIR;
-  std::string urdf = root + "/sim/urdf/jackal.urdf";
-  std::string config = root + "/sim/config/plant.yaml";
+  PlantOptions plant(root);
   std::string aic_config = root + "/config/thesis_equivalent.yaml";
   std::string data = root + "/sim/config/robot_steps.yaml";
-  std::vector<std::string> overrides;
   std::set<std::string> only;
   bool json = false;
   bool check = false;
@@ -71,9 +74,7 @@ int main(int argc, char** argv)
   CommandLine cl("plant_fit",
                  "Every robot step response of the data file on the ODE plant (stock controller and the "
                  "thesis-equivalent AIC), headless: the fit table, or one JSON object with --json.");
-  cl.option("urdf", &urdf, "robot model");
-  cl.option("config", &config, "plant YAML");
-  cl.overrides("set", &overrides, "override a plant key, dotted");
+  plant.addTo(&cl);
   cl.option("aic-config", &aic_config, "controller YAML of the AIC rows");
   cl.option("data", &data, "the robot's step tables");
   cl.list("tables", &table_ids, "table ids to run (default all)");
@@ -92,8 +93,8 @@ int main(int argc, char** argv)
   std::vector<RobotStepTable> tables;
   try
   {
-    desc = loadRobotDescription(urdf);
-    params = loadPlantParams(config, overrides);
+    desc = plant.description();
+    params = plant.params();
     aic = loadAicParams(aic_config);
     for (const RobotStepTable& t : loadRobotStepTables(data))
     {
@@ -114,44 +115,22 @@ int main(int argc, char** argv)
     return 2;
   }
 
-  std::vector<FitEntry> entries;
+  FitReport report;
   try
   {
-    // Rows that ask for the same run (e.g. the 50 Hz rows of tables 3-1a, 5-1 and 5-2) run once.
-    std::vector<FitEntry> done;
-    for (const RobotStepTable& t : tables)
-    {
-      for (const RobotStepRow& row : t.rows)
-      {
-        const bool stock = t.controller == LoopController::kStock;
-        const FitEntry* same = nullptr;
-        for (const FitEntry& d : done)
-        {
-          const bool d_stock = d.table_controller == LoopController::kStock;
-          if (d_stock == stock && d.robot.step == row.step &&
-              (stock || (d.robot.belief_rate == row.belief_rate && d.robot.action_rate == row.action_rate)))
-          {
-            same = &d;
-          }
-        }
-        entries.push_back(same ? rescoreFitEntry(*same, t, row) : runFitEntry(desc, params, aic, t, row));
-        done.push_back(entries.back());
-      }
-    }
+    report = runFit(desc, params, aic, tables);
   }
   catch (const std::exception& e)
   {
     std::cerr << "plant_fit: " << e.what() << "\n";
     return 1;
   }
-  const std::vector<TableFit> fits = summarizeFit(tables, entries);
-  const SteadyChecks steady = runSteadyChecks(desc, params);
-  const double cost = fitCost(fits) + steady.penalty;
-  bool all_ok = steady.turn_ok && steady.top_speed_ok;
-  for (const TableFit& f : fits)
-  {
-    all_ok = all_ok && f.accepted;
-  }
+  const std::vector<FitEntry>& entries = report.entries;
+  const std::vector<TableFit>& fits = report.fits;
+  const SteadyChecks& steady = report.steady;
+  const TurningChecks& turning = report.turning;
+  const double cost = report.cost;
+  const bool all_ok = report.accepted;
 
   if (json)
   {
@@ -166,6 +145,13 @@ int main(int argc, char** argv)
     std::cout << "], \"steady\": {\"turn_hold_error\": " << jsonNumber(steady.turn_hold_error)
               << ", \"stock_turn_error\": " << jsonNumber(steady.stock_turn_error)
               << ", \"top_speed\": " << jsonNumber(steady.top_speed) << ", \"penalty\": " << jsonNumber(steady.penalty)
+              << "}, \"turning\": {\"turn_rise\": " << jsonNumber(turning.turn.rise_time)
+              << ", \"turn_settling\": " << jsonNumber(turning.turn.settling_time)
+              << ", \"turn_truth_rise\": " << jsonNumber(turning.turn_truth.rise_time)
+              << ", \"turn_truth_settling\": " << jsonNumber(turning.turn_truth.settling_time)
+              << ", \"arc_settling\": " << jsonNumber(turning.arc.settling_time)
+              << ", \"arc_truth_settling\": " << jsonNumber(turning.arc_truth.settling_time)
+              << ", \"ok\": " << (turning.ok ? "true" : "false") << ", \"penalty\": " << jsonNumber(turning.penalty)
               << "}, \"entries\": [";
     for (std::size_t i = 0; i < entries.size(); ++i)
     {
@@ -187,11 +173,8 @@ int main(int argc, char** argv)
 
   std::printf("plant_fit: robot step responses on the ODE plant (wheel-odometry speed; rise 10-90 %%, settling "
               "+-5 %%)\n  urdf %s\n  plant %s\n  AIC %s\n  data %s\n",
-              urdf.c_str(), config.c_str(), aic_config.c_str(), data.c_str());
-  for (const auto& o : overrides)
-  {
-    std::printf("  override %s\n", o.c_str());
-  }
+              plant.urdf.c_str(), plant.config.c_str(), aic_config.c_str(), data.c_str());
+  plant.printLayers();
   std::string current;
   for (const FitEntry& e : entries)
   {
@@ -226,8 +209,16 @@ int main(int argc, char** argv)
               "10 %%): %s; stock controller at 2.0 m/s reaches %.3f m/s: %s; penalty %.3f\n",
               steady.turn_hold_error, kTurnHoldTolerance, 100.0 * steady.stock_turn_error,
               steady.turn_ok ? "ok" : "NO", steady.top_speed, steady.top_speed_ok ? "ok" : "NO", steady.penalty);
+  std::printf("turning targets (stock controller, yaw rate from wheel odometry; gyro in brackets): 1 rad/s turn in "
+              "place rise %s s [%s] (accepted <= %.2f), settling %s s [%s] (<= %.2f); 0.5 m/s + 0.5 rad/s arc "
+              "settling %s s [%s] (<= %.2f): %s; penalty %.3f\n",
+              fmtTime(turning.turn.rise_time).c_str(), fmtTime(turning.turn_truth.rise_time).c_str(), kTurnRiseTarget,
+              fmtTime(turning.turn.settling_time).c_str(), fmtTime(turning.turn_truth.settling_time).c_str(),
+              kTurnSettlingTarget, fmtTime(turning.arc.settling_time).c_str(),
+              fmtTime(turning.arc_truth.settling_time).c_str(), kArcSettlingTarget, turning.ok ? "ok" : "NO",
+              turning.penalty);
   std::printf("identification cost %.4f; acceptance (stock entries within 20 %% / 50 %% at 0.1 m/s, AIC tables "
-              "within 25 %% mean): %s\n",
+              "within 25 %% mean, steady checks, turning targets): %s\n",
               cost, all_ok ? "PASS" : "FAIL");
   return (check && !all_ok) ? 1 : 0;
 }

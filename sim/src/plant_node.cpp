@@ -24,6 +24,41 @@ std::string requiredPath(const ros::NodeHandle& pnh, const std::string& name)
   return v;
 }
 
+/// ~overlay: one path, a list of paths, or "" / absent (none).
+std::vector<std::string> overlayFiles(const ros::NodeHandle& pnh)
+{
+  XmlRpc::XmlRpcValue v;
+  std::vector<std::string> files;
+  if (!pnh.getParam("overlay", v))
+  {
+    return files;
+  }
+  auto add = [&](XmlRpc::XmlRpcValue& item) {
+    if (item.getType() != XmlRpc::XmlRpcValue::TypeString)
+    {
+      throw std::runtime_error("parameter " + pnh.resolveName("overlay") +
+                               " must be a plant YAML path or a list of them");
+    }
+    const std::string path = static_cast<std::string>(item);
+    if (!path.empty())
+    {
+      files.push_back(path);
+    }
+  };
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeArray)
+  {
+    for (int i = 0; i < v.size(); ++i)
+    {
+      add(v[i]);
+    }
+  }
+  else
+  {
+    add(v);
+  }
+  return files;
+}
+
 std::uint64_t periodSteps(double rate, double step)
 {
   return std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(1.0 / (rate * step))));
@@ -52,7 +87,7 @@ PlantNode::PlantNode(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pn
   std::vector<std::string> overrides;
   pnh_.getParam("overrides", overrides);
   description_ = loadRobotDescription(urdf);
-  params_ = loadPlantParams(config, overrides);
+  params_ = loadPlantParams(config, plantOverrides(overlayFiles(pnh_), overrides));
   plant_ = std::make_unique<Plant>(description_, params_, 1.0 / params_.sensors.imu.rate);
   sensors_ = std::make_unique<SensorModel>(params_.sensors, params_.physics.step);
   nh_.param("/use_sim_time", use_sim_time_, false);

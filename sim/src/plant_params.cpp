@@ -180,6 +180,10 @@ std::vector<std::string> MotorParams::validate() const
         setpoint_feedforward, "[0, 100] N m s/rad (0 = off)");
   check(&e, accel_feedforward >= 0.0 && accel_feedforward <= 10.0, "motor.accel_feedforward", accel_feedforward,
         "[0, 10] N m s^2/rad (0 = off)");
+  check(&e, load_observer_time_constant >= 0.0 && load_observer_time_constant <= 5.0,
+        "motor.load_observer_time_constant", load_observer_time_constant, "[0, 5] s (0 = no observer)");
+  check(&e, load_observer_time_constant == 0.0 || (load_observer_inertia > 0.0 && load_observer_inertia <= 10.0),
+        "motor.load_observer_inertia", load_observer_inertia, "(0, 10] kg m^2 when the observer is on");
   check(&e, stall_torque >= 0.0, "motor.stall_torque", stall_torque, ">= 0 N m (0 = no voltage limit)");
   check(&e, stall_torque == 0.0 || no_load_speed > 0.0, "motor.no_load_speed", no_load_speed,
         "> 0 rad/s when stall_torque > 0");
@@ -191,6 +195,18 @@ std::vector<std::string> MotorParams::validate() const
   check(&e, viscous_friction >= 0.0, "motor.viscous_friction", viscous_friction, ">= 0 N m s/rad");
   check(&e, coupling_damping >= 0.0, "motor.coupling_damping", coupling_damping, ">= 0 N m s/rad");
   check(&e, max_wheel_speed > 0.0, "motor.max_wheel_speed", max_wheel_speed, "> 0 rad/s");
+  return e;
+}
+
+std::vector<std::string> PayloadParams::validate() const
+{
+  std::vector<std::string> e;
+  check(&e, mass >= 0.0 && mass <= 100.0, "payload.mass", mass, "[0, 100] kg");
+  for (int i = 0; i < 3; ++i)
+  {
+    check(&e, std::abs(position[i]) <= 1.0, "payload.position[" + std::to_string(i) + "]", position[i],
+          "[-1, 1] m");
+  }
   return e;
 }
 
@@ -234,6 +250,17 @@ std::vector<std::string> SensorParams::validate() const
   return e;
 }
 
+SensorParams idealSensors(SensorParams sensors)
+{
+  JointStateSensorParams& js = sensors.joint_states;
+  js.position_noise_std = js.velocity_noise_std = js.velocity_bias = js.dropout = 0.0;
+  ImuSensorParams& imu = sensors.imu;
+  imu.gyro_noise_std = imu.accel_noise_std = imu.orientation_noise_std = imu.dropout = 0.0;
+  imu.gyro_bias.fill(0.0);
+  imu.accel_bias.fill(0.0);
+  return sensors;
+}
+
 std::vector<std::string> PlantNodeParams::validate() const
 {
   std::vector<std::string> e;
@@ -255,6 +282,7 @@ std::vector<std::string> PlantParams::validate() const
   append(&e, node.validate());
   append(&e, contact.validate());
   append(&e, motor.validate());
+  append(&e, payload.validate());
   append(&e, sensors.validate());
   return e;
 }
@@ -269,6 +297,26 @@ PlantParams loadPlantParams(const std::string& path, const std::vector<std::stri
   std::stringstream ss;
   ss << in.rdbuf();
   return parsePlantParams(ss.str(), path, overrides);
+}
+
+std::vector<std::string> plantOverrides(const std::vector<std::string>& overlay_files,
+                                        const std::vector<std::string>& overrides)
+{
+  std::vector<std::string> out;
+  for (const std::string& file : overlay_files)
+  {
+    try
+    {
+      const std::vector<std::string> o = loadOverlayFile(file);
+      out.insert(out.end(), o.begin(), o.end());
+    }
+    catch (const std::invalid_argument& e)
+    {
+      throw PlantParamsError(e.what());
+    }
+  }
+  out.insert(out.end(), overrides.begin(), overrides.end());
+  return out;
 }
 
 PlantParams parsePlantParams(const std::string& yaml, const std::string& source,
@@ -336,6 +384,8 @@ PlantParams parsePlantParams(const std::string& yaml, const std::string& source,
     s.get("proportional_limit", &m.proportional_limit);
     s.get("integral_error_limit", &m.integral_error_limit);
     s.get("setpoint_feedforward", &m.setpoint_feedforward);
+    s.get("load_observer_inertia", &m.load_observer_inertia);
+    s.get("load_observer_time_constant", &m.load_observer_time_constant);
     s.get("stall_torque", &m.stall_torque);
     s.get("no_load_speed", &m.no_load_speed);
     s.get("setpoint_slew_rate", &m.setpoint_slew_rate);
@@ -345,6 +395,11 @@ PlantParams parsePlantParams(const std::string& yaml, const std::string& source,
     s.get("viscous_friction", &m.viscous_friction);
     s.get("coupling_damping", &m.coupling_damping);
     s.get("max_wheel_speed", &m.max_wheel_speed);
+  }
+  {
+    Section s(root["payload"], "payload", &errors);
+    s.get("mass", &p.payload.mass);
+    s.get3("position", &p.payload.position);
   }
   {
     Section s(root["sensors"], "sensors", &errors);
@@ -377,9 +432,9 @@ PlantParams parsePlantParams(const std::string& yaml, const std::string& source,
   for (const auto& kv : root)
   {
     const std::string k = kv.first.as<std::string>();
-    if (k != "physics" && k != "contact" && k != "motor" && k != "sensors" && k != "node")
+    if (k != "physics" && k != "contact" && k != "motor" && k != "payload" && k != "sensors" && k != "node")
     {
-      errors.push_back(k + " is not a known section (physics, contact, motor, sensors, node)");
+      errors.push_back(k + " is not a known section (physics, contact, motor, payload, sensors, node)");
     }
   }
   append(&errors, p.validate());

@@ -23,6 +23,9 @@ void WheelSpeedServo::reset()
   last_command_time_ = 0.0;
   setpoint_rate_ = 0.0;
   feedforward_ = 0.0;
+  observer_torque_ = 0.0;
+  observer_speed_ = 0.0;
+  load_estimate_ = 0.0;
 }
 
 void WheelSpeedServo::setSetpoint(double setpoint, double t)
@@ -67,6 +70,9 @@ double WheelSpeedServo::update(double measured_speed, double t)
       filtered_setpoint_ = measured_speed;
       ramped_setpoint_ = measured_speed;
       integral_ = 0.0;
+      observer_torque_ = 0.0;
+      observer_speed_ = measured_speed;
+      load_estimate_ = 0.0;
     }
     // Set-point rate for the feedforward: difference of consecutive commands over their interval
     // (a first command after release, or a release, has none).
@@ -87,6 +93,9 @@ double WheelSpeedServo::update(double measured_speed, double t)
   {
     feedforward_ = 0.0;
     integral_ = 0.0;
+    observer_torque_ = 0.0;
+    observer_speed_ = measured_speed;
+    load_estimate_ = 0.0;
     filtered_setpoint_ = measured_speed;
     ramped_setpoint_ = measured_speed;
     torque_ = 0.0;
@@ -110,6 +119,16 @@ double WheelSpeedServo::update(double measured_speed, double t)
   {
     filtered_setpoint_ = ramped_setpoint_;
   }
+  if (params_.load_observer_time_constant > 0.0)
+  {
+    // Disturbance observer: L_hat = Q[T] - J_n Q[s w], Q a first-order low-pass (header).
+    const double a = 1.0 - std::exp(-step_ / params_.load_observer_time_constant);
+    observer_torque_ += a * (torque_ - observer_torque_);
+    observer_speed_ += a * (measured_speed - observer_speed_);
+    const double acceleration = (measured_speed - observer_speed_) * a / ((1.0 - a) * step_);
+    load_estimate_ = std::clamp(observer_torque_ - params_.load_observer_inertia * acceleration,
+                                -params_.max_torque, params_.max_torque);
+  }
   const double error = filtered_setpoint_ - measured_speed;
   const auto [lo, hi] = torqueLimits(measured_speed);
   feedforward_ = params_.accel_feedforward * setpoint_rate_ + params_.setpoint_feedforward * error;
@@ -121,7 +140,8 @@ double WheelSpeedServo::update(double measured_speed, double t)
   const double integrated_error = params_.integral_error_limit > 0.0 ?
                                       std::clamp(error, -params_.integral_error_limit, params_.integral_error_limit) :
                                       error;
-  const double unsat = proportional + integral_ + params_.speed_ki * integrated_error * step_ + feedforward_;
+  const double unsat =
+      proportional + integral_ + params_.speed_ki * integrated_error * step_ + feedforward_ + load_estimate_;
   const double out = std::clamp(unsat, std::min(lo, hi), std::max(lo, hi));
   // Conditional integration: hold the integrator while saturated in the error's direction.
   const bool saturated_up = unsat > out && error > 0.0;

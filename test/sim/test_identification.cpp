@@ -12,13 +12,18 @@
 #include <cstdio>
 #include <fstream>
 #include <functional>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "jackal_aic/params_yaml.hpp"
 #include "jackal_aic/step_metrics.hpp"
 #include "jackal_sim/closed_loop.hpp"
+#include "jackal_sim/csv_table.hpp"
 #include "jackal_sim/identification.hpp"
+#include "jackal_sim/plant.hpp"
 #include "jackal_sim/plant_params.hpp"
+#include "jackal_sim/replay.hpp"
 #include "jackal_sim/robot_description.hpp"
 #include "jackal_sim/wheel_speed_servo.hpp"
 
@@ -28,7 +33,7 @@ using namespace jackal_aic::sim;
 namespace
 {
 /// Motor parameters with every optional element of the identified model off (slew, lag,
-/// saturations, feedforwards, latency, voltage limit), for the servo's arithmetic.
+/// saturations, feedforwards, load observer, latency, voltage limit), for the servo's arithmetic.
 MotorParams bareMotor()
 {
   MotorParams m;
@@ -41,6 +46,7 @@ MotorParams bareMotor()
   m.integral_limit = 0.0;
   m.setpoint_feedforward = 0.0;
   m.accel_feedforward = 0.0;
+  m.load_observer_time_constant = 0.0;
   return m;
 }
 
@@ -230,6 +236,103 @@ TEST(WheelSpeedServo, FeedforwardFollowsTheCommandRate)
   EXPECT_DOUBLE_EQ(s.feedforward(), 0.0);
 }
 
+namespace
+{
+/// One side of the robot as a rigid inertia J [kg m^2] against a Coulomb load L [N m] (static up to
+/// L at rest), driven by the servo at 1 kHz for `duration` s with the set point `setpoint` [rad/s]
+/// from t = 0; returns the side speed at each millisecond.
+std::vector<double> driveSide(const MotorParams& m, double inertia, double load, double setpoint, double duration)
+{
+  constexpr double h = 0.001;
+  WheelSpeedServo s(m, h);
+  s.setSetpoint(setpoint, 0.0);
+  double w = 0.0;
+  std::vector<double> out;
+  for (int k = 0; k < static_cast<int>(std::lround(duration / h)); ++k)
+  {
+    const double torque = s.update(w, k * h);
+    if (w == 0.0 && std::abs(torque) <= load)
+    {
+      out.push_back(w);  // static friction holds the side
+      continue;
+    }
+    const double w_next = w + h * (torque - load * (w != 0.0 ? (w > 0.0 ? 1.0 : -1.0) : (torque > 0.0 ? 1.0 : -1.0))) /
+                                  inertia;
+    w = (w != 0.0 && w * w_next < 0.0) ? 0.0 : w_next;  // friction stops, it does not reverse
+    out.push_back(w);
+  }
+  return out;
+}
+
+/// First time [s] a series sampled at 1 kHz reaches `level`; NaN if never.
+double timeToReach(const std::vector<double>& w, double level)
+{
+  for (std::size_t k = 0; k < w.size(); ++k)
+  {
+    if (w[k] >= level)
+    {
+      return 0.001 * static_cast<double>(k + 1);
+    }
+  }
+  return std::nan("");
+}
+
+}  // namespace
+
+/// The load observer (disturbance observer): a side with a turn's Coulomb load (2.8 N m, a third of
+/// the straight inertia) accelerates under the servo's clamped proportional torque as the nominal
+/// straight-driving inertia would without load, and holds its set point; without the observer the
+/// clamped proportional path cannot break the load away. A side that is the nominal inertia without
+/// load (a straight step) is hardly changed by the observer.
+TEST(WheelSpeedServo, LoadObserverDeliversALoadOnTheTimeScaleOfTheNominalInertia)
+{
+  MotorParams m = bareMotor();
+  m.speed_kp = 10.0;
+  m.speed_ki = 0.0;  // no integral path: the observer alone holds the load
+  m.proportional_limit = 0.8;
+  m.max_torque = 4.0;
+  m.load_observer_inertia = 0.0933;
+  m.load_observer_time_constant = 0.04;
+  constexpr double kSetpoint = 3.0;  // rad/s
+  const std::vector<double> turn = driveSide(m, 0.035, 2.8, kSetpoint, 2.0);
+  const std::vector<double> straight = driveSide(m, 0.0933, 0.0, kSetpoint, 2.0);
+  // The nominal inertia under the 0.8 N m clamp: 0.9 * 3 rad/s in 0.9 * 3 * 0.0933 / 0.8 = 0.31 s.
+  const double t_straight = timeToReach(straight, 0.9 * kSetpoint);
+  const double t_turn = timeToReach(turn, 0.9 * kSetpoint);
+  EXPECT_NEAR(t_straight, 0.31, 0.03);
+  EXPECT_LT(t_turn, t_straight + 0.15) << "the load is delivered within a few observer time constants";
+  EXPECT_NEAR(turn.back(), kSetpoint, 0.01) << "and held without steady error";
+
+  MotorParams off = m;
+  off.load_observer_time_constant = 0.0;
+  EXPECT_DOUBLE_EQ(driveSide(off, 0.035, 2.8, kSetpoint, 2.0).back(), 0.0) << "0.8 N m cannot break 2.8 N m away";
+  const double t_straight_off = timeToReach(driveSide(off, 0.0933, 0.0, kSetpoint, 2.0), 0.9 * kSetpoint);
+  EXPECT_NEAR(t_straight, t_straight_off, 0.02) << "a load-free nominal side hardly notices the observer";
+}
+
+TEST(WheelSpeedServo, LoadObserverIsValidatedAndClearedOnRelease)
+{
+  MotorParams m;
+  m.load_observer_time_constant = -0.1;
+  EXPECT_FALSE(m.validate().empty());
+  m.load_observer_time_constant = 0.05;
+  m.load_observer_inertia = 0.0;
+  ASSERT_EQ(m.validate().size(), 1u);
+  EXPECT_NE(m.validate()[0].find("motor.load_observer_inertia"), std::string::npos);
+  m.load_observer_inertia = 0.0933;
+  m.command_delay = 0.0;
+  WheelSpeedServo s(m, 0.001);
+  s.setSetpoint(3.0, 0.0);
+  for (int k = 0; k < 1000; ++k)
+  {
+    s.update(0.0, 0.001 * k);  // held at rest: the estimate grows to the current limit
+  }
+  EXPECT_NEAR(s.loadEstimate(), m.max_torque, 1e-6);
+  s.release(1.0);
+  EXPECT_DOUBLE_EQ(s.update(0.0, 1.0), 0.0);
+  EXPECT_DOUBLE_EQ(s.loadEstimate(), 0.0);
+}
+
 // ---------------------------------------------------------------- closed loop
 TEST(ClosedLoop, RejectsBadConfigurations)
 {
@@ -306,6 +409,78 @@ TEST(IdentifiedPlant, AFastControllerIsFasterThanTheStockOne)
   EXPECT_LE(improved_rise, 0.75 * stock_rise) << "improved " << improved_rise << " s, stock " << stock_rise << " s";
 }
 
+/// The committed plant.yaml passes plant_fit's whole acceptance: every table, the steady checks
+/// and the turning targets.
+TEST(IdentifiedPlant, EveryTableAcceptedAndTheTurningTargetsMet)
+{
+  const FitReport r = runFit(loadRobotDescription(kUrdf), loadPlantParams(kPlant), loadAicParams(kThesisEquivalent),
+                             loadRobotStepTables(kData));
+  for (const TableFit& f : r.fits)
+  {
+    EXPECT_TRUE(f.accepted) << "table " << f.id << ": mean |error| " << f.mean_abs_error;
+  }
+  EXPECT_TRUE(r.turning.ok);
+  EXPECT_TRUE(r.accepted);
+  EXPECT_DOUBLE_EQ(r.steady.penalty + r.turning.penalty, 0.0);
+}
+
+/// The turning targets (doc/robot_data.md, 'Turning'): the stock controller's 1 rad/s turn in place
+/// rises within 0.5 s and settles within 0.8 s (wheel odometry and gyro), a 0.5 m/s + 0.5 rad/s
+/// arc's yaw rate settles within 0.8 s; and the turn settles on the time scale of a straight step
+/// of about the same wheel speeds (0.3 m/s: 3.1 rad/s; the turn: 2.9 rad/s per side).
+TEST(IdentifiedPlant, TurnsOnTheTimeScaleOfAStraightStep)
+{
+  const RobotDescription d = loadRobotDescription(kUrdf);
+  const PlantParams p = loadPlantParams(kPlant);
+  const TurningChecks c = runTurningChecks(d, p);
+  EXPECT_LE(c.turn.rise_time, kTurnRiseTarget);
+  EXPECT_LE(c.turn.settling_time, kTurnSettlingTarget);
+  EXPECT_LE(c.turn_truth.rise_time, kTurnRiseTarget);
+  EXPECT_LE(c.turn_truth.settling_time, kTurnSettlingTarget);
+  EXPECT_LE(c.arc.settling_time, kArcSettlingTarget);
+  EXPECT_TRUE(c.ok);
+  const double straight = stepOf(runStep(LoopController::kStock, AicParams(), 0.3), 1.01, 0.3).settling_time;
+  EXPECT_LE(c.turn.settling_time, 1.25 * straight) << "straight 0.3 m/s settles in " << straight << " s";
+}
+
+/// The load observer's nominal inertia is the straight-driving inertia of one side from the URDF:
+/// half the robot's mass at the wheel radius plus the spin inertia of the side's two wheels.
+TEST(IdentifiedPlant, ObserverInertiaIsTheUrdfsStraightDrivingInertia)
+{
+  const RobotDescription d = loadRobotDescription(kUrdf);
+  double mass = d.chassis.mass;
+  double spin = 0.0;
+  for (const WheelDescription& w : d.wheels)
+  {
+    mass += w.inertial.mass;
+    spin += w.inertial.inertia(1, 1);  // about the wheel's axle (axis 0 1 0)
+  }
+  const double r = d.wheelRadius();
+  const double inertia = 0.5 * mass * r * r + 0.5 * spin;
+  EXPECT_NEAR(loadPlantParams(kPlant).motor.load_observer_inertia, inertia, 0.01 * inertia);
+}
+
+/// The premise of the turning model: a turn in place on the default floor needs about 3 N m per
+/// side (scrub plus drivetrain friction), which the default wheel loop holds at the set point.
+TEST(IdentifiedPlant, ATurnInPlaceNeedsAboutThreeNewtonMetresPerSide)
+{
+  Plant plant(loadRobotDescription(kUrdf), loadPlantParams(kPlant));
+  constexpr double kWheel = 2.874;  // rad/s: 1 rad/s through the stock controller's b_hat
+  plant.setWheelSpeeds(-kWheel, kWheel);
+  plant.step(3000);
+  double torque = 0.0;
+  double speed = 0.0;
+  for (int k = 0; k < 1000; ++k)
+  {
+    plant.step();
+    torque += 0.5 * (plant.servo(kRight).torque() - plant.servo(kLeft).torque()) / 1000.0;
+    speed += 0.5 * (plant.sideVelocity(kRight) - plant.sideVelocity(kLeft)) / 1000.0;
+  }
+  EXPECT_GT(torque, 2.5);
+  EXPECT_LT(torque, 3.5);
+  EXPECT_NEAR(speed, kWheel, 0.02);
+}
+
 /// The identified plant keeps the steady checks: the servo holds a turn in place at 10 rad/s,
 /// the stock controller reaches the 2.0 m/s top speed.
 TEST(IdentifiedPlant, SteadyChecksHold)
@@ -348,4 +523,83 @@ TEST(ClosedLoop, OpenLoopSendsTheSetPointsWheelSpeedsAndRecordsTheYaw)
                                                      rec.time.begin());
   EXPECT_NEAR(rec.v_odom[at_3s], 0.3, 0.015);  // the wheels reached the set point
   EXPECT_GT(rec.yaw_odom.back(), 0.3);          // and turn once commanded to
+}
+
+// ---------------------------------------------------------------- replay of a /cmd_drive stream
+TEST(CsvTable, ReadsColumnsAndNamesEveryError)
+{
+  std::istringstream ok("# a comment\n\nt, mode ,left,right\n0,0,1.5,-1.5\n0.02,-1,0,0\n");
+  const CsvTable t = readCsvTable(ok, "ok.csv");
+  ASSERT_EQ(t.rows.size(), 2u);
+  EXPECT_EQ(t.column("mode"), 1u);
+  EXPECT_DOUBLE_EQ(t.values("right")[0], -1.5);
+  EXPECT_NE(errorOf([&] { t.column("vx"); }).find("no column 'vx'"), std::string::npos);
+  const std::vector<std::pair<std::string, std::string>> bad{
+    { "", "no header" },
+    { "t,t\n0,1\n", "duplicate" },
+    { "t,vx\n0\n", "1 cells" },
+    { "t,vx\n0,abc\n", "'vx' is not a finite number" },
+    { "t,vx\n0,nan\n", "'vx' is not a finite number" },
+    { "t,vx\n", "no data rows" },
+  };
+  for (const auto& [text, message] : bad)
+  {
+    std::istringstream in(text);
+    const std::string e = errorOf([&] { readCsvTable(in, "bad.csv"); });
+    EXPECT_NE(e.find("bad.csv"), std::string::npos) << text;
+    EXPECT_NE(e.find(message), std::string::npos) << text << ": " << e;
+  }
+  EXPECT_NE(errorOf([] { readCsvFile("/nonexistent/x.csv"); }).find("/nonexistent/x.csv"), std::string::npos);
+}
+
+/// Replaying the stock controller's /cmd_drive stream is the same run as the closed loop with the
+/// stock controller (the same plant, the same commands at the same instants): the wheel odometry
+/// agrees sample by sample.
+TEST(Replay, StockCommandsReproduceTheClosedLoop)
+{
+  const RobotDescription d = loadRobotDescription(kUrdf);
+  const PlantParams p = loadPlantParams(kPlant);
+  ClosedLoopConfig c;
+  c.controller = LoopController::kStock;
+  c.profile = { { 0.0, 0.0, 0.0 }, { 1.01, 0.5, 0.0 }, { 2.51, 0.0, 1.0 } };
+  c.duration = 4.0;
+  const ClosedLoopRecord rec = runClosedLoop(d, p, c);
+  const std::vector<DriveCommand> commands = stockDriveCommands(c.profile, c.duration);
+  ASSERT_EQ(commands.size(), 200u);  // 50 Hz for 4 s
+  EXPECT_DOUBLE_EQ(commands[51].left, commands[51].right);
+  const std::vector<ReplaySample> rep = replayDriveCommands(d, p, commands, c.duration);
+  ASSERT_EQ(rep.size(), rec.time.size());
+  const double r = d.wheelRadius();
+  for (std::size_t k = 0; k < rep.size(); ++k)
+  {
+    const double wl = 0.5 * (rep[k].velocity[kFrontLeft] + rep[k].velocity[kRearLeft]);
+    const double wr = 0.5 * (rep[k].velocity[kFrontRight] + rep[k].velocity[kRearRight]);
+    EXPECT_DOUBLE_EQ(rep[k].time, rec.time[k]);
+    EXPECT_NEAR(r * 0.5 * (wl + wr), rec.v_odom[k], 1e-12) << "t " << rep[k].time;
+    EXPECT_NEAR(rep[k].yaw_true, rec.yaw_true[k], 1e-12) << "t " << rep[k].time;
+  }
+  EXPECT_GT(rep.back().yaw_true, 0.9);
+}
+
+TEST(Replay, ModeNoneReleasesAndBadStreamsAreRefused)
+{
+  const RobotDescription d = loadRobotDescription(kUrdf);
+  const PlantParams p = loadPlantParams(kPlant);
+  const std::vector<ReplaySample> rep =
+      replayDriveCommands(d, p, { { 0.0, true, 5.0, 5.0 }, { 1.0, false, 0.0, 0.0 } }, 1.5);
+  EXPECT_TRUE(rep.front().command_enabled);
+  EXPECT_FALSE(rep.back().command_enabled);
+  EXPECT_DOUBLE_EQ(rep.back().torque_left, 0.0);  // released (after the command latency)
+  EXPECT_GT(rep.back().velocity[kFrontLeft], 0.5);  // coasting
+  EXPECT_NE(errorOf([&] { replayDriveCommands(d, p, {}, 1.0); }).find("empty"), std::string::npos);
+  EXPECT_NE(errorOf([&] { replayDriveCommands(d, p, { { 0.5, true, 1, 1 }, { 0.2, true, 1, 1 } }, 1.0); })
+                .find("out-of-order"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { replayDriveCommands(d, p, { { 0.0, true, std::nan(""), 1 } }, 1.0); }).find("non-finite"),
+            std::string::npos);
+  EXPECT_NO_THROW(replayDriveCommands(d, p, { { 0.0, false, std::nan(""), 1 } }, 0.1));  // MODE_NONE: values ignored
+  EXPECT_NE(errorOf([&] { replayDriveCommands(d, p, { { 0.0, true, 1, 1 } }, -1.0); }).find("duration"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { stockDriveCommands({ { 0.0, INFINITY, 0.0 } }, 1.0); }).find("non-finite"),
+            std::string::npos);
 }

@@ -114,6 +114,8 @@ public:
 
   /// The servo of one side (read-only, for diagnostics).
   const WheelSpeedServo& servo(Side side) const { return servo_[side]; }
+  /// The robot model the plant was built from; its chassis mass properties include the configured
+  /// payload (PlantParams::payload), not the fault-injected one (setPayload()).
   const RobotDescription& description() const { return description_; }
   const PlantParams& params() const { return params_; }
 

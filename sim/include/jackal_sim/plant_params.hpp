@@ -89,8 +89,8 @@ struct ContactParams
  */
 struct MotorParams
 {
-  double speed_kp = 15.09;              ///< proportional gain [N m / (rad/s)], >= 0
-  double speed_ki = 1.004;             ///< integral gain [N m / rad], >= 0
+  double speed_kp = 10.38;              ///< proportional gain [N m / (rad/s)], >= 0
+  double speed_ki = 0.4892;             ///< integral gain [N m / rad], >= 0
   double max_torque = 4.0;            ///< current (torque) limit of one side, at the wheels [N m], > 0
   /// Clamp of the PI integrator [N m], >= 0; 0 = max_torque. Below max_torque the integral path alone
   /// cannot drive the motor to its limit: on a large error the torque is integral_limit + speed_kp * error,
@@ -98,34 +98,60 @@ struct MotorParams
   double integral_limit = 0.0;
   /// Clamp of the proportional path Kp * e [N m], >= 0; 0 = none. The high-gain proportional path
   /// makes small steps fast and well damped but cannot, on its own, push a large error harder than this.
-  double proportional_limit = 0.9751;
+  double proportional_limit = 0.7571;
   /// Clamp of the error the integrator integrates [rad/s], >= 0; 0 = none: dI/dt = speed_ki * clamp(e,
   /// +-integral_error_limit). The integral path then grows at a bounded rate whatever the error: it
-  /// builds the large steady torques of a turn in place within a second or two, yet adds little during
-  /// the short large-error transient of a straight step.
-  double integral_error_limit = 0.6699;
+  /// trims the steady speed yet adds little during the large-error transient of a straight step.
+  double integral_error_limit = 0.5643;
   /// Voltage (speed) feedforward [N m / (rad/s)], >= 0; 0 = off. Driving the motor at the set point's
   /// no-load voltage makes the back-EMF give a torque of this gain times (set point - wheel speed)
   /// (ideally stall_torque / no_load_speed), outside the PI's limits: a set point further ahead of the
   /// wheels accelerates them harder.
-  double setpoint_feedforward = 0.03119;
+  double setpoint_feedforward = 0.0326;
   /// Acceleration feedforward of the set point [N m s^2/rad] (an inertia, kg m^2), >= 0; 0 = off.
   /// The MCU adds accel_feedforward * (rate of change of the received set point) to the PI torque,
   /// the rate estimated from consecutive received commands and held until the next one: a ramping
   /// command (the AIC's) gets a sustained torque, a step (the stock controller's) one period's kick.
-  double accel_feedforward = 0.0779;
+  double accel_feedforward = 0.07343;
+  /// Load-torque observer (disturbance observer): the nominal inertia of one side at the wheels
+  /// [kg m^2], > 0 when the observer is on. The servo estimates the load torque as the torque it
+  /// applied minus this inertia times the side's acceleration, both low-pass filtered with
+  /// load_observer_time_constant, and adds the estimate to its torque: whatever the load (the scrub
+  /// of a turn, a slope, drivetrain friction), a side then accelerates under the PI torque as this
+  /// inertia would. With the straight-driving inertia (half the robot's mass times r^2 plus the
+  /// side's two wheels' spin inertia, 0.0933 kg m^2 from the URDF) a straight step is unchanged and
+  /// a turn spins up on the time scale of a straight step.
+  double load_observer_inertia = 0.0933;
+  /// Time constant of the load-torque observer's filter [s], [0, 5]; 0 = no observer.
+  double load_observer_time_constant = 0.04105;
   double stall_torque = 6.0;          ///< voltage limit: stall torque of one side [N m]; 0 = no voltage limit
   double no_load_speed = 26.0;        ///< voltage limit: no-load wheel speed [rad/s], > 0 if stall_torque > 0
   double setpoint_slew_rate = 0.0;    ///< MCU ramp of the speed set point [rad/s^2]; 0 = none
-  double setpoint_time_constant = 0.006778;  ///< first-order lag on the set point inside the MCU [s], >= 0
-  double command_delay = 0.1174;          ///< transport delay /cmd_drive -> MCU [s], [0, 0.5]
-  double coulomb_friction = 0.1106;      ///< drivetrain Coulomb friction per wheel [N m], >= 0
+  double setpoint_time_constant = 0.004661;  ///< first-order lag on the set point inside the MCU [s], >= 0
+  double command_delay = 0.1187;          ///< transport delay /cmd_drive -> MCU [s], [0, 0.5]
+  double coulomb_friction = 0.1565;      ///< drivetrain Coulomb friction per wheel [N m], >= 0
   double viscous_friction = 0.01;      ///< drivetrain viscous friction per wheel [N m / (rad/s)], >= 0
   double coupling_damping = 1.0;      ///< front-rear drivetrain coupling on a side [N m / (rad/s)], >= 0
   double max_wheel_speed = 25.0;      ///< set points are clamped to +-this [rad/s], > 0
 
   /// Every violated rule of the members above, one message each naming the YAML key, its
   /// value and the allowed range ("motor.stall_torque = -1 (allowed: > 0)"); empty = valid.
+  std::vector<std::string> validate() const;
+};
+
+/**
+ * A payload fixed to the chassis: a point mass at a position in base_link (a box on the top
+ * plate, a manipulator, a battery). The chassis body's mass, centre of mass and inertia become
+ * those of chassis plus payload (parallel-axis theorem), so the payload loads the wheels, shifts
+ * the weight between them and adds to the inertia the wheel loop drives.
+ */
+struct PayloadParams
+{
+  double mass = 0.0;                  ///< [kg], [0, 100]; 0 = none
+  std::array<double, 3> position{};   ///< x, y, z in base_link [m], each within [-1, 1]
+
+  /// Every violated rule of the members above, one message each naming the YAML key, its
+  /// value and the allowed range ("payload.mass = -1 (allowed: [0, 100] kg)"); empty = valid.
   std::vector<std::string> validate() const;
 };
 
@@ -178,6 +204,10 @@ struct SensorParams
   std::vector<std::string> validate() const;
 };
 
+/// The same sensors without noise, bias and dropout (rates and delays kept): the streams a
+/// replay or a fit compares are then reproducible.
+SensorParams idealSensors(SensorParams sensors);
+
 /// Settings of the ROS node around the plant (ignored by the ROS-free core).
 struct PlantNodeParams
 {
@@ -198,6 +228,7 @@ struct PlantParams
   PhysicsParams physics;
   ContactParams contact;
   MotorParams motor;
+  PayloadParams payload;
   SensorParams sensors;
   PlantNodeParams node;
 
@@ -210,13 +241,24 @@ struct PlantParams
 /**
  * \brief Load plant parameters from a YAML file; keys absent from the file keep their
  *        defaults.
- * \param path      YAML file (sections physics, contact, motor, sensors, node)
+ * \param path      YAML file (sections physics, contact, motor, payload, sensors, node)
  * \param overrides "dotted.key=value" strings applied on top of the file
  *                  (e.g. "motor.max_torque=1.5", "sensors.imu.gyro_bias=[0,0,0.01]")
  * \throws PlantParamsError on an unreadable file, a malformed value, an unknown override
  *         key, or any violation of validate() (all listed).
  */
 PlantParams loadPlantParams(const std::string& path, const std::vector<std::string>& overrides = {});
+
+/**
+ * \brief The overrides of a base plant YAML, overlays first: every overlay file's keys as
+ *        "dotted.key=value" (jackal_aic::loadOverlayFile(), in the order given, later ones
+ *        winning), then `overrides` (command-line --set), for loadPlantParams().
+ * \param overlay_files plant YAMLs with only the keys that differ (e.g. sim/config/variants/turn_deficit.yaml)
+ * \param overrides     "dotted.key=value" strings applied after the overlays
+ * \throws PlantParamsError naming the overlay file that cannot be read or is not a YAML map
+ */
+std::vector<std::string> plantOverrides(const std::vector<std::string>& overlay_files,
+                                        const std::vector<std::string>& overrides = {});
 
 /// As loadPlantParams() from a YAML string (source names it in errors).
 PlantParams parsePlantParams(const std::string& yaml, const std::string& source,

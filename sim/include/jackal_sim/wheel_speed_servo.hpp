@@ -16,6 +16,16 @@
  * optional. Torque = clamp(sat(Kp e) + I + K_v e + J_ff * rate, limits) with e = filtered set
  * point - measured speed, sat() the optional proportional_limit, K_v the voltage (set-point)
  * feedforward's back-EMF gain (setpoint_feedforward).
+ *
+ * Load-torque observer (optional, load_observer_time_constant > 0): a disturbance observer
+ * (K. Ohnishi, "Motion control for advanced mechatronics", IEEE/ASME Trans. Mechatronics 1(1),
+ * 1996). With Q(s) = 1 / (tau_L s + 1) and the nominal side inertia J_n,
+ *     L_hat = Q[T] - J_n Q[s w] = T_f - J_n (w - w_f) / tau_L     (w_f = Q[w], T_f = Q[T])
+ * is the torque the side needs beyond J_n dw/dt (scrub, friction, slope); it is clamped to
+ * +-max_torque and added to the torque above before the limits. A side then accelerates under
+ * the PI torque as J_n would, whatever the load: a turn's scrub torque is delivered within a few
+ * tau_L. Discrete form (step h, a = 1 - exp(-h / tau_L)): T_f += a (T_prev - T_f),
+ * w_f += a (w - w_f), dw/dt ~ (w - w_f) a / ((1 - a) h), exact for a constant acceleration.
  */
 
 #include <deque>
@@ -59,6 +69,8 @@ public:
   double torque() const { return torque_; }
   /// Acceleration feedforward part of the last torque, before the limits [N m].
   double feedforward() const { return feedforward_; }
+  /// Load-torque observer's estimate in the last torque, clamped to +-max_torque [N m]; 0 without observer.
+  double loadEstimate() const { return load_estimate_; }
   /// Clear all state (released, zero set point, empty delay line).
   void reset();
 
@@ -81,6 +93,9 @@ private:
   double last_command_time_ = 0.0;  ///< when the last received set point took effect [s]
   double setpoint_rate_ = 0.0;      ///< rate of change of the received set point [rad/s^2], held
   double feedforward_ = 0.0;        ///< last feedforward torque [N m]
+  double observer_torque_ = 0.0;    ///< observer: low-pass filtered applied torque T_f [N m]
+  double observer_speed_ = 0.0;     ///< observer: low-pass filtered side speed w_f [rad/s]
+  double load_estimate_ = 0.0;      ///< observer: load-torque estimate L_hat [N m]
   double torque_ = 0.0;
 };
 

@@ -23,7 +23,9 @@
  * being caught up.
  *
  * Private parameters: ~urdf (URDF path, required), ~plant_config (plant YAML path,
- * required), ~overrides (list of "key=value" strings applied on top of the YAML).
+ * required), ~overlay (a plant YAML with only the keys that differ, e.g.
+ * sim/config/variants/turn_deficit.yaml, or a list of them applied in order; "" or absent =
+ * none), ~overrides (list of "key=value" strings applied on top of the YAML and the overlays).
  */
 
 #include <atomic>

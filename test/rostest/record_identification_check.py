@@ -1,0 +1,102 @@
+#!/usr/bin/env python3
+"""The identification recorder on the simulated Jackal (scripts/record_identification.py through
+launch/record_identification.launch, the plant with ~plant_overlay, the stock base's diff drive
+with its /status and stop): test/rostest/record_identification*.test.
+
+~mode complete: the recorder's outcome (~outcome, latched) is "completed"; its bag (~bag) holds
+  /cmd_drive, /jackal_velocity_controller/cmd_vel, /joint_states, /imu/data, /feedback and /status;
+  no recorded twist exceeds ~max_linear / ~max_angular; the bag's steady turns in place show the
+  overlay's yaw-rate deficit ~deficit +- ~deficit_tol rad/s (the plant node applied ~overlay).
+~mode stop: the stop is engaged (/stock_base/set_stop) ~stop_after s after the recorder starts
+  moving: its outcome is "stopped: e-stop" and every twist it publishes from ~stop_latency s after
+  the stop on is zero.
+"""
+import os
+import threading
+import time
+import unittest
+
+import rospy
+import rostest
+from geometry_msgs.msg import Twist
+from std_msgs.msg import Bool, String
+
+from jackal_aic_tools import bag_identification as bi
+
+PKG = "jackal_aic"
+
+
+class RecorderTest(unittest.TestCase):
+    def setUp(self):
+        self.lock = threading.Lock()
+        self.outcome = None
+        self.twists = []
+        rospy.Subscriber("/record_identification/outcome", String, self.on_outcome)
+        rospy.Subscriber(bi.CMD_VEL, Twist, self.on_twist, queue_size=200)
+
+    def on_outcome(self, msg):
+        with self.lock:
+            self.outcome = msg.data
+
+    def on_twist(self, msg):
+        with self.lock:
+            self.twists.append((time.monotonic(), msg.linear.x, msg.angular.z))
+
+    def wait_outcome(self, timeout):
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline and not rospy.is_shutdown():
+            with self.lock:
+                if self.outcome is not None:
+                    return self.outcome
+            time.sleep(0.05)
+        self.fail("no outcome from the recorder within %g s" % timeout)
+
+    def test_recorder(self):
+        mode = rospy.get_param("~mode")
+        timeout = float(rospy.get_param("~timeout", 60.0))
+        if mode == "complete":
+            self.assertEqual(self.wait_outcome(timeout), "completed")
+            data = bi.read_bag(rospy.get_param("~bag"))
+            self.assertGreater(data.duration, 10.0)
+            self.assertIsNotNone(data.feedback)
+            import rosbag
+            with rosbag.Bag(rospy.get_param("~bag")) as bag:
+                topics = bag.get_type_and_topic_info().topics
+                for t in (bi.CMD_DRIVE, bi.CMD_VEL, bi.JOINT_STATES, bi.IMU, bi.FEEDBACK, bi.STATUS):
+                    self.assertIn(t, topics)
+                twists = [(m.linear.x, m.angular.z) for _, m, _ in bag.read_messages(topics=[bi.CMD_VEL])]
+            self.assertLessEqual(max(abs(v) for v, _ in twists), float(rospy.get_param("~max_linear")) + 1e-9)
+            self.assertLessEqual(max(abs(w) for _, w in twists), float(rospy.get_param("~max_angular")) + 1e-9)
+            deficits = bi.turn_deficits(data.gyro[:, 0], data.gyro[:, 1], data.cmd)
+            self.assertEqual(len(deficits), 2, deficits)  # the short sequence's turns in place
+            for w, d in deficits:
+                self.assertAlmostEqual(d, float(rospy.get_param("~deficit")),
+                                       delta=float(rospy.get_param("~deficit_tol")), msg="command %g" % w)
+        elif mode == "stop":
+            stop_pub = rospy.Publisher("/stock_base/set_stop", Bool, queue_size=1, latch=True)
+            deadline = time.monotonic() + timeout
+            while time.monotonic() < deadline:  # the recorder moves the robot
+                with self.lock:
+                    moving = any(abs(v) > 0.0 or abs(w) > 0.0 for _, v, w in self.twists)
+                if moving:
+                    break
+                time.sleep(0.02)
+            self.assertTrue(moving, "the recorder never moved the robot")
+            time.sleep(float(rospy.get_param("~stop_after")))
+            t_stop = time.monotonic()
+            stop_pub.publish(Bool(data=True))
+            self.assertEqual(self.wait_outcome(timeout), "stopped: e-stop")
+            time.sleep(0.5)
+            latency = float(rospy.get_param("~stop_latency"))
+            with self.lock:
+                after = [(v, w) for t, v, w in self.twists if t > t_stop + latency]
+            self.assertTrue(after, "no zero twists after the stop")
+            self.assertTrue(all(v == 0.0 and w == 0.0 for v, w in after), after[:5])
+            self.assertTrue(os.path.isfile(rospy.get_param("~bag")))
+        else:
+            self.fail("~mode must be complete or stop")
+
+
+if __name__ == "__main__":
+    rospy.init_node("record_identification_check")
+    rostest.rosrun(PKG, "record_identification_check", RecorderTest)
