@@ -49,8 +49,9 @@ ROBUST_OVERSHOOT = 10.0  # [%] 0.5 m/s step on the varied plant
 STEPS = [0.1, 0.3, 0.5, 1.0]  # m/s
 TURNS = [0.5, 1.0, 2.0]  # rad/s
 SQUARES = [(0.1, 0.5), (0.1, 1.0), (0.2, 1.2)]  # m/s
-# Plant variations (+-20 % of sim/config/plant.yaml's identified values: command_delay 0.1174 s,
-# max_torque 4 N m, proportional_limit 0.9751 N m), as scripts/aic_tune.py uses them.
+# Plant variations (+-20 % of the wheel-loop values config/default.yaml was tuned on, those of
+# sim/config/variants/slow_breakaway.yaml: command_delay 0.1174 s, max_torque 4 N m,
+# proportional_limit 0.9751 N m), as scripts/aic_tune.py uses them.
 ROBUST = [
     ("identified plant", []),
     ("command_delay -20 % (0.0939 s)", ["motor.command_delay=0.0939"]),
@@ -60,9 +61,10 @@ ROBUST = [
 ]
 
 
-def closed_loop(controller, profile, aic_config, plant_config, plant_sets=()):
+def closed_loop(controller, profile, aic_config, plant_config, plant_sets=(), overlays=()):
     """One `closed_loop_run` of `controller` (aic or stock) with the profile arguments `profile`
-    (list of strings), noisy sensors, plant KEY=VALUE overrides `plant_sets`.
+    (list of strings), noisy sensors, plant overlay files `overlays`, then plant KEY=VALUE
+    overrides `plant_sets`.
     Returns the tool's JSON result as a dict; raises RuntimeError when the tool fails."""
     if "closed_loop_run" not in _EXE:
         _EXE["closed_loop_run"] = cli.find_executable("closed_loop_run", __file__, "aic_scorecard")
@@ -70,6 +72,8 @@ def closed_loop(controller, profile, aic_config, plant_config, plant_sets=()):
            "--noise", "--config", plant_config] + list(profile)
     if controller == "aic":
         cmd += ["--aic-config", aic_config]
+    for o in overlays:
+        cmd += ["--overlay", o]
     for s in plant_sets:
         cmd += ["--set", s]
     return cli.run_json_tool(cmd)
@@ -127,7 +131,8 @@ def scorecard(a):
             jobs.append((("robust", name, c), c, step_profile(0.5), sets))
     with ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:
         results = dict(zip([j[0] for j in jobs],
-                           pool.map(lambda j: closed_loop(j[1], j[2], a.aic_config, a.plant_config, j[3]), jobs)))
+                           pool.map(lambda j: closed_loop(j[1], j[2], a.aic_config, a.plant_config, j[3],
+                                                          a.plant_overlay), jobs)))
 
     def seg(key, i=0):
         return results[key]["segments"][i]["measured"]
@@ -195,7 +200,8 @@ def print_scorecard(crit, a):
     """Print the tables of scorecard()'s criteria (a: parsed arguments)."""
     print("aic_scorecard: %s against the stock controller, plant %s, noisy sensors (closed_loop_run)"
           % (os.path.relpath(a.aic_config, ROOT) if a.aic_config.startswith(ROOT) else a.aic_config,
-             os.path.relpath(a.plant_config, ROOT) if a.plant_config.startswith(ROOT) else a.plant_config))
+             " + ".join(os.path.relpath(f, ROOT) if f.startswith(ROOT) else f
+                        for f in [a.plant_config] + a.plant_overlay)))
     hdr = ["step", "seed", "AIC rise/settle/os/sse", "stock rise/settle/os", "rise x", "settle x", "verdict"]
 
     def step_cells(r):
@@ -236,6 +242,9 @@ def main():
                                  formatter_class=argparse.RawDescriptionHelpFormatter, epilog=__doc__)
     ap.add_argument("--aic-config", default=os.path.join(ROOT, "config", "default.yaml"), help="controller YAML")
     ap.add_argument("--plant-config", default=os.path.join(ROOT, "sim", "config", "plant.yaml"), help="plant YAML")
+    ap.add_argument("--plant-overlay", action="append", default=[], metavar="FILE",
+                    help="plant overlay YAML applied after --plant-config (repeatable), e.g. "
+                         "sim/config/variants/slow_breakaway.yaml")
     ap.add_argument("--seeds", type=int, nargs="+", default=[42, 1, 2, 3, 4],
                     help="noise seeds (sensors.seed) of the 0.5 m/s step; the first is used for every other run's "
                          "steps (default 42 1 2 3 4; 42 is the plant YAML's)")
@@ -244,6 +253,7 @@ def main():
     a = ap.parse_args()
     a.aic_config = os.path.abspath(a.aic_config)
     a.plant_config = os.path.abspath(a.plant_config)
+    a.plant_overlay = [os.path.abspath(o) for o in a.plant_overlay]
     try:
         crit, ok = scorecard(a)
     except (RuntimeError, ValueError, KeyError) as e:

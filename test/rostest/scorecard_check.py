@@ -3,7 +3,8 @@
 
 Runs scripts/aic_scorecard.py (closed_loop_run: the AIC and the stock controller on the
 simulated Jackal's plant core, headless, seeded sensor noise, so the figures are the same on
-every machine) on ~aic_config (default: config/default.yaml) and checks its verdict: every
+every machine) on ~aic_config (default: config/default.yaml), on the plant with the overlay ~plant_overlay (a
+path relative to the package; default none), and checks its verdict: every
 criterion passes (0.5 m/s step: settling <= 0.8 x and rise <= 0.7 x the stock controller's,
 overshoot <= 5 %, steady-state error <= 1 %, for every noise seed; the 1 rad/s turn settles no
 later than the stock's; every square-wave transition overshoots <= 10 %; stable with the
@@ -39,10 +40,12 @@ class ScorecardCheck(unittest.TestCase):
 
     def test_default_config_meets_the_acceptance_set(self):
         config = rospy.get_param("~aic_config", os.path.join(ROOT, "config", "default.yaml"))
+        overlay = rospy.get_param("~plant_overlay", "")
+        overlay_args = ["--plant-overlay", os.path.join(ROOT, overlay)] if overlay else []
         with tempfile.TemporaryDirectory(prefix="scorecard_") as tmp:
             report_path = os.path.join(tmp, "score.json")
             proc = subprocess.run([sys.executable, SCRIPT, "--aic-config", config, "--jobs", "2",
-                                   "--json", report_path], capture_output=True, text=True, timeout=300)
+                                   "--json", report_path] + overlay_args, capture_output=True, text=True, timeout=300)
             rospy.loginfo("%s", proc.stdout)
             self.assertIn(proc.returncode, (0, 1), "aic_scorecard.py failed to run (exit %d):\n%s%s"
                           % (proc.returncode, proc.stdout[-2000:], proc.stderr[-2000:]))
