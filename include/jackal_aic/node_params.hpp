@@ -29,6 +29,18 @@ enum class ActionTrigger
            ///< timer then only keeps /cmd_drive alive with zeros while the controller is inactive
 };
 
+/// How the beliefs are advanced (doc/jackal_aic_node.md, 'Loops'; include/jackal_aic/control_loop.hpp).
+enum class BeliefSchedule
+{
+  kEvent,  ///< to the time of every event, in steps of at most 1 / belief_rate (no belief timer)
+  kTimer   ///< on a free-running timer at belief_rate (a thread on the wall clock, a ROS timer on simulated time)
+};
+
+/// "event" / "timer" -> BeliefSchedule; false (out unchanged) for any other text.
+bool beliefScheduleFromString(const std::string& name, BeliefSchedule* out);
+/// BeliefSchedule -> "event" / "timer".
+std::string toString(BeliefSchedule schedule);
+
 /// "timer" / "sample" -> ActionTrigger; false (out unchanged) for any other text.
 bool actionTriggerFromString(const std::string& name, ActionTrigger* out);
 /// ActionTrigger -> "timer" / "sample".
@@ -70,6 +82,8 @@ struct NodeParams
   int realtime_priority = 0;
   /// What starts an action step: the action_rate timer or each accepted sensor sample.
   ActionTrigger action_trigger = ActionTrigger::kSample;
+  /// How the beliefs are advanced: to each event's time, or on a belief_rate timer; read at start.
+  BeliefSchedule belief_schedule = BeliefSchedule::kEvent;
   /// Sensor fault detection and isolation (keys fdi_*; doc/active_inference.md, 'Fault detection and isolation').
   FdiParams fdi;
 

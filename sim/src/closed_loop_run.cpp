@@ -2,7 +2,7 @@
  * \file closed_loop_run.cpp
  * \brief closed_loop_run: one set-point profile with the stock controller or the AIC on the
  *        ODE plant core, headless and faster than real time (jackal_sim/closed_loop.hpp: the
- *        node's scheduling on simulated time). Prints one JSON object with the metrics of
+ *        node's logic, ControlLoop, on simulated time). Prints one JSON object with the metrics of
  *        every transition of the profile for the measured (wheel-odometry), ground-truth,
  *        belief and drive-command speeds; optionally the trace as CSV. The experiment engine
  *        of aic_reproduce.py (--backend core); the ROS backend runs the nodes instead.
@@ -108,8 +108,8 @@ int main(int argc, char** argv)
                  "faster than real time; prints one JSON object with the metrics of every transition.");
   cl.option("controller", &controller,
             "aic, stock or open (no controller: the set point's wheel speeds go to the MCU as they are)", true);
-  cl.option("aic-config", &aic_config, "controller YAML");
-  cl.overrides("aic-set", &aic_overrides, "override a controller key");
+  cl.option("aic-config", &aic_config, "controller YAML (controller and node keys, as the node reads it)");
+  cl.overrides("aic-set", &aic_overrides, "override a controller or node key");
   cl.option("config", &config, "plant YAML");
   cl.overrides("set", &overrides, "override a plant key, dotted");
   cl.option("urdf", &urdf, "robot model");
@@ -206,7 +206,8 @@ int main(int argc, char** argv)
     params = loadPlantParams(config, overrides);
     if (c.controller == LoopController::kAic)
     {
-      c.aic = loadAicParams(aic_config, aic_overrides);
+      c.node = loadNodeParamsFiles({ aic_config }, aic_overrides);  // the node's keys too (triggers, FDI, ...)
+      c.aic = c.node.aic;
     }
   }
   catch (const std::exception& e)

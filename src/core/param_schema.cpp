@@ -67,6 +67,17 @@ bool setActionTrigger(NodeParams& p, const ParamValue& v)
   return name != nullptr && actionTriggerFromString(*name, &p.action_trigger);
 }
 
+ParamValue getBeliefSchedule(const NodeParams& p)
+{
+  return toString(p.belief_schedule);
+}
+
+bool setBeliefSchedule(NodeParams& p, const ParamValue& v)
+{
+  const std::string* name = std::get_if<std::string>(&v);
+  return name != nullptr && beliefScheduleFromString(*name, &p.belief_schedule);
+}
+
 std::vector<ParamSpec> buildSchema()
 {
   using T = ParamType;
@@ -188,6 +199,11 @@ std::vector<ParamSpec> buildSchema()
       "What starts an action step: timer (action_rate, the thesis) or sample (each accepted sensor sample, "
       "so the command uses the newest data; the timer then only keeps /cmd_drive alive while inactive)",
       false, 0, false, 0, { "timer", "sample" }, {}, &getActionTrigger, &setActionTrigger },
+    { "belief_schedule", T::kString, N, "loops", kNone, false, kNone, "-",
+      "How the beliefs are advanced: event (to the time of every input and timer event, in steps of at most "
+      "1 / belief_rate, inputs held between events; no belief timer) or timer (a free-running belief_rate timer: "
+      "a real-time thread on the wall clock, a ROS timer on simulated time)",
+      false, 0, false, 0, { "event", "timer" }, {}, &getBeliefSchedule, &setBeliefSchedule },
     { "realtime_priority", T::kInt, N, "node", 0.0, false, 99.0, "-",
       "Belief thread (wall-clock mode): 0 = default scheduler, 1..99 = SCHED_FIFO at this priority if permitted",
       false, 0, false, 0, {}, {}, JACKAL_AIC_MEMBER(realtime_priority) },
