@@ -142,8 +142,14 @@ public:
    */
   void overrides(const std::string& name, std::vector<std::string>* values, const std::string& help)
   {
+    repeatable(name, values, help + " (KEY=VALUE, repeatable)");
+  }
+
+  /// A repeatable "--NAME TEXT", one text per occurrence, in order (`help` says what a text is).
+  void repeatable(const std::string& name, std::vector<std::string>* values, const std::string& help)
+  {
     options_.add_options()(name.c_str(), boost::program_options::value<std::vector<std::string>>(values)->composing(),
-                           (help + " (KEY=VALUE, repeatable)").c_str());
+                           help.c_str());
   }
 
   /// A required positional argument (e.g. the configuration file), in order of declaration.

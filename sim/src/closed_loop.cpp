@@ -9,6 +9,7 @@
 
 #include "jackal_aic/control_loop.hpp"
 #include "jackal_sim/plant.hpp"
+#include "jackal_sim/fault_injection.hpp"
 #include "jackal_sim/sensor_model.hpp"
 #include "jackal_sim/stock_controller.hpp"
 
@@ -101,20 +102,29 @@ public:
   double t = 0.0;  ///< [s]
 };
 
-/// The loop's commands go to the plant at once.
+/// The loop's commands go to the plant at once; its health events into the record.
 class PlantOutput : public ControlLoop::Output
 {
 public:
-  explicit PlantOutput(Plant& plant) : plant_(plant) {}
+  PlantOutput(Plant& plant, const SimClock& clock, ClosedLoopRecord& record)
+    : plant_(plant), clock_(clock), record_(record)
+  {
+  }
   void command(const WheelCommand& c) override
   {
     wheels = c.wheels;
     plant_.setWheelSpeeds(c.wheels(0), c.wheels(1));
   }
+  void healthEvent(FaultMonitor::Event event, int channel) override
+  {
+    record_.health_events.push_back({ clock_.now(), event, channel });
+  }
   Vector2 wheels = Vector2::Zero();  ///< the last command [rad/s]
 
 private:
   Plant& plant_;
+  const SimClock& clock_;
+  ClosedLoopRecord& record_;
 };
 
 /// The set point in force at time t.
@@ -146,7 +156,10 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
     makeSensorsIdeal(&params.sensors);
   }
   Plant plant(description, params);
-  SensorModel sensors(params.sensors, params.physics.step);
+  FaultedSensors sensors(params.sensors, params.physics.step);
+  sensors.setFaults(config.faults, 0.0);
+  std::vector<JointStateSample> joint_samples;
+  std::vector<ImuSample> imu_samples;
   const double dt = params.physics.step;
   const double r = description.wheelRadius();
   const auto total = static_cast<std::uint64_t>(std::llround(config.duration / dt));
@@ -156,8 +169,9 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
   const std::uint64_t stock_period = periodSteps(stock.params().publish_rate, dt);
 
   // The AIC: the node's logic on the plant's clock.
+  ClosedLoopRecord out;
   SimClock clock;
-  PlantOutput output(plant);
+  PlantOutput output(plant, clock, out);
   std::unique_ptr<ControlLoop> loop;
   std::uint64_t belief_period = 1;
   std::uint64_t action_period = 1;
@@ -182,7 +196,6 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
   std::vector<double> joint_velocity(kNumWheels, 0.0);
   const std::vector<double> no_effort;
 
-  ClosedLoopRecord out;
   double command_left = 0.0;
   double command_right = 0.0;
   const SetPointSegment* last_segment = nullptr;
@@ -233,7 +246,6 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
     last_segment = seg;
 
     plant.step();
-    sensors.record(plant);
     clock.t = plant.time();
     if (belief_timer && (k + 1) % belief_period == 0)
     {
@@ -241,65 +253,70 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
       // now used the inputs held until now, as the event schedule does.
       loop->beliefTimer(k + 1 == belief_period ? -1.0 : static_cast<double>(belief_period) * dt);
     }
-    ImuSample imu;
-    if (sensors.pollImu(&imu) && aic)
-    {
-      ImuInput in;
-      in.stamp = imu.stamp;
-      in.angular_velocity = imu.angular_velocity;
-      in.linear_acceleration = imu.linear_acceleration;
-      loop->imu(in);
-    }
-    JointStateSample js;
-    if (!sensors.pollJointStates(&js))
-    {
-      continue;
-    }
+    sensors.afterStep(plant, &joint_samples, &imu_samples);
     if (aic)
     {
-      loop->advance();  // the beliefs at the sample's time, for the record
-      out.active = out.active || loop->active();
-      command_left = output.wheels(0);
-      command_right = output.wheels(1);
-    }
-    const double wl = 0.5 * (js.velocity[kFrontLeft] + js.velocity[kRearLeft]);
-    const double wr = 0.5 * (js.velocity[kFrontRight] + js.velocity[kRearRight]);
-    const double belief_x = aic && out.active ? loop->controller().mu()(0, 0) : std::numeric_limits<double>::quiet_NaN();
-    const double belief_w = aic && out.active ? loop->controller().mu()(2, 0) : std::numeric_limits<double>::quiet_NaN();
-    out.time.push_back(js.stamp);
-    out.set_point.push_back(sp_linear);
-    out.v_odom.push_back(r * 0.5 * (wl + wr));
-    out.v_true.push_back(plant.baseLinearVelocity().x());
-    out.yaw_odom.push_back(r * (wr - wl) / b_hat);
-    out.yaw_true.push_back(plant.baseAngularVelocity().z());
-    out.command.push_back(r * 0.5 * (command_left + command_right));
-    out.belief.push_back(belief_x);
-    out.angular_set_point.push_back(sp_angular);
-    out.command_yaw.push_back(r * (command_right - command_left) / b_hat);
-    out.belief_yaw.push_back(belief_w);
-
-    if (aic)
-    {
-      for (int i = 0; i < kNumWheels; ++i)
+      for (const ImuSample& imu : imu_samples)
       {
-        joint_position[static_cast<std::size_t>(i)] = js.position[static_cast<std::size_t>(i)];
-        joint_velocity[static_cast<std::size_t>(i)] = js.velocity[static_cast<std::size_t>(i)];
+        ImuInput in;
+        in.stamp = imu.stamp;
+        in.angular_velocity = imu.angular_velocity;
+        in.linear_acceleration = imu.linear_acceleration;
+        loop->imu(in);
       }
-      JointStateInput in;
-      in.stamp = js.stamp;
-      in.name = &joint_names;
-      in.position = &joint_position;
-      in.velocity = &joint_velocity;
-      in.effort = &no_effort;
-      loop->jointState(in);
-      out.active = out.active || loop->active();
+    }
+    for (const JointStateSample& js : joint_samples)  // the record and the loop, per joint-state sample
+    {
+      if (aic)
+      {
+        loop->advance();  // the beliefs at the sample's time, for the record
+        out.active = out.active || loop->active();
+        command_left = output.wheels(0);
+        command_right = output.wheels(1);
+      }
+      const double wl = 0.5 * (js.velocity[kFrontLeft] + js.velocity[kRearLeft]);
+      const double wr = 0.5 * (js.velocity[kFrontRight] + js.velocity[kRearRight]);
+      const double belief_x = aic && out.active ? loop->controller().mu()(0, 0) : std::numeric_limits<double>::quiet_NaN();
+      const double belief_w = aic && out.active ? loop->controller().mu()(2, 0) : std::numeric_limits<double>::quiet_NaN();
+      out.time.push_back(js.stamp);
+      out.set_point.push_back(sp_linear);
+      out.v_odom.push_back(r * 0.5 * (wl + wr));
+      out.v_true.push_back(plant.baseLinearVelocity().x());
+      out.yaw_odom.push_back(r * (wr - wl) / b_hat);
+      out.yaw_true.push_back(plant.baseAngularVelocity().z());
+      out.command.push_back(r * 0.5 * (command_left + command_right));
+      out.belief.push_back(belief_x);
+      out.angular_set_point.push_back(sp_angular);
+      out.command_yaw.push_back(r * (command_right - command_left) / b_hat);
+      out.belief_yaw.push_back(belief_w);
+
+      if (aic)
+      {
+        for (int i = 0; i < kNumWheels; ++i)
+        {
+          joint_position[static_cast<std::size_t>(i)] = js.position[static_cast<std::size_t>(i)];
+          joint_velocity[static_cast<std::size_t>(i)] = js.velocity[static_cast<std::size_t>(i)];
+        }
+        JointStateInput in;
+        in.stamp = js.stamp;
+        in.name = &joint_names;
+        in.position = &joint_position;
+        in.velocity = &joint_velocity;
+        in.effort = &no_effort;
+        const std::uint64_t no_imu = loop->pairing().drops(DropReason::kNoImu);
+        loop->jointState(in);
+        if (loop->pairing().drops(DropReason::kNoImu) > no_imu)
+        {
+          out.imu_missing.push_back(js.stamp);
+        }
+        out.active = out.active || loop->active();
+      }
     }
   }
   if (aic)
   {
     out.runaways = loop->supervisor().runaways();
     out.belief_steps = loop->beliefSteps();
-    out.fault_isolations = loop->faultMonitor().isolations();
   }
   return out;
 }

@@ -10,7 +10,7 @@
  * Usage: closed_loop_run --controller aic|stock|open [--aic-config FILE] [--aic-set key=value]...
  *            [--config PLANT.yaml] [--set key=value]... [--urdf FILE]
  *            (--step V [--turn W] | --square LOW HIGH) [--channel linear|angular] [--period S] [--cycles N]
- *            [--rest S] [--hold S] [--noise] [--csv FILE]
+ *            [--rest S] [--hold S] [--noise] [--fault LINE]... [--csv FILE]
  *   --controller open  no controller: the set point's wheel speeds go to the MCU as they are
  *   --channel angular  the step / square values are yaw rates [rad/s] (linear set point 0);
  *                      metrics on the yaw rate
@@ -19,7 +19,8 @@
  *                     the same time; "angular_segments" gives the yaw rate's metrics
  *   --square LOW HIGH 0 until --rest, LOW for --rest seconds (lead-in), then --cycles periods of
  *                     HIGH / LOW, each half --period / 2
- *   --noise           keep the plant YAML's sensor noise (default: ideal sensors, reproducible)
+ *   --noise           keep the plant YAML's sensor noise (seeded; default: ideal sensors)
+ *   --fault LINE      inject a fault from START s after the run's start (sim/README.md)
  * JSON: {"runaways", "max_abs_speed", "segments": [{"t_step", "initial", "target", "measured": {...},
  *        "truth": {...}, "belief": {...}, "drive": {...}}] [, "angular_segments": [...]]} with rise,
  *        settling, overshoot, sse, settled.
@@ -127,7 +128,11 @@ int main(int argc, char** argv)
   cl.option("cycles", &cycles, "square periods, 1..100");
   cl.option("rest", &rest, "rest before the profile [s], > 0.2");
   cl.option("hold", &hold, "step hold time [s]");
-  cl.flag("noise", &noise, "keep the plant YAML's sensor noise (default: ideal sensors, reproducible)");
+  cl.flag("noise", &noise, "keep the plant YAML's sensor noise (seeded; default: ideal sensors)");
+  std::vector<std::string> fault_lines;
+  cl.repeatable("fault", &fault_lines,
+                "inject a fault, \"TARGET KIND [VALUE] [START] [DURATION] [PERIOD]\" with START from the run's "
+                "start (sim/README.md, 'Fault injection'; repeatable)");
   cl.option("csv", &csv, "write the trace as CSV");
   cl.footer("Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.");
   if (const int code = cl.parse(argc, argv); code >= 0)
@@ -166,6 +171,16 @@ int main(int argc, char** argv)
   }
 
   ClosedLoopConfig c;
+  for (const std::string& line : fault_lines)
+  {
+    FaultSpec f;
+    std::string error;
+    if (!parseFaultSpec(line, &f, &error))
+    {
+      return cl.bad("--fault '" + line + "': " + error);
+    }
+    c.faults.push_back(f);
+  }
   c.controller = controller == "aic" ? LoopController::kAic
                  : controller == "open" ? LoopController::kOpenLoop : LoopController::kStock;
   // A set point on the chosen channel, 0 on the other.

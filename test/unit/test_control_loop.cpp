@@ -169,6 +169,28 @@ TEST_F(ControlLoopTest, StartsAfterWarmUpBumplessAndCommandsEverySample)
   EXPECT_GT(out.commands.back().wheels(0), 2.0);
 }
 
+TEST_F(ControlLoopTest, CommandsRiseWhenSlowerAndFallWhenFaster)
+{
+  // The direction of the action update (thesis eq. 3-16) with wheels that never follow; the
+  // anti-windup would hold the command at the measured speed +-max_action_lead.
+  p.aic.max_action_lead = 0.0;
+  build();
+  feed(p.aic.numOrders(), 0.0, 0.5);  // standing still, 0.5 m/s asked
+  ASSERT_TRUE(loop->active());
+  const double early = out.commands.back().wheels(0);
+  feed(40, 0.0, 0.5);  // 0.8 s
+  EXPECT_GE(out.commands.back().wheels(0) - early, 2.0);
+  EXPECT_NEAR(out.commands.back().wheels(0), out.commands.back().wheels(1), 1e-9);
+
+  clock.t = 0.0;
+  build();
+  feed(p.aic.numOrders(), 10.204, 0.2);  // 1.0 m/s measured, 0.2 m/s asked
+  ASSERT_TRUE(loop->active());
+  const double start = out.commands.back().wheels(1);
+  feed(40, 10.204, 0.2);
+  EXPECT_LE(out.commands.back().wheels(1) - start, -2.0);
+}
+
 TEST_F(ControlLoopTest, KeepAliveSendsIdleCommandsWhileWaiting)
 {
   clock.t = 0.01;

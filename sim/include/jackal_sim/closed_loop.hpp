@@ -28,8 +28,10 @@
 #include <string>
 #include <vector>
 
+#include "jackal_aic/fault_monitor.hpp"
 #include "jackal_aic/node_params.hpp"
 #include "jackal_aic/params.hpp"
+#include "jackal_sim/fault_injection.hpp"
 #include "jackal_sim/plant_params.hpp"
 #include "jackal_sim/robot_description.hpp"
 
@@ -71,7 +73,20 @@ struct ClosedLoopConfig
   /// set point is 0). Streamed, as teleop or a planner would, so no timeout fires.
   std::vector<SetPointSegment> profile;
   double duration = 4.0;    ///< length of the run [s], > 0
-  bool ideal_sensors = true;  ///< true: joint-state and IMU noise, bias and dropout off (reproducible)
+  /// true: joint-state and IMU noise, bias and dropout off; false: the plant YAML's sensor
+  /// models (seeded: the same run every time)
+  bool ideal_sensors = true;
+  /// Injected faults (sim/README.md, 'Fault injection'), each from `start` [s] after the run's
+  /// start, as the plant node applies its ~faults (FaultedSensors).
+  std::vector<FaultSpec> faults;
+};
+
+/// One event of the AIC's fault monitor during a run.
+struct HealthEvent
+{
+  double time = 0.0;                                       ///< plant time of the sample [s]
+  FaultMonitor::Event event = FaultMonitor::Event::kNone;  ///< isolated, restored or detected
+  int channel = -1;                                        ///< SensorIndex of the channel
 };
 
 /// Recorded run, one entry per joint-state sample (50 Hz).
@@ -91,7 +106,9 @@ struct ClosedLoopRecord
   std::uint64_t runaways = 0;     ///< AIC runaway resets during the run
   bool active = false;            ///< AIC: the controller started (p + 1 samples and a set point)
   std::uint64_t belief_steps = 0;  ///< AIC: belief integration steps run
-  std::uint64_t fault_isolations = 0;  ///< AIC: sensor channels isolated by the fault monitor
+  std::vector<HealthEvent> health_events;  ///< AIC: the fault monitor's events, in order
+  /// AIC: plant times [s] of the joint-state samples the loop paired without an IMU (degraded mode).
+  std::vector<double> imu_missing;
 };
 
 /**
