@@ -4,7 +4,7 @@
  * \brief Parameters of the jackal_AIC node as plain data: the controller's AicParams plus
  *        the node-only settings (timeouts, joint names, sensor pairing, set-point limits),
  *        with their validation. ROS-free; the node reads them from its private namespace
- *        (include/jackal_aic/ros/node_params.hpp), the keys and ranges are those of the
+ *        (include/jackal_aic/ros/param_server.hpp), the keys and ranges are those of the
  *        parameter schema (include/jackal_aic/param_schema.hpp; doc/jackal_aic_node.md,
  *        'Parameters').
  */
@@ -14,12 +14,11 @@
 
 #include "jackal_aic/diff_drive.hpp"
 #include "jackal_aic/fault_monitor.hpp"
+#include "jackal_aic/param_spec.hpp"
 #include "jackal_aic/params.hpp"
 
 namespace jackal_aic
 {
-/// Largest loop rate the node accepts for either timer [Hz] (a roscpp timer reaches ~5 kHz here).
-constexpr double kMaxLoopRate = 10000.0;
 
 /// What starts an action step (doc/jackal_aic_node.md, 'Loops').
 enum class ActionTrigger

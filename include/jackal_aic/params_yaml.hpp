@@ -7,7 +7,7 @@
  *
  * Keys, types and defaults are those of the parameter schema
  * (include/jackal_aic/param_schema.hpp); the node reads the same files through rosparam
- * (src/ros/node_params.cpp). loadAicParams() skips node-only keys; unknown keys are reported.
+ * (src/ros/param_server.cpp). loadAicParams() skips node-only keys; unknown keys are reported.
  */
 
 #include <string>

@@ -9,7 +9,7 @@
 #include <limits>
 #include <string>
 
-#include "jackal_aic/ros/node_params.hpp"
+#include "jackal_aic/ros/param_server.hpp"
 
 namespace jackal_aic
 {
