@@ -6,7 +6,10 @@ ROS master on a free port, drives /jackal_AIC/set_point with a profile, records 
 point, /odom (ground-truth body twist), /jackal_AIC/belief and /cmd_drive with their
 stamps, stops early if the loop diverges, then writes <out>/<name>.csv (+ .bag), .json
 and .png and prints the metrics (rise 10-90 %, settling +-5 %, overshoot, steady-state
-error, computed by the core's aic_step_metrics).
+error, computed by the core's aic_step_metrics) and the tracking of the whole profile (RMS and
+max error of vx and wz, ground truth /odom and wheel odometry /joint_states, against the set
+point; the /odom path's drift from the set point's ideal path; aic_track_metrics), with the x-y
+path in the PNG.
 
 Examples:
   aic_experiment.py --v 0.5                               # default config, 0.5 m/s step
@@ -53,11 +56,13 @@ def main(argv=None):
         return 1
     res = experiment.run(exp)
     print(report.run_table([res]))
+    if res.get("tracking") or res.get("tracking_error"):
+        print(report.tracking_table([res]))
     if res["status"] != "ok":
         print("status: %s (%s)" % (res["status"], res["reason"]))
-    for k in ("csv", "png", "bag", "json"):
+    for k in ("csv", "png", "bag", "json", "track_csv", "ideal_csv"):
         if k in res["files"]:
-            print("%-4s %s" % (k, res["files"][k]))
+            print("%-9s %s" % (k, res["files"][k]))
     return {"ok": 0, "unstable": 2}.get(res["status"], 1)
 
 

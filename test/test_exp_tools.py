@@ -9,7 +9,7 @@ import unittest
 
 import numpy as np
 
-from jackal_aic_tools import experiment, metrics, profiles, recording
+from jackal_aic_tools import experiment, metrics, profiles, recording, tracking
 
 PKG = "jackal_aic"
 kTimeTol = 0.02  # s: the metrics' interpolation on a 1 kHz series
@@ -155,6 +155,56 @@ class MetricsTest(unittest.TestCase):
         self.assertIsNotNone(m["rise_time"])
 
 
+class TrackingTest(unittest.TestCase):
+    """The ROS experiment's tracking path (experiment.analyse_tracking through aic_track_metrics)
+    on recorded streams made up here: a robot that drives the profile's straight line 0.1 m/s
+    slow, 0.2 m to the left of it, wheel odometry 0.05 m/s fast."""
+
+    def test_profiles_round_trip_and_bad_files(self):
+        p = profiles.square(0.1, 0.5, period=2.0, cycles=1, t_lead=1.0)
+        with tempfile.TemporaryDirectory() as tmp:
+            q = profiles.from_csv(p.write_csv(os.path.join(tmp, "sq.csv")))
+            self.assertEqual(q.points, p.points)
+            self.assertAlmostEqual(q.duration, p.duration)
+            bad = os.path.join(tmp, "bad.csv")
+            with open(bad, "w") as f:
+                f.write("t,vx,wz\n0,0,0\n1,inf,0\n2,0,0\n")
+            with self.assertRaises(ValueError) as ctx:
+                profiles.from_csv(bad)
+            self.assertIn("bad.csv line 3: vx 'inf' is not finite", str(ctx.exception))
+
+    def test_analyse_tracking(self):
+        p = profiles.step(v=0.5, t_step=0.0, hold=4.0)
+        t0 = 100.0
+        k = np.arange(-25, 201)
+        t = t0 + 0.02 * k
+        moving = k >= 0
+        vx = np.where(moving, 0.4, 0.0)
+        x = np.where(moving, 0.4 * 0.02 * k, 0.0)
+        arr = {"odom": np.column_stack([t, vx, np.zeros_like(t)]),
+               "pose": np.column_stack([t, x, np.full_like(t, 0.2), np.zeros_like(t)])}
+        # wheels at 0.45 / 0.098 rad/s both sides (0.45 m/s with r = 0.098 m), stamped 10 ms later
+        w = np.where(moving, 0.45 / 0.098, 0.0)
+        arr["wheels"] = np.column_stack([t + 0.01, w, w])
+        with tempfile.TemporaryDirectory() as tmp:
+            result = {"files": {}}
+            ideal = experiment.analyse_tracking(p, arr, t0, os.path.join(tmp, "run"), 0.098, 0.5621, result)
+            self.assertNotIn("tracking_error", result)
+            truth = result["tracking"]["truth"]
+            self.assertAlmostEqual(truth["vx"]["rms"], 0.1, places=6)
+            self.assertAlmostEqual(truth["wz"]["max"], 0.0, places=9)
+            self.assertAlmostEqual(result["tracking"]["odometry"]["vx"]["max"], 0.05, places=6)
+            path = result["path"]
+            # start at (0, 0.2): the ideal line is y = 0.2, 0.5 m/s; after 4 s the robot is 0.4 m behind
+            self.assertAlmostEqual(path["final_position_error"], 0.4, places=6)
+            self.assertAlmostEqual(path["ideal_length"], 2.0, places=6)
+            self.assertAlmostEqual(ideal["y"][-1], 0.2, places=9)
+            self.assertAlmostEqual(ideal["x"][-1], 2.0, places=6)
+            self.assertEqual(tracking.flat(result)["drift_final"], path["final_position_error"])
+            for k in ("track_csv", "ideal_csv", "profile_csv"):
+                self.assertTrue(os.path.isfile(result["files"][k]), k)
+
+
 class OverrideTest(unittest.TestCase):
 
     def test_parse(self):
@@ -184,7 +234,7 @@ def suite():
     """Every test case of this file (for rosunit, which loads one name)."""
     loader = unittest.TestLoader()
     return unittest.TestSuite(loader.loadTestsFromTestCase(c)
-                              for c in (ProfileTest, StabilityTest, MetricsTest, OverrideTest))
+                              for c in (ProfileTest, StabilityTest, MetricsTest, TrackingTest, OverrideTest))
 
 
 if __name__ == "__main__":

@@ -34,48 +34,20 @@ USED_BY_THE_BUILD = {"catkin", "rostest", "rosunit", "roslaunch"}
 INCLUDE_PACKAGE = {"ros": "roscpp"}
 
 
-def read_keys(path):
-    """{section: set(keys)} of test/data/rosdep_keys.txt."""
-    sections, current = {}, None
-    with open(path, encoding="utf-8") as f:
-        for raw in f:
-            line = raw.split("#", 1)[0].strip()
-            if not line:
-                continue
-            m = re.fullmatch(r"\[(\w+)\]", line)
-            if m:
-                current = sections.setdefault(m.group(1), set())
-            elif current is None:
-                raise ValueError("%s: key %r before any [section]" % (path, line))
-            else:
-                current.add(line)
-    return sections
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+import resolve_deps  # noqa: E402  (scripts/resolve_deps.py: the one resolver, also check_bullseye.sh's)
 
-
-# The OSes every system key must resolve on: the robot's (Ubuntu 20.04) and the one CI builds on.
+# The OSes every key must resolve on: the robot's (Ubuntu 20.04) and the one CI builds on.
 CHECKED_OSES = ("focal", "bookworm")
 
 
-def read_apt_rules(path):
-    """{key: {os: [apt packages] or None}} of test/data/rosdep_apt_rules.yaml."""
-    with open(path, encoding="utf-8") as f:
-        rules = yaml.safe_load(f)
-    if not isinstance(rules, dict) or not rules:
-        raise ValueError("%s: expected a map of rosdep keys" % path)
-    return rules
-
-
-def unresolved(keys, rules, ros_keys, oses=CHECKED_OSES):
-    """[(key, os)] of the keys that are neither ROS packages nor system keys with apt packages on os."""
+def unresolved(keys, data, oses=CHECKED_OSES):
+    """[(key, os)] of the keys resolve_deps.resolve() finds no apt package for on each OS."""
     out = []
-    for key in sorted(set(keys)):
-        if key in ros_keys:
-            continue
-        for os_name in oses:
-            rule = rules.get(key)
-            if not rule or not rule.get(os_name):
-                out.append((key, os_name))
-    return out
+    for os_name in oses:
+        _packages, missing = resolve_deps.resolve(keys, os_name, *data)
+        out.extend((key, os_name) for key, _reason in missing)
+    return sorted(out)
 
 
 def python_files():
@@ -143,24 +115,34 @@ def repository_text():
 class TestPackaging(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.keys = read_keys(os.path.join(ROOT, "test", "data", "rosdep_keys.txt"))
-        cls.rules = read_apt_rules(os.path.join(ROOT, "test", "data", "rosdep_apt_rules.yaml"))
+        data = os.path.join(ROOT, "test", "data")
+        cls.ros_keys = resolve_deps.read_ros_keys(os.path.join(data, "rosdep_keys.txt"))
+        cls.data = (resolve_deps.read_yaml_map(os.path.join(data, "rosdep_apt_rules.yaml")), cls.ros_keys,
+                    resolve_deps.read_yaml_map(os.path.join(data, "debian_ros_packages.yaml")))
         cls.deps = package_deps(os.path.join(ROOT, "package.xml"))
         with open(os.path.join(ROOT, "CMakeLists.txt"), encoding="utf-8") as f:
             cls.cmake = f.read()
 
     def test_every_key_resolves_on_focal_and_bookworm(self):
-        missing = unresolved([k for _t, k in self.deps], self.rules, self.keys["ros"])
-        self.assertFalse(missing, "package.xml keys without an apt rule (test/data/rosdep_apt_rules.yaml, "
-                         "test/data/rosdep_keys.txt): %s" % ", ".join("%s on %s" % m for m in missing))
+        missing = unresolved([k for _t, k in self.deps], self.data)
+        self.assertFalse(missing, "package.xml keys without an apt package (scripts/resolve_deps.py): %s"
+                         % ", ".join("%s on %s" % m for m in missing))
         self.assertGreater(len(self.deps), 10)  # the parse saw the dependencies
 
     def test_a_key_without_a_focal_rule_fails(self):
         # cli11 has no apt package on Ubuntu 20.04 (null rule): adding it back must fail.
         keys = [k for _t, k in self.deps] + ["cli11"]
-        self.assertEqual(unresolved(keys, self.rules, self.keys["ros"]), [("cli11", "focal")])
-        self.assertEqual(unresolved(["no-such-key"], self.rules, self.keys["ros"]),
-                         [("no-such-key", "focal"), ("no-such-key", "bookworm")])
+        self.assertEqual(unresolved(keys, self.data), [("cli11", "focal")])
+        self.assertEqual(unresolved(["no-such-key"], self.data),
+                         [("no-such-key", "bookworm"), ("no-such-key", "focal")])
+
+    def test_every_ros_key_has_a_debian_package_entry(self):
+        # scripts/check_bullseye.sh installs Debian's ROS packages: a new ROS dependency needs its entry.
+        missing = unresolved([k for _t, k in self.deps], self.data, oses=("bullseye",))
+        self.assertFalse(missing, "no bullseye package (test/data/debian_ros_packages.yaml): %s" % missing)
+        _packages, gone = resolve_deps.resolve(["roscpp", "not_a_ros_pkg_xyz"], "bullseye",
+                                               self.data[0], self.ros_keys | {"not_a_ros_pkg_xyz"}, self.data[2])
+        self.assertEqual([k for k, _r in gone], ["not_a_ros_pkg_xyz"])
 
     def test_python_parses_as_3_8(self):
         files = python_files()
@@ -181,7 +163,7 @@ class TestPackaging(unittest.TestCase):
         self.assertNotIn("libode-dev", keys, "ODE's rosdep key is opende; libode-dev is the Debian package")
 
     def test_catkin_depends_covers_the_installed_headers(self):
-        ros = self.keys["ros"]
+        ros = self.ros_keys
         needed = {p for p in header_includes(os.path.join(ROOT, "include")) if p in ros}
         exported = catkin_depends(self.cmake)
         self.assertIn("roscpp", needed)  # the scan saw the node's headers
@@ -195,7 +177,7 @@ class TestPackaging(unittest.TestCase):
         text = repository_text()
         unused = []
         for _tag, key in self.deps:
-            if key in self.keys["ros"] and key not in USED_BY_THE_BUILD:
+            if key in self.ros_keys and key not in USED_BY_THE_BUILD:
                 if not re.search(r"(?<![A-Za-z0-9_])%s(?![A-Za-z0-9_])" % re.escape(key), text):
                     unused.append(key)
         self.assertFalse(unused, "package.xml depends on ROS packages nothing uses: %s" % unused)

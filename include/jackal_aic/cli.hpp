@@ -19,6 +19,8 @@
 
 #include <boost/program_options.hpp>
 
+#include "jackal_aic/json_number.hpp"
+
 namespace jackal_aic
 {
 /// Exit status of a tool for bad arguments.
@@ -142,14 +144,13 @@ public:
    */
   void overrides(const std::string& name, std::vector<std::string>* values, const std::string& help)
   {
-    repeatable(name, values, help + " (KEY=VALUE, repeatable)");
+    addRepeated(name, values, help + " (KEY=VALUE, repeatable)");
   }
 
-  /// A repeatable "--NAME TEXT", one text per occurrence, in order (`help` says what a text is).
-  void repeatable(const std::string& name, std::vector<std::string>* values, const std::string& help)
+  /// A repeatable "--NAME TEXT" (e.g. a file), one value per occurrence, in order.
+  void repeated(const std::string& name, std::vector<std::string>* values, const std::string& help)
   {
-    options_.add_options()(name.c_str(), boost::program_options::value<std::vector<std::string>>(values)->composing(),
-                           help.c_str());
+    addRepeated(name, values, help + " (repeatable)");
   }
 
   /// A required positional argument (e.g. the configuration file), in order of declaration.
@@ -249,6 +250,12 @@ public:
   }
 
 private:
+  void addRepeated(const std::string& name, std::vector<std::string>* values, const std::string& help)
+  {
+    options_.add_options()(name.c_str(), boost::program_options::value<std::vector<std::string>>(values)->composing(),
+                           help.c_str());
+  }
+
   static bool convert(const std::string& text, double* v)
   {
     char* end = nullptr;
@@ -297,22 +304,5 @@ private:
   std::vector<std::function<std::string()>> checks_;
   std::vector<std::shared_ptr<std::vector<std::string>>> keep_;
 };
-
-/**
- * \brief A number as JSON text, the tools' machine-readable output: `precision` significant
- *        digits, and `null` for NaN or +-Inf (JSON has no such numbers; a metric that is
- *        undefined, such as the settling time of a response that never settles, is NaN).
- */
-inline std::string jsonNumber(double v, int precision = 6)
-{
-  if (!std::isfinite(v))
-  {
-    return "null";
-  }
-  std::ostringstream os;
-  os.precision(precision);
-  os << v;
-  return os.str();
-}
 
 }  // namespace jackal_aic

@@ -41,4 +41,26 @@ Override parseOverride(const std::string& text);
  */
 void applyOverrides(YAML::Node root, const std::vector<std::string>& overrides);
 
+/**
+ * \brief Flatten an overlay YAML map into "dotted.key=value" overrides (applyOverrides()),
+ *        so an overlay file (only the keys that differ from a base file) and command-line
+ *        --set overrides go through one parser.
+ *
+ * Maps descend ("motor: {speed_ki: 8}" -> "motor.speed_ki=8"); scalars, sequences and null
+ * become the value, written as YAML flow ("[0, 0, 0.01]"). An empty map gives nothing.
+ * \param overlay  a YAML map (or null: no overrides)
+ * \param source   file name used in error messages
+ * \throws std::invalid_argument "overlay '<source>' must be a YAML map" for any other root,
+ *         or "overlay '<source>': key '<k>' contains '=' or '.'" for keys the override syntax
+ *         cannot carry
+ */
+std::vector<std::string> overlayOverrides(const YAML::Node& overlay, const std::string& source);
+
+/**
+ * \brief overlayOverrides() of a YAML file.
+ * \throws std::invalid_argument naming the file when it cannot be read, is malformed YAML or
+ *         is not a map
+ */
+std::vector<std::string> loadOverlayFile(const std::string& path);
+
 }  // namespace jackal_aic

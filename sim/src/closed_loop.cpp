@@ -289,6 +289,10 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
       out.angular_set_point.push_back(sp_angular);
       out.command_yaw.push_back(r * (command_right - command_left) / b_hat);
       out.belief_yaw.push_back(belief_w);
+      const Eigen::Isometry3d pose = plant.basePose();
+      out.x_true.push_back(pose.translation().x());
+      out.y_true.push_back(pose.translation().y());
+      out.heading_true.push_back(std::atan2(pose.linear()(1, 0), pose.linear()(0, 0)));
 
       if (aic)
       {

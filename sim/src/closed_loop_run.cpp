@@ -4,13 +4,18 @@
  *        ODE plant core, headless and faster than real time (jackal_sim/closed_loop.hpp: the
  *        node's logic, ControlLoop, on simulated time). Prints one JSON object with the metrics of
  *        every transition of the profile for the measured (wheel-odometry), ground-truth,
- *        belief and drive-command speeds; optionally the trace as CSV. The experiment engine
- *        of aic_reproduce.py (--backend core); the ROS backend runs the nodes instead.
+ *        belief and drive-command speeds, and the tracking of the whole profile (RMS and max
+ *        error of vx and wz, ground truth and wheel odometry, against the set point; the
+ *        ground-truth path's drift from the set point's ideal path: jackal_aic/tracking_metrics.hpp);
+ *        optionally the trace as CSV. The experiment engine of aic_reproduce.py (--backend core)
+ *        and aic_track.py; the ROS backend runs the nodes instead.
  *
  * Usage: closed_loop_run --controller aic|stock|open [--aic-config FILE] [--aic-set key=value]...
- *            [--config PLANT.yaml] [--set key=value]... [--urdf FILE]
- *            (--step V [--turn W] | --square LOW HIGH) [--channel linear|angular] [--period S] [--cycles N]
- *            [--rest S] [--hold S] [--noise] [--fault LINE]... [--csv FILE]
+ *            [--config PLANT.yaml] [--overlay FILE]... [--set key=value]... [--urdf FILE]
+ *            (--step V [--turn W] | --square LOW HIGH | --profile FILE [--segments]) [--channel linear|angular]
+ *            [--period S] [--cycles N] [--rest S] [--hold S] [--noise] [--fault LINE]... [--csv FILE]
+ *   --overlay FILE    plant YAML with only the keys that differ (e.g. sim/config/variants/*.yaml),
+ *                     applied after --config and before --set; repeatable, later ones win
  *   --controller open  no controller: the set point's wheel speeds go to the MCU as they are
  *   --channel angular  the step / square values are yaw rates [rad/s] (linear set point 0);
  *                      metrics on the yaw rate
@@ -19,11 +24,21 @@
  *                     the same time; "angular_segments" gives the yaw rate's metrics
  *   --square LOW HIGH 0 until --rest, LOW for --rest seconds (lead-in), then --cycles periods of
  *                     HIGH / LOW, each half --period / 2
+ *   --profile FILE    a twist profile CSV (t, vx, wz rows, header optional, zero-order hold, the
+ *                     last row's t ends it; jackal_aic/tracking_metrics.hpp), played from --rest on;
+ *                     its transitions are not steps: "segments" is empty unless --segments (then the
+ *                     step metrics of every transition, "segments" vx and "angular_segments" wz)
  *   --noise           keep the plant YAML's sensor noise (seeded; default: ideal sensors)
  *   --fault LINE      inject a fault from START s after the run's start (sim/README.md)
  * JSON: {"runaways", "max_abs_speed", "segments": [{"t_step", "initial", "target", "measured": {...},
- *        "truth": {...}, "belief": {...}, "drive": {...}}] [, "angular_segments": [...]]} with rise,
- *        settling, overshoot, sse, settled.
+ *        "truth": {...}, "belief": {...}, "drive": {...}}] [, "angular_segments": [...]], "profile",
+ *        "duration", "tracking": {"truth": {"vx": {"rms", "max"}, "wz": {...}, "samples"}, "odometry": {...}},
+ *        "path": {"final_position_error", "max_position_error", "final_heading_error", "ideal_length",
+ *        "samples"}} with rise, settling, overshoot, sse, settled; times from the profile's start
+ *        (--rest + 10 ms into the run); tracking over the profile's span.
+ * CSV (--csv): t (from the profile's start), set points, speeds, beliefs, drive commands, the
+ *        ground-truth pose x, y, heading and the ideal pose x_ideal, y_ideal, heading_ideal (empty
+ *        outside the analysed span).
  * Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.
  */
 
@@ -39,6 +54,8 @@
 #include "jackal_aic/cli.hpp"
 #include "jackal_aic/params_yaml.hpp"
 #include "jackal_aic/step_metrics.hpp"
+#include "jackal_aic/tracking_metrics.hpp"
+#include "jackal_aic/yaml_overrides.hpp"
 #include "jackal_sim/closed_loop.hpp"
 #include "jackal_sim/plant_params.hpp"
 #include "jackal_sim/robot_description.hpp"
@@ -90,6 +107,7 @@ int main(int argc, char** argv)
   std::string config = root + "/sim/config/plant.yaml";
   std::string aic_config = root + "/config/thesis_equivalent.yaml";
   std::vector<std::string> overrides;
+  std::vector<std::string> overlays;
   std::vector<std::string> aic_overrides;
   std::string controller;
   std::string csv;
@@ -104,6 +122,8 @@ int main(int argc, char** argv)
   std::string channel = "linear";
   std::vector<double> square;
   double turn = 0.0;
+  std::string profile_file;
+  bool profile_segments = false;
   CommandLine cl("closed_loop_run",
                  "One set-point profile with the stock controller or the AIC on the ODE plant core, headless and "
                  "faster than real time; prints one JSON object with the metrics of every transition.");
@@ -112,6 +132,7 @@ int main(int argc, char** argv)
   cl.option("aic-config", &aic_config, "controller YAML (controller and node keys, as the node reads it)");
   cl.overrides("aic-set", &aic_overrides, "override a controller or node key");
   cl.option("config", &config, "plant YAML");
+  cl.repeated("overlay", &overlays, "plant YAML with only the keys that differ, after --config");
   cl.overrides("set", &overrides, "override a plant key, dotted");
   cl.option("urdf", &urdf, "robot model");
   cl.option("step", &step, "0 until --rest, then V [m/s] (or [rad/s]) for --hold seconds");
@@ -124,15 +145,18 @@ int main(int argc, char** argv)
   cl.option("turn", &turn,
             "W [rad/s]: a combined step, --step V on the linear channel and W on the angular one at once (--channel "
             "linear); metrics for both (\"segments\": linear, \"angular_segments\": yaw rate)");
+  cl.option("profile", &profile_file,
+            "twist profile CSV (t,vx,wz rows, zero-order hold, the last row's t ends it), played from --rest on");
+  cl.flag("segments", &profile_segments, "with --profile: step metrics of every transition of both channels");
   cl.option("period", &period, "square period [s]");
   cl.option("cycles", &cycles, "square periods, 1..100");
   cl.option("rest", &rest, "rest before the profile [s], > 0.2");
   cl.option("hold", &hold, "step hold time [s]");
   cl.flag("noise", &noise, "keep the plant YAML's sensor noise (seeded; default: ideal sensors)");
   std::vector<std::string> fault_lines;
-  cl.repeatable("fault", &fault_lines,
+  cl.repeated("fault", &fault_lines,
                 "inject a fault, \"TARGET KIND [VALUE] [START] [DURATION] [PERIOD]\" with START from the run's "
-                "start (sim/README.md, 'Fault injection'; repeatable)");
+                "start (sim/README.md, 'Fault injection')");
   cl.option("csv", &csv, "write the trace as CSV");
   cl.footer("Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.");
   if (const int code = cl.parse(argc, argv); code >= 0)
@@ -141,6 +165,7 @@ int main(int argc, char** argv)
   }
   const bool have_step = cl.given("step");
   const bool have_square = cl.given("square");
+  const bool have_profile = cl.given("profile");
   if (have_square)
   {
     low = square[0];
@@ -155,9 +180,13 @@ int main(int argc, char** argv)
     return cl.bad("--channel must be linear or angular");
   }
   const bool angular = channel == "angular";
-  if (have_step == have_square)
+  if (static_cast<int>(have_step) + static_cast<int>(have_square) + static_cast<int>(have_profile) != 1)
   {
-    return cl.bad("give exactly one of --step and --square");
+    return cl.bad("give exactly one of --step, --square and --profile");
+  }
+  if (profile_segments && !have_profile)
+  {
+    return cl.bad("--segments goes with --profile");
   }
   if (!(rest > 0.2) || !(hold > 0.0) || !(period > 0.0) || cycles < 1 || cycles > 100)
   {
@@ -199,7 +228,7 @@ int main(int argc, char** argv)
     }
     c.duration = t0 + hold;
   }
-  else
+  else if (have_square)
   {
     c.profile.push_back(sp(0.0, 0.0));
     c.profile.push_back(sp(t0, low));
@@ -213,12 +242,52 @@ int main(int argc, char** argv)
     c.duration = t;
   }
 
+  // The profile in profile time (0 = t0), for the tracking metrics; a CSV profile is played from t0.
+  TwistProfile tracked;
+  try
+  {
+    if (have_profile)
+    {
+      tracked = loadTwistProfileCsv(profile_file);
+      c.profile = { SetPointSegment{ 0.0, 0.0, 0.0 } };
+      for (const TwistProfilePoint& p : tracked.points)
+      {
+        c.profile.push_back(SetPointSegment{ t0 + p.t, p.vx, p.wz });
+      }
+      c.duration = t0 + tracked.duration;
+    }
+    else
+    {
+      for (const SetPointSegment& s : c.profile)
+      {
+        if (s.start >= t0 - 1e-9)
+        {
+          tracked.points.push_back(TwistProfilePoint{ s.start - t0, s.linear, s.angular });
+        }
+      }
+      tracked.duration = c.duration - t0;
+      tracked.name = have_step ? "step" : "square";
+    }
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "closed_loop_run: " << e.what() << "\n";
+    return 1;
+  }
+
   RobotDescription desc;
   PlantParams params;
   try
   {
     desc = loadRobotDescription(urdf);
-    params = loadPlantParams(config, overrides);
+    std::vector<std::string> plant_overrides;
+    for (const std::string& file : overlays)
+    {
+      const std::vector<std::string> o = loadOverlayFile(file);
+      plant_overrides.insert(plant_overrides.end(), o.begin(), o.end());
+    }
+    plant_overrides.insert(plant_overrides.end(), overrides.begin(), overrides.end());
+    params = loadPlantParams(config, plant_overrides);
     if (c.controller == LoopController::kAic)
     {
       c.node = loadNodeParamsFiles({ aic_config }, aic_overrides);  // the node's keys too (triggers, FDI, ...)
@@ -241,16 +310,53 @@ int main(int argc, char** argv)
     return 1;
   }
 
+  // Tracking of the whole profile: ground truth and wheel odometry against the set point, the
+  // ground-truth path against the ideal one.
+  std::vector<double> t_profile;
+  for (double t : rec.time)
+  {
+    t_profile.push_back(t - t0);
+  }
+  std::string tracking_json;
+  PathDrift drift;
+  try
+  {
+    tracking_json = "{\"truth\": " + toJson(velocityTrackingError(tracked, t_profile, rec.v_true, rec.yaw_true)) +
+                    ", \"odometry\": " + toJson(velocityTrackingError(tracked, t_profile, rec.v_odom, rec.yaw_odom)) +
+                    "}";
+    drift = pathDrift(tracked, t_profile, rec.x_true, rec.y_true, rec.heading_true);
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "closed_loop_run: " << e.what() << "\n";
+    return 1;
+  }
+
   if (!csv.empty())
   {
     std::ofstream f(csv);
-    f << "t,set_point,v_odom,v_true,yaw_odom,yaw_true,command,belief,angular_set_point,command_yaw,belief_yaw\n";
+    f << "t,set_point,v_odom,v_true,yaw_odom,yaw_true,command,belief,angular_set_point,command_yaw,belief_yaw,"
+         "x,y,heading,x_ideal,y_ideal,heading_ideal\n";
+    std::size_t ideal = 0;  // next analysed sample of the path drift
     for (std::size_t k = 0; k < rec.time.size(); ++k)
     {
-      f << rec.time[k] - t0 << "," << rec.set_point[k] << "," << rec.v_odom[k] << "," << rec.v_true[k] << ","
+      f << t_profile[k] << "," << rec.set_point[k] << "," << rec.v_odom[k] << "," << rec.v_true[k] << ","
         << rec.yaw_odom[k] << "," << rec.yaw_true[k] << "," << rec.command[k] << ","
         << (std::isfinite(rec.belief[k]) ? jsonNumber(rec.belief[k]) : "") << "," << rec.angular_set_point[k] << ","
-        << rec.command_yaw[k] << "," << (std::isfinite(rec.belief_yaw[k]) ? jsonNumber(rec.belief_yaw[k]) : "") << "\n";
+        << rec.command_yaw[k] << "," << (std::isfinite(rec.belief_yaw[k]) ? jsonNumber(rec.belief_yaw[k]) : "") << ","
+        << jsonNumber(rec.x_true[k], 9) << "," << jsonNumber(rec.y_true[k], 9) << ","
+        << jsonNumber(rec.heading_true[k], 9);
+      if (ideal < drift.time.size() && drift.time[ideal] == t_profile[k])
+      {
+        f << "," << jsonNumber(drift.ideal[ideal].x, 9) << "," << jsonNumber(drift.ideal[ideal].y, 9) << ","
+          << jsonNumber(drift.ideal[ideal].heading, 9);
+        ++ideal;
+      }
+      else
+      {
+        f << ",,,";
+      }
+      f << "\n";
     }
     if (!f)
     {
@@ -301,11 +407,23 @@ int main(int argc, char** argv)
     out << "]";
     return out.str();
   };
-  std::cout << segments(angular);
-  if (combined)
+  if (have_profile)
   {
-    std::cout << ", \"angular_segments\": " << segments(true);
+    std::cout << (profile_segments ? segments(false) : "[]");
+    if (profile_segments)
+    {
+      std::cout << ", \"angular_segments\": " << segments(true);
+    }
   }
-  std::cout << "}\n";
+  else
+  {
+    std::cout << segments(angular);
+    if (combined)
+    {
+      std::cout << ", \"angular_segments\": " << segments(true);
+    }
+  }
+  std::cout << ", \"profile\": \"" << tracked.name << "\", \"duration\": " << jsonNumber(tracked.duration)
+            << ", \"tracking\": " << tracking_json << ", \"path\": " << toJson(drift) << "}\n";
   return 0;
 }

@@ -38,7 +38,10 @@ SkidSteerModel::SkidSteerModel(double wheel_radius, double slip_factor, double w
       -ra / b, ra / b;
 
   // Wheel rows of R: the Moore-Penrose pseudo-inverse of G (thesis eq. 3-3), computed by Eigen.
-  const Eigen::CompleteOrthogonalDecomposition<KinematicMatrix> cod(G_);
+  // Decomposed at dynamic size: Eigen 3.3 (Ubuntu 20.04: 3.3.7, Debian 11: 3.3.9) gives the
+  // pseudo-inverse of a fixed-size 3x2 decomposition the wrong compile-time shape (3x2, not
+  // 2x3) and refuses the assignment; 3.4 does not. Once, in the constructor.
+  const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod{ Eigen::MatrixXd(G_) };
   G_pinv_ = cod.pseudoInverse();
 
   R_.setZero();

@@ -5,6 +5,8 @@
  */
 #include "jackal_aic/step_metrics.hpp"
 
+#include "jackal_aic/json_number.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -154,23 +156,9 @@ StepMetrics computeStepMetrics(const std::vector<double>& time, const std::vecto
   return m;
 }
 
-namespace
-{
-std::string num(double x)
-{
-  if (!std::isfinite(x))
-  {
-    return "null";
-  }
-  std::ostringstream os;
-  os.precision(10);
-  os << x;
-  return os.str();
-}
-}  // namespace
-
 std::string toJson(const StepMetrics& m, const StepMetricsOptions& o)
 {
+  const auto num = [](double x) { return jsonNumber(x, 10); };
   std::ostringstream os;
   os << "{\"rise_time\": " << num(m.rise_time) << ", \"t_rise_low\": " << num(m.t_rise_low)
      << ", \"t_rise_high\": " << num(m.t_rise_high) << ", \"settling_time\": " << num(m.settling_time)

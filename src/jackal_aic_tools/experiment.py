@@ -16,7 +16,7 @@ import time
 import numpy as np
 import yaml
 
-from . import metrics, profiles, recording
+from . import metrics, profiles, recording, tracking
 
 log = logging.getLogger("aic_experiment")
 
@@ -191,10 +191,11 @@ def run(exp):
         segs = recording.actual_segments(exp.profile, arr["setpoint"], t0)
         result["segments"] = analyse(arr, segs, t0, wheel_radius, wheel_sep)
         result["files"]["csv"] = write_csv(base + ".csv", arr, t0)
+        ideal = analyse_tracking(exp.profile, arr, t0, base, wheel_radius, wheel_sep, result)
         if exp.plot:
             from . import report
             result["files"]["png"] = report.plot_run(base + ".png", arr, t0, exp.profile, result,
-                                                     wheel_radius, wheel_sep)
+                                                     wheel_radius, wheel_sep, ideal)
     result["files"]["json"] = base + ".json"
     with open(base + ".json", "w") as f:
         json.dump(result, f, indent=1, default=_json_default)
@@ -230,12 +231,14 @@ def drive_profile(profile, rec, controller="aic", settle=1.0, ready_timeout=60.0
     import rospy
     from geometry_msgs.msg import Twist, TwistStamped
     from nav_msgs.msg import Odometry
+    from sensor_msgs.msg import JointState
     from jackal_msgs.msg import Drive
 
     limits = limits or recording.StabilityLimits()
     subs = [rospy.Subscriber("/odom", Odometry, rec.on_odom, queue_size=200, tcp_nodelay=True),
             rospy.Subscriber("/jackal_AIC/belief", TwistStamped, rec.on_belief, queue_size=2000, tcp_nodelay=True),
-            rospy.Subscriber("/cmd_drive", Drive, rec.on_drive, queue_size=200, tcp_nodelay=True)]
+            rospy.Subscriber("/cmd_drive", Drive, rec.on_drive, queue_size=200, tcp_nodelay=True),
+            rospy.Subscriber("/joint_states", JointState, rec.on_joint_states, queue_size=200, tcp_nodelay=True)]
     pub = rospy.Publisher("/jackal_AIC/set_point", Twist, queue_size=10)
     period = 1.0 / rate
 
@@ -335,6 +338,42 @@ def analyse(arr, segs, t0, wheel_radius, wheel_sep):
                 entry["metrics"][sig] = {"error": str(e)}
         out.append(entry)
     return out
+
+
+def analyse_tracking(profile, arr, t0, base, wheel_radius, wheel_sep, result):
+    """Tracking metrics of the whole profile through aic_track_metrics (jackal_aic_tools.tracking):
+    the ground-truth twist (/odom) and the wheel odometry (/joint_states through the kinematics
+    G with the configuration's wheel_radius and wheel_separation) against the set point, and the
+    /odom pose against the ideal path. Writes <base>_track.csv (the trace the CLI reads),
+    <base>_ideal.csv (the ideal path) and, for a profile not read from a file, <base>_profile.csv;
+    sets result["tracking"], result["path"] (result["tracking_error"] if the CLI refuses).
+    Returns the ideal path as {"x", "y"} arrays for the plot, or None."""
+    profile_csv = getattr(profile, "csv_path", None) or profile.write_csv(base + "_profile.csv")
+    wheels = recording.drive_equivalent(arr["wheels"], wheel_radius, wheel_sep) if arr["wheels"].size \
+        else arr["wheels"]
+    rows = [(st - t0, "%.6g" % vx, "%.6g" % wz, "", "", "%.9g" % x, "%.9g" % y, "%.9g" % yaw)
+            for (st, vx, wz), (_, x, y, yaw) in zip(arr["odom"], arr["pose"])]
+    rows += [(st - t0, "", "", "%.6g" % vx, "%.6g" % wz, "", "", "") for st, vx, wz in wheels]
+    rows.sort(key=lambda r: r[0])
+    trace = base + "_track.csv"
+    with open(trace, "w") as f:
+        w = csv.writer(f)
+        w.writerow(["t", "truth_vx", "truth_wz", "odometry_vx", "odometry_wz", "x", "y", "heading"])
+        for r in rows:
+            w.writerow(["%.6f" % r[0]] + list(r[1:]))
+    ideal_csv = base + "_ideal.csv"
+    result["files"].update(track_csv=trace, ideal_csv=ideal_csv, profile_csv=profile_csv)
+    try:
+        m = tracking.track_metrics(profile_csv, trace, ideal_csv)
+    except (tracking.TrackingError, metrics.MetricsError) as e:
+        result["tracking_error"] = str(e)
+        return None
+    result["tracking"] = m["tracking"]
+    result["path"] = m["path"]
+    if m["path"] is None:
+        return None
+    ideal = tracking.read_columns(ideal_csv)
+    return {"x": ideal["x"], "y": ideal["y"]}
 
 
 def write_csv(path, arr, t0):

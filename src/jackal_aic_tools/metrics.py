@@ -10,7 +10,7 @@ import shutil
 import subprocess
 import tempfile
 
-_cli_path = None
+_cli_paths = {}
 
 #: Keys of the dict returned by :func:`step_metrics` (units in brackets).
 METRIC_KEYS = ("rise_time", "settling_time", "overshoot", "steady_state_error")
@@ -21,28 +21,33 @@ class MetricsError(RuntimeError):
     """The metrics CLI is missing or failed."""
 
 
-def find_cli():
-    """Path of ``aic_step_metrics``: $AIC_STEP_METRICS, else catkin_find in the sourced
-    workspace, else PATH. Raises MetricsError with what to do when it is not found."""
-    global _cli_path
-    if _cli_path:
-        return _cli_path
-    cand = os.environ.get("AIC_STEP_METRICS")
+def find_tool(name, env_var):
+    """Path of the package's C++ tool ``name`` (aic_step_metrics, aic_track_metrics): $<env_var>,
+    else catkin_find in the sourced workspace, else PATH. Raises MetricsError with what to do
+    when it is not found."""
+    if name in _cli_paths:
+        return _cli_paths[name]
+    cand = os.environ.get(env_var)
     if not cand:
         try:
-            out = subprocess.run(["catkin_find", "--first-only", "jackal_aic", "aic_step_metrics"],
+            out = subprocess.run(["catkin_find", "--first-only", "jackal_aic", name],
                                  stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, universal_newlines=True,
                                  timeout=30)
             cand = out.stdout.strip().splitlines()[0] if out.returncode == 0 and out.stdout.strip() else None
         except (OSError, subprocess.SubprocessError):
             cand = None
     if not cand:
-        cand = shutil.which("aic_step_metrics")
+        cand = shutil.which(name)
     if not cand or not os.access(cand, os.X_OK):
-        raise MetricsError("aic_step_metrics not found: build the workspace (bash scripts/build.sh) and "
-                           "source .ws/devel/setup.bash, or set AIC_STEP_METRICS")
-    _cli_path = cand
+        raise MetricsError("%s not found: build the workspace (bash scripts/build.sh) and "
+                           "source .ws/devel/setup.bash, or set %s" % (name, env_var))
+    _cli_paths[name] = cand
     return cand
+
+
+def find_cli():
+    """Path of ``aic_step_metrics`` (:func:`find_tool`; $AIC_STEP_METRICS overrides)."""
+    return find_tool("aic_step_metrics", "AIC_STEP_METRICS")
 
 
 def step_metrics(t, y, t_step, initial, target):

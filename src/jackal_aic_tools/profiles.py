@@ -5,7 +5,6 @@ A profile maps profile time t [s] (0 = start of the profile) to a desired body t
 is analysed as one step response (thesis ch. 5 experiments; doc/active_inference.md,
 'Step-response metrics and experiments').
 """
-import csv
 import math
 from collections import namedtuple
 
@@ -72,6 +71,20 @@ class Profile(object):
         chs = {s.channel for s in self.segments()}
         return [c for c in CHANNELS if c in chs] or ["vx"]
 
+    def write_csv(self, path):
+        """The profile as a CSV file of rows t,vx,wz (the format of from_csv and closed_loop_run
+        --profile): of breakpoints at the same time the last one, then the end time."""
+        rows = []
+        for t, vx, wz in self.points:
+            if rows and rows[-1][0] == t:
+                rows.pop()
+            rows.append((t, vx, wz))
+        with open(path, "w") as f:
+            f.write("t,vx,wz\n")
+            for t, vx, wz in rows + [(self.duration, 0.0, 0.0)]:
+                f.write("%r,%r,%r\n" % (float(t), float(vx), float(wz)))
+        return path
+
     def max_abs(self, channel):
         i = CHANNELS.index(channel)
         return max(abs(p[1 + i]) for p in self.points)
@@ -105,18 +118,12 @@ def square(low=0.1, high=0.5, period=4.0, cycles=2, t_lead=2.0, channel="vx"):
 
 
 def from_csv(path):
-    """Profile from a CSV file with header ``t,vx,wz`` (t [s] non-decreasing, vx [m/s],
-    wz [rad/s]; a missing wz column means 0); the last row's t ends the profile."""
-    rows = []
-    with open(path) as f:
-        reader = csv.DictReader(f)
-        if reader.fieldnames is None or "t" not in reader.fieldnames or "vx" not in reader.fieldnames:
-            raise ValueError("%s: need a header with columns t,vx[,wz]; got %r" % (path, reader.fieldnames))
-        for n, row in enumerate(reader, start=2):
-            try:
-                rows.append((float(row["t"]), float(row["vx"]), float(row.get("wz") or 0.0)))
-            except (TypeError, ValueError):
-                raise ValueError("%s line %d: not a number in %r" % (path, n, row))
-    if len(rows) < 2:
-        raise ValueError("%s: need at least two rows (the last one ends the profile)" % path)
-    return Profile(rows[:-1], rows[-1][0], "csv_" + path.rsplit("/", 1)[-1].rsplit(".", 1)[0])
+    """Profile from a CSV file of rows t,vx,wz (t [s] >= 0 and increasing, vx [m/s], wz [rad/s];
+    header optional, a header without wz means 0; the last row's t ends the profile), read and
+    checked by the core's reader through aic_track_metrics (jackal_aic_tools.tracking). Raises
+    ValueError naming the file and line of what is wrong."""
+    from . import tracking
+    d = tracking.load_profile(path)
+    prof = Profile([tuple(p) for p in d["points"]], d["duration"], "csv_" + d["name"])
+    prof.csv_path = path
+    return prof

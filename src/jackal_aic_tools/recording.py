@@ -6,6 +6,11 @@ Streams (topics as in README.md, 'Topics', and doc/jackal_aic_node.md), each kep
   measured   /odom                  nav_msgs/Odometry       (header stamp, twist.linear.x, twist.angular.z; base_link)
   belief     /jackal_AIC/belief     geometry_msgs/TwistStamped (header stamp, linear.x, angular.z)
   drive      /cmd_drive             jackal_msgs/Drive       (receipt time, left, right [rad/s])
+and, kept beside them (not in the merged CSV of experiment.write_csv):
+  pose       /odom                  nav_msgs/Odometry       (header stamp, x [m], y [m], yaw [rad]; ground truth
+                                                             on the simulator)
+  wheels     /joint_states          sensor_msgs/JointState  (header stamp, mean left, mean right wheel velocity
+                                                             [rad/s]; joints named *left* / *right*)
 """
 import math
 import threading
@@ -15,6 +20,8 @@ import numpy as np
 from . import profiles
 
 STREAMS = ("setpoint", "odom", "belief", "drive")
+#: Columns of each stream's array (the stamp first).
+WIDTH = dict({s: 3 for s in STREAMS}, pose=4, wheels=3)
 
 
 class Recorder(object):
@@ -22,13 +29,13 @@ class Recorder(object):
 
     def __init__(self, bag=None):
         self.lock = threading.Lock()
-        self.data = {s: [] for s in STREAMS}
+        self.data = {s: [] for s in WIDTH}
         self.bad_stamps = 0
         self.bag = bag
 
-    def _add(self, stream, stamp, a, b, topic=None, msg=None, now=None):
+    def _add(self, stream, stamp, a, b, topic=None, msg=None, now=None, c=None):
         with self.lock:
-            self.data[stream].append((stamp, float(a), float(b)))
+            self.data[stream].append((stamp, float(a), float(b)) + (() if c is None else (float(c),)))
             if self.bag is not None and msg is not None:
                 self.bag.write(topic, msg, now)
 
@@ -45,6 +52,18 @@ class Recorder(object):
         st, now = self._stamp(msg)
         tw = msg.twist.twist
         self._add("odom", st, tw.linear.x, tw.angular.z, "/odom", msg, now)
+        p = msg.pose.pose
+        q = p.orientation
+        yaw = math.atan2(2.0 * (q.w * q.z + q.x * q.y), 1.0 - 2.0 * (q.y * q.y + q.z * q.z))
+        self._add("pose", st, p.position.x, p.position.y, c=yaw)
+
+    def on_joint_states(self, msg):
+        """Mean wheel velocity of the joints named *left* and of those named *right*."""
+        st, now = self._stamp(msg)
+        left = [v for n, v in zip(msg.name, msg.velocity) if "left" in n]
+        right = [v for n, v in zip(msg.name, msg.velocity) if "right" in n]
+        if left and right:
+            self._add("wheels", st, sum(left) / len(left), sum(right) / len(right), "/joint_states", msg, now)
 
     def on_belief(self, msg):
         st, now = self._stamp(msg)
@@ -61,9 +80,9 @@ class Recorder(object):
                   "/jackal_AIC/set_point", msg, stamp)
 
     def arrays(self):
-        """Copy of every stream as an (n, 3) numpy array [stamp, a, b]."""
+        """Copy of every stream as an (n, WIDTH) numpy array [stamp, a, b(, c)]."""
         with self.lock:
-            return {s: np.array(self.data[s], dtype=float).reshape(-1, 3) for s in STREAMS}
+            return {s: np.array(self.data[s], dtype=float).reshape(-1, w) for s, w in WIDTH.items()}
 
     def count(self, stream):
         with self.lock:
@@ -71,8 +90,8 @@ class Recorder(object):
 
 
 def drive_equivalent(drive, wheel_radius, wheel_separation):
-    """Drive commands (n,3: stamp, left, right [rad/s]) as the body twist they ask for
-    (n,3: stamp, vx [m/s], wz [rad/s]) with the kinematics G of thesis eq. 3-1
+    """Wheel speeds (n,3: stamp, left, right [rad/s]; drive commands or measured wheels) as the
+    body twist (n,3: stamp, vx [m/s], wz [rad/s]) with the kinematics G of thesis eq. 3-1
     (doc/active_inference.md)."""
     out = np.empty_like(drive)
     out[:, 0] = drive[:, 0]

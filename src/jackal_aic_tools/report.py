@@ -15,11 +15,16 @@ def fmt(v, spec="%.3f"):
     return "-" if v is None or (isinstance(v, float) and not math.isfinite(v)) else spec % v
 
 
-def plot_run(path, arr, t0, profile, result, wheel_radius, wheel_sep):
+def plot_run(path, arr, t0, profile, result, wheel_radius, wheel_sep, ideal=None):
     """PNG of one run: per channel, set point, measured velocity and belief [m/s or rad/s];
-    below, the drive commands left/right [rad/s]. Returns ``path``."""
+    below, the drive commands left/right [rad/s]; with ``ideal`` ({"x", "y"} arrays [m], the
+    profile's ideal path), last the x-y path of /odom against it. Returns ``path``."""
     chans = profile.channels()
-    fig, axes = plt.subplots(len(chans) + 1, 1, sharex=True, figsize=(9, 3.0 * (len(chans) + 1)))
+    rows = len(chans) + 1 + (1 if ideal is not None else 0)
+    fig = plt.figure(figsize=(9, 3.0 * rows))
+    axes = []
+    for k in range(len(chans) + 1):
+        axes.append(fig.add_subplot(rows, 1, k + 1, sharex=axes[0] if axes else None))
     for ax, ch in zip(axes, chans):
         ci = 1 + profiles.CHANNELS.index(ch)
         sp = arr["setpoint"]
@@ -59,10 +64,64 @@ def plot_run(path, arr, t0, profile, result, wheel_radius, wheel_sep):
     if result["status"] != "ok":
         title += "  [%s: %s]" % (result["status"].upper(), result["reason"])
     axes[0].set_title(title, fontsize=10)
+    for ax in axes[:-1]:
+        plt.setp(ax.get_xticklabels(), visible=False)
+    if ideal is not None:
+        pose = arr["pose"]
+        pose = pose[pose[:, 0] >= t0] if pose.size else pose
+        ax = fig.add_subplot(rows, 1, rows)
+        draw_paths(ax, ideal, [("measured (/odom pose)", "C0", pose[:, 1] if pose.size else [],
+                                pose[:, 2] if pose.size else [])], path_summary(result.get("path")))
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
+
+
+def draw_paths(ax, ideal, paths, text=""):
+    """x-y plot: the ideal path (``ideal``: {"x", "y"} [m], dashed black) and every measured path
+    of ``paths`` (label, colour, x, y), with a start marker, equal axes and ``text`` in a box."""
+    ax.plot(ideal["x"], ideal["y"], color="k", ls="--", lw=1.2, label="ideal (set point integrated)")
+    if len(ideal["x"]):
+        ax.plot(ideal["x"][:1], ideal["y"][:1], "ko", ms=4)
+    for label, color, x, y in paths:
+        ax.plot(x, y, color=color, lw=1.2, label=label)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best", fontsize=8)
+    if text:
+        ax.text(0.01, 0.02, text, transform=ax.transAxes, va="bottom", ha="left", fontsize=8, family="monospace",
+                bbox=dict(boxstyle="round", fc="white", alpha=0.8))
+
+
+def path_summary(path):
+    """One line of a path drift dict (aic_track_metrics' "path"), '' for None."""
+    if not path:
+        return ""
+    return "drift: end %s m, max %s m, heading end %s rad" % (
+        fmt(path.get("final_position_error")), fmt(path.get("max_position_error")),
+        fmt(path.get("final_heading_error")))
+
+
+def tracking_table(results):
+    """Tracking table of one or more runs (result dicts with "tracking" and "path"): per run and
+    measured twist, the RMS / max error of vx and wz and the path drift."""
+    headers = ["run", "signal", "vx RMS [m/s]", "vx max [m/s]", "wz RMS [rad/s]", "wz max [rad/s]",
+               "drift end [m]", "drift max [m]", "heading end [rad]"]
+    rows = []
+    for r in results:
+        path = r.get("path") or {}
+        for sig, m in sorted((r.get("tracking") or {}).items()):
+            if not m:
+                continue
+            rows.append([r.get("name", "-"), sig, fmt(m["vx"]["rms"]), fmt(m["vx"]["max"]), fmt(m["wz"]["rms"]),
+                         fmt(m["wz"]["max"]), fmt(path.get("final_position_error")),
+                         fmt(path.get("max_position_error")), fmt(path.get("final_heading_error"))])
+        if r.get("tracking_error"):
+            rows.append([r.get("name", "-"), "error: " + r["tracking_error"][:80]] + [""] * 7)
+    return format_table(headers, rows)
 
 
 def segment_summary(result, ch):

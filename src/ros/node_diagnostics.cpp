@@ -8,6 +8,7 @@
 #include <string>
 #include <utility>
 
+#include <diagnostic_updater/update_functions.h>
 #include <ros/console.h>
 
 namespace jackal_aic
@@ -39,6 +40,8 @@ void NodeDiagnostics::start(ros::NodeHandle& nh, std::mutex& mutex)
     pollHealth();
   });
 }
+
+NodeDiagnostics::~NodeDiagnostics() = default;
 
 NodeDiagnostics::NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, ControlLoop& loop,
                                  std::function<ControllerReport()> controller)

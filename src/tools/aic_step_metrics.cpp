@@ -20,44 +20,11 @@
 #include <vector>
 
 #include "jackal_aic/cli.hpp"
+#include "jackal_aic/csv_table.hpp"
 #include "jackal_aic/step_metrics.hpp"
 
 namespace
 {
-std::string trim(const std::string& s)
-{
-  const auto b = s.find_first_not_of(" \t\r\"");
-  const auto e = s.find_last_not_of(" \t\r\"");
-  return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
-}
-
-std::vector<std::string> splitCsv(const std::string& line)
-{
-  std::vector<std::string> out;
-  std::stringstream ss(line);
-  std::string cell;
-  while (std::getline(ss, cell, ','))
-  {
-    out.push_back(trim(cell));
-  }
-  if (!line.empty() && line.back() == ',')
-  {
-    out.emplace_back();
-  }
-  return out;
-}
-
-bool parseDouble(const std::string& s, double* out)
-{
-  if (s.empty())
-  {
-    return false;
-  }
-  char* end = nullptr;
-  *out = std::strtod(s.c_str(), &end);
-  return end != nullptr && *end == '\0';
-}
-
 [[noreturn]] void fail(int code, const std::string& msg)
 {
   std::cerr << "aic_step_metrics: error: " << msg << "\n";
@@ -117,65 +84,31 @@ int main(int argc, char** argv)
     }
     in = &fin;
   }
-  std::string line;
-  std::vector<std::string> header;
-  int line_no = 0;
-  while (std::getline(*in, line))
-  {
-    ++line_no;
-    if (!trim(line).empty() && trim(line)[0] != '#')
-    {
-      header = splitCsv(line);
-      break;
-    }
-  }
-  if (header.empty())
-  {
-    fail(1, "'" + file + "' has no header line");
-  }
-  int tcol = -1;
-  int vcol = -1;
-  for (std::size_t c = 0; c < header.size(); ++c)
-  {
-    if (header[c] == time_column)
-    {
-      tcol = static_cast<int>(c);
-    }
-    if (header[c] == value_column)
-    {
-      vcol = static_cast<int>(c);
-    }
-  }
-  if (tcol < 0 || vcol < 0)
-  {
-    std::string names;
-    for (const auto& h : header)
-    {
-      names += (names.empty() ? "" : ", ") + h;
-    }
-    fail(1, "column '" + (tcol < 0 ? time_column : value_column) + "' not in the header (" +
-                names + ")");
-  }
   std::vector<double> t;
   std::vector<double> v;
-  while (std::getline(*in, line))
+  try
   {
-    ++line_no;
-    if (trim(line).empty() || trim(line)[0] == '#')
+    const jackal_aic::CsvTable csv = jackal_aic::readCsv(*in, "'" + file + "'", jackal_aic::CsvHeader::kRequired);
+    const int tcol = csv.column(time_column);
+    const int vcol = csv.column(value_column);
+    if (tcol < 0 || vcol < 0)
     {
-      continue;
+      std::string names;
+      for (const auto& h : csv.header)
+      {
+        names += (names.empty() ? "" : ", ") + h;
+      }
+      fail(1, "column '" + (tcol < 0 ? time_column : value_column) + "' not in the header (" + names + ")");
     }
-    const auto cells = splitCsv(line);
-    double tv = 0.0;
-    double vv = 0.0;
-    if (static_cast<int>(cells.size()) <= std::max(tcol, vcol) || !parseDouble(cells[tcol], &tv) ||
-        !parseDouble(cells[vcol], &vv))
+    for (std::size_t r = 0; r < csv.rows.size(); ++r)
     {
-      fail(1, "line " + std::to_string(line_no) + ": cannot read columns '" + time_column + "' and '" +
-                  value_column + "' as numbers: " + line);
+      t.push_back(csv.number(r, tcol, time_column));
+      v.push_back(csv.number(r, vcol, value_column));
     }
-    t.push_back(tv);
-    v.push_back(vv);
+  }
+  catch (const std::invalid_argument& e)
+  {
+    fail(1, e.what());
   }
   try
   {

@@ -4,6 +4,7 @@
  */
 #include "jackal_aic/yaml_overrides.hpp"
 
+#include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
@@ -25,6 +26,28 @@ std::vector<std::string> keyParts(const std::string& key)
     parts.emplace_back();
   }
   return parts;
+}
+
+void flatten(const YAML::Node& node, const std::string& prefix, const std::string& source,
+             std::vector<std::string>* out)
+{
+  for (const auto& kv : node)
+  {
+    const std::string key = kv.first.as<std::string>();
+    if (key.empty() || key.find('=') != std::string::npos || key.find('.') != std::string::npos)
+    {
+      throw std::invalid_argument("overlay '" + source + "': key '" + key + "' contains '=' or '.'");
+    }
+    const std::string dotted = prefix.empty() ? key : prefix + "." + key;
+    if (kv.second.IsMap())
+    {
+      flatten(kv.second, dotted, source, out);
+      continue;
+    }
+    YAML::Emitter e;
+    e << YAML::Flow << kv.second;
+    out->push_back(dotted + "=" + (kv.second.IsNull() ? std::string("null") : std::string(e.c_str())));
+  }
 }
 }  // namespace
 
@@ -72,6 +95,42 @@ void applyOverrides(YAML::Node root, const std::vector<std::string>& overrides)
     }
     chain.back()[parts.back()] = value;
   }
+}
+
+std::vector<std::string> overlayOverrides(const YAML::Node& overlay, const std::string& source)
+{
+  std::vector<std::string> out;
+  if (!overlay || overlay.IsNull())
+  {
+    return out;
+  }
+  if (!overlay.IsMap())
+  {
+    throw std::invalid_argument("overlay '" + source + "' must be a YAML map");
+  }
+  flatten(overlay, "", source, &out);
+  return out;
+}
+
+std::vector<std::string> loadOverlayFile(const std::string& path)
+{
+  std::ifstream in(path);
+  if (!in.good())
+  {
+    throw std::invalid_argument("overlay '" + path + "' does not exist or cannot be read");
+  }
+  std::stringstream ss;
+  ss << in.rdbuf();
+  YAML::Node root;
+  try
+  {
+    root = YAML::Load(ss.str());
+  }
+  catch (const YAML::Exception& ex)
+  {
+    throw std::invalid_argument("overlay '" + path + "' is malformed YAML: " + ex.what());
+  }
+  return overlayOverrides(root, path);
 }
 
 }  // namespace jackal_aic

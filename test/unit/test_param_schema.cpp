@@ -546,6 +546,25 @@ TEST(YamlOverrides, ParseAndApply)
   EXPECT_THROW(applyOverrides(untouched, { "tau" }), std::invalid_argument);
 }
 
+TEST(YamlOverrides, OverlayFlattensToOverrides)
+{
+  const YAML::Node overlay = YAML::Load("motor: {speed_ki: 8, limits: {max: 4}}\ncontact: {mu1: 0.3}\nbias: [0, 0, 0.01]\n");
+  const std::vector<std::string> o = overlayOverrides(overlay, "variant.yaml");
+  EXPECT_EQ(o, (std::vector<std::string>{ "motor.speed_ki=8", "motor.limits.max=4", "contact.mu1=0.3",
+                                          "bias=[0, 0, 0.01]" }));
+  // Applied on a base file, the overlay changes only its own keys.
+  YAML::Node base = YAML::Load("motor: {speed_ki: 1, speed_kp: 15}\ncontact: {mu1: 0.5, mu2: 0.5}\n");
+  applyOverrides(base, o);
+  EXPECT_EQ(base["motor"]["speed_ki"].as<double>(), 8.0);
+  EXPECT_EQ(base["motor"]["speed_kp"].as<double>(), 15.0);
+  EXPECT_EQ(base["contact"]["mu2"].as<double>(), 0.5);
+  EXPECT_EQ(base["bias"].as<std::vector<double>>(), (std::vector<double>{ 0, 0, 0.01 }));
+  EXPECT_TRUE(overlayOverrides(YAML::Load(""), "empty.yaml").empty());
+  EXPECT_THROW(overlayOverrides(YAML::Load("[1, 2]"), "list.yaml"), std::invalid_argument);
+  EXPECT_THROW(overlayOverrides(YAML::Load("{a.b: 1}"), "dotted.yaml"), std::invalid_argument);
+  EXPECT_THROW(loadOverlayFile("/no/such/overlay.yaml"), std::invalid_argument);
+}
+
 TEST(YamlOverrides, LoadAicParamsAppliesAndValidates)
 {
   const std::string file = kSource + "/config/thesis_standard.yaml";

@@ -1,7 +1,9 @@
 /// Bad-input paths and basic output of the CLI tools aic_analyze, aic_step_metrics and aic_predict.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <string>
 #include <utility>
@@ -39,6 +41,13 @@ std::string writeFile(const std::string& name, const std::string& text)
   const std::string path = std::string(::testing::TempDir()) + name;
   std::ofstream(path) << text;
   return path;
+}
+
+/// The number that follows the first occurrence of `key` in `text` (NaN if none).
+double numberAfter(const std::string& text, const std::string& key)
+{
+  const auto at = text.find(key);
+  return at == std::string::npos ? std::nan("") : std::strtod(text.c_str() + at + key.size(), nullptr);
 }
 
 const std::string kAnalyze = AIC_ANALYZE_BIN;
@@ -182,7 +191,8 @@ TEST(AicParams, GeneratesAndChecks)
 TEST(CommandLines, HelpExitsZeroAndBadArgumentsTwo)
 {
   // One convention for every C++ tool (Boost.program_options, include/jackal_aic/cli.hpp).
-  for (const std::string& bin : { kAnalyze, kMetrics, std::string(AIC_PREDICT_BIN), std::string(AIC_PARAMS_BIN) })
+  for (const std::string& bin : { kAnalyze, kMetrics, std::string(AIC_PREDICT_BIN), std::string(AIC_PARAMS_BIN),
+                                  std::string(AIC_TRACK_METRICS_BIN) })
   {
     EXPECT_EQ(run(bin + " --help").code, 0) << bin;
     EXPECT_EQ(run(bin + " --no-such-option").code, 2) << bin;
@@ -249,6 +259,104 @@ TEST(ClosedLoopRun, CombinedStepReportsBothChannels)
   EXPECT_EQ(r.code, 2) << r.out;
   r = run(bin + " --controller open --step 0.3 --turn nan");
   EXPECT_EQ(r.code, 2) << r.out;
+}
+
+TEST(ClosedLoopRun, CsvProfileReportsTrackingAndPath)
+{
+  const std::string bin = CLOSED_LOOP_RUN_BIN;
+  // A straight run at 0.4 m/s, then an arc: the tracking of both channels and the path drift.
+  const std::string profile = writeFile("track_profile.csv", "t,vx,wz\n0,0.4,0\n1.0,0.4,0.5\n2.0,0,0\n");
+  const std::string trace = std::string(::testing::TempDir()) + "track_trace.csv";
+  Result r = run(bin + " --controller stock --profile " + profile + " --csv " + trace);
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (const char* key :
+       { "\"profile\": \"track_profile\"", "\"duration\": 2,", "\"tracking\": {\"truth\": {\"vx\": {\"rms\": ",
+         "\"odometry\": {\"vx\"", "\"path\": {\"final_position_error\": ", "\"segments\": []" })
+  {
+    EXPECT_NE(r.out.find(key), std::string::npos) << key << "\n" << r.out;
+  }
+  std::ifstream f(trace);
+  std::string header;
+  std::getline(f, header);
+  EXPECT_NE(header.find(",x,y,heading,x_ideal,y_ideal,heading_ideal"), std::string::npos) << header;
+  // The trace's pose and the profile through aic_track_metrics: the same path drift.
+  const std::string metrics = AIC_TRACK_METRICS_BIN;
+  r = run(metrics + " --profile " + profile + " --trace " + trace);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("\"path\": {\"final_position_error\": "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"tracking\": {}"), std::string::npos) << r.out;  // no S_vx, S_wz columns
+  // --segments: the step metrics of the transitions, both channels.
+  r = run(bin + " --controller open --profile " + profile + " --segments");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("\"angular_segments\": [{"), std::string::npos) << r.out;
+  // Bad profiles: exit 1 with the file and line; bad combinations: exit 2.
+  const std::string bad = writeFile("track_bad.csv", "t,vx,wz\n0,0.4,0\n1.0,nan,0\n2,0,0\n");
+  r = run(bin + " --controller stock --profile " + bad);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("track_bad.csv line 3: vx 'nan' is not finite"), std::string::npos) << r.out;
+  const std::string back = writeFile("track_back.csv", "0,0.4,0\n1.0,0.1,0\n0.5,0,0\n");
+  r = run(bin + " --controller stock --profile " + back);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("line 3: t must increase"), std::string::npos) << r.out;
+  EXPECT_EQ(run(bin + " --controller stock --profile /nonexistent.csv").code, 1);
+  EXPECT_EQ(run(bin + " --controller stock --profile " + profile + " --step 0.5").code, 2);
+  EXPECT_EQ(run(bin + " --controller stock --step 0.5 --segments").code, 2);
+}
+
+TEST(AicTrackMetrics, SignalsPoseAndBadInput)
+{
+  const std::string bin = AIC_TRACK_METRICS_BIN;
+  const std::string profile = writeFile("tm_profile.csv", "t,vx,wz\n0,0.5,0\n2,0,0\n");
+  Result r = run(bin + " --profile " + profile + " --print-profile");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("\"duration\": 2, \"points\": [[0, 0.5, 0]]"), std::string::npos) << r.out;
+  // odom 0.1 m/s low throughout, belief exact but missing at one sample; a pose that holds the line.
+  std::string text = "t,odom_vx,odom_wz,belief_vx,belief_wz,x,y,heading\n";
+  for (int k = -5; k <= 100; ++k)
+  {
+    const double t = 0.02 * k;
+    const double v = t >= 0.0 ? 0.5 : 0.0;
+    const double x = t >= 0.0 ? 0.5 * t : 0.0;
+    text += std::to_string(t) + "," + std::to_string(v - 0.1) + ",0," + (k == 50 ? std::string(",") : "0.5,0") +
+            "," + std::to_string(x) + ",0.05,0\n";
+  }
+  const std::string trace = writeFile("tm_trace.csv", text);
+  const std::string ideal = std::string(::testing::TempDir()) + "tm_ideal.csv";
+  r = run(bin + " --profile " + profile + " --trace " + trace + " --ideal-csv " + ideal);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("\"odom\": {\"vx\": {\"rms\": 0.1, \"max\": 0.1}"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"belief\": {\"vx\": {\"rms\": 0, \"max\": 0}, \"wz\": {\"rms\": 0, \"max\": 0}, "
+                       "\"samples\": 100}"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NEAR(numberAfter(r.out, "\"final_position_error\": "), 0.0, 1e-9) << r.out;  // starts at y = 0.05 too
+  EXPECT_NEAR(numberAfter(r.out, "\"ideal_length\": "), 1.0, 1e-9) << r.out;
+  std::ifstream f(ideal);
+  std::string line;
+  std::getline(f, line);
+  EXPECT_EQ(line, "t,x,y,heading");
+  // Bad input: exit 1 naming the problem; bad arguments: exit 2.
+  const std::string nan_trace = writeFile("tm_nan.csv", "t,odom_vx,odom_wz\n0,0.5,0\n0.02,nan,0\n");
+  r = run(bin + " --profile " + profile + " --trace " + nan_trace);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("odom_vx 'nan' is not finite"), std::string::npos) << r.out;
+  const std::string no_signal = writeFile("tm_none.csv", "t,speed\n0,0.5\n");
+  r = run(bin + " --profile " + profile + " --trace " + no_signal);
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("no S_vx, S_wz column pair"), std::string::npos) << r.out;
+  const std::string empty_signal = writeFile("tm_empty.csv", "t,odom_vx,odom_wz,x,y,heading\n0,,,0,0,0\n1,,,0.5,0,0\n");
+  r = run(bin + " --profile " + profile + " --trace " + empty_signal);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("\"tracking\": {\"odom\": null}"), std::string::npos) << r.out;
+  const std::string late = writeFile("tm_late.csv", "t,odom_vx,odom_wz\n3,0.5,0\n4,0.5,0\n");
+  EXPECT_EQ(run(bin + " --profile " + profile + " --trace " + late).code, 1);
+  const std::string one_row = writeFile("tm_one.csv", "t,vx,wz\n0,0.5,0\n");
+  r = run(bin + " --profile " + one_row + " --print-profile");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("at least two rows"), std::string::npos) << r.out;
+  EXPECT_EQ(run(bin + " --profile " + profile).code, 2);
+  EXPECT_EQ(run(bin + " --profile " + profile + " --trace " + trace + " --print-profile").code, 2);
+  EXPECT_EQ(run(bin + " --trace " + trace).code, 2);
 }
 
 TEST(AicTiming, PrintsOneRowPerLoopAndRate)

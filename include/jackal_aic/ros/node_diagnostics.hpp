@@ -13,7 +13,6 @@
 #include <utility>
 
 #include <diagnostic_updater/diagnostic_updater.h>
-#include <diagnostic_updater/update_functions.h>
 #include <ros/node_handle.h>
 #include <ros/publisher.h>
 #include <ros/timer.h>
@@ -23,6 +22,14 @@
 #include "jackal_aic/fault_monitor.hpp"
 #include "jackal_aic/periodic_thread.hpp"
 #include "jackal_aic/types.hpp"
+
+// update_functions.h is included by node_diagnostics.cpp only: diagnostic_updater 1.10
+// (Debian 11) defines TimeStampStatus::run in that header without `inline`, so a second
+// translation unit including it fails to link.
+namespace diagnostic_updater
+{
+class FrequencyStatus;
+}  // namespace diagnostic_updater
 
 namespace jackal_aic
 {
@@ -63,6 +70,7 @@ public:
    */
   NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, ControlLoop& loop,
                   std::function<ControllerReport()> controller);
+  ~NodeDiagnostics();
 
   /// The expected loop rates [Hz] (after a reconfigure).
   void setRates(double belief_rate, double action_rate);

@@ -1,0 +1,321 @@
+/**
+ * \file tracking_metrics.cpp
+ * \brief Twist profiles (CSV), velocity tracking error and path drift
+ *        (include/jackal_aic/tracking_metrics.hpp; doc/tools.md, 'Tracking benchmark').
+ */
+#include "jackal_aic/tracking_metrics.hpp"
+
+#include "jackal_aic/csv_table.hpp"
+#include "jackal_aic/json_number.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <istream>
+#include <sstream>
+#include <stdexcept>
+
+namespace jackal_aic
+{
+namespace
+{
+constexpr double kPi = 3.14159265358979323846;
+/// Below this |wz| [rad/s] a constant-twist piece is integrated as a straight line.
+constexpr double kStraight = 1e-12;
+
+void require(bool ok, const std::string& message)
+{
+  if (!ok)
+  {
+    throw std::invalid_argument(message);
+  }
+}
+
+std::string baseName(const std::string& path)
+{
+  std::string name = path.substr(path.find_last_of('/') == std::string::npos ? 0 : path.find_last_of('/') + 1);
+  const auto dot = name.find_last_of('.');
+  return dot == std::string::npos || dot == 0 ? name : name.substr(0, dot);
+}
+
+std::string fmt(double v)
+{
+  return jsonNumber(v, 9);
+}
+
+void checkSeries(const std::string& what, const std::vector<double>& time,
+                 const std::vector<const std::vector<double>*>& values)
+{
+  for (const auto* v : values)
+  {
+    require(v->size() == time.size(), what + ": time has " + std::to_string(time.size()) + " samples but a value "
+                                          "series has " + std::to_string(v->size()));
+  }
+  for (std::size_t k = 0; k < time.size(); ++k)
+  {
+    require(std::isfinite(time[k]), what + ": time[" + std::to_string(k) + "] is not finite");
+    require(k == 0 || time[k] > time[k - 1], what + ": time is not strictly increasing at sample " +
+                                                 std::to_string(k));
+    for (const auto* v : values)
+    {
+      require(std::isfinite((*v)[k]), what + ": a value at sample " + std::to_string(k) + " is not finite");
+    }
+  }
+}
+
+/// Pose after holding (vx, wz) for dt from p (exact: a straight line or a circular arc).
+Pose2D advance(const Pose2D& p, double vx, double wz, double dt)
+{
+  Pose2D q;
+  const double th1 = p.heading + wz * dt;
+  if (std::abs(wz) < kStraight)
+  {
+    q.x = p.x + vx * dt * std::cos(p.heading);
+    q.y = p.y + vx * dt * std::sin(p.heading);
+  }
+  else
+  {
+    q.x = p.x + vx / wz * (std::sin(th1) - std::sin(p.heading));
+    q.y = p.y - vx / wz * (std::cos(th1) - std::cos(p.heading));
+  }
+  q.heading = th1;
+  return q;
+}
+}  // namespace
+
+void TwistProfile::setPointAt(double t, double* vx, double* wz) const
+{
+  *vx = 0.0;
+  *wz = 0.0;
+  // Last point with point.t <= t (points sorted by t).
+  auto it = std::upper_bound(points.begin(), points.end(), t,
+                             [](double value, const TwistProfilePoint& p) { return value < p.t; });
+  if (it != points.begin())
+  {
+    --it;
+    *vx = it->vx;
+    *wz = it->wz;
+  }
+}
+
+void TwistProfile::validate() const
+{
+  const std::string who = "twist profile" + (name.empty() ? std::string() : " " + name);
+  require(!points.empty(), who + ": no set points");
+  for (std::size_t i = 0; i < points.size(); ++i)
+  {
+    const TwistProfilePoint& p = points[i];
+    require(std::isfinite(p.t) && std::isfinite(p.vx) && std::isfinite(p.wz),
+            who + ": point " + std::to_string(i) + " has a non-finite value");
+    require(p.t >= 0.0, who + ": point " + std::to_string(i) + " has t < 0");
+    require(i == 0 || p.t > points[i - 1].t, who + ": t is not strictly increasing at point " + std::to_string(i));
+  }
+  require(std::isfinite(duration) && duration > points.back().t,
+          who + ": the end time must be finite and after the last set point");
+}
+
+TwistProfile parseTwistProfileCsv(std::istream& in, const std::string& source)
+{
+  const CsvTable csv = readCsv(in, source, CsvHeader::kOptional);
+  int col_t = 0;
+  int col_vx = 1;
+  int col_wz = 2;
+  std::size_t width = 3;
+  if (!csv.header.empty())
+  {
+    col_t = csv.column("t");
+    col_vx = csv.column("vx");
+    col_wz = csv.column("wz");
+    width = csv.header.size();
+    require(col_t >= 0 && col_vx >= 0, source + " line " + std::to_string(csv.header_line) +
+                                           ": the header must name the columns t and vx (and wz, else 0)");
+  }
+  std::vector<TwistProfilePoint> rows;
+  for (std::size_t r = 0; r < csv.rows.size(); ++r)
+  {
+    require(csv.rows[r].size() == width, csv.where(r) + "expected " + std::to_string(width) + " cells, got " +
+                                             std::to_string(csv.rows[r].size()));
+    TwistProfilePoint p;
+    p.t = csv.number(r, col_t, "t");
+    p.vx = csv.number(r, col_vx, "vx");
+    p.wz = col_wz >= 0 ? csv.number(r, col_wz, "wz") : 0.0;
+    require(p.t >= 0.0, csv.where(r) + "t must be >= 0");
+    require(rows.empty() || p.t > rows.back().t,
+            csv.where(r) + "t must increase (" + fmt(p.t) + " after " + fmt(rows.empty() ? 0.0 : rows.back().t) + ")");
+    rows.push_back(p);
+  }
+  require(rows.size() >= 2, source + ": need at least two rows (t, vx, wz); the last row's t ends the profile");
+  TwistProfile profile;
+  profile.duration = rows.back().t;
+  rows.pop_back();
+  profile.points = std::move(rows);
+  profile.name = baseName(source);
+  profile.validate();
+  return profile;
+}
+
+TwistProfile loadTwistProfileCsv(const std::string& path)
+{
+  std::ifstream f(path);
+  require(static_cast<bool>(f), "cannot open twist profile '" + path + "'");
+  return parseTwistProfileCsv(f, path);
+}
+
+std::string twistProfileCsv(const TwistProfile& profile)
+{
+  std::ostringstream os;
+  os.precision(10);
+  os << "t,vx,wz\n";
+  for (const TwistProfilePoint& p : profile.points)
+  {
+    os << p.t << "," << p.vx << "," << p.wz << "\n";
+  }
+  os << profile.duration << ",0,0\n";
+  return os.str();
+}
+
+VelocityTrackingError velocityTrackingError(const TwistProfile& profile, const std::vector<double>& time,
+                                            const std::vector<double>& vx, const std::vector<double>& wz)
+{
+  profile.validate();
+  checkSeries("velocity tracking error", time, { &vx, &wz });
+  VelocityTrackingError e;
+  double sum_vx = 0.0;
+  double sum_wz = 0.0;
+  for (std::size_t k = 0; k < time.size(); ++k)
+  {
+    if (time[k] < 0.0 || time[k] > profile.duration)
+    {
+      continue;
+    }
+    double sp_vx = 0.0;
+    double sp_wz = 0.0;
+    profile.setPointAt(time[k], &sp_vx, &sp_wz);
+    const double ev = vx[k] - sp_vx;
+    const double ew = wz[k] - sp_wz;
+    sum_vx += ev * ev;
+    sum_wz += ew * ew;
+    e.vx.max = std::max(e.vx.max, std::abs(ev));
+    e.wz.max = std::max(e.wz.max, std::abs(ew));
+    ++e.samples;
+  }
+  require(e.samples > 0, "velocity tracking error: no sample between profile time 0 and the end " +
+                             fmt(profile.duration) + " s");
+  e.vx.rms = std::sqrt(sum_vx / e.samples);
+  e.wz.rms = std::sqrt(sum_wz / e.samples);
+  return e;
+}
+
+std::vector<Pose2D> idealPath(const TwistProfile& profile, const Pose2D& start, double t_start,
+                              const std::vector<double>& times)
+{
+  profile.validate();
+  require(std::isfinite(start.x) && std::isfinite(start.y) && std::isfinite(start.heading) && std::isfinite(t_start),
+          "ideal path: non-finite start pose or time");
+  std::vector<Pose2D> out;
+  out.reserve(times.size());
+  Pose2D pose = start;
+  double t = t_start;
+  // Index of the next breakpoint after t.
+  std::size_t next = static_cast<std::size_t>(
+      std::upper_bound(profile.points.begin(), profile.points.end(), t,
+                       [](double value, const TwistProfilePoint& p) { return value < p.t; }) -
+      profile.points.begin());
+  for (std::size_t k = 0; k < times.size(); ++k)
+  {
+    const double target = times[k];
+    require(std::isfinite(target) && target >= t,
+            "ideal path: times must be finite, >= t_start and non-decreasing (sample " + std::to_string(k) + ")");
+    // Constant twist between breakpoints: advance piece by piece.
+    while (t < target)
+    {
+      const double piece_end = next < profile.points.size() ? std::min(profile.points[next].t, target) : target;
+      double vx = 0.0;
+      double wz = 0.0;
+      profile.setPointAt(t, &vx, &wz);
+      pose = advance(pose, vx, wz, piece_end - t);
+      t = piece_end;
+      while (next < profile.points.size() && profile.points[next].t <= t)
+      {
+        ++next;
+      }
+    }
+    out.push_back(pose);
+  }
+  return out;
+}
+
+PathDrift pathDrift(const TwistProfile& profile, const std::vector<double>& time, const std::vector<double>& x,
+                    const std::vector<double>& y, const std::vector<double>& heading)
+{
+  profile.validate();
+  checkSeries("path drift", time, { &x, &y, &heading });
+  require(!time.empty() && time.front() <= profile.duration, "path drift: no sample at or before the profile's end " +
+                                                                 fmt(profile.duration) + " s");
+  std::size_t s = 0;
+  for (std::size_t k = 0; k < time.size() && time[k] <= 0.0; ++k)
+  {
+    s = k;
+  }
+  PathDrift d;
+  d.t_start = time[s];
+  std::vector<Pose2D> measured;
+  double unwrapped = heading[s];
+  for (std::size_t k = s; k < time.size() && time[k] <= profile.duration; ++k)
+  {
+    if (k > s)
+    {
+      // Continuous heading: add the wrapped increment.
+      unwrapped += std::remainder(heading[k] - heading[k - 1], 2.0 * kPi);
+    }
+    d.time.push_back(time[k]);
+    Pose2D p;
+    p.x = x[k];
+    p.y = y[k];
+    p.heading = unwrapped;
+    measured.push_back(p);
+  }
+  d.ideal = idealPath(profile, measured.front(), d.t_start, d.time);
+  d.samples = static_cast<int>(d.time.size());
+  for (std::size_t k = 0; k < measured.size(); ++k)
+  {
+    const double err = std::hypot(measured[k].x - d.ideal[k].x, measured[k].y - d.ideal[k].y);
+    d.max_position_error = std::max(d.max_position_error, err);
+    d.final_position_error = err;
+  }
+  // Length of the ideal path: the integral of |vx| over the analysed span, piece by piece.
+  for (double t = d.t_start; t < d.time.back();)
+  {
+    const auto next = std::upper_bound(profile.points.begin(), profile.points.end(), t,
+                                       [](double value, const TwistProfilePoint& p) { return value < p.t; });
+    const double piece_end = next == profile.points.end() ? d.time.back() : std::min(next->t, d.time.back());
+    double vx = 0.0;
+    double wz = 0.0;
+    profile.setPointAt(t, &vx, &wz);
+    d.ideal_length += std::abs(vx) * (piece_end - t);
+    t = piece_end;
+  }
+  d.final_heading_error = measured.back().heading - d.ideal.back().heading;
+  return d;
+}
+
+std::string toJson(const VelocityTrackingError& e)
+{
+  std::ostringstream os;
+  os << "{\"vx\": {\"rms\": " << fmt(e.vx.rms) << ", \"max\": " << fmt(e.vx.max) << "}, \"wz\": {\"rms\": "
+     << fmt(e.wz.rms) << ", \"max\": " << fmt(e.wz.max) << "}, \"samples\": " << e.samples << "}";
+  return os.str();
+}
+
+std::string toJson(const PathDrift& d)
+{
+  std::ostringstream os;
+  os << "{\"final_position_error\": " << fmt(d.final_position_error)
+     << ", \"max_position_error\": " << fmt(d.max_position_error)
+     << ", \"final_heading_error\": " << fmt(d.final_heading_error) << ", \"ideal_length\": " << fmt(d.ideal_length)
+     << ", \"samples\": " << d.samples << "}";
+  return os.str();
+}
+
+}  // namespace jackal_aic

@@ -1,0 +1,191 @@
+#!/usr/bin/env python3
+"""Python unit test: the tracking benchmark (scripts/aic_track.py) and its profiles.
+
+- sim/profiles/*.csv are the generator's output (jackal_aic_tools/track_profiles.py), and each
+  profile is what it claims (rates, the J100 ramps, turns in place, reversing, creeping, 1.5 m/s);
+- one short profile on the default plant and on an overlay of this test's own, AIC and stock
+  (closed_loop_run, seeded noise: deterministic): every output is written and consistent (the
+  figures of tracking.json are closed_loop_run's, the path drift is the one aic_track_metrics
+  computes from the trace, the ratios are AIC / stock, the results page has the table);
+- bad profile CSVs and a missing overlay are refused with exit 1 and a message naming them.
+"""
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+from jackal_aic_tools import cli, track_profiles
+
+PKG = "jackal_aic"
+ROOT = os.path.realpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), ".."))
+SCRIPT = os.path.join(ROOT, "scripts", "aic_track.py")
+SHORT = "t,vx,wz\n0,0.5,0\n1.5,0.5,0.4\n3.0,0,0\n"  # straight, then an arc
+
+
+def rows_of(name):
+    return track_profiles.profile_rows(name)
+
+
+def run_suite(args):
+    return subprocess.run([sys.executable, SCRIPT] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                          universal_newlines=True, timeout=240)
+
+
+class TrackCheck(unittest.TestCase):
+
+    def test_committed_profiles_are_the_generators_output(self):
+        with tempfile.TemporaryDirectory(prefix="track_profiles_") as tmp:
+            for path in track_profiles.write_all(tmp):
+                name = os.path.basename(path)
+                with open(path) as f, open(os.path.join(ROOT, "sim", "profiles", name)) as g:
+                    self.assertEqual(f.read(), g.read(), "sim/profiles/%s differs from the generator's output "
+                                                         "(aic_track.py --write-profiles sim/profiles)" % name)
+
+    def _steps(self, rows):
+        dt = {round(b[0] - a[0], 9) for a, b in zip(rows, rows[1:])}
+        self.assertEqual(len(dt), 1, "uneven rate")
+        return dt.pop()
+
+    def test_teleop_is_a_joystick(self):
+        rows = rows_of("teleop_joystick")
+        self.assertAlmostEqual(self._steps(rows), 0.05)  # 20 Hz
+        self.assertLessEqual(max(abs(v) for _, v, _ in rows), track_profiles.SCALE_LINEAR + 1e-9)
+        self.assertLessEqual(max(abs(w) for _, _, w in rows), track_profiles.SCALE_ANGULAR + 1e-9)
+        self.assertTrue(any(v == 0.0 and abs(w) > 1.0 for _, v, w in rows), "no turn in place")
+        self.assertTrue(any(v < -0.25 for _, v, _ in rows), "no reversing")
+        # The stick is smoothed: no jump from rest to full speed in one message.
+        self.assertLess(max(abs(b[1] - a[1]) for a, b in zip(rows, rows[1:])), 0.5 * track_profiles.SCALE_LINEAR)
+
+    def test_planner_profiles_ramp_at_the_j100_limits(self):
+        for name in ("planner_10hz", "s_curves", "stop_and_go", "creep", "fast"):
+            rows = rows_of(name)[:-1]
+            dt = self._steps(rows)
+            self.assertAlmostEqual(dt, 0.1, msg=name)  # 10 Hz
+            dv = max(abs(b[1] - a[1]) for a, b in zip(rows, rows[1:])) / dt
+            dw = max(abs(b[2] - a[2]) for a, b in zip(rows, rows[1:])) / dt
+            self.assertLessEqual(dv, track_profiles.LINEAR_ACCEL + 1e-9, name)
+            self.assertLessEqual(dw, track_profiles.ANGULAR_ACCEL + 1e-9, name)
+            self.assertEqual(rows[0][1:], (0.0, 0.0), name)
+            self.assertEqual(rows[-1][1:], (0.0, 0.0), name)
+        planner = rows_of("planner_10hz")
+        self.assertTrue(any(v > 0.5 and abs(w) > 0.3 for _, v, w in planner), "no arc")
+        last_turn = [k for k, (_, v, w) in enumerate(planner) if v == 0.0 and abs(w) >= 0.9]
+        last_drive = [k for k, (_, v, _) in enumerate(planner) if v > 0.0]
+        self.assertTrue(last_turn and last_turn[-1] > last_drive[-1], "no final turn in place")
+        s = rows_of("s_curves")
+        self.assertGreaterEqual(sum(1 for a, b in zip(s, s[1:]) if a[2] * b[2] < 0.0), 5, "not an S-curve")
+        go = rows_of("stop_and_go")
+        stops = sum(1 for a, b in zip(go, go[1:]) if a[1] > 0.0 and b[1] == 0.0)
+        self.assertGreaterEqual(stops, 4)
+        creep = [abs(v) for _, v, _ in rows_of("creep") if v != 0.0]
+        held = [v for v in creep if creep.count(v) >= 10]  # the levels held, not the ramps between them
+        self.assertAlmostEqual(min(held), 0.05)
+        self.assertAlmostEqual(max(creep), 0.2)
+        fast = rows_of("fast")
+        self.assertAlmostEqual(max(v for _, v, _ in fast), 1.5)
+        self.assertTrue(any(v == 1.5 and abs(w) >= 0.6 for _, v, w in fast), "no turn at 1.5 m/s")
+
+    def test_short_profile_two_variants(self):
+        with tempfile.TemporaryDirectory(prefix="track_suite_") as tmp:
+            profile = os.path.join(tmp, "short.csv")
+            with open(profile, "w") as f:
+                f.write(SHORT)
+            overlay = os.path.join(tmp, "slow_latency.yaml")
+            with open(overlay, "w") as f:
+                f.write("motor:\n  command_delay: 0.2   # [s], longer than the plant's\n")
+            out = os.path.join(tmp, "out")
+            md = os.path.join(tmp, "tracking.md")
+            proc = run_suite(["--profiles", profile, "--variants", "default", overlay, "--out", out,
+                              "--results-md", md, "--jobs", "2"])
+            self.assertEqual(proc.returncode, 0, proc.stdout + proc.stderr)
+            self.assertIn("geometric mean", proc.stdout)
+            with open(os.path.join(out, "tracking.json")) as f:
+                data = json.load(f)
+            runs = {(r["variant"], r["controller"]): r for r in data["runs"]}
+            self.assertEqual(set(runs), {(v, c) for v in ("default", "slow_latency") for c in ("aic", "stock")})
+            for key, r in runs.items():
+                for name, value in r["metrics"].items():
+                    self.assertTrue(value is not None and math.isfinite(value), "%s %s: %r" % (key, name, value))
+                # A real run: it moved and tracked the 0.5 m/s roughly, not exactly.
+                self.assertGreater(r["path"]["ideal_length"], 1.0)
+                self.assertGreater(r["metrics"]["vx_rms"], 0.0)
+                self.assertLess(r["metrics"]["vx_rms"], 0.5)
+                self.assertEqual(r["metrics"]["vx_rms"], r["tracking"]["truth"]["vx"]["rms"])
+                self.assertTrue(os.path.isfile(r["trace"]))
+            # The figures are closed_loop_run's (deterministic: the same run again).
+            exe = cli.find_executable("closed_loop_run", SCRIPT, "track_check")
+            direct = json.loads(subprocess.run(
+                [exe, "--controller", "stock", "--noise", "--config", os.path.join(ROOT, "sim", "config", "plant.yaml"),
+                 "--profile", profile, "--overlay", overlay], stdout=subprocess.PIPE, universal_newlines=True,
+                check=True).stdout)
+            self.assertEqual(direct["tracking"], runs[("slow_latency", "stock")]["tracking"])
+            self.assertEqual(direct["path"], runs[("slow_latency", "stock")]["path"])
+            # The path drift from the trace through aic_track_metrics is the same.
+            metrics_cli = cli.find_executable("aic_track_metrics", SCRIPT, "track_check")
+            again = json.loads(subprocess.run(
+                [metrics_cli, "--profile", profile, "--trace", runs[("default", "aic")]["trace"]],
+                stdout=subprocess.PIPE, universal_newlines=True, check=True).stdout)
+            for k in ("final_position_error", "max_position_error", "final_heading_error"):
+                self.assertAlmostEqual(again["path"][k], runs[("default", "aic")]["path"][k], places=5)
+            # Ratios are AIC / stock; the geometric mean is over both variants.
+            for q in data["ratios"]:
+                a = runs[(q["variant"], "aic")]["metrics"]["vx_rms"]
+                s = runs[(q["variant"], "stock")]["metrics"]["vx_rms"]
+                self.assertAlmostEqual(q["ratios"]["vx_rms"], a / s)
+            gm, n = data["geometric_mean"]["vx_rms"]
+            self.assertEqual(n, 2)
+            self.assertAlmostEqual(gm, math.sqrt(data["ratios"][0]["ratios"]["vx_rms"] *
+                                                 data["ratios"][1]["ratios"]["vx_rms"]))
+            with open(os.path.join(out, "tracking.csv")) as f:
+                self.assertEqual(len(list(csv.DictReader(f))), 4)
+            with open(os.path.join(out, "ratios.csv")) as f:
+                self.assertEqual(len(list(csv.DictReader(f))), 3)  # two variants and the geometric mean
+            for v in ("default", "slow_latency"):
+                png = os.path.join(out, "plots", "short__%s.png" % v)
+                self.assertGreater(os.path.getsize(png), 10000, png)
+            with open(md) as f:
+                page = f.read()
+            self.assertIn("| short | slow_latency | aic |", page)
+            self.assertIn("geometric mean", page)
+
+    def test_bad_profiles_and_overlays_are_refused(self):
+        with tempfile.TemporaryDirectory(prefix="track_bad_") as tmp:
+            cases = {"nan.csv": ("t,vx,wz\n0,0.5,0\n1,nan,0\n2,0,0\n", "nan.csv line 3: vx 'nan' is not finite"),
+                     "back.csv": ("t,vx,wz\n0,0.5,0\n1,0.2,0\n0.5,0,0\n", "back.csv line 4: t must increase"),
+                     "word.csv": ("t,vx,wz\n0,fast,0\n1,0,0\n", "word.csv line 2: vx 'fast' is not a number"),
+                     "one.csv": ("t,vx,wz\n0,0.5,0\n", "need at least two rows"),
+                     "cols.csv": ("time,speed\n0,0.5\n1,0\n", "must name the columns t and vx")}
+            for name, (text, message) in cases.items():
+                path = os.path.join(tmp, name)
+                with open(path, "w") as f:
+                    f.write(text)
+                proc = run_suite(["--profiles", path, "--variants", "default", "--out", os.path.join(tmp, "o"),
+                                  "--no-plots"])
+                self.assertEqual(proc.returncode, 1, name + ": " + proc.stdout + proc.stderr)
+                self.assertIn(message, proc.stderr, name)
+            good = os.path.join(tmp, "good.csv")
+            with open(good, "w") as f:
+                f.write(SHORT)
+            proc = run_suite(["--profiles", good, "--variants", os.path.join(tmp, "missing.yaml"),
+                              "--out", os.path.join(tmp, "o"), "--no-plots"])
+            self.assertEqual(proc.returncode, 1, proc.stdout + proc.stderr)
+            self.assertIn("no such overlay file", proc.stderr)
+            bad_overlay = os.path.join(tmp, "bad.yaml")
+            with open(bad_overlay, "w") as f:
+                f.write("motor:\n  no_such_key: 1\n")
+            proc = run_suite(["--profiles", good, "--variants", bad_overlay, "--out", os.path.join(tmp, "o"),
+                              "--no-plots"])
+            self.assertEqual(proc.returncode, 1, proc.stdout + proc.stderr)
+            self.assertIn("run(s) failed", proc.stderr)
+
+
+if __name__ == "__main__":
+    if any(arg.startswith("--gtest_output=xml:") for arg in sys.argv):
+        import rosunit
+        rosunit.unitrun(PKG, "track", TrackCheck)
+    else:
+        unittest.main()
