@@ -5,16 +5,25 @@ For each belief rate: starts launch/sim.launch (the ODE plant and the node, wall
 under its own ROS master, holds a 0.5 m/s set point, waits --warmup seconds, then over
 --duration seconds reads the node's CPU time from /proc/<pid>/stat (user + system, all
 threads, and per thread from /proc/<pid>/task/*/stat) and its belief step counter from
-/diagnostics ("loops" / "belief steps"), and prints one table row per rate:
-CPU share of one core (node; its belief thread), achieved belief step rate against the
-nominal, belief overruns, and the plant's CPU for scale.
+/diagnostics ("loops": "belief steps", "belief time integrated [s]", the command latency),
+and prints one table row per rate and belief schedule: CPU share of one core (node; its
+belief thread), belief steps per second, belief time integrated per second of wall time,
+the sensor-to-command latency p50 / p99, and the plant's CPU for scale.
 
-Example (the figures in doc/jackal_aic_node.md, 'Loops'):
-  aic_node_load.py --rates 1000,10000 --duration 30
+With --bare, also runs `aic_timing --rates RATE --duration DURATION` for each rate and adds
+the CPU share of its bare clock_nanosleep loop (the floor of any thread that wakes at that
+rate) and of its belief loop (the node's belief schedule timer without ROS). With --output,
+the table is also written to a Markdown file with the command, the host's load average
+before and after, and the configuration (doc/results/node_load.md).
+
+Example (doc/results/node_load.md, linked from doc/jackal_aic_node.md, 'Loops'):
+  aic_node_load.py --rates 1000,10000 --duration 30 --schedules event,timer --bare \
+      --output doc/results/node_load.md
 """
 import argparse
 import json
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -83,7 +92,7 @@ def measure_one(rate, config, duration, warmup, overrides):
                         if "belief steps" in values:
                             with lock:
                                 steps.append((msg.header.stamp.to_sec(), int(values["belief steps"]),
-                                              int(values["belief overruns (interval > 2 periods)"]),
+                                              float(values["belief time integrated [s]"]),
                                               values.get("belief loop", ""),
                                               float(values["command latency p50 [ms] (sensor stamp -> /cmd_drive)"]),
                                               float(values["command latency p99 [ms]"])))
@@ -119,20 +128,40 @@ def measure_one(rate, config, duration, warmup, overrides):
                 window = [s for s in steps if s[0] >= t0 - 1.0]
             if len(window) < 2:
                 raise RuntimeError("too few diagnostics in the window")
-            (ta, na, oa, loop, _, _), (tb, nb, ob, _, _, _) = window[0], window[-1]
+            (ta, na, ia, loop, _, _), (tb, nb, ib, _, _, _) = window[0], window[-1]
             p50s = sorted(w[4] for w in window[1:])
             belief_thread = sum(th1[k] - th0.get(k, 0.0) for k in th1 if k.startswith("aic_belief"))
             row = {
                 "rate": rate, "duration": t1 - t0, "loop": loop,
                 "node_cpu": (c1 - c0) / (t1 - t0), "belief_thread_cpu": belief_thread / (t1 - t0),
                 "plant_cpu": (p1 - p0) / (t1 - t0),
-                "belief_steps_rate": (nb - na) / (tb - ta), "belief_overruns": ob - oa,
+                "belief_steps_rate": (nb - na) / (tb - ta), "belief_time_fraction": (ib - ia) / (tb - ta),
                 "latency_p50_ms": p50s[len(p50s) // 2], "latency_p99_ms": max(w[5] for w in window[1:]),
                 "threads": {k: round(100 * (th1[k] - th0.get(k, 0.0)) / (t1 - t0), 2)
                             for k in th1 if th1[k] - th0.get(k, 0.0) > 0},
             }
             print("RESULT " + json.dumps(row))
             sys.stdout.flush()
+
+
+def bare_loop(rate, duration, script_file):
+    """(bare loop CPU, belief-loop CPU) [share of one core] from aic_timing at one rate."""
+    exe = cli.find_executable("aic_timing", script_file, "aic_node_load.py")
+    out = subprocess.run([exe, "--rates", "%g" % rate, "--duration", "%g" % duration],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True, check=True).stdout
+    cpu = {}
+    for line in out.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) == 10 and cells[0] in ("belief", "bare"):
+            cpu[cells[0]] = float(re.sub(r"[^0-9.]", "", cells[9])) / 100.0
+    if "bare" not in cpu:
+        raise RuntimeError("aic_timing printed no bare row: %s" % out)
+    return cpu["bare"], cpu.get("belief", float("nan"))
+
+
+def loadavg():
+    with open("/proc/loadavg") as f:
+        return " ".join(f.read().split()[:3])
 
 
 def main(argv=None):
@@ -147,6 +176,11 @@ def main(argv=None):
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                    help="override a parameter of the configuration, e.g. --set action_trigger=sample")
     p.add_argument("--threads", action="store_true", help="also print the CPU share [%%] of each node thread")
+    p.add_argument("--schedules", default="event",
+                   help="belief_schedule values to measure, comma-separated: event, timer (default %(default)s)")
+    p.add_argument("--bare", action="store_true",
+                   help="also run aic_timing at each rate: its bare clock_nanosleep loop's CPU share beside")
+    p.add_argument("--output", help="also write the table, the command and the host's load to this Markdown file")
     p.add_argument("--one", type=float, help=argparse.SUPPRESS)
     a = p.parse_args(argv)
     if a.duration <= 0 or a.warmup < 0:
@@ -162,30 +196,62 @@ def main(argv=None):
         rates = [float(r) for r in a.rates.split(",")]
     except ValueError:
         p.error("--rates: not a list of numbers: %s" % a.rates)
-    print("| belief rate [Hz] | belief loop | node CPU (1 core) | belief thread CPU | belief steps [Hz] "
-          "| of nominal | overruns | latency p50 / p99 [ms] | plant CPU |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    schedules = [x.strip() for x in a.schedules.split(",") if x.strip()]
+    if not schedules or any(x not in ("event", "timer") for x in schedules):
+        p.error("--schedules: a list of event, timer")
+    lines = ["| belief rate [Hz] | belief_schedule | beliefs advanced on | node CPU (1 core) | belief thread CPU "
+             "| belief steps [Hz] | belief time integrated per second | latency p50 / p99 [ms] | plant CPU "
+             "| bare loop CPU (aic_timing) |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for line in lines:
+        print(line)
+    load_before = loadavg()
     failed = 0
     for rate in rates:
-        # One process per rate: rospy joins one master per process.
-        proc = subprocess.run([sys.executable, os.path.abspath(__file__), "--one", str(rate),
-                               "--duration", str(a.duration), "--warmup", str(a.warmup), "--config", a.config]
-                              + ["--set=" + o for o in a.set],
-                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True)
-        lines = [l for l in proc.stdout.splitlines() if l.startswith("RESULT ")]
-        if proc.returncode != 0 or not lines:
-            failed += 1
-            print("| %.0f | failed: %s |" % (rate, (proc.stderr.strip().splitlines() or ["?"])[-1]))
-            continue
-        r = json.loads(lines[-1][len("RESULT "):])
-        print("| %.0f | %s | %.2f %% | %.2f %% | %.2f | %.3f %% | %d | %.2f / %.2f | %.1f %% |" % (
-            rate, r["loop"], 100 * r["node_cpu"], 100 * r["belief_thread_cpu"], r["belief_steps_rate"],
-            100 * r["belief_steps_rate"] / rate, r["belief_overruns"], r["latency_p50_ms"], r["latency_p99_ms"],
-            100 * r["plant_cpu"]))
-        if a.threads:
-            print("|   | threads [%% of a core]: %s |" % ", ".join("%s %.2f" % kv for kv in sorted(
-                r["threads"].items(), key=lambda kv: -kv[1])))
-        sys.stdout.flush()
+        bare = ""
+        if a.bare:
+            try:
+                b, belief = bare_loop(rate, a.duration, __file__)
+                bare = "%.2f %% (its belief loop %.2f %%)" % (100 * b, 100 * belief)
+            except (OSError, RuntimeError, subprocess.CalledProcessError) as e:
+                bare = "failed: %s" % e
+        for schedule in schedules:
+            # One process per run: rospy joins one master per process.
+            proc = subprocess.run([sys.executable, os.path.abspath(__file__), "--one", str(rate),
+                                   "--duration", str(a.duration), "--warmup", str(a.warmup), "--config", a.config]
+                                  + ["--set=" + o for o in a.set] + ["--set=belief_schedule=" + schedule],
+                                  stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True)
+            found = [l for l in proc.stdout.splitlines() if l.startswith("RESULT ")]
+            if proc.returncode != 0 or not found:
+                failed += 1
+                line = "| %.0f | %s | failed: %s |" % (rate, schedule, (proc.stderr.strip().splitlines() or ["?"])[-1])
+                print(line)
+                lines.append(line)
+                continue
+            r = json.loads(found[-1][len("RESULT "):])
+            line = "| %.0f | %s | %s | %.2f %% | %.2f %% | %.2f | %.2f %% | %.2f / %.2f | %.1f %% | %s |" % (
+                rate, schedule, r["loop"], 100 * r["node_cpu"], 100 * r["belief_thread_cpu"], r["belief_steps_rate"],
+                100 * r["belief_time_fraction"], r["latency_p50_ms"], r["latency_p99_ms"], 100 * r["plant_cpu"],
+                bare or "-")
+            print(line)
+            lines.append(line)
+            if a.threads:
+                line = "|   | threads [%% of a core]: %s |" % ", ".join("%s %.2f" % kv for kv in sorted(
+                    r["threads"].items(), key=lambda kv: -kv[1]))
+                print(line)
+                lines.append(line)
+            sys.stdout.flush()
+    if a.output:
+        command = "scripts/aic_node_load.py " + " ".join(argv if argv is not None else sys.argv[1:])
+        with open(a.output, "w") as f:
+            f.write("# Node CPU and sensor-to-command latency\n\n")
+            f.write("Generated by `%s`: the node on the simulated Jackal (launch/sim.launch, wall clock, "
+                    "0.5 m/s set point), CPU from /proc over each window, belief steps and latency from "
+                    "/diagnostics (\"loops\"); the bare loop is aic_timing's `clock_nanosleep` loop at the same "
+                    "rate. Configuration: %s%s. Host load average (1, 5, 15 min) before: %s, after: %s; "
+                    "%d CPU(s).\n\n" % (command, os.path.basename(a.config),
+                                        "".join(", " + o for o in a.set), load_before, loadavg(), os.cpu_count()))
+            f.write("\n".join(lines) + "\n")
     return 1 if failed else 0
 
 

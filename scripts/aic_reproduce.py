@@ -31,11 +31,11 @@ end of the 3 s hold is "slow" ("n.s." in a table, no settling time); stability l
 
 Backends:
   core (default)  closed_loop_run: the controller core and the plant core in one process on
-                  simulated time, the node's scheduling (jackal_sim/closed_loop.hpp); fast and
+                  simulated time, the node's logic (ControlLoop, jackal_sim/closed_loop.hpp); fast and
                   deterministic (ideal sensors). The whole reproduction takes a few minutes.
   ros             aic_experiment.py: the jackal_AIC (or stock) node against the plant node,
                   each run under its own master with use_sim_time and the plant at
-                  --real-time-factor; slower, and what the rostest uses for a subset.
+                  --real-time-factor; slower.
 
 Usage:
   aic_reproduce.py [--tables 3-1 5-1 ...] [--backend core|ros] [--out DIR] [--jobs N]

@@ -4,7 +4,7 @@
  * \brief Parameters of the jackal_AIC node as plain data: the controller's AicParams plus
  *        the node-only settings (timeouts, joint names, sensor pairing, set-point limits),
  *        with their validation. ROS-free; the node reads them from its private namespace
- *        (include/jackal_aic/ros/node_params.hpp), the keys and ranges are those of the
+ *        (include/jackal_aic/ros/param_server.hpp), the keys and ranges are those of the
  *        parameter schema (include/jackal_aic/param_schema.hpp; doc/jackal_aic_node.md,
  *        'Parameters').
  */
@@ -14,12 +14,11 @@
 
 #include "jackal_aic/diff_drive.hpp"
 #include "jackal_aic/fault_monitor.hpp"
+#include "jackal_aic/param_spec.hpp"
 #include "jackal_aic/params.hpp"
 
 namespace jackal_aic
 {
-/// Largest loop rate the node accepts for either timer [Hz] (a roscpp timer reaches ~5 kHz here).
-constexpr double kMaxLoopRate = 10000.0;
 
 /// What starts an action step (doc/jackal_aic_node.md, 'Loops').
 enum class ActionTrigger
@@ -28,6 +27,18 @@ enum class ActionTrigger
   kSample  ///< each accepted sensor sample (the command uses the newest order-0 data); the
            ///< timer then only keeps /cmd_drive alive with zeros while the controller is inactive
 };
+
+/// How the beliefs are advanced (doc/jackal_aic_node.md, 'Loops'; include/jackal_aic/control_loop.hpp).
+enum class BeliefSchedule
+{
+  kEvent,  ///< to the time of every event, in steps of at most 1 / belief_rate (no belief timer)
+  kTimer   ///< on a free-running timer at belief_rate (a thread on the wall clock, a ROS timer on simulated time)
+};
+
+/// "event" / "timer" -> BeliefSchedule; false (out unchanged) for any other text.
+bool beliefScheduleFromString(const std::string& name, BeliefSchedule* out);
+/// BeliefSchedule -> "event" / "timer".
+std::string toString(BeliefSchedule schedule);
 
 /// "timer" / "sample" -> ActionTrigger; false (out unchanged) for any other text.
 bool actionTriggerFromString(const std::string& name, ActionTrigger* out);
@@ -70,6 +81,8 @@ struct NodeParams
   int realtime_priority = 0;
   /// What starts an action step: the action_rate timer or each accepted sensor sample.
   ActionTrigger action_trigger = ActionTrigger::kSample;
+  /// How the beliefs are advanced: to each event's time, or on a belief_rate timer; read at start.
+  BeliefSchedule belief_schedule = BeliefSchedule::kEvent;
   /// Sensor fault detection and isolation (keys fdi_*; doc/active_inference.md, 'Fault detection and isolation').
   FdiParams fdi;
 

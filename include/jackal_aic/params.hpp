@@ -121,7 +121,7 @@ struct AicParams
   /**
    * \brief Check every rule; report every violation (empty vector = valid).
    *
-   * The ranges are those of the parameter schema (include/jackal_aic/param_schema.hpp,
+   * The ranges are those of the parameter schema (include/jackal_aic/param_spec.hpp,
    * the controller keys): rates finite, > 0 and <= kMaxRate; tau in [kMinTau, kMaxTau];
    * k_mu, k_a finite, > 0 and <= kMaxGain; 1 <= embedding_order <= kMaxEmbeddingOrder;
    * var_mu of size p+1 or 3(p+1), var_y of size p+1 or 5(p+1), every variance in

@@ -1,12 +1,13 @@
 #pragma once
 /**
  * \file params_yaml.hpp
- * \brief Read the controller keys of a jackal_AIC YAML file (config/\*.yaml) into AicParams,
- *        outside ROS (aic_analyze, closed_loop_run, plant_fit). ROS-free; yaml-cpp only.
+ * \brief Read a jackal_AIC YAML file (config/\*.yaml) outside ROS: its controller keys into
+ *        AicParams (aic_analyze, aic_predict, plant_fit), or every key into NodeParams
+ *        (closed_loop_run). ROS-free; yaml-cpp only.
  *
  * Keys, types and defaults are those of the parameter schema
  * (include/jackal_aic/param_schema.hpp); the node reads the same files through rosparam
- * (src/ros/node_params.cpp). Node-only keys are skipped here, unknown keys are reported.
+ * (src/ros/param_server.cpp). loadAicParams() skips node-only keys; unknown keys are reported.
  */
 
 #include <string>
@@ -56,5 +57,18 @@ AicParams aicParamsFromYaml(const YAML::Node& root, const std::string& file, std
  *         the wrong type, or invalid parameters (every violation listed)
  */
 AicParams loadAicParams(const std::string& file, const std::vector<std::string>& overrides = {});
+
+/**
+ * \brief Every key of the schema (controller and node) from YAML files read in order, each
+ *        over the previous (config/default.yaml, then an overlay such as config/robot.yaml),
+ *        the "key=value" overrides applied to the last; absent keys keep the schema's defaults.
+ *        For the tools that run the node's logic headless (closed_loop_run).
+ * \param files      at least one YAML file
+ * \param overrides  applied on top of the last file
+ * \return the parameters, validated except that both joint lists may be empty (for the caller to fill)
+ * \throws std::runtime_error on an unreadable file, a YAML error, a malformed override, a value
+ *         of the wrong type (naming the file and key), or invalid parameters (every violation)
+ */
+NodeParams loadNodeParamsFiles(const std::vector<std::string>& files, const std::vector<std::string>& overrides = {});
 
 }  // namespace jackal_aic

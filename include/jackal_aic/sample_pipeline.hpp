@@ -89,6 +89,8 @@ public:
   const ActiveInferenceController& controller() const { return *controller_; }
   /// The fault monitor (channel health for diagnostics; its mask is applied by measure()).
   FaultMonitor& faultMonitor() { return *fault_monitor_; }
+  /// \copydoc faultMonitor()
+  const FaultMonitor& faultMonitor() const { return *fault_monitor_; }
   /// The generalizer: y_tilde, 5 x (p+1), of the newest accepted sample.
   const Generalizer& generalizer() const { return *generalizer_; }
 

@@ -7,9 +7,9 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "jackal_aic/controller.hpp"
-#include "jackal_aic/generalizer.hpp"
+#include "jackal_aic/control_loop.hpp"
 #include "jackal_sim/plant.hpp"
+#include "jackal_sim/fault_injection.hpp"
 #include "jackal_sim/sensor_model.hpp"
 #include "jackal_sim/stock_controller.hpp"
 
@@ -62,21 +62,70 @@ void checkConfig(const ClosedLoopConfig& config)
       throw std::invalid_argument("runClosedLoop: profile not sorted by start time");
     }
   }
-  if (config.controller == LoopController::kAic)
+}
+
+/// The node's parameters of an AIC run: config.node with config.aic and, if none are given,
+/// the plant's wheel joints (front and rear of each side).
+NodeParams aicNodeParams(const ClosedLoopConfig& config, const RobotDescription& description)
+{
+  NodeParams p = config.node;
+  p.aic = config.aic;
+  if (p.left_joints.empty() && p.right_joints.empty())
   {
-    const auto violations = config.aic.validate();
-    if (!violations.empty())
+    p.left_joints = { description.wheels[kFrontLeft].joint_name, description.wheels[kRearLeft].joint_name };
+    p.right_joints = { description.wheels[kFrontRight].joint_name, description.wheels[kRearRight].joint_name };
+  }
+  return p;
+}
+
+/// Throws std::invalid_argument listing every violation of the AIC run's parameters.
+void checkAicParams(const NodeParams& params)
+{
+  const auto violations = params.validate();
+  if (!violations.empty())
+  {
+    std::ostringstream os;
+    os << "runClosedLoop: invalid AIC parameters:";
+    for (const auto& v : violations)
     {
-      std::ostringstream os;
-      os << "runClosedLoop: invalid AIC parameters:";
-      for (const auto& v : violations)
-      {
-        os << " " << v.toString() << ";";
-      }
-      throw std::invalid_argument(os.str());
+      os << " " << v.toString() << ";";
     }
+    throw std::invalid_argument(os.str());
   }
 }
+
+/// The plant's time as the loop's clock.
+class SimClock : public Clock
+{
+public:
+  double now() const override { return t; }
+  double t = 0.0;  ///< [s]
+};
+
+/// The loop's commands go to the plant at once; its health events into the record.
+class PlantOutput : public ControlLoop::Output
+{
+public:
+  PlantOutput(Plant& plant, const SimClock& clock, ClosedLoopRecord& record)
+    : plant_(plant), clock_(clock), record_(record)
+  {
+  }
+  void command(const WheelCommand& c) override
+  {
+    wheels = c.wheels;
+    plant_.setWheelSpeeds(c.wheels(0), c.wheels(1));
+  }
+  void healthEvent(FaultMonitor::Event event, int channel) override
+  {
+    record_.health_events.push_back({ clock_.now(), event, channel });
+  }
+  Vector2 wheels = Vector2::Zero();  ///< the last command [rad/s]
+
+private:
+  Plant& plant_;
+  const SimClock& clock_;
+  ClosedLoopRecord& record_;
+};
 
 /// The set point in force at time t.
 const SetPointSegment* segmentAt(const std::vector<SetPointSegment>& profile, double t)
@@ -107,7 +156,10 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
     makeSensorsIdeal(&params.sensors);
   }
   Plant plant(description, params);
-  SensorModel sensors(params.sensors, params.physics.step);
+  FaultedSensors sensors(params.sensors, params.physics.step);
+  sensors.setFaults(config.faults, 0.0);
+  std::vector<JointStateSample> joint_samples;
+  std::vector<ImuSample> imu_samples;
   const double dt = params.physics.step;
   const double r = description.wheelRadius();
   const auto total = static_cast<std::uint64_t>(std::llround(config.duration / dt));
@@ -116,31 +168,37 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
   StockController stock;
   const std::uint64_t stock_period = periodSteps(stock.params().publish_rate, dt);
 
-  std::unique_ptr<ActiveInferenceController> controller;
-  std::unique_ptr<Generalizer> generalizer;
+  // The AIC: the node's logic on the plant's clock.
+  ClosedLoopRecord out;
+  SimClock clock;
+  PlantOutput output(plant, clock, out);
+  std::unique_ptr<ControlLoop> loop;
   std::uint64_t belief_period = 1;
   std::uint64_t action_period = 1;
+  bool belief_timer = false;
   if (aic)
   {
-    controller = std::make_unique<ActiveInferenceController>(config.aic);
-    generalizer = std::make_unique<Generalizer>(kYDim, config.aic.embedding_order);
+    const NodeParams node = aicNodeParams(config, description);
+    checkAicParams(node);
+    loop = std::make_unique<ControlLoop>(node, clock, output);
     belief_period = periodSteps(config.aic.belief_rate, dt);
     action_period = periodSteps(config.aic.action_rate, dt);
+    belief_timer = node.belief_schedule == BeliefSchedule::kTimer;
   }
   const double b_hat = aic ? config.aic.wheel_separation : stock.params().wheel_separation *
                                                                stock.params().wheel_separation_multiplier;
+  std::vector<std::string> joint_names;
+  for (const WheelDescription& w : description.wheels)
+  {
+    joint_names.push_back(w.joint_name);
+  }
+  std::vector<double> joint_position(kNumWheels, 0.0);
+  std::vector<double> joint_velocity(kNumWheels, 0.0);
+  const std::vector<double> no_effort;
 
-  ClosedLoopRecord out;
-  ImuSample imu;
-  bool have_imu = false;
-  double last_sample_stamp = 0.0;
-  bool have_sample = false;
-  int warm_samples = 0;
-  Vector2 measured_wheels = Vector2::Zero();
-  double last_belief_time = 0.0;
-  double last_action_time = 0.0;
   double command_left = 0.0;
   double command_right = 0.0;
+  const SetPointSegment* last_segment = nullptr;
 
   for (std::uint64_t k = 0; k < total; ++k)
   {
@@ -171,95 +229,98 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
     }
     else
     {
-      controller->setGoal(Vector3(sp_linear, 0.0, sp_angular));
-      if (!out.active && warm_samples >= config.aic.numOrders())
+      clock.t = t;
+      if (seg != last_segment || k % stock_period == 0)
       {
-        // The node's activation: bumpless start from the measured wheels and twist.
-        controller->reset();
-        controller->setGoal(Vector3(sp_linear, 0.0, sp_angular));
-        controller->setMeasurement(generalizer->yTilde());
-        controller->setAction(measured_wheels);
-        MuTilde mu = MuTilde::Zero(kMuDim, config.aic.numOrders());
-        mu.col(0) = controller->model().twistFromWheels(measured_wheels);
-        controller->setBeliefs(mu);
-        out.active = true;
-        last_belief_time = t;
-        last_action_time = t;
+        // Streamed at 50 Hz as teleop would, and at once when the profile changes.
+        const double fields[6] = { sp_linear, 0.0, 0.0, 0.0, 0.0, sp_angular };
+        loop->setPoint(fields);
       }
-      if (out.active && k % belief_period == 0 && t > last_belief_time)
+      if (k % action_period == 0)
       {
-        if (controller->updateBeliefs(t - last_belief_time) == ActiveInferenceController::Status::kRunaway)
-        {
-          ++out.runaways;
-        }
-        last_belief_time = t;
+        loop->actionTimer(k == 0 ? -1.0 : static_cast<double>(action_period) * dt);
       }
-      if (out.active && k % action_period == 0 && t > last_action_time)
-      {
-        if (controller->updateAction(t - last_action_time) == ActiveInferenceController::Status::kRunaway)
-        {
-          ++out.runaways;
-        }
-        last_action_time = t;
-        command_left = controller->action()(0);
-        command_right = controller->action()(1);
-        plant.setWheelSpeeds(command_left, command_right);
-      }
+      command_left = output.wheels(0);
+      command_right = output.wheels(1);
     }
+    last_segment = seg;
 
     plant.step();
-    sensors.record(plant);
-    ImuSample imu_now;
-    if (sensors.pollImu(&imu_now))
+    clock.t = plant.time();
+    if (belief_timer && (k + 1) % belief_period == 0)
     {
-      imu = imu_now;
-      have_imu = true;
+      // The belief timer ticks before the samples of its instant: what it integrates up to
+      // now used the inputs held until now, as the event schedule does.
+      loop->beliefTimer(k + 1 == belief_period ? -1.0 : static_cast<double>(belief_period) * dt);
     }
-    JointStateSample js;
-    if (!sensors.pollJointStates(&js))
+    sensors.afterStep(plant, &joint_samples, &imu_samples);
+    if (aic)
     {
-      continue;
-    }
-    const double wl = 0.5 * (js.velocity[kFrontLeft] + js.velocity[kRearLeft]);
-    const double wr = 0.5 * (js.velocity[kFrontRight] + js.velocity[kRearRight]);
-    out.time.push_back(js.stamp);
-    out.set_point.push_back(sp_linear);
-    out.v_odom.push_back(r * 0.5 * (wl + wr));
-    out.v_true.push_back(plant.baseLinearVelocity().x());
-    out.yaw_odom.push_back(r * (wr - wl) / b_hat);
-    out.yaw_true.push_back(plant.baseAngularVelocity().z());
-    out.command.push_back(r * 0.5 * (command_left + command_right));
-    out.belief.push_back(aic && out.active ? controller->mu()(0, 0) : std::numeric_limits<double>::quiet_NaN());
-    out.angular_set_point.push_back(sp_angular);
-    out.command_yaw.push_back(r * (command_right - command_left) / b_hat);
-    out.belief_yaw.push_back(aic && out.active ? controller->mu()(2, 0) : std::numeric_limits<double>::quiet_NaN());
-    const Eigen::Isometry3d pose = plant.basePose();
-    out.x_true.push_back(pose.translation().x());
-    out.y_true.push_back(pose.translation().y());
-    out.heading_true.push_back(std::atan2(pose.linear()(1, 0), pose.linear()(0, 0)));
-
-    if (aic && have_imu)
-    {
-      Vector5 y;
-      y(kGyroZ) = imu.angular_velocity.z();
-      y(kOmegaLeft) = wl;
-      y(kOmegaRight) = wr;
-      y(kAccelX) = imu.linear_acceleration.x();
-      y(kAccelY) = imu.linear_acceleration.y();
-      const double h = have_sample ? js.stamp - last_sample_stamp : 0.0;
-      const Generalizer::Status s = generalizer->update(y, h);
-      if (s == Generalizer::Status::kOk || s == Generalizer::Status::kFirstSample)
+      for (const ImuSample& imu : imu_samples)
       {
-        have_sample = true;
-        last_sample_stamp = js.stamp;
-        warm_samples = std::min(warm_samples + 1, kMaxOrders + 1);
-        measured_wheels << wl, wr;
-        if (out.active)
-        {
-          controller->setMeasurement(generalizer->yTilde());
-        }
+        ImuInput in;
+        in.stamp = imu.stamp;
+        in.angular_velocity = imu.angular_velocity;
+        in.linear_acceleration = imu.linear_acceleration;
+        loop->imu(in);
       }
     }
+    for (const JointStateSample& js : joint_samples)  // the record and the loop, per joint-state sample
+    {
+      if (aic)
+      {
+        loop->advance();  // the beliefs at the sample's time, for the record
+        out.active = out.active || loop->active();
+        command_left = output.wheels(0);
+        command_right = output.wheels(1);
+      }
+      const double wl = 0.5 * (js.velocity[kFrontLeft] + js.velocity[kRearLeft]);
+      const double wr = 0.5 * (js.velocity[kFrontRight] + js.velocity[kRearRight]);
+      const double belief_x = aic && out.active ? loop->controller().mu()(0, 0) : std::numeric_limits<double>::quiet_NaN();
+      const double belief_w = aic && out.active ? loop->controller().mu()(2, 0) : std::numeric_limits<double>::quiet_NaN();
+      out.time.push_back(js.stamp);
+      out.set_point.push_back(sp_linear);
+      out.v_odom.push_back(r * 0.5 * (wl + wr));
+      out.v_true.push_back(plant.baseLinearVelocity().x());
+      out.yaw_odom.push_back(r * (wr - wl) / b_hat);
+      out.yaw_true.push_back(plant.baseAngularVelocity().z());
+      out.command.push_back(r * 0.5 * (command_left + command_right));
+      out.belief.push_back(belief_x);
+      out.angular_set_point.push_back(sp_angular);
+      out.command_yaw.push_back(r * (command_right - command_left) / b_hat);
+      out.belief_yaw.push_back(belief_w);
+      const Eigen::Isometry3d pose = plant.basePose();
+      out.x_true.push_back(pose.translation().x());
+      out.y_true.push_back(pose.translation().y());
+      out.heading_true.push_back(std::atan2(pose.linear()(1, 0), pose.linear()(0, 0)));
+
+      if (aic)
+      {
+        for (int i = 0; i < kNumWheels; ++i)
+        {
+          joint_position[static_cast<std::size_t>(i)] = js.position[static_cast<std::size_t>(i)];
+          joint_velocity[static_cast<std::size_t>(i)] = js.velocity[static_cast<std::size_t>(i)];
+        }
+        JointStateInput in;
+        in.stamp = js.stamp;
+        in.name = &joint_names;
+        in.position = &joint_position;
+        in.velocity = &joint_velocity;
+        in.effort = &no_effort;
+        const std::uint64_t no_imu = loop->pairing().drops(DropReason::kNoImu);
+        loop->jointState(in);
+        if (loop->pairing().drops(DropReason::kNoImu) > no_imu)
+        {
+          out.imu_missing.push_back(js.stamp);
+        }
+        out.active = out.active || loop->active();
+      }
+    }
+  }
+  if (aic)
+  {
+    out.runaways = loop->supervisor().runaways();
+    out.belief_steps = loop->beliefSteps();
   }
   return out;
 }

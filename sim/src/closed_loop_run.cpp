@@ -2,7 +2,7 @@
  * \file closed_loop_run.cpp
  * \brief closed_loop_run: one set-point profile with the stock controller or the AIC on the
  *        ODE plant core, headless and faster than real time (jackal_sim/closed_loop.hpp: the
- *        node's scheduling on simulated time). Prints one JSON object with the metrics of
+ *        node's logic, ControlLoop, on simulated time). Prints one JSON object with the metrics of
  *        every transition of the profile for the measured (wheel-odometry), ground-truth,
  *        belief and drive-command speeds, and the tracking of the whole profile (RMS and max
  *        error of vx and wz, ground truth and wheel odometry, against the set point; the
@@ -13,7 +13,7 @@
  * Usage: closed_loop_run --controller aic|stock|open [--aic-config FILE] [--aic-set key=value]...
  *            [--config PLANT.yaml] [--overlay FILE]... [--set key=value]... [--urdf FILE]
  *            (--step V [--turn W] | --square LOW HIGH | --profile FILE [--segments]) [--channel linear|angular]
- *            [--period S] [--cycles N] [--rest S] [--hold S] [--noise] [--csv FILE]
+ *            [--period S] [--cycles N] [--rest S] [--hold S] [--noise] [--fault LINE]... [--csv FILE]
  *   --overlay FILE    plant YAML with only the keys that differ (e.g. sim/config/variants/*.yaml),
  *                     applied after --config and before --set; repeatable, later ones win
  *   --controller open  no controller: the set point's wheel speeds go to the MCU as they are
@@ -28,7 +28,8 @@
  *                     last row's t ends it; jackal_aic/tracking_metrics.hpp), played from --rest on;
  *                     its transitions are not steps: "segments" is empty unless --segments (then the
  *                     step metrics of every transition, "segments" vx and "angular_segments" wz)
- *   --noise           keep the plant YAML's sensor noise (default: ideal sensors, reproducible)
+ *   --noise           keep the plant YAML's sensor noise (seeded; default: ideal sensors)
+ *   --fault LINE      inject a fault from START s after the run's start (sim/README.md)
  * JSON: {"runaways", "max_abs_speed", "segments": [{"t_step", "initial", "target", "measured": {...},
  *        "truth": {...}, "belief": {...}, "drive": {...}}] [, "angular_segments": [...]], "profile",
  *        "duration", "tracking": {"truth": {"vx": {"rms", "max"}, "wz": {...}, "samples"}, "odometry": {...}},
@@ -128,8 +129,8 @@ int main(int argc, char** argv)
                  "faster than real time; prints one JSON object with the metrics of every transition.");
   cl.option("controller", &controller,
             "aic, stock or open (no controller: the set point's wheel speeds go to the MCU as they are)", true);
-  cl.option("aic-config", &aic_config, "controller YAML");
-  cl.overrides("aic-set", &aic_overrides, "override a controller key");
+  cl.option("aic-config", &aic_config, "controller YAML (controller and node keys, as the node reads it)");
+  cl.overrides("aic-set", &aic_overrides, "override a controller or node key");
   cl.option("config", &config, "plant YAML");
   cl.repeated("overlay", &overlays, "plant YAML with only the keys that differ, after --config");
   cl.overrides("set", &overrides, "override a plant key, dotted");
@@ -151,7 +152,11 @@ int main(int argc, char** argv)
   cl.option("cycles", &cycles, "square periods, 1..100");
   cl.option("rest", &rest, "rest before the profile [s], > 0.2");
   cl.option("hold", &hold, "step hold time [s]");
-  cl.flag("noise", &noise, "keep the plant YAML's sensor noise (default: ideal sensors, reproducible)");
+  cl.flag("noise", &noise, "keep the plant YAML's sensor noise (seeded; default: ideal sensors)");
+  std::vector<std::string> fault_lines;
+  cl.repeated("fault", &fault_lines,
+                "inject a fault, \"TARGET KIND [VALUE] [START] [DURATION] [PERIOD]\" with START from the run's "
+                "start (sim/README.md, 'Fault injection')");
   cl.option("csv", &csv, "write the trace as CSV");
   cl.footer("Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.");
   if (const int code = cl.parse(argc, argv); code >= 0)
@@ -195,6 +200,16 @@ int main(int argc, char** argv)
   }
 
   ClosedLoopConfig c;
+  for (const std::string& line : fault_lines)
+  {
+    FaultSpec f;
+    std::string error;
+    if (!parseFaultSpec(line, &f, &error))
+    {
+      return cl.bad("--fault '" + line + "': " + error);
+    }
+    c.faults.push_back(f);
+  }
   c.controller = controller == "aic" ? LoopController::kAic
                  : controller == "open" ? LoopController::kOpenLoop : LoopController::kStock;
   // A set point on the chosen channel, 0 on the other.
@@ -275,7 +290,8 @@ int main(int argc, char** argv)
     params = loadPlantParams(config, plant_overrides);
     if (c.controller == LoopController::kAic)
     {
-      c.aic = loadAicParams(aic_config, aic_overrides);
+      c.node = loadNodeParamsFiles({ aic_config }, aic_overrides);  // the node's keys too (triggers, FDI, ...)
+      c.aic = c.node.aic;
     }
   }
   catch (const std::exception& e)

@@ -4,6 +4,7 @@
  */
 #include "jackal_sim/fault_injection.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -320,6 +321,68 @@ double FaultInjector::payload(double t) const
     }
   }
   return m;
+}
+
+namespace
+{
+/// Release the queued samples due at t into *out, then queue or publish `sample` (if any).
+template <class Sample>
+void releaseAndQueue(double t, std::deque<std::pair<double, Sample>>* queue, const Sample* sample, double delay,
+                     std::vector<Sample>* out)
+{
+  while (!queue->empty() && queue->front().first <= t)
+  {
+    out->push_back(queue->front().second);
+    queue->pop_front();
+  }
+  if (sample == nullptr)
+  {
+    return;
+  }
+  if (delay > 0.0 || !queue->empty())
+  {
+    const double release = std::max(t + delay, queue->empty() ? 0.0 : queue->back().first);
+    queue->emplace_back(release, *sample);
+  }
+  else
+  {
+    out->push_back(*sample);
+  }
+}
+}  // namespace
+
+FaultedSensors::Changes FaultedSensors::afterStep(Plant& plant, std::vector<JointStateSample>* joints,
+                                                  std::vector<ImuSample>* imu)
+{
+  model_.record(plant);
+  const double t = plant.time();
+  Changes changes;
+  const double payload = injector_.payload(t);
+  if (payload != plant.payload())
+  {
+    plant.setPayload(payload);
+    changes.payload = true;
+  }
+  for (const Side side : { kLeft, kRight })
+  {
+    const double scale = injector_.frictionScale(side, t);
+    if (scale != plant.frictionScale(side))
+    {
+      plant.setFrictionScale(side, scale);
+      changes.friction[static_cast<std::size_t>(side)] = true;
+    }
+  }
+  joints->clear();
+  imu->clear();
+  JointStateSample js;
+  double delay = 0.0;
+  const bool js_due = model_.pollJointStates(&js) && injector_.applyJoints(t, &js, &delay);
+  releaseAndQueue(t, &delayed_joints_, js_due ? &js : nullptr, delay, joints);
+  ImuSample im;
+  delay = 0.0;
+  const bool imu_due = model_.pollImu(&im) && injector_.applyImu(t, &im, &delay);
+  releaseAndQueue(t, &delayed_imu_, imu_due ? &im : nullptr, delay, imu);
+  return changes;
 }
 
 }  // namespace sim

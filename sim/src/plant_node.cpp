@@ -89,7 +89,7 @@ PlantNode::PlantNode(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pn
   description_ = loadRobotDescription(urdf);
   params_ = loadPlantParams(config, plantOverrides(overlayFiles(pnh_), overrides));
   plant_ = std::make_unique<Plant>(description_, params_, 1.0 / params_.sensors.imu.rate);
-  sensors_ = std::make_unique<SensorModel>(params_.sensors, params_.physics.step);
+  sensors_ = std::make_unique<FaultedSensors>(params_.sensors, params_.physics.step);
   nh_.param("/use_sim_time", use_sim_time_, false);
   odom_period_ = periodSteps(params_.node.odom_rate, params_.physics.step);
   clock_period_ = periodSteps(params_.node.clock_rate, params_.physics.step);
@@ -198,7 +198,6 @@ void PlantNode::stepOnce()
 {
   applyCommand();
   plant_->step();
-  sensors_->record(*plant_);
   const std::uint64_t k = plant_->stepCount();
   if (use_sim_time_ && k % clock_period_ == 0)
   {
@@ -210,34 +209,26 @@ void PlantNode::stepOnce()
   {
     pollFaults();
   }
-  applyFaults();
-  JointStateSample js;
-  double delay = 0.0;
-  if (sensors_->pollJointStates(&js) && faults_.applyJoints(plant_->time(), &js, &delay))
+  const FaultedSensors::Changes changes = sensors_->afterStep(*plant_, &joint_samples_, &imu_samples_);
+  if (changes.payload)
   {
-    if (delay > 0.0 || !delayed_joints_.empty())
+    ROS_WARN("jackal_plant: payload now %.2f kg", plant_->payload());
+  }
+  for (const Side side : { kLeft, kRight })
+  {
+    if (changes.friction[static_cast<std::size_t>(side)])
     {
-      const double release = std::max(plant_->time() + delay, delayed_joints_.empty() ? 0.0 : delayed_joints_.back().first);
-      fillJointStates(js);
-      delayed_joints_.emplace_back(release, joint_msg_);
-    }
-    else
-    {
-      publishJointStates(js);
+      ROS_WARN("jackal_plant: %s wheel-ground friction scaled by %.3f", side == kLeft ? "left" : "right",
+               plant_->frictionScale(side));
     }
   }
-  ImuSample imu;
-  if (sensors_->pollImu(&imu) && faults_.applyImu(plant_->time(), &imu, &delay))
+  for (const JointStateSample& js : joint_samples_)
   {
-    if (delay > 0.0 || !delayed_imu_.empty())
-    {
-      const double release = std::max(plant_->time() + delay, delayed_imu_.empty() ? 0.0 : delayed_imu_.back().first);
-      delayed_imu_.emplace_back(release, imuMessage(imu));
-    }
-    else
-    {
-      imu_pub_.publish(imuMessage(imu));
-    }
+    publishJointStates(js);
+  }
+  for (const ImuSample& imu : imu_samples_)
+  {
+    imu_pub_.publish(imuMessage(imu));
   }
   if (k % odom_period_ == 0)
   {
@@ -275,37 +266,7 @@ void PlantNode::pollFaults()
   {
     ROS_INFO("jackal_plant: no faults injected");
   }
-  faults_.setFaults(specs, plant_->time());
-}
-
-void PlantNode::applyFaults()
-{
-  const double t = plant_->time();
-  const double payload = faults_.payload(t);
-  if (payload != plant_->payload())
-  {
-    plant_->setPayload(payload);
-    ROS_WARN("jackal_plant: payload now %.2f kg", payload);
-  }
-  for (const Side side : { kLeft, kRight })
-  {
-    const double scale = faults_.frictionScale(side, t);
-    if (scale != plant_->frictionScale(side))
-    {
-      plant_->setFrictionScale(side, scale);
-      ROS_WARN("jackal_plant: %s wheel-ground friction scaled by %.3f", side == kLeft ? "left" : "right", scale);
-    }
-  }
-  while (!delayed_joints_.empty() && delayed_joints_.front().first <= t)
-  {
-    joint_pub_.publish(delayed_joints_.front().second);
-    delayed_joints_.pop_front();
-  }
-  while (!delayed_imu_.empty() && delayed_imu_.front().first <= t)
-  {
-    imu_pub_.publish(delayed_imu_.front().second);
-    delayed_imu_.pop_front();
-  }
+  sensors_->setFaults(specs, plant_->time());
 }
 
 void PlantNode::fillJointStates(const JointStateSample& s)

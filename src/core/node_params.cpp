@@ -32,6 +32,26 @@ std::string toString(ActionTrigger trigger)
   return trigger == ActionTrigger::kSample ? "sample" : "timer";
 }
 
+bool beliefScheduleFromString(const std::string& name, BeliefSchedule* out)
+{
+  if (name == "event")
+  {
+    *out = BeliefSchedule::kEvent;
+    return true;
+  }
+  if (name == "timer")
+  {
+    *out = BeliefSchedule::kTimer;
+    return true;
+  }
+  return false;
+}
+
+std::string toString(BeliefSchedule schedule)
+{
+  return schedule == BeliefSchedule::kTimer ? "timer" : "event";
+}
+
 std::vector<ParamViolation> NodeParams::validate() const
 {
   std::vector<ParamViolation> violations = aic.validate();

@@ -5,7 +5,7 @@
  */
 #include "jackal_aic/params.hpp"
 
-#include "jackal_aic/param_schema.hpp"
+#include "jackal_aic/param_spec.hpp"
 
 #include <cmath>
 #include <sstream>
@@ -74,10 +74,8 @@ std::string AicParams::summary() const
 
 std::vector<ParamViolation> AicParams::validate() const
 {
-  // The ranges are the schema's (include/jackal_aic/param_schema.hpp); the cross rule is here.
-  NodeParams node;
-  node.aic = *this;
-  std::vector<ParamViolation> v = checkParamRanges(node, ParamScope::kController);
+  // The ranges are the controller's rows (include/jackal_aic/param_spec.hpp); the cross rule is here.
+  std::vector<ParamViolation> v = checkParamRanges(*this);
   if (std::isfinite(belief_rate) && std::isfinite(action_rate) && belief_rate > 0.0 && action_rate > 0.0 &&
       belief_rate < action_rate)
   {

@@ -1,17 +1,23 @@
 /**
  * \file aic_node.cpp
- * \brief The jackal_AIC node's wiring (include/jackal_aic/ros/aic_node.hpp; doc/jackal_aic_node.md).
+ * \brief The jackal_AIC node's wiring (include/jackal_aic/ros/aic_node.hpp; doc/jackal_aic_node.md):
+ *        construction, timers, the ControlLoop's outputs as messages, applying a reconfigure.
+ *        Subscribers: aic_node_inputs.cpp.
  */
 #include "jackal_aic/ros/aic_node.hpp"
 
-#include <algorithm>
-#include <cmath>
+#include <limits>
 #include <string>
 
-#include "jackal_aic/ros/node_params.hpp"
+#include "jackal_aic/ros/param_server.hpp"
 
 namespace jackal_aic
 {
+double RosClock::seconds(const ros::Time& stamp) const
+{
+  return stamp.isZero() ? std::numeric_limits<double>::quiet_NaN() : (stamp - epoch_).toSec();
+}
+
 AicNode::AicNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) : nh_(nh), pnh_(pnh)
 {
 }
@@ -30,22 +36,23 @@ bool AicNode::init()
   {
     return false;
   }
+  clock_.start();
+  outputs_ = std::make_unique<NodeOutputs>(nh_, pnh_, params_.output_mode, params_.debug_rate);
   try
   {
-    pipeline_ = std::make_unique<SamplePipeline>(params_.aic, params_.fdi);
+    ControlLoop::Output& output = *this;
+    loop_ = std::make_unique<ControlLoop>(params_, clock_, output);
   }
   catch (const std::exception& e)
   {
     ROS_FATAL_STREAM("jackal_AIC: cannot build the controller: " << e.what());
     return false;
   }
-  sync_ = std::make_unique<SensorSynchronizer>(SensorSynchronizer::Config::fromParams(params_));
-  supervisor_ = std::make_unique<Supervisor>(params_, clock_);
 
-  outputs_ = std::make_unique<NodeOutputs>(nh_, pnh_, params_.output_mode, params_.cmd_vel, params_.debug_rate);
-
-  // Wall clock: the belief thread serves the subscribers (BeliefLoop); simulated time: the spinner.
-  belief_on_thread_ = BeliefLoop::useThread();
+  // Timer schedule on the wall clock: the belief thread serves the subscribers (BeliefLoop);
+  // otherwise the spinner does.
+  const bool timer_schedule = params_.belief_schedule == BeliefSchedule::kTimer;
+  belief_on_thread_ = timer_schedule && BeliefLoop::useThread();
   ros::NodeHandle sensor_nh(nh_), sensor_pnh(pnh_);
   if (belief_on_thread_)
   {
@@ -60,187 +67,98 @@ bool AicNode::init()
   feedback_sub_ = sensor_nh.subscribe("feedback", 10, &AicNode::feedbackCallback, this, hints);
 
   reconfigure_ = std::make_unique<NodeReconfigure>(pnh_, params_);
-  diagnostics_ = std::make_unique<NodeDiagnostics>(nh_, pnh_, *supervisor_, *sync_,
-                                                   [this] { return controllerReport(); });
-  diagnostics_->addFaultMonitor(pnh_, pipeline_->faultMonitor());
+  diagnostics_ = std::make_unique<NodeDiagnostics>(nh_, pnh_, *loop_, [this] { return controllerReport(); });
+  diagnostics_->addFaultMonitor(pnh_, loop_->faultMonitor());
 
-  action_timer_ = nh_.createTimer(ros::Duration(supervisor_->actionLoop().nominalPeriod()),
+  action_timer_ = nh_.createTimer(ros::Duration(loop_->supervisor().actionLoop().nominalPeriod()),
                                   &AicNode::actionTimerCallback, this);
   diagnostics_->start(nh_, mutex_);
   outputs_->startDebug(nh_, [this](DebugSnapshot* snapshot) {
     const std::lock_guard<std::mutex> lock(mutex_);
-    if (belief_steps_ == published_steps_)
+    loop_->advance();  // event schedule: the beliefs to now
+    if (loop_->beliefSteps() == published_steps_)
     {
-      return false;  // no belief step since the last publication (belief_rate < debug_rate, or not started)
+      return false;  // no belief step since the last publication (not running, or belief_rate < debug_rate)
     }
-    published_steps_ = belief_steps_;
-    outputs_->capture(pipeline_->controller(), belief_stamp_, snapshot);
+    published_steps_ = loop_->beliefSteps();
+    outputs_->capture(loop_->controller(), clock_.time(loop_->beliefTime()), snapshot);
     return true;
   });
-  belief_loop_ = std::make_unique<BeliefLoop>(nh_, params_.aic.belief_rate, params_.realtime_priority, &sensor_queue_,
-                                              [this](double interval, const ros::Time& stamp) {
-                                                beliefTick(interval, stamp);
-                                              });
-  if (belief_loop_->priorityRefused())
+  std::string schedule = "each event (belief_schedule event)";
+  if (timer_schedule)
   {
-    ROS_WARN_STREAM("jackal_AIC: belief loop: " << belief_loop_->description());
+    belief_loop_ = std::make_unique<BeliefLoop>(nh_, params_.aic.belief_rate, params_.realtime_priority,
+                                                &sensor_queue_, [this](double interval) { beliefTick(interval); });
+    if (belief_loop_->priorityRefused())
+    {
+      ROS_WARN_STREAM("jackal_AIC: belief loop: " << belief_loop_->description());
+    }
+    schedule = "a " + belief_loop_->description();
   }
-  diagnostics_->setBeliefLoop(belief_loop_->description());
-
-  ROS_INFO_STREAM("jackal_AIC: " << params_.aic.summary() << "; belief loop on a " << belief_loop_->description()
+  diagnostics_->setBeliefLoop(schedule);
+  ROS_INFO_STREAM("jackal_AIC: " << params_.aic.summary() << "; beliefs advanced on " << schedule
                                  << "; waiting for /joint_states, /imu/data and ~set_point");
   return true;
 }
 
 // ---------------------------------------------------------------------------
-// Supervisor decisions.
+// Timers: ControlLoop events.
 
-void AicNode::carryOut(const Supervisor::Transition& t)
+void AicNode::beliefTick(double interval)
 {
-  if (t.restart_history)
-  {
-    // Sensors are gone: the next sample starts a new history (and a new warm-up).
-    pipeline_->restartHistory();
-    sync_->restartHistory();
-  }
-  if (t.warn())
-  {
-    // kStale: zero command; kHeld: the reason says the command holds the measured wheel speeds.
-    ROS_WARN_STREAM("jackal_AIC: " << supervisor_->reason()
-                                   << (supervisor_->state() == NodeState::kHeld ? "" : "; commanding zero"));
-  }
-  if (t.activate())
-  {
-    activate();
-  }
-  else if (t.deactivate())
-  {
-    publishIdle();  // at once, not at the next action tick
-  }
-}
-
-void AicNode::activate()
-{
-  const Vector2& wheels = supervisor_->measuredWheels();
-  pipeline_->activate(wheels, supervisor_->goal());  // beliefs at the measured twist, action at the wheels
-  outputs_->resetWheels(wheels);  // cmd_vel: the stock controller's acceleration limit starts there too
-  ROS_INFO_STREAM("jackal_AIC: running (start from measured wheels " << wheels.transpose() << " rad/s, goal "
-                                                                     << supervisor_->goal().transpose() << ")");
-}
-
-void AicNode::handleRunaway(const char* where)
-{
-  carryOut(supervisor_->runaway(where));
-  ROS_ERROR_STREAM_THROTTLE(1.0, "jackal_AIC: runaway beliefs in the " << where << " (|mu| > runaway_limit "
-                                     << params_.aic.runaway_limit << " or non-finite); controller reset, zero "
-                                     << "command for " << params_.runaway_hold_time << " s ["
-                                     << supervisor_->runaways() << " runaway(s) so far]");
-}
-
-// ---------------------------------------------------------------------------
-// Timers: do the work.
-
-void AicNode::beliefTick(double interval, const ros::Time& stamp)
-{
-  const ros::WallTime start = ros::WallTime::now();
   const std::lock_guard<std::mutex> lock(mutex_);
   if (!belief_on_thread_)
   {
     applyPendingParams();  // on ROS timers both loops apply; the thread leaves it to the spinner
   }
-  const LoopScheduler::Tick tick = supervisor_->beliefLoop().tick(interval);
-  diagnostics_->tickBelief();
-  carryOut(supervisor_->update());
-  for (int i = 0; i < tick.steps; ++i)
-  {
-    if (supervisor_->active() && pipeline_->controller().updateBeliefs(tick.h) == ActiveInferenceController::Status::kRunaway)
-    {
-      handleRunaway("belief update");
-    }
-  }
-  belief_steps_ += static_cast<std::uint64_t>(tick.steps);
-  belief_stamp_ = stamp;
-  supervisor_->beliefLoop().recordDuration((ros::WallTime::now() - start).toSec());
+  loop_->beliefTimer(interval);
 }
 
 void AicNode::actionTimerCallback(const ros::TimerEvent& event)
 {
   const std::lock_guard<std::mutex> lock(mutex_);
   applyPendingParams();
-  if (params_.action_trigger == ActionTrigger::kSample)
-  {
-    // The samples run the action; the timer keeps the command alive (zeros, or the measured
-    // wheel speeds while the MCU holds) while inactive.
-    carryOut(supervisor_->update());
-    if (!supervisor_->active())
-    {
-      diagnostics_->tickAction();
-      publishIdle();
-    }
-    else if (supervisor_->keepAliveDue())
-    {
-      publishCommand(pipeline_->controller().action()(0), pipeline_->controller().action()(1));
-    }
-    return;
-  }
-  actionStep(timerInterval(event));
+  loop_->actionTimer(timerInterval(event));
 }
 
-void AicNode::actionStep(double interval)
+// ---------------------------------------------------------------------------
+// ControlLoop outputs (called with the lock held).
+
+void AicNode::command(const WheelCommand& command)
 {
-  const ros::WallTime start = ros::WallTime::now();
-  const double h = supervisor_->actionLoop().tick(interval).h;
-  diagnostics_->tickAction();
-  carryOut(supervisor_->update());
-  if (!supervisor_->active())
-  {
-    publishIdle();
-  }
-  else if (pipeline_->controller().updateAction(h) == ActiveInferenceController::Status::kRunaway)
-  {
-    handleRunaway("action update");  // publishes the zero command
-  }
-  else
-  {
-    publishCommand(pipeline_->controller().action()(0), pipeline_->controller().action()(1));
-    supervisor_->actionPublished();
-    // Age of the newest sensor data in this command: the sensor-to-command latency.
-    diagnostics_->commandLatency((ros::Time::now() - newest_sample_stamp_).toSec());
-  }
-  supervisor_->actionLoop().recordDuration((ros::WallTime::now() - start).toSec());
+  outputs_->publish(command);
+  diagnostics_->commandPublished(command.latency);
 }
 
-void AicNode::publishCommand(double omega_left, double omega_right)
+void AicNode::healthEvent(FaultMonitor::Event event, int channel)
 {
-  const NodeOutputs::WheelsResult r = outputs_->wheels(omega_left, omega_right, params_.aic.max_wheel_speed,
-                                                       supervisor_->actionLoop().nominalPeriod());
-  if (r.clipped && supervisor_->active())
-  {
-    pipeline_->controller().setAction(r.wheels);  // cmd_vel anti-windup: the action is what the robot gets
-  }
+  diagnostics_->publishHealth(event, channel);
 }
 
-void AicNode::publishIdle()
+void AicNode::log(LogLevel level, const std::string& text)
 {
-  if (supervisor_->state() == NodeState::kHeld)
+  switch (level)
   {
-    const Vector2& wheels = supervisor_->measuredWheels();  // no windup against stopped motors
-    publishCommand(wheels(0), wheels(1));
-  }
-  else
-  {
-    publishCommand(0.0, 0.0);
+    case LogLevel::kInfo:
+      ROS_INFO_STREAM("jackal_AIC: " << text);
+      break;
+    case LogLevel::kWarn:
+      ROS_WARN_STREAM("jackal_AIC: " << text);
+      break;
+    case LogLevel::kError:
+      ROS_ERROR_STREAM("jackal_AIC: " << text);
+      break;
   }
 }
 
 ControllerReport AicNode::controllerReport() const
 {
-  ControllerReport r = ControllerReport::of(pipeline_->controller(), supervisor_->active());
-  r.guarded_outputs = outputs_->guardedOutputs();
-  r.generalizer_drops = generalizer_drops_;
+  ControllerReport r = ControllerReport::of(loop_->controller(), loop_->active());
+  r.guarded_outputs = outputs_->guardedOutputs() + loop_->guardedCommands();
+  r.generalizer_drops = loop_->refusedSamples();
   r.output_mode = params_.output_mode;
-  r.output_clips = outputs_->clips();
-  r.last_output_clipped = outputs_->lastClipped();
+  r.output_clips = loop_->outputClips();
+  r.last_output_clipped = loop_->lastOutputClipped();
   return r;
 }
 
@@ -254,34 +172,25 @@ void AicNode::applyPendingParams()
   {
     return;
   }
-  bool new_history = false;
   try
   {
-    new_history = pipeline_->setParams(next->aic, next->fdi);
+    loop_->setParams(*next);
   }
   catch (const std::exception& e)
   {
     ROS_ERROR_STREAM("jackal_AIC: reconfigure not applied: " << e.what());
     return;
   }
-  if (new_history)
-  {
-    sync_->restartHistory();
-    carryOut(supervisor_->embeddingOrderChanged());
-  }
-  supervisor_->setParams(*next);
   diagnostics_->setRates(next->aic.belief_rate, next->aic.action_rate);
-  if (next->aic.belief_rate != params_.aic.belief_rate)
+  if (belief_loop_ && next->aic.belief_rate != params_.aic.belief_rate)
   {
     belief_loop_->setRate(next->aic.belief_rate);
   }
   if (next->aic.action_rate != params_.aic.action_rate)
   {
-    action_timer_.setPeriod(ros::Duration(supervisor_->actionLoop().nominalPeriod()));
+    action_timer_.setPeriod(ros::Duration(loop_->supervisor().actionLoop().nominalPeriod()));
   }
-  sync_->setConfig(SensorSynchronizer::Config::fromParams(*next));
-  params_ = *next;
-  ROS_INFO_STREAM("jackal_AIC: parameters applied (" << params_.aic.summary() << ")");
+  params_ = loop_->params();
 }
 
 }  // namespace jackal_aic

@@ -38,12 +38,12 @@ BeliefLoop::BeliefLoop(ros::NodeHandle& nh, double rate, int realtime_priority, 
   if (!useThread())
   {
     timer_ = nh.createTimer(ros::Duration(1.0 / rate),
-                            [this](const ros::TimerEvent& event) { tick_(timerInterval(event), event.current_real); });
+                            [this](const ros::TimerEvent& event) { tick_(timerInterval(event)); });
     description_ = "ROS timer (simulated time)";
     return;
   }
   thread_ = std::make_unique<PeriodicThread>(
-      [this](double interval) { tick_(interval, ros::Time::now()); }, "aic_belief",
+      [this](double interval) { tick_(interval); }, "aic_belief",
       [this](std::int64_t deadline_ns, std::int64_t period_ns) { waitServingSensors(deadline_ns, period_ns); });
   const std::string priority = thread_->start(rate, realtime_priority);
   refused_ = priority.find("refused") != std::string::npos;

@@ -4,6 +4,7 @@
  */
 #include "jackal_aic/ros/node_diagnostics.hpp"
 
+#include <cmath>
 #include <string>
 #include <utility>
 
@@ -34,6 +35,7 @@ void NodeDiagnostics::start(ros::NodeHandle& nh, std::mutex& mutex)
 {
   poll_timer_ = nh.createTimer(ros::Duration(1.0 / kPollRate), [this, &mutex](const ros::TimerEvent&) {
     const std::lock_guard<std::mutex> lock(mutex);
+    loop_.advance();
     update();
     pollHealth();
   });
@@ -41,32 +43,19 @@ void NodeDiagnostics::start(ros::NodeHandle& nh, std::mutex& mutex)
 
 NodeDiagnostics::~NodeDiagnostics() = default;
 
-void NodeDiagnostics::tickBelief()
+NodeDiagnostics::NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, ControlLoop& loop,
+                                 std::function<ControllerReport()> controller)
+  : loop_(loop), report_(std::move(controller))
 {
-  belief_freq_->tick();
-}
-
-void NodeDiagnostics::tickAction()
-{
-  action_freq_->tick();
-}
-
-NodeDiagnostics::NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Supervisor& supervisor,
-                                 const SensorSynchronizer& sync, std::function<ControllerReport()> controller)
-  : supervisor_(supervisor), sync_(sync), report_(std::move(controller))
-{
-  setRates(supervisor.beliefLoop().rate(), supervisor.actionLoop().rate());
+  setRates(loop.params().aic.belief_rate, loop.params().aic.action_rate);
+  rate_time_ = ros::WallTime::now();
   updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh);
   updater_->setHardwareID("jackal_aic");
-  belief_freq_ = std::make_unique<diagnostic_updater::FrequencyStatus>(
-      diagnostic_updater::FrequencyStatusParam(&belief_freq_min_, &belief_freq_max_, kFrequencyTolerance,
-                                               kFrequencyWindow),
-      "belief loop rate");
   action_freq_ = std::make_unique<diagnostic_updater::FrequencyStatus>(
       diagnostic_updater::FrequencyStatusParam(&action_freq_min_, &action_freq_max_, kFrequencyTolerance,
                                                kFrequencyWindow),
       "action loop rate (/cmd_drive)");
-  updater_->add(*belief_freq_);
+  updater_->add("belief step rate", this, &NodeDiagnostics::beliefRate);
   updater_->add(*action_freq_);
   updater_->add("loops", this, &NodeDiagnostics::loops);
   updater_->add("sensors", this, &NodeDiagnostics::sensors);
@@ -75,13 +64,50 @@ NodeDiagnostics::NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandl
 
 void NodeDiagnostics::setRates(double belief_rate, double action_rate)
 {
-  belief_freq_min_ = belief_freq_max_ = belief_rate;
+  belief_rate_ = belief_rate;
   action_freq_min_ = action_freq_max_ = action_rate;
+}
+
+void NodeDiagnostics::commandPublished(double latency)
+{
+  action_freq_->tick();
+  if (std::isfinite(latency))
+  {
+    latency_.add(latency);
+  }
+}
+
+void NodeDiagnostics::beliefRate(diagnostic_updater::DiagnosticStatusWrapper& stat)
+{
+  const ros::WallTime now = ros::WallTime::now();
+  const double span = (now - rate_time_).toSec();
+  const std::uint64_t steps = loop_.beliefSteps();
+  const double integrated = loop_.beliefTimeIntegrated();
+  const double rate = span > 0.0 ? static_cast<double>(steps - rate_steps_) / span : 0.0;
+  const double fraction = span > 0.0 ? (integrated - rate_integrated_) / span : 0.0;
+  rate_steps_ = steps;
+  rate_integrated_ = integrated;
+  rate_time_ = now;
+  stat.addf("belief steps per second [Hz]", "%.2f", rate);
+  stat.addf("belief rate [Hz]", "%.2f", belief_rate_);
+  stat.addf("belief time integrated per second [-]", "%.4f", fraction);
+  if (!loop_.active())
+  {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "controller not running: no belief steps");
+  }
+  else if (std::abs(fraction - 1.0) > kFrequencyTolerance || rate < (1.0 - kFrequencyTolerance) * belief_rate_)
+  {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "beliefs behind time or steps below the belief rate");
+  }
+  else
+  {
+    stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "beliefs integrated in time, steps at the belief rate");
+  }
 }
 
 void NodeDiagnostics::loops(diagnostic_updater::DiagnosticStatusWrapper& stat)
 {
-  LoopScheduler* loops[2] = { &supervisor_.beliefLoop(), &supervisor_.actionLoop() };
+  LoopScheduler* loops[2] = { &loop_.supervisor().beliefLoop(), &loop_.supervisor().actionLoop() };
   const char* names[2] = { "belief", "action" };
   bool late = false;
   stat.add("belief loop", belief_loop_);
@@ -97,10 +123,12 @@ void NodeDiagnostics::loops(diagnostic_updater::DiagnosticStatusWrapper& stat)
     stat.add(std::string(names[i]) + " clamped intervals", s.clamped);
     stat.add(std::string(names[i]) + " catch-up steps", s.catch_up_steps);
     stat.add(std::string(names[i]) + " ticks", s.ticks);
-    // Integration steps since start: ticks plus catch-up steps (the rate the beliefs see).
-    stat.add(std::string(names[i]) + " steps", s.ticks + s.catch_up_steps);
     late = late || s.window_max_duration > s.nominal_period;
   }
+  // Integration steps since start, either schedule (the rate the beliefs see).
+  stat.add("belief steps", loop_.beliefSteps());
+  stat.addf("belief time integrated [s]", "%.6f", loop_.beliefTimeIntegrated());
+  stat.add("action steps", loop_.actionSteps());
   stat.add("command latency samples", latency_.count());
   stat.addf("command latency p50 [ms] (sensor stamp -> /cmd_drive)", "%.3f", 1e3 * latency_.quantile(0.5));
   stat.addf("command latency p99 [ms]", "%.3f", 1e3 * latency_.quantile(0.99));
@@ -121,29 +149,29 @@ void NodeDiagnostics::loops(diagnostic_updater::DiagnosticStatusWrapper& stat)
 void NodeDiagnostics::sensors(diagnostic_updater::DiagnosticStatusWrapper& stat)
 {
   const ControllerReport report = report_();
-  stat.addf("sample age [s] (-1: never)", "%.3f", supervisor_.sampleAge());
-  stat.addf("imu age [s] (-1: never)", "%.3f", supervisor_.imuAge());
-  stat.addf("set point age [s] (-1: never)", "%.3f", supervisor_.setPointAge());
-  stat.add("accepted samples", sync_.acceptedSamples());
+  stat.addf("sample age [s] (-1: never)", "%.3f", loop_.supervisor().sampleAge());
+  stat.addf("imu age [s] (-1: never)", "%.3f", loop_.supervisor().imuAge());
+  stat.addf("set point age [s] (-1: never)", "%.3f", loop_.supervisor().setPointAge());
+  stat.add("accepted samples", loop_.pairing().acceptedSamples());
   std::uint64_t dropped = 0;
   for (int i = 0; i < static_cast<int>(DropReason::kCount); ++i)
   {
-    const std::uint64_t n = sync_.dropCounts()[static_cast<std::size_t>(i)];
+    const std::uint64_t n = loop_.pairing().dropCounts()[static_cast<std::size_t>(i)];
     dropped += n;
     stat.add(std::string("dropped: ") + toString(static_cast<DropReason>(i)), n);
   }
   stat.add("dropped: generalizer/controller refused", report.generalizer_drops);
-  stat.add("dropped: set point non-finite", supervisor_.setPointDrops());
-  stat.add("set points clamped", supervisor_.setPointClamps());
-  stat.add("stale events", supervisor_.staleEvents());
-  const bool sensors_stale = !supervisor_.sensorsFresh();
-  const bool set_point_stale = !supervisor_.setPointFresh();
+  stat.add("dropped: set point non-finite", loop_.supervisor().setPointDrops());
+  stat.add("set points clamped", loop_.supervisor().setPointClamps());
+  stat.add("stale events", loop_.supervisor().staleEvents());
+  const bool sensors_stale = !loop_.supervisor().sensorsFresh();
+  const bool set_point_stale = !loop_.supervisor().setPointFresh();
   if (sensors_stale || set_point_stale)
   {
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
                  sensors_stale ? "sensor samples stale or missing" : "set point stale or missing");
   }
-  else if (dropped + supervisor_.setPointDrops() + report.generalizer_drops > 0)
+  else if (dropped + loop_.supervisor().setPointDrops() + report.generalizer_drops > 0)
   {
     stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "fresh (some inputs were dropped)");
   }
@@ -156,22 +184,22 @@ void NodeDiagnostics::sensors(diagnostic_updater::DiagnosticStatusWrapper& stat)
 void NodeDiagnostics::controller(diagnostic_updater::DiagnosticStatusWrapper& stat)
 {
   const ControllerReport report = report_();
-  const std::string& reason = supervisor_.reason();
-  stat.add("state", toString(supervisor_.state()));
+  const std::string& reason = loop_.supervisor().reason();
+  stat.add("state", toString(loop_.supervisor().state()));
   stat.add("reason", reason);
-  stat.add("runaway resets", supervisor_.runaways());
+  stat.add("runaway resets", loop_.supervisor().runaways());
   stat.add("non-finite outputs suppressed", report.guarded_outputs);
   stat.addf("free energy", "%g", report.free_energy);
-  stat.addf("goal v_x [m/s]", "%.3f", supervisor_.goal()(0));
-  stat.addf("goal omega_z [rad/s]", "%.3f", supervisor_.goal()(2));
+  stat.addf("goal v_x [m/s]", "%.3f", loop_.supervisor().goal()(0));
+  stat.addf("goal omega_z [rad/s]", "%.3f", loop_.supervisor().goal()(2));
   stat.addf("belief v_x [m/s]", "%.3f", report.belief_vx);
   stat.addf("belief omega_z [rad/s]", "%.3f", report.belief_wz);
   stat.addf("command left [rad/s]", "%.3f", report.command(0));
   stat.addf("command right [rad/s]", "%.3f", report.command(1));
   stat.add("output mode", report.output_mode);
   stat.add("commands clipped to the stock controller's limits (cmd_vel)", report.output_clips);
-  stat.add("MCU stops", supervisor_.mcuStops());
-  switch (supervisor_.state())
+  stat.add("MCU stops", loop_.supervisor().mcuStops());
+  switch (loop_.supervisor().state())
   {
     case NodeState::kRunning:
       if (report.last_output_clipped)

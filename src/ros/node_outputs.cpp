@@ -5,7 +5,6 @@
  */
 #include "jackal_aic/ros/node_outputs.hpp"
 
-#include <algorithm>
 #include <cmath>
 
 #include <geometry_msgs/Twist.h>
@@ -43,13 +42,12 @@ std_msgs::Float64MultiArray toMultiArray(const Eigen::Ref<const Eigen::MatrixXd>
 }  // namespace
 
 NodeOutputs::NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, const std::string& output_mode,
-                         const DiffDriveParams& cmd_vel, double debug_rate)
-  : debug_rate_(debug_rate)
+                         double debug_rate)
+  : cmd_vel_mode_(output_mode == "cmd_vel"), debug_rate_(debug_rate)
 {
   // Only the command topic of the mode: on the robot, jackal_node is the one /cmd_drive publisher.
-  if (output_mode == "cmd_vel")
+  if (cmd_vel_mode_)
   {
-    cmd_vel_ = std::make_unique<CmdVelOutput>(cmd_vel);
     cmd_pub_ = nh.advertise<geometry_msgs::Twist>("jackal_velocity_controller/cmd_vel", 1);
   }
   else
@@ -104,74 +102,36 @@ bool NodeOutputs::debugWanted() const
          0;
 }
 
-NodeOutputs::WheelsResult NodeOutputs::wheels(double omega_left, double omega_right, double limit, double period)
+void NodeOutputs::publish(const WheelCommand& command)
 {
-  WheelsResult result;
-  if (!cmd_vel_)
+  if (cmd_vel_mode_)
   {
-    command(omega_left, omega_right, limit);
-    return result;
+    double linear = command.twist.linear;
+    double angular = command.twist.angular;
+    if (!std::isfinite(linear) || !std::isfinite(angular))
+    {
+      ++guarded_outputs_;
+      ROS_ERROR_THROTTLE(1.0, "jackal_AIC: non-finite twist command replaced by zero");
+      linear = 0.0;
+      angular = 0.0;
+    }
+    geometry_msgs::Twist cmd;
+    cmd.linear.x = linear;
+    cmd.angular.z = angular;
+    cmd_pub_.publish(cmd);
+    return;
   }
-  if (!std::isfinite(omega_left) || !std::isfinite(omega_right))
+  Vector2 wheels = command.wheels;
+  if (!wheels.allFinite())
   {
     ++guarded_outputs_;
     ROS_ERROR_THROTTLE(1.0, "jackal_AIC: non-finite wheel command replaced by zero");
-  }
-  const Vector2 wheels(std::isfinite(omega_left) ? std::clamp(omega_left, -limit, limit) : 0.0,
-                       std::isfinite(omega_right) ? std::clamp(omega_right, -limit, limit) : 0.0);
-  // The stock controller limits over its own 50 Hz period; ours is the action period.
-  const CmdVelOutput::Result r = cmd_vel_->convert(wheels, period);
-  last_clipped_ = r.clipped;
-  if (r.clipped)
-  {
-    ROS_WARN_STREAM_THROTTLE(1.0, "jackal_AIC: wheel command " << wheels.transpose()
-                                                                << " rad/s exceeds the stock controller's limits; "
-                                                                   "clipped to "
-                                                                << r.wheels.transpose() << " rad/s ["
-                                                                << cmd_vel_->clips() << " so far]");
-    result.clipped = true;
-    result.wheels = r.wheels;
-  }
-  twist(r.twist.linear, r.twist.angular);
-  return result;
-}
-
-void NodeOutputs::resetWheels(const Vector2& wheels)
-{
-  if (cmd_vel_)
-  {
-    cmd_vel_->reset(wheels);
-  }
-}
-
-void NodeOutputs::command(double omega_left, double omega_right, double limit)
-{
-  if (!std::isfinite(omega_left) || !std::isfinite(omega_right))
-  {
-    ++guarded_outputs_;
-    ROS_ERROR_THROTTLE(1.0, "jackal_AIC: non-finite wheel command replaced by zero");
-    omega_left = 0.0;
-    omega_right = 0.0;
+    wheels.setZero();
   }
   jackal_msgs::Drive cmd;
   cmd.mode = jackal_msgs::Drive::MODE_VELOCITY;
-  cmd.drivers[jackal_msgs::Drive::LEFT] = static_cast<float>(std::clamp(omega_left, -limit, limit));
-  cmd.drivers[jackal_msgs::Drive::RIGHT] = static_cast<float>(std::clamp(omega_right, -limit, limit));
-  cmd_pub_.publish(cmd);
-}
-
-void NodeOutputs::twist(double linear, double angular)
-{
-  if (!std::isfinite(linear) || !std::isfinite(angular))
-  {
-    ++guarded_outputs_;
-    ROS_ERROR_THROTTLE(1.0, "jackal_AIC: non-finite twist command replaced by zero");
-    linear = 0.0;
-    angular = 0.0;
-  }
-  geometry_msgs::Twist cmd;
-  cmd.linear.x = linear;
-  cmd.angular.z = angular;
+  cmd.drivers[jackal_msgs::Drive::LEFT] = static_cast<float>(wheels(0));
+  cmd.drivers[jackal_msgs::Drive::RIGHT] = static_cast<float>(wheels(1));
   cmd_pub_.publish(cmd);
 }
 

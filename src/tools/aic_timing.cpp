@@ -4,10 +4,10 @@
  *        bare clock_nanosleep loop in the same run (doc/jackal_aic_node.md, 'Loops').
  *
  * For each rate, two PeriodicThreads run side by side for --duration seconds:
- *  - "belief": the node's belief loop without ROS: under a mutex (as the node's), the
- *    LoopScheduler plans the steps for the measured interval (catch-up), and the controller
- *    (the configuration given, default config/default.yaml) integrates its beliefs that many
- *    steps, against a held measurement of a 0.5 m/s step in progress;
+ *  - "belief": the node's belief loop without ROS (belief_schedule timer): under a mutex (as
+ *    the node's), ControlLoop::beliefTimer() (catch-up scheduling, the belief steps), with a
+ *    50 Hz sample and set point fed every 20 ms so the controller runs as in a 0.5 m/s step
+ *    (the configuration given, default the schema's defaults = config/default.yaml);
  *  - "bare": the same thread and deadlines with an empty step (the floor set by the kernel's
  *    timer and scheduler).
  * Printed per loop: the achieved wake-up rate and, for the belief loop, the integration
@@ -31,71 +31,93 @@
 #include <vector>
 
 #include "jackal_aic/cli.hpp"
-#include "jackal_aic/controller.hpp"
+#include "jackal_aic/control_loop.hpp"
 #include "jackal_aic/params_yaml.hpp"
 #include "jackal_aic/periodic_thread.hpp"
-#include "jackal_aic/supervisor.hpp"
 
 namespace
 {
-using jackal_aic::ActiveInferenceController;
-using jackal_aic::AicParams;
-using jackal_aic::LoopScheduler;
+using jackal_aic::NodeParams;
 using jackal_aic::PeriodicStats;
 using jackal_aic::PeriodicThread;
 
-/// The node's belief loop without ROS (src/ros/aic_node.cpp, AicNode::beliefTick; src/ros/belief_loop.cpp).
+/// CLOCK_MONOTONIC [s], the belief thread's own clock.
+class MonotonicClock : public jackal_aic::Clock
+{
+public:
+  double now() const override { return 1e-9 * static_cast<double>(PeriodicThread::monotonicNow()); }
+};
+
+/// Commands go nowhere.
+class NoOutput : public jackal_aic::ControlLoop::Output
+{
+public:
+  void command(const jackal_aic::WheelCommand& /*command*/) override {}
+};
+
+/**
+ * The node's belief loop without ROS (belief_schedule timer, src/ros/aic_node.cpp): each tick
+ * takes a mutex as the node's does and runs ControlLoop::beliefTimer(); every 20 ms the tick
+ * also feeds the loop a paired 50 Hz sample (wheels at 0.4 m/s) and the set point 0.5 m/s, so
+ * the controller runs as it does on a robot in a 0.5 m/s step.
+ */
 class BeliefLoop
 {
 public:
-  BeliefLoop(const AicParams& params, double rate)
-    : controller_(params), scheduler_(rate, jackal_aic::kMaxBeliefIntervalFactor, true, jackal_aic::kMinBeliefCatchUpInterval)
+  explicit BeliefLoop(NodeParams params) : names_{ "left", "right" }, velocity_(2, 0.0), empty_()
   {
-    // A 0.5 m/s step in progress: goal 0.5 m/s, wheels at 0.4 m/s and accelerating.
-    const double r = params.wheel_radius;
-    jackal_aic::YTilde y = jackal_aic::YTilde::Zero(jackal_aic::kYDim, params.numOrders());
-    y(jackal_aic::kOmegaLeft, 0) = y(jackal_aic::kOmegaRight, 0) = 0.4 / r;
-    if (params.numOrders() > 1)
-    {
-      y(jackal_aic::kOmegaLeft, 1) = y(jackal_aic::kOmegaRight, 1) = 1.0 / r;
-    }
-    controller_.setGoal(jackal_aic::Vector3(0.5, 0.0, 0.0));
-    if (!controller_.setMeasurement(y))
-    {
-      throw std::runtime_error("the controller refused the test measurement");
-    }
+    params.left_joints = { "left" };
+    params.right_joints = { "right" };
+    params.belief_schedule = jackal_aic::BeliefSchedule::kTimer;
+    loop_ = std::make_unique<jackal_aic::ControlLoop>(params, clock_, output_);
+    wheels_ = 0.4 / params.aic.wheel_radius;
   }
 
   void tick(double interval)
   {
     const std::lock_guard<std::mutex> lock(mutex_);
-    const LoopScheduler::Tick t = scheduler_.tick(interval);
-    for (int i = 0; i < t.steps; ++i)
+    const double now = clock_.now();
+    if (now - last_sample_ >= kSamplePeriod)
     {
-      if (controller_.updateBeliefs(t.h) == ActiveInferenceController::Status::kRunaway)
-      {
-        ++runaways_;
-      }
+      last_sample_ = now;
+      const double set_point[6] = { 0.5, 0.0, 0.0, 0.0, 0.0, 0.0 };
+      loop_->setPoint(set_point);
+      jackal_aic::ImuInput imu;
+      imu.stamp = now;
+      loop_->imu(imu);
+      velocity_ = { wheels_, wheels_ };
+      jackal_aic::JointStateInput joints;
+      joints.stamp = now;
+      joints.name = &names_;
+      joints.velocity = &velocity_;
+      joints.position = &empty_;
+      joints.effort = &empty_;
+      loop_->jointState(joints);
     }
-    steps_ += static_cast<std::uint64_t>(t.steps);
+    loop_->beliefTimer(interval);
   }
 
   std::uint64_t steps() const
   {
     const std::lock_guard<std::mutex> lock(mutex_);
-    return steps_;
+    return loop_->beliefSteps();
   }
   std::uint64_t runaways() const
   {
     const std::lock_guard<std::mutex> lock(mutex_);
-    return runaways_;
+    return loop_->supervisor().runaways();
   }
 
 private:
+  static constexpr double kSamplePeriod = 0.02;  ///< the Jackal's 50 Hz sensors [s]
   mutable std::mutex mutex_;
-  ActiveInferenceController controller_;
-  LoopScheduler scheduler_;
-  std::uint64_t steps_ = 0, runaways_ = 0;
+  MonotonicClock clock_;
+  NoOutput output_;
+  std::unique_ptr<jackal_aic::ControlLoop> loop_;
+  std::vector<std::string> names_;
+  std::vector<double> velocity_, empty_;
+  double wheels_ = 0.0;
+  double last_sample_ = -1.0;
 };
 
 void printRow(const char* loop, double rate, const PeriodicStats& s, double step_rate)
@@ -153,13 +175,16 @@ int main(int argc, char** argv)
     return cl.bad("--config: cannot read '" + config + "'");
   }
 
-  AicParams params;
+  if (config.empty() && !overrides.empty())
+  {
+    return cl.bad("--set needs --config");
+  }
+  NodeParams params;
   try
   {
-    params = config.empty() ? jackal_aic::recommendedAicParams() : jackal_aic::loadAicParams(config, overrides);
-    if (config.empty() && !overrides.empty())
+    if (!config.empty())
     {
-      return cl.bad("--set needs --config");
+      params = jackal_aic::loadNodeParamsFiles({ config }, overrides);
     }
   }
   catch (const std::exception& e)
@@ -169,18 +194,18 @@ int main(int argc, char** argv)
   }
 
   const std::string source = config.empty() ? std::string(" (the node's defaults)") : ", " + config;
-  std::printf("aic_timing: %.1f s per rate; controller p = %d, integrator %s%s\n", duration, params.embedding_order,
-              jackal_aic::toString(params.integrator).c_str(), source.c_str());
+  std::printf("aic_timing: %.1f s per rate; controller p = %d, integrator %s%s\n", duration,
+              params.aic.embedding_order, jackal_aic::toString(params.aic.integrator).c_str(), source.c_str());
   std::printf("| loop   | rate [Hz] | achieved [Hz] | of nominal | steps [Hz] | p50 [ms] | p99 [ms] | max [ms] | overruns "
               "| CPU (1 core) |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   for (const double rate : rates)
   {
-    params.belief_rate = rate;
+    params.aic.belief_rate = rate;
     std::unique_ptr<BeliefLoop> loop;
     try
     {
-      loop = std::make_unique<BeliefLoop>(params, rate);
+      loop = std::make_unique<BeliefLoop>(params);
     }
     catch (const std::exception& e)
     {

@@ -101,7 +101,10 @@ AicParams aicParamsFromYaml(const YAML::Node& root, const std::string& file, std
   return params.aic;
 }
 
-AicParams loadAicParams(const std::string& file, const std::vector<std::string>& overrides)
+namespace
+{
+/// A YAML file's top-level map with the overrides applied; errors as std::runtime_error naming the file.
+YAML::Node readYamlMap(const std::string& file, const std::vector<std::string>& overrides)
 {
   YAML::Node root;
   try
@@ -125,8 +128,12 @@ AicParams loadAicParams(const std::string& file, const std::vector<std::string>&
   {
     throw std::runtime_error(file + ": " + e.what());
   }
-  AicParams p = aicParamsFromYaml(root, file, nullptr, nullptr);
-  const auto violations = p.validate();
+  return root;
+}
+
+/// Throws "<file>: invalid parameters: ..." listing every violation, if any.
+void requireValid(const std::vector<ParamViolation>& violations, const std::string& file)
+{
   if (!violations.empty())
   {
     std::string msg = file + ": invalid parameters:";
@@ -136,7 +143,42 @@ AicParams loadAicParams(const std::string& file, const std::vector<std::string>&
     }
     throw std::runtime_error(msg);
   }
+}
+}  // namespace
+
+AicParams loadAicParams(const std::string& file, const std::vector<std::string>& overrides)
+{
+  const AicParams p = aicParamsFromYaml(readYamlMap(file, overrides), file, nullptr, nullptr);
+  requireValid(p.validate(), file);
   return p;
+}
+
+NodeParams loadNodeParamsFiles(const std::vector<std::string>& files, const std::vector<std::string>& overrides)
+{
+  NodeParams params;
+  std::string names;
+  for (std::size_t i = 0; i < files.size(); ++i)
+  {
+    const std::string& file = files[i];
+    const YAML::Node root = readYamlMap(file, i + 1 == files.size() ? overrides : std::vector<std::string>());
+    const ParamLoadReport report = loadParams(YamlParamSource(root), { ParamScope::kController, ParamScope::kNode },
+                                              /*with_reconfigure=*/false, &params);
+    if (!report.errors.empty())
+    {
+      const ParamViolation& e = report.errors.front();
+      throw std::runtime_error(file + ": key '" + e.name + "' must be " + e.allowed + " (got " + e.value + ")");
+    }
+    names += (names.empty() ? "" : " + ") + file;
+  }
+  // The joint lists may be left to the caller (the simulator's wheels): check the rest.
+  NodeParams check = params;
+  if (check.left_joints.empty() && check.right_joints.empty())
+  {
+    check.left_joints = { "left" };
+    check.right_joints = { "right" };
+  }
+  requireValid(check.validate(), names);
+  return params;
 }
 
 }  // namespace jackal_aic

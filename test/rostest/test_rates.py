@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """rostest: /cmd_drive arrives at the action rate with the real jackal_msgs/Drive type and
-MD5; the belief loop integrates at the belief rate (its step counter in /diagnostics,
-"loops" / "belief steps", over the diagnostics' stamps); ~belief arrives at
-min(debug_rate, belief_rate) (measured from its stamps).
+MD5; the beliefs keep up with time (in /diagnostics "loops", over the diagnostics' stamps:
+"belief time integrated [s]" grows at 1 s per second, "belief steps" at least at the belief
+rate); ~belief arrives at min(debug_rate, belief_rate) (measured from its stamps).
 
 Parameters (~): expected_action_rate [Hz], expected_belief_rate [Hz], expected_debug_rate
 [Hz] (the ~belief topic), rate_tolerance [-] (relative, 0.1), warmup [s] (ignored first
@@ -40,14 +40,14 @@ class RatesTest(unittest.TestCase):
         self.diagnostics = Recorder("/diagnostics", DiagnosticArray, use_stamp=True)
 
     def belief_steps(self):
-        """(stamp, belief steps since start) from each diagnostics publication of the node."""
+        """(stamp, belief steps, belief time integrated [s]) from each diagnostics publication."""
         out = []
         for t, msg in self.diagnostics.snapshot():
             for status in msg.status:
                 if status.name.endswith("loops"):
                     values = {kv.key: kv.value for kv in status.values}
                     if "belief steps" in values:
-                        out.append((t, int(values["belief steps"])))
+                        out.append((t, int(values["belief steps"]), float(values["belief time integrated [s]"])))
         return out
 
     def test_mcu_state_md5(self):
@@ -89,19 +89,23 @@ class RatesTest(unittest.TestCase):
         topic = rate_of(window(self.belief.snapshot()))
         steps = self.belief_steps()
         start = steps[0][0] + self.warmup
-        steps = [(t, n) for t, n in steps if t >= start]
+        steps = [s for s in steps if s[0] >= start]
         self.assertGreaterEqual(len(steps), 2, "too few diagnostics after the warm-up")
-        belief = (steps[-1][1] - steps[0][1]) / (steps[-1][0] - steps[0][0])
+        span = steps[-1][0] - steps[0][0]
+        belief = (steps[-1][1] - steps[0][1]) / span
+        integrated = (steps[-1][2] - steps[0][2]) / span
         expected_topic = min(self.debug_rate, self.belief_rate)
         rospy.loginfo("measured: /cmd_drive %.2f Hz (expected %.1f), belief steps %.2f Hz (expected %.1f), "
                       "~belief %.2f Hz (expected %.1f)", action, self.action_rate, belief, self.belief_rate,
                       topic, expected_topic)
-        print("MEASURED cmd_drive_rate=%.2f Hz belief_steps=%.2f Hz belief_topic=%.2f Hz"
-              % (action, belief, topic), file=sys.stderr)
+        print("MEASURED cmd_drive_rate=%.2f Hz belief_steps=%.2f Hz belief_time=%.4f s/s belief_topic=%.2f Hz"
+              % (action, belief, integrated, topic), file=sys.stderr)
         self.assertAlmostEqual(action, self.action_rate, delta=self.tolerance * self.action_rate,
                                msg="/cmd_drive at %.2f Hz" % action)
-        self.assertAlmostEqual(belief, self.belief_rate, delta=self.tolerance * self.belief_rate,
-                               msg="belief steps at %.2f Hz" % belief)
+        self.assertAlmostEqual(integrated, 1.0, delta=self.tolerance,
+                               msg="beliefs integrated over %.4f s per second" % integrated)
+        self.assertGreaterEqual(belief, (1.0 - self.tolerance) * self.belief_rate,
+                                msg="belief steps at %.2f Hz" % belief)
         self.assertAlmostEqual(topic, expected_topic, delta=self.tolerance * expected_topic,
                                msg="~belief at %.2f Hz" % topic)
 

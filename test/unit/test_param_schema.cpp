@@ -311,17 +311,15 @@ TEST(ParamSchema, ReconfigureEntries)
   EXPECT_FALSE(isKnownKey("sensor_timout", true));
   EXPECT_EQ(names_seen.count("left_joints"), 0u);          // not live
   EXPECT_EQ(names_seen.count("min_sample_interval"), 0u);  // not live
-  // The first p+1 slot defaults are the default lists.
-  const AicParams d;
+  // Slot defaults: the default list, its last element beyond it.
   for (const char* key : { "var_mu", "var_y" })
   {
     const ParamSpec& s = *findParam(key);
     ASSERT_EQ(s.slots(), kMaxOrders);
     const auto list = std::get<std::vector<double>>(defaultValue(s));
-    for (std::size_t i = 0; i < list.size(); ++i)
-    {
-      EXPECT_EQ(s.slot_defaults[i], list[i]) << key << "[" << i << "]";
-    }
+    ASSERT_LT(list.size(), static_cast<std::size_t>(kMaxOrders));
+    EXPECT_EQ(slotDefault(s, 0), list.front());
+    EXPECT_EQ(slotDefault(s, kMaxOrders - 1), list.back());
   }
 }
 
@@ -575,6 +573,41 @@ TEST(YamlOverrides, LoadAicParamsAppliesAndValidates)
   EXPECT_THROW(loadAicParams(file, { "tau=-1" }), std::runtime_error);
   EXPECT_THROW(loadAicParams(file, { "tau" }), std::runtime_error);
   EXPECT_THROW(loadAicParams(kSource + "/no/such/file.yaml"), std::runtime_error);
+}
+
+TEST(YamlOverrides, LoadNodeParamsFilesReadsBothScopesInOrder)
+{
+  // config/robot.yaml over config/default.yaml, as robot.launch loads them; node keys too.
+  const NodeParams robot = loadNodeParamsFiles({ kSource + "/config/default.yaml", kSource + "/config/robot.yaml" });
+  const NodeParams base = loadNodeParamsFiles({ kSource + "/config/default.yaml" });
+  EXPECT_NE(robot.aic.k_a, base.aic.k_a);
+  EXPECT_EQ(robot.aic.tau, base.aic.tau);
+  const NodeParams node = loadNodeParamsFiles({ kSource + "/config/default.yaml" },
+                                              { "action_trigger=timer", "belief_schedule=timer", "fdi_enabled=false" });
+  EXPECT_EQ(node.action_trigger, ActionTrigger::kTimer);
+  EXPECT_EQ(node.belief_schedule, BeliefSchedule::kTimer);
+  EXPECT_FALSE(node.fdi.enabled);
+  // Errors name the file and the key; invalid values list every violation.
+  try
+  {
+    loadNodeParamsFiles({ kSource + "/config/default.yaml" }, { "belief_schedule=sometimes", "tau=-1" });
+    FAIL() << "accepted an unknown belief_schedule";
+  }
+  catch (const std::runtime_error& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("belief_schedule"), std::string::npos) << e.what();
+  }
+  try
+  {
+    loadNodeParamsFiles({ kSource + "/config/default.yaml" }, { "tau=-1", "sensor_timeout=0" });
+    FAIL() << "accepted invalid values";
+  }
+  catch (const std::runtime_error& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("tau"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("sensor_timeout"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(loadNodeParamsFiles({ kSource + "/no/such/file.yaml" }), std::runtime_error);
 }
 
 }  // namespace jackal_aic

@@ -235,6 +235,14 @@ TEST(ClosedLoopRun, ControllerAndChannelAreChecked)
   r = run(bin + " --controller pid --step 0.3");
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("controller"), std::string::npos) << r.out;
+  r = run(bin + " --controller aic --aic-config " + std::string(SOURCE_DIR) +
+          "/config/default.yaml --step 0.3 --fault 'gyro melt 1'");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("--fault 'gyro melt 1'"), std::string::npos) << r.out;
+  r = run(bin + " --controller aic --aic-config " + std::string(SOURCE_DIR) +
+          "/config/default.yaml --step 0.3 --aic-set belief_schedule=sometimes");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("belief_schedule"), std::string::npos) << r.out;
   // An angular open-loop step reports its metrics on the yaw rate.
   r = run(bin + " --controller open --step 0.5 --channel angular --hold 1");
   ASSERT_EQ(r.code, 0) << r.out;

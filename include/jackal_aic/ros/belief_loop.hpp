@@ -36,15 +36,15 @@ double timerInterval(const ros::TimerEvent& event);
  *  - Simulated time: a ros::Timer on the node handle's queue (the spinner); a thread could not
  *    follow /clock. `sensor_queue` is then unused (the subscribers stay on the spinner).
  *
- * Each tick calls `tick(interval, stamp)`: interval [s] measured since the previous tick (-1 on
- * the first), stamp the ROS time of the tick. Destroying the loop (or stop()) stops the thread
+ * Each tick calls `tick(interval)`: interval [s] measured since the previous tick (-1 on the
+ * first). Destroying the loop (or stop()) stops the thread
  * before anything the tick uses is gone; declare it after what the tick touches.
  */
 class BeliefLoop
 {
 public:
-  /// The tick: measured interval [s] (-1 first), ROS time of the tick.
-  using Tick = std::function<void(double interval, const ros::Time& stamp)>;
+  /// The tick: measured interval [s] (-1 first).
+  using Tick = std::function<void(double interval)>;
 
   /// True if the loop will run on its own thread (the wall clock): give the subscribers
   /// `sensor_queue` before subscribing.

@@ -17,14 +17,11 @@
 #include <ros/publisher.h>
 #include <ros/timer.h>
 
+#include "jackal_aic/control_loop.hpp"
 #include "jackal_aic/controller.hpp"
-#include "jackal_aic/periodic_thread.hpp"
 #include "jackal_aic/fault_monitor.hpp"
-#include "jackal_aic/ros/sensor_sync.hpp"
-#include "jackal_aic/supervisor.hpp"
+#include "jackal_aic/periodic_thread.hpp"
 #include "jackal_aic/types.hpp"
-
-#include <string>
 
 // update_functions.h is included by node_diagnostics.cpp only: diagnostic_updater 1.10
 // (Debian 11) defines TimeStampStatus::run in that header without `inline`, so a second
@@ -56,39 +53,40 @@ struct ControllerReport
 
 /**
  * \brief The node's diagnostic_updater tasks, published every ~diagnostic_period (1 s):
- *        "belief loop rate", "action loop rate (/cmd_drive)" (FrequencyStatus, +-10 %),
- *        "loops", "sensors", "controller", "sensor health" (keys as in doc/jackal_aic_node.md).
+ *        "belief step rate" (while running: belief time integrated per second within +-10 %
+ *        of 1, steps per second at least 90 % of belief_rate), "action loop rate (/cmd_drive)" (FrequencyStatus of the published
+ *        commands, +-10 %), "loops", "sensors", "controller", "sensor health" (keys as in
+ *        doc/jackal_aic_node.md).
  */
 class NodeDiagnostics
 {
 public:
   /**
    * \param nh, pnh      node handles for the diagnostic_updater
-   * \param supervisor   state, ages, counters and loop statistics (its statistics window is
-   *                     reset at every publication); must outlive this object
-   * \param sync         the sensor pairing (accepted samples, drops per reason); must outlive this object
+   * \param loop         the node's logic: supervisor state, ages, counters and loop statistics
+   *                     (the statistics windows are reset at every publication), the sensor
+   *                     pairing's counters, the belief steps; must outlive this object
    * \param controller   called at every publication for the controller's side
    */
-  NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, Supervisor& supervisor,
-                  const SensorSynchronizer& sync, std::function<ControllerReport()> controller);
+  NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, ControlLoop& loop,
+                  std::function<ControllerReport()> controller);
   ~NodeDiagnostics();
 
   /// The expected loop rates [Hz] (after a reconfigure).
   void setRates(double belief_rate, double action_rate);
-  /// How the belief loop runs, e.g. "real-time thread (clock_nanosleep, default scheduler)".
+  /// How the beliefs are advanced, e.g. "each event (belief_schedule event)".
   void setBeliefLoop(std::string description) { belief_loop_ = std::move(description); }
-  /// One belief / action timer callback (for the achieved rates).
-  void tickBelief();
-  /// One action (command publication) tick.
-  void tickAction();
-  /// The age [s] of the newest sensor sample when a command was published (the sensor-to-
-  /// command latency; a window's p50 / p99 / max are shown in "loops").
-  void commandLatency(double seconds) { latency_.add(seconds); }
+  /**
+   * \brief A command was published (the achieved /cmd_drive rate); `latency` [s]: the age of the
+   *        newest sensor sample in it (the sensor-to-command latency, a window's p50 / p99 / max
+   *        shown in "loops"), NaN for an idle command or a keep-alive repeat (not counted).
+   */
+  void commandPublished(double latency);
   /// Poll the updater (publishes when ~diagnostic_period has passed).
   void update() { updater_->update(); }
   /**
-   * \brief Poll update() and pollHealth() at kPollRate on a timer of `nh` (the spinner), each
-   *        time under `mutex` (the node's lock: the report reads the controller).
+   * \brief At kPollRate on a timer of `nh` (the spinner), under `mutex` (the node's lock): the
+   *        loop's time advance (ControlLoop::advance()), update() and pollHealth().
    */
   void start(ros::NodeHandle& nh, std::mutex& mutex);
   /// start()'s polling rate [Hz] (/diagnostics is published every ~diagnostic_period, default 1 s).
@@ -125,15 +123,18 @@ private:
   void loops(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void sensors(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void controller(diagnostic_updater::DiagnosticStatusWrapper& stat);
+  void beliefRate(diagnostic_updater::DiagnosticStatusWrapper& stat);
 
-  Supervisor& supervisor_;
-  const SensorSynchronizer& sync_;
+  ControlLoop& loop_;
   std::function<ControllerReport()> report_;
   std::string belief_loop_ = "ROS timer";
   IntervalHistogram latency_;  ///< sensor-to-command latencies of the current window
-  double belief_freq_min_ = 0.0, belief_freq_max_ = 0.0, action_freq_min_ = 0.0, action_freq_max_ = 0.0;
+  double belief_rate_ = 0.0, action_freq_min_ = 0.0, action_freq_max_ = 0.0;
+  std::uint64_t rate_steps_ = 0;  ///< loop_.beliefSteps() at the last "belief step rate"
+  double rate_integrated_ = 0.0;  ///< loop_.beliefTimeIntegrated() then [s]
+  ros::WallTime rate_time_;       ///< its time
   std::unique_ptr<diagnostic_updater::Updater> updater_;
-  std::unique_ptr<diagnostic_updater::FrequencyStatus> belief_freq_, action_freq_;
+  std::unique_ptr<diagnostic_updater::FrequencyStatus> action_freq_;
   const FaultMonitor* monitor_ = nullptr;
   ros::Publisher health_pub_;
   std::string last_event_ = "none";

@@ -19,8 +19,8 @@
 #include <ros/time.h>
 #include <ros/timer.h>
 
+#include "jackal_aic/control_loop.hpp"
 #include "jackal_aic/controller.hpp"
-#include "jackal_aic/diff_drive.hpp"
 
 namespace jackal_aic
 {
@@ -61,11 +61,10 @@ public:
    * \param pnh          private node handle: ~belief (geometry_msgs/TwistStamped, queue 50),
    *                     ~free_energy (std_msgs/Float64), ~eps_y, ~eps_mu (std_msgs/Float64MultiArray), queue 10
    * \param output_mode  "cmd_drive" or "cmd_vel" (validated by NodeParams::validate())
-   * \param cmd_vel      the stock diff drive's kinematics and limits (output mode cmd_vel; validated)
    * \param debug_rate   [Hz] > 0: the debug topics' rate (startDebug())
    */
   NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, const std::string& output_mode = "cmd_drive",
-              const DiffDriveParams& cmd_vel = DiffDriveParams(), double debug_rate = 100.0);
+              double debug_rate = 100.0);
 
   /**
    * \brief Publish the debug topics from `capture` at debug_rate, the timer running only while
@@ -75,41 +74,15 @@ public:
   /// True if any of ~belief, ~free_energy, ~eps_y, ~eps_mu has a subscriber.
   bool debugWanted() const;
   /// True in output mode cmd_vel.
-  bool cmdVelMode() const { return cmd_vel_ != nullptr; }
-
-  /// What wheels() did to a command.
-  struct WheelsResult
-  {
-    bool clipped = false;  ///< cmd_vel mode: the stock controller's limits changed it
-    Vector2 wheels;        ///< what the motors will get [rad/s] (valid when clipped)
-  };
-  /**
-   * \brief Publish a wheel command (omega_L, omega_R) [rad/s] through the final guard: a
-   *        non-finite wheel becomes 0 (counted, ERROR at most once a second), each is clamped
-   *        to +-limit. Output mode cmd_drive: jackal_msgs/Drive MODE_VELOCITY. Output mode
-   *        cmd_vel: the twist CmdVelOutput computes (include/jackal_aic/diff_drive.hpp), with
-   *        the stock controller's acceleration limits over `period` [s]; a clipped command is
-   *        returned so the caller can feed it back (anti-windup) and is logged (WARN, 1/s).
-   */
-  WheelsResult wheels(double omega_left, double omega_right, double limit, double period);
-  /// cmd_vel mode: restart the stock controller's acceleration limit from a wheel state [rad/s]
-  /// (control (re)starts); no-op in cmd_drive mode.
-  void resetWheels(const Vector2& wheels);
-  /// cmd_vel mode: commands clipped so far (0 in cmd_drive mode).
-  std::uint64_t clips() const { return cmd_vel_ ? cmd_vel_->clips() : 0; }
-  /// cmd_vel mode: the last command was clipped.
-  bool lastClipped() const { return last_clipped_; }
+  bool cmdVelMode() const { return cmd_vel_mode_; }
 
   /**
-   * \brief Output mode cmd_vel: publish a twist (linear.x [m/s], angular.z [rad/s]); a
-   *        non-finite value becomes zero (counted, ERROR logged at most once a second).
+   * \brief Publish a command of the ControlLoop's command stage: output mode cmd_drive a
+   *        jackal_msgs/Drive MODE_VELOCITY with command.wheels [rad/s], output mode cmd_vel a
+   *        geometry_msgs/Twist with command.twist; a non-finite value (never expected after the
+   *        command stage) becomes zero (counted, ERROR logged at most once a second).
    */
-  void twist(double linear, double angular);
-  /**
-   * \brief Publish a MODE_VELOCITY wheel command [rad/s], each wheel clamped to +-limit; a
-   *        non-finite command becomes zero (counted, ERROR logged at most once a second).
-   */
-  void command(double omega_left, double omega_right, double limit);
+  void publish(const WheelCommand& command);
   /**
    * \brief Publish mu^(0) = (linear.x, linear.y, angular.z) of `mu` (3 x (p+1)) in frame
    *        base_link with `stamp`; a non-finite belief is published as zero (counted).
@@ -132,8 +105,7 @@ public:
 private:
   void debugSubscribersChanged();
 
-  std::unique_ptr<CmdVelOutput> cmd_vel_;  ///< output mode cmd_vel only
-  bool last_clipped_ = false;
+  bool cmd_vel_mode_ = false;
   ros::Publisher cmd_pub_, belief_pub_, free_energy_pub_, eps_y_pub_, eps_mu_pub_;
   std::atomic<std::uint64_t> guarded_outputs_{ 0 };  ///< commands may be guarded on the belief thread
   double debug_rate_;

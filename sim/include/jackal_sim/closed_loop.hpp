@@ -2,21 +2,21 @@
 /**
  * \file closed_loop.hpp
  * \brief A controller in closed loop with the ODE plant, headless and faster than real
- *        time: the stock controller, or the active inference controller scheduled as the
- *        jackal_AIC node schedules it. ROS-free; used by plant_identify (the wheel-loop
- *        identification) and by the identification gtests.
+ *        time: the stock controller, or the active inference controller through the
+ *        jackal_AIC node's own logic (ControlLoop, include/jackal_aic/control_loop.hpp) on
+ *        simulated time. ROS-free; the engine of closed_loop_run, plant_fit, aic_tune.py,
+ *        aic_scorecard.py and aic_reproduce.py (--backend core), and of the identification
+ *        gtests.
  *
- * Scheduling, mirroring the node (doc/jackal_aic_node.md) on simulated time:
- * - the plant steps at physics.step (1 kHz); after each step its sensor model is polled;
- * - a joint-state sample is paired with the newest IMU sample (both 50 Hz, same instants
- *   on the plant) into y = (gyro z, omega_L, omega_R, accel x, accel y); the generalizer
- *   (thesis eq. 3-17 ... 3-22) takes it with h = the interval between the two samples;
- * - once p + 1 samples have been generalized and a set point is present, the controller
- *   starts as the node's activation does: beliefs at the measured twist, action at the
- *   measured wheel speeds (bumpless);
- * - belief and action updates run on their own periods (rounded to whole plant steps),
- *   each with its measured interval; the action is sent to the plant at every action step.
- * - the stock controller (diff_drive_controller's open-loop mapping) runs at 50 Hz.
+ * The AIC runs exactly as in the node (doc/jackal_aic_node.md), the clock being the plant's:
+ * - the plant steps at physics.step (1 kHz); after each step its sensor model is polled and
+ *   every IMU and joint-state sample becomes the loop's event (pairing, generalization,
+ *   supervisor, fault detection, the sample-triggered action);
+ * - the set point is streamed at 50 Hz and sent at once when the profile changes it;
+ * - the action timer ticks at action_rate, after the samples of its instant; the belief
+ *   timer (belief_schedule timer only) at belief_rate, before them; each on whole plant steps;
+ * - every command of the loop goes to the plant at once.
+ * The stock controller (diff_drive_controller's open-loop mapping) runs at 50 Hz.
  *
  * What is measured: the body speed from wheel odometry r (omega_L + omega_R) / 2 of the
  * 50 Hz joint-state samples (the robot's own estimate, which the thesis's tables were
@@ -28,7 +28,10 @@
 #include <string>
 #include <vector>
 
+#include "jackal_aic/fault_monitor.hpp"
+#include "jackal_aic/node_params.hpp"
 #include "jackal_aic/params.hpp"
+#include "jackal_sim/fault_injection.hpp"
 #include "jackal_sim/plant_params.hpp"
 #include "jackal_sim/robot_description.hpp"
 
@@ -60,11 +63,30 @@ struct ClosedLoopConfig
 {
   LoopController controller = LoopController::kStock;
   AicParams aic;  ///< used when controller == kAic (validated by runClosedLoop)
+  /**
+   * The node's other settings for the AIC (timeouts, sensor pairing, fault detection,
+   * action_trigger, belief_schedule, output_mode; the schema's defaults unless set). Its `aic`
+   * member is ignored (`aic` above is used); empty joint lists are the plant's wheel joints.
+   */
+  NodeParams node;
   /// Set-point profile, sorted by start; the first segment should start at 0 (before it the
   /// set point is 0). Streamed, as teleop or a planner would, so no timeout fires.
   std::vector<SetPointSegment> profile;
   double duration = 4.0;    ///< length of the run [s], > 0
-  bool ideal_sensors = true;  ///< true: joint-state and IMU noise, bias and dropout off (reproducible)
+  /// true: joint-state and IMU noise, bias and dropout off; false: the plant YAML's sensor
+  /// models (seeded: the same run every time)
+  bool ideal_sensors = true;
+  /// Injected faults (sim/README.md, 'Fault injection'), each from `start` [s] after the run's
+  /// start, as the plant node applies its ~faults (FaultedSensors).
+  std::vector<FaultSpec> faults;
+};
+
+/// One event of the AIC's fault monitor during a run.
+struct HealthEvent
+{
+  double time = 0.0;                                       ///< plant time of the sample [s]
+  FaultMonitor::Event event = FaultMonitor::Event::kNone;  ///< isolated, restored or detected
+  int channel = -1;                                        ///< SensorIndex of the channel
 };
 
 /// Recorded run, one entry per joint-state sample (50 Hz).
@@ -86,6 +108,10 @@ struct ClosedLoopRecord
   std::vector<double> heading_true; ///< ground-truth yaw of base_link in the world [rad], wrapped to (-pi, pi]
   std::uint64_t runaways = 0;     ///< AIC runaway resets during the run
   bool active = false;            ///< AIC: the controller started (p + 1 samples and a set point)
+  std::uint64_t belief_steps = 0;  ///< AIC: belief integration steps run
+  std::vector<HealthEvent> health_events;  ///< AIC: the fault monitor's events, in order
+  /// AIC: plant times [s] of the joint-state samples the loop paired without an IMU (degraded mode).
+  std::vector<double> imu_missing;
 };
 
 /**

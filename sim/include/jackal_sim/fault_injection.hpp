@@ -22,9 +22,12 @@
  */
 
 #include <array>
+#include <deque>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "jackal_sim/plant.hpp"
 #include "jackal_sim/robot_description.hpp"
 #include "jackal_sim/sensor_model.hpp"
 
@@ -111,6 +114,50 @@ private:
   std::array<double, kNumWheels> last_velocity_{};  ///< last published wheel velocities
   double last_gyro_ = 0.0;
   bool have_last_joints_ = false, have_last_imu_ = false;
+};
+
+/**
+ * \brief The plant's sensors with injected faults, as the plant node publishes them and the
+ *        headless closed loop feeds them to the controller: after every plant step, the state
+ *        is recorded (SensorModel), the physical faults in force are applied to the plant (from
+ *        the next step on), samples whose delay has run out are released in order, and the
+ *        samples due now pass the sensor faults (dropped, changed or delayed; a sample behind
+ *        a delayed one waits for it, so the order is kept). Not thread-safe.
+ */
+class FaultedSensors
+{
+public:
+  /// \param params validated sensor parameters; \param step plant step [s], > 0
+  FaultedSensors(const SensorParams& params, double step) : model_(params, step) {}
+
+  /// Replace the active faults at plant time `now` (FaultInjector::setFaults()).
+  void setFaults(const std::vector<FaultSpec>& faults, double now) { injector_.setFaults(faults, now); }
+  /// The faults in force.
+  const FaultInjector& injector() const { return injector_; }
+  /// The sensor model (rates, dropped samples).
+  const SensorModel& model() const { return model_; }
+
+  /// What afterStep() changed on the plant (for logs).
+  struct Changes
+  {
+    bool payload = false;                  ///< the payload changed (Plant::payload())
+    std::array<bool, 2> friction{};        ///< the friction scale of a Side changed
+  };
+
+  /**
+   * \brief Call after every plant step.
+   * \param plant   the plant just stepped (its physical faults are set here)
+   * \param joints  out: the joint-state samples published now, oldest first (cleared first)
+   * \param imu     out: the IMU samples published now, oldest first (cleared first)
+   * \return the physical changes made
+   */
+  Changes afterStep(Plant& plant, std::vector<JointStateSample>* joints, std::vector<ImuSample>* imu);
+
+private:
+  SensorModel model_;
+  FaultInjector injector_;
+  std::deque<std::pair<double, JointStateSample>> delayed_joints_;  ///< (release time, sample)
+  std::deque<std::pair<double, ImuSample>> delayed_imu_;
 };
 
 }  // namespace sim

@@ -90,15 +90,16 @@ private:
   void publishOdom();
   /// Re-read ~faults (a list of fault lines, sim/include/jackal_sim/fault_injection.hpp) if it changed.
   void pollFaults();
-  /// Apply the physical faults in force and publish the delayed messages that are due.
-  void applyFaults();
 
   ros::NodeHandle nh_;
   ros::NodeHandle pnh_;
   RobotDescription description_;
   PlantParams params_;
   std::unique_ptr<Plant> plant_;
-  std::unique_ptr<SensorModel> sensors_;
+  /// The sensor model with the injected faults (physical faults, delays, dropouts, ...).
+  std::unique_ptr<FaultedSensors> sensors_;
+  std::vector<JointStateSample> joint_samples_;  ///< published this step (FaultedSensors::afterStep())
+  std::vector<ImuSample> imu_samples_;
   bool use_sim_time_ = false;
   ros::Time origin_;
   std::uint64_t odom_period_ = 20;
@@ -117,11 +118,8 @@ private:
   ros::Publisher clock_pub_;
   tf2_ros::TransformBroadcaster tf_;
   sensor_msgs::JointState joint_msg_;
-  FaultInjector faults_;
   std::vector<std::string> fault_lines_;
   std::uint64_t fault_poll_period_ = 200;  ///< steps between reads of ~faults
-  std::deque<std::pair<double, sensor_msgs::JointState>> delayed_joints_;  ///< (release time, msg)
-  std::deque<std::pair<double, sensor_msgs::Imu>> delayed_imu_;
 };
 
 }  // namespace sim

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""rostest node: the tracking benchmark (scripts/aic_track.py) and its profiles.
+"""Python unit test: the tracking benchmark (scripts/aic_track.py) and its profiles.
 
 - sim/profiles/*.csv are the generator's output (jackal_aic_tools/track_profiles.py), and each
   profile is what it claims (rates, the J100 ramps, turns in place, reversing, creeping, 1.5 m/s);
@@ -18,12 +18,10 @@ import sys
 import tempfile
 import unittest
 
-import rostest
-
 from jackal_aic_tools import cli, track_profiles
 
 PKG = "jackal_aic"
-ROOT = os.path.realpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", ".."))
+ROOT = os.path.realpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), ".."))
 SCRIPT = os.path.join(ROOT, "scripts", "aic_track.py")
 SHORT = "t,vx,wz\n0,0.5,0\n1.5,0.5,0.4\n3.0,0,0\n"  # straight, then an arc
 
@@ -186,4 +184,8 @@ class TrackCheck(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    rostest.rosrun(PKG, "track_check", TrackCheck, sys.argv)
+    if any(arg.startswith("--gtest_output=xml:") for arg in sys.argv):
+        import rosunit
+        rosunit.unitrun(PKG, "track", TrackCheck)
+    else:
+        unittest.main()

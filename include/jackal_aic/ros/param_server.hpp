@@ -1,6 +1,6 @@
 #pragma once
 /**
- * \file node_params.hpp
+ * \file param_server.hpp
  * \brief Reading NodeParams (include/jackal_aic/node_params.hpp) from the node's private
  *        namespace, key by key as the parameter schema lists them
  *        (include/jackal_aic/param_schema.hpp; doc/jackal_aic_node.md, 'Parameters').

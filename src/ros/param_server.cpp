@@ -1,9 +1,9 @@
 /**
- * \file node_params.cpp
+ * \file param_server.cpp
  * \brief NodeParams from the parameter server through the parameter schema
  *        (doc/jackal_aic_node.md, 'Parameters').
  */
-#include "jackal_aic/ros/node_params.hpp"
+#include "jackal_aic/ros/param_server.hpp"
 
 #include <algorithm>
 #include <sstream>

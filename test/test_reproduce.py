@@ -1,5 +1,11 @@
 #!/usr/bin/env python3
-"""Test node of reproduce_subset.test: aic_reproduce.py, table 3-1, first rows, both backends."""
+"""Python unit test: aic_reproduce.py on the first two rows of thesis table 3-1 (0.1 and 0.5 m/s
+steps; the thesis-equivalent AIC at 50 Hz and the stock controller) with the core backend
+(closed_loop_run: the node's logic on the plant core, headless, deterministic). Checks: the
+table is written (Markdown, CSV) with the robot's numbers beside; every run is stable; the
+simulated rise and settling times are within the identification's acceptance of the robot's
+(stock +-50 % at 0.1 m/s, +-20 % at 0.5 m/s; AIC +-40 % per entry, looser than the 25 % table
+mean)."""
 import csv
 import os
 import subprocess
@@ -7,11 +13,10 @@ import sys
 import tempfile
 import unittest
 
-import rospy
-import rostest
-
 PKG = "jackal_aic"
-SCRIPT = os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "..", "scripts", "aic_reproduce.py")
+SCRIPT = os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "scripts", "aic_reproduce.py")
+ROWS = 2
+AIC_TOLERANCE = 0.4  # relative, simulation against the robot per entry
 
 
 def read_table(path):
@@ -30,19 +35,15 @@ class ReproduceSubset(unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("reproduce_check", anonymous=True)
-        cls.rows = int(rospy.get_param("~rows", 2))
-        cls.backend_tol = float(rospy.get_param("~backend_tolerance", 0.2))
-        cls.aic_tol = float(rospy.get_param("~aic_tolerance", 0.4))
+        cls.rows = ROWS
+        cls.aic_tol = AIC_TOLERANCE
         cls.tables = {}
         cls.logs = {}
-        for backend in ("core", "ros"):
+        for backend in ("core",):
             out = tempfile.mkdtemp(prefix="reproduce_%s_" % backend)
-            # The ROS backend starts its own masters: keep this test's master out of its environment.
-            env = dict(os.environ)
             proc = subprocess.run([sys.executable, SCRIPT, "--tables", "3-1", "--rows", str(cls.rows),
                                    "--backend", backend, "--out", out, "--no-plot"],
-                                  capture_output=True, text=True, env=env, timeout=360)
+                                  capture_output=True, text=True, timeout=360)
             cls.logs[backend] = proc.stdout + proc.stderr
             cls.tables[backend] = (proc.returncode, os.path.join(out, "table_3-1.csv"),
                                    os.path.join(out, "table_3-1.md"))
@@ -59,9 +60,6 @@ class ReproduceSubset(unittest.TestCase):
     def test_core_backend(self):
         self.check_against_robot(self.check_backend("core"))
 
-    def test_ros_backend(self):
-        self.check_against_robot(self.check_backend("ros"))
-
     def check_against_robot(self, rows):
         for r in rows:
             step = float(r[0])
@@ -75,18 +73,10 @@ class ReproduceSubset(unittest.TestCase):
                 self.assertLessEqual(abs(sim - robot) / robot, tol,
                                      "%s at %g m/s: sim %.3f s, robot %.3f s" % (label, step, sim, robot))
 
-    def test_backends_agree(self):
-        core = self.check_backend("core")
-        ros = self.check_backend("ros")
-        for rc, rr in zip(core, ros):
-            for i in (1, 4, 7, 10):
-                c, r = number(rc[i]), number(rr[i])
-                self.assertIsNotNone(c)
-                self.assertIsNotNone(r)
-                # Absolute floor 0.03 s: the 0.1 m/s stock rise is two 50 Hz samples.
-                self.assertLessEqual(abs(c - r), max(self.backend_tol * c, 0.03),
-                                     "step %s column %d: core %.3f s, ros %.3f s" % (rc[0], i, c, r))
-
 
 if __name__ == "__main__":
-    rostest.rosrun(PKG, "reproduce_subset", ReproduceSubset)
+    if any(arg.startswith("--gtest_output=xml:") for arg in sys.argv):
+        import rosunit
+        rosunit.unitrun(PKG, "reproduce", ReproduceSubset)
+    else:
+        unittest.main()

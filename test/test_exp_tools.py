@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Unit checks of jackal_aic_tools (profiles, stability monitor, segment timing, the
-metrics wrapper around aic_step_metrics) without a simulator; run by exp_tools.test."""
+metrics wrapper around aic_step_metrics) without a simulator; a Python unit test."""
 import math
 import os
 import sys

@@ -1,0 +1,252 @@
+#pragma once
+/**
+ * \file control_loop.hpp
+ * \brief The jackal_AIC node's logic, ROS-free and clock-injected: one ControlLoop turns input
+ *        events (a joint-state or IMU sample, a set point, the MCU's state, a parameter change,
+ *        a timer tick or a plain advance of time) into outputs (the wheel command, log lines,
+ *        sensor-health events) and state (supervisor, beliefs, counters). The node
+ *        (src/ros/) feeds it ROS messages and timers; the headless closed loop
+ *        (sim/src/closed_loop.cpp) feeds it the plant core's samples on simulated time.
+ *        Behaviour: doc/jackal_aic_node.md, 'Loops', 'Safety', 'Degraded modes'.
+ *
+ * The loop owns the sensor pairing (SensorPairing), the sample pipeline (generalizer,
+ * controller, fault monitor: SamplePipeline), the Supervisor (state machine, watchdogs,
+ * set-point checks, loop statistics) and the command stage (final guard, clamp, output mode
+ * cmd_vel through the stock diff drive with anti-windup feedback).
+ *
+ * Belief schedule (NodeParams::belief_schedule):
+ *  - kEvent (default): the beliefs are advanced to the time of every event, the inputs
+ *    (measurement, goal, sensor mask) held since the previous one, in n = ceil(T / h_mu)
+ *    equal steps of T / n <= h_mu (h_mu = 1 / belief_rate, T the time since the previous
+ *    event, at most maxEventInterval()). With events on the belief grid this is the same
+ *    discrete system as a belief timer at belief_rate, and no thread wakes between events.
+ *  - kTimer: beliefTimer() at belief_rate integrates the measured interval (catch-up
+ *    scheduling, LoopScheduler); events leave the beliefs alone.
+ * Action trigger (NodeParams::action_trigger): kSample runs the action step on each accepted
+ * sample (over the interval between sample stamps); kTimer on actionTimer(). With kSample,
+ * actionTimer() only keeps the command alive (idle command while not running, a repeat of the
+ * held command when no sample ran the action for 1.5 action periods).
+ *
+ * Not thread-safe: the caller serializes every call (the node: one mutex). No allocation on
+ * the per-sample and per-step paths except in log lines, which are throttled.
+ */
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "jackal_aic/diff_drive.hpp"
+#include "jackal_aic/node_params.hpp"
+#include "jackal_aic/sample_pipeline.hpp"
+#include "jackal_aic/sensor_pairing.hpp"
+#include "jackal_aic/supervisor.hpp"
+
+namespace jackal_aic
+{
+/// Severity of a ControlLoop log line.
+enum class LogLevel
+{
+  kInfo,
+  kWarn,
+  kError
+};
+
+/// One wheel command of the loop, after the command stage.
+struct WheelCommand
+{
+  /// What the motors get (omega_L, omega_R) [rad/s]: finite, within +-max_wheel_speed; in output
+  /// mode cmd_vel, after the stock controller's limits (wheelsFromTwist(twist)).
+  Vector2 wheels = Vector2::Zero();
+  /// Output mode cmd_vel: the twist to publish (linear.x [m/s], angular.z [rad/s]).
+  BodyTwist twist;
+  bool cmd_vel = false;  ///< output mode cmd_vel (publish twist), else cmd_drive (publish wheels)
+  bool clipped = false;  ///< cmd_vel: the stock controller's limits changed the command
+  /// An action step's command: age [s] of the newest accepted sensor sample (stamp to now, the
+  /// sensor-to-command latency); NaN for an idle command or a keep-alive repeat.
+  double latency = 0.0;
+};
+
+/**
+ * \brief The node's logic (see the file comment). Construct with validated NodeParams and a
+ *        clock; feed events; read outputs through Output and the accessors.
+ */
+class ControlLoop
+{
+public:
+  /// Where the loop's outputs go (the node publishes and logs, the simulator applies).
+  class Output
+  {
+  public:
+    virtual ~Output() = default;
+    /// A wheel command to send now.
+    virtual void command(const WheelCommand& command) = 0;
+    /**
+     * \brief The fault monitor changed a channel (isolated, restored, detected with isolation
+     *        off); `channel` is the SensorIndex concerned. Default: ignored.
+     */
+    virtual void healthEvent(FaultMonitor::Event event, int channel);
+    /// A log line (prefix-free text; throttled by the loop to one per second per kind). Default: ignored.
+    virtual void log(LogLevel level, const std::string& text);
+  };
+
+  /**
+   * \param params  validated parameters (NodeParams::validate() empty); joint names are used by
+   *                the pairing
+   * \param clock   time source [s] for every event; must outlive the loop
+   * \param output  receiver of commands, log lines and health events; must outlive the loop
+   * \throws std::invalid_argument if params are invalid (every violation listed)
+   */
+  ControlLoop(const NodeParams& params, const Clock& clock, Output& output);
+  ~ControlLoop();
+  ControlLoop(const ControlLoop&) = delete;
+  ControlLoop& operator=(const ControlLoop&) = delete;
+
+  // ---- events (each at clock.now())
+  /**
+   * \brief A joint-state message: pairing (with the newest IMU samples), generalization, the
+   *        supervisor's warm-up, activation when due, the measurement and fault test while
+   *        running and, with action_trigger sample, the action step and its command.
+   *        Event schedule: the beliefs are first advanced to now with the old inputs.
+   * \return false if the message was dropped (pairing) or the sample refused (generalizer,
+   *         controller)
+   */
+  bool jointState(const JointStateInput& joints);
+  /// An IMU message: validated and kept for pairing. \return false if dropped.
+  bool imu(const ImuInput& imu);
+  /**
+   * \brief A set point (geometry_msgs/Twist fields: linear x, y, z [m/s], angular x, y, z
+   *        [rad/s]): checked by the supervisor (NaN/Inf dropped, clamped to max_linear_speed /
+   *        max_angular_speed) and, unless dropped, the goal mu_d = (linear.x, 0, angular.z).
+   */
+  SetPointResult setPoint(const double (&fields)[6]);
+  /// The MCU's jackal_msgs/Status (Supervisor::mcuStatus()); the watchdogs run at once.
+  void mcuStatus(bool drivers_active, bool external_stop_present, bool external_stop_stopped);
+  /// The MCU's jackal_msgs/Feedback actual_mode (Supervisor::mcuFeedback()); the watchdogs run at once.
+  void mcuFeedback(int actual_mode);
+  /**
+   * \brief The action_rate timer's tick, `interval` [s] since its previous tick (<= 0 or
+   *        non-finite: first tick). action_trigger timer: the action step (a += h da/dt, thesis
+   *        eq. 3-16, over the interval clamped to 3 periods) and its command; sample: the
+   *        keep-alive (see the file comment).
+   */
+  void actionTimer(double interval);
+  /**
+   * \brief Belief schedule timer: the belief_rate timer's tick, `interval` [s] since its
+   *        previous tick (<= 0: first); the watchdogs, then the catch-up steps the scheduler
+   *        plans for the interval. Event schedule: the same as advance().
+   */
+  void beliefTimer(double interval);
+  /// Time advances (any timer: debug, diagnostics): event schedule: the beliefs to now; the watchdogs.
+  void advance();
+  /**
+   * \brief Apply new parameters between events (dynamic_reconfigure). The rates, gains,
+   *        precisions, timeouts, limits and pairing settings take effect at once; a changed
+   *        embedding order restarts the sample history (warm-up; a running controller stops
+   *        until it is warm). output_mode, cmd_vel_* and belief_schedule keep their start values.
+   * \throws std::invalid_argument (nothing changed) if `params` are invalid
+   */
+  void setParams(const NodeParams& params);
+
+  // ---- state
+  /// The parameters in force.
+  const NodeParams& params() const { return params_; }
+  /// The state machine, watchdogs, counters and loop statistics.
+  const Supervisor& supervisor() const { return supervisor_; }
+  /// \copydoc supervisor() (the node's diagnostics reset its statistics windows).
+  Supervisor& supervisor() { return supervisor_; }
+  /// The sensor pairing (accepted samples, drops per reason).
+  const SensorPairing& pairing() const { return pairing_; }
+  /// The controller (beliefs mu_tilde, action a, goal mu_d).
+  const ActiveInferenceController& controller() const { return pipeline_.controller(); }
+  /// The fault monitor (channel health).
+  const FaultMonitor& faultMonitor() const { return pipeline_.faultMonitor(); }
+  /// The generalizer (y_tilde of the newest accepted sample).
+  const Generalizer& generalizer() const { return pipeline_.generalizer(); }
+  /// True while the controller runs (Supervisor state kRunning).
+  bool active() const { return supervisor_.active(); }
+  /// Belief integration steps run since construction (both schedules; only while running).
+  /// Event schedule: about belief_rate per second plus up to one per event (steps are at most
+  /// 1 / belief_rate long).
+  std::uint64_t beliefSteps() const { return belief_steps_; }
+  /// Time the beliefs were integrated over since construction [s] (the sum of the step
+  /// lengths): grows at 1 s per second while running, in either schedule, unless intervals
+  /// were clamped (timer: kMaxBeliefIntervalFactor periods; event: maxEventInterval()).
+  double beliefTimeIntegrated() const { return belief_integrated_; }
+  /// Action steps run since construction.
+  std::uint64_t actionSteps() const { return action_steps_; }
+  /// Clock time [s] the beliefs were last advanced to (event schedule) or of the last belief tick (timer).
+  double beliefTime() const { return belief_time_; }
+  /// Samples the generalizer or the controller refused.
+  std::uint64_t refusedSamples() const { return refused_samples_; }
+  /// Non-finite wheel commands replaced by zero by the command stage.
+  std::uint64_t guardedCommands() const { return guarded_commands_; }
+  /// Output mode cmd_vel: commands clipped by the stock controller's limits (0 in cmd_drive mode).
+  std::uint64_t outputClips() const { return cmd_vel_ ? cmd_vel_->clips() : 0; }
+  /// Output mode cmd_vel: the last command was clipped.
+  bool lastOutputClipped() const { return last_clipped_; }
+  /// Stamp [s] of the newest accepted sensor sample (the clock's epoch); NaN before the first.
+  double newestSampleStamp() const { return newest_sample_stamp_; }
+
+  /**
+   * \brief Event schedule: the longest interval [s] the beliefs are advanced over at one event:
+   *        max(sensor_timeout, kMaxBeliefIntervalFactor / belief_rate). Longer gaps (the sensors
+   *        are stale by then) lose the time beyond it, as the timer's clamp does.
+   */
+  double maxEventInterval() const;
+
+private:
+  /// What a log line is about (each kind is throttled on its own).
+  enum Notice : int
+  {
+    kNoticeDrop = 0,
+    kNoticeNoImu,
+    kNoticeRefused,
+    kNoticeSetPointDropped,
+    kNoticeSetPointClamped,
+    kNoticeRunaway,
+    kNoticeGuard,
+    kNoticeClip,
+    kNoticeCount
+  };
+  /// True (and the throttle restarted) if a line of this kind may be logged now.
+  bool due(Notice kind);
+  /// Event schedule: integrate the beliefs from beliefTime() to now (if running).
+  void advanceBeliefs();
+  /// Integrate `steps` belief steps of h [s]; a runaway stops and is handled.
+  void integrate(int steps, double h);
+  /// Watchdogs: Supervisor::update() and its transition.
+  void watch();
+  /// Carry out a supervisor transition: restart the history, warn, (de)activate.
+  void carryOut(const Supervisor::Transition& t);
+  /// Reset the controller and start it from the measured wheel speeds (bumpless).
+  void activate();
+  void handleRunaway(const char* where);
+  /// One action step over `interval` [s] (-1: nominal); its command.
+  void actionStep(double interval);
+  /// The command stage: guard, clamp, output mode; emit.
+  void sendCommand(const Vector2& wheels, double latency);
+  /// The command outside kRunning: the measured wheel speeds in kHeld (MCU stop), else zero.
+  void sendIdle();
+
+  NodeParams params_;
+  const Clock& clock_;
+  Output& output_;
+  SensorPairing pairing_;
+  SamplePipeline pipeline_;
+  Supervisor supervisor_;
+  std::unique_ptr<CmdVelOutput> cmd_vel_;  ///< output mode cmd_vel only
+
+  std::uint64_t belief_steps_ = 0;
+  double belief_integrated_ = 0.0;
+  std::uint64_t action_steps_ = 0;
+  std::uint64_t refused_samples_ = 0;
+  std::uint64_t guarded_commands_ = 0;
+  bool last_clipped_ = false;
+  double belief_time_ = 0.0;
+  double newest_sample_stamp_;
+  std::array<double, kNoticeCount> last_notice_;
+  std::string text_;  ///< scratch for log lines
+};
+
+}  // namespace jackal_aic

@@ -1,0 +1,332 @@
+/**
+ * \file param_spec.cpp
+ * \brief The controller's parameter rows (the keys of AicParams; thesis tables C-1 and 5-8
+ *        for the ranges) and the table's rules, shared by both scopes
+ *        (include/jackal_aic/param_spec.hpp; doc/jackal_aic_node.md, 'Parameters').
+ */
+#include "jackal_aic/param_spec.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <type_traits>
+
+namespace jackal_aic
+{
+namespace
+{
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+
+// Accessors of a member of AicParams (p.m); no NodeParams accessors.
+#define JACKAL_AIC_CONTROLLER(member)                                                                                \
+  [](const AicParams& p) -> ParamValue { return p.member; },                                                         \
+      [](AicParams& p, const ParamValue& v) { return assignParamValue(&p.member, v); }, nullptr, nullptr
+
+ParamValue getIntegrator(const AicParams& p)
+{
+  return toString(p.integrator);
+}
+
+bool setIntegrator(AicParams& p, const ParamValue& v)
+{
+  const std::string* name = std::get_if<std::string>(&v);
+  return name != nullptr && integratorFromString(*name, &p.integrator);
+}
+
+std::vector<ParamSpec> buildControllerRows()
+{
+  using T = ParamType;
+  const ParamScope C = ParamScope::kController;
+  // clang-format off
+  return {
+    // ---- loops
+    { "belief_rate", T::kDouble, C, "loops", 0.0, true, kMaxRate, "Hz",
+      "Belief update rate (timer); >= action_rate; the node runs at most 10000 Hz",
+      true, 1, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(belief_rate), kMaxLoopRate },
+    { "action_rate", T::kDouble, C, "loops", 0.0, true, kMaxRate, "Hz",
+      "Action update rate; /cmd_drive is published at this rate; the node runs at most 10000 Hz",
+      true, 1, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(action_rate), kMaxLoopRate },
+    { "integrator", T::kString, C, "loops", kNone, false, kNone, "-",
+      "Belief integrator: euler (thesis eq. 3-15, forward Euler) or exact (zero-order-hold exact step of the "
+      "linear belief dynamics)",
+      true, 0, false, 0, { "euler", "exact" }, 0, &getIntegrator, &setIntegrator, nullptr, nullptr },
+    // ---- active inference (thesis tables C-1 / 5-8)
+    { "tau", T::kDouble, C, "active_inference", kMinTau, false, kMaxTau, "s",
+      "Attractor time constant tau of f(mu) = (mu_d - mu) / tau (thesis eq. 3-7)",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(tau) },
+    { "k_mu", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "-",
+      "Belief learning rate k_mu (thesis eq. 3-15)",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(k_mu) },
+    { "k_a", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "-",
+      "Action learning rate k_a (thesis eq. 3-16)",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(k_a) },
+    { "embedding_order", T::kInt, C, "active_inference", 1.0, false, static_cast<double>(kMaxEmbeddingOrder), "-",
+      "Embedding order p: generalized orders 0..p are used (thesis eq. 3-17)",
+      true, 2, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(embedding_order) },
+    { "var_mu", T::kDoubleList, C, "active_inference", kMinVariance, false, kMaxVariance, "SI^2 of each order",
+      "Belief variances sigma^2_mu, one per order 0..p or one per order and channel (x_dot, y_dot, theta_dot; "
+      "order-major); precision Pi_mu = 1/sigma^2 (thesis table C-1)",
+      true, 0, false, kMuDim, {}, kMaxOrders, JACKAL_AIC_CONTROLLER(var_mu) },
+    { "var_y", T::kDoubleList, C, "active_inference", kMinVariance, false, kMaxVariance, "SI^2 of each order",
+      "Sensor variances sigma^2_y, one per order 0..p or one per order and channel (gyro z, omega_L, omega_R, "
+      "accel x, accel y; order-major); precision Pi_y = 1/sigma^2 (thesis table C-1)",
+      true, 0, false, kYDim, {}, kMaxOrders, JACKAL_AIC_CONTROLLER(var_y) },
+    { "accel_in_model", T::kBool, C, "active_inference", kNone, false, kNone, "-",
+      "If true, the accelerometer-x row of the sensor model maps onto mu^(1); false is the thesis model "
+      "(accelerometer rows zero)",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(accel_in_model) },
+    { "runaway_limit", T::kDouble, C, "active_inference", 0.0, true, kMaxRunawayLimit, "SI",
+      "Any belief element beyond this magnitude (or non-finite) is a runaway: reset, zero command, diagnostics "
+      "ERROR",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(runaway_limit) },
+    { "max_action_lead", T::kDouble, C, "robot", 0.0, false, kMaxWheelSpeedLimit, "rad/s",
+      "Anti-windup, not in the thesis: each wheel command is kept within +-this of the measured wheel speed; "
+      "0 = off",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(max_action_lead) },
+    { "max_action_lead_turn", T::kDouble, C, "robot", 0.0, false, kMaxWheelSpeedLimit, "rad/s",
+      "Anti-windup of turning, not in the thesis: half the difference of the two wheels' leads is kept within "
+      "+-this (a turn in place winds the wheel loop up while friction holds the wheels); 0 = off",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(max_action_lead_turn) },
+    // ---- robot (Clearpath Jackal; doc/jackal.md)
+    { "wheel_radius", T::kDouble, C, "robot", kMinLength, false, kMaxLength, "m",
+      "Wheel radius r (thesis eq. 3-1 to 3-4)",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(wheel_radius) },
+    { "slip_factor", T::kDouble, C, "robot", kMinSlipFactor, false, kMaxSlipFactor, "-",
+      "Slip factor alpha of the extended differential drive (thesis eq. 3-1 to 3-4)",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(slip_factor) },
+    { "wheel_separation", T::kDouble, C, "robot", kMinLength, false, kMaxLength, "m",
+      "Virtual wheel separation b_hat (identified; the track is 0.376 m; thesis eq. 3-1 to 3-4)",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(wheel_separation) },
+    { "max_wheel_speed", T::kDouble, C, "robot", 0.0, true, kMaxWheelSpeedLimit, "rad/s",
+      "Wheel commands are clamped to +-this (2.0 m/s / 0.098 m ~ 20.4 rad/s)",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(max_wheel_speed) },
+  };
+  // clang-format on
+}
+#undef JACKAL_AIC_CONTROLLER
+
+std::string formatNumber(double v)
+{
+  std::ostringstream os;
+  os.precision(15);
+  os << v;
+  return os.str();
+}
+
+/// Adds a violation if v is not finite or outside the row's range.
+void checkNumber(const ParamSpec& row, const std::string& name, double v, std::vector<ParamViolation>* out)
+{
+  const bool ok = std::isfinite(v) && (row.min_exclusive ? v > row.min : v >= row.min) && v <= row.max;
+  if (!ok)
+  {
+    out->push_back({ name, formatNumber(v), rangeText(row) });
+  }
+}
+
+/// Size rule of a per-order list (ParamSpec::channels > 0).
+void checkListSize(const ParamSpec& row, const std::vector<double>& var, int embedding_order,
+                   std::vector<ParamViolation>* out)
+{
+  const std::string key = row.key;
+  const bool order_ok = embedding_order >= 1 && embedding_order <= kMaxEmbeddingOrder;
+  const int channels = row.channels;
+  if (order_ok)
+  {
+    const std::size_t n = static_cast<std::size_t>(embedding_order + 1);
+    if (var.size() != n && var.size() != n * static_cast<std::size_t>(channels))
+    {
+      out->push_back({ key + ".size()", std::to_string(var.size()),
+                       std::to_string(n) + " (one per order) or " + std::to_string(n * channels) +
+                           " (per order and channel, order-major) for embedding_order " +
+                           std::to_string(embedding_order) });
+    }
+  }
+  else if (var.empty())
+  {
+    out->push_back({ key + ".size()", "0",
+                     "embedding_order + 1 or " + std::to_string(channels) + " * (embedding_order + 1)" });
+  }
+}
+
+void checkStringList(const ParamSpec& row, const std::vector<std::string>& names, std::vector<ParamViolation>* out)
+{
+  const std::string key = row.key;
+  if (names.empty())
+  {
+    out->push_back({ key, "[]", "a non-empty list of joint names" });
+    return;
+  }
+  std::set<std::string> seen;
+  for (std::size_t i = 0; i < names.size(); ++i)
+  {
+    const std::string item = key + "[" + std::to_string(i) + "]";
+    if (names[i].empty())
+    {
+      out->push_back({ item, "\"\"", "a non-empty joint name" });
+    }
+    else if (!seen.insert(names[i]).second)
+    {
+      out->push_back({ item, names[i], "a name not listed twice" });
+    }
+  }
+}
+}  // namespace
+
+bool ParamSpec::numeric() const
+{
+  return type == ParamType::kDouble || type == ParamType::kInt || type == ParamType::kDoubleList;
+}
+
+const std::vector<ParamSpec>& controllerParamSpecs()
+{
+  static const std::vector<ParamSpec> rows = buildControllerRows();
+  return rows;
+}
+
+void checkParamValue(const ParamSpec& row, const ParamValue& value, int embedding_order,
+                     std::vector<ParamViolation>* out)
+{
+  switch (row.type)
+  {
+    case ParamType::kDouble:
+      checkNumber(row, row.key, std::get<double>(value), out);
+      break;
+    case ParamType::kInt:
+    {
+      const int v = std::get<int>(value);
+      if (v < row.min || v > row.max)
+      {
+        out->push_back({ row.key, std::to_string(v), rangeText(row) });
+      }
+      break;
+    }
+    case ParamType::kDoubleList:
+    {
+      const auto& list = std::get<std::vector<double>>(value);
+      if (row.channels > 0)
+      {
+        checkListSize(row, list, embedding_order, out);
+      }
+      for (std::size_t i = 0; i < list.size(); ++i)
+      {
+        checkNumber(row, std::string(row.key) + "[" + std::to_string(i) + "]", list[i], out);
+      }
+      break;
+    }
+    case ParamType::kString:
+    {
+      const auto& s = std::get<std::string>(value);
+      if (!row.choices.empty() && std::find(row.choices.begin(), row.choices.end(), s) == row.choices.end())
+      {
+        out->push_back({ row.key, s, rangeText(row) });
+      }
+      break;
+    }
+    case ParamType::kStringList:
+      checkStringList(row, std::get<std::vector<std::string>>(value), out);
+      break;
+    case ParamType::kBool:
+      break;
+  }
+}
+
+std::vector<ParamViolation> checkParamRanges(const AicParams& params)
+{
+  std::vector<ParamViolation> out;
+  for (const ParamSpec& row : controllerParamSpecs())
+  {
+    checkParamValue(row, row.get_aic(params), params.embedding_order, &out);
+  }
+  return out;
+}
+
+std::string expectedText(const ParamSpec& row)
+{
+  switch (row.type)
+  {
+    case ParamType::kDouble:
+      return "a number";
+    case ParamType::kInt:
+      return "an integer";
+    case ParamType::kBool:
+      return "true or false";
+    case ParamType::kString:
+    {
+      std::string text = "a string";
+      for (std::size_t i = 0; i < row.choices.size(); ++i)
+      {
+        text += (i == 0 ? ": " : " or ") + row.choices[i];
+      }
+      return text;
+    }
+    case ParamType::kDoubleList:
+      return "a list of numbers";
+    case ParamType::kStringList:
+      return "a list of strings";
+  }
+  return "a value";
+}
+
+std::string rangeText(const ParamSpec& row)
+{
+  switch (row.type)
+  {
+    case ParamType::kInt:
+      return "integer in [" + formatNumber(row.min) + ", " + formatNumber(row.max) + "]";
+    case ParamType::kDouble:
+    case ParamType::kDoubleList:
+    {
+      std::string text = (row.min_exclusive ? "> " : ">= ") + formatNumber(row.min);
+      return std::isinf(row.max) ? text + " and finite" : text + " and <= " + formatNumber(row.max) + ", finite";
+    }
+    case ParamType::kString:
+    {
+      std::string text;
+      for (const auto& c : row.choices)
+      {
+        text += (text.empty() ? "" : " | ") + c;
+      }
+      return text.empty() ? "any string" : text;
+    }
+    case ParamType::kBool:
+      return "true | false";
+    case ParamType::kStringList:
+      return "a non-empty list of distinct, non-empty names";
+  }
+  return "";
+}
+
+std::string formatParamValue(const ParamValue& value)
+{
+  struct Printer
+  {
+    std::string operator()(bool b) const { return b ? "true" : "false"; }
+    std::string operator()(int i) const { return std::to_string(i); }
+    std::string operator()(double d) const { return formatNumber(d); }
+    std::string operator()(const std::string& s) const { return s; }
+    std::string operator()(const std::vector<double>& v) const
+    {
+      std::string out = "[";
+      for (std::size_t i = 0; i < v.size(); ++i)
+      {
+        out += (i ? ", " : "") + formatNumber(v[i]);
+      }
+      return out + "]";
+    }
+    std::string operator()(const std::vector<std::string>& v) const
+    {
+      std::string out = "[";
+      for (std::size_t i = 0; i < v.size(); ++i)
+      {
+        out += (i ? ", " : "") + v[i];
+      }
+      return out + "]";
+    }
+  };
+  return std::visit(Printer{}, value);
+}
+
+}  // namespace jackal_aic
