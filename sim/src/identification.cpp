@@ -102,12 +102,13 @@ ClosedLoopRecord runIdentStep(const RobotDescription& description, const PlantPa
 }
 }  // namespace
 
-FitEntry runFitEntry(const RobotDescription& description, const PlantParams& params, const AicParams& aic,
+FitEntry runFitEntry(const RobotDescription& description, const PlantParams& params, const NodeParams& controller,
                      const RobotStepTable& table, const RobotStepRow& row)
 {
   ClosedLoopConfig config;
   config.controller = table.controller;
-  config.aic = aic;
+  config.node = controller;
+  config.aic = controller.aic;
   config.aic.belief_rate = row.belief_rate;
   config.aic.action_rate = row.action_rate;
   StepMetricsOptions o;
@@ -119,7 +120,7 @@ FitEntry runFitEntry(const RobotDescription& description, const PlantParams& par
 }
 
 std::vector<FitEntry> runFitEntries(const RobotDescription& description, const PlantParams& params,
-                                    const AicParams& aic, const std::vector<RobotStepTable>& tables)
+                                    const NodeParams& controller, const std::vector<RobotStepTable>& tables)
 {
   std::vector<FitEntry> entries;
   for (const RobotStepTable& t : tables)
@@ -137,7 +138,7 @@ std::vector<FitEntry> runFitEntries(const RobotDescription& description, const P
           same = &d;
         }
       }
-      entries.push_back(same ? rescoreFitEntry(*same, t, row) : runFitEntry(description, params, aic, t, row));
+      entries.push_back(same ? rescoreFitEntry(*same, t, row) : runFitEntry(description, params, controller, t, row));
     }
   }
   return entries;
@@ -271,11 +272,11 @@ double fitCost(const std::vector<TableFit>& fits)
   return c;
 }
 
-FitReport runFit(const RobotDescription& description, const PlantParams& params, const AicParams& aic,
+FitReport runFit(const RobotDescription& description, const PlantParams& params, const NodeParams& controller,
                  const std::vector<RobotStepTable>& tables)
 {
   FitReport r;
-  r.entries = runFitEntries(description, params, aic, tables);
+  r.entries = runFitEntries(description, params, controller, tables);
   r.fits = summarizeFit(tables, r.entries);
   r.steady = runSteadyChecks(description, params);
   r.turning = runTurningChecks(description, params);

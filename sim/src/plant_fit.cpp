@@ -89,13 +89,13 @@ int main(int argc, char** argv)
 
   RobotDescription desc;
   PlantParams params;
-  AicParams aic;
+  NodeParams controller;
   std::vector<RobotStepTable> tables;
   try
   {
     desc = plant.description();
     params = plant.params();
-    aic = loadAicParams(aic_config);
+    controller = loadNodeParamsFiles({ aic_config });  // the AIC and the node's keys (action_trigger, ...)
     for (const RobotStepTable& t : loadRobotStepTables(data))
     {
       if (only.empty() || only.count(t.id))
@@ -118,7 +118,7 @@ int main(int argc, char** argv)
   FitReport report;
   try
   {
-    report = runFit(desc, params, aic, tables);
+    report = runFit(desc, params, controller, tables);
   }
   catch (const std::exception& e)
   {

@@ -380,7 +380,7 @@ TEST(IdentifiedPlant, StockStepsWithinTheAcceptance)
   const PlantParams p = loadPlantParams(kPlant);
   for (const RobotStepRow& row : tables[0].rows)
   {
-    const FitEntry e = runFitEntry(d, p, AicParams(), tables[0], row);
+    const FitEntry e = runFitEntry(d, p, NodeParams(), tables[0], row);
     EXPECT_LE(std::abs(e.settling_error), stockTolerance(row.step)) << row.step << " m/s: settling "
                                                                     << e.sim.settling_time;
     EXPECT_LE(std::abs(e.rise_error), stockTolerance(row.step)) << row.step << " m/s: rise " << e.sim.rise_time;
@@ -413,7 +413,7 @@ TEST(IdentifiedPlant, AFastControllerIsFasterThanTheStockOne)
 /// and the turning targets.
 TEST(IdentifiedPlant, EveryTableAcceptedAndTheTurningTargetsMet)
 {
-  const FitReport r = runFit(loadRobotDescription(kUrdf), loadPlantParams(kPlant), loadAicParams(kThesisEquivalent),
+  const FitReport r = runFit(loadRobotDescription(kUrdf), loadPlantParams(kPlant), loadNodeParamsFiles({ kThesisEquivalent }),
                              loadRobotStepTables(kData));
   for (const TableFit& f : r.fits)
   {

@@ -219,7 +219,7 @@ TEST(Variants, SlowBreakawayTurnsInSecondsAndFitsTheStraightSteps)
   EXPECT_GT(m.rise_time, 2.0);
   EXPECT_TRUE(m.settled) << "it does get there";
 
-  const FitReport r = runFit(d, p, loadAicParams(kRoot + "/config/thesis_equivalent.yaml"),
+  const FitReport r = runFit(d, p, loadNodeParamsFiles({ kRoot + "/config/thesis_equivalent.yaml" }),
                              loadRobotStepTables(kRoot + "/sim/config/robot_steps.yaml"));
   for (const TableFit& f : r.fits)
   {

@@ -71,10 +71,11 @@ constexpr double kUnsettledError = 2.0;
 
 /**
  * \brief Run one robot row on the plant and compare.
- * \param aic  controller parameters for AIC tables (rates are taken from the row)
+ * \param controller  the AIC's whole configuration for AIC tables, its node keys included
+ *                    (action_trigger, ...: loadNodeParamsFiles()); the rates are the row's
  * \throws std::invalid_argument as runClosedLoop
  */
-FitEntry runFitEntry(const RobotDescription& description, const PlantParams& params, const AicParams& aic,
+FitEntry runFitEntry(const RobotDescription& description, const PlantParams& params, const NodeParams& controller,
                      const RobotStepTable& table, const RobotStepRow& row);
 
 /**
@@ -84,7 +85,7 @@ FitEntry runFitEntry(const RobotDescription& description, const PlantParams& par
  * \throws std::invalid_argument as runClosedLoop
  */
 std::vector<FitEntry> runFitEntries(const RobotDescription& description, const PlantParams& params,
-                                    const AicParams& aic, const std::vector<RobotStepTable>& tables);
+                                    const NodeParams& controller, const std::vector<RobotStepTable>& tables);
 
 /// The same simulated run compared with another robot row (same controller, step and rates).
 FitEntry rescoreFitEntry(const FitEntry& run, const RobotStepTable& table, const RobotStepRow& row);
@@ -192,7 +193,7 @@ struct FitReport
  *        runSteadyChecks() and runTurningChecks() (about 60 s of plant time).
  * \throws std::invalid_argument as runClosedLoop
  */
-FitReport runFit(const RobotDescription& description, const PlantParams& params, const AicParams& aic,
+FitReport runFit(const RobotDescription& description, const PlantParams& params, const NodeParams& controller,
                  const std::vector<RobotStepTable>& tables);
 
 }  // namespace sim
