@@ -427,7 +427,7 @@ TEST(SensorFaults, TransientsAreRiddenThrough)
   EXPECT_LE(dev, 0.15);
   EXPECT_LE(yaw, 0.3);
   EXPECT_LE(error, 0.05);
-  results().push_back({ "transients at once, driving straight at 0.5 m/s",
+  results().push_back({ "transients at once, driving straight at 0.5 m/s (wheel loop: variants/slow_breakaway.yaml)",
                         "`gyro spikes 3 3.5 1 0.1`, `joint_states delay 0.06 5.0 0.5`, `joint_states dropout 6.0 "
                         "0.15`, `left_encoder spikes 5 7.0 0.5 0.1`",
                         isolationText(r, 3.5, 3.5, "the first fault"),
