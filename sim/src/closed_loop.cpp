@@ -142,6 +142,16 @@ const SetPointSegment* segmentAt(const std::vector<SetPointSegment>& profile, do
 }
 }  // namespace
 
+std::vector<SetPointSegment> profileSegments(const TwistProfile& profile, double t0)
+{
+  std::vector<SetPointSegment> out{ SetPointSegment{ 0.0, 0.0, 0.0 } };
+  for (const TwistProfilePoint& p : profile.points)
+  {
+    out.push_back(SetPointSegment{ t0 + p.t, p.vx, p.wz });
+  }
+  return out;
+}
+
 std::vector<SetPointSegment> stepProfile(double t_step, double linear, double angular)
 {
   return { { 0.0, 0.0, 0.0 }, { t_step, linear, angular } };

@@ -249,11 +249,7 @@ int main(int argc, char** argv)
     if (have_profile)
     {
       tracked = loadTwistProfileCsv(profile_file);
-      c.profile = { SetPointSegment{ 0.0, 0.0, 0.0 } };
-      for (const TwistProfilePoint& p : tracked.points)
-      {
-        c.profile.push_back(SetPointSegment{ t0 + p.t, p.vx, p.wz });
-      }
+      c.profile = profileSegments(tracked, t0);
       c.duration = t0 + tracked.duration;
     }
     else

@@ -38,7 +38,10 @@
 #include <vector>
 
 #include "jackal_aic/cli.hpp"
-#include "jackal_sim/csv_table.hpp"
+#include "jackal_aic/csv_table.hpp"
+#include "jackal_aic/json_number.hpp"
+#include "jackal_aic/tracking_metrics.hpp"
+#include "jackal_sim/closed_loop.hpp"
 #include "jackal_sim/plant_cli.hpp"
 #include "jackal_sim/plant_params.hpp"
 #include "jackal_sim/replay.hpp"
@@ -57,32 +60,41 @@ namespace
 constexpr int kModeVelocity = 0;
 constexpr int kModeNone = -1;
 
-std::vector<DriveCommand> driveCommands(const CsvTable& t)
+/// The /cmd_drive stream of a CSV file with the header t,mode,left,right (any column order).
+std::vector<DriveCommand> driveCommands(const std::string& path)
 {
-  const std::size_t ct = t.column("t"), cm = t.column("mode"), cl = t.column("left"), cr = t.column("right");
+  std::ifstream in(path);
+  if (!in)
+  {
+    throw std::invalid_argument("'" + path + "' cannot be opened");
+  }
+  const CsvTable t = readCsv(in, "'" + path + "'", CsvHeader::kRequired);
+  const int ct = t.column("t"), cm = t.column("mode"), cl = t.column("left"), cr = t.column("right");
+  if (ct < 0 || cm < 0 || cl < 0 || cr < 0)
+  {
+    throw std::invalid_argument(t.source + ": the header must name the columns t, mode, left, right");
+  }
+  if (t.rows.empty())
+  {
+    throw std::invalid_argument(t.source + ": no data rows");
+  }
   std::vector<DriveCommand> out;
   for (std::size_t i = 0; i < t.rows.size(); ++i)
   {
-    const auto& r = t.rows[i];
-    const int mode = static_cast<int>(std::lround(r[cm]));
-    if (r[cm] != mode || (mode != kModeVelocity && mode != kModeNone))
+    const double m = t.number(i, cm, "mode");
+    const int mode = static_cast<int>(std::lround(m));
+    if (m != mode || (mode != kModeVelocity && mode != kModeNone))
     {
-      throw std::invalid_argument(t.source + ": row " + std::to_string(i + 1) + ": mode " + jsonNumber(r[cm]) +
+      throw std::invalid_argument(t.where(i) + "mode " + jsonNumber(m) +
                                   " (allowed: 0 MODE_VELOCITY, -1 MODE_NONE; the plant's MCU model has no PWM or "
                                   "effort mode)");
     }
-    out.push_back({ r[ct], mode == kModeVelocity, r[cl], r[cr] });
-  }
-  return out;
-}
-
-std::vector<SetPointSegment> twistProfile(const CsvTable& t)
-{
-  const std::size_t ct = t.column("t"), cl = t.column("vx"), ca = t.column("wz");
-  std::vector<SetPointSegment> out;
-  for (const auto& r : t.rows)
-  {
-    out.push_back({ r[ct], r[cl], r[ca] });
+    const double time = t.number(i, ct, "t");
+    if (!out.empty() && time < out.back().time)
+    {
+      throw std::invalid_argument(t.where(i) + "t " + jsonNumber(time) + " before the previous row's");
+    }
+    out.push_back({ time, mode == kModeVelocity, t.number(i, cl, "left"), t.number(i, cr, "right") });
   }
   return out;
 }
@@ -130,13 +142,14 @@ int main(int argc, char** argv)
     const PlantParams params = plant.params();
     if (!drive_file.empty())
     {
-      commands = driveCommands(readCsvFile(drive_file));
+      commands = driveCommands(drive_file);
       duration = cl.given("duration") ? duration : commands.back().time + 1.0;
     }
     else
     {
-      const std::vector<SetPointSegment> profile = twistProfile(readCsvFile(twist_file));
-      duration = cl.given("duration") ? duration : profile.back().start;
+      const TwistProfile twist = loadTwistProfileCsv(twist_file);
+      const std::vector<SetPointSegment> profile = profileSegments(twist, 0.0);
+      duration = cl.given("duration") ? duration : twist.duration;
       commands = stockDriveCommands(profile, duration);
     }
     samples = replayDriveCommands(desc, params, commands, duration, !noise);

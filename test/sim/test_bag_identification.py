@@ -110,6 +110,13 @@ class BadBags(unittest.TestCase):
     def tearDown(self):
         self.tmp.cleanup()
 
+    def write_text(self, name, text):
+        """A file `name` in the test's folder holding `text`; its path."""
+        path = os.path.join(self.tmp.name, name)
+        with open(path, "w") as f:
+            f.write(text)
+        return path
+
     def write(self, name, drive_mode=0, imu=True):
         import rosbag
         import rospy
@@ -153,7 +160,8 @@ class BadBags(unittest.TestCase):
         cases = [([], 2, "exactly one of --drive and --twist"),
                  (["--drive", pwm, "--twist", pwm], 2, "exactly one"),
                  (["--drive", pwm], 1, "no PWM or effort mode"),
-                 (["--twist", pwm], 1, "no column 'vx'"),
+                 (["--drive", self.write_text("cols.csv", "t,left,right\n0,1,1\n")], 1, "t, mode, left, right"),
+                 (["--twist", pwm], 1, "must name the columns t and vx"),
                  (["--drive", os.path.join(self.tmp.name, "missing.csv")], 1, "cannot be opened"),
                  (["--drive", pwm, "--duration", "-1"], 2, "--duration")]
         for args, code, message in cases:

@@ -19,7 +19,6 @@
 #include "jackal_aic/params_yaml.hpp"
 #include "jackal_aic/step_metrics.hpp"
 #include "jackal_sim/closed_loop.hpp"
-#include "jackal_sim/csv_table.hpp"
 #include "jackal_sim/identification.hpp"
 #include "jackal_sim/plant.hpp"
 #include "jackal_sim/plant_params.hpp"
@@ -526,32 +525,6 @@ TEST(ClosedLoop, OpenLoopSendsTheSetPointsWheelSpeedsAndRecordsTheYaw)
 }
 
 // ---------------------------------------------------------------- replay of a /cmd_drive stream
-TEST(CsvTable, ReadsColumnsAndNamesEveryError)
-{
-  std::istringstream ok("# a comment\n\nt, mode ,left,right\n0,0,1.5,-1.5\n0.02,-1,0,0\n");
-  const CsvTable t = readCsvTable(ok, "ok.csv");
-  ASSERT_EQ(t.rows.size(), 2u);
-  EXPECT_EQ(t.column("mode"), 1u);
-  EXPECT_DOUBLE_EQ(t.values("right")[0], -1.5);
-  EXPECT_NE(errorOf([&] { t.column("vx"); }).find("no column 'vx'"), std::string::npos);
-  const std::vector<std::pair<std::string, std::string>> bad{
-    { "", "no header" },
-    { "t,t\n0,1\n", "duplicate" },
-    { "t,vx\n0\n", "1 cells" },
-    { "t,vx\n0,abc\n", "'vx' is not a finite number" },
-    { "t,vx\n0,nan\n", "'vx' is not a finite number" },
-    { "t,vx\n", "no data rows" },
-  };
-  for (const auto& [text, message] : bad)
-  {
-    std::istringstream in(text);
-    const std::string e = errorOf([&] { readCsvTable(in, "bad.csv"); });
-    EXPECT_NE(e.find("bad.csv"), std::string::npos) << text;
-    EXPECT_NE(e.find(message), std::string::npos) << text << ": " << e;
-  }
-  EXPECT_NE(errorOf([] { readCsvFile("/nonexistent/x.csv"); }).find("/nonexistent/x.csv"), std::string::npos);
-}
-
 /// Replaying the stock controller's /cmd_drive stream is the same run as the closed loop with the
 /// stock controller (the same plant, the same commands at the same instants): the wheel odometry
 /// agrees sample by sample.

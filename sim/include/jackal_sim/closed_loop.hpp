@@ -31,6 +31,7 @@
 #include "jackal_aic/fault_monitor.hpp"
 #include "jackal_aic/node_params.hpp"
 #include "jackal_aic/params.hpp"
+#include "jackal_aic/tracking_metrics.hpp"
 #include "jackal_sim/fault_injection.hpp"
 #include "jackal_sim/plant_params.hpp"
 #include "jackal_sim/robot_description.hpp"
@@ -124,6 +125,14 @@ struct ClosedLoopRecord
  */
 ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams params,
                                const ClosedLoopConfig& config);
+
+/**
+ * \brief A twist profile (tracking_metrics.hpp: t, vx, wz rows, zero-order hold) as set-point
+ *        segments played from t0: 0 before t0, then each point's (vx, wz) from t0 + t.
+ * \param profile  a validated profile (TwistProfile::validate())
+ * \param t0       when the profile starts in the run [s], >= 0
+ */
+std::vector<SetPointSegment> profileSegments(const TwistProfile& profile, double t0);
 
 /// A set-point step from rest: 0 until t_step, then `linear` [m/s] (and `angular` [rad/s]).
 std::vector<SetPointSegment> stepProfile(double t_step, double linear, double angular = 0.0);
