@@ -19,14 +19,19 @@ Criteria (doc/experiments.md, 'Tuning'):
   5. Robustness: the 0.5 m/s step with the plant's latency (motor.command_delay) and motor
      torque (motor.max_torque with motor.proportional_limit) each varied by +-20 %: no runaway,
      settled within the 3 s hold, overshoot <= 10 %.
+  6. Driving (--driving, jackal_aic_tools.driving; doc/experiments.md, 'Driving acceptance'):
+     the step table (0.1 and 0.5 m/s, the 1 rad/s turn, both channels of the 0.5 m/s + 0.5 rad/s
+     arc: settling AIC / stock and overshoot against their bounds), the turn-deficit holds,
+     stability on the varied plants, and the tracking table over every profile x plant variant
+     (RMS error of vx and wz, AIC / stock) with its geometric mean. Judged with the rest.
 
 Usage:
   aic_scorecard.py [--aic-config FILE] [--plant-config FILE] [--seeds S ...] [--jobs N]
-                   [--json FILE]
+                   [--driving] [--json FILE]
 
   e.g.  scripts/aic_scorecard.py --aic-config config/default.yaml --jobs 2 --json /tmp/score.json
 
-Takes ~10 s on 2 cores. Exit: 0 when every criterion passes, 1 when one fails, 2 when a run
+Takes ~3 s on 2 cores, ~40 s with --driving. Exit: 0 when every criterion passes, 1 when one fails, 2 when a run
 fails (bad file, tool error).
 """
 import argparse
@@ -49,15 +54,14 @@ ROBUST_OVERSHOOT = 10.0  # [%] 0.5 m/s step on the varied plant
 STEPS = [0.1, 0.3, 0.5, 1.0]  # m/s
 TURNS = [0.5, 1.0, 2.0]  # rad/s
 SQUARES = [(0.1, 0.5), (0.1, 1.0), (0.2, 1.2)]  # m/s
-# Plant variations (+-20 % of the wheel-loop values config/default.yaml was tuned on, those of
-# sim/config/variants/slow_breakaway.yaml: command_delay 0.1174 s, max_torque 4 N m,
-# proportional_limit 0.9751 N m), as scripts/aic_tune.py uses them.
+# Plant variations: +-20 % of sim/config/plant.yaml's wheel loop (command_delay 0.1187 s,
+# max_torque 4 N m, proportional_limit 0.7571 N m).
 ROBUST = [
     ("identified plant", []),
-    ("command_delay -20 % (0.0939 s)", ["motor.command_delay=0.0939"]),
-    ("command_delay +20 % (0.1409 s)", ["motor.command_delay=0.1409"]),
-    ("max_torque, proportional_limit -20 %", ["motor.max_torque=3.2", "motor.proportional_limit=0.78"]),
-    ("max_torque, proportional_limit +20 %", ["motor.max_torque=4.8", "motor.proportional_limit=1.17"]),
+    ("command_delay -20 % (0.0950 s)", ["motor.command_delay=0.09496"]),
+    ("command_delay +20 % (0.1424 s)", ["motor.command_delay=0.1424"]),
+    ("max_torque, proportional_limit -20 %", ["motor.max_torque=3.2", "motor.proportional_limit=0.6057"]),
+    ("max_torque, proportional_limit +20 %", ["motor.max_torque=4.8", "motor.proportional_limit=0.9085"]),
 ]
 
 
@@ -193,6 +197,18 @@ def scorecard(a):
         robust.append({"plant": name, "set": sets, "aic_rise": m["rise"], "aic_settling": m["settling"],
                        "aic_overshoot": m["overshoot"], "stock_settling": s["settling"], "pass": ok})
     crit["robustness"] = robust
+    if a.driving:
+        from jackal_aic_tools import driving
+        runner = driving.Runner(_EXE["closed_loop_run"], a.aic_config, a.plant_config, jobs=a.jobs)
+        ev = driving.evaluate(runner, ROOT)
+        for part in ("steps", "deficit", "robust", "tracking"):
+            crit["driving_" + part] = ev[part]
+        gm = dict(ev["gmean"], bound=driving.TRACK_GMEAN_BOUND)
+        gm["pass"] = judge(gm["all"] <= driving.TRACK_GMEAN_BOUND)
+        crit["driving_gmean"] = gm
+        for part in ("steps", "deficit", "robust", "tracking"):
+            for r in ev[part]:
+                judge(r["pass"])
     return crit, all_ok
 
 
@@ -234,6 +250,35 @@ def print_scorecard(crit, a):
           [[r["plant"], "%s s / %s s / %s %%" % (fmt(r["aic_rise"]), fmt(r["aic_settling"]),
                                                 fmt(r["aic_overshoot"], "%.1f")),
             "%s s" % fmt(r["stock_settling"]), verdict(r["pass"])] for r in crit["robustness"]])
+    if "driving_steps" in crit:
+        print_driving(crit)
+
+
+def print_driving(crit):
+    """Print the driving tables (criterion 6) of scorecard()'s criteria."""
+    from jackal_aic_tools import driving
+    table("6a. Driving steps (settling AIC / stock <= bound, overshoot <= %g %%)" % driving.STEP_OVERSHOOT,
+          ["case", "AIC settle/os", "stock settle/os", "settle x", "bound", "verdict"],
+          [[r["case"], "%s s / %s %%" % (fmt(r["aic_settling"]), fmt(r["aic_overshoot"], "%.1f")),
+            "%s s / %s %%" % (fmt(r["stock_settling"]), fmt(r["stock_overshoot"], "%.1f")),
+            fmt(r["ratio"], "%.2f"), "%.2f" % r["bound"], verdict(r["pass"])] for r in crit["driving_steps"]])
+    table("6b. Turn deficit (variants/turn_deficit.yaml): mean yaw-rate error over the last 1 s of a %g s hold "
+          "(|AIC| <= %g %% of the command)" % (driving.DEFICIT_HOLD, 100 * driving.DEFICIT_ERROR),
+          ["command", "AIC error", "stock error", "verdict"],
+          [["%.1f rad/s" % r["command"], "%+.4f rad/s" % r["aic_error"], "%+.4f rad/s" % r["stock_error"],
+            verdict(r["pass"])] for r in crit["driving_deficit"]])
+    table("6c. Stability on varied plants (no runaway; settled wherever the stock controller settles)",
+          ["plant", "case", "AIC settle/os", "stock settled", "verdict"],
+          [[r["plant"], r["case"], "%s s / %s %%" % (fmt(r["settling"]), fmt(r["overshoot"], "%.1f")),
+            "yes" if r["stock_settled"] else "no", verdict(r["pass"])] for r in crit["driving_robust"]])
+    g = crit["driving_gmean"]
+    table("6d. Tracking, RMS error against the set point (ground truth), AIC / stock <= %.2f per pair; geometric "
+          "mean %.3f (vx %.3f, wz %.3f; bound %.2f) %s" % (driving.TRACK_PAIR_BOUND, g["all"], g["vx"], g["wz"],
+                                                          g["bound"], verdict(g["pass"])),
+          ["profile", "variant", "vx AIC / stock [m/s]", "x", "wz AIC / stock [rad/s]", "x", "verdict"],
+          [[r["profile"], r["variant"], "%.4f / %.4f" % (r["aic_vx"], r["stock_vx"]), "%.2f" % r["vx_ratio"],
+            "%.4f / %.4f" % (r["aic_wz"], r["stock_wz"]), "%.2f" % r["wz_ratio"], verdict(r["pass"])]
+           for r in crit["driving_tracking"]])
 
 
 def main():
@@ -249,7 +294,11 @@ def main():
                     help="noise seeds (sensors.seed) of the 0.5 m/s step; the first is used for every other run's "
                          "steps (default 42 1 2 3 4; 42 is the plant YAML's)")
     ap.add_argument("--jobs", type=int, default=2, help="parallel closed_loop_run processes")
+    ap.add_argument("--driving", action="store_true",
+                    help="also the driving acceptance set (criterion 6: steps, turn deficit, tracking over the variants)")
     ap.add_argument("--json", help="write the figures and verdicts as JSON here")
+    ap.add_argument("--doc", action="store_true",
+                    help="also write the printout to doc/results/scorecard.txt with the command that made it")
     a = ap.parse_args()
     a.aic_config = os.path.abspath(a.aic_config)
     a.plant_config = os.path.abspath(a.plant_config)
@@ -259,8 +308,24 @@ def main():
     except (RuntimeError, ValueError, KeyError) as e:
         print("aic_scorecard: %s" % e, file=sys.stderr)
         return 2
-    print_scorecard(crit, a)
-    print("\n%s" % ("ALL PASS" if ok else "FAIL: at least one criterion is not met"))
+    if a.doc:
+        import contextlib
+        import io
+        buf = io.StringIO()
+        with contextlib.redirect_stdout(buf):
+            print_scorecard(crit, a)
+            print("\n%s" % ("ALL PASS" if ok else "FAIL: at least one criterion is not met"))
+        text = buf.getvalue().replace(ROOT + os.sep, "")
+        sys.stdout.write(text)
+        path = os.path.join(ROOT, "doc", "results", "scorecard.txt")
+        with open(path, "w") as f:
+            f.write("# Written by: scripts/aic_scorecard.py %s--doc (closed_loop_run on the plant core, noisy "
+                    "sensors, fixed seeds); do not edit.\n" % ("--driving " if a.driving else ""))
+            f.write(text)
+        print("aic_scorecard: wrote %s" % os.path.relpath(path, ROOT))
+    else:
+        print_scorecard(crit, a)
+        print("\n%s" % ("ALL PASS" if ok else "FAIL: at least one criterion is not met"))
     if a.json:
         with open(a.json, "w") as f:
             json.dump({"aic_config": a.aic_config, "plant_config": a.plant_config, "pass": ok, "criteria": crit}, f,

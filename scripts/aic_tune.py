@@ -30,7 +30,17 @@ Three stages, all reproducible from this command and the repository's plant:
 Prints the identified plant, the model's top candidates, the verification table, and writes
 the winner as a commented YAML (--write FILE; the base config's node keys are kept).
 
+--driving: instead of the three stages, tune for real driving from the base config: a bounded
+Nelder-Mead (on the unit box, scipy) over DRIVING_SPACE (the gains, the anti-windup lead, the
+reference model, the action prior and the goal's look-ahead; generalized_goal on, the turn lead
+off), scored by jackal_aic_tools.driving.cost: the tracking benchmark (sim/profiles/*.csv) over
+the plant variants --driving-variants, the step cases and their overshoot against the stock
+controller, the turn-deficit holds and the robustness runs (doc/experiments.md, 'Driving
+acceptance'). Prints each improvement and the winner's acceptance figures over every variant.
+
 Usage:
+  aic_tune.py --driving [--base config/default.yaml] [--write FILE] [--refine-evals N]
+              [--driving-variants default|OVERLAY.yaml ...] [--jobs N]
   aic_tune.py [--base config/default.yaml] [--write FILE] [--orders 2 3] [--popsize N]
               [--maxiter N] [--refine-evals N] [--top N] [--seed S] [--overshoot PCT]
               [--max-radius R] [--robust FRAC] [--robust-overshoot PCT] [--seeds S ...]
@@ -72,6 +82,22 @@ REFINE_SPACE = {
     "max_action_lead": (1.0, 10.0),       # rad/s, anti-windup lead of each wheel
     "max_action_lead_turn": (0.25, 4.0),  # rad/s, anti-windup lead of the wheel differential
 }
+# --driving: name -> (lower, upper, log scale); mapped from the unit box.
+DRIVING_SPACE = {
+    "k_a": (1.0, 60.0, True),
+    "var_y1": (1.0, 1e4, True),            # sigma^2_y of order 1
+    "tau": (1e-3, 0.2, True),              # s
+    "k_mu": (1e-3, 1.0, True),
+    "max_action_lead": (0.5, 10.0, True),  # rad/s
+    "action_prior_gain": (0.0, 1.5, False),
+    "reference_time_constant": (0.005, 0.3, True),  # s
+    "max_reference_acceleration_linear": (1.0, 20.0, True),   # m/s^2
+    "max_reference_acceleration_angular": (2.0, 60.0, True),  # rad/s^2
+    "reference_delay": (0.0, 0.25, False),          # s
+    "action_prior_time_constant": (0.0, 0.3, False),  # s
+    "goal_lead": (0.0, 0.3, False),         # s
+}
+DRIVING_FIXED = {"generalized_goal": "true", "max_action_lead_turn": 0.0}
 STEPS = [0.3, 0.5, 1.0]  # m/s: the verification's steps (0.1 reported too)
 COST_STEPS = [0.1, 0.3, 0.5, 1.0]  # m/s: the refinement's steps (overshoot bound on all)
 # Plant latency varied by +-20 % of sim/config/plant.yaml's identified 0.1174 s.
@@ -344,6 +370,94 @@ def fmt(v, spec="%.3f"):
     return "-" if v is None else spec % v
 
 
+def driving_values(u, var_y):
+    """Controller values (dict) of a point u of the unit box (DRIVING_SPACE; u is clipped to the
+    box: Nelder-Mead's vertices outside it are evaluated at their projection). var_y: the base
+    config's list, whose order-1 entry var_y1 replaces."""
+    v = {}
+    for (k, (lo, hi, log)), x in zip(DRIVING_SPACE.items(), np.clip(u, 0.0, 1.0)):
+        v[k] = 10.0 ** (math.log10(lo) + x * (math.log10(hi) - math.log10(lo))) if log else lo + x * (hi - lo)
+    vy = list(var_y)
+    vy[1] = v.pop("var_y1")
+    v["var_y"] = vy
+    v.update(DRIVING_FIXED)
+    return v
+
+
+def driving_unit(d):
+    """The unit-box point of a config dict d (absent keys: the middle of their range)."""
+    u = []
+    for k, (lo, hi, log) in DRIVING_SPACE.items():
+        val = d["var_y"][1] if k == "var_y1" else d.get(k)
+        if val is None or (log and float(val) <= 0.0):
+            u.append(0.5)
+        elif log:
+            u.append((math.log10(float(val)) - math.log10(lo)) / (math.log10(hi) - math.log10(lo)))
+        else:
+            u.append((float(val) - lo) / (hi - lo))
+    return np.clip(np.array(u), 0.0, 1.0)
+
+
+def tune_driving(a):
+    """--driving: Nelder-Mead over DRIVING_SPACE from the base config, scored by
+    jackal_aic_tools.driving.cost on a.driving_variants; writes the winner (a.write). Returns the
+    exit status."""
+    from jackal_aic_tools import driving
+    t_start = time.time()
+    with open(a.base) as f:
+        base = yaml.safe_load(f)
+    exe = find_exe("closed_loop_run")
+    plant_config = os.path.join(ROOT, "sim", "config", "plant.yaml")
+    variants = [v if v == "default" else os.path.abspath(v) for v in a.driving_variants]
+    best = {"cost": float("inf"), "values": None}
+
+    def evaluate(values, variant_list):
+        runner = driving.Runner(exe, a.base, plant_config, to_args(values), a.jobs)
+        runner._stock = stock_cache
+        return driving.evaluate(runner, ROOT, variants=variant_list)
+
+    stock_cache = {}
+    n = [0]
+
+    def f(u):
+        values = driving_values(u, base["var_y"])
+        try:
+            c = driving.cost(evaluate(values, variants))
+        except RuntimeError as e:  # a run that fails (invalid combination) scores as a runaway
+            print("  run failed: %s" % str(e)[-200:])
+            c = 50.0
+        n[0] += 1
+        if c < best["cost"]:
+            best.update(cost=c, values=values)
+            print("  [%4d, %5.0f s] cost %.4f: %s" % (n[0], time.time() - t_start, c, " ".join(to_args(values))),
+                  flush=True)
+        return c
+
+    u0 = driving_unit(base)
+    step = np.full(len(u0), 0.15)
+    simplex = [u0] + [np.clip(u0 + np.eye(len(u0))[i] * np.where(u0[i] > 0.5, -step[i], step[i]), 0, 1)
+                      for i in range(len(u0))]
+    minimize(f, u0, method="Nelder-Mead", options={"maxfev": a.refine_evals, "initial_simplex": np.array(simplex),
+                                                     "xatol": 1e-3, "fatol": 1e-4})
+    print("== winner (cost %.4f), acceptance over every variant ==" % best["cost"])
+    ev = evaluate(best["values"], None)
+    for r in ev["steps"]:
+        print("  %-13s settling AIC / stock %s (bound %.2f), overshoot %s %%" % (
+            r["case"], fmt(r["ratio"], "%.2f"), r["bound"], fmt(r["aic_overshoot"], "%.1f")))
+    for r in ev["deficit"]:
+        print("  turn deficit %.1f rad/s: AIC error %+.4f rad/s, stock %+.4f rad/s" % (
+            r["command"], r["aic_error"], r["stock_error"]))
+    print("  tracking: geometric mean AIC / stock vx %.3f, wz %.3f; pairs above %.2f: %d of %d" % (
+        ev["gmean"]["vx"], ev["gmean"]["wz"], driving.TRACK_PAIR_BOUND,
+        sum(1 for r in ev["tracking"] if not r["pass"]), len(ev["tracking"])))
+    if a.write:
+        write_yaml(a.write, a.base, best["values"], None, best["cost"], a,
+                   stamp="# tuned by aic_tune.py --driving (%d evaluations, variants %s): driving cost %.4f" % (
+                       n[0], " ".join(os.path.basename(v) for v in a.driving_variants), best["cost"]))
+        print("wrote %s (%.0f s)" % (a.write, time.time() - t_start))
+    return 0
+
+
 def main():
     """Parse the arguments, run the three stages and the verification. Returns the exit status."""
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0],
@@ -372,8 +486,16 @@ def main():
     ap.add_argument("--max-radius", type=float, default=0.98)
     ap.add_argument("--robust", type=float, default=0.2, help="relative variation of plant gain and delay")
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--driving", action="store_true",
+                    help="tune for real driving from the base config (DRIVING_SPACE, jackal_aic_tools.driving)")
+    ap.add_argument("--driving-variants", nargs="+", metavar="VARIANT",
+                    default=["default"] + [os.path.join(ROOT, "sim", "config", "variants", v + ".yaml")
+                                           for v in ("turn_deficit", "latency_plus_20", "payload_10kg")],
+                    help="--driving: plant variants of the tracking cost ('default' or an overlay YAML)")
     a = ap.parse_args()
     t_start = time.time()
+    if a.driving:
+        return tune_driving(a)
 
     bounds = [(math.log10(lo), math.log10(hi)) for lo, hi in SPACE.values()]
     rbounds = bounds + [(math.log10(lo), math.log10(hi)) for lo, hi in REFINE_SPACE.values()]
@@ -533,8 +655,9 @@ def refine_and_verify(a, plant, found, rbounds, base_x, t_start):
     return 0 if ok else 1
 
 
-def write_yaml(path, base, winner, plant, cost, a):
-    """The base YAML with the tuned keys replaced in place (comments kept) and a derivation line."""
+def write_yaml(path, base, winner, plant, cost, a, stamp=None):
+    """The base YAML with the tuned keys replaced in place (comments kept) and a derivation line
+    (``stamp``, or the model stages' one)."""
     with open(base) as f:
         lines = f.read().splitlines()
     values = dict(winner)
@@ -551,7 +674,7 @@ def write_yaml(path, base, winner, plant, cost, a):
         out.append(line)
     for k, v in values.items():
         out.append("%s: %s" % (k, yaml_list(v) if isinstance(v, list) else v))
-    stamp = ("# tuned by aic_tune.py: wheel loop K %.3f, T_p %.4f s, delay %.4f s; overshoot <= %g %%, spectral "
+    stamp = stamp or ("# tuned by aic_tune.py: wheel loop K %.3f, T_p %.4f s, delay %.4f s; overshoot <= %g %%, spectral "
              "radius <= %g at +-%d %% gain and delay; simulator cost %.3f" % (
                  plant["gain"], plant["time_constant"], plant["delay"], a.overshoot, a.max_radius,
                  round(100 * a.robust), cost))

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Demo: the AIC and the Jackal's stock controller on the simulated Jackal, a 0.5 m/s step
-# from rest each, headless. Installs what is missing, builds into the git-ignored .ws/
-# (reused when run again), prints the metrics table and the paths of the plots.
+# Demo: the AIC and the Jackal's stock controller on the simulated Jackal, headless, each with
+# a 0.5 m/s step from rest and with a 10 Hz planner's command stream with turns
+# (sim/profiles/planner_10hz.csv). Installs what is missing, builds into the git-ignored .ws/
+# (reused when run again), prints the metrics tables and the paths of the plots.
 #   bash scripts/demo.sh            # results in results/demo/
 #   AIC_DEMO_V=1.0 bash scripts/demo.sh                       # another step size [m/s]
 #   AIC_DEMO_ARGS="--set k_a=10 --set var_y=[2,20,1e5,1e5]" bash scripts/demo.sh  # more runner args
@@ -26,18 +27,32 @@ for c in aic stock; do
     --name "demo_${c}_step_${v}" ${AIC_DEMO_ARGS:-} > "$out/demo_${c}.log" 2>&1 || rc=$?
   [ "$rc" -eq 0 ] || { echo "demo: the ${c} run did not finish cleanly (exit $rc); its log: $out/demo_${c}.log"; tail -5 "$out/demo_${c}.log"; }
 done
+profile="${AIC_DEMO_PROFILE:-$repo/sim/profiles/planner_10hz.csv}"
+track="$(basename "$profile" .csv)"
+for c in aic stock; do
+  echo "demo: the ${track} command stream with the ${c} controller ..."
+  rc=0
+  # shellcheck disable=SC2086
+  "$ws/devel/lib/jackal_aic/aic_experiment.py" --controller "$c" --profile csv --csv "$profile" --out "$out" \
+    --name "demo_${c}_${track}" ${AIC_DEMO_ARGS:-} > "$out/demo_${c}_${track}.log" 2>&1 || rc=$?
+  [ "$rc" -eq 0 ] || { echo "demo: the ${c} run did not finish cleanly (exit $rc); its log: $out/demo_${c}_${track}.log"; tail -5 "$out/demo_${c}_${track}.log"; }
+done
 echo
-echo "Step response, ${v} m/s from rest (rise 10-90 %, settling +-5 %; drive cmd = the twist the wheel commands ask for):"
-/usr/bin/python3 -m jackal_aic_tools.summary "$out/demo_aic_step_${v}.json" "$out/demo_stock_step_${v}.json" \
-  | tee "$out/summary.txt"
+{
+  echo "Step response, ${v} m/s from rest (rise 10-90 %, settling +-5 %; drive cmd = the twist the wheel commands ask for):"
+  /usr/bin/python3 -m jackal_aic_tools.summary "$out/demo_aic_step_${v}.json" "$out/demo_stock_step_${v}.json"
+  echo
+  echo "Tracking of ${track} (error against the set point; truth = /odom, odom = wheel odometry; drift of the /odom path):"
+  /usr/bin/python3 -m jackal_aic_tools.summary "$out/demo_aic_${track}.json" "$out/demo_stock_${track}.json"
+} | tee "$out/summary.txt"
 if [ "${AIC_DEMO_DOC:-0}" = "1" ]; then
   mkdir -p "$repo/doc/results" "$repo/doc/img"
   {
     echo "# Written by: AIC_DEMO_DOC=1 bash scripts/demo.sh (config/default.yaml, sim/config/plant.yaml)"
-    echo "# Step response, ${v} m/s from rest, node and plant in real time; rise 10-90 %, settling +-5 %;"
-    echo "# drive cmd = the twist the wheel commands ask for."
-    cat "$out/summary.txt"
+    echo "# A ${v} m/s step from rest and the ${track} profile, node and plant in real time."
+    sed "s#$repo/##g" "$out/summary.txt"
   } > "$repo/doc/results/demo.txt"
-  cp "$out/demo_aic_step_${v}.png" "$out/demo_stock_step_${v}.png" "$repo/doc/img/"
-  echo "demo: wrote doc/results/demo.txt and doc/img/demo_{aic,stock}_step_${v}.png"
+  cp "$out/demo_aic_step_${v}.png" "$out/demo_stock_step_${v}.png" "$out/demo_aic_${track}.png" \
+    "$out/demo_stock_${track}.png" "$repo/doc/img/"
+  echo "demo: wrote doc/results/demo.txt and doc/img/demo_{aic,stock}_{step_${v},${track}}.png"
 fi

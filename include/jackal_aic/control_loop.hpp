@@ -37,6 +37,7 @@
 #include <string>
 
 #include "jackal_aic/diff_drive.hpp"
+#include "jackal_aic/goal_rate.hpp"
 #include "jackal_aic/node_params.hpp"
 #include "jackal_aic/sample_pipeline.hpp"
 #include "jackal_aic/sensor_pairing.hpp"
@@ -117,7 +118,9 @@ public:
   /**
    * \brief A set point (geometry_msgs/Twist fields: linear x, y, z [m/s], angular x, y, z
    *        [rad/s]): checked by the supervisor (NaN/Inf dropped, clamped to max_linear_speed /
-   *        max_angular_speed) and, unless dropped, the goal mu_d = (linear.x, 0, angular.z).
+   *        max_angular_speed) and, unless dropped, the goal mu_d = (linear.x, 0, angular.z) with,
+   *        if AicParams::generalized_goal, its rate mu_d' from the stream (GoalRateEstimator; the
+   *        rate is refreshed at every event, so a ramp's slope expires).
    */
   SetPointResult setPoint(const double (&fields)[6]);
   /// The MCU's jackal_msgs/Status (Supervisor::mcuStatus()); the watchdogs run at once.
@@ -213,6 +216,8 @@ private:
   bool due(Notice kind);
   /// Event schedule: integrate the beliefs from beliefTime() to now (if running).
   void advanceBeliefs();
+  /// Generalized goal: the controller's mu_d' to the estimator's rate now (a ramp's slope expires).
+  void refreshGoalRate();
   /// Integrate `steps` belief steps of h [s]; a runaway stops and is handled.
   void integrate(int steps, double h);
   /// Watchdogs: Supervisor::update() and its transition.
@@ -235,6 +240,7 @@ private:
   SensorPairing pairing_;
   SamplePipeline pipeline_;
   Supervisor supervisor_;
+  GoalRateEstimator goal_rate_;  ///< mu_d' of the set-point stream (AicParams::generalized_goal)
   std::unique_ptr<CmdVelOutput> cmd_vel_;  ///< output mode cmd_vel only
 
   std::uint64_t belief_steps_ = 0;

@@ -5,6 +5,7 @@
  *        (van der Meer 2022, thesis eq. 3-6 ... 3-16; Pezzato et al. 2020). ROS-free.
  */
 
+#include <array>
 #include <cstdint>
 
 #include "jackal_aic/params.hpp"
@@ -52,11 +53,37 @@ public:
   /// The generative model (G, R, K; eq. 3-1 ... 3-4) built from params().
   const SkidSteerModel& model() const { return model_; }
 
-  /// Desired twist mu_d = (v_x [m/s], 0, omega_z [rad/s]), the attractor of f(mu) = (mu_d - mu) / tau
-  /// (eq. 3-7). Non-finite input or an element beyond runaway_limit is ignored, returns false.
-  bool setGoal(const Vector3& mu_d);
+  /**
+   * \brief Desired twist mu_d = (v_x [m/s], 0, omega_z [rad/s]) and its rate mu_d' [m/s^2, m/s^2,
+   *        rad/s^2] (used only with params().generalized_goal). The attractor (eq. 3-7, extended,
+   *        doc/active_inference.md 'Set-point dynamics'):
+   *        no reference model: f(mu) = mu_d' + (mu_d - mu) / tau;
+   *        reference model (reference_time_constant T_r > 0): f(mu) = mu_r' + (mu_r - mu) / tau
+   *        with mu_r(t) = m(t - d_r), m' = (mu_d + goal_lead mu_d' - m) / T_r advanced with the
+   *        beliefs (updateBeliefs()).
+   * \return false (goal unchanged) for a non-finite element or one beyond runaway_limit.
+   */
+  bool setGoal(const Vector3& mu_d, const Vector3& mu_d_dot = Vector3::Zero());
   /// The goal mu_d in use [m/s, m/s, rad/s]; zero until setGoal().
   const Vector3& goal() const { return mu_d_; }
+  /// The goal's rate mu_d' in use [m/s^2, m/s^2, rad/s^2] (zero unless params().generalized_goal).
+  const Vector3& goalRate() const { return mu_d_dot_; }
+  /// The attractor's goal mu_r [m/s, m/s, rad/s]: the delayed reference path m(t - d_r) with a
+  /// reference model, else mu_d.
+  Vector3 attractorGoal() const;
+  /**
+   * \brief Start the reference model at the twist m0 [m/s, m/s, rad/s] (its whole delay line;
+   *        e.g. the measured twist at a bumpless start). No effect on anything else.
+   * \return false (unchanged) if m0 is not finite.
+   */
+  bool startReference(const Vector3& m0);
+  /**
+   * \brief The action prior a_ff [rad/s] = k_ff W (m + T_p m') with a reference model, else
+   *        k_ff W (mu_d + goal_lead mu_d') (W: the wheel rows of R, the inverse kinematics G^+ of
+   *        eq. 3-3; k_ff = action_prior_gain, T_p = action_prior_time_constant): the wheel speeds
+   *        the goal's path predicts. Zero when action_prior_gain is 0.
+   */
+  Vector2 actionPrior() const;
 
   /**
    * \brief Latest generalized measurement y_tilde (5 x (p+1)), held until the next one.
@@ -84,11 +111,16 @@ public:
   Status updateBeliefs(double h);
 
   /**
-   * \brief One action step: a += h * (-k_a sum_i K Pi_y^(i) eps_y^(i)) (eq. 3-16), then clamp to
-   *        +-max_wheel_speed and, if max_action_lead > 0, to within +-max_action_lead of the
-   *        measured wheel speeds y^(0)[omega_L], y^(0)[omega_R] (anti-windup, not in the thesis;
-   *        not applied to a wheel whose channel setSensorMask() masked).
-   *        da/dt does not depend on a, so this Euler step is exact for held beliefs and
+   * \brief One action step: a = a_F + a_ff with a_F += h * (-k_a sum_i K Pi_y^(i) eps_y^(i))
+   *        (eq. 3-16) and a_ff = actionPrior() (zero with action_prior_gain 0: the thesis), then
+   *        clamp to within +-max_action_lead of the measured wheel speeds y^(0)[omega_L],
+   *        y^(0)[omega_R] (widened to include a_ff: the prior alone is never cut) if
+   *        max_action_lead > 0, the wheels' differential lead to
+   *        +-max_action_lead_turn if > 0 (anti-windup, not in the thesis; not applied to a wheel
+   *        whose channel setSensorMask() masked), and to +-max_wheel_speed. Anti-windup:
+   *        where a clamp cut a wheel's command in the direction a_F integrates, a_F integrates
+   *        only up to the clamp and is never pulled back by it (a cut of the prior is not stored).
+   *        da_F/dt does not depend on a, so this Euler step is exact for held beliefs and
    *        measurement, whatever the integrator setting.
    * \param h  action step [s], finite and > 0
    * \return kOk; kBadInterval (state kept); kNoMeasurement (state kept); kRunaway (see Status).
@@ -98,7 +130,8 @@ public:
   /// Zero beliefs and action, forget the measurement (goal kept).
   void reset();
   /// Set the action a = (omega_L, omega_R) [rad/s] (e.g. to the measured wheel speeds for a bumpless start);
-  /// clamped to +-max_wheel_speed; a non-finite input is ignored (action unchanged).
+  /// clamped to +-max_wheel_speed; a non-finite input is ignored (action unchanged). The free-energy
+  /// part becomes a - actionPrior(), so the next step does not jump.
   void setAction(const Vector2& a);
 
   const MuTilde& mu() const { return mu_; }          ///< beliefs, 3 x (p+1)
@@ -165,12 +198,16 @@ private:
 
   /// eps_y for given beliefs and measurement (eq. 3-8; plus the optional accelerometer coupling).
   void computeEpsY(const MuTilde& mu, const YTilde& y_tilde, YTilde* eps_y) const;
-  /// eps_mu for given beliefs and goal (eq. 3-9).
-  void computeEpsMu(const MuTilde& mu, const Vector3& mu_d, MuTilde* eps_mu) const;
+  /// eps_mu for given beliefs, attractor goal g and its rate g_dot (eq. 3-9, with g_dot).
+  void computeEpsMu(const MuTilde& mu, const Vector3& g, const Vector3& g_dot, MuTilde* eps_mu) const;
   /// dF/dmu_tilde (eq. 3-13).
-  void computeDfDmu(const MuTilde& mu, const YTilde& y_tilde, const Vector3& mu_d, MuTilde* grad) const;
+  void computeDfDmu(const MuTilde& mu, const YTilde& y_tilde, const Vector3& g, const Vector3& g_dot,
+                    MuTilde* grad) const;
   /// dmu_tilde/dt (eq. 3-15).
-  void computeMuDot(const MuTilde& mu, const YTilde& y_tilde, const Vector3& mu_d, MuTilde* mu_dot) const;
+  void computeMuDot(const MuTilde& mu, const YTilde& y_tilde, const Vector3& g, const Vector3& g_dot,
+                    MuTilde* mu_dot) const;
+  /// The attractor's rate: mu_r' with a reference model, else mu_d'.
+  Vector3 attractorRate() const;
   /// Cache precisions, model, the belief dynamics matrix M; invalidate the exact step.
   void applyParams(const AicParams& params);
   /// Pi_y from params_ and the sensor mask, the belief dynamics matrix M; invalidate the exact step.
@@ -184,8 +221,30 @@ private:
   SkidSteerModel model_;
   MuTilde mu_;
   YTilde y_tilde_;
+  /// The reference model's input: the predicted goal mu_d + goal_lead mu_d'.
+  Vector3 referenceTarget() const;
+  /// Advance the reference model m and its delay line by h [s] (goal held).
+  void advanceReference(double h);
+
   Vector3 mu_d_ = Vector3::Zero();
+  Vector3 mu_d_dot_ = Vector3::Zero();
+  /// Reference model: m, the clock of its delay line [s], and the line of (t, m, m') samples.
+  struct ReferenceSample
+  {
+    double t;
+    Vector3 m;
+    Vector3 m_dot;
+  };
+  static constexpr int kReferenceLine = 1024;  ///< delay-line length: samples >= kMaxReferenceDelay / 800 apart cover the longest delay
+  Vector3 ref_m_ = Vector3::Zero();
+  double ref_time_ = 0.0;
+  std::array<ReferenceSample, kReferenceLine> ref_line_{};
+  int ref_head_ = 0;   ///< index of the newest sample
+  int ref_count_ = 0;  ///< samples in the line
+  Vector3 mu_r_ = Vector3::Zero();      ///< the delayed reference mu_r at ref_time_
+  Vector3 mu_r_dot_ = Vector3::Zero();  ///< its rate mu_r'
   Vector2 a_ = Vector2::Zero();
+  Vector2 a_F_ = Vector2::Zero();  ///< the free-energy part a_F of the action (eq. 3-16); a_ = clamps(a_F_ + a_ff)
   bool has_measurement_ = false;
   std::uint64_t runaway_count_ = 0;
   std::uint8_t sensor_mask_ = (1u << kYDim) - 1u;  ///< bit j set = channel j used

@@ -46,6 +46,7 @@ constexpr double kMinSlipFactor = 1.0e-3;  ///< smallest slip_factor [-]
 constexpr double kMaxSlipFactor = 1.0e3;   ///< largest slip_factor [-]
 constexpr double kMaxWheelSpeedLimit = 1.0e4;  ///< largest max_wheel_speed [rad/s]
 constexpr double kMaxRunawayLimit = 1.0e12;    ///< largest runaway_limit
+constexpr double kMaxReferenceDelay = 0.4;     ///< largest reference_delay [s] (the controller's delay line)
 ///@}
 
 /// One violated rule of AicParams::validate().
@@ -108,6 +109,60 @@ struct AicParams
    * Not in the thesis; doc/experiments.md, 'Tuning'.
    */
   double max_action_lead_turn = 0.0;
+  /**
+   * Generalized goal [-]: false = every set point is a step (mu_d' = 0); true = the goal's rate
+   * mu_d' is estimated from the set-point stream by finite differences (GoalRateEstimator:
+   * goal_rate_hold, max_goal_rate_linear, max_goal_rate_angular) and the goal is predicted
+   * goal_lead ahead, mu_d + goal_lead mu_d'. Without a reference model (reference_time_constant
+   * 0) the attractor becomes f(mu) = mu_d' + (mu_d - mu) / tau. Not in the thesis (its section
+   * 6-1: a generative model "that predicts the path towards the desired state");
+   * doc/active_inference.md, 'Set-point dynamics'.
+   */
+  bool generalized_goal = false;
+  /// Generalized goal: a set-point change within this of the previous one [s] continues a ramp
+  /// (mu_d' = change / interval); a later one is a step (mu_d' = 0); a slope is held for 1.5
+  /// change intervals, at most this long. > 0, <= 10.
+  double goal_rate_hold = 0.15;
+  /// Generalized goal: |mu_d'| of x_dot is clamped to this [m/s^2]. > 0.
+  double max_goal_rate_linear = 4.0;
+  /// Generalized goal: |mu_d'| of theta_dot is clamped to this [rad/s^2]. > 0.
+  double max_goal_rate_angular = 8.0;
+  /// Generalized goal: the goal is predicted this far ahead along its rate [s],
+  /// mu_d + goal_lead mu_d' (the wheel loop's latency). >= 0, <= 1.
+  double goal_lead = 0.0;
+  /**
+   * Reference model T_r [s], >= 0, <= 10; 0 = off (the thesis: f(mu) = (mu_d - mu) / tau, eq. 3-7).
+   * When > 0 the attractor is the path a wheel loop is expected to take to the (predicted) goal:
+   * m' = (mu_d + goal_lead mu_d' - m) / T_r, each channel's m' clamped to
+   * max_reference_acceleration_linear / _angular, delayed by reference_delay, mu_r(t) = m(t - d_r),
+   * and f(mu) = mu_r' + (mu_r - mu) / tau. The sensory prediction error then measures the
+   * deviation from the expected path, not the path itself, so the free-energy action does not
+   * wind up against the wheel loop's latency. doc/active_inference.md, 'Set-point dynamics'.
+   */
+  double reference_time_constant = 0.0;
+  /// Reference model: the path's acceleration is clamped to this along x_dot [m/s^2], > 0 (the
+  /// acceleration the wheels' torque allows: a rate-limited path is what a wheel loop with
+  /// acceleration feed-forward follows best).
+  double max_reference_acceleration_linear = 1.0e3;
+  /// Reference model: as max_reference_acceleration_linear, along theta_dot [rad/s^2], > 0.
+  double max_reference_acceleration_angular = 1.0e3;
+  /// Reference model: the latency d_r [s] between a command and the wheels' response that the
+  /// beliefs expect. >= 0, <= kMaxReferenceDelay.
+  double reference_delay = 0.0;
+  /**
+   * Action prior gain k_ff [-], in [0, 2]; 0 = off (the thesis: the action only descends the
+   * free energy, eq. 3-16). The action is a = a_F + a_ff, a_ff = k_ff W (m + T_p m') (with no
+   * reference model: k_ff W (mu_d + goal_lead mu_d')), W the wheel rows of R (the inverse
+   * kinematics G^+, eq. 3-3), T_p = action_prior_time_constant: the wheel speeds the goal's path
+   * predicts, through the inverse of a first-order wheel loop, handed to the MCU's wheel-speed
+   * loop as a reflex arc fulfils a proprioceptive prediction (Adams, Shipp & Friston, Brain
+   * Struct. Funct. 2013); the free-energy gradient a_F (eq. 3-16) corrects what it does not
+   * deliver. doc/active_inference.md, 'Action prior'.
+   */
+  double action_prior_gain = 0.0;
+  /// Action prior: the wheel loop's time constant T_p [s] that the prior inverts (with a
+  /// reference model only). >= 0, <= 10.
+  double action_prior_time_constant = 0.0;
   /// If true, the accelerometer-x row of R maps onto mu^(1) (kinematically better option, not in the thesis):
   /// eps_y^(i)[accel_x] = y^(i)[accel_x] - x_dot^(i+1) for i < p (and the gradient gains the matching
   /// term); K is unchanged (the accelerometer depends on da/dt, not a). false = thesis model
@@ -144,11 +199,12 @@ struct AicParams
 
 /**
  * \brief The recommended controller (config/default.yaml): what the node, the tools and
- *        cfg/AIC.cfg use for a missing key (NodeParams::aic). Tuned by scripts/aic_tune.py on
- *        the identified plant (doc/experiments.md, 'Tuning'): table 5-8's rates with the exact
- *        integrator, tau 0.01721 s, k_mu 0.02329, k_a 12.59, p = 2, sigma^2_mu (0.5, 0.6667,
- *        1.333), sigma^2_y (2, 38.25, 1e5), max_action_lead 4.367 rad/s, max_action_lead_turn
- *        1.1 rad/s. Valid (validate() empty).
+ *        cfg/AIC.cfg use for a missing key (NodeParams::aic). Tuned for real driving by
+ *        scripts/aic_tune.py --driving on the simulated Jackal (doc/experiments.md, 'Tuning';
+ *        figures in doc/results/scorecard.txt): table 5-8's rates with the exact integrator,
+ *        p = 2, the generalized goal, the rate-limited reference model and the action prior
+ *        (doc/active_inference.md, 'Set-point dynamics', 'Action prior'), max_action_lead on,
+ *        max_action_lead_turn off. Valid (validate() empty).
  */
 AicParams recommendedAicParams();
 

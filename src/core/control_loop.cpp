@@ -68,6 +68,7 @@ ControlLoop::ControlLoop(const NodeParams& params, const Clock& clock, Output& o
   , pairing_(pairingConfig(params))
   , pipeline_(params.aic, params.fdi)
   , supervisor_(params, clock)
+  , goal_rate_(params.aic)
   , newest_sample_stamp_(kNaN)
 {
   if (params.output_mode == "cmd_vel")
@@ -103,6 +104,7 @@ bool ControlLoop::due(Notice kind)
 bool ControlLoop::jointState(const JointStateInput& joints)
 {
   advanceBeliefs();  // with the inputs held until now
+  refreshGoalRate();  // an expired ramp of the set point ends here
   SensorSample sample;
   DropReason reason = DropReason::kCount;
   if (!pairing_.addJointState(joints, &sample, &reason, &text_))
@@ -188,6 +190,7 @@ bool ControlLoop::imu(const ImuInput& imu)
 SetPointResult ControlLoop::setPoint(const double (&fields)[6])
 {
   advanceBeliefs();  // the old goal holds until now
+  refreshGoalRate();  // an expired ramp of the set point ends here
   const SetPointResult result = supervisor_.setPoint(fields);
   switch (result)
   {
@@ -210,7 +213,8 @@ SetPointResult ControlLoop::setPoint(const double (&fields)[6])
     case SetPointResult::kAccepted:
       break;
   }
-  pipeline_.controller().setGoal(supervisor_.goal());
+  goal_rate_.update(clock_.now(), supervisor_.goal());
+  pipeline_.controller().setGoal(supervisor_.goal(), goal_rate_.rate(clock_.now()));
   watch();
   return result;
 }
@@ -218,6 +222,7 @@ SetPointResult ControlLoop::setPoint(const double (&fields)[6])
 void ControlLoop::mcuStatus(bool drivers_active, bool external_stop_present, bool external_stop_stopped)
 {
   advanceBeliefs();
+  refreshGoalRate();  // an expired ramp of the set point ends here
   supervisor_.mcuStatus(drivers_active, external_stop_present, external_stop_stopped);
   watch();
 }
@@ -225,6 +230,7 @@ void ControlLoop::mcuStatus(bool drivers_active, bool external_stop_present, boo
 void ControlLoop::mcuFeedback(int actual_mode)
 {
   advanceBeliefs();
+  refreshGoalRate();  // an expired ramp of the set point ends here
   supervisor_.mcuFeedback(actual_mode);
   watch();
 }
@@ -232,12 +238,14 @@ void ControlLoop::mcuFeedback(int actual_mode)
 void ControlLoop::advance()
 {
   advanceBeliefs();
+  refreshGoalRate();  // an expired ramp of the set point ends here
   watch();
 }
 
 void ControlLoop::actionTimer(double interval)
 {
   advanceBeliefs();
+  refreshGoalRate();  // an expired ramp of the set point ends here
   if (params_.action_trigger == ActionTrigger::kTimer)
   {
     actionStep(interval);
@@ -278,6 +286,7 @@ void ControlLoop::setParams(const NodeParams& next)
 {
   requireValid(next);
   advanceBeliefs();  // the old parameters hold until now
+  refreshGoalRate();  // an expired ramp of the set point ends here
   const bool new_history = pipeline_.setParams(next.aic, next.fdi);
   pairing_.setConfig(pairingConfig(next));
   if (new_history)
@@ -286,6 +295,7 @@ void ControlLoop::setParams(const NodeParams& next)
     carryOut(supervisor_.embeddingOrderChanged());
   }
   supervisor_.setParams(next);
+  goal_rate_.setParams(next.aic);
   // Read at start only: the output stage and the belief schedule.
   const std::string output_mode = params_.output_mode;
   const DiffDriveParams cmd_vel = params_.cmd_vel;
@@ -322,6 +332,14 @@ void ControlLoop::advanceBeliefs()
   const int steps = std::max(1, static_cast<int>(std::ceil(interval / h_mu - 1e-9)));
   belief_time_ = now;
   integrate(steps, interval / steps);
+}
+
+void ControlLoop::refreshGoalRate()
+{
+  if (params_.aic.generalized_goal)
+  {
+    pipeline_.controller().setGoal(supervisor_.goal(), goal_rate_.rate(clock_.now()));
+  }
 }
 
 void ControlLoop::integrate(int steps, double h)
@@ -371,6 +389,7 @@ void ControlLoop::activate()
 {
   const Vector2& wheels = supervisor_.measuredWheels();
   pipeline_.activate(wheels, supervisor_.goal());  // beliefs at the measured twist, action at the wheels
+  refreshGoalRate();
   if (cmd_vel_)
   {
     cmd_vel_->reset(wheels);  // the stock controller's acceleration limit starts there too

@@ -50,6 +50,7 @@ ActiveInferenceController::ActiveInferenceController(const AicParams& params)
   mu_.setZero(kMuDim, n);
   y_tilde_.setZero(kYDim, n);
   applyParams(params);
+  startReference(Vector3::Zero());
 }
 
 void ActiveInferenceController::setParams(const AicParams& params)
@@ -66,7 +67,12 @@ void ActiveInferenceController::setParams(const AicParams& params)
     mu_.setZero(kMuDim, n);
     y_tilde_.setZero(kYDim, n);
     a_.setZero();
+    a_F_.setZero();
     has_measurement_ = false;
+  }
+  if (!params.generalized_goal)
+  {
+    mu_d_dot_.setZero();
   }
 }
 
@@ -114,7 +120,7 @@ void ActiveInferenceController::rebuildDynamics()
   {
     e.setZero();
     e.data()[j] = 1.0;
-    computeMuDot(e, y0, zero3, &f);
+    computeMuDot(e, y0, zero3, zero3, &f);
     M_.col(j) = Eigen::Map<const Eigen::VectorXd>(f.data(), dim);
   }
   m_norm_ = M_.cwiseAbs().rowwise().sum().maxCoeff();  // ||M||_inf [1/s]
@@ -123,14 +129,114 @@ void ActiveInferenceController::rebuildDynamics()
   exact_h_ = 0.0;
 }
 
-bool ActiveInferenceController::setGoal(const Vector3& mu_d)
+bool ActiveInferenceController::setGoal(const Vector3& mu_d, const Vector3& mu_d_dot)
 {
-  if (!mu_d.allFinite() || mu_d.cwiseAbs().maxCoeff() > params_.runaway_limit)
+  if (!mu_d.allFinite() || mu_d.cwiseAbs().maxCoeff() > params_.runaway_limit || !mu_d_dot.allFinite() ||
+      mu_d_dot.cwiseAbs().maxCoeff() > params_.runaway_limit)
   {
     return false;
   }
   mu_d_ = mu_d;
+  mu_d_dot_ = params_.generalized_goal ? mu_d_dot : Vector3::Zero();
   return true;
+}
+
+Vector3 ActiveInferenceController::referenceTarget() const
+{
+  return params_.generalized_goal ? Vector3(mu_d_ + params_.goal_lead * mu_d_dot_) : mu_d_;
+}
+
+Vector3 ActiveInferenceController::attractorGoal() const
+{
+  return params_.reference_time_constant > 0.0 ? mu_r_ : mu_d_;
+}
+
+Vector3 ActiveInferenceController::attractorRate() const
+{
+  return params_.reference_time_constant > 0.0 ? mu_r_dot_ : mu_d_dot_;
+}
+
+Vector2 ActiveInferenceController::actionPrior() const
+{
+  if (params_.action_prior_gain <= 0.0)
+  {
+    return Vector2::Zero();
+  }
+  // W = the wheel rows of R (the pseudo-inverse of G, eq. 3-3): the wheel speeds of a twist.
+  Vector3 target = referenceTarget();
+  if (params_.reference_time_constant > 0.0)
+  {
+    // The reference path through the inverse of a first-order wheel loop: m + T_p m'.
+    const Vector3 acc(params_.max_reference_acceleration_linear, params_.max_reference_acceleration_linear,
+                      params_.max_reference_acceleration_angular);
+    const Vector3 m_dot = ((target - ref_m_) / params_.reference_time_constant).cwiseMax(-acc).cwiseMin(acc);
+    target = ref_m_ + params_.action_prior_time_constant * m_dot;
+  }
+  const SensorMatrix& R = model_.R();
+  return params_.action_prior_gain * Vector2(R.row(kOmegaLeft).dot(target), R.row(kOmegaRight).dot(target));
+}
+
+bool ActiveInferenceController::startReference(const Vector3& m0)
+{
+  if (!m0.allFinite())
+  {
+    return false;
+  }
+  ref_m_ = m0;
+  ref_time_ = 0.0;
+  ref_head_ = 0;
+  ref_count_ = 1;
+  ref_line_[0] = ReferenceSample{ 0.0, m0, Vector3::Zero() };
+  mu_r_ = m0;
+  mu_r_dot_.setZero();
+  return true;
+}
+
+void ActiveInferenceController::advanceReference(double h)
+{
+  const double t_r = params_.reference_time_constant;
+  if (t_r <= 0.0)
+  {
+    return;
+  }
+  // Exact step of m' = (target - m) / T_r with the target held over h, its change clamped to
+  // the path's largest acceleration; m' the same, clamped.
+  const Vector3 target = referenceTarget();
+  const Vector3 acc(params_.max_reference_acceleration_linear, params_.max_reference_acceleration_linear,
+                    params_.max_reference_acceleration_angular);
+  const Vector3 change = ((target - ref_m_) * (1.0 - std::exp(-h / t_r))).cwiseMax(-acc * h).cwiseMin(acc * h);
+  ref_m_ += change;
+  const Vector3 m_dot = ((target - ref_m_) / t_r).cwiseMax(-acc).cwiseMin(acc);
+  ref_time_ += h;
+  // The delay line keeps samples at least kMaxReferenceDelay / 800 apart (1024 of them cover the
+  // longest delay); between them m(t - d_r) is interpolated linearly.
+  const double spacing = kMaxReferenceDelay / 800.0;
+  if (ref_count_ == 0 || ref_time_ - ref_line_[static_cast<std::size_t>(ref_head_)].t >= spacing)
+  {
+    ref_head_ = (ref_head_ + 1) % kReferenceLine;
+    ref_count_ = std::min(ref_count_ + 1, kReferenceLine);
+  }
+  ref_line_[static_cast<std::size_t>(ref_head_)] = ReferenceSample{ ref_time_, ref_m_, m_dot };
+  const double t_query = ref_time_ - params_.reference_delay;
+  // Walk back from the newest sample to the first one at or before t_query.
+  int newer = ref_head_;
+  for (int k = 1; k < ref_count_; ++k)
+  {
+    const int older = (ref_head_ - k + kReferenceLine) % kReferenceLine;
+    const ReferenceSample& o = ref_line_[static_cast<std::size_t>(older)];
+    if (o.t <= t_query)
+    {
+      const ReferenceSample& n = ref_line_[static_cast<std::size_t>(newer)];
+      const double w = n.t > o.t ? (t_query - o.t) / (n.t - o.t) : 1.0;
+      mu_r_ = o.m + w * (n.m - o.m);
+      mu_r_dot_ = o.m_dot + w * (n.m_dot - o.m_dot);
+      return;
+    }
+    newer = older;
+  }
+  const ReferenceSample& oldest = ref_line_[static_cast<std::size_t>(newer)];  // the delay reaches before the line
+  mu_r_ = oldest.m;
+  mu_r_dot_ = oldest.m_dot;
 }
 
 bool ActiveInferenceController::setMeasurement(const YTilde& y_tilde)
@@ -170,12 +276,15 @@ void ActiveInferenceController::computeEpsY(const MuTilde& mu, const YTilde& y_t
   }
 }
 
-void ActiveInferenceController::computeEpsMu(const MuTilde& mu, const Vector3& mu_d, MuTilde* eps_mu) const
+void ActiveInferenceController::computeEpsMu(const MuTilde& mu, const Vector3& g, const Vector3& g_dot,
+                                             MuTilde* eps_mu) const
 {
   const int n = params_.numOrders();
   const double inv_tau = 1.0 / params_.tau;
-  // eps_mu^(0) = mu^(1) - (mu_d - mu^(0)) / tau; eps_mu^(i) = mu^(i+1) + mu^(i) / tau, mu^(p+1) = 0.
-  eps_mu->col(0) = mu.col(1) - (mu_d - mu.col(0)) * inv_tau;
+  // eps_mu^(0) = mu^(1) - g' - (g - mu^(0)) / tau (g = mu_d, g' = 0: eq. 3-9; a generalized goal or
+  // the reference path: doc/active_inference.md, 'Set-point dynamics');
+  // eps_mu^(i) = mu^(i+1) + mu^(i) / tau, mu^(p+1) = 0.
+  eps_mu->col(0) = mu.col(1) - g_dot - (g - mu.col(0)) * inv_tau;
   for (int i = 1; i < n; ++i)
   {
     eps_mu->col(i) = mu.col(i) * inv_tau;
@@ -186,15 +295,15 @@ void ActiveInferenceController::computeEpsMu(const MuTilde& mu, const Vector3& m
   }
 }
 
-void ActiveInferenceController::computeDfDmu(const MuTilde& mu, const YTilde& y_tilde, const Vector3& mu_d,
-                                            MuTilde* grad) const
+void ActiveInferenceController::computeDfDmu(const MuTilde& mu, const YTilde& y_tilde, const Vector3& g,
+                                             const Vector3& g_dot, MuTilde* grad) const
 {
   const int n = params_.numOrders();
   const double inv_tau = 1.0 / params_.tau;
   YTilde wy(kYDim, n);   // Pi_y eps_y
   MuTilde wm(kMuDim, n); // Pi_mu eps_mu
   computeEpsY(mu, y_tilde, &wy);
-  computeEpsMu(mu, mu_d, &wm);
+  computeEpsMu(mu, g, g_dot, &wm);
   wy.array() *= pi_y_.array();
   wm.array() *= pi_mu_.array();
   const SensorMatrix& R = model_.R();
@@ -213,11 +322,11 @@ void ActiveInferenceController::computeDfDmu(const MuTilde& mu, const YTilde& y_
   }
 }
 
-void ActiveInferenceController::computeMuDot(const MuTilde& mu, const YTilde& y_tilde, const Vector3& mu_d,
-                                            MuTilde* mu_dot) const
+void ActiveInferenceController::computeMuDot(const MuTilde& mu, const YTilde& y_tilde, const Vector3& g,
+                                             const Vector3& g_dot, MuTilde* mu_dot) const
 {
   const int n = params_.numOrders();
-  computeDfDmu(mu, y_tilde, mu_d, mu_dot);
+  computeDfDmu(mu, y_tilde, g, g_dot, mu_dot);
   *mu_dot *= -params_.k_mu;
   // Shift operator D: (D mu)^(i) = mu^(i+1), (D mu)^(p) = 0.
   mu_dot->leftCols(n - 1) += mu.rightCols(n - 1);
@@ -233,7 +342,7 @@ YTilde ActiveInferenceController::epsY() const
 MuTilde ActiveInferenceController::epsMu() const
 {
   MuTilde e(kMuDim, params_.numOrders());
-  computeEpsMu(mu_, mu_d_, &e);
+  computeEpsMu(mu_, attractorGoal(), attractorRate(), &e);
   return e;
 }
 
@@ -247,14 +356,14 @@ double ActiveInferenceController::freeEnergy() const
 MuTilde ActiveInferenceController::dFdMu() const
 {
   MuTilde g(kMuDim, params_.numOrders());
-  computeDfDmu(mu_, y_tilde_, mu_d_, &g);
+  computeDfDmu(mu_, y_tilde_, attractorGoal(), attractorRate(), &g);
   return g;
 }
 
 MuTilde ActiveInferenceController::muDot() const
 {
   MuTilde d(kMuDim, params_.numOrders());
-  computeMuDot(mu_, y_tilde_, mu_d_, &d);
+  computeMuDot(mu_, y_tilde_, attractorGoal(), attractorRate(), &d);
   return d;
 }
 
@@ -302,7 +411,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
   }
   const int n = params_.numOrders();
   MuTilde f(kMuDim, n);
-  computeMuDot(mu_, y_tilde_, mu_d_, &f);
+  computeMuDot(mu_, y_tilde_, attractorGoal(), attractorRate(), &f);
   MuTilde next(kMuDim, n);
   if (params_.integrator == Integrator::kExact)
   {
@@ -341,6 +450,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
     return Status::kRunaway;
   }
   mu_ = next;
+  advanceReference(h);
   return Status::kOk;
 }
 
@@ -354,23 +464,29 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
   {
     return Status::kNoMeasurement;
   }
-  // da/dt does not depend on a, so with beliefs and measurement held over the step the
-  // Euler step is also the exact one.
-  const Vector2 next = a_ + h * aDot();
-  if (!next.allFinite())
+  // da_F/dt does not depend on a, so with beliefs and measurement held over the step the
+  // Euler step is also the exact one. a = a_F + a_ff.
+  const Vector2 a_dot = aDot();
+  const Vector2 prior = actionPrior();
+  const Vector2 candidate = a_F_ + h * a_dot;
+  const Vector2 raw = candidate + prior;
+  if (!raw.allFinite())
   {
     runawayReset();
     return Status::kRunaway;
   }
-  Vector2 a = next;
+  Vector2 a = raw;
   if (params_.max_action_lead > 0.0)
   {
-    // Conditional integration: the action may lead the measured wheel speeds by at most
-    // max_action_lead, so it cannot wind up while the wheel loop saturates.
-    // A masked (isolated) wheel channel is not trusted, so it does not bound its command.
+    // The action may lead the measured wheel speeds by at most max_action_lead (what the wheel
+    // loop can use before it saturates), or as far as the prior alone asks (the command a stock
+    // base would send: the MCU's own loop handles it, and nothing integrates it). A masked
+    // (isolated) wheel channel is not trusted, so it does not bound its command.
     const Vector2 omega(y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0));
     const Vector2 lead = Vector2::Constant(params_.max_action_lead);
-    const Vector2 bounded = a.cwiseMax(omega - lead).cwiseMin(omega + lead);
+    const Vector2 lower = (omega - lead).cwiseMin(prior);
+    const Vector2 upper = (omega + lead).cwiseMax(prior);
+    const Vector2 bounded = a.cwiseMax(lower).cwiseMin(upper);
     if ((sensor_mask_ & (1u << kOmegaLeft)) != 0)
     {
       a(0) = bounded(0);
@@ -393,7 +509,29 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
     a = Vector2(omega(0) + c - d, omega(1) + c + d);
   }
   const double lim = params_.max_wheel_speed;  // applied last: the wheel clamp always wins
-  a_ = a.cwiseMax(-lim).cwiseMin(lim);
+  a = a.cwiseMax(-lim).cwiseMin(lim);
+  // Anti-windup of a_F: where a clamp cut a wheel's command in the direction a_F integrates, a_F
+  // integrates only up to the clamp (a - a_ff) and is never pulled back by it, so it cannot wind
+  // up against a limit, and a cut of the prior's part is not stored in a_F (it comes back once
+  // the wheels catch up).
+  for (int i = 0; i < 2; ++i)
+  {
+    const double cut = raw(i) - a(i);
+    const double at_clamp = a(i) - prior(i);
+    if (cut > 0.0 && a_dot(i) > 0.0)
+    {
+      a_F_(i) = std::max(a_F_(i), std::min(candidate(i), at_clamp));
+    }
+    else if (cut < 0.0 && a_dot(i) < 0.0)
+    {
+      a_F_(i) = std::min(a_F_(i), std::max(candidate(i), at_clamp));
+    }
+    else
+    {
+      a_F_(i) = candidate(i);
+    }
+  }
+  a_ = a;
   return Status::kOk;
 }
 
@@ -401,6 +539,8 @@ void ActiveInferenceController::runawayReset()
 {
   mu_.setZero();
   a_.setZero();
+  a_F_.setZero();
+  startReference(Vector3::Zero());
   ++runaway_count_;
 }
 
@@ -408,8 +548,10 @@ void ActiveInferenceController::reset()
 {
   mu_.setZero();
   a_.setZero();
+  a_F_.setZero();
   y_tilde_.setZero();
   has_measurement_ = false;
+  startReference(Vector3::Zero());
 }
 
 void ActiveInferenceController::setAction(const Vector2& a)
@@ -420,6 +562,7 @@ void ActiveInferenceController::setAction(const Vector2& a)
   }
   const double lim = params_.max_wheel_speed;
   a_ = a.cwiseMax(-lim).cwiseMin(lim);
+  a_F_ = a_ - actionPrior();  // bumpless: the free-energy part takes the difference
 }
 
 const char* toString(ActiveInferenceController::Status status)

@@ -53,14 +53,25 @@ AicParams recommendedAicParams()
 {
   AicParams p;  // rates 1000 / 50 Hz, robot geometry, runaway_limit: as table 5-8
   p.integrator = Integrator::kExact;
-  p.tau = 0.01721;
-  p.k_mu = 0.02329;
-  p.k_a = 12.59;
+  p.tau = 0.01232;
+  p.k_mu = 0.008264;
+  p.k_a = 3.501;
   p.embedding_order = 2;
   p.var_mu = { 0.5, 0.6667, 1.333 };
-  p.var_y = { 2.0, 38.25, 1.0e5 };
-  p.max_action_lead = 4.367;
-  p.max_action_lead_turn = 1.1;
+  p.var_y = { 2.0, 61.83, 1.0e5 };
+  p.max_action_lead = 1.612;
+  p.max_action_lead_turn = 0.0;
+  p.generalized_goal = true;
+  p.goal_rate_hold = 0.15;
+  p.max_goal_rate_linear = 4.0;
+  p.max_goal_rate_angular = 8.0;
+  p.goal_lead = 0.08095;
+  p.reference_time_constant = 0.005;
+  p.max_reference_acceleration_linear = 4.186;
+  p.max_reference_acceleration_angular = 9.009;
+  p.reference_delay = 0.08821;
+  p.action_prior_gain = 0.9702;
+  p.action_prior_time_constant = 0.003941;
   return p;
 }
 

@@ -88,10 +88,11 @@ void SamplePipeline::activate(const Vector2& wheels, const Vector3& goal)
   controller_->reset();
   controller_->setGoal(goal);
   controller_->setMeasurement(generalizer_->yTilde());
-  controller_->setAction(wheels);  // bumpless start from the measured wheel speeds
   MuTilde mu = MuTilde::Zero(kMuDim, controller_->params().numOrders());
   mu.col(0) = controller_->model().twistFromWheels(wheels);
   controller_->setBeliefs(mu);
+  controller_->startReference(mu.col(0));  // the expected path starts where the robot is
+  controller_->setAction(wheels);  // bumpless start from the measured wheel speeds
 }
 
 bool SamplePipeline::setParams(const AicParams& aic, const FdiParams& fdi)

@@ -1,4 +1,5 @@
-"""Print one metrics table for the result JSONs of aic_experiment runs, and their plots.
+"""Print the metrics table (step segments) and the tracking table (profiles) of the result JSONs
+of aic_experiment runs, and their plots.
 
 Usage: python3 -m jackal_aic_tools.summary RESULT.json [...]
 Exit status 0 when every run is ok, 2 when one is unstable, 1 when one failed.
@@ -21,7 +22,10 @@ def main(argv):
         except (OSError, ValueError) as e:
             results.append({"name": p, "controller": "?", "status": "failed",
                             "reason": "no readable result (%s)" % e, "segments": [], "files": {}})
-    print(report.run_table(results))
+    if any(r.get("segments") for r in results):
+        print(report.run_table(results))
+    if any(r.get("tracking") or r.get("tracking_error") for r in results):
+        print(report.tracking_table(results))
     for r in results:
         if r["status"] != "ok":
             print("%s: %s (%s)" % (r["name"], r["status"], r["reason"]))

@@ -8,6 +8,7 @@
  */
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -360,13 +361,23 @@ TEST_F(ControlLoopTest, EmbeddingOrderChangeWarmsUpAgain)
  * schedule (beliefs advanced at each event) and the timer schedule (a belief tick every 1 ms,
  * before the events of its instant) give the same beliefs and actions.
  */
-void compareSchedules(Integrator integrator, ActionTrigger trigger)
+void compareSchedules(Integrator integrator, ActionTrigger trigger, bool driving = false)
 {
   FakeClock clock_e, clock_t;
   Recorder out_e, out_t;
   NodeParams pe = params(BeliefSchedule::kEvent);
   pe.aic.integrator = integrator;
   pe.action_trigger = trigger;
+  if (driving)
+  {
+    // Set-point dynamics and the action prior, on a ramped set point.
+    pe.aic.generalized_goal = true;
+    pe.aic.goal_lead = 0.1;
+    pe.aic.reference_time_constant = 0.1;
+    pe.aic.reference_delay = 0.06;
+    pe.aic.action_prior_gain = 0.8;
+    pe.aic.action_prior_time_constant = 0.15;
+  }
   NodeParams pt = pe;
   pt.belief_schedule = BeliefSchedule::kTimer;
   ControlLoop event(pe, clock_e, out_e);
@@ -385,7 +396,9 @@ void compareSchedules(Integrator integrator, ActionTrigger trigger)
     if (k % 50 == 0)
     {
       double sp[6];
-      setPointFields(t < 1.0 ? 0.0 : (t < 2.0 ? 0.5 : 0.2), t < 1.5 ? 0.0 : 0.4, sp);
+      const double step = t < 1.0 ? 0.0 : (t < 2.0 ? 0.5 : 0.2);
+      const double ramp = std::min(0.5, std::max(0.0, t - 1.0));  // 1 m/s^2 in 50 ms stairs
+      setPointFields(driving ? ramp : step, t < 1.5 ? 0.0 : 0.4, sp);
       event.setPoint(sp);
       timer.setPoint(sp);
     }
@@ -435,6 +448,11 @@ TEST(ControlLoopSchedules, SameBeliefsAndActionsExactIntegratorSampleTrigger)
 TEST(ControlLoopSchedules, SameBeliefsAndActionsEulerTimerTrigger)
 {
   compareSchedules(Integrator::kEuler, ActionTrigger::kTimer);
+}
+
+TEST(ControlLoopSchedules, SameBeliefsAndActionsWithSetPointDynamicsAndPrior)
+{
+  compareSchedules(Integrator::kExact, ActionTrigger::kSample, true);
 }
 
 }  // namespace

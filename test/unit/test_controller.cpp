@@ -306,3 +306,155 @@ TEST(Controller, SetParamsKeepsOrResetsState)
   EXPECT_TRUE(c.mu().isZero());
   EXPECT_FALSE(c.hasMeasurement());
 }
+
+// ---- set-point dynamics and the action prior (doc/active_inference.md, 'Set-point dynamics',
+// 'Action prior')
+
+TEST(Controller, ActionPriorIsTheGoalsWheelSpeeds)
+{
+  AicParams p = thesisStandard();
+  ActiveInferenceController off{ p };
+  off.setGoal(Vector3(1.0, 0.0, 0.5));
+  EXPECT_EQ(off.actionPrior(), Vector2::Zero());  // gain 0: the thesis controller
+  p.action_prior_gain = 0.8;
+  ActiveInferenceController c{ p };
+  ASSERT_TRUE(c.setGoal(Vector3(1.0, 0.0, 0.5)));
+  // W = the wheel rows of R: omega_L,R = (v -+ w b_hat / 2) / (r alpha).
+  const double r = p.wheel_radius * p.slip_factor;
+  const Vector2 wheels((1.0 - 0.5 * p.wheel_separation / 2.0) / r, (1.0 + 0.5 * p.wheel_separation / 2.0) / r);
+  EXPECT_LT((c.actionPrior() - 0.8 * wheels).cwiseAbs().maxCoeff(), 1e-12);
+  // The first action step hands the prior over at once (a_F starts at zero).
+  ASSERT_TRUE(c.setMeasurement(YTilde::Zero(kYDim, 4)));
+  ASSERT_EQ(c.updateAction(1e-9), Status::kOk);
+  EXPECT_LT((c.action() - 0.8 * wheels).cwiseAbs().maxCoeff(), 1e-6);
+}
+
+TEST(Controller, SetActionIsBumplessWithAPrior)
+{
+  AicParams p = thesisStandard();
+  p.action_prior_gain = 1.0;
+  ActiveInferenceController c{ p };
+  c.setGoal(Vector3(0.5, 0.0, 0.0));
+  c.setAction(Vector2(1.0, 1.0));  // e.g. the measured wheels at a start
+  ASSERT_TRUE(c.setMeasurement(YTilde::Zero(kYDim, 4)));
+  ASSERT_EQ(c.updateAction(1e-9), Status::kOk);
+  EXPECT_LT((c.action() - Vector2(1.0, 1.0)).cwiseAbs().maxCoeff(), 1e-6);  // no jump to the prior
+}
+
+TEST(Controller, TheLeadNeverCutsThePriorAndNoClampIsStored)
+{
+  // The prior asks for 10 rad/s at once while the wheels stand: the lead (1 rad/s) does not cut
+  // it (the MCU handles a stock base's step itself). The wheel clamp (6 rad/s) does; once the
+  // goal is within it again the command is the prior again: the cut was not stored in a_F.
+  AicParams p = thesisStandard();
+  p.action_prior_gain = 1.0;
+  p.max_action_lead = 1.0;
+  p.max_wheel_speed = 6.0;
+  p.k_a = 1e-6;  // the free-energy part does (almost) nothing
+  ActiveInferenceController c{ p };
+  YTilde y = YTilde::Zero(kYDim, 4);
+  ASSERT_TRUE(c.setMeasurement(y));
+  c.setGoal(Vector3(5.0 * p.wheel_radius, 0.0, 0.0));
+  ASSERT_EQ(c.updateAction(0.02), Status::kOk);
+  EXPECT_NEAR(c.action()(0), 5.0, 1e-6);  // beyond the 1 rad/s lead: the prior alone
+  c.setGoal(Vector3(10.0 * p.wheel_radius, 0.0, 0.0));
+  ASSERT_EQ(c.updateAction(0.02), Status::kOk);
+  EXPECT_NEAR(c.action()(0), 6.0, 1e-9);  // cut by the wheel clamp
+  c.setGoal(Vector3(3.0 * p.wheel_radius, 0.0, 0.0));
+  ASSERT_EQ(c.updateAction(0.02), Status::kOk);
+  EXPECT_NEAR(c.action()(0), 3.0, 1e-6);
+  EXPECT_NEAR(c.action()(1), 3.0, 1e-6);
+}
+
+TEST(Controller, TheFreeEnergyActionDoesNotWindUpBeyondTheLead)
+{
+  // Wheels held still, no prior: a_F integrates up to the lead and holds there, and comes back
+  // at once when the error reverses (no stored windup).
+  AicParams p = thesisStandard();
+  p.max_action_lead = 1.0;
+  ActiveInferenceController c{ p };
+  YTilde y = YTilde::Zero(kYDim, 4);
+  ASSERT_TRUE(c.setMeasurement(y));
+  c.setGoal(Vector3(0.5, 0.0, 0.0));
+  for (int k = 0; k < 200; ++k)
+  {
+    c.updateBeliefs(0.02);
+    ASSERT_EQ(c.updateAction(0.02), Status::kOk);
+  }
+  EXPECT_NEAR(c.action()(0), 1.0, 1e-9);
+  c.setGoal(Vector3(-0.5, 0.0, 0.0));
+  for (int k = 0; k < 10; ++k)
+  {
+    c.updateBeliefs(0.02);
+    ASSERT_EQ(c.updateAction(0.02), Status::kOk);
+  }
+  EXPECT_LT(c.action()(0), 1.0 - 1e-3);  // already on its way down
+}
+
+TEST(Controller, GeneralizedGoalAddsTheGoalsRateToTheAttractor)
+{
+  AicParams p = thesisStandard();
+  const Vector3 mu_d(0.5, 0.0, 0.2);
+  const Vector3 rate(2.0, 0.0, -1.0);
+  MuTilde mu = MuTilde::Zero(kMuDim, 4);
+  mu(0, 0) = 0.3;
+  mu(0, 1) = 0.7;
+  for (const bool generalized : { false, true })
+  {
+    p.generalized_goal = generalized;
+    ActiveInferenceController c{ p };
+    ASSERT_TRUE(c.setGoal(mu_d, rate));
+    ASSERT_TRUE(c.setBeliefs(mu));
+    const Vector3 expected_rate = generalized ? rate : Vector3::Zero();
+    EXPECT_EQ(c.goalRate(), expected_rate);
+    // eps_mu^(0) = mu^(1) - mu_d' - (mu_d - mu^(0)) / tau
+    const Vector3 expected = mu.col(1) - expected_rate - (mu_d - mu.col(0)) / p.tau;
+    EXPECT_LT((c.epsMu().col(0) - expected).cwiseAbs().maxCoeff(), 1e-12);
+  }
+  ActiveInferenceController c{ p };
+  EXPECT_FALSE(c.setGoal(mu_d, Vector3(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0)));
+  EXPECT_EQ(c.goal(), Vector3::Zero());  // refused whole
+}
+
+TEST(Controller, ReferenceModelDelaysAndFiltersTheGoal)
+{
+  AicParams p = thesisStandard();
+  p.belief_rate = 1000.0;
+  p.reference_time_constant = 0.1;
+  p.reference_delay = 0.05;
+  ActiveInferenceController c{ p };
+  ASSERT_TRUE(c.startReference(Vector3::Zero()));
+  c.setGoal(Vector3(1.0, 0.0, -1.0));
+  ASSERT_TRUE(c.setMeasurement(YTilde::Zero(kYDim, 4)));
+  for (int k = 0; k < 50; ++k)
+  {
+    ASSERT_EQ(c.updateBeliefs(1e-3), Status::kOk);
+  }
+  EXPECT_NEAR(c.attractorGoal()(0), 0.0, 1e-9);  // within the delay: nothing yet
+  for (int k = 0; k < 100; ++k)
+  {
+    ASSERT_EQ(c.updateBeliefs(1e-3), Status::kOk);
+  }
+  // t = 0.15 s: mu_r = m(0.1 s) = 1 - exp(-1) along x_dot, the negative along theta_dot.
+  const double expected = 1.0 - std::exp(-1.0);
+  EXPECT_NEAR(c.attractorGoal()(0), expected, 1e-6);
+  EXPECT_NEAR(c.attractorGoal()(2), -expected, 1e-6);
+  // The beliefs follow the reference path, not the goal: still well short of it.
+  EXPECT_LT(c.mu()(0, 0), 0.9);
+  EXPECT_FALSE(c.startReference(Vector3(std::numeric_limits<double>::infinity(), 0.0, 0.0)));
+}
+
+TEST(Controller, ReferencePriorInvertsTheWheelLoopLag)
+{
+  // a_ff = k_ff W (m + T_p m'): at the step, with m at rest, the prior leads the goal by T_p / T_r.
+  AicParams p = thesisStandard();
+  p.reference_time_constant = 0.1;
+  p.action_prior_gain = 1.0;
+  p.action_prior_time_constant = 0.2;
+  ActiveInferenceController c{ p };
+  ASSERT_TRUE(c.startReference(Vector3::Zero()));
+  const double v = p.wheel_radius;  // 1 rad/s of wheel speed
+  c.setGoal(Vector3(v, 0.0, 0.0));
+  EXPECT_NEAR(c.actionPrior()(0), 2.0, 1e-12);
+  EXPECT_NEAR(c.actionPrior()(1), 2.0, 1e-12);
+}

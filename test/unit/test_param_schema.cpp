@@ -580,7 +580,8 @@ TEST(YamlOverrides, LoadNodeParamsFilesReadsBothScopesInOrder)
   // config/robot.yaml over config/default.yaml, as robot.launch loads them; node keys too.
   const NodeParams robot = loadNodeParamsFiles({ kSource + "/config/default.yaml", kSource + "/config/robot.yaml" });
   const NodeParams base = loadNodeParamsFiles({ kSource + "/config/default.yaml" });
-  EXPECT_NE(robot.aic.k_a, base.aic.k_a);
+  EXPECT_NE(robot.aic.reference_delay, base.aic.reference_delay);
+  EXPECT_EQ(robot.aic.k_a, base.aic.k_a);
   EXPECT_EQ(robot.aic.tau, base.aic.tau);
   const NodeParams node = loadNodeParamsFiles({ kSource + "/config/default.yaml" },
                                               { "action_trigger=timer", "belief_schedule=timer", "fdi_enabled=false" });

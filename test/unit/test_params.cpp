@@ -1,6 +1,8 @@
 /// Tests of AicParams::validate() (one test per rule), precisions and integrator names.
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -81,6 +83,39 @@ TEST(Params, MaxActionLeadTurn)
   EXPECT_FALSE(hasViolation(p, "max_action_lead_turn"));  // 0 = off
   p.max_action_lead_turn = 1.0;
   EXPECT_FALSE(hasViolation(p, "max_action_lead_turn"));
+}
+
+TEST(Params, SetPointDynamicsAndActionPrior)
+{
+  struct Case
+  {
+    const char* key;
+    double AicParams::*member;
+    std::vector<double> bad;
+    double good;
+  };
+  const std::vector<Case> cases = {
+    { "goal_rate_hold", &AicParams::goal_rate_hold, { 0.0, -0.1, 10.5, kNaN, kInf }, 0.15 },
+    { "max_goal_rate_linear", &AicParams::max_goal_rate_linear, { 0.0, -1.0, kNaN, kInf }, 4.0 },
+    { "max_goal_rate_angular", &AicParams::max_goal_rate_angular, { 0.0, -1.0, kNaN, kInf }, 8.0 },
+    { "goal_lead", &AicParams::goal_lead, { -0.01, 1.5, kNaN, kInf }, 0.0 },
+    { "reference_time_constant", &AicParams::reference_time_constant, { -0.01, 11.0, kNaN, kInf }, 0.0 },
+    { "reference_delay", &AicParams::reference_delay, { -0.01, jackal_aic::kMaxReferenceDelay * 1.01, kNaN }, 0.1 },
+    { "action_prior_gain", &AicParams::action_prior_gain, { -0.1, 2.5, kNaN, kInf }, 1.0 },
+    { "action_prior_time_constant", &AicParams::action_prior_time_constant, { -0.1, 11.0, kNaN }, 0.2 },
+  };
+  for (const Case& c : cases)
+  {
+    for (double bad : c.bad)
+    {
+      AicParams p;
+      p.*c.member = bad;
+      EXPECT_TRUE(hasViolation(p, c.key)) << c.key << " = " << bad;
+    }
+    AicParams p;
+    p.*c.member = c.good;
+    EXPECT_FALSE(hasViolation(p, c.key)) << c.key;
+  }
 }
 
 TEST(Params, LowerSanityBounds)

@@ -1,0 +1,239 @@
+"""The driving acceptance set: the AIC against the stock controller on everything a Jackal does,
+headless on the simulated Jackal's plant core (`closed_loop_run`, noisy sensors, fixed seeds).
+
+Three parts, each AIC and stock in the same run (doc/experiments.md, 'Driving acceptance'):
+
+- steps (STEP_CASES): 0.1, 0.5 m/s from rest, a 1 rad/s turn in place, the 0.5 m/s + 0.5 rad/s
+  arc on both channels; settling ratio AIC / stock and overshoot, judged against STEP_BOUNDS;
+  the 0.5 m/s step and the arc also with the plant's latency and torque +-20 % and a 10 kg
+  payload (ROBUST_PLANTS): no runaway, settled wherever the stock controller settles;
+- turn-deficit holds (DEFICIT_TURNS): a 3 s yaw-rate hold on sim/config/variants/turn_deficit.yaml
+  (a firmware whose turns fall ~0.5 rad/s short); the mean yaw-rate error over the last second
+  against DEFICIT_ERROR of the command;
+- tracking: every profile x plant variant of the tracking benchmark (jackal_aic_tools.tracking,
+  scripts/aic_track.py), the RMS error of vx and wz against the set point (ground truth); the ratio
+  AIC / stock per pair, judged against TRACK_PAIR_BOUND and its geometric mean against
+  TRACK_GMEAN_BOUND.
+
+`evaluate()` runs them all and returns the figures with verdicts; `cost()` turns the figures
+into the tuner's scalar (scripts/aic_tune.py --driving). Stock runs do not depend on the AIC's
+settings and are cached per process.
+"""
+import glob
+import math
+import os
+import tempfile
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+
+from jackal_aic_tools import cli, tracking
+
+#: Step cases: name -> (closed_loop_run arguments, result key, which channel's figures).
+STEP_CASES = {
+    "0.1 m/s": (["--step", "0.1"], "segments"),
+    "0.5 m/s": (["--step", "0.5"], "segments"),
+    "1 rad/s turn": (["--step", "1.0", "--channel", "angular", "--hold", "4"], "segments"),
+    "arc, speed": (["--step", "0.5", "--turn", "0.5"], "segments"),
+    "arc, yaw": (["--step", "0.5", "--turn", "0.5"], "angular_segments"),
+}
+#: Settling ratio AIC / stock bound of each step case; overshoot bound [%] of every case.
+STEP_BOUNDS = {"0.1 m/s": 1.0, "0.5 m/s": 0.6, "1 rad/s turn": 0.7, "arc, speed": 1.0, "arc, yaw": 1.0}
+STEP_OVERSHOOT = 5.0
+#: Plant variations of the stability check (plant KEY=VALUE overrides or an overlay file name).
+ROBUST_PLANTS = {
+    "latency -20 %": ["motor.command_delay=0.09496"],
+    "latency +20 %": ["motor.command_delay=0.1424"],
+    "torque -20 %": ["motor.max_torque=3.2", "motor.proportional_limit=0.6057"],
+    "torque +20 %": ["motor.max_torque=4.8", "motor.proportional_limit=0.9085"],
+    "payload +10 kg": "payload_10kg.yaml",
+}
+#: Turn-deficit holds [rad/s]; steady error bound (fraction of the command) over the last second.
+DEFICIT_TURNS = (0.3, 0.5, 1.0)
+DEFICIT_HOLD = 3.0
+DEFICIT_ERROR = 0.02
+#: Tracking bounds: every pair's AIC / stock RMS ratio (vx and wz), and their geometric mean.
+TRACK_PAIR_BOUND = 1.02
+TRACK_GMEAN_BOUND = 0.6
+
+
+def default_profiles(root):
+    """The tracking benchmark's profiles, sim/profiles/*.csv, sorted by name."""
+    return sorted(glob.glob(os.path.join(root, "sim", "profiles", "*.csv")))
+
+
+def default_variants(root):
+    """'default' and every overlay of sim/config/variants/, sorted."""
+    return ["default"] + sorted(glob.glob(os.path.join(root, "sim", "config", "variants", "*.yaml")))
+
+
+class Runner:
+    """Runs closed_loop_run for one AIC configuration (a YAML and KEY=VALUE overrides) and the stock
+    controller, on one plant YAML; caches the stock controller's results."""
+
+    def __init__(self, exe, aic_config, plant_config, aic_sets=(), jobs=2):
+        self.exe, self.aic_config, self.plant_config = exe, aic_config, plant_config
+        self.aic_sets = list(aic_sets)
+        self.jobs = max(1, jobs)
+        self._stock = {}
+
+    def command(self, controller, args, overlay=None, plant_sets=()):
+        """The argument list of one run (noisy sensors)."""
+        cmd = [self.exe, "--controller", controller, "--noise", "--config", self.plant_config] + list(args)
+        if controller == "aic":
+            cmd += ["--aic-config", self.aic_config]
+            for s in self.aic_sets:
+                cmd += ["--aic-set", s]
+        if overlay:
+            cmd += ["--overlay", overlay]
+        for s in plant_sets:
+            cmd += ["--set", s]
+        return cmd
+
+    def run_all(self, jobs):
+        """jobs: list of (key, controller, args, overlay, plant_sets, want_trace). Returns key ->
+        (result dict, trace columns or None); stock results come from the cache when there."""
+        def one(job):
+            key, controller, args, overlay, plant_sets, want_trace = job
+            cache_key = (controller, tuple(args), overlay, tuple(plant_sets), want_trace)
+            if controller == "stock" and cache_key in self._stock:
+                return self._stock[cache_key]
+            trace = None
+            with tempfile.TemporaryDirectory() as tmp:
+                extra = []
+                if want_trace:
+                    extra = ["--csv", os.path.join(tmp, "trace.csv")]
+                result = cli.run_json_tool(self.command(controller, list(args) + extra, overlay, plant_sets))
+                if want_trace:
+                    trace = tracking.read_columns(os.path.join(tmp, "trace.csv"))
+            out = (result, trace)
+            if controller == "stock":
+                self._stock[cache_key] = out
+            return out
+        with ThreadPoolExecutor(max_workers=self.jobs) as pool:
+            results = list(pool.map(one, jobs))
+        return {j[0]: r for j, r in zip(jobs, results)}
+
+
+def deficit_error(trace, command, hold_end, window=1.0):
+    """Mean yaw-rate error (ground truth minus the command) [rad/s] over the last ``window`` s
+    before ``hold_end`` (trace time, from the step)."""
+    t, yaw = trace["t"], trace["yaw_true"]
+    keep = (t > hold_end - window) & (t <= hold_end)
+    return float(np.mean(yaw[keep]) - command)
+
+
+def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, steps=True):
+    """Run the driving acceptance set with ``runner`` (Runner). Returns a dict:
+    steps: list of {case, aic_settling, stock_settling, ratio, aic_overshoot, bound, pass};
+    robust: list of {plant, case, runaways, settled, overshoot, pass};
+    deficit: list of {command, aic_error, stock_error, pass} (errors in rad/s);
+    tracking: list of {profile, variant, aic_vx, stock_vx, vx_ratio, aic_wz, stock_wz, wz_ratio, pass};
+    gmean: {vx, wz, all}; pass: every verdict."""
+    profiles = profiles if profiles is not None else default_profiles(root)
+    variants = variants if variants is not None else default_variants(root)
+    variant_dir = os.path.join(root, "sim", "config", "variants")
+    jobs = []
+    if steps:
+        for name, (args, _) in STEP_CASES.items():
+            if name == "arc, yaw":
+                continue
+            for c in ("aic", "stock"):
+                jobs.append((("step", name, c), c, args, None, (), False))
+        for plant, spec in ROBUST_PLANTS.items():
+            overlay, sets = (os.path.join(variant_dir, spec), ()) if isinstance(spec, str) else (None, tuple(spec))
+            for name in ("0.5 m/s", "arc, speed"):
+                for c in ("aic", "stock"):
+                    jobs.append((("robust", plant, name, c), c, STEP_CASES[name][0], overlay, sets, False))
+        deficit = os.path.join(variant_dir, "turn_deficit.yaml")
+        for w in DEFICIT_TURNS:
+            for c in ("aic", "stock"):
+                jobs.append((("deficit", w, c), c, ["--step", str(w), "--channel", "angular", "--hold",
+                                                    str(DEFICIT_HOLD)], deficit, (), True))
+    if tracking_suite:
+        for p in profiles:
+            for v in variants:
+                for c in ("aic", "stock"):
+                    jobs.append((("track", p, v, c), c, ["--profile", p], None if v == "default" else v, (), False))
+    res = runner.run_all(jobs)
+    out = {"steps": [], "robust": [], "deficit": [], "tracking": []}
+    ok = True
+    if steps:
+        for name, (_, key) in STEP_CASES.items():
+            base = "arc, speed" if name == "arc, yaw" else name
+            a = res[("step", base, "aic")][0][key][0]["measured"]
+            s = res[("step", base, "stock")][0][key][0]["measured"]
+            ratio = a["settling"] / s["settling"] if a["settled"] and a["settling"] and s["settling"] else None
+            passed = bool(ratio is not None and ratio <= STEP_BOUNDS[name] and
+                          (a["overshoot"] or 0.0) <= STEP_OVERSHOOT and
+                          res[("step", base, "aic")][0]["runaways"] == 0)
+            ok = ok and passed
+            out["steps"].append({"case": name, "aic_settling": a["settling"], "stock_settling": s["settling"],
+                                 "ratio": ratio, "aic_overshoot": a["overshoot"], "stock_overshoot": s["overshoot"],
+                                 "bound": STEP_BOUNDS[name], "pass": passed})
+        for plant in ROBUST_PLANTS:
+            for name in ("0.5 m/s", "arc, speed"):
+                r = res[("robust", plant, name, "aic")][0]
+                m = r["segments"][0]["measured"]
+                stock_settled = res[("robust", plant, name, "stock")][0]["segments"][0]["measured"]["settled"]
+                # Stable: no runaway, and settled wherever the stock controller settles (a plant that
+                # cannot follow the command, e.g. a payload's arc at the torque limit, settles neither).
+                passed = bool(r["runaways"] == 0 and (m["settled"] or not stock_settled))
+                ok = ok and passed
+                out["robust"].append({"plant": plant, "case": name, "runaways": r["runaways"], "settled": m["settled"],
+                                      "stock_settled": stock_settled,
+                                      "settling": m["settling"], "overshoot": m["overshoot"], "pass": passed})
+        for w in DEFICIT_TURNS:
+            hold_end = DEFICIT_HOLD
+            ea = deficit_error(res[("deficit", w, "aic")][1], w, hold_end)
+            es = deficit_error(res[("deficit", w, "stock")][1], w, hold_end)
+            passed = abs(ea) <= DEFICIT_ERROR * w
+            ok = ok and passed
+            out["deficit"].append({"command": w, "aic_error": ea, "stock_error": es, "pass": passed})
+    logs = {"vx": [], "wz": []}
+    if tracking_suite:
+        for p in profiles:
+            for v in variants:
+                a = res[("track", p, v, "aic")][0]["tracking"]["truth"]
+                s = res[("track", p, v, "stock")][0]["tracking"]["truth"]
+                row = {"profile": os.path.splitext(os.path.basename(p))[0],
+                       "variant": "default" if v == "default" else os.path.splitext(os.path.basename(v))[0]}
+                passed = True
+                for ch in ("vx", "wz"):
+                    ra = a[ch]["rms"] / s[ch]["rms"] if s[ch]["rms"] > 0 else 1.0
+                    row["aic_" + ch], row["stock_" + ch], row[ch + "_ratio"] = a[ch]["rms"], s[ch]["rms"], ra
+                    logs[ch].append(math.log(max(ra, 1e-9)))
+                    passed = passed and ra <= TRACK_PAIR_BOUND
+                row["pass"] = passed
+                ok = ok and passed
+                out["tracking"].append(row)
+        g = {ch: math.exp(sum(v) / len(v)) for ch, v in logs.items() if v}
+        g["all"] = math.exp((sum(logs["vx"]) + sum(logs["wz"])) / (len(logs["vx"]) + len(logs["wz"])))
+        out["gmean"] = g
+        ok = ok and g["all"] <= TRACK_GMEAN_BOUND
+    out["pass"] = ok
+    return out
+
+
+def cost(ev):
+    """The tuner's scalar of evaluate()'s figures [-, lower is better]:
+    the mean log ratio AIC / stock over every tracking pair and channel
+    + 2 x the sum of each pair's log ratio above log(TRACK_PAIR_BOUND), / the number of pairs
+    + per step case: 0.5 x max(0, log(ratio / bound)) (3 when unsettled) + 0.1 per % of overshoot
+      above STEP_OVERSHOOT
+    + per turn-deficit hold: 5 x max(0, |error| / command - DEFICIT_ERROR)
+    + 3 per robustness case that ran away or did not settle."""
+    total = 0.0
+    rows = ev.get("tracking", [])
+    if rows:
+        logs = [math.log(max(r[ch + "_ratio"], 1e-9)) for r in rows for ch in ("vx", "wz")]
+        total += sum(logs) / len(logs)
+        total += 2.0 * sum(max(0.0, x - math.log(TRACK_PAIR_BOUND)) for x in logs) / len(logs)
+    for r in ev.get("steps", []):
+        total += 3.0 if r["ratio"] is None else 0.5 * max(0.0, math.log(r["ratio"] / r["bound"]))
+        total += 0.1 * max(0.0, (r["aic_overshoot"] or 0.0) - STEP_OVERSHOOT)
+    for r in ev.get("deficit", []):
+        total += 5.0 * max(0.0, abs(r["aic_error"]) / r["command"] - DEFICIT_ERROR)
+    for r in ev.get("robust", []):
+        total += 0.0 if r["pass"] else 3.0
+    return total
