@@ -140,8 +140,8 @@ def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, st
                 continue
             for c in ("aic", "stock"):
                 jobs.append((("step", name, c), c, args, None, (), False))
-        for plant, spec in ROBUST_PLANTS.items():
-            overlay, sets = (os.path.join(variant_dir, spec), ()) if isinstance(spec, str) else (None, tuple(spec))
+        for plant, change in ROBUST_PLANTS.items():
+            overlay, sets = (os.path.join(variant_dir, change), ()) if isinstance(change, str) else (None, tuple(change))
             for name in ("0.5 m/s", "arc, speed"):
                 for c in ("aic", "stock"):
                     jobs.append((("robust", plant, name, c), c, STEP_CASES[name][0], overlay, sets, False))

