@@ -20,7 +20,7 @@ namespace jackal_aic
  *   mu_d' = Delta / (t_k - t_{k-1})   if t_k - t_{k-1} <= goal_rate_hold (the ramp continues),
  *   mu_d' = 0                         otherwise (a step after a hold: no motion to predict),
  * each channel clamped to max_goal_rate_linear / max_goal_rate_angular. The slope is held until
- * 1.5 change intervals (at most goal_rate_hold) pass without a further change, then mu_d' = 0:
+ * kRampHoldIntervals change intervals (at most goal_rate_hold) pass without a further change, then mu_d' = 0:
  * the ramp has ended. The first difference of a ramp is a step; prediction starts at its second.
  *
  * No allocation; a non-finite or out-of-order input is ignored (returns false).
@@ -45,6 +45,10 @@ public:
 
   /// Forget the stream (no slope, no previous change).
   void reset();
+
+  /// A slope is held this many change intervals after its change (at most goal_rate_hold): a
+  /// stream's next change is due after one interval, a little later with the publisher's jitter.
+  static constexpr double kRampHoldIntervals = 1.25;
 
 private:
   double hold_;

@@ -120,7 +120,7 @@ struct AicParams
    */
   bool generalized_goal = false;
   /// Generalized goal: a set-point change within this of the previous one [s] continues a ramp
-  /// (mu_d' = change / interval); a later one is a step (mu_d' = 0); a slope is held for 1.5
+  /// (mu_d' = change / interval); a later one is a step (mu_d' = 0); a slope is held for 1.25
   /// change intervals, at most this long. > 0, <= 10.
   double goal_rate_hold = 0.15;
   /// Generalized goal: |mu_d'| of x_dot is clamped to this [m/s^2]. > 0.

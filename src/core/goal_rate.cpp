@@ -51,7 +51,7 @@ bool GoalRateEstimator::update(double t, const Vector3& mu_d)
   if (interval > 0.0 && interval <= hold_)
   {
     slope_ = ((mu_d - value_) / interval).cwiseMax(-max_rate_).cwiseMin(max_rate_);
-    slope_until_ = t + std::min(1.5 * interval, hold_);
+    slope_until_ = t + std::min(kRampHoldIntervals * interval, hold_);
   }
   else
   {

@@ -97,7 +97,7 @@ std::vector<ParamSpec> buildControllerRows()
       true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(generalized_goal) },
     { "goal_rate_hold", T::kDouble, C, "active_inference", 0.0, true, 10.0, "s",
       "Generalized goal: a set-point change within this of the previous one continues a ramp (mu_d' = change / "
-      "interval), a later one is a step; a slope is held 1.5 change intervals, at most this long",
+      "interval), a later one is a step; a slope is held 1.25 change intervals, at most this long",
       true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(goal_rate_hold) },
     { "max_goal_rate_linear", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "m/s^2",
       "Generalized goal: |mu_d'| of x_dot is clamped to this",

@@ -1,7 +1,8 @@
 """Print the metrics table (step segments) and the tracking table (profiles) of the result JSONs
 of aic_experiment runs, and their plots.
 
-Usage: python3 -m jackal_aic_tools.summary RESULT.json [...]
+Usage: python3 -m jackal_aic_tools.summary [--tracking] RESULT.json [...]
+  --tracking: the tracking table only (profile runs, whose every transition is a segment)
 Exit status 0 when every run is ok, 2 when one is unstable, 1 when one failed.
 """
 import json
@@ -11,6 +12,8 @@ from . import report
 
 
 def main(argv):
+    tracking_only = "--tracking" in argv
+    argv = [a for a in argv if a != "--tracking"]
     if not argv:
         print(__doc__, file=sys.stderr)
         return 1
@@ -22,7 +25,7 @@ def main(argv):
         except (OSError, ValueError) as e:
             results.append({"name": p, "controller": "?", "status": "failed",
                             "reason": "no readable result (%s)" % e, "segments": [], "files": {}})
-    if any(r.get("segments") for r in results):
+    if not tracking_only and any(r.get("segments") for r in results):
         print(report.run_table(results))
     if any(r.get("tracking") or r.get("tracking_error") for r in results):
         print(report.tracking_table(results))

@@ -41,9 +41,9 @@ TEST(GoalRate, RampAtTenHertzStreamedAtFifty)
       EXPECT_NEAR(g.rate(t)(0), 2.0, 1e-9) << t;  // the ramp continues
     }
   }
-  // The last change was at 0.8 s; 1.5 intervals (0.15 s) later the ramp has ended.
-  EXPECT_NEAR(g.rate(0.94)(0), 2.0, 1e-9);
-  EXPECT_EQ(g.rate(0.96), Vector3::Zero());
+  // The last change was at 0.8 s; 1.25 intervals (0.125 s) later the ramp has ended.
+  EXPECT_NEAR(g.rate(0.92)(0), 2.0, 1e-9);
+  EXPECT_EQ(g.rate(0.93), Vector3::Zero());
 }
 
 TEST(GoalRate, StepAfterHoldIsNotARamp)
