@@ -68,6 +68,10 @@ from jackal_aic_tools import cli
 
 ROOT = cli.source_root(__file__)
 RATES = {"belief_rate": 1000.0, "action_rate": 50.0, "integrator": "exact"}
+# The straight-step stages tune the free-energy action alone: the state-space model has no
+# set-point dynamics and no action prior (jackal_aic::ClosedLoopModel), so they are off in
+# every candidate of those stages (--driving tunes them).
+FREE_ENERGY_ONLY = {"generalized_goal": "false", "reference_time_constant": 0.0, "action_prior_gain": 0.0}
 # Searched parameters: name -> (lower, upper), searched on log10.
 SPACE = {
     "tau": (1e-3, 0.1),          # s
@@ -137,6 +141,7 @@ def candidate_overrides(x, order):
         if k in v:
             o[k] = v[k]
     o.update(RATES)
+    o.update(FREE_ENERGY_ONLY)
     return o
 
 

@@ -126,7 +126,7 @@ step rostest "source /ws/devel/setup.bash && rostest jackal_aic $rostest_name --
 # The tools that need scipy, a few evaluations each (scipy 1.6 API).
 tools="source /ws/devel/setup.bash && cd /ws/src/jackal_aic"
 step plant_identify "$tools && python3 scripts/plant_identify.py --samples 2 --starts 1 --jobs 1 --max-evals 4"
-step aic_tune "$tools && python3 scripts/aic_tune.py --orders 2 --popsize 2 --maxiter 1 --top 1 --refine-evals 2 --seeds 42 --jobs 1"
+step aic_tune "$tools && python3 scripts/aic_tune.py --driving --refine-evals 2 --driving-variants default --jobs 1"
 gtest_summary="$(in_root 'catkin_test_results /ws/build/test_results' 2>&1 | grep -E '^Summary:' || true)"
 echo "check_bullseye: gtests: ${gtest_summary:-no results}"
 rostest_summary="$(sed 's/\x1b\[[0-9;]*m//g' "$root.rostest.log" | grep -E '^ \* (RESULT|TESTS|ERRORS|FAILURES):' | head -4 |
