@@ -28,7 +28,9 @@ Three stages, all reproducible from this command and the repository's plant:
    stock controller; scripts/aic_scorecard.py checks the whole acceptance set.
 
 Prints the identified plant, the model's top candidates, the verification table, and writes
-the winner as a commented YAML (--write FILE; the base config's node keys are kept).
+the winner as YAML (--write FILE): the base file with the tuned keys set in place or added. The
+defaults are the code's (recommendedAicParams(), src/core/params.cpp); adopting a winner as the
+default means writing its values there.
 
 --driving: instead of the three stages, tune for real driving from the base config: a bounded
 Nelder-Mead (on the unit box, scipy) over DRIVING_SPACE (the gains, the anti-windup lead, the
@@ -60,7 +62,6 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
-import yaml
 from scipy.optimize import differential_evolution, least_squares, minimize
 from scipy.signal import lfilter
 
@@ -357,8 +358,7 @@ def base_vector(path):
     """(order, x) of a controller YAML in the refinement's space (log10 of SPACE's and
     REFINE_SPACE's parameters; an absent lead key counts as 3.0 / 1.0 rad/s), or None when it
     is outside it."""
-    with open(path) as f:
-        d = yaml.safe_load(f)
+    d = cli.effective_config([path], __file__, "aic_tune")
     try:
         order = int(d["embedding_order"])
         vals = {"tau": d["tau"], "k_mu": d["k_mu"], "k_a": d["k_a"], "var_mu0": d["var_mu"][0],
@@ -409,8 +409,7 @@ def tune_driving(a):
     exit status."""
     from jackal_aic_tools import driving
     t_start = time.time()
-    with open(a.base) as f:
-        base = yaml.safe_load(f)
+    base = cli.effective_config([a.base], __file__, "aic_tune")
     exe = find_exe("closed_loop_run")
     plant_config = os.path.join(ROOT, "sim", "config", "plant.yaml")
     variants = [v if v == "default" else os.path.abspath(v) for v in a.driving_variants]

@@ -49,12 +49,13 @@ std::string toString(ActionTrigger trigger);
  * \brief Everything the node reads from its private namespace.
  *
  * Keys are the member names (YAML keys of config/\*.yaml). Controller parameters live in
- * `aic` and keep the names of AicParams. Defaults here are the schema's defaults, and equal
- * config/default.yaml's values (test_param_schema: DefaultYamlHoldsTheDefaults).
+ * `aic` and keep the names of AicParams. The member initializers are the schema's defaults
+ * (defaultValue()), the one place the node's defaults are written; config/default.yaml
+ * adds only what has none (the joint names).
  */
 struct NodeParams
 {
-  /// Controller parameters; defaults: the recommended set (recommendedAicParams(), config/default.yaml);
+  /// Controller parameters; defaults: the recommended set (recommendedAicParams());
   /// validated by AicParams::validate().
   AicParams aic = recommendedAicParams();
 

@@ -9,6 +9,9 @@
  */
 
 #include <string>
+#include <vector>
+
+#include "jackal_aic/node_params.hpp"
 
 namespace jackal_aic
 {
@@ -37,6 +40,16 @@ std::string parameterTableMarkdown();
  *        (required keys commented out, as they have no default).
  */
 std::string parameterYamlTemplate();
+
+/**
+ * \brief Every key of the schema as a commented YAML file, as parameterYamlTemplate() but with the
+ *        values of \p values (the effective configuration after loading \p files over the
+ *        defaults, loadNodeParamsFiles()); a required list that is empty is commented out.
+ *        Loading the text back gives \p values again (test_param_schema).
+ * \param values  the parameters to print; nullptr: the schema's defaults
+ * \param files   the YAML files \p values came from, named in the header line
+ */
+std::string parameterYaml(const NodeParams* values, const std::vector<std::string>& files);
 
 /**
  * \brief A number as the shortest decimal text that reads back as the same double

@@ -22,7 +22,7 @@
 
 namespace jackal_aic
 {
-/// The schema, in the order of config/default.yaml (controller keys first, then node-only keys).
+/// The schema, in the order of `aic_params --yaml` (controller keys first, then node-only keys).
 const std::vector<ParamSpec>& paramSchema();
 
 /// The row of `key`, or nullptr if the schema has no such key.

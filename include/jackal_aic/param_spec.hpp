@@ -123,7 +123,7 @@ bool assignParamValue(T* member, const ParamValue& value)
   return false;
 }
 
-/// The controller's rows (the keys of AicParams), in the order of config/default.yaml.
+/// The controller's rows (the keys of AicParams), in the order of `aic_params --yaml`.
 const std::vector<ParamSpec>& controllerParamSpecs();
 
 /**

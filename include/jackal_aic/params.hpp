@@ -9,7 +9,7 @@
  * p = 3, forward Euler) with the variances of table C-1: the reference the analysis and
  * the controller's unit tests start from. It diverges on the Jackal at 1 kHz
  * (doc/active_inference.md, 'Analysis notes'); the node, the tools and the parameter schema
- * start from recommendedAicParams() instead (config/default.yaml). ROS-free.
+ * start from recommendedAicParams() instead (the schema's defaults). ROS-free.
  */
 
 #include <string>
@@ -198,8 +198,9 @@ struct AicParams
 };
 
 /**
- * \brief The recommended controller (config/default.yaml): what the node, the tools and
- *        cfg/AIC.cfg use for a missing key (NodeParams::aic). Tuned for real driving by
+ * \brief The recommended controller, the one place its values are written: what the node, the
+ *        tools and cfg/AIC.cfg use for a key no YAML sets (NodeParams::aic; config/default.yaml
+ *        sets none of them). Tuned for real driving by
  *        scripts/aic_tune.py --driving on the simulated Jackal (doc/experiments.md, 'Tuning';
  *        figures in doc/results/scorecard.txt): table 5-8's rates with the exact integrator,
  *        p = 2, the generalized goal, the rate-limited reference model and the action prior

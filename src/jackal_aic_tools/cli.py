@@ -134,3 +134,19 @@ def find_executable(name, script_file, tool):
     except OSError:
         pass
     sys.exit("%s: %s not found (build the workspace: bash scripts/build.sh)" % (tool, name))
+
+
+def effective_config(paths, script_file, tool):
+    """Every parameter of the node as it reads the YAML files ``paths`` in order over the schema's
+    defaults (config/default.yaml holds only what has no default): a dict key -> value, from
+    ``aic_params --yaml --config PATH ...``. Exits with the tool's message on a bad file."""
+    import subprocess
+    import sys
+    import yaml
+    cmd = [find_executable("aic_params", script_file, tool), "--yaml"]
+    for p in paths:
+        cmd += ["--config", p]
+    out = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    if out.returncode != 0:
+        sys.exit("%s: %s" % (tool, out.stderr.strip()))
+    return yaml.safe_load(out.stdout)

@@ -16,7 +16,7 @@ import time
 import numpy as np
 import yaml
 
-from . import metrics, profiles, recording, tracking
+from . import cli, metrics, profiles, recording, tracking
 
 log = logging.getLogger("aic_experiment")
 
@@ -58,16 +58,16 @@ def _numbers(v):
 
 
 def write_config(base_path, overrides, out_path):
-    """Controller YAML = base file + overrides, written to ``out_path``; returns the dict.
-    Unknown keys (absent from the base file) are refused: a typo must not pass silently."""
-    with open(base_path) as f:
-        cfg = yaml.safe_load(f) or {}
+    """Controller YAML = every parameter as the node reads ``base_path`` (over the schema's
+    defaults: cli.effective_config) with ``overrides`` set, written to ``out_path`` (a complete
+    record of the run's parameters); returns the dict. Unknown keys are refused: a typo must not
+    pass silently."""
+    cfg = cli.effective_config([base_path], __file__, "aic_experiment")
     if not isinstance(cfg, dict):
         raise ValueError("%s: not a YAML mapping" % base_path)
     for k, v in overrides.items():
         if k not in cfg:
-            raise ValueError("override %s: no such parameter in %s (known: %s)"
-                             % (k, base_path, ", ".join(sorted(cfg))))
+            raise ValueError("override %s: no such parameter (known: %s)" % (k, ", ".join(sorted(cfg))))
         cfg[k] = v
     with open(out_path, "w") as f:
         f.write("# written by aic_experiment: %s with overrides %s\n" % (base_path, overrides or "none"))

@@ -6,6 +6,8 @@
  *   aic_params --cfg        > cfg/AIC.cfg       the dynamic_reconfigure definition
  *   aic_params --markdown                       the parameter table of doc/jackal_aic_node.md
  *   aic_params --yaml                           every key with its default, commented
+ *   aic_params --yaml --config F [--config G]   every key as the node reads F, then G, over the
+ *                                               defaults (the effective configuration)
  *   aic_params --check FILE                     read a controller YAML like the node: unknown
  *                                               keys, type errors and violations; exit 1 on any
  *
@@ -13,6 +15,7 @@
  */
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include <yaml-cpp/yaml.h>
 
@@ -75,10 +78,14 @@ int main(int argc, char** argv)
   bool markdown = false;
   bool yaml = false;
   std::string check;
+  std::vector<std::string> configs;
   CommandLine cl("aic_params", "Print what is generated from the jackal_AIC parameter schema, or check a YAML against it.");
   cl.flag("cfg", &cfg, "cfg/AIC.cfg (dynamic_reconfigure), generated");
   cl.flag("markdown", &markdown, "the parameter table of doc/jackal_aic_node.md");
   cl.flag("yaml", &yaml, "every key with its default, as a commented YAML file");
+  cl.repeated("config", &configs,
+              "with --yaml: print the values after loading these YAML files in order over the defaults, as the "
+              "node and the tools do (e.g. --config config/default.yaml --config config/robot.yaml)");
   cl.option("check", &check, "check a YAML file (config/*.yaml) as the node reads it");
   cl.footer("Give exactly one of --cfg, --markdown, --yaml and --check. Exit 0 on success, 1 on a bad file, 2 on "
             "bad arguments.");
@@ -90,9 +97,27 @@ int main(int argc, char** argv)
   {
     return cl.bad("give exactly one of --cfg, --markdown, --yaml and --check");
   }
+  if (!configs.empty() && !yaml)
+  {
+    return cl.bad("--config goes with --yaml");
+  }
   if (!check.empty())
   {
     return checkFile(check);
+  }
+  if (!configs.empty())
+  {
+    try
+    {
+      const NodeParams values = loadNodeParamsFiles(configs);
+      std::cout << parameterYaml(&values, configs);
+    }
+    catch (const std::exception& e)
+    {
+      std::cerr << "aic_params: " << e.what() << "\n";
+      return 1;
+    }
+    return 0;
   }
   std::cout << (cfg ? reconfigureCfgScript() : markdown ? parameterTableMarkdown() : parameterYamlTemplate());
   return 0;

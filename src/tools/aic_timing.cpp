@@ -7,7 +7,7 @@
  *  - "belief": the node's belief loop without ROS (belief_schedule timer): under a mutex (as
  *    the node's), ControlLoop::beliefTimer() (catch-up scheduling, the belief steps), with a
  *    50 Hz sample and set point fed every 20 ms so the controller runs as in a 0.5 m/s step
- *    (the configuration given, default the schema's defaults = config/default.yaml);
+ *    (the configuration given, default the schema's defaults);
  *  - "bare": the same thread and deadlines with an empty step (the floor set by the kernel's
  *    timer and scheduler).
  * Printed per loop: the achieved wake-up rate and, for the belief loop, the integration
@@ -148,7 +148,7 @@ int main(int argc, char** argv)
   int priority = 0;
   cl.option("duration", &duration, "seconds per rate, [0.1, 3600]");
   cl.list("rates", &rates, "loop rates [Hz], [1, 100000] (default 1000,10000)");
-  cl.option("config", &config, "controller YAML (default: the node's defaults, those of config/default.yaml)");
+  cl.option("config", &config, "controller YAML (default: the schema's defaults, as the node without a YAML)");
   cl.overrides("set", &overrides, "override a controller parameter, e.g. --set tau=0.01");
   cl.option("priority", &priority, "SCHED_FIFO priority for both threads, 1..99 (0: none)");
   if (const int parsed = cl.parse(argc, argv); parsed >= 0)

@@ -259,27 +259,64 @@ std::string parameterTableMarkdown()
   return os.str();
 }
 
-std::string parameterYamlTemplate()
+namespace
+{
+/// A value as YAML: docValue(), an empty string quoted.
+std::string yamlValue(const ParamValue& v)
+{
+  const std::string text = docValue(v);
+  return text.empty() ? std::string("\"\"") : text;
+}
+}  // namespace
+
+std::string parameterYaml(const NodeParams* values, const std::vector<std::string>& files)
 {
   std::ostringstream os;
-  os << "# Every parameter of the jackal_AIC node with its default (generated from the schema by\n"
-        "# `aic_params --yaml`; doc/jackal_aic_node.md, 'Parameters'). Keys marked (node) are\n"
-        "# read by the node only; the tools (aic_analyze, closed_loop_run) ignore them.\n";
+  if (values == nullptr)
+  {
+    os << "# Every parameter of the jackal_AIC node with its default: what the node uses for a key that\n"
+          "# no YAML sets (generated from the schema by `aic_params --yaml`; doc/jackal_aic_node.md,\n"
+          "# 'Parameters'). Keys marked (node) are read by the node only; the tools (aic_analyze,\n"
+          "# closed_loop_run) ignore them.\n";
+  }
+  else
+  {
+    os << "# Every parameter of the jackal_AIC node as the node reads";
+    for (std::size_t i = 0; i < files.size(); ++i)
+    {
+      os << (i == 0 ? " " : ", then ") << files[i];
+    }
+    os << "\n# over the schema's defaults (`aic_params --yaml --config FILE ...`). Keys marked (node) are read\n"
+          "# by the node only.\n";
+  }
+  std::string group;
   for (const ParamSpec& s : paramSchema())
   {
+    if (s.group != group)
+    {
+      group = s.group;
+      os << "\n# ---- " << group << " " << std::string(group.size() < 80 ? 80 - group.size() : 0, '-') << "\n";
+    }
     os << "\n# [" << s.unit << "] " << s.description << (s.scope == ParamScope::kNode ? " (node)" : "")
        << ".\n# Allowed: " << rangeDoc(s) << ". "
        << (s.required ? std::string("Required: no default.") : "Default: " + docValue(defaultValue(s))) << "\n";
-    if (s.required)
+    const ParamValue v = values != nullptr ? s.get(*values) : defaultValue(s);
+    const auto* list = std::get_if<std::vector<std::string>>(&v);
+    if (s.required && (list == nullptr || list->empty()))
     {
       os << "# " << s.key << ": [...]\n";
     }
     else
     {
-      os << s.key << ": " << docValue(defaultValue(s)) << "\n";
+      os << s.key << ": " << yamlValue(v) << "\n";
     }
   }
   return os.str();
+}
+
+std::string parameterYamlTemplate()
+{
+  return parameterYaml(nullptr, {});
 }
 
 }  // namespace jackal_aic

@@ -67,14 +67,15 @@ class InvalidParamsTest(unittest.TestCase):
         cls.alive_time = float(rospy.get_param("~alive_time", 2.0))
 
     def args(self, name, overrides):
-        """Put default.yaml plus the overrides into /<name>/ on the master; return the command line."""
+        """Put default.yaml with the overrides (None: key removed) into /<name>/ on the master; return
+        the command line."""
         if rospy.has_param("/" + name):
             rospy.delete_param("/" + name)
-        for key, value in self.valid.items():
-            if key in overrides:
-                value = overrides[key]
-                if value is None:
-                    continue
+        params = dict(self.valid)
+        params.update(overrides)  # default.yaml holds the joints only: most overrides add a key
+        for key, value in params.items():
+            if value is None:  # the case removes the key
+                continue
             rospy.set_param("/%s/%s" % (name, key), value)
         return [self.binary, "__name:=" + name]
 

@@ -2,8 +2,9 @@
  * \file test_param_schema.cpp
  * \brief gtest (no roscore) of the parameter schema (include/jackal_aic/param_schema.hpp):
  *        the table's ranges drive validate(); the committed cfg/AIC.cfg and the table in
- *        doc/jackal_aic_node.md are what the schema generates; config/\*.yaml name only known
- *        keys, document each with the schema's unit and default, and are valid; loading from
+ *        doc/jackal_aic_node.md are what the schema generates; config/default.yaml holds only
+ *        what has no default; config/\*.yaml name only known keys, document each with the
+ *        schema's unit, repeat no default and are valid; `aic_params --yaml`; loading from
  *        YAML; the shared KEY=VALUE override parser (include/jackal_aic/yaml_overrides.hpp).
  */
 #include <gtest/gtest.h>
@@ -344,49 +345,59 @@ TEST(ParamSchema, DocTableIsGenerated)
          "`.ws/devel/lib/jackal_aic/aic_params --markdown`";
 }
 
-TEST(ParamSchema, DefaultYamlAgreesWithTheSchema)
+TEST(ParamSchema, DefaultYamlHoldsOnlyWhatHasNoDefault)
 {
-  // config/default.yaml: every schema key present; in every config/*.yaml each key known and
-  // documented with the schema's unit ("# [unit] ...") and default ("Default: x" / "Required").
-  const std::string path = kSource + "/config/default.yaml";
-  const YAML::Node root = YAML::LoadFile(path);
+  // The defaults are written once, in the code (NodeParams, recommendedAicParams()):
+  // config/default.yaml sets exactly the keys that have none (the Jackal's joints), and the
+  // defaults alone are a valid, not the diverging, controller. Every config/*.yaml documents
+  // each of its keys with the schema's unit.
+  const YAML::Node root = YAML::LoadFile(kSource + "/config/default.yaml");
+  ASSERT_TRUE(root.IsMap());
   for (const ParamSpec& s : paramSchema())
   {
-    EXPECT_TRUE(root[s.key]) << "config/default.yaml lacks " << s.key;
+    SCOPED_TRACE(s.key);
+    EXPECT_EQ(bool(root[s.key]), s.required) << (s.required ? "a required key missing from config/default.yaml"
+                                                            : "config/default.yaml repeats a default");
   }
+  for (const auto& kv : root)
+  {
+    EXPECT_NE(findParam(kv.first.as<std::string>()), nullptr) << kv.first.as<std::string>();
+  }
+  const NodeParams p = loadNodeParamsFiles({ kSource + "/config/default.yaml" });
+  EXPECT_TRUE(p.validate().empty());
+  EXPECT_EQ(p.left_joints, (std::vector<std::string>{ "front_left_wheel", "rear_left_wheel" }));
+  EXPECT_EQ(p.aic.integrator, Integrator::kExact);  // forward Euler at these gains diverges
   for (const std::string& file : configFiles())
   {
     expectDocumentedAsTheSchema(kSource + "/" + file);
   }
 }
 
-TEST(ParamSchema, DefaultYamlHoldsTheDefaults)
+TEST(ParamSchema, EffectiveYamlLoadsBack)
 {
-  // The recommended configuration is what a missing key gives: config/default.yaml's value of
-  // every schema key equals the schema's default (NodeParams{}), which cfg/AIC.cfg shows too
-  // (CfgFileIsGenerated); and the defaults are a valid, not the diverging, controller.
-  const YAML::Node root = YAML::LoadFile(kSource + "/config/default.yaml");
+  // `aic_params --yaml --config ...`: every key with the value the files give; loading that text
+  // gives the same parameters, and the defaults' text (`aic_params --yaml`) gives the defaults.
+  const std::vector<std::string> files = { kSource + "/config/default.yaml", kSource + "/config/robot.yaml" };
+  const NodeParams robot = loadNodeParamsFiles(files);
+  const std::string text = parameterYaml(&robot, files);
+  EXPECT_NE(text.find("config/robot.yaml"), std::string::npos);
+  NodeParams back;
+  const ParamLoadReport r =
+      loadParams(YamlParamSource(YAML::Load(text)), { ParamScope::kController, ParamScope::kNode }, false, &back);
+  EXPECT_TRUE(r.errors.empty());
+  EXPECT_TRUE(r.unknown.empty());
+  EXPECT_TRUE(r.defaulted.empty());
+  NodeParams defaults;
+  const ParamLoadReport d = loadParams(YamlParamSource(YAML::Load(parameterYamlTemplate())),
+                                       { ParamScope::kController, ParamScope::kNode }, false, &defaults);
+  EXPECT_TRUE(d.errors.empty());
   for (const ParamSpec& s : paramSchema())
   {
     SCOPED_TRACE(s.key);
-    if (s.required || !root[s.key])
-    {
-      continue;  // presence: DefaultYamlAgreesWithTheSchema
-    }
-    NodeParams from_yaml;
-    const YAML::Node one = YAML::Load(std::string(s.key) + ": " + YAML::Dump(root[s.key]));
-    const ParamLoadReport r = loadParams(YamlParamSource(one), { ParamScope::kController, ParamScope::kNode },
-                                         false, &from_yaml);
-    ASSERT_TRUE(r.errors.empty());
-    EXPECT_EQ(formatParamValue(s.get(from_yaml)), formatParamValue(defaultValue(s)))
-        << "config/default.yaml and the code's default differ";
-    EXPECT_TRUE(s.get(from_yaml) == defaultValue(s));
+    EXPECT_EQ(formatParamValue(s.get(back)), formatParamValue(s.get(robot)));
+    EXPECT_TRUE(s.get(defaults) == defaultValue(s));
   }
-  NodeParams d;
-  d.left_joints = { "l" };
-  d.right_joints = { "r" };
-  EXPECT_TRUE(d.validate().empty());
-  EXPECT_EQ(d.aic.integrator, Integrator::kExact);  // forward Euler at these gains diverges
+  EXPECT_NE(robot.aic.reference_delay, NodeParams().aic.reference_delay);  // the overlay's key
 }
 
 TEST(ParamSchema, RobotYamlIsAnOverlay)
@@ -427,37 +438,8 @@ void expectDocumentedAsTheSchema(const std::string& path)
       continue;
     }
     EXPECT_EQ(block.rfind(std::string(" [") + s->unit + "] ", 0), 0u) << "unit: " << block;
-    if (s->required)
-    {
-      EXPECT_NE(block.find("Required"), std::string::npos) << block;
-      continue;
-    }
-    const auto at = block.find("Default: ");
-    ASSERT_NE(at, std::string::npos) << block;
-    std::string text = block.substr(at + 9);
-    text = text.substr(0, text.find_last_not_of(" \n") + 1);
-    const YAML::Node documented = YAML::Load(text);
-    const ParamValue d = defaultValue(*s);
-    switch (s->type)
-    {
-      case ParamType::kDouble:
-        EXPECT_EQ(documented.as<double>(), std::get<double>(d)) << text;
-        break;
-      case ParamType::kInt:
-        EXPECT_EQ(documented.as<int>(), std::get<int>(d)) << text;
-        break;
-      case ParamType::kBool:
-        EXPECT_EQ(documented.as<bool>(), std::get<bool>(d)) << text;
-        break;
-      case ParamType::kString:
-        EXPECT_EQ(documented.as<std::string>(), std::get<std::string>(d)) << text;
-        break;
-      case ParamType::kDoubleList:
-        EXPECT_EQ(documented.as<std::vector<double>>(), std::get<std::vector<double>>(d)) << text;
-        break;
-      case ParamType::kStringList:
-        break;
-    }
+    EXPECT_EQ(block.find("Default: "), std::string::npos)
+        << "a config file repeats a default (the schema's; `aic_params --yaml` prints them)";
   }
 }
 }  // namespace
