@@ -225,6 +225,12 @@ private:
   Vector3 referenceTarget() const;
   /// Advance the reference model m and its delay line by h [s] (goal held).
   void advanceReference(double h);
+  /// The reference path's largest acceleration per channel, (x_dot, y_dot, theta_dot)
+  /// [m/s^2, m/s^2, rad/s^2] (max_reference_acceleration_linear / _angular).
+  Vector3 referenceAccelerationLimit() const;
+  /// The reference path's rate m' = (referenceTarget() - m) / T_r, each channel clamped to
+  /// referenceAccelerationLimit(). Requires reference_time_constant > 0.
+  Vector3 referenceRate() const;
 
   Vector3 mu_d_ = Vector3::Zero();
   Vector3 mu_d_dot_ = Vector3::Zero();

@@ -167,13 +167,22 @@ Vector2 ActiveInferenceController::actionPrior() const
   if (params_.reference_time_constant > 0.0)
   {
     // The reference path through the inverse of a first-order wheel loop: m + T_p m'.
-    const Vector3 acc(params_.max_reference_acceleration_linear, params_.max_reference_acceleration_linear,
-                      params_.max_reference_acceleration_angular);
-    const Vector3 m_dot = ((target - ref_m_) / params_.reference_time_constant).cwiseMax(-acc).cwiseMin(acc);
-    target = ref_m_ + params_.action_prior_time_constant * m_dot;
+    target = ref_m_ + params_.action_prior_time_constant * referenceRate();
   }
   const SensorMatrix& R = model_.R();
   return params_.action_prior_gain * Vector2(R.row(kOmegaLeft).dot(target), R.row(kOmegaRight).dot(target));
+}
+
+Vector3 ActiveInferenceController::referenceAccelerationLimit() const
+{
+  return Vector3(params_.max_reference_acceleration_linear, params_.max_reference_acceleration_linear,
+                 params_.max_reference_acceleration_angular);
+}
+
+Vector3 ActiveInferenceController::referenceRate() const
+{
+  const Vector3 acc = referenceAccelerationLimit();
+  return ((referenceTarget() - ref_m_) / params_.reference_time_constant).cwiseMax(-acc).cwiseMin(acc);
 }
 
 bool ActiveInferenceController::startReference(const Vector3& m0)
@@ -201,12 +210,11 @@ void ActiveInferenceController::advanceReference(double h)
   }
   // Exact step of m' = (target - m) / T_r with the target held over h, its change clamped to
   // the path's largest acceleration; m' the same, clamped.
-  const Vector3 target = referenceTarget();
-  const Vector3 acc(params_.max_reference_acceleration_linear, params_.max_reference_acceleration_linear,
-                    params_.max_reference_acceleration_angular);
-  const Vector3 change = ((target - ref_m_) * (1.0 - std::exp(-h / t_r))).cwiseMax(-acc * h).cwiseMin(acc * h);
+  const Vector3 acc = referenceAccelerationLimit();
+  const Vector3 change =
+      ((referenceTarget() - ref_m_) * (1.0 - std::exp(-h / t_r))).cwiseMax(-acc * h).cwiseMin(acc * h);
   ref_m_ += change;
-  const Vector3 m_dot = ((target - ref_m_) / t_r).cwiseMax(-acc).cwiseMin(acc);
+  const Vector3 m_dot = referenceRate();
   ref_time_ += h;
   // The delay line keeps samples at least kMaxReferenceDelay / 800 apart (1024 of them cover the
   // longest delay); between them m(t - d_r) is interpolated linearly.
