@@ -186,6 +186,20 @@ TEST(AicParams, GeneratesAndChecks)
   EXPECT_EQ(bad.code, 1);
   EXPECT_NE(bad.out.find("unknown key 'sensor_timout'"), std::string::npos) << bad.out;
   EXPECT_NE(bad.out.find("key 'k_a' must be a number"), std::string::npos) << bad.out;
+
+  // --yaml --config: every key as the node reads the files in order; a bad file is an error
+  // naming the key, not a listing; --config without --yaml is a bad argument.
+  const std::string src(SOURCE_DIR);
+  const Result eff = run(bin + " --yaml --config " + src + "/config/default.yaml --config " + src + "/config/robot.yaml");
+  ASSERT_EQ(eff.code, 0) << eff.out;
+  EXPECT_NE(eff.out.find("\nreference_delay: 0.1082\n"), std::string::npos) << eff.out;
+  EXPECT_NE(eff.out.find("\nleft_joints: [front_left_wheel, rear_left_wheel]\n"), std::string::npos);
+  const Result bad_config = run(bin + " --yaml --config " + writeFile("params_bad_tau.yaml", "tau: -1\n"));
+  EXPECT_EQ(bad_config.code, 1);
+  EXPECT_NE(bad_config.out.find("tau"), std::string::npos) << bad_config.out;
+  EXPECT_EQ(bad_config.out.find("k_mu:"), std::string::npos) << "printed a listing for a bad file";
+  EXPECT_EQ(run(bin + " --yaml --config /nonexistent.yaml").code, 1);
+  EXPECT_EQ(run(bin + " --markdown --config " + src + "/config/default.yaml").code, 2);
 }
 
 TEST(CommandLines, HelpExitsZeroAndBadArgumentsTwo)
