@@ -9,10 +9,10 @@ checks:
   stock controller's, overshoot <= 5 %, steady-state error <= 1 %, for every noise seed; the
   1 rad/s turn settles no later than the stock's; every square-wave transition overshoots
   <= 10 %; stable with the plant's latency and torque +-20 %);
-- of the driving set (doc/experiments.md, 'Driving acceptance'): the 0.5 m/s step, the arc's
-  two channels and every overshoot within their bounds, stability on every varied plant, the
-  turn-deficit holds within DEFICIT_ERROR_MET of the command, and the tracking benchmark's
-  geometric mean AIC / stock within GMEAN_MET. These are the figures the configuration meets
+- of the driving set (doc/experiments.md, 'Driving acceptance'): the 0.1 and 0.5 m/s steps, the
+  arc's two channels and every overshoot within their bounds, stability on every varied plant,
+  the turn-deficit holds within the set's bound (2 % of the command), and the tracking
+  benchmark's geometric mean AIC / stock within GMEAN_MET. These are the figures the configuration meets
   (doc/results/scorecard.txt); the rows it does not meet are reported there, not judged here.
 A failure names the failing rows.
 """
@@ -24,9 +24,7 @@ import tempfile
 import unittest
 
 PKG = "jackal_aic"
-#: What config/default.yaml meets of the driving set's turn-deficit and tracking bounds (the
-#: set's own bounds: 2 % and 0.6).
-DEFICIT_ERROR_MET = 0.025
+#: What config/default.yaml meets of the driving set's tracking bound (the set's own: 0.6).
 GMEAN_MET = 0.92
 ROOT = os.path.join(os.path.dirname(os.path.realpath(__file__)), "..")
 SCRIPT = os.path.join(ROOT, "scripts", "aic_scorecard.py")
@@ -63,13 +61,13 @@ class ScorecardCheck(unittest.TestCase):
         met = []
         for r in crit["driving_steps"]:
             self.assertLessEqual(r["aic_overshoot"] or 0.0, 5.0, r)
-            if r["case"] in ("0.5 m/s", "arc, speed", "arc, yaw"):
+            if r["case"] in ("0.1 m/s", "0.5 m/s", "arc, speed", "arc, yaw"):
                 met.append(r)
         met += crit["driving_robust"]
         failing = [json.dumps(r, sort_keys=True) for r in met if not r["pass"]]
         self.assertEqual(failing, [], "driving rows not met:\n  %s" % "\n  ".join(failing))
         for r in crit["driving_deficit"]:
-            self.assertLessEqual(abs(r["aic_error"]), DEFICIT_ERROR_MET * r["command"], r)
+            self.assertTrue(r["pass"], r)
             self.assertLess(r["stock_error"], -0.25, "the turn-deficit variant lost its deficit")
         self.assertLessEqual(crit["driving_gmean"]["all"], GMEAN_MET, crit["driving_gmean"])
         self.assertEqual(len(crit["driving_tracking"]), 54)  # 6 profiles x 9 plant variants

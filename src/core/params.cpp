@@ -55,11 +55,11 @@ AicParams recommendedAicParams()
   p.integrator = Integrator::kExact;
   p.tau = 0.01232;
   p.k_mu = 0.008264;
-  p.k_a = 3.501;
+  p.k_a = 3.193;
   p.embedding_order = 2;
   p.var_mu = { 0.5, 0.6667, 1.333 };
   p.var_y = { 2.0, 61.83, 1.0e5 };
-  p.max_action_lead = 1.612;
+  p.max_action_lead = 1.606;
   p.max_action_lead_turn = 0.0;
   p.generalized_goal = true;
   p.goal_rate_hold = 0.15;
@@ -67,11 +67,11 @@ AicParams recommendedAicParams()
   p.max_goal_rate_angular = 8.0;
   p.goal_lead = 0.08095;
   p.reference_time_constant = 0.005;
-  p.max_reference_acceleration_linear = 4.186;
-  p.max_reference_acceleration_angular = 9.009;
-  p.reference_delay = 0.08821;
-  p.action_prior_gain = 0.9702;
-  p.action_prior_time_constant = 0.003941;
+  p.max_reference_acceleration_linear = 3.689;
+  p.max_reference_acceleration_angular = 10.95;
+  p.reference_delay = 0.085;
+  p.action_prior_gain = 0.9715;
+  p.action_prior_time_constant = 0.00834;
   return p;
 }
 
