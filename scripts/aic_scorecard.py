@@ -257,11 +257,15 @@ def print_scorecard(crit, a):
 def print_driving(crit):
     """Print the driving tables (criterion 6) of scorecard()'s criteria."""
     from jackal_aic_tools import driving
-    table("6a. Driving steps (settling AIC / stock <= bound, overshoot <= %g %%)" % driving.STEP_OVERSHOOT,
-          ["case", "AIC settle/os", "stock settle/os", "settle x", "bound", "verdict"],
+    table("6a. Driving steps at %d phases of the 50 Hz clocks (step %s ms after the rest; the worst phase "
+          "judged: settling AIC / stock <= bound, overshoot <= %g %%)"
+          % (len(driving.STEP_PHASES), ", ".join("%g" % (1e3 * p) for p in driving.STEP_PHASES),
+             driving.STEP_OVERSHOOT),
+          ["case", "AIC settle/os (worst)", "stock settle/os", "settle x per phase", "worst", "bound", "verdict"],
           [[r["case"], "%s s / %s %%" % (fmt(r["aic_settling"]), fmt(r["aic_overshoot"], "%.1f")),
             "%s s / %s %%" % (fmt(r["stock_settling"]), fmt(r["stock_overshoot"], "%.1f")),
-            fmt(r["ratio"], "%.2f"), "%.2f" % r["bound"], verdict(r["pass"])] for r in crit["driving_steps"]])
+            " ".join(fmt(x, "%.3f") for x in r["ratios"]), fmt(r["ratio"], "%.3f"), "%.2f" % r["bound"],
+            verdict(r["pass"])] for r in crit["driving_steps"]])
     table("6b. Turn deficit (variants/turn_deficit.yaml): mean yaw-rate error over the last 1 s of a %g s hold "
           "(|AIC| <= %g %% of the command)" % (driving.DEFICIT_HOLD, 100 * driving.DEFICIT_ERROR),
           ["command", "AIC error", "stock error", "verdict"],

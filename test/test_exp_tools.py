@@ -9,7 +9,7 @@ import unittest
 
 import numpy as np
 
-from jackal_aic_tools import experiment, metrics, profiles, recording, tracking
+from jackal_aic_tools import driving, experiment, metrics, profiles, recording, tracking
 
 PKG = "jackal_aic"
 kTimeTol = 0.02  # s: the metrics' interpolation on a 1 kHz series
@@ -230,11 +230,50 @@ class OverrideTest(unittest.TestCase):
                 os.unlink(out)
 
 
+class DrivingStepTest(unittest.TestCase):
+    """driving.judge_step: a step case is judged on its worst phase."""
+
+    @staticmethod
+    def m(settling, overshoot=0.0, settled=True):
+        return {"settling": settling, "overshoot": overshoot, "settled": settled}
+
+    def test_worst_phase_is_judged(self):
+        m = self.m
+        bound = driving.STEP_BOUNDS["0.1 m/s"]
+        # Phase 0 alone would pass (0.9 x); phase 1 is 1.1 x the stock controller's time.
+        row = driving.judge_step("0.1 m/s", [(m(0.18), m(0.2), 0), (m(0.22), m(0.2), 0), (m(0.19), m(0.2), 0)])
+        self.assertAlmostEqual(row["ratio"], 1.1)
+        self.assertEqual([round(r, 6) for r in row["ratios"]], [0.9, 1.1, 0.95])
+        self.assertEqual((row["aic_settling"], row["stock_settling"]), (0.22, 0.2))
+        self.assertGreater(row["ratio"], bound)
+        self.assertFalse(row["pass"])
+        ok = driving.judge_step("0.1 m/s", [(m(0.18), m(0.2), 0), (m(0.19), m(0.2), 0)])
+        self.assertTrue(ok["pass"])
+        self.assertAlmostEqual(ok["ratio"], 0.95)
+
+    def test_overshoot_unsettled_and_runaway_fail(self):
+        m = self.m
+        over = driving.judge_step("0.5 m/s", [(m(0.2), m(0.5), 0), (m(0.2, overshoot=5.5), m(0.5), 0)])
+        self.assertEqual(over["aic_overshoot"], 5.5)
+        self.assertFalse(over["pass"])
+        unsettled = driving.judge_step("0.5 m/s", [(m(0.2), m(0.5), 0), (m(None, settled=False), m(0.5), 0)])
+        self.assertIsNone(unsettled["ratio"])
+        self.assertIsNone(unsettled["ratios"][1])
+        self.assertFalse(unsettled["pass"])
+        runaway = driving.judge_step("0.5 m/s", [(m(0.2), m(0.5), 1)])
+        self.assertFalse(runaway["pass"])
+        with self.assertRaises(ValueError):
+            driving.judge_step("0.5 m/s", [])
+        with self.assertRaises(ValueError):
+            driving.judge_step("0.7 m/s", [(m(0.2), m(0.5), 0)])
+
+
 def suite():
     """Every test case of this file (for rosunit, which loads one name)."""
     loader = unittest.TestLoader()
     return unittest.TestSuite(loader.loadTestsFromTestCase(c)
-                              for c in (ProfileTest, StabilityTest, MetricsTest, TrackingTest, OverrideTest))
+                              for c in (ProfileTest, StabilityTest, MetricsTest, TrackingTest, OverrideTest,
+                                        DrivingStepTest))
 
 
 if __name__ == "__main__":
