@@ -110,6 +110,17 @@ struct AicParams
    */
   double max_action_lead_turn = 0.0;
   /**
+   * Release of the free-energy action at rest [s], >= 0, <= 10; 0 = off. When > 0, after each
+   * action step the part of a_F that drives a channel whose goal is zero decays as
+   * exp(-h / action_release_time): the common part (a_F,L + a_F,R) / 2 while the linear goal is
+   * zero, the differential part (a_F,R - a_F,L) / 2 while the yaw-rate goal is zero. What a_F has
+   * integrated (a turn deficit, a payload, a wheel held by friction) belongs to the motion that
+   * needed it; a stop command must stop the wheels, as the stock base's zero command does, and
+   * not leave them pushed by a correction that friction absorbs. Not in the thesis;
+   * doc/active_inference.md, 'Update rules'.
+   */
+  double action_release_time = 0.0;
+  /**
    * Generalized goal [-]: false = every set point is a step (mu_d' = 0); true = the goal's rate
    * mu_d' is estimated from the set-point stream by finite differences (GoalRateEstimator:
    * goal_rate_hold, max_goal_rate_linear, max_goal_rate_angular) and the goal is predicted
@@ -183,6 +194,7 @@ struct AicParams
    * [kMinVariance, kMaxVariance]; wheel_radius, wheel_separation in [kMinLength, kMaxLength];
    * slip_factor in [kMinSlipFactor, kMaxSlipFactor]; max_wheel_speed in (0, kMaxWheelSpeedLimit];
    * runaway_limit in (0, kMaxRunawayLimit]; max_action_lead and max_action_lead_turn in [0, kMaxWheelSpeedLimit];
+   * action_release_time in [0, 10];
    * integrator a known enumerator. Plus the cross rule belief_rate >= action_rate.
    * Each violation names the YAML key (e.g. "var_mu[2]"), the value and the allowed range.
    */
@@ -200,12 +212,12 @@ struct AicParams
 /**
  * \brief The recommended controller, the one place its values are written: what the node, the
  *        tools and cfg/AIC.cfg use for a key no YAML sets (NodeParams::aic; config/default.yaml
- *        sets none of them). Tuned for real driving by
- *        scripts/aic_tune.py --driving on the simulated Jackal (doc/experiments.md, 'Tuning';
- *        figures in doc/results/scorecard.txt): table 5-8's rates with the exact integrator,
+ *        sets none of them). Tuned for real driving on the measure of
+ *        scripts/aic_tune.py --driving on the simulated Jackal (doc/active_inference.md, 'Parameter
+ *        sets of the thesis'; doc/experiments.md, 'Tuning'; figures in doc/results/scorecard.txt): table 5-8's rates with the exact integrator,
  *        p = 2, the generalized goal, the rate-limited reference model and the action prior
  *        (doc/active_inference.md, 'Set-point dynamics', 'Action prior'), max_action_lead on,
- *        max_action_lead_turn off. Valid (validate() empty).
+ *        max_action_lead_turn off, action_release_time on. Valid (validate() empty).
  */
 AicParams recommendedAicParams();
 

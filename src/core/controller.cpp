@@ -472,6 +472,24 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
   {
     return Status::kNoMeasurement;
   }
+  if (params_.action_release_time > 0.0)
+  {
+    // Release at rest, before the step's integration: a_F's part along a channel whose goal is
+    // zero decays (common part: the linear goal, differential part: the yaw-rate goal).
+    const Vector3 goal = referenceTarget();
+    const double keep = std::exp(-h / params_.action_release_time);
+    double common = 0.5 * (a_F_(0) + a_F_(1));
+    double differential = 0.5 * (a_F_(1) - a_F_(0));
+    if (goal(0) == 0.0 && goal(1) == 0.0)
+    {
+      common *= keep;
+    }
+    if (goal(2) == 0.0)
+    {
+      differential *= keep;
+    }
+    a_F_ = Vector2(common - differential, common + differential);
+  }
   // da_F/dt does not depend on a, so with beliefs and measurement held over the step the
   // Euler step is also the exact one. a = a_F + a_ff.
   const Vector2 a_dot = aDot();

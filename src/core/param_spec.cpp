@@ -90,6 +90,10 @@ std::vector<ParamSpec> buildControllerRows()
       "Anti-windup of turning, not in the thesis: half the difference of the two wheels' leads is kept within "
       "+-this (a turn in place winds the wheel loop up while friction holds the wheels); 0 = off",
       true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(max_action_lead_turn) },
+    { "action_release_time", T::kDouble, C, "robot", 0.0, false, 10.0, "s",
+      "Release at rest, not in the thesis: the free-energy action's common (differential) part decays with this "
+      "time constant while the linear (yaw-rate) goal is zero, so a stop stops the wheels; 0 = off",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(action_release_time) },
     // ---- set-point dynamics and the action prior (not in the thesis; doc/active_inference.md)
     { "generalized_goal", T::kBool, C, "active_inference", kNone, false, kNone, "-",
       "If true, the goal's rate mu_d' comes from the set-point stream by finite differences and the goal is "

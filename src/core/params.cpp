@@ -61,6 +61,7 @@ AicParams recommendedAicParams()
   p.var_y = { 2.0, 61.83, 1.0e5 };
   p.max_action_lead = 1.606;
   p.max_action_lead_turn = 0.0;
+  p.action_release_time = 0.5;
   p.generalized_goal = true;
   p.goal_rate_hold = 0.15;
   p.max_goal_rate_linear = 4.0;

@@ -341,6 +341,49 @@ TEST(Controller, SetActionIsBumplessWithAPrior)
   EXPECT_LT((c.action() - Vector2(1.0, 1.0)).cwiseAbs().maxCoeff(), 1e-6);  // no jump to the prior
 }
 
+TEST(Controller, ReleaseAtRestDecaysOnlyTheChannelsWhoseGoalIsZero)
+{
+  // a_F = (1, 2): common part 1.5 (the linear channel), differential part 0.5 (the yaw channel).
+  // With y = 0 and mu = 0 the prediction errors are zero, so only the release changes a_F.
+  AicParams p = thesisStandard();
+  p.action_release_time = 0.2;
+  const double h = 0.02;
+  const double keep = std::exp(-10 * h / p.action_release_time);  // after 10 steps: e^-1
+  struct Case
+  {
+    Vector3 goal;
+    double common, differential;  // expected after the 10 steps
+  };
+  const std::vector<Case> cases = {
+    { Vector3(0.3, 0.0, 0.0), 1.5, 0.5 * keep },   // driving straight: the turn's part is released
+    { Vector3(0.0, 0.0, 0.5), 1.5 * keep, 0.5 },   // turning in place: the linear part is released
+    { Vector3(0.0, 0.0, 0.0), 1.5 * keep, 0.5 * keep },  // a stop: both
+    { Vector3(0.3, 0.0, 0.5), 1.5, 0.5 },          // an arc: neither
+  };
+  for (const Case& k : cases)
+  {
+    ActiveInferenceController c{ p };
+    ASSERT_TRUE(c.setMeasurement(YTilde::Zero(kYDim, 4)));
+    ASSERT_TRUE(c.setGoal(k.goal));
+    c.setAction(Vector2(1.0, 2.0));
+    for (int i = 0; i < 10; ++i)
+    {
+      ASSERT_EQ(c.updateAction(h), Status::kOk);
+    }
+    EXPECT_NEAR(c.action()(0), k.common - k.differential, 1e-12) << k.goal.transpose();
+    EXPECT_NEAR(c.action()(1), k.common + k.differential, 1e-12) << k.goal.transpose();
+  }
+  p.action_release_time = 0.0;  // off: a_F is kept at a stop
+  ActiveInferenceController off{ p };
+  ASSERT_TRUE(off.setMeasurement(YTilde::Zero(kYDim, 4)));
+  off.setAction(Vector2(1.0, 2.0));
+  for (int i = 0; i < 10; ++i)
+  {
+    ASSERT_EQ(off.updateAction(h), Status::kOk);
+  }
+  EXPECT_EQ(off.action(), Vector2(1.0, 2.0));
+}
+
 TEST(Controller, TheLeadNeverCutsThePriorAndNoClampIsStored)
 {
   // The prior asks for 10 rad/s at once while the wheels stand: the lead (1 rad/s) does not cut

@@ -103,6 +103,7 @@ TEST(Params, SetPointDynamicsAndActionPrior)
     { "reference_delay", &AicParams::reference_delay, { -0.01, jackal_aic::kMaxReferenceDelay * 1.01, kNaN }, 0.1 },
     { "action_prior_gain", &AicParams::action_prior_gain, { -0.1, 2.5, kNaN, kInf }, 1.0 },
     { "action_prior_time_constant", &AicParams::action_prior_time_constant, { -0.1, 11.0, kNaN }, 0.2 },
+    { "action_release_time", &AicParams::action_release_time, { -0.1, 10.5, kNaN, kInf }, 0.5 },
   };
   for (const Case& c : cases)
   {
