@@ -24,6 +24,8 @@ Usage:
   aic_track.py [--profiles CSV ...] [--variants default|OVERLAY.yaml ...] [--aic-config FILE]
                [--plant-config FILE] [--jobs N] [--out DIR] [--no-plots] [--results-md FILE] [--doc]
   aic_track.py --write-profiles DIR      # regenerate the benchmark's profiles
+  aic_track.py --write-random-profiles DIR [--count N] [--seed S]
+                                         # seeded streams outside the benchmark (planner, joystick)
 
   e.g.  scripts/aic_track.py --doc
         scripts/aic_track.py --profiles my_log.csv --variants default sim/config/variants/payload_10kg.yaml
@@ -367,9 +369,20 @@ def main(argv=None):
     p.add_argument("--doc", action="store_true",
                    help="write doc/results/tracking.md and the default plant's plots in doc/img/tracking/")
     p.add_argument("--write-profiles", metavar="DIR", help="write the benchmark's profiles to DIR and exit")
+    p.add_argument("--write-random-profiles", metavar="DIR",
+                   help="write --count seeded planner and joystick streams that are not the benchmark's to DIR "
+                        "and exit (then: --profiles DIR/*.csv)")
+    p.add_argument("--count", type=int, default=4, help="--write-random-profiles: streams of each kind (default 4)")
+    p.add_argument("--seed", type=int, default=1000, help="--write-random-profiles: first seed (default 1000)")
     a = p.parse_args(argv)
     if a.write_profiles:
         for path in track_profiles.write_all(a.write_profiles):
+            print(path)
+        return 0
+    if a.write_random_profiles:
+        if a.count < 1:
+            p.error("--count must be >= 1")
+        for path in track_profiles.write_random(a.write_random_profiles, a.count, a.seed):
             print(path)
         return 0
     if a.jobs < 1:
