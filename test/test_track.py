@@ -18,7 +18,9 @@ import sys
 import tempfile
 import unittest
 
-from jackal_aic_tools import cli, track_profiles
+import numpy as np
+
+from jackal_aic_tools import cli, profiles, track_profiles
 
 PKG = "jackal_aic"
 ROOT = os.path.realpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), ".."))
@@ -151,6 +153,51 @@ class TrackCheck(unittest.TestCase):
                 page = f.read()
             self.assertIn("| short | slow_latency | aic |", page)
             self.assertIn("geometric mean", page)
+
+    def test_random_streams_are_seeded_bounded_and_new(self):
+        """track_profiles.write_random: the same files for the same seed, other streams for
+        another, from rest to rest within the J100 ramps and the teleop scales, and none of
+        them a benchmark profile."""
+        bench = {n: track_profiles.profile_rows(n) for n in track_profiles.NAMES}
+        with tempfile.TemporaryDirectory() as tmp:
+            first = track_profiles.write_random(os.path.join(tmp, "a"), 2, 7)
+            again = track_profiles.write_random(os.path.join(tmp, "b"), 2, 7)
+            other = track_profiles.write_random(os.path.join(tmp, "c"), 2, 8)
+            self.assertEqual([os.path.basename(x) for x in first],
+                             ["random_planner_7.csv", "random_teleop_7.csv", "random_planner_8.csv",
+                              "random_teleop_8.csv"])
+            for x, y in zip(first, again):
+                with open(x) as f, open(y) as g:
+                    self.assertEqual(f.read(), g.read())
+            with open(first[0]) as f, open(other[0]) as g:
+                self.assertNotEqual(f.read(), g.read())
+            for path in first:
+                rows = np.array(profiles.from_csv(path).points)
+                self.assertEqual(tuple(rows[0][1:]), (0.0, 0.0), path)
+                self.assertEqual(tuple(rows[-1][1:]), (0.0, 0.0), path)
+                self.assertLessEqual(np.abs(rows[:, 1]).max(), 1.2 + 1e-9, path)
+                self.assertLessEqual(np.abs(rows[:, 2]).max(), track_profiles.SCALE_ANGULAR + 1e-9, path)
+                self.assertGreater(np.abs(rows[:, 1]).max(), 0.1, path)  # it drives
+                if "planner" in path:  # the J100 ramps at 10 Hz, to the CSV's 0.1 mm/s
+                    self.assertLessEqual(np.abs(np.diff(rows[:, 1])).max(),
+                                         track_profiles.LINEAR_ACCEL / track_profiles.PLANNER_RATE + 1e-4)
+                    self.assertLessEqual(np.abs(np.diff(rows[:, 2])).max(),
+                                         track_profiles.ANGULAR_ACCEL / track_profiles.PLANNER_RATE + 1e-4)
+                for name, b in bench.items():
+                    self.assertFalse(len(b) == len(rows) and np.allclose(np.array(b), rows, atol=1e-4),
+                                     "%s is the benchmark's %s" % (path, name))
+        with self.assertRaises(ValueError):
+            track_profiles.write_random(tempfile.gettempdir(), 0, 1)
+        with self.assertRaises(ValueError):
+            track_profiles.random_planner_script(1, segments=0)
+        with tempfile.TemporaryDirectory(prefix="track_random_") as tmp:
+            proc = run_suite(["--write-random-profiles", tmp, "--count", "0"])
+            self.assertEqual(proc.returncode, 2, proc.stdout + proc.stderr)
+            self.assertIn("--count must be >= 1", proc.stderr)
+            self.assertEqual(os.listdir(tmp), [])
+            proc = run_suite(["--write-random-profiles", tmp, "--count", "1", "--seed", "5"])
+            self.assertEqual(proc.returncode, 0, proc.stdout + proc.stderr)
+            self.assertEqual(sorted(os.listdir(tmp)), ["random_planner_5.csv", "random_teleop_5.csv"])
 
     def test_bad_profiles_and_overlays_are_refused(self):
         with tempfile.TemporaryDirectory(prefix="track_bad_") as tmp:

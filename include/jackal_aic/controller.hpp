@@ -111,7 +111,11 @@ public:
   Status updateBeliefs(double h);
 
   /**
-   * \brief One action step: a = a_F + a_ff with a_F += h * (-k_a sum_i K Pi_y^(i) eps_y^(i))
+   * \brief One action step. First, if action_release_time T_rel > 0, the common part
+   *        (a_F,L + a_F,R) / 2 of a_F decays by exp(-h / T_rel) while the linear goal is zero
+   *        and the differential part (a_F,R - a_F,L) / 2 while the yaw-rate goal is zero
+   *        (release at rest, not in the thesis; doc/active_inference.md, 'Update rules').
+   *        Then a = a_F + a_ff with a_F += h * (-k_a sum_i K Pi_y^(i) eps_y^(i))
    *        (eq. 3-16) and a_ff = actionPrior() (zero with action_prior_gain 0: the thesis), then
    *        clamp to within +-max_action_lead of the measured wheel speeds y^(0)[omega_L],
    *        y^(0)[omega_R] (widened to include a_ff: the prior alone is never cut) if

@@ -41,6 +41,19 @@ bool finiteStep(double h)
 {
   return std::isfinite(h) && h > 0.0;
 }
+
+/// Wheel pair (left, right) -> (common, differential) = ((L + R) / 2, (R - L) / 2): the parts
+/// that drive x_dot and theta_dot (eq. 3-1).
+Vector2 commonDifferential(const Vector2& wheels)
+{
+  return Vector2(0.5 * (wheels(0) + wheels(1)), 0.5 * (wheels(1) - wheels(0)));
+}
+
+/// Inverse of commonDifferential: (c, d) -> (c - d, c + d).
+Vector2 wheelPair(const Vector2& cd)
+{
+  return Vector2(cd(0) - cd(1), cd(0) + cd(1));
+}
 }  // namespace
 
 ActiveInferenceController::ActiveInferenceController(const AicParams& params)
@@ -478,17 +491,16 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
     // zero decays (common part: the linear goal, differential part: the yaw-rate goal).
     const Vector3 goal = referenceTarget();
     const double keep = std::exp(-h / params_.action_release_time);
-    double common = 0.5 * (a_F_(0) + a_F_(1));
-    double differential = 0.5 * (a_F_(1) - a_F_(0));
+    Vector2 cd = commonDifferential(a_F_);
     if (goal(0) == 0.0 && goal(1) == 0.0)
     {
-      common *= keep;
+      cd(0) *= keep;
     }
     if (goal(2) == 0.0)
     {
-      differential *= keep;
+      cd(1) *= keep;
     }
-    a_F_ = Vector2(common - differential, common + differential);
+    a_F_ = wheelPair(cd);
   }
   // da_F/dt does not depend on a, so with beliefs and measurement held over the step the
   // Euler step is also the exact one. a = a_F + a_ff.
@@ -528,11 +540,9 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
     // Differential (turning) lead bounded, common lead kept: e_L = c - d, e_R = c + d.
     // Both wheel channels must be trusted: the lead is measured against them.
     const Vector2 omega(y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0));
-    const double e_left = a(0) - omega(0);
-    const double e_right = a(1) - omega(1);
-    const double c = 0.5 * (e_left + e_right);
-    const double d = std::clamp(0.5 * (e_right - e_left), -params_.max_action_lead_turn, params_.max_action_lead_turn);
-    a = Vector2(omega(0) + c - d, omega(1) + c + d);
+    Vector2 lead = commonDifferential(a - omega);
+    lead(1) = std::clamp(lead(1), -params_.max_action_lead_turn, params_.max_action_lead_turn);
+    a = omega + wheelPair(lead);
   }
   const double lim = params_.max_wheel_speed;  // applied last: the wheel clamp always wins
   a = a.cwiseMax(-lim).cwiseMin(lim);
