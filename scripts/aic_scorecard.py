@@ -206,6 +206,7 @@ def scorecard(a):
         gm = dict(ev["gmean"], bound=driving.TRACK_GMEAN_BOUND)
         gm["pass"] = judge(gm["all"] <= driving.TRACK_GMEAN_BOUND)
         crit["driving_gmean"] = gm
+        crit["driving_floor_gmean"] = ev["floor_gmean"]
         for part in ("steps", "deficit", "robust", "tracking"):
             for r in ev[part]:
                 judge(r["pass"])
@@ -283,6 +284,17 @@ def print_driving(crit):
           [[r["profile"], r["variant"], "%.4f / %.4f" % (r["aic_vx"], r["stock_vx"]), "%.2f" % r["vx_ratio"],
             "%.4f / %.4f" % (r["aic_wz"], r["stock_wz"]), "%.2f" % r["wz_ratio"], verdict(r["pass"])]
            for r in crit["driving_tracking"]])
+    fg = crit["driving_floor_gmean"]
+    table("6e. Latency floor (reported): RMS error of an ideal servo that moves the variant's latency "
+          "(motor.command_delay) after it is commanded, unlimited acceleration, holding or predicting the set "
+          "point, whichever is lower (doc/tools.md, 'Latency floor'); no controller with that latency and "
+          "predictor goes below it. Geometric mean floor / stock %.3f (vx %.3f, wz %.3f)" % (fg["all"], fg["vx"],
+                                                                                            fg["wz"]),
+          ["profile", "variant", "vx floor [m/s]", "floor / stock", "AIC / floor", "wz floor [rad/s]",
+           "floor / stock", "AIC / floor"],
+          [[r["profile"], r["variant"], "%.4f" % r["floor_vx"], "%.2f" % r["floor_vx_ratio"],
+            "%.2f" % (r["aic_vx"] / r["floor_vx"]), "%.4f" % r["floor_wz"], "%.2f" % r["floor_wz_ratio"],
+            "%.2f" % (r["aic_wz"] / r["floor_wz"])] for r in crit["driving_tracking"]])
 
 
 def main():

@@ -199,6 +199,31 @@ class TrackCheck(unittest.TestCase):
             self.assertEqual(proc.returncode, 0, proc.stdout + proc.stderr)
             self.assertEqual(sorted(os.listdir(tmp)), ["random_planner_5.csv", "random_teleop_5.csv"])
 
+    def test_latency_floor(self):
+        """tracking.latency_floor through aic_track_metrics and driving.floor_rms: a step held 0.1 s
+        late, the lower of holding and predicting per channel, bad settings refused."""
+        from jackal_aic_tools import driving, tracking
+        with tempfile.TemporaryDirectory(prefix="track_floor_") as tmp:
+            path = os.path.join(tmp, "step.csv")
+            with open(path, "w") as f:
+                f.write("t,vx,wz\n0,0,0\n1,0.5,-1\n3,0,0\n")
+            f = tracking.latency_floor(path, 0.1)
+            self.assertAlmostEqual(f["hold"]["vx"]["rms"], 0.5 * math.sqrt(100.0 / 3001.0), places=6)
+            self.assertAlmostEqual(f["hold"]["wz"]["rms"], 1.0 * math.sqrt(100.0 / 3001.0), places=6)
+            self.assertEqual(f["latency"], 0.1)
+            cache = {}
+            self.assertEqual(driving.floor_rms(path, 0.1, cache),
+                             {ch: min(f["hold"][ch]["rms"], f["predict"][ch]["rms"]) for ch in ("vx", "wz")})
+            self.assertEqual(len(cache), 1)
+            slow = tracking.latency_floor(path, 0.1, accel_linear=2.0)  # 0.25 s more to reach 0.5 m/s
+            self.assertGreater(slow["hold"]["vx"]["rms"], f["hold"]["vx"]["rms"] * 1.2)
+            self.assertEqual(slow["hold"]["wz"], f["hold"]["wz"])
+            for bad in ((-0.1, 0.0), (0.1, -1.0), (float("nan"), 0.0)):
+                with self.assertRaises(tracking.TrackingError):
+                    tracking.latency_floor(path, bad[0], accel_linear=bad[1])
+            with self.assertRaises(tracking.TrackingError):
+                tracking.latency_floor(os.path.join(tmp, "missing.csv"), 0.1)
+
     def test_bad_profiles_and_overlays_are_refused(self):
         with tempfile.TemporaryDirectory(prefix="track_bad_") as tmp:
             cases = {"nan.csv": ("t,vx,wz\n0,0.5,0\n1,nan,0\n2,0,0\n", "nan.csv line 3: vx 'nan' is not finite"),

@@ -30,7 +30,7 @@
  *                     step metrics of every transition, "segments" vx and "angular_segments" wz)
  *   --noise           keep the plant YAML's sensor noise (seeded; default: ideal sensors)
  *   --fault LINE      inject a fault from START s after the run's start (sim/README.md)
- * JSON: {"runaways", "max_abs_speed", "segments": [{"t_step", "initial", "target", "measured": {...},
+ * JSON: {"runaways", "max_abs_speed", "command_delay" (the plant's motor.command_delay [s]), "segments": [{"t_step", "initial", "target", "measured": {...},
  *        "truth": {...}, "belief": {...}, "drive": {...}}] [, "angular_segments": [...]], "profile",
  *        "duration", "tracking": {"truth": {"vx": {"rms", "max"}, "wz": {...}, "samples"}, "odometry": {...}},
  *        "path": {"final_position_error", "max_position_error", "final_heading_error", "ideal_length",
@@ -368,7 +368,9 @@ int main(int argc, char** argv)
   }
   std::cout << "{\"controller\": \"" << controller << "\", \"channel\": \"" << channel
             << "\", \"runaways\": " << rec.runaways
-            << ", \"max_abs_speed\": " << jsonNumber(max_abs) << ", \"t0\": " << jsonNumber(t0) << ", \"segments\": ";
+            << ", \"max_abs_speed\": " << jsonNumber(max_abs)
+            << ", \"command_delay\": " << jsonNumber(params.motor.command_delay) << ", \"t0\": " << jsonNumber(t0)
+            << ", \"segments\": ";
   // The transitions of one channel (angular: the yaw rate) as a JSON list of metrics.
   auto segments = [&](bool yaw) {
     std::ostringstream out;

@@ -6,6 +6,7 @@
 #include "jackal_aic/tracking_metrics.hpp"
 
 #include "jackal_aic/csv_table.hpp"
+#include "jackal_aic/goal_rate.hpp"
 #include "jackal_aic/json_number.hpp"
 
 #include <algorithm>
@@ -205,6 +206,61 @@ VelocityTrackingError velocityTrackingError(const TwistProfile& profile, const s
   e.vx.rms = std::sqrt(sum_vx / e.samples);
   e.wz.rms = std::sqrt(sum_wz / e.samples);
   return e;
+}
+
+VelocityTrackingError latencyFloor(const TwistProfile& profile, const AicParams& goal_rate,
+                                   const LatencyFloorSettings& settings)
+{
+  profile.validate();
+  const LatencyFloorSettings& s = settings;
+  require(std::isfinite(s.latency) && s.latency >= 0.0 && s.latency <= 10.0,
+          "latency floor: latency must be finite and in [0, 10] s, got " + fmt(s.latency));
+  require(std::isfinite(s.accel_linear) && s.accel_linear >= 0.0 && std::isfinite(s.accel_angular) &&
+              s.accel_angular >= 0.0,
+          "latency floor: accelerations must be finite and >= 0 (0 = unlimited), got " + fmt(s.accel_linear) + ", " +
+              fmt(s.accel_angular));
+  require(std::isfinite(s.dt) && s.dt >= 1e-5 && s.dt <= 0.1,
+          "latency floor: dt must be finite and in [1e-5, 0.1] s, got " + fmt(s.dt));
+  GoalRateEstimator estimator(goal_rate);
+  const std::size_t n = static_cast<std::size_t>(std::floor(profile.duration / s.dt)) + 1;
+  const std::size_t lag = static_cast<std::size_t>(std::llround(s.latency / s.dt));
+  // u[k]: what the servo aims at, from the stream as received up to time k dt.
+  std::vector<double> time(n), u_vx(n), u_wz(n);
+  std::size_t next = 0;
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    const double t = static_cast<double>(k) * s.dt;
+    time[k] = t;
+    for (; next < profile.points.size() && profile.points[next].t <= t + 1e-12; ++next)
+    {
+      const TwistProfilePoint& p = profile.points[next];
+      estimator.update(p.t, Vector3(p.vx, 0.0, p.wz));
+    }
+    double vx = 0.0;
+    double wz = 0.0;
+    profile.setPointAt(t, &vx, &wz);
+    if (s.predict)
+    {
+      const Vector3 rate = estimator.rate(t);
+      vx += s.latency * rate.x();
+      wz += s.latency * rate.z();
+    }
+    u_vx[k] = vx;
+    u_wz[k] = wz;
+  }
+  // y[k] = rate-limited u[k - lag], zero before the latency has passed.
+  auto follow = [](double y, double target, double limit) {
+    return limit > 0.0 ? y + std::clamp(target - y, -limit, limit) : target;
+  };
+  std::vector<double> y_vx(n), y_wz(n);
+  double prev_vx = 0.0;
+  double prev_wz = 0.0;
+  for (std::size_t k = 0; k < n; ++k)
+  {
+    prev_vx = y_vx[k] = follow(prev_vx, k >= lag ? u_vx[k - lag] : 0.0, s.accel_linear * s.dt);
+    prev_wz = y_wz[k] = follow(prev_wz, k >= lag ? u_wz[k - lag] : 0.0, s.accel_angular * s.dt);
+  }
+  return velocityTrackingError(profile, time, y_vx, y_wz);
 }
 
 std::vector<Pose2D> idealPath(const TwistProfile& profile, const Pose2D& start, double t_start,

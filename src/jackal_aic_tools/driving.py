@@ -15,7 +15,10 @@ Three parts, each AIC and stock in the same run (doc/experiments.md, 'Driving ac
 - tracking: every profile x plant variant of the tracking benchmark (jackal_aic_tools.tracking,
   scripts/aic_track.py), the RMS error of vx and wz against the set point (ground truth); the ratio
   AIC / stock per pair, judged against TRACK_PAIR_BOUND and its geometric mean against
-  TRACK_GMEAN_BOUND.
+  TRACK_GMEAN_BOUND; beside it, per pair, the latency floor (floor_rms): the error of an ideal
+  servo that moves the variant's latency after it is commanded, with unlimited acceleration, and
+  the geometric mean of floor / stock, below which no controller with the same latency and
+  predictor of the stream can go (doc/tools.md, 'Latency floor').
 
 `evaluate()` runs them all and returns the figures with verdicts; `cost()` turns the figures
 into the tuner's scalar (scripts/aic_tune.py --driving). Stock runs do not depend on the AIC's
@@ -129,6 +132,21 @@ def deficit_error(trace, command, hold_end, window=1.0):
     return float(np.mean(yaw[keep]) - command)
 
 
+def floor_rms(profile, latency, cache=None):
+    """The latency floor of ``profile`` (CSV) for a plant with ``latency`` [s]: per channel the
+    smaller RMS error of the ideal servo (unlimited acceleration) holding or predicting the set
+    point (tracking.latency_floor), {"vx": m/s, "wz": rad/s}. ``cache``: a dict reused across
+    calls. Raises tracking.TrackingError."""
+    key = (profile, round(float(latency), 9))
+    if cache is not None and key in cache:
+        return cache[key]
+    f = tracking.latency_floor(profile, latency)
+    out = {ch: min(f["hold"][ch]["rms"], f["predict"][ch]["rms"]) for ch in ("vx", "wz")}
+    if cache is not None:
+        cache[key] = out
+    return out
+
+
 def judge_step(name, runs):
     """The row of step case ``name`` (a STEP_CASES key) from its runs at every phase of
     STEP_PHASES: ``runs`` is a list of (aic, stock, aic_runaways), aic and stock the "measured"
@@ -159,8 +177,11 @@ def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, st
     aic_overshoot, stock_overshoot, bound, pass};
     robust: list of {plant, case, runaways, settled, overshoot, pass};
     deficit: list of {command, aic_error, stock_error, pass} (errors in rad/s);
-    tracking: list of {profile, variant, aic_vx, stock_vx, vx_ratio, aic_wz, stock_wz, wz_ratio, pass};
-    gmean: {vx, wz, all}; pass: every verdict."""
+    tracking: list of {profile, variant, aic_vx, stock_vx, vx_ratio, aic_wz, stock_wz, wz_ratio,
+    floor_vx, floor_wz (floor_rms at the variant's latency), floor_vx_ratio, floor_wz_ratio (floor /
+    stock), pass};
+    gmean: {vx, wz, all} of AIC / stock; floor_gmean: {vx, wz, all} of floor / stock (reported, not
+    judged); pass: every verdict."""
     profiles = profiles if profiles is not None else default_profiles(root)
     variants = variants if variants is not None else default_variants(root)
     variant_dir = os.path.join(root, "sim", "config", "variants")
@@ -220,6 +241,8 @@ def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, st
             ok = ok and passed
             out["deficit"].append({"command": w, "aic_error": ea, "stock_error": es, "pass": passed})
     logs = {"vx": [], "wz": []}
+    floor_logs = {"vx": [], "wz": []}
+    floors = {}
     if tracking_suite:
         for p in profiles:
             for v in variants:
@@ -227,21 +250,32 @@ def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, st
                 s = res[("track", p, v, "stock")][0]["tracking"]["truth"]
                 row = {"profile": os.path.splitext(os.path.basename(p))[0],
                        "variant": "default" if v == "default" else os.path.splitext(os.path.basename(v))[0]}
+                floor = floor_rms(p, res[("track", p, v, "stock")][0]["command_delay"], floors)
                 passed = True
                 for ch in ("vx", "wz"):
                     ra = a[ch]["rms"] / s[ch]["rms"] if s[ch]["rms"] > 0 else 1.0
+                    rf = floor[ch] / s[ch]["rms"] if s[ch]["rms"] > 0 else 1.0
                     row["aic_" + ch], row["stock_" + ch], row[ch + "_ratio"] = a[ch]["rms"], s[ch]["rms"], ra
+                    row["floor_" + ch], row["floor_%s_ratio" % ch] = floor[ch], rf
                     logs[ch].append(math.log(max(ra, 1e-9)))
+                    floor_logs[ch].append(math.log(max(rf, 1e-9)))
                     passed = passed and ra <= TRACK_PAIR_BOUND
                 row["pass"] = passed
                 ok = ok and passed
                 out["tracking"].append(row)
-        g = {ch: math.exp(sum(v) / len(v)) for ch, v in logs.items() if v}
-        g["all"] = math.exp((sum(logs["vx"]) + sum(logs["wz"])) / (len(logs["vx"]) + len(logs["wz"])))
-        out["gmean"] = g
+        out["gmean"] = _gmean(logs)
+        out["floor_gmean"] = _gmean(floor_logs)
+        g = out["gmean"]
         ok = ok and g["all"] <= TRACK_GMEAN_BOUND
     out["pass"] = ok
     return out
+
+
+def _gmean(logs):
+    """{vx, wz, all}: the geometric means of the ratios whose logs are ``logs`` {vx: [...], wz: [...]}."""
+    g = {ch: math.exp(sum(v) / len(v)) for ch, v in logs.items() if v}
+    g["all"] = math.exp((sum(logs["vx"]) + sum(logs["wz"])) / (len(logs["vx"]) + len(logs["wz"])))
+    return g
 
 
 def cost(ev):

@@ -72,6 +72,20 @@ def track_metrics(profile_csv, trace_csv, ideal_csv=None, cli=None):
     return _run(cmd)
 
 
+def latency_floor(profile_csv, latency, accel_linear=0.0, accel_angular=0.0, cli=None):
+    """The latency floor of a profile (jackal_aic::latencyFloor through ``aic_track_metrics
+    --floor-latency``): the RMS and maximum error of an ideal servo that moves ``latency`` [s] after
+    it is commanded, with the given acceleration limits [m/s^2, rad/s^2] (0 = none), once holding
+    the set point and once predicting it with the goal rate. Returns {"profile", "duration",
+    "latency", "hold": {"vx": {"rms", "max"}, "wz": {...}, "samples"}, "predict": {...}}. Raises
+    TrackingError on a bad profile or a negative latency or limit."""
+    if not (latency >= 0.0 and accel_linear >= 0.0 and accel_angular >= 0.0):
+        raise TrackingError("latency floor: latency and accelerations must be >= 0, got %r, %r, %r" % (
+            latency, accel_linear, accel_angular))
+    return _run([cli or find_cli(), "--profile", profile_csv, "--floor-latency", repr(float(latency)),
+                 "--floor-accel-linear", repr(float(accel_linear)), "--floor-accel-angular", repr(float(accel_angular))])
+
+
 def flat(result):
     """{name: value} of FLAT_METRICS from a result dict with "tracking" and "path" (None where
     absent)."""

@@ -8,6 +8,12 @@
  * Usage: aic_track_metrics --profile PROFILE.csv --print-profile
  *        aic_track_metrics --profile PROFILE.csv --trace TRACE.csv [--time-column t]
  *            [--ideal-csv FILE]
+ *        aic_track_metrics --profile PROFILE.csv --floor-latency L [--floor-accel-linear A]
+ *            [--floor-accel-angular B]
+ * The latency floor (latencyFloor): the error of an ideal servo with latency L [s] and the given
+ * acceleration limits (0 = none), once holding the set point and once predicting it with the
+ * goal rate (the AIC's recommended goal-rate settings): {"profile", "duration", "latency",
+ * "hold": {"vx", "wz", "samples"}, "predict": {...}}.
  * PROFILE: t,vx,wz rows, zero-order hold, the last row's t ends it (header optional).
  * TRACE: a header naming the columns; time in profile time [s] (0 = the profile's start). Every
  * pair of columns S_vx, S_wz is a measured body twist S [m/s, rad/s] (velocity tracking error
@@ -27,6 +33,7 @@
 
 #include "jackal_aic/cli.hpp"
 #include "jackal_aic/csv_table.hpp"
+#include "jackal_aic/params.hpp"
 #include "jackal_aic/tracking_metrics.hpp"
 
 using namespace jackal_aic;
@@ -86,6 +93,9 @@ int main(int argc, char** argv)
   std::string time_column = "t";
   std::string ideal_csv;
   bool print_profile = false;
+  double floor_latency = -1.0;
+  double floor_accel_linear = 0.0;
+  double floor_accel_angular = 0.0;
   CommandLine cl("aic_track_metrics",
                  "Tracking metrics of a recorded run against a twist profile (t, vx, wz; zero-order hold), one JSON "
                  "line: per measured twist S (columns S_vx, S_wz) the RMS and max error of vx [m/s] and wz [rad/s]; "
@@ -96,14 +106,24 @@ int main(int argc, char** argv)
   cl.option("time-column", &time_column, "name of the trace's time column");
   cl.option("ideal-csv", &ideal_csv, "write the ideal path at the trace's pose samples (t,x,y,heading)");
   cl.flag("print-profile", &print_profile, "read and check the profile, print it as JSON, no trace");
+  cl.option("floor-latency", &floor_latency,
+            "latency floor instead of a trace: the error of an ideal servo with this latency [s], holding and "
+            "predicting the set point");
+  cl.option("floor-accel-linear", &floor_accel_linear, "the floor servo's largest |dvx/dt| [m/s^2], 0 = unlimited");
+  cl.option("floor-accel-angular", &floor_accel_angular, "the floor servo's largest |dwz/dt| [rad/s^2], 0 = unlimited");
   cl.footer("Exit 0 on success, 1 on bad files or data, 2 on bad arguments.");
   if (const int code = cl.parse(argc, argv); code >= 0)
   {
     return code;
   }
-  if (print_profile == !trace_file.empty())
+  const bool floor = cl.given("floor-latency");
+  if (static_cast<int>(print_profile) + static_cast<int>(!trace_file.empty()) + static_cast<int>(floor) != 1)
   {
-    return cl.bad("give exactly one of --trace and --print-profile");
+    return cl.bad("give exactly one of --trace, --print-profile and --floor-latency");
+  }
+  if (floor && (floor_latency < 0.0 || floor_accel_linear < 0.0 || floor_accel_angular < 0.0))
+  {
+    return cl.bad("--floor-latency and --floor-accel-* must be >= 0");
   }
   try
   {
@@ -111,6 +131,21 @@ int main(int argc, char** argv)
     if (print_profile)
     {
       std::cout << profileJson(profile) << "\n";
+      return 0;
+    }
+    if (floor)
+    {
+      LatencyFloorSettings settings;
+      settings.latency = floor_latency;
+      settings.accel_linear = floor_accel_linear;
+      settings.accel_angular = floor_accel_angular;
+      const AicParams goal_rate = recommendedAicParams();
+      const VelocityTrackingError hold = latencyFloor(profile, goal_rate, settings);
+      settings.predict = true;
+      const VelocityTrackingError predict = latencyFloor(profile, goal_rate, settings);
+      std::cout << "{\"profile\": \"" << profile.name << "\", \"duration\": " << jsonNumber(profile.duration)
+                << ", \"latency\": " << jsonNumber(floor_latency) << ", \"hold\": " << toJson(hold)
+                << ", \"predict\": " << toJson(predict) << "}\n";
       return 0;
     }
     std::ifstream f(trace_file);

@@ -379,6 +379,18 @@ TEST(AicTrackMetrics, SignalsPoseAndBadInput)
   EXPECT_EQ(run(bin + " --profile " + profile).code, 2);
   EXPECT_EQ(run(bin + " --profile " + profile + " --trace " + trace + " --print-profile").code, 2);
   EXPECT_EQ(run(bin + " --trace " + trace).code, 2);
+  // The latency floor: 0.5 m/s held from 0 s, the servo 0.1 s late: 0.5 sqrt(100 / 2001) both ways.
+  r = run(bin + " --profile " + profile + " --floor-latency 0.1");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NEAR(numberAfter(r.out, "\"hold\": {\"vx\": {\"rms\": "), 0.5 * std::sqrt(100.0 / 2001.0), 1e-6) << r.out;
+  EXPECT_NEAR(numberAfter(r.out, "\"predict\": {\"vx\": {\"rms\": "), 0.5 * std::sqrt(100.0 / 2001.0), 1e-6) << r.out;
+  EXPECT_EQ(run(bin + " --profile " + profile + " --floor-latency -0.1").code, 2);
+  EXPECT_EQ(run(bin + " --profile " + profile + " --floor-latency nan").code, 2);
+  EXPECT_EQ(run(bin + " --profile " + profile + " --floor-latency 0.1 --floor-accel-linear -1").code, 2);
+  EXPECT_EQ(run(bin + " --profile " + profile + " --floor-latency 0.1 --trace " + trace).code, 2);
+  r = run(bin + " --profile " + profile + " --floor-latency 20");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_NE(r.out.find("latency must be finite and in [0, 10] s"), std::string::npos) << r.out;
 }
 
 TEST(AicTiming, PrintsOneRowPerLoopAndRate)

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "jackal_aic/tracking_metrics.hpp"
@@ -282,4 +283,73 @@ TEST(PathDrift, BadInput)
   EXPECT_THROW(pathDrift(p, two, two, { 0.0, std::numeric_limits<double>::quiet_NaN() }, two), std::invalid_argument);
   EXPECT_THROW(pathDrift(p, { 2.0, 3.0 }, two, two, two), std::invalid_argument);
   EXPECT_THROW(pathDrift(p, {}, {}, {}, {}), std::invalid_argument);
+}
+
+TEST(LatencyFloor, AStepArrivesOneLatencyLate)
+{
+  // 0.5 m/s from t = 1 s: the servo holding the set point is 0.5 m/s short for L = 0.1 s of the
+  // 3 s (3001 samples at 1 ms), so RMS = 0.5 sqrt(100 / 3001); no latency, no error.
+  const TwistProfile p = profileOf({ { 0.0, 0.0, 0.0 }, { 1.0, 0.5, -1.0 } }, 3.0);
+  LatencyFloorSettings s;
+  s.latency = 0.1;
+  const VelocityTrackingError e = latencyFloor(p, recommendedAicParams(), s);
+  EXPECT_EQ(e.samples, 3001);
+  EXPECT_NEAR(e.vx.rms, 0.5 * std::sqrt(100.0 / 3001.0), 1e-9);
+  EXPECT_NEAR(e.vx.max, 0.5, 1e-12);
+  EXPECT_NEAR(e.wz.rms, 1.0 * std::sqrt(100.0 / 3001.0), 1e-9);
+  s.latency = 0.0;
+  EXPECT_NEAR(latencyFloor(p, recommendedAicParams(), s).vx.rms, 0.0, 1e-12);
+  // A step has no slope to predict: the same floor.
+  s.latency = 0.1;
+  s.predict = true;
+  EXPECT_NEAR(latencyFloor(p, recommendedAicParams(), s).vx.rms, e.vx.rms, 1e-12);
+}
+
+TEST(LatencyFloor, TheAccelerationLimitRampsTheStep)
+{
+  // No latency, 5 m/s^2: the error falls from 0.5 to 0 over 0.1 s; RMS over 3 s ->
+  // sqrt(0.5^3 / (3 * 5) / 3) = 0.0527 (0.0523 on the 1 ms grid).
+  const TwistProfile p = profileOf({ { 0.0, 0.0, 0.0 }, { 1.0, 0.5, 0.0 } }, 3.0);
+  LatencyFloorSettings s;
+  s.accel_linear = 5.0;
+  const VelocityTrackingError e = latencyFloor(p, recommendedAicParams(), s);
+  EXPECT_NEAR(e.vx.rms, std::sqrt(0.125 / 15.0 / 3.0), 1e-3);
+  EXPECT_LT(e.vx.rms, std::sqrt(0.125 / 15.0 / 3.0));
+  EXPECT_EQ(e.wz.rms, 0.0);
+}
+
+TEST(LatencyFloor, PredictingARampLowersTheFloor)
+{
+  // A 10 Hz planner's staircase ramp, 0.05 m/s each 0.1 s from 1 s to 3 s, then held: the
+  // prediction misses only at the ramp's ends.
+  std::vector<TwistProfilePoint> pts{ { 0.0, 0.0, 0.0 } };
+  for (int k = 1; k <= 20; ++k)
+  {
+    pts.push_back({ 0.9 + 0.1 * k, 0.05 * k, 0.0 });
+  }
+  const TwistProfile p = profileOf(pts, 4.0);
+  LatencyFloorSettings s;
+  s.latency = 0.12;
+  const double hold = latencyFloor(p, recommendedAicParams(), s).vx.rms;
+  s.predict = true;
+  const double predict = latencyFloor(p, recommendedAicParams(), s).vx.rms;
+  EXPECT_GT(hold, 0.01);
+  EXPECT_LT(predict, 0.6 * hold);
+}
+
+TEST(LatencyFloor, BadSettingsAreRefused)
+{
+  const TwistProfile p = profileOf({ { 0.0, 0.5, 0.0 } }, 1.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const auto& [latency, accel, dt] : std::vector<std::tuple<double, double, double>>{
+           { -0.1, 0.0, 1e-3 }, { nan, 0.0, 1e-3 }, { 11.0, 0.0, 1e-3 }, { 0.1, -1.0, 1e-3 }, { 0.1, nan, 1e-3 },
+           { 0.1, 0.0, 0.0 }, { 0.1, 0.0, nan }, { 0.1, 0.0, 1.0 } })
+  {
+    LatencyFloorSettings s;
+    s.latency = latency;
+    s.accel_angular = accel;
+    s.dt = dt;
+    EXPECT_THROW(latencyFloor(p, recommendedAicParams(), s), std::invalid_argument) << latency << " " << accel << " " << dt;
+  }
+  EXPECT_THROW(latencyFloor(profileOf({}, 1.0), recommendedAicParams(), LatencyFloorSettings{}), std::invalid_argument);
 }
