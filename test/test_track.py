@@ -126,6 +126,16 @@ class TrackCheck(unittest.TestCase):
                 check=True).stdout)
             self.assertEqual(direct["tracking"], runs[("slow_latency", "stock")]["tracking"])
             self.assertEqual(direct["path"], runs[("slow_latency", "stock")]["path"])
+            # The latency floor at the plant's latency (the run reports the overlay's 0.2 s) is below
+            # both controllers' errors on both plants: no controller moves before its command arrives.
+            from jackal_aic_tools import driving
+            self.assertEqual(direct["command_delay"], 0.2)
+            for v, latency in (("default", 0.1187), ("slow_latency", 0.2)):
+                floor = driving.floor_rms(profile, latency)
+                self.assertGreater(floor["vx"], 0.01)
+                for c in ("aic", "stock"):
+                    for ch in ("vx", "wz"):
+                        self.assertLess(floor[ch], runs[(v, c)]["tracking"]["truth"][ch]["rms"], (v, c, ch))
             # The path drift from the trace through aic_track_metrics is the same.
             metrics_cli = cli.find_executable("aic_track_metrics", SCRIPT, "track_check")
             again = json.loads(subprocess.run(
