@@ -30,8 +30,9 @@
  *                     step metrics of every transition, "segments" vx and "angular_segments" wz)
  *   --noise           keep the plant YAML's sensor noise (seeded; default: ideal sensors)
  *   --fault LINE      inject a fault from START s after the run's start (sim/README.md)
- * JSON: {"runaways", "max_abs_speed", "command_delay" (the plant's motor.command_delay [s]), "segments": [{"t_step", "initial", "target", "measured": {...},
- *        "truth": {...}, "belief": {...}, "drive": {...}}] [, "angular_segments": [...]], "profile",
+ * JSON: {"runaways", "max_abs_speed", "command_delay" (the plant's motor.command_delay [s]),
+ *        "segments": [{"t_step", "initial", "target", "measured": {...}, "truth": {...}, "belief": {...},
+ *        "drive": {...}}] [, "angular_segments": [...]], "profile",
  *        "duration", "tracking": {"truth": {"vx": {"rms", "max"}, "wz": {...}, "samples"}, "odometry": {...}},
  *        "path": {"final_position_error", "max_position_error", "final_heading_error", "ideal_length",
  *        "samples"}} with rise, settling, overshoot, sse, settled; times from the profile's start

@@ -93,7 +93,7 @@ int main(int argc, char** argv)
   std::string time_column = "t";
   std::string ideal_csv;
   bool print_profile = false;
-  double floor_latency = -1.0;
+  double floor_latency = 0.0;
   double floor_accel_linear = 0.0;
   double floor_accel_angular = 0.0;
   CommandLine cl("aic_track_metrics",
