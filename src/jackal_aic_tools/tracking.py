@@ -78,10 +78,7 @@ def latency_floor(profile_csv, latency, accel_linear=0.0, accel_angular=0.0, cli
     it is commanded, with the given acceleration limits [m/s^2, rad/s^2] (0 = none), once holding
     the set point and once predicting it with the goal rate. Returns {"profile", "duration",
     "latency", "hold": {"vx": {"rms", "max"}, "wz": {...}, "samples"}, "predict": {...}}. Raises
-    TrackingError on a bad profile or a negative latency or limit."""
-    if not (latency >= 0.0 and accel_linear >= 0.0 and accel_angular >= 0.0):
-        raise TrackingError("latency floor: latency and accelerations must be >= 0, got %r, %r, %r" % (
-            latency, accel_linear, accel_angular))
+    TrackingError (the CLI's message) on a bad profile, or a negative or non-finite latency or limit."""
     return _run([cli or find_cli(), "--profile", profile_csv, "--floor-latency", repr(float(latency)),
                  "--floor-accel-linear", repr(float(accel_linear)), "--floor-accel-angular", repr(float(accel_angular))])
 
