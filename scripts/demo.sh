@@ -9,9 +9,10 @@
 #   AIC_DEMO_DOC=1 bash scripts/demo.sh  # also write the documented figures: doc/results/demo.txt, doc/img/
 set -euo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
-source "$here/ws_env.sh"
-bash "$here/setup_deps.sh"
-bash "$here/build.sh"
+dev="$(dirname "$here")/dev"
+source "$dev/ws_env.sh"
+bash "$dev/setup_deps.sh"
+bash "$dev/build.sh"
 set +u  # the catkin setup scripts read unset variables
 source_ws
 set -u

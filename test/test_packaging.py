@@ -34,8 +34,8 @@ USED_BY_THE_BUILD = {"catkin", "rostest", "rosunit", "roslaunch"}
 INCLUDE_PACKAGE = {"ros": "roscpp"}
 
 
-sys.path.insert(0, os.path.join(ROOT, "scripts"))
-import resolve_deps  # noqa: E402  (scripts/resolve_deps.py: the one resolver, also check_bullseye.sh's)
+sys.path.insert(0, os.path.join(ROOT, "dev"))
+import resolve_deps  # noqa: E402  (dev/resolve_deps.py: the one resolver, also check_bullseye.sh's)
 
 # The OSes every key must resolve on: the robot's (Ubuntu 20.04) and the one CI builds on.
 CHECKED_OSES = ("focal", "bookworm")
@@ -53,7 +53,7 @@ def unresolved(keys, data, oses=CHECKED_OSES):
 def python_files():
     """Every Python file of the repository (scripts without the .py ending too)."""
     out = []
-    for sub in ("src", "sim", "test", "scripts", "cfg"):
+    for sub in ("src", "sim", "test", "scripts", "dev", "tools", "cfg"):
         for base, _dirs, files in os.walk(os.path.join(ROOT, sub)):
             for name in files:
                 path = os.path.join(base, name)
@@ -67,6 +67,14 @@ def package_deps(path):
     """[(tag, key)] of a package.xml."""
     root = ET.parse(path).getroot()
     return [(el.tag, el.text.strip()) for el in root if el.tag in DEP_TAGS]
+
+
+def plant_links(cmake_text):
+    """The libraries of jackal_plant's target_link_libraries() (keywords dropped)."""
+    m = re.search(r"target_link_libraries\(\s*jackal_plant\s+(.*?)\)", cmake_text, re.S)
+    if not m:
+        return []
+    return [w for w in m.group(1).split() if w not in ("PUBLIC", "PRIVATE", "INTERFACE")]
 
 
 def catkin_depends(cmake_text):
@@ -101,7 +109,7 @@ def header_includes(include_dir):
 
 def repository_text():
     chunks = []
-    for sub in ("src", "sim", "include", "test", "launch", "scripts", "cfg"):
+    for sub in ("src", "sim", "include", "tools", "test", "launch", "scripts", "dev", "cfg"):
         for base, _dirs, files in os.walk(os.path.join(ROOT, sub)):
             for name in files:
                 if name.endswith((".cpp", ".hpp", ".h", ".py", ".launch", ".test", ".sh", ".cfg")):
@@ -125,7 +133,7 @@ class TestPackaging(unittest.TestCase):
 
     def test_every_key_resolves_on_focal_and_bookworm(self):
         missing = unresolved([k for _t, k in self.deps], self.data)
-        self.assertFalse(missing, "package.xml keys without an apt package (scripts/resolve_deps.py): %s"
+        self.assertFalse(missing, "package.xml keys without an apt package (dev/resolve_deps.py): %s"
                          % ", ".join("%s on %s" % m for m in missing))
         self.assertGreater(len(self.deps), 10)  # the parse saw the dependencies
 
@@ -137,7 +145,7 @@ class TestPackaging(unittest.TestCase):
                          [("no-such-key", "bookworm"), ("no-such-key", "focal")])
 
     def test_every_ros_key_has_a_debian_package_entry(self):
-        # scripts/check_bullseye.sh installs Debian's ROS packages: a new ROS dependency needs its entry.
+        # dev/check_bullseye.sh installs Debian's ROS packages: a new ROS dependency needs its entry.
         missing = unresolved([k for _t, k in self.deps], self.data, oses=("bullseye",))
         self.assertFalse(missing, "no bullseye package (test/data/debian_ros_packages.yaml): %s" % missing)
         _packages, gone = resolve_deps.resolve(["roscpp", "not_a_ros_pkg_xyz"], "bullseye",
@@ -181,6 +189,26 @@ class TestPackaging(unittest.TestCase):
                 if not re.search(r"(?<![A-Za-z0-9_])%s(?![A-Za-z0-9_])" % re.escape(key), text):
                     unused.append(key)
         self.assertFalse(unused, "package.xml depends on ROS packages nothing uses: %s" % unused)
+
+    def test_the_plant_knows_nothing_of_the_controller(self):
+        """The plant (sim/plant) includes no core header and its target links no core library."""
+        plant = os.path.join(ROOT, "sim", "plant")
+        offending = []
+        for base, _dirs, files in os.walk(plant):
+            for name in files:
+                with open(os.path.join(base, name), encoding="utf-8") as f:
+                    for line in f:
+                        if re.match(r'\s*#\s*include\s*[<"]jackal_aic/', line):
+                            offending.append("%s: %s" % (name, line.strip()))
+        self.assertFalse(offending, "the plant includes the controller's headers: %s" % offending)
+        links = plant_links(self.cmake)
+        self.assertIn("PkgConfig::ODE", links, "jackal_plant's link line was not found")
+        core = sorted(l for l in links if l.startswith("jackal_aic"))
+        self.assertFalse(core, "jackal_plant links the controller's libraries: %s" % core)
+
+    def test_the_plant_link_check_can_fail(self):
+        cmake = "target_link_libraries(jackal_plant PUBLIC jackal_aic_logic PkgConfig::ODE)"
+        self.assertIn("jackal_aic_logic", plant_links(cmake))
 
     def test_the_parsers_can_fail(self):
         self.assertEqual(catkin_depends("catkin_package(\n CATKIN_DEPENDS a b # c\n DEPENDS X)"), {"a", "b"})

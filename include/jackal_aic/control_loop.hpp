@@ -6,7 +6,7 @@
  *        a timer tick or a plain advance of time) into outputs (the wheel command, log lines,
  *        sensor-health events) and state (supervisor, beliefs, counters). The node
  *        (src/ros/) feeds it ROS messages and timers; the headless closed loop
- *        (sim/src/closed_loop.cpp) feeds it the plant core's samples on simulated time.
+ *        (sim/harness/src/closed_loop.cpp) feeds it the plant core's samples on simulated time.
  *        Behaviour: doc/jackal_aic_node.md, 'Loops', 'Safety', 'Degraded modes'.
  *
  * The loop owns the sensor pairing (SensorPairing), the sample pipeline (generalizer,

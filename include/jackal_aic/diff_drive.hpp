@@ -12,7 +12,7 @@
  * Inverse (this package's cmd_vel output mode, so the stock controller reproduces a wheel
  * command exactly):
  *   v = r (omega_L + omega_R) / 2,   w = r (omega_R - omega_L) / s.
- * The simulated stock controller (sim/include/jackal_sim/stock_controller.hpp) and the
+ * The simulated stock controller (sim/harness/include/jackal_sim/harness/stock_controller.hpp) and the
  * jackal_AIC node's cmd_vel output (CmdVelOutput) both use these functions.
  */
 

@@ -8,9 +8,9 @@
  * Everything that names a parameter comes from this table (doc/jackal_aic_node.md,
  * 'Parameters'): AicParams::validate() and NodeParams::validate() (ranges), the node's
  * rosparam loading and its unknown-key warning (src/ros/param_server.cpp), the YAML loading
- * of the tools (include/jackal_aic/params_yaml.hpp), the dynamic_reconfigure mapping
+ * of the tools (tools/include/jackal_tools/params_yaml.hpp), the dynamic_reconfigure mapping
  * (include/jackal_aic/ros/node_reconfigure.hpp) and the generated cfg/AIC.cfg and parameter
- * table (include/jackal_aic/param_docs.hpp). Defaults are those of a default-constructed
+ * table (tools/include/jackal_tools/param_docs.hpp). Defaults are those of a default-constructed
  * NodeParams (its member initializers; its `aic` is recommendedAicParams()), so they exist once.
  */
 

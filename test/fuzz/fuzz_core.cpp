@@ -6,7 +6,7 @@
  *        -> action. Aborts (a finding) on: an exception other than std::invalid_argument from
  *        an invalid parameter set, a constructor accepting a set validate() rejects, or an action
  *        that is non-finite or beyond max_wheel_speed, or non-finite beliefs. Sanitizers (address,
- *        undefined) catch the rest. Built and run by scripts/fuzz.sh (clang), in CI bounded in time.
+ *        undefined) catch the rest. Built and run by dev/fuzz.sh (clang), in CI bounded in time.
  */
 #include <cmath>
 #include <cstdint>

@@ -21,25 +21,21 @@
 #include <string>
 #include <vector>
 
-#include "jackal_aic/params_yaml.hpp"
+#include "jackal_tools/params_yaml.hpp"
 #include "jackal_aic/step_metrics.hpp"
 #include "jackal_aic/tracking_metrics.hpp"
-#include "jackal_aic/yaml_overrides.hpp"
-#include "jackal_aic/yaml_overrides.hpp"
-#include "jackal_sim/closed_loop.hpp"
-#include "jackal_sim/plant_params.hpp"
-#include "jackal_sim/robot_description.hpp"
-
-#ifndef JACKAL_SIM_SOURCE_DIR
-#define JACKAL_SIM_SOURCE_DIR "."
-#endif
+#include "jackal_tools/yaml_overrides.hpp"
+#include "jackal_sim/harness/closed_loop.hpp"
+#include "jackal_sim/plant/plant_params.hpp"
+#include "jackal_sim/plant/robot_description.hpp"
 
 namespace jackal_aic
 {
-namespace sim
+namespace harness
 {
 namespace
 {
+using namespace plant;
 const std::string kRoot = JACKAL_SIM_SOURCE_DIR;
 
 /// One row of the fault results (written at the end when JACKAL_AIC_RESULTS is set).
@@ -585,5 +581,5 @@ TEST(Driving, PlannerStreamIsTrackedAsWellAsByTheStockController)
 }
 
 }  // namespace
-}  // namespace sim
+}  // namespace harness
 }  // namespace jackal_aic

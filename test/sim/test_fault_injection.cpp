@@ -1,11 +1,11 @@
-/// Tests of the plant's fault injection (sim/include/jackal_sim/fault_injection.hpp): the fault-line
+/// Tests of the plant's fault injection (sim/plant/include/jackal_sim/plant/fault_injection.hpp): the fault-line
 /// parser (every error case logged by the node has a case here) and the injector's effect on samples.
 #include <gtest/gtest.h>
 
-#include "jackal_sim/fault_injection.hpp"
+#include "jackal_sim/plant/fault_injection.hpp"
 
 using namespace jackal_aic;
-using namespace jackal_aic::sim;
+using namespace jackal_aic::plant;
 
 namespace
 {

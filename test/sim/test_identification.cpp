@@ -1,7 +1,7 @@
 /**
  * \file test_identification.cpp
- * \brief gtests of the headless closed loop (jackal_sim/closed_loop.hpp) and of the wheel-loop
- *        identification (jackal_sim/identification.hpp): the robot data file, the fit
+ * \brief gtests of the headless closed loop (jackal_sim/harness/closed_loop.hpp) and of the wheel-loop
+ *        identification (jackal_sim/harness/identification.hpp): the robot data file, the fit
  *        arithmetic, the servo's integral clamp and acceleration feedforward, and the
  *        identified plant.yaml against the robot's steps. No roscore needed.
  */
@@ -16,18 +16,19 @@
 #include <string>
 #include <vector>
 
-#include "jackal_aic/params_yaml.hpp"
+#include "jackal_tools/params_yaml.hpp"
 #include "jackal_aic/step_metrics.hpp"
-#include "jackal_sim/closed_loop.hpp"
-#include "jackal_sim/identification.hpp"
-#include "jackal_sim/plant.hpp"
-#include "jackal_sim/plant_params.hpp"
-#include "jackal_sim/replay.hpp"
-#include "jackal_sim/robot_description.hpp"
-#include "jackal_sim/wheel_speed_servo.hpp"
+#include "jackal_sim/harness/closed_loop.hpp"
+#include "jackal_sim/harness/identification.hpp"
+#include "jackal_sim/plant/plant.hpp"
+#include "jackal_sim/plant/plant_params.hpp"
+#include "jackal_sim/harness/replay.hpp"
+#include "jackal_sim/plant/robot_description.hpp"
+#include "jackal_sim/plant/wheel_speed_servo.hpp"
 
 using namespace jackal_aic;
-using namespace jackal_aic::sim;
+using namespace jackal_aic::plant;
+using namespace jackal_aic::harness;
 
 namespace
 {

@@ -12,15 +12,16 @@
 #include <sstream>
 #include <string>
 
-#include "jackal_sim/calibration.hpp"
-#include "jackal_sim/plant.hpp"
-#include "jackal_sim/plant_params.hpp"
-#include "jackal_sim/robot_description.hpp"
-#include "jackal_sim/sensor_model.hpp"
-#include "jackal_sim/stock_controller.hpp"
-#include "jackal_sim/wheel_speed_servo.hpp"
+#include "jackal_sim/harness/calibration.hpp"
+#include "jackal_sim/plant/plant.hpp"
+#include "jackal_sim/plant/plant_params.hpp"
+#include "jackal_sim/plant/robot_description.hpp"
+#include "jackal_sim/plant/sensor_model.hpp"
+#include "jackal_sim/harness/stock_controller.hpp"
+#include "jackal_sim/plant/wheel_speed_servo.hpp"
 
-using namespace jackal_aic::sim;
+using namespace jackal_aic::plant;
+using namespace jackal_aic::harness;
 
 namespace
 {

@@ -18,19 +18,20 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "jackal_aic/params_yaml.hpp"
+#include "jackal_tools/params_yaml.hpp"
 #include "jackal_aic/step_metrics.hpp"
-#include "jackal_aic/yaml_overrides.hpp"
-#include "jackal_sim/calibration.hpp"
-#include "jackal_sim/closed_loop.hpp"
-#include "jackal_sim/identification.hpp"
-#include "jackal_sim/plant.hpp"
-#include "jackal_sim/plant_params.hpp"
-#include "jackal_sim/robot_description.hpp"
-#include "jackal_sim/stock_controller.hpp"
+#include "jackal_tools/yaml_overrides.hpp"
+#include "jackal_sim/harness/calibration.hpp"
+#include "jackal_sim/harness/closed_loop.hpp"
+#include "jackal_sim/harness/identification.hpp"
+#include "jackal_sim/plant/plant.hpp"
+#include "jackal_sim/plant/plant_params.hpp"
+#include "jackal_sim/plant/robot_description.hpp"
+#include "jackal_sim/harness/stock_controller.hpp"
 
 using namespace jackal_aic;
-using namespace jackal_aic::sim;
+using namespace jackal_aic::plant;
+using namespace jackal_aic::harness;
 
 namespace
 {

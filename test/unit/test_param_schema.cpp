@@ -5,7 +5,7 @@
  *        doc/jackal_aic_node.md are what the schema generates; config/default.yaml holds only
  *        what has no default; config/\*.yaml name only known keys, document each with the
  *        schema's unit, repeat no default and are valid; `aic_params --yaml`; loading from
- *        YAML; the shared KEY=VALUE override parser (include/jackal_aic/yaml_overrides.hpp).
+ *        YAML; the shared KEY=VALUE override parser (include/jackal_tools/yaml_overrides.hpp).
  */
 #include <gtest/gtest.h>
 
@@ -22,10 +22,10 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "jackal_aic/param_docs.hpp"
+#include "jackal_tools/param_docs.hpp"
 #include "jackal_aic/param_schema.hpp"
-#include "jackal_aic/params_yaml.hpp"
-#include "jackal_aic/yaml_overrides.hpp"
+#include "jackal_tools/params_yaml.hpp"
+#include "jackal_tools/yaml_overrides.hpp"
 
 namespace jackal_aic
 {

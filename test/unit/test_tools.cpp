@@ -204,7 +204,7 @@ TEST(AicParams, GeneratesAndChecks)
 
 TEST(CommandLines, HelpExitsZeroAndBadArgumentsTwo)
 {
-  // One convention for every C++ tool (Boost.program_options, include/jackal_aic/cli.hpp).
+  // One convention for every C++ tool (Boost.program_options, tools/include/jackal_tools/cli.hpp).
   for (const std::string& bin : { kAnalyze, kMetrics, std::string(AIC_PREDICT_BIN), std::string(AIC_PARAMS_BIN),
                                   std::string(AIC_TRACK_METRICS_BIN) })
   {

@@ -1,0 +1,94 @@
+#!/usr/bin/env bash
+# Build the libFuzzer target over the core (test/fuzz/fuzz_core.cpp) with clang, address and
+# undefined-behaviour sanitizers, and run it for a bounded time.
+#   [FUZZ_WORKERS=N] dev/fuzz.sh [SECONDS] [JUNIT_XML]
+# SECONDS: run time (default 60). JUNIT_XML: if given, the verdict is also written there as a
+# one-test JUnit file (how dev/run_tests.sh counts it). FUZZ_WORKERS (default 1): that many
+# fuzzing processes side by side, for long runs; the printed execution count is their sum.
+# FUZZ_OUT (default .ws/fuzz): the folder of the binary, the corpus and the logs (a long run in its
+# own folder does not collide with the test suite's bounded run).
+# Exit 0 = clean; 1 = a crash, a sanitizer report or a finding of the target (non-finite / over-limit action, ...); 2 = clang or
+# libFuzzer missing (reported as a skipped test). The binary and the growing corpus live in
+# .ws/fuzz; test/fuzz/corpus holds committed seeds (inputs of past findings, run every time).
+set -uo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+repo="$(dirname "$here")"
+seconds="${1:-60}"
+xml="${2:-}"
+out="${FUZZ_OUT:-$repo/.ws/fuzz}"
+mkdir -p "$out/corpus"
+log="$out/fuzz_core.log"
+
+junit() {  # junit STATUS(pass|fail|skip) MESSAGE
+  [ -n "$xml" ] || return 0
+  mkdir -p "$(dirname "$xml")"
+  local failures=0 skipped=0 body=""
+  local msg
+  msg="$(printf '%s' "$2" | sed -e 's/&/\&amp;/g' -e 's/</\&lt;/g' -e 's/>/\&gt;/g' -e 's/"/\&quot;/g')"
+  case "$1" in
+    fail) failures=1; body="<failure message=\"${msg}\"/>" ;;
+    skip) skipped=1; body="<skipped message=\"${msg}\"/>" ;;
+  esac
+  cat > "$xml" <<XML
+<?xml version="1.0" encoding="UTF-8"?>
+<testsuite name="fuzz_core" tests="1" failures="${failures}" errors="0" skipped="${skipped}">
+  <testcase classname="jackal_aic.fuzz" name="fuzz_core_${seconds}s">${body}</testcase>
+</testsuite>
+XML
+}
+
+cxx="$(command -v clang++ || true)"
+if [ -z "$cxx" ]; then
+  echo "fuzz: clang++ not found (apt-get install clang); skipped"
+  junit skip "clang++ not found"
+  exit 2
+fi
+# Coverage feedback from jackal_aic's code only, not from Eigen's kernels, and no UBSan checks
+# inside Eigen (the two lists say why); AddressSanitizer covers Eigen as well.
+flags=(-std=c++17 -g -O2 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
+       -fsanitize-coverage-ignorelist="$repo/test/fuzz/coverage_ignorelist.txt"
+       -fsanitize-ignorelist="$repo/test/fuzz/ubsan_ignorelist.txt"
+       -I"$repo/include" -I/usr/include/eigen3)
+sources=("$repo"/src/core/{params,param_spec,param_schema,node_params,generalizer,skid_steer_model,controller,fault_monitor,diff_drive}.cpp
+         "$repo/test/fuzz/fuzz_core.cpp")
+if ! "$cxx" "${flags[@]}" "${sources[@]}" -o "$out/fuzz_core" > "$out/build.log" 2>&1; then
+  if grep -q -- "-fsanitize=fuzzer\|libclang_rt.fuzzer\|FuzzedDataProvider" "$out/build.log"; then
+    echo "fuzz: this clang has no libFuzzer; skipped"; tail -5 "$out/build.log"
+    junit skip "clang without libFuzzer"
+    exit 2
+  fi
+  echo "fuzz: build failed:"; tail -20 "$out/build.log"
+  junit fail "fuzz target build failed"
+  exit 1
+fi
+workers="${FUZZ_WORKERS:-1}"
+echo "fuzz: running fuzz_core for ${seconds} s, ${workers} worker(s) (log: $log)"
+# Each worker is an independent libFuzzer process on the shared corpus folder (libFuzzer reloads
+# it, so the workers see each other's finds); worker k logs to fuzz_core.log (k = 1) or
+# fuzz_core.k.log.
+pids=()
+for k in $(seq 1 "$workers"); do
+  wlog="$log"; [ "$k" -gt 1 ] && wlog="${log%.log}.$k.log"
+  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ASAN_OPTIONS=detect_leaks=1 \
+    "$out/fuzz_core" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+    -seed="$k$(date +%s | tail -c 6)" -artifact_prefix="$out/" "$out/corpus" "$repo/test/fuzz/corpus" > "$wlog" 2>&1 &
+  pids+=("$!")
+done
+rc=0
+for pid in "${pids[@]}"; do wait "$pid" || rc=$?; done
+logs=("$log"); for k in $(seq 2 "$workers"); do logs+=("${log%.log}.$k.log"); done
+execs=0
+for l in "${logs[@]}"; do
+  n="$(sed -nE 's/^stat::number_of_executed_units: *([0-9]+).*/\1/p' "$l" | tail -1)"
+  execs=$((execs + ${n:-0}))
+done
+if [ "$rc" -ne 0 ] || grep -q "ERROR: AddressSanitizer\|runtime error:\|FINDING\|deadly signal" "${logs[@]}"; then
+  echo "fuzz: FAILED after ${execs} executions (exit $rc):"
+  grep -h -m5 -E "ERROR|runtime error|FINDING|deadly|SUMMARY" "${logs[@]}"
+  ls "$out"/crash-* "$out"/timeout-* "$out"/oom-* 2>/dev/null | head -3
+  junit fail "fuzz_core: crash, sanitizer report or finding after ${execs} executions; see ${logs[*]}"
+  exit 1
+fi
+echo "fuzz: clean, ${execs} executions in ${seconds} s (${workers} worker(s))"
+junit pass ""
+exit 0

@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# The test command (README quick start, and CI through .ci/run): install what is missing,
+# build into the git-ignored workspace, run every gtest and rostest, print
+# "N passed, N failed, N skipped" and exit non-zero on any failure.
+# `catkin_make run_tests` exits 0 even when tests fail: the verdict is catkin_test_results.
+set -uo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+source "$here/ws_env.sh"
+
+bash "$here/setup_deps.sh" || { echo "run_tests: installing dependencies failed"; echo "0 passed, 1 failed"; exit 1; }
+bash "$here/build.sh" || { echo "run_tests: build failed"; echo "0 passed, 1 failed"; exit 1; }
+bash "$here/build.sh" tests || { echo "run_tests: building the tests failed"; echo "0 passed, 1 failed"; exit 1; }
+
+# The tests' Python nodes import this workspace's message and tool modules (jackal_msgs,
+# jackal_aic, jackal_aic_tools): run them in the workspace's environment.
+set +u  # the catkin setup scripts read unset variables
+source_ws
+set -u
+results="$ws/build/test_results"
+rm -rf "$results"
+cd "$ws"
+# -j1: the rostests run the nodes on the wall clock; side by side on a 2-core machine they
+# would measure the machine. Each runs once: no retries.
+catkin_make "${catkin_args[@]}" run_tests -j1 2>&1 | tee "$ws/run_tests.log" | grep -E "^\[ *(RUN|OK|FAILED|PASSED) *\]|^\[ROSTEST\]|^\[Testcase|FAILURE|Error|error:" || true
+
+# The libFuzzer target over the core (clang, sanitizers), bounded: one more test result.
+bash "$here/fuzz.sh" "${FUZZ_SECONDS:-60}" "$results/jackal_aic/fuzz_core.xml" || true
+
+summary="$(catkin_test_results --verbose "$results" 2>&1)"
+verdict=$?
+echo "$summary" | grep -v "^Skipping" | tail -40
+line="$(echo "$summary" | grep -E '^Summary:' | tail -1)"
+tests=$(echo "$line" | sed -nE 's/.* ([0-9]+) tests.*/\1/p')
+errors=$(echo "$line" | sed -nE 's/.* ([0-9]+) errors.*/\1/p')
+failures=$(echo "$line" | sed -nE 's/.* ([0-9]+) failures.*/\1/p')
+skipped=$(echo "$line" | sed -nE 's/.* ([0-9]+) skipped.*/\1/p')
+tests=${tests:-0}; errors=${errors:-0}; failures=${failures:-0}; skipped=${skipped:-0}
+failed=$((errors + failures))
+passed=$((tests - failed - skipped))
+if [ "$tests" -eq 0 ]; then
+  echo "run_tests: no test results found under $results"
+  failed=$((failed + 1))
+fi
+[ "$verdict" -ne 0 ] && [ "$failed" -eq 0 ] && failed=1
+# The installed package (catkin_make install) runs the demo launch: dev/check_install.sh.
+if bash "$here/check_install.sh"; then
+  passed=$((passed + 1))
+else
+  echo "run_tests: FAILURE: the installed package does not run the demo launch (dev/check_install.sh)"
+  failed=$((failed + 1))
+fi
+# Every failure's message, one short block each, last: a log cut to its tail still says why.
+python3 "$here/failure_summary.py" "$results" || true
+echo "${passed} passed, ${failed} failed, ${skipped} skipped"
+[ "$failed" -eq 0 ]

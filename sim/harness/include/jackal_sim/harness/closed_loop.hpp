@@ -1,0 +1,145 @@
+#pragma once
+/**
+ * \file closed_loop.hpp
+ * \brief A controller in closed loop with the ODE plant, headless and faster than real
+ *        time: the stock controller, or the active inference controller through the
+ *        jackal_AIC node's own logic (ControlLoop, include/jackal_aic/control_loop.hpp) on
+ *        simulated time. ROS-free; the engine of closed_loop_run, plant_fit, aic_tune.py,
+ *        aic_scorecard.py and aic_reproduce.py (--backend core), and of the identification
+ *        gtests.
+ *
+ * The AIC runs exactly as in the node (doc/jackal_aic_node.md), the clock being the plant's:
+ * - the plant steps at physics.step (1 kHz); after each step its sensor model is polled and
+ *   every IMU and joint-state sample becomes the loop's event (pairing, generalization,
+ *   supervisor, fault detection, the sample-triggered action);
+ * - the set point is streamed at 50 Hz and sent at once when the profile changes it;
+ * - the action timer ticks at action_rate, after the samples of its instant; the belief
+ *   timer (belief_schedule timer only) at belief_rate, before them; each on whole plant steps;
+ * - every command of the loop goes to the plant at once.
+ * The stock controller (diff_drive_controller's open-loop mapping) runs at 50 Hz.
+ *
+ * What is measured: the body speed from wheel odometry r (omega_L + omega_R) / 2 of the
+ * 50 Hz joint-state samples (the robot's own estimate, which the thesis's tables were
+ * measured with), ground truth beside it, the body speed the drive command asks for, and
+ * the AIC's belief mu^(0).
+ */
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "jackal_aic/fault_monitor.hpp"
+#include "jackal_aic/node_params.hpp"
+#include "jackal_aic/params.hpp"
+#include "jackal_aic/tracking_metrics.hpp"
+#include "jackal_sim/plant/fault_injection.hpp"
+#include "jackal_sim/plant/plant_params.hpp"
+#include "jackal_sim/plant/robot_description.hpp"
+
+namespace jackal_aic
+{
+namespace harness
+{
+/// The plant's names this interface uses (jackal_sim/plant/).
+using plant::FaultSpec;
+using plant::PlantParams;
+using plant::RobotDescription;
+/// Which controller closes the loop.
+enum class LoopController
+{
+  kStock,  ///< the Jackal's stock controller (diff_drive_controller mapping, 50 Hz)
+  kAic,    ///< the active inference controller (jackal_aic core), scheduled as the node
+  /// No controller: every 50 Hz tick the set point's wheel speeds (inverse kinematics of the
+  /// stock controller, r and its b_hat) go to the MCU as they are. The wheel loop's own
+  /// response, for identifying it (aic_tune.py).
+  kOpenLoop
+};
+
+/// One piece of a piecewise-constant set-point profile.
+struct SetPointSegment
+{
+  double start = 0.0;    ///< time from the run's start at which this set point begins [s], >= 0
+  double linear = 0.0;   ///< body forward speed [m/s]
+  double angular = 0.0;  ///< yaw rate [rad/s]
+};
+
+/// What to run.
+struct ClosedLoopConfig
+{
+  LoopController controller = LoopController::kStock;
+  AicParams aic;  ///< used when controller == kAic (validated by runClosedLoop)
+  /**
+   * The node's other settings for the AIC (timeouts, sensor pairing, fault detection,
+   * action_trigger, belief_schedule, output_mode; the schema's defaults unless set). Its `aic`
+   * member is ignored (`aic` above is used); empty joint lists are the plant's wheel joints.
+   */
+  NodeParams node;
+  /// Set-point profile, sorted by start; the first segment should start at 0 (before it the
+  /// set point is 0). Streamed, as teleop or a planner would, so no timeout fires.
+  std::vector<SetPointSegment> profile;
+  double duration = 4.0;    ///< length of the run [s], > 0
+  /// true: joint-state and IMU noise, bias and dropout off; false: the plant YAML's sensor
+  /// models (seeded: the same run every time)
+  bool ideal_sensors = true;
+  /// Injected faults (sim/README.md, 'Fault injection'), each from `start` [s] after the run's
+  /// start, as the plant node applies its ~faults (FaultedSensors).
+  std::vector<FaultSpec> faults;
+};
+
+/// One event of the AIC's fault monitor during a run.
+struct HealthEvent
+{
+  double time = 0.0;                                       ///< plant time of the sample [s]
+  FaultMonitor::Event event = FaultMonitor::Event::kNone;  ///< isolated, restored or detected
+  int channel = -1;                                        ///< SensorIndex of the channel
+};
+
+/// Recorded run, one entry per joint-state sample (50 Hz).
+struct ClosedLoopRecord
+{
+  std::vector<double> time;       ///< sample time from the run's start [s]
+  std::vector<double> set_point;  ///< linear set point in force [m/s]
+  std::vector<double> v_odom;     ///< wheel-odometry body speed r (omega_L + omega_R) / 2 [m/s]
+  std::vector<double> v_true;     ///< ground-truth forward speed in base_link [m/s]
+  std::vector<double> yaw_odom;   ///< wheel-odometry yaw rate r (omega_R - omega_L) / b_hat [rad/s]
+  std::vector<double> yaw_true;   ///< ground-truth yaw rate [rad/s]
+  std::vector<double> command;    ///< body speed of the last drive command r (a_L + a_R) / 2 [m/s]
+  std::vector<double> belief;     ///< AIC belief mu^(0) x_dot [m/s] (NaN for the stock controller)
+  std::vector<double> angular_set_point;  ///< yaw-rate set point in force [rad/s]
+  std::vector<double> command_yaw;  ///< yaw rate of the last drive command r (a_R - a_L) / b_hat [rad/s]
+  std::vector<double> belief_yaw;   ///< AIC belief mu^(0) theta_dot [rad/s] (NaN for the others)
+  std::vector<double> x_true;       ///< ground-truth position x of base_link in the world [m]
+  std::vector<double> y_true;       ///< ground-truth position y of base_link in the world [m]
+  std::vector<double> heading_true; ///< ground-truth yaw of base_link in the world [rad], wrapped to (-pi, pi]
+  std::uint64_t runaways = 0;     ///< AIC runaway resets during the run
+  bool active = false;            ///< AIC: the controller started (p + 1 samples and a set point)
+  std::uint64_t belief_steps = 0;  ///< AIC: belief integration steps run
+  std::vector<HealthEvent> health_events;  ///< AIC: the fault monitor's events, in order
+  /// AIC: plant times [s] of the joint-state samples the loop paired without an IMU (degraded mode).
+  std::vector<double> imu_missing;
+};
+
+/**
+ * \brief Run a controller against a fresh plant for config.duration seconds.
+ * \param description robot model
+ * \param params      plant parameters (sensor noise switched off if config.ideal_sensors)
+ * \param config      controller, profile, duration
+ * \throws std::invalid_argument on an invalid AicParams, an empty or unsorted profile, a
+ *         non-finite set point, or a non-positive duration (message says which)
+ */
+ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams params,
+                               const ClosedLoopConfig& config);
+
+/**
+ * \brief A twist profile (tracking_metrics.hpp: t, vx, wz rows, zero-order hold) as set-point
+ *        segments played from t0: 0 before t0, then each point's (vx, wz) from t0 + t.
+ * \param profile  a validated profile (TwistProfile::validate())
+ * \param t0       when the profile starts in the run [s], >= 0
+ */
+std::vector<SetPointSegment> profileSegments(const TwistProfile& profile, double t0);
+
+/// A set-point step from rest: 0 until t_step, then `linear` [m/s] (and `angular` [rad/s]).
+std::vector<SetPointSegment> stepProfile(double t_step, double linear, double angular = 0.0);
+
+}  // namespace harness
+}  // namespace jackal_aic

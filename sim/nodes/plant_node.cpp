@@ -1,0 +1,395 @@
+#include "plant_node.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <thread>
+
+#include <geometry_msgs/TransformStamped.h>
+#include <rosgraph_msgs/Clock.h>
+
+namespace jackal_aic
+{
+namespace sim_nodes
+{
+using namespace plant;  // the plant this part drives
+
+namespace
+{
+std::string requiredPath(const ros::NodeHandle& pnh, const std::string& name)
+{
+  std::string v;
+  if (!pnh.getParam(name, v) || v.empty())
+  {
+    throw std::runtime_error("parameter " + pnh.resolveName(name) + " (a file path) is not set");
+  }
+  return v;
+}
+
+/// ~overlay: one path, a list of paths, or "" / absent (none).
+std::vector<std::string> overlayFiles(const ros::NodeHandle& pnh)
+{
+  XmlRpc::XmlRpcValue v;
+  std::vector<std::string> files;
+  if (!pnh.getParam("overlay", v))
+  {
+    return files;
+  }
+  auto add = [&](XmlRpc::XmlRpcValue& item) {
+    if (item.getType() != XmlRpc::XmlRpcValue::TypeString)
+    {
+      throw std::runtime_error("parameter " + pnh.resolveName("overlay") +
+                               " must be a plant YAML path or a list of them");
+    }
+    const std::string path = static_cast<std::string>(item);
+    if (!path.empty())
+    {
+      files.push_back(path);
+    }
+  };
+  if (v.getType() == XmlRpc::XmlRpcValue::TypeArray)
+  {
+    for (int i = 0; i < v.size(); ++i)
+    {
+      add(v[i]);
+    }
+  }
+  else
+  {
+    add(v);
+  }
+  return files;
+}
+
+std::uint64_t periodSteps(double rate, double step)
+{
+  return std::max<std::uint64_t>(1, static_cast<std::uint64_t>(std::llround(1.0 / (rate * step))));
+}
+
+void toMsg(const Eigen::Quaterniond& q, geometry_msgs::Quaternion* m)
+{
+  m->w = q.w();
+  m->x = q.x();
+  m->y = q.y();
+  m->z = q.z();
+}
+
+void toMsg(const Eigen::Vector3d& v, geometry_msgs::Vector3* m)
+{
+  m->x = v.x();
+  m->y = v.y();
+  m->z = v.z();
+}
+}  // namespace
+
+PlantNode::PlantNode(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pnh)
+{
+  const std::string urdf = requiredPath(pnh_, "urdf");
+  const std::string config = requiredPath(pnh_, "plant_config");
+  std::vector<std::string> overrides;
+  pnh_.getParam("overrides", overrides);
+  description_ = loadRobotDescription(urdf);
+  params_ = loadPlantParams(config, plantOverrides(overlayFiles(pnh_), overrides));
+  plant_ = std::make_unique<Plant>(description_, params_, 1.0 / params_.sensors.imu.rate);
+  sensors_ = std::make_unique<FaultedSensors>(params_.sensors, params_.physics.step);
+  nh_.param("/use_sim_time", use_sim_time_, false);
+  odom_period_ = periodSteps(params_.node.odom_rate, params_.physics.step);
+  clock_period_ = periodSteps(params_.node.clock_rate, params_.physics.step);
+
+  joint_msg_.name.resize(kNumWheels);
+  for (int i = 0; i < kNumWheels; ++i)
+  {
+    joint_msg_.name[i] = description_.wheels[i].joint_name;
+  }
+  joint_msg_.position.resize(kNumWheels);
+  joint_msg_.velocity.resize(kNumWheels);
+  joint_msg_.effort.resize(kNumWheels);
+
+  joint_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
+  imu_pub_ = nh_.advertise<sensor_msgs::Imu>("imu/data", 10);
+  odom_pub_ = nh_.advertise<nav_msgs::Odometry>("odom", 10);
+  if (use_sim_time_)
+  {
+    clock_pub_ = nh_.advertise<rosgraph_msgs::Clock>("/clock", 10);
+  }
+  fault_poll_period_ = periodSteps(5.0, params_.physics.step);
+  pollFaults();
+  drive_sub_ = nh_.subscribe("cmd_drive", 10, &PlantNode::onDrive, this, ros::TransportHints().tcpNoDelay());
+
+  ROS_INFO_STREAM("jackal_plant: URDF " << urdf << " (robot '" << description_.robot_name << "', wheel radius "
+                                        << description_.wheelRadius() << " m, track " << description_.track()
+                                        << " m, mass " << description_.totalMass() << " kg); config " << config
+                                        << "; step " << params_.physics.step << " s; joint_states "
+                                        << params_.sensors.joint_states.rate << " Hz, imu "
+                                        << params_.sensors.imu.rate << " Hz; real_time_factor "
+                                        << params_.node.real_time_factor
+                                        << (use_sim_time_ ? "; publishing /clock" : ""));
+}
+
+void PlantNode::onDrive(const jackal_msgs::Drive::ConstPtr& msg)
+{
+  const double left = msg->drivers[jackal_msgs::Drive::LEFT];
+  const double right = msg->drivers[jackal_msgs::Drive::RIGHT];
+  bool velocity = false;
+  if (msg->mode == jackal_msgs::Drive::MODE_VELOCITY)
+  {
+    if (!std::isfinite(left) || !std::isfinite(right))
+    {
+      ROS_WARN_THROTTLE(1.0, "jackal_plant: dropped /cmd_drive with non-finite drivers [%f, %f]", left, right);
+      return;
+    }
+    velocity = true;
+  }
+  else if (msg->mode != jackal_msgs::Drive::MODE_NONE)
+  {
+    ROS_WARN_THROTTLE(1.0, "jackal_plant: /cmd_drive mode %d is not supported (only MODE_VELOCITY=0 and "
+                           "MODE_NONE=-1); treated as MODE_NONE (motors released)",
+                      static_cast<int>(msg->mode));
+  }
+  std::lock_guard<std::mutex> lock(command_mutex_);
+  ++command_.seq;
+  command_.velocity = velocity;
+  command_.left = velocity ? left : 0.0;
+  command_.right = velocity ? right : 0.0;
+}
+
+void PlantNode::applyCommand()
+{
+  Command c;
+  {
+    std::lock_guard<std::mutex> lock(command_mutex_);
+    c = command_;
+  }
+  const double t = plant_->time();
+  if (c.seq != applied_seq_)
+  {
+    applied_seq_ = c.seq;
+    last_command_time_ = t;
+    if (timed_out_)
+    {
+      ROS_INFO("jackal_plant: /cmd_drive resumed");
+      timed_out_ = false;
+    }
+    if (c.velocity)
+    {
+      plant_->setWheelSpeeds(c.left, c.right);
+    }
+    else
+    {
+      plant_->releaseMotors();
+    }
+  }
+  else if (params_.node.cmd_timeout > 0.0 && applied_seq_ > 0 && !timed_out_ &&
+           t - last_command_time_ > params_.node.cmd_timeout)
+  {
+    timed_out_ = true;
+    ROS_WARN("jackal_plant: no /cmd_drive for %.3f s; wheel set points set to zero", params_.node.cmd_timeout);
+    if (c.velocity)
+    {
+      plant_->setWheelSpeeds(0.0, 0.0);
+    }
+  }
+}
+
+ros::Time PlantNode::stamp(double plant_time) const
+{
+  return origin_ + ros::Duration(plant_time);
+}
+
+void PlantNode::stepOnce()
+{
+  applyCommand();
+  plant_->step();
+  const std::uint64_t k = plant_->stepCount();
+  if (use_sim_time_ && k % clock_period_ == 0)
+  {
+    rosgraph_msgs::Clock clock;
+    clock.clock = stamp(plant_->time());
+    clock_pub_.publish(clock);
+  }
+  if (k % fault_poll_period_ == 0)
+  {
+    pollFaults();
+  }
+  const FaultedSensors::Changes changes = sensors_->afterStep(*plant_, &joint_samples_, &imu_samples_);
+  if (changes.payload)
+  {
+    ROS_WARN("jackal_plant: payload now %.2f kg", plant_->payload());
+  }
+  for (const Side side : { kLeft, kRight })
+  {
+    if (changes.friction[static_cast<std::size_t>(side)])
+    {
+      ROS_WARN("jackal_plant: %s wheel-ground friction scaled by %.3f", side == kLeft ? "left" : "right",
+               plant_->frictionScale(side));
+    }
+  }
+  for (const JointStateSample& js : joint_samples_)
+  {
+    publishJointStates(js);
+  }
+  for (const ImuSample& imu : imu_samples_)
+  {
+    imu_pub_.publish(imuMessage(imu));
+  }
+  if (k % odom_period_ == 0)
+  {
+    publishOdom();
+  }
+}
+
+void PlantNode::pollFaults()
+{
+  std::vector<std::string> lines;
+  pnh_.getParamCached("faults", lines);
+  if (lines == fault_lines_)
+  {
+    return;
+  }
+  fault_lines_ = lines;
+  std::vector<FaultSpec> specs;
+  for (const auto& line : lines)
+  {
+    FaultSpec f;
+    std::string error;
+    if (parseFaultSpec(line, &f, &error))
+    {
+      specs.push_back(f);
+      ROS_WARN_STREAM("jackal_plant: injecting fault '" << line << "' from t = " << plant_->time() + f.start
+                                                        << " s (plant time)");
+    }
+    else
+    {
+      ROS_ERROR_STREAM("jackal_plant: ignored fault '" << line << "' in " << pnh_.resolveName("faults") << ": "
+                                                       << error);
+    }
+  }
+  if (specs.empty())
+  {
+    ROS_INFO("jackal_plant: no faults injected");
+  }
+  sensors_->setFaults(specs, plant_->time());
+}
+
+void PlantNode::fillJointStates(const JointStateSample& s)
+{
+  joint_msg_.header.stamp = stamp(s.stamp);
+  for (int i = 0; i < kNumWheels; ++i)
+  {
+    joint_msg_.position[i] = s.position[i];
+    joint_msg_.velocity[i] = s.velocity[i];
+    joint_msg_.effort[i] = plant_->wheelTorque(i);
+  }
+}
+
+void PlantNode::publishJointStates(const JointStateSample& s)
+{
+  fillJointStates(s);
+  joint_pub_.publish(joint_msg_);
+}
+
+void PlantNode::publishImu(const ImuSample& s)
+{
+  imu_pub_.publish(imuMessage(s));
+}
+
+sensor_msgs::Imu PlantNode::imuMessage(const ImuSample& s) const
+{
+  sensor_msgs::Imu m;
+  m.header.stamp = stamp(s.stamp);
+  m.header.frame_id = description_.imu_link;
+  toMsg(s.orientation, &m.orientation);
+  toMsg(s.angular_velocity, &m.angular_velocity);
+  toMsg(s.linear_acceleration, &m.linear_acceleration);
+  const ImuSensorParams& p = params_.sensors.imu;
+  for (int k = 0; k < 3; ++k)
+  {
+    m.orientation_covariance[4 * k] = p.orientation_noise_std * p.orientation_noise_std;
+    m.angular_velocity_covariance[4 * k] = p.gyro_noise_std * p.gyro_noise_std;
+    m.linear_acceleration_covariance[4 * k] = p.accel_noise_std * p.accel_noise_std;
+  }
+  return m;
+}
+
+void PlantNode::publishOdom()
+{
+  const ros::Time t = stamp(plant_->time());
+  const Eigen::Isometry3d pose = plant_->basePose();
+  const Eigen::Quaterniond q(pose.linear());
+  nav_msgs::Odometry odom;
+  odom.header.stamp = t;
+  odom.header.frame_id = params_.node.odom_frame;
+  odom.child_frame_id = description_.base_link;
+  odom.pose.pose.position.x = pose.translation().x();
+  odom.pose.pose.position.y = pose.translation().y();
+  odom.pose.pose.position.z = pose.translation().z();
+  toMsg(q.normalized(), &odom.pose.pose.orientation);
+  toMsg(plant_->baseLinearVelocity(), &odom.twist.twist.linear);
+  toMsg(plant_->baseAngularVelocity(), &odom.twist.twist.angular);
+  odom_pub_.publish(odom);
+
+  geometry_msgs::TransformStamped tf;
+  tf.header = odom.header;
+  tf.child_frame_id = odom.child_frame_id;
+  tf.transform.translation.x = pose.translation().x();
+  tf.transform.translation.y = pose.translation().y();
+  tf.transform.translation.z = pose.translation().z();
+  tf.transform.rotation = odom.pose.pose.orientation;
+  tf_.sendTransform(tf);
+}
+
+int PlantNode::run()
+{
+  using Clock = std::chrono::steady_clock;
+  ros::AsyncSpinner spinner(1);
+  spinner.start();
+  if (use_sim_time_)
+  {
+    origin_ = ros::Time(0);
+    rosgraph_msgs::Clock clock;
+    clock.clock = origin_;
+    clock_pub_.publish(clock);
+  }
+  else
+  {
+    origin_ = ros::Time::now();
+  }
+  const double rtf = params_.node.real_time_factor;
+  const double h = params_.physics.step;
+  const auto start = Clock::now();
+  std::uint64_t base_steps = 0;  // steps before the last resynchronisation
+  auto sync = start;
+  std::uint64_t lag_events = 0;
+  while (ros::ok())
+  {
+    if (rtf <= 0.0)
+    {
+      stepOnce();
+      continue;
+    }
+    // Steps due by now at the requested rate.
+    const double wall = std::chrono::duration<double>(Clock::now() - sync).count();
+    const auto due = base_steps + static_cast<std::uint64_t>(wall * rtf / h);
+    if (due > plant_->stepCount() + static_cast<std::uint64_t>(0.5 * rtf / h))
+    {
+      ++lag_events;
+      ROS_WARN_THROTTLE(5.0, "jackal_plant: %.3f s behind real time; dropping the lag (%lu times so far)",
+                        (due - plant_->stepCount()) * h / rtf, static_cast<unsigned long>(lag_events));
+      sync = Clock::now();
+      base_steps = plant_->stepCount();
+      continue;
+    }
+    while (plant_->stepCount() < due && ros::ok())
+    {
+      stepOnce();
+    }
+    const double next_wall = static_cast<double>(plant_->stepCount() + 1 - base_steps) * h / rtf;
+    std::this_thread::sleep_until(sync + std::chrono::duration_cast<Clock::duration>(
+                                             std::chrono::duration<double>(next_wall)));
+  }
+  spinner.stop();
+  return 0;
+}
+
+}  // namespace sim_nodes
+}  // namespace jackal_aic

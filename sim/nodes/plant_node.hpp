@@ -1,0 +1,133 @@
+#pragma once
+/**
+ * \file plant_node.hpp
+ * \brief jackal_plant: a thin ROS node over the ODE plant core, standing in for the Jackal.
+ *
+ * Subscribes /cmd_drive (jackal_msgs/Drive): MODE_VELOCITY -> per-side wheel-speed set
+ * points [rad/s]; MODE_NONE -> motors released; any other mode -> throttled warning and
+ * treated as MODE_NONE; non-finite values -> dropped with a throttled warning. If no
+ * command arrives for node.cmd_timeout [s] of plant time the set points become zero (the
+ * stock stack streams zeros after its own 0.25 s timeout; the MCU's timeout is not
+ * documented, so this is a safety net, 0 disables it).
+ *
+ * Publishes /joint_states and /imu/data (rates, noise, bias, delay, dropout from the
+ * plant YAML), ground-truth /odom (nav_msgs/Odometry, frame odom, child base_link, twist
+ * in base_link) and tf odom -> base_link, all stamped with plant time: in real-time mode
+ * stamp = ROS time at start + plant time; with /use_sim_time the node publishes /clock
+ * (= plant time) itself.
+ *
+ * The physics steps in fixed increments (physics.step, 1 ms). Pacing: each wake-up runs
+ * every step due by the wall clock (so the plant catches up after a late wake-up), then
+ * sleeps until the next step is due; node.real_time_factor scales plant time per wall
+ * time (0 = as fast as possible). A lag of more than 0.5 s is dropped (logged) instead of
+ * being caught up.
+ *
+ * Private parameters: ~urdf (URDF path, required), ~plant_config (plant YAML path,
+ * required), ~overlay (a plant YAML with only the keys that differ, e.g.
+ * sim/config/variants/turn_deficit.yaml, or a list of them applied in order; "" or absent =
+ * none), ~overrides (list of "key=value" strings applied on top of the YAML and the overlays).
+ */
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include <jackal_msgs/Drive.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/ros.h>
+#include <sensor_msgs/Imu.h>
+#include <sensor_msgs/JointState.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include <deque>
+#include <vector>
+
+#include "jackal_sim/plant/fault_injection.hpp"
+#include "jackal_sim/plant/plant.hpp"
+#include "jackal_sim/plant/plant_params.hpp"
+#include "jackal_sim/plant/robot_description.hpp"
+#include "jackal_sim/plant/sensor_model.hpp"
+
+namespace jackal_aic
+{
+namespace sim_nodes
+{
+/// The plant's names this interface uses (jackal_sim/plant/).
+using plant::FaultedSensors;
+using plant::Plant;
+using plant::ImuSample;
+using plant::JointStateSample;
+using plant::PlantParams;
+using plant::RobotDescription;
+/// The plant node (see file comment).
+class PlantNode
+{
+public:
+  /**
+   * \brief Read parameters, load the URDF and plant YAML, build the plant, advertise.
+   * \throws std::runtime_error (RobotDescriptionError, PlantParamsError) with a message
+   *         naming the file and what is wrong; main() logs it and exits non-zero.
+   */
+  PlantNode(ros::NodeHandle nh, ros::NodeHandle pnh);
+
+  /// Step and publish until ROS shuts down. Returns the process exit code.
+  int run();
+
+private:
+  /// Latest /cmd_drive, written by the subscriber thread.
+  struct Command
+  {
+    std::uint64_t seq = 0;  ///< increments with every accepted message
+    bool velocity = false;  ///< MODE_VELOCITY (else released)
+    double left = 0.0;      ///< [rad/s]
+    double right = 0.0;     ///< [rad/s]
+  };
+
+  void onDrive(const jackal_msgs::Drive::ConstPtr& msg);
+  void stepOnce();
+  void applyCommand();
+  ros::Time stamp(double plant_time) const;
+  void publishJointStates(const JointStateSample& s);
+  void publishImu(const ImuSample& s);
+  /// joint_msg_ from a sample (stamp, positions, velocities, efforts).
+  void fillJointStates(const JointStateSample& s);
+  /// The Imu message of a sample.
+  sensor_msgs::Imu imuMessage(const ImuSample& s) const;
+  void publishOdom();
+  /// Re-read ~faults (a list of fault lines, sim/plant/include/jackal_sim/plant/fault_injection.hpp) if it changed.
+  void pollFaults();
+
+  ros::NodeHandle nh_;
+  ros::NodeHandle pnh_;
+  RobotDescription description_;
+  PlantParams params_;
+  std::unique_ptr<Plant> plant_;
+  /// The sensor model with the injected faults (physical faults, delays, dropouts, ...).
+  std::unique_ptr<FaultedSensors> sensors_;
+  std::vector<JointStateSample> joint_samples_;  ///< published this step (FaultedSensors::afterStep())
+  std::vector<ImuSample> imu_samples_;
+  bool use_sim_time_ = false;
+  ros::Time origin_;
+  std::uint64_t odom_period_ = 20;
+  std::uint64_t clock_period_ = 1;
+
+  std::mutex command_mutex_;
+  Command command_;
+  std::uint64_t applied_seq_ = 0;
+  double last_command_time_ = 0.0;  ///< plant time the last command was applied [s]
+  bool timed_out_ = false;
+
+  ros::Subscriber drive_sub_;
+  ros::Publisher joint_pub_;
+  ros::Publisher imu_pub_;
+  ros::Publisher odom_pub_;
+  ros::Publisher clock_pub_;
+  tf2_ros::TransformBroadcaster tf_;
+  sensor_msgs::JointState joint_msg_;
+  std::vector<std::string> fault_lines_;
+  std::uint64_t fault_poll_period_ = 200;  ///< steps between reads of ~faults
+};
+
+}  // namespace sim_nodes
+}  // namespace jackal_aic

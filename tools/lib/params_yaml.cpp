@@ -1,0 +1,184 @@
+/**
+ * \file params_yaml.cpp
+ * \brief AicParams from a YAML file through the parameter schema (doc/jackal_aic_node.md,
+ *        'Parameters').
+ */
+#include "jackal_tools/params_yaml.hpp"
+
+#include <sstream>
+#include <stdexcept>
+
+#include "jackal_tools/yaml_overrides.hpp"
+
+namespace jackal_aic
+{
+namespace
+{
+template <class T>
+ParamSource::Status readAs(const YAML::Node& n, ParamValue* out)
+{
+  try
+  {
+    *out = n.as<T>();
+    return ParamSource::Status::kOk;
+  }
+  catch (const YAML::Exception&)
+  {
+    return ParamSource::Status::kWrongType;
+  }
+}
+}  // namespace
+
+ParamSource::Status YamlParamSource::read(const std::string& key, ParamType type, ParamValue* out) const
+{
+  const YAML::Node n = root_.IsMap() ? root_[key] : YAML::Node();
+  if (!n)
+  {
+    return Status::kMissing;
+  }
+  switch (type)
+  {
+    case ParamType::kDouble:
+      return readAs<double>(n, out);
+    case ParamType::kInt:
+      return readAs<int>(n, out);
+    case ParamType::kBool:
+      return readAs<bool>(n, out);
+    case ParamType::kString:
+      return n.IsScalar() ? readAs<std::string>(n, out) : Status::kWrongType;
+    case ParamType::kDoubleList:
+      return readAs<std::vector<double>>(n, out);
+    case ParamType::kStringList:
+      return readAs<std::vector<std::string>>(n, out);
+  }
+  return Status::kWrongType;
+}
+
+std::string YamlParamSource::raw(const std::string& key) const
+{
+  const YAML::Node n = root_.IsMap() ? root_[key] : YAML::Node();
+  if (!n)
+  {
+    return "<missing>";
+  }
+  YAML::Emitter e;
+  e << YAML::Flow << n;
+  return e.c_str();
+}
+
+std::vector<std::string> YamlParamSource::keys() const
+{
+  std::vector<std::string> out;
+  if (root_.IsMap())
+  {
+    for (const auto& kv : root_)
+    {
+      out.push_back(kv.first.as<std::string>());
+    }
+  }
+  return out;
+}
+
+AicParams aicParamsFromYaml(const YAML::Node& root, const std::string& file, std::vector<std::string>* defaulted,
+                            std::vector<std::string>* unknown)
+{
+  NodeParams params;
+  const ParamLoadReport report =
+      loadParams(YamlParamSource(root), { ParamScope::kController }, /*with_reconfigure=*/false, &params);
+  if (!report.errors.empty())
+  {
+    const ParamViolation& e = report.errors.front();
+    throw std::runtime_error(file + ": key '" + e.name + "' must be " + e.allowed + " (got " + e.value + ")");
+  }
+  if (defaulted)
+  {
+    *defaulted = report.defaulted;
+  }
+  if (unknown)
+  {
+    *unknown = report.unknown;
+  }
+  return params.aic;
+}
+
+namespace
+{
+/// A YAML file's top-level map with the overrides applied; errors as std::runtime_error naming the file.
+YAML::Node readYamlMap(const std::string& file, const std::vector<std::string>& overrides)
+{
+  YAML::Node root;
+  try
+  {
+    root = YAML::LoadFile(file);
+    if (!root.IsMap())
+    {
+      throw std::runtime_error(file + ": expected a map of parameters at the top level");
+    }
+    applyOverrides(root, overrides);
+  }
+  catch (const YAML::BadFile&)
+  {
+    throw std::runtime_error("cannot read '" + file + "'");
+  }
+  catch (const YAML::Exception& e)
+  {
+    throw std::runtime_error(file + ": YAML error: " + e.what());
+  }
+  catch (const std::invalid_argument& e)
+  {
+    throw std::runtime_error(file + ": " + e.what());
+  }
+  return root;
+}
+
+/// Throws "<file>: invalid parameters: ..." listing every violation, if any.
+void requireValid(const std::vector<ParamViolation>& violations, const std::string& file)
+{
+  if (!violations.empty())
+  {
+    std::string msg = file + ": invalid parameters:";
+    for (const auto& v : violations)
+    {
+      msg += " " + v.toString() + ";";
+    }
+    throw std::runtime_error(msg);
+  }
+}
+}  // namespace
+
+AicParams loadAicParams(const std::string& file, const std::vector<std::string>& overrides)
+{
+  const AicParams p = aicParamsFromYaml(readYamlMap(file, overrides), file, nullptr, nullptr);
+  requireValid(p.validate(), file);
+  return p;
+}
+
+NodeParams loadNodeParamsFiles(const std::vector<std::string>& files, const std::vector<std::string>& overrides)
+{
+  NodeParams params;
+  std::string names;
+  for (std::size_t i = 0; i < files.size(); ++i)
+  {
+    const std::string& file = files[i];
+    const YAML::Node root = readYamlMap(file, i + 1 == files.size() ? overrides : std::vector<std::string>());
+    const ParamLoadReport report = loadParams(YamlParamSource(root), { ParamScope::kController, ParamScope::kNode },
+                                              /*with_reconfigure=*/false, &params);
+    if (!report.errors.empty())
+    {
+      const ParamViolation& e = report.errors.front();
+      throw std::runtime_error(file + ": key '" + e.name + "' must be " + e.allowed + " (got " + e.value + ")");
+    }
+    names += (names.empty() ? "" : " + ") + file;
+  }
+  // The joint lists may be left to the caller (the simulator's wheels): check the rest.
+  NodeParams check = params;
+  if (check.left_joints.empty() && check.right_joints.empty())
+  {
+    check.left_joints = { "left" };
+    check.right_joints = { "right" };
+  }
+  requireValid(check.validate(), names);
+  return params;
+}
+
+}  // namespace jackal_aic

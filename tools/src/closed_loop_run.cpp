@@ -1,0 +1,412 @@
+/**
+ * \file closed_loop_run.cpp
+ * \brief closed_loop_run: one set-point profile with the stock controller or the AIC on the
+ *        ODE plant core, headless and faster than real time (jackal_sim/harness/closed_loop.hpp: the
+ *        node's logic, ControlLoop, on simulated time). Prints one JSON object with the metrics of
+ *        every transition of the profile for the measured (wheel-odometry), ground-truth,
+ *        belief and drive-command speeds, and the tracking of the whole profile (RMS and max
+ *        error of vx and wz, ground truth and wheel odometry, against the set point; the
+ *        ground-truth path's drift from the set point's ideal path: jackal_aic/tracking_metrics.hpp);
+ *        optionally the trace as CSV. The experiment engine of aic_reproduce.py (--backend core)
+ *        and aic_track.py; the ROS backend runs the nodes instead.
+ *
+ * Usage: closed_loop_run --controller aic|stock|open [--aic-config FILE] [--aic-set key=value]...
+ *            [--config PLANT.yaml] [--overlay FILE]... [--set key=value]... [--urdf FILE]
+ *            (--step V [--turn W] | --square LOW HIGH | --profile FILE [--segments]) [--channel linear|angular]
+ *            [--period S] [--cycles N] [--rest S] [--hold S] [--noise] [--fault LINE]... [--csv FILE]
+ *   --overlay FILE    plant YAML with only the keys that differ (e.g. sim/config/variants/*.yaml),
+ *                     applied after --config and before --set; repeatable, later ones win
+ *   --controller open  no controller: the set point's wheel speeds go to the MCU as they are
+ *   --channel angular  the step / square values are yaw rates [rad/s] (linear set point 0);
+ *                      metrics on the yaw rate
+ *   --step V          0 until --rest, then V [m/s] for --hold seconds
+ *   --turn W          with --step: a combined step, the yaw-rate set point steps to W [rad/s] at
+ *                     the same time; "angular_segments" gives the yaw rate's metrics
+ *   --square LOW HIGH 0 until --rest, LOW for --rest seconds (lead-in), then --cycles periods of
+ *                     HIGH / LOW, each half --period / 2
+ *   --profile FILE    a twist profile CSV (t, vx, wz rows, header optional, zero-order hold, the
+ *                     last row's t ends it; jackal_aic/tracking_metrics.hpp), played from --rest on;
+ *                     its transitions are not steps: "segments" is empty unless --segments (then the
+ *                     step metrics of every transition, "segments" vx and "angular_segments" wz)
+ *   --noise           keep the plant YAML's sensor noise (seeded; default: ideal sensors)
+ *   --fault LINE      inject a fault from START s after the run's start (sim/README.md)
+ * JSON: {"runaways", "max_abs_speed", "command_delay" (the plant's motor.command_delay [s]),
+ *        "segments": [{"t_step", "initial", "target", "measured": {...}, "truth": {...}, "belief": {...},
+ *        "drive": {...}}] [, "angular_segments": [...]], "profile",
+ *        "duration", "tracking": {"truth": {"vx": {"rms", "max"}, "wz": {...}, "samples"}, "odometry": {...}},
+ *        "path": {"final_position_error", "max_position_error", "final_heading_error", "ideal_length",
+ *        "samples"}} with rise, settling, overshoot, sse, settled; times from the profile's start
+ *        (--rest + 10 ms into the run); tracking over the profile's span.
+ * CSV (--csv): t (from the profile's start), set points, speeds, beliefs, drive commands, the
+ *        ground-truth pose x, y, heading and the ideal pose x_ideal, y_ideal, heading_ideal (empty
+ *        outside the analysed span).
+ * Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.
+ */
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "jackal_tools/cli.hpp"
+#include "jackal_tools/params_yaml.hpp"
+#include "jackal_aic/step_metrics.hpp"
+#include "jackal_aic/tracking_metrics.hpp"
+#include "jackal_tools/plant_cli.hpp"
+#include "jackal_tools/share_path.hpp"
+#include "jackal_sim/harness/closed_loop.hpp"
+#include "jackal_sim/plant/plant_params.hpp"
+#include "jackal_sim/plant/robot_description.hpp"
+
+using namespace jackal_aic;
+using namespace jackal_aic::plant;
+using namespace jackal_aic::harness;
+
+namespace
+{
+std::string metricsJson(const std::vector<double>& t, const std::vector<double>& y, double t_step, double t_end,
+                        double initial, double target)
+{
+  StepMetricsOptions o;
+  o.step_time = t_step;
+  o.end_time = t_end;
+  o.initial = initial;
+  o.target = target;
+  std::vector<double> tt;
+  std::vector<double> yy;
+  for (std::size_t i = 0; i < t.size(); ++i)
+  {
+    if (std::isfinite(y[i]))
+    {
+      tt.push_back(t[i]);
+      yy.push_back(y[i]);
+    }
+  }
+  if (tt.size() < 2)
+  {
+    return "null";
+  }
+  const StepMetrics m = computeStepMetrics(tt, yy, o);
+  std::ostringstream os;
+  os << "{\"rise\": " << jsonNumber(m.rise_time) << ", \"settling\": " << jsonNumber(m.settling_time)
+     << ", \"overshoot\": " << jsonNumber(m.overshoot_percent) << ", \"sse\": " << jsonNumber(m.steady_state_error)
+     << ", \"settled\": " << (m.settled ? "true" : "false") << "}";
+  return os.str();
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+  PlantOptions plant;
+  std::string aic_config = packageFile("config/thesis_equivalent.yaml");
+  std::vector<std::string> aic_overrides;
+  std::string controller;
+  std::string csv;
+  double step = 0.0;
+  double low = 0.0;
+  double high = 0.0;
+  double period = 4.0;
+  int cycles = 2;
+  double rest = 1.0;
+  double hold = 3.0;
+  bool noise = false;
+  std::string channel = "linear";
+  std::vector<double> square;
+  double turn = 0.0;
+  std::string profile_file;
+  bool profile_segments = false;
+  CommandLine cl("closed_loop_run",
+                 "One set-point profile with the stock controller or the AIC on the ODE plant core, headless and "
+                 "faster than real time; prints one JSON object with the metrics of every transition.");
+  cl.option("controller", &controller,
+            "aic, stock or open (no controller: the set point's wheel speeds go to the MCU as they are)", true);
+  cl.option("aic-config", &aic_config, "controller YAML (controller and node keys, as the node reads it)");
+  cl.overrides("aic-set", &aic_overrides, "override a controller or node key");
+  plant.addTo(&cl);
+  cl.option("step", &step, "0 until --rest, then V [m/s] (or [rad/s]) for --hold seconds");
+  cl.numbers("square", &square, 2,
+             "LOW HIGH: 0 until --rest, LOW for --rest seconds (lead-in), then --cycles periods of HIGH / LOW, each "
+             "half --period / 2");
+  cl.option("channel", &channel,
+            "linear or angular: the step / square values are yaw rates [rad/s] (linear set point 0); metrics on the "
+            "yaw rate");
+  cl.option("turn", &turn,
+            "W [rad/s]: a combined step, --step V on the linear channel and W on the angular one at once (--channel "
+            "linear); metrics for both (\"segments\": linear, \"angular_segments\": yaw rate)");
+  cl.option("profile", &profile_file,
+            "twist profile CSV (t,vx,wz rows, zero-order hold, the last row's t ends it), played from --rest on");
+  cl.flag("segments", &profile_segments, "with --profile: step metrics of every transition of both channels");
+  cl.option("period", &period, "square period [s]");
+  cl.option("cycles", &cycles, "square periods, 1..100");
+  cl.option("rest", &rest, "rest before the profile [s], > 0.2");
+  cl.option("hold", &hold, "step hold time [s]");
+  cl.flag("noise", &noise, "keep the plant YAML's sensor noise (seeded; default: ideal sensors)");
+  std::vector<std::string> fault_lines;
+  cl.repeated("fault", &fault_lines,
+                "inject a fault, \"TARGET KIND [VALUE] [START] [DURATION] [PERIOD]\" with START from the run's "
+                "start (sim/README.md, 'Fault injection')");
+  cl.option("csv", &csv, "write the trace as CSV");
+  cl.footer("Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.");
+  if (const int code = cl.parse(argc, argv); code >= 0)
+  {
+    return code;
+  }
+  const bool have_step = cl.given("step");
+  const bool have_square = cl.given("square");
+  const bool have_profile = cl.given("profile");
+  if (have_square)
+  {
+    low = square[0];
+    high = square[1];
+  }
+  if (controller != "aic" && controller != "stock" && controller != "open")
+  {
+    return cl.bad("--controller must be aic, stock or open");
+  }
+  if (channel != "linear" && channel != "angular")
+  {
+    return cl.bad("--channel must be linear or angular");
+  }
+  const bool angular = channel == "angular";
+  if (static_cast<int>(have_step) + static_cast<int>(have_square) + static_cast<int>(have_profile) != 1)
+  {
+    return cl.bad("give exactly one of --step, --square and --profile");
+  }
+  if (profile_segments && !have_profile)
+  {
+    return cl.bad("--segments goes with --profile");
+  }
+  if (!(rest > 0.2) || !(hold > 0.0) || !(period > 0.0) || cycles < 1 || cycles > 100)
+  {
+    return cl.bad("--rest must be > 0.2 s, --hold and --period > 0, --cycles in [1, 100]");
+  }
+
+  const bool combined = cl.given("turn");
+  if (combined && (!have_step || angular))
+  {
+    return cl.bad("--turn needs --step and --channel linear");
+  }
+
+  ClosedLoopConfig c;
+  for (const std::string& line : fault_lines)
+  {
+    FaultSpec f;
+    std::string error;
+    if (!parseFaultSpec(line, &f, &error))
+    {
+      return cl.bad("--fault '" + line + "': " + error);
+    }
+    c.faults.push_back(f);
+  }
+  c.controller = controller == "aic" ? LoopController::kAic
+                 : controller == "open" ? LoopController::kOpenLoop : LoopController::kStock;
+  // A set point on the chosen channel, 0 on the other.
+  auto sp = [angular](double start, double value) -> SetPointSegment {
+    return angular ? SetPointSegment{ start, 0.0, value } : SetPointSegment{ start, value, 0.0 };
+  };
+  c.ideal_sensors = !noise;
+  // Set-point changes 10 ms after a 50 Hz tick, as the identification runs.
+  const double t0 = rest + 0.01;
+  if (have_step)
+  {
+    c.profile = { sp(0.0, 0.0), sp(t0, step) };
+    if (combined)
+    {
+      c.profile[1].angular = turn;
+    }
+    c.duration = t0 + hold;
+  }
+  else if (have_square)
+  {
+    c.profile.push_back(sp(0.0, 0.0));
+    c.profile.push_back(sp(t0, low));
+    double t = t0 + rest;
+    for (int k = 0; k < cycles; ++k)
+    {
+      c.profile.push_back(sp(t, high));
+      c.profile.push_back(sp(t + 0.5 * period, low));
+      t += period;
+    }
+    c.duration = t;
+  }
+
+  // The profile in profile time (0 = t0), for the tracking metrics; a CSV profile is played from t0.
+  TwistProfile tracked;
+  try
+  {
+    if (have_profile)
+    {
+      tracked = loadTwistProfileCsv(profile_file);
+      c.profile = profileSegments(tracked, t0);
+      c.duration = t0 + tracked.duration;
+    }
+    else
+    {
+      for (const SetPointSegment& s : c.profile)
+      {
+        if (s.start >= t0 - 1e-9)
+        {
+          tracked.points.push_back(TwistProfilePoint{ s.start - t0, s.linear, s.angular });
+        }
+      }
+      tracked.duration = c.duration - t0;
+      tracked.name = have_step ? "step" : "square";
+    }
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "closed_loop_run: " << e.what() << "\n";
+    return 1;
+  }
+
+  RobotDescription desc;
+  PlantParams params;
+  try
+  {
+    desc = plant.description();
+    params = plant.params();
+    if (c.controller == LoopController::kAic)
+    {
+      c.node = loadNodeParamsFiles({ aic_config }, aic_overrides);  // the node's keys too (triggers, FDI, ...)
+      c.aic = c.node.aic;
+    }
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "closed_loop_run: " << e.what() << "\n";
+    return 1;
+  }
+  ClosedLoopRecord rec;
+  try
+  {
+    rec = runClosedLoop(desc, params, c);
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "closed_loop_run: " << e.what() << "\n";
+    return 1;
+  }
+
+  // Tracking of the whole profile: ground truth and wheel odometry against the set point, the
+  // ground-truth path against the ideal one.
+  std::vector<double> t_profile;
+  for (double t : rec.time)
+  {
+    t_profile.push_back(t - t0);
+  }
+  std::string tracking_json;
+  PathDrift drift;
+  try
+  {
+    tracking_json = "{\"truth\": " + toJson(velocityTrackingError(tracked, t_profile, rec.v_true, rec.yaw_true)) +
+                    ", \"odometry\": " + toJson(velocityTrackingError(tracked, t_profile, rec.v_odom, rec.yaw_odom)) +
+                    "}";
+    drift = pathDrift(tracked, t_profile, rec.x_true, rec.y_true, rec.heading_true);
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "closed_loop_run: " << e.what() << "\n";
+    return 1;
+  }
+
+  if (!csv.empty())
+  {
+    std::ofstream f(csv);
+    f << "t,set_point,v_odom,v_true,yaw_odom,yaw_true,command,belief,angular_set_point,command_yaw,belief_yaw,"
+         "x,y,heading,x_ideal,y_ideal,heading_ideal\n";
+    std::size_t ideal = 0;  // next analysed sample of the path drift
+    for (std::size_t k = 0; k < rec.time.size(); ++k)
+    {
+      f << t_profile[k] << "," << rec.set_point[k] << "," << rec.v_odom[k] << "," << rec.v_true[k] << ","
+        << rec.yaw_odom[k] << "," << rec.yaw_true[k] << "," << rec.command[k] << ","
+        << (std::isfinite(rec.belief[k]) ? jsonNumber(rec.belief[k]) : "") << "," << rec.angular_set_point[k] << ","
+        << rec.command_yaw[k] << "," << (std::isfinite(rec.belief_yaw[k]) ? jsonNumber(rec.belief_yaw[k]) : "") << ","
+        << jsonNumber(rec.x_true[k], 9) << "," << jsonNumber(rec.y_true[k], 9) << ","
+        << jsonNumber(rec.heading_true[k], 9);
+      if (ideal < drift.time.size() && drift.time[ideal] == t_profile[k])
+      {
+        f << "," << jsonNumber(drift.ideal[ideal].x, 9) << "," << jsonNumber(drift.ideal[ideal].y, 9) << ","
+          << jsonNumber(drift.ideal[ideal].heading, 9);
+        ++ideal;
+      }
+      else
+      {
+        f << ",,,";
+      }
+      f << "\n";
+    }
+    if (!f)
+    {
+      std::cerr << "closed_loop_run: cannot write " << csv << "\n";
+      return 1;
+    }
+  }
+
+  double max_abs = 0.0;
+  for (double v : rec.v_true)
+  {
+    max_abs = std::max(max_abs, std::abs(v));
+  }
+  std::cout << "{\"controller\": \"" << controller << "\", \"channel\": \"" << channel
+            << "\", \"runaways\": " << rec.runaways
+            << ", \"max_abs_speed\": " << jsonNumber(max_abs)
+            << ", \"command_delay\": " << jsonNumber(params.motor.command_delay) << ", \"t0\": " << jsonNumber(t0)
+            << ", \"segments\": ";
+  // The transitions of one channel (angular: the yaw rate) as a JSON list of metrics.
+  auto segments = [&](bool yaw) {
+    std::ostringstream out;
+    out << "[";
+    bool first = true;
+    for (std::size_t s = 1; s < c.profile.size(); ++s)
+    {
+      const double t_step = c.profile[s].start;
+      if (t_step < t0 - 1e-9)
+      {
+        continue;
+      }
+      const double t_end = s + 1 < c.profile.size() ? c.profile[s + 1].start : c.duration;
+      const double initial = yaw ? c.profile[s - 1].angular : c.profile[s - 1].linear;
+      const double target = yaw ? c.profile[s].angular : c.profile[s].linear;
+      const auto& measured = yaw ? rec.yaw_odom : rec.v_odom;
+      const auto& truth = yaw ? rec.yaw_true : rec.v_true;
+      const auto& belief = yaw ? rec.belief_yaw : rec.belief;
+      const auto& drive = yaw ? rec.command_yaw : rec.command;
+      if (initial == target)
+      {
+        continue;
+      }
+      out << (first ? "" : ", ") << "{\"t_step\": " << jsonNumber(t_step - t0) << ", \"initial\": " << jsonNumber(initial)
+          << ", \"target\": " << jsonNumber(target)
+          << ", \"measured\": " << metricsJson(rec.time, measured, t_step, t_end, initial, target)
+          << ", \"truth\": " << metricsJson(rec.time, truth, t_step, t_end, initial, target)
+          << ", \"belief\": " << metricsJson(rec.time, belief, t_step, t_end, initial, target)
+          << ", \"drive\": " << metricsJson(rec.time, drive, t_step, t_end, initial, target) << "}";
+      first = false;
+    }
+    out << "]";
+    return out.str();
+  };
+  if (have_profile)
+  {
+    std::cout << (profile_segments ? segments(false) : "[]");
+    if (profile_segments)
+    {
+      std::cout << ", \"angular_segments\": " << segments(true);
+    }
+  }
+  else
+  {
+    std::cout << segments(angular);
+    if (combined)
+    {
+      std::cout << ", \"angular_segments\": " << segments(true);
+    }
+  }
+  std::cout << ", \"profile\": \"" << tracked.name << "\", \"duration\": " << jsonNumber(tracked.duration)
+            << ", \"tracking\": " << tracking_json << ", \"path\": " << toJson(drift) << "}\n";
+  return 0;
+}
