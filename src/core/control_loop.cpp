@@ -4,6 +4,7 @@
  *        doc/jackal_aic_node.md, 'Loops', 'Safety').
  */
 #include "jackal_aic/control_loop.hpp"
+#include "jackal_aic/command_guard.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -443,18 +444,15 @@ void ControlLoop::sendCommand(const Vector2& wheels, double latency)
 {
   WheelCommand c;
   c.latency = latency;
-  if (!wheels.allFinite())
+  const GuardedWheels guarded = guardWheelCommand(wheels, params_.aic.max_wheel_speed);
+  c.wheels = guarded.wheels;
+  if (guarded.replaced)
   {
     ++guarded_commands_;
     if (due(kNoticeGuard))
     {
       output_.log(LogLevel::kError, "non-finite wheel command replaced by zero");
     }
-  }
-  else
-  {
-    const double limit = params_.aic.max_wheel_speed;
-    c.wheels << std::clamp(wheels(0), -limit, limit), std::clamp(wheels(1), -limit, limit);
   }
   if (cmd_vel_)
   {

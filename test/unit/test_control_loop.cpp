@@ -278,6 +278,29 @@ TEST_F(ControlLoopTest, McuStopHoldsTheMeasuredWheels)
   EXPECT_TRUE(loop->active());
 }
 
+TEST_F(ControlLoopTest, HeldCommandIsClampedToTheWheelLimit)
+{
+  // While the MCU stop holds, the command is the measured wheel speeds, which no controller
+  // stage clamps: a robot pushed (or coasting) beyond max_wheel_speed must still get a command
+  // within it. The command stage's guard is the only one on this path.
+  p.aic.max_wheel_speed = 10.0;
+  build();
+  feed(p.aic.numOrders() + 1, 2.0, 0.5);
+  ASSERT_TRUE(loop->active());
+  loop->mcuStatus(true, true, true);
+  ASSERT_EQ(loop->supervisor().state(), NodeState::kHeld);
+  feed(3, 15.0, 0.5);  // the wheels spin at 15 rad/s
+  ASSERT_EQ(loop->supervisor().state(), NodeState::kHeld);
+  ASSERT_DOUBLE_EQ(loop->supervisor().measuredWheels()(0), 15.0);
+  loop->actionTimer(0.02);  // the keep-alive sends the held command
+  EXPECT_DOUBLE_EQ(out.commands.back().wheels(0), 10.0);
+  EXPECT_DOUBLE_EQ(out.commands.back().wheels(1), 10.0);
+  for (const WheelCommand& c : out.commands)
+  {
+    EXPECT_LE(c.wheels.cwiseAbs().maxCoeff(), 10.0);
+  }
+}
+
 TEST_F(ControlLoopTest, SetPointsAreCheckedAndBecomeTheGoal)
 {
   double sp[6];
