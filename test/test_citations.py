@@ -31,8 +31,5 @@ class TestCitations(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    if any(arg.startswith("--gtest_output=xml:") for arg in sys.argv):
-        import rosunit
-        rosunit.unitrun("jackal_aic", "citations", TestCitations)
-    else:
-        unittest.main()
+    import pyunit  # test/pyunit.py, beside this file
+    pyunit.main("citations", TestCitations)

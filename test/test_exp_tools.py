@@ -3,7 +3,6 @@
 metrics wrapper around aic_step_metrics) without a simulator; a Python unit test."""
 import math
 import os
-import sys
 import tempfile
 import unittest
 
@@ -11,7 +10,6 @@ import numpy as np
 
 from jackal_aic_tools import driving, experiment, metrics, profiles, recording, tracking
 
-PKG = "jackal_aic"
 kTimeTol = 0.02  # s: the metrics' interpolation on a 1 kHz series
 kPctTol = 0.5    # %
 
@@ -268,14 +266,6 @@ class DrivingStepTest(unittest.TestCase):
             driving.judge_step("0.7 m/s", [(m(0.2), m(0.5), 0)])
 
 
-def suite():
-    """Every test case of this file (for rosunit, which loads one name)."""
-    loader = unittest.TestLoader()
-    return unittest.TestSuite(loader.loadTestsFromTestCase(c)
-                              for c in (ProfileTest, StabilityTest, MetricsTest, TrackingTest, OverrideTest,
-                                        DrivingStepTest))
-
-
 if __name__ == "__main__":
-    import rosunit
-    rosunit.unitrun(PKG, "exp_tools", "__main__.suite")
+    import pyunit  # test/pyunit.py, beside this file
+    pyunit.main("exp_tools", ProfileTest, StabilityTest, MetricsTest, TrackingTest, OverrideTest, DrivingStepTest)

@@ -23,7 +23,6 @@ import unittest
 import ast
 import xml.etree.ElementTree as ET
 
-import yaml
 
 ROOT = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
 DEP_TAGS = ("depend", "build_depend", "build_export_depend", "exec_depend", "test_depend",
@@ -216,8 +215,5 @@ class TestPackaging(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    if any(arg.startswith("--gtest_output=xml:") for arg in sys.argv):
-        import rosunit
-        rosunit.unitrun("jackal_aic", "packaging", TestPackaging)
-    else:
-        unittest.main()
+    import pyunit  # test/pyunit.py, beside this file
+    pyunit.main("packaging", TestPackaging)

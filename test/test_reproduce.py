@@ -13,7 +13,6 @@ import sys
 import tempfile
 import unittest
 
-PKG = "jackal_aic"
 SCRIPT = os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "scripts", "aic_reproduce.py")
 ROWS = 2
 AIC_TOLERANCE = 0.4  # relative, simulation against the robot per entry
@@ -75,8 +74,5 @@ class ReproduceSubset(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    if any(arg.startswith("--gtest_output=xml:") for arg in sys.argv):
-        import rosunit
-        rosunit.unitrun(PKG, "reproduce", ReproduceSubset)
-    else:
-        unittest.main()
+    import pyunit  # test/pyunit.py, beside this file
+    pyunit.main("reproduce", ReproduceSubset)

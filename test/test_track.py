@@ -22,7 +22,6 @@ import numpy as np
 
 from jackal_aic_tools import cli, profiles, track_profiles
 
-PKG = "jackal_aic"
 ROOT = os.path.realpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), ".."))
 SCRIPT = os.path.join(ROOT, "scripts", "aic_track.py")
 SHORT = "t,vx,wz\n0,0.5,0\n1.5,0.5,0.4\n3.0,0,0\n"  # straight, then an arc
@@ -266,8 +265,5 @@ class TrackCheck(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    if any(arg.startswith("--gtest_output=xml:") for arg in sys.argv):
-        import rosunit
-        rosunit.unitrun(PKG, "track", TrackCheck)
-    else:
-        unittest.main()
+    import pyunit  # test/pyunit.py, beside this file
+    pyunit.main("track", TrackCheck)

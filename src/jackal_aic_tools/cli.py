@@ -1,4 +1,6 @@
-"""Command-line helpers shared by aic_experiment.py and aic_sweep.py."""
+"""Command-line helpers shared by the package's tools: where the package's folder and C++
+programs are (repo_root, find_executable, Tool), the profile and run options of aic_experiment.py
+and aic_sweep.py, and running a C++ tool that prints JSON."""
 import os
 
 from . import profiles, recording
@@ -91,7 +93,7 @@ def limits(a):
     return recording.StabilityLimits(v_bound=a.bound_v, w_bound=a.bound_w)
 
 
-def source_root(script_file):
+def repo_root(script_file):
     """The package's folder for a script at ``script_file``: its source checkout (the script's
     parent folder when it holds sim/config/robot_steps.yaml), else the installed package's
     share folder through rospack, else the script's parent folder."""
@@ -120,7 +122,7 @@ def find_executable(name, script_file, tool):
     ($CMAKE_PREFIX_PATH), then catkin_find. Exits with "<tool>: <name> not found (build ...)"."""
     import subprocess
     import sys
-    dirs = [os.path.join(source_root(script_file), ".ws", "devel", "lib", "jackal_aic")] + \
+    dirs = [os.path.join(repo_root(script_file), ".ws", "devel", "lib", "jackal_aic")] + \
         [d for d in os.environ.get("CMAKE_PREFIX_PATH", "").split(":") if d]
     for d in dirs:
         for c in (os.path.join(d, name), os.path.join(d, "lib", "jackal_aic", name)):
@@ -133,7 +135,7 @@ def find_executable(name, script_file, tool):
             return out
     except OSError:
         pass
-    sys.exit("%s: %s not found (build the workspace: bash scripts/build.sh)" % (tool, name))
+    sys.exit("%s: %s not found (build the workspace: bash dev/build.sh)" % (tool, name))
 
 
 def effective_config(paths, script_file, tool):
@@ -150,3 +152,29 @@ def effective_config(paths, script_file, tool):
     if out.returncode != 0:
         sys.exit("%s: %s" % (tool, out.stderr.strip()))
     return yaml.safe_load(out.stdout)
+
+
+class Tool(object):
+    """One command-line tool of the package (aic_tune, aic_reproduce, ...): its name, the prefix
+    of its messages, and where it finds the package's folder and C++ programs, both from the
+    path of its script (see repo_root, find_executable).
+
+    Attributes: name (str), script (the script's path), root (the package's folder)."""
+
+    def __init__(self, name, script_file):
+        self.name = name
+        self.script = script_file
+        self.root = repo_root(script_file)
+
+    def exe(self, program):
+        """Path of the package's C++ program ``program``; exits with a message when it is not built
+        (find_executable)."""
+        return find_executable(program, self.script, self.name)
+
+    def config(self, paths):
+        """Every node parameter as the YAML files ``paths`` set it (effective_config): a dict."""
+        return effective_config(paths, self.script, self.name)
+
+    def path(self, *parts):
+        """A path inside the package's folder: root joined with ``parts``."""
+        return os.path.join(self.root, *parts)

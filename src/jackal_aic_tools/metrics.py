@@ -39,7 +39,7 @@ def find_tool(name, env_var):
     if not cand:
         cand = shutil.which(name)
     if not cand or not os.access(cand, os.X_OK):
-        raise MetricsError("%s not found: build the workspace (bash scripts/build.sh) and "
+        raise MetricsError("%s not found: build the workspace (bash dev/build.sh) and "
                            "source .ws/devel/setup.bash, or set %s" % (name, env_var))
     _cli_paths[name] = cand
     return cand

@@ -1,18 +1,13 @@
 """Tables and plots of experiment results (matplotlib, Agg backend: headless)."""
-import math
-
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from . import profiles, recording  # noqa: E402
+from .tables import fmt, text_table  # noqa: E402
 
 SIGNAL_LABEL = {"measured": "measured (/odom)", "belief": "belief", "drive": "drive cmd"}
-
-
-def fmt(v, spec="%.3f"):
-    return "-" if v is None or (isinstance(v, float) and not math.isfinite(v)) else spec % v
 
 
 def plot_run(path, arr, t0, profile, result, wheel_radius, wheel_sep, ideal=None):
@@ -137,14 +132,9 @@ def segment_summary(result, ch):
 
 
 def format_table(headers, rows):
-    """Fixed-width text table; every cell is a string."""
-    widths = [max(len(str(h)), *(len(str(r[i])) for r in rows)) if rows else len(str(h))
-              for i, h in enumerate(headers)]
-    line = "  ".join(str(h).ljust(w) for h, w in zip(headers, widths))
-    out = [line, "  ".join("-" * w for w in widths)]
-    for r in rows:
-        out.append("  ".join(str(c).ljust(w) for c, w in zip(r, widths)))
-    return "\n".join(out)
+    """Fixed-width text table with a rule under the header (tables.text_table); every cell is a
+    string."""
+    return text_table(headers, rows, rule=True, rstrip=False)
 
 
 def run_table(results, signals=("measured", "belief", "drive")):

@@ -188,8 +188,6 @@ def suite():
 
 
 if __name__ == "__main__":
-    if any(arg.startswith("--gtest_output=xml:") for arg in sys.argv):
-        import rosunit
-        rosunit.unitrun("jackal_aic", "bag_identification", "__main__.suite")
-    else:
-        unittest.main()
+    sys.path.insert(0, os.path.dirname(HERE))  # test/pyunit.py
+    import pyunit  # noqa: E402  (the test folder is not a package)
+    pyunit.main("bag_identification", BagRoundTrip, BadBags)

@@ -1,0 +1,129 @@
+"""The printout of aic_scorecard.py: one table per criterion with the figures, the bound and
+PASS / FAIL (jackal_aic_tools.scorecard's criteria), the --doc page and the --json report."""
+import contextlib
+import io
+import json
+import os
+import sys
+
+from . import driving
+from .scorecard import RISE_RATIO, ROBUST_OVERSHOOT, SETTLE_RATIO, SQUARE_OVERSHOOT, SSE_PCT, STEP_OVERSHOOT, \
+    ratio, verdict
+from .tables import fmt, text_table
+
+
+def table(title, header, rows):
+    """Print one criterion's table: title, a header row and rows (lists of strings)."""
+    print("\n" + title)
+    print(text_table(header, rows, indent="  "))
+
+
+def print_scorecard(crit, a, root):
+    """Print the tables of scorecard()'s criteria (a: parsed arguments of aic_scorecard.py; root:
+    the package's folder, which the printed paths are relative to)."""
+    print("aic_scorecard: %s against the stock controller, plant %s, noisy sensors (closed_loop_run)"
+          % (os.path.relpath(a.aic_config, root) if a.aic_config.startswith(root) else a.aic_config,
+             " + ".join(os.path.relpath(f, root) if f.startswith(root) else f
+                        for f in [a.plant_config] + a.plant_overlay)))
+    hdr = ["step", "seed", "AIC rise/settle/os/sse", "stock rise/settle/os", "rise x", "settle x", "verdict"]
+
+    def step_cells(r):
+        return ["%.1f m/s" % r["step"], str(r["seed"]),
+                "%s s / %s s / %s %% / %s %%" % (fmt(r["aic_rise"]), fmt(r["aic_settling"]),
+                                                 fmt(r["aic_overshoot"], "%.1f"), fmt(r["aic_sse_pct"], "%.2f")),
+                "%s s / %s s / %s %%" % (fmt(r["stock_rise"]), fmt(r["stock_settling"]),
+                                         fmt(r["stock_overshoot"], "%.1f")),
+                fmt(r["rise_ratio"], "%.2f"), fmt(r["settling_ratio"], "%.2f"), verdict(r["pass"]) or "(reported)"]
+    table("1. Steps from rest (0.5 m/s judged: rise x <= %.2f, settle x <= %.2f, overshoot <= %g %%, sse <= %g %%)"
+          % (RISE_RATIO, SETTLE_RATIO, STEP_OVERSHOOT, SSE_PCT), hdr, [step_cells(r) for r in crit["steps"]])
+    table("2. 0.5 m/s step per noise seed (sensors.seed; same bounds)", hdr, [step_cells(r) for r in crit["seeds"]])
+    table("3. Yaw-rate steps from rest, 8 s hold (1 rad/s judged: AIC settle <= stock settle)",
+          ["step", "AIC rise/settle/os", "stock rise/settle/os", "settle x", "verdict"],
+          [["%.1f rad/s" % r["step"], "%s s / %s s / %s %%" % (fmt(r["aic_rise"], "%.2f"), fmt(r["aic_settling"], "%.2f"),
+                                                               fmt(r["aic_overshoot"], "%.1f")),
+            "%s s / %s s / %s %%" % (fmt(r["stock_rise"], "%.2f"), fmt(r["stock_settling"], "%.2f"),
+                                     fmt(r["stock_overshoot"], "%.1f")),
+            fmt(ratio(r["aic_settling"], r["stock_settling"]), "%.2f"), verdict(r["pass"]) or "(reported)"]
+           for r in crit["turns"]])
+    table("4. Square waves, period 5 s, 2 cycles (every transition: settled, overshoot <= %g %%)" % SQUARE_OVERSHOOT,
+          ["square", "transition", "AIC rise/settle/os", "stock settle/os", "verdict"],
+          [["%.1f <-> %.1f" % tuple(r["square"]), "%.1f -> %.1f m/s" % (r["from"], r["to"]),
+            "%s s / %s s / %s %%" % (fmt(r["aic_rise"]), fmt(r["aic_settling"]), fmt(r["aic_overshoot"], "%.1f")),
+            "%s s / %s %%" % (fmt(r["stock_settling"]), fmt(r["stock_overshoot"], "%.1f")), verdict(r["pass"])]
+           for r in crit["squares"]])
+    table("5. Robustness, 0.5 m/s step, plant varied +-20 %% (no runaway, settled, overshoot <= %g %%)"
+          % ROBUST_OVERSHOOT,
+          ["plant", "AIC rise/settle/os", "stock settle", "verdict"],
+          [[r["plant"], "%s s / %s s / %s %%" % (fmt(r["aic_rise"]), fmt(r["aic_settling"]),
+                                                fmt(r["aic_overshoot"], "%.1f")),
+            "%s s" % fmt(r["stock_settling"]), verdict(r["pass"])] for r in crit["robustness"]])
+    if "driving_steps" in crit:
+        print_driving(crit)
+
+
+def print_driving(crit):
+    """Print the driving tables (criterion 6) of scorecard()'s criteria."""
+    table("6a. Driving steps at %d phases of the 50 Hz clocks (step %s ms after the rest; the worst phase "
+          "judged: settling AIC / stock <= bound, overshoot <= %g %%)"
+          % (len(driving.STEP_PHASES), ", ".join("%g" % (1e3 * p) for p in driving.STEP_PHASES),
+             driving.STEP_OVERSHOOT),
+          ["case", "AIC settle/os (worst)", "stock settle/os", "settle x per phase", "worst", "bound", "verdict"],
+          [[r["case"], "%s s / %s %%" % (fmt(r["aic_settling"]), fmt(r["aic_overshoot"], "%.1f")),
+            "%s s / %s %%" % (fmt(r["stock_settling"]), fmt(r["stock_overshoot"], "%.1f")),
+            " ".join(fmt(x, "%.3f") for x in r["ratios"]), fmt(r["ratio"], "%.3f"), "%.2f" % r["bound"],
+            verdict(r["pass"])] for r in crit["driving_steps"]])
+    table("6b. Turn deficit (variants/turn_deficit.yaml): mean yaw-rate error over the last 1 s of a %g s hold "
+          "(|AIC| <= %g %% of the command)" % (driving.DEFICIT_HOLD, 100 * driving.DEFICIT_ERROR),
+          ["command", "AIC error", "stock error", "verdict"],
+          [["%.1f rad/s" % r["command"], "%+.4f rad/s" % r["aic_error"], "%+.4f rad/s" % r["stock_error"],
+            verdict(r["pass"])] for r in crit["driving_deficit"]])
+    table("6c. Stability on varied plants (no runaway; settled wherever the stock controller settles)",
+          ["plant", "case", "AIC settle/os", "stock settled", "verdict"],
+          [[r["plant"], r["case"], "%s s / %s %%" % (fmt(r["settling"]), fmt(r["overshoot"], "%.1f")),
+            "yes" if r["stock_settled"] else "no", verdict(r["pass"])] for r in crit["driving_robust"]])
+    g = crit["driving_gmean"]
+    table("6d. Tracking, RMS error against the set point (ground truth), AIC / stock <= %.2f per pair; geometric "
+          "mean %.3f (vx %.3f, wz %.3f; bound %.2f) %s" % (driving.TRACK_PAIR_BOUND, g["all"], g["vx"], g["wz"],
+                                                          g["bound"], verdict(g["pass"])),
+          ["profile", "variant", "vx AIC / stock [m/s]", "x", "wz AIC / stock [rad/s]", "x", "verdict"],
+          [[r["profile"], r["variant"], "%.4f / %.4f" % (r["aic_vx"], r["stock_vx"]), "%.2f" % r["vx_ratio"],
+            "%.4f / %.4f" % (r["aic_wz"], r["stock_wz"]), "%.2f" % r["wz_ratio"], verdict(r["pass"])]
+           for r in crit["driving_tracking"]])
+    fg = crit["driving_floor_gmean"]
+    table("6e. Latency floor (reported): RMS error of an ideal servo that moves the variant's latency "
+          "(motor.command_delay) after it is commanded, unlimited acceleration, holding or predicting the set "
+          "point, whichever is lower (doc/tools.md, 'Latency floor'); no controller with that latency and "
+          "predictor goes below it. Geometric mean floor / stock %.3f (vx %.3f, wz %.3f)" % (fg["all"], fg["vx"],
+                                                                                            fg["wz"]),
+          ["profile", "variant", "vx floor [m/s]", "floor / stock", "AIC / floor", "wz floor [rad/s]",
+           "floor / stock", "AIC / floor"],
+          [[r["profile"], r["variant"], "%.4f" % r["floor_vx"], "%.2f" % r["floor_vx_ratio"],
+            "%.2f" % (r["aic_vx"] / r["floor_vx"]), "%.4f" % r["floor_wz"], "%.2f" % r["floor_wz_ratio"],
+            "%.2f" % (r["aic_wz"] / r["floor_wz"])] for r in crit["driving_tracking"]])
+
+
+def report(crit, ok, a, root):
+    """Print the scorecard (print_scorecard) and its verdict; with a.doc also write it to
+    doc/results/scorecard.txt (paths relative to ``root``), with a.json the figures and verdicts
+    as JSON. Returns the exit status: 0 when every criterion passes (ok), else 1."""
+    if a.doc:
+        buf = io.StringIO()
+        with contextlib.redirect_stdout(buf):
+            print_scorecard(crit, a, root)
+            print("\n%s" % ("ALL PASS" if ok else "FAIL: at least one criterion is not met"))
+        text = buf.getvalue().replace(root + os.sep, "")
+        sys.stdout.write(text)
+        path = os.path.join(root, "doc", "results", "scorecard.txt")
+        with open(path, "w") as f:
+            f.write("# Written by: scripts/aic_scorecard.py %s--doc (closed_loop_run on the plant core, noisy "
+                    "sensors, fixed seeds); do not edit.\n" % ("--driving " if a.driving else ""))
+            f.write(text)
+        print("aic_scorecard: wrote %s" % os.path.relpath(path, root))
+    else:
+        print_scorecard(crit, a, root)
+        print("\n%s" % ("ALL PASS" if ok else "FAIL: at least one criterion is not met"))
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump({"aic_config": a.aic_config, "plant_config": a.plant_config, "pass": ok, "criteria": crit}, f,
+                      indent=1)
+    return 0 if ok else 1
