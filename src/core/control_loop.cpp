@@ -235,6 +235,14 @@ void ControlLoop::mcuFeedback(int actual_mode)
   watch();
 }
 
+void ControlLoop::outputBlocked(bool blocked, const std::string& why)
+{
+  advanceBeliefs();
+  refreshGoalRate();  // an expired ramp of the set point ends here
+  supervisor_.outputBlocked(blocked, why);
+  watch();
+}
+
 void ControlLoop::advance()
 {
   advanceBeliefs();
@@ -439,8 +447,13 @@ void ControlLoop::actionStep(double interval)
 // ---------------------------------------------------------------------------
 // Command stage
 
-void ControlLoop::sendCommand(const Vector2& wheels, double latency)
+void ControlLoop::sendCommand(const Vector2& wheels, double latency, bool stock_limits)
 {
+  if (supervisor_.state() == NodeState::kBlocked)
+  {
+    ++blocked_commands_;  // another node publishes on the output topic: publish nothing
+    return;
+  }
   WheelCommand c;
   c.latency = latency;
   if (!wheels.allFinite())
@@ -456,7 +469,16 @@ void ControlLoop::sendCommand(const Vector2& wheels, double latency)
     const double limit = params_.aic.max_wheel_speed;
     c.wheels << std::clamp(wheels(0), -limit, limit), std::clamp(wheels(1), -limit, limit);
   }
-  if (cmd_vel_)
+  if (cmd_vel_ && !stock_limits)
+  {
+    // The idle zero: published as it is, so the stock diff drive starts its own deceleration
+    // ramp (the same limits) at its next cycle instead of following ours one cycle behind.
+    c.cmd_vel = true;
+    c.twist = twistFromWheels(cmd_vel_->limiter().params(), c.wheels);
+    last_clipped_ = false;
+    cmd_vel_->reset(supervisor_.measuredWheels());  // where the diff drive's ramp starts, roughly
+  }
+  else if (cmd_vel_)
   {
     // The stock controller limits over its own 50 Hz period; ours is the action period.
     const CmdVelOutput::Result r = cmd_vel_->convert(c.wheels, supervisor_.actionLoop().nominalPeriod());
@@ -485,8 +507,15 @@ void ControlLoop::sendCommand(const Vector2& wheels, double latency)
 
 void ControlLoop::sendIdle()
 {
-  // kHeld: the measured wheel speeds (no windup against stopped motors); otherwise zero.
-  sendCommand(supervisor_.state() == NodeState::kHeld ? supervisor_.measuredWheels() : Vector2::Zero(), kNaN);
+  // kHeld: the measured wheel speeds (no windup against stopped motors); otherwise zero, at once.
+  if (supervisor_.state() == NodeState::kHeld)
+  {
+    sendCommand(supervisor_.measuredWheels(), kNaN);
+  }
+  else
+  {
+    sendCommand(Vector2::Zero(), kNaN, false);
+  }
 }
 
 }  // namespace jackal_aic
