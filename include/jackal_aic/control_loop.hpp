@@ -128,6 +128,16 @@ public:
   /// The MCU's jackal_msgs/Feedback actual_mode (Supervisor::mcuFeedback()); the watchdogs run at once.
   void mcuFeedback(int actual_mode);
   /**
+   * \brief Whether another node publishes on the output topic (the node's OutputConflict,
+   *        Supervisor::outputBlocked()); the watchdogs run at once. While blocked the state is
+   *        kBlocked, the controller is stopped and no command reaches Output::command()
+   *        (counted: blockedCommands()); when released the controller restarts bumpless from
+   *        the measured wheel speeds.
+   * \param blocked  true while the conflict lasts
+   * \param why      the reason for diagnostics (names the other publishers)
+   */
+  void outputBlocked(bool blocked, const std::string& why);
+  /**
    * \brief The action_rate timer's tick, `interval` [s] since its previous tick (<= 0 or
    *        non-finite: first tick). action_trigger timer: the action step (a += h da/dt, thesis
    *        eq. 3-16, over the interval clamped to 3 periods) and its command; sample: the
@@ -188,6 +198,8 @@ public:
   std::uint64_t outputClips() const { return cmd_vel_ ? cmd_vel_->clips() : 0; }
   /// Output mode cmd_vel: the last command was clipped.
   bool lastOutputClipped() const { return last_clipped_; }
+  /// Commands withheld while blocked (kBlocked: another publisher on the output topic).
+  std::uint64_t blockedCommands() const { return blocked_commands_; }
   /// Stamp [s] of the newest accepted sensor sample (the clock's epoch); NaN before the first.
   double newestSampleStamp() const { return newest_sample_stamp_; }
 
@@ -229,9 +241,13 @@ private:
   void handleRunaway(const char* where);
   /// One action step over `interval` [s] (-1: nominal); its command.
   void actionStep(double interval);
-  /// The command stage: guard, clamp, output mode; emit.
-  void sendCommand(const Vector2& wheels, double latency);
-  /// The command outside kRunning: the measured wheel speeds in kHeld (MCU stop), else zero.
+  /// The command stage: guard, clamp, output mode; emit (nothing in kBlocked). `stock_limits` false:
+  /// output mode cmd_vel publishes the twist of `wheels` without the stock controller's
+  /// velocity and acceleration limits (the idle zero: the diff drive ramps down itself).
+  void sendCommand(const Vector2& wheels, double latency, bool stock_limits = true);
+  /// The command outside kRunning: the measured wheel speeds in kHeld (MCU stop), else zero at
+  /// once (cmd_vel: the zero twist, not ramped by our copy of the stock limits); withheld in
+  /// kBlocked, as every command.
   void sendIdle();
 
   NodeParams params_;
@@ -248,6 +264,7 @@ private:
   std::uint64_t action_steps_ = 0;
   std::uint64_t refused_samples_ = 0;
   std::uint64_t guarded_commands_ = 0;
+  std::uint64_t blocked_commands_ = 0;
   bool last_clipped_ = false;
   double belief_time_ = 0.0;
   double newest_sample_stamp_;

@@ -80,6 +80,9 @@ struct NodeParams
   double debug_rate = 100.0;
   /// Wall-clock belief thread: 0 = default scheduler, 1..99 = ask for SCHED_FIFO at this priority.
   int realtime_priority = 0;
+  /// Wall time between two polls of the ROS master for other publishers on the output topic
+  /// (OutputConflict) [s], >= 0, <= 10; 0 = no check.
+  double publisher_check_period = 0.25;
   /// What starts an action step: the action_rate timer or each accepted sensor sample.
   ActionTrigger action_trigger = ActionTrigger::kSample;
   /// How the beliefs are advanced: to each event's time, or on a belief_rate timer; read at start.

@@ -35,10 +35,11 @@ enum class NodeState
   kRunning,  ///< controller active
   kStale,    ///< sensors or set point timed out: zero command, diagnostics WARN
   kRunaway,  ///< runaway reset, holding zero command: diagnostics ERROR
-  kHeld      ///< the MCU reports a stop (mcuStatus(), mcuFeedback()): command = measured wheel speeds, diagnostics WARN
+  kHeld,     ///< the MCU reports a stop (mcuStatus(), mcuFeedback()): command = measured wheel speeds, diagnostics WARN
+  kBlocked   ///< another node publishes on the output topic (outputBlocked()): nothing is published, diagnostics ERROR
 };
 
-/// "waiting", "running", "stale", "runaway", "held".
+/// "waiting", "running", "stale", "runaway", "held", "blocked".
 const char* toString(NodeState state);
 
 /// A stop reported by jackal_msgs/Feedback (actual_mode MODE_NONE) counts for this long after
@@ -145,7 +146,9 @@ enum class SetPointResult
  *        (doc/jackal_aic_node.md, 'Safety' and 'Loops').
  *
  * States and transitions, evaluated by update() at the clock's time:
- * - kRunaway while a runaway hold is on (runaway() starts one of runaway_hold_time);
+ * - kBlocked while the output is blocked (outputBlocked(true): another node publishes on the
+ *   output topic, OutputConflict): the node publishes nothing, so the controller is stopped;
+ * - else kRunaway while a runaway hold is on (runaway() starts one of runaway_hold_time);
  * - else kWaiting with no sensor sample yet, or with fresh sensors and no set point yet,
  *   or with fresh sensors and set point while fewer than p+1 samples have reached the
  *   generalizer since its (re)start (warm-up);
@@ -157,7 +160,7 @@ enum class SetPointResult
  *   wheel speeds, so the action does not wind up against motors that do not move;
  * - else kRunning.
  * Entering kRunning activates the controller (reset, started from the measured wheel speeds:
- * bumpless, also on leaving kHeld); leaving it deactivates it (the idle command at once: zero,
+ * bumpless, also on leaving kHeld or kBlocked); leaving it deactivates it (the idle command at once: zero,
  * or the measured wheel speeds in kHeld). Losing the sensors also restarts the sample history (the generalizer warms up
  * again). The controller is active exactly in kRunning.
  * Not thread-safe: call from the node's one spinner thread.
@@ -217,6 +220,13 @@ public:
    *        means the motors do not follow commands; counts for kMcuFeedbackExpiry.
    */
   void mcuFeedback(int actual_mode);
+  /**
+   * \brief Whether another node publishes on the output topic (the node's OutputConflict):
+   *        while blocked the state is kBlocked and nothing is published; kept until the next call.
+   * \param blocked  true while the conflict lasts
+   * \param why      the reason shown in diagnostics, e.g. "another node publishes on /cmd_drive: /jackal_node"
+   */
+  void outputBlocked(bool blocked, const std::string& why = "");
 
   // ---- decisions
   /// Watchdogs at the clock's time (every timer tick). See the class comment.
@@ -251,6 +261,10 @@ public:
   bool mcuStopped(std::string* why = nullptr) const;
   /// MCU stops seen (entries into kHeld).
   std::uint64_t mcuStops() const { return mcu_stops_; }
+  /// The output is blocked now (outputBlocked(true)).
+  bool blocked() const { return output_blocked_; }
+  /// Entries into kBlocked.
+  std::uint64_t blockedEvents() const { return blocked_events_; }
 
   /// Age of the last accepted sample [s] at the clock's time; -1 if there was none.
   double sampleAge() const;
@@ -326,6 +340,9 @@ private:
   int mcu_mode_ = 0;          ///< last Feedback actual_mode
   double last_mcu_mode_ = 0.0;  ///< receipt time of the last Feedback [s]
   std::uint64_t mcu_stops_ = 0;
+  bool output_blocked_ = false;  ///< outputBlocked(): another publisher on the output topic
+  std::string blocked_why_;      ///< its reason
+  std::uint64_t blocked_events_ = 0;
 };
 
 }  // namespace jackal_aic

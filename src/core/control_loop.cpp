@@ -236,6 +236,14 @@ void ControlLoop::mcuFeedback(int actual_mode)
   watch();
 }
 
+void ControlLoop::outputBlocked(bool blocked, const std::string& why)
+{
+  advanceBeliefs();
+  refreshGoalRate();  // an expired ramp of the set point ends here
+  supervisor_.outputBlocked(blocked, why);
+  watch();
+}
+
 void ControlLoop::advance()
 {
   advanceBeliefs();
@@ -440,8 +448,13 @@ void ControlLoop::actionStep(double interval)
 // ---------------------------------------------------------------------------
 // Command stage
 
-void ControlLoop::sendCommand(const Vector2& wheels, double latency)
+void ControlLoop::sendCommand(const Vector2& wheels, double latency, bool stock_limits)
 {
+  if (supervisor_.state() == NodeState::kBlocked)
+  {
+    ++blocked_commands_;  // another node publishes on the output topic: publish nothing
+    return;
+  }
   WheelCommand c;
   c.latency = latency;
   const GuardedWheels guarded = guardWheelCommand(wheels, params_.aic.max_wheel_speed);
@@ -454,7 +467,16 @@ void ControlLoop::sendCommand(const Vector2& wheels, double latency)
       output_.log(LogLevel::kError, "non-finite wheel command replaced by zero");
     }
   }
-  if (cmd_vel_)
+  if (cmd_vel_ && !stock_limits)
+  {
+    // The idle zero: published as it is, so the stock diff drive starts its own deceleration
+    // ramp (the same limits) at its next cycle instead of following ours one cycle behind.
+    c.cmd_vel = true;
+    c.twist = twistFromWheels(cmd_vel_->limiter().params(), c.wheels);
+    last_clipped_ = false;
+    cmd_vel_->reset(supervisor_.measuredWheels());  // where the diff drive's ramp starts, roughly
+  }
+  else if (cmd_vel_)
   {
     // The stock controller limits over its own 50 Hz period; ours is the action period.
     const CmdVelOutput::Result r = cmd_vel_->convert(c.wheels, supervisor_.actionLoop().nominalPeriod());
@@ -483,8 +505,15 @@ void ControlLoop::sendCommand(const Vector2& wheels, double latency)
 
 void ControlLoop::sendIdle()
 {
-  // kHeld: the measured wheel speeds (no windup against stopped motors); otherwise zero.
-  sendCommand(supervisor_.state() == NodeState::kHeld ? supervisor_.measuredWheels() : Vector2::Zero(), kNaN);
+  // kHeld: the measured wheel speeds (no windup against stopped motors); otherwise zero, at once.
+  if (supervisor_.state() == NodeState::kHeld)
+  {
+    sendCommand(supervisor_.measuredWheels(), kNaN);
+  }
+  else
+  {
+    sendCommand(Vector2::Zero(), kNaN, false);
+  }
 }
 
 }  // namespace jackal_aic

@@ -115,6 +115,10 @@ std::vector<ParamSpec> buildNodeRows()
     { "realtime_priority", T::kInt, N, "node", 0.0, false, 99.0, "-",
       "Belief thread (wall-clock mode): 0 = default scheduler, 1..99 = SCHED_FIFO at this priority if permitted",
       false, 0, false, 0, {}, 0, JACKAL_AIC_NODE(realtime_priority) },
+    { "publisher_check_period", T::kDouble, N, "safety", 0.0, false, 10.0, "s",
+      "Wall time between two polls of the ROS master for other publishers on the output topic; while there is "
+      "one the node publishes nothing there (diagnostics ERROR); 0 = no check",
+      false, 0, false, 0, {}, 0, JACKAL_AIC_NODE(publisher_check_period) },
     // ---- output (node only, read at start): cmd_drive, or cmd_vel through the stock diff drive
     { "output_mode", T::kString, N, "output", kNone, false, kNone, "-",
       "cmd_drive: publish the wheel commands as jackal_msgs/Drive on /cmd_drive (simulator, modified bases); "

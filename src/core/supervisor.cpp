@@ -27,6 +27,8 @@ const char* toString(NodeState state)
       return "runaway";
     case NodeState::kHeld:
       return "held";
+    case NodeState::kBlocked:
+      return "blocked";
   }
   return "unknown";
 }
@@ -164,6 +166,12 @@ void Supervisor::mcuFeedback(int actual_mode)
   last_mcu_mode_ = clock_.now();
 }
 
+void Supervisor::outputBlocked(bool blocked, const std::string& why)
+{
+  output_blocked_ = blocked;
+  blocked_why_ = blocked ? why : std::string();
+}
+
 bool Supervisor::mcuStopped(std::string* why) const
 {
   std::string reason;
@@ -223,7 +231,11 @@ Supervisor::Transition Supervisor::update()
   const bool warm = warm_samples_ >= num_orders_;
 
   NodeState next = NodeState::kRunning;
-  if (now < runaway_until_)
+  if (output_blocked_)
+  {
+    next = NodeState::kBlocked;
+  }
+  else if (now < runaway_until_)
   {
     next = NodeState::kRunaway;
   }
@@ -247,7 +259,7 @@ Supervisor::Transition Supervisor::update()
     warm_samples_ = 0;
     restart = true;
   }
-  if (next == state_)
+  if (next == state_ && !(next == NodeState::kBlocked && reason_ != blocked_why_))
   {
     Transition t;
     t.from = t.to = state_;
@@ -286,6 +298,13 @@ Supervisor::Transition Supervisor::update()
       ++mcu_stops_;
       break;
     }
+    case NodeState::kBlocked:
+      reason << blocked_why_;
+      if (state_ != NodeState::kBlocked)
+      {
+        ++blocked_events_;
+      }
+      break;
     case NodeState::kRunning:
       reason << "controlling";
       break;

@@ -28,6 +28,7 @@ AicNode::~AicNode()
   {
     belief_loop_->stop();
   }
+  publisher_watch_.reset();  // joins its thread before the loop it reports to goes
 }
 
 bool AicNode::init()
@@ -69,6 +70,24 @@ bool AicNode::init()
   reconfigure_ = std::make_unique<NodeReconfigure>(pnh_, params_);
   diagnostics_ = std::make_unique<NodeDiagnostics>(nh_, pnh_, *loop_, [this] { return controllerReport(); });
   diagnostics_->addFaultMonitor(pnh_, loop_->faultMonitor());
+
+  // One publisher per command topic: checked now, before the first command, then on a thread.
+  conflict_ = std::make_unique<OutputConflict>(outputs_->commandTopic(), ros::this_node::getName());
+  if (params_.publisher_check_period > 0.0)
+  {
+    std::vector<std::string> publishers;
+    std::string error;
+    const bool ok = PublisherWatch::publishersOf(outputs_->commandTopic(), &publishers, &error);
+    publishersPolled(ok, publishers, error);
+    publisher_watch_ = std::make_unique<PublisherWatch>(
+        outputs_->commandTopic(), params_.publisher_check_period,
+        [this](bool ok, const std::vector<std::string>& pubs, const std::string& why) { publishersPolled(ok, pubs, why); });
+  }
+  else
+  {
+    ROS_WARN_STREAM("jackal_AIC: publisher_check_period 0: another publisher on " << outputs_->commandTopic()
+                                                                                   << " would go unnoticed");
+  }
 
   action_timer_ = nh_.createTimer(ros::Duration(loop_->supervisor().actionLoop().nominalPeriod()),
                                   &AicNode::actionTimerCallback, this);
@@ -151,6 +170,33 @@ void AicNode::log(LogLevel level, const std::string& text)
   }
 }
 
+void AicNode::publishersPolled(bool ok, const std::vector<std::string>& publishers, const std::string& error)
+{
+  const std::lock_guard<std::mutex> lock(mutex_);
+  if (!ok)
+  {
+    conflict_->queryFailed();
+    ROS_WARN_STREAM_THROTTLE(10.0, "jackal_AIC: cannot list the publishers of " << conflict_->topic() << ": " << error
+                                                                                << " (keeping the last answer)");
+    return;
+  }
+  const OutputConflict::Event event = conflict_->update(publishers, clock_.now());
+  switch (event)
+  {
+    case OutputConflict::Event::kNone:
+      return;
+    case OutputConflict::Event::kStarted:
+    case OutputConflict::Event::kChanged:
+      ROS_ERROR_STREAM("jackal_AIC: " << conflict_->message(event));
+      break;
+    case OutputConflict::Event::kEnded:
+      ROS_INFO_STREAM("jackal_AIC: " << conflict_->message(event));
+      break;
+  }
+  loop_->outputBlocked(conflict_->conflicted(), "another node publishes on " + conflict_->topic() + ": " +
+                                                    conflict_->othersText() + "; publishing nothing there");
+}
+
 ControllerReport AicNode::controllerReport() const
 {
   ControllerReport r = ControllerReport::of(loop_->controller(), loop_->active());
@@ -159,6 +205,10 @@ ControllerReport AicNode::controllerReport() const
   r.output_mode = params_.output_mode;
   r.output_clips = loop_->outputClips();
   r.last_output_clipped = loop_->lastOutputClipped();
+  r.output_topic = conflict_->topic();
+  r.other_publishers = publisher_watch_ ? conflict_->othersText() : "unchecked (publisher_check_period 0)";
+  r.output_conflicts = conflict_->conflicts();
+  r.blocked_commands = loop_->blockedCommands();
   return r;
 }
 

@@ -199,6 +199,10 @@ void NodeDiagnostics::controller(diagnostic_updater::DiagnosticStatusWrapper& st
   stat.add("output mode", report.output_mode);
   stat.add("commands clipped to the stock controller's limits (cmd_vel)", report.output_clips);
   stat.add("MCU stops", loop_.supervisor().mcuStops());
+  stat.add("output topic", report.output_topic);
+  stat.add("other publishers on the output topic", report.other_publishers);
+  stat.add("output conflicts", report.output_conflicts);
+  stat.add("commands withheld (output conflict)", report.blocked_commands);
   switch (loop_.supervisor().state())
   {
     case NodeState::kRunning:
@@ -224,6 +228,9 @@ void NodeDiagnostics::controller(diagnostic_updater::DiagnosticStatusWrapper& st
       break;
     case NodeState::kRunaway:
       stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "runaway: " + reason);
+      break;
+    case NodeState::kBlocked:
+      stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "blocked: " + reason);
       break;
   }
 }

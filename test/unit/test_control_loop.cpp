@@ -301,6 +301,74 @@ TEST_F(ControlLoopTest, HeldCommandIsClampedToTheWheelLimit)
   }
 }
 
+TEST_F(ControlLoopTest, OutputBlockedPublishesNothingAndRestartsBumpless)
+{
+  feed(p.aic.numOrders() + 5, 2.0, 0.5);
+  ASSERT_TRUE(loop->active());
+  const std::size_t before = out.commands.size();
+  loop->outputBlocked(true, "another node publishes on /cmd_drive: /jackal_node; publishing nothing there");
+  EXPECT_EQ(loop->supervisor().state(), NodeState::kBlocked);
+  EXPECT_FALSE(loop->active());
+  // Samples, set points and the keep-alive timer go on; no command reaches the output.
+  feed(20, 3.0, 0.5);
+  for (int i = 0; i < 10; ++i)
+  {
+    clock.t += 0.02;
+    loop->actionTimer(0.02);
+  }
+  EXPECT_EQ(out.commands.size(), before);
+  EXPECT_GT(loop->blockedCommands(), 0u);
+  EXPECT_EQ(out.linesWith("commanding zero"), 0);  // the node logs the conflict, once
+  // Released: running again at once, from the measured wheels (bumpless), publishing again.
+  loop->outputBlocked(false, "");
+  feed(1, 3.0, 0.5);
+  EXPECT_TRUE(loop->active());
+  ASSERT_GT(out.commands.size(), before);
+  // One action step (and the action prior's feed-forward) from the measured 3 rad/s towards
+  // the goal's 5.1 rad/s: no wound-up action from the blocked time.
+  EXPECT_NEAR(out.commands.back().wheels(0), 3.0, 1.0);
+  EXPECT_NEAR(loop->controller().mu()(0, 0), p.aic.wheel_radius * 3.0, 0.05);
+}
+
+TEST_F(ControlLoopTest, SetPointTimeoutCommandsZeroAtOnce)
+{
+  // cmd_drive and cmd_vel: the first command after set_point_timeout is zero, not a ramp
+  // (cmd_vel: the zero twist; the stock diff drive ramps down with its own limits).
+  for (const std::string mode : { "cmd_drive", "cmd_vel" })
+  {
+    SCOPED_TRACE(mode);
+    p.output_mode = mode;
+    p.set_point_timeout = 0.2;
+    build();
+    out.commands.clear();
+    feed(p.aic.numOrders() + 50, 10.0, 1.0);  // ~1 m/s
+    ASSERT_TRUE(loop->active());
+    ASSERT_GT(std::abs(out.commands.back().wheels(0)), 5.0);
+    // The set point stops; samples go on at 50 Hz with the wheels still turning.
+    double last_set_point = clock.t;
+    while (loop->active())
+    {
+      clock.t += 0.02;
+      sensors.feed(*loop, clock.t, 10.0, 10.0, 0.0);
+      ASSERT_LE(clock.t - last_set_point, p.set_point_timeout + 0.02 + 1e-9);
+    }
+    EXPECT_EQ(loop->supervisor().state(), NodeState::kStale);
+    const WheelCommand& c = out.commands.back();
+    EXPECT_EQ(c.wheels(0), 0.0);
+    EXPECT_EQ(c.wheels(1), 0.0);
+    if (mode == "cmd_vel")
+    {
+      EXPECT_TRUE(c.cmd_vel);
+      EXPECT_EQ(c.twist.linear, 0.0);
+      EXPECT_EQ(c.twist.angular, 0.0);
+      EXPECT_FALSE(c.clipped);
+    }
+    clock.t += 0.02;
+    loop->actionTimer(0.02);  // the keep-alive repeats the zero
+    EXPECT_EQ(out.commands.back().wheels(0), 0.0);
+  }
+}
+
 TEST_F(ControlLoopTest, SetPointsAreCheckedAndBecomeTheGoal)
 {
   double sp[6];

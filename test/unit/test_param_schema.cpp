@@ -400,26 +400,65 @@ TEST(ParamSchema, EffectiveYamlLoadsBack)
   EXPECT_NE(robot.aic.reference_delay, NodeParams().aic.reference_delay);  // the overlay's key
 }
 
-TEST(ParamSchema, RobotYamlIsAnOverlay)
+namespace
 {
-  // config/robot.yaml is loaded after config/default.yaml (launch/robot.launch): it holds only
-  // keys that differ from the defaults (the two together are checked in EveryConfigFileIsValid).
-  const YAML::Node robot = YAML::LoadFile(kSource + "/config/robot.yaml");
-  ASSERT_TRUE(robot.IsMap());
-  ASSERT_GT(robot.size(), 0u);
-  for (const auto& kv : robot)
+/// The overlays in config/ and the files loaded before each (launch/robot.launch: default.yaml,
+/// robot.yaml, then the user's overlay such as first_run.yaml).
+const std::map<std::string, std::vector<std::string>>& overlayBases()
+{
+  static const std::map<std::string, std::vector<std::string>> bases{
+    { "config/robot.yaml", { "config/default.yaml" } },
+    { "config/first_run.yaml", { "config/default.yaml", "config/robot.yaml" } },
+  };
+  return bases;
+}
+}  // namespace
+
+TEST(ParamSchema, OverlaysHoldOnlyWhatDiffers)
+{
+  // config/robot.yaml and config/first_run.yaml are loaded after config/default.yaml
+  // (launch/robot.launch): each holds only keys that differ from the defaults (each with its
+  // bases is checked in EveryConfigFileIsValid).
+  for (const auto& [file, bases] : overlayBases())
   {
-    const std::string key = kv.first.as<std::string>();
-    SCOPED_TRACE(key);
-    const ParamSpec* s = findParam(key);
-    ASSERT_NE(s, nullptr) << "unknown key in config/robot.yaml";
-    YAML::Node one;
-    one[key] = kv.second;
-    NodeParams from_yaml;
-    ASSERT_TRUE(loadParams(YamlParamSource(one), { ParamScope::kController, ParamScope::kNode }, false, &from_yaml)
-                    .errors.empty());
-    EXPECT_FALSE(s->get(from_yaml) == defaultValue(*s)) << "a key of the overlay that repeats its default";
+    SCOPED_TRACE(file);
+    const YAML::Node overlay = YAML::LoadFile(kSource + "/" + file);
+    ASSERT_TRUE(overlay.IsMap());
+    ASSERT_GT(overlay.size(), 0u);
+    for (const auto& kv : overlay)
+    {
+      const std::string key = kv.first.as<std::string>();
+      SCOPED_TRACE(key);
+      const ParamSpec* s = findParam(key);
+      ASSERT_NE(s, nullptr) << "unknown key in the overlay";
+      YAML::Node one;
+      one[key] = kv.second;
+      NodeParams from_yaml;
+      ASSERT_TRUE(loadParams(YamlParamSource(one), { ParamScope::kController, ParamScope::kNode }, false, &from_yaml)
+                      .errors.empty());
+      EXPECT_FALSE(s->get(from_yaml) == defaultValue(*s)) << "a key of the overlay that repeats its default";
+    }
   }
+}
+
+TEST(ParamSchema, RobotYamlStopsNoLaterThanTheStockDiffDrive)
+{
+  // When twist_mux falls silent the stock diff drive commands zero after its cmd_vel_timeout
+  // (0.25 s, jackal_control config/control.yaml) at its next cycle; the AIC after
+  // set_point_timeout, noticed at its next sample or action tick (one 50 Hz period), and the
+  // diff drive applies the zero at its next cycle (another period): config/robot.yaml's
+  // comment. The first-run overlay keeps it.
+  constexpr double kStockCmdVelTimeout = 0.25;  // s
+  constexpr double kCycle = 0.02;                // s, 50 Hz
+  const NodeParams robot = loadNodeParamsFiles({ kSource + "/config/default.yaml", kSource + "/config/robot.yaml" });
+  EXPECT_LE(robot.set_point_timeout + 2.0 * kCycle, kStockCmdVelTimeout);
+  const NodeParams first = loadNodeParamsFiles(
+      { kSource + "/config/default.yaml", kSource + "/config/robot.yaml", kSource + "/config/first_run.yaml" });
+  EXPECT_EQ(first.set_point_timeout, robot.set_point_timeout);
+  EXPECT_LT(first.max_linear_speed, robot.max_linear_speed);
+  EXPECT_LT(first.max_angular_speed, robot.max_angular_speed);
+  EXPECT_LT(first.aic.max_wheel_speed, robot.aic.max_wheel_speed);
+  EXPECT_EQ(first.aic.reference_delay, robot.aic.reference_delay);  // stacked, not replaced
 }
 
 namespace
@@ -452,11 +491,15 @@ TEST(ParamSchema, EveryConfigFileIsValid)
   {
     SCOPED_TRACE(file);
     NodeParams p;
-    if (file == "config/robot.yaml")  // an overlay: loaded after config/default.yaml
+    const auto overlay = overlayBases().find(file);
+    if (overlay != overlayBases().end())  // an overlay: loaded after its bases
     {
-      ASSERT_TRUE(loadParams(YamlParamSource(YAML::LoadFile(kSource + "/config/default.yaml")),
-                             { ParamScope::kController, ParamScope::kNode }, false, &p)
-                      .errors.empty());
+      for (const std::string& base : overlay->second)
+      {
+        ASSERT_TRUE(loadParams(YamlParamSource(YAML::LoadFile(kSource + "/" + base)),
+                               { ParamScope::kController, ParamScope::kNode }, false, &p)
+                        .errors.empty());
+      }
     }
     const ParamLoadReport r = loadParams(YamlParamSource(YAML::LoadFile(kSource + "/" + file)),
                                          { ParamScope::kController, ParamScope::kNode }, false, &p);

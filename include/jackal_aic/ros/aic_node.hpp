@@ -37,6 +37,12 @@
  * queues a validated parameter set; the action timer (and the belief timer) applies it at
  * the start of its next tick.
  *
+ * One publisher per command topic: with publisher_check_period > 0 the node asks the master
+ * which nodes publish on its command topic at start and every publisher_check_period
+ * (PublisherWatch, its own thread); while another one does (OutputConflict) it logs one ERROR
+ * naming it, publishes nothing on the topic (ControlLoop::outputBlocked(), state kBlocked,
+ * diagnostics ERROR) and restarts bumpless once it is gone.
+ *
  * Safety (ControlLoop, Supervisor): the controller runs only in the supervisor's kRunning
  * state; otherwise the command is zero (the measured wheel speeds while the MCU holds),
  * published at once on leaving kRunning. Every published number passes a final finiteness
@@ -47,6 +53,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include <geometry_msgs/Twist.h>
 #include <jackal_msgs/Feedback.h>
@@ -58,10 +65,12 @@
 
 #include "jackal_aic/control_loop.hpp"
 #include "jackal_aic/node_params.hpp"
+#include "jackal_aic/output_conflict.hpp"
 #include "jackal_aic/ros/belief_loop.hpp"
 #include "jackal_aic/ros/node_diagnostics.hpp"
 #include "jackal_aic/ros/node_outputs.hpp"
 #include "jackal_aic/ros/node_reconfigure.hpp"
+#include "jackal_aic/ros/publisher_watch.hpp"
 
 namespace jackal_aic
 {
@@ -119,6 +128,9 @@ private:
   void beliefTick(double interval);
   /// Apply a parameter set queued by dynamic_reconfigure (between ticks; call with the lock held).
   void applyPendingParams();
+  /// One poll of the command topic's publishers (PublisherWatch's thread, or init()): the
+  /// conflict's transitions logged and handed to the ControlLoop. Takes the lock.
+  void publishersPolled(bool ok, const std::vector<std::string>& publishers, const std::string& error);
   ControllerReport controllerReport() const;
 
   // ControlLoop::Output: publish, report, log.
@@ -145,6 +157,12 @@ private:
   /// Guards loop_, params_ and published_steps_.
   mutable std::mutex mutex_;
   std::uint64_t published_steps_ = 0;  ///< loop_->beliefSteps() at the last debug publication
+
+  /// The command topic's conflict state (guarded by mutex_).
+  std::unique_ptr<OutputConflict> conflict_;
+  /// Polls the master for the command topic's publishers (publisher_check_period > 0); destroyed
+  /// (its thread joined) before everything its callback uses.
+  std::unique_ptr<PublisherWatch> publisher_watch_;
 
   bool belief_on_thread_ = false;  ///< the belief loop runs on its own thread (timer schedule, wall clock)
   /// The belief loop (timer schedule only). Declared last: destroyed (stopped) first.

@@ -45,6 +45,10 @@ struct ControllerReport
   std::string output_mode = "cmd_drive";  ///< output_mode parameter
   std::uint64_t output_clips = 0;       ///< cmd_vel mode: commands clipped to the stock controller's limits
   bool last_output_clipped = false;     ///< cmd_vel mode: the last command was clipped (anti-windup active)
+  std::string output_topic;             ///< the command topic's resolved name
+  std::string other_publishers = "none";  ///< other nodes publishing on it ("unchecked" with the check off)
+  std::uint64_t output_conflicts = 0;   ///< conflicts started (another publisher appeared)
+  std::uint64_t blocked_commands = 0;   ///< commands withheld while another node published on the topic
 
   /// The controller's part: F (0 before the first measurement), mu^(0) x_dot and theta_dot, and
   /// the action as the command while `active` (zero otherwise); the rest stays default.

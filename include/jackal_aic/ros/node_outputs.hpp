@@ -75,6 +75,8 @@ public:
   bool debugWanted() const;
   /// True in output mode cmd_vel.
   bool cmdVelMode() const { return cmd_vel_mode_; }
+  /// The command topic's resolved name (/cmd_drive, or jackal_velocity_controller/cmd_vel resolved).
+  std::string commandTopic() const { return cmd_pub_.getTopic(); }
 
   /**
    * \brief Publish a command of the ControlLoop's command stage: output mode cmd_drive a

@@ -1,0 +1,287 @@
+#!/usr/bin/env python3
+"""The robot's command path on the simulated stock base (test/rostest/robot_path_sim.launch:
+plant on simulated time, the stock diff drive, the twist_mux stand-in) with launch/robot.launch.
+Times are ROS (simulated) times: the receipt time of each message in this node; every wait is
+on a condition with a deadline, never a fixed sleep.
+
+~mode drive (robot.launch started by the .test): navigation (/cmd_vel) at ~speed m/s; the mean
+  /odom speed over ~steady_window s comes within ~speed_tol; /jackal_velocity_controller/cmd_vel
+  has one publisher (/jackal_AIC), /cmd_drive one (/stock_base); the joystick
+  (joy_teleop/cmd_vel, ~joystick_speed) outranks navigation and, after it stops, navigation
+  drives again once the joystick's input times out (0.5 s); the e-stop lock (/e_stop true)
+  stops the wheel commands within ~stop_limit s while navigation keeps publishing; released,
+  the robot drives at ~speed again.
+~mode stop_path (this node starts robot.launch itself, twice, on the same simulation):
+  `roslaunch jackal_aic robot.launch` (the AIC) and then `robot.launch controller:=stock` (the
+  stock relay); for each, ~repeats times at 0.5 m/s and at 1.0 m/s + 0.5 rad/s: drive until
+  steady, engage the lock with navigation still publishing, and take the time from the
+  lock's engagement to the last /cmd_drive with a wheel above ~wheel_threshold rad/s. Prints
+  both; the AIC's median at each speed is no longer than the stock path's.
+"""
+import math
+import os
+import signal
+import statistics
+import subprocess
+import sys
+import threading
+import unittest
+
+import rosgraph
+import rospy
+import rostest
+from diagnostic_msgs.msg import DiagnosticArray
+from geometry_msgs.msg import Twist
+from jackal_msgs.msg import Drive
+from nav_msgs.msg import Odometry
+from std_msgs.msg import Bool
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from aic_test_utils import wait_for  # noqa: E402
+
+PKG = "jackal_aic"
+CMD_VEL = "/jackal_velocity_controller/cmd_vel"
+SET_POINT = "/twist_mux/cmd_vel"
+
+
+def publishers_of(topic):
+    """Node names the master lists as publishers of `topic`."""
+    pubs, _, _ = rosgraph.Master("/robot_path_check").getSystemState()
+    for name, nodes in pubs:
+        if name == topic:
+            return sorted(nodes)
+    return []
+
+
+class Stream:
+    """Publishes a Twist at `rate` Hz on a topic (ROS time) while set; None: silent."""
+
+    def __init__(self, topic, rate=20.0):
+        self.pub = rospy.Publisher(topic, Twist, queue_size=1, tcp_nodelay=True)
+        self.value = None
+        self.lock = threading.Lock()
+        self.timer = rospy.Timer(rospy.Duration(1.0 / rate), self.tick)
+
+    def set(self, v, w=0.0):
+        with self.lock:
+            self.value = None if v is None else (v, w)
+
+    def tick(self, _event):
+        with self.lock:
+            value = self.value
+        if value is not None:
+            msg = Twist()
+            msg.linear.x, msg.angular.z = value
+            self.pub.publish(msg)
+
+
+class Path:
+    """Recordings: /odom (stamp, vx, wz), /cmd_drive (receipt time, max |wheel|), the AIC's state."""
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.odom = []
+        self.drive = []
+        self.aic_state = ""
+        rospy.Subscriber("/odom", Odometry, self.on_odom, queue_size=200, tcp_nodelay=True)
+        rospy.Subscriber("/cmd_drive", Drive, self.on_drive, queue_size=200, tcp_nodelay=True)
+        rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diagnostics, queue_size=20)
+
+    def on_odom(self, m):
+        with self.lock:
+            self.odom.append((m.header.stamp.to_sec(), m.twist.twist.linear.x, m.twist.twist.angular.z))
+
+    def on_drive(self, m):
+        t = rospy.get_rostime().to_sec()
+        with self.lock:
+            self.drive.append((t, max(abs(m.drivers[0]), abs(m.drivers[1]))))
+
+    def on_diagnostics(self, m):
+        for s in m.status:
+            if s.name.endswith("controller") and "jackal_AIC" in s.name:
+                with self.lock:
+                    self.aic_state = s.message
+
+    def odom_window(self, window):
+        """/odom rows of the last `window` s; None if they span less than 80 % of it."""
+        with self.lock:
+            if not self.odom:
+                return None
+            t_end = self.odom[-1][0]
+            rows = [r for r in self.odom if r[0] >= t_end - window]
+        if not rows or rows[-1][0] - rows[0][0] < 0.8 * window:
+            return None
+        return rows
+
+    def mean_odom(self, window):
+        """Mean (vx, wz) over the last `window` s of /odom; None without data."""
+        rows = self.odom_window(window)
+        if rows is None:
+            return None
+        return (statistics.mean(r[1] for r in rows), statistics.mean(r[2] for r in rows))
+
+    def steady_at(self, v, w, tol, window):
+        """Over the last `window` s the mean vx is within tol of v and its spread within 2 tol
+        (settled, not passing through); the mean wz within max(tol, 10 % of |w|) of w."""
+        rows = self.odom_window(window)
+        if rows is None:
+            return False
+        vx = [r[1] for r in rows]
+        wz = statistics.mean(r[2] for r in rows)
+        return (abs(statistics.mean(vx) - v) <= tol and max(vx) - min(vx) <= 2.0 * tol
+                and abs(wz - w) <= max(tol, 0.1 * abs(w)))
+
+    def last_turning(self, after, threshold):
+        """Receipt time of the last /cmd_drive after `after` with a wheel above threshold; None if none."""
+        with self.lock:
+            turning = [t for t, a in self.drive if t >= after and a > threshold]
+        return turning[-1] if turning else None
+
+    def quiet_since(self, threshold):
+        """How long [s] every /cmd_drive has been at or below threshold (0 if the newest is not)."""
+        with self.lock:
+            if not self.drive or self.drive[-1][1] > threshold:
+                return 0.0
+            last_turning = max((t for t, a in self.drive if a > threshold), default=self.drive[0][0])
+            return self.drive[-1][0] - last_turning
+
+
+class RobotPath(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        rospy.init_node("robot_path_check")
+        cls.path = Path()
+        cls.nav = Stream("/cmd_vel")
+        cls.joy = Stream("/joy_teleop/cmd_vel")
+        cls.lock_pub = rospy.Publisher("/e_stop", Bool, queue_size=1, latch=True)
+        ok = wait_for(lambda: cls.path.mean_odom(0.5) is not None, 30.0)
+        assert ok, "no /odom from the simulated Jackal"
+
+    def engage_lock(self, engaged):
+        self.lock_pub.publish(Bool(data=engaged))
+        return rospy.get_rostime().to_sec()
+
+    def drive_until_steady(self, v, w, tol, window, timeout=20.0):
+        self.nav.set(v, w)
+        return wait_for(lambda: self.path.steady_at(v, w, tol, window), timeout)
+
+    def stop_and_rest(self, threshold):
+        """Navigation silent, lock released; wait until the wheel commands are quiet and the robot rests."""
+        self.nav.set(None)
+        self.joy.set(None)
+        ok = wait_for(lambda: self.path.quiet_since(threshold) > 0.5 and self.path.steady_at(0.0, 0.0, 0.02, 0.3),
+                      15.0)
+        self.engage_lock(False)
+        return ok
+
+    def lock_stop_time(self, v, w, threshold):
+        """Drive at (v, w), engage the lock with navigation still publishing; seconds to the last turning command."""
+        self.assertTrue(self.drive_until_steady(v, w, 0.05 + 0.05 * v, 0.5), "never steady at %.2f m/s" % v)
+        t_lock = self.engage_lock(True)
+        self.assertTrue(wait_for(lambda: self.path.quiet_since(threshold) > 0.5, 10.0),
+                        "the wheels never stopped after the lock")
+        last = self.path.last_turning(t_lock, threshold)
+        self.stop_and_rest(threshold)
+        return (last - t_lock) if last is not None else 0.0
+
+    # ---- mode drive -------------------------------------------------------------------
+    def run_drive(self):
+        speed = rospy.get_param("~speed", 0.5)
+        joy_speed = rospy.get_param("~joystick_speed", 0.2)
+        tol = rospy.get_param("~speed_tol", 0.05)
+        window = rospy.get_param("~steady_window", 1.0)
+        stop_limit = rospy.get_param("~stop_limit", 0.35)
+        self.engage_lock(False)
+        self.assertTrue(self.drive_until_steady(speed, 0.0, tol, window),
+                        "navigation at %.2f m/s through robot.launch: /odom never settled (AIC: %s)"
+                        % (speed, self.path.aic_state))
+        rospy.loginfo("robot_launch: steady at %s m/s (mean vx, wz over %.1f s)", self.path.mean_odom(window), window)
+        # One publisher per command topic.
+        self.assertEqual(publishers_of(CMD_VEL), ["/jackal_AIC"])
+        self.assertEqual(publishers_of("/cmd_drive"), ["/stock_base"])
+        self.assertEqual(publishers_of(SET_POINT), ["/twist_mux"])
+        self.assertEqual(self.path.aic_state, "running")
+        # The joystick outranks navigation; navigation drives again after its 0.5 s timeout.
+        self.joy.set(joy_speed)
+        self.assertTrue(wait_for(lambda: self.path.steady_at(joy_speed, 0.0, tol, window), 15.0),
+                        "the joystick did not take over")
+        self.joy.set(None)
+        self.assertTrue(wait_for(lambda: self.path.steady_at(speed, 0.0, tol, window), 15.0),
+                        "navigation did not drive again after the joystick stopped")
+        # The lock stops the wheels while navigation keeps publishing.
+        threshold = 0.05
+        t_lock = self.engage_lock(True)
+        self.assertTrue(wait_for(lambda: self.path.quiet_since(threshold) > 0.5, 10.0), "the lock did not stop")
+        last = self.path.last_turning(t_lock, threshold)
+        delay = (last - t_lock) if last is not None else 0.0
+        rospy.loginfo("robot_launch: lock to the last turning wheel command: %.3f s", delay)
+        self.assertLessEqual(delay, stop_limit)
+        self.assertTrue(wait_for(lambda: self.path.aic_state.startswith("stale"), 5.0), self.path.aic_state)
+        # Released: drives again.
+        self.engage_lock(False)
+        self.assertTrue(wait_for(lambda: self.path.steady_at(speed, 0.0, tol, window), 15.0),
+                        "did not drive again after the lock was released")
+        self.nav.set(None)
+
+    # ---- mode stop_path ---------------------------------------------------------------
+    def start_robot_launch(self, controller):
+        env = dict(os.environ)
+        proc = subprocess.Popen(["roslaunch", PKG, "robot.launch", "controller:=" + controller],
+                                env=env, stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT,
+                                start_new_session=True)
+        node = "/jackal_AIC" if controller == "aic" else "/jackal_AIC_bypass"
+        # The AIC publishes its output at once; the relay advertises at its first message, so
+        # it is up when it subscribes to the set point.
+        up = wait_for(lambda: node in publishers_of(CMD_VEL) or
+                      node in [n for t, ns in rosgraph.Master("/robot_path_check").getSystemState()[1]
+                               if t == SET_POINT for n in ns], 60.0)
+        self.assertTrue(up, "robot.launch controller:=%s did not come up" % controller)
+        return proc
+
+    def stop_robot_launch(self, proc):
+        os.killpg(proc.pid, signal.SIGINT)
+        try:
+            proc.wait(timeout=30.0)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+        self.assertTrue(wait_for(lambda: publishers_of(CMD_VEL) == [], 30.0),
+                        "a publisher stayed on %s: %s" % (CMD_VEL, publishers_of(CMD_VEL)))
+
+    def run_stop_path(self):
+        repeats = rospy.get_param("~repeats", 3)
+        threshold = rospy.get_param("~wheel_threshold", 0.05)
+        speeds = [(0.5, 0.0), (1.0, 0.5)]
+        results = {}
+        for controller in ("aic", "stock"):
+            self.engage_lock(False)
+            proc = self.start_robot_launch(controller)
+            try:
+                for v, w in speeds:
+                    results[(controller, v, w)] = [self.lock_stop_time(v, w, threshold) for _ in range(repeats)]
+            finally:
+                self.nav.set(None)
+                self.stop_robot_launch(proc)
+        lines = ["lock engaged -> last /cmd_drive with a wheel above %.2f rad/s [s, simulated time]" % threshold,
+                 "%-22s %-28s %-28s" % ("set point", "AIC (robot.launch)", "stock relay (controller:=stock)")]
+        for v, w in speeds:
+            a, s = results[("aic", v, w)], results[("stock", v, w)]
+            lines.append("%-22s median %.3f  (%s)  median %.3f  (%s)" % (
+                "%.1f m/s %.1f rad/s" % (v, w), statistics.median(a), " ".join("%.3f" % x for x in a),
+                statistics.median(s), " ".join("%.3f" % x for x in s)))
+        text = "\n".join(lines)
+        print(text)
+        rospy.loginfo("robot_stop_path:\n%s", text)
+        for v, w in speeds:
+            a, s = results[("aic", v, w)], results[("stock", v, w)]
+            self.assertGreater(statistics.median(s), 0.2, "the stock path stopped before its timeout?")
+            self.assertLessEqual(statistics.median(a), statistics.median(s),
+                                 "at %.1f m/s %.1f rad/s the AIC stops later than the stock path\n%s" % (v, w, text))
+
+    def test_robot_path(self):
+        mode = rospy.get_param("~mode")
+        {"drive": self.run_drive, "stop_path": self.run_stop_path}[mode]()
+
+
+if __name__ == "__main__":
+    rostest.rosrun(PKG, "robot_path_check", RobotPath, sys.argv)
