@@ -11,10 +11,17 @@ and the node records /cmd_drive, /jackal_velocity_controller/cmd_vel, /joint_sta
 - it starts only once /status (jackal_msgs/Status) reports the drivers active and no stop
   engaged (~require_status; false skips this), and /joint_states arrive, within ~start_timeout s;
 - it stops, sending zero twists, as soon as /status reports a stop (driver_external_stop_stopped,
-  or drivers_active false): the e-stop; when /joint_states stay away for ~data_timeout s; when the
-  run exceeds the sequence's length by ~overrun s (wall clock too, if ROS time stalls); on Ctrl-C;
-- afterwards it publishes zero twists for 1 s, closes the bag and exits.
-Its outcome ("completed", "stopped: e-stop", "stopped: timeout ...", "aborted: ...") is published
+  or drivers_active false): the e-stop; as soon as twist_mux's lock engages (std_msgs/Bool true on
+  ~lock_topic, default e_stop, the lock of jackal_control's twist_mux.yaml); when /joint_states
+  stay away for ~data_timeout s; when the run exceeds the sequence's length by ~overrun s (wall
+  clock too, if ROS time stalls); on Ctrl-C;
+- it stops, and publishes nothing more, as soon as the joystick is used (any message on
+  ~joy_topic, default joy_teleop/cmd_vel, twist_mux's highest-priority input): the joystick has
+  the robot from then on, as twist_mux gives it over every other input, and the sequence never
+  resumes. ~cmd_vel_topic bypasses twist_mux, so these two are the recorder's own: "" disables one;
+- afterwards it publishes zero twists for 1 s (not after the joystick), closes the bag and exits.
+Its outcome ("completed", "stopped: e-stop", "stopped: e-stop lock", "stopped: joystick",
+"stopped: timeout ...", "aborted: ...") is published
 (latched std_msgs/String) on ~outcome and logged; exit status 0 only when completed.
 
 Leave 1.5 m free ahead of and behind the robot and 0.5 m beside it (standard sequence), keep the
@@ -57,6 +64,10 @@ class Recorder(object):
         self.start_timeout = float(p("~start_timeout", 15.0))
         self.data_timeout = float(p("~data_timeout", 0.5))
         self.overrun = float(p("~overrun", 5.0))
+        self.joy_topic = str(p("~joy_topic", "joy_teleop/cmd_vel"))
+        self.lock_topic = str(p("~lock_topic", "e_stop"))
+        self.joystick = False  # the joystick was used: it has the robot
+        self.locked = False    # twist_mux's lock engaged
         bag_path = os.path.expanduser(p("~bag", "jackal_identification.bag"))
         self.lock = threading.Lock()
         self.bag = rosbag.Bag(bag_path, "w")
@@ -67,6 +78,12 @@ class Recorder(object):
         self.outcome_pub = rospy.Publisher("~outcome", String, queue_size=1, latch=True)
         self.String = String
         self.subs = []
+        from std_msgs.msg import Bool
+        if self.joy_topic:
+            self.subs.append(rospy.Subscriber(self.joy_topic, Twist, self.on_joystick, queue_size=10,
+                                              tcp_nodelay=True))
+        if self.lock_topic:
+            self.subs.append(rospy.Subscriber(self.lock_topic, Bool, self.on_lock, queue_size=10, tcp_nodelay=True))
         for topic, typ in ((bi.CMD_DRIVE, Drive), (self.cmd_vel_topic, Twist), (bi.JOINT_STATES, JointState),
                            (bi.IMU, Imu), (bi.FEEDBACK, Feedback), (bi.STATUS, Status)):
             self.subs.append(rospy.Subscriber(topic, typ, self.on_message, callback_args=topic, queue_size=100,
@@ -82,6 +99,26 @@ class Recorder(object):
                 self.status = msg
             elif topic == bi.JOINT_STATES:
                 self.last_joint_states = now
+
+    def on_joystick(self, _msg):
+        """Any message on ~joy_topic: the joystick takes the robot; the sequence stops for good."""
+        with self.lock:
+            self.joystick = True
+
+    def on_lock(self, msg):
+        """twist_mux's lock (std_msgs/Bool): true stops the sequence for good."""
+        if msg.data:
+            with self.lock:
+                self.locked = True
+
+    def overridden(self):
+        """Why an operator took over ("stopped: joystick", "stopped: e-stop lock"), or None."""
+        with self.lock:
+            if self.joystick:
+                return "stopped: joystick"
+            if self.locked:
+                return "stopped: e-stop lock"
+        return None
 
     def stopped(self):
         """The e-stop (or the motor enable off) as /status reports it."""
@@ -106,6 +143,8 @@ class Recorder(object):
                 have_joints = self.last_joint_states is not None
             if have_joints and (have_status or not self.require_status) and not self.stopped():
                 return None
+            if self.overridden():
+                return "aborted: " + self.overridden()[len("stopped: "):]
             if time.monotonic() > deadline:
                 if self.stopped():
                     return "aborted: the stop is engaged"
@@ -128,6 +167,8 @@ class Recorder(object):
             t = (now - t0).to_sec()
             if self.stopped():
                 return "stopped: e-stop"
+            if self.overridden():
+                return self.overridden()
             with self.lock:
                 last = self.last_joint_states
             if last is not None and (now - last).to_sec() > self.data_timeout:
@@ -141,9 +182,10 @@ class Recorder(object):
         return "stopped: shut down"
 
     def finish(self, outcome):
-        """Send zero twists for 1 s, close the bag, publish and log ``outcome``."""
+        """Send zero twists for 1 s (none when the joystick has the robot), close the bag, publish
+        and log ``outcome``."""
         rospy = self.rospy
-        end = time.monotonic() + 1.0
+        end = time.monotonic() + (0.0 if outcome == "stopped: joystick" else 1.0)
         while time.monotonic() < end:  # zero twists for 1 s (wall clock: also when ROS time stalls)
             self.send(0.0, 0.0)
             time.sleep(1.0 / RATE)

@@ -7,9 +7,13 @@ with its /status and stop): test/rostest/record_identification*.test.
   /cmd_drive, /jackal_velocity_controller/cmd_vel, /joint_states, /imu/data, /feedback and /status;
   no recorded twist exceeds ~max_linear / ~max_angular; the bag's steady turns in place show the
   overlay's yaw-rate deficit ~deficit +- ~deficit_tol rad/s (the plant node applied ~overlay).
-~mode stop: the stop is engaged (/stock_base/set_stop) ~stop_after s after the recorder starts
-  moving: its outcome is "stopped: e-stop" and every twist it publishes from ~stop_latency s after
-  the stop on is zero.
+~mode stop: ~trigger, ~stop_after s after the recorder starts moving:
+  estop     the stock base's stop (/stock_base/set_stop): outcome "stopped: e-stop", every twist
+            it publishes from ~stop_latency s after the stop on is zero;
+  lock      twist_mux's lock (/e_stop true): outcome "stopped: e-stop lock", zero twists likewise;
+  joystick  a twist on twist_mux's joystick input (/joy_teleop/cmd_vel): outcome
+            "stopped: joystick", and no twist at all from the recorder ~stop_latency s after it
+            (the joystick has the robot).
 """
 import os
 import threading
@@ -73,7 +77,17 @@ class RecorderTest(unittest.TestCase):
                 self.assertAlmostEqual(d, float(rospy.get_param("~deficit")),
                                        delta=float(rospy.get_param("~deficit_tol")), msg="command %g" % w)
         elif mode == "stop":
-            stop_pub = rospy.Publisher("/stock_base/set_stop", Bool, queue_size=1, latch=True)
+            trigger = rospy.get_param("~trigger", "estop")
+            expected = {"estop": "stopped: e-stop", "lock": "stopped: e-stop lock", "joystick": "stopped: joystick"}
+            self.assertIn(trigger, expected)
+            if trigger == "joystick":
+                stop_pub = rospy.Publisher("/joy_teleop/cmd_vel", Twist, queue_size=1, latch=True)
+                stop_msg = Twist()
+                stop_msg.angular.z = 0.3  # the operator turns the robot away
+            else:
+                stop_pub = rospy.Publisher("/stock_base/set_stop" if trigger == "estop" else "/e_stop", Bool,
+                                           queue_size=1, latch=True)
+                stop_msg = Bool(data=True)
             deadline = time.monotonic() + timeout
             while time.monotonic() < deadline:  # the recorder moves the robot
                 with self.lock:
@@ -84,14 +98,17 @@ class RecorderTest(unittest.TestCase):
             self.assertTrue(moving, "the recorder never moved the robot")
             time.sleep(float(rospy.get_param("~stop_after")))
             t_stop = time.monotonic()
-            stop_pub.publish(Bool(data=True))
-            self.assertEqual(self.wait_outcome(timeout), "stopped: e-stop")
+            stop_pub.publish(stop_msg)
+            self.assertEqual(self.wait_outcome(timeout), expected[trigger])
             time.sleep(0.5)
             latency = float(rospy.get_param("~stop_latency"))
             with self.lock:
                 after = [(v, w) for t, v, w in self.twists if t > t_stop + latency]
-            self.assertTrue(after, "no zero twists after the stop")
-            self.assertTrue(all(v == 0.0 and w == 0.0 for v, w in after), after[:5])
+            if trigger == "joystick":
+                self.assertFalse(after, "the recorder kept publishing after the joystick: %s" % after[:5])
+            else:
+                self.assertTrue(after, "no zero twists after the stop")
+                self.assertTrue(all(v == 0.0 and w == 0.0 for v, w in after), after[:5])
             self.assertTrue(os.path.isfile(rospy.get_param("~bag")))
         else:
             self.fail("~mode must be complete or stop")
