@@ -58,10 +58,12 @@
 
 #include "jackal_aic/control_loop.hpp"
 #include "jackal_aic/node_params.hpp"
+#include "jackal_aic/output_gate.hpp"
 #include "jackal_aic/ros/belief_loop.hpp"
 #include "jackal_aic/ros/node_diagnostics.hpp"
 #include "jackal_aic/ros/node_outputs.hpp"
 #include "jackal_aic/ros/node_reconfigure.hpp"
+#include "jackal_aic/ros/output_enable.hpp"
 
 namespace jackal_aic
 {
@@ -120,6 +122,8 @@ private:
   /// Apply a parameter set queued by dynamic_reconfigure (between ticks; call with the lock held).
   void applyPendingParams();
   ControllerReport controllerReport() const;
+  /// ~enable_output (output_enable.cpp): the service over gate_.
+  void startOutputGate();
 
   // ControlLoop::Output: publish, report, log.
   void command(const WheelCommand& command) override;
@@ -135,6 +139,9 @@ private:
   std::unique_ptr<ControlLoop> loop_;
   std::unique_ptr<NodeReconfigure> reconfigure_;
   std::unique_ptr<NodeDiagnostics> diagnostics_;
+  /// Whether commands leave the node (~enable_output; a field trial's A/B switch). Under mutex_.
+  OutputGate gate_;
+  std::unique_ptr<OutputEnable> output_enable_;
 
   /// The subscribers' queue while the belief thread runs (served by it); declared before the
   /// subscribers, so it outlives them.
