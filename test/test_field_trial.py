@@ -134,6 +134,24 @@ class PlanTest(unittest.TestCase):
         self.assertRefused(MINIMAL + "safety: {data_timeout: 0}\n", "safety.data_timeout")
         self.assertRefused(MINIMAL.replace("name: s,", "name: 'a b',"), "experiments[0].name")
 
+    def test_dry_run_prints_the_corridor_and_publishes_nothing(self):
+        import subprocess
+        script = os.path.join(ROOT, "scripts", "aic_field_trial.py")
+        env = dict(os.environ, ROS_MASTER_URI="http://127.0.0.1:1")  # no master: nothing can be published
+        out = subprocess.run([sys.executable, script, "--plan", STANDARD, "--dry-run"], stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, universal_newlines=True, env=env, timeout=60)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        self.assertIn("corridor (geofence, start frame)", out.stdout)
+        self.assertIn("dry run: nothing published", out.stdout)
+        bad = write(MINIMAL.replace("max_linear: 0.6", "max_linear: 9"))
+        try:
+            out = subprocess.run([sys.executable, script, "--plan", bad, "--dry-run"], stdout=subprocess.PIPE,
+                                 stderr=subprocess.PIPE, universal_newlines=True, env=env, timeout=60)
+        finally:
+            os.unlink(bad)
+        self.assertEqual(out.returncode, 2)
+        self.assertIn("limits.max_linear", out.stderr)
+
     def test_a_missing_file_is_refused(self):
         with self.assertRaises(field_plan.PlanError) as cm:
             field_plan.load_plan("/nonexistent/plan.yaml")

@@ -171,33 +171,33 @@ def _experiment(path, k, e, profile_root, limits=(TOP_LINEAR, TOP_ANGULAR)):
         raise _err(path, key, "needs exactly one of step, square, profile, identification (has %s)"
                    % (", ".join(kinds) or "none"))
     kind = kinds[0]
-    spec = e[kind]
+    item = e[kind]
     sub = "%s.%s" % (key, kind)
     try:
         if kind == "step":
-            _mapping(path, sub, spec, ("v", "w", "t_step", "hold"))
-            v = _number(path, sub + ".v", spec.get("v", 0.0))
-            w = _number(path, sub + ".w", spec.get("w", 0.0))
+            _mapping(path, sub, item, ("v", "w", "t_step", "hold"))
+            v = _number(path, sub + ".v", item.get("v", 0.0))
+            w = _number(path, sub + ".w", item.get("w", 0.0))
             if v == 0.0 and w == 0.0:
                 raise _err(path, sub, "v and w are both zero: nothing to step")
-            prof = profiles.step(v=v, w=w, t_step=_number(path, sub + ".t_step", spec.get("t_step", 0.5)),
-                                 hold=_number(path, sub + ".hold", spec.get("hold", 3.0)))
+            prof = profiles.step(v=v, w=w, t_step=_number(path, sub + ".t_step", item.get("t_step", 0.5)),
+                                 hold=_number(path, sub + ".hold", item.get("hold", 3.0)))
         elif kind == "square":
-            _mapping(path, sub, spec, ("low", "high", "period", "cycles", "lead", "channel"))
-            channel = spec.get("channel", "vx")
+            _mapping(path, sub, item, ("low", "high", "period", "cycles", "lead", "channel"))
+            channel = item.get("channel", "vx")
             if channel not in profiles.CHANNELS:
                 raise _err(path, sub + ".channel", "%r is not vx or wz" % (channel,))
-            cycles = spec.get("cycles", 1)
+            cycles = item.get("cycles", 1)
             if isinstance(cycles, bool) or not isinstance(cycles, int) or not 1 <= cycles <= 10:
                 raise _err(path, sub + ".cycles", "must be an integer in [1, 10], not %r" % (cycles,))
-            prof = profiles.square(low=_number(path, sub + ".low", spec.get("low", 0.1)),
-                                   high=_number(path, sub + ".high", spec.get("high", 0.5)),
-                                   period=_number(path, sub + ".period", spec.get("period", 4.0)), cycles=cycles,
-                                   t_lead=_number(path, sub + ".lead", spec.get("lead", 2.0)), channel=channel)
+            prof = profiles.square(low=_number(path, sub + ".low", item.get("low", 0.1)),
+                                   high=_number(path, sub + ".high", item.get("high", 0.5)),
+                                   period=_number(path, sub + ".period", item.get("period", 4.0)), cycles=cycles,
+                                   t_lead=_number(path, sub + ".lead", item.get("lead", 2.0)), channel=channel)
         elif kind == "profile":
-            if not isinstance(spec, str) or not spec:
-                raise _err(path, sub, "must be a profile name of sim/profiles or a CSV path, not %r" % (spec,))
-            csv_path = spec if spec.endswith(".csv") else os.path.join(profile_root, spec + ".csv")
+            if not isinstance(item, str) or not item:
+                raise _err(path, sub, "must be a profile name of sim/profiles or a CSV path, not %r" % (item,))
+            csv_path = item if item.endswith(".csv") else os.path.join(profile_root, item + ".csv")
             if not os.path.isabs(csv_path) and not os.path.exists(csv_path):
                 csv_path = os.path.join(os.path.dirname(os.path.abspath(path)), csv_path)
             if not os.path.isfile(csv_path):
@@ -205,10 +205,10 @@ def _experiment(path, k, e, profile_root, limits=(TOP_LINEAR, TOP_ANGULAR)):
             prof = profiles.from_csv(csv_path)
         else:
             from . import bag_identification
-            if not isinstance(spec, str):
+            if not isinstance(item, str):
                 raise _err(path, sub, "must name a sequence (%s), not %r" % (
-                    ", ".join(sorted(bag_identification.SEQUENCES)), spec))
-            prof = bag_identification.sequence_profile(spec, min(limits[0], bag_identification.MAX_LINEAR),
+                    ", ".join(sorted(bag_identification.SEQUENCES)), item))
+            prof = bag_identification.sequence_profile(item, min(limits[0], bag_identification.MAX_LINEAR),
                                                        min(limits[1], bag_identification.MAX_ANGULAR))
     except PlanError:
         raise
