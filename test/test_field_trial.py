@@ -132,6 +132,7 @@ class PlanTest(unittest.TestCase):
                            "experiments[1].profile", "no profile")
         self.assertRefused(MINIMAL.replace("{name: w, step: {w: 1.0, hold: 2.0}}", "{name: w}"), "exactly one of")
         self.assertRefused(MINIMAL + "safety: {data_timeout: 0}\n", "safety.data_timeout")
+        self.assertRefused(MINIMAL + "homing: {max_linear: 0.9}\n", "homing", "within the plan's limits")
         self.assertRefused(MINIMAL.replace("name: s,", "name: 'a b',"), "experiments[0].name")
 
     def test_dry_run_prints_the_corridor_and_publishes_nothing(self):
@@ -205,6 +206,23 @@ class SafetyTest(unittest.TestCase):
         self.assertEqual(self.kind(status=(True, True), pose=(5.0, 0.0, 0.0)), "estop")
         d = field_safety.check(self.snap(pose=(2.5, 0.0, 0.0)), self.plan)
         self.assertIn("0.50 m outside the corridor", d.reason)
+
+    def test_homing_returns_to_the_start_pose(self):
+        plan = self.plan
+        for start in ((0.6, 0.2, 0.3), (-0.5, -0.3, -2.5), (0.05, 0.0, 0.4), (1.0, -1.0, 3.0)):
+            x, y, th = start
+            for _ in range(5000):
+                vx, wz, done = field_safety.homing_command((x, y, th), plan.homing)
+                if done:
+                    break
+                self.assertLessEqual(abs(vx), plan.homing["max_linear"] + 1e-12)
+                self.assertLessEqual(abs(wz), plan.homing["max_angular"] + 1e-12)
+                x += vx * 0.02 * math.cos(th)
+                y += vx * 0.02 * math.sin(th)
+                th += wz * 0.02
+            self.assertTrue(done, "no return from %s" % (start,))
+            self.assertLessEqual(math.hypot(x, y), plan.homing["tolerance"])
+            self.assertLessEqual(abs(math.atan2(math.sin(th), math.cos(th))), plan.homing["heading_tolerance"])
 
     def test_start_checks(self):
         ready = field_safety.ready

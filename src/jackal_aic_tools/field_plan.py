@@ -40,6 +40,8 @@ DEFAULTS = {
     "rate": 50.0,
     "safety": {"data_timeout": 0.5, "status_timeout": 3.0, "overspeed_factor": 1.3, "start_tolerance": 0.5,
                "heading_tolerance": 0.5, "stop_hold": 1.0},
+    "homing": {"enabled": True, "max_linear": 0.3, "max_angular": 0.8, "min_angular": 0.5, "tolerance": 0.1,
+               "heading_tolerance": 0.1, "timeout": 30.0},
 }
 #: (min, max) of every number a plan may set; min exclusive where the tuple's third item is True.
 RANGES = {
@@ -59,6 +61,12 @@ RANGES = {
     "safety.start_tolerance": (0.05, 5.0, False),
     "safety.heading_tolerance": (0.05, math.pi, False),
     "safety.stop_hold": (0.2, 5.0, False),
+    "homing.max_linear": (0.0, 1.0, True),
+    "homing.max_angular": (0.0, 2.0, True),
+    "homing.min_angular": (0.0, 2.0, False),
+    "homing.tolerance": (0.02, 1.0, False),
+    "homing.heading_tolerance": (0.02, 1.0, False),
+    "homing.timeout": (1.0, 300.0, False),
 }
 
 
@@ -99,7 +107,9 @@ class Plan(object):
     ``alternate``, ``max_linear`` [m/s], ``max_angular`` [rad/s], ``corridor`` (dict ahead, behind,
     left, right [m]), ``margin`` [m], ``settle`` and ``rest`` [s] (zero set point before and after
     each profile), ``rate`` [Hz], ``safety`` (dict: data_timeout, status_timeout [s],
-    overspeed_factor [-], start_tolerance [m], heading_tolerance [rad], stop_hold [s]),
+    overspeed_factor [-], start_tolerance [m], heading_tolerance [rad], stop_hold [s]), ``homing``
+    (dict: enabled, max_linear [m/s], max_angular, min_angular [rad/s], tolerance [m],
+    heading_tolerance [rad], timeout [s]: the slow return to the start pose before an out run),
     ``experiments`` (list of (name, kind, profile)) and ``runs`` (list of Run)."""
 
     def run_duration(self, run):
@@ -115,7 +125,7 @@ class Plan(object):
         return {"path": self.path, "name": self.name, "controllers": list(self.controllers),
                 "limits": {"max_linear": self.max_linear, "max_angular": self.max_angular},
                 "corridor": dict(self.corridor), "margin": self.margin, "settle": self.settle, "rest": self.rest,
-                "rate": self.rate, "safety": dict(self.safety)}
+                "rate": self.rate, "safety": dict(self.safety), "homing": dict(self.homing)}
 
 
 def _err(path, key, msg):
@@ -326,7 +336,7 @@ def load_plan(path, profile_root=None):
 def plan_from_dict(d, path="<plan>", profile_root=None):
     """The Plan of an already parsed YAML mapping ``d`` (load_plan(); ``path`` names it in errors)."""
     top = ("name", "controllers", "alternate", "limits", "corridor", "margin", "settle", "rest", "rate", "safety",
-           "experiments")
+           "homing", "experiments")
     _mapping(path, "plan", d, top)
     for key in ("limits", "corridor", "experiments"):
         if key not in d:
@@ -355,6 +365,14 @@ def plan_from_dict(d, path="<plan>", profile_root=None):
         setattr(p, k, _number(path, k, d.get(k, DEFAULTS[k])))
     saf = _mapping(path, "safety", d.get("safety", {}) or {}, tuple(DEFAULTS["safety"]))
     p.safety = {k: _number(path, "safety." + k, saf.get(k, v)) for k, v in DEFAULTS["safety"].items()}
+    hom = _mapping(path, "homing", d.get("homing", {}) or {}, tuple(DEFAULTS["homing"]))
+    p.homing = {"enabled": bool(hom.get("enabled", True))}
+    p.homing.update({k: _number(path, "homing." + k, hom.get(k, v)) for k, v in DEFAULTS["homing"].items()
+                     if k != "enabled"})
+    if p.homing["max_linear"] > p.max_linear or p.homing["max_angular"] > p.max_angular:
+        raise _err(path, "homing", "max_linear, max_angular must be within the plan's limits")
+    if p.homing["min_angular"] > p.homing["max_angular"]:
+        raise _err(path, "homing.min_angular", "above homing.max_angular")
     exps = d["experiments"]
     if not isinstance(exps, list) or not exps:
         raise _err(path, "experiments", "must be a non-empty list")
@@ -430,6 +448,11 @@ def dry_run_text(plan, overhead=2.0):
                      s["status_timeout"], s["data_timeout"], s["stop_hold"]))
     lines.append("each run: %g s at rest, the profile, %g s at rest; a run starts only within %g m and %g rad "
                  "of the session's start pose" % (plan.settle, plan.rest, s["start_tolerance"], s["heading_tolerance"]))
+    h = plan.homing
+    if h["enabled"]:
+        lines.append("before each out run, the robot returns to the start pose (within %g m, %g rad) at <= %g m/s, "
+                     "%g rad/s through the stock path" % (h["tolerance"], h["heading_tolerance"], h["max_linear"],
+                                                         h["max_angular"]))
     header = ("run", "controller", "dir", "time [s]", "|vx| [m/s]", "|wz| [rad/s]", "ahead", "behind", "left",
               "right", "end x, y [m], heading [rad]")
     rows = []

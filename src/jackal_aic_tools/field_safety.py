@@ -167,3 +167,39 @@ def start_offset(pose, plan):
 
 def _age(age):
     return "ever" if math.isinf(age) else "%.2f s" % age
+
+
+def _wrap(a):
+    return math.atan2(math.sin(a), math.cos(a))
+
+
+def homing_command(pose, homing):
+    """One step of the slow return to the start pose between runs (out-and-back leaves some drift:
+    skid, a turn the wheel loop cannot hold). ``pose``: (x, y, heading) in the start frame [m, m,
+    rad]; ``homing``: dict max_linear [m/s], max_angular [rad/s], min_angular [rad/s] (below it a
+    skid-steer turn may not break away), tolerance [m], heading_tolerance [rad]. Returns (vx
+    [m/s], wz [rad/s], done): turn toward the start (backwards if it lies behind), drive there,
+    then turn to the start heading; done when within both tolerances."""
+    x, y, th = pose
+    d = math.hypot(x, y)
+    if d > homing["tolerance"]:
+        err = _wrap(math.atan2(-y, -x) - th)
+        back = abs(err) > math.pi / 2
+        if back:
+            err = _wrap(err - math.pi)
+        vx = 0.0
+        if abs(err) < 0.3:
+            vx = min(homing["max_linear"], 0.8 * d) * math.cos(err) * (-1.0 if back else 1.0)
+        return vx, _turn(err, homing, moving=vx != 0.0), False
+    err = _wrap(-th)
+    if abs(err) <= homing["heading_tolerance"]:
+        return 0.0, 0.0, True
+    return 0.0, _turn(err, homing, moving=False), False
+
+
+def _turn(err, homing, moving):
+    """Yaw rate toward a heading error ``err`` [rad]: proportional, at least min_angular in place."""
+    w = min(homing["max_angular"], 1.5 * abs(err))
+    if not moving:
+        w = max(w, homing["min_angular"])
+    return math.copysign(w, err)

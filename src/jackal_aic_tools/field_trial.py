@@ -413,6 +413,43 @@ class TrialNode(object):
         self.session.record(entry)
         return entry, stop
 
+    def home(self):
+        """Return slowly to the start pose through the stock path (plan.homing; the drift an out and
+        back pair leaves), under the same safety checks. Returns a Decision if the session must
+        stop, else None (also when homing is off, not needed or times out: the start check follows)."""
+        h = self.plan.homing
+        pose = self.snapshot().pose
+        if not h["enabled"] or pose is None or (math.hypot(pose[0], pose[1]) <= h["tolerance"] and
+                                                abs(pose[2]) <= h["heading_tolerance"]):
+            return None
+        rospy = self.rospy
+        why = self.switch("stock")
+        if why:
+            return field_safety.Decision("switch_failed", why)
+        rospy.loginfo("field_trial: homing from (%.2f m, %.2f m, %.2f rad) of the start pose" % pose)
+        rate = rospy.Rate(self.plan.rate)
+        t_end = rospy.Time.now().to_sec() + h["timeout"]
+        wall_end = time.monotonic() + 3.0 * h["timeout"]
+        while True:
+            snap = self.snapshot()
+            stop = field_safety.check(snap, self.plan, self.topics.odom)
+            if stop is not None:
+                self.halt(stop)
+                return stop
+            vx, wz, done = field_safety.homing_command(snap.pose, h)
+            if done or rospy.Time.now().to_sec() > t_end or time.monotonic() > wall_end:
+                break
+            self.send(vx, wz)
+            rate.sleep()
+        for _ in range(int(0.3 * self.plan.rate)):  # come to rest
+            self.send(0.0, 0.0)
+            rate.sleep()
+        pose = self.snapshot().pose
+        self.session.data.setdefault("homing", []).append([round(v, 4) for v in pose])
+        rospy.loginfo("field_trial: homing %s at (%.2f m, %.2f m, %.2f rad)" % (
+            "done" if done else "timed out", pose[0], pose[1], pose[2]))
+        return None
+
     def halt(self, stop):
         """Stop now: silence the AIC, zero twists to the diff drive for safety.stop_hold s (wall
         clock, also when ROS time stalls), then the AIC's output back on; log the reason."""
@@ -491,6 +528,10 @@ class TrialNode(object):
             if run.name in done:
                 continue
             if run.direction == "out":
+                stop = self.home()
+                if stop is not None:
+                    self.finish("interrupted" if stop.kind == "interrupted" else "stopped", str(stop))
+                    return EXIT_STOPPED
                 off = field_safety.start_offset(self.snapshot().pose, self.plan)
                 if off:
                     self.finish("stopped", "off_start: " + off)
