@@ -197,6 +197,9 @@ class SafetyTest(unittest.TestCase):
         self.assertIsNone(self.kind(twist=(0.77, 1.29)))
         self.assertEqual(self.kind(aic_driving=True, aic_health=(1, "sensor fault: left isolated")), "aic_fault")
         self.assertIsNone(self.kind(aic_driving=False, aic_health=(1, "sensor fault: left isolated")))
+        self.assertIsNone(self.kind(aic_driving=True, aic_health=(1, "imu missing"), aic_health_since=99.9))
+        self.assertEqual(self.kind(aic_driving=True, aic_health=(1, "imu missing"), aic_health_since=99.7),
+                         "aic_fault")
         self.assertEqual(self.kind(aic_driving=True, aic_controller=(2, "runaway")), "aic_fault")
         self.assertIsNone(self.kind(aic_driving=True, aic_controller=(1, "stale")))
         self.assertEqual(self.kind(last_joystick=99.0), "joystick")

@@ -39,7 +39,7 @@ DEFAULTS = {
     "rest": 1.5,
     "rate": 50.0,
     "safety": {"data_timeout": 0.5, "status_timeout": 3.0, "overspeed_factor": 1.3, "start_tolerance": 0.5,
-               "heading_tolerance": 0.5, "stop_hold": 1.0},
+               "heading_tolerance": 0.5, "stop_hold": 1.0, "fault_persistence": 0.25},
     "homing": {"enabled": True, "max_linear": 0.3, "max_angular": 0.8, "min_angular": 0.5, "tolerance": 0.1,
                "heading_tolerance": 0.1, "timeout": 30.0},
 }
@@ -61,6 +61,7 @@ RANGES = {
     "safety.start_tolerance": (0.05, 5.0, False),
     "safety.heading_tolerance": (0.05, math.pi, False),
     "safety.stop_hold": (0.2, 5.0, False),
+    "safety.fault_persistence": (0.0, 2.0, False),
     "homing.max_linear": (0.0, 1.0, True),
     "homing.max_angular": (0.0, 2.0, True),
     "homing.min_angular": (0.0, 2.0, False),
@@ -107,7 +108,8 @@ class Plan(object):
     ``alternate``, ``max_linear`` [m/s], ``max_angular`` [rad/s], ``corridor`` (dict ahead, behind,
     left, right [m]), ``margin`` [m], ``settle`` and ``rest`` [s] (zero set point before and after
     each profile), ``rate`` [Hz], ``safety`` (dict: data_timeout, status_timeout [s],
-    overspeed_factor [-], start_tolerance [m], heading_tolerance [rad], stop_hold [s]), ``homing``
+    overspeed_factor [-], start_tolerance [m], heading_tolerance [rad], stop_hold [s],
+    fault_persistence [s]), ``homing``
     (dict: enabled, max_linear [m/s], max_angular, min_angular [rad/s], tolerance [m],
     heading_tolerance [rad], timeout [s]: the slow return to the start pose before an out run),
     ``experiments`` (list of (name, kind, profile)) and ``runs`` (list of Run)."""

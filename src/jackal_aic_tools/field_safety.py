@@ -10,8 +10,9 @@ Stop conditions, in the order they are reported:
                 times that on the wall clock, which catches a stalled simulated clock)
   geofence      the odometry's pose outside the corridor (start frame)
   overspeed     |measured vx| or |wz| beyond overspeed_factor x the plan's limits
-  aic_fault     while the AIC drives: its ~sensor_health at WARN or worse (a sensor isolated, the
-                IMU missing, sensors disagreeing) or its "controller" diagnostics at ERROR (runaway)
+  aic_fault     while the AIC drives: its ~sensor_health at WARN or worse for safety.fault_persistence
+                [s] (a sensor isolated, the IMU missing, sensors disagreeing; a blip of one message
+                is not a fault) or its "controller" diagnostics at ERROR (runaway)
   joystick      a message on a joystick twist topic (twist_mux's higher priority: someone took over)
 """
 import math
@@ -46,7 +47,8 @@ class Snapshot(object):
     (ROS receipt times [s]) and wall_joints, wall_odom (wall receipt times [s]); pose: None or (x,
     y, heading) in the session's start frame [m, m, rad]; twist: None or (vx [m/s], wz [rad/s])
     measured; aic_driving: the AIC is the controller of the current run; aic_health: None or
-    (level, message) of ~sensor_health; aic_controller: None or (level, message) of its "controller"
+    (level, message) of ~sensor_health, aic_health_since: ROS time [s] it reached that level (None:
+    unknown, counts as long ago); aic_controller: None or (level, message) of its "controller"
     diagnostics; last_joystick: ROS receipt time [s] of the newest joystick message since the
     session started (None: none); interrupted: None or why (Ctrl-C)."""
 
@@ -63,6 +65,7 @@ class Snapshot(object):
         self.twist = None
         self.aic_driving = False
         self.aic_health = None
+        self.aic_health_since = None
         self.aic_controller = None
         self.last_joystick = None
         self.interrupted = None
@@ -121,7 +124,8 @@ def check(snap, plan, odom_topic="odometry"):
             return Decision("overspeed", "measured vx %.2f m/s, wz %.2f rad/s beyond %g x the limits (%g m/s, %g rad/s)"
                             % (vx, wz, f, plan.max_linear, plan.max_angular))
     if snap.aic_driving:
-        if snap.aic_health is not None and snap.aic_health[0] >= WARN:
+        if snap.aic_health is not None and snap.aic_health[0] >= WARN and (
+                snap.aic_health_since is None or snap.now - snap.aic_health_since >= s["fault_persistence"]):
             return Decision("aic_fault", "the AIC's sensor health: %s" % snap.aic_health[1])
         if snap.aic_controller is not None and snap.aic_controller[0] >= ERROR:
             return Decision("aic_fault", "the AIC's controller diagnostics: %s" % snap.aic_controller[1])

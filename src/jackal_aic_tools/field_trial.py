@@ -246,7 +246,11 @@ class TrialNode(object):
 
     def _on_health(self, msg):
         with self.lock:
-            self.snap.aic_health = (int(msg.level), msg.message)
+            level = int(msg.level)
+            if self.snap.aic_health is None or (self.snap.aic_health[0] >= field_safety.WARN) != (
+                    level >= field_safety.WARN):
+                self.snap.aic_health_since = self.rospy.Time.now().to_sec()
+            self.snap.aic_health = (level, msg.message)
 
     def _on_diagnostics(self, msg):
         name = self.topics.aic_node.lstrip("/") + ": controller"
