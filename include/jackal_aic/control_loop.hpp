@@ -160,6 +160,14 @@ public:
    * \throws std::invalid_argument (nothing changed) if `params` are invalid
    */
   void setParams(const NodeParams& params);
+  /**
+   * \brief Restart a running controller from the measured state, as on activation: beliefs at the
+   *        measured twist, action at the measured wheel speeds (bumpless). No effect unless running.
+   *        The node calls it when its output is enabled again (OutputGate, ~enable_output), so an
+   *        action integrated while another controller drove the robot is not commanded.
+   * \return true if the controller was restarted
+   */
+  bool restartFromMeasured();
 
   // ---- state
   /// The parameters in force.

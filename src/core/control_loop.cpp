@@ -410,6 +410,16 @@ void ControlLoop::activate()
   output_.log(LogLevel::kInfo, os.str());
 }
 
+bool ControlLoop::restartFromMeasured()
+{
+  if (!supervisor_.active())
+  {
+    return false;
+  }
+  activate();
+  return true;
+}
+
 void ControlLoop::handleRunaway(const char* where)
 {
   carryOut(supervisor_.runaway(where));

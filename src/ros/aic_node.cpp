@@ -92,6 +92,7 @@ bool AicNode::init()
   action_timer_ = nh_.createTimer(ros::Duration(loop_->supervisor().actionLoop().nominalPeriod()),
                                   &AicNode::actionTimerCallback, this);
   diagnostics_->start(nh_, mutex_);
+  startOutputGate();
   outputs_->startDebug(nh_, [this](DebugSnapshot* snapshot) {
     const std::lock_guard<std::mutex> lock(mutex_);
     loop_->advance();  // event schedule: the beliefs to now
@@ -145,8 +146,26 @@ void AicNode::actionTimerCallback(const ros::TimerEvent& event)
 
 void AicNode::command(const WheelCommand& command)
 {
+  if (!gate_.admit())
+  {
+    return;  // ~enable_output false: another controller drives (output_enable.cpp)
+  }
   outputs_->publish(command);
   diagnostics_->commandPublished(command.latency);
+}
+
+void AicNode::startOutputGate()
+{
+  const std::string topic =
+      nh_.resolveName(params_.output_mode == "cmd_vel" ? "jackal_velocity_controller/cmd_vel" : "cmd_drive");
+  output_enable_ = std::make_unique<OutputEnable>(
+      nh_, pnh_, mutex_, gate_,
+      [this] {
+        return loop_->restartFromMeasured() ? std::string("controller restarted from the measured state") :
+                                              std::string("controller not running; it starts from the measured "
+                                                          "state when it does");
+      },
+      topic);
 }
 
 void AicNode::healthEvent(FaultMonitor::Event event, int channel)

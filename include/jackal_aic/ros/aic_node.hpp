@@ -66,11 +66,13 @@
 #include "jackal_aic/control_loop.hpp"
 #include "jackal_aic/node_params.hpp"
 #include "jackal_aic/output_conflict.hpp"
+#include "jackal_aic/output_gate.hpp"
 #include "jackal_aic/ros/belief_loop.hpp"
 #include "jackal_aic/ros/node_diagnostics.hpp"
 #include "jackal_aic/ros/node_outputs.hpp"
 #include "jackal_aic/ros/node_reconfigure.hpp"
 #include "jackal_aic/ros/publisher_watch.hpp"
+#include "jackal_aic/ros/output_enable.hpp"
 
 namespace jackal_aic
 {
@@ -132,6 +134,8 @@ private:
   /// conflict's transitions logged and handed to the ControlLoop. Takes the lock.
   void publishersPolled(bool ok, const std::vector<std::string>& publishers, const std::string& error);
   ControllerReport controllerReport() const;
+  /// ~enable_output (output_enable.cpp): the service over gate_.
+  void startOutputGate();
 
   // ControlLoop::Output: publish, report, log.
   void command(const WheelCommand& command) override;
@@ -147,6 +151,9 @@ private:
   std::unique_ptr<ControlLoop> loop_;
   std::unique_ptr<NodeReconfigure> reconfigure_;
   std::unique_ptr<NodeDiagnostics> diagnostics_;
+  /// Whether commands leave the node (~enable_output; a field trial's A/B switch). Under mutex_.
+  OutputGate gate_;
+  std::unique_ptr<OutputEnable> output_enable_;
 
   /// The subscribers' queue while the belief thread runs (served by it); declared before the
   /// subscribers, so it outlives them.
