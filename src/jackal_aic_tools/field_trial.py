@@ -166,7 +166,9 @@ class TrialNode(object):
         self.active = None         # controller whose path is live: 'aic', 'stock' or None
         self.aic_enabled = None    # what we last set on the AIC's gate (None: never set)
         self.sp_pub = rospy.Publisher(topics.set_point, Twist, queue_size=10)
-        self.cmd_pub = rospy.Publisher(topics.cmd_vel, Twist, queue_size=10)
+        # The diff drive's input is advertised only while the stock path drives: the AIC refuses to
+        # publish beside another publisher of its output topic (one publisher per command topic).
+        self.cmd_pub = None
         self.outcome_pub = rospy.Publisher("~outcome", String, queue_size=1, latch=True)
         self.subs = [
             rospy.Subscriber("/status", Status, self._on_status, queue_size=10),
@@ -289,7 +291,7 @@ class TrialNode(object):
         m.linear.x, m.angular.z = vx, wz
         if self.active == "aic":
             self.sp_pub.publish(m)
-        elif self.active == "stock":
+        elif self.active == "stock" and self.cmd_pub is not None:
             self.cmd_pub.publish(m)
         with self.lock:
             self._write(BAG_SET_POINT, m)
@@ -319,8 +321,10 @@ class TrialNode(object):
         self.active = None  # nobody publishes while switching
         if controller == "stock":
             why = self.set_aic_output(False)
+            if not why and self.cmd_pub is None:
+                self.cmd_pub = self.rospy.Publisher(self.topics.cmd_vel, self.Twist, queue_size=10)
         else:
-            why = None
+            why = self.release_cmd_vel()
         if why:
             return why
         self._idle(SWITCH_GAP)
@@ -330,6 +334,28 @@ class TrialNode(object):
                 return why
         self.active = controller
         return None
+
+    def release_cmd_vel(self, timeout=2.0):
+        """Stop advertising the diff drive's input and wait (wall clock) until the master no longer
+        lists this node as its publisher, so the AIC sees itself alone on its output topic when it
+        is enabled; None on success, else why not."""
+        if self.cmd_pub is None:
+            return None
+        self.cmd_pub.unregister()
+        self.cmd_pub = None
+        import rosgraph
+        me = self.rospy.get_name()
+        master = rosgraph.Master(me)
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            try:
+                publishers = dict((t, n) for t, n in master.getSystemState()[0])
+            except Exception as e:  # the master's XML-RPC errors
+                return "listing the publishers of %s: %s" % (self.topics.cmd_vel, e)
+            if me not in publishers.get(self.rospy.resolve_name(self.topics.cmd_vel), []):
+                return None
+            time.sleep(0.02)
+        return "the master still lists %s as a publisher of %s after %g s" % (me, self.topics.cmd_vel, timeout)
 
     def _idle(self, seconds):
         """Wait ``seconds`` of ROS time (at most 5 x that plus 1 s of wall time), checking for a stop."""

@@ -199,7 +199,10 @@ void AicNode::publishersPolled(bool ok, const std::vector<std::string>& publishe
                                                                                 << " (keeping the last answer)");
     return;
   }
-  const OutputConflict::Event event = conflict_->update(publishers, clock_.now());
+  // While ~enable_output holds the output closed this node publishes nothing there: another
+  // publisher is then the one meant to drive (a field trial's stock runs), not a conflict.
+  static const std::vector<std::string> kNone;
+  const OutputConflict::Event event = conflict_->update(gate_.enabled() ? publishers : kNone, clock_.now());
   switch (event)
   {
     case OutputConflict::Event::kNone:
