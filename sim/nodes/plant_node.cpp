@@ -211,6 +211,7 @@ void PlantNode::stepOnce()
   {
     pollFaults();
   }
+  checkClock();
   const FaultedSensors::Changes changes = sensors_->afterStep(*plant_, &joint_samples_, &imu_samples_);
   if (changes.payload)
   {
@@ -235,6 +236,23 @@ void PlantNode::stepOnce()
   if (k % odom_period_ == 0)
   {
     publishOdom();
+  }
+}
+
+void PlantNode::checkClock()
+{
+  if (use_sim_time_)
+  {
+    return;
+  }
+  const ros::Time now = ros::Time::now();
+  const double back = time_jump_.observe(now.toSec());
+  if (back > 0.0)
+  {
+    origin_ = now - ros::Duration(plant_->time());
+    ROS_WARN("jackal_plant: ROS time moved back %.3f s; stamps follow it from plant time %.3f s [%lu jump(s) back "
+             "so far]",
+             back, plant_->time(), static_cast<unsigned long>(time_jump_.jumps()));
   }
 }
 
