@@ -6,6 +6,7 @@
 #include <thread>
 
 #include <geometry_msgs/TransformStamped.h>
+#include <ros/master.h>
 #include <rosgraph_msgs/Clock.h>
 
 namespace jackal_aic
@@ -239,6 +240,30 @@ void PlantNode::stepOnce()
   }
 }
 
+void PlantNode::waitForSubscribers()
+{
+  // The nodes the master lists as subscribers of /joint_states (a plant restarted under running nodes).
+  XmlRpc::XmlRpcValue request, response, payload;
+  request[0] = ros::this_node::getName();
+  std::size_t expected = 0;
+  if (ros::master::execute("getSystemState", request, response, payload, false) && payload.size() > 1)
+  {
+    XmlRpc::XmlRpcValue& subscriptions = payload[1];
+    for (int i = 0; i < subscriptions.size(); ++i)
+    {
+      if (static_cast<std::string>(subscriptions[i][0]) == joint_pub_.getTopic())
+      {
+        expected = static_cast<std::size_t>(subscriptions[i][1].size());
+      }
+    }
+  }
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(kSubscriberWait);
+  while (ros::ok() && joint_pub_.getNumSubscribers() < expected && ros::WallTime::now() < deadline)
+  {
+    ros::WallDuration(0.005).sleep();
+  }
+}
+
 void PlantNode::checkClock()
 {
   if (use_sim_time_)
@@ -367,6 +392,7 @@ int PlantNode::run()
     rosgraph_msgs::Clock clock;
     clock.clock = origin_;
     clock_pub_.publish(clock);
+    waitForSubscribers();
   }
   else
   {

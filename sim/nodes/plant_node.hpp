@@ -14,7 +14,8 @@
  * plant YAML), ground-truth /odom (nav_msgs/Odometry, frame odom, child base_link, twist
  * in base_link) and tf odom -> base_link, all stamped with plant time: in real-time mode
  * stamp = ROS time at start + plant time; with /use_sim_time the node publishes /clock
- * (= plant time) itself. In real-time mode a backward step of the wall clock moves the origin
+ * (= plant time) itself, starting it once the /joint_states subscribers the master lists are
+ * connected (at most 2 s of wall time: waitForSubscribers()). In real-time mode a backward step of the wall clock moves the origin
  * with it (checkClock()).
  *
  * The physics steps in fixed increments (physics.step, 1 ms). Pacing: each wake-up runs
@@ -106,6 +107,14 @@ private:
    *        timeline at 0): nothing to do.
    */
   void checkClock();
+  /**
+   * \brief Simulated time, before the first step: wait (wall clock, at most kSubscriberWait)
+   *        until every node the master lists as a /joint_states subscriber is connected, so a
+   *        plant restarted under running nodes does not start its timeline before they can
+   *        receive it (the clock stands still meanwhile).
+   */
+  void waitForSubscribers();
+  static constexpr double kSubscriberWait = 2.0;  ///< [s] of wall time
 
   ros::NodeHandle nh_;
   ros::NodeHandle pnh_;
