@@ -5,7 +5,7 @@
  *        /clock from 0, at each loop of `rosbag play --loop --clock`, or a wall clock stepped
  *        back. ROS-free; used by the ControlLoop (the jackal_AIC node and the headless closed
  *        loop), the plant node and the stock controller node (doc/jackal_aic_node.md,
- *        'Degraded modes', 'Time moving backwards').
+ *        'Time moving backwards and restarts').
  */
 
 #include <cmath>

@@ -4,7 +4,7 @@
  *        (a simulator's /clock restarting at 0, a `rosbag play --loop --clock` loop, a wall
  *        clock stepped back) and of its restarts without a command jump: the idle command
  *        before the first sample, while warming up and after a stale spell
- *        (doc/jackal_aic_node.md, 'Time moving backwards', 'Restarts').
+ *        (doc/jackal_aic_node.md, 'Time moving backwards and restarts').
  */
 #include <gtest/gtest.h>
 
