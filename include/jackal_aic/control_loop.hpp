@@ -27,6 +27,12 @@
  * actionTimer() only keeps the command alive (idle command while not running, a repeat of the
  * held command when no sample ran the action for 1.5 action periods).
  *
+ * Time moving backwards (a simulator's /clock restarting at 0, a `rosbag play --loop --clock`
+ * loop, a wall clock stepped back): every event first reads the clock through a
+ * TimeJumpDetector; a reading more than kTimeJumpTolerance before the latest one resets what
+ * depends on the old timeline (resetTimeline()): one warning per jump, and driving resumes,
+ * bumplessly, with the new timeline's first p+1 samples.
+ *
  * Not thread-safe: the caller serializes every call (the node: one mutex). No allocation on
  * the per-sample and per-step paths except in log lines, which are throttled.
  */
@@ -42,9 +48,13 @@
 #include "jackal_aic/sample_pipeline.hpp"
 #include "jackal_aic/sensor_pairing.hpp"
 #include "jackal_aic/supervisor.hpp"
+#include "jackal_aic/time_jump.hpp"
 
 namespace jackal_aic
 {
+/// A clock reading at most this far [s] before the latest one is not a time jump (ControlLoop).
+constexpr double kTimeJumpTolerance = 0.001;
+
 /// Severity of a ControlLoop log line.
 enum class LogLevel
 {
@@ -169,6 +179,20 @@ public:
    */
   bool restartFromMeasured();
 
+  /**
+   * \brief Start over on a new timeline (called by every event when the clock moved back by
+   *        more than kTimeJumpTolerance; callable by a caller that knows of a jump). Resets
+   *        what depends on the old timeline: the sensor pairing's stamp order, IMU samples and
+   *        history, the generalizer and the fault monitor's history, the goal-rate
+   *        estimator, the belief time, the log throttles; the supervisor's timers are moved
+   *        onto the new timeline with their ages kept (Supervisor::resetTimeline()). A running
+   *        controller stops and starts again, from the measured wheel speeds, after p+1
+   *        samples of the new timeline; until its first sample nothing is commanded, then
+   *        the measured wheel speeds. Parameters, counters and the set point are kept. Logs
+   *        one warning.
+   */
+  void resetTimeline();
+
   // ---- state
   /// The parameters in force.
   const NodeParams& params() const { return params_; }
@@ -208,6 +232,12 @@ public:
   bool lastOutputClipped() const { return last_clipped_; }
   /// Commands withheld while blocked (kBlocked: another publisher on the output topic).
   std::uint64_t blockedCommands() const { return blocked_commands_; }
+  /// Backward jumps of the clock seen (each reset the timeline).
+  std::uint64_t timeJumps() const { return time_jump_.jumps(); }
+  /// Size of the last backward jump of the clock [s]; 0 before the first.
+  double lastTimeJump() const { return time_jump_.lastJump(); }
+  /// Controller starts (entries into kRunning) since construction.
+  std::uint64_t starts() const { return starts_; }
   /// Stamp [s] of the newest accepted sensor sample (the clock's epoch); NaN before the first.
   double newestSampleStamp() const { return newest_sample_stamp_; }
 
@@ -234,6 +264,10 @@ private:
   };
   /// True (and the throttle restarted) if a line of this kind may be logged now.
   bool due(Notice kind);
+  /// Every event first: a backward jump of the clock resets the timeline. \return true if it did.
+  bool checkClock();
+  /// resetTimeline() with the supervisor's timers moved by `shift` [s] (the new reading minus the old timeline's latest).
+  void restartTimeline(double shift);
   /// Event schedule: integrate the beliefs from beliefTime() to now (if running).
   void advanceBeliefs();
   /// Generalized goal: the controller's mu_d' to the estimator's rate now (a ramp's slope expires).
@@ -244,7 +278,8 @@ private:
   void watch();
   /// Carry out a supervisor transition: restart the history, warn, (de)activate.
   void carryOut(const Supervisor::Transition& t);
-  /// Reset the controller and start it from the measured wheel speeds (bumpless).
+  /// Reset the controller and start it from the measured wheel speeds (bumpless); the log line
+  /// says why it had stopped, on a restart.
   void activate();
   void handleRunaway(const char* where);
   /// One action step over `interval` [s] (-1: nominal); its command.
@@ -253,9 +288,9 @@ private:
   /// output mode cmd_vel publishes the twist of `wheels` without the stock controller's
   /// velocity and acceleration limits (the idle zero: the diff drive ramps down itself).
   void sendCommand(const Vector2& wheels, double latency, bool stock_limits = true);
-  /// The command outside kRunning: the measured wheel speeds in kHeld (MCU stop), else zero at
-  /// once (cmd_vel: the zero twist, not ramped by our copy of the stock limits); withheld in
-  /// kBlocked, as every command.
+  /// The command outside kRunning (Supervisor::idleCommand()): zero at once (cmd_vel: the zero
+  /// twist, not ramped by our copy of the stock limits), the measured wheel speeds (kHeld,
+  /// warming up), or nothing; withheld in kBlocked, as every command.
   void sendIdle();
 
   NodeParams params_;
@@ -266,6 +301,9 @@ private:
   Supervisor supervisor_;
   GoalRateEstimator goal_rate_;  ///< mu_d' of the set-point stream (AicParams::generalized_goal)
   std::unique_ptr<CmdVelOutput> cmd_vel_;  ///< output mode cmd_vel only
+  TimeJumpDetector time_jump_{ kTimeJumpTolerance };
+  std::uint64_t starts_ = 0;
+  std::string last_stop_reason_;  ///< why the controller last left kRunning (for the restart's log line)
 
   std::uint64_t belief_steps_ = 0;
   double belief_integrated_ = 0.0;

@@ -133,6 +133,14 @@ private:
   double debt_ = 0.0;  ///< steps owed, in nominal periods, in [-1, 1] between ticks
 };
 
+/// What the loop commands while the controller is not running (Supervisor::idleCommand()).
+enum class IdleCommand
+{
+  kNone,      ///< nothing: no measurement of the robot yet (start, or a new timeline's first sample)
+  kZero,      ///< zero wheel speeds
+  kMeasured   ///< the measured wheel speeds of the newest sample (bumpless)
+};
+
 /// Outcome of a set-point check (Supervisor::setPoint()).
 enum class SetPointResult
 {
@@ -160,8 +168,8 @@ enum class SetPointResult
  *   wheel speeds, so the action does not wind up against motors that do not move;
  * - else kRunning.
  * Entering kRunning activates the controller (reset, started from the measured wheel speeds:
- * bumpless, also on leaving kHeld or kBlocked); leaving it deactivates it (the idle command at once: zero,
- * or the measured wheel speeds in kHeld). Losing the sensors also restarts the sample history (the generalizer warms up
+ * bumpless, also on leaving kHeld or kBlocked); leaving it deactivates it (the idle command at once,
+ * idleCommand(): zero, or the measured wheel speeds in kHeld and while warming up). Losing the sensors also restarts the sample history (the generalizer warms up
  * again). The controller is active exactly in kRunning.
  * Not thread-safe: call from the node's one spinner thread.
  */
@@ -242,6 +250,16 @@ public:
    *        kWaiting ("embedding order changed; warming up") and deactivate.
    */
   Transition embeddingOrderChanged();
+  /**
+   * \brief The clock moved backwards (TimeJumpDetector): move every stored time by `shift`
+   *        [s] (new reading - the old timeline's latest, < 0), so the ages of the last sample,
+   *        IMU message, set point, MCU feedback and action, and the rest of a runaway hold,
+   *        are kept; the warm-up starts over and, until the first sample of the new timeline,
+   *        idleCommand() is kNone. Counters, the goal and the MCU state are kept. If running,
+   *        go to kWaiting ("ROS time moved back ...; warming up on the new timeline").
+   * \return the transition (deactivate() when it was running); a non-finite shift moves nothing
+   */
+  Transition resetTimeline(double shift);
 
   // ---- state
   /// The current state (reported in diagnostics as toString(state())).
@@ -256,6 +274,19 @@ public:
   const Vector2& measuredWheels() const { return measured_wheels_; }
   /// Samples accepted since the last history restart (at most kMaxOrders + 1).
   int warmSamples() const { return warm_samples_; }
+  /**
+   * \brief What to command while the controller is not running:
+   *  - kHeld: kMeasured (no windup against stopped motors);
+   *  - kWaiting before any sample, or after resetTimeline() before the new timeline's first
+   *    sample: kNone (nothing measured to start from; the base keeps its last command for its
+   *    own timeout, and sensor_timeout still leads to kStale and zero);
+   *  - kWaiting with fresh samples while the set point is fresh, or, before the first set
+   *    point, within set_point_timeout of the first sample: kMeasured (warming up: the
+   *    controller then starts from the same wheel speeds, so a restart of the node, of the
+   *    sensors or of the timeline commands no jump);
+   *  - otherwise (kStale, kRunaway, kWaiting without a set point for longer): kZero.
+   */
+  IdleCommand idleCommand() const;
 
   /// The MCU reports a stop now (see mcuStatus(), mcuFeedback()); *why (optional) says which.
   bool mcuStopped(std::string* why = nullptr) const;
@@ -330,6 +361,8 @@ private:
   bool has_sample_ = false, has_imu_ = false, has_set_point_ = false;
   double last_sample_ = 0.0, last_imu_ = 0.0, last_set_point_ = 0.0;  ///< receipt times [s]
   double runaway_until_;  ///< end of the runaway hold [s]; -inf: none
+  double first_sample_ = 0.0;  ///< receipt time of the first sample since start [s]
+  bool new_timeline_ = false;  ///< resetTimeline() and no sample of the new timeline yet
   int warm_samples_ = 0;
   Vector2 measured_wheels_ = Vector2::Zero();
   double last_action_ = 0.0;  ///< clock time of the last published action step [s]

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include <geometry_msgs/TransformStamped.h>
+#include <ros/master.h>
 #include <rosgraph_msgs/Clock.h>
 
 namespace jackal_aic
@@ -211,6 +212,7 @@ void PlantNode::stepOnce()
   {
     pollFaults();
   }
+  checkClock();
   const FaultedSensors::Changes changes = sensors_->afterStep(*plant_, &joint_samples_, &imu_samples_);
   if (changes.payload)
   {
@@ -235,6 +237,47 @@ void PlantNode::stepOnce()
   if (k % odom_period_ == 0)
   {
     publishOdom();
+  }
+}
+
+void PlantNode::waitForSubscribers()
+{
+  // The nodes the master lists as subscribers of /joint_states (a plant restarted under running nodes).
+  XmlRpc::XmlRpcValue request, response, payload;
+  request[0] = ros::this_node::getName();
+  std::size_t expected = 0;
+  if (ros::master::execute("getSystemState", request, response, payload, false) && payload.size() > 1)
+  {
+    XmlRpc::XmlRpcValue& subscriptions = payload[1];
+    for (int i = 0; i < subscriptions.size(); ++i)
+    {
+      if (static_cast<std::string>(subscriptions[i][0]) == joint_pub_.getTopic())
+      {
+        expected = static_cast<std::size_t>(subscriptions[i][1].size());
+      }
+    }
+  }
+  const ros::WallTime deadline = ros::WallTime::now() + ros::WallDuration(kSubscriberWait);
+  while (ros::ok() && joint_pub_.getNumSubscribers() < expected && ros::WallTime::now() < deadline)
+  {
+    ros::WallDuration(0.005).sleep();
+  }
+}
+
+void PlantNode::checkClock()
+{
+  if (use_sim_time_)
+  {
+    return;
+  }
+  const ros::Time now = ros::Time::now();
+  const double back = time_jump_.observe(now.toSec());
+  if (back > 0.0)
+  {
+    origin_ = now - ros::Duration(plant_->time());
+    ROS_WARN("jackal_plant: ROS time moved back %.3f s; stamps follow it from plant time %.3f s [%lu jump(s) back "
+             "so far]",
+             back, plant_->time(), static_cast<unsigned long>(time_jump_.jumps()));
   }
 }
 
@@ -349,6 +392,7 @@ int PlantNode::run()
     rosgraph_msgs::Clock clock;
     clock.clock = origin_;
     clock_pub_.publish(clock);
+    waitForSubscribers();
   }
   else
   {

@@ -14,7 +14,9 @@
  * plant YAML), ground-truth /odom (nav_msgs/Odometry, frame odom, child base_link, twist
  * in base_link) and tf odom -> base_link, all stamped with plant time: in real-time mode
  * stamp = ROS time at start + plant time; with /use_sim_time the node publishes /clock
- * (= plant time) itself.
+ * (= plant time) itself, starting it once the /joint_states subscribers the master lists are
+ * connected (at most 2 s of wall time: waitForSubscribers()). In real-time mode a backward step of the wall clock moves the origin
+ * with it (checkClock()).
  *
  * The physics steps in fixed increments (physics.step, 1 ms). Pacing: each wake-up runs
  * every step due by the wall clock (so the plant catches up after a late wake-up), then
@@ -43,6 +45,7 @@
 #include <deque>
 #include <vector>
 
+#include "jackal_aic/time_jump.hpp"
 #include "jackal_sim/plant/fault_injection.hpp"
 #include "jackal_sim/plant/plant.hpp"
 #include "jackal_sim/plant/plant_params.hpp"
@@ -97,6 +100,21 @@ private:
   void publishOdom();
   /// Re-read ~faults (a list of fault lines, sim/plant/include/jackal_sim/plant/fault_injection.hpp) if it changed.
   void pollFaults();
+  /**
+   * \brief Real-time mode: if ROS time (the wall clock) moved back, the stamps' origin moves
+   *        with it (stamps = ROS time again, so they jump back as the clock did); one warning.
+   *        With /use_sim_time the plant is the clock (a restarted plant node starts its
+   *        timeline at 0): nothing to do.
+   */
+  void checkClock();
+  /**
+   * \brief Simulated time, before the first step: wait (wall clock, at most kSubscriberWait)
+   *        until every node the master lists as a /joint_states subscriber is connected, so a
+   *        plant restarted under running nodes does not start its timeline before they can
+   *        receive it (the clock stands still meanwhile).
+   */
+  void waitForSubscribers();
+  static constexpr double kSubscriberWait = 2.0;  ///< [s] of wall time
 
   ros::NodeHandle nh_;
   ros::NodeHandle pnh_;
@@ -109,6 +127,7 @@ private:
   std::vector<ImuSample> imu_samples_;
   bool use_sim_time_ = false;
   ros::Time origin_;
+  TimeJumpDetector time_jump_{ 0.001 };  ///< ROS time in real-time mode
   std::uint64_t odom_period_ = 20;
   std::uint64_t clock_period_ = 1;
 

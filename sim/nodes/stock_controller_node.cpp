@@ -79,9 +79,25 @@ harness::StockControllerParams StockControllerNode::readParams(const ros::NodeHa
   return p;
 }
 
+void StockControllerNode::checkClock()
+{
+  const ros::Time now = ros::Time::now();
+  const double back = time_jump_.observe(now.toSec());
+  if (back > 0.0)
+  {
+    controller_.restartTimeline(now.toSec());
+    last_cycle_ = ros::Time(0);
+    last_odom_ = ros::Time(0);
+    ROS_WARN("stock_controller: ROS time moved back %.3f s; the diff drive and the odometry continue on the new "
+             "timeline [%lu jump(s) back so far]",
+             back, static_cast<unsigned long>(time_jump_.jumps()));
+  }
+}
+
 void StockControllerNode::onCommand(const geometry_msgs::Twist::ConstPtr& msg)
 {
   std::lock_guard<std::mutex> lock(mutex_);
+  checkClock();
   if (!controller_.setCommand(msg->linear.x, msg->angular.z, ros::Time::now().toSec()))
   {
     ROS_WARN_THROTTLE(1.0, "stock_controller: dropped non-finite command (%f, %f)", msg->linear.x,
@@ -142,6 +158,10 @@ void StockControllerNode::onJointState(const sensor_msgs::JointState::ConstPtr& 
   }
   const jackal_aic::BodyTwist t = jackal_aic::twistFromWheels(controller_.params(), jackal_aic::Vector2(wl, wr));
   const ros::Time stamp = msg->header.stamp;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    checkClock();
+  }
   if (!last_odom_.isZero() && stamp > last_odom_)
   {
     const double dt = (stamp - last_odom_).toSec();
@@ -181,6 +201,7 @@ void StockControllerNode::onTimer(const ros::TimerEvent& e)
   if (cycle_on_joint_states_)
   {
     std::unique_lock<std::mutex> lock(mutex_);
+    checkClock();
     if (!last_cycle_.isZero() &&
         (ros::Time::now() - last_cycle_).toSec() < kFallbackPeriods / controller_.params().publish_rate)
     {
@@ -196,6 +217,7 @@ void StockControllerNode::cycle()
   jackal_msgs::Feedback fb;
   {
     std::lock_guard<std::mutex> lock(mutex_);
+    checkClock();
     // The diff drive keeps running while stopped (as on the robot); the MCU ignores it.
     const auto c = controller_.update(ros::Time::now().toSec());
     d.mode = stopped_ ? jackal_msgs::Drive::MODE_NONE : jackal_msgs::Drive::MODE_VELOCITY;

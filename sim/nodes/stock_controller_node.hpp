@@ -42,6 +42,7 @@
 #include <sensor_msgs/JointState.h>
 #include <std_msgs/Bool.h>
 
+#include "jackal_aic/time_jump.hpp"
 #include "jackal_sim/harness/stock_controller.hpp"
 
 namespace jackal_aic
@@ -77,6 +78,12 @@ private:
   void onTimer(const ros::TimerEvent& e);
   /// One diff-drive cycle: update the controller, publish /cmd_drive (and /feedback).
   void cycle();
+  /**
+   * \brief ROS time moved back (a /clock restarting, a bag's loop, a wall clock stepped back):
+   *        the controller, the cycle time and the odometry's stamp move onto the new timeline
+   *        (the pose is kept); one warning. Call with mutex_ held, first in every callback.
+   */
+  void checkClock();
 
   std::mutex mutex_;
   harness::StockController controller_;
@@ -87,6 +94,7 @@ private:
   ros::Subscriber sub_, joint_sub_, stop_sub_;
   ros::Timer timer_, status_timer_;
   ros::Time last_odom_;
+  TimeJumpDetector time_jump_{ 0.001 };  ///< ROS time (mutex_)
   double x_ = 0.0, y_ = 0.0, yaw_ = 0.0;
 };
 

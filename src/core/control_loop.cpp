@@ -104,6 +104,7 @@ bool ControlLoop::due(Notice kind)
 
 bool ControlLoop::jointState(const JointStateInput& joints)
 {
+  checkClock();
   advanceBeliefs();  // with the inputs held until now
   refreshGoalRate();  // an expired ramp of the set point ends here
   SensorSample sample;
@@ -172,6 +173,7 @@ bool ControlLoop::jointState(const JointStateInput& joints)
 
 bool ControlLoop::imu(const ImuInput& imu)
 {
+  checkClock();
   if (!pairing_.addImu(imu, &text_))
   {
     if (due(kNoticeDrop))
@@ -190,6 +192,7 @@ bool ControlLoop::imu(const ImuInput& imu)
 
 SetPointResult ControlLoop::setPoint(const double (&fields)[6])
 {
+  checkClock();
   advanceBeliefs();  // the old goal holds until now
   refreshGoalRate();  // an expired ramp of the set point ends here
   const SetPointResult result = supervisor_.setPoint(fields);
@@ -222,6 +225,7 @@ SetPointResult ControlLoop::setPoint(const double (&fields)[6])
 
 void ControlLoop::mcuStatus(bool drivers_active, bool external_stop_present, bool external_stop_stopped)
 {
+  checkClock();
   advanceBeliefs();
   refreshGoalRate();  // an expired ramp of the set point ends here
   supervisor_.mcuStatus(drivers_active, external_stop_present, external_stop_stopped);
@@ -230,6 +234,7 @@ void ControlLoop::mcuStatus(bool drivers_active, bool external_stop_present, boo
 
 void ControlLoop::mcuFeedback(int actual_mode)
 {
+  checkClock();
   advanceBeliefs();
   refreshGoalRate();  // an expired ramp of the set point ends here
   supervisor_.mcuFeedback(actual_mode);
@@ -246,6 +251,7 @@ void ControlLoop::outputBlocked(bool blocked, const std::string& why)
 
 void ControlLoop::advance()
 {
+  checkClock();
   advanceBeliefs();
   refreshGoalRate();  // an expired ramp of the set point ends here
   watch();
@@ -253,6 +259,7 @@ void ControlLoop::advance()
 
 void ControlLoop::actionTimer(double interval)
 {
+  checkClock();
   advanceBeliefs();
   refreshGoalRate();  // an expired ramp of the set point ends here
   if (params_.action_trigger == ActionTrigger::kTimer)
@@ -280,6 +287,7 @@ void ControlLoop::beliefTimer(double interval)
     advance();
     return;
   }
+  checkClock();
   const double start = monotonicSeconds();
   const LoopScheduler::Tick tick = supervisor_.beliefLoop().tick(interval);
   watch();
@@ -294,6 +302,7 @@ void ControlLoop::beliefTimer(double interval)
 void ControlLoop::setParams(const NodeParams& next)
 {
   requireValid(next);
+  checkClock();
   advanceBeliefs();  // the old parameters hold until now
   refreshGoalRate();  // an expired ramp of the set point ends here
   const bool new_history = pipeline_.setParams(next.aic, next.fdi);
@@ -314,6 +323,52 @@ void ControlLoop::setParams(const NodeParams& next)
   params_.cmd_vel = cmd_vel;
   params_.belief_schedule = schedule;
   output_.log(LogLevel::kInfo, "parameters applied (" + params_.aic.summary() + ")");
+}
+
+// ---------------------------------------------------------------------------
+// Time moving backwards
+
+bool ControlLoop::checkClock()
+{
+  const double back = time_jump_.observe(clock_.now());
+  if (!(back > 0.0))
+  {
+    return false;
+  }
+  restartTimeline(-back);
+  return true;
+}
+
+void ControlLoop::resetTimeline()
+{
+  if (!checkClock())
+  {
+    restartTimeline(0.0);
+  }
+}
+
+void ControlLoop::restartTimeline(double shift)
+{
+  const double now = clock_.now();
+  const bool was_running = supervisor_.active();
+  goal_rate_.reset();
+  refreshGoalRate();  // no slope from the old timeline
+  belief_time_ = now;
+  newest_sample_stamp_ = kNaN;
+  last_notice_.fill(-std::numeric_limits<double>::infinity());  // the throttles' times were on the old timeline
+  // Restarts the pairing and the generalizer's history; a running controller stops (nothing is
+  // commanded until the new timeline's first sample: the idle command is then the measured wheels).
+  carryOut(supervisor_.resetTimeline(shift));
+  std::ostringstream os;
+  os << "ROS time moved back " << -shift << " s (to " << now
+     << " s): sensor pairing, sample history, beliefs, goal rate and timeouts restart on the new timeline";
+  if (was_running)
+  {
+    os << "; the controller restarts from the measured wheel speeds after " << params_.aic.numOrders()
+       << " samples of it";
+  }
+  os << " [" << time_jump_.jumps() << " jump(s) back so far]";
+  output_.log(LogLevel::kWarn, os.str());
 }
 
 // ---------------------------------------------------------------------------
@@ -390,12 +445,14 @@ void ControlLoop::carryOut(const Supervisor::Transition& t)
   }
   else if (t.deactivate())
   {
+    last_stop_reason_ = supervisor_.reason();
     sendIdle();  // at once, not at the next action tick
   }
 }
 
 void ControlLoop::activate()
 {
+  ++starts_;
   const Vector2& wheels = supervisor_.measuredWheels();
   pipeline_.activate(wheels, supervisor_.goal());  // beliefs at the measured twist, action at the wheels
   refreshGoalRate();
@@ -407,6 +464,10 @@ void ControlLoop::activate()
   std::ostringstream os;
   os << "running (start from measured wheels " << wheels.transpose() << " rad/s, goal "
      << supervisor_.goal().transpose() << ")";
+  if (starts_ > 1)
+  {
+    os << "; resumed after: " << last_stop_reason_ << " [start " << starts_ << "]";
+  }
   output_.log(LogLevel::kInfo, os.str());
 }
 
@@ -515,15 +576,18 @@ void ControlLoop::sendCommand(const Vector2& wheels, double latency, bool stock_
 
 void ControlLoop::sendIdle()
 {
-  // kHeld: the measured wheel speeds (no windup against stopped motors); otherwise zero, at once.
-  if (supervisor_.state() == NodeState::kHeld)
+  switch (supervisor_.idleCommand())
   {
-    sendCommand(supervisor_.measuredWheels(), kNaN);
+    case IdleCommand::kNone:
+      return;  // nothing measured yet to command from
+    case IdleCommand::kMeasured:
+      // kHeld: no windup against stopped motors; warming up: the controller starts from these.
+      sendCommand(supervisor_.measuredWheels(), kNaN);
+      return;
+    case IdleCommand::kZero:
+      break;
   }
-  else
-  {
-    sendCommand(Vector2::Zero(), kNaN, false);
-  }
+  sendCommand(Vector2::Zero(), kNaN, false);  // at once: the diff drive ramps down itself
 }
 
 }  // namespace jackal_aic

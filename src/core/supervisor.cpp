@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <sstream>
 #include <utility>
@@ -143,7 +144,12 @@ void Supervisor::sampleAccepted(const Vector2& measured_wheels)
 {
   warm_samples_ = std::min(warm_samples_ + 1, kMaxOrders + 1);
   measured_wheels_ = measured_wheels;
+  if (!has_sample_)
+  {
+    first_sample_ = clock_.now();
+  }
   has_sample_ = true;
+  new_timeline_ = false;
   last_sample_ = clock_.now();
 }
 
@@ -331,6 +337,58 @@ Supervisor::Transition Supervisor::embeddingOrderChanged()
     return t;
   }
   return enter(NodeState::kWaiting, "embedding order changed; warming up");
+}
+
+Supervisor::Transition Supervisor::resetTimeline(double shift)
+{
+  if (std::isfinite(shift))
+  {
+    for (double* t : { &last_sample_, &last_imu_, &last_set_point_, &last_mcu_mode_, &last_action_, &first_sample_,
+                       &runaway_until_ })
+    {
+      *t += shift;  // -inf (no runaway hold) stays -inf
+    }
+  }
+  warm_samples_ = 0;
+  new_timeline_ = true;
+  if (!active())
+  {
+    Transition t;
+    t.from = t.to = state_;
+    t.restart_history = true;
+    return t;
+  }
+  std::ostringstream reason;
+  reason << "ROS time moved back " << -shift << " s; warming up on the new timeline";
+  Transition t = enter(NodeState::kWaiting, reason.str());
+  t.restart_history = true;
+  return t;
+}
+
+IdleCommand Supervisor::idleCommand() const
+{
+  switch (state_)
+  {
+    case NodeState::kHeld:
+      return IdleCommand::kMeasured;
+    case NodeState::kWaiting:
+    {
+      if (!has_sample_ || new_timeline_)
+      {
+        return IdleCommand::kNone;
+      }
+      const double now = clock_.now();
+      const bool sensors_fresh = now - last_sample_ <= sensor_timeout_;
+      const bool set_point_ok = has_set_point_ ? now - last_set_point_ <= set_point_timeout_ :
+                                                 now - first_sample_ <= set_point_timeout_;
+      return sensors_fresh && set_point_ok ? IdleCommand::kMeasured : IdleCommand::kZero;
+    }
+    case NodeState::kRunning:
+    case NodeState::kStale:
+    case NodeState::kRunaway:
+      break;
+  }
+  return IdleCommand::kZero;
 }
 
 Supervisor::Transition Supervisor::enter(NodeState next, std::string reason)

@@ -18,6 +18,12 @@ double RosClock::seconds(const ros::Time& stamp) const
   return stamp.isZero() ? std::numeric_limits<double>::quiet_NaN() : (stamp - epoch_).toSec();
 }
 
+ros::Time RosClock::time(double seconds) const
+{
+  // Before ROS time 0 (a reading of an earlier timeline after ROS time moved back): time 0.
+  return seconds > -epoch_.toSec() ? epoch_ + ros::Duration(seconds) : ros::Time(0);
+}
+
 AicNode::AicNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) : nh_(nh), pnh_(pnh)
 {
 }

@@ -36,6 +36,18 @@ void NodeDiagnostics::start(ros::NodeHandle& nh, std::mutex& mutex)
   poll_timer_ = nh.createTimer(ros::Duration(1.0 / kPollRate), [this, &mutex](const ros::TimerEvent&) {
     const std::lock_guard<std::mutex> lock(mutex);
     loop_.advance();
+    if (loop_.timeJumps() != seen_time_jumps_)
+    {
+      // ROS time moved back: the updater's and the health topic's schedules are on the old
+      // timeline; publish now (which schedules them on the new one).
+      seen_time_jumps_ = loop_.timeJumps();
+      updater_->force_update();
+      if (monitor_ != nullptr)
+      {
+        publishHealth(FaultMonitor::Event::kNone, -1);
+      }
+      return;
+    }
     update();
     pollHealth();
   });
@@ -203,6 +215,9 @@ void NodeDiagnostics::controller(diagnostic_updater::DiagnosticStatusWrapper& st
   stat.add("other publishers on the output topic", report.other_publishers);
   stat.add("output conflicts", report.output_conflicts);
   stat.add("commands withheld (output conflict)", report.blocked_commands);
+  stat.add("controller starts", loop_.starts());
+  stat.add("ROS time jumps back", loop_.timeJumps());
+  stat.addf("last time jump back [s]", "%.3f", loop_.lastTimeJump());
   switch (loop_.supervisor().state())
   {
     case NodeState::kRunning:

@@ -196,8 +196,12 @@ TEST_F(ControlLoopTest, KeepAliveSendsIdleCommandsWhileWaiting)
 {
   clock.t = 0.01;
   loop->actionTimer(-1.0);
+  EXPECT_TRUE(out.commands.empty());  // nothing measured yet: nothing to command from
+  sensors.feed(*loop, clock.t, 0.0, 0.0, 0.0);
+  clock.t = 0.02;
+  loop->actionTimer(0.01);
   ASSERT_EQ(out.commands.size(), 1u);
-  EXPECT_EQ(out.commands[0].wheels, Vector2::Zero());
+  EXPECT_EQ(out.commands[0].wheels, Vector2::Zero());  // the measured wheels (at rest)
   EXPECT_TRUE(std::isnan(out.commands[0].latency));
   EXPECT_EQ(loop->actionSteps(), 0u);
 }
@@ -435,7 +439,7 @@ TEST_F(ControlLoopTest, EmbeddingOrderChangeWarmsUpAgain)
   next.aic.var_y = { 2.0, 38.25 };
   loop->setParams(next);
   EXPECT_FALSE(loop->active());
-  EXPECT_EQ(out.commands.back().wheels, Vector2::Zero());
+  EXPECT_NEAR(out.commands.back().wheels(0), 2.0, kTol);  // warming up: the measured wheels (bumpless)
   feed(next.aic.numOrders(), 2.0, 0.5);
   EXPECT_TRUE(loop->active());
   EXPECT_EQ(loop->controller().mu().cols(), 2);

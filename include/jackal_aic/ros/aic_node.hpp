@@ -88,8 +88,9 @@ public:
   double now() const override { return (ros::Time::now() - epoch_).toSec(); }
   /// A message stamp in the clock's seconds; NaN for a zero (unset) stamp.
   double seconds(const ros::Time& stamp) const;
-  /// The ROS time of a clock reading [s].
-  ros::Time time(double seconds) const { return epoch_ + ros::Duration(seconds); }
+  /// The ROS time of a clock reading [s]; ROS time 0 for a reading before it (ROS time
+  /// moved back after start() and the reading is of the new timeline).
+  ros::Time time(double seconds) const;
 
 private:
   ros::Time epoch_;

@@ -90,7 +90,9 @@ public:
   void update() { updater_->update(); }
   /**
    * \brief At kPollRate on a timer of `nh` (the spinner), under `mutex` (the node's lock): the
-   *        loop's time advance (ControlLoop::advance()), update() and pollHealth().
+   *        loop's time advance (ControlLoop::advance()), update() and pollHealth(); after the
+   *        loop saw ROS time move back, /diagnostics and ~sensor_health at once (their
+   *        schedules were on the old timeline).
    */
   void start(ros::NodeHandle& nh, std::mutex& mutex);
   /// start()'s polling rate [Hz] (/diagnostics is published every ~diagnostic_period, default 1 s).
@@ -144,6 +146,7 @@ private:
   std::string last_event_ = "none";
   int published_state_ = -1;  ///< healthState() at the last publication
   ros::Time published_at_;    ///< time of the last publication
+  std::uint64_t seen_time_jumps_ = 0;  ///< loop_.timeJumps() at the last poll
   /// The channel states as one number (IMU available, isolated channel, fault present).
   int healthState() const;
 };

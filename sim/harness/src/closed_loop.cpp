@@ -64,6 +64,23 @@ void checkConfig(const ClosedLoopConfig& config)
       throw std::invalid_argument("runClosedLoop: profile not sorted by start time");
     }
   }
+  if (!config.operations.empty() && config.controller != LoopController::kAic)
+  {
+    throw std::invalid_argument("runClosedLoop: operations around the node need the AIC");
+  }
+  for (std::size_t i = 0; i < config.operations.size(); ++i)
+  {
+    const Operation& o = config.operations[i];
+    if (!std::isfinite(o.start) || o.start < 0.0 || !std::isfinite(o.size) || o.size < 0.0)
+    {
+      throw std::invalid_argument("runClosedLoop: operation " + std::to_string(i) +
+                                  " has a negative or non-finite start or size");
+    }
+    if (i > 0 && o.start < config.operations[i - 1].start)
+    {
+      throw std::invalid_argument("runClosedLoop: operations not sorted by start time");
+    }
+  }
 }
 
 /// The node's parameters of an AIC run: config.node with config.aic and, if none are given,
@@ -104,45 +121,78 @@ public:
   double t = 0.0;  ///< [s]
 };
 
-/// The loop's commands go to the plant at once; its health events into the record.
+/// The loop's commands go to the plant at once (while the driver forwards them); its health
+/// events into the record.
 class PlantOutput : public ControlLoop::Output
 {
 public:
-  PlantOutput(Plant& plant, const SimClock& clock, ClosedLoopRecord& record)
-    : plant_(plant), clock_(clock), record_(record)
+  PlantOutput(Plant* plant, const SimClock& clock, ClosedLoopRecord& record, bool keep_events)
+    : plant_(plant), clock_(clock), record_(record), keep_events_(keep_events)
   {
   }
   void command(const WheelCommand& c) override
   {
     wheels = c.wheels;
-    plant_.setWheelSpeeds(c.wheels(0), c.wheels(1));
+    if (connected)
+    {
+      plant_->setWheelSpeeds(c.wheels(0), c.wheels(1));
+    }
   }
   void healthEvent(FaultMonitor::Event event, int channel) override
   {
-    record_.health_events.push_back({ clock_.now(), event, channel });
-  }
-  Vector2 wheels = Vector2::Zero();  ///< the last command [rad/s]
-
-private:
-  Plant& plant_;
-  const SimClock& clock_;
-  ClosedLoopRecord& record_;
-};
-
-/// The set point in force at time t.
-const SetPointSegment* segmentAt(const std::vector<SetPointSegment>& profile, double t)
-{
-  const SetPointSegment* current = nullptr;
-  for (const SetPointSegment& s : profile)
-  {
-    if (s.start <= t + 1e-9)
+    if (keep_events_)
     {
-      current = &s;
+      record_.health_events.push_back({ clock_.now(), event, channel });
     }
   }
-  return current;
-}
+  /// A restarted plant.
+  void setPlant(Plant* plant) { plant_ = plant; }
+  Vector2 wheels = Vector2::Zero();  ///< the last command [rad/s]
+  bool connected = true;             ///< false: the driver is paused (commands are not forwarded)
+
+private:
+  Plant* plant_;
+  const SimClock& clock_;
+  ClosedLoopRecord& record_;
+  bool keep_events_;
+};
+
+/// The set point in force at time t: the last segment starting by t, found with a cursor
+/// (the times asked are non-decreasing; the profile is sorted).
+class SegmentCursor
+{
+public:
+  explicit SegmentCursor(const std::vector<SetPointSegment>& profile) : profile_(profile) {}
+  const SetPointSegment* at(double t)
+  {
+    while (next_ < profile_.size() && profile_[next_].start <= t + 1e-9)
+    {
+      ++next_;
+    }
+    return next_ == 0 ? nullptr : &profile_[next_ - 1];
+  }
+
+private:
+  const std::vector<SetPointSegment>& profile_;
+  std::size_t next_ = 0;
+};
 }  // namespace
+
+const char* toString(Operation::Kind kind)
+{
+  switch (kind)
+  {
+    case Operation::Kind::kClockBack:
+      return "clock_back";
+    case Operation::Kind::kPlantRestart:
+      return "plant_restart";
+    case Operation::Kind::kDriverPause:
+      return "driver_pause";
+    case Operation::Kind::kNodeRestart:
+      return "node_restart";
+  }
+  return "unknown";
+}
 
 std::vector<SetPointSegment> profileSegments(const TwistProfile& profile, double t0)
 {
@@ -167,9 +217,9 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
   {
     makeSensorsIdeal(&params.sensors);
   }
-  Plant plant(description, params);
-  FaultedSensors sensors(params.sensors, params.physics.step);
-  sensors.setFaults(config.faults, 0.0);
+  auto plant = std::make_unique<Plant>(description, params);
+  auto sensors = std::make_unique<FaultedSensors>(params.sensors, params.physics.step);
+  sensors->setFaults(config.faults, 0.0);
   std::vector<JointStateSample> joint_samples;
   std::vector<ImuSample> imu_samples;
   const double dt = params.physics.step;
@@ -183,14 +233,15 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
   // The AIC: the node's logic on the plant's clock.
   ClosedLoopRecord out;
   SimClock clock;
-  PlantOutput output(plant, clock, out);
+  PlantOutput output(plant.get(), clock, out, config.record);
   std::unique_ptr<ControlLoop> loop;
+  NodeParams node;
   std::uint64_t belief_period = 1;
   std::uint64_t action_period = 1;
   bool belief_timer = false;
   if (aic)
   {
-    const NodeParams node = aicNodeParams(config, description);
+    node = aicNodeParams(config, description);
     checkAicParams(node);
     loop = std::make_unique<ControlLoop>(node, clock, output);
     belief_period = periodSteps(config.aic.belief_rate, dt);
@@ -211,11 +262,76 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
   double command_left = 0.0;
   double command_right = 0.0;
   const SetPointSegment* last_segment = nullptr;
+  SegmentCursor segments(config.profile);
+
+  // Operations around the node (none: the run is exactly the plain closed loop).
+  double run_offset = 0.0;    // the run's time at the current plant's time 0 [s] (plant restarts)
+  double clock_offset = 0.0;  // the loop's clock and stamps minus the plant's time [s] (clock steps)
+  std::size_t next_operation = 0;
+  bool paused = false;
+  double pause_until = 0.0;   // run time [s]
+  double node_up_at = 0.0;    // run time [s] at which a killed node respawns
+  bool first_action_tick = true;
+  bool first_belief_tick = true;
+  auto startNode = [&]() {
+    loop = std::make_unique<ControlLoop>(node, clock, output);
+    first_action_tick = first_belief_tick = true;
+  };
 
   for (std::uint64_t k = 0; k < total; ++k)
   {
-    const double t = plant.time();
-    const SetPointSegment* seg = segmentAt(config.profile, t);
+    const double t = run_offset + plant->time();
+    for (; next_operation < config.operations.size() && config.operations[next_operation].start <= t + 1e-9;
+         ++next_operation)
+    {
+      const Operation& op = config.operations[next_operation];
+      switch (op.kind)
+      {
+        case Operation::Kind::kClockBack:
+          clock_offset -= op.size;
+          break;
+        case Operation::Kind::kPlantRestart:
+          run_offset += plant->time();
+          plant = std::make_unique<Plant>(description, params);
+          sensors = std::make_unique<FaultedSensors>(params.sensors, params.physics.step);
+          sensors->setFaults(config.faults, -run_offset);
+          output.setPlant(plant.get());
+          clock_offset = 0.0;  // the restarted simulator's clock starts at 0
+          break;
+        case Operation::Kind::kDriverPause:
+          paused = true;
+          pause_until = t + op.size;
+          output.connected = false;
+          plant->releaseMotors();
+          clock.t = plant->time() + clock_offset;
+          if (loop)
+          {
+            loop->mcuStatus(false, false, false);
+          }
+          break;
+        case Operation::Kind::kNodeRestart:
+          loop.reset();
+          node_up_at = t + op.size;
+          break;
+      }
+    }
+    if (paused && t >= pause_until - 1e-9)
+    {
+      paused = false;
+      output.connected = true;
+      clock.t = plant->time() + clock_offset;
+      if (loop)
+      {
+        loop->mcuStatus(true, false, false);
+      }
+    }
+    if (aic && !loop && t >= node_up_at - 1e-9)
+    {
+      clock.t = plant->time() + clock_offset;
+      startNode();
+    }
+
+    const SetPointSegment* seg = segments.at(t);
     const double sp_linear = seg ? seg->linear : 0.0;
     const double sp_angular = seg ? seg->angular : 0.0;
 
@@ -225,7 +341,7 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
       {
         command_left = (sp_linear - 0.5 * b_hat * sp_angular) / r;
         command_right = (sp_linear + 0.5 * b_hat * sp_angular) / r;
-        plant.setWheelSpeeds(command_left, command_right);
+        plant->setWheelSpeeds(command_left, command_right);
       }
     }
     else if (!aic)
@@ -236,42 +352,45 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
         const WheelSpeedCommand c = stock.update(t);
         command_left = c.left;
         command_right = c.right;
-        plant.setWheelSpeeds(c.left, c.right);
+        plant->setWheelSpeeds(c.left, c.right);
       }
     }
     else
     {
-      clock.t = t;
-      if (seg != last_segment || k % stock_period == 0)
+      clock.t = plant->time() + clock_offset;
+      if (loop && (seg != last_segment || k % stock_period == 0))
       {
         // Streamed at 50 Hz as teleop would, and at once when the profile changes.
         const double fields[6] = { sp_linear, 0.0, 0.0, 0.0, 0.0, sp_angular };
         loop->setPoint(fields);
       }
-      if (k % action_period == 0)
+      if (loop && k % action_period == 0)
       {
-        loop->actionTimer(k == 0 ? -1.0 : static_cast<double>(action_period) * dt);
+        loop->actionTimer(first_action_tick ? -1.0 : static_cast<double>(action_period) * dt);
+        first_action_tick = false;
       }
       command_left = output.wheels(0);
       command_right = output.wheels(1);
     }
     last_segment = seg;
 
-    plant.step();
-    clock.t = plant.time();
-    if (belief_timer && (k + 1) % belief_period == 0)
+    plant->step();
+    clock.t = plant->time() + clock_offset;
+    if (loop && belief_timer && (k + 1) % belief_period == 0)
     {
       // The belief timer ticks before the samples of its instant: what it integrates up to
       // now used the inputs held until now, as the event schedule does.
-      loop->beliefTimer(k + 1 == belief_period ? -1.0 : static_cast<double>(belief_period) * dt);
+      loop->beliefTimer(first_belief_tick ? -1.0 : static_cast<double>(belief_period) * dt);
+      first_belief_tick = false;
     }
-    sensors.afterStep(plant, &joint_samples, &imu_samples);
-    if (aic)
+    sensors->afterStep(*plant, &joint_samples, &imu_samples);
+    const bool deliver = aic && loop && !paused;  // the node is up and the driver publishes
+    if (deliver)
     {
       for (const ImuSample& imu : imu_samples)
       {
         ImuInput in;
-        in.stamp = imu.stamp;
+        in.stamp = imu.stamp + clock_offset;
         in.angular_velocity = imu.angular_velocity;
         in.linear_acceleration = imu.linear_acceleration;
         loop->imu(in);
@@ -279,34 +398,53 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
     }
     for (const JointStateSample& js : joint_samples)  // the record and the loop, per joint-state sample
     {
-      if (aic)
+      if (deliver)
       {
         loop->advance();  // the beliefs at the sample's time, for the record
         out.active = out.active || loop->active();
         command_left = output.wheels(0);
         command_right = output.wheels(1);
       }
+      ClosedLoopSample sample;
       const double wl = 0.5 * (js.velocity[kFrontLeft] + js.velocity[kRearLeft]);
       const double wr = 0.5 * (js.velocity[kFrontRight] + js.velocity[kRearRight]);
-      const double belief_x = aic && out.active ? loop->controller().mu()(0, 0) : std::numeric_limits<double>::quiet_NaN();
-      const double belief_w = aic && out.active ? loop->controller().mu()(2, 0) : std::numeric_limits<double>::quiet_NaN();
-      out.time.push_back(js.stamp);
-      out.set_point.push_back(sp_linear);
-      out.v_odom.push_back(r * 0.5 * (wl + wr));
-      out.v_true.push_back(plant.baseLinearVelocity().x());
-      out.yaw_odom.push_back(r * (wr - wl) / b_hat);
-      out.yaw_true.push_back(plant.baseAngularVelocity().z());
-      out.command.push_back(r * 0.5 * (command_left + command_right));
-      out.belief.push_back(belief_x);
-      out.angular_set_point.push_back(sp_angular);
-      out.command_yaw.push_back(r * (command_right - command_left) / b_hat);
-      out.belief_yaw.push_back(belief_w);
-      const Eigen::Isometry3d pose = plant.basePose();
-      out.x_true.push_back(pose.translation().x());
-      out.y_true.push_back(pose.translation().y());
-      out.heading_true.push_back(std::atan2(pose.linear()(1, 0), pose.linear()(0, 0)));
+      const bool has_belief = aic && loop && out.active;
+      sample.time = run_offset + js.stamp;
+      sample.set_point = sp_linear;
+      sample.v_odom = r * 0.5 * (wl + wr);
+      sample.v_true = plant->baseLinearVelocity().x();
+      sample.yaw_odom = r * (wr - wl) / b_hat;
+      sample.yaw_true = plant->baseAngularVelocity().z();
+      sample.command = r * 0.5 * (command_left + command_right);
+      sample.belief = has_belief ? loop->controller().mu()(0, 0) : std::numeric_limits<double>::quiet_NaN();
+      sample.angular_set_point = sp_angular;
+      sample.command_yaw = r * (command_right - command_left) / b_hat;
+      sample.belief_yaw = has_belief ? loop->controller().mu()(2, 0) : std::numeric_limits<double>::quiet_NaN();
+      const Eigen::Isometry3d pose = plant->basePose();
+      sample.x_true = pose.translation().x();
+      sample.y_true = pose.translation().y();
+      sample.heading_true = std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
+      sample.wheels_command = Vector2(command_left, command_right);
+      sample.wheels_measured = Vector2(wl, wr);
+      if (config.record)
+      {
+        out.time.push_back(sample.time);
+        out.set_point.push_back(sample.set_point);
+        out.v_odom.push_back(sample.v_odom);
+        out.v_true.push_back(sample.v_true);
+        out.yaw_odom.push_back(sample.yaw_odom);
+        out.yaw_true.push_back(sample.yaw_true);
+        out.command.push_back(sample.command);
+        out.belief.push_back(sample.belief);
+        out.angular_set_point.push_back(sample.angular_set_point);
+        out.command_yaw.push_back(sample.command_yaw);
+        out.belief_yaw.push_back(sample.belief_yaw);
+        out.x_true.push_back(sample.x_true);
+        out.y_true.push_back(sample.y_true);
+        out.heading_true.push_back(sample.heading_true);
+      }
 
-      if (aic)
+      if (deliver)
       {
         for (int i = 0; i < kNumWheels; ++i)
         {
@@ -314,22 +452,27 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
           joint_velocity[static_cast<std::size_t>(i)] = js.velocity[static_cast<std::size_t>(i)];
         }
         JointStateInput in;
-        in.stamp = js.stamp;
+        in.stamp = js.stamp + clock_offset;
         in.name = &joint_names;
         in.position = &joint_position;
         in.velocity = &joint_velocity;
         in.effort = &no_effort;
         const std::uint64_t no_imu = loop->pairing().drops(DropReason::kNoImu);
         loop->jointState(in);
-        if (loop->pairing().drops(DropReason::kNoImu) > no_imu)
+        if (config.record && loop->pairing().drops(DropReason::kNoImu) > no_imu)
         {
           out.imu_missing.push_back(js.stamp);
         }
         out.active = out.active || loop->active();
       }
+      if (config.observer)
+      {
+        sample.loop = aic ? loop.get() : nullptr;
+        config.observer(sample);
+      }
     }
   }
-  if (aic)
+  if (aic && loop)
   {
     out.runaways = loop->supervisor().runaways();
     out.belief_steps = loop->beliefSteps();

@@ -65,6 +65,19 @@ bool StockController::setCommand(double linear, double angular, double t)
   return true;
 }
 
+void StockController::restartTimeline(double t)
+{
+  if (!std::isfinite(t))
+  {
+    return;
+  }
+  if (have_update_)
+  {
+    cmd_time_ = t - (last_update_ - cmd_time_);
+  }
+  have_update_ = false;
+}
+
 WheelSpeedCommand StockController::update(double t)
 {
   // First update: one nominal period.

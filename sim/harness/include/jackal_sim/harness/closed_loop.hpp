@@ -25,9 +25,11 @@
  */
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "jackal_aic/control_loop.hpp"
 #include "jackal_aic/fault_monitor.hpp"
 #include "jackal_aic/node_params.hpp"
 #include "jackal_aic/params.hpp"
@@ -63,6 +65,62 @@ struct SetPointSegment
   double angular = 0.0;  ///< yaw rate [rad/s]
 };
 
+/**
+ * \brief An ordinary operation around the node during an AIC run (the soak, aic_soak): what
+ *        happens to the robot's clock, its sensor driver or the node itself, as the ROS
+ *        scenarios of test/rostest/restart_*.test do it through the nodes.
+ */
+struct Operation
+{
+  enum class Kind
+  {
+    /// The node's clock and the sensors' stamps step back by `size` [s] (a wall clock stepped
+    /// back, a bag's loop); the robot drives on.
+    kClockBack,
+    /// The simulator restarts: a new plant at rest at the origin, its clock and stamps from 0
+    /// (the loop's clock follows it); the run's time and the set-point profile go on.
+    kPlantRestart,
+    /// The sensor driver stops for `size` [s]: no samples reach the node, the MCU reports its
+    /// drivers inactive (mcuStatus()), the motors are released and commands are not forwarded;
+    /// then all of it is back.
+    kDriverPause,
+    /// The node dies and respawns `size` [s] later: a new ControlLoop with the same parameters
+    /// (the plant keeps the last command meanwhile).
+    kNodeRestart
+  };
+  Kind kind = Kind::kClockBack;
+  double start = 0.0;  ///< [s] from the run's start, finite, >= 0
+  double size = 0.0;   ///< [s], finite, >= 0: the jump, the pause or the down time (kPlantRestart: ignored)
+};
+
+/// "clock_back", "plant_restart", "driver_pause", "node_restart".
+const char* toString(Operation::Kind kind);
+
+/**
+ * \brief One joint-state sample of a run: what ClosedLoopRecord keeps per sample, and the loop
+ *        for an observer (ClosedLoopConfig::observer).
+ */
+struct ClosedLoopSample
+{
+  double time = 0.0;               ///< the run's time of the sample [s] (its stamp; monotonic over plant restarts)
+  double set_point = 0.0;          ///< linear set point in force [m/s]
+  double angular_set_point = 0.0;  ///< yaw-rate set point in force [rad/s]
+  double v_odom = 0.0;             ///< wheel-odometry body speed [m/s]
+  double v_true = 0.0;             ///< ground-truth forward speed [m/s]
+  double yaw_odom = 0.0;           ///< wheel-odometry yaw rate [rad/s]
+  double yaw_true = 0.0;           ///< ground-truth yaw rate [rad/s]
+  double command = 0.0;            ///< body speed of the last drive command [m/s]
+  double command_yaw = 0.0;        ///< yaw rate of the last drive command [rad/s]
+  double belief = 0.0;             ///< AIC belief mu^(0) x_dot [m/s] (NaN if none)
+  double belief_yaw = 0.0;         ///< AIC belief mu^(0) theta_dot [rad/s] (NaN if none)
+  double x_true = 0.0, y_true = 0.0, heading_true = 0.0;  ///< ground-truth pose [m, m, rad]
+  Vector2 wheels_command = Vector2::Zero();   ///< the last drive command (omega_L, omega_R) [rad/s]
+  Vector2 wheels_measured = Vector2::Zero();  ///< the sample's mean wheel speeds per side [rad/s]
+  /// AIC: the loop after it took the sample (null for the other controllers and while the
+  /// node is down, Operation::kNodeRestart); valid during the call only.
+  const ControlLoop* loop = nullptr;
+};
+
 /// What to run.
 struct ClosedLoopConfig
 {
@@ -84,6 +142,13 @@ struct ClosedLoopConfig
   /// Injected faults (sim/README.md, 'Fault injection'), each from `start` [s] after the run's
   /// start, as the plant node applies its ~faults (FaultedSensors).
   std::vector<FaultSpec> faults;
+  /// AIC only: operations around the node (clock steps, plant restarts, driver pauses, node
+  /// restarts), sorted by start.
+  std::vector<Operation> operations;
+  /// false: no per-sample record, health events or IMU-missing times (long runs: use observer).
+  bool record = true;
+  /// Called for every joint-state sample (optional).
+  std::function<void(const ClosedLoopSample&)> observer;
 };
 
 /// One event of the AIC's fault monitor during a run.
@@ -125,7 +190,9 @@ struct ClosedLoopRecord
  * \param params      plant parameters (sensor noise switched off if config.ideal_sensors)
  * \param config      controller, profile, duration
  * \throws std::invalid_argument on an invalid AicParams, an empty or unsorted profile, a
- *         non-finite set point, or a non-positive duration (message says which)
+ *         non-finite set point, a non-positive duration, or operations that are unsorted, have a
+ *         negative or non-finite start or size, or are given for a controller other than the
+ *         AIC (message says which)
  */
 ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams params,
                                const ClosedLoopConfig& config);

@@ -66,6 +66,13 @@ public:
    */
   WheelSpeedCommand update(double t);
 
+  /**
+   * \brief The caller's clock moved backwards (TimeJumpDetector): move the controller onto the
+   *        new timeline at time t [s]: the command keeps its age at the last update, the next
+   *        update() integrates one nominal period (its limiter's state is kept).
+   */
+  void restartTimeline(double t);
+
   /// Limited linear and angular speed of the last update [m/s], [rad/s].
   /// Linear velocity [m/s] of the last output twist, after the velocity and acceleration limits.
   double lastLinear() const { return limiter_.last().linear; }

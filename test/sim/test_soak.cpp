@@ -1,0 +1,65 @@
+/**
+ * \file test_soak.cpp
+ * \brief The soak's short form (aic_soak, tools/src/aic_soak.cpp; doc/tools.md, 'Soak'): six
+ *        simulated minutes of random planner and joystick streams with a fault scenario every
+ *        15 s and an operation around the node (clock step back, simulator restart, driver pause,
+ *        node respawn) every 20 s on average, seeded; every check of the full 8-hour form must
+ *        pass. Also the tool's refusal of bad arguments.
+ */
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+#include <sys/wait.h>
+
+namespace
+{
+struct Result
+{
+  int code;
+  std::string out;  ///< stdout and stderr
+};
+
+Result run(const std::string& command)
+{
+  Result r{ -1, "" };
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (pipe == nullptr)
+  {
+    return r;
+  }
+  char buf[512];
+  while (fgets(buf, sizeof(buf), pipe) != nullptr)
+  {
+    r.out += buf;
+  }
+  const int status = pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+const std::string kSoak = std::string("JACKAL_AIC_SHARE=") + SOURCE_DIR + " " + AIC_SOAK_BIN + " --profile-dir " + SOURCE_DIR + "/test/data/soak_profiles";
+
+TEST(Soak, ShortFormPassesEveryCheck)
+{
+  const Result r = run(kSoak + " --hours 0.1 --seed 7 --fault-every 15 --operation-every 20");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("Verdict: PASS"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| non-finite values | 0 |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("| runaway resets | 0 |"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("Operations after which the controller never ran again: 0."), std::string::npos) << r.out;
+  for (const char* kind : { "| clock_back | ", "| plant_restart | ", "| driver_pause | ", "| node_restart | " })
+  {
+    const std::size_t at = r.out.find(kind);
+    ASSERT_NE(at, std::string::npos) << kind << r.out;
+    EXPECT_NE(r.out.compare(at + std::string(kind).size(), 2, "0 "), 0) << kind << " never happened\n" << r.out;
+  }
+}
+
+TEST(Soak, RefusesBadArguments)
+{
+  EXPECT_EQ(run(kSoak + " --hours 0").code, 2);
+  EXPECT_EQ(run(kSoak + " --hours 0.01 --fault-every -1").code, 2);
+  EXPECT_EQ(run(std::string(AIC_SOAK_BIN) + " --hours 0.01 --profile-dir /nonexistent").code, 1);
+}
+}  // namespace
