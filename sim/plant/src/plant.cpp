@@ -12,6 +12,10 @@ namespace plant
 {
 namespace
 {
+/// Constraint force mixing of the drivetrain friction row [(rad/s) / (N m)]: a wheel held by its
+/// Coulomb friction (0.16 N m) creeps at ~2e-5 rad/s.
+constexpr double kFrictionCfm = 1e-4;
+
 /// ODE needs one global initialisation; kept for the life of the process.
 void initOdeOnce()
 {
@@ -223,6 +227,11 @@ void Plant::build()
     // stable at any friction level; the same as Gazebo's joint friction).
     dJointSetHingeParam(o.hinge[i], dParamVel, 0.0);
     dJointSetHingeParam(o.hinge[i], dParamFMax, params_.motor.coulomb_friction);
+    // The friction row's constraint force mixing (ODE applies dParamCFM to a powered hinge's motor
+    // row): a held wheel creeps at kFrictionCfm times its friction torque. Without it (the world's CFM,
+    // 1e-10) a wheel held exactly at its break-away torque is a degenerate LCP (the row at its bound
+    // with zero velocity): ODE's Dantzig solver then reports "LCP internal error, s <= 0".
+    dJointSetHingeParam(o.hinge[i], dParamCFM, kFrictionCfm);
     last_raw_angle_[i] = dJointGetHingeAngle(o.hinge[i]);
     wheel_angle_[i] = 0.0;
   }
