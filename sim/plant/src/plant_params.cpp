@@ -142,9 +142,9 @@ std::vector<std::string> PhysicsParams::validate() const
 std::vector<std::string> ContactParams::validate() const
 {
   std::vector<std::string> e;
-  if (friction_model != "cone" && friction_model != "pyramid")
+  if (friction_model != "slip" && friction_model != "cone" && friction_model != "pyramid")
   {
-    e.push_back("contact.friction_model = '" + friction_model + "' (allowed: cone, pyramid)");
+    e.push_back("contact.friction_model = '" + friction_model + "' (allowed: slip, cone, pyramid)");
   }
   check(&e, sliding_threshold > 0.0 && sliding_threshold <= 1.0, "contact.sliding_threshold", sliding_threshold,
         "(0, 1] m/s");
@@ -153,6 +153,14 @@ std::vector<std::string> ContactParams::validate() const
     e.push_back("contact.friction_model = cone needs isotropic friction: mu1 = " + num(mu1) + ", mu2 = " + num(mu2) +
                 ", slip1 = " + num(slip1) + ", slip2 = " + num(slip2) + " (allowed: mu1 = mu2 and slip1 = slip2)");
   }
+  if (friction_model == "slip" && mu1 != mu2)
+  {
+    e.push_back("contact.friction_model = slip needs isotropic friction: mu1 = " + num(mu1) + ", mu2 = " + num(mu2) +
+                " (allowed: mu1 = mu2)");
+  }
+  check(&e, slip_stiffness > 0.0 && slip_stiffness <= 1000.0, "contact.slip_stiffness", slip_stiffness,
+        "(0, 1000] (force over normal load per unit slip)");
+  check(&e, slip_min_speed > 0.0 && slip_min_speed <= 1.0, "contact.slip_min_speed", slip_min_speed, "(0, 1] m/s");
   check(&e, mu1 >= 0.0 && mu1 <= 100.0, "contact.mu1", mu1, "[0, 100]");
   check(&e, mu2 >= 0.0 && mu2 <= 100.0, "contact.mu2", mu2, "[0, 100]");
   check(&e, slip1 >= 0.0 && slip1 <= 1.0, "contact.slip1", slip1, "[0, 1] m/(s N)");
@@ -363,6 +371,8 @@ PlantParams parsePlantParams(const std::string& yaml, const std::string& source,
     Section s(root["contact"], "contact", &errors);
     s.get("friction_model", &p.contact.friction_model);
     s.get("sliding_threshold", &p.contact.sliding_threshold);
+    s.get("slip_stiffness", &p.contact.slip_stiffness);
+    s.get("slip_min_speed", &p.contact.slip_min_speed);
     s.get("mu1", &p.contact.mu1);
     s.get("mu2", &p.contact.mu2);
     s.get("slip1", &p.contact.slip1);
