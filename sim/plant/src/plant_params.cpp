@@ -188,6 +188,8 @@ std::vector<std::string> MotorParams::validate() const
         setpoint_feedforward, "[0, 100] N m s/rad (0 = off)");
   check(&e, accel_feedforward >= 0.0 && accel_feedforward <= 10.0, "motor.accel_feedforward", accel_feedforward,
         "[0, 10] N m s^2/rad (0 = off)");
+  check(&e, accel_feedforward_limit >= 0.0 && accel_feedforward_limit <= 100.0, "motor.accel_feedforward_limit",
+        accel_feedforward_limit, "[0, 100] N m (0 = none)");
   check(&e, load_observer_time_constant >= 0.0 && load_observer_time_constant <= 5.0,
         "motor.load_observer_time_constant", load_observer_time_constant, "[0, 5] s (0 = no observer)");
   check(&e, load_observer_time_constant == 0.0 || (load_observer_inertia > 0.0 && load_observer_inertia <= 10.0),
@@ -391,6 +393,7 @@ PlantParams parsePlantParams(const std::string& yaml, const std::string& source,
     s.get("max_torque", &m.max_torque);
     s.get("integral_limit", &m.integral_limit);
     s.get("accel_feedforward", &m.accel_feedforward);
+    s.get("accel_feedforward_limit", &m.accel_feedforward_limit);
     s.get("proportional_limit", &m.proportional_limit);
     s.get("integral_error_limit", &m.integral_error_limit);
     s.get("setpoint_feedforward", &m.setpoint_feedforward);

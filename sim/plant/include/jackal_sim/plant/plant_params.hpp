@@ -106,7 +106,7 @@ struct MotorParams
 {
   double speed_kp = 10.38;              ///< proportional gain [N m / (rad/s)], >= 0
   double speed_ki = 0.4892;             ///< integral gain [N m / rad], >= 0
-  double max_torque = 4.0;            ///< current (torque) limit of one side, at the wheels [N m], > 0
+  double max_torque = 8.0;            ///< current (torque) limit of one side, at the wheels [N m], > 0
   /// Clamp of the PI integrator [N m], >= 0; 0 = max_torque. Below max_torque the integral path alone
   /// cannot drive the motor to its limit: on a large error the torque is integral_limit + speed_kp * error,
   /// so a set point further ahead of the wheels accelerates them faster.
@@ -128,6 +128,11 @@ struct MotorParams
   /// the rate estimated from consecutive received commands and held until the next one: a ramping
   /// command (the AIC's) gets a sustained torque, a step (the stock controller's) one period's kick.
   double accel_feedforward = 0.07343;
+  /// Clamp of the acceleration feedforward torque [N m], >= 0; 0 = none (only the current limit).
+  /// A stock step's one-period kick (accel_feedforward times a set-point jump over 20 ms: ~15 N m for
+  /// 1.0 m/s) is bounded by this; the stock steps (thesis table 3-1b) fix the bound at ~4 N m but
+  /// cannot tell it from the current limit (doc/robot_data.md, 'Motor limits').
+  double accel_feedforward_limit = 3.243;
   /// Load-torque observer (disturbance observer): the nominal inertia of one side at the wheels
   /// [kg m^2], > 0 when the observer is on. The servo estimates the load torque as the torque it
   /// applied minus this inertia times the side's acceleration, both low-pass filtered with
@@ -139,7 +144,7 @@ struct MotorParams
   double load_observer_inertia = 0.0933;
   /// Time constant of the load-torque observer's filter [s], [0, 5]; 0 = no observer.
   double load_observer_time_constant = 0.04105;
-  double stall_torque = 6.0;          ///< voltage limit: stall torque of one side [N m]; 0 = no voltage limit
+  double stall_torque = 12.0;         ///< voltage limit: stall torque of one side [N m]; 0 = no voltage limit
   double no_load_speed = 26.0;        ///< voltage limit: no-load wheel speed [rad/s], > 0 if stall_torque > 0
   double setpoint_slew_rate = 0.0;    ///< MCU ramp of the speed set point [rad/s^2]; 0 = none
   double setpoint_time_constant = 0.004661;  ///< first-order lag on the set point inside the MCU [s], >= 0
