@@ -182,10 +182,14 @@ TEST(PlantParams, FrictionModelIsValidated)
   EXPECT_NE(errorOf([&] { parsePlantParams(yaml, "t", { "contact.friction_model=coulomb" }); }).find(
                 "contact.friction_model"),
             std::string::npos);
-  // The cone is isotropic: anisotropic friction or compliance is refused.
+  // The cone and the slip law are isotropic: anisotropic friction (or, for the cone, compliance) is refused.
   EXPECT_NE(errorOf([&] { parsePlantParams(yaml, "t", { "contact.mu2=0.8" }); }).find("isotropic"),
             std::string::npos);
-  EXPECT_NE(errorOf([&] { parsePlantParams(yaml, "t", { "contact.slip2=0.02" }); }).find("isotropic"),
+  EXPECT_NE(errorOf([&] { parsePlantParams(yaml, "t", { "contact.friction_model=cone", "contact.mu2=0.8" }); })
+                .find("isotropic"),
+            std::string::npos);
+  EXPECT_NE(errorOf([&] { parsePlantParams(yaml, "t", { "contact.friction_model=cone", "contact.slip2=0.02" }); })
+                .find("isotropic"),
             std::string::npos);
   EXPECT_NO_THROW(parsePlantParams(yaml, "t", { "contact.friction_model=pyramid", "contact.slip2=0.02" }));
   EXPECT_NE(errorOf([&] { parsePlantParams(yaml, "t", { "contact.sliding_threshold=0" }); }).find(

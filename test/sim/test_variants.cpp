@@ -28,6 +28,7 @@
 #include "jackal_sim/plant/plant_params.hpp"
 #include "jackal_sim/plant/robot_description.hpp"
 #include "jackal_sim/harness/stock_controller.hpp"
+#include "jackal_sim/harness/turning.hpp"
 
 using namespace jackal_aic;
 using namespace jackal_aic::plant;
@@ -129,16 +130,19 @@ std::vector<std::string> variantFiles()
 TEST(Variants, EveryOverlayLoadsAndHoldsOnlyKeysThatDiffer)
 {
   const std::vector<std::string> files = variantFiles();
-  for (const char* expected : { "turn_deficit.yaml", "slow_breakaway.yaml", "floor_mu_0.3.yaml", "floor_mu_0.5.yaml",
-                                "floor_mu_0.8.yaml", "payload_10kg.yaml", "latency_minus_20.yaml",
-                                "latency_plus_20.yaml" })
+  for (const char* expected : { "turn_deficit.yaml", "slow_breakaway.yaml", "floor_mu_0.3.yaml", "floor_mu_0.8.yaml",
+                                "payload_10kg.yaml", "payload_20kg.yaml", "payload_20kg_forward.yaml",
+                                "front_heavy.yaml", "latency_minus_20.yaml", "latency_plus_20.yaml" })
   {
     EXPECT_NE(std::find(files.begin(), files.end(), expected), files.end()) << expected;
   }
+  // No overlay duplicates the default plant (an empty overlay would be a second "default").
+  EXPECT_EQ(std::find(files.begin(), files.end(), "floor_mu_0.5.yaml"), files.end());
   const YAML::Node base = YAML::LoadFile(kPlant);
   for (const std::string& f : files)
   {
     const std::vector<std::string> overrides = loadOverlayFile(kVariants + f);
+    EXPECT_FALSE(overrides.empty()) << f << " is the default plant";
     EXPECT_NO_THROW(loadPlantParams(kPlant, overrides)) << f;
     for (const std::string& o : overrides)
     {
@@ -238,7 +242,6 @@ TEST(Variants, FloorFrictionScalesTheScrubTorque)
   const PlantParams base = loadPlantParams(kPlant, lifted);
   ASSERT_DOUBLE_EQ(base.contact.mu1, 0.5);
   ASSERT_DOUBLE_EQ(base.contact.mu2, 0.5);
-  EXPECT_TRUE(loadOverlayFile(kVariants + "floor_mu_0.5.yaml").empty()) << "the default floor: no key differs";
   const double s05 = scrub(steadyTurn(base, 2.874), base.motor);
   for (double mu : { 0.3, 0.8 })
   {
@@ -319,6 +322,52 @@ TEST(Variants, PayloadIsValidated)
   EXPECT_THROW(loadPlantParams(kPlant, { "payload.position=[0, 0, 2]" }), PlantParamsError);
   EXPECT_THROW(loadPlantParams(kPlant, { "payload.position=[0, 0]" }), PlantParamsError);
   EXPECT_NO_THROW(loadPlantParams(kPlant, { "payload.mass=20", "payload.position=[0.1, 0, 0.3]" }));
+}
+
+// ---------------------------------------------------------------- the rated payload
+/// 20 kg (Clearpath's rating), centred and 0.15 m forward: the stock controller turns the robot in place
+/// to 95 % of 0.3 and 1.0 rad/s within 1 s (the current limit is above the turn's torque); centred, the
+/// scrub grows with the weight; forward, the robot turns about a point near its front axle with an
+/// effective separation in [1.0, 1.4] x track.
+TEST(Variants, RatedPayloadTurnsInPlaceWithinASecond)
+{
+  const RobotDescription d = loadRobotDescription(kUrdf);
+  const double track = 0.37559;
+  for (const char* name : { "payload_20kg", "payload_20kg_forward" })
+  {
+    const PlantParams p = variant(name);
+    EXPECT_DOUBLE_EQ(p.payload.mass, 20.0);
+    for (double w : { 0.3, 1.0 })
+    {
+      const TwistRun r = runStockTwist(d, p, 0.0, w);
+      EXPECT_LE(r.reach_time, 1.0) << name << " at " << w << " rad/s";
+      if (std::string(name) == "payload_20kg_forward")
+      {
+        EXPECT_GE(r.separation() / track, 1.0) << w;
+        EXPECT_LE(r.separation() / track, 1.4) << w;
+      }
+    }
+  }
+  double robot_mass = d.chassis.mass;
+  for (const WheelDescription& w : d.wheels)
+  {
+    robot_mass += w.inertial.mass;
+  }
+  const PlantParams base = loadPlantParams(kPlant);
+  const PlantParams loaded = variant("payload_20kg");
+  const double weight_ratio = (robot_mass + 20.0) / robot_mass;
+  EXPECT_NEAR(scrub(steadyTurn(loaded, 2.874), loaded.motor) / scrub(steadyTurn(base, 2.874), base.motor),
+              weight_ratio, 0.1 * weight_ratio);
+}
+
+/// A front-heavy robot turns on its front wheels: turning in place its effective separation is near the
+/// track (a J100 that tracked with a separation multiplier of ~1.0, clearpath_robot issue #280).
+TEST(Variants, FrontHeavyTurnsOnItsFrontWheels)
+{
+  const RobotDescription d = loadRobotDescription(kUrdf);
+  const TwistRun r = runStockTwist(d, variant("front_heavy"), 0.0, 1.0);
+  EXPECT_GE(r.separation() / 0.37559, 1.0);
+  EXPECT_LE(r.separation() / 0.37559, 1.15);
 }
 
 // ---------------------------------------------------------------- latency

@@ -10,13 +10,16 @@
  *        optionally the trace as CSV. The experiment engine of aic_reproduce.py (--backend core)
  *        and aic_track.py; the ROS backend runs the nodes instead.
  *
- * Usage: closed_loop_run --controller aic|stock|open [--aic-config FILE] [--aic-set key=value]...
+ * Usage: closed_loop_run --controller aic|stock|open|ideal [--aic-config FILE] [--aic-set key=value]...
  *            [--config PLANT.yaml] [--overlay FILE]... [--set key=value]... [--urdf FILE]
  *            (--step V [--turn W] | --square LOW HIGH | --profile FILE [--segments]) [--channel linear|angular]
  *            [--period S] [--cycles N] [--rest S] [--hold S] [--noise] [--fault LINE]... [--csv FILE]
  *   --overlay FILE    plant YAML with only the keys that differ (e.g. sim/config/variants/*.yaml),
  *                     applied after --config and before --set; repeatable, later ones win
  *   --controller open  no controller: the set point's wheel speeds go to the MCU as they are
+ *   --controller ideal the ideal controller (jackal_sim/harness/closed_loop.hpp, LoopController::kIdeal):
+ *                     the set point's wheel speeds command_delay ahead plus an integral correction of
+ *                     the ground-truth errors; where it misses the set point the plant decides
  *   --channel angular  the step / square values are yaw rates [rad/s] (linear set point 0);
  *                      metrics on the yaw rate
  *   --step V          0 until --rest, then V [m/s] for --hold seconds
@@ -123,7 +126,10 @@ int main(int argc, char** argv)
                  "One set-point profile with the stock controller or the AIC on the ODE plant core, headless and "
                  "faster than real time; prints one JSON object with the metrics of every transition.");
   cl.option("controller", &controller,
-            "aic, stock or open (no controller: the set point's wheel speeds go to the MCU as they are)", true);
+            "aic, stock, open (no controller: the set point's wheel speeds go to the MCU as they are) or ideal (the "
+            "set point command_delay ahead plus an integral correction of the ground-truth errors: what the plant "
+            "allows)",
+            true);
   cl.option("aic-config", &aic_config, "controller YAML (controller and node keys, as the node reads it)");
   cl.overrides("aic-set", &aic_overrides, "override a controller or node key");
   plant.addTo(&cl);
@@ -163,9 +169,9 @@ int main(int argc, char** argv)
     low = square[0];
     high = square[1];
   }
-  if (controller != "aic" && controller != "stock" && controller != "open")
+  if (controller != "aic" && controller != "stock" && controller != "open" && controller != "ideal")
   {
-    return cl.bad("--controller must be aic, stock or open");
+    return cl.bad("--controller must be aic, stock, open or ideal");
   }
   if (channel != "linear" && channel != "angular")
   {
@@ -202,8 +208,10 @@ int main(int argc, char** argv)
     }
     c.faults.push_back(f);
   }
-  c.controller = controller == "aic" ? LoopController::kAic
-                 : controller == "open" ? LoopController::kOpenLoop : LoopController::kStock;
+  c.controller = controller == "aic"     ? LoopController::kAic
+                 : controller == "open"  ? LoopController::kOpenLoop
+                 : controller == "ideal" ? LoopController::kIdeal
+                                         : LoopController::kStock;
   // A set point on the chosen channel, 0 on the other.
   auto sp = [angular](double start, double value) -> SetPointSegment {
     return angular ? SetPointSegment{ start, 0.0, value } : SetPointSegment{ start, value, 0.0 };

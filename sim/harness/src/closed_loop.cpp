@@ -261,6 +261,8 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
 
   double command_left = 0.0;
   double command_right = 0.0;
+  double ideal_linear = 0.0;   // kIdeal's integral correction of the body speed [m/s]
+  double ideal_angular = 0.0;  // and of the yaw rate [rad/s]
   const SetPointSegment* last_segment = nullptr;
   SegmentCursor segments(config.profile);
 
@@ -335,7 +337,28 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
     const double sp_linear = seg ? seg->linear : 0.0;
     const double sp_angular = seg ? seg->angular : 0.0;
 
-    if (config.controller == LoopController::kOpenLoop)
+    if (config.controller == LoopController::kIdeal)
+    {
+      if (k % stock_period == 0)
+      {
+        // Lead: the set point command_delay ahead; integral of the ground-truth errors against the set
+        // point in force (the command sent now acts after the delay, so the error is that of the
+        // commands sent command_delay ago: the gain is kept well below 1 / delay).
+        const double period = static_cast<double>(stock_period) * dt;
+        ideal_linear += kIdealIntegralGain * (sp_linear - plant.baseLinearVelocity().x()) * period;
+        ideal_angular += kIdealIntegralGain * (sp_angular - plant.baseAngularVelocity().z()) * period;
+        const double clamp = params.motor.max_wheel_speed * r;
+        ideal_linear = std::clamp(ideal_linear, -clamp, clamp);
+        ideal_angular = std::clamp(ideal_angular, -2.0 * clamp / b_hat, 2.0 * clamp / b_hat);
+        const SetPointSegment* ahead = segmentAt(config.profile, t + params.motor.command_delay);
+        const double v = (ahead ? ahead->linear : 0.0) + ideal_linear;
+        const double w = (ahead ? ahead->angular : 0.0) + ideal_angular;
+        command_left = (v - 0.5 * b_hat * w) / r;
+        command_right = (v + 0.5 * b_hat * w) / r;
+        plant.setWheelSpeeds(command_left, command_right);
+      }
+    }
+    else if (config.controller == LoopController::kOpenLoop)
     {
       if (k % stock_period == 0)
       {

@@ -6,12 +6,18 @@
 
 #include <ode/ode.h>
 
+#include "jackal_sim/plant/tyre_contact.hpp"
+
 namespace jackal_aic
 {
 namespace plant
 {
 namespace
 {
+/// Constraint force mixing of the drivetrain friction row [(rad/s) / (N m)]: a wheel held by its
+/// Coulomb friction (0.16 N m) creeps at ~2e-5 rad/s.
+constexpr double kFrictionCfm = 1e-4;
+
 /// ODE needs one global initialisation; kept for the life of the process.
 void initOdeOnce()
 {
@@ -99,6 +105,12 @@ struct Plant::Ode
   std::array<dGeomID, kNumWheels> wheel_geom{};
   std::array<dJointID, kNumWheels> hinge{};
   std::vector<dContactGeom> scratch;
+  /// Force feedback of each wheel's contact joint in the current step (the "slip" model's normal loads).
+  std::array<dJointFeedback, kNumWheels> feedback{};
+  /// Whether wheel i has a contact joint (and so feedback) in the current step.
+  std::array<bool, kNumWheels> in_contact{};
+  /// The ground normal of wheel i's contact in the current step.
+  std::array<Eigen::Vector3d, kNumWheels> contact_normal{};
   double erp = 0.2;
   double cfm = 1e-5;
 
@@ -223,9 +235,22 @@ void Plant::build()
     // stable at any friction level; the same as Gazebo's joint friction).
     dJointSetHingeParam(o.hinge[i], dParamVel, 0.0);
     dJointSetHingeParam(o.hinge[i], dParamFMax, params_.motor.coulomb_friction);
+    // The friction row's constraint force mixing (ODE applies dParamCFM to a powered hinge's motor
+    // row): a held wheel creeps at kFrictionCfm times its friction torque. Without it (the world's CFM,
+    // 1e-10) a wheel held exactly at its break-away torque is a degenerate LCP (the row at its bound
+    // with zero velocity): ODE's Dantzig solver then reports "LCP internal error, s <= 0".
+    dJointSetHingeParam(o.hinge[i], dParamCFM, kFrictionCfm);
     last_raw_angle_[i] = dJointGetHingeAngle(o.hinge[i]);
     wheel_angle_[i] = 0.0;
   }
+  // The "slip" model's normal loads start from the static share of the robot's weight; from the
+  // first step on they are each wheel's contact force of the step before.
+  double robot_mass = description_.chassis.mass;
+  for (const auto& w : description_.wheels)
+  {
+    robot_mass += w.inertial.mass;
+  }
+  wheel_load_.fill(robot_mass * params_.physics.gravity / kNumWheels);
   updateImu();
   // Start the accelerometer window at rest.
   const Eigen::Isometry3d imu_pose = basePose() * description_.chassis_in_base * description_.imu_in_chassis;
@@ -271,67 +296,105 @@ void Plant::collide()
   Ode& o = *ode_;
   const ContactParams& c = params_.contact;
   const int max_contacts = c.max_contacts;
-  const bool cone = c.friction_model == "cone";
+  const bool slip_model = c.friction_model == "slip";
+  const bool cone = c.friction_model == "cone" || slip_model;
   for (int i = 0; i < kNumWheels; ++i)
   {
+    o.in_contact[i] = false;
     const int n = dCollide(o.wheel_geom[i], o.ground, max_contacts, o.scratch.data(), sizeof(dContactGeom));
     if (n <= 0)
     {
       continue;
     }
+    // One contact per wheel: ODE's cylinder-plane collider gives the tyre's two edges; they are
+    // merged into one point at their mean position with the deepest penetration. Two rows of
+    // friction per edge made the LCP degenerate whenever one edge carried no load (a pair of
+    // friction rows bounded by a zero normal force: ODE's "LCP internal error, s <= 0"); the hinge
+    // holds the wheel's camber, so one point loses nothing the model has.
+    dContact contact{};
+    contact.geom = o.scratch[0];
+    Eigen::Vector3d position = Eigen::Vector3d::Zero();
+    for (int k = 0; k < n; ++k)
+    {
+      position += vec(o.scratch[k].pos);
+      contact.geom.depth = std::max(contact.geom.depth, o.scratch[k].depth);
+    }
+    position /= n;
+    for (int d = 0; d < 3; ++d)
+    {
+      contact.geom.pos[d] = position[d];
+    }
     // Rolling direction: perpendicular to the wheel axle, in the ground plane.
     dVector3 axis;
     dJointGetHingeAxis(o.hinge[i], axis);
     const Eigen::Vector3d a = vec(axis);
-    for (int k = 0; k < n; ++k)
+    contact.surface.mode = dContactMu2 | dContactSoftERP | dContactSoftCFM | dContactApprox1;
+    contact.surface.soft_erp = o.erp;
+    contact.surface.soft_cfm = o.cfm;
+    const Eigen::Vector3d normal = vec(contact.geom.normal);
+    // Sliding velocity of the tyre over the (static) ground at the contact point,
+    // tangential part, from the state at the start of this step.
+    dVector3 pv;
+    dBodyGetPointVel(o.wheel[i], position.x(), position.y(), position.z(), pv);
+    Eigen::Vector3d sliding = vec(pv);
+    sliding -= sliding.dot(normal) * normal;
+    // Friction pyramid: mu1 N along fdir1, mu2 N across, each with its force-dependent
+    // slip. "pyramid": fdir1 is the wheel's rolling direction (perpendicular to the axle, in the
+    // ground plane), as in Gazebo. "cone" and "slip": fdir1 follows the contact's sliding velocity,
+    // so with mu1 = mu2 and slip1 = slip2 the friction force opposes the sliding whatever its
+    // direction (isotropic friction); a contact that hardly slides keeps the rolling direction.
+    // "cone": the constant slip1 = slip2 (a tyre compliance in m/s per N). "slip": ODE's slip from
+    // the brush tyre law at the wheel's current slip and normal load (tyre_contact.hpp).
+    const Eigen::Vector3d rolling_dir = a.cross(normal);
+    Eigen::Vector3d fdir = rolling_dir;
+    if (cone && sliding.norm() > c.sliding_threshold)
     {
-      dContact contact{};
-      contact.geom = o.scratch[k];
-      contact.surface.mode = dContactMu2 | dContactSoftERP | dContactSoftCFM | dContactApprox1;
-      contact.surface.soft_erp = o.erp;
-      contact.surface.soft_cfm = o.cfm;
-      const Eigen::Vector3d normal = vec(contact.geom.normal);
-      // Sliding velocity of the tyre over the (static) ground at the contact point,
-      // tangential part, from the state at the start of this step.
-      dVector3 pv;
-      dBodyGetPointVel(o.wheel[i], contact.geom.pos[0], contact.geom.pos[1], contact.geom.pos[2], pv);
-      Eigen::Vector3d sliding = vec(pv);
-      sliding -= sliding.dot(normal) * normal;
-      // Friction pyramid: mu1 N along fdir1, mu2 N across, each with its force-dependent
-      // slip (tyre compliance). "pyramid": fdir1 is the wheel's rolling direction
-      // (perpendicular to the axle, in the ground plane), as in Gazebo. "cone": fdir1 follows
-      // the contact's sliding velocity, so with mu1 = mu2 and slip1 = slip2 the friction
-      // force opposes the sliding whatever its direction (isotropic Coulomb friction,
-      // regularised by the compliance below mu N); a contact that hardly slides keeps the
-      // rolling direction.
-      Eigen::Vector3d fdir = a.cross(normal);
-      if (cone && sliding.norm() > c.sliding_threshold)
-      {
-        fdir = sliding;
-      }
-      contact.surface.mu = c.mu1 * friction_scale_[kWheelSide[i]];
-      contact.surface.mu2 = c.mu2 * friction_scale_[kWheelSide[i]];
-      if (c.slip1 > 0.0)
-      {
-        contact.surface.mode |= dContactSlip1;
-        contact.surface.slip1 = c.slip1;
-      }
-      if (c.slip2 > 0.0)
-      {
-        contact.surface.mode |= dContactSlip2;
-        contact.surface.slip2 = c.slip2;
-      }
-      if (fdir.norm() > 1e-6)
-      {
-        fdir.normalize();
-        contact.surface.mode |= dContactFDir1;
-        contact.fdir1[0] = fdir.x();
-        contact.fdir1[1] = fdir.y();
-        contact.fdir1[2] = fdir.z();
-      }
-      dJointID j = dJointCreateContact(o.world, o.contacts, &contact);
-      dJointAttach(j, dGeomGetBody(contact.geom.g1), dGeomGetBody(contact.geom.g2));
+      fdir = sliding;
     }
+    const double mu1 = c.mu1 * friction_scale_[kWheelSide[i]];
+    contact.surface.mu = mu1;
+    contact.surface.mu2 = c.mu2 * friction_scale_[kWheelSide[i]];
+    double slip1 = c.slip1;
+    double slip2 = c.slip2;
+    if (slip_model && mu1 > 0.0 && rolling_dir.norm() > 1e-6)
+    {
+      // Wheel centre's ground velocity along the rolling direction and the rolling speed of its spin
+      // (the wheel body's angular velocity about its axle: the hinge rate plus the chassis's).
+      const Eigen::Vector3d centre = vec(dBodyGetLinearVel(o.wheel[i]));
+      const double forward = centre.dot(rolling_dir.normalized());
+      const double spin = vec(dBodyGetAngularVel(o.wheel[i])).dot(a.normalized());
+      const WheelSlip ws =
+          wheelSlip(forward, spin * description_.wheels[i].radius, sliding.norm(), c.slip_min_speed);
+      const double load = std::max(wheel_load_[i], kMinWheelLoad);
+      const OdeSlip ode_slip = odeSlip(ws, c.slip_stiffness, mu1, load);
+      slip1 = ode_slip.along;
+      slip2 = ode_slip.across;
+      wheel_slip_[i] = ws.slip;
+    }
+    if (slip1 > 0.0)
+    {
+      contact.surface.mode |= dContactSlip1;
+      contact.surface.slip1 = slip1;
+    }
+    if (slip2 > 0.0)
+    {
+      contact.surface.mode |= dContactSlip2;
+      contact.surface.slip2 = slip2;
+    }
+    if (fdir.norm() > 1e-6)
+    {
+      fdir.normalize();
+      contact.surface.mode |= dContactFDir1;
+      contact.fdir1[0] = fdir.x();
+      contact.fdir1[1] = fdir.y();
+      contact.fdir1[2] = fdir.z();
+    }
+    dJointID j = dJointCreateContact(o.world, o.contacts, &contact);
+    dJointAttach(j, dGeomGetBody(contact.geom.g1), dGeomGetBody(contact.geom.g2));
+    o.feedback[i] = dJointFeedback{};
+    dJointSetFeedback(j, &o.feedback[i]);
+    o.in_contact[i] = true;
+    o.contact_normal[i] = normal;
   }
   for (dGeomID g : o.chassis_geoms)
   {
@@ -401,6 +464,12 @@ void Plant::step()
   }
   collide();
   dWorldStep(o.world, params_.physics.step);
+  // Normal load of each wheel: the normal part of its contact force in this step (the contact can
+  // only push); 0 for a wheel off the ground.
+  for (int i = 0; i < kNumWheels; ++i)
+  {
+    wheel_load_[i] = o.in_contact[i] ? std::abs(vec(o.feedback[i].f1).dot(o.contact_normal[i])) : 0.0;
+  }
   dJointGroupEmpty(o.contacts);
   ++steps_;
   for (int i = 0; i < kNumWheels; ++i)

@@ -142,9 +142,9 @@ std::vector<std::string> PhysicsParams::validate() const
 std::vector<std::string> ContactParams::validate() const
 {
   std::vector<std::string> e;
-  if (friction_model != "cone" && friction_model != "pyramid")
+  if (friction_model != "slip" && friction_model != "cone" && friction_model != "pyramid")
   {
-    e.push_back("contact.friction_model = '" + friction_model + "' (allowed: cone, pyramid)");
+    e.push_back("contact.friction_model = '" + friction_model + "' (allowed: slip, cone, pyramid)");
   }
   check(&e, sliding_threshold > 0.0 && sliding_threshold <= 1.0, "contact.sliding_threshold", sliding_threshold,
         "(0, 1] m/s");
@@ -153,6 +153,14 @@ std::vector<std::string> ContactParams::validate() const
     e.push_back("contact.friction_model = cone needs isotropic friction: mu1 = " + num(mu1) + ", mu2 = " + num(mu2) +
                 ", slip1 = " + num(slip1) + ", slip2 = " + num(slip2) + " (allowed: mu1 = mu2 and slip1 = slip2)");
   }
+  if (friction_model == "slip" && mu1 != mu2)
+  {
+    e.push_back("contact.friction_model = slip needs isotropic friction: mu1 = " + num(mu1) + ", mu2 = " + num(mu2) +
+                " (allowed: mu1 = mu2)");
+  }
+  check(&e, slip_stiffness > 0.0 && slip_stiffness <= 1000.0, "contact.slip_stiffness", slip_stiffness,
+        "(0, 1000] (force over normal load per unit slip)");
+  check(&e, slip_min_speed > 0.0 && slip_min_speed <= 1.0, "contact.slip_min_speed", slip_min_speed, "(0, 1] m/s");
   check(&e, mu1 >= 0.0 && mu1 <= 100.0, "contact.mu1", mu1, "[0, 100]");
   check(&e, mu2 >= 0.0 && mu2 <= 100.0, "contact.mu2", mu2, "[0, 100]");
   check(&e, slip1 >= 0.0 && slip1 <= 1.0, "contact.slip1", slip1, "[0, 1] m/(s N)");
@@ -180,6 +188,8 @@ std::vector<std::string> MotorParams::validate() const
         setpoint_feedforward, "[0, 100] N m s/rad (0 = off)");
   check(&e, accel_feedforward >= 0.0 && accel_feedforward <= 10.0, "motor.accel_feedforward", accel_feedforward,
         "[0, 10] N m s^2/rad (0 = off)");
+  check(&e, accel_feedforward_limit >= 0.0 && accel_feedforward_limit <= 100.0, "motor.accel_feedforward_limit",
+        accel_feedforward_limit, "[0, 100] N m (0 = none)");
   check(&e, load_observer_time_constant >= 0.0 && load_observer_time_constant <= 5.0,
         "motor.load_observer_time_constant", load_observer_time_constant, "[0, 5] s (0 = no observer)");
   check(&e, load_observer_time_constant == 0.0 || (load_observer_inertia > 0.0 && load_observer_inertia <= 10.0),
@@ -363,6 +373,8 @@ PlantParams parsePlantParams(const std::string& yaml, const std::string& source,
     Section s(root["contact"], "contact", &errors);
     s.get("friction_model", &p.contact.friction_model);
     s.get("sliding_threshold", &p.contact.sliding_threshold);
+    s.get("slip_stiffness", &p.contact.slip_stiffness);
+    s.get("slip_min_speed", &p.contact.slip_min_speed);
     s.get("mu1", &p.contact.mu1);
     s.get("mu2", &p.contact.mu2);
     s.get("slip1", &p.contact.slip1);
@@ -381,6 +393,7 @@ PlantParams parsePlantParams(const std::string& yaml, const std::string& source,
     s.get("max_torque", &m.max_torque);
     s.get("integral_limit", &m.integral_limit);
     s.get("accel_feedforward", &m.accel_feedforward);
+    s.get("accel_feedforward_limit", &m.accel_feedforward_limit);
     s.get("proportional_limit", &m.proportional_limit);
     s.get("integral_error_limit", &m.integral_error_limit);
     s.get("setpoint_feedforward", &m.setpoint_feedforward);

@@ -131,7 +131,13 @@ double WheelSpeedServo::update(double measured_speed, double t)
   }
   const double error = filtered_setpoint_ - measured_speed;
   const auto [lo, hi] = torqueLimits(measured_speed);
-  feedforward_ = params_.accel_feedforward * setpoint_rate_ + params_.setpoint_feedforward * error;
+  double acceleration_feedforward = params_.accel_feedforward * setpoint_rate_;
+  if (params_.accel_feedforward_limit > 0.0)
+  {
+    acceleration_feedforward =
+        std::clamp(acceleration_feedforward, -params_.accel_feedforward_limit, params_.accel_feedforward_limit);
+  }
+  feedforward_ = acceleration_feedforward + params_.setpoint_feedforward * error;
   double proportional = params_.speed_kp * error;
   if (params_.proportional_limit > 0.0)
   {

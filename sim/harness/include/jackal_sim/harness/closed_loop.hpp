@@ -54,8 +54,23 @@ enum class LoopController
   /// No controller: every 50 Hz tick the set point's wheel speeds (inverse kinematics of the
   /// stock controller, r and its b_hat) go to the MCU as they are. The wheel loop's own
   /// response, for identifying it (aic_tune.py).
-  kOpenLoop
+  kOpenLoop,
+  /**
+   * The ideal controller, a reference for what the plant allows (not a controller a robot could
+   * run): it knows the future set point and the plant's ground truth. Every 50 Hz tick it sends the
+   * wheel speeds of the stock controller's inverse kinematics (r, its b_hat) for the set point
+   * `command_delay` ahead (the plant's motor.command_delay: a lead that cancels the transport delay)
+   * plus an integral correction of the ground-truth body speed and yaw-rate errors against the set
+   * point in force (gain kIdealIntegralGain; it removes a separation or a wheel-loop deficit),
+   * clamped to the MCU's wheel-speed clamp. Where even it misses the set point, the plant decides:
+   * torque, voltage or friction limits, a tipping robot.
+   */
+  kIdeal
 };
+
+/// Integral gain of LoopController::kIdeal's correction [1/s]: a time constant of 0.5 s, ~4x the
+/// identified 0.12 s latency (the loop stays well damped through the delay).
+constexpr double kIdealIntegralGain = 2.0;
 
 /// One piece of a piecewise-constant set-point profile.
 struct SetPointSegment

@@ -4,11 +4,12 @@
  * \brief The simulated Jackal: an ODE skid-steer plant built from a RobotDescription.
  *
  * ROS-free (ODE, Eigen). A chassis body and four wheel bodies joined by hinges, a ground
- * plane, soft wheel-ground contacts with finite Coulomb friction (so the robot skids when
- * it turns) whose first direction (fdir1) follows each contact's sliding velocity
- * (ContactParams::friction_model "cone": isotropic Coulomb friction) or each wheel's rolling
- * direction ("pyramid", Gazebo's), and the MCU wheel-speed loop per side (WheelSpeedServo).
- * Fixed step (PhysicsParams::step).
+ * plane, one soft contact per wheel (ODE's two tyre-edge points merged) with finite friction
+ * (so the robot skids when it turns) whose first direction (fdir1) follows each contact's
+ * sliding velocity (ContactParams::friction_model "slip": the isotropic brush tyre of
+ * tyre_contact.hpp, force following the wheel's slip up to mu N; "cone": isotropic Coulomb
+ * friction) or each wheel's rolling direction ("pyramid", Gazebo's), and the MCU wheel-speed
+ * loop per side (WheelSpeedServo). Fixed step (PhysicsParams::step).
  *
  * Contact softness follows Gazebo's ODE binding: with stiffness kp, damping kd and step h,
  * ERP = h kp / (h kp + kd) and CFM = 1 / (h kp + kd).
@@ -102,6 +103,11 @@ public:
   double wheelTorque(int i) const { return wheel_torque_[i]; }
   /// Mean wheel speed of one side [rad/s].
   double sideVelocity(Side side) const;
+  /// Normal load of wheel i in the last step [N] (its contact force's normal part; 0 off the ground).
+  double wheelLoad(int i) const { return wheel_load_[i]; }
+  /// Combined slip sigma = |v_s| / V of wheel i at the start of the last step [-] (friction_model
+  /// "slip" only; 0 otherwise; tyre_contact.hpp).
+  double wheelSlipRatio(int i) const { return wheel_slip_[i]; }
 
   /// base_link pose in odom.
   Eigen::Isometry3d basePose() const;
@@ -133,6 +139,10 @@ private:
   std::array<double, kNumWheels> wheel_angle_{};
   std::array<double, kNumWheels> last_raw_angle_{};
   std::array<double, kNumWheels> wheel_torque_{};
+  /// The smallest normal load [N] the "slip" model divides by (a wheel just touching down).
+  static constexpr double kMinWheelLoad = 1.0;
+  std::array<double, kNumWheels> wheel_load_{};  ///< normal load of each wheel [N]
+  std::array<double, kNumWheels> wheel_slip_{};  ///< combined slip of each wheel [-]
   // IMU specific-force averaging: ring of world IMU-point velocities.
   std::vector<Eigen::Vector3d> vel_ring_;
   std::size_t ring_head_ = 0;

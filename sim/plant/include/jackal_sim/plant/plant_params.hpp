@@ -45,29 +45,44 @@ struct PhysicsParams
  * Wheel-ground (and chassis-ground) contact, as Gazebo's ODE <surface> parameters, plus the
  * choice of friction law.
  *
+ * friction_model "slip" (default) is an isotropic brush tyre (tyre_contact.hpp): the friction
+ * force opposes the contact's sliding velocity and follows the wheel's combined slip
+ * sigma = |v_s| / max(|v_x|, r |omega|, slip_min_speed) (slip ratio and tangent of the slip angle)
+ * with initial slope slip_stiffness N and a smooth saturation at mu1 N from sigma = 3 mu1 /
+ * slip_stiffness on (H.B. Pacejka, Tire and Vehicle Dynamics, 2012, section 3.2; Gazebo's
+ * WheelSlipPlugin scales ODE's slip with the wheel's speed for the same reason). Turning in place
+ * the wheels slide at slips of ~0.5, so the contact is Coulomb's and the robot turns with an
+ * effective separation of track + wheelbase^2 / track (0.558 m for the Jackal; identified on the
+ * robot: 0.5621 m); on arcs the slips, and with them the scrub torque, fall as the turning radius
+ * grows. slip1 and slip2 are not used (the law sets ODE's slip per step).
+ * friction_model "cone" is isotropic Coulomb friction, as rubber sliding on a hard floor:
+ * a contact whose tangential sliding speed exceeds sliding_threshold gets a friction force
+ * of magnitude <= mu1 N opposite to its sliding velocity (ODE: the pyramid's fdir1 follows
+ * the sliding velocity at the start of the step; with mu1 = mu2 and slip1 = slip2, both
+ * required, the law is isotropic and, through the compliance, linear below mu N); the scrub
+ * is mu N at any forward speed.
  * friction_model "pyramid" is ODE's (and Gazebo's) default: two independent Coulomb limits
  * mu1 N along the rolling direction (fdir1) and mu2 N along the axle. It is anisotropic: a
  * wheel that slides both along and across its rolling direction (every wheel of a
  * skid-steer robot turning) gets the full mu N in both directions, so the longitudinal
  * (driving) forces win over the lateral (resisting) ones and the robot turns almost like
  * an ideal differential drive (effective separation ~ the track).
- * friction_model "cone" is isotropic Coulomb friction, as rubber sliding on a hard floor:
- * a contact whose tangential sliding speed exceeds sliding_threshold gets a friction force
- * of magnitude <= mu1 N opposite to its sliding velocity (ODE: the pyramid's fdir1 follows
- * the sliding velocity at the start of the step; with mu1 = mu2 and slip1 = slip2, both
- * required, the law is isotropic and, through the compliance, linear below mu N);
- * slower contacts keep fdir1 along the rolling direction. For a skid-steer
- * robot turning in place this predicts an effective separation of track + wheelbase^2 /
- * track (0.558 m for the Jackal; identified on the robot: 0.5621 m).
+ * "cone" and "slip": slower contacts than sliding_threshold keep fdir1 along the rolling direction.
  */
 struct ContactParams
 {
-  std::string friction_model = "cone";  ///< "cone" (isotropic Coulomb) or "pyramid" (ODE/Gazebo default)
-  double sliding_threshold = 0.001;    ///< cone: sliding speed above which fdir1 follows the sliding [m/s], > 0
+  std::string friction_model = "slip";  ///< "slip" (brush tyre), "cone" (isotropic Coulomb) or "pyramid" (ODE/Gazebo default)
+  double sliding_threshold = 0.001;    ///< cone, slip: sliding speed above which fdir1 follows the sliding [m/s], > 0
+  /// slip: slip stiffness C, the initial slope of friction force over normal load against the combined
+  /// slip [-] (per unit slip), (0, 1000]; the force reaches mu1 N at a slip of 3 mu1 / C.
+  double slip_stiffness = 10.0;
+  /// slip: the smallest reference speed of the slip [m/s], (0, 1]: below it (starting, stopping, slow
+  /// turns) the force follows the sliding speed, C N |v_s| / slip_min_speed, as a tyre compliance.
+  double slip_min_speed = 0.15;
   double mu1 = 0.5;                    ///< Coulomb friction along the rolling direction (fdir1) [-], >= 0
   double mu2 = 0.5;                    ///< Coulomb friction along the axle [-], >= 0
-  double slip1 = 0.001;                ///< ODE force-dependent slip along fdir1 [m/(s N)], >= 0 (Gazebo slip1)
-  double slip2 = 0.001;                 ///< ODE force-dependent slip along the axle [m/(s N)], >= 0 (Gazebo slip2)
+  double slip1 = 0.001;                ///< ODE force-dependent slip along fdir1 [m/(s N)], >= 0 (Gazebo slip1); not slip
+  double slip2 = 0.001;                 ///< ODE force-dependent slip along the axle [m/(s N)], >= 0 (Gazebo slip2); not slip
   double kp = 1.0e7;                   ///< contact stiffness [N/m], > 0
   double kd = 1.0;                     ///< contact damping [N s/m], >= 0
   double max_correcting_vel = 100.0;   ///< ODE contact_max_correcting_vel [m/s], > 0
@@ -91,7 +106,7 @@ struct MotorParams
 {
   double speed_kp = 10.38;              ///< proportional gain [N m / (rad/s)], >= 0
   double speed_ki = 0.4892;             ///< integral gain [N m / rad], >= 0
-  double max_torque = 4.0;            ///< current (torque) limit of one side, at the wheels [N m], > 0
+  double max_torque = 8.0;            ///< current (torque) limit of one side, at the wheels [N m], > 0
   /// Clamp of the PI integrator [N m], >= 0; 0 = max_torque. Below max_torque the integral path alone
   /// cannot drive the motor to its limit: on a large error the torque is integral_limit + speed_kp * error,
   /// so a set point further ahead of the wheels accelerates them faster.
@@ -113,6 +128,11 @@ struct MotorParams
   /// the rate estimated from consecutive received commands and held until the next one: a ramping
   /// command (the AIC's) gets a sustained torque, a step (the stock controller's) one period's kick.
   double accel_feedforward = 0.07343;
+  /// Clamp of the acceleration feedforward torque [N m], >= 0; 0 = none (only the current limit).
+  /// A stock step's one-period kick (accel_feedforward times a set-point jump over 20 ms: ~15 N m for
+  /// 1.0 m/s) is bounded by this; the stock steps (thesis table 3-1b) fix the bound at ~4 N m but
+  /// cannot tell it from the current limit (doc/robot_data.md, 'Motor limits').
+  double accel_feedforward_limit = 3.243;
   /// Load-torque observer (disturbance observer): the nominal inertia of one side at the wheels
   /// [kg m^2], > 0 when the observer is on. The servo estimates the load torque as the torque it
   /// applied minus this inertia times the side's acceleration, both low-pass filtered with
@@ -124,7 +144,7 @@ struct MotorParams
   double load_observer_inertia = 0.0933;
   /// Time constant of the load-torque observer's filter [s], [0, 5]; 0 = no observer.
   double load_observer_time_constant = 0.04105;
-  double stall_torque = 6.0;          ///< voltage limit: stall torque of one side [N m]; 0 = no voltage limit
+  double stall_torque = 12.0;         ///< voltage limit: stall torque of one side [N m]; 0 = no voltage limit
   double no_load_speed = 26.0;        ///< voltage limit: no-load wheel speed [rad/s], > 0 if stall_torque > 0
   double setpoint_slew_rate = 0.0;    ///< MCU ramp of the speed set point [rad/s^2]; 0 = none
   double setpoint_time_constant = 0.004661;  ///< first-order lag on the set point inside the MCU [s], >= 0
