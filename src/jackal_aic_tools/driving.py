@@ -49,12 +49,16 @@ STEP_OVERSHOOT = 5.0
 #: each step case runs at every phase, AIC and stock alike, and is judged on its worst, so a
 #: bound is not met by the phase of a single run.
 STEP_PHASES = (0.0, 0.0075, 0.015)
+#: The wheel loop's torques -+20 % of sim/config/plant.yaml's (max_torque 8 N m, proportional_limit
+#: 0.7571 N m, accel_feedforward_limit 3.243 N m), as plant overrides.
+TORQUE_MINUS_20 = ["motor.max_torque=6.4", "motor.proportional_limit=0.6057", "motor.accel_feedforward_limit=2.594"]
+TORQUE_PLUS_20 = ["motor.max_torque=9.6", "motor.proportional_limit=0.9085", "motor.accel_feedforward_limit=3.892"]
 #: Plant variations of the stability check (plant KEY=VALUE overrides or an overlay file name).
 ROBUST_PLANTS = {
     "latency -20 %": ["motor.command_delay=0.09496"],
     "latency +20 %": ["motor.command_delay=0.1424"],
-    "torque -20 %": ["motor.max_torque=3.2", "motor.proportional_limit=0.6057"],
-    "torque +20 %": ["motor.max_torque=4.8", "motor.proportional_limit=0.9085"],
+    "torque -20 %": TORQUE_MINUS_20,
+    "torque +20 %": TORQUE_PLUS_20,
     "payload +10 kg": "payload_10kg.yaml",
 }
 #: Turn-deficit holds [rad/s]; steady error bound (fraction of the command) over the last second.

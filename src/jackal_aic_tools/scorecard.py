@@ -46,14 +46,14 @@ ROBUST_OVERSHOOT = 10.0  # [%] 0.5 m/s step on the varied plant
 STEPS = [0.1, 0.3, 0.5, 1.0]  # m/s
 TURNS = [0.5, 1.0, 2.0]  # rad/s
 SQUARES = [(0.1, 0.5), (0.1, 1.0), (0.2, 1.2)]  # m/s
-# Plant variations: +-20 % of sim/config/plant.yaml's wheel loop (command_delay 0.1187 s,
-# max_torque 4 N m, proportional_limit 0.7571 N m).
+# Plant variations: +-20 % of sim/config/plant.yaml's wheel loop (command_delay 0.1187 s; the
+# torques: driving.TORQUE_MINUS_20 / TORQUE_PLUS_20).
 ROBUST = [
     ("identified plant", []),
     ("command_delay -20 % (0.0950 s)", ["motor.command_delay=0.09496"]),
     ("command_delay +20 % (0.1424 s)", ["motor.command_delay=0.1424"]),
-    ("max_torque, proportional_limit -20 %", ["motor.max_torque=3.2", "motor.proportional_limit=0.6057"]),
-    ("max_torque, proportional_limit +20 %", ["motor.max_torque=4.8", "motor.proportional_limit=0.9085"]),
+    ("torques -20 %", driving.TORQUE_MINUS_20),
+    ("torques +20 %", driving.TORQUE_PLUS_20),
 ]
 
 

@@ -62,7 +62,7 @@ import numpy as np
 from scipy.optimize import differential_evolution, least_squares, minimize
 from scipy.signal import lfilter
 
-from . import cli
+from . import cli, driving
 from .tables import fmt
 from .tune_cost import model_cost, plant_corners, sim_cost, stock_reference
 from .tune_space import REFINE_SPACE, SPACE, base_vector, candidate_overrides, log_bounds, model_stamp, \
@@ -324,8 +324,7 @@ def refine_and_verify(a, tool, plant, found, rbounds, base_x, t_start):
         fmt(m["settling"] / s["settling"] if m["settling"] and s["settling"] else None, "%.2f")))
     print("  robustness (0.5 m/s step, ideal sensors): wheel-loop latency and torque +-20 %")
     for sets in ([], ["motor.command_delay=0.0939"], ["motor.command_delay=0.1409"],
-                 ["motor.max_torque=3.2", "motor.proportional_limit=0.78"],
-                 ["motor.max_torque=4.8", "motor.proportional_limit=1.17"]):
+                 driving.TORQUE_MINUS_20, driving.TORQUE_PLUS_20):
         m = step(args, 0.5, plant_sets=sets)
         print("    %-50s rise %s settle %s overshoot %s" % (" ".join(sets) or "identified plant", fmt(m["rise"]),
                                                             fmt(m["settling"]), fmt(m["overshoot"], "%.1f")))

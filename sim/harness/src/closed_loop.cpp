@@ -265,6 +265,7 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
   double ideal_angular = 0.0;  // and of the yaw rate [rad/s]
   const SetPointSegment* last_segment = nullptr;
   SegmentCursor segments(config.profile);
+  SegmentCursor segments_ahead(config.profile);  // kIdeal: the set point command_delay ahead
 
   // Operations around the node (none: the run is exactly the plain closed loop).
   double run_offset = 0.0;    // the run's time at the current plant's time 0 [s] (plant restarts)
@@ -345,17 +346,17 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
         // point in force (the command sent now acts after the delay, so the error is that of the
         // commands sent command_delay ago: the gain is kept well below 1 / delay).
         const double period = static_cast<double>(stock_period) * dt;
-        ideal_linear += kIdealIntegralGain * (sp_linear - plant.baseLinearVelocity().x()) * period;
-        ideal_angular += kIdealIntegralGain * (sp_angular - plant.baseAngularVelocity().z()) * period;
+        ideal_linear += kIdealIntegralGain * (sp_linear - plant->baseLinearVelocity().x()) * period;
+        ideal_angular += kIdealIntegralGain * (sp_angular - plant->baseAngularVelocity().z()) * period;
         const double clamp = params.motor.max_wheel_speed * r;
         ideal_linear = std::clamp(ideal_linear, -clamp, clamp);
         ideal_angular = std::clamp(ideal_angular, -2.0 * clamp / b_hat, 2.0 * clamp / b_hat);
-        const SetPointSegment* ahead = segmentAt(config.profile, t + params.motor.command_delay);
+        const SetPointSegment* ahead = segments_ahead.at(t + params.motor.command_delay);
         const double v = (ahead ? ahead->linear : 0.0) + ideal_linear;
         const double w = (ahead ? ahead->angular : 0.0) + ideal_angular;
         command_left = (v - 0.5 * b_hat * w) / r;
         command_right = (v + 0.5 * b_hat * w) / r;
-        plant.setWheelSpeeds(command_left, command_right);
+        plant->setWheelSpeeds(command_left, command_right);
       }
     }
     else if (config.controller == LoopController::kOpenLoop)
