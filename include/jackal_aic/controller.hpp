@@ -187,7 +187,7 @@ public:
    * \brief The learner of the effective wheel separation b_hat (params().learn_wheel_separation;
    *        doc/active_inference.md, 'Learning the generative model'). It steps with updateBeliefs()
    *        on y^(0) of the gyro and wheels, with Pi_b = Pi_y^(0) of the gyro, frozen while the
-   *        sensor mask isolates one of them or the last action step clamped the action; the model's
+   *        sensor mask isolates one of them or actionSaturated(); the model's
    *        G, R, K take its b_hat whenever it moved by more than kSeparationApplyTolerance
    *        (relative) from the b_hat in use.
    */
@@ -197,8 +197,9 @@ public:
   bool setLearnedSeparation(double b);
   /// Forget what was learned: b_hat back to wheel_separation (clamped to the learner's bounds).
   void resetLearning();
-  /// True if the last action step clamped the action (wheel speed or lead limits).
-  bool actionClamped() const { return action_clamped_; }
+  /// True if max_wheel_speed cut the last action step's command (the actuator saturates; the
+  /// lead limits, anti-windup, do not count).
+  bool actionSaturated() const { return action_saturated_; }
   /// Relative change of the learned b_hat that rebuilds the model (and the exact integrator) [-].
   static constexpr double kSeparationApplyTolerance = 1.0e-3;
 
@@ -309,7 +310,7 @@ private:
   /// Give the model the learner's b_hat if it moved beyond kSeparationApplyTolerance.
   void applyLearnedSeparation(bool force);
   SeparationLearner learner_;
-  bool action_clamped_ = false;
+  bool action_saturated_ = false;
 
   Vector2 a_ = Vector2::Zero();
   Vector2 a_F_ = Vector2::Zero();  ///< the free-energy part a_F of the action (eq. 3-16); a_ = clamps(a_F_ + a_ff)

@@ -599,7 +599,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
   {
     const std::uint8_t needed = (1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight);
     learner_.update(h, y_tilde_(kGyroZ, 0), y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0), pi_y_(kGyroZ, 0),
-                    (sensor_mask_ & needed) == needed, action_clamped_);
+                    (sensor_mask_ & needed) == needed, action_saturated_);
     applyLearnedSeparation(false);
   }
   return Status::kOk;
@@ -675,6 +675,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
     a = omega + wheelPair(lead);
   }
   const double lim = params_.max_wheel_speed;  // applied last: the wheel clamp always wins
+  const Vector2 unsaturated = a;
   a = a.cwiseMax(-lim).cwiseMin(lim);
   // Anti-windup of a_F: where a clamp cut a wheel's command in the direction a_F integrates, a_F
   // integrates only up to the clamp (a - a_ff) and is never pulled back by it, so it cannot wind
@@ -697,7 +698,8 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
       a_F_(i) = candidate(i);
     }
   }
-  action_clamped_ = a != raw;
+  // Saturation: the wheel-speed limit cut the command (the lead limits are anti-windup, not saturation).
+  action_saturated_ = a != unsaturated;
   a_ = a;
   if (params_.belief_model == BeliefModel::kUnbiased)
   {
