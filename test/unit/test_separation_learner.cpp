@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 #include "jackal_aic/separation_learner.hpp"
 
@@ -142,4 +143,13 @@ TEST(SeparationLearner, RejectsBadParams)
   p.max = std::numeric_limits<double>::infinity();
   EXPECT_THROW(SeparationLearner{ p }, std::invalid_argument);
   EXPECT_STREQ(toString(SeparationLearner::State::kSaturated), "saturated");
+}
+
+TEST(SeparationLearner, OverlayYaml)
+{
+  const std::string text = learnedSeparationOverlay(0.786940123);
+  EXPECT_NE(text.find("\nwheel_separation: 0.78694\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("# [m]"), std::string::npos);
+  EXPECT_THROW(learnedSeparationOverlay(0.0), std::invalid_argument);
+  EXPECT_THROW(learnedSeparationOverlay(std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
 }
