@@ -219,6 +219,8 @@ struct AicParams
   double separation_max = 1.5;
   /// b_hat is frozen while |gyro| is below this [rad/s], >= 0, <= 10.
   double separation_min_yaw_rate = 0.1;
+  /// b_hat is frozen while |d gyro/dt| (y^(1) of the gyro) is above this [rad/s^2], > 0, <= kMaxGain.
+  double separation_max_yaw_acceleration = 0.5;
 
   /// Number of generalized orders, p + 1.
   int numOrders() const { return embedding_order + 1; }

@@ -23,6 +23,7 @@ struct SeparationLearnerParams
   double max = 1.5;                ///< upper bound of b_hat [m], finite and >= min
   double rate = 4.0;               ///< learning rate kappa_b [m^2 s / rad^2 per unit precision], finite and >= 0
   double min_yaw_rate = 0.1;       ///< frozen while |gyro| is below this [rad/s], finite and >= 0
+  double max_yaw_acceleration = 0.5;  ///< frozen while |d gyro/dt| is above this [rad/s^2], finite and > 0
 };
 
 /**
@@ -37,8 +38,10 @@ struct SeparationLearnerParams
  * Near a consistent b_hat the error decays with the time constant b_hat^2 / (kappa_b Pi_b theta_dot^2)
  * (faster turning, faster learning). The parameter is frozen (not moved) while a sensor the
  * disagreement needs is flagged by the fault monitor, near rest (|y_gyro| < min_yaw_rate: no
- * information about b_hat, and wheel dead-bands dominate), or while the action saturates (the
- * wheels then slip against their limit and the kinematics do not hold).
+ * information about b_hat, and wheel dead-bands dominate), while the action saturates (the
+ * wheels then slip against their limit and the kinematics do not hold), or in a transient
+ * (|d y_gyro/dt| > max_yaw_acceleration: the tyres' lateral slip builds up with a lag, so gyro and
+ * wheels disagree for a while whatever b_hat is).
  *
  * No heap allocation, no exceptions after construction.
  */
@@ -52,6 +55,7 @@ public:
     kSensorFault,  ///< frozen: the gyro or a wheel channel is flagged
     kNearRest,     ///< frozen: |y_gyro| < min_yaw_rate
     kSaturated,    ///< frozen: the action saturates
+    kTransient,    ///< frozen: |d y_gyro/dt| > max_yaw_acceleration
     kBadInput      ///< ignored: non-finite input, h <= 0 or precision < 0
   };
 
@@ -62,6 +66,7 @@ public:
    * \brief One learning step.
    * \param h           step [s], finite and > 0
    * \param gyro_z      measured yaw rate y_gyro [rad/s]
+   * \param gyro_rate   its rate d y_gyro/dt [rad/s^2] (generalized order 1)
    * \param omega_l     measured left wheel speed [rad/s]
    * \param omega_r     measured right wheel speed [rad/s]
    * \param precision   Pi_b [1/(rad/s)^2], finite and >= 0 (e.g. the gyro's Pi_y^(0))
@@ -69,8 +74,8 @@ public:
    * \param saturated   true while the action is clamped (wheel speed, lead limits)
    * \return the reason the step did or did not learn; b_hat unchanged unless kLearning.
    */
-  State update(double h, double gyro_z, double omega_l, double omega_r, double precision, bool sensors_ok,
-               bool saturated);
+  State update(double h, double gyro_z, double gyro_rate, double omega_l, double omega_r, double precision,
+               bool sensors_ok, bool saturated);
 
   /// The learned effective wheel separation b_hat [m], within [min, max].
   double separation() const { return b_; }

@@ -102,6 +102,7 @@ SeparationLearnerParams ActiveInferenceController::learnerParams(const AicParams
   lp.initial = std::clamp(params.wheel_separation, params.separation_min, params.separation_max);
   lp.rate = params.separation_learning_rate;
   lp.min_yaw_rate = params.separation_min_yaw_rate;
+  lp.max_yaw_acceleration = params.separation_max_yaw_acceleration;
   return lp;
 }
 
@@ -598,7 +599,8 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
   if (params_.learn_wheel_separation)
   {
     const std::uint8_t needed = (1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight);
-    learner_.update(h, y_tilde_(kGyroZ, 0), y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0), pi_y_(kGyroZ, 0),
+    learner_.update(h, y_tilde_(kGyroZ, 0), y_tilde_(kGyroZ, 1), y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0),
+                    pi_y_(kGyroZ, 0),
                     (sensor_mask_ & needed) == needed, action_saturated_);
     applyLearnedSeparation(false);
   }

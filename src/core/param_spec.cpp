@@ -164,6 +164,9 @@ std::vector<ParamSpec> buildControllerRows()
     { "separation_min_yaw_rate", T::kDouble, C, "active_inference", 0.0, false, 10.0, "rad/s",
       "b_hat is frozen while the gyro's |yaw rate| is below this (near rest)",
       true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(separation_min_yaw_rate) },
+    { "separation_max_yaw_acceleration", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "rad/s^2",
+      "b_hat is frozen while the gyro's |yaw acceleration| (its generalized order 1) is above this (a transient)",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(separation_max_yaw_acceleration) },
     // ---- robot (Clearpath Jackal; doc/jackal.md)
     { "wheel_radius", T::kDouble, C, "robot", kMinLength, false, kMaxLength, "m",
       "Wheel radius r (thesis eq. 3-1 to 3-4)",

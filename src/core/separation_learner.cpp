@@ -36,6 +36,8 @@ std::string check(const SeparationLearnerParams& p)
   rule(finite(p.initial) && p.initial >= p.min && p.initial <= p.max, "initial separation within [min, max]");
   rule(finite(p.rate) && p.rate >= 0.0, "separation_learning_rate finite and >= 0");
   rule(finite(p.min_yaw_rate) && p.min_yaw_rate >= 0.0, "separation_min_yaw_rate finite and >= 0");
+  rule(finite(p.max_yaw_acceleration) && p.max_yaw_acceleration > 0.0,
+       "separation_max_yaw_acceleration finite and > 0");
   return msg;
 }
 }  // namespace
@@ -49,10 +51,10 @@ SeparationLearner::SeparationLearner(const SeparationLearnerParams& params) : pa
   }
 }
 
-SeparationLearner::State SeparationLearner::update(double h, double gyro_z, double omega_l, double omega_r,
-                                                   double precision, bool sensors_ok, bool saturated)
+SeparationLearner::State SeparationLearner::update(double h, double gyro_z, double gyro_rate, double omega_l,
+                                                   double omega_r, double precision, bool sensors_ok, bool saturated)
 {
-  if (!(finite(h) && h > 0.0) || !finite(gyro_z) || !finite(omega_l) || !finite(omega_r) ||
+  if (!(finite(h) && h > 0.0) || !finite(gyro_z) || !finite(gyro_rate) || !finite(omega_l) || !finite(omega_r) ||
       !(finite(precision) && precision >= 0.0))
   {
     state_ = State::kBadInput;
@@ -69,6 +71,10 @@ SeparationLearner::State SeparationLearner::update(double h, double gyro_z, doub
   else if (std::abs(gyro_z) < params_.min_yaw_rate)
   {
     state_ = State::kNearRest;
+  }
+  else if (std::abs(gyro_rate) > params_.max_yaw_acceleration)
+  {
+    state_ = State::kTransient;
   }
   else
   {
@@ -130,6 +136,8 @@ const char* toString(SeparationLearner::State state)
       return "near rest";
     case SeparationLearner::State::kSaturated:
       return "saturated";
+    case SeparationLearner::State::kTransient:
+      return "transient";
     case SeparationLearner::State::kBadInput:
       return "bad input";
   }

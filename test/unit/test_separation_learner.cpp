@@ -48,7 +48,7 @@ void driveArc(SeparationLearner* l, double v, double w, double b_eff, double sec
   {
     const double wl = (v - 0.5 * w * b_eff) / kR + n(noise);
     const double wr = (v + 0.5 * w * b_eff) / kR + n(noise);
-    l->update(kH, w + n(noise), wl, wr, kPi, true, false);
+    l->update(kH, w + n(noise), 0.0, wl, wr, kPi, true, false);
   }
 }
 }  // namespace
@@ -107,17 +107,19 @@ TEST(SeparationLearner, FrozenUnderEachCondition)
   SeparationLearner l(params(kTrack));
   for (int k = 0; k < 1000; ++k)
   {
-    EXPECT_EQ(l.update(kH, 0.5, wl, wr, kPi, false, false), SeparationLearner::State::kSensorFault);
-    EXPECT_EQ(l.update(kH, 0.5, wl, wr, kPi, true, true), SeparationLearner::State::kSaturated);
-    EXPECT_EQ(l.update(kH, 0.05, 0.1 * wl, 0.1 * wr, kPi, true, false), SeparationLearner::State::kNearRest);
-    EXPECT_EQ(l.update(kH, std::numeric_limits<double>::quiet_NaN(), wl, wr, kPi, true, false),
+    EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wr, kPi, false, false), SeparationLearner::State::kSensorFault);
+    EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wr, kPi, true, true), SeparationLearner::State::kSaturated);
+    EXPECT_EQ(l.update(kH, 0.05, 0.0, 0.1 * wl, 0.1 * wr, kPi, true, false), SeparationLearner::State::kNearRest);
+    EXPECT_EQ(l.update(kH, std::numeric_limits<double>::quiet_NaN(), 0.0, wl, wr, kPi, true, false),
               SeparationLearner::State::kBadInput);
-    EXPECT_EQ(l.update(0.0, 0.5, wl, wr, kPi, true, false), SeparationLearner::State::kBadInput);
-    EXPECT_EQ(l.update(kH, 0.5, wl, wr, -1.0, true, false), SeparationLearner::State::kBadInput);
+    EXPECT_EQ(l.update(0.0, 0.5, 0.0, wl, wr, kPi, true, false), SeparationLearner::State::kBadInput);
+    EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wr, -1.0, true, false), SeparationLearner::State::kBadInput);
+    EXPECT_EQ(l.update(kH, 0.5, 2.0, wl, wr, kPi, true, false), SeparationLearner::State::kTransient);
+    EXPECT_EQ(l.update(kH, 0.5, -2.0, wl, wr, kPi, true, false), SeparationLearner::State::kTransient);
   }
   EXPECT_EQ(l.separation(), kTrack);  // bit for bit
   EXPECT_EQ(l.learningSteps(), 0u);
-  EXPECT_EQ(l.update(kH, 0.5, wl, wr, kPi, true, false), SeparationLearner::State::kLearning);
+  EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wr, kPi, true, false), SeparationLearner::State::kLearning);
   EXPECT_GT(l.separation(), kTrack);
   EXPECT_EQ(l.learningSteps(), 1u);
 }
@@ -138,6 +140,9 @@ TEST(SeparationLearner, RejectsBadParams)
   EXPECT_THROW(SeparationLearner{ p }, std::invalid_argument);
   p = params(kTrack);
   p.rate = -1.0;
+  EXPECT_THROW(SeparationLearner{ p }, std::invalid_argument);
+  p = params(kTrack);
+  p.max_yaw_acceleration = 0.0;
   EXPECT_THROW(SeparationLearner{ p }, std::invalid_argument);
   p = params(kTrack);
   p.max = std::numeric_limits<double>::infinity();
