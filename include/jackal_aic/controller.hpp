@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "jackal_aic/params.hpp"
+#include "jackal_aic/separation_learner.hpp"
 #include "jackal_aic/skid_steer_model.hpp"
 #include "jackal_aic/types.hpp"
 
@@ -71,6 +72,16 @@ public:
   /// The attractor's goal mu_r [m/s, m/s, rad/s]: the delayed reference path m(t - d_r) with a
   /// reference model, else mu_d.
   Vector3 attractorGoal() const;
+  /**
+   * \brief The target of the beliefs' state prior f(mu) = g' + (g - mu) / tau [m/s, m/s, rad/s]:
+   *        belief_model goal: g = attractorGoal() (eq. 3-7, extended); belief_model unbiased:
+   *        g = G a(t - d_r), the body twist of the action sent reference_delay d_r ago (zero-order
+   *        hold over the action steps; the delay line holds kActionLine steps, a longer delay uses
+   *        the oldest), g' = 0 (doc/active_inference.md, 'Unbiased beliefs').
+   */
+  Vector3 priorGoal() const;
+  /// The rate g' of priorGoal() [m/s^2, m/s^2, rad/s^2]: attractorRate() (goal), zero (unbiased).
+  Vector3 priorRate() const;
   /**
    * \brief Start the reference model at the twist m0 [m/s, m/s, rad/s] (its whole delay line;
    *        e.g. the measured twist at a bumpless start). No effect on anything else.
@@ -152,7 +163,9 @@ public:
   MuTilde dFdMu() const;
   /// Belief rate of change dmu_tilde/dt = D mu_tilde - k_mu dF/dmu_tilde, 3 x (p+1) (eq. 3-15).
   MuTilde muDot() const;
-  /// Action rate of change da/dt = -k_a sum_i K Pi_y^(i) eps_y^(i) [rad/s^2] (eq. 3-16).
+  /// Action rate of change da/dt = -k_a sum_i K Pi_y^(i) eps_y^(i) [rad/s^2] (eq. 3-16); with
+  /// belief_model unbiased eps_y is replaced by eps_g^(i) = R (mu^(i) - g^(i)), g = (mu_r, mu_r', 0, ...)
+  /// the goal's path (the goal prior on the action; doc/active_inference.md, 'Unbiased beliefs').
   Vector2 aDot() const;
 
   /**
@@ -169,6 +182,26 @@ public:
   std::uint8_t sensorMask() const { return sensor_mask_; }
   /// Precisions Pi_y in use, 5 x (p+1): params().precisionY() with the masked channels' rows zero.
   const YTilde& precisionY() const { return pi_y_; }
+
+  /**
+   * \brief The learner of the effective wheel separation b_hat (params().learn_wheel_separation;
+   *        doc/active_inference.md, 'Learning the generative model'). It steps with updateBeliefs()
+   *        on y^(0) of the gyro and wheels, with Pi_b = Pi_y^(0) of the gyro, frozen while the
+   *        sensor mask isolates one of them or actionSaturated(); the model's
+   *        G, R, K take its b_hat whenever it moved by more than kSeparationApplyTolerance
+   *        (relative) from the b_hat in use.
+   */
+  const SeparationLearner& separationLearner() const { return learner_; }
+  /// Set the learned b_hat [m] (e.g. from a saved overlay), clamped to [separation_min, separation_max];
+  /// the model takes it at once if learning is on. \return false (unchanged) if not finite.
+  bool setLearnedSeparation(double b);
+  /// Forget what was learned: b_hat back to wheel_separation (clamped to the learner's bounds).
+  void resetLearning();
+  /// True if max_wheel_speed cut the last action step's command (the actuator saturates; the
+  /// lead limits, anti-windup, do not count).
+  bool actionSaturated() const { return action_saturated_; }
+  /// Relative change of the learned b_hat that rebuilds the model (and the exact integrator) [-].
+  static constexpr double kSeparationApplyTolerance = 1.0e-3;
 
   /// Number of runaway resets since construction.
   std::uint64_t runawayCount() const { return runaway_count_; }
@@ -253,6 +286,32 @@ private:
   int ref_count_ = 0;  ///< samples in the line
   Vector3 mu_r_ = Vector3::Zero();      ///< the delayed reference mu_r at ref_time_
   Vector3 mu_r_dot_ = Vector3::Zero();  ///< its rate mu_r'
+  /// The action's delay line (belief_model unbiased): (action clock [s], G a) per action step.
+  struct ActionSample
+  {
+    double t;
+    Vector3 u;
+  };
+public:
+  /// Length of the action delay line (belief_model unbiased) [action steps].
+  static constexpr int kActionLine = 512;
+private:
+  std::array<ActionSample, kActionLine> act_line_{};
+  int act_head_ = 0;
+  int act_count_ = 0;
+  double act_time_ = 0.0;
+  Vector3 motion_input_ = Vector3::Zero();  ///< G a(t - d_r), the unbiased prior's target
+  /// Restart the action delay line at the action held now (construction, reset, setAction).
+  void startActionLine();
+  /// Record the action just sent and update motion_input_ (belief_model unbiased).
+  void recordAction(double h);
+  /// Settings of the learner from params (initial b_hat: wheel_separation clamped to the bounds).
+  static SeparationLearnerParams learnerParams(const AicParams& params);
+  /// Give the model the learner's b_hat if it moved beyond kSeparationApplyTolerance.
+  void applyLearnedSeparation(bool force);
+  SeparationLearner learner_;
+  bool action_saturated_ = false;
+
   Vector2 a_ = Vector2::Zero();
   Vector2 a_F_ = Vector2::Zero();  ///< the free-energy part a_F of the action (eq. 3-16); a_ = clamps(a_F_ + a_ff)
   bool has_measurement_ = false;

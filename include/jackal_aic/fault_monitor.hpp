@@ -103,6 +103,15 @@ public:
    */
   Event update(const Vector5& y, const Vector3& mu0, double h);
 
+  /**
+   * \brief Use the wheel separation b_hat [m] of the controller's generative model (learned,
+   *        ActiveInferenceController::separationLearner()) in the residual r = y_gyro - r alpha
+   *        (omega_R - omega_L) / b_hat, its precision and the channel reconstructions, so that a
+   *        model error the learning removed is not a fault. State kept; no allocation.
+   * \return false (unchanged) unless b is finite and > 0.
+   */
+  bool setWheelSeparation(double b);
+
   /// The IMU (gyro and accelerometer) is present (true) or missing/stale (false): masks those channels.
   void setImuAvailable(bool available);
   bool imuAvailable() const { return imu_available_; }
@@ -145,6 +154,8 @@ private:
   double r_alpha_ = 0.0;  ///< r alpha [m]
   double half_b_ = 0.0;   ///< b_hat / 2 [m]
   double pi_r_ = 0.0;     ///< precision of the residual [s^2/rad^2]
+  double var_gyro_ = 0.0;    ///< sigma^2 of the gyro, order 0 [rad^2/s^2]
+  double var_wheels_ = 0.0;  ///< sigma^2_L + sigma^2_R of the wheels, order 0 [rad^2/s^2]
   double pi_vx_ = 0.0, pi_wz_ = 0.0;  ///< Pi_mu^(0) of x_dot and theta_dot
   bool imu_available_ = true;
   int isolated_ = -1;

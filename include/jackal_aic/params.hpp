@@ -31,6 +31,19 @@ bool integratorFromString(const std::string& name, Integrator* out);
 /// "euler" or "exact".
 std::string toString(Integrator integrator);
 
+/// The state prior f of the beliefs (doc/active_inference.md, 'Unbiased beliefs').
+enum class BeliefModel
+{
+  kGoal,     ///< the thesis: f(mu) = (mu_d - mu) / tau pulls the beliefs to the goal (eq. 3-7)
+  kUnbiased  ///< f(mu, a) = (G a(t - d_r) - mu) / tau, the robot's response to the action it sends;
+             ///< the goal enters through the action (Baioumy, Pezzato, Ferrari & Hawes, IROS 2022)
+};
+
+/// Parse "goal" / "unbiased" (case-sensitive). \return false if the name is unknown (out untouched).
+bool beliefModelFromString(const std::string& name, BeliefModel* out);
+/// "goal" or "unbiased".
+std::string toString(BeliefModel model);
+
 /// \name Sanity bounds of AicParams::validate(), used by the parameter schema (guards against
 /// absurd values that would overflow the free energy or its gradient; far outside any useful setting).
 ///@{
@@ -180,6 +193,34 @@ struct AicParams
   /// (accelerometer rows zero). Note: /imu/data includes gravity; on level ground accel x has none.
   bool accel_in_model = false;
   Integrator integrator = Integrator::kEuler;  ///< belief integrator
+  /**
+   * The beliefs' state prior. kGoal (the thesis): f(mu) = (mu_d - mu) / tau (eq. 3-7, with the
+   * reference model and generalized goal as above). kUnbiased: f(mu, a) = (G a(t - d_r) - mu) / tau,
+   * a first-order lag tau of the body twist the sent action a commands (G: eq. 3-1), delayed by
+   * reference_delay d_r, so the beliefs estimate the robot's state; the action then descends the
+   * free energy of the goal prior on its outcome, da_F/dt = -k_a sum_i K Pi_y^(i) R (mu^(i) - g^(i)),
+   * g = (mu_r, mu_r', 0, ...), plus the action prior a_ff (Baioumy, Pezzato, Ferrari & Hawes,
+   * IROS 2022; doc/active_inference.md, 'Unbiased beliefs').
+   */
+  BeliefModel belief_model = BeliefModel::kGoal;
+  /**
+   * Learning of the effective wheel separation b_hat on the robot (not in the thesis): false =
+   * b_hat = wheel_separation, fixed. true = b_hat descends the free energy of the gyro-encoder
+   * disagreement at the belief rate (SeparationLearner; Baioumy, Duckworth, Lacerda & Hawes,
+   * arXiv 2005.05894), starting from wheel_separation; doc/active_inference.md, 'Learning the
+   * generative model'.
+   */
+  bool learn_wheel_separation = false;
+  /// Learning rate kappa_b of b_hat [m^2 s / rad^2 per unit precision], >= 0, <= kMaxGain.
+  double separation_learning_rate = 4.0;
+  /// Lower bound of the learned b_hat [m], in [kMinLength, kMaxLength], <= separation_max.
+  double separation_min = 0.3;
+  /// Upper bound of the learned b_hat [m], in [kMinLength, kMaxLength].
+  double separation_max = 1.5;
+  /// b_hat is frozen while |gyro| is below this [rad/s], >= 0, <= 10.
+  double separation_min_yaw_rate = 0.1;
+  /// b_hat is frozen while |d gyro/dt| (y^(1) of the gyro) is above this [rad/s^2], > 0, <= kMaxGain.
+  double separation_max_yaw_acceleration = 0.5;
 
   /// Number of generalized orders, p + 1.
   int numOrders() const { return embedding_order + 1; }

@@ -38,6 +38,17 @@ public:
 
   /// Body twist (x_dot, y_dot, theta_dot) from wheel speeds (omega_L, omega_R) [rad/s] (eq. 3-1).
   Vector3 twistFromWheels(const Vector2& omega) const { return G_ * omega; }
+  /**
+   * \brief Replace b_hat [m] (learning, doc/active_inference.md 'Learning the generative model'):
+   *        G, K as in the constructor; the wheel rows of R by the closed form of pinv(G) for a
+   *        full-column-rank G, omega_L,R = (x_dot -+ b_hat theta_dot / 2) / (r alpha). No heap
+   *        allocation, no exceptions (the constructor's decomposition is not used).
+   * \return false (model unchanged) unless b is finite and > 0.
+   */
+  bool setWheelSeparation(double b);
+  /// b_hat in use [m].
+  double wheelSeparation() const { return b_; }
+
   /// Wheel speeds (omega_L, omega_R) [rad/s] realizing a twist (v_x [m/s], ., omega_z [rad/s]) (pinv(G));
   /// the y_dot element is ignored (G cannot produce it). No checks: a non-finite twist gives non-finite speeds.
   Vector2 wheelsFromTwist(const Vector3& mu) const;
@@ -47,6 +58,8 @@ private:
   SensorMatrix R_;
   ForwardMatrix K_;
   Eigen::Matrix<double, kADim, kMuDim> G_pinv_;
+  double ra_;  ///< r alpha [m]
+  double b_;   ///< b_hat [m]
 };
 
 }  // namespace jackal_aic

@@ -57,13 +57,16 @@ Vector2 wheelPair(const Vector2& cd)
 }  // namespace
 
 ActiveInferenceController::ActiveInferenceController(const AicParams& params)
-  : params_(checked(params)), model_(params.wheel_radius, params.slip_factor, params.wheel_separation)
+  : params_(checked(params))
+  , model_(params.wheel_radius, params.slip_factor, params.wheel_separation)
+  , learner_(learnerParams(params))
 {
   const int n = params.numOrders();
   mu_.setZero(kMuDim, n);
   y_tilde_.setZero(kYDim, n);
   applyParams(params);
   startReference(Vector3::Zero());
+  startActionLine();
 }
 
 void ActiveInferenceController::setParams(const AicParams& params)
@@ -89,12 +92,73 @@ void ActiveInferenceController::setParams(const AicParams& params)
   }
 }
 
+SeparationLearnerParams ActiveInferenceController::learnerParams(const AicParams& params)
+{
+  SeparationLearnerParams lp;
+  lp.wheel_radius = params.wheel_radius;
+  lp.slip_factor = params.slip_factor;
+  lp.min = params.separation_min;
+  lp.max = params.separation_max;
+  lp.initial = std::clamp(params.wheel_separation, params.separation_min, params.separation_max);
+  lp.rate = params.separation_learning_rate;
+  lp.min_yaw_rate = params.separation_min_yaw_rate;
+  lp.max_yaw_acceleration = params.separation_max_yaw_acceleration;
+  return lp;
+}
+
 void ActiveInferenceController::applyParams(const AicParams& params)
 {
+  // What was learned survives a parameter change that keeps learning on and the geometry.
+  const bool keep_learned = params.learn_wheel_separation && params_.learn_wheel_separation &&
+                            params.wheel_separation == params_.wheel_separation &&
+                            params.wheel_radius == params_.wheel_radius && params.slip_factor == params_.slip_factor;
+  const double learned = learner_.separation();
   params_ = params;
   model_ = SkidSteerModel(params.wheel_radius, params.slip_factor, params.wheel_separation);
+  learner_ = SeparationLearner(learnerParams(params));
+  if (keep_learned)
+  {
+    learner_.setSeparation(learned);
+  }
+  if (params.learn_wheel_separation)
+  {
+    model_.setWheelSeparation(learner_.separation());
+  }
   pi_mu_ = params.precisionMu();
   rebuildDynamics();
+}
+
+void ActiveInferenceController::applyLearnedSeparation(bool force)
+{
+  const double b = learner_.separation();
+  const double b_model = model_.wheelSeparation();
+  if (force || std::abs(b - b_model) > kSeparationApplyTolerance * b_model)
+  {
+    model_.setWheelSeparation(b);
+    rebuildDynamics();
+  }
+}
+
+bool ActiveInferenceController::setLearnedSeparation(double b)
+{
+  if (!learner_.setSeparation(b))
+  {
+    return false;
+  }
+  if (params_.learn_wheel_separation)
+  {
+    applyLearnedSeparation(true);
+  }
+  return true;
+}
+
+void ActiveInferenceController::resetLearning()
+{
+  learner_.reset();
+  if (params_.learn_wheel_separation)
+  {
+    applyLearnedSeparation(true);
+  }
 }
 
 void ActiveInferenceController::setSensorMask(std::uint8_t mask)
@@ -167,6 +231,41 @@ Vector3 ActiveInferenceController::attractorGoal() const
 Vector3 ActiveInferenceController::attractorRate() const
 {
   return params_.reference_time_constant > 0.0 ? mu_r_dot_ : mu_d_dot_;
+}
+
+Vector3 ActiveInferenceController::priorGoal() const
+{
+  return params_.belief_model == BeliefModel::kUnbiased ? motion_input_ : attractorGoal();
+}
+
+Vector3 ActiveInferenceController::priorRate() const
+{
+  return params_.belief_model == BeliefModel::kUnbiased ? Vector3::Zero() : attractorRate();
+}
+
+void ActiveInferenceController::startActionLine()
+{
+  act_head_ = 0;
+  act_count_ = 1;
+  motion_input_ = model_.twistFromWheels(a_);
+  act_line_[0] = ActionSample{ act_time_, motion_input_ };
+}
+
+void ActiveInferenceController::recordAction(double h)
+{
+  // The body twist G a of the action just sent, from now until the next action step.
+  act_time_ += h;
+  act_head_ = (act_head_ + 1) % kActionLine;
+  act_count_ = std::min(act_count_ + 1, kActionLine);
+  act_line_[static_cast<std::size_t>(act_head_)] = ActionSample{ act_time_, model_.twistFromWheels(a_) };
+  // Zero-order hold: the newest sample sent at or before t - d_r (the oldest if the line is shorter).
+  const double t_query = act_time_ - params_.reference_delay;
+  int idx = act_head_;
+  for (int k = 1; k < act_count_ && act_line_[static_cast<std::size_t>(idx)].t > t_query; ++k)
+  {
+    idx = (act_head_ - k + kActionLine) % kActionLine;
+  }
+  motion_input_ = act_line_[static_cast<std::size_t>(idx)].u;
 }
 
 Vector2 ActiveInferenceController::actionPrior() const
@@ -363,7 +462,7 @@ YTilde ActiveInferenceController::epsY() const
 MuTilde ActiveInferenceController::epsMu() const
 {
   MuTilde e(kMuDim, params_.numOrders());
-  computeEpsMu(mu_, attractorGoal(), attractorRate(), &e);
+  computeEpsMu(mu_, priorGoal(), priorRate(), &e);
   return e;
 }
 
@@ -377,14 +476,14 @@ double ActiveInferenceController::freeEnergy() const
 MuTilde ActiveInferenceController::dFdMu() const
 {
   MuTilde g(kMuDim, params_.numOrders());
-  computeDfDmu(mu_, y_tilde_, attractorGoal(), attractorRate(), &g);
+  computeDfDmu(mu_, y_tilde_, priorGoal(), priorRate(), &g);
   return g;
 }
 
 MuTilde ActiveInferenceController::muDot() const
 {
   MuTilde d(kMuDim, params_.numOrders());
-  computeMuDot(mu_, y_tilde_, attractorGoal(), attractorRate(), &d);
+  computeMuDot(mu_, y_tilde_, priorGoal(), priorRate(), &d);
   return d;
 }
 
@@ -392,7 +491,32 @@ Vector2 ActiveInferenceController::aDot() const
 {
   const int n = params_.numOrders();
   YTilde ey(kYDim, n);
-  computeEpsY(mu_, y_tilde_, &ey);
+  if (params_.belief_model == BeliefModel::kUnbiased)
+  {
+    // The goal prior on the action's outcome: the predicted sensations R mu^(i) should be those of
+    // the goal's path g = (mu_r, mu_r', 0, ...), so eps_g^(i) = R (mu^(i) - g^(i)) takes eps_y's
+    // place (sign: a belief below the goal asks for more, as eps_y = y - R mu < 0 does).
+    const SensorMatrix& R = model_.R();
+    const Vector3 g0 = attractorGoal();
+    const Vector3 g1 = attractorRate();
+    for (int i = 0; i < n; ++i)
+    {
+      Vector3 d = mu_.col(i);
+      if (i == 0)
+      {
+        d -= g0;
+      }
+      else if (i == 1)
+      {
+        d -= g1;
+      }
+      ey.col(i).noalias() = R * d;
+    }
+  }
+  else
+  {
+    computeEpsY(mu_, y_tilde_, &ey);
+  }
   ey.array() *= pi_y_.array();
   // da/dt = -k_a sum_i K Pi_y^(i) eps_y^(i)
   const Vector5 sum = ey.rowwise().sum();
@@ -432,7 +556,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
   }
   const int n = params_.numOrders();
   MuTilde f(kMuDim, n);
-  computeMuDot(mu_, y_tilde_, attractorGoal(), attractorRate(), &f);
+  computeMuDot(mu_, y_tilde_, priorGoal(), priorRate(), &f);
   MuTilde next(kMuDim, n);
   if (params_.integrator == Integrator::kExact)
   {
@@ -472,6 +596,14 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
   }
   mu_ = next;
   advanceReference(h);
+  if (params_.learn_wheel_separation)
+  {
+    const std::uint8_t needed = (1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight);
+    learner_.update(h, y_tilde_(kGyroZ, 0), y_tilde_(kGyroZ, 1), y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0),
+                    pi_y_(kGyroZ, 0),
+                    (sensor_mask_ & needed) == needed, action_saturated_);
+    applyLearnedSeparation(false);
+  }
   return Status::kOk;
 }
 
@@ -545,6 +677,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
     a = omega + wheelPair(lead);
   }
   const double lim = params_.max_wheel_speed;  // applied last: the wheel clamp always wins
+  const Vector2 unsaturated = a;
   a = a.cwiseMax(-lim).cwiseMin(lim);
   // Anti-windup of a_F: where a clamp cut a wheel's command in the direction a_F integrates, a_F
   // integrates only up to the clamp (a - a_ff) and is never pulled back by it, so it cannot wind
@@ -567,7 +700,13 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
       a_F_(i) = candidate(i);
     }
   }
+  // Saturation: the wheel-speed limit cut the command (the lead limits are anti-windup, not saturation).
+  action_saturated_ = a != unsaturated;
   a_ = a;
+  if (params_.belief_model == BeliefModel::kUnbiased)
+  {
+    recordAction(h);
+  }
   return Status::kOk;
 }
 
@@ -576,6 +715,8 @@ void ActiveInferenceController::runawayReset()
   mu_.setZero();
   a_.setZero();
   a_F_.setZero();
+  act_time_ = 0.0;
+  startActionLine();
   startReference(Vector3::Zero());
   ++runaway_count_;
 }
@@ -585,6 +726,8 @@ void ActiveInferenceController::reset()
   mu_.setZero();
   a_.setZero();
   a_F_.setZero();
+  act_time_ = 0.0;
+  startActionLine();
   y_tilde_.setZero();
   has_measurement_ = false;
   startReference(Vector3::Zero());
@@ -599,6 +742,7 @@ void ActiveInferenceController::setAction(const Vector2& a)
   const double lim = params_.max_wheel_speed;
   a_ = a.cwiseMax(-lim).cwiseMin(lim);
   a_F_ = a_ - actionPrior();  // bumpless: the free-energy part takes the difference
+  startActionLine();  // the unbiased prior expects the response to this action from now on
 }
 
 const char* toString(ActiveInferenceController::Status status)

@@ -77,10 +77,24 @@ void FaultMonitor::setParams(const FdiParams& fdi, const AicParams& aic)
   const YTilde pi_y = aic.precisionY();
   const MuTilde pi_mu = aic.precisionMu();
   // Var(r) = sigma^2_gyro + c^2 (sigma^2_L + sigma^2_R) for independent channel noise.
-  const double var_r = 1.0 / pi_y(kGyroZ, 0) + c_ * c_ * (1.0 / pi_y(kOmegaLeft, 0) + 1.0 / pi_y(kOmegaRight, 0));
+  var_gyro_ = 1.0 / pi_y(kGyroZ, 0);
+  var_wheels_ = 1.0 / pi_y(kOmegaLeft, 0) + 1.0 / pi_y(kOmegaRight, 0);
+  const double var_r = var_gyro_ + c_ * c_ * var_wheels_;
   pi_r_ = 1.0 / var_r;
   pi_vx_ = pi_mu(0, 0);
   pi_wz_ = pi_mu(2, 0);
+}
+
+bool FaultMonitor::setWheelSeparation(double b)
+{
+  if (!(std::isfinite(b) && b > 0.0))
+  {
+    return false;
+  }
+  half_b_ = 0.5 * b;
+  c_ = r_alpha_ / b;
+  pi_r_ = 1.0 / (var_gyro_ + c_ * c_ * var_wheels_);
+  return true;
 }
 
 Vector3 FaultMonitor::twistWithout(int excluded, const Vector5& y) const

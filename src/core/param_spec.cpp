@@ -36,6 +36,17 @@ bool setIntegrator(AicParams& p, const ParamValue& v)
   return name != nullptr && integratorFromString(*name, &p.integrator);
 }
 
+ParamValue getBeliefModel(const AicParams& p)
+{
+  return toString(p.belief_model);
+}
+
+bool setBeliefModel(AicParams& p, const ParamValue& v)
+{
+  const std::string* name = std::get_if<std::string>(&v);
+  return name != nullptr && beliefModelFromString(*name, &p.belief_model);
+}
+
 std::vector<ParamSpec> buildControllerRows()
 {
   using T = ParamType;
@@ -132,6 +143,30 @@ std::vector<ParamSpec> buildControllerRows()
     { "action_prior_time_constant", T::kDouble, C, "active_inference", 0.0, false, 10.0, "s",
       "Action prior: the wheel loop's time constant T_p that the prior inverts (with a reference model)",
       true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(action_prior_time_constant) },
+    // ---- unbiased beliefs and learning the generative model (not in the thesis; doc/active_inference.md)
+    { "belief_model", T::kString, C, "active_inference", kNone, false, kNone, "-",
+      "State prior of the beliefs: goal (the thesis, f(mu) = (mu_d - mu) / tau, eq. 3-7) or unbiased "
+      "(f = (G a(t - d_r) - mu) / tau, the robot's response to the sent action; the goal drives the action)",
+      true, 0, false, 0, { "goal", "unbiased" }, 0, &getBeliefModel, &setBeliefModel, nullptr, nullptr },
+    { "learn_wheel_separation", T::kBool, C, "active_inference", kNone, false, kNone, "-",
+      "If true, the model's wheel separation b_hat descends the free energy of the gyro-encoder disagreement "
+      "(frozen near rest, while the action saturates and while a sensor is isolated); false: b_hat fixed",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(learn_wheel_separation) },
+    { "separation_learning_rate", T::kDouble, C, "active_inference", 0.0, false, kMaxGain, "m^2 s/rad^2",
+      "Learning rate kappa_b of b_hat: db_hat/dt = -kappa_b dF_b/db_hat",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(separation_learning_rate) },
+    { "separation_min", T::kDouble, C, "active_inference", kMinLength, false, kMaxLength, "m",
+      "Lower bound of the learned wheel separation b_hat (<= separation_max)",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(separation_min) },
+    { "separation_max", T::kDouble, C, "active_inference", kMinLength, false, kMaxLength, "m",
+      "Upper bound of the learned wheel separation b_hat",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(separation_max) },
+    { "separation_min_yaw_rate", T::kDouble, C, "active_inference", 0.0, false, 10.0, "rad/s",
+      "b_hat is frozen while the gyro's |yaw rate| is below this (near rest)",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(separation_min_yaw_rate) },
+    { "separation_max_yaw_acceleration", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "rad/s^2",
+      "b_hat is frozen while the gyro's |yaw acceleration| (its generalized order 1) is above this (a transient)",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(separation_max_yaw_acceleration) },
     // ---- robot (Clearpath Jackal; doc/jackal.md)
     { "wheel_radius", T::kDouble, C, "robot", kMinLength, false, kMaxLength, "m",
       "Wheel radius r (thesis eq. 3-1 to 3-4)",

@@ -44,6 +44,37 @@ std::string toString(Integrator integrator)
   return "unknown";
 }
 
+bool beliefModelFromString(const std::string& name, BeliefModel* out)
+{
+  if (out == nullptr)
+  {
+    return false;
+  }
+  if (name == "goal")
+  {
+    *out = BeliefModel::kGoal;
+    return true;
+  }
+  if (name == "unbiased")
+  {
+    *out = BeliefModel::kUnbiased;
+    return true;
+  }
+  return false;
+}
+
+std::string toString(BeliefModel model)
+{
+  switch (model)
+  {
+    case BeliefModel::kGoal:
+      return "goal";
+    case BeliefModel::kUnbiased:
+      return "unbiased";
+  }
+  return "unknown";
+}
+
 std::string ParamViolation::toString() const
 {
   return name + " = " + value + " (allowed: " + allowed + ")";
@@ -93,6 +124,11 @@ std::vector<ParamViolation> AicParams::validate() const
   {
     v.push_back({ "belief_rate", formatParamValue(belief_rate),
                   ">= action_rate (" + formatParamValue(action_rate) + ")" });
+  }
+  if (std::isfinite(separation_min) && std::isfinite(separation_max) && separation_min > separation_max)
+  {
+    v.push_back({ "separation_min", formatParamValue(separation_min),
+                  "<= separation_max (" + formatParamValue(separation_max) + ")" });
   }
   return v;
 }

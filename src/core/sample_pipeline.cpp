@@ -66,6 +66,10 @@ SamplePipeline::Measurement SamplePipeline::measure(const Vector5& y, double h, 
     return m;
   }
   fault_monitor_->setImuAvailable(imu_ok);
+  if (controller_->params().learn_wheel_separation)
+  {
+    fault_monitor_->setWheelSeparation(controller_->model().wheelSeparation());  // the learned model
+  }
   const int isolated_before = fault_monitor_->isolatedChannel();
   m.event = fault_monitor_->update(y, controller_->mu().col(0), h);
   controller_->setSensorMask(fault_monitor_->sensorMask());

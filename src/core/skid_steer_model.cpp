@@ -31,6 +31,8 @@ SkidSteerModel::SkidSteerModel(double wheel_radius, double slip_factor, double w
   requirePositive("wheel_separation", wheel_separation);
   const double ra = wheel_radius * slip_factor;
   const double b = wheel_separation;
+  ra_ = ra;
+  b_ = b;
 
   // Thesis eq. 3-1: extended differential drive (Mandow et al. 2007).
   G_ << 0.5 * ra, 0.5 * ra,  //
@@ -56,6 +58,26 @@ SkidSteerModel::SkidSteerModel(double wheel_radius, double slip_factor, double w
   K_(0, kOmegaLeft) = 1.0;
   K_(1, kGyroZ) = ra / b;
   K_(1, kOmegaRight) = 1.0;
+}
+
+bool SkidSteerModel::setWheelSeparation(double b)
+{
+  if (!(std::isfinite(b) && b > 0.0))
+  {
+    return false;
+  }
+  const double ra = ra_;
+  b_ = b;
+  G_(2, 0) = -ra / b;
+  G_(2, 1) = ra / b;
+  // pinv(G) = (G^T G)^-1 G^T: G has full column rank, so its pseudo-inverse is its left inverse.
+  G_pinv_ << 1.0 / ra, 0.0, -0.5 * b / ra,  //
+      1.0 / ra, 0.0, 0.5 * b / ra;
+  R_.row(kOmegaLeft) = G_pinv_.row(0);
+  R_.row(kOmegaRight) = G_pinv_.row(1);
+  K_(0, kGyroZ) = -ra / b;
+  K_(1, kGyroZ) = ra / b;
+  return true;
 }
 
 Vector2 SkidSteerModel::wheelsFromTwist(const Vector3& mu) const

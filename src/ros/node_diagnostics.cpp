@@ -28,6 +28,12 @@ ControllerReport ControllerReport::of(const ActiveInferenceController& controlle
   r.belief_vx = controller.mu()(0, 0);
   r.belief_wz = controller.mu()(2, 0);
   r.command = active ? controller.action() : Vector2::Zero();
+  r.wheel_separation = controller.model().wheelSeparation();
+  if (controller.params().learn_wheel_separation)
+  {
+    r.separation_learning = toString(controller.separationLearner().state());
+    r.separation_learning_steps = controller.separationLearner().learningSteps();
+  }
   return r;
 }
 
@@ -208,6 +214,9 @@ void NodeDiagnostics::controller(diagnostic_updater::DiagnosticStatusWrapper& st
   stat.addf("belief omega_z [rad/s]", "%.3f", report.belief_wz);
   stat.addf("command left [rad/s]", "%.3f", report.command(0));
   stat.addf("command right [rad/s]", "%.3f", report.command(1));
+  stat.addf("model wheel separation b_hat [m]", "%.4f", report.wheel_separation);
+  stat.add("wheel separation learning", report.separation_learning);
+  stat.add("wheel separation learning steps", report.separation_learning_steps);
   stat.add("output mode", report.output_mode);
   stat.add("commands clipped to the stock controller's limits (cmd_vel)", report.output_clips);
   stat.add("MCU stops", loop_.supervisor().mcuStops());

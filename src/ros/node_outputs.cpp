@@ -61,6 +61,7 @@ NodeOutputs::NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, const std::s
   free_energy_pub_ = pnh.advertise<std_msgs::Float64>("free_energy", 10, changed, changed);
   eps_y_pub_ = pnh.advertise<std_msgs::Float64MultiArray>("eps_y", 10, changed, changed);
   eps_mu_pub_ = pnh.advertise<std_msgs::Float64MultiArray>("eps_mu", 10, changed, changed);
+  wheel_separation_pub_ = pnh.advertise<std_msgs::Float64>("wheel_separation", 10, changed, changed);
 }
 
 void NodeOutputs::startDebug(ros::NodeHandle& nh, Capture capture)
@@ -98,7 +99,7 @@ void NodeOutputs::debugSubscribersChanged()
 bool NodeOutputs::debugWanted() const
 {
   return belief_pub_.getNumSubscribers() + free_energy_pub_.getNumSubscribers() + eps_y_pub_.getNumSubscribers() +
-             eps_mu_pub_.getNumSubscribers() >
+             eps_mu_pub_.getNumSubscribers() + wheel_separation_pub_.getNumSubscribers() >
          0;
 }
 
@@ -160,6 +161,7 @@ void NodeOutputs::capture(const ActiveInferenceController& controller, const ros
   snapshot->stamp = stamp;
   snapshot->mu = controller.mu();
   snapshot->free_energy = controller.hasMeasurement() ? controller.freeEnergy() : 0.0;
+  snapshot->wheel_separation = controller.model().wheelSeparation();
   if (eps_y_pub_.getNumSubscribers() > 0)
   {
     snapshot->eps_y = controller.epsY();
@@ -196,6 +198,12 @@ void NodeOutputs::debug(const DebugSnapshot& snapshot)
     {
       ++guarded_outputs_;
     }
+  }
+  if (wheel_separation_pub_.getNumSubscribers() > 0)
+  {
+    std_msgs::Float64 b;
+    b.data = snapshot.wheel_separation;
+    wheel_separation_pub_.publish(b);
   }
   // eps_y, eps_mu: captured only for a subscriber, never published non-finite.
   auto publishErrors = [this](const ros::Publisher& pub, const auto& errors) {

@@ -157,3 +157,40 @@ TEST(NoAlloc, SamplePipelinePerSample)
   EXPECT_EQ(counter.count(), 0);
   EXPECT_EQ(pipeline.faultMonitor().isolatedChannel(), kGyroZ);  // the path with an isolation ran
 }
+
+TEST(NoAlloc, UnbiasedBeliefsAndLearningUpdatePath)
+{
+  // belief_model unbiased (the action delay line) and learn_wheel_separation (the learner and the
+  // model's rebuild when b_hat moves, with the exact integrator's recomputation).
+  for (Integrator integ : { Integrator::kEuler, Integrator::kExact })
+  {
+    AicParams params = recommendedAicParams();
+    params.belief_model = BeliefModel::kUnbiased;
+    params.learn_wheel_separation = true;
+    params.reference_delay = 0.085;
+    params.integrator = integ;
+    ActiveInferenceController c(params);
+    YTilde y = YTilde::Zero(kYDim, params.numOrders());
+    y(kGyroZ, 0) = 0.5;  // the wheels' turn at b_hat = wheel_separation: 0.5 / 1.4
+    y(kOmegaLeft, 0) = (0.5 - 0.25 * 1.4 * params.wheel_separation) / params.wheel_radius;
+    y(kOmegaRight, 0) = (0.5 + 0.25 * 1.4 * params.wheel_separation) / params.wheel_radius;
+    AllocationCounter counter;
+    c.setGoal(Vector3(0.5, 0.0, 0.5));
+    c.setMeasurement(y);
+    for (int k = 0; k < 2000; ++k)
+    {
+      c.updateBeliefs(0.001);
+      if (k % 20 == 0)
+      {
+        c.updateAction(0.02);
+      }
+    }
+    const std::uint64_t steps = c.separationLearner().learningSteps();
+    c.setLearnedSeparation(0.7);
+    c.resetLearning();
+    volatile double sink = c.freeEnergy() + c.aDot()(0) + c.priorGoal()(0);
+    (void)sink;
+    EXPECT_EQ(counter.count(), 0) << "integrator=" << toString(integ);
+    EXPECT_GT(steps, 0u);
+  }
+}

@@ -49,9 +49,13 @@ struct ControllerReport
   std::string other_publishers = "none";  ///< other nodes publishing on it ("unchecked" with the check off)
   std::uint64_t output_conflicts = 0;   ///< conflicts started (another publisher appeared)
   std::uint64_t blocked_commands = 0;   ///< commands withheld while another node published on the topic
+  double wheel_separation = 0.0;        ///< b_hat the generative model uses [m] (learned if learn_wheel_separation)
+  std::string separation_learning = "off";  ///< the learner's state (learning, near rest, transient, ...) or "off"
+  std::uint64_t separation_learning_steps = 0;  ///< learning steps taken
 
-  /// The controller's part: F (0 before the first measurement), mu^(0) x_dot and theta_dot, and
-  /// the action as the command while `active` (zero otherwise); the rest stays default.
+  /// The controller's part: F (0 before the first measurement), mu^(0) x_dot and theta_dot,
+  /// the action as the command while `active` (zero otherwise), the model's b_hat and the state
+  /// of its learning; the rest stays default.
   static ControllerReport of(const ActiveInferenceController& controller, bool active);
 };
 

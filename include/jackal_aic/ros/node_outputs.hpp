@@ -36,12 +36,13 @@ struct DebugSnapshot
   double free_energy = 0.0;  ///< F (thesis eq. 3-12); 0 before the first measurement
   YTilde eps_y;              ///< eps_y, 5 x (p+1); 0 columns when nobody subscribes
   MuTilde eps_mu;            ///< eps_mu, 3 x (p+1); 0 columns when nobody subscribes
+  double wheel_separation = 0.0;  ///< b_hat of the generative model [m] (learned with learn_wheel_separation)
 };
 
 /**
  * \brief The node's outputs: the wheel command (/cmd_drive, or in output mode cmd_vel the
  *        twist the stock diff drive maps back onto it), and ~belief, ~free_energy, ~eps_y,
- *        ~eps_mu at debug_rate while anyone subscribes.
+ *        ~eps_mu, ~wheel_separation (the model's b_hat [m]) at debug_rate while anyone subscribes.
  *
  * Every suppressed non-finite output is counted (guardedOutputs(), shown in diagnostics).
  * Threading: wheels() and resetWheels() from the node's locked sections (either thread); the
@@ -109,6 +110,7 @@ private:
 
   bool cmd_vel_mode_ = false;
   ros::Publisher cmd_pub_, belief_pub_, free_energy_pub_, eps_y_pub_, eps_mu_pub_;
+  ros::Publisher wheel_separation_pub_;  ///< ~wheel_separation (std_msgs/Float64): the model's b_hat [m]
   std::atomic<std::uint64_t> guarded_outputs_{ 0 };  ///< commands may be guarded on the belief thread
   double debug_rate_;
   Capture capture_;

@@ -1,0 +1,119 @@
+#pragma once
+/**
+ * \file separation_learner.hpp
+ * \brief Learning the generative model's effective wheel separation b_hat on the robot from the
+ *        disagreement of gyro and wheel encoders: d b_hat / dt = -kappa_b dF_b / d b_hat
+ *        (learning as free-energy descent on a model parameter: Baioumy, Duckworth, Lacerda &
+ *        Hawes, arXiv 2005.05894; doc/active_inference.md, 'Learning the generative model').
+ *        ROS-free.
+ */
+
+#include <cstdint>
+#include <string>
+
+namespace jackal_aic
+{
+/// Settings of a SeparationLearner (the AicParams keys separation_*; doc/active_inference.md).
+struct SeparationLearnerParams
+{
+  double wheel_radius = 0.098;     ///< r [m], finite and > 0
+  double slip_factor = 1.0;        ///< alpha [-], finite and > 0
+  double initial = 0.5621;         ///< b_hat at construction and reset() [m], in [min, max]
+  double min = 0.3;                ///< lower bound of b_hat [m], finite and > 0
+  double max = 1.5;                ///< upper bound of b_hat [m], finite and >= min
+  double rate = 4.0;               ///< learning rate kappa_b [m^2 s / rad^2 per unit precision], finite and >= 0
+  double min_yaw_rate = 0.1;       ///< frozen while |gyro| is below this [rad/s], finite and >= 0
+  double max_yaw_acceleration = 0.5;  ///< frozen while |d gyro/dt| is above this [rad/s^2], finite and > 0
+};
+
+/**
+ * \brief Gradient descent of b_hat on the free energy of the gyro-encoder disagreement.
+ *
+ * The skid-steer model (thesis eq. 3-1) predicts the gyro from the wheel speeds,
+ *   theta_dot = r alpha (omega_R - omega_L) / b_hat,
+ * so with the sensory prediction error eps_b = y_gyro - r alpha (omega_R - omega_L) / b_hat and
+ * its precision Pi_b, F_b = Pi_b eps_b^2 / 2 and
+ *   dF_b / d b_hat = Pi_b eps_b r alpha (omega_R - omega_L) / b_hat^2,
+ *   b_hat <- clamp(b_hat - h kappa_b dF_b / d b_hat, min, max).
+ * Near a consistent b_hat the error decays with the time constant b_hat^2 / (kappa_b Pi_b theta_dot^2)
+ * (faster turning, faster learning). The parameter is frozen (not moved) while a sensor the
+ * disagreement needs is flagged by the fault monitor, near rest (|y_gyro| < min_yaw_rate: no
+ * information about b_hat, and wheel dead-bands dominate), while the action saturates (the
+ * wheels then slip against their limit and the kinematics do not hold), or in a transient
+ * (|d y_gyro/dt| > max_yaw_acceleration: the tyres' lateral slip builds up with a lag, so gyro and
+ * wheels disagree for a while whatever b_hat is).
+ *
+ * No heap allocation, no exceptions after construction.
+ */
+class SeparationLearner
+{
+public:
+  /// Why the last update() did or did not move b_hat.
+  enum class State
+  {
+    kLearning,     ///< b_hat moved (or stayed at a bound)
+    kSensorFault,  ///< frozen: the gyro or a wheel channel is flagged
+    kNearRest,     ///< frozen: |y_gyro| < min_yaw_rate
+    kSaturated,    ///< frozen: the action saturates
+    kTransient,    ///< frozen: |d y_gyro/dt| > max_yaw_acceleration
+    kBadInput      ///< ignored: non-finite input, h <= 0 or precision < 0
+  };
+
+  /// \throws std::invalid_argument naming every violated rule of SeparationLearnerParams.
+  explicit SeparationLearner(const SeparationLearnerParams& params);
+
+  /**
+   * \brief One learning step.
+   * \param h           step [s], finite and > 0
+   * \param gyro_z      measured yaw rate y_gyro [rad/s]
+   * \param gyro_rate   its rate d y_gyro/dt [rad/s^2] (generalized order 1)
+   * \param omega_l     measured left wheel speed [rad/s]
+   * \param omega_r     measured right wheel speed [rad/s]
+   * \param precision   Pi_b [1/(rad/s)^2], finite and >= 0 (e.g. the gyro's Pi_y^(0))
+   * \param sensors_ok  false while the fault monitor flags the gyro or a wheel channel
+   * \param saturated   true while the action is clamped (wheel speed, lead limits)
+   * \return the reason the step did or did not learn; b_hat unchanged unless kLearning.
+   */
+  State update(double h, double gyro_z, double gyro_rate, double omega_l, double omega_r, double precision,
+               bool sensors_ok, bool saturated);
+
+  /// The learned effective wheel separation b_hat [m], within [min, max].
+  double separation() const { return b_; }
+  /// The gyro-encoder prediction error eps_b of the last learning step [rad/s] (0 before one).
+  double predictionError() const { return eps_; }
+  /// The state of the last update() (kNearRest before any).
+  State state() const { return state_; }
+  /// Number of update() calls that learned.
+  std::uint64_t learningSteps() const { return steps_; }
+
+  /// Set b_hat [m] (e.g. a value learned before, loaded from an overlay), clamped to [min, max].
+  /// \return false (unchanged) if not finite.
+  bool setSeparation(double b);
+  /// Back to params().initial; the step count and error cleared.
+  void reset();
+  /// The settings in use.
+  const SeparationLearnerParams& params() const { return params_; }
+
+private:
+  SeparationLearnerParams params_;
+  double b_;
+  double eps_ = 0.0;
+  State state_ = State::kNearRest;
+  std::uint64_t steps_ = 0;
+};
+
+/**
+ * \brief The YAML overlay that makes a learned b_hat the model's wheel_separation the next time
+ *        the node starts (loaded after config/default.yaml and config/robot.yaml, like any overlay;
+ *        with learn_wheel_separation the learning then starts from it).
+ * \param b_hat  learned separation [m], finite and > 0
+ * \return the text: a comment naming the key's unit and source, then `wheel_separation: <b_hat>`
+ *         with 6 significant digits.
+ * \throws std::invalid_argument if b_hat is not finite and > 0.
+ */
+std::string learnedSeparationOverlay(double b_hat);
+
+/// Name of a learner state, e.g. "near rest".
+const char* toString(SeparationLearner::State state);
+
+}  // namespace jackal_aic
