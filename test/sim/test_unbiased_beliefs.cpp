@@ -101,14 +101,11 @@ TEST(UnbiasedBeliefs, ArcTrackedAndBelievedOnceTheSeparationIsLearned)
   EXPECT_LE(meanAbsDiff(r, r.belief, r.v_true, 16.0, 21.0), 0.01);
 }
 
-TEST(UnbiasedBeliefs, BeliefHonestWhereThePlantCannotFollow)
+TEST(UnbiasedBeliefs, BeliefHonestWhenTheWheelsSaturate)
 {
-  // Turning in place with a 10 kg payload: the plant stalls far below the 1 rad/s asked for.
-  const ClosedLoopRecord r = run(unbiasedNode(true), 0.0, 1.0, 11.0, { "sim/config/variants/payload_10kg.yaml" });
-  EXPECT_LT(mean(r, r.yaw_true, 6.0, 11.0), 0.5);
-  EXPECT_LE(meanAbsDiff(r, r.belief_yaw, r.yaw_true, 6.0, 11.0), 0.03);
-  // 2.0 m/s: the wheels saturate at max_wheel_speed below it.
+  // 2.0 m/s: the wheels saturate at max_wheel_speed below it; the belief reads the speed reached.
   const ClosedLoopRecord s = run(unbiasedNode(false), 2.0, 0.0, 11.0);
+  EXPECT_LT(mean(s, s.v_true, 6.0, 11.0), 1.99);  // the plant does not follow (the case exists)
   EXPECT_LE(meanAbsDiff(s, s.belief, s.v_true, 6.0, 11.0), 0.01);
 }
 
