@@ -5,8 +5,14 @@ With config/thesis_improved.yaml (tau = 0.001 s, forward Euler at 1 kHz) the pri
 belief update is unstable (order-0 gain k_mu Pi_mu / tau^2 ~ 6.7e3 1/s, h * gain ~ 6.7 > 2,
 doc/active_inference.md, 'Analysis notes'): the node must catch every divergence.
 
+The zero command: a divergence is caught in the belief update (1 kHz) before the next action
+step (50 Hz) can send it, the reset zeroes the action and the supervisor holds a zero command for
+runaway_hold_time after it; so every /cmd_drive message is exactly zero on both wheels. The
+control: the same test on config/default.yaml (no divergence) sees non-zero commands and fails.
+
 Parameters (~): duration [s] (recorded /cmd_drive span), max_wheel_speed [rad/s],
-min_runaways (least "runaway resets" reported in diagnostics).
+min_runaways (least "runaway resets" reported in diagnostics), min_commands (least /cmd_drive
+messages to judge).
 """
 import sys
 import unittest
@@ -25,6 +31,7 @@ class RunawayTest(unittest.TestCase):
         duration = float(rospy.get_param("~duration", 5.0))
         limit = float(rospy.get_param("~max_wheel_speed", 20.0))
         min_runaways = int(rospy.get_param("~min_runaways", 1))
+        min_commands = int(rospy.get_param("~min_commands", 50))
         cmd = Recorder("/cmd_drive", Drive)
         belief = Recorder("/jackal_AIC/belief", TwistStamped, use_stamp=True)
         diagnostics = Recorder("/diagnostics", DiagnosticArray)
@@ -45,11 +52,18 @@ class RunawayTest(unittest.TestCase):
             return s.level == DiagnosticStatus.ERROR and int(values.get("runaway resets", 0)) >= min_runaways
 
         self.assertTrue(wait_for(lambda: cmd.span() >= duration, 3 * duration + 20))
-        self.assertTrue(wait_for(runaway_reported, 10.0), "no diagnostics ERROR with runaway resets: %s"
-                        % controller_status())
         for _, m in cmd.snapshot():
             self.assertTrue(finite(m.drivers))
             self.assertLessEqual(max(abs(d) for d in m.drivers), limit * (1 + 1e-6))
+        # The zero command: each divergence is caught before an action step sends it, and the
+        # hold after each reset sends zero, so every command is exactly zero.
+        drivers = [list(m.drivers) for _, m in cmd.snapshot()]
+        moving = [d for d in drivers if any(x != 0.0 for x in d)]
+        print("MEASURED %d of %d commands non-zero" % (len(moving), len(drivers)), file=sys.stderr)
+        self.assertGreaterEqual(len(drivers), min_commands, "too few commands to judge")
+        self.assertEqual(moving[:3], [], "non-zero commands from a diverging controller")
+        self.assertTrue(wait_for(runaway_reported, 10.0), "no diagnostics ERROR with runaway resets: %s"
+                        % controller_status())
         for _, b in belief.snapshot():
             self.assertTrue(finite([b.twist.linear.x, b.twist.linear.y, b.twist.angular.z]))
         s = controller_status()
