@@ -151,8 +151,8 @@ class Workspace:
 
     def configure(self):
         """catkin_make's configure step in the scratch workspace (tests on, Release)."""
-        cmd = ("source /opt/ros/noetic/setup.bash && cd %s && catkin_make -DPYTHON_EXECUTABLE=/usr/bin/python3 "
-               "-DCMAKE_BUILD_TYPE=Release -DCATKIN_ENABLE_TESTING=ON cmake_check_build_system" % self.root)
+        cmd = ('source "%s" && cd "%s" && catkin_make "${catkin_args[@]}" cmake_check_build_system'
+               % (os.path.join(HERE, "ws_env.sh"), self.root))
         return subprocess.run(["bash", "-c", cmd], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                               universal_newlines=True)
 
