@@ -42,7 +42,9 @@ for controller in aic stock; do
   esac
 done
 echo "check_install: the installed closed_loop_run reads its URDF and YAML from $found"
-roslaunch -p "$PORT" jackal_aic sim.launch > "$LOG_DIR/launch.log" 2>&1 &
+# On simulated time (the plant publishes /clock): the 4 s of driving are plant seconds, judged
+# from the stamps of /odom, so a loaded machine slows the run down but does not change the verdict.
+roslaunch -p "$PORT" jackal_aic sim.launch use_sim_time:=true > "$LOG_DIR/launch.log" 2>&1 &
 launch=$!
 /usr/bin/python3 - <<PY
 import sys, time
@@ -60,7 +62,7 @@ while True:
         if time.time() > deadline:
             print("check_install: FAILED: no ROS master on port $PORT"); sys.exit(1)
         time.sleep(1.0)
-rospy.Subscriber("/odom", Odometry, lambda m: seen["odom"].append(m.twist.twist.linear.x))
+rospy.Subscriber("/odom", Odometry, lambda m: seen["odom"].append((m.header.stamp.to_sec(), m.twist.twist.linear.x)))
 rospy.Subscriber("/cmd_drive", Drive, lambda m: seen.__setitem__("drive", seen["drive"] + 1))
 rospy.Subscriber("/jackal_AIC/belief", TwistStamped, lambda m: seen.__setitem__("belief", seen["belief"] + 1))
 pub = rospy.Publisher("/jackal_AIC/set_point", Twist, queue_size=1)
@@ -69,11 +71,14 @@ while not (seen["odom"] and seen["drive"] and seen["belief"]):
         print("check_install: FAILED: from the installed sim.launch: /odom %d, /cmd_drive %d, belief %d messages"
               % (len(seen["odom"]), seen["drive"], seen["belief"])); sys.exit(1)
     pub.publish(Twist()); time.sleep(0.05)
-t_end = time.time() + 4.0
+deadline = time.time() + 60.0  # a backstop: plant time must advance
+t_end = seen["odom"][-1][0] + 4.0  # plant time
 cmd = Twist(); cmd.linear.x = 0.3
-while time.time() < t_end:
+while seen["odom"][-1][0] < t_end:
+    if time.time() > deadline:
+        print("check_install: FAILED: plant time stalled at %.2f s" % seen["odom"][-1][0]); sys.exit(1)
     pub.publish(cmd); time.sleep(0.05)
-v = seen["odom"][-1]
+v = seen["odom"][-1][1]
 if not 0.2 < v < 0.4:
     print("check_install: FAILED: the installed AIC drove the plant to %.3f m/s, not ~0.3 m/s" % v); sys.exit(1)
 print("check_install: the installed sim.launch drives the simulated Jackal at %.3f m/s (set point 0.3)" % v)

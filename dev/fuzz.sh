@@ -1,22 +1,33 @@
 #!/usr/bin/env bash
 # Build the libFuzzer target over the core (test/fuzz/fuzz_core.cpp) with clang, address and
-# undefined-behaviour sanitizers, and run it for a bounded time.
-#   [FUZZ_WORKERS=N] dev/fuzz.sh [SECONDS] [JUNIT_XML]
-# SECONDS: run time (default 60). JUNIT_XML: if given, the verdict is also written there as a
-# one-test JUnit file (how dev/run_tests.sh counts it). FUZZ_WORKERS (default 1): that many
-# fuzzing processes side by side, for long runs; the printed execution count is their sum.
-# FUZZ_OUT (default .ws/fuzz): the folder of the binary, the corpus and the logs (a long run in its
-# own folder does not collide with the test suite's bounded run).
-# Exit 0 = clean; 1 = a crash, a sanitizer report or a finding of the target (non-finite / over-limit action, ...); 2 = clang or
-# libFuzzer missing (reported as a skipped test). The binary and the growing corpus live in
-# .ws/fuzz; test/fuzz/corpus holds committed seeds (inputs of past findings, run every time).
+# undefined-behaviour sanitizers, and run it for a bounded number of inputs from a fixed seed.
+#   [FUZZ_WORKERS=N] [FUZZ_SEED=S] [FUZZ_RUNS=R] dev/fuzz.sh [SECONDS] [JUNIT_XML]
+# Reproducible: every run starts from the committed corpus (test/fuzz/corpus, inputs of past
+# findings) and an empty working corpus, with libFuzzer's -seed fixed (FUZZ_SEED, default 1;
+# worker k uses FUZZ_SEED + k - 1). FUZZ_RUNS (default 0 = unbounded) caps the executed inputs
+# per worker: with it the run is the same on every machine as long as SECONDS does not end it
+# first. SECONDS: the time limit (default 60), a backstop for FUZZ_RUNS or, without it, the length.
+# JUNIT_XML: if given, the verdict is also written there as a one-test JUnit file.
+# FUZZ_WORKERS (default 1): that many fuzzing processes side by side, for long runs; the printed
+# execution count is their sum. FUZZ_OUT (default .ws/fuzz): the folder of the binary, the
+# working corpus and the logs (a long run in its own folder does not collide with the suite's).
+# FUZZ_KEEP_CORPUS=1 keeps the working corpus of earlier runs (long exploratory runs); by default
+# it is emptied first, so a run's inputs do not depend on the runs before it.
+# Exit 0 = clean; 1 = a crash, a sanitizer report or a finding of the target (non-finite /
+# over-limit action, ...), or the target failed to build; 2 = clang or libFuzzer missing
+# (reported as a skipped test). dev/run_tests.sh takes its verdict from this exit code.
 set -uo pipefail
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 repo="$(dirname "$here")"
 seconds="${1:-60}"
 xml="${2:-}"
 out="${FUZZ_OUT:-$repo/.ws/fuzz}"
+seed="${FUZZ_SEED:-1}"
+runs="${FUZZ_RUNS:-0}"
+runs_arg="$runs"; [ "$runs" -gt 0 ] || runs_arg=-1  # libFuzzer: -1 = unbounded
+[ "${FUZZ_KEEP_CORPUS:-0}" = 1 ] || rm -rf "$out/corpus"
 mkdir -p "$out/corpus"
+rm -f "$out"/crash-* "$out"/timeout-* "$out"/oom-* "$out"/leak-*
 log="$out/fuzz_core.log"
 
 junit() {  # junit STATUS(pass|fail|skip) MESSAGE
@@ -62,7 +73,7 @@ if ! "$cxx" "${flags[@]}" "${sources[@]}" -o "$out/fuzz_core" > "$out/build.log"
   exit 1
 fi
 workers="${FUZZ_WORKERS:-1}"
-echo "fuzz: running fuzz_core for ${seconds} s, ${workers} worker(s) (log: $log)"
+echo "fuzz: running fuzz_core, seed ${seed}, ${runs} runs per worker (0: unbounded), at most ${seconds} s, ${workers} worker(s) (log: $log)"
 # Each worker is an independent libFuzzer process on the shared corpus folder (libFuzzer reloads
 # it, so the workers see each other's finds); worker k logs to fuzz_core.log (k = 1) or
 # fuzz_core.k.log.
@@ -71,7 +82,7 @@ for k in $(seq 1 "$workers"); do
   wlog="$log"; [ "$k" -gt 1 ] && wlog="${log%.log}.$k.log"
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ASAN_OPTIONS=detect_leaks=1 \
     "$out/fuzz_core" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
-    -seed="$k$(date +%s | tail -c 6)" -artifact_prefix="$out/" "$out/corpus" "$repo/test/fuzz/corpus" > "$wlog" 2>&1 &
+    -seed="$((seed + k - 1))" -runs="$runs_arg" -artifact_prefix="$out/" "$out/corpus" "$repo/test/fuzz/corpus" > "$wlog" 2>&1 &
   pids+=("$!")
 done
 rc=0
@@ -89,6 +100,6 @@ if [ "$rc" -ne 0 ] || grep -q "ERROR: AddressSanitizer\|runtime error:\|FINDING\
   junit fail "fuzz_core: crash, sanitizer report or finding after ${execs} executions; see ${logs[*]}"
   exit 1
 fi
-echo "fuzz: clean, ${execs} executions in ${seconds} s (${workers} worker(s))"
+echo "fuzz: clean, ${execs} executions (seed ${seed}, ${workers} worker(s))"
 junit pass ""
 exit 0

@@ -23,8 +23,23 @@ cd "$ws"
 # would measure the machine. Each runs once: no retries.
 catkin_make "${catkin_args[@]}" run_tests -j1 2>&1 | tee "$ws/run_tests.log" | grep -E "^\[ *(RUN|OK|FAILED|PASSED) *\]|^\[ROSTEST\]|^\[Testcase|FAILURE|Error|error:" || true
 
-# The libFuzzer target over the core (clang, sanitizers), bounded: one more test result.
-bash "$here/fuzz.sh" "${FUZZ_SECONDS:-60}" "$results/jackal_aic/fuzz_core.xml" || true
+# The libFuzzer target over the core (clang, sanitizers) from a fixed seed over the committed
+# corpus, a fixed number of inputs (the time limit is a backstop): one more result, judged by
+# its exit code (0 clean, 1 failed, 2 no clang/libFuzzer: skipped).
+FUZZ_SEED="${FUZZ_SEED:-1}" FUZZ_RUNS="${FUZZ_RUNS:-60000}" bash "$here/fuzz.sh" "${FUZZ_SECONDS:-120}"
+fuzz_rc=$?
+
+# The benchmark of the controller's update steps: its figures in the log, no bound judged; it
+# must run (a crash fails the suite). Short: a few milliseconds per benchmark.
+bench="$ws/devel/lib/jackal_aic/bench_controller"
+if [ -x "$bench" ]; then
+  echo "run_tests: bench_controller (figures only, not judged)"
+  "$bench" --benchmark_min_time="${BENCH_MIN_TIME:-0.05}"
+  bench_rc=$?
+else
+  echo "run_tests: bench_controller not built (Google Benchmark missing): skipped"
+  bench_rc=skip
+fi
 
 summary="$(catkin_test_results --verbose "$results" 2>&1)"
 verdict=$?
@@ -42,6 +57,18 @@ if [ "$tests" -eq 0 ]; then
   failed=$((failed + 1))
 fi
 [ "$verdict" -ne 0 ] && [ "$failed" -eq 0 ] && failed=1
+case "$fuzz_rc" in
+  0) passed=$((passed + 1)) ;;
+  2) skipped=$((skipped + 1)) ;;
+  *) echo "run_tests: FAILURE: the fuzz run failed (exit $fuzz_rc; dev/fuzz.sh, log in .ws/fuzz)"
+     failed=$((failed + 1)) ;;
+esac
+case "$bench_rc" in
+  0) passed=$((passed + 1)) ;;
+  skip) skipped=$((skipped + 1)) ;;
+  *) echo "run_tests: FAILURE: bench_controller exited $bench_rc"
+     failed=$((failed + 1)) ;;
+esac
 # The installed package (catkin_make install) runs the demo launch: dev/check_install.sh.
 if bash "$here/check_install.sh"; then
   passed=$((passed + 1))

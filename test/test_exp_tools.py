@@ -146,11 +146,18 @@ class MetricsTest(unittest.TestCase):
         m = metrics.step_metrics(t, y, 0.0, 0.0, 0.5)
         self.assertIsNone(m["settling_time"])
 
-    def test_duplicate_stamps_are_dropped(self):
-        t = [0.0, 0.1, 0.1, 0.2, 0.3]
-        y = [0.0, 0.3, 0.3, 0.5, 0.5]
+    def test_duplicate_stamps_are_dropped_keeping_the_first(self):
+        # At the repeated stamp 0.2 the first sample is on target, the second 60 % over it: the
+        # metrics are those of the series without the second, and differ from those without the
+        # first (the control: which sample is dropped shows in the overshoot).
+        t = [0.0, 0.1, 0.2, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0]
+        y = [0.0, 0.3, 0.5, 0.8, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5]
         m = metrics.step_metrics(t, y, 0.0, 0.0, 0.5)
-        self.assertIsNotNone(m["rise_time"])
+        first = metrics.step_metrics(t[:3] + t[4:], y[:3] + y[4:], 0.0, 0.0, 0.5)
+        second = metrics.step_metrics(t[:2] + t[3:], y[:2] + y[3:], 0.0, 0.0, 0.5)
+        self.assertEqual(m, first)
+        self.assertAlmostEqual(m["overshoot"] or 0.0, 0.0)
+        self.assertAlmostEqual(second["overshoot"], 60.0, places=3)
 
 
 class TrackingTest(unittest.TestCase):

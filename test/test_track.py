@@ -19,6 +19,7 @@ import tempfile
 import unittest
 
 import numpy as np
+import yaml
 
 from jackal_aic_tools import cli, profiles, track_profiles
 
@@ -129,7 +130,9 @@ class TrackCheck(unittest.TestCase):
             # both controllers' errors on both plants: no controller moves before its command arrives.
             from jackal_aic_tools import driving
             self.assertEqual(direct["command_delay"], 0.2)
-            for v, latency in (("default", 0.1187), ("slow_latency", 0.2)):
+            with open(os.path.join(ROOT, "sim", "config", "plant.yaml")) as f:
+                plant_latency = yaml.safe_load(f)["motor"]["command_delay"]
+            for v, latency in (("default", plant_latency), ("slow_latency", 0.2)):
                 floor = driving.floor_rms(profile, latency)
                 self.assertGreater(floor["vx"], 0.01)
                 for c in ("aic", "stock"):

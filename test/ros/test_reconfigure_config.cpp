@@ -12,6 +12,7 @@
 #include <limits>
 #include <set>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "jackal_aic/ros/node_reconfigure.hpp"
@@ -123,10 +124,37 @@ TEST(ReconfigureConfig, NoValidValueIsClamped)
 
 TEST(ReconfigureConfig, DefaultsShowAsTheCfgDefaults)
 {
-  const AICConfig c = configFromParams(validNodeParams(), AICConfig::__getDefault__());
+  // The base the conversion starts from holds a value other than the cfg default in every entry:
+  // what shows as the default was written from the parameters, not kept from the base (only the
+  // slots beyond p keep the base's value).
+  const AICConfig defaults = AICConfig::__getDefault__();
+  AICConfig other = defaults;
   for (const ReconfigureEntry& e : reconfigureEntries())
   {
-    EXPECT_EQ(configValue(c, e.name), configValue(AICConfig::__getDefault__(), e.name)) << e.name;
+    const ParamValue d = configValue(defaults, e.name);
+    ParamValue v = configValue(AICConfig::__getMax__(), e.name);
+    if (std::holds_alternative<bool>(d))
+    {
+      v = !std::get<bool>(d);
+    }
+    else if (std::holds_alternative<std::string>(d))
+    {
+      v = std::get<std::string>(d) + "_other";
+    }
+    else if (v == d)
+    {
+      v = configValue(AICConfig::__getMin__(), e.name);
+    }
+    setConfigValue(&other, e.name, v);
+    ASSERT_NE(configValue(other, e.name), d) << e.name << ": no value other than the default to start from";
+  }
+  const NodeParams params = validNodeParams();
+  const AICConfig c = configFromParams(params, other);
+  for (const ReconfigureEntry& e : reconfigureEntries())
+  {
+    const bool kept = e.slot >= params.aic.numOrders();
+    EXPECT_EQ(configValue(c, e.name), configValue(kept ? other : defaults, e.name))
+        << e.name << (kept ? " (a slot beyond p: the base's)" : "");
   }
 }
 

@@ -5,8 +5,18 @@ With config/thesis_improved.yaml (tau = 0.001 s, forward Euler at 1 kHz) the pri
 belief update is unstable (order-0 gain k_mu Pi_mu / tau^2 ~ 6.7e3 1/s, h * gain ~ 6.7 > 2,
 doc/active_inference.md, 'Analysis notes'): the node must catch every divergence.
 
+The zero command: the reset zeroes the action and the supervisor holds a zero command for
+runaway_hold_time after it, so a non-zero command is followed by at least ~min_zero_run zero
+commands. Mostly the divergence is caught in the belief update (1 kHz) before the next action step
+(50 Hz) sends it, and every command is zero; on a loaded machine a diverged action (clamped to
+max_wheel_speed) can reach one action step first: at most ~max_leaked such commands are allowed.
+The control: the same test on config/default.yaml (no divergence) sees a stream of non-zero
+commands and fails.
+
 Parameters (~): duration [s] (recorded /cmd_drive span), max_wheel_speed [rad/s],
-min_runaways (least "runaway resets" reported in diagnostics).
+min_runaways (least "runaway resets" reported in diagnostics), min_commands (least /cmd_drive
+messages to judge), min_zero_run (zero commands after a non-zero one), max_leaked (non-zero
+commands allowed in the run).
 """
 import sys
 import unittest
@@ -25,6 +35,9 @@ class RunawayTest(unittest.TestCase):
         duration = float(rospy.get_param("~duration", 5.0))
         limit = float(rospy.get_param("~max_wheel_speed", 20.0))
         min_runaways = int(rospy.get_param("~min_runaways", 1))
+        min_commands = int(rospy.get_param("~min_commands", 50))
+        min_zero_run = int(rospy.get_param("~min_zero_run", 25))
+        max_leaked = int(rospy.get_param("~max_leaked", 2))
         cmd = Recorder("/cmd_drive", Drive)
         belief = Recorder("/jackal_AIC/belief", TwistStamped, use_stamp=True)
         diagnostics = Recorder("/diagnostics", DiagnosticArray)
@@ -45,11 +58,24 @@ class RunawayTest(unittest.TestCase):
             return s.level == DiagnosticStatus.ERROR and int(values.get("runaway resets", 0)) >= min_runaways
 
         self.assertTrue(wait_for(lambda: cmd.span() >= duration, 3 * duration + 20))
-        self.assertTrue(wait_for(runaway_reported, 10.0), "no diagnostics ERROR with runaway resets: %s"
-                        % controller_status())
         for _, m in cmd.snapshot():
             self.assertTrue(finite(m.drivers))
             self.assertLessEqual(max(abs(d) for d in m.drivers), limit * (1 + 1e-6))
+        # The zero command: after a non-zero command (a divergence that reached the action step
+        # before the belief update caught it) the reset's hold sends zeros.
+        drivers = [list(m.drivers) for _, m in cmd.snapshot()]
+        moving = [i for i, d in enumerate(drivers) if any(x != 0.0 for x in d)]
+        print("MEASURED %d of %d commands non-zero: %s" % (len(moving), len(drivers), [drivers[i] for i in moving[:5]]),
+              file=sys.stderr)
+        self.assertGreaterEqual(len(drivers), min_commands, "too few commands to judge")
+        self.assertLessEqual(len(moving), max_leaked, "non-zero commands from a diverging controller")
+        for i in moving:
+            after = drivers[i + 1:i + 1 + min_zero_run]
+            self.assertTrue(all(x == 0.0 for d in after for x in d),
+                            "command %d (%s) is not followed by the zero command of the hold: %s"
+                            % (i, drivers[i], after[:5]))
+        self.assertTrue(wait_for(runaway_reported, 10.0), "no diagnostics ERROR with runaway resets: %s"
+                        % controller_status())
         for _, b in belief.snapshot():
             self.assertTrue(finite([b.twist.linear.x, b.twist.linear.y, b.twist.angular.z]))
         s = controller_status()

@@ -9,6 +9,8 @@ Python API); deterministic (seeded noise, seeded candidates); ~30 s.
 
 Run: python3 test/sim/test_bag_identification.py (in the sourced workspace, plant_replay built).
 """
+import csv
+import io
 import json
 import os
 import subprocess
@@ -94,13 +96,24 @@ class BagRoundTrip(unittest.TestCase):
         self.assertAlmostEqual(doc["motor"]["speed_kp"], self.fit["values"]["speed_kp"], delta=1e-3 * 2)
         self.assertEqual(doc["motor"]["load_observer_time_constant"], 0)
         self.assertIn("# proportional gain [N m / (rad/s)]", text)
+        # The overlay drives the plant: a 3 s turn in place at 1 rad/s through plant_replay turns
+        # the variant's deficit (0.5 rad/s) short with it, and does not without it (the control).
         replay = cli.find_executable("plant_replay", os.path.join(ROOT, "scripts", "plant_identify.py"), "test")
-        with tempfile.NamedTemporaryFile("w", suffix=".csv") as f:
-            f.write("t,vx,wz\n0,0,1.0\n1,0,0\n")
-            f.flush()
-            out = subprocess.run([replay, "--twist", f.name, "--overlay", self.overlay], capture_output=True,
-                                 text=True, check=False)
-        self.assertEqual(out.returncode, 0, out.stderr)
+
+        def late_yaw_rate(*extra):
+            with tempfile.NamedTemporaryFile("w", suffix=".csv") as f:
+                f.write("t,vx,wz\n0,0,1.0\n3,0,0\n")
+                f.flush()
+                out = subprocess.run([replay, "--twist", f.name] + list(extra), capture_output=True, text=True,
+                                     check=False)
+            self.assertEqual(out.returncode, 0, out.stderr)
+            rows = list(csv.DictReader(io.StringIO(out.stdout)))
+            late = [float(r["yaw_true"]) for r in rows if 2.0 <= float(r["t"]) <= 3.0]
+            self.assertGreater(len(late), 10, out.stdout[:500])
+            return sum(late) / len(late)
+        with_overlay, without = late_yaw_rate("--overlay", self.overlay), late_yaw_rate()
+        self.assertAlmostEqual(with_overlay, 1.0 - 0.5, delta=0.1)
+        self.assertAlmostEqual(without, 1.0, delta=0.1)
 
 
 class BadBags(unittest.TestCase):

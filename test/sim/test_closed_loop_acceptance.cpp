@@ -19,6 +19,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "jackal_tools/params_yaml.hpp"
@@ -257,13 +258,23 @@ TEST(StepResponse, LargeStepStaysBoundedWithTheAntiWindup)
   checkStep({ "1 m/s", aic(config("default"), stepProfile(1.0, 1.0), 4.0), 1.0, 1.5, 20.0, 2.0 });
 }
 
-TEST(StepResponse, ThesisStandardConverges)
+TEST(StepResponse, ThesisStandardConvergesOnlyWithAWeakerOrderOneTerm)
 {
-  // Table C-1 at 50 Hz with sigma^2_y(1) = 20 instead of 2 (doc/active_inference.md,
-  // 'Analysis notes': as printed the order-1 term oscillates on this plant).
-  checkStep({ "thesis standard",
+  // Table C-1 at 50 Hz converges with sigma^2_y(1) = 20 instead of the printed 2, within bounds
+  // looser than the default's (settling 4 s, overshoot 30 %, error 5 %); as printed, the order-1
+  // term's derivative feedback destabilizes the loop on this plant (doc/active_inference.md,
+  // 'Derivative damping in the action'): the printed set misses the same bounds.
+  checkStep({ "thesis standard, var_y(1) = 20",
               aic(config("thesis_standard", { "var_y=[2.0, 20.0, 100000.0, 100000.0]" }), stepProfile(1.0, 0.5), 7.0),
               0.5, 4.0, 30.0, 5.0 });
+  const ClosedLoopRecord printed = run(aic(config("thesis_standard"), stepProfile(1.0, 0.5), 7.0));
+  const StepMetrics m = metrics(printed, 1.0, 0.0, 0.5);
+  std::printf("thesis standard as printed: settled %d, settling %.3f s, overshoot %.1f %%, runaways %lu\n",
+              static_cast<int>(m.settled), m.settling_time, m.overshoot_percent,
+              static_cast<unsigned long>(printed.runaways));
+  EXPECT_FALSE(m.settled && m.settling_time <= 4.0 && m.overshoot_percent <= 30.0 &&
+               std::abs(m.steady_state_error) / 0.5 * 100.0 <= 5.0)
+      << "the printed set meets the bounds: the weaker order-1 term is no longer needed";
 }
 
 TEST(StepResponse, StockController)
@@ -400,13 +411,20 @@ TEST(SensorFaults, FrozenGyroIsIsolatedWhenTheTurnEnds)
 TEST(SensorFaults, FrozenGyroWithoutIsolationKeepsTurning)
 {
   // The frozen gyro keeps reporting the turn; without isolation the beliefs keep part of it and
-  // the action turns the robot the other way (the release at rest makes it smaller, not zero):
-  // well above the isolated run's ~0 rad/s.
+  // the action turns the robot the other way (the release at rest makes it smaller, not zero).
+  // The isolated run of the same scenario is the control: the two runs' yaw rates fall on either
+  // side of one threshold, so the check tells isolation from none.
+  constexpr double kSeparation = 0.01;  // [rad/s]
   const ClosedLoopRecord r = gyroFreeze(false);
   expectBounded(r);
   EXPECT_EQ(firstIsolation(r, 0.0), nullptr);
   const double yaw = meanOver(r, r.yaw_true, 13.5, 15.5);
-  EXPECT_GT(std::abs(yaw), 0.01);
+  const ClosedLoopRecord isolated = gyroFreeze(true);
+  const double yaw_isolated = meanOver(isolated, isolated.yaw_true, 13.5, 15.5);
+  std::printf("gyro freeze, yaw rate over the last 2 s: %.4f rad/s without isolation, %.4f with\n", yaw, yaw_isolated);
+  EXPECT_GT(std::abs(yaw), kSeparation);
+  EXPECT_LT(std::abs(yaw_isolated), kSeparation);
+  EXPECT_GT(std::abs(yaw), 2.0 * std::abs(yaw_isolated));
   results().push_back({ "the same, `fdi_enabled: false`", "`gyro freeze 6.5`",
                         isolationText(r, 6.5, 7.5, "the set point went straight"),
                         "yaw rate " + fixed(yaw) + " rad/s" });
@@ -496,15 +514,14 @@ TEST(PhysicalFaults, LowFrictionPatchUnderTheLeftWheels)
 // Driving: what config/default.yaml does that the stock controller cannot (doc/experiments.md,
 // 'Driving acceptance'; scripts/aic_scorecard.py --driving has the whole set).
 
-/// Bounds of the driving checks, what config/default.yaml meets with a margin (the driving
-/// set's own bounds are 2 %, 1.0 and 1.0; doc/results/scorecard.txt has the figures): the steady
-/// yaw-rate error on the turn-deficit variant (fraction of the command), the 0.1 m/s step's
-/// settling time (ground truth) and the planner profile's RMS errors as multiples of the stock
-/// controller's.
-constexpr double DEFICIT_BOUND = 0.025;
-constexpr double SMALL_STEP_RATIO = 1.2;
-constexpr double PLANNER_RATIO_VX = 0.9;
-constexpr double PLANNER_RATIO_WZ = 1.05;
+/// The driving set's bounds as doc/experiments.md, 'Driving acceptance', states them (and
+/// jackal_aic_tools.driving judges them): the steady yaw-rate error on the turn-deficit variant
+/// (DEFICIT_ERROR, a fraction of the command), the 0.1 m/s step's settling time against the
+/// stock controller's (STEP_BOUNDS["0.1 m/s"], ground truth), and a tracking pair's RMS errors
+/// against the stock controller's (TRACK_PAIR_BOUND), here the planner profile on the default plant.
+constexpr double DEFICIT_BOUND = 0.02;
+constexpr double SMALL_STEP_RATIO = 1.0;
+constexpr double PLANNER_PAIR_BOUND = 1.02;
 
 /// A stock-controller run of `profile` (noisy sensors).
 ClosedLoopConfig stock(std::vector<SetPointSegment> profile, double duration)
@@ -532,27 +549,49 @@ TEST(Driving, TurnDeficitIsRemoved)
     expectBounded(a);
     const double error_aic = meanOver(a, a.yaw_true, 3.0, 4.0) - w;
     const double error_stock = meanOver(s, s.yaw_true, 3.0, 4.0) - w;
+    std::printf("turn deficit at %.1f rad/s: AIC error %+.4f rad/s (bound %.4f), stock %+.4f\n", w, error_aic,
+                DEFICIT_BOUND * w, error_stock);
     EXPECT_LE(std::abs(error_aic), DEFICIT_BOUND * w) << error_aic;
     EXPECT_LE(error_stock, -0.25) << "the variant no longer has its deficit";
   }
 }
 
-TEST(Driving, SmallStepNearlyAsFastAsTheStockController)
+/// The 0.1 m/s step from rest (t = 1 s), AIC and stock controller: their step metrics.
+std::pair<StepMetrics, StepMetrics> smallStep()
 {
-  // 0.1 m/s from rest: the action prior hands the step to the MCU as a ramp at the reference
-  // model's acceleration (24 ms to 0.1 m/s); the thesis's integrating action alone took 3x the
-  // stock controller's time.
   const std::vector<SetPointSegment> profile = stepProfile(1.0, 0.1);
   const ClosedLoopRecord a = run(aic(config("default"), profile, 4.0));
   const ClosedLoopRecord s = run(stock(profile, 4.0));
   expectBounded(a);
-  const StepMetrics ma = metrics(a, 1.0, 0.0, 0.1);
-  const StepMetrics ms = metrics(s, 1.0, 0.0, 0.1);
+  return { metrics(a, 1.0, 0.0, 0.1), metrics(s, 1.0, 0.0, 0.1) };
+}
+
+TEST(Driving, SmallStepOvershootWithinTheDocumentedBound)
+{
+  // 0.1 m/s from rest: the action prior hands the step to the MCU as a ramp at the reference
+  // model's acceleration (24 ms to 0.1 m/s); overshoot <= 5 % ('Driving acceptance').
+  const auto [ma, ms] = smallStep();
   ASSERT_TRUE(ma.settled);
   ASSERT_TRUE(ms.settled);
-  std::printf("0.1 m/s step, settling AIC / stock (ground truth): %.3f / %.3f s\n", ma.settling_time, ms.settling_time);
-  EXPECT_LE(ma.settling_time, SMALL_STEP_RATIO * ms.settling_time);
   EXPECT_LE(ma.overshoot_percent, 5.0);
+}
+
+TEST(DrivingRegressionGuard, SmallStepSettlingAgainstTheStockController)
+{
+  // Not acceptance: config/default.yaml does not meet the documented bound (settling AIC / stock
+  // <= SMALL_STEP_RATIO = 1.0) on this run (one phase of the 50 Hz clocks; the scorecard's
+  // worst of three phases is below 1.0). The guard: no worse than today's ratio plus a margin.
+  // (The thesis's integrating action alone took 3x the stock controller's time.)
+  constexpr double kToday = 1.163, kGuard = 1.2;
+  const auto [ma, ms] = smallStep();
+  ASSERT_TRUE(ma.settled);
+  ASSERT_TRUE(ms.settled);
+  const double ratio = ma.settling_time / ms.settling_time;
+  std::printf("REGRESSION GUARD 0.1 m/s step, settling AIC / stock (ground truth): %.3f / %.3f s = %.3f now (%.3f "
+              "when the guard was set); guard <= %.2f; documented bound <= %.2f, %s\n",
+              ma.settling_time, ms.settling_time, ratio, kToday, kGuard, SMALL_STEP_RATIO,
+              ratio <= SMALL_STEP_RATIO ? "met" : "NOT met");
+  EXPECT_LE(ratio, kGuard);
 }
 
 TEST(Driving, PlannerStreamIsTrackedAsWellAsByTheStockController)
@@ -576,8 +615,8 @@ TEST(Driving, PlannerStreamIsTrackedAsWellAsByTheStockController)
   }
   std::printf("planner profile, RMS AIC / stock: vx %.4f / %.4f m/s, wz %.4f / %.4f rad/s\n", e[0].vx.rms, e[1].vx.rms,
               e[0].wz.rms, e[1].wz.rms);
-  EXPECT_LE(e[0].vx.rms, PLANNER_RATIO_VX * e[1].vx.rms);
-  EXPECT_LE(e[0].wz.rms, PLANNER_RATIO_WZ * e[1].wz.rms);
+  EXPECT_LE(e[0].vx.rms, PLANNER_PAIR_BOUND * e[1].vx.rms);
+  EXPECT_LE(e[0].wz.rms, PLANNER_PAIR_BOUND * e[1].wz.rms);
 }
 
 }  // namespace

@@ -150,6 +150,25 @@ TEST(Controller, RunawayIsDetectedAndReset)
   EXPECT_FALSE(c.hasMeasurement());
 }
 
+TEST(Controller, ANonFiniteActionIsResetNotClamped)
+{
+  // The action's own guard, reached directly: with finite, valid inputs an interval as long as
+  // the largest double overflows a_F + h da_F/dt to infinity. The update must reset (zero action,
+  // kRunaway), not pass the overflow on to the wheel clamp, which would make it +-max_wheel_speed.
+  AicParams p = thesisStandard();
+  ActiveInferenceController c{ p };
+  ASSERT_TRUE(c.setGoal(Vector3(1.0, 0.0, 0.0)));
+  YTilde y = YTilde::Zero(5, 4);
+  y(kOmegaLeft, 0) = 3.0;
+  y(kOmegaRight, 0) = 3.0;
+  ASSERT_TRUE(c.setMeasurement(y));
+  ASSERT_EQ(c.updateAction(0.02), Status::kOk);
+  ASSERT_FALSE(c.action().isZero()) << "no action to overflow";
+  EXPECT_EQ(c.updateAction(std::numeric_limits<double>::max()), Status::kRunaway);
+  EXPECT_TRUE(c.action().isZero()) << c.action().transpose();
+  EXPECT_EQ(c.runawayCount(), 1u);
+}
+
 TEST(Controller, ActionIsClamped)
 {
   AicParams p = thesisStandard();

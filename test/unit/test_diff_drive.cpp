@@ -128,6 +128,24 @@ TEST(DiffDrive, NonFiniteInputGivesAFiniteBoundedCommand)
   EXPECT_EQ(l.limit({ 1.0, 1.0 }, kNan).linear, 0.0);
 }
 
+TEST(DiffDrive, TheLimiterTakesANonFiniteTargetAsZero)
+{
+  // The limiter's own guard, reached directly (CmdVelOutput guards its wheel speeds before it):
+  // from a finite state, a non-finite target moves toward zero within the acceleration limit and
+  // leaves a finite state behind.
+  DiffDriveLimiter l;
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const BodyTwist& target : { BodyTwist{ kNan, 0.2 }, BodyTwist{ 0.5, inf }, BodyTwist{ -inf, kNan } })
+  {
+    l.reset({ 0.5, 0.2 });
+    const BodyTwist out = l.limit(target, 1.0);  // 1 s: every limit allows the full step to zero
+    EXPECT_TRUE(std::isfinite(out.linear) && std::isfinite(out.angular));
+    EXPECT_EQ(out.linear, std::isfinite(target.linear) ? target.linear : 0.0);
+    EXPECT_EQ(out.angular, std::isfinite(target.angular) ? target.angular : 0.0);
+    EXPECT_TRUE(std::isfinite(l.limit({ 0.0, 0.0 }, 0.02).linear)) << "the state stayed finite";
+  }
+}
+
 TEST(DiffDrive, InvalidParametersAreNamed)
 {
   DiffDriveParams p;

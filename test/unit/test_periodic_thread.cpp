@@ -9,12 +9,15 @@
 #include <chrono>
 #include <cstdint>
 #include <cmath>
+#include <cstring>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <pthread.h>
+#include <sched.h>
 
 #include "jackal_aic/periodic_thread.hpp"
 
@@ -181,12 +184,38 @@ TEST(PeriodicThread, RefusesBadArguments)
   t.stop();
 }
 
+/// Whether this process may give a thread SCHED_FIFO at `priority`: a probe thread asks for it.
+/// \return 0 if granted, else the error pthread_setschedparam returned.
+int fifoPermission(int priority)
+{
+  int err = -1;
+  std::thread probe([&err, priority] {
+    sched_param param{};
+    param.sched_priority = priority;
+    err = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
+  });
+  probe.join();
+  return err;
+}
+
 TEST(PeriodicThread, RealtimePriorityIsGrantedOrRefusedWithAReason)
 {
+  // What this process is allowed decides which: granted where a probe thread gets SCHED_FIFO,
+  // else refused with the probe's error and what would grant it. The loop runs in both cases.
+  const int permission = fifoPermission(10);
   PeriodicThread t([](double) {}, "test_fifo");
   const std::string message = t.start(100.0, 10);
-  // Either granted or refused with the reason; the loop runs in both cases.
-  EXPECT_EQ(message.rfind("SCHED_FIFO priority 10", 0), 0u) << message;
+  if (permission == 0)
+  {
+    EXPECT_EQ(message, "SCHED_FIFO priority 10") << "granted to the probe thread";
+  }
+  else
+  {
+    EXPECT_EQ(message.rfind("SCHED_FIFO priority 10 refused (" + std::string(std::strerror(permission)), 0), 0u)
+        << message;
+    EXPECT_NE(message.find("CAP_SYS_NICE"), std::string::npos) << message;
+    EXPECT_NE(message.find(": default scheduler"), std::string::npos) << message;
+  }
   EXPECT_TRUE(t.running());
   t.stop();
 }

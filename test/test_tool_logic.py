@@ -1,0 +1,201 @@
+#!/usr/bin/env python3
+"""Python unit test (no roscore, no build): the logic of the experiment tools that run ROS
+(aic_sweep.py, aic_node_load.py, aic_soak.py, aic_experiment.py: jackal_aic_tools.sweep,
+.node_load, .soak, .procfs, .experiment), of the report and summary printers
+(jackal_aic_tools.report, .summary) and of dev/failure_summary.py, on inputs made up here.
+"""
+import argparse
+import contextlib
+import io
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import unittest
+
+ROOT = os.path.realpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), ".."))
+sys.path.insert(0, os.path.join(ROOT, "src"))
+from jackal_aic_tools import experiment, procfs, report, soak, summary, sweep  # noqa: E402
+
+
+def step_result(name, status="ok", rise=0.1, settle=0.3, overshoot=2.0):
+    """A result dict of aic_experiment with one linear 0 -> 0.5 m/s segment."""
+    measured = {"rise_time": rise, "settling_time": settle, "overshoot": overshoot, "steady_state_error": 0.001}
+    return {"name": name, "controller": "aic", "status": status, "reason": "made up", "files": {},
+            "segments": [{"channel": "vx", "start": 0.0, "target": 0.5, "metrics": {"measured": measured}}]}
+
+
+class ProcfsTest(unittest.TestCase):
+
+    def test_cpu_seconds_reads_fields_14_and_15_past_a_name_with_spaces(self):
+        # A comm of ") x y (" must not shift the fields: they are counted after the last ')'.
+        with tempfile.NamedTemporaryFile("w", suffix="stat", delete=False) as f:
+            fields = ["S", "1", "1", "1", "0", "-1", "4194560", "0", "0", "0", "0", str(3 * procfs.CLK_TCK),
+                      str(procfs.CLK_TCK // 2), "0", "0"]
+            f.write("1234 (a) x y (b) " + " ".join(fields) + "\n")
+        try:
+            self.assertAlmostEqual(procfs.cpu_seconds(f.name), 3.5)
+        finally:
+            os.remove(f.name)
+
+    def test_this_process_cpu_time_threads_memory_and_parent(self):
+        before = procfs.cpu_seconds("/proc/self/stat")
+        stop = time.monotonic() + 0.3
+        while time.monotonic() < stop:
+            pass
+        self.assertGreater(procfs.cpu_seconds("/proc/self/stat"), before)
+        done = threading.Event()
+        worker = threading.Thread(target=done.wait, name="procfs_probe")
+        worker.start()
+        try:
+            names = procfs.thread_times(os.getpid())
+        finally:
+            done.set()
+            worker.join()
+        with open("/proc/self/comm") as f:
+            self.assertIn("%s:%d" % (f.read().strip(), os.getpid()), names)
+        self.assertGreaterEqual(len(names), 2)
+        rss, cpu = procfs.proc_stats(os.getpid())
+        self.assertGreater(rss, 1000)  # KiB: a Python interpreter
+        self.assertGreater(cpu, 0.0)
+        self.assertEqual(procfs.parent_of(os.getpid()), os.getppid())
+
+
+class SweepTest(unittest.TestCase):
+
+    def args(self, **kw):
+        a = argparse.Namespace(belief_rate=None, action_rate=None, tau=None, k_mu=None, k_a=None, integrator=None,
+                               param=[], controller=["aic"], step=None, profile="step")
+        for k, v in kw.items():
+            setattr(a, k, v)
+        return a
+
+    def test_dimensions_in_order_with_parsed_param_values(self):
+        dims = sweep.dimensions(self.args(tau=[0.03, 0.01], param=[["var_y", "[2,2,1e5,1e5]"]],
+                                          controller=["aic", "stock"], step=[0.1, 0.5]))
+        self.assertEqual([d for d, _ in dims], ["tau", "var_y", "controller", "step"])
+        self.assertEqual(dims[1][1], [[2, 2, 1e5, 1e5]])  # 1e5 a number, not YAML 1.1's string
+        with self.assertRaises(ValueError):
+            sweep.dimensions(self.args(param=[["k_a"]]))
+        with self.assertRaises(ValueError):
+            sweep.dimensions(self.args(step=[0.5], profile="square"))
+
+    def test_labels_and_the_stock_controller_ignores_aic_settings(self):
+        self.assertEqual(sweep.label("belief_rate", 50), "belief 50 Hz")
+        self.assertEqual(sweep.label("var_mu", 2.0), "var_mu=2")
+        a = {"controller": "stock", "tau": 0.03, "step": 0.5}
+        b = {"controller": "stock", "tau": 0.01, "step": 0.5}
+        self.assertEqual(sweep.run_key(a), sweep.run_key(b))
+        self.assertNotEqual(sweep.run_key(dict(a, controller="aic")), sweep.run_key(dict(b, controller="aic")))
+
+    def test_headline_is_the_worst_transition_or_none(self):
+        res = {"segments": [step_result("a", rise=0.1, settle=0.3)["segments"][0],
+                            step_result("b", rise=0.2, settle=0.25)["segments"][0]]}
+        self.assertEqual(sweep.headline(res), (0.2, 0.3))
+        res["segments"][1]["metrics"]["measured"]["settling_time"] = None  # one never settled
+        self.assertEqual(sweep.headline(res), (0.2, None))
+        self.assertEqual(sweep.headline({"segments": []}), (None, None))
+
+
+class ExperimentTest(unittest.TestCase):
+
+    def test_parse_override(self):
+        self.assertEqual(experiment.parse_override("k_a=10"), ("k_a", 10))
+        self.assertEqual(experiment.parse_override(" var_y = [2, 1e5] "), ("var_y", [2, 1e5]))
+        self.assertEqual(experiment.parse_override("integrator=exact"), ("integrator", "exact"))
+        for bad in ("k_a", "=3"):
+            with self.assertRaises(ValueError):
+                experiment.parse_override(bad)
+
+
+class SoakTest(unittest.TestCase):
+
+    def test_belief_steps_from_the_loops_status(self):
+        self.assertIsNone(soak.belief_steps({}))
+        self.assertIsNone(soak.belief_steps({"jackal_AIC: loops": {"_stamp": 3.0}}))
+        self.assertEqual(soak.belief_steps({"jackal_AIC: loops": {"_stamp": 3.0, "belief steps": "1500"}}),
+                         (3.0, 1500))
+
+
+class ReportAndSummaryTest(unittest.TestCase):
+
+    def test_run_table_rows(self):
+        text = report.run_table([step_result("run_a", overshoot=2.5), dict(step_result("run_b"), segments=[])])
+        lines = text.splitlines()
+        self.assertIn("rise [s]", lines[0])
+        row_a = [l for l in lines if l.startswith("run_a")]
+        self.assertEqual(len(row_a), 1)
+        self.assertIn("vx 0->0.5 m/s", row_a[0])
+        self.assertIn("2.5", row_a[0])
+        self.assertTrue(any(l.startswith("run_b") for l in lines))
+
+    def test_tracking_table_and_path_summary(self):
+        r = {"name": "track", "tracking": {"truth": {"vx": {"rms": 0.0123, "max": 0.05},
+                                                     "wz": {"rms": 0.0456, "max": 0.2}}},
+             "path": {"final_position_error": 0.31, "max_position_error": 0.42, "final_heading_error": 0.05}}
+        text = report.tracking_table([r, {"name": "broken", "tracking_error": "no odometry"}])
+        row = [l for l in text.splitlines() if l.startswith("track")][0].split()
+        self.assertEqual(row[1:8], ["truth", "0.012", "0.050", "0.046", "0.200", "0.310", "0.420"])
+        self.assertIn("error: no odometry", text)
+        self.assertEqual(report.path_summary(None), "")
+        self.assertEqual(report.path_summary(r["path"]), "drift: end 0.310 m, max 0.420 m, heading end 0.050 rad")
+
+    def run_summary(self, results):
+        with tempfile.TemporaryDirectory() as tmp:
+            paths = []
+            for i, r in enumerate(results):
+                paths.append(os.path.join(tmp, "r%d.json" % i))
+                if r is not None:
+                    with open(paths[-1], "w") as f:
+                        json.dump(r, f)
+            out = io.StringIO()
+            with contextlib.redirect_stdout(out):
+                code = summary.main(paths)
+        return code, out.getvalue()
+
+    def test_summary_exit_status_follows_the_worst_run(self):
+        self.assertEqual(self.run_summary([step_result("a")])[0], 0)
+        code, text = self.run_summary([step_result("a"), step_result("b", status="unstable")])
+        self.assertEqual(code, 2)
+        self.assertIn("b: unstable", text)
+        code, text = self.run_summary([step_result("a", status="unstable"), None])  # an unreadable file
+        self.assertEqual(code, 1)
+        self.assertIn("no readable result", text)
+
+
+class FailureSummaryTest(unittest.TestCase):
+    SCRIPT = os.path.join(ROOT, "dev", "failure_summary.py")
+
+    def run_on(self, files):
+        with tempfile.TemporaryDirectory() as tmp:
+            os.makedirs(os.path.join(tmp, "jackal_aic"))
+            for name, text in files.items():
+                with open(os.path.join(tmp, "jackal_aic", name), "w") as f:
+                    f.write(text)
+            return subprocess.run([sys.executable, self.SCRIPT, tmp, "--lines", "3"], stdout=subprocess.PIPE,
+                                  universal_newlines=True, check=True).stdout
+
+    def test_names_each_failure_and_error_and_is_silent_when_all_pass(self):
+        passing = '<testsuite tests="1"><testcase classname="A" name="ok"/></testsuite>'
+        failing = ('<testsuite tests="3"><testcase classname="Suite" name="bad" >'
+                   '<failure message="expected 1, got 2">line 1\nline 2\nline 3\nline 4</failure></testcase>'
+                   '<testcase classname="Suite" name="broken"><error message="boom"/></testcase>'
+                   '<testcase classname="Suite" name="fine"/></testsuite>')
+        self.assertEqual(self.run_on({"pass.xml": passing}), "")
+        out = self.run_on({"pass.xml": passing, "fail.xml": failing, "junk.xml": "<testsuite"})
+        self.assertIn("---- failures (3) ----", out)
+        self.assertIn("fail.xml: Suite.bad [failure]", out)
+        self.assertIn("expected 1, got 2", out)
+        self.assertNotIn("line 3", out)  # --lines 3: the message and two lines
+        self.assertIn("fail.xml: Suite.broken [error]", out)
+        self.assertIn("junk.xml: unreadable", out)
+        self.assertNotIn("Suite.fine", out)
+
+
+if __name__ == "__main__":
+    import pyunit  # test/pyunit.py, beside this file
+    pyunit.main("tool_logic", ProcfsTest, SweepTest, ExperimentTest, SoakTest, ReportAndSummaryTest,
+                FailureSummaryTest)
