@@ -211,22 +211,46 @@ class SafetyTest(unittest.TestCase):
         d = field_safety.check(self.snap(pose=(2.5, 0.0, 0.0)), self.plan)
         self.assertIn("0.50 m outside the corridor", d.reason)
 
+    @staticmethod
+    def drive_home(pose, homing, centre=0.0, steps=1500):
+        """homing_command in closed loop with a unicycle at 50 Hz whose turns are about a point
+        ``centre`` m ahead of the pose's point (skid steer: turning in place moves the odometry's
+        point); returns (final pose, done, the largest |vx|, |wz|)."""
+        x, y, th = pose
+        approaching, done, vmax, wmax = None, False, 0.0, 0.0
+        for _ in range(steps):
+            vx, wz, done, approaching = field_safety.homing_command((x, y, th), homing, approaching)
+            if done:
+                break
+            vmax, wmax = max(vmax, abs(vx)), max(wmax, abs(wz))
+            x += vx * 0.02 * math.cos(th) + centre * (math.cos(th) - math.cos(th + wz * 0.02))
+            y += vx * 0.02 * math.sin(th) + centre * (math.sin(th) - math.sin(th + wz * 0.02))
+            th += wz * 0.02
+        return (x, y, th), done, vmax, wmax
+
     def test_homing_returns_to_the_start_pose(self):
-        plan = self.plan
-        for start in ((0.6, 0.2, 0.3), (-0.5, -0.3, -2.5), (0.05, 0.0, 0.4), (1.0, -1.0, 3.0)):
-            x, y, th = start
-            for _ in range(5000):
-                vx, wz, done = field_safety.homing_command((x, y, th), plan.homing)
-                if done:
-                    break
-                self.assertLessEqual(abs(vx), plan.homing["max_linear"] + 1e-12)
-                self.assertLessEqual(abs(wz), plan.homing["max_angular"] + 1e-12)
-                x += vx * 0.02 * math.cos(th)
-                y += vx * 0.02 * math.sin(th)
-                th += wz * 0.02
-            self.assertTrue(done, "no return from %s" % (start,))
-            self.assertLessEqual(math.hypot(x, y), plan.homing["tolerance"])
-            self.assertLessEqual(abs(math.atan2(math.sin(th), math.cos(th))), plan.homing["heading_tolerance"])
+        h = self.plan.homing
+        starts = ((0.6, 0.2, 0.3), (-0.5, -0.3, -2.5), (0.05, 0.0, 0.4), (1.0, -1.0, 3.0), (0.06, -0.10, 0.08))
+        for centre in (0.0, 0.04, -0.04):
+            for start in starts:
+                (x, y, th), done, vmax, wmax = self.drive_home(start, h, centre)
+                self.assertTrue(done, "no return from %s, turning centre %g m" % (start, centre))
+                self.assertLessEqual(math.hypot(x, y), h["tolerance"])
+                self.assertLessEqual(abs(math.atan2(math.sin(th), math.cos(th))), h["heading_tolerance"])
+                self.assertLessEqual(vmax, h["max_linear"] + 1e-12)
+                self.assertLessEqual(wmax, h["max_angular"] + 1e-12)
+
+    def test_homing_drives_inside_the_tolerance_before_turning(self):
+        # just outside the tolerance, facing away: without the hysteresis each turn in place moved
+        # the point back across 0.1 m and the two phases turned the robot one way and the other
+        h = self.plan.homing
+        vx, wz, done, approaching = field_safety.homing_command((0.06, -0.10, 0.08), h)
+        self.assertTrue(approaching)
+        self.assertFalse(done)
+        inside = (0.0, -0.09, 0.3)  # 0.09 m: inside the tolerance, not within HOMING_GOAL of it
+        self.assertTrue(field_safety.homing_command(inside, h, True)[3])
+        self.assertFalse(field_safety.homing_command(inside, h, False)[3])
+        self.assertFalse(field_safety.homing_command(inside, h)[3])
 
     def test_start_checks(self):
         ready = field_safety.ready

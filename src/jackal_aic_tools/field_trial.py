@@ -467,13 +467,14 @@ class TrialNode(object):
         rate = rospy.Rate(self.plan.rate)
         t_end = rospy.Time.now().to_sec() + h["timeout"]
         wall_end = time.monotonic() + 3.0 * h["timeout"]
+        approaching = None
         while True:
             snap = self.snapshot()
             stop = field_safety.check(snap, self.plan, self.topics.odom)
             if stop is not None:
                 self.halt(stop)
                 return stop
-            vx, wz, done = field_safety.homing_command(snap.pose, h)
+            vx, wz, done, approaching = field_safety.homing_command(snap.pose, h, approaching)
             if done or rospy.Time.now().to_sec() > t_end or time.monotonic() > wall_end:
                 break
             self.send(vx, wz)
