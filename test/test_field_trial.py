@@ -9,7 +9,8 @@
   path ends where the out run started; corridor arithmetic (frames, extents, excess);
 - safety (jackal_aic_tools.field_safety): every stop condition, in its order, and the start checks;
 - the report's pieces (jackal_aic_tools.field_report): the switch-overlap check on publisher
-  records, a bag written with the rosbag API read back as the recorder's arrays, the relative error.
+  records, a bag written with the rosbag API read back as the recorder's arrays, the relative error
+  and its floor, the Markdown report (its lines and the shape of its tables).
 """
 import math
 import os
@@ -210,22 +211,46 @@ class SafetyTest(unittest.TestCase):
         d = field_safety.check(self.snap(pose=(2.5, 0.0, 0.0)), self.plan)
         self.assertIn("0.50 m outside the corridor", d.reason)
 
+    @staticmethod
+    def drive_home(pose, homing, centre=0.0, steps=1500):
+        """homing_command in closed loop with a unicycle at 50 Hz whose turns are about a point
+        ``centre`` m ahead of the pose's point (skid steer: turning in place moves the odometry's
+        point); returns (final pose, done, the largest |vx|, |wz|)."""
+        x, y, th = pose
+        approaching, done, vmax, wmax = None, False, 0.0, 0.0
+        for _ in range(steps):
+            vx, wz, done, approaching = field_safety.homing_command((x, y, th), homing, approaching)
+            if done:
+                break
+            vmax, wmax = max(vmax, abs(vx)), max(wmax, abs(wz))
+            x += vx * 0.02 * math.cos(th) + centre * (math.cos(th) - math.cos(th + wz * 0.02))
+            y += vx * 0.02 * math.sin(th) + centre * (math.sin(th) - math.sin(th + wz * 0.02))
+            th += wz * 0.02
+        return (x, y, th), done, vmax, wmax
+
     def test_homing_returns_to_the_start_pose(self):
-        plan = self.plan
-        for start in ((0.6, 0.2, 0.3), (-0.5, -0.3, -2.5), (0.05, 0.0, 0.4), (1.0, -1.0, 3.0)):
-            x, y, th = start
-            for _ in range(5000):
-                vx, wz, done = field_safety.homing_command((x, y, th), plan.homing)
-                if done:
-                    break
-                self.assertLessEqual(abs(vx), plan.homing["max_linear"] + 1e-12)
-                self.assertLessEqual(abs(wz), plan.homing["max_angular"] + 1e-12)
-                x += vx * 0.02 * math.cos(th)
-                y += vx * 0.02 * math.sin(th)
-                th += wz * 0.02
-            self.assertTrue(done, "no return from %s" % (start,))
-            self.assertLessEqual(math.hypot(x, y), plan.homing["tolerance"])
-            self.assertLessEqual(abs(math.atan2(math.sin(th), math.cos(th))), plan.homing["heading_tolerance"])
+        h = self.plan.homing
+        starts = ((0.6, 0.2, 0.3), (-0.5, -0.3, -2.5), (0.05, 0.0, 0.4), (1.0, -1.0, 3.0), (0.06, -0.10, 0.08))
+        for centre in (0.0, 0.04, -0.04):
+            for start in starts:
+                (x, y, th), done, vmax, wmax = self.drive_home(start, h, centre)
+                self.assertTrue(done, "no return from %s, turning centre %g m" % (start, centre))
+                self.assertLessEqual(math.hypot(x, y), h["tolerance"])
+                self.assertLessEqual(abs(math.atan2(math.sin(th), math.cos(th))), h["heading_tolerance"])
+                self.assertLessEqual(vmax, h["max_linear"] + 1e-12)
+                self.assertLessEqual(wmax, h["max_angular"] + 1e-12)
+
+    def test_homing_drives_inside_the_tolerance_before_turning(self):
+        # just outside the tolerance, facing away: without the hysteresis each turn in place moved
+        # the point back across 0.1 m and the two phases turned the robot one way and the other
+        h = self.plan.homing
+        vx, wz, done, approaching = field_safety.homing_command((0.06, -0.10, 0.08), h)
+        self.assertTrue(approaching)
+        self.assertFalse(done)
+        inside = (0.0, -0.09, 0.3)  # 0.09 m: inside the tolerance, not within HOMING_GOAL of it
+        self.assertTrue(field_safety.homing_command(inside, h, True)[3])
+        self.assertFalse(field_safety.homing_command(inside, h, False)[3])
+        self.assertFalse(field_safety.homing_command(inside, h)[3])
 
     def test_start_checks(self):
         ready = field_safety.ready
@@ -299,6 +324,77 @@ class ReportPiecesTest(unittest.TestCase):
         self.assertEqual(arr["events"], [(10.0, "profile_start 10.0")])
         self.assertEqual(arr["publishers"][0][1:], ("/cmd_drive", "/stock_base"))
         self.assertEqual(arr["belief"].shape, (0, 3))
+
+    def test_relative_error_below_its_floor_is_left_out(self):
+        self.assertIsNone(field_report.relative_error(0.5, 0.04, floor=1.0))
+        self.assertAlmostEqual(field_report.relative_error(5.5, 5.0, floor=1.0), 0.1)
+        self.assertEqual(field_report.figure_metric("vx[2] rise_time"), "rise_time")
+        self.assertEqual(field_report.figure_metric("wz_rms"), "wz_rms")
+
+    def test_markdown_report(self):
+        def step_run(controller, rise):
+            seg = {"channel": "vx", "start": 0.0, "target": 0.5, "metrics": {"measured": {
+                "rise_time": rise, "settling_time": 2 * rise, "overshoot": 1.25, "steady_state_error": 0.001}}}
+            return {"name": "00_s_%s_out" % controller, "experiment": "s", "direction": "out", "kind": "step",
+                    "controller": controller, "segments": [seg],
+                    "tracking": {"truth": {"vx": {"rms": 0.1 * rise, "max": 0.5}, "wz": {"rms": 0.0, "max": 0.0}}},
+                    "path": {"drift_end": 0.1, "drift_max": 0.2, "heading_end": 0.0}}
+        results = [step_run("aic", 0.2), step_run("stock", 0.4)]
+        summary = {"plan": "standard", "status": "completed", "reason": "", "runs": 42, "planned": 42,
+                   "wall_time": 483.0, "max_distance": 4.421, "odom": "/odom", "resumes": 0, "homing": 3,
+                   "extent": {"ahead": 3.818, "behind": 0.073, "left": 2.509, "right": 0.798},
+                   "corridor": {"ahead": 4.6, "behind": 1.0, "left": 2.7, "right": 1.2}}
+        rows = [("00_s_aic_out", "aic", "vx[0] rise_time", 0.22, 0.2, 0.1),
+                ("02_s_aic_out", "aic", "vx[0] rise_time", 0.14, 0.2, -0.3),
+                ("00_s_aic_out", "aic", "wz_rms", 0.0004, 0.0002, None)]
+        overlay = tempfile.mktemp(prefix="identified_wheel_loop_", suffix=".yaml")
+        with open(overlay, "w") as f:
+            f.write("# identified\nmotor:\n  speed_kp: 24.82  # gain\n")
+        try:
+            md = field_report.markdown_report(summary, results, [], rows, [overlay],
+                                              command="aic_field_report.py S --sim --markdown S.md")
+        finally:
+            os.unlink(overlay)
+        lines = md.split("\n")
+        k = lines.index("`%s`:" % os.path.basename(overlay))
+        self.assertEqual(lines[k + 2:k + 6], ["```yaml", "motor:", "  speed_kp: 24.82  # gain", "```"])
+        self.assertEqual(lines[0], "# Field-trial session: standard")
+        self.assertIn("Generated by `aic_field_report.py S --sim --markdown S.md`; do not edit.", lines)
+        self.assertIn("- runs completed: 42 of 42 (resumed 0 times; 3 returns to the start pose)", lines)
+        self.assertIn("- wall time: 483 s (8.1 min)", lines)
+        self.assertIn("- max distance from the start pose on /odom: 4.42 m", lines)
+        self.assertIn("| ahead | 3.82 | 4.60 | 0.78 |", lines)
+        self.assertIn("| right | 0.80 | 1.20 | 0.40 |", lines)
+        self.assertIn("no 50 Hz period with two publishers on a command topic", lines)
+        self.assertIn("+ " + os.path.basename(overlay), md)
+        # every table: a header, a |---| rule, rows with as many cells as the header
+        k = 0
+        tables = 0
+        while k < len(lines):
+            if lines[k].startswith("|"):
+                block = []
+                while k < len(lines) and lines[k].startswith("|"):
+                    block.append(lines[k])
+                    k += 1
+                ncol = block[0].count("|")
+                self.assertTrue(set(block[1]) <= set("|-"), block[1])
+                self.assertTrue(all(b.count("|") == ncol for b in block), block)
+                tables += 1
+            k += 1
+        self.assertEqual(tables, 5)  # corridor, steps, tracking, robot-vs-sim summary and rows
+        self.assertIn("| s | out | vx 0->0.5 m/s | 0.200 | 0.400 | 0.400 | 0.800 | 1.2 | 1.2 | 0.0010 | 0.0010 |", lines)
+        # the summary: rise errors +10 % and -30 %: median |err| 20, max 30, median -10; wz_rms has none
+        self.assertIn("| aic | rise_time | 2 | 20.0 | 30.0 | -10.0 |", lines)
+        self.assertIn("| aic | wz_rms | 0 | - | - | - |", lines)
+        self.assertIn("| 02_s_aic_out | aic | vx[0] rise_time | 0.140 | 0.200 | -30.0 |", lines)
+        # without a comparison: no simulator section; a stopped session says why
+        stopped = dict(summary, status="stopped", reason="geofence: 1.31 m right", wall_time=None, extent=None)
+        md = field_report.markdown_report(stopped, results, [("r", "/cmd_vel", 1.1, ["/a", "/b"])])
+        self.assertNotIn("Robot against simulator", md)
+        self.assertIn("- session: plan standard, stopped (geofence: 1.31 m right)", md.split("\n"))
+        self.assertIn("- wall time: -", md.split("\n"))
+        self.assertIn("| ahead | - | 4.60 | - |", md.split("\n"))
+        self.assertIn("1 periods with two publishers", md)
 
     def test_an_unreadable_bag_is_a_report_error(self):
         with self.assertRaises(field_report.ReportError):

@@ -17,7 +17,7 @@ import subprocess
 import numpy as np
 
 from . import experiment, field_plan, field_trial, profiles, recording, tracking
-from .tables import fmt, text_table
+from .tables import fmt, md_table, text_table
 
 #: Kinematics used for the drive commands and wheel odometry as a twist when the session does not
 #: say otherwise: the schema's wheel_radius [m] and wheel_separation [m] (config/default.yaml).
@@ -28,6 +28,12 @@ STEP_METRICS = (("rise_time", "s"), ("settling_time", "s"), ("overshoot", "%"))
 TRACK_METRICS = (("vx_rms", "m/s"), ("wz_rms", "rad/s"), ("drift_max", "m"))
 #: closed_loop_run's names of the STEP_METRICS in its "segments".
 SIM_KEYS = {"rise_time": "rise", "settling_time": "settling", "overshoot": "overshoot"}
+#: Run kinds whose transitions are steps held long enough to settle: their STEP_METRICS are compared
+#: (a tracking profile's transitions are its CSV rows, 0.05-0.1 s apart: only its TRACK_METRICS).
+STEP_KINDS = ("step", "square", "identification")
+#: Below these simulator values (in the figure's unit) a relative error says nothing (a straight
+#: run's wz RMS of 0.0004 rad/s, an overshoot of 0.04 %): compare() leaves it out.
+REL_FLOORS = {"overshoot": 1.0, "vx_rms": 0.01, "wz_rms": 0.01, "drift_max": 0.01}
 
 
 class ReportError(RuntimeError):
@@ -164,10 +170,11 @@ def _measured(seg):
     return seg["metrics"].get("measured") or {}
 
 
-def step_table(results):
+def step_table(results, markdown=False):
     """AIC against stock, the layout of the scorecard's step criteria: one row per experiment,
     direction and transition of the step and square-wave runs, the measured rise [s], settling
-    [s], overshoot [%] and steady-state error of each controller."""
+    [s], overshoot [%] and steady-state error of each controller. A text table, or with
+    ``markdown`` a Markdown one."""
     by = {}
     order = []
     for r in results:
@@ -191,7 +198,11 @@ def step_table(results):
                      fmt(a.get("rise_time")), fmt(s.get("rise_time")), fmt(a.get("settling_time")),
                      fmt(s.get("settling_time")), fmt(a.get("overshoot"), "%.1f"), fmt(s.get("overshoot"), "%.1f"),
                      fmt(a.get("steady_state_error"), "%.4f"), fmt(s.get("steady_state_error"), "%.4f")])
-    return text_table(header, rows, rule=True)
+    return _table(header, rows, markdown)
+
+
+def _table(header, rows, markdown):
+    return md_table(header, rows) if markdown else text_table(header, rows, rule=True)
 
 
 def tracking_rows(results):
@@ -199,10 +210,10 @@ def tracking_rows(results):
     return [(r["experiment"], r["direction"], r["controller"], tracking.flat(r)) for r in results if r.get("tracking")]
 
 
-def tracking_table(results):
+def tracking_table(results, markdown=False):
     """The tracking table in aic_track.py's layout: per run the RMS and maximum error of vx and wz of
     the measured twist against the set point and the path drift; then AIC / stock per experiment
-    and direction."""
+    and direction. A text table, or with ``markdown`` a Markdown one."""
     from .track_report import TABLE_METRICS, metric_header
     rows, ratio = [], []
     flat = tracking_rows(results)
@@ -216,7 +227,7 @@ def tracking_table(results):
             ratio.append([exp, d, "aic/stock"] + [fmt(p["aic"][k] / p["stock"][k], "%.2f")
                                                  if p["aic"][k] is not None and p["stock"][k] else "-"
                                                  for k in TABLE_METRICS])
-    return text_table(["experiment", "dir", "controller"] + metric_header(TABLE_METRICS), rows + ratio, rule=True)
+    return _table(["experiment", "dir", "controller"] + metric_header(TABLE_METRICS), rows + ratio, markdown)
 
 
 # ------------------------------------------------------------------ robot against simulator
@@ -272,17 +283,23 @@ def _finite(v):
     return v if math.isfinite(v) else None
 
 
-def relative_error(robot, sim):
-    """(robot - sim) / |sim|, None if either is missing or sim is 0."""
-    if robot is None or sim is None or sim == 0.0:
+def relative_error(robot, sim, floor=0.0):
+    """(robot - sim) / |sim|, None if either is missing, sim is 0 or |sim| < ``floor``."""
+    if robot is None or sim is None or sim == 0.0 or abs(sim) < floor:
         return None
     return (robot - sim) / abs(sim)
 
 
+def figure_metric(figure):
+    """The metric of a compare() figure name: "vx[2] rise_time" -> "rise_time", "vx_rms" -> "vx_rms"."""
+    return figure.rsplit(" ", 1)[-1]
+
+
 def compare(results, out_dir, closed_loop_run, aic_config=None, overlays=(), settle=1.0, directions=("out",)):
     """Robot against simulator: every run of ``results`` in ``directions`` replayed by simulate() (its
-    _profile.csv), figures side by side. Returns a list of rows (run, controller, figure, robot,
-    simulator, relative error) and writes <out_dir>/robot_vs_sim.json."""
+    _profile.csv), figures side by side: STEP_METRICS of every transition of the STEP_KINDS runs,
+    TRACK_METRICS of all. Returns a list of rows (run, controller, figure, robot, simulator,
+    relative error: None below REL_FLOORS) and writes <out_dir>/robot_vs_sim.json."""
     rows = []
     dump = []
     for r in results:
@@ -290,20 +307,124 @@ def compare(results, out_dir, closed_loop_run, aic_config=None, overlays=(), set
             continue
         sim = simulate(r, r["files"]["profile_csv"], r["controller"], closed_loop_run, aic_config, overlays, settle)
         rf, sf = robot_figures(r), sim_figures(sim)
+        if r.get("kind") not in STEP_KINDS:
+            rf = {k: v for k, v in rf.items() if k in dict(TRACK_METRICS)}
         for k in rf:
             if k in sf:
-                rows.append((r["name"], r["controller"], k, rf[k], sf[k], relative_error(rf[k], sf[k])))
+                rows.append((r["name"], r["controller"], k, rf[k], sf[k],
+                             relative_error(rf[k], sf[k], REL_FLOORS.get(figure_metric(k), 0.0))))
         dump.append({"run": r["name"], "robot": rf, "simulator": sf})
     with open(os.path.join(out_dir, "robot_vs_sim.json"), "w") as f:
         json.dump({"overlays": list(overlays), "aic_config": aic_config, "runs": dump}, f, indent=1)
     return rows
 
 
-def compare_table(rows):
-    """Text table of compare()'s rows: robot, simulator, relative error [%]."""
-    return text_table(["run", "controller", "figure", "robot", "simulator", "rel. error [%]"],
-                      [[a, b, c, fmt(d), fmt(e), fmt(None if f is None else 100.0 * f, "%+.1f")]
-                       for a, b, c, d, e, f in rows], rule=True)
+def compare_table(rows, markdown=False):
+    """Table of compare()'s rows: robot, simulator, relative error [%] (text, or ``markdown``)."""
+    return _table(["run", "controller", "figure", "robot", "simulator", "rel. error [%]"],
+                  [[a, b, c, fmt(d), fmt(e), fmt(None if f is None else 100.0 * f, "%+.1f")]
+                   for a, b, c, d, e, f in rows], markdown)
+
+
+def compare_summary(rows, markdown=False):
+    """compare()'s relative errors per controller and metric (figure_metric(): the transitions'
+    rise_time, settling_time, overshoot; the runs' vx_rms, wz_rms, drift_max): how many figures
+    have one, the median and the largest |relative error| [%] and the median signed one [%]
+    (positive: the robot slower, larger, farther than the simulator). A text or Markdown table."""
+    groups, order = {}, []
+    for _run, ctrl, fig, _r, _s, err in rows:
+        key = (ctrl, figure_metric(fig))
+        if key not in groups:
+            groups[key] = []
+            order.append(key)
+        if err is not None:
+            groups[key].append(100.0 * err)
+    out = []
+    for key in sorted(order, key=lambda k: (k[0], _METRIC_ORDER.index(k[1]) if k[1] in _METRIC_ORDER else 99)):
+        e = np.array(groups[key])
+        out.append([key[0], key[1], len(e)] + ([fmt(float(np.median(np.abs(e))), "%.1f"),
+                                                 fmt(float(np.abs(e).max()), "%.1f"),
+                                                 fmt(float(np.median(e)), "%+.1f")] if e.size else ["-"] * 3))
+    return _table(["controller", "metric", "figures", "median abs. error [%]", "max abs. error [%]",
+                   "median error [%]"], out, markdown)
+
+
+_METRIC_ORDER = [m for m, _ in STEP_METRICS] + [m for m, _ in TRACK_METRICS]
+
+
+def session_summary(session_dir):
+    """The session's own figures from session.json: dict with plan (name), status, reason, runs
+    (completed), planned (runs in the plan), wall_time [s] (confirmation to end; None if the
+    session.json predates it), max_distance [m] (from the start pose, on the session's odometry),
+    extent (dict ahead, behind, left, right [m] reached in the start frame, or None), corridor
+    (the plan's, [m]), odom (topic), resumes and homing (number of returns to the start pose)."""
+    s = load_session(session_dir)
+    done = {r["name"] for r in s["runs"] if r["status"] == "completed"}
+    return {"plan": s["plan"].get("name"), "status": s.get("status"), "reason": s.get("reason", ""),
+            "runs": len(done), "planned": len(s.get("plan_runs", [])), "wall_time": s.get("wall_time"),
+            "max_distance": s.get("max_distance_from_start"), "extent": s.get("corridor_extent"),
+            "corridor": s["plan"]["corridor"], "odom": s["topics"]["odom"], "resumes": s.get("resumes", 0),
+            "homing": len(s.get("homing", []))}
+
+
+def summary_text(summary, markdown=False):
+    """session_summary() as lines: status, runs, wall time, and per side of the corridor how far
+    the robot reached against the corridor (text or a Markdown table)."""
+    sides = ("ahead", "behind", "left", "right")
+    ext = summary["extent"] or {}
+    wall = summary["wall_time"]
+    head = ["session: plan %s, %s%s" % (summary["plan"], summary["status"],
+                                        (" (" + summary["reason"] + ")") if summary["reason"] else ""),
+            "runs completed: %d of %d (resumed %d times; %d returns to the start pose)" % (
+                summary["runs"], summary["planned"], summary["resumes"], summary["homing"]),
+            "wall time: %s" % ("-" if wall is None else "%.0f s (%.1f min)" % (wall, wall / 60.0)),
+            "max distance from the start pose on %s: %s m" % (summary["odom"], fmt(summary["max_distance"], "%.2f"))]
+    rows = [[k, fmt(ext.get(k), "%.2f"), fmt(float(summary["corridor"][k]), "%.2f"),
+             fmt(None if k not in ext else float(summary["corridor"][k]) - ext[k], "%.2f")] for k in sides]
+    header = ["side", "reached [m]", "corridor [m]", "left over [m]"]
+    if markdown:
+        return "\n".join("- " + h for h in head) + "\n\n" + md_table(header, rows)
+    return "\n".join(head) + "\n" + text_table(header, rows, rule=True)
+
+
+def markdown_report(summary, results, overlaps, compare_rows=None, overlays=(), command=""):
+    """The session's figures as a Markdown document: the command that made it, summary_text(), the
+    step table, the tracking table, the controller-switch check (``overlaps``: (run, topic, period
+    start, callerids) tuples), and with ``compare_rows`` (compare()'s) compare_summary() and
+    compare_table() against the simulator with plant ``overlays`` (their names and values)."""
+    out = ["# Field-trial session: %s" % summary["plan"], ""]
+    if command:
+        out += ["Generated by `%s`; do not edit." % command, ""]
+    out += [summary_text(summary, markdown=True), "", "## Step responses, AIC against stock", "",
+            step_table(results, markdown=True), "", "## Tracking", "", tracking_table(results, markdown=True), "",
+            "## Controller switch", "", switch_text(overlaps), ""]
+    if compare_rows is not None:
+        sim = "the simulated Jackal (closed_loop_run)" + "".join(" + " + os.path.basename(o) for o in overlays)
+        out += ["## Robot against simulator", "", "Out runs replayed on %s; relative error (robot - simulator) / "
+                "|simulator|, left out below %s." % (sim, ", ".join("%s %g" % kv for kv in sorted(REL_FLOORS.items()))),
+                ""]
+        for o in overlays:
+            out += ["`%s`:" % os.path.basename(o), "", "```yaml"] + _yaml_lines(o) + ["```", ""]
+        out += [compare_summary(compare_rows, markdown=True), "", compare_table(compare_rows, markdown=True), ""]
+    return "\n".join(out)
+
+
+def _yaml_lines(path):
+    """The lines of a YAML file without its comment lines (a plant overlay's values), or a note
+    that it cannot be read."""
+    try:
+        with open(path) as f:
+            return [line.rstrip("\n") for line in f if line.strip() and not line.lstrip().startswith("#")]
+    except OSError as e:
+        return ["# %s" % e]
+
+
+def switch_text(overlaps):
+    """One line on the controller switch: whether any 50 Hz period had two publishers on a command
+    topic (``overlaps``: (run, topic, period start, callerids) tuples)."""
+    if not overlaps:
+        return "no 50 Hz period with two publishers on a command topic"
+    return "%d periods with two publishers, e.g. %s" % (len(overlaps), overlaps[0])
 
 
 def robot_vs_sim(results, session_dir, out_dir, tool, aic_configs=None, overlays=(), identify=False):

@@ -177,16 +177,29 @@ def _wrap(a):
     return math.atan2(math.sin(a), math.cos(a))
 
 
-def homing_command(pose, homing):
+#: Homing drives to within this fraction of homing.tolerance before it turns to the start heading:
+#: turning in place moves the odometry's point (a skid-steer base turns about a point that is not
+#: base_link; 1-2 cm on the simulated Jackal), which must not take it back out of the tolerance.
+HOMING_GOAL = 0.5
+
+
+def homing_command(pose, homing, approaching=None):
     """One step of the slow return to the start pose between runs (out-and-back leaves some drift:
     skid, a turn the wheel loop cannot hold). ``pose``: (x, y, heading) in the start frame [m, m,
     rad]; ``homing``: dict max_linear [m/s], max_angular [rad/s], min_angular [rad/s] (below it a
-    skid-steer turn may not break away), tolerance [m], heading_tolerance [rad]. Returns (vx
-    [m/s], wz [rad/s], done): turn toward the start (backwards if it lies behind), drive there,
-    then turn to the start heading; done when within both tolerances."""
+    skid-steer turn may not break away), tolerance [m], heading_tolerance [rad]; ``approaching``:
+    the phase the previous step returned (None on the first step). Returns (vx [m/s], wz [rad/s],
+    done, approaching): turn toward the start (backwards if it lies behind) and drive there, from
+    beyond ``tolerance`` to within HOMING_GOAL x tolerance (hysteresis: without it, each turn in
+    place moving the point across the tolerance alternates the two phases, turning one way and
+    the other for good), then turn to the start heading; done when within both tolerances."""
     x, y, th = pose
     d = math.hypot(x, y)
-    if d > homing["tolerance"]:
+    if approaching:
+        approaching = d > HOMING_GOAL * homing["tolerance"]
+    else:
+        approaching = d > homing["tolerance"]
+    if approaching:
         err = _wrap(math.atan2(-y, -x) - th)
         back = abs(err) > math.pi / 2
         if back:
@@ -194,11 +207,11 @@ def homing_command(pose, homing):
         vx = 0.0
         if abs(err) < 0.3:
             vx = min(homing["max_linear"], 0.8 * d) * math.cos(err) * (-1.0 if back else 1.0)
-        return vx, _turn(err, homing, moving=vx != 0.0), False
+        return vx, _turn(err, homing, moving=vx != 0.0), False, True
     err = _wrap(-th)
     if abs(err) <= homing["heading_tolerance"]:
-        return 0.0, 0.0, True
-    return 0.0, _turn(err, homing, moving=False), False
+        return 0.0, 0.0, True, False
+    return 0.0, _turn(err, homing, moving=False), False, False
 
 
 def _turn(err, homing, moving):

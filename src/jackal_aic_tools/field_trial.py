@@ -163,6 +163,10 @@ class TrialNode(object):
         self.bag = None
         self.max_distance = 0.0
         self.run_max_distance = 0.0
+        # how far the odometry's pose reached in the start frame [m] (field_plan.extents' sides)
+        self.extent = dict.fromkeys(("ahead", "behind", "left", "right"), 0.0)
+        self.extent.update(session.data.get("corridor_extent") or {})
+        self.wall_start = None     # time.time() when the session was confirmed
         self.active = None         # controller whose path is live: 'aic', 'stock' or None
         self.aic_enabled = None    # what we last set on the AIC's gate (None: never set)
         self.sp_pub = rospy.Publisher(topics.set_point, Twist, queue_size=10)
@@ -227,6 +231,8 @@ class TrialNode(object):
                 self.snap.pose = (float(xy[0]), float(xy[1]), math.atan2(math.sin(dth), math.cos(dth)))
                 d = math.hypot(xy[0], xy[1])
                 self.max_distance = max(self.max_distance, d)
+                for side, v in (("ahead", xy[0]), ("behind", -xy[0]), ("left", xy[1]), ("right", -xy[1])):
+                    self.extent[side] = max(self.extent[side], float(v))
                 self.run_max_distance = max(self.run_max_distance, d)
             self._write(self.topics.odom, msg)
 
@@ -357,12 +363,13 @@ class TrialNode(object):
             time.sleep(0.02)
         return "the master still lists %s as a publisher of %s after %g s" % (me, self.topics.cmd_vel, timeout)
 
-    def _idle(self, seconds):
-        """Wait ``seconds`` of ROS time (at most 5 x that plus 1 s of wall time), checking for a stop."""
+    def _idle(self, seconds, interruptible=True):
+        """Wait ``seconds`` of ROS time (at most 5 x that plus 1 s of wall time); with
+        ``interruptible``, return early on a stop request (Ctrl-C)."""
         end = self.rospy.Time.now().to_sec() + seconds
         wall_end = time.monotonic() + 5.0 * seconds + 1.0
         while self.rospy.Time.now().to_sec() < end and time.monotonic() < wall_end:
-            if self.snap.interrupted:
+            if interruptible and self.snap.interrupted:
                 return
             time.sleep(0.005)
 
@@ -460,13 +467,14 @@ class TrialNode(object):
         rate = rospy.Rate(self.plan.rate)
         t_end = rospy.Time.now().to_sec() + h["timeout"]
         wall_end = time.monotonic() + 3.0 * h["timeout"]
+        approaching = None
         while True:
             snap = self.snapshot()
             stop = field_safety.check(snap, self.plan, self.topics.odom)
             if stop is not None:
                 self.halt(stop)
                 return stop
-            vx, wz, done = field_safety.homing_command(snap.pose, h)
+            vx, wz, done, approaching = field_safety.homing_command(snap.pose, h, approaching)
             if done or rospy.Time.now().to_sec() > t_end or time.monotonic() > wall_end:
                 break
             self.send(vx, wz)
@@ -490,6 +498,8 @@ class TrialNode(object):
         self.active = "stock"  # the zero twists go straight to the diff drive
         if was == "aic" or self.aic_enabled:
             self.set_aic_output(False, timeout=0.2)
+        if self.cmd_pub is None:  # the AIC drove: the diff drive's input is not advertised yet
+            self.cmd_pub = self.rospy.Publisher(self.topics.cmd_vel, self.Twist, queue_size=10)
         end = time.monotonic() + self.plan.safety["stop_hold"]
         while time.monotonic() < end:
             self.send(0.0, 0.0)
@@ -506,13 +516,23 @@ class TrialNode(object):
                 time.sleep(1.0 / self.plan.rate)
             self.active = None
         if self.aic_enabled is False:
-            why = self.set_aic_output(True)
+            # as switch() does: the diff drive's input released and SWITCH_GAP of silence first
+            why = self.release_cmd_vel()
+            if not why:
+                self._idle(SWITCH_GAP, interruptible=False)
+                why = self.set_aic_output(True)
             if why:
                 self.rospy.logerr("field_trial: could not enable the AIC's output again: %s" % why)
-        self.session.data.update(status=status, reason=reason, max_distance_from_start=self.max_distance)
+        self.session.data.update(status=status, reason=reason, max_distance_from_start=self.max_distance,
+                                 corridor_extent=dict(self.extent))
+        if self.wall_start is not None:
+            self.session.data["wall_time"] = self.session.data.get("wall_time", 0.0) + time.time() - self.wall_start
         self.session.save()
-        text = "%s%s; max distance from the start pose %.2f m; summary %s" % (
-            status, (": " + reason) if reason else "", self.max_distance, self.session.path)
+        sides = ("ahead", "behind", "left", "right")
+        text = "%s%s; max distance from the start pose %.2f m; reached %s (corridor %s) [m]; summary %s" % (
+            status, (": " + reason) if reason else "", self.max_distance,
+            " ".join("%s %.2f" % (k, self.extent[k]) for k in sides),
+            " ".join("%g" % self.plan.corridor[k] for k in sides), self.session.path)
         self.outcome_pub.publish(self.String(data=text))
         (self.rospy.loginfo if status == "completed" else self.rospy.logwarn)("field_trial: " + text)
 
@@ -545,6 +565,7 @@ class TrialNode(object):
             self.snap.pose = (0.0, 0.0, 0.0)
             self.joystick_armed = True
             self.snap.last_joystick = None
+        self.wall_start = time.time()
         self.session.data.update(status="running", start_pose=list(self.start_world))
         self.session.save()
         done = self.session.completed()
@@ -567,7 +588,7 @@ class TrialNode(object):
                     self.finish("stopped", "off_start: " + off)
                     return EXIT_STOPPED
             entry, stop = self.play(run, attempts.get(run.name, -1) + 1)
-            self.session.data["max_distance_from_start"] = self.max_distance
+            self.session.data.update(max_distance_from_start=self.max_distance, corridor_extent=dict(self.extent))
             self.session.save()
             if stop is not None:
                 self.finish("interrupted" if stop.kind == "interrupted" else "stopped", str(stop))
