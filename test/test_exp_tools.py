@@ -265,6 +265,10 @@ class DrivingStepTest(unittest.TestCase):
         self.assertIsNone(unsettled["ratio"])
         self.assertIsNone(unsettled["ratios"][1])
         self.assertFalse(unsettled["pass"])
+        # the stock controller never settles, the AIC does: the AIC is faster (ratio 0), not a failure
+        stock_unsettled = driving.judge_step("0.5 m/s", [(m(0.2), m(None, settled=False), 0)])
+        self.assertEqual(stock_unsettled["ratios"], [0.0])
+        self.assertTrue(stock_unsettled["pass"])
         runaway = driving.judge_step("0.5 m/s", [(m(0.2), m(0.5), 1)])
         self.assertFalse(runaway["pass"])
         with self.assertRaises(ValueError):

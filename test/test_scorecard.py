@@ -12,14 +12,14 @@ scorecard's verdicts, whose bounds are jackal_aic_tools.driving's and scorecard'
   controller's, overshoot <= 5 %, steady-state error <= 1 %, for every noise seed; the 1 rad/s
   turn settles no later than the stock's; every square-wave transition overshoots <= 10 %;
   stable with the plant's latency and torque +-20 %);
-- of the driving set ('Driving acceptance'): the 0.1 and 0.5 m/s steps and the arc's two
-  channels within their settling-ratio bounds, every step's overshoot <= 5 % but the arc's yaw,
+- of the driving set ('Driving acceptance'): the 0.1 and 0.5 m/s steps, the 1 rad/s turn in
+  place and the arc's two channels within their settling-ratio bounds (yaw rates on the gyro), every step's overshoot <= 5 % but the arc's yaw,
   stability on every varied plant, the 0.3 rad/s turn-deficit hold within 2 % of the command;
   the tracking benchmark holds every profile x variant pair.
 
 Regression guards (ScorecardRegressionGuards): the documented driving bounds config/default.yaml
-does not meet today on the turning plant (the 1 rad/s turn's settling ratio, <= 0.7; the arc's
-yaw overshoot, <= 5 %; the turn-deficit holds at 0.5 and 1.0 rad/s, <= 2 %; the tracking pairs'
+does not meet today on the turning plant (the arc's yaw overshoot on the gyro, <= 5 %, where the
+stock controller overshoots too; the turn-deficit holds at 0.5 and 1.0 rad/s, <= 2 %; the tracking pairs'
 AIC / stock, <= 1.02 each; their geometric mean, <= 0.6). Each guard fails when the figure gets worse than
 today's plus a margin; its output names today's figure, the guard and the documented bound. A
 guard is not acceptance: when the default meets the documented bound, the row moves to the
@@ -40,17 +40,16 @@ from jackal_aic_tools import driving  # noqa: E402
 
 #: Regression guards: (what, today's figure, the guard, the documented bound). Today's figures are
 #: doc/results/scorecard.txt's (6a, 6b, 6d).
-GUARD_TURN = ("1 rad/s turn, settling AIC / stock (worst phase)", 0.773, 0.80, driving.STEP_BOUNDS["1 rad/s turn"])
 GUARD_GMEAN = ("tracking, geometric mean AIC / stock", 0.837, 0.87, driving.TRACK_GMEAN_BOUND)
 GUARD_WORST_PAIR = ("tracking, worst pair AIC / stock", 1.457, 1.50, driving.TRACK_PAIR_BOUND)
-GUARD_ARC_OVERSHOOT = ("arc, yaw overshoot [%]", 5.21, 5.6, driving.STEP_OVERSHOOT)
+GUARD_ARC_OVERSHOOT = ("arc, yaw overshoot [%]", 10.7, 11.5, driving.STEP_OVERSHOOT)
 #: Turn-deficit holds as |AIC error| / command: {command [rad/s]: (what, today, guard, documented)}.
 GUARD_DEFICIT = {
     0.5: ("turn deficit at 0.5 rad/s, |AIC error| / command", 0.0356, 0.042, driving.DEFICIT_ERROR),
     1.0: ("turn deficit at 1.0 rad/s, |AIC error| / command", 0.0229, 0.027, driving.DEFICIT_ERROR),
 }
 #: The driving step rows the default meets at their documented bound.
-ACCEPTED_STEPS = ("0.1 m/s", "0.5 m/s", "arc, speed", "arc, yaw")
+ACCEPTED_STEPS = ("0.1 m/s", "0.5 m/s", "1 rad/s turn", "arc, speed", "arc, yaw")
 #: The step cases whose overshoot is a guard, not acceptance (GUARD_ARC_OVERSHOOT).
 OVERSHOOT_GUARDED = ("arc, yaw",)
 
@@ -143,11 +142,6 @@ class ScorecardRegressionGuards(unittest.TestCase):
                          "documented bound <= %.3f, %s\n" % (what, figure, today, guard, documented, met))
         self.assertLessEqual(figure, guard, "regression guard %s: %.3f > guard %.3f (today's figure %.3f; "
                              "documented bound %.3f)" % (what, figure, guard, today, documented))
-
-    def test_regression_guard_turn_in_place_settling_ratio(self):
-        steps = {r["case"]: r for r in scorecard_report()["criteria"]["driving_steps"]}
-        ratio = steps["1 rad/s turn"]["ratio"]  # None: a phase did not settle
-        self.guard(GUARD_TURN, float("inf") if ratio is None else ratio)
 
     def test_regression_guard_tracking_geometric_mean(self):
         self.guard(GUARD_GMEAN, scorecard_report()["criteria"]["driving_gmean"]["all"])

@@ -193,6 +193,16 @@ public:
    */
   void resetTimeline();
 
+  /**
+   * \brief Set the controller's learned wheel separation b_hat [m] (a saved overlay, a service):
+   *        ActiveInferenceController::setLearnedSeparation(), clamped to [separation_min,
+   *        separation_max]. \return false (unchanged) if b is not finite
+   */
+  bool setLearnedSeparation(double b) { return pipeline_.controller().setLearnedSeparation(b); }
+  /// Forget what the controller learned (ActiveInferenceController::resetLearning()): b_hat back
+  /// to wheel_separation.
+  void resetLearning() { pipeline_.controller().resetLearning(); }
+
   // ---- state
   /// The parameters in force.
   const NodeParams& params() const { return params_; }

@@ -125,6 +125,10 @@ std::vector<ParamSpec> buildNodeRows()
       "cmd_vel: publish the twist the stock diff_drive_controller maps back onto them, as geometry_msgs/Twist "
       "on jackal_velocity_controller/cmd_vel (an unmodified Jackal)",
       false, 0, false, 0, { "cmd_drive", "cmd_vel" }, 0, JACKAL_AIC_NODE(output_mode) },
+    { "learned_model_file", T::kString, N, "node", kNone, false, kNone, "-",
+      "YAML overlay that ~save_learned_model writes the learned generative model to (wheel_separation); "
+      "empty = $ROS_HOME/jackal_aic/learned_model.yaml. Load it next time as the launch files' learned_model",
+      false, 0, false, 0, {}, 0, JACKAL_AIC_NODE(learned_model_file) },
     { "cmd_vel_wheel_radius", T::kDouble, N, "output", 0.0, true, kInf, "m",
       "cmd_vel mode: the stock controller's wheel radius (jackal_control control.yaml)",
       false, 0, false, 0, {}, 0, JACKAL_AIC_NODE(cmd_vel.wheel_radius) },

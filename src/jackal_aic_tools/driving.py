@@ -155,15 +155,20 @@ def judge_step(name, runs):
     """The row of step case ``name`` (a STEP_CASES key) from its runs at every phase of
     STEP_PHASES: ``runs`` is a list of (aic, stock, aic_runaways), aic and stock the "measured"
     step metrics of closed_loop_run's JSON (settling [s], overshoot [%], settled). The settling
-    ratio AIC / stock is taken per phase (None where either did not settle); the row holds the
+    ratio AIC / stock is taken per phase (None where the AIC did not settle, 0.0 where only the
+    stock controller did not: a step it never settles in is infinitely slow); the row holds the
     worst phase's ratio and settling times, every phase's ratio (``ratios``), the largest
     overshoot of each controller, the bound and the verdict: every phase settled within
     STEP_BOUNDS[name] x the stock controller's time, overshoot <= STEP_OVERSHOOT, no runaway.
     Raises ValueError on an empty ``runs`` or an unknown case."""
     if name not in STEP_BOUNDS or not runs:
         raise ValueError("judge_step: unknown case %r or no runs" % (name,))
-    ratios = [a["settling"] / s["settling"] if a["settled"] and a["settling"] and s["settled"] and s["settling"]
-              else None for a, s, _ in runs]
+    def ratio(a, s):  # None: the AIC never settles; 0.0: it settles and the stock controller never does
+        if not (a["settled"] and a["settling"]):
+            return None
+        return a["settling"] / s["settling"] if s["settled"] and s["settling"] else 0.0
+
+    ratios = [ratio(a, s) for a, s, _ in runs]
     worst = None if any(r is None for r in ratios) else max(range(len(runs)), key=lambda i: ratios[i])
     a_os = max(a["overshoot"] or 0.0 for a, _, _ in runs)
     s_os = max(s["overshoot"] or 0.0 for _, s, _ in runs)

@@ -99,6 +99,7 @@ bool AicNode::init()
                                   &AicNode::actionTimerCallback, this);
   diagnostics_->start(nh_, mutex_);
   startOutputGate();
+  learned_model_ = std::make_unique<LearnedModelService>(pnh_, mutex_, *loop_, params_.learned_model_file);
   outputs_->startDebug(nh_, [this](DebugSnapshot* snapshot) {
     const std::lock_guard<std::mutex> lock(mutex_);
     loop_->advance();  // event schedule: the beliefs to now

@@ -278,6 +278,34 @@ TEST(Turning, NoOdeSolverMessages)
 /// The ideal controller (set point command_delay ahead, integral of the ground-truth errors) is the
 /// plant's reference: on the default plant it tracks the planner profile better than the stock
 /// controller; on the turn-deficit firmware it removes the deficit of a 1 rad/s turn in place.
+// The record's yaw_gyro (closed_loop_run's "measured" yaw rate) is the IMU's reading, not wheel
+// odometry: on an arc of the default plant the two differ (the effective separation is not the
+// b_hat odometry assumes), and the gyro (ideal sensors here) is the truth.
+TEST(ClosedLoopRecord, MeasuredYawRateIsTheGyroNotWheelOdometry)
+{
+  const RobotDescription d = loadRobotDescription(kUrdf);
+  ClosedLoopConfig arc;
+  arc.controller = LoopController::kStock;
+  arc.profile = stepProfile(1.0, 0.5, 0.5);
+  arc.duration = 5.0;
+  const ClosedLoopRecord r = runClosedLoop(d, loadPlantParams(kPlant), arc);
+  ASSERT_EQ(r.yaw_gyro.size(), r.time.size());
+  double gyro_error = 0.0, odom_error = 0.0;
+  int n = 0;
+  for (std::size_t i = 0; i < r.time.size(); ++i)
+  {
+    if (r.time[i] >= 3.0)
+    {
+      gyro_error += std::abs(r.yaw_gyro[i] - r.yaw_true[i]);
+      odom_error += std::abs(r.yaw_odom[i] - r.yaw_true[i]);
+      ++n;
+    }
+  }
+  ASSERT_GT(n, 0);
+  EXPECT_LT(gyro_error / n, 1e-3);
+  EXPECT_GT(odom_error / n, 0.01) << "control: wheel odometry's yaw rate is off on this arc";
+}
+
 TEST(IdealController, TracksBetterThanTheStockControllerAndRemovesADeficit)
 {
   const RobotDescription d = loadRobotDescription(kUrdf);

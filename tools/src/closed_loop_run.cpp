@@ -35,7 +35,8 @@
  *   --fault LINE      inject a fault from START s after the run's start (sim/README.md)
  * JSON: {"runaways", "max_abs_speed", "command_delay" (the plant's motor.command_delay [s]),
  *        "segments": [{"t_step", "initial", "target", "measured": {...}, "truth": {...}, "belief": {...},
- *        "drive": {...}}] [, "angular_segments": [...]], "profile",
+ *        "drive": {...}}] [, "angular_segments": [...]] ("measured": wheel odometry in "segments", the
+ *        gyro in "angular_segments"), "profile",
  *        "duration", "tracking": {"truth": {"vx": {"rms", "max"}, "wz": {...}, "samples"}, "odometry": {...}},
  *        "path": {"final_position_error", "max_position_error", "final_heading_error", "ideal_length",
  *        "samples"}} with rise, settling, overshoot, sse, settled; times from the profile's start
@@ -379,7 +380,9 @@ int main(int argc, char** argv)
       const double t_end = s + 1 < c.profile.size() ? c.profile[s + 1].start : c.duration;
       const double initial = yaw ? c.profile[s - 1].angular : c.profile[s - 1].linear;
       const double target = yaw ? c.profile[s].angular : c.profile[s].linear;
-      const auto& measured = yaw ? rec.yaw_odom : rec.v_odom;
+      // "measured": what the robot's own sensors say: wheel odometry for the speed, the gyro for the
+      // yaw rate (wheel odometry's yaw depends on the b_hat it assumes, which the plant's turning does not).
+      const auto& measured = yaw ? rec.yaw_gyro : rec.v_odom;
       const auto& truth = yaw ? rec.yaw_true : rec.v_true;
       const auto& belief = yaw ? rec.belief_yaw : rec.belief;
       const auto& drive = yaw ? rec.command_yaw : rec.command;

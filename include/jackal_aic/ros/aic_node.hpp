@@ -72,6 +72,7 @@
 #include "jackal_aic/ros/node_outputs.hpp"
 #include "jackal_aic/ros/node_reconfigure.hpp"
 #include "jackal_aic/ros/publisher_watch.hpp"
+#include "jackal_aic/ros/learned_model.hpp"
 #include "jackal_aic/ros/output_enable.hpp"
 
 namespace jackal_aic
@@ -155,6 +156,7 @@ private:
   /// Whether commands leave the node (~enable_output; a field trial's A/B switch). Under mutex_.
   OutputGate gate_;
   std::unique_ptr<OutputEnable> output_enable_;
+  std::unique_ptr<LearnedModelService> learned_model_;  ///< ~save_learned_model, ~reset_learned_model
 
   /// The subscribers' queue while the belief thread runs (served by it); declared before the
   /// subscribers, so it outlives them.

@@ -261,6 +261,7 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
 
   double command_left = 0.0;
   double command_right = 0.0;
+  double gyro_z = 0.0;  // the newest IMU sample's gyro z [rad/s], for the record
   double ideal_linear = 0.0;   // kIdeal's integral correction of the body speed [m/s]
   double ideal_angular = 0.0;  // and of the yaw rate [rad/s]
   const SetPointSegment* last_segment = nullptr;
@@ -408,6 +409,10 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
       first_belief_tick = false;
     }
     sensors->afterStep(*plant, &joint_samples, &imu_samples);
+    if (!imu_samples.empty())
+    {
+      gyro_z = imu_samples.back().angular_velocity.z();
+    }
     const bool deliver = aic && loop && !paused;  // the node is up and the driver publishes
     if (deliver)
     {
@@ -439,6 +444,7 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
       sample.v_true = plant->baseLinearVelocity().x();
       sample.yaw_odom = r * (wr - wl) / b_hat;
       sample.yaw_true = plant->baseAngularVelocity().z();
+      sample.yaw_gyro = gyro_z;
       sample.command = r * 0.5 * (command_left + command_right);
       sample.belief = has_belief ? loop->controller().mu()(0, 0) : std::numeric_limits<double>::quiet_NaN();
       sample.angular_set_point = sp_angular;
@@ -458,6 +464,7 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
         out.v_true.push_back(sample.v_true);
         out.yaw_odom.push_back(sample.yaw_odom);
         out.yaw_true.push_back(sample.yaw_true);
+        out.yaw_gyro.push_back(sample.yaw_gyro);
         out.command.push_back(sample.command);
         out.belief.push_back(sample.belief);
         out.angular_set_point.push_back(sample.angular_set_point);

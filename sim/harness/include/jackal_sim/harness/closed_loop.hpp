@@ -124,6 +124,7 @@ struct ClosedLoopSample
   double v_true = 0.0;             ///< ground-truth forward speed [m/s]
   double yaw_odom = 0.0;           ///< wheel-odometry yaw rate [rad/s]
   double yaw_true = 0.0;           ///< ground-truth yaw rate [rad/s]
+  double yaw_gyro = 0.0;           ///< the IMU's newest gyro z reading (sensor noise and bias included) [rad/s]
   double command = 0.0;            ///< body speed of the last drive command [m/s]
   double command_yaw = 0.0;        ///< yaw rate of the last drive command [rad/s]
   double belief = 0.0;             ///< AIC belief mu^(0) x_dot [m/s] (NaN if none)
@@ -183,6 +184,7 @@ struct ClosedLoopRecord
   std::vector<double> v_true;     ///< ground-truth forward speed in base_link [m/s]
   std::vector<double> yaw_odom;   ///< wheel-odometry yaw rate r (omega_R - omega_L) / b_hat [rad/s]
   std::vector<double> yaw_true;   ///< ground-truth yaw rate [rad/s]
+  std::vector<double> yaw_gyro;   ///< the IMU's newest gyro z reading at the sample [rad/s]
   std::vector<double> command;    ///< body speed of the last drive command r (a_L + a_R) / 2 [m/s]
   std::vector<double> belief;     ///< AIC belief mu^(0) x_dot [m/s] (NaN for the stock controller)
   std::vector<double> angular_set_point;  ///< yaw-rate set point in force [rad/s]

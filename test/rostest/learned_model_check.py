@@ -1,0 +1,83 @@
+#!/usr/bin/env python3
+"""rostest: the jackal_AIC node's learned model round trip on the simulated Jackal, on simulated
+time (node_learned_model.test; doc/jackal_aic_node.md, 'Learned model').
+
+1. The node started from the saved overlay: ~wheel_separation reads ~start_separation.
+2. An arc (0.5 m/s, 0.5 rad/s) for ~drive_time s: b_hat moves by more than ~min_change
+   (relative), so the node learns (the control: without the arc it would not move).
+3. At rest (learning frozen) ~save_learned_model answers success and the file it names holds
+   `wheel_separation:` equal to the published b_hat (within the model's 1e-3 relative apply
+   tolerance), as YAML.
+4. ~reset_learned_model answers success and ~wheel_separation reads ~start_separation again.
+"""
+import os
+import re
+import sys
+import threading
+import unittest
+
+import rospy
+import rostest
+import yaml
+from geometry_msgs.msg import Twist
+from std_msgs.msg import Float64
+from std_srvs.srv import Trigger
+
+from aic_test_utils import wait_for
+
+
+class LearnedModelTest(unittest.TestCase):
+    def setUp(self):
+        self.lock = threading.Lock()
+        self.b_hat = None
+        rospy.Subscriber("/jackal_AIC/wheel_separation", Float64, self.on_b, queue_size=10)
+        self.pub = rospy.Publisher("/jackal_AIC/set_point", Twist, queue_size=10)
+        self.twist = Twist()
+        rospy.Timer(rospy.Duration(0.02), lambda _: self.pub.publish(self.twist))
+
+    def on_b(self, msg):
+        with self.lock:
+            self.b_hat = msg.data
+
+    def b(self):
+        with self.lock:
+            return self.b_hat
+
+    def test_save_and_reset(self):
+        start = float(rospy.get_param("~start_separation"))
+        drive_time = float(rospy.get_param("~drive_time", 8.0))
+        min_change = float(rospy.get_param("~min_change", 0.01))
+        self.assertTrue(wait_for(lambda: self.b() is not None, 30.0), "no ~wheel_separation")
+        self.assertAlmostEqual(self.b(), start, delta=1e-6, msg="the node did not start from the saved overlay")
+
+        self.twist.linear.x, self.twist.angular.z = 0.5, 0.5
+        rospy.sleep(drive_time)
+        self.twist.linear.x, self.twist.angular.z = 0.0, 0.0
+        learned = self.b()
+        rospy.loginfo("learned_model_check: b_hat %.4f m after %.1f s of arc (start %.4f m)", learned, drive_time, start)
+        self.assertGreater(abs(learned - start) / start, min_change, "b_hat did not learn on the arc")
+        rospy.sleep(2.0)  # at rest: learning frozen, b_hat steady
+        steady = self.b()
+
+        rospy.wait_for_service("/jackal_AIC/save_learned_model", 10.0)
+        res = rospy.ServiceProxy("/jackal_AIC/save_learned_model", Trigger)()
+        self.assertTrue(res.success, res.message)
+        path = re.search(r"written to (\S+)", res.message).group(1)
+        self.assertEqual(path, rospy.get_param("/jackal_AIC/learned_model_file"))
+        with open(path) as f:
+            saved = yaml.safe_load(f)
+        self.assertEqual(set(saved), {"wheel_separation"})
+        # ~wheel_separation is the model's b_hat, which takes the learner's value whenever it moved by
+        # more than ActiveInferenceController::kSeparationApplyTolerance (1e-3 relative); the file holds the learner's.
+        self.assertAlmostEqual(saved["wheel_separation"], steady, delta=1e-3 * steady)
+
+        res = rospy.ServiceProxy("/jackal_AIC/reset_learned_model", Trigger)()
+        self.assertTrue(res.success, res.message)
+        self.assertTrue(wait_for(lambda: abs(self.b() - start) < 1e-6, 5.0),
+                        "b_hat %.4f after the reset, expected %.4f" % (self.b(), start))
+        os.remove(path)
+
+
+if __name__ == "__main__":
+    rospy.init_node("learned_model_check")
+    rostest.rosrun("jackal_aic", "node_learned_model", LearnedModelTest, sys.argv)
