@@ -112,6 +112,22 @@ class GeneratorTest(unittest.TestCase):
                 self.assertFalse(m.fields["stop_stopped"])
         self.assertGreater(seen, 10000)
 
+    def test_hold_plausible_never_ends(self):
+        gen = FuzzGenerator(random.Random(4), 1000.0)
+        for _ in range(50):
+            gen.next(T0_NS)  # somewhere in its stretches
+        gen.hold_plausible(0.5, 0.0)
+        t, kinds = 0.0, collections.Counter()
+        for _ in range(3000):
+            m = gen.next(T0_NS + int(t * 1e9))
+            t += m.gap
+            kinds[m.kind] += 1
+            self.assertEqual(m.tags, (), m)
+            if m.kind == "joint_states":
+                self.assertTrue(all(abs(v - 0.5 / ros_fuzz.WHEEL_RADIUS) < 0.5 for v in m.fields["velocity"]), m)
+        self.assertAlmostEqual(kinds["joint_states"] / t, ros_fuzz.PLAUSIBLE_RATE, delta=1.0)
+        self.assertAlmostEqual(kinds["set_point"] / t, ros_fuzz.SET_POINT_RATE, delta=1.0)
+
     def test_stamps_and_float32_fields_stay_representable(self):
         for _, m in self.msgs:
             if "stamp" in m.fields:

@@ -118,12 +118,12 @@ class FuzzGenerator(object):
                  consistent with it or random within +-20 rad/s), a healthy MCU (/status drivers
                  active, /feedback MODE_VELOCITY); 0.5-3 s
       fuzz       messages of random kinds at ``rate`` [1/s], each field made odd with a
-                 per-stretch probability (values() mixture, random joint names and array
+                 per-stretch probability (value() mixture, random joint names and array
                  lengths, random stamps: stamp()); 0.2-2 s
       burst      20-500 messages (fuzzed or plausible) with no gap
       silence    nothing for 0.1-2 s (the first message after it carries the gap)
 
-    Stamps are integers [ns] relative to the ``now_ns`` passed to next(); fields are plain Python
+    Stamps are integers [ns] drawn around the ``now_ns`` passed to next(); fields are plain Python
     (floats, lists, bools, ints) that to_ros() turns into messages. Everything is drawn from
     ``rng`` (random.Random), so a seed and the sequence of now_ns values fix the sequence."""
 
@@ -173,6 +173,14 @@ class FuzzGenerator(object):
         else:
             self.pending_gap += self.rng.uniform(0.1, 2.0)
             self.phase = None
+
+    def hold_plausible(self, v, w):
+        """From now on, only a plausible stretch that never ends: set point ``v`` [m/s], ``w``
+        [rad/s], the wheels consistent with it; a silence under way is cut short."""
+        self.phase, self.phase_left, self.pending_gap = "plausible", float("inf"), 0.0
+        half = w * WHEEL_SEPARATION / 2
+        self.drive = (v, w, (v - half) / WHEEL_RADIUS, (v + half) / WHEEL_RADIUS)
+        self.due = {k: self.clock for k in KINDS}
 
     def next(self, now_ns):
         """The next Message; ``now_ns``: the current time [ns] (ROS time on the wall clock, or any
@@ -360,6 +368,14 @@ def verdict(check, alive, final_commands):
 
 # ---- ROS: messages, the fuzz loop, the run under its own master -----------------------------
 
+def message_type(kind):
+    """The ROS message class of a generated ``kind`` (one of KINDS)."""
+    from geometry_msgs.msg import Twist
+    from jackal_msgs.msg import Feedback, Status
+    from sensor_msgs.msg import Imu, JointState
+    return {"joint_states": JointState, "imu": Imu, "set_point": Twist, "status": Status, "feedback": Feedback}[kind]
+
+
 def to_ros(kind, fields):
     """The ROS message of a generated ``kind`` with ``fields`` (Message.kind, Message.fields):
     sensor_msgs/JointState, sensor_msgs/Imu, geometry_msgs/Twist, jackal_msgs/Status or
@@ -438,8 +454,7 @@ def fuzz(seconds, seed, rate, limit=None, log=print):
 
     rospy.Subscriber("/cmd_drive", Drive, on_cmd, queue_size=10000)
     rospy.Subscriber("/diagnostics", DiagnosticArray, diagnostics_callback(diag), queue_size=100)
-    pubs = {k: rospy.Publisher(t, to_ros(k, FuzzGenerator(random.Random(0))._plausible(k, 0)[1]).__class__,
-                               queue_size=1000) for k, t in TOPICS.items()}
+    pubs = {k: rospy.Publisher(t, message_type(k), queue_size=1000) for k, t in TOPICS.items()}
     deadline = time.time() + 10.0
     while time.time() < deadline and not all(p.get_num_connections() for p in pubs.values()):
         time.sleep(0.05)
@@ -461,11 +476,7 @@ def fuzz(seconds, seed, rate, limit=None, log=print):
     wall = time.time() - t_start
     # the final plausible stretch: a fresh generator held in its plausible phase
     final = FuzzGenerator(random.Random(seed + 1), rate)
-    final.phase, final.phase_left = None, 0.0
-    while final.phase != "plausible":
-        final._new_phase()
-    final.phase_left = float("inf")
-    final.drive = (0.5, 0.0, 0.5 / WHEEL_RADIUS * 0.5, 0.5 / WHEEL_RADIUS * 0.5)
+    final.hold_plausible(0.5, 0.0)
     before = check.commands
     t_next = time.time()
     end = t_next + FINAL_STRETCH
