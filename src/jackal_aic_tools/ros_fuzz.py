@@ -552,13 +552,15 @@ def markdown(res, findings, argv=None):
 def run(args, argv=None):
     """Start launch/jackal_aic.launch alone under its own master (soak.launched), fuzz it for
     args.seconds (seed args.seed, rate args.rate), print the figures and, with args.output, write
-    them as Markdown (``argv``: the command line). Returns 0 when clean, 1 on a finding."""
+    them as Markdown (``argv``: the command line). roslaunch's output (the node's) goes to
+    aic_ros_fuzz.<pid>.roslaunch.log in the temporary folder, kept and named on a finding, else
+    removed. Returns 0 when
+    clean, 1 on a finding."""
     import rospy
     from .node_load import loadavg
     from .soak import launched, wait_for_nodes
 
-    launch_log = os.path.splitext(args.output)[0] + ".roslaunch.log" if args.output else \
-        os.path.join(tempfile.gettempdir(), "aic_ros_fuzz.%d.roslaunch.log" % os.getpid())
+    launch_log = os.path.join(tempfile.gettempdir(), "aic_ros_fuzz.%d.roslaunch.log" % os.getpid())
     with launched("jackal_aic.launch", log_path=launch_log) as launch:
         pids = wait_for_nodes(("jackal_AIC",), launch)
         if not pids:
@@ -574,6 +576,8 @@ def run(args, argv=None):
         print(line)
     if findings:
         print("ros fuzz: roslaunch's output (the node's included) in %s" % launch_log)
+    else:
+        os.remove(launch_log)
     if args.output:
         with open(args.output, "w") as f:
             f.write(markdown(res, findings, argv))
