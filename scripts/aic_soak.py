@@ -7,18 +7,20 @@ import sys
 from jackal_aic_tools import soak
 
 
-def main():
-    """Parse the arguments and run the soak test. Returns the exit status."""
+def main(argv=None):
+    """Parse the arguments (``argv``, default sys.argv[1:]) and run the soak test. Returns the exit
+    status."""
     ap = argparse.ArgumentParser(description=soak.__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--minutes", type=float, default=10.0)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--fault-every", type=float, default=20.0, help="seconds between injected faults")
     ap.add_argument("--config", default=None, help="controller YAML (default: config/default.yaml)")
     ap.add_argument("--warmup", type=float, default=10.0, help="seconds before the start sample")
-    args = ap.parse_args()
+    ap.add_argument("--output", help="also write the figures and the command to this Markdown file")
+    args = ap.parse_args(argv)
     if args.minutes <= 0 or args.fault_every <= 0:
         ap.error("--minutes and --fault-every must be > 0")
-    return soak.run(args)
+    return soak.run(args, sys.argv[1:] if argv is None else argv)
 
 
 if __name__ == "__main__":

@@ -119,6 +119,51 @@ class SoakTest(unittest.TestCase):
         self.assertEqual(soak.belief_steps({"jackal_AIC: loops": {"_stamp": 3.0, "belief steps": "1500"}}),
                          (3.0, 1500))
 
+    @staticmethod
+    def figures(**changes):
+        """A made-up figures dict as soak.soak() builds it."""
+        fig = {"minutes": 30.02, "seed": 1, "fault_every": 20.0, "alive": True, "faults": 90,
+               "injected": ["gyro freeze 0 4", "imu dropout 0 3"],
+               "nodes": {"jackal_AIC": {"rss_start": 14236, "rss_end": 14300, "cpu": 1.83},
+                         "jackal_plant": {"rss_start": 15004, "rss_end": 15012, "cpu": 4.5}},
+               "cmd_rate": 49.9, "js_rate": 48.0, "commands": 90000, "non_finite": 0, "over_limit": 0,
+               "max_abs_wheel": 12.4781, "limit": 20.0, "findings": [], "belief_rate": 1066.4,
+               "belief_nominal": 1000.0, "events": ["isolated omega_left"], "runaway_resets": "0", "dropped": 102,
+               "no_imu": 102, "stale_events": 0, "belief_overruns": "0", "action_overruns": "1"}
+        fig.update(changes)
+        return fig
+
+    def test_markdown_figures(self):
+        md = soak.markdown(self.figures(), ["--minutes", "30", "--seed", "1", "--output", "x.md"])
+        self.assertTrue(md.startswith("# ROS soak"))
+        self.assertIn("`scripts/aic_soak.py --minutes 30 --seed 1 --output x.md`", md)
+        self.assertIn("| wall time | 30.0 min (real time, after the warm-up) |", md)
+        self.assertIn("| jackal_AIC resident memory | 14236 KiB at start, 14300 KiB at the end; growth +64 KiB |", md)
+        self.assertIn("| jackal_plant CPU | 4.5 % of one core |", md)
+        self.assertIn("| /cmd_drive rate | 49.90 Hz (nominal 50: -0.20 %) |", md)
+        self.assertIn("| commands beyond max_wheel_speed | 0 (limit 20 rad/s; max abs wheel 12.478 rad/s) |", md)
+        self.assertIn("| belief steps | 1066.40 Hz (nominal 1000: +6.640 %) |", md)
+        self.assertIn("| belief / action overruns | 0 / 1 |", md)
+        self.assertIn("`gyro freeze 0 4`; `imu dropout 0 3`", md)
+        self.assertIn("| node alive at the end | yes |", md)
+        self.assertNotIn("Findings", md)
+        for line in md.splitlines():
+            if line.startswith("|"):
+                self.assertEqual(line.count("|"), 3, line)  # two columns, no stray bar
+
+    def test_findings_and_missing_figures(self):
+        fig = self.figures(alive=False, non_finite=1, findings=["non-finite command [nan, 0.0] at 5.0 s"],
+                           belief_rate=None)
+        md = soak.markdown(fig)
+        self.assertIn("`scripts/aic_soak.py --seed 1`", md)
+        self.assertIn("| node alive at the end | no |", md)
+        self.assertIn("- non-finite command [nan, 0.0] at 5.0 s", md)
+        self.assertNotIn("belief steps", md)
+        lines = soak.summary_lines(fig)
+        self.assertIn("  FINDING: the launch ended before the soak did", lines)
+        self.assertEqual(lines[-1], "  FINDING: non-finite command [nan, 0.0] at 5.0 s")
+        self.assertTrue(lines[0].startswith("soak: 30.0 min, seed 1, 90 faults injected (every 20 s)"))
+
 
 class ReportAndSummaryTest(unittest.TestCase):
 

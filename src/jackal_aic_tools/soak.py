@@ -3,15 +3,18 @@ random set-point profile and randomly injected faults (sim/README.md, 'Fault inj
 print the resource use and the counters:
 
   RSS of both nodes at the start (after the warm-up) and at the end [KiB], their CPU use [%],
-  the achieved /cmd_drive and /joint_states rates [Hz] against the nominal ones, the drops, loop
-  overruns and runaway resets the node reports on /diagnostics, and the fault events on
-  /jackal_AIC/sensor_health.
+  the achieved /cmd_drive and /joint_states rates [Hz] against the nominal ones, the /cmd_drive
+  commands that were non-finite or beyond max_wheel_speed, the drops, loop overruns and runaway
+  resets the node reports on /diagnostics, and the fault events on /jackal_AIC/sensor_health.
+  With --output, the same figures and the command as a Markdown file.
 
 Runs its own ROS master on a free port (never a shared one) and stops only the roslaunch it
 started. Usage (in the workspace environment, dev/ws_env.sh source_ws):
 
   scripts/aic_soak.py --minutes 10 [--seed 1] [--fault-every 20] [--config config/default.yaml]
+                      [--output doc/results/ros_soak.md]
 """
+import contextlib
 import os
 import random
 import signal
@@ -20,6 +23,7 @@ import time
 
 from . import experiment
 from .procfs import parent_of, proc_stats
+from .ros_fuzz import CommandCheck, drop_counters
 
 FAULTS = [  # sim/README.md, 'Fault injection': TARGET KIND [VALUE] START DURATION [PERIOD]; each is short
     "left_encoder bias 2.5 0 4",
@@ -33,6 +37,8 @@ FAULTS = [  # sim/README.md, 'Fault injection': TARGET KIND [VALUE] START DURATI
     "friction_left set 0.3 0 4",
     "payload set 10 0 6",
 ]
+
+NOMINAL_RATE = 50.0  # /cmd_drive and /joint_states [Hz] of sim.launch
 
 
 def find_node(name, root):
@@ -55,23 +61,50 @@ def find_node(name, root):
     return None
 
 
-def run(args):
-    """Start launch/sim.launch (controller YAML args.config, or the default) under its own master
-    on a free port, soak it (soak()) and stop that roslaunch. Returns the exit status."""
+def wait_for_nodes(names, launch, timeout=60.0):
+    """{name: PID} of the nodes ``names`` started by ``launch`` (a roslaunch Popen), waiting up to
+    ``timeout`` [s] of wall time; None when one of them did not appear."""
+    deadline = time.time() + timeout
+    while time.time() < deadline and launch.poll() is None:
+        pids = {n: find_node(n, launch.pid) for n in names}
+        if all(pids.values()):
+            return pids
+        time.sleep(0.5)
+    return None
+
+
+@contextlib.contextmanager
+def launched(launch_file, launch_args=(), log_path=None):
+    """Context manager: start ``roslaunch jackal_aic <launch_file> <launch_args...>`` under its own
+    master on a free port (ROS_MASTER_URI of this process set to it), yield the roslaunch Popen,
+    and stop that roslaunch only (SIGINT to its process group, SIGKILL after 20 s). ``log_path``:
+    a file for roslaunch's output (the nodes' output="screen" included); default discarded."""
     port = experiment.free_port()
     os.environ["ROS_MASTER_URI"] = "http://localhost:%d" % port
-    cmd = ["roslaunch", "-p", str(port), "jackal_aic", "sim.launch"]
-    if args.config:
-        cmd.append("config:=" + os.path.abspath(args.config))
-    launch = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    cmd = ["roslaunch", "-p", str(port), "jackal_aic", launch_file] + list(launch_args)
+    out = open(log_path, "w") if log_path else subprocess.DEVNULL
+    launch = subprocess.Popen(cmd, stdout=out, stderr=subprocess.STDOUT, start_new_session=True)
     try:
-        return soak(args, launch)
+        yield launch
     finally:
-        os.killpg(launch.pid, signal.SIGINT)  # only the roslaunch this script started
         try:
+            os.killpg(launch.pid, signal.SIGINT)  # only the roslaunch this script started
             launch.wait(timeout=20)
+        except ProcessLookupError:  # it ended by itself (a required node died)
+            launch.wait()
         except subprocess.TimeoutExpired:
             os.killpg(launch.pid, signal.SIGKILL)
+        if log_path:
+            out.close()
+
+
+def run(args, argv=None):
+    """Start launch/sim.launch (controller YAML args.config, or the default) under its own master
+    on a free port, soak it (soak()) and stop that roslaunch. ``argv``: the command line, for
+    --output. Returns the exit status."""
+    extra = ["config:=" + os.path.abspath(args.config)] if args.config else []
+    with launched("sim.launch", extra) as launch:
+        return soak(args, launch, argv)
 
 
 def belief_steps(diag):
@@ -83,10 +116,23 @@ def belief_steps(diag):
     return loops["_stamp"], int(loops["belief steps"])
 
 
-def soak(args, launch):
+def diagnostics_callback(diag):
+    """A /diagnostics (DiagnosticArray) callback that keeps, in the dict ``diag``, each status's
+    last {key: value} under its name, with the message's stamp [s] under "_stamp"."""
+    def on_diag(m):
+        for st in m.status:
+            values = {kv.key: kv.value for kv in st.values}
+            values["_stamp"] = m.header.stamp.to_sec()
+            diag[st.name] = values
+    return on_diag
+
+
+def soak(args, launch, argv=None):
     """Drive the running simulator (``launch``: the roslaunch process) for args.minutes with a
     random set point (seed args.seed), inject a random fault every args.fault_every s after
-    args.warmup s, and print the resource use and the counters. Returns the exit status."""
+    args.warmup s, print the figures (summary_lines()) and, with args.output, write them as
+    Markdown (markdown(); ``argv`` the command line). Returns the exit status: 1 when the nodes
+    did not start or a command was non-finite or beyond max_wheel_speed, else 0."""
     import rospy
     from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
     from geometry_msgs.msg import Twist
@@ -94,30 +140,22 @@ def soak(args, launch):
     from sensor_msgs.msg import JointState
 
     rng = random.Random(args.seed)
-    deadline = time.time() + 60
-    while time.time() < deadline:
-        if find_node("jackal_AIC", launch.pid) and find_node("jackal_plant", launch.pid):
-            break
-        time.sleep(0.5)
-    node_pid, plant_pid = find_node("jackal_AIC", launch.pid), find_node("jackal_plant", launch.pid)
-    if not node_pid or not plant_pid:
+    pids = wait_for_nodes(("jackal_AIC", "jackal_plant"), launch)
+    if not pids:
         print("soak: the nodes did not start (roslaunch exit %s)" % launch.poll())
         return 1
     rospy.init_node("aic_soak", disable_signals=True)
+    check = CommandCheck(rospy.get_param("/jackal_AIC/max_wheel_speed"))
     counts = {"cmd": 0, "js": 0}
     diag = {}
-    health = {"isolations": 0, "events": set()}
+    health = {"events": set()}
 
-    def on_cmd(_):
+    def on_cmd(m):
         counts["cmd"] += 1
+        check.add(m.drivers, "%.1f s" % time.time())
 
     def on_js(_):
         counts["js"] += 1
-
-    def on_diag(m):
-        for st in m.status:
-            diag[st.name] = {kv.key: kv.value for kv in st.values}
-            diag[st.name]["_stamp"] = m.header.stamp.to_sec()
 
     def on_health(m):
         v = {kv.key: kv.value for kv in m.values}
@@ -126,7 +164,7 @@ def soak(args, launch):
 
     rospy.Subscriber("/cmd_drive", Drive, on_cmd, queue_size=1000)
     rospy.Subscriber("/joint_states", JointState, on_js, queue_size=1000)
-    rospy.Subscriber("/diagnostics", DiagnosticArray, on_diag, queue_size=100)
+    rospy.Subscriber("/diagnostics", DiagnosticArray, diagnostics_callback(diag), queue_size=100)
     rospy.Subscriber("/jackal_AIC/sensor_health", DiagnosticStatus, on_health, queue_size=1000)
     pub = rospy.Publisher("/jackal_AIC/set_point", Twist, queue_size=10)
 
@@ -144,7 +182,8 @@ def soak(args, launch):
 
     state = {"v": 0.0, "w": 0.0, "next_change": 0.0}
     drive(args.warmup, state)
-    rss0 = {n: proc_stats(p) for n, p in (("jackal_AIC", node_pid), ("jackal_plant", plant_pid))}
+    names = ("jackal_AIC", "jackal_plant")
+    stats0 = {n: proc_stats(pids[n]) for n in names}
     c0, t0 = dict(counts), time.time()
     steps0 = belief_steps(diag)
     injected = []
@@ -161,35 +200,106 @@ def soak(args, launch):
     t1 = time.time()
     c1 = dict(counts)
     steps1 = belief_steps(diag)
-    rss1 = {n: proc_stats(p) for n, p in (("jackal_AIC", node_pid), ("jackal_plant", plant_pid))}
+    alive = launch.poll() is None
+    stats1 = {n: proc_stats(pids[n]) if alive else (0, 0.0) for n in names}
     span = t1 - t0
-    print("soak: %.1f min, seed %d, %d faults injected (every %.0f s)" % (span / 60, args.seed, len(injected),
-                                                                         args.fault_every))
-    for n in ("jackal_AIC", "jackal_plant"):
-        (r0, cpu0), (r1, cpu1) = rss0[n], rss1[n]
-        print("  %-13s RSS start %7d KiB, end %7d KiB, growth %+6d KiB; CPU %5.1f %%" %
-              (n, r0, r1, r1 - r0, 100.0 * (cpu1 - cpu0) / span))
-    cmd_rate = (c1["cmd"] - c0["cmd"]) / span
-    js_rate = (c1["js"] - c0["js"]) / span
-    print("  /cmd_drive   %.2f Hz (nominal 50: %+.2f %%)" % (cmd_rate, 100.0 * (cmd_rate / 50.0 - 1)))
-    print("  /joint_states %.2f Hz (nominal 50: %+.2f %%; faults drop or delay some)" %
-          (js_rate, 100.0 * (js_rate / 50.0 - 1)))
+    fig = {"minutes": span / 60.0, "seed": args.seed, "fault_every": args.fault_every, "alive": alive,
+           "faults": len(injected), "injected": sorted(set(injected)), "nodes": {},
+           "cmd_rate": (c1["cmd"] - c0["cmd"]) / span, "js_rate": (c1["js"] - c0["js"]) / span,
+           "commands": check.commands, "non_finite": check.non_finite, "over_limit": check.over_limit,
+           "max_abs_wheel": check.max_abs, "limit": check.limit, "findings": list(check.findings),
+           "belief_rate": None, "belief_nominal": rospy.get_param("/jackal_AIC/belief_rate", 1000.0),
+           "events": sorted(e.rsplit(" at ", 1)[0] for e in health["events"])}
+    for n in names:
+        (r0, cpu0), (r1, cpu1) = stats0[n], stats1[n]
+        fig["nodes"][n] = {"rss_start": r0, "rss_end": r1, "cpu": 100.0 * (cpu1 - cpu0) / span}
     if steps0 and steps1 and steps1[0] > steps0[0]:
-        rate = (steps1[1] - steps0[1]) / (steps1[0] - steps0[0])
-        nominal = rospy.get_param("/jackal_AIC/belief_rate", 1000.0)
-        print("  belief steps %.2f Hz (nominal %g: %+.3f %%; from the diagnostics counter)" %
-              (rate, nominal, 100.0 * (rate / nominal - 1)))
+        fig["belief_rate"] = (steps1[1] - steps0[1]) / (steps1[0] - steps0[0])
     ctrl = diag.get("jackal_AIC: controller", {})
-    sens = diag.get("jackal_AIC: sensors", {})
     loops = diag.get("jackal_AIC: loops", {})
-    drops = sum(int(v) for k, v in sens.items() if k.startswith("dropped:") and v.isdigit())
-    print("  runaway resets %s; dropped inputs %d (no-imu samples %s); stale events %s" %
-          (ctrl.get("runaway resets", "?"), drops,
-           sens.get("dropped: sample: no imu within imu_max_skew (sample used without the imu)", "?"),
-           sens.get("stale events", "?")))
-    print("  belief overruns %s, action overruns %s" %
-          (loops.get("belief overruns (interval > 2 periods)", "?"), loops.get("action overruns (interval > 2 periods)", "?")))
-    print("  fault events on ~sensor_health: %d distinct (%s)" %
-          (len(health["events"]), ", ".join(sorted(e.rsplit(" at ", 1)[0] for e in health["events"]))[:300]))
-    print("  injected: %s" % "; ".join(sorted(set(injected))))
-    return 0
+    drops = drop_counters(diag)
+    fig.update({"runaway_resets": ctrl.get("runaway resets", "?"),
+                "dropped": sum(v for k, v in drops.items() if k.startswith("dropped:")),
+                "no_imu": drops.get("dropped: sample: no imu within imu_max_skew (sample used without the imu)", "?"),
+                "stale_events": drops.get("stale events", "?"),
+                "belief_overruns": loops.get("belief overruns (interval > 2 periods)", "?"),
+                "action_overruns": loops.get("action overruns (interval > 2 periods)", "?")})
+    for line in summary_lines(fig):
+        print(line)
+    if getattr(args, "output", None):
+        with open(args.output, "w") as f:
+            f.write(markdown(fig, argv))
+        print("soak: figures written to %s" % args.output)
+    return 0 if alive and check.clean() else 1
+
+
+def summary_lines(fig):
+    """The soak's figures (``fig``: the dict soak() builds) as the lines it prints."""
+    out = ["soak: %.1f min, seed %d, %d faults injected (every %.0f s)" %
+           (fig["minutes"], fig["seed"], fig["faults"], fig["fault_every"])]
+    for n, s in sorted(fig["nodes"].items()):
+        out.append("  %-13s RSS start %7d KiB, end %7d KiB, growth %+6d KiB; CPU %5.1f %%" %
+                   (n, s["rss_start"], s["rss_end"], s["rss_end"] - s["rss_start"], s["cpu"]))
+    out.append("  /cmd_drive   %.2f Hz (nominal %g: %+.2f %%)" %
+               (fig["cmd_rate"], NOMINAL_RATE, 100.0 * (fig["cmd_rate"] / NOMINAL_RATE - 1)))
+    out.append("  /joint_states %.2f Hz (nominal %g: %+.2f %%; faults drop or delay some)" %
+               (fig["js_rate"], NOMINAL_RATE, 100.0 * (fig["js_rate"] / NOMINAL_RATE - 1)))
+    out.append("  commands checked (warm-up included) %d: non-finite %d, beyond +-%g rad/s %d; max |wheel| %.3f rad/s" %
+               (fig["commands"], fig["non_finite"], fig["limit"], fig["over_limit"], fig["max_abs_wheel"]))
+    if fig["belief_rate"] is not None:
+        out.append("  belief steps %.2f Hz (nominal %g: %+.3f %%; from the diagnostics counter)" %
+                   (fig["belief_rate"], fig["belief_nominal"],
+                    100.0 * (fig["belief_rate"] / fig["belief_nominal"] - 1)))
+    out.append("  runaway resets %s; dropped inputs %s (no-imu samples %s); stale events %s" %
+               (fig["runaway_resets"], fig["dropped"], fig["no_imu"], fig["stale_events"]))
+    out.append("  belief overruns %s, action overruns %s" % (fig["belief_overruns"], fig["action_overruns"]))
+    out.append("  fault events on ~sensor_health: %d distinct (%s)" %
+               (len(fig["events"]), ", ".join(fig["events"])[:300]))
+    out.append("  injected: %s" % "; ".join(fig["injected"]))
+    if not fig["alive"]:
+        out.append("  FINDING: the launch ended before the soak did")
+    for f in fig["findings"]:
+        out.append("  FINDING: %s" % f)
+    return out
+
+
+def markdown(fig, argv=None):
+    """The soak's figures (``fig``: the dict soak() builds) as a Markdown document: a title, the
+    command (``argv``, the script's arguments; default shown as aic_soak.py with the run's seed)
+    and a table of figure | value."""
+    cmd = "scripts/aic_soak.py " + (" ".join(argv) if argv else "--seed %d" % fig["seed"])
+    rows = [("wall time", "%.1f min (real time, after the warm-up)" % fig["minutes"]),
+            ("faults injected", "%d, one every %g s: %s" % (fig["faults"], fig["fault_every"],
+                                                            "; ".join("`%s`" % f for f in fig["injected"]) or "none"))]
+    for n, s in sorted(fig["nodes"].items()):
+        rows.append(("%s resident memory" % n, "%d KiB at start, %d KiB at the end; growth %+d KiB" %
+                     (s["rss_start"], s["rss_end"], s["rss_end"] - s["rss_start"])))
+        rows.append(("%s CPU" % n, "%.1f %% of one core" % s["cpu"]))
+    rows += [("/cmd_drive rate", "%.2f Hz (nominal %g: %+.2f %%)" %
+              (fig["cmd_rate"], NOMINAL_RATE, 100.0 * (fig["cmd_rate"] / NOMINAL_RATE - 1))),
+             ("/joint_states rate", "%.2f Hz (nominal %g: %+.2f %%; faults drop or delay some)" %
+              (fig["js_rate"], NOMINAL_RATE, 100.0 * (fig["js_rate"] / NOMINAL_RATE - 1))),
+             ("/cmd_drive commands checked", "%d (the warm-up included)" % fig["commands"]),
+             ("non-finite commands", "%d" % fig["non_finite"]),
+             ("commands beyond max_wheel_speed", "%d (limit %g rad/s; max abs wheel %.3f rad/s)" %
+              (fig["over_limit"], fig["limit"], fig["max_abs_wheel"]))]
+    if fig["belief_rate"] is not None:
+        rows.append(("belief steps", "%.2f Hz (nominal %g: %+.3f %%)" %
+                     (fig["belief_rate"], fig["belief_nominal"],
+                    100.0 * (fig["belief_rate"] / fig["belief_nominal"] - 1))))
+    rows += [("runaway resets", "%s" % fig["runaway_resets"]),
+             ("dropped inputs", "%s (no-imu samples %s)" % (fig["dropped"], fig["no_imu"])),
+             ("stale events", "%s" % fig["stale_events"]),
+             ("belief / action overruns", "%s / %s" % (fig["belief_overruns"], fig["action_overruns"])),
+             ("fault events on ~sensor_health",
+              "%d distinct: %s" % (len(fig["events"]), ", ".join(fig["events"]) or "none")),
+             ("node alive at the end", "yes" if fig["alive"] else "no")]
+    lines = ["# ROS soak: the simulated Jackal and jackal_AIC on real time", "",
+             "Written by `%s` (src/jackal_aic_tools/soak.py; doc/tools.md, 'ROS soak'): launch/sim.launch "
+             "under its own ROS master on the wall clock, a random set point (seed %d) changing every 2-5 s, "
+             "a random plant fault every %g s; CPU and resident memory from /proc, counters from /diagnostics." %
+             (cmd, fig["seed"], fig["fault_every"]), "", "| figure | value |", "|---|---|"]
+    lines += ["| %s | %s |" % (k, v.replace("|", "/")) for k, v in rows]
+    if fig["findings"]:
+        lines += ["", "Findings:", ""] + ["- %s" % f for f in fig["findings"]]
+    return "\n".join(lines) + "\n"

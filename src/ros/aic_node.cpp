@@ -6,6 +6,9 @@
  */
 #include "jackal_aic/ros/aic_node.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
 
@@ -13,15 +16,36 @@
 
 namespace jackal_aic
 {
+double RosClock::sinceEpoch(const ros::Time& stamp) const
+{
+  // Not ros::Duration: a stamp more than 2^31 s after the epoch (any uint32 second is valid in a
+  // message) is out of its range, which throws.
+  return static_cast<double>(static_cast<std::int64_t>(stamp.toNSec()) - static_cast<std::int64_t>(epoch_.toNSec())) *
+         1e-9;
+}
+
 double RosClock::seconds(const ros::Time& stamp) const
 {
-  return stamp.isZero() ? std::numeric_limits<double>::quiet_NaN() : (stamp - epoch_).toSec();
+  return stamp.isZero() ? std::numeric_limits<double>::quiet_NaN() : sinceEpoch(stamp);
 }
 
 ros::Time RosClock::time(double seconds) const
 {
-  // Before ROS time 0 (a reading of an earlier timeline after ROS time moved back): time 0.
-  return seconds > -epoch_.toSec() ? epoch_ + ros::Duration(seconds) : ros::Time(0);
+  // Before ROS time 0 (a reading of an earlier timeline after ROS time moved back) or NaN:
+  // time 0. Beyond the largest ROS time (a far-future stamp was read): the largest ROS time.
+  // In signed 64-bit nanoseconds (exact; ros::Duration would throw beyond 2^31 s).
+  constexpr std::int64_t kMaxNs = 4294967295LL * 1000000000LL + 999999999LL;  // uint32 s, 1e9 - 1 ns
+  constexpr double kBound = 5.0e9;  // [s], beyond any ROS time on either side of the epoch
+  if (!(seconds > -kBound))
+  {
+    return ros::Time(0);
+  }
+  const std::int64_t offset = std::llround(std::min(seconds, kBound) * 1e9);
+  const std::int64_t ns =
+      std::min(std::max(static_cast<std::int64_t>(epoch_.toNSec()) + offset, std::int64_t{ 0 }), kMaxNs);
+  ros::Time t;
+  t.fromNSec(static_cast<std::uint64_t>(ns));
+  return t;
 }
 
 AicNode::AicNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) : nh_(nh), pnh_(pnh)

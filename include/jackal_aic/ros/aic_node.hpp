@@ -86,14 +86,19 @@ class RosClock : public Clock
 public:
   /// Take the epoch: the current ROS time (0 on simulated time before the first /clock).
   void start() { epoch_ = ros::Time::now(); }
-  double now() const override { return (ros::Time::now() - epoch_).toSec(); }
-  /// A message stamp in the clock's seconds; NaN for a zero (unset) stamp.
+  double now() const override { return sinceEpoch(ros::Time::now()); }
+  /// A message stamp in the clock's seconds; NaN for a zero (unset) stamp. Any stamp, up to the
+  /// largest ROS time, is finite (never throws).
   double seconds(const ros::Time& stamp) const;
   /// The ROS time of a clock reading [s]; ROS time 0 for a reading before it (ROS time
-  /// moved back after start() and the reading is of the new timeline).
+  /// moved back after start() and the reading is of the new timeline) or NaN, the largest ROS
+  /// time for a reading beyond it (never throws).
   ros::Time time(double seconds) const;
 
 private:
+  /// stamp - epoch [s], in signed 64-bit nanoseconds (ros::Duration throws beyond 2^31 s).
+  double sinceEpoch(const ros::Time& stamp) const;
+
   ros::Time epoch_;
 };
 
