@@ -36,8 +36,10 @@ public:
     kOk,           ///< state advanced
     kNoMeasurement,///< no measurement yet: state not moved
     kBadInterval,  ///< h <= 0 or non-finite: state not moved
-    kRunaway       ///< beliefs or action became non-finite, or a belief exceeded runaway_limit: beliefs and
-                   ///< action reset to zero (goal and held measurement kept), runawayCount() incremented
+    kRunaway       ///< beliefs or action became non-finite, a belief exceeded runaway_limit, or one action
+                   ///< step moved a wheel's command by more than 2 max_wheel_speed (a diverging action):
+                   ///< beliefs and action reset to zero (goal and held measurement kept), runawayCount()
+                   ///< incremented
   };
 
   /// \throws std::invalid_argument listing every violation if params.validate() is not empty.
@@ -137,6 +139,10 @@ public:
    *        only up to the clamp and is never pulled back by it (a cut of the prior is not stored).
    *        da_F/dt does not depend on a, so this Euler step is exact for held beliefs and
    *        measurement, whatever the integrator setting.
+   *        Divergence, checked before any clamp: a non-finite a, or a step h da_F/dt beyond
+   *        2 max_wheel_speed on a wheel (more than the wheels' whole speed range in one step),
+   *        resets beliefs and action to zero (kRunaway) instead of clamping it to
+   *        +-max_wheel_speed.
    * \param h  action step [s], finite and > 0
    * \return kOk; kBadInterval (state kept); kNoMeasurement (state kept); kRunaway (see Status).
    */

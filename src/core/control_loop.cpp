@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -487,8 +488,17 @@ void ControlLoop::handleRunaway(const char* where)
   if (due(kNoticeRunaway))
   {
     std::ostringstream os;
-    os << "runaway beliefs in the " << where << " (|mu| > runaway_limit " << params_.aic.runaway_limit
-       << " or non-finite); controller reset, zero command for " << params_.runaway_hold_time << " s ["
+    if (std::strcmp(where, "action update") == 0)
+    {
+      os << "runaway action in the action update (non-finite, or a step beyond 2 max_wheel_speed "
+         << 2.0 * params_.aic.max_wheel_speed << " rad/s)";
+    }
+    else
+    {
+      os << "runaway beliefs in the " << where << " (|mu| > runaway_limit " << params_.aic.runaway_limit
+         << " or non-finite)";
+    }
+    os << "; controller reset, zero command for " << params_.runaway_hold_time << " s ["
        << supervisor_.runaways() << " runaway(s) so far]";
     output_.log(LogLevel::kError, os.str());
   }

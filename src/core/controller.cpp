@@ -638,9 +638,16 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
   // Euler step is also the exact one. a = a_F + a_ff.
   const Vector2 a_dot = aDot();
   const Vector2 prior = actionPrior();
-  const Vector2 candidate = a_F_ + h * a_dot;
+  const Vector2 increment = h * a_dot;
+  const Vector2 candidate = a_F_ + increment;
   const Vector2 raw = candidate + prior;
-  if (!raw.allFinite())
+  // A diverging action is never clamped and sent: a non-finite command, or one step that moves
+  // a wheel's command by more than the whole range of wheel speeds (2 max_wheel_speed), resets
+  // (zero action) here, before the command leaves. The belief update's runaway_limit catches
+  // diverging beliefs only once they exceed it; on the way there (an Euler-unstable
+  // belief update grows ~6x per step) the action step can read beliefs a hundred times the
+  // robot's speed, whose action the wheel clamp would turn into +-max_wheel_speed.
+  if (!raw.allFinite() || !(increment.cwiseAbs().maxCoeff() <= 2.0 * params_.max_wheel_speed))
   {
     runawayReset();
     return Status::kRunaway;

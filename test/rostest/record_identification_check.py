@@ -14,8 +14,15 @@ with its /status and stop): test/rostest/record_identification*.test.
   joystick  a twist on twist_mux's joystick input (/joy_teleop/cmd_vel): outcome
             "stopped: joystick", and no twist at all from the recorder ~stop_latency s after it
             (the joystick has the robot).
+
+Runs on simulated time (the .test sets use_sim_time: the plant node publishes /clock): the
+twists' times are this node's ROS time at receipt (geometry_msgs/Twist carries no stamp), the
+stop's time its ROS time at publication, so ~stop_after and ~stop_latency are plant time; the
+waits are conditions (the robot moving, plant time reached, the outcome published), with
+~timeout s of wall time as the deadline of each.
 """
 import os
+import sys
 import threading
 import time
 import unittest
@@ -43,19 +50,35 @@ class RecorderTest(unittest.TestCase):
             self.outcome = msg.data
 
     def on_twist(self, msg):
+        t = rospy.get_rostime().to_sec()
         with self.lock:
-            self.twists.append((time.monotonic(), msg.linear.x, msg.angular.z))
+            self.twists.append((t, msg.linear.x, msg.angular.z))
 
-    def wait_outcome(self, timeout):
+    def wait(self, predicate, timeout):
+        """Poll predicate() until it is true or `timeout` s of wall time pass (a deadline only:
+        nothing is judged on the wall clock); return its last value."""
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline and not rospy.is_shutdown():
+            if predicate():
+                return True
+            time.sleep(0.01)
+        return predicate()
+
+    def wait_outcome(self, timeout):
+        def outcome():
             with self.lock:
-                if self.outcome is not None:
-                    return self.outcome
-            time.sleep(0.05)
-        self.fail("no outcome from the recorder within %g s" % timeout)
+                return self.outcome
+        self.assertTrue(self.wait(lambda: outcome() is not None, timeout),
+                        "no outcome from the recorder within %g s" % timeout)
+        return outcome()
+
+    def wait_until(self, t, timeout):
+        """Wait until ROS (plant) time reaches t [s]."""
+        self.assertTrue(self.wait(lambda: rospy.get_rostime().to_sec() >= t, timeout),
+                        "plant time did not reach %.3f s" % t)
 
     def test_recorder(self):
+        self.assertTrue(rospy.get_param("/use_sim_time", False), "the check runs on simulated time")
         mode = rospy.get_param("~mode")
         timeout = float(rospy.get_param("~timeout", 60.0))
         if mode == "complete":
@@ -88,22 +111,23 @@ class RecorderTest(unittest.TestCase):
                 stop_pub = rospy.Publisher("/stock_base/set_stop" if trigger == "estop" else "/e_stop", Bool,
                                            queue_size=1, latch=True)
                 stop_msg = Bool(data=True)
-            deadline = time.monotonic() + timeout
-            while time.monotonic() < deadline:  # the recorder moves the robot
+            def first_moving():
                 with self.lock:
-                    moving = any(abs(v) > 0.0 or abs(w) > 0.0 for _, v, w in self.twists)
-                if moving:
-                    break
-                time.sleep(0.02)
-            self.assertTrue(moving, "the recorder never moved the robot")
-            time.sleep(float(rospy.get_param("~stop_after")))
-            t_stop = time.monotonic()
+                    return next((t for t, v, w in self.twists if v != 0.0 or w != 0.0), None)
+            self.assertTrue(self.wait(lambda: first_moving() is not None, timeout), "the recorder never moved the robot")
+            self.wait_until(first_moving() + float(rospy.get_param("~stop_after")), timeout)
+            t_stop = rospy.get_rostime().to_sec()
             stop_pub.publish(stop_msg)
             self.assertEqual(self.wait_outcome(timeout), expected[trigger])
-            time.sleep(0.5)
+            # The outcome comes after the recorder's last twist; twists still in flight arrive
+            # within 0.5 s of plant time.
+            self.wait_until(rospy.get_rostime().to_sec() + 0.5, timeout)
             latency = float(rospy.get_param("~stop_latency"))
             with self.lock:
                 after = [(v, w) for t, v, w in self.twists if t > t_stop + latency]
+                moving = [t - t_stop for t, v, w in self.twists if t > t_stop and (v != 0.0 or w != 0.0)]
+            print("MEASURED %s: %s" % (trigger, "last moving twist %.3f s after the stop (plant time)" % moving[-1]
+                                        if moving else "no moving twist after the stop"), file=sys.stderr)
             if trigger == "joystick":
                 self.assertFalse(after, "the recorder kept publishing after the joystick: %s" % after[:5])
             else:

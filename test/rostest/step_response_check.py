@@ -1,18 +1,13 @@
 #!/usr/bin/env python3
-"""Step-response check of the closed loop (controller + plant), shared by the experiment
-rostests. It plays a set-point profile on /jackal_AIC/set_point, records /odom (ground
-truth), the belief and /cmd_drive, and asserts on metrics computed from message stamps
-by the core's aic_step_metrics (through jackal_aic_tools). Expectations are <param>s:
+"""Step-response check of the closed loop (the AIC + plant): test/rostest/step_response_default.test.
+It plays a step from rest on /jackal_AIC/set_point, records /odom (ground truth), the belief
+and /cmd_drive, and asserts on metrics computed from message stamps by the core's
+aic_step_metrics (through jackal_aic_tools). Expectations are <param>s:
 
-  ~controller         aic | stock (stock: no belief topic expected)         [aic]
-  ~profile            step | square                                         [step]
-  ~step               step size [m/s] (profile step)                        [0.5]
+  ~step               step size [m/s]                                       [0.5]
   ~hold               how long the step is held [s]                         [3.0]
-  ~low, ~high         square-wave levels [m/s]                              [0.1, 0.5]
-  ~period, ~cycles    square-wave period [s] and number of periods          [4.0, 2]
-  ~lead_in            square wave: how long the first level is held [s]     [2.0]
-  ~settle_limit       every transition settles (+-5 %) within this [s]      [1.0]
-  ~overshoot_limit    overshoot of every transition below this [% of step]  [20]
+  ~settle_limit       the step settles (+-5 %) within this [s]              [1.0]
+  ~overshoot_limit    overshoot below this [% of step]                      [20]
   ~sse_limit          |steady-state error| below this [% of the set point]  [2]
   ~bound_v            |measured/believed v| beyond this = unstable [m/s]    [3.0]
   ~ready_timeout      wall time to wait for the streams [s]                 [30]
@@ -26,7 +21,7 @@ import unittest
 import rospy
 import rostest
 
-from jackal_aic_tools import experiment, metrics, profiles, recording
+from jackal_aic_tools import experiment, profiles, recording
 
 PKG = "jackal_aic"
 
@@ -52,15 +47,8 @@ class StepResponseCheck(unittest.TestCase):
 
     def test_step_response(self):
         p = lambda n, d: rospy.get_param("~" + n, d)
-        controller = p("controller", "aic")
-        kind = p("profile", "step")
-        if kind == "step":
-            prof = profiles.step(v=float(p("step", 0.5)), t_step=0.5, hold=float(p("hold", 3.0)))
-        elif kind == "square":
-            prof = profiles.square(float(p("low", 0.1)), float(p("high", 0.5)), float(p("period", 4.0)),
-                                   int(p("cycles", 2)), t_lead=float(p("lead_in", 2.0)))
-        else:
-            self.fail("~profile must be step or square, not %r" % kind)
+        controller = "aic"
+        prof = profiles.step(v=float(p("step", 0.5)), t_step=0.5, hold=float(p("hold", 3.0)))
         settle_limit = float(p("settle_limit", 1.0))      # s
         overshoot_limit = float(p("overshoot_limit", 20.0))  # % of the step
         sse_limit = float(p("sse_limit", 2.0))            # % of the set point
@@ -101,7 +89,7 @@ class StepResponseCheck(unittest.TestCase):
             self.assertLess(sse_pct, sse_limit, "%s: steady-state error %.2f %% of the set point >= %.2f %%"
                             % (what, sse_pct, sse_limit))
             self.assertGreater(step, 0.0)
-        for s in ("odom", "drive") + (("belief",) if controller == "aic" else ()):
+        for s in ("odom", "drive", "belief"):
             a = arr[s]
             self.assertTrue(a.size and all(map(math.isfinite, a.ravel())), "non-finite or no data on %s" % s)
 

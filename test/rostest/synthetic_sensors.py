@@ -23,15 +23,22 @@ Private parameters (all optional):
   faults [bool] false            interleave invalid messages (every numeric field NaN/+Inf/-Inf
                                  in turn, mismatched arrays, unknown and missing joint names,
                                  zero and backwards stamps, absurd set points) with the valid ones
+  clock_rate [Hz] 0              > 0 (with /use_sim_time true): this fixture is the simulation
+                                 and publishes /clock, from 0, in steps of 1 / clock_rate s paced
+                                 at real time, as the plant node does (sim/nodes/plant_node.cpp):
+                                 a stalled fixture stalls the clock, and a lag above 0.5 s is
+                                 dropped, not caught up; every time of the run is then this clock's
 Joint names are published in a non-standard order (rear first) with an extra joint, so
 that the node must look them up by name.
 """
 import itertools
 import math
 import threading
+import time
 
 import rospy
 from geometry_msgs.msg import Twist
+from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import Imu, JointState
 
 JOINTS = ["rear_right_wheel", "front_left_wheel", "extra_caster_joint", "rear_left_wheel", "front_right_wheel"]
@@ -52,6 +59,7 @@ class SyntheticSensors:
         self.sensors_window = (float(p("sensors_stop_at", -1.0)), float(p("sensors_resume_at", -1.0)))
         self.set_point_window = (float(p("set_point_stop_at", -1.0)), float(p("set_point_resume_at", -1.0)))
         self.faults = bool(p("faults", False))
+        self.clock_rate = float(p("clock_rate", 0.0))
 
         self.joint_pub = rospy.Publisher("/joint_states", JointState, queue_size=50)
         self.imu_pub = rospy.Publisher("/imu/data", Imu, queue_size=50)
@@ -180,6 +188,21 @@ class SyntheticSensors:
         return faults
 
     # ---- loops ----------------------------------------------------------------------
+    def clock_loop(self, pub):
+        """Publish /clock from 0 in steps of 1 / clock_rate s at real-time pace (wall clock);
+        a lag above 0.5 s is dropped (the clock stalls with the fixture), as the plant node does."""
+        step = 1.0 / self.clock_rate
+        n, base, sync = 0, 0, time.monotonic()
+        while not rospy.core.is_shutdown_requested():
+            due = base + int((time.monotonic() - sync) / step)
+            if due > n + int(0.5 / step):
+                base, sync = n, time.monotonic()  # behind real time: drop the lag
+                continue
+            while n < due:
+                n += 1
+                pub.publish(Clock(clock=rospy.Time.from_sec(n * step)))
+            time.sleep(max(0.0, sync + (n + 1 - base) * step - time.monotonic()))
+
     def active(self, window, t):
         stop, resume = window
         if stop < 0.0 or t < stop:
@@ -228,4 +251,8 @@ class SyntheticSensors:
 
 if __name__ == "__main__":
     rospy.init_node("synthetic_sensors")
-    SyntheticSensors().run()
+    sensors = SyntheticSensors()
+    if sensors.clock_rate > 0.0:
+        clock_pub = rospy.Publisher("/clock", Clock, queue_size=10)
+        threading.Thread(target=sensors.clock_loop, args=(clock_pub,), daemon=True).start()
+    sensors.run()

@@ -6,7 +6,8 @@ unknown and missing joint names, zero and backwards stamps, absurd set points), 
 and its diagnostics count the drops of every kind.
 
 Parameters (~): duration [s] (recorded after the first command), max_wheel_speed [rad/s],
-min_rate [Hz] (least /cmd_drive rate over the run).
+min_rate [Hz] (least /cmd_drive rate over the run: a rate check on the wall clock, receipt
+times, as rostest's hztest; node_bad_input.test states the tolerance).
 """
 import math
 import sys

@@ -5,6 +5,11 @@ zero; when it returns, control resumes.
 The fixture stops and resumes the stream (sensors or set point); this test finds the gap
 in the stream it also records (joint_states stamps, or set point receipt times).
 
+Runs on simulated time (/use_sim_time true, the fixture synthetic_sensors.py publishing
+/clock): the latencies are judged between message stamps and this node's ROS time at
+receipt (jackal_msgs/Drive and geometry_msgs/Twist carry no stamp), all on that clock; the
+waits are conditions with a deadline.
+
 Parameters (~): stream ("sensors" | "set_point"), max_zero_latency [s] (from the last input
 to the first zero command), max_resume_latency [s] (from the first input after the gap to
 the first non-zero command), min_gap [s] (what counts as the gap), moving [rad/s] (a
@@ -36,6 +41,7 @@ class DropoutTest(unittest.TestCase):
         max_resume = float(rospy.get_param("~max_resume_latency", 1.0))
         min_gap = float(rospy.get_param("~min_gap", 1.0))
         moving = float(rospy.get_param("~moving", 0.05))
+        self.assertTrue(rospy.get_param("/use_sim_time", False), "the latencies are judged on simulated time")
         if stream == "sensors":
             inputs = Recorder("/joint_states", JointState, use_stamp=True)
         else:
@@ -47,7 +53,8 @@ class DropoutTest(unittest.TestCase):
 
         self.assertTrue(wait_for(lambda: gap() is not None, 40.0), "the fixture never stopped the %s" % stream)
         t_last, t_back = gap()
-        self.assertTrue(wait_for(lambda: cmd.snapshot()[-1][0] >= t_back + max_resume + 0.5, 30.0))
+        self.assertTrue(wait_for(lambda: cmd.snapshot() and cmd.snapshot()[-1][0] >= t_back + max_resume + 0.5, 30.0),
+                        "no /cmd_drive %.1f s after the %s returned" % (max_resume + 0.5, stream))
         items = cmd.snapshot()
         for _, m in items:
             self.assertTrue(finite(m.drivers))

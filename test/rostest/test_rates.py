@@ -4,6 +4,10 @@ MD5; the beliefs keep up with time (in /diagnostics "loops", over the diagnostic
 "belief time integrated [s]" grows at 1 s per second, "belief steps" at least at the belief
 rate); ~belief arrives at min(debug_rate, belief_rate) (measured from its stamps).
 
+Rate checks on the wall clock, as rostest's hztest (expected rate, relative tolerance, window):
+/cmd_drive by receipt time, ~belief and the diagnostics by their stamps; each within
+rate_tolerance of the expected rate (the belief steps: at least 1 - rate_tolerance of it).
+
 Parameters (~): expected_action_rate [Hz], expected_belief_rate [Hz], expected_debug_rate
 [Hz] (the ~belief topic), rate_tolerance [-] (relative, 0.1), warmup [s] (ignored first
 part), duration [s] (measured window).

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """rostest: dynamic_reconfigure changes apply live, invalid ones are refused.
 
-1. action_rate -> `new_action_rate`: /cmd_drive follows (rate from receipt times, +-tolerance).
+1. action_rate -> `new_action_rate`: /cmd_drive follows (rate from receipt times on the wall
+   clock over `duration`, within +-rate_tolerance relative: a rate check as rostest's hztest).
 2. belief_rate below action_rate: refused; the server reports the old value.
 3. Only the changed key is applied: a reconfigure of tau leaves k_a as the launch file set it
    (`yaml_k_a`, 2000: beyond the old cfg range of k_a, within the schema's), in the server's

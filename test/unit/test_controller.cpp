@@ -169,6 +169,52 @@ TEST(Controller, ANonFiniteActionIsResetNotClamped)
   EXPECT_EQ(c.runawayCount(), 1u);
 }
 
+TEST(Controller, ADivergingActionIsResetNotClamped)
+{
+  // The thesis's improved controller as printed (Euler, tau = 0.001 s at 1 kHz, config/
+  // thesis_improved.yaml) diverges: from rest its beliefs grow ~6x per belief step and the
+  // belief update's runaway check (|mu| > runaway_limit) fires at the fifth. An action step that
+  // reads the fourth step's beliefs (finite, below runaway_limit, hundreds of m/s) must reset and
+  // send zero, not clamp that action to +-max_wheel_speed and send it.
+  AicParams p;
+  p.integrator = Integrator::kEuler;
+  ActiveInferenceController c{ p };
+  ASSERT_TRUE(c.setGoal(Vector3(0.5, 0.0, 0.0)));
+  ASSERT_TRUE(c.setMeasurement(YTilde::Zero(5, 4)));
+  int k = 0;
+  while (c.mu().cwiseAbs().maxCoeff() <= 10.0 * p.max_wheel_speed && k < 10)
+  {
+    ASSERT_EQ(c.updateBeliefs(1.0 / p.belief_rate), Status::kOk) << "belief step " << k;
+    ++k;
+  }
+  ASSERT_LE(c.mu().cwiseAbs().maxCoeff(), p.runaway_limit) << "the belief check would have caught it";
+  ASSERT_GT(c.mu().cwiseAbs().maxCoeff(), 10.0 * p.max_wheel_speed) << "no diverging beliefs to act on";
+  EXPECT_EQ(c.updateAction(1.0 / p.action_rate), Status::kRunaway) << "action sent: " << c.action().transpose();
+  EXPECT_TRUE(c.action().isZero()) << c.action().transpose();
+  EXPECT_TRUE(c.mu().isZero());
+  EXPECT_EQ(c.runawayCount(), 1u);
+}
+
+TEST(Controller, ASaturatedActionIsNotADivergence)
+{
+  // The largest step the default gains take at the wheel limit: goal at the top speed, wheels
+  // measured at the opposite limit. It is clamped, not reset.
+  AicParams p;
+  ActiveInferenceController c{ p };
+  ASSERT_TRUE(c.setGoal(Vector3(p.max_wheel_speed * p.wheel_radius, 0.0, 0.0)));
+  YTilde y = YTilde::Zero(5, 4);
+  y(kOmegaLeft, 0) = -p.max_wheel_speed;
+  y(kOmegaRight, 0) = -p.max_wheel_speed;
+  ASSERT_TRUE(c.setMeasurement(y));
+  for (int k = 0; k < 50; ++k)
+  {
+    ASSERT_EQ(c.updateAction(1.0 / p.action_rate), Status::kOk) << "action step " << k;
+    EXPECT_LE(c.action().cwiseAbs().maxCoeff(), p.max_wheel_speed);
+  }
+  EXPECT_EQ(c.action().cwiseAbs().maxCoeff(), p.max_wheel_speed) << "not at the limit: " << c.action().transpose();
+  EXPECT_EQ(c.runawayCount(), 0u);
+}
+
 TEST(Controller, ActionIsClamped)
 {
   AicParams p = thesisStandard();
