@@ -41,7 +41,6 @@ arguments.
 import csv
 import glob
 import json
-import math
 import os
 import subprocess
 import time
@@ -97,14 +96,6 @@ def ratio(a, b):
     if a is None or b is None or b == 0.0:
         return None
     return abs(a) / abs(b)
-
-
-def geometric_mean(values):
-    """Geometric mean of the positive values (None if there is none), and how many."""
-    vals = [v for v in values if v is not None and v > 0.0]
-    if not vals:
-        return None, 0
-    return math.exp(sum(math.log(v) for v in vals) / len(vals)), len(vals)
 
 
 def metric_limited(metric, limited):
@@ -203,7 +194,7 @@ def suite(a, tool):
     gmean, gmean_limited = {}, {}
     for m in TABLE_METRICS:
         following, lim = plant_limits.split((q["ratios"][m], metric_limited(m, q["limited"])) for q in ratios)
-        gmean[m], gmean_limited[m] = geometric_mean(following), geometric_mean(lim)
+        gmean[m], gmean_limited[m] = plant_limits.gmean(following), plant_limits.gmean(lim)
 
     plots = {}
     if not a.no_plots:
