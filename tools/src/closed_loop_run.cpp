@@ -14,13 +14,16 @@
  *            [--config PLANT.yaml] [--overlay FILE]... [--set key=value]... [--urdf FILE]
  *            (--step V [--turn W] | --square LOW HIGH | --profile FILE [--segments]) [--channel linear|angular]
  *            [--period S] [--cycles N] [--rest S] [--hold S] [--noise] [--fault LINE]... [--csv FILE]
+ *            [--ideal-iterations N] [--ideal-gain G]
  *   --overlay FILE    plant YAML with only the keys that differ (e.g. sim/config/variants/*.yaml),
  *                     applied after --config and before --set; repeatable, later ones win
  *   --controller open  no controller: the set point's wheel speeds go to the MCU as they are
  *   --controller ideal the ideal controller (jackal_sim/harness/closed_loop.hpp, runIdealController): the
  *                     command sequence learned over --ideal-iterations runs from rest (iterative
  *                     learning control, the set point command_delay ahead to start with); the best
- *                     run's figures; where it misses the set point the plant decides
+ *                     run's figures; where it misses the set point the plant decides;
+ *                     --ideal-iterations N (>= 1, default kIdealIterations), --ideal-gain G (in (0, 2),
+ *                     default kIdealLearningGain) set the learning
  *   --channel angular  the step / square values are yaw rates [rad/s] (linear set point 0);
  *                      metrics on the yaw rate
  *   --step V          0 until --rest, then V [m/s] for --hold seconds
