@@ -2,12 +2,15 @@
 """Python unit test (no roscore, no build): the logic of the experiment tools that run ROS
 (aic_sweep.py, aic_node_load.py, aic_soak.py, aic_experiment.py: jackal_aic_tools.sweep,
 .node_load, .soak, .procfs, .experiment), of the report and summary printers
-(jackal_aic_tools.report, .summary) and of dev/failure_summary.py, on inputs made up here.
+(jackal_aic_tools.report, .summary), of dev/failure_summary.py, and the plant-limited pairs of
+the tracking benchmark (jackal_aic_tools.plant_limits, driving.judge_tracking,
+track_suite.metric_limited), on inputs made up here.
 """
 import argparse
 import contextlib
 import io
 import json
+import math
 import os
 import subprocess
 import sys
@@ -18,7 +21,8 @@ import unittest
 
 ROOT = os.path.realpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), ".."))
 sys.path.insert(0, os.path.join(ROOT, "src"))
-from jackal_aic_tools import experiment, procfs, report, soak, summary, sweep  # noqa: E402
+from jackal_aic_tools import driving, experiment, plant_limits, procfs, report, soak, summary, sweep  # noqa: E402
+from jackal_aic_tools import track_suite  # noqa: E402
 
 
 def step_result(name, status="ok", rise=0.1, settle=0.3, overshoot=2.0):
@@ -211,6 +215,112 @@ class ReportAndSummaryTest(unittest.TestCase):
         self.assertIn("no readable result", text)
 
 
+def plant(torque_limited=0.0, lag=(0.1, 0.2), slip=(0.01, 0.02)):
+    """closed_loop_run's "plant" figures: torque share, wheel-loop lag and slip (vx, wz) RMS."""
+    return {"torque_limited": torque_limited, "wheel_loop": {"vx": lag[0], "wz": lag[1]},
+            "slip": {"vx": slip[0], "wz": slip[1]}}
+
+
+def track_result(vx, wz, command_delay=0.12, ideal=None, plant_figures=None):
+    """A closed_loop_run --profile result with the ground truth's RMS errors vx, wz (and, for an
+    ideal run, its "ideal" and "plant" figures)."""
+    r = {"command_delay": command_delay, "tracking": {"truth": {"vx": {"rms": vx}, "wz": {"rms": wz}}}}
+    if ideal:
+        r["ideal"] = {"runs": 8, "best": 5}
+        r["plant"] = plant_figures or plant()
+    return r
+
+
+class PlantLimitsTest(unittest.TestCase):
+    """plant_limits.classify / reason, and the judged set of driving.judge_tracking: plant-limited
+    channels are reported apart, the others judged."""
+
+    def test_a_channel_is_limited_above_the_ratio_only(self):
+        floor = {"vx": 0.01, "wz": 0.02}
+        ideal = {"vx": 0.02, "wz": 0.01, "plant": plant()}
+        out = plant_limits.classify(ideal, floor)
+        self.assertIsNone(out["wz"])
+        self.assertTrue(out["vx"].startswith("ideal 2.0 x floor on vx: "), out["vx"])
+        # The control: just below and just above PLANT_LIMIT_RATIO flips the verdict.
+        below = dict(ideal, vx=0.99 * plant_limits.PLANT_LIMIT_RATIO * floor["vx"])
+        above = dict(ideal, vx=1.01 * plant_limits.PLANT_LIMIT_RATIO * floor["vx"])
+        self.assertIsNone(plant_limits.classify(below, floor)["vx"])
+        self.assertIsNotNone(plant_limits.classify(above, floor)["vx"])
+        self.assertIsNone(plant_limits.classify(ideal, floor, limit=2.5)["vx"])
+        # A zero floor: limited when the ideal misses at all.
+        self.assertIsNone(plant_limits.classify(dict(ideal, vx=0.0), dict(floor, vx=0.0))["vx"])
+        self.assertIsNotNone(plant_limits.classify(ideal, dict(floor, vx=0.0))["vx"])
+        for bad in (-0.01, float("nan"), float("inf")):
+            with self.assertRaises(ValueError):
+                plant_limits.classify(dict(ideal, wz=bad), floor)
+
+    def test_the_reason_is_the_largest_measured_part(self):
+        # Slip above the wheel loop's lag: the wheels slip.
+        r = plant_limits.reason("vx", 2.8, plant(lag=(0.19, 0.03), slip=(0.27, 0.1)))
+        self.assertIn("the wheels slip against the body (RMS 0.27 m/s", r)
+        # The lag above the slip: the torque limit when the torque is at its limit often enough ...
+        share = plant_limits.TORQUE_LIMITED_SHARE
+        r = plant_limits.reason("wz", 2.4, plant(torque_limited=share, lag=(0.1, 0.9), slip=(0.01, 0.02)))
+        self.assertIn("the wheel loop lags its set point (RMS 0.9 rad/s)", r)
+        self.assertTrue(r.endswith("the motor's torque limit"), r)
+        # ... else the MCU's loop (the control: a share just below flips the cause).
+        r = plant_limits.reason("wz", 2.4, plant(torque_limited=0.99 * share, lag=(0.1, 0.9), slip=(0.01, 0.02)))
+        self.assertTrue(r.endswith("the MCU's loop, not the motor"), r)
+        self.assertTrue(r.startswith("ideal 2.4 x floor on wz: "), r)
+        with self.assertRaises(KeyError):
+            plant_limits.reason("vy", 2.0, plant())
+
+    def test_gmean_split_and_metric_kinds(self):
+        self.assertEqual(plant_limits.split([(1.0, False), (2.0, True), (3.0, None)]), ([1.0, 3.0], [2.0]))
+        g, n = plant_limits.gmean([2.0, 8.0, None])
+        self.assertAlmostEqual(g, 4.0)
+        self.assertEqual(n, 2)
+        self.assertEqual(plant_limits.gmean([]), (None, 0))
+        self.assertFalse(track_suite.metric_limited("vx_rms", ["wz"]))
+        self.assertTrue(track_suite.metric_limited("wz_max", ["wz"]))
+        self.assertTrue(track_suite.metric_limited("drift_final", ["vx"]))
+        self.assertFalse(track_suite.metric_limited("heading_final", []))
+
+    def judge(self, ideal_wz):
+        """driving.judge_tracking on two made-up pairs: pair a follows (AIC / stock 0.5 on both
+        channels), pair b's wz has AIC / stock 1.5 and the ideal controller's wz RMS ``ideal_wz``
+        against a floor of 0.1 rad/s."""
+        res = {("track", "a.csv", "default", "aic"): (track_result(0.05, 0.05), None),
+               ("track", "a.csv", "default", "stock"): (track_result(0.1, 0.1), None),
+               ("track", "a.csv", "default", "ideal"): (track_result(0.01, 0.01, ideal=True), None),
+               ("track", "b.csv", "default", "aic"): (track_result(0.05, 0.3), None),
+               ("track", "b.csv", "default", "stock"): (track_result(0.1, 0.2), None),
+               ("track", "b.csv", "default", "ideal"): (track_result(0.01, ideal_wz, ideal=True), None)}
+        out = {"tracking": []}
+        ok = driving.judge_tracking(res, ["a.csv", "b.csv"], ["default"], True, out,
+                                    floor_of=lambda p, latency, cache: {"vx": 0.1, "wz": 0.1})
+        return ok, out
+
+    def test_judged_set_leaves_out_the_plant_limited_channels(self):
+        ok, out = self.judge(ideal_wz=0.25)  # 2.5 x the floor: b's wz is plant-limited
+        a, b = out["tracking"]
+        self.assertIsNone(a["limited_wz"])
+        self.assertIn("ideal 2.5 x floor on wz", b["limited_wz"])
+        self.assertAlmostEqual(b["ideal_wz_ratio"], 2.5)
+        self.assertTrue(b["pass"], "a plant-limited channel is not judged")
+        self.assertAlmostEqual(out["gmean"]["wz"], 0.5)     # a's wz only
+        self.assertAlmostEqual(out["gmean"]["all"], 0.5)    # a's two, b's vx: all 0.5
+        self.assertAlmostEqual(out["aic_floor_gmean"]["wz"], 0.5)
+        self.assertAlmostEqual(out["limited_gmean"]["aic_stock"], 1.5)
+        self.assertAlmostEqual(out["limited_gmean"]["aic_ideal"], 0.3 / 0.25)
+        self.assertEqual(out["limited_gmean"]["n"], 1)
+        self.assertTrue(ok, "every judged channel passes, their geometric mean 0.5 within TRACK_GMEAN_BOUND")
+        # The control: the ideal controller follows b's wz (0.5 x the floor): judged, and it fails.
+        ok, out = self.judge(ideal_wz=0.05)
+        b = out["tracking"][1]
+        self.assertIsNone(b["limited_wz"])
+        self.assertFalse(b["pass"])
+        self.assertFalse(ok)
+        self.assertAlmostEqual(out["gmean"]["wz"], math.sqrt(0.5 * 1.5))
+        self.assertEqual(out["limited_gmean"]["n"], 0)
+        self.assertIsNone(out["limited_gmean"]["aic_stock"])
+
+
 class FailureSummaryTest(unittest.TestCase):
     SCRIPT = os.path.join(ROOT, "dev", "failure_summary.py")
 
@@ -243,4 +353,4 @@ class FailureSummaryTest(unittest.TestCase):
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
     pyunit.main("tool_logic", ProcfsTest, SweepTest, ExperimentTest, SoakTest, ReportAndSummaryTest,
-                FailureSummaryTest)
+                FailureSummaryTest, PlantLimitsTest)

@@ -151,9 +151,21 @@ class TrackCheck(unittest.TestCase):
                 s = runs[(q["variant"], "stock")]["metrics"]["vx_rms"]
                 self.assertAlmostEqual(q["ratios"]["vx_rms"], a / s)
             gm, n = data["geometric_mean"]["vx_rms"]
-            self.assertEqual(n, 2)
+            self.assertEqual(n, 2, "both pairs follow on vx")
             self.assertAlmostEqual(gm, math.sqrt(data["ratios"][0]["ratios"]["vx_rms"] *
                                                  data["ratios"][1]["ratios"]["vx_rms"]))
+            # The ideal controller per pair against the floor; on the default plant it follows the short
+            # profile (the ideal knows it in advance: below the floor), so no channel is plant-limited there.
+            limits = {q["variant"]: q for q in data["plant_limits"]}
+            self.assertEqual(set(limits), {"default", "slow_latency"})
+            for v, q in limits.items():
+                for ch in ("vx", "wz"):
+                    self.assertAlmostEqual(q["ideal_floor"][ch], q["ideal"][ch] / q["floor"][ch])
+                    self.assertEqual(q["limited"][ch] is not None,
+                                     q["ideal_floor"][ch] > data["plant_limit_ratio"], (v, ch))
+                self.assertGreaterEqual(q["ideal"]["runs"], 2)
+            self.assertLess(limits["default"]["ideal_floor"]["vx"], 1.0)
+            self.assertEqual([q["limited"] for q in data["ratios"] if q["variant"] == "default"], [[]])
             with open(os.path.join(out, "tracking.csv")) as f:
                 self.assertEqual(len(list(csv.DictReader(f))), 4)
             with open(os.path.join(out, "ratios.csv")) as f:

@@ -18,7 +18,10 @@ Three parts, each AIC and stock in the same run (doc/experiments.md, 'Driving ac
   TRACK_GMEAN_BOUND; beside it, per pair, the latency floor (floor_rms): the error of an ideal
   servo that moves the variant's latency after it is commanded, with unlimited acceleration, and
   the geometric mean of floor / stock, below which no controller with the same latency and
-  predictor of the stream can go (doc/tools.md, 'Latency floor').
+  predictor of the stream can go (doc/tools.md, 'Latency floor'); and the ideal controller's
+  error (jackal_aic_tools.plant_limits): a channel of a pair whose ideal error exceeds
+  plant_limits.PLANT_LIMIT_RATIO x the floor is plant-limited, reported apart with its reason;
+  the per-pair verdicts and the geometric means judge the plant-following channels only.
 
 `evaluate()` runs them all and returns the figures with verdicts; `cost()` turns the figures
 into the tuner's scalar (scripts/aic_tune.py --driving). Stock runs do not depend on the AIC's
@@ -32,7 +35,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from jackal_aic_tools import cli, tracking
+from jackal_aic_tools import cli, plant_limits, tracking
 
 #: Step cases: name -> (closed_loop_run arguments, result key, which channel's figures).
 STEP_CASES = {
@@ -81,8 +84,9 @@ def default_variants(root):
 
 
 class Runner:
-    """Runs closed_loop_run for one AIC configuration (a YAML and KEY=VALUE overrides) and the stock
-    controller, on one plant YAML; caches the stock controller's results."""
+    """Runs closed_loop_run for one AIC configuration (a YAML and KEY=VALUE overrides), the stock
+    controller and the ideal controller, on one plant YAML; caches the stock and ideal controllers'
+    results (they do not depend on the AIC's settings)."""
 
     def __init__(self, exe, aic_config, plant_config, aic_sets=(), jobs=2):
         self.exe, self.aic_config, self.plant_config = exe, aic_config, plant_config
@@ -91,7 +95,10 @@ class Runner:
         self._stock = {}
 
     def command(self, controller, args, overlay=None, plant_sets=()):
-        """The argument list of one run (noisy sensors)."""
+        """The argument list of one run (noisy sensors; the ideal controller uses the ground truth
+        and ideal sensors: plant_limits.ideal_command)."""
+        if controller == "ideal":
+            return plant_limits.ideal_command(self.exe, self.plant_config, args, overlay, plant_sets)
         cmd = [self.exe, "--controller", controller, "--noise", "--config", self.plant_config] + list(args)
         if controller == "aic":
             cmd += ["--aic-config", self.aic_config]
@@ -105,11 +112,11 @@ class Runner:
 
     def run_all(self, jobs):
         """jobs: list of (key, controller, args, overlay, plant_sets, want_trace). Returns key ->
-        (result dict, trace columns or None); stock results come from the cache when there."""
+        (result dict, trace columns or None); stock and ideal results come from the cache when there."""
         def one(job):
             key, controller, args, overlay, plant_sets, want_trace = job
             cache_key = (controller, tuple(args), overlay, tuple(plant_sets), want_trace)
-            if controller == "stock" and cache_key in self._stock:
+            if controller != "aic" and cache_key in self._stock:
                 return self._stock[cache_key]
             trace = None
             with tempfile.TemporaryDirectory() as tmp:
@@ -120,7 +127,7 @@ class Runner:
                 if want_trace:
                     trace = tracking.read_columns(os.path.join(tmp, "trace.csv"))
             out = (result, trace)
-            if controller == "stock":
+            if controller != "aic":
                 self._stock[cache_key] = out
             return out
         with ThreadPoolExecutor(max_workers=self.jobs) as pool:
@@ -180,17 +187,23 @@ def judge_step(name, runs):
             "aic_overshoot": a_os, "stock_overshoot": s_os, "bound": STEP_BOUNDS[name], "pass": passed}
 
 
-def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, steps=True):
-    """Run the driving acceptance set with ``runner`` (Runner). Returns a dict:
+def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, steps=True, ideal=True):
+    """Run the driving acceptance set with ``runner`` (Runner); with ``ideal`` the tracking pairs'
+    ideal controller too (else every channel counts as plant-following). Returns a dict:
     steps: list of judge_step() rows, {case, aic_settling, stock_settling, ratio, ratios,
     aic_overshoot, stock_overshoot, bound, pass};
     robust: list of {plant, case, runaways, settled, overshoot, pass};
     deficit: list of {command, aic_error, stock_error, pass} (errors in rad/s);
     tracking: list of {profile, variant, aic_vx, stock_vx, vx_ratio, aic_wz, stock_wz, wz_ratio,
     floor_vx, floor_wz (floor_rms at the variant's latency), floor_vx_ratio, floor_wz_ratio (floor /
-    stock), pass};
-    gmean: {vx, wz, all} of AIC / stock; floor_gmean: {vx, wz, all} of floor / stock (reported, not
-    judged); pass: every verdict."""
+    stock), ideal_vx, ideal_wz (the ideal controller's RMS error, None without ``ideal``),
+    ideal_vx_ratio, ideal_wz_ratio (ideal / floor), limited_vx, limited_wz (plant_limits.classify:
+    the reason, or None where the plant follows), pass (the plant-following channels' AIC / stock
+    within TRACK_PAIR_BOUND)};
+    over the plant-following channels: gmean {vx, wz, all} of AIC / stock (judged),
+    floor_gmean of floor / stock, aic_floor_gmean of AIC / floor, stock_floor_gmean of stock / floor;
+    over the plant-limited ones: limited_gmean {aic_stock, aic_floor, stock_floor, aic_ideal,
+    stock_ideal, n}; pass: every verdict."""
     profiles = profiles if profiles is not None else default_profiles(root)
     variants = variants if variants is not None else default_variants(root)
     variant_dir = os.path.join(root, "sim", "config", "variants")
@@ -216,7 +229,7 @@ def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, st
     if tracking_suite:
         for p in profiles:
             for v in variants:
-                for c in ("aic", "stock"):
+                for c in ("aic", "stock", "ideal") if ideal else ("aic", "stock"):
                     jobs.append((("track", p, v, c), c, ["--profile", p], None if v == "default" else v, (), False))
     res = runner.run_all(jobs)
     out = {"steps": [], "robust": [], "deficit": [], "tracking": []}
@@ -249,41 +262,77 @@ def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, st
             passed = abs(ea) <= DEFICIT_ERROR * w
             ok = ok and passed
             out["deficit"].append({"command": w, "aic_error": ea, "stock_error": es, "pass": passed})
-    logs = {"vx": [], "wz": []}
-    floor_logs = {"vx": [], "wz": []}
-    floors = {}
     if tracking_suite:
-        for p in profiles:
-            for v in variants:
-                a = res[("track", p, v, "aic")][0]["tracking"]["truth"]
-                s = res[("track", p, v, "stock")][0]["tracking"]["truth"]
-                row = {"profile": os.path.splitext(os.path.basename(p))[0],
-                       "variant": "default" if v == "default" else os.path.splitext(os.path.basename(v))[0]}
-                floor = floor_rms(p, res[("track", p, v, "stock")][0]["command_delay"], floors)
-                passed = True
-                for ch in ("vx", "wz"):
-                    ra = a[ch]["rms"] / s[ch]["rms"] if s[ch]["rms"] > 0 else 1.0
-                    rf = floor[ch] / s[ch]["rms"] if s[ch]["rms"] > 0 else 1.0
-                    row["aic_" + ch], row["stock_" + ch], row[ch + "_ratio"] = a[ch]["rms"], s[ch]["rms"], ra
-                    row["floor_" + ch], row["floor_%s_ratio" % ch] = floor[ch], rf
-                    logs[ch].append(math.log(max(ra, 1e-9)))
-                    floor_logs[ch].append(math.log(max(rf, 1e-9)))
-                    passed = passed and ra <= TRACK_PAIR_BOUND
-                row["pass"] = passed
-                ok = ok and passed
-                out["tracking"].append(row)
-        out["gmean"] = _gmean(logs)
-        out["floor_gmean"] = _gmean(floor_logs)
-        g = out["gmean"]
-        ok = ok and g["all"] <= TRACK_GMEAN_BOUND
+        ok = judge_tracking(res, profiles, variants, ideal, out) and ok
     out["pass"] = ok
     return out
 
 
+def judge_tracking(res, profiles, variants, ideal, out, floor_of=None):
+    """The tracking part of evaluate(): rows, verdicts and geometric means of the runs ``res``
+    (key ("track", profile, variant, controller) -> (closed_loop_run's JSON result, trace); the
+    ideal controller's only with ``ideal``) into ``out`` (tracking, gmean, floor_gmean,
+    aic_floor_gmean, stock_floor_gmean, limited_gmean; see evaluate()). ``floor_of(profile,
+    latency, cache)``: the latency floor {vx, wz} (default floor_rms). Returns True when every
+    judged figure passes: each pair's plant-following channels within TRACK_PAIR_BOUND, their
+    geometric mean within TRACK_GMEAN_BOUND."""
+    floor_of = floor_of or floor_rms
+    ok = True
+    ratios = []  # (name, channel, plant-limited, value)
+    floors = {}
+    for p in profiles:
+        for v in variants:
+            a = res[("track", p, v, "aic")][0]["tracking"]["truth"]
+            s = res[("track", p, v, "stock")][0]["tracking"]["truth"]
+            row = {"profile": os.path.splitext(os.path.basename(p))[0],
+                   "variant": "default" if v == "default" else os.path.splitext(os.path.basename(v))[0]}
+            floor = floor_of(p, res[("track", p, v, "stock")][0]["command_delay"], floors)
+            best = plant_limits.ideal_figures(res[("track", p, v, "ideal")][0]) if ideal else None
+            limited = plant_limits.classify(best, floor) if ideal else {"vx": None, "wz": None}
+            passed = True
+            for ch in ("vx", "wz"):
+                ra = a[ch]["rms"] / s[ch]["rms"] if s[ch]["rms"] > 0 else 1.0
+                rf = floor[ch] / s[ch]["rms"] if s[ch]["rms"] > 0 else 1.0
+                row["aic_" + ch], row["stock_" + ch], row[ch + "_ratio"] = a[ch]["rms"], s[ch]["rms"], ra
+                row["floor_" + ch], row["floor_%s_ratio" % ch] = floor[ch], rf
+                row["ideal_" + ch] = best[ch] if ideal else None
+                row["ideal_%s_ratio" % ch] = best[ch] / floor[ch] if ideal and floor[ch] > 0 else None
+                row["limited_" + ch] = limited[ch]
+                lim = limited[ch] is not None
+                ratios += [("aic_stock", ch, lim, ra), ("floor_stock", ch, lim, rf)]
+                if floor[ch] > 0:
+                    ratios += [("aic_floor", ch, lim, a[ch]["rms"] / floor[ch]),
+                               ("stock_floor", ch, lim, s[ch]["rms"] / floor[ch])]
+                if ideal and best[ch] > 0:
+                    ratios += [("aic_ideal", ch, lim, a[ch]["rms"] / best[ch]),
+                               ("stock_ideal", ch, lim, s[ch]["rms"] / best[ch])]
+                if not lim:
+                    passed = passed and ra <= TRACK_PAIR_BOUND
+            row["pass"] = passed
+            ok = ok and passed
+            out["tracking"].append(row)
+
+    def following(name):
+        return _gmean({ch: [math.log(max(x, 1e-9)) for n, c, lim, x in ratios if n == name and c == ch and not lim]
+                       for ch in ("vx", "wz")})
+
+    out["gmean"] = following("aic_stock")
+    out["floor_gmean"] = following("floor_stock")
+    out["aic_floor_gmean"] = following("aic_floor")
+    out["stock_floor_gmean"] = following("stock_floor")
+    lg = {name: plant_limits.gmean([x for n, _, lim, x in ratios if n == name and lim])[0]
+          for name in ("aic_stock", "aic_floor", "stock_floor", "aic_ideal", "stock_ideal")}
+    lg["n"] = sum(1 for n, _, lim, _ in ratios if n == "aic_stock" and lim)
+    out["limited_gmean"] = lg
+    return ok and out["gmean"]["all"] <= TRACK_GMEAN_BOUND
+
+
 def _gmean(logs):
-    """{vx, wz, all}: the geometric means of the ratios whose logs are ``logs`` {vx: [...], wz: [...]}."""
+    """{vx, wz, all}: the geometric means of the ratios whose logs are ``logs`` {vx: [...], wz: [...]}
+    (a channel without values is left out; "all" of both, 1.0 when there is none)."""
     g = {ch: math.exp(sum(v) / len(v)) for ch, v in logs.items() if v}
-    g["all"] = math.exp((sum(logs["vx"]) + sum(logs["wz"])) / (len(logs["vx"]) + len(logs["wz"])))
+    n = len(logs["vx"]) + len(logs["wz"])
+    g["all"] = math.exp((sum(logs["vx"]) + sum(logs["wz"])) / n) if n else 1.0
     return g
 
 

@@ -6,7 +6,7 @@ import json
 import os
 import sys
 
-from . import driving
+from . import driving, plant_limits
 from .scorecard import RISE_RATIO, ROBUST_OVERSHOOT, SETTLE_RATIO, SQUARE_OVERSHOOT, SSE_PCT, STEP_OVERSHOOT, \
     ratio, verdict
 from .tables import fmt, text_table
@@ -81,25 +81,51 @@ def print_driving(crit):
           ["plant", "case", "AIC settle/os", "stock settled", "verdict"],
           [[r["plant"], r["case"], "%s s / %s %%" % (fmt(r["settling"]), fmt(r["overshoot"], "%.1f")),
             "yes" if r["stock_settled"] else "no", verdict(r["pass"])] for r in crit["driving_robust"]])
+    rows = crit["driving_tracking"]
+    limited = [(r, ch) for r in rows for ch in ("vx", "wz") if r.get("limited_" + ch)]
+    n_follow = 2 * len(rows) - len(limited)
+
+    def plant_cell(r):
+        return ", ".join(ch for ch in ("vx", "wz") if r.get("limited_" + ch)) or "-"
+
     g = crit["driving_gmean"]
-    table("6d. Tracking, RMS error against the set point (ground truth), AIC / stock <= %.2f per pair; geometric "
-          "mean %.3f (vx %.3f, wz %.3f; bound %.2f) %s" % (driving.TRACK_PAIR_BOUND, g["all"], g["vx"], g["wz"],
-                                                          g["bound"], verdict(g["pass"])),
-          ["profile", "variant", "vx AIC / stock [m/s]", "x", "wz AIC / stock [rad/s]", "x", "verdict"],
+    table("6d. Tracking, RMS error against the set point (ground truth), AIC / stock <= %.2f per pair on its "
+          "plant-following channels; geometric mean over the %d plant-following channels %.3f (vx %.3f, wz %.3f; "
+          "bound %.2f) %s. Plant-limited channels (column 'plant limits'; 6f) are not judged"
+          % (driving.TRACK_PAIR_BOUND, n_follow, g["all"], g["vx"], g["wz"], g["bound"], verdict(g["pass"])),
+          ["profile", "variant", "vx AIC / stock [m/s]", "x", "wz AIC / stock [rad/s]", "x", "plant limits", "verdict"],
           [[r["profile"], r["variant"], "%.4f / %.4f" % (r["aic_vx"], r["stock_vx"]), "%.2f" % r["vx_ratio"],
-            "%.4f / %.4f" % (r["aic_wz"], r["stock_wz"]), "%.2f" % r["wz_ratio"], verdict(r["pass"])]
-           for r in crit["driving_tracking"]])
-    fg = crit["driving_floor_gmean"]
-    table("6e. Latency floor (reported): RMS error of an ideal servo that moves the variant's latency "
-          "(motor.command_delay) after it is commanded, unlimited acceleration, holding or predicting the set "
-          "point, whichever is lower (doc/tools.md, 'Latency floor'); no controller with that latency and "
-          "predictor goes below it. Geometric mean floor / stock %.3f (vx %.3f, wz %.3f)" % (fg["all"], fg["vx"],
-                                                                                            fg["wz"]),
-          ["profile", "variant", "vx floor [m/s]", "floor / stock", "AIC / floor", "wz floor [rad/s]",
-           "floor / stock", "AIC / floor"],
+            "%.4f / %.4f" % (r["aic_wz"], r["stock_wz"]), "%.2f" % r["wz_ratio"], plant_cell(r), verdict(r["pass"])]
+           for r in rows])
+    fg, af, sf = crit["driving_floor_gmean"], crit["driving_aic_floor_gmean"], crit["driving_stock_floor_gmean"]
+    table("6e. Latency floor and ideal controller (reported). Floor: RMS error of an ideal servo that moves the "
+          "variant's latency (motor.command_delay) after it is commanded, unlimited acceleration, holding or "
+          "predicting the set point, whichever is lower (doc/tools.md, 'Latency floor'); no controller with that "
+          "latency and predictor goes below it. Ideal: the ideal controller (closed_loop_run --controller ideal: "
+          "the command learned over repeated runs, knowing the profile in advance); ideal / floor > %.2f: the "
+          "plant limits the channel (doc/tools.md, 'Plant-limited pairs'). Geometric means over the %d "
+          "plant-following channels: floor / stock %.3f (vx %.3f, wz %.3f), AIC / floor %.3f (vx %.3f, wz %.3f), "
+          "stock / floor %.3f (vx %.3f, wz %.3f)"
+          % (plant_limits.PLANT_LIMIT_RATIO, n_follow, fg["all"], fg["vx"], fg["wz"], af["all"], af["vx"], af["wz"],
+             sf["all"], sf["vx"], sf["wz"]),
+          ["profile", "variant", "vx floor [m/s]", "floor / stock", "AIC / floor", "ideal / floor",
+           "wz floor [rad/s]", "floor / stock", "AIC / floor", "ideal / floor"],
           [[r["profile"], r["variant"], "%.4f" % r["floor_vx"], "%.2f" % r["floor_vx_ratio"],
-            "%.2f" % (r["aic_vx"] / r["floor_vx"]), "%.4f" % r["floor_wz"], "%.2f" % r["floor_wz_ratio"],
-            "%.2f" % (r["aic_wz"] / r["floor_wz"])] for r in crit["driving_tracking"]])
+            "%.2f" % (r["aic_vx"] / r["floor_vx"]), fmt(r.get("ideal_vx_ratio"), "%.2f") + (" *" if r.get("limited_vx") else ""),
+            "%.4f" % r["floor_wz"], "%.2f" % r["floor_wz_ratio"], "%.2f" % (r["aic_wz"] / r["floor_wz"]),
+            fmt(r.get("ideal_wz_ratio"), "%.2f") + (" *" if r.get("limited_wz") else "")] for r in rows])
+    lg = crit["driving_limited_gmean"]
+    table("6f. Plant-limited channels (reported apart, not judged): the ideal controller's RMS error > %.2f x the "
+          "latency floor; the reason from the ideal run (the wheel loop's lag behind its set point, the wheels' slip "
+          "against the body, the share of the time the motor torque is at its limit). Geometric means over these "
+          "%d channels: AIC / stock %s, AIC / ideal %s, stock / ideal %s, AIC / floor %s"
+          % (plant_limits.PLANT_LIMIT_RATIO, lg["n"], fmt(lg["aic_stock"], "%.3f"), fmt(lg["aic_ideal"], "%.3f"),
+             fmt(lg["stock_ideal"], "%.3f"), fmt(lg["aic_floor"], "%.3f")),
+          ["profile", "variant", "channel", "ideal RMS", "AIC / ideal", "stock / ideal", "AIC / stock",
+           "reason"],
+          [[r["profile"], r["variant"], ch, "%.4f %s" % (r["ideal_" + ch], plant_limits.UNITS[ch]), "%.2f" % (r["aic_" + ch] / r["ideal_" + ch]),
+            "%.2f" % (r["stock_" + ch] / r["ideal_" + ch]), "%.2f" % r[ch + "_ratio"], r["limited_" + ch]]
+           for r, ch in limited] or [["(none)", "", "", "", "", "", "", ""]])
 
 
 def report(crit, ok, a, root):

@@ -13,6 +13,12 @@ twist integrated from the same start: final and maximum position error [m], fina
 [rad]); all computed by the core (jackal_aic/tracking_metrics.hpp). Then the AIC / stock ratio of
 every metric and its geometric mean over profiles x variants (< 1: the AIC tracks better).
 
+Per pair also the ideal controller (`closed_loop_run --controller ideal`, the command learned over
+repeated runs) against the latency floor (driving.floor_rms): a channel (vx, wz) whose ideal error
+exceeds plant_limits.PLANT_LIMIT_RATIO x the floor is plant-limited (jackal_aic_tools.plant_limits,
+with the reason measured in the ideal run); the geometric means are over the plant-following
+channels (a drift or heading metric: pairs that follow on both), the plant-limited ones apart.
+
 Writes to --out: tracking.json (everything), tracking.csv (one row per run), ratios.csv,
 traces/<profile>__<variant>__<controller>.csv (closed_loop_run's traces) and
 plots/<profile>__<variant>.png (set point and both controllers' velocities; both x-y paths
@@ -35,13 +41,12 @@ arguments.
 import csv
 import glob
 import json
-import math
 import os
 import subprocess
 import time
 from concurrent.futures import ThreadPoolExecutor
 
-from . import cli, track_profiles, track_report, tracking
+from . import cli, driving, plant_limits, track_profiles, track_report, tracking
 from .track_report import CONTROLLERS, TABLE_METRICS, UNITS
 
 
@@ -93,12 +98,14 @@ def ratio(a, b):
     return abs(a) / abs(b)
 
 
-def geometric_mean(values):
-    """Geometric mean of the positive values (None if there is none), and how many."""
-    vals = [v for v in values if v is not None and v > 0.0]
-    if not vals:
-        return None, 0
-    return math.exp(sum(math.log(v) for v in vals) / len(vals)), len(vals)
+def metric_limited(metric, limited):
+    """True when a TABLE_METRICS ``metric`` of a pair whose plant-limited channels are ``limited``
+    (a list of "vx", "wz") is not the plant-following kind: a vx_* or wz_* metric when its channel is
+    limited, a drift or heading metric when either is."""
+    for ch in plant_limits.CHANNELS:
+        if metric.startswith(ch + "_"):
+            return ch in limited
+    return bool(limited)
 
 
 def suite(a, tool):
@@ -129,22 +136,33 @@ def suite(a, tool):
     for sub in ("traces", "plots"):
         os.makedirs(os.path.join(a.out, sub), exist_ok=True)
 
-    jobs = [(p, v, c) for p in profiles for v in variants for c in CONTROLLERS]
+    jobs = [(p, v, c) for p in profiles for v in variants for c in CONTROLLERS + ("ideal",)]
     start = time.time()
 
     def one(job):
         p, v, c = job
+        if c == "ideal":
+            try:
+                return job, None, plant_limits.run_ideal(exe, a.plant_config, p["path"], v["overlay"]), None
+            except RuntimeError as e:
+                return job, None, None, str(e)
         trace = os.path.join(a.out, "traces", "%s__%s__%s.csv" % (p["name"], v["name"], c))
         res, err = run_job(exe, c, p["path"], v["overlay"] or "default", a.aic_config, a.plant_config, trace)
         return job, trace, res, err
 
     runs = []
+    ideal = {}
+    latency = {}
     errors = []
     with ThreadPoolExecutor(max_workers=a.jobs) as pool:
         for (p, v, c), trace, res, err in pool.map(one, jobs):
             if err:
                 errors.append(err)
                 continue
+            if c == "ideal":
+                ideal[(p["name"], v["name"])] = res
+                continue
+            latency[v["name"]] = res["command_delay"]
             runs.append({"profile": p["name"], "variant": v["name"], "controller": c, "trace": trace,
                          "runaways": res["runaways"], "tracking": res["tracking"], "path": res["path"],
                          "metrics": tracking.flat(res)})
@@ -153,13 +171,30 @@ def suite(a, tool):
 
     by_key = {(r["profile"], r["variant"], r["controller"]): r for r in runs}
     ratios = []
+    limits = []
+    floors = {}
     for p in profiles:
         for v in variants:
             aic = by_key[(p["name"], v["name"], "aic")]["metrics"]
             stock = by_key[(p["name"], v["name"], "stock")]["metrics"]
+            best = ideal[(p["name"], v["name"])]
+            try:
+                floor = driving.floor_rms(p["path"], latency[v["name"]], floors)
+            except tracking.TrackingError as e:
+                raise SuiteError("latency floor of %s: %s" % (p["path"], e))
+            limited = plant_limits.classify(best, floor)
             ratios.append({"profile": p["name"], "variant": v["name"],
-                           "ratios": {m: ratio(aic[m], stock[m]) for m in TABLE_METRICS}})
-    gmean = {m: geometric_mean([q["ratios"][m] for q in ratios]) for m in TABLE_METRICS}
+                           "ratios": {m: ratio(aic[m], stock[m]) for m in TABLE_METRICS},
+                           "limited": sorted(ch for ch in plant_limits.CHANNELS if limited[ch])})
+            limits.append({"profile": p["name"], "variant": v["name"], "ideal": best, "floor": floor,
+                           "ideal_floor": {ch: ratio(best[ch], floor[ch]) for ch in plant_limits.CHANNELS},
+                           "aic": {ch: aic[ch + "_rms"] for ch in plant_limits.CHANNELS},
+                           "stock": {ch: stock[ch + "_rms"] for ch in plant_limits.CHANNELS},
+                           "limited": limited})
+    gmean, gmean_limited = {}, {}
+    for m in TABLE_METRICS:
+        following, lim = plant_limits.split((q["ratios"][m], metric_limited(m, q["limited"])) for q in ratios)
+        gmean[m], gmean_limited[m] = plant_limits.gmean(following), plant_limits.gmean(lim)
 
     plots = {}
     if not a.no_plots:
@@ -179,6 +214,8 @@ def suite(a, tool):
             "profiles": [{"name": p["name"], "file": p["path"], "duration": p["duration"]} for p in profiles],
             "variants": variants, "runs": runs, "ratios": ratios,
             "geometric_mean": {m: list(g) for m, g in gmean.items()},
+            "geometric_mean_limited": {m: list(g) for m, g in gmean_limited.items()},
+            "plant_limit_ratio": plant_limits.PLANT_LIMIT_RATIO, "plant_limits": limits,
             "plots": {"%s__%s" % k: v for k, v in plots.items()}}
     with open(os.path.join(a.out, "tracking.json"), "w") as f:
         json.dump(data, f, indent=1)
@@ -193,12 +230,12 @@ def suite(a, tool):
                        ["%.6g" % r["path"]["ideal_length"], r["runaways"], os.path.relpath(r["trace"], a.out)])
     with open(os.path.join(a.out, "ratios.csv"), "w") as f:
         w = csv.writer(f)
-        w.writerow(["profile", "variant"] + ["%s aic/stock" % m for m in TABLE_METRICS])
+        w.writerow(["profile", "variant"] + ["%s aic/stock" % m for m in TABLE_METRICS] + ["plant-limited"])
         for q in ratios:
             w.writerow([q["profile"], q["variant"]] + ["" if q["ratios"][m] is None else "%.6g" % q["ratios"][m]
-                                                       for m in TABLE_METRICS])
-        w.writerow(["geometric mean", ""] + ["" if gmean[m][0] is None else "%.6g" % gmean[m][0]
-                                             for m in TABLE_METRICS])
+                                                       for m in TABLE_METRICS] + [" ".join(q["limited"])])
+        w.writerow(["geometric mean (plant-following)", ""] + ["" if gmean[m][0] is None else "%.6g" % gmean[m][0]
+                                                               for m in TABLE_METRICS])
     return data
 
 

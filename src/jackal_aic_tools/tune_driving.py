@@ -25,10 +25,11 @@ def run(a, tool):
     variants = [v if v == "default" else os.path.abspath(v) for v in a.driving_variants]
     best = {"cost": float("inf"), "values": None}
 
-    def evaluate(values, variant_list):
+    def evaluate(values, variant_list, ideal=False):
+        # The search's cost does not use the ideal controller (driving.cost): only the winner's report.
         runner = driving.Runner(exe, a.base, plant_config, to_args(values), a.jobs)
         runner._stock = stock_cache
-        return driving.evaluate(runner, tool.root, variants=variant_list)
+        return driving.evaluate(runner, tool.root, variants=variant_list, ideal=ideal)
 
     stock_cache = {}
     n = [0]
@@ -54,14 +55,15 @@ def run(a, tool):
     minimize(f, u0, method="Nelder-Mead", options={"maxfev": a.refine_evals, "initial_simplex": np.array(simplex),
                                                      "xatol": 1e-3, "fatol": 1e-4})
     print("== winner (cost %.4f), acceptance over every variant ==" % best["cost"])
-    ev = evaluate(best["values"], None)
+    ev = evaluate(best["values"], None, ideal=True)
     for r in ev["steps"]:
         print("  %-13s settling AIC / stock %s (bound %.2f), overshoot %s %%" % (
             r["case"], fmt(r["ratio"], "%.2f"), r["bound"], fmt(r["aic_overshoot"], "%.1f")))
     for r in ev["deficit"]:
         print("  turn deficit %.1f rad/s: AIC error %+.4f rad/s, stock %+.4f rad/s" % (
             r["command"], r["aic_error"], r["stock_error"]))
-    print("  tracking: geometric mean AIC / stock vx %.3f, wz %.3f; pairs above %.2f: %d of %d" % (
+    print("  tracking (plant-following channels): geometric mean AIC / stock vx %.3f, wz %.3f; pairs above %.2f: "
+          "%d of %d" % (
         ev["gmean"]["vx"], ev["gmean"]["wz"], driving.TRACK_PAIR_BOUND,
         sum(1 for r in ev["tracking"] if not r["pass"]), len(ev["tracking"])))
     if a.write:

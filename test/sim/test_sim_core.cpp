@@ -227,11 +227,17 @@ TEST(WheelSpeedServo, TorqueIsLimitedAndReleasedIsZero)
   WheelSpeedServo s(m, 0.001);
   s.setSetpoint(20.0, 0.0);
   EXPECT_DOUBLE_EQ(s.update(0.0, 0.0), 2.0);   // current limit at rest
+  EXPECT_TRUE(s.torqueLimited());
   EXPECT_NEAR(s.update(15.0, 0.001), 1.0, 1e-12);  // voltage limit: 4 (1 - 15/20)
+  EXPECT_TRUE(s.torqueLimited());
   EXPECT_NEAR(s.torqueLimits(10.0).first, -2.0, 1e-12);
+  s.setSetpoint(1.0, 0.0015);
+  EXPECT_NEAR(s.update(0.95, 0.0015), 0.5, 1e-3);  // 10 x 0.05 (and a tiny integral), within the limits
+  EXPECT_FALSE(s.torqueLimited());
   s.release(0.002);
   EXPECT_DOUBLE_EQ(s.update(5.0, 0.002), 0.0);
   EXPECT_FALSE(s.enabled());
+  EXPECT_FALSE(s.torqueLimited());
   s.setSetpoint(std::nan(""), 0.003);  // ignored
   EXPECT_DOUBLE_EQ(s.update(5.0, 0.003), 0.0);
 }

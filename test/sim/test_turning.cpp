@@ -275,9 +275,6 @@ TEST(Turning, NoOdeSolverMessages)
 }
 
 // ---------------------------------------------------------------- the ideal controller
-/// The ideal controller (set point command_delay ahead, integral of the ground-truth errors) is the
-/// plant's reference: on the default plant it tracks the planner profile better than the stock
-/// controller; on the turn-deficit firmware it removes the deficit of a 1 rad/s turn in place.
 // The record's yaw_gyro (closed_loop_run's "measured" yaw rate) is the IMU's reading, not wheel
 // odometry: on an arc of the default plant the two differ (the effective separation is not the
 // b_hat odometry assumes), and the gyro (ideal sensors here) is the truth.
@@ -306,46 +303,73 @@ TEST(ClosedLoopRecord, MeasuredYawRateIsTheGyroNotWheelOdometry)
   EXPECT_GT(odom_error / n, 0.01) << "control: wheel odometry's yaw rate is off on this arc";
 }
 
-TEST(IdealController, TracksBetterThanTheStockControllerAndRemovesADeficit)
+/// Mean of y over the samples with time >= from.
+double meanFrom(const std::vector<double>& time, const std::vector<double>& y, double from)
+{
+  double sum = 0.0;
+  int n = 0;
+  for (std::size_t i = 0; i < time.size(); ++i)
+  {
+    if (time[i] >= from)
+    {
+      sum += y[i];
+      ++n;
+    }
+  }
+  return n > 0 ? sum / n : std::nan("");
+}
+
+/// The ideal controller (runIdealController: the command learned over repeated runs) is the plant's
+/// reference: on the default plant its learning cuts the planner profile's error to less than half
+/// of its first run's (the set point command_delay ahead) and it tracks far better than the stock
+/// controller; on the turn-deficit firmware it learns to remove the deficit of a 1 rad/s turn in
+/// place, which its first run (the lead alone) keeps.
+TEST(IdealController, LearnsToTrackBetterThanTheStockControllerAndRemovesADeficit)
 {
   const RobotDescription d = loadRobotDescription(kUrdf);
   const TwistProfile planner = loadTwistProfileCsv(kRoot + "/sim/profiles/planner_10hz.csv");
   const double t0 = 1.0;
+  ClosedLoopConfig c;
+  c.controller = LoopController::kStock;
+  c.profile = profileSegments(planner, t0);
+  c.duration = t0 + planner.duration;
+  const IdealRun ideal = runIdealController(d, loadPlantParams(kPlant), c);
+  ASSERT_EQ(ideal.vx_rms.size(), static_cast<std::size_t>(kIdealIterations));
+  ASSERT_EQ(ideal.commands.size(), static_cast<std::size_t>(std::ceil(c.duration / 0.02 - 1e-9)));
+  EXPECT_LT(ideal.vx_rms[ideal.best], 0.5 * ideal.vx_rms[0]);
+  EXPECT_LT(ideal.wz_rms[ideal.best], 0.6 * ideal.wz_rms[0]);
+  const ClosedLoopRecord stock = runClosedLoop(d, loadPlantParams(kPlant), c);
   VelocityTrackingError e[2];
   int k = 0;
-  for (LoopController controller : { LoopController::kIdeal, LoopController::kStock })
+  for (const ClosedLoopRecord* r : { &ideal.record, &stock })
   {
-    ClosedLoopConfig c;
-    c.controller = controller;
-    c.profile = profileSegments(planner, t0);
-    c.duration = t0 + planner.duration;
-    const ClosedLoopRecord r = runClosedLoop(d, loadPlantParams(kPlant), c);
     std::vector<double> t;
-    for (double x : r.time)
+    for (double x : r->time)
     {
       t.push_back(x - t0);
     }
-    e[k++] = velocityTrackingError(planner, t, r.v_true, r.yaw_true);
+    e[k++] = velocityTrackingError(planner, t, r->v_true, r->yaw_true);
   }
-  EXPECT_LT(e[0].vx.rms, 0.8 * e[1].vx.rms);
-  EXPECT_LT(e[0].wz.rms, 0.8 * e[1].wz.rms);
+  EXPECT_LT(e[0].vx.rms, 0.4 * e[1].vx.rms);
+  EXPECT_LT(e[0].wz.rms, 0.4 * e[1].wz.rms);
+  // Replaying the learned commands is the best run again (the plant is deterministic).
+  ClosedLoopConfig replay = c;
+  replay.controller = LoopController::kIdeal;
+  replay.ideal_commands = ideal.commands;
+  const ClosedLoopRecord again = runClosedLoop(d, loadPlantParams(kPlant), replay);
+  ASSERT_EQ(again.v_true.size(), ideal.record.v_true.size());
+  EXPECT_NEAR(again.v_true.back(), ideal.record.v_true.back(), 1e-9);
 
   ClosedLoopConfig turn;
-  turn.controller = LoopController::kIdeal;
   turn.profile = stepProfile(1.0, 0.0, 1.0);
   turn.duration = 5.0;
-  const ClosedLoopRecord r = runClosedLoop(d, variant("turn_deficit"), turn);
-  double yaw = 0.0;
-  int n = 0;
-  for (std::size_t i = 0; i < r.time.size(); ++i)
-  {
-    if (r.time[i] >= 4.0)
-    {
-      yaw += r.yaw_true[i];
-      ++n;
-    }
-  }
-  EXPECT_NEAR(yaw / n, 1.0, 0.05) << "the firmware alone holds ~0.5 rad/s";
+  const IdealRun learned = runIdealController(d, variant("turn_deficit"), turn);
+  EXPECT_NEAR(meanFrom(learned.record.time, learned.record.yaw_true, 4.0), 1.0, 0.05);
+  turn.controller = LoopController::kIdeal;  // the lead alone: the first run
+  const ClosedLoopRecord lead = runClosedLoop(d, variant("turn_deficit"), turn);
+  EXPECT_LT(meanFrom(lead.time, lead.yaw_true, 4.0), 0.8) << "the firmware alone holds ~0.5 rad/s";
+  EXPECT_THROW(runIdealController(d, variant("turn_deficit"), turn, 0), std::invalid_argument);
+  EXPECT_THROW(runIdealController(d, variant("turn_deficit"), turn, 2, 2.0), std::invalid_argument);
 }
 
 int main(int argc, char** argv)

@@ -14,12 +14,16 @@
  *            [--config PLANT.yaml] [--overlay FILE]... [--set key=value]... [--urdf FILE]
  *            (--step V [--turn W] | --square LOW HIGH | --profile FILE [--segments]) [--channel linear|angular]
  *            [--period S] [--cycles N] [--rest S] [--hold S] [--noise] [--fault LINE]... [--csv FILE]
+ *            [--ideal-iterations N] [--ideal-gain G]
  *   --overlay FILE    plant YAML with only the keys that differ (e.g. sim/config/variants/*.yaml),
  *                     applied after --config and before --set; repeatable, later ones win
  *   --controller open  no controller: the set point's wheel speeds go to the MCU as they are
- *   --controller ideal the ideal controller (jackal_sim/harness/closed_loop.hpp, LoopController::kIdeal):
- *                     the set point's wheel speeds command_delay ahead plus an integral correction of
- *                     the ground-truth errors; where it misses the set point the plant decides
+ *   --controller ideal the ideal controller (jackal_sim/harness/closed_loop.hpp, runIdealController): the
+ *                     command sequence learned over --ideal-iterations runs from rest (iterative
+ *                     learning control, the set point command_delay ahead to start with); the best
+ *                     run's figures; where it misses the set point the plant decides;
+ *                     --ideal-iterations N (>= 1, default kIdealIterations), --ideal-gain G (in (0, 2),
+ *                     default kIdealLearningGain) set the learning
  *   --channel angular  the step / square values are yaw rates [rad/s] (linear set point 0);
  *                      metrics on the yaw rate
  *   --step V          0 until --rest, then V [m/s] for --hold seconds
@@ -34,6 +38,12 @@
  *   --noise           keep the plant YAML's sensor noise (seeded; default: ideal sensors)
  *   --fault LINE      inject a fault from START s after the run's start (sim/README.md)
  * JSON: {"runaways", "max_abs_speed", "command_delay" (the plant's motor.command_delay [s]),
+ *        "plant": what the plant did over the profile's span, any controller: {"torque_limited" (share
+ *        of the samples x sides with the motor torque clamped to its limit), "wheel_loop": {"vx", "wz"}
+ *        (RMS of the wheel loops' set point in effect minus the true wheel speeds, as body twist
+ *        [m/s, rad/s]: the MCU loop's lag), "slip": {"vx", "wz"} (RMS of the true wheel speeds' twist
+ *        minus the ground truth: slip and skid)}, with --controller ideal "ideal": {"runs", "best",
+ *        "vx_rms": [...], "wz_rms": [...]} (every run's RMS error over the whole run),
  *        "segments": [{"t_step", "initial", "target", "measured": {...}, "truth": {...}, "belief": {...},
  *        "drive": {...}}] [, "angular_segments": [...]] ("measured": wheel odometry in "segments", the
  *        gyro in "angular_segments"), "profile",
@@ -123,12 +133,14 @@ int main(int argc, char** argv)
   double turn = 0.0;
   std::string profile_file;
   bool profile_segments = false;
+  int ideal_iterations = kIdealIterations;
+  double ideal_gain = kIdealLearningGain;
   CommandLine cl("closed_loop_run",
                  "One set-point profile with the stock controller or the AIC on the ODE plant core, headless and "
                  "faster than real time; prints one JSON object with the metrics of every transition.");
   cl.option("controller", &controller,
             "aic, stock, open (no controller: the set point's wheel speeds go to the MCU as they are) or ideal (the "
-            "set point command_delay ahead plus an integral correction of the ground-truth errors: what the plant "
+            "command sequence learned over repeated runs, knowing the profile and the ground truth: what the plant "
             "allows)",
             true);
   cl.option("aic-config", &aic_config, "controller YAML (controller and node keys, as the node reads it)");
@@ -147,6 +159,8 @@ int main(int argc, char** argv)
   cl.option("profile", &profile_file,
             "twist profile CSV (t,vx,wz rows, zero-order hold, the last row's t ends it), played from --rest on");
   cl.flag("segments", &profile_segments, "with --profile: step metrics of every transition of both channels");
+  cl.option("ideal-iterations", &ideal_iterations, "--controller ideal: runs of the learning, >= 1");
+  cl.option("ideal-gain", &ideal_gain, "--controller ideal: learning gain, in (0, 2)");
   cl.option("period", &period, "square period [s]");
   cl.option("cycles", &cycles, "square periods, 1..100");
   cl.option("rest", &rest, "rest before the profile [s], > 0.2");
@@ -289,10 +303,23 @@ int main(int argc, char** argv)
     std::cerr << "closed_loop_run: " << e.what() << "\n";
     return 1;
   }
+  if (ideal_iterations < 1 || !(ideal_gain > 0.0 && ideal_gain < 2.0))
+  {
+    return cl.bad("--ideal-iterations must be >= 1 and --ideal-gain in (0, 2)");
+  }
   ClosedLoopRecord rec;
+  IdealRun ideal;
   try
   {
-    rec = runClosedLoop(desc, params, c);
+    if (c.controller == LoopController::kIdeal)
+    {
+      ideal = runIdealController(desc, params, c, ideal_iterations, ideal_gain);
+      rec = std::move(ideal.record);
+    }
+    else
+    {
+      rec = runClosedLoop(desc, params, c);
+    }
   }
   catch (const std::exception& e)
   {
@@ -416,6 +443,46 @@ int main(int argc, char** argv)
     {
       std::cout << ", \"angular_segments\": " << segments(true);
     }
+  }
+  // What the plant did over the profile's span (from t0 on).
+  {
+    double limited = 0.0;
+    double loop_v = 0.0;
+    double loop_w = 0.0;
+    double slip_v = 0.0;
+    double slip_w = 0.0;
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < rec.time.size(); ++k)
+    {
+      if (t_profile[k] < -1e-9 || t_profile[k] > tracked.duration + 1e-9)
+      {
+        continue;
+      }
+      limited += rec.torque_limited[k];
+      loop_v += std::pow(rec.wheel_setpoint[k] - rec.v_wheels[k], 2);
+      loop_w += std::pow(rec.wheel_setpoint_yaw[k] - rec.yaw_wheels[k], 2);
+      slip_v += std::pow(rec.v_wheels[k] - rec.v_true[k], 2);
+      slip_w += std::pow(rec.yaw_wheels[k] - rec.yaw_true[k], 2);
+      ++n;
+    }
+    const double m = std::max<double>(1.0, static_cast<double>(n));
+    std::cout << ", \"plant\": {\"torque_limited\": " << jsonNumber(limited / m) << ", \"wheel_loop\": {\"vx\": "
+              << jsonNumber(std::sqrt(loop_v / m)) << ", \"wz\": " << jsonNumber(std::sqrt(loop_w / m))
+              << "}, \"slip\": {\"vx\": " << jsonNumber(std::sqrt(slip_v / m)) << ", \"wz\": "
+              << jsonNumber(std::sqrt(slip_w / m)) << "}}";
+  }
+  if (c.controller == LoopController::kIdeal)
+  {
+    auto list = [](const std::vector<double>& v) {
+      std::string o = "[";
+      for (std::size_t i = 0; i < v.size(); ++i)
+      {
+        o += (i ? ", " : "") + jsonNumber(v[i]);
+      }
+      return o + "]";
+    };
+    std::cout << ", \"ideal\": {\"runs\": " << ideal.vx_rms.size() << ", \"best\": " << ideal.best
+              << ", \"vx_rms\": " << list(ideal.vx_rms) << ", \"wz_rms\": " << list(ideal.wz_rms) << "}";
   }
   std::cout << ", \"profile\": \"" << tracked.name << "\", \"duration\": " << jsonNumber(tracked.duration)
             << ", \"tracking\": " << tracking_json << ", \"path\": " << toJson(drift) << "}\n";

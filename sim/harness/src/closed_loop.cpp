@@ -262,8 +262,6 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
   double command_left = 0.0;
   double command_right = 0.0;
   double gyro_z = 0.0;  // the newest IMU sample's gyro z [rad/s], for the record
-  double ideal_linear = 0.0;   // kIdeal's integral correction of the body speed [m/s]
-  double ideal_angular = 0.0;  // and of the yaw rate [rad/s]
   const SetPointSegment* last_segment = nullptr;
   SegmentCursor segments(config.profile);
   SegmentCursor segments_ahead(config.profile);  // kIdeal: the set point command_delay ahead
@@ -343,18 +341,19 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
     {
       if (k % stock_period == 0)
       {
-        // Lead: the set point command_delay ahead; integral of the ground-truth errors against the set
-        // point in force (the command sent now acts after the delay, so the error is that of the
-        // commands sent command_delay ago: the gain is kept well below 1 / delay).
-        const double period = static_cast<double>(stock_period) * dt;
-        ideal_linear += kIdealIntegralGain * (sp_linear - plant->baseLinearVelocity().x()) * period;
-        ideal_angular += kIdealIntegralGain * (sp_angular - plant->baseAngularVelocity().z()) * period;
-        const double clamp = params.motor.max_wheel_speed * r;
-        ideal_linear = std::clamp(ideal_linear, -clamp, clamp);
-        ideal_angular = std::clamp(ideal_angular, -2.0 * clamp / b_hat, 2.0 * clamp / b_hat);
-        const SetPointSegment* ahead = segments_ahead.at(t + params.motor.command_delay);
-        const double v = (ahead ? ahead->linear : 0.0) + ideal_linear;
-        const double w = (ahead ? ahead->angular : 0.0) + ideal_angular;
+        const std::uint64_t tick = k / stock_period;
+        double v = 0.0;
+        double w = 0.0;
+        if (tick < config.ideal_commands.size())
+        {
+          v = config.ideal_commands[tick](0);
+          w = config.ideal_commands[tick](1);
+        }
+        else if (const SetPointSegment* ahead = segments_ahead.at(t + params.motor.command_delay))
+        {
+          v = ahead->linear;
+          w = ahead->angular;
+        }
         command_left = (v - 0.5 * b_hat * w) / r;
         command_right = (v + 0.5 * b_hat * w) / r;
         plant->setWheelSpeeds(command_left, command_right);
@@ -473,6 +472,16 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
         out.x_true.push_back(sample.x_true);
         out.y_true.push_back(sample.y_true);
         out.heading_true.push_back(sample.heading_true);
+        const double sl = plant->servo(kLeft).effectiveSetpoint();
+        const double sr = plant->servo(kRight).effectiveSetpoint();
+        out.wheel_setpoint.push_back(r * 0.5 * (sl + sr));
+        out.wheel_setpoint_yaw.push_back(r * (sr - sl) / b_hat);
+        const double tl = plant->sideVelocity(kLeft);
+        const double tr = plant->sideVelocity(kRight);
+        out.v_wheels.push_back(r * 0.5 * (tl + tr));
+        out.yaw_wheels.push_back(r * (tr - tl) / b_hat);
+        out.torque_limited.push_back(0.5 * (static_cast<double>(plant->servo(kLeft).torqueLimited()) +
+                                            static_cast<double>(plant->servo(kRight).torqueLimited())));
       }
 
       if (deliver)
@@ -507,6 +516,124 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
   {
     out.runaways = loop->supervisor().runaways();
     out.belief_steps = loop->beliefSteps();
+  }
+  return out;
+}
+
+namespace
+{
+/// y(t) of samples (time, y) sorted by time, linearly interpolated, held beyond the ends.
+double interpolate(const std::vector<double>& time, const std::vector<double>& y, double t)
+{
+  if (time.empty())
+  {
+    return 0.0;
+  }
+  const auto it = std::lower_bound(time.begin(), time.end(), t);
+  if (it == time.begin())
+  {
+    return y.front();
+  }
+  if (it == time.end())
+  {
+    return y.back();
+  }
+  const std::size_t i = static_cast<std::size_t>(it - time.begin());
+  const double a = (t - time[i - 1]) / (time[i] - time[i - 1]);
+  return y[i - 1] + a * (y[i] - y[i - 1]);
+}
+}  // namespace
+
+IdealRun runIdealController(const RobotDescription& description, const PlantParams& params,
+                            const ClosedLoopConfig& config, int iterations, double gain)
+{
+  if (iterations < 1 || !(gain > 0.0) || !(gain < 2.0))
+  {
+    throw std::invalid_argument("runIdealController: iterations must be >= 1 and the gain in (0, 2)");
+  }
+  checkConfig(config);
+  const StockControllerParams stock = StockController().params();
+  const double tick = 1.0 / stock.publish_rate;
+  const double r = description.wheelRadius();
+  const double b_hat = stock.wheel_separation * stock.wheel_separation_multiplier;
+  const double lead = params.motor.command_delay;
+  const double rim = params.motor.max_wheel_speed * r;  // wheel speed clamp at the rim [m/s]
+  const auto ticks = static_cast<std::size_t>(std::ceil(config.duration / tick - 1e-9));
+
+  ClosedLoopConfig c = config;
+  c.controller = LoopController::kIdeal;
+  c.record = true;
+  c.ideal_commands.assign(ticks, Vector2::Zero());
+  {
+    SegmentCursor ahead(c.profile);
+    for (std::size_t k = 0; k < ticks; ++k)
+    {
+      const SetPointSegment* s = ahead.at(static_cast<double>(k) * tick + lead);
+      c.ideal_commands[k] = s ? Vector2(s->linear, s->angular) : Vector2::Zero();
+    }
+  }
+  IdealRun out;
+  double best_cost = std::numeric_limits<double>::infinity();
+  std::vector<Vector2> error(ticks, Vector2::Zero());
+  for (int j = 0; j < iterations; ++j)
+  {
+    ClosedLoopRecord rec = runClosedLoop(description, params, c);
+    double sv = 0.0;
+    double sw = 0.0;
+    for (std::size_t i = 0; i < rec.time.size(); ++i)
+    {
+      sv += std::pow(rec.set_point[i] - rec.v_true[i], 2);
+      sw += std::pow(rec.angular_set_point[i] - rec.yaw_true[i], 2);
+    }
+    const double n = std::max<double>(1.0, static_cast<double>(rec.time.size()));
+    out.vx_rms.push_back(std::sqrt(sv / n));
+    out.wz_rms.push_back(std::sqrt(sw / n));
+    const double cost = (sv + 0.25 * b_hat * b_hat * sw) / n;
+    if (j + 1 < iterations)
+    {
+      // e_j at t_k + L: the error the command of tick k acts on.
+      std::vector<double> ev(rec.time.size());
+      std::vector<double> ew(rec.time.size());
+      for (std::size_t i = 0; i < rec.time.size(); ++i)
+      {
+        ev[i] = rec.set_point[i] - rec.v_true[i];
+        ew[i] = rec.angular_set_point[i] - rec.yaw_true[i];
+      }
+      for (std::size_t k = 0; k < ticks; ++k)
+      {
+        const double t = static_cast<double>(k) * tick + lead;
+        error[k] = Vector2(interpolate(rec.time, ev, t), interpolate(rec.time, ew, t));
+      }
+    }
+    if (cost < best_cost)
+    {
+      best_cost = cost;
+      out.best = j;
+      out.commands = c.ideal_commands;
+      out.record = std::move(rec);
+    }
+    if (j + 1 == iterations)
+    {
+      break;
+    }
+    for (std::size_t k = 0; k < ticks; ++k)
+    {
+      Vector2 m = Vector2::Zero();
+      int count = 0;
+      for (std::size_t i = k >= 2 ? k - 2 : 0; i <= std::min(ticks - 1, k + 2); ++i)
+      {
+        m += error[i];
+        ++count;
+      }
+      Vector2 u = c.ideal_commands[k] + gain * m / static_cast<double>(count);
+      // Both wheel speeds within the clamp: scale the rim speeds v -+ b_hat w / 2 down together.
+      const double peak = std::abs(u(0)) + 0.5 * b_hat * std::abs(u(1));
+      if (peak > rim)
+      {
+        u *= rim / peak;
+      }
+      c.ideal_commands[k] = u;
+    }
   }
   return out;
 }

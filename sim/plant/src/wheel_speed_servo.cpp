@@ -20,6 +20,7 @@ void WheelSpeedServo::reset()
   filtered_setpoint_ = 0.0;
   integral_ = 0.0;
   torque_ = 0.0;
+  torque_limited_ = false;
   last_command_time_ = 0.0;
   setpoint_rate_ = 0.0;
   feedforward_ = 0.0;
@@ -99,6 +100,7 @@ double WheelSpeedServo::update(double measured_speed, double t)
     filtered_setpoint_ = measured_speed;
     ramped_setpoint_ = measured_speed;
     torque_ = 0.0;
+    torque_limited_ = false;
     return 0.0;
   }
   if (params_.setpoint_slew_rate > 0.0)
@@ -159,6 +161,7 @@ double WheelSpeedServo::update(double measured_speed, double t)
     integral_ = std::clamp(integral_, -limit, limit);
   }
   torque_ = std::isfinite(out) ? out : 0.0;
+  torque_limited_ = unsat != out;
   return torque_;
 }
 

@@ -56,21 +56,16 @@ enum class LoopController
   /// response, for identifying it (aic_tune.py).
   kOpenLoop,
   /**
-   * The ideal controller, a reference for what the plant allows (not a controller a robot could
-   * run): it knows the future set point and the plant's ground truth. Every 50 Hz tick it sends the
-   * wheel speeds of the stock controller's inverse kinematics (r, its b_hat) for the set point
-   * `command_delay` ahead (the plant's motor.command_delay: a lead that cancels the transport delay)
-   * plus an integral correction of the ground-truth body speed and yaw-rate errors against the set
-   * point in force (gain kIdealIntegralGain; it removes a separation or a wheel-loop deficit),
-   * clamped to the MCU's wheel-speed clamp. Where even it misses the set point, the plant decides:
-   * torque, voltage or friction limits, a tipping robot.
+   * The ideal controller's command sequence, a reference for what the plant allows (not a
+   * controller a robot could run): every 50 Hz tick k it sends ClosedLoopConfig::ideal_commands[k]
+   * (body speed, yaw rate) as the wheel speeds of the stock controller's inverse kinematics (r,
+   * its b_hat); ticks past the sequence (all, when it is empty) send the set point
+   * `command_delay` ahead (the plant's motor.command_delay: a lead that cancels the transport
+   * delay). runIdealController() learns the sequence over repeated runs; where even it misses the
+   * set point, the plant decides: torque, voltage or friction limits, a slow wheel loop.
    */
   kIdeal
 };
-
-/// Integral gain of LoopController::kIdeal's correction [1/s]: a time constant of 0.5 s, ~4x the
-/// identified 0.12 s latency (the loop stays well damped through the delay).
-constexpr double kIdealIntegralGain = 2.0;
 
 /// One piece of a piecewise-constant set-point profile.
 struct SetPointSegment
@@ -165,6 +160,9 @@ struct ClosedLoopConfig
   bool record = true;
   /// Called for every joint-state sample (optional).
   std::function<void(const ClosedLoopSample&)> observer;
+  /// kIdeal: the command of every 50 Hz tick from the run's start, (body speed [m/s], yaw rate
+  /// [rad/s]); ticks past its end send the set point command_delay ahead.
+  std::vector<Vector2> ideal_commands;
 };
 
 /// One event of the AIC's fault monitor during a run.
@@ -193,6 +191,15 @@ struct ClosedLoopRecord
   std::vector<double> x_true;       ///< ground-truth position x of base_link in the world [m]
   std::vector<double> y_true;       ///< ground-truth position y of base_link in the world [m]
   std::vector<double> heading_true; ///< ground-truth yaw of base_link in the world [rad], wrapped to (-pi, pi]
+  /// Body speed r (s_L + s_R) / 2 [m/s] of the wheel loops' set points in effect (after the
+  /// MCU's delay and lag: WheelSpeedServo::effectiveSetpoint()); what the wheels are driven to.
+  std::vector<double> wheel_setpoint;
+  std::vector<double> wheel_setpoint_yaw;  ///< its yaw rate r (s_R - s_L) / b_hat [rad/s]
+  std::vector<double> v_wheels;    ///< body speed of the true side wheel speeds, r (w_L + w_R) / 2 [m/s] (no noise)
+  std::vector<double> yaw_wheels;  ///< yaw rate of the true side wheel speeds, r (w_R - w_L) / b_hat [rad/s]
+  /// Share of the two sides whose motor torque is clamped to its limit (current or voltage;
+  /// WheelSpeedServo::torqueLimited()) in the step before the sample: 0, 0.5 or 1.
+  std::vector<double> torque_limited;
   std::uint64_t runaways = 0;     ///< AIC runaway resets during the run
   bool active = false;            ///< AIC: the controller started (p + 1 samples and a set point)
   std::uint64_t belief_steps = 0;  ///< AIC: belief integration steps run
@@ -224,6 +231,50 @@ std::vector<SetPointSegment> profileSegments(const TwistProfile& profile, double
 
 /// A set-point step from rest: 0 until t_step, then `linear` [m/s] (and `angular` [rad/s]).
 std::vector<SetPointSegment> stepProfile(double t_step, double linear, double angular = 0.0);
+
+/// Runs of runIdealController(): the first with the set point command_delay ahead, then one per
+/// learning update. On the default plant every profile of sim/profiles/ has its best run by the
+/// 7th, and 10 runs improve none of fast, planner_10hz, stop_and_go further (doc/tools.md,
+/// 'Plant-limited pairs').
+constexpr int kIdealIterations = 8;
+/// Learning gain of runIdealController() [-]: the share of a run's error added to the next run's
+/// command; below 1 so a wheel loop slower than the lead does not make the update overshoot.
+constexpr double kIdealLearningGain = 0.7;
+
+/// What runIdealController() learned.
+struct IdealRun
+{
+  ClosedLoopRecord record;            ///< the best run (least mean-square wheel-rim speed error)
+  std::vector<Vector2> commands;      ///< its command sequence (ClosedLoopConfig::ideal_commands)
+  int best = 0;                       ///< its run, 0-based
+  std::vector<double> vx_rms;         ///< every run's RMS error of the ground-truth body speed [m/s]
+  std::vector<double> wz_rms;         ///< every run's RMS error of the ground-truth yaw rate [rad/s]
+};
+
+/**
+ * \brief The ideal controller: the command sequence that makes the plant follow config.profile
+ *        best, learned by iterative learning control over repeated runs from rest (each a fresh
+ *        plant, LoopController::kIdeal).
+ *
+ * Run 0 sends the set point command_delay ahead (L = motor.command_delay); after run j, with
+ * e_j(t) = set point - ground truth (body speed and yaw rate, joint-state samples interpolated),
+ *     u_{j+1}[k] = clamp( u_j[k] + g * M[e_j](t_k + L) ),
+ * a P-type update (D. A. Bristow, M. Tharayil, A. G. Alleyne, "A survey of iterative learning
+ * control", IEEE Control Systems 26(3), 2006) with the lead L, gain g, M a centred 5-tick moving
+ * average (a zero-phase Q-filter), and the clamp keeping both wheel speeds within
+ * motor.max_wheel_speed. Knowing the whole profile in advance and the ground truth, it is the
+ * plant's response to the best command there is: no controller of the real robot does better.
+ * Returns the run with the least mean of e_v^2 + (b_hat e_w / 2)^2 (the wheel rims' mean-square
+ * speed error) over every run.
+ * \param config       profile, duration, sensors and faults as for runClosedLoop (its controller
+ *                     and ideal_commands are ignored)
+ * \param iterations   runs, >= 1
+ * \param gain         learning gain g, in (0, 2)
+ * \throws std::invalid_argument as runClosedLoop, or on iterations < 1 or gain outside (0, 2)
+ */
+IdealRun runIdealController(const RobotDescription& description, const PlantParams& params,
+                            const ClosedLoopConfig& config, int iterations = kIdealIterations,
+                            double gain = kIdealLearningGain);
 
 }  // namespace harness
 }  // namespace jackal_aic

@@ -67,6 +67,9 @@ public:
   bool enabled() const { return enabled_; }
   /// Last torque output [N m].
   double torque() const { return torque_; }
+  /// True when the last torque output was clamped to the motor's limits (current limit
+  /// max_torque, or the voltage limit at the measured speed: torqueLimits()); false when released.
+  bool torqueLimited() const { return torque_limited_; }
   /// Acceleration feedforward part of the last torque, before the limits [N m].
   double feedforward() const { return feedforward_; }
   /// Load-torque observer's estimate in the last torque, clamped to +-max_torque [N m]; 0 without observer.
@@ -97,6 +100,7 @@ private:
   double observer_speed_ = 0.0;     ///< observer: low-pass filtered side speed w_f [rad/s]
   double load_estimate_ = 0.0;      ///< observer: load-torque estimate L_hat [N m]
   double torque_ = 0.0;
+  bool torque_limited_ = false;  ///< the last output was clamped to torqueLimits()
 };
 
 }  // namespace plant
