@@ -291,7 +291,11 @@ private:
   /// Reset the controller and start it from the measured wheel speeds (bumpless); the log line
   /// says why it had stopped, on a restart.
   void activate();
+  /// A runaway: the supervisor's hold (zero command), and probation for the restart after it.
   void handleRunaway(const char* where);
+  /// True while a restart after a runaway is on probation: the command stays zero until the
+  /// restarted beliefs have integrated one action period (1 / action_rate) without a runaway.
+  bool onProbation() const { return probation_left_ > kProbationTolerance; }
   /// One action step over `interval` [s] (-1: nominal); its command.
   void actionStep(double interval);
   /// The command stage: guard, clamp, output mode; emit (nothing in kBlocked). `stock_limits` false:
@@ -314,6 +318,9 @@ private:
   TimeJumpDetector time_jump_{ kTimeJumpTolerance };
   std::uint64_t starts_ = 0;
   std::string last_stop_reason_;  ///< why the controller last left kRunning (for the restart's log line)
+  bool restart_after_runaway_ = false;  ///< the next start follows a runaway: it starts on probation
+  double probation_left_ = 0.0;         ///< belief time [s] still to integrate before the action drives
+  static constexpr double kProbationTolerance = 1e-9;  ///< [s] rounding of summed step lengths
 
   std::uint64_t belief_steps_ = 0;
   double belief_integrated_ = 0.0;

@@ -277,7 +277,14 @@ void ControlLoop::actionTimer(double interval)
   }
   else if (supervisor_.keepAliveDue())
   {
-    sendCommand(pipeline_.controller().action(), kNaN);
+    if (onProbation())
+    {
+      sendCommand(Vector2::Zero(), kNaN, false);
+    }
+    else
+    {
+      sendCommand(pipeline_.controller().action(), kNaN);
+    }
   }
 }
 
@@ -418,6 +425,7 @@ void ControlLoop::integrate(int steps, double h)
       return;
     }
     belief_integrated_ += h;
+    probation_left_ -= h;
   }
 }
 
@@ -462,12 +470,22 @@ void ControlLoop::activate()
     cmd_vel_->reset(wheels);  // the stock controller's acceleration limit starts there too
   }
   belief_time_ = clock_.now();
+  // After a runaway the beliefs must first show they no longer diverge: an Euler-unstable belief
+  // update re-diverges within a few belief steps of every restart, faster than the runaway limit
+  // can stop an action step from reading a belief part-way there (and the wheel clamp would turn
+  // that into +-max_wheel_speed). The hold's zero command goes on for one action period.
+  probation_left_ = restart_after_runaway_ ? 1.0 / params_.aic.action_rate : 0.0;
+  restart_after_runaway_ = false;
   std::ostringstream os;
   os << "running (start from measured wheels " << wheels.transpose() << " rad/s, goal "
      << supervisor_.goal().transpose() << ")";
   if (starts_ > 1)
   {
     os << "; resumed after: " << last_stop_reason_ << " [start " << starts_ << "]";
+  }
+  if (onProbation())
+  {
+    os << "; zero command until the beliefs run " << probation_left_ << " s without a runaway";
   }
   output_.log(LogLevel::kInfo, os.str());
 }
@@ -484,6 +502,8 @@ bool ControlLoop::restartFromMeasured()
 
 void ControlLoop::handleRunaway(const char* where)
 {
+  restart_after_runaway_ = true;
+  probation_left_ = 0.0;
   carryOut(supervisor_.runaway(where));
   if (due(kNoticeRunaway))
   {
@@ -512,6 +532,10 @@ void ControlLoop::actionStep(double interval)
   if (!supervisor_.active())
   {
     sendIdle();
+  }
+  else if (onProbation())
+  {
+    sendCommand(Vector2::Zero(), kNaN, false);  // the runaway hold's zero command goes on
   }
   else if (pipeline_.controller().updateAction(h) == ActiveInferenceController::Status::kRunaway)
   {

@@ -270,6 +270,78 @@ TEST_F(ControlLoopTest, RunawayResetsAndHoldsZero)
   EXPECT_EQ(out.linesWith("runaway beliefs in the"), 1);  // throttled to one a second
 }
 
+TEST_F(ControlLoopTest, NoActionStepDrivesADivergingControllerAfterARunaway)
+{
+  // The thesis's improved controller as printed (Euler, tau = 0.001 s, config/
+  // thesis_improved.yaml) re-diverges within a few belief steps of every restart. The timers of
+  // the node (beliefs at 1 kHz, action at 50 Hz, samples at 50 Hz) at every phase of the action
+  // timer against the samples: once the first runaway is caught, every command is zero (the
+  // restart is on probation for one action period, which the divergence never survives); before
+  // it, at most the one action step of the first start can read a belief part-way to divergence.
+  p.aic = AicParams();  // the thesis's improved controller (thesis_improved.yaml)
+  ASSERT_EQ(p.aic.integrator, Integrator::kEuler);
+  p.belief_schedule = BeliefSchedule::kTimer;
+  p.action_trigger = ActionTrigger::kTimer;
+  p.runaway_hold_time = 0.1;  // many restarts in the run
+  int phases_with_an_early_step = 0;
+  for (int phase = 0; phase < 20; ++phase)
+  {
+    SCOPED_TRACE("action timer " + std::to_string(phase) + " ms after the samples");
+    clock.t = 0.0;
+    out.commands.clear();
+    build();
+    double sp[6];
+    setPointFields(0.5, 0.0, sp);
+    bool diverged = false;
+    std::size_t first_runaway_commands = 0;  // commands sent before the first runaway
+    std::uint64_t steps_before = 0;
+    for (int ms = 1; ms <= 3000; ++ms)
+    {
+      clock.t = 1e-3 * ms;
+      if (ms % 20 == 0)
+      {
+        loop->setPoint(sp);
+        sensors.feed(*loop, clock.t, 0.0, 0.0, 0.0);
+      }
+      loop->beliefTimer(1e-3);
+      if (ms % 20 == phase)
+      {
+        steps_before = loop->actionSteps();
+        loop->actionTimer(0.02);
+        if (loop->actionSteps() > steps_before && loop->supervisor().runaways() == 0)
+        {
+          ++phases_with_an_early_step;
+        }
+      }
+      if (!diverged && loop->supervisor().runaways() > 0)
+      {
+        diverged = true;
+        first_runaway_commands = out.commands.size();
+      }
+    }
+    ASSERT_TRUE(diverged) << "the controller never diverged";
+    EXPECT_GE(loop->supervisor().runaways(), 10u);
+    EXPECT_GE(loop->starts(), 10u) << "the hold never ended: no restart was tested";
+    int early = 0;
+    for (std::size_t i = 0; i < out.commands.size(); ++i)
+    {
+      const Vector2& w = out.commands[i].wheels;
+      ASSERT_TRUE(w.allFinite());
+      ASSERT_LE(w.cwiseAbs().maxCoeff(), p.aic.max_wheel_speed);
+      if (i >= first_runaway_commands)
+      {
+        ASSERT_TRUE(w.isZero()) << "command " << i << " after the first runaway: " << w.transpose();
+      }
+      else
+      {
+        early += w.isZero() ? 0 : 1;
+      }
+    }
+    EXPECT_LE(early, 1);
+  }
+  RecordProperty("phases_with_an_early_action_step", phases_with_an_early_step);
+}
+
 TEST_F(ControlLoopTest, McuStopHoldsTheMeasuredWheels)
 {
   feed(p.aic.numOrders() + 1, 2.0, 0.5);
