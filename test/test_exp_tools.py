@@ -210,6 +210,52 @@ class TrackingTest(unittest.TestCase):
                 self.assertTrue(os.path.isfile(result["files"][k]), k)
 
 
+class PlotTest(unittest.TestCase):
+    """report.plot_run: the run's PNG has one panel per channel, the drive commands, and b_hat when
+    the AIC published /jackal_AIC/wheel_separation."""
+
+    def _arr(self, t0, separation):
+        t = t0 + 0.02 * np.arange(-25, 201)
+        z = np.zeros_like(t)
+        arr = {"setpoint": np.column_stack([t[25:], np.full(t.size - 25, 0.5), z[25:]]),
+               "odom": np.column_stack([t, np.full_like(t, 0.45), z]),
+               "belief": np.column_stack([t, np.full_like(t, 0.46), z]),
+               "drive": np.column_stack([t, np.full_like(t, 4.6), np.full_like(t, 4.6)]),
+               "pose": np.zeros((0, 4)), "wheels": np.zeros((0, 3)),
+               "separation": np.zeros((0, 2))}
+        if separation:
+            arr["separation"] = np.column_stack([t[::5], np.linspace(0.5621, 0.53, t[::5].size)])
+        return arr
+
+    def test_panels_with_and_without_the_learned_separation(self):
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        from jackal_aic_tools import report
+        p = profiles.step(v=0.5, t_step=0.0, hold=4.0)
+        result = {"name": "run", "controller": "aic", "profile": p.name, "status": "ok", "reason": "",
+                  "segments": []}
+        panels = {}
+        real_savefig = plt.Figure.savefig
+
+        def count(fig, path, **kw):
+            panels[os.path.basename(path)] = [a.get_ylabel() for a in fig.axes]
+            return real_savefig(fig, path, **kw)
+        plt.Figure.savefig = count
+        try:
+            with tempfile.TemporaryDirectory() as tmp:
+                for sep in (False, True):
+                    path = os.path.join(tmp, "sep%d.png" % sep)
+                    self.assertEqual(report.plot_run(path, self._arr(100.0, sep), 100.0, p, result, 0.098, 0.5621),
+                                     path)
+                    self.assertGreater(os.path.getsize(path), 1000)
+        finally:
+            plt.Figure.savefig = real_savefig
+        self.assertEqual(len(panels["sep0.png"]) + 1, len(panels["sep1.png"]), panels)
+        self.assertEqual(panels["sep1.png"][-1], "wheel separation [m]")
+        self.assertNotIn("wheel separation [m]", panels["sep0.png"])
+
+
 class OverrideTest(unittest.TestCase):
 
     def test_parse(self):

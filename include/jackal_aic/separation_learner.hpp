@@ -41,13 +41,22 @@ struct SeparationLearnerParams
  * information about b_hat, and wheel dead-bands dominate), while the action saturates (the
  * wheels then slip against their limit and the kinematics do not hold), or in a transient
  * (|d y_gyro/dt| > max_yaw_acceleration: the tyres' lateral slip builds up with a lag, so gyro and
- * wheels disagree for a while whatever b_hat is).
+ * wheels disagree for a while whatever b_hat is; the wheels' yaw acceleration
+ * r alpha (d omega_R/dt - d omega_L/dt) / b_hat is held to the same bound, so a gyro that stops
+ * following a changing turn, frozen, does not teach the model), or while the disagreement is one no
+ * plausible separation explains (the separation it implies, r alpha (omega_R - omega_L) / y_gyro,
+ * is outside [kImplausibleFactor min, max / kImplausibleFactor] or of the wrong sign: a sensor
+ * fault, not the model; the fault monitor isolates it fdi_detect_time later). Between the bounds
+ * and that window b_hat moves to the bound it is clamped to.
  *
  * No heap allocation, no exceptions after construction.
  */
 class SeparationLearner
 {
 public:
+  /// The implied separation is implausible beyond [kImplausibleFactor min, max / kImplausibleFactor].
+  static constexpr double kImplausibleFactor = 0.5;
+
   /// Why the last update() did or did not move b_hat.
   enum class State
   {
@@ -55,7 +64,8 @@ public:
     kSensorFault,  ///< frozen: the gyro or a wheel channel is flagged
     kNearRest,     ///< frozen: |y_gyro| < min_yaw_rate
     kSaturated,    ///< frozen: the action saturates
-    kTransient,    ///< frozen: |d y_gyro/dt| > max_yaw_acceleration
+    kTransient,    ///< frozen: |d y_gyro/dt| or the wheels' |yaw acceleration| > max_yaw_acceleration
+    kImplausible,  ///< frozen: the implied separation is outside [min / 2, 2 max] or negative
     kBadInput      ///< ignored: non-finite input, h <= 0 or precision < 0
   };
 
@@ -69,13 +79,15 @@ public:
    * \param gyro_rate   its rate d y_gyro/dt [rad/s^2] (generalized order 1)
    * \param omega_l     measured left wheel speed [rad/s]
    * \param omega_r     measured right wheel speed [rad/s]
+   * \param omega_l_rate its rate d omega_L/dt [rad/s^2] (generalized order 1)
+   * \param omega_r_rate its rate d omega_R/dt [rad/s^2] (generalized order 1)
    * \param precision   Pi_b [1/(rad/s)^2], finite and >= 0 (e.g. the gyro's Pi_y^(0))
    * \param sensors_ok  false while the fault monitor flags the gyro or a wheel channel
    * \param saturated   true while the action is clamped (wheel speed, lead limits)
    * \return the reason the step did or did not learn; b_hat unchanged unless kLearning.
    */
-  State update(double h, double gyro_z, double gyro_rate, double omega_l, double omega_r, double precision,
-               bool sensors_ok, bool saturated);
+  State update(double h, double gyro_z, double gyro_rate, double omega_l, double omega_r, double omega_l_rate,
+               double omega_r_rate, double precision, bool sensors_ok, bool saturated);
 
   /// The learned effective wheel separation b_hat [m], within [min, max].
   double separation() const { return b_; }

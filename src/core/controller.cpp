@@ -600,6 +600,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
   {
     const std::uint8_t needed = (1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight);
     learner_.update(h, y_tilde_(kGyroZ, 0), y_tilde_(kGyroZ, 1), y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0),
+                    y_tilde_(kOmegaLeft, 1), y_tilde_(kOmegaRight, 1),
                     pi_y_(kGyroZ, 0),
                     (sensor_mask_ & needed) == needed, action_saturated_);
     applyLearnedSeparation(false);

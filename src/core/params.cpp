@@ -104,6 +104,7 @@ AicParams recommendedAicParams()
   p.reference_delay = 0.085;
   p.action_prior_gain = 0.9715;
   p.action_prior_time_constant = 0.00834;
+  p.learn_wheel_separation = true;  // b_hat learned from the gyro-encoder disagreement
   return p;
 }
 

@@ -52,14 +52,17 @@ SeparationLearner::SeparationLearner(const SeparationLearnerParams& params) : pa
 }
 
 SeparationLearner::State SeparationLearner::update(double h, double gyro_z, double gyro_rate, double omega_l,
-                                                   double omega_r, double precision, bool sensors_ok, bool saturated)
+                                                   double omega_r, double omega_l_rate, double omega_r_rate,
+                                                   double precision, bool sensors_ok, bool saturated)
 {
   if (!(finite(h) && h > 0.0) || !finite(gyro_z) || !finite(gyro_rate) || !finite(omega_l) || !finite(omega_r) ||
-      !(finite(precision) && precision >= 0.0))
+      !finite(omega_l_rate) || !finite(omega_r_rate) || !(finite(precision) && precision >= 0.0))
   {
     state_ = State::kBadInput;
     return state_;
   }
+  const double r_alpha = params_.wheel_radius * params_.slip_factor;
+  const double phi = r_alpha * (omega_r - omega_l);  // b_hat times the wheels' yaw rate [m rad/s]
   if (!sensors_ok)
   {
     state_ = State::kSensorFault;
@@ -72,14 +75,18 @@ SeparationLearner::State SeparationLearner::update(double h, double gyro_z, doub
   {
     state_ = State::kNearRest;
   }
-  else if (std::abs(gyro_rate) > params_.max_yaw_acceleration)
+  else if (std::abs(gyro_rate) > params_.max_yaw_acceleration ||
+           std::abs(r_alpha * (omega_r_rate - omega_l_rate)) > params_.max_yaw_acceleration * b_)
   {
     state_ = State::kTransient;
+  }
+  else if (!(phi / gyro_z >= kImplausibleFactor * params_.min && phi / gyro_z <= params_.max / kImplausibleFactor))
+  {
+    state_ = State::kImplausible;  // gyro_z = 0 (min_yaw_rate 0): +-Inf or NaN, refused as well
   }
   else
   {
     // eps_b = y_gyro - r alpha (omega_R - omega_L) / b_hat;  dF_b/db_hat = Pi_b eps_b r alpha dw / b_hat^2.
-    const double phi = params_.wheel_radius * params_.slip_factor * (omega_r - omega_l);
     eps_ = gyro_z - phi / b_;
     const double grad = precision * eps_ * phi / (b_ * b_);
     b_ = std::clamp(b_ - h * params_.rate * grad, params_.min, params_.max);
@@ -138,6 +145,8 @@ const char* toString(SeparationLearner::State state)
       return "saturated";
     case SeparationLearner::State::kTransient:
       return "transient";
+    case SeparationLearner::State::kImplausible:
+      return "implausible disagreement";
     case SeparationLearner::State::kBadInput:
       return "bad input";
   }

@@ -187,6 +187,11 @@ def run(exp):
         arr = {s: a[(a[:, 0] >= t0 - exp.settle) & (a[:, 0] <= t_end)] for s, a in arr.items()}
     if rec.bad_stamps:
         result["zero_stamps"] = rec.bad_stamps
+    sep = arr["separation"]
+    if sep.size:
+        # the generative model's b_hat [m] over the run (learned with learn_wheel_separation)
+        result["wheel_separation"] = {"first": sep[0, 1], "last": sep[-1, 1],
+                                      "min": float(sep[:, 1].min()), "max": float(sep[:, 1].max())}
     if t0 is not None:
         segs = recording.actual_segments(exp.profile, arr["setpoint"], t0)
         result["segments"] = analyse(arr, segs, t0, wheel_radius, wheel_sep)
@@ -239,6 +244,9 @@ def drive_profile(profile, rec, controller="aic", settle=1.0, ready_timeout=60.0
             rospy.Subscriber("/jackal_AIC/belief", TwistStamped, rec.on_belief, queue_size=2000, tcp_nodelay=True),
             rospy.Subscriber("/cmd_drive", Drive, rec.on_drive, queue_size=200, tcp_nodelay=True),
             rospy.Subscriber("/joint_states", JointState, rec.on_joint_states, queue_size=200, tcp_nodelay=True)]
+    if controller == "aic":
+        from std_msgs.msg import Float64
+        subs.append(rospy.Subscriber("/jackal_AIC/wheel_separation", Float64, rec.on_separation, queue_size=50))
     pub = rospy.Publisher("/jackal_AIC/set_point", Twist, queue_size=10)
     period = 1.0 / rate
 

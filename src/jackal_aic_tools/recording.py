@@ -21,7 +21,7 @@ from . import profiles
 
 STREAMS = ("setpoint", "odom", "belief", "drive")
 #: Columns of each stream's array (the stamp first).
-WIDTH = dict({s: 3 for s in STREAMS}, pose=4, wheels=3)
+WIDTH = dict({s: 3 for s in STREAMS}, pose=4, wheels=3, separation=2)
 
 
 class Recorder(object):
@@ -68,6 +68,16 @@ class Recorder(object):
     def on_belief(self, msg):
         st, now = self._stamp(msg)
         self._add("belief", st, msg.twist.linear.x, msg.twist.angular.z, "/jackal_AIC/belief", msg, now)
+
+    def on_separation(self, msg):
+        """The generative model's wheel separation b_hat [m] (std_msgs/Float64 on
+        /jackal_AIC/wheel_separation; learned with learn_wheel_separation), at receipt time."""
+        import rospy
+        now = rospy.Time.now()
+        with self.lock:
+            self.data["separation"].append((now.to_sec(), float(msg.data)))
+            if self.bag is not None:
+                self.bag.write("/jackal_AIC/wheel_separation", msg, now)
 
     def on_drive(self, msg):
         import rospy

@@ -12,13 +12,17 @@ SIGNAL_LABEL = {"measured": "measured (/odom)", "belief": "belief", "drive": "dr
 
 def plot_run(path, arr, t0, profile, result, wheel_radius, wheel_sep, ideal=None):
     """PNG of one run: per channel, set point, measured velocity and belief [m/s or rad/s];
-    below, the drive commands left/right [rad/s]; with ``ideal`` ({"x", "y"} arrays [m], the
-    profile's ideal path), last the x-y path of /odom against it. Returns ``path``."""
+    below, the drive commands left/right [rad/s]; if ``arr`` has a "separation" stream (the
+    AIC's b_hat [m], learned with learn_wheel_separation), b_hat against time; with ``ideal``
+    ({"x", "y"} arrays [m], the profile's ideal path), last the x-y path of /odom against it.
+    Returns ``path``."""
     chans = profile.channels()
-    rows = len(chans) + 1 + (1 if ideal is not None else 0)
+    sep = arr.get("separation")
+    has_sep = sep is not None and sep.size > 0
+    rows = len(chans) + 1 + (1 if has_sep else 0) + (1 if ideal is not None else 0)
     fig = plt.figure(figsize=(9, 3.0 * rows))
     axes = []
-    for k in range(len(chans) + 1):
+    for k in range(len(chans) + 1 + (1 if has_sep else 0)):
         axes.append(fig.add_subplot(rows, 1, k + 1, sharex=axes[0] if axes else None))
     for ax, ch in zip(axes, chans):
         ci = 1 + profiles.CHANNELS.index(ch)
@@ -46,15 +50,22 @@ def plot_run(path, arr, t0, profile, result, wheel_radius, wheel_sep, ideal=None
             ax.text(0.99, 0.5, txt, transform=ax.transAxes, va="center", ha="right", fontsize=8,
                     family="monospace",
                     bbox=dict(boxstyle="round", fc="white", alpha=0.8))
-    ax = axes[-1]
+    ax = axes[len(chans)]
     d = arr["drive"]
     if d.size:
         ax.step(d[:, 0] - t0, d[:, 1], where="post", color="C2", lw=1.0, label="left wheels (/cmd_drive)")
         ax.step(d[:, 0] - t0, d[:, 2], where="post", color="C3", lw=1.0, ls=":", label="right wheels (/cmd_drive)")
     ax.set_ylabel("drive command [rad/s]")
-    ax.set_xlabel("time since profile start [s]")
     ax.grid(True, alpha=0.3)
     ax.legend(loc="lower right", fontsize=8)
+    if has_sep:
+        ax = axes[-1]
+        ax.step(sep[:, 0] - t0, sep[:, 1], where="post", color="C4", lw=1.2,
+                label="b_hat (/jackal_AIC/wheel_separation)")
+        ax.set_ylabel("wheel separation [m]")
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="lower right", fontsize=8)
+    axes[-1].set_xlabel("time since profile start [s]")
     title = "%s: %s, %s" % (result["name"], result["controller"], result["profile"])
     if result["status"] != "ok":
         title += "  [%s: %s]" % (result["status"].upper(), result["reason"])

@@ -45,12 +45,12 @@ void runBeliefs(ActiveInferenceController* c, double seconds)
 }
 }  // namespace
 
-TEST(ControllerUnbiased, DefaultsAreTheThesisModel)
+TEST(ControllerUnbiased, DefaultsAreTheThesisModelAndTheRecommendedLearns)
 {
   const AicParams p;
   EXPECT_EQ(p.belief_model, BeliefModel::kGoal);
   EXPECT_FALSE(p.learn_wheel_separation);
-  EXPECT_FALSE(recommendedAicParams().learn_wheel_separation);
+  EXPECT_TRUE(recommendedAicParams().learn_wheel_separation);
   EXPECT_EQ(recommendedAicParams().belief_model, BeliefModel::kGoal);
   ActiveInferenceController c{ p };
   c.setGoal(Vector3(0.5, 0.0, 0.2));

@@ -26,9 +26,14 @@ constexpr double kSpeedErrorTol = 0.05;   // relative: speed error <= 5 %
 constexpr double kIsolationDeadline = 0.5;  // s: isolated within 0.5 s
 
 /// config/default.yaml's controller (the schema's defaults).
+/// The recommended controller with b_hat fixed: runClosedLoop()'s plant turns by the controller's own
+/// model (G_3 omega), which must not move with what the controller learns. Learning under faults is
+/// checked on the simulated Jackal (test/sim/test_closed_loop_acceptance.cpp).
 AicParams defaultParams()
 {
-  return recommendedAicParams();
+  AicParams p = recommendedAicParams();
+  p.learn_wheel_separation = false;
+  return p;
 }
 
 /// A fault applied to one channel of the sensor sample from a given time on.

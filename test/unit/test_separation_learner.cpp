@@ -48,7 +48,7 @@ void driveArc(SeparationLearner* l, double v, double w, double b_eff, double sec
   {
     const double wl = (v - 0.5 * w * b_eff) / kR + n(noise);
     const double wr = (v + 0.5 * w * b_eff) / kR + n(noise);
-    l->update(kH, w + n(noise), 0.0, wl, wr, kPi, true, false);
+    l->update(kH, w + n(noise), 0.0, wl, wr, 0.0, 0.0, kPi, true, false);
   }
 }
 }  // namespace
@@ -86,10 +86,16 @@ TEST(SeparationLearner, Bounded)
   p.min = 0.5;
   p.max = 0.7;
   SeparationLearner l(p);
-  driveArc(&l, 0.5, 0.5, 2.5 * kTrack, 20.0);
+  // Effective separations beyond the bounds but within the plausible window [min / 2, 2 max]:
+  // b_hat goes to the bound.
+  driveArc(&l, 0.5, 0.5, 2.2 * kTrack, 20.0);
   EXPECT_DOUBLE_EQ(l.separation(), 0.7);
-  driveArc(&l, 0.5, 0.5, 0.3 * kTrack, 20.0);
+  driveArc(&l, 0.5, 0.5, 0.6 * kTrack, 20.0);
   EXPECT_DOUBLE_EQ(l.separation(), 0.5);
+  // Beyond the window (2.5 x track = 1.41 m > 2 max): implausible, frozen.
+  driveArc(&l, 0.5, 0.5, 2.5 * kTrack, 20.0);
+  EXPECT_DOUBLE_EQ(l.separation(), 0.5);
+  EXPECT_EQ(l.state(), SeparationLearner::State::kImplausible);
   EXPECT_TRUE(l.setSeparation(5.0));
   EXPECT_DOUBLE_EQ(l.separation(), 0.7);
   EXPECT_FALSE(l.setSeparation(std::numeric_limits<double>::quiet_NaN()));
@@ -107,19 +113,27 @@ TEST(SeparationLearner, FrozenUnderEachCondition)
   SeparationLearner l(params(kTrack));
   for (int k = 0; k < 1000; ++k)
   {
-    EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wr, kPi, false, false), SeparationLearner::State::kSensorFault);
-    EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wr, kPi, true, true), SeparationLearner::State::kSaturated);
-    EXPECT_EQ(l.update(kH, 0.05, 0.0, 0.1 * wl, 0.1 * wr, kPi, true, false), SeparationLearner::State::kNearRest);
-    EXPECT_EQ(l.update(kH, std::numeric_limits<double>::quiet_NaN(), 0.0, wl, wr, kPi, true, false),
+    EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wr, 0.0, 0.0, kPi, false, false), SeparationLearner::State::kSensorFault);
+    EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wr, 0.0, 0.0, kPi, true, true), SeparationLearner::State::kSaturated);
+    EXPECT_EQ(l.update(kH, 0.05, 0.0, 0.1 * wl, 0.1 * wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kNearRest);
+    EXPECT_EQ(l.update(kH, std::numeric_limits<double>::quiet_NaN(), 0.0, wl, wr, 0.0, 0.0, kPi, true, false),
               SeparationLearner::State::kBadInput);
-    EXPECT_EQ(l.update(0.0, 0.5, 0.0, wl, wr, kPi, true, false), SeparationLearner::State::kBadInput);
-    EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wr, -1.0, true, false), SeparationLearner::State::kBadInput);
-    EXPECT_EQ(l.update(kH, 0.5, 2.0, wl, wr, kPi, true, false), SeparationLearner::State::kTransient);
-    EXPECT_EQ(l.update(kH, 0.5, -2.0, wl, wr, kPi, true, false), SeparationLearner::State::kTransient);
+    EXPECT_EQ(l.update(0.0, 0.5, 0.0, wl, wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kBadInput);
+    EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wr, 0.0, 0.0, -1.0, true, false), SeparationLearner::State::kBadInput);
+    EXPECT_EQ(l.update(kH, 0.5, 2.0, wl, wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kTransient);
+    EXPECT_EQ(l.update(kH, 0.5, -2.0, wl, wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kTransient);
+    // The wheels' yaw acceleration r (dw_R - dw_L) / b_hat beyond the bound (the gyro steady: frozen).
+    EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wr, -3.0, 3.0, kPi, true, false), SeparationLearner::State::kTransient);
+    // A frozen gyro reports 0.5 rad/s while the wheels drive straight: no b_hat explains it.
+    EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wl, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kImplausible);
+    // The gyro turns the other way than the wheels.
+    EXPECT_EQ(l.update(kH, -0.5, 0.0, wl, wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kImplausible);
+    // The implied separation r (w_R - w_L) / y_gyro: 3.9 m, beyond 2 max (3 m).
+    EXPECT_EQ(l.update(kH, 0.1, 0.0, wl, wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kImplausible);
   }
   EXPECT_EQ(l.separation(), kTrack);  // bit for bit
   EXPECT_EQ(l.learningSteps(), 0u);
-  EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wr, kPi, true, false), SeparationLearner::State::kLearning);
+  EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kLearning);
   EXPECT_GT(l.separation(), kTrack);
   EXPECT_EQ(l.learningSteps(), 1u);
 }
@@ -148,6 +162,7 @@ TEST(SeparationLearner, RejectsBadParams)
   p.max = std::numeric_limits<double>::infinity();
   EXPECT_THROW(SeparationLearner{ p }, std::invalid_argument);
   EXPECT_STREQ(toString(SeparationLearner::State::kSaturated), "saturated");
+  EXPECT_STREQ(toString(SeparationLearner::State::kImplausible), "implausible disagreement");
 }
 
 TEST(SeparationLearner, OverlayYaml)

@@ -469,6 +469,8 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
         out.angular_set_point.push_back(sample.angular_set_point);
         out.command_yaw.push_back(sample.command_yaw);
         out.belief_yaw.push_back(sample.belief_yaw);
+        out.separation.push_back(has_belief ? loop->controller().model().wheelSeparation()
+                                            : std::numeric_limits<double>::quiet_NaN());
         out.x_true.push_back(sample.x_true);
         out.y_true.push_back(sample.y_true);
         out.heading_true.push_back(sample.heading_true);

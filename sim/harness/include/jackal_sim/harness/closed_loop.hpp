@@ -188,6 +188,9 @@ struct ClosedLoopRecord
   std::vector<double> angular_set_point;  ///< yaw-rate set point in force [rad/s]
   std::vector<double> command_yaw;  ///< yaw rate of the last drive command r (a_R - a_L) / b_hat [rad/s]
   std::vector<double> belief_yaw;   ///< AIC belief mu^(0) theta_dot [rad/s] (NaN for the others)
+  /// AIC: the generative model's wheel separation b_hat [m] (learned with learn_wheel_separation;
+  /// NaN for the others and before the controller starts).
+  std::vector<double> separation;
   std::vector<double> x_true;       ///< ground-truth position x of base_link in the world [m]
   std::vector<double> y_true;       ///< ground-truth position y of base_link in the world [m]
   std::vector<double> heading_true; ///< ground-truth yaw of base_link in the world [rad], wrapped to (-pi, pi]
