@@ -26,6 +26,9 @@ def main(argv=None):
                    help="belief_schedule values to measure, comma-separated: event, timer (default %(default)s)")
     p.add_argument("--bare", action="store_true",
                    help="also run aic_timing at each rate: its bare clock_nanosleep loop's CPU share beside")
+    p.add_argument("--base", choices=("direct", "stock_diff_drive"), default="direct",
+                   help="sim.launch's base: stock_diff_drive runs the Jackal's stock controller (stock_base) "
+                        "between the node and the plant, and its CPU is measured in the same run (default %(default)s)")
     p.add_argument("--output", help="also write the table, the command and the host's load to this Markdown file")
     p.add_argument("--one", type=float, help=argparse.SUPPRESS)
     a = p.parse_args(argv)
@@ -36,7 +39,7 @@ def main(argv=None):
     except ValueError as e:
         p.error(str(e))
     if a.one is not None:
-        node_load.measure_one(a.one, a.config, a.duration, a.warmup, overrides)
+        node_load.measure_one(a.one, a.config, a.duration, a.warmup, overrides, a.base)
         return 0
     try:
         rates = [float(r) for r in a.rates.split(",")]

@@ -44,8 +44,10 @@ def node_pid(name):
     return pid if code == 1 else None
 
 
-def measure_one(rate, config, duration, warmup, overrides):
-    """Child process: one rate under its own master; prints one JSON line."""
+def measure_one(rate, config, duration, warmup, overrides, base="direct"):
+    """Child process: one rate under its own master, sim.launch with ``base`` (direct |
+    stock_diff_drive: the stock controller node stock_base maps the node's twist to the wheels,
+    and its CPU is measured in the same window); prints one JSON line."""
     import rospy
     from diagnostic_msgs.msg import DiagnosticArray
     from geometry_msgs.msg import Twist
@@ -56,7 +58,7 @@ def measure_one(rate, config, duration, warmup, overrides):
         overrides = dict(overrides)
         overrides["belief_rate"] = float(rate)
         experiment.write_config(config, overrides, cfg)
-        with experiment.Simulator(launch, ["config:=" + cfg, "use_sim_time:=false"]) as sim:
+        with experiment.Simulator(launch, ["config:=" + cfg, "use_sim_time:=false", "base:=" + base]) as sim:
             rospy.init_node("aic_node_load", disable_signals=True)
             steps = []
             lock = threading.Lock()
@@ -86,19 +88,26 @@ def measure_one(rate, config, duration, warmup, overrides):
 
             threading.Thread(target=hold, daemon=True).start()
             deadline = time.time() + 60.0
-            pid = plant = None
-            while time.time() < deadline and (pid is None or plant is None):
+            pid = plant = stock = None
+            want_stock = base == "stock_diff_drive"
+            while time.time() < deadline and (pid is None or plant is None or (want_stock and stock is None)):
                 pid = pid or node_pid("/jackal_AIC")
                 plant = plant or node_pid("/jackal_plant")
+                stock = stock or (node_pid("/stock_base") if want_stock else None)
                 time.sleep(0.5)
-            if pid is None:
-                raise RuntimeError("no /jackal_AIC node: %s" % sim.deaths())
+            if pid is None or (want_stock and stock is None):
+                raise RuntimeError("no /jackal_AIC or /stock_base node: %s" % sim.deaths())
             time.sleep(warmup)
+
+            def stock_cpu():
+                return cpu_seconds("/proc/%d/stat" % stock) if stock else float("nan")
             t0 = time.time()
             c0, p0, th0 = cpu_seconds("/proc/%d/stat" % pid), cpu_seconds("/proc/%d/stat" % plant), thread_times(pid)
+            s0 = stock_cpu()
             time.sleep(duration)
             t1 = time.time()
             c1, p1, th1 = cpu_seconds("/proc/%d/stat" % pid), cpu_seconds("/proc/%d/stat" % plant), thread_times(pid)
+            s1 = stock_cpu()
             stop.set()
             with lock:
                 window = [s for s in steps if s[0] >= t0 - 1.0]
@@ -110,7 +119,7 @@ def measure_one(rate, config, duration, warmup, overrides):
             row = {
                 "rate": rate, "duration": t1 - t0, "loop": loop,
                 "node_cpu": (c1 - c0) / (t1 - t0), "belief_thread_cpu": belief_thread / (t1 - t0),
-                "plant_cpu": (p1 - p0) / (t1 - t0),
+                "plant_cpu": (p1 - p0) / (t1 - t0), "stock_cpu": (s1 - s0) / (t1 - t0),
                 "belief_steps_rate": (nb - na) / (tb - ta), "belief_time_fraction": (ib - ia) / (tb - ta),
                 "latency_p50_ms": p50s[len(p50s) // 2], "latency_p99_ms": max(w[5] for w in window[1:]),
                 "threads": {k: round(100 * (th1[k] - th0.get(k, 0.0)) / (t1 - t0), 2)
@@ -148,8 +157,8 @@ def measure(a, rates, schedules, argv, script_file):
     line's arguments, or None for sys.argv[1:]). Returns the exit status (1 when a run failed)."""
     lines = ["| belief rate [Hz] | belief_schedule | beliefs advanced on | node CPU (1 core) | belief thread CPU "
              "| belief steps [Hz] | belief time integrated per second | latency p50 / p99 [ms] | plant CPU "
-             "| bare loop CPU (aic_timing) |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "| stock controller node CPU (node / stock) | bare loop CPU (aic_timing) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for line in lines:
         print(line)
     load_before = loadavg()
@@ -165,7 +174,8 @@ def measure(a, rates, schedules, argv, script_file):
         for schedule in schedules:
             # One process per run: rospy joins one master per process.
             proc = subprocess.run([sys.executable, os.path.abspath(script_file), "--one", str(rate),
-                                   "--duration", str(a.duration), "--warmup", str(a.warmup), "--config", a.config]
+                                   "--duration", str(a.duration), "--warmup", str(a.warmup), "--config", a.config,
+                                   "--base", a.base]
                                   + ["--set=" + o for o in a.set] + ["--set=belief_schedule=" + schedule],
                                   stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True)
             found = [l for l in proc.stdout.splitlines() if l.startswith("RESULT ")]
@@ -176,10 +186,13 @@ def measure(a, rates, schedules, argv, script_file):
                 lines.append(line)
                 continue
             r = json.loads(found[-1][len("RESULT "):])
-            line = "| %.0f | %s | %s | %.2f %% | %.2f %% | %.2f | %.2f %% | %.2f / %.2f | %.1f %% | %s |" % (
+            stock = r.get("stock_cpu", float("nan"))
+            stock_text = "-" if stock != stock else "%.2f %% (%.2f)" % (100 * stock, r["node_cpu"] / stock if stock > 0
+                                                                        else float("inf"))
+            line = "| %.0f | %s | %s | %.2f %% | %.2f %% | %.2f | %.2f %% | %.2f / %.2f | %.1f %% | %s | %s |" % (
                 rate, schedule, r["loop"], 100 * r["node_cpu"], 100 * r["belief_thread_cpu"], r["belief_steps_rate"],
                 100 * r["belief_time_fraction"], r["latency_p50_ms"], r["latency_p99_ms"], 100 * r["plant_cpu"],
-                bare or "-")
+                stock_text, bare or "-")
             print(line)
             lines.append(line)
             if a.threads:
@@ -192,11 +205,11 @@ def measure(a, rates, schedules, argv, script_file):
         command = "scripts/aic_node_load.py " + " ".join(argv if argv is not None else sys.argv[1:])
         with open(a.output, "w") as f:
             f.write("# Node CPU and sensor-to-command latency\n\n")
-            f.write("Generated by `%s`: the node on the simulated Jackal (launch/sim.launch, wall clock, "
+            f.write("Generated by `%s`: the node on the simulated Jackal (launch/sim.launch base:=%s, wall clock, "
                     "0.5 m/s set point), CPU from /proc over each window, belief steps and latency from "
                     "/diagnostics (\"loops\"); the bare loop is aic_timing's `clock_nanosleep` loop at the same "
                     "rate. Configuration: %s%s. Host load average (1, 5, 15 min) before: %s, after: %s; "
-                    "%d CPU(s).\n\n" % (command, os.path.basename(a.config),
+                    "%d CPU(s).\n\n" % (command, a.base, os.path.basename(a.config),
                                         "".join(", " + o for o in a.set), load_before, loadavg(), os.cpu_count()))
             f.write("\n".join(lines) + "\n")
     return 1 if failed else 0
