@@ -3,12 +3,15 @@
  * \brief Closed-loop checks of belief_model unbiased and learn_wheel_separation on the simulated
  *        Jackal (doc/active_inference.md, 'Unbiased beliefs', 'Learning the generative model'):
  *        the beliefs are the robot's state where the plant follows and where it cannot, and arcs
- *        are tracked once b_hat is learned. config/default.yaml with the unbiased settings below,
- *        seeded sensor noise: deterministic.
+ *        are tracked once b_hat is learned; the learned b_hat converges from once and twice the
+ *        track with fault isolation on. config/default.yaml (with the unbiased settings below where
+ *        named), seeded sensor noise: deterministic.
  */
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -99,6 +102,43 @@ TEST(UnbiasedBeliefs, ArcTrackedAndBelievedOnceTheSeparationIsLearned)
   EXPECT_NEAR(mean(r, r.yaw_true, 16.0, 21.0), 0.5, 0.015 * 0.5);
   EXPECT_LE(meanAbsDiff(r, r.belief_yaw, r.yaw_true, 16.0, 21.0), 0.01);
   EXPECT_LE(meanAbsDiff(r, r.belief, r.v_true, 16.0, 21.0), 0.01);
+}
+
+TEST(LearnedSeparation, ConvergesFromOnceAndTwiceTheTrackWithFaultIsolationOn)
+{
+  // config/default.yaml (learning and fault isolation on), 0.5 m/s + 0.5 rad/s from t = 1 s, b_hat
+  // started at the track (0.3756 m) and at twice it. The plant's effective separation is measured
+  // on the ground truth: the configured b_hat times the true wheels' yaw rate over the true yaw
+  // rate, over the steady arc. b_hat must be within 5 % of it 10 s into the arc and stay there (to
+  // 20 s); both starts must end within 1 % of each other.
+  constexpr double kTrack = 0.37559;  // sim/urdf/jackal.urdf
+  double ends[2] = { 0.0, 0.0 };
+  for (int i = 0; i < 2; ++i)
+  {
+    const double start = (i + 1) * kTrack;
+    SCOPED_TRACE("b_hat from " + std::to_string(start) + " m");
+    const NodeParams node = loadNodeParamsFiles({ kRoot + "/config/default.yaml" },
+                                                { "wheel_separation=" + std::to_string(start) });
+    ASSERT_TRUE(node.aic.learn_wheel_separation);
+    ASSERT_TRUE(node.fdi.enabled);
+    const ClosedLoopRecord r = run(node, 0.5, 0.5, 21.0);
+    EXPECT_EQ(r.runaways, 0u);
+    const double b_eff = start * mean(r, r.yaw_wheels, 6.0, 21.0) / mean(r, r.yaw_true, 6.0, 21.0);
+    EXPECT_GT(b_eff, 1.2 * kTrack) << "no effective separation to learn";
+    double worst = 0.0;
+    for (std::size_t k = 0; k < r.time.size(); ++k)
+    {
+      if (r.time[k] >= 11.0)
+      {
+        worst = std::max(worst, std::abs(r.separation[k] - b_eff) / b_eff);
+      }
+    }
+    std::printf("b_hat from %.4f m: effective %.4f m, b_hat at 21 s %.4f m, worst deviation from 11 s %.2f %%\n",
+                start, b_eff, r.separation.back(), 100.0 * worst);
+    EXPECT_LE(worst, 0.05);
+    ends[i] = r.separation.back();
+  }
+  EXPECT_NEAR(ends[1], ends[0], 0.01 * ends[0]);
 }
 
 TEST(UnbiasedBeliefs, BeliefHonestWhenTheWheelsSaturate)

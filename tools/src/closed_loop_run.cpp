@@ -15,7 +15,7 @@
  *            (--step V [--turn W] | --square LOW HIGH | --profile FILE [--segments]) [--channel linear|angular]
  *            [--period S] [--cycles N] [--rest S] [--hold S] [--noise] [--fault LINE]... [--csv FILE]
  *            [--ideal-iterations N] [--ideal-gain G]
- *   --overlay FILE    plant YAML with only the keys that differ (e.g. sim/config/variants/*.yaml),
+ *   --overlay FILE    plant YAML with only the keys that differ (e.g. a file of sim/config/variants/),
  *                     applied after --config and before --set; repeatable, later ones win
  *   --controller open  no controller: the set point's wheel speeds go to the MCU as they are
  *   --controller ideal the ideal controller (jackal_sim/harness/closed_loop.hpp, runIdealController): the
@@ -52,8 +52,9 @@
  *        "samples"}} with rise, settling, overshoot, sse, settled; times from the profile's start
  *        (--rest + 10 ms into the run); tracking over the profile's span.
  * CSV (--csv): t (from the profile's start), set points, speeds, beliefs, drive commands, the
- *        ground-truth pose x, y, heading and the ideal pose x_ideal, y_ideal, heading_ideal (empty
- *        outside the analysed span).
+ *        ground-truth pose x, y, heading, the ideal pose x_ideal, y_ideal, heading_ideal (empty
+ *        outside the analysed span) and the AIC's wheel separation b_hat [m] (learned with
+ *        learn_wheel_separation; empty for the other controllers and before the AIC starts).
  * Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.
  */
 
@@ -353,7 +354,7 @@ int main(int argc, char** argv)
   {
     std::ofstream f(csv);
     f << "t,set_point,v_odom,v_true,yaw_odom,yaw_true,command,belief,angular_set_point,command_yaw,belief_yaw,"
-         "x,y,heading,x_ideal,y_ideal,heading_ideal\n";
+         "x,y,heading,x_ideal,y_ideal,heading_ideal,separation\n";
     std::size_t ideal = 0;  // next analysed sample of the path drift
     for (std::size_t k = 0; k < rec.time.size(); ++k)
     {
@@ -373,7 +374,7 @@ int main(int argc, char** argv)
       {
         f << ",,,";
       }
-      f << "\n";
+      f << "," << (std::isfinite(rec.separation[k]) ? jsonNumber(rec.separation[k]) : "") << "\n";
     }
     if (!f)
     {
