@@ -8,7 +8,8 @@
  *        ordinary operation around the node (the clock stepping back, the simulator restarting,
  *        the sensor driver pausing, the node respawning) injected at seeded random times.
  *        Reports memory, belief and command bounds, recoveries after each operation and the
- *        controller's learned parameters (none), and checks them (doc/tools.md, 'Soak').
+ *        learned wheel separation b_hat (its spread from 120 s after each node start: median,
+ *        p1 .. p99, min .. max), and checks them (doc/tools.md, 'Soak').
  *
  * Usage: aic_soak [--hours H] [--seed N] [--profile FILE]... [--profile-dir DIR]
  *            [--aic-config FILE] [--aic-set key=value]... [plant options] [--noise]
@@ -16,7 +17,8 @@
  * Checks (exit 3 if one fails): no non-finite command, belief or measurement; every command
  * within +-max_wheel_speed; every belief finite and within runaway_limit, no runaway; the
  * process's resident memory grows by less than 1 MiB from the first simulated 10 minutes to
- * the end (a tenth of a shorter run); after every operation the controller runs again.
+ * the end (a tenth of a shorter run); after every operation the controller runs again; the
+ * learned b_hat always finite and within [separation_min, separation_max].
  * Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments, 3 if a check fails.
  */
 
@@ -268,6 +270,16 @@ int main(int argc, char** argv)
   // Resident memory: the baseline after the first 10 simulated minutes (a tenth of a shorter run).
   const double rss_start = std::min(600.0, 0.1 * c.duration);
   double next_rss = rss_start;
+  // The learned wheel separation: a histogram over [separation_min, separation_max] of b_hat from
+  // kLearnWarmup after each node start (a respawn starts learning again from wheel_separation).
+  constexpr double kLearnWarmup = 120.0;  // [s]
+  constexpr std::size_t kBins = 4000;
+  const double b_lo = c.aic.separation_min;
+  const double b_hi = c.aic.separation_max;
+  std::vector<std::uint64_t> b_hist(kBins, 0);
+  std::uint64_t b_count = 0, b_outside = 0;
+  double b_min = std::numeric_limits<double>::infinity(), b_max = -b_min, b_last = std::nan("");
+  double loop_since = 0.0;
   c.observer = [&](const ClosedLoopSample& x) {
     ++s.samples;
     const ControlLoop* loop = x.loop;
@@ -278,6 +290,21 @@ int main(int argc, char** argv)
       s.starts += loop_starts;
       loop_runaways = loop_jumps = loop_starts = 0;
       seen_loop = loop;
+      loop_since = x.time;
+    }
+    if (loop != nullptr && loop->controller().params().learn_wheel_separation)
+    {
+      const double b = loop->controller().model().wheelSeparation();
+      b_outside += (std::isfinite(b) && b >= b_lo && b <= b_hi) ? 0 : 1;
+      if (x.time - loop_since >= kLearnWarmup && std::isfinite(b))
+      {
+        const double u = (b - b_lo) / (b_hi - b_lo);
+        ++b_hist[std::min(kBins - 1, static_cast<std::size_t>(std::max(0.0, u) * static_cast<double>(kBins)))];
+        ++b_count;
+        b_min = std::min(b_min, b);
+        b_max = std::max(b_max, b);
+        b_last = b;
+      }
     }
     const bool finite = x.wheels_command.allFinite() && x.wheels_measured.allFinite() && std::isfinite(x.v_true);
     s.non_finite += finite ? 0 : 1;
@@ -369,6 +396,7 @@ int main(int argc, char** argv)
   }
 
   // Report.
+  double b_drift = 0.0;  // largest deviation of b_hat's p1 / p99 from its median (relative)
   std::ostringstream r;
   r.setf(std::ios::fixed);
   r.precision(3);
@@ -396,7 +424,40 @@ int main(int argc, char** argv)
   r << "| resident memory | " << s.rss_first / 1048576.0 << " MiB at start, " << s.rss_baseline / 1048576.0
     << " MiB after " << rss_start / 60.0 << " simulated minutes, " << s.rss_end / 1048576.0 << " MiB at the end; growth "
     << growth / 1024.0 << " KiB |\n";
-  r << "| learned parameters | none: the controller adapts only its beliefs and its action (bounds above) |\n";
+  if (!c.aic.learn_wheel_separation)
+  {
+    r << "| learned parameters | none (learn_wheel_separation off): the controller adapts only its beliefs and its "
+         "action (bounds above) |\n";
+  }
+  else if (b_count == 0)
+  {
+    r << "| learned wheel separation b_hat | no sample " << kLearnWarmup << " s after a node start |\n";
+  }
+  else
+  {
+    // Percentiles from the histogram (bin centres).
+    auto quantile = [&](double q) {
+      const auto target = static_cast<std::uint64_t>(q * static_cast<double>(b_count - 1));
+      std::uint64_t seen = 0;
+      for (std::size_t i = 0; i < kBins; ++i)
+      {
+        seen += b_hist[i];
+        if (seen > target)
+        {
+          return b_lo + (static_cast<double>(i) + 0.5) * (b_hi - b_lo) / static_cast<double>(kBins);
+        }
+      }
+      return b_hi;
+    };
+    const double median = quantile(0.5), p1 = quantile(0.01), p99 = quantile(0.99);
+    b_drift = std::max(median - p1, p99 - median) / median;
+    r << "| learned wheel separation b_hat (from " << kLearnWarmup << " s after each node start; "
+      << b_count << " samples) | median " << median << " m, p1 .. p99 " << p1 << " .. " << p99 << " m ("
+      << 100.0 * (p1 - median) / median << " % .. +" << 100.0 * (p99 - median) / median << " %), min .. max "
+      << b_min << " .. " << b_max << " m, at the end " << b_last << " m; bounds " << b_lo << " .. " << b_hi
+      << " m (samples outside: " << b_outside << "); p1 and p99 within 2 % of the median: "
+      << (b_drift <= 0.02 ? "yes" : "no") << " |\n";
+  }
   r << "\n| operation | count | recovery p50 [s] | recovery max [s] |\n|---|---|---|---|\n";
   for (int k = 0; k < 4; ++k)
   {
@@ -425,6 +486,8 @@ int main(int argc, char** argv)
     failures.push_back("resident memory grew by 1 MiB or more");
   if (unrecovered > 0)
     failures.push_back("an operation after which the controller did not run again");
+  if (b_outside > 0)
+    failures.push_back("learned b_hat outside [separation_min, separation_max] or non-finite");
   r << "\nVerdict: " << (failures.empty() ? "PASS" : "FAIL");
   for (const auto& f : failures)
   {
