@@ -221,6 +221,8 @@ struct AicParams
   double separation_min_yaw_rate = 0.1;
   /// b_hat is frozen while |d gyro/dt| (y^(1) of the gyro) is above this [rad/s^2], > 0, <= kMaxGain.
   double separation_max_yaw_acceleration = 0.5;
+  /// |db_hat/dt| <= separation_max_rate b_hat [1/s], >= 0, <= 10; 0 = unlimited.
+  double separation_max_rate = 0.1;
 
   /// Number of generalized orders, p + 1.
   int numOrders() const { return embedding_order + 1; }

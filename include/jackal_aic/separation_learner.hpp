@@ -24,6 +24,7 @@ struct SeparationLearnerParams
   double rate = 4.0;               ///< learning rate kappa_b [m^2 s / rad^2 per unit precision], finite and >= 0
   double min_yaw_rate = 0.1;       ///< frozen while |gyro| is below this [rad/s], finite and >= 0
   double max_yaw_acceleration = 0.5;  ///< frozen while |d gyro/dt| is above this [rad/s^2], finite and > 0
+  double max_rate = 0.1;   ///< |d b_hat/dt| <= max_rate b_hat [1/s], finite and >= 0; 0 = unlimited
 };
 
 /**
@@ -36,7 +37,10 @@ struct SeparationLearnerParams
  *   dF_b / d b_hat = Pi_b eps_b r alpha (omega_R - omega_L) / b_hat^2,
  *   b_hat <- clamp(b_hat - h kappa_b dF_b / d b_hat, min, max).
  * Near a consistent b_hat the error decays with the time constant b_hat^2 / (kappa_b Pi_b theta_dot^2)
- * (faster turning, faster learning). The parameter is frozen (not moved) while a sensor the
+ * (faster turning, faster learning), and b_hat moves by at most max_rate b_hat per second: a fault
+ * the fault monitor has not yet isolated (it needs fdi_detect_time) cannot be explained away by
+ * b_hat in the meantime, which would also hide it from the monitor's residual (active inference's
+ * slow timescale for parameters). The parameter is frozen (not moved) while a sensor the
  * disagreement needs is flagged by the fault monitor, near rest (|y_gyro| < min_yaw_rate: no
  * information about b_hat, and wheel dead-bands dominate), while the action saturates (the
  * wheels then slip against their limit and the kinematics do not hold), or in a transient
@@ -46,8 +50,12 @@ struct SeparationLearnerParams
  * following a changing turn, frozen, does not teach the model), or while the disagreement is one no
  * plausible separation explains (the separation it implies, r alpha (omega_R - omega_L) / y_gyro,
  * is outside [kImplausibleFactor min, max / kImplausibleFactor] or of the wrong sign: a sensor
- * fault, not the model; the fault monitor isolates it fdi_detect_time later). Between the bounds
- * and that window b_hat moves to the bound it is clamped to.
+ * fault, not the model; the fault monitor isolates it fdi_detect_time later), or while the gyro's
+ * reading repeats bit for bit (its finite-difference rate exactly 0: a live gyro's noise never
+ * repeats while the robot turns, so this is a stuck sensor or a repeated message, no new
+ * information; a frozen gyro would otherwise teach b_hat to follow the drift the frozen reading
+ * causes, and hide the fault from the fault monitor's residual). Between the bounds and that
+ * window b_hat moves to the bound it is clamped to.
  *
  * No heap allocation, no exceptions after construction.
  */
@@ -66,6 +74,7 @@ public:
     kSaturated,    ///< frozen: the action saturates
     kTransient,    ///< frozen: |d y_gyro/dt| or the wheels' |yaw acceleration| > max_yaw_acceleration
     kImplausible,  ///< frozen: the implied separation is outside [min / 2, 2 max] or negative
+    kStuckGyro,    ///< frozen: d y_gyro/dt is exactly 0 (the reading repeats: a stuck gyro or a repeated message)
     kBadInput      ///< ignored: non-finite input, h <= 0 or precision < 0
   };
 

@@ -103,6 +103,7 @@ SeparationLearnerParams ActiveInferenceController::learnerParams(const AicParams
   lp.rate = params.separation_learning_rate;
   lp.min_yaw_rate = params.separation_min_yaw_rate;
   lp.max_yaw_acceleration = params.separation_max_yaw_acceleration;
+  lp.max_rate = params.separation_max_rate;
   return lp;
 }
 

@@ -167,6 +167,10 @@ std::vector<ParamSpec> buildControllerRows()
     { "separation_max_yaw_acceleration", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "rad/s^2",
       "b_hat is frozen while the gyro's |yaw acceleration| (its generalized order 1) is above this (a transient)",
       true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(separation_max_yaw_acceleration) },
+    { "separation_max_rate", T::kDouble, C, "active_inference", 0.0, false, 10.0, "1/s",
+      "b_hat moves by at most this share of itself per second (slower than the fault monitor detects a "
+      "sensor fault, so that learning cannot explain the fault away); 0 = unlimited",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(separation_max_rate) },
     // ---- robot (Clearpath Jackal; doc/jackal.md)
     { "wheel_radius", T::kDouble, C, "robot", kMinLength, false, kMaxLength, "m",
       "Wheel radius r (thesis eq. 3-1 to 3-4)",

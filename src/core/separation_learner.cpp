@@ -38,6 +38,7 @@ std::string check(const SeparationLearnerParams& p)
   rule(finite(p.min_yaw_rate) && p.min_yaw_rate >= 0.0, "separation_min_yaw_rate finite and >= 0");
   rule(finite(p.max_yaw_acceleration) && p.max_yaw_acceleration > 0.0,
        "separation_max_yaw_acceleration finite and > 0");
+  rule(finite(p.max_rate) && p.max_rate >= 0.0, "separation_max_rate finite and >= 0");
   return msg;
 }
 }  // namespace
@@ -75,6 +76,10 @@ SeparationLearner::State SeparationLearner::update(double h, double gyro_z, doub
   {
     state_ = State::kNearRest;
   }
+  else if (gyro_rate == 0.0)
+  {
+    state_ = State::kStuckGyro;
+  }
   else if (std::abs(gyro_rate) > params_.max_yaw_acceleration ||
            std::abs(r_alpha * (omega_r_rate - omega_l_rate)) > params_.max_yaw_acceleration * b_)
   {
@@ -89,7 +94,13 @@ SeparationLearner::State SeparationLearner::update(double h, double gyro_z, doub
     // eps_b = y_gyro - r alpha (omega_R - omega_L) / b_hat;  dF_b/db_hat = Pi_b eps_b r alpha dw / b_hat^2.
     eps_ = gyro_z - phi / b_;
     const double grad = precision * eps_ * phi / (b_ * b_);
-    b_ = std::clamp(b_ - h * params_.rate * grad, params_.min, params_.max);
+    double step = -h * params_.rate * grad;
+    if (params_.max_rate > 0.0)
+    {
+      const double most = h * params_.max_rate * b_;
+      step = std::clamp(step, -most, most);
+    }
+    b_ = std::clamp(b_ + step, params_.min, params_.max);
     ++steps_;
     state_ = State::kLearning;
   }
@@ -147,6 +158,8 @@ const char* toString(SeparationLearner::State state)
       return "transient";
     case SeparationLearner::State::kImplausible:
       return "implausible disagreement";
+    case SeparationLearner::State::kStuckGyro:
+      return "stuck gyro";
     case SeparationLearner::State::kBadInput:
       return "bad input";
   }

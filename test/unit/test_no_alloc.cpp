@@ -172,6 +172,7 @@ TEST(NoAlloc, UnbiasedBeliefsAndLearningUpdatePath)
     ActiveInferenceController c(params);
     YTilde y = YTilde::Zero(kYDim, params.numOrders());
     y(kGyroZ, 0) = 0.5;  // the wheels' turn at b_hat = wheel_separation: 0.5 / 1.4
+    y(kGyroZ, 1) = 1e-3;  // a live gyro (a rate of exactly 0 is a stuck one: no learning)
     y(kOmegaLeft, 0) = (0.5 - 0.25 * 1.4 * params.wheel_separation) / params.wheel_radius;
     y(kOmegaRight, 0) = (0.5 + 0.25 * 1.4 * params.wheel_separation) / params.wheel_radius;
     AllocationCounter counter;

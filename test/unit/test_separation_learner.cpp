@@ -16,6 +16,7 @@ namespace
 {
 constexpr double kR = 0.098;       // wheel radius [m]
 constexpr double kTrack = 0.5621;  // nominal separation [m]
+constexpr double kLive = 1e-3;     // a live gyro's rate in a steady turn [rad/s^2]: never exactly 0
 constexpr double kPi = 0.5;        // Pi_b: the recommended gyro precision 1 / var_y[0]
 constexpr double kH = 0.001;       // 1 kHz [s]
 
@@ -48,7 +49,7 @@ void driveArc(SeparationLearner* l, double v, double w, double b_eff, double sec
   {
     const double wl = (v - 0.5 * w * b_eff) / kR + n(noise);
     const double wr = (v + 0.5 * w * b_eff) / kR + n(noise);
-    l->update(kH, w + n(noise), 0.0, wl, wr, 0.0, 0.0, kPi, true, false);
+    l->update(kH, w + n(noise), kLive, wl, wr, 0.0, 0.0, kPi, true, false);
   }
 }
 }  // namespace
@@ -113,29 +114,47 @@ TEST(SeparationLearner, FrozenUnderEachCondition)
   SeparationLearner l(params(kTrack));
   for (int k = 0; k < 1000; ++k)
   {
-    EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wr, 0.0, 0.0, kPi, false, false), SeparationLearner::State::kSensorFault);
-    EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wr, 0.0, 0.0, kPi, true, true), SeparationLearner::State::kSaturated);
-    EXPECT_EQ(l.update(kH, 0.05, 0.0, 0.1 * wl, 0.1 * wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kNearRest);
-    EXPECT_EQ(l.update(kH, std::numeric_limits<double>::quiet_NaN(), 0.0, wl, wr, 0.0, 0.0, kPi, true, false),
+    EXPECT_EQ(l.update(kH, 0.5, kLive, wl, wr, 0.0, 0.0, kPi, false, false), SeparationLearner::State::kSensorFault);
+    EXPECT_EQ(l.update(kH, 0.5, kLive, wl, wr, 0.0, 0.0, kPi, true, true), SeparationLearner::State::kSaturated);
+    EXPECT_EQ(l.update(kH, 0.05, kLive, 0.1 * wl, 0.1 * wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kNearRest);
+    EXPECT_EQ(l.update(kH, std::numeric_limits<double>::quiet_NaN(), kLive, wl, wr, 0.0, 0.0, kPi, true, false),
               SeparationLearner::State::kBadInput);
-    EXPECT_EQ(l.update(0.0, 0.5, 0.0, wl, wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kBadInput);
-    EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wr, 0.0, 0.0, -1.0, true, false), SeparationLearner::State::kBadInput);
+    EXPECT_EQ(l.update(0.0, 0.5, kLive, wl, wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kBadInput);
+    EXPECT_EQ(l.update(kH, 0.5, kLive, wl, wr, 0.0, 0.0, -1.0, true, false), SeparationLearner::State::kBadInput);
     EXPECT_EQ(l.update(kH, 0.5, 2.0, wl, wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kTransient);
     EXPECT_EQ(l.update(kH, 0.5, -2.0, wl, wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kTransient);
     // The wheels' yaw acceleration r (dw_R - dw_L) / b_hat beyond the bound (the gyro steady: frozen).
-    EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wr, -3.0, 3.0, kPi, true, false), SeparationLearner::State::kTransient);
+    EXPECT_EQ(l.update(kH, 0.5, kLive, wl, wr, -3.0, 3.0, kPi, true, false), SeparationLearner::State::kTransient);
+    // The gyro's reading repeats bit for bit (rate exactly 0): stuck, no new information.
+    EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kStuckGyro);
     // A frozen gyro reports 0.5 rad/s while the wheels drive straight: no b_hat explains it.
-    EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wl, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kImplausible);
+    EXPECT_EQ(l.update(kH, 0.5, kLive, wl, wl, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kImplausible);
     // The gyro turns the other way than the wheels.
-    EXPECT_EQ(l.update(kH, -0.5, 0.0, wl, wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kImplausible);
+    EXPECT_EQ(l.update(kH, -0.5, kLive, wl, wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kImplausible);
     // The implied separation r (w_R - w_L) / y_gyro: 3.9 m, beyond 2 max (3 m).
-    EXPECT_EQ(l.update(kH, 0.1, 0.0, wl, wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kImplausible);
+    EXPECT_EQ(l.update(kH, 0.1, kLive, wl, wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kImplausible);
   }
   EXPECT_EQ(l.separation(), kTrack);  // bit for bit
   EXPECT_EQ(l.learningSteps(), 0u);
-  EXPECT_EQ(l.update(kH, 0.5, 0.0, wl, wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kLearning);
+  EXPECT_EQ(l.update(kH, 0.5, kLive, wl, wr, 0.0, 0.0, kPi, true, false), SeparationLearner::State::kLearning);
   EXPECT_GT(l.separation(), kTrack);
   EXPECT_EQ(l.learningSteps(), 1u);
+}
+
+TEST(SeparationLearner, MovesAtMostMaxRatePerSecond)
+{
+  // A disagreement that the gradient alone would follow within a fraction of a second (a gyro
+  // fault before the fault monitor isolates it): b_hat moves by at most max_rate b_hat per second.
+  SeparationLearnerParams p = params(kTrack);
+  p.max_rate = 0.05;
+  SeparationLearner limited(p);
+  p.max_rate = 0.0;  // unlimited
+  SeparationLearner free(p);
+  driveArc(&limited, 0.5, 1.0, 2.0 * kTrack, 0.2);
+  driveArc(&free, 0.5, 1.0, 2.0 * kTrack, 0.2);
+  EXPECT_GT(free.separation(), 1.1 * kTrack) << "the control: the unlimited gradient moves fast";
+  EXPECT_LE(limited.separation(), kTrack * std::exp(0.05 * 0.2) * (1.0 + 1e-9));
+  EXPECT_GT(limited.separation(), kTrack * (1.0 + 0.9 * 0.05 * 0.2));
 }
 
 TEST(SeparationLearner, ZeroRateOrPrecisionNeverMoves)
@@ -163,6 +182,7 @@ TEST(SeparationLearner, RejectsBadParams)
   EXPECT_THROW(SeparationLearner{ p }, std::invalid_argument);
   EXPECT_STREQ(toString(SeparationLearner::State::kSaturated), "saturated");
   EXPECT_STREQ(toString(SeparationLearner::State::kImplausible), "implausible disagreement");
+  EXPECT_STREQ(toString(SeparationLearner::State::kStuckGyro), "stuck gyro");
 }
 
 TEST(SeparationLearner, OverlayYaml)
