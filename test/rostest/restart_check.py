@@ -153,8 +153,11 @@ class RestartTest(unittest.TestCase):
         self.assertTrue(recovered, "%s: the commanded speed never came back within %.0f %% of %.2f m/s" %
                         (label, 100 * self.band, self.set_point))
         recovery = recovered[0] - t0
-        window = [m for w, t, m in items[max(cmd_index_before - 1, 0):]
-                  if w < t0_wall - 0.02 or t <= t0 + 1.0]
+        # From the last command before the operation (not earlier: the node's first start, from
+        # the idle command, is no restart) to 1 s into the new timeline.
+        last_before = max([i for i in range(max(cmd_index_before - 1, 0), len(items))
+                           if items[i][0] < t0_wall - 0.02] or [max(cmd_index_before - 1, 0)])
+        window = [m for w, t, m in items[last_before:] if w < t0_wall - 0.02 or t <= t0 + 1.0]
         rise = 0.0
         for a, b in zip(window, window[1:]):
             for k in (0, 1):
