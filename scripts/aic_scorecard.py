@@ -30,7 +30,8 @@ def main():
                     help="also the driving acceptance set (criterion 6: steps, turn deficit, tracking over the variants)")
     ap.add_argument("--json", help="write the figures and verdicts as JSON here")
     ap.add_argument("--doc", action="store_true",
-                    help="also write the printout to doc/results/scorecard.txt with the command that made it")
+                    help="also write the printout to doc/results/scorecard.txt with the command that made it, and "
+                         "with --driving the ideal controller's runs to doc/results/ideal_runs.json")
     a = ap.parse_args()
     a.aic_config = os.path.abspath(a.aic_config)
     a.plant_config = os.path.abspath(a.plant_config)

@@ -21,7 +21,7 @@ import unittest
 
 ROOT = os.path.realpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), ".."))
 sys.path.insert(0, os.path.join(ROOT, "src"))
-from jackal_aic_tools import driving, experiment, plant_limits, procfs, report, soak, summary, sweep  # noqa: E402
+from jackal_aic_tools import driving, experiment, ideal_cache, plant_limits, procfs, report, soak, summary, sweep  # noqa: E402
 from jackal_aic_tools import track_suite  # noqa: E402
 
 
@@ -319,6 +319,87 @@ class PlantLimitsTest(unittest.TestCase):
         self.assertAlmostEqual(out["gmean"]["wz"], math.sqrt(0.5 * 1.5))
         self.assertEqual(out["limited_gmean"]["n"], 0)
         self.assertIsNone(out["limited_gmean"]["aic_stock"])
+
+
+class IdealCacheTest(unittest.TestCase):
+    """jackal_aic_tools.ideal_cache: kept ideal runs are used only for the sources, plant, overlay
+    and profile that made them; driving.Runner takes them instead of running the ideal controller."""
+
+    def make_tree(self, root):
+        for rel in ideal_cache.IDEAL_SOURCES:
+            path = os.path.join(root, rel)
+            if rel.endswith((".cpp", ".hpp", ".py")):
+                os.makedirs(os.path.dirname(path), exist_ok=True)
+                with open(path, "w") as f:
+                    f.write("// %s\n" % rel)
+            else:
+                os.makedirs(path, exist_ok=True)
+                with open(os.path.join(path, "a.txt"), "w") as f:
+                    f.write(rel)
+        for name, text in (("plant.yaml", "a: 1\n"), ("profile.csv", "t,vx,wz\n0,0,0\n"), ("copy.csv", "t,vx,wz\n0,0,0\n")):
+            with open(os.path.join(root, name), "w") as f:
+                f.write(text)
+
+    def test_kept_runs_follow_their_sources_and_inputs(self):
+        with tempfile.TemporaryDirectory() as root:
+            self.make_tree(root)
+            cmd = ["/x/closed_loop_run", "--controller", "ideal", "--config", os.path.join(root, "plant.yaml"),
+                   "--profile", os.path.join(root, "profile.csv")]
+            kept = ideal_cache.IdealCache(root)
+            self.assertEqual(kept.status, "no kept runs")
+            self.assertIsNone(kept.get(cmd))
+            kept.put(cmd, {"rms": 1.0})
+            kept.save()
+            again = ideal_cache.IdealCache(root)
+            self.assertEqual(again.get(cmd), {"rms": 1.0})
+            # The same bytes under another path or executable: the same run.
+            moved = ["/y/other"] + cmd[1:-1] + [os.path.join(root, "copy.csv")]
+            self.assertEqual(again.get(moved), {"rms": 1.0})
+            self.assertEqual((again.hits, again.misses), (2, 0))
+            # The control: another profile content, or another argument, misses.
+            with open(os.path.join(root, "copy.csv"), "a") as f:
+                f.write("1,0.5,0\n")
+            self.assertIsNone(again.get(moved))
+            self.assertIsNone(again.get(cmd + ["--set", "motor.command_delay=0.2"]))
+            # A changed source makes every kept run a miss; so does a missing one.
+            with open(os.path.join(root, "sim", "plant", "a.txt"), "a") as f:
+                f.write("changed")
+            stale = ideal_cache.IdealCache(root)
+            self.assertIn("other sources", stale.status)
+            self.assertIsNone(stale.get(cmd))
+            os.remove(os.path.join(root, "src", "jackal_aic_tools", "plant_limits.py"))
+            gone = ideal_cache.IdealCache(root)
+            self.assertIsNone(gone.sources)
+            gone.put(cmd, {"rms": 2.0})
+            self.assertIsNone(gone.get(cmd))
+            with self.assertRaises(RuntimeError):
+                gone.save()
+
+    def test_an_unreadable_file_is_no_kept_run(self):
+        with tempfile.TemporaryDirectory() as root:
+            self.make_tree(root)
+            path = os.path.join(root, "runs.json")
+            with open(path, "w") as f:
+                f.write("{not json")
+            kept = ideal_cache.IdealCache(root, path)
+            self.assertIn("unreadable", kept.status)
+            self.assertEqual(kept.entries, {})
+
+    def test_the_runner_takes_kept_ideal_runs(self):
+        with tempfile.TemporaryDirectory() as root:
+            self.make_tree(root)
+            plant_yaml, profile = os.path.join(root, "plant.yaml"), os.path.join(root, "profile.csv")
+            # An executable that does not exist: any run would fail, so a result proves the kept one.
+            runner = driving.Runner(os.path.join(root, "no_such_tool"), "aic.yaml", plant_yaml,
+                                    ideal_cache=ideal_cache.IdealCache(root))
+            cmd = runner.command("ideal", ["--profile", profile])
+            runner.ideal_cache.put(cmd, {"kept": True})
+            out = runner.run_all([("k", "ideal", ["--profile", profile], None, (), False)])
+            self.assertEqual(out["k"], ({"kept": True}, None))
+            # The control: without the kept run the (missing) tool is run, and fails.
+            bare = driving.Runner(os.path.join(root, "no_such_tool"), "aic.yaml", plant_yaml)
+            with self.assertRaises(Exception):
+                bare.run_all([("k", "ideal", ["--profile", profile], None, (), False)])
 
 
 class FailureSummaryTest(unittest.TestCase):

@@ -86,12 +86,15 @@ def default_variants(root):
 class Runner:
     """Runs closed_loop_run for one AIC configuration (a YAML and KEY=VALUE overrides), the stock
     controller and the ideal controller, on one plant YAML; caches the stock and ideal controllers'
-    results (they do not depend on the AIC's settings)."""
+    results (they do not depend on the AIC's settings) for its lifetime, and takes the ideal
+    controller's results from ``ideal_cache`` (ideal_cache.IdealCache, or None) where it keeps them
+    for the same sources, plant, overlay and profile."""
 
-    def __init__(self, exe, aic_config, plant_config, aic_sets=(), jobs=2):
+    def __init__(self, exe, aic_config, plant_config, aic_sets=(), jobs=2, ideal_cache=None):
         self.exe, self.aic_config, self.plant_config = exe, aic_config, plant_config
         self.aic_sets = list(aic_sets)
         self.jobs = max(1, jobs)
+        self.ideal_cache = ideal_cache
         self._stock = {}
 
     def command(self, controller, args, overlay=None, plant_sets=()):
@@ -118,6 +121,12 @@ class Runner:
             cache_key = (controller, tuple(args), overlay, tuple(plant_sets), want_trace)
             if controller != "aic" and cache_key in self._stock:
                 return self._stock[cache_key]
+            kept_cmd = self.command(controller, list(args), overlay, plant_sets)
+            if controller == "ideal" and self.ideal_cache is not None and not want_trace:
+                kept = self.ideal_cache.get(kept_cmd)
+                if kept is not None:
+                    self._stock[cache_key] = (kept, None)
+                    return kept, None
             trace = None
             with tempfile.TemporaryDirectory() as tmp:
                 extra = []
@@ -129,6 +138,8 @@ class Runner:
             out = (result, trace)
             if controller != "aic":
                 self._stock[cache_key] = out
+            if controller == "ideal" and self.ideal_cache is not None and not want_trace:
+                self.ideal_cache.put(kept_cmd, result)
             return out
         with ThreadPoolExecutor(max_workers=self.jobs) as pool:
             results = list(pool.map(one, jobs))

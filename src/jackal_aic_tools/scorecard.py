@@ -33,13 +33,17 @@ Usage:
 
   e.g.  scripts/aic_scorecard.py --aic-config config/default.yaml --jobs 2 --json /tmp/score.json
 
-Takes ~3 s on 2 cores; with --driving minutes (2.6 min of CPU: the ideal controller learns each tracking
-pair over 8 runs). Exit: 0 when every criterion passes, 1 when one fails, 2 when a run
+Takes ~3 s on 2 cores; with --driving about a minute, or minutes where the ideal controller runs (2.6
+min of CPU: it learns each tracking pair over 8 runs): its results are kept in doc/results/ideal_runs.json
+(written with --doc; jackal_aic_tools.ideal_cache) and used while the plant's and the tool's sources are
+unchanged; stderr says how many were kept and how many run. Exit: 0 when every criterion passes, 1 when one fails, 2 when a run
 fails (bad file, tool error).
 """
+import os
+import sys
 from concurrent.futures import ThreadPoolExecutor
 
-from . import cli, driving
+from . import cli, driving, ideal_cache
 
 SETTLE_RATIO = 0.8   # AIC / stock settling, 0.5 m/s step
 RISE_RATIO = 0.7     # AIC / stock rise, 0.5 m/s step
@@ -214,6 +218,11 @@ def scorecard(a, tool):
                                                           a.plant_overlay), job_list)))
     crit, ok = judge(results, seeds)
     if a.driving:
-        runner = driving.Runner(exe, a.aic_config, a.plant_config, jobs=a.jobs)
+        kept = ideal_cache.IdealCache(tool.root)
+        runner = driving.Runner(exe, a.aic_config, a.plant_config, jobs=a.jobs, ideal_cache=kept)
         ok = judge_driving(driving.evaluate(runner, tool.root), crit) and ok
+        print("aic_scorecard: ideal controller: %s (%s): %d kept, %d run"
+              % (os.path.relpath(kept.path, tool.root), kept.status, kept.hits, kept.misses), file=sys.stderr)
+        if getattr(a, "doc", False):
+            kept.save()
     return crit, ok
