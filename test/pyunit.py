@@ -21,12 +21,31 @@ def suite():
     return unittest.TestSuite(loader.loadTestsFromTestCase(c) for c in _CASES)
 
 
+def unlisted(cases, module=None):
+    """Names of the unittest.TestCase classes defined in ``module`` (default: the test file run,
+    __main__) that are not among ``cases``, sorted: cases rosunit would never run."""
+    module = module if module is not None else sys.modules["__main__"]
+    defined = [v for v in vars(module).values()
+               if isinstance(v, type) and issubclass(v, unittest.TestCase) and v.__module__ == module.__name__]
+    return sorted(c.__name__ for c in defined if c not in cases)
+
+
 def main(name, *cases):
     """Run ``cases`` (unittest.TestCase classes) of the calling test file: with a
     --gtest_output=xml:FILE argument through rosunit.unitrun as the result ``name`` of package
-    jackal_aic, else with unittest.main() on the file. Exits with the tests' status."""
+    jackal_aic, else with unittest.main() on the file. A test case class of the file that is not
+    among ``cases`` (unlisted()) adds a failing test naming it, so no case is left unrun. Exits
+    with the tests' status."""
     if any(arg.startswith("--gtest_output=xml:") for arg in sys.argv):
         import rosunit
+        missing = unlisted(cases)
+        if missing:
+            class UnlistedCases(unittest.TestCase):
+                """Fails: the file defines test cases that pyunit.main() was not given."""
+
+                def test_every_case_of_the_file_runs(self):
+                    self.fail("test case classes not given to pyunit.main(): %s" % ", ".join(missing))
+            cases = cases + (UnlistedCases,)
         _CASES[:] = cases
         rosunit.unitrun(PACKAGE, name, __name__ + ".suite")
     else:

@@ -325,4 +325,5 @@ class DrivingStepTest(unittest.TestCase):
 
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
-    pyunit.main("exp_tools", ProfileTest, StabilityTest, MetricsTest, TrackingTest, OverrideTest, DrivingStepTest)
+    pyunit.main("exp_tools", ProfileTest, StabilityTest, MetricsTest, TrackingTest, OverrideTest, DrivingStepTest,
+                PlotTest)

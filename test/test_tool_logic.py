@@ -434,4 +434,4 @@ class FailureSummaryTest(unittest.TestCase):
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
     pyunit.main("tool_logic", ProcfsTest, SweepTest, ExperimentTest, SoakTest, ReportAndSummaryTest,
-                FailureSummaryTest, PlantLimitsTest)
+                FailureSummaryTest, PlantLimitsTest, IdealCacheTest)
