@@ -121,8 +121,9 @@ class Runner:
             cache_key = (controller, tuple(args), overlay, tuple(plant_sets), want_trace)
             if controller != "aic" and cache_key in self._stock:
                 return self._stock[cache_key]
-            kept_cmd = self.command(controller, list(args), overlay, plant_sets)
-            if controller == "ideal" and self.ideal_cache is not None and not want_trace:
+            keep = controller == "ideal" and self.ideal_cache is not None and not want_trace
+            if keep:
+                kept_cmd = self.command(controller, list(args), overlay, plant_sets)
                 kept = self.ideal_cache.get(kept_cmd)
                 if kept is not None:
                     self._stock[cache_key] = (kept, None)
@@ -138,7 +139,7 @@ class Runner:
             out = (result, trace)
             if controller != "aic":
                 self._stock[cache_key] = out
-            if controller == "ideal" and self.ideal_cache is not None and not want_trace:
+            if keep:
                 self.ideal_cache.put(kept_cmd, result)
             return out
         with ThreadPoolExecutor(max_workers=self.jobs) as pool:
