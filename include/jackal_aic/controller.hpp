@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "jackal_aic/params.hpp"
+#include "jackal_aic/precision_learner.hpp"
 #include "jackal_aic/separation_learner.hpp"
 #include "jackal_aic/skid_steer_model.hpp"
 #include "jackal_aic/types.hpp"
@@ -209,6 +210,15 @@ public:
   /// Relative change of the learned b_hat that rebuilds the model (and the exact integrator) [-].
   static constexpr double kSeparationApplyTolerance = 1.0e-3;
 
+  /**
+   * \brief The learner of the order-0 sensory precisions (params().learn_precision;
+   *        doc/active_inference.md, 'Learning the sensory precisions'). It steps with
+   *        updateBeliefs() on eps_y^(0) after the belief step, frozen while the sensor mask
+   *        isolates a learned channel, near rest or actionSaturated(); precisionY() takes its
+   *        precisions whenever one moved by more than PrecisionLearner::kApplyTolerance.
+   */
+  const PrecisionLearner& precisionLearner() const { return precision_learner_; }
+
   /// Number of runaway resets since construction.
   std::uint64_t runawayCount() const { return runaway_count_; }
 
@@ -316,6 +326,7 @@ private:
   /// Give the model the learner's b_hat if it moved beyond kSeparationApplyTolerance.
   void applyLearnedSeparation(bool force);
   SeparationLearner learner_;
+  PrecisionLearner precision_learner_;  ///< used only with params_.learn_precision
   bool action_saturated_ = false;
 
   Vector2 a_ = Vector2::Zero();

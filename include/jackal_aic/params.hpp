@@ -223,6 +223,24 @@ struct AicParams
   double separation_max_yaw_acceleration = 0.5;
   /// |db_hat/dt| <= separation_max_rate b_hat [1/s], >= 0, <= 10; 0 = unlimited.
   double separation_max_rate = 0.1;
+  /**
+   * Learning of the order-0 sensory precisions Pi_y^(0) of the gyro, the wheels (and accelerometer x
+   * with accel_in_model) from the prediction errors seen (not in the thesis): false = Pi_y = 1 / var_y,
+   * fixed. true = ln Pi_j descends the free energy, Pi_j -> 1 / E[eps_j^2] (PrecisionLearner;
+   * Baioumy, Duckworth, Lacerda & Hawes, arXiv 2005.05894), starting from 1 / var_y;
+   * doc/active_inference.md, 'Learning the sensory precisions'.
+   */
+  bool learn_precision = false;
+  /// Learning rate kappa_pi of ln Pi_j [1/s], >= 0, <= kMaxGain (ln Pi relaxes with 2 / kappa_pi).
+  double precision_learning_rate = 0.2;
+  /// Lower bound of a learned precision as a factor of the configured one [-], > 0, <= 1.
+  double precision_min_factor = 0.1;
+  /// Upper bound of a learned precision as a factor of the configured one [-], >= 1, <= kMaxGain.
+  double precision_max_factor = 10.0;
+  /// Time constant T_w of the low-pass of the squared prediction errors [s], > 0, <= 1000.
+  double precision_time_constant = 1.0;
+  /// The precisions are frozen while both |omega_L|, |omega_R| are below this [rad/s], >= 0, <= 100.
+  double precision_min_wheel_speed = 0.5;
 
   /// Number of generalized orders, p + 1.
   int numOrders() const { return embedding_order + 1; }

@@ -126,6 +126,7 @@ void ActiveInferenceController::applyParams(const AicParams& params)
     model_.setWheelSeparation(learner_.separation());
   }
   pi_mu_ = params.precisionMu();
+  precision_learner_.setParams(precisionLearnerParams(params));
   rebuildDynamics();
 }
 
@@ -177,6 +178,10 @@ void ActiveInferenceController::rebuildDynamics()
 {
   const AicParams& params = params_;
   pi_y_ = params.precisionY();
+  if (params.learn_precision)
+  {
+    precision_learner_.applyTo(&pi_y_);
+  }
   for (int j = 0; j < kYDim; ++j)
   {
     if ((sensor_mask_ & (1u << j)) == 0)
@@ -605,6 +610,16 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
                     pi_y_(kGyroZ, 0),
                     (sensor_mask_ & needed) == needed, action_saturated_);
     applyLearnedSeparation(false);
+  }
+  if (params_.learn_precision)
+  {
+    const YTilde eps = epsY();
+    precision_learner_.update(h, eps.col(0), y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0), sensor_mask_,
+                              action_saturated_);
+    if (precision_learner_.changedSince(PrecisionLearner::kApplyTolerance))
+    {
+      rebuildDynamics();
+    }
   }
   return Status::kOk;
 }

@@ -171,6 +171,26 @@ std::vector<ParamSpec> buildControllerRows()
       "b_hat moves by at most this share of itself per second (slower than the fault monitor detects a "
       "sensor fault, so that learning cannot explain the fault away); 0 = unlimited",
       true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(separation_max_rate) },
+    { "learn_precision", T::kBool, C, "active_inference", kNone, false, kNone, "-",
+      "If true, the order-0 sensory precisions of the gyro and the wheels descend the free energy, "
+      "Pi_j -> 1 / E[eps_j^2] (frozen near rest, while the action saturates and while a sensor is isolated); "
+      "false: Pi_y = 1 / var_y fixed",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(learn_precision) },
+    { "precision_learning_rate", T::kDouble, C, "active_inference", 0.0, false, kMaxGain, "1/s",
+      "Learning rate kappa_pi of the log-precisions: d ln Pi_j/dt = -kappa_pi (Pi_j s_j - 1) / 2",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(precision_learning_rate) },
+    { "precision_min_factor", T::kDouble, C, "active_inference", 0.0, true, 1.0, "-",
+      "Lower bound of a learned precision, as a factor of the configured 1 / var_y",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(precision_min_factor) },
+    { "precision_max_factor", T::kDouble, C, "active_inference", 1.0, false, kMaxGain, "-",
+      "Upper bound of a learned precision, as a factor of the configured 1 / var_y",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(precision_max_factor) },
+    { "precision_time_constant", T::kDouble, C, "active_inference", 0.0, true, 1000.0, "s",
+      "Time constant of the low-pass of the squared prediction errors s_j the precisions learn from",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(precision_time_constant) },
+    { "precision_min_wheel_speed", T::kDouble, C, "active_inference", 0.0, false, 100.0, "rad/s",
+      "The precisions are frozen while both wheels' |speed| is below this (near rest)",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(precision_min_wheel_speed) },
     // ---- robot (Clearpath Jackal; doc/jackal.md)
     { "wheel_radius", T::kDouble, C, "robot", kMinLength, false, kMaxLength, "m",
       "Wheel radius r (thesis eq. 3-1 to 3-4)",

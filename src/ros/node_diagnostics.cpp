@@ -5,6 +5,7 @@
 #include "jackal_aic/ros/node_diagnostics.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <utility>
 
@@ -34,6 +35,14 @@ ControllerReport ControllerReport::of(const ActiveInferenceController& controlle
     r.separation_learning = toString(controller.separationLearner().state());
     r.separation_learning_steps = controller.separationLearner().learningSteps();
   }
+  if (controller.params().learn_precision)
+  {
+    r.precision_learning = toString(controller.precisionLearner().state());
+  }
+  char pi[128];
+  std::snprintf(pi, sizeof pi, "gyro_z %.4g, omega_left %.4g, omega_right %.4g", controller.precisionY()(kGyroZ, 0),
+                controller.precisionY()(kOmegaLeft, 0), controller.precisionY()(kOmegaRight, 0));
+  r.sensory_precisions = pi;
   return r;
 }
 
@@ -217,6 +226,8 @@ void NodeDiagnostics::controller(diagnostic_updater::DiagnosticStatusWrapper& st
   stat.addf("model wheel separation b_hat [m]", "%.4f", report.wheel_separation);
   stat.add("wheel separation learning", report.separation_learning);
   stat.add("wheel separation learning steps", report.separation_learning_steps);
+  stat.add("sensory precisions Pi_y^(0) [1/(rad/s)^2]", report.sensory_precisions);
+  stat.add("sensory precision learning", report.precision_learning);
   stat.add("output mode", report.output_mode);
   stat.add("commands clipped to the stock controller's limits (cmd_vel)", report.output_clips);
   stat.add("MCU stops", loop_.supervisor().mcuStops());

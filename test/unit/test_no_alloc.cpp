@@ -161,12 +161,14 @@ TEST(NoAlloc, SamplePipelinePerSample)
 TEST(NoAlloc, UnbiasedBeliefsAndLearningUpdatePath)
 {
   // belief_model unbiased (the action delay line) and learn_wheel_separation (the learner and the
-  // model's rebuild when b_hat moves, with the exact integrator's recomputation).
+  // model's rebuild when b_hat moves, with the exact integrator's recomputation), and
+  // learn_precision (the precision learner and the rebuild when a precision moves).
   for (Integrator integ : { Integrator::kEuler, Integrator::kExact })
   {
     AicParams params = recommendedAicParams();
     params.belief_model = BeliefModel::kUnbiased;
     params.learn_wheel_separation = true;
+    params.learn_precision = true;
     params.reference_delay = 0.085;
     params.integrator = integ;
     ActiveInferenceController c(params);
@@ -193,5 +195,7 @@ TEST(NoAlloc, UnbiasedBeliefsAndLearningUpdatePath)
     (void)sink;
     EXPECT_EQ(counter.count(), 0) << "integrator=" << toString(integ);
     EXPECT_GT(steps, 0u);
+    EXPECT_GT(c.precisionLearner().learningSteps(), 0u);
+    EXPECT_NE(c.precisionY()(kGyroZ, 0), params.precisionY()(kGyroZ, 0));  // it learned and rebuilt
   }
 }

@@ -38,6 +38,7 @@
  *   --noise           keep the plant YAML's sensor noise (seeded; default: ideal sensors)
  *   --fault LINE      inject a fault from START s after the run's start (sim/README.md)
  * JSON: {"runaways", "max_abs_speed", "command_delay" (the plant's motor.command_delay [s]),
+ *        with learn_precision "sensory_precisions" (the AIC's Pi_y^(0) per sensor channel at the end),
  *        "plant": what the plant did over the profile's span, any controller: {"torque_limited" (share
  *        of the samples x sides with the motor torque clamped to its limit), "wheel_loop": {"vx", "wz"}
  *        (RMS of the wheel loops' set point in effect minus the true wheel speeds, as body twist
@@ -391,7 +392,18 @@ int main(int argc, char** argv)
   std::cout << "{\"controller\": \"" << controller << "\", \"channel\": \"" << channel
             << "\", \"runaways\": " << rec.runaways
             << ", \"max_abs_speed\": " << jsonNumber(max_abs)
-            << ", \"command_delay\": " << jsonNumber(params.motor.command_delay) << ", \"t0\": " << jsonNumber(t0)
+            << ", \"command_delay\": " << jsonNumber(params.motor.command_delay) << ", \"t0\": " << jsonNumber(t0);
+  if (c.controller == LoopController::kAic && c.aic.learn_precision)
+  {
+    // The sensory precisions Pi_y^(0) at the end (learn_precision), per SensorIndex.
+    std::cout << ", \"sensory_precisions\": [";
+    for (std::size_t j = 0; j < rec.sensory_precisions.size(); ++j)
+    {
+      std::cout << (j ? ", " : "") << jsonNumber(rec.sensory_precisions[j]);
+    }
+    std::cout << "]";
+  }
+  std::cout
             << ", \"segments\": ";
   // The transitions of one channel (angular: the yaw rate) as a JSON list of metrics.
   auto segments = [&](bool yaw) {

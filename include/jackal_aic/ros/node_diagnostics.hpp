@@ -52,6 +52,10 @@ struct ControllerReport
   double wheel_separation = 0.0;        ///< b_hat the generative model uses [m] (learned if learn_wheel_separation)
   std::string separation_learning = "off";  ///< the learner's state (learning, near rest, transient, ...) or "off"
   std::uint64_t separation_learning_steps = 0;  ///< learning steps taken
+  std::string precision_learning = "off";  ///< the precision learner's state (learning, near rest, ...) or "off"
+  /// The sensory precisions Pi_y^(0) in use, "gyro_z <Pi>, omega_left <Pi>, omega_right <Pi>"
+  /// [1/(rad/s)^2] (learned if learn_precision).
+  std::string sensory_precisions;
 
   /// The controller's part: F (0 before the first measurement), mu^(0) x_dot and theta_dot,
   /// the action as the command while `active` (zero otherwise), the model's b_hat and the state

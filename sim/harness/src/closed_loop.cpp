@@ -518,6 +518,11 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
   {
     out.runaways = loop->supervisor().runaways();
     out.belief_steps = loop->beliefSteps();
+    const auto pi_y = loop->controller().precisionY();
+    for (int j = 0; j < pi_y.rows(); ++j)
+    {
+      out.sensory_precisions.push_back(pi_y(j, 0));
+    }
   }
   return out;
 }

@@ -206,6 +206,9 @@ struct ClosedLoopRecord
   std::uint64_t runaways = 0;     ///< AIC runaway resets during the run
   bool active = false;            ///< AIC: the controller started (p + 1 samples and a set point)
   std::uint64_t belief_steps = 0;  ///< AIC: belief integration steps run
+  /// AIC: the sensory precisions Pi_y^(0) in use at the end of the run, per SensorIndex (learned
+  /// with learn_precision); empty for the others.
+  std::vector<double> sensory_precisions;
   std::vector<HealthEvent> health_events;  ///< AIC: the fault monitor's events, in order
   /// AIC: plant times [s] of the joint-state samples the loop paired without an IMU (degraded mode).
   std::vector<double> imu_missing;
