@@ -36,8 +36,8 @@ import time
 HERE = os.path.dirname(os.path.realpath(__file__))
 REPO = os.path.dirname(HERE)
 CORE_TESTS = ["test_core_" + t for t in (
-    "params", "generalizer", "goal_rate", "skid_steer_model", "controller", "controller_math", "no_alloc",
-    "step_metrics", "tracking_metrics", "state_space", "diff_drive", "supervisor", "periodic_thread",
+    "params", "generalizer", "goal_rate", "skid_steer_model", "controller", "controller_math", "controller_stages",
+    "no_alloc", "step_metrics", "tracking_metrics", "state_space", "diff_drive", "supervisor", "periodic_thread",
     "fault_monitor", "sample_pipeline", "sensor_pairing", "control_loop", "command_guard")]
 KEYS = ("id", "what", "file", "find", "replace", "tests")
 TEST_TIMEOUT = 600

@@ -2,14 +2,19 @@
 /**
  * \file controller.hpp
  * \brief The active inference controller for a skid-steer robot's body velocity
- *        (van der Meer 2022, thesis eq. 3-6 ... 3-16; Pezzato et al. 2020). ROS-free.
+ *        (van der Meer 2022, thesis eq. 3-6 ... 3-16; Pezzato et al. 2020), composed of its
+ *        stages (doc/active_inference.md, 'Structure of the controller'). ROS-free.
  */
 
-#include <array>
 #include <cstdint>
 
+#include "jackal_aic/action_delay_line.hpp"
+#include "jackal_aic/action_prior.hpp"
+#include "jackal_aic/anti_windup.hpp"
 #include "jackal_aic/params.hpp"
 #include "jackal_aic/precision_learner.hpp"
+#include "jackal_aic/reference_model.hpp"
+#include "jackal_aic/rest_release.hpp"
 #include "jackal_aic/separation_learner.hpp"
 #include "jackal_aic/skid_steer_model.hpp"
 #include "jackal_aic/types.hpp"
@@ -23,6 +28,15 @@ namespace jackal_aic
  * setGoal(mu_d); whenever a generalized sensor sample arrives, setMeasurement(y_tilde);
  * at the belief rate updateBeliefs(h_mu); at the action rate updateAction(h_a); send action().
  * Neither update moves before the first setMeasurement().
+ *
+ * The controller holds the thesis's beliefs mu_tilde and action a (the free-energy part a_F,
+ * eq. 3-15, 3-16) and composes these stages, each off with its parameter at the thesis value:
+ *  - ReferenceModel: goal mu_d, mu_d' -> predicted goal -> delayed reference path (the attractor);
+ *  - ActionDelayLine: the twist G a(t - d_r) of the sent action (belief_model unbiased's prior);
+ *  - ActionPrior: a_ff, the wheel speeds of the goal's path (a = a_F + a_ff);
+ *  - RestRelease: a_F's part along a channel whose goal is zero decays;
+ *  - AntiWindup: the lead and wheel-speed clamps and the conditional integration of a_F;
+ *  - SeparationLearner: learning the model's effective wheel separation b_hat.
  *
  * Not thread-safe; no heap allocation and no exceptions in setGoal,
  * setMeasurement, updateBeliefs, updateAction (the matrix exponential of the exact
@@ -69,18 +83,18 @@ public:
    */
   bool setGoal(const Vector3& mu_d, const Vector3& mu_d_dot = Vector3::Zero());
   /// The goal mu_d in use [m/s, m/s, rad/s]; zero until setGoal().
-  const Vector3& goal() const { return mu_d_; }
+  const Vector3& goal() const { return reference_.goal(); }
   /// The goal's rate mu_d' in use [m/s^2, m/s^2, rad/s^2] (zero unless params().generalized_goal).
-  const Vector3& goalRate() const { return mu_d_dot_; }
+  const Vector3& goalRate() const { return reference_.goalRate(); }
   /// The attractor's goal mu_r [m/s, m/s, rad/s]: the delayed reference path m(t - d_r) with a
   /// reference model, else mu_d.
   Vector3 attractorGoal() const;
   /**
    * \brief The target of the beliefs' state prior f(mu) = g' + (g - mu) / tau [m/s, m/s, rad/s]:
    *        belief_model goal: g = attractorGoal() (eq. 3-7, extended); belief_model unbiased:
-   *        g = G a(t - d_r), the body twist of the action sent reference_delay d_r ago (zero-order
-   *        hold over the action steps; the delay line holds kActionLine steps, a longer delay uses
-   *        the oldest), g' = 0 (doc/active_inference.md, 'Unbiased beliefs').
+   *        g = G a(t - d_r), the body twist of the action sent reference_delay d_r ago
+   *        (ActionDelayLine: zero-order hold over the action steps; the delay line holds kActionLine
+   *        steps, a longer delay uses the oldest), g' = 0 (doc/active_inference.md, 'Unbiased beliefs').
    */
   Vector3 priorGoal() const;
   /// The rate g' of priorGoal() [m/s^2, m/s^2, rad/s^2]: attractorRate() (goal), zero (unbiased).
@@ -95,7 +109,7 @@ public:
    * \brief The action prior a_ff [rad/s] = k_ff W (m + T_p m') with a reference model, else
    *        k_ff W (mu_d + goal_lead mu_d') (W: the wheel rows of R, the inverse kinematics G^+ of
    *        eq. 3-3; k_ff = action_prior_gain, T_p = action_prior_time_constant): the wheel speeds
-   *        the goal's path predicts. Zero when action_prior_gain is 0.
+   *        the goal's path predicts (ActionPrior). Zero when action_prior_gain is 0.
    */
   Vector2 actionPrior() const;
 
@@ -125,7 +139,7 @@ public:
   Status updateBeliefs(double h);
 
   /**
-   * \brief One action step. First, if action_release_time T_rel > 0, the common part
+   * \brief One action step. First, if action_release_time T_rel > 0 (RestRelease), the common part
    *        (a_F,L + a_F,R) / 2 of a_F decays by exp(-h / T_rel) while the linear goal is zero
    *        and the differential part (a_F,R - a_F,L) / 2 while the yaw-rate goal is zero
    *        (release at rest, not in the thesis; doc/active_inference.md, 'Update rules').
@@ -134,7 +148,7 @@ public:
    *        clamp to within +-max_action_lead of the measured wheel speeds y^(0)[omega_L],
    *        y^(0)[omega_R] (widened to include a_ff: the prior alone is never cut) if
    *        max_action_lead > 0, the wheels' differential lead to
-   *        +-max_action_lead_turn if > 0 (anti-windup, not in the thesis; not applied to a wheel
+   *        +-max_action_lead_turn if > 0 (AntiWindup, not in the thesis; not applied to a wheel
    *        whose channel setSensorMask() masked), and to +-max_wheel_speed. Anti-windup:
    *        where a clamp cut a wheel's command in the direction a_F integrates, a_F integrates
    *        only up to the clamp and is never pulled back by it (a cut of the prior is not stored).
@@ -199,6 +213,11 @@ public:
    *        (relative) from the b_hat in use.
    */
   const SeparationLearner& separationLearner() const { return learner_; }
+  /// The goal stage: goal, predicted goal, reference path and its delay line.
+  const ReferenceModel& referenceModel() const { return reference_; }
+  /// The delay line of the sent action's twist (belief_model unbiased's state prior).
+  const ActionDelayLine& actionLine() const { return action_line_; }
+
   /// Set the learned b_hat [m] (e.g. from a saved overlay), clamped to [separation_min, separation_max];
   /// the model takes it at once if learning is on. \return false (unchanged) if not finite.
   bool setLearnedSeparation(double b);
@@ -240,6 +259,9 @@ public:
   /// energy and its gradient cannot overflow with validated parameters.
   static constexpr double kMaxMeasurementMagnitude = 1.0e100;
 
+  /// Length of the action delay line (belief_model unbiased) [action steps].
+  static constexpr int kActionLine = ActionDelayLine::kCapacity;
+
   /// Number of times the exact integrator computed its matrix exponential (for tests and diagnostics).
   std::uint64_t exactRecomputeCount() const { return exact_recompute_count_; }
 
@@ -259,8 +281,6 @@ private:
   /// dmu_tilde/dt (eq. 3-15).
   void computeMuDot(const MuTilde& mu, const YTilde& y_tilde, const Vector3& g, const Vector3& g_dot,
                     MuTilde* mu_dot) const;
-  /// The attractor's rate: mu_r' with a reference model, else mu_d'.
-  Vector3 attractorRate() const;
   /// Cache precisions, model, the belief dynamics matrix M; invalidate the exact step.
   void applyParams(const AicParams& params);
   /// Pi_y from params_ and the sensor mask, the belief dynamics matrix M; invalidate the exact step.
@@ -269,62 +289,23 @@ private:
   void computeExactStep(double h);
   /// Zero beliefs and action after a runaway.
   void runawayReset();
+  /// Learning, the last stage: one SeparationLearner step on y^(0), y^(1) of the gyro and wheels
+  /// (frozen while the mask isolates one of them or actionSaturated()), then applyLearnedSeparation().
+  void learn(double h);
+  /// Give the model the learner's b_hat if it moved beyond kSeparationApplyTolerance.
+  void applyLearnedSeparation(bool force);
 
   AicParams params_;
   SkidSteerModel model_;
   MuTilde mu_;
   YTilde y_tilde_;
-  /// The reference model's input: the predicted goal mu_d + goal_lead mu_d'.
-  Vector3 referenceTarget() const;
-  /// Advance the reference model m and its delay line by h [s] (goal held).
-  void advanceReference(double h);
-  /// The reference path's largest acceleration per channel, (x_dot, y_dot, theta_dot)
-  /// [m/s^2, m/s^2, rad/s^2] (max_reference_acceleration_linear / _angular).
-  Vector3 referenceAccelerationLimit() const;
-  /// The reference path's rate m' = (referenceTarget() - m) / T_r, each channel clamped to
-  /// referenceAccelerationLimit(). Requires reference_time_constant > 0.
-  Vector3 referenceRate() const;
-
-  Vector3 mu_d_ = Vector3::Zero();
-  Vector3 mu_d_dot_ = Vector3::Zero();
-  /// Reference model: m, the clock of its delay line [s], and the line of (t, m, m') samples.
-  struct ReferenceSample
-  {
-    double t;
-    Vector3 m;
-    Vector3 m_dot;
-  };
-  static constexpr int kReferenceLine = 1024;  ///< delay-line length: samples >= kMaxReferenceDelay / 800 apart cover the longest delay
-  Vector3 ref_m_ = Vector3::Zero();
-  double ref_time_ = 0.0;
-  std::array<ReferenceSample, kReferenceLine> ref_line_{};
-  int ref_head_ = 0;   ///< index of the newest sample
-  int ref_count_ = 0;  ///< samples in the line
-  Vector3 mu_r_ = Vector3::Zero();      ///< the delayed reference mu_r at ref_time_
-  Vector3 mu_r_dot_ = Vector3::Zero();  ///< its rate mu_r'
-  /// The action's delay line (belief_model unbiased): (action clock [s], G a) per action step.
-  struct ActionSample
-  {
-    double t;
-    Vector3 u;
-  };
-public:
-  /// Length of the action delay line (belief_model unbiased) [action steps].
-  static constexpr int kActionLine = 512;
-private:
-  std::array<ActionSample, kActionLine> act_line_{};
-  int act_head_ = 0;
-  int act_count_ = 0;
-  double act_time_ = 0.0;
-  Vector3 motion_input_ = Vector3::Zero();  ///< G a(t - d_r), the unbiased prior's target
-  /// Restart the action delay line at the action held now (construction, reset, setAction).
-  void startActionLine();
-  /// Record the action just sent and update motion_input_ (belief_model unbiased).
-  void recordAction(double h);
-  /// Settings of the learner from params (initial b_hat: wheel_separation clamped to the bounds).
-  static SeparationLearnerParams learnerParams(const AicParams& params);
-  /// Give the model the learner's b_hat if it moved beyond kSeparationApplyTolerance.
-  void applyLearnedSeparation(bool force);
+  // The stages (class comment): a belief step advances reference_, then learner_; an action step
+  // runs release_, action_prior_, anti_windup_, then records into action_line_.
+  ReferenceModel reference_;
+  ActionDelayLine action_line_;
+  ActionPrior action_prior_;
+  RestRelease release_;
+  AntiWindup anti_windup_;
   SeparationLearner learner_;
   PrecisionLearner precision_learner_;  ///< used only with params_.learn_precision
   bool action_saturated_ = false;

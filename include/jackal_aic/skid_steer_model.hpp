@@ -62,4 +62,18 @@ private:
   double b_;   ///< b_hat [m]
 };
 
+/// Wheel pair (omega_L, omega_R) [rad/s] -> its (common, differential) parts
+/// ((omega_L + omega_R) / 2, (omega_R - omega_L) / 2) [rad/s]: the parts of the wheel speeds that
+/// drive x_dot and theta_dot (eq. 3-1).
+inline Vector2 commonDifferential(const Vector2& wheels)
+{
+  return Vector2(0.5 * (wheels(0) + wheels(1)), 0.5 * (wheels(1) - wheels(0)));
+}
+
+/// Inverse of commonDifferential(): (c, d) [rad/s] -> the wheel pair (c - d, c + d) [rad/s].
+inline Vector2 wheelPair(const Vector2& cd)
+{
+  return Vector2(cd(0) - cd(1), cd(0) + cd(1));
+}
+
 }  // namespace jackal_aic

@@ -1,7 +1,8 @@
 /**
  * \file controller.cpp
  * \brief Active inference controller (thesis eq. 3-6 ... 3-16; Pezzato et al. 2020; doc/active_inference.md,
- *        'Prediction errors and free energy' to 'Integrators').
+ *        'Prediction errors and free energy' to 'Integrators'), composed of its stages ('Structure of
+ *        the controller').
  */
 #include "jackal_aic/controller.hpp"
 
@@ -42,57 +43,38 @@ bool finiteStep(double h)
   return std::isfinite(h) && h > 0.0;
 }
 
-/// Wheel pair (left, right) -> (common, differential) = ((L + R) / 2, (R - L) / 2): the parts
-/// that drive x_dot and theta_dot (eq. 3-1).
-Vector2 commonDifferential(const Vector2& wheels)
+ReferenceModelParams referenceParams(const AicParams& params)
 {
-  return Vector2(0.5 * (wheels(0) + wheels(1)), 0.5 * (wheels(1) - wheels(0)));
+  ReferenceModelParams rp;
+  rp.generalized_goal = params.generalized_goal;
+  rp.goal_lead = params.goal_lead;
+  rp.time_constant = params.reference_time_constant;
+  rp.max_acceleration_linear = params.max_reference_acceleration_linear;
+  rp.max_acceleration_angular = params.max_reference_acceleration_angular;
+  rp.delay = params.reference_delay;
+  rp.goal_limit = params.runaway_limit;
+  return rp;
 }
 
-/// Inverse of commonDifferential: (c, d) -> (c - d, c + d).
-Vector2 wheelPair(const Vector2& cd)
+ActionPriorParams actionPriorParams(const AicParams& params)
 {
-  return Vector2(cd(0) - cd(1), cd(0) + cd(1));
-}
-}  // namespace
-
-ActiveInferenceController::ActiveInferenceController(const AicParams& params)
-  : params_(checked(params))
-  , model_(params.wheel_radius, params.slip_factor, params.wheel_separation)
-  , learner_(learnerParams(params))
-{
-  const int n = params.numOrders();
-  mu_.setZero(kMuDim, n);
-  y_tilde_.setZero(kYDim, n);
-  applyParams(params);
-  startReference(Vector3::Zero());
-  startActionLine();
+  ActionPriorParams ap;
+  ap.gain = params.action_prior_gain;
+  ap.time_constant = params.action_prior_time_constant;
+  return ap;
 }
 
-void ActiveInferenceController::setParams(const AicParams& params)
+AntiWindupParams antiWindupParams(const AicParams& params)
 {
-  checked(params);
-  const bool order_changed = params.embedding_order != params_.embedding_order;
-  applyParams(params);
-  // A lower max_wheel_speed applies to the action held now, not only from the next action step
-  // (found by test/fuzz/fuzz_core.cpp).
-  a_ = a_.cwiseMax(-params.max_wheel_speed).cwiseMin(params.max_wheel_speed);
-  if (order_changed)
-  {
-    const int n = params.numOrders();
-    mu_.setZero(kMuDim, n);
-    y_tilde_.setZero(kYDim, n);
-    a_.setZero();
-    a_F_.setZero();
-    has_measurement_ = false;
-  }
-  if (!params.generalized_goal)
-  {
-    mu_d_dot_.setZero();
-  }
+  AntiWindupParams aw;
+  aw.max_action_lead = params.max_action_lead;
+  aw.max_action_lead_turn = params.max_action_lead_turn;
+  aw.max_wheel_speed = params.max_wheel_speed;
+  return aw;
 }
 
-SeparationLearnerParams ActiveInferenceController::learnerParams(const AicParams& params)
+/// Settings of the learner from params (initial b_hat: wheel_separation clamped to the bounds).
+SeparationLearnerParams learnerParams(const AicParams& params)
 {
   SeparationLearnerParams lp;
   lp.wheel_radius = params.wheel_radius;
@@ -105,6 +87,39 @@ SeparationLearnerParams ActiveInferenceController::learnerParams(const AicParams
   lp.max_yaw_acceleration = params.separation_max_yaw_acceleration;
   lp.max_rate = params.separation_max_rate;
   return lp;
+}
+}  // namespace
+
+ActiveInferenceController::ActiveInferenceController(const AicParams& params)
+  : params_(checked(params))
+  , model_(params.wheel_radius, params.slip_factor, params.wheel_separation)
+  , learner_(learnerParams(params))
+{
+  const int n = params.numOrders();
+  mu_.setZero(kMuDim, n);
+  y_tilde_.setZero(kYDim, n);
+  applyParams(params);
+  reference_.start(Vector3::Zero());
+  action_line_.restart(model_.twistFromWheels(a_));
+}
+
+void ActiveInferenceController::setParams(const AicParams& params)
+{
+  checked(params);
+  const bool order_changed = params.embedding_order != params_.embedding_order;
+  applyParams(params);
+  // A lower max_wheel_speed applies to the action held now, not only from the next action step
+  // (found by test/fuzz/fuzz_core.cpp).
+  a_ = anti_windup_.limitWheelSpeed(a_);
+  if (order_changed)
+  {
+    const int n = params.numOrders();
+    mu_.setZero(kMuDim, n);
+    y_tilde_.setZero(kYDim, n);
+    a_.setZero();
+    a_F_.setZero();
+    has_measurement_ = false;
+  }
 }
 
 void ActiveInferenceController::applyParams(const AicParams& params)
@@ -125,6 +140,11 @@ void ActiveInferenceController::applyParams(const AicParams& params)
   {
     model_.setWheelSeparation(learner_.separation());
   }
+  reference_.setParams(referenceParams(params));  // zeroes the goal's rate unless generalized_goal
+  action_line_.setDelay(params.reference_delay);
+  action_prior_ = ActionPrior(actionPriorParams(params));
+  release_ = RestRelease(params.action_release_time);
+  anti_windup_ = AntiWindup(antiWindupParams(params));
   pi_mu_ = params.precisionMu();
   precision_learner_.setParams(precisionLearnerParams(params));
   rebuildDynamics();
@@ -214,155 +234,32 @@ void ActiveInferenceController::rebuildDynamics()
 
 bool ActiveInferenceController::setGoal(const Vector3& mu_d, const Vector3& mu_d_dot)
 {
-  if (!mu_d.allFinite() || mu_d.cwiseAbs().maxCoeff() > params_.runaway_limit || !mu_d_dot.allFinite() ||
-      mu_d_dot.cwiseAbs().maxCoeff() > params_.runaway_limit)
-  {
-    return false;
-  }
-  mu_d_ = mu_d;
-  mu_d_dot_ = params_.generalized_goal ? mu_d_dot : Vector3::Zero();
-  return true;
-}
-
-Vector3 ActiveInferenceController::referenceTarget() const
-{
-  return params_.generalized_goal ? Vector3(mu_d_ + params_.goal_lead * mu_d_dot_) : mu_d_;
+  return reference_.setGoal(mu_d, mu_d_dot);
 }
 
 Vector3 ActiveInferenceController::attractorGoal() const
 {
-  return params_.reference_time_constant > 0.0 ? mu_r_ : mu_d_;
-}
-
-Vector3 ActiveInferenceController::attractorRate() const
-{
-  return params_.reference_time_constant > 0.0 ? mu_r_dot_ : mu_d_dot_;
+  return reference_.attractorGoal();
 }
 
 Vector3 ActiveInferenceController::priorGoal() const
 {
-  return params_.belief_model == BeliefModel::kUnbiased ? motion_input_ : attractorGoal();
+  return params_.belief_model == BeliefModel::kUnbiased ? action_line_.delayed() : reference_.attractorGoal();
 }
 
 Vector3 ActiveInferenceController::priorRate() const
 {
-  return params_.belief_model == BeliefModel::kUnbiased ? Vector3::Zero() : attractorRate();
-}
-
-void ActiveInferenceController::startActionLine()
-{
-  act_head_ = 0;
-  act_count_ = 1;
-  motion_input_ = model_.twistFromWheels(a_);
-  act_line_[0] = ActionSample{ act_time_, motion_input_ };
-}
-
-void ActiveInferenceController::recordAction(double h)
-{
-  // The body twist G a of the action just sent, from now until the next action step.
-  act_time_ += h;
-  act_head_ = (act_head_ + 1) % kActionLine;
-  act_count_ = std::min(act_count_ + 1, kActionLine);
-  act_line_[static_cast<std::size_t>(act_head_)] = ActionSample{ act_time_, model_.twistFromWheels(a_) };
-  // Zero-order hold: the newest sample sent at or before t - d_r (the oldest if the line is shorter).
-  const double t_query = act_time_ - params_.reference_delay;
-  int idx = act_head_;
-  for (int k = 1; k < act_count_ && act_line_[static_cast<std::size_t>(idx)].t > t_query; ++k)
-  {
-    idx = (act_head_ - k + kActionLine) % kActionLine;
-  }
-  motion_input_ = act_line_[static_cast<std::size_t>(idx)].u;
+  return params_.belief_model == BeliefModel::kUnbiased ? Vector3::Zero() : reference_.attractorRate();
 }
 
 Vector2 ActiveInferenceController::actionPrior() const
 {
-  if (params_.action_prior_gain <= 0.0)
-  {
-    return Vector2::Zero();
-  }
-  // W = the wheel rows of R (the pseudo-inverse of G, eq. 3-3): the wheel speeds of a twist.
-  Vector3 target = referenceTarget();
-  if (params_.reference_time_constant > 0.0)
-  {
-    // The reference path through the inverse of a first-order wheel loop: m + T_p m'.
-    target = ref_m_ + params_.action_prior_time_constant * referenceRate();
-  }
-  const SensorMatrix& R = model_.R();
-  return params_.action_prior_gain * Vector2(R.row(kOmegaLeft).dot(target), R.row(kOmegaRight).dot(target));
-}
-
-Vector3 ActiveInferenceController::referenceAccelerationLimit() const
-{
-  return Vector3(params_.max_reference_acceleration_linear, params_.max_reference_acceleration_linear,
-                 params_.max_reference_acceleration_angular);
-}
-
-Vector3 ActiveInferenceController::referenceRate() const
-{
-  const Vector3 acc = referenceAccelerationLimit();
-  return ((referenceTarget() - ref_m_) / params_.reference_time_constant).cwiseMax(-acc).cwiseMin(acc);
+  return action_prior_.wheels(model_, reference_);
 }
 
 bool ActiveInferenceController::startReference(const Vector3& m0)
 {
-  if (!m0.allFinite())
-  {
-    return false;
-  }
-  ref_m_ = m0;
-  ref_time_ = 0.0;
-  ref_head_ = 0;
-  ref_count_ = 1;
-  ref_line_[0] = ReferenceSample{ 0.0, m0, Vector3::Zero() };
-  mu_r_ = m0;
-  mu_r_dot_.setZero();
-  return true;
-}
-
-void ActiveInferenceController::advanceReference(double h)
-{
-  const double t_r = params_.reference_time_constant;
-  if (t_r <= 0.0)
-  {
-    return;
-  }
-  // Exact step of m' = (target - m) / T_r with the target held over h, its change clamped to
-  // the path's largest acceleration; m' the same, clamped.
-  const Vector3 acc = referenceAccelerationLimit();
-  const Vector3 change =
-      ((referenceTarget() - ref_m_) * (1.0 - std::exp(-h / t_r))).cwiseMax(-acc * h).cwiseMin(acc * h);
-  ref_m_ += change;
-  const Vector3 m_dot = referenceRate();
-  ref_time_ += h;
-  // The delay line keeps samples at least kMaxReferenceDelay / 800 apart (1024 of them cover the
-  // longest delay); between them m(t - d_r) is interpolated linearly.
-  const double spacing = kMaxReferenceDelay / 800.0;
-  if (ref_count_ == 0 || ref_time_ - ref_line_[static_cast<std::size_t>(ref_head_)].t >= spacing)
-  {
-    ref_head_ = (ref_head_ + 1) % kReferenceLine;
-    ref_count_ = std::min(ref_count_ + 1, kReferenceLine);
-  }
-  ref_line_[static_cast<std::size_t>(ref_head_)] = ReferenceSample{ ref_time_, ref_m_, m_dot };
-  const double t_query = ref_time_ - params_.reference_delay;
-  // Walk back from the newest sample to the first one at or before t_query.
-  int newer = ref_head_;
-  for (int k = 1; k < ref_count_; ++k)
-  {
-    const int older = (ref_head_ - k + kReferenceLine) % kReferenceLine;
-    const ReferenceSample& o = ref_line_[static_cast<std::size_t>(older)];
-    if (o.t <= t_query)
-    {
-      const ReferenceSample& n = ref_line_[static_cast<std::size_t>(newer)];
-      const double w = n.t > o.t ? (t_query - o.t) / (n.t - o.t) : 1.0;
-      mu_r_ = o.m + w * (n.m - o.m);
-      mu_r_dot_ = o.m_dot + w * (n.m_dot - o.m_dot);
-      return;
-    }
-    newer = older;
-  }
-  const ReferenceSample& oldest = ref_line_[static_cast<std::size_t>(newer)];  // the delay reaches before the line
-  mu_r_ = oldest.m;
-  mu_r_dot_ = oldest.m_dot;
+  return reference_.start(m0);
 }
 
 bool ActiveInferenceController::setMeasurement(const YTilde& y_tilde)
@@ -503,8 +400,8 @@ Vector2 ActiveInferenceController::aDot() const
     // the goal's path g = (mu_r, mu_r', 0, ...), so eps_g^(i) = R (mu^(i) - g^(i)) takes eps_y's
     // place (sign: a belief below the goal asks for more, as eps_y = y - R mu < 0 does).
     const SensorMatrix& R = model_.R();
-    const Vector3 g0 = attractorGoal();
-    const Vector3 g1 = attractorRate();
+    const Vector3 g0 = reference_.attractorGoal();
+    const Vector3 g1 = reference_.attractorRate();
     for (int i = 0; i < n; ++i)
     {
       Vector3 d = mu_.col(i);
@@ -601,15 +498,10 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
     return Status::kRunaway;
   }
   mu_ = next;
-  advanceReference(h);
+  reference_.advance(h);
   if (params_.learn_wheel_separation)
   {
-    const std::uint8_t needed = (1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight);
-    learner_.update(h, y_tilde_(kGyroZ, 0), y_tilde_(kGyroZ, 1), y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0),
-                    y_tilde_(kOmegaLeft, 1), y_tilde_(kOmegaRight, 1),
-                    pi_y_(kGyroZ, 0),
-                    (sensor_mask_ & needed) == needed, action_saturated_);
-    applyLearnedSeparation(false);
+    learn(h);
   }
   if (params_.learn_precision)
   {
@@ -624,6 +516,15 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
   return Status::kOk;
 }
 
+void ActiveInferenceController::learn(double h)
+{
+  const std::uint8_t needed = (1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight);
+  learner_.update(h, y_tilde_(kGyroZ, 0), y_tilde_(kGyroZ, 1), y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0),
+                  y_tilde_(kOmegaLeft, 1), y_tilde_(kOmegaRight, 1), pi_y_(kGyroZ, 0),
+                  (sensor_mask_ & needed) == needed, action_saturated_);
+  applyLearnedSeparation(false);
+}
+
 ActiveInferenceController::Status ActiveInferenceController::updateAction(double h)
 {
   if (!finiteStep(h))
@@ -634,23 +535,8 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
   {
     return Status::kNoMeasurement;
   }
-  if (params_.action_release_time > 0.0)
-  {
-    // Release at rest, before the step's integration: a_F's part along a channel whose goal is
-    // zero decays (common part: the linear goal, differential part: the yaw-rate goal).
-    const Vector3 goal = referenceTarget();
-    const double keep = std::exp(-h / params_.action_release_time);
-    Vector2 cd = commonDifferential(a_F_);
-    if (goal(0) == 0.0 && goal(1) == 0.0)
-    {
-      cd(0) *= keep;
-    }
-    if (goal(2) == 0.0)
-    {
-      cd(1) *= keep;
-    }
-    a_F_ = wheelPair(cd);
-  }
+  // Release at rest, before the step's integration (a no-op with action_release_time 0).
+  a_F_ = release_.apply(a_F_, reference_.target(), h);
   // da_F/dt does not depend on a, so with beliefs and measurement held over the step the
   // Euler step is also the exact one. a = a_F + a_ff.
   const Vector2 a_dot = aDot();
@@ -669,67 +555,18 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
     runawayReset();
     return Status::kRunaway;
   }
-  Vector2 a = raw;
-  if (params_.max_action_lead > 0.0)
-  {
-    // The action may lead the measured wheel speeds by at most max_action_lead (what the wheel
-    // loop can use before it saturates), or as far as the prior alone asks (the command a stock
-    // base would send: the MCU's own loop handles it, and nothing integrates it). A masked
-    // (isolated) wheel channel is not trusted, so it does not bound its command.
-    const Vector2 omega(y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0));
-    const Vector2 lead = Vector2::Constant(params_.max_action_lead);
-    const Vector2 lower = (omega - lead).cwiseMin(prior);
-    const Vector2 upper = (omega + lead).cwiseMax(prior);
-    const Vector2 bounded = a.cwiseMax(lower).cwiseMin(upper);
-    if ((sensor_mask_ & (1u << kOmegaLeft)) != 0)
-    {
-      a(0) = bounded(0);
-    }
-    if ((sensor_mask_ & (1u << kOmegaRight)) != 0)
-    {
-      a(1) = bounded(1);
-    }
-  }
-  const std::uint8_t wheels = (1u << kOmegaLeft) | (1u << kOmegaRight);
-  if (params_.max_action_lead_turn > 0.0 && (sensor_mask_ & wheels) == wheels)
-  {
-    // Differential (turning) lead bounded, common lead kept: e_L = c - d, e_R = c + d.
-    // Both wheel channels must be trusted: the lead is measured against them.
-    const Vector2 omega(y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0));
-    Vector2 lead = commonDifferential(a - omega);
-    lead(1) = std::clamp(lead(1), -params_.max_action_lead_turn, params_.max_action_lead_turn);
-    a = omega + wheelPair(lead);
-  }
-  const double lim = params_.max_wheel_speed;  // applied last: the wheel clamp always wins
-  const Vector2 unsaturated = a;
-  a = a.cwiseMax(-lim).cwiseMin(lim);
-  // Anti-windup of a_F: where a clamp cut a wheel's command in the direction a_F integrates, a_F
-  // integrates only up to the clamp (a - a_ff) and is never pulled back by it, so it cannot wind
-  // up against a limit, and a cut of the prior's part is not stored in a_F (it comes back once
-  // the wheels catch up).
-  for (int i = 0; i < 2; ++i)
-  {
-    const double cut = raw(i) - a(i);
-    const double at_clamp = a(i) - prior(i);
-    if (cut > 0.0 && a_dot(i) > 0.0)
-    {
-      a_F_(i) = std::max(a_F_(i), std::min(candidate(i), at_clamp));
-    }
-    else if (cut < 0.0 && a_dot(i) < 0.0)
-    {
-      a_F_(i) = std::min(a_F_(i), std::max(candidate(i), at_clamp));
-    }
-    else
-    {
-      a_F_(i) = candidate(i);
-    }
-  }
+  // The clamps and anti-windup of a_F (a masked, isolated, wheel channel is not trusted).
+  const Vector2 omega(y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0));
+  const AntiWindup::Result clamped =
+      anti_windup_.apply(a_F_, candidate, a_dot, prior, omega, (sensor_mask_ & (1u << kOmegaLeft)) != 0,
+                         (sensor_mask_ & (1u << kOmegaRight)) != 0);
+  a_F_ = clamped.free_energy_part;
   // Saturation: the wheel-speed limit cut the command (the lead limits are anti-windup, not saturation).
-  action_saturated_ = a != unsaturated;
-  a_ = a;
+  action_saturated_ = clamped.saturated;
+  a_ = clamped.command;
   if (params_.belief_model == BeliefModel::kUnbiased)
   {
-    recordAction(h);
+    action_line_.record(h, model_.twistFromWheels(a_));
   }
   return Status::kOk;
 }
@@ -739,9 +576,8 @@ void ActiveInferenceController::runawayReset()
   mu_.setZero();
   a_.setZero();
   a_F_.setZero();
-  act_time_ = 0.0;
-  startActionLine();
-  startReference(Vector3::Zero());
+  action_line_.reset(model_.twistFromWheels(a_));
+  reference_.start(Vector3::Zero());
   ++runaway_count_;
 }
 
@@ -750,11 +586,10 @@ void ActiveInferenceController::reset()
   mu_.setZero();
   a_.setZero();
   a_F_.setZero();
-  act_time_ = 0.0;
-  startActionLine();
+  action_line_.reset(model_.twistFromWheels(a_));
   y_tilde_.setZero();
   has_measurement_ = false;
-  startReference(Vector3::Zero());
+  reference_.start(Vector3::Zero());
 }
 
 void ActiveInferenceController::setAction(const Vector2& a)
@@ -763,10 +598,9 @@ void ActiveInferenceController::setAction(const Vector2& a)
   {
     return;
   }
-  const double lim = params_.max_wheel_speed;
-  a_ = a.cwiseMax(-lim).cwiseMin(lim);
+  a_ = anti_windup_.limitWheelSpeed(a);
   a_F_ = a_ - actionPrior();  // bumpless: the free-energy part takes the difference
-  startActionLine();  // the unbiased prior expects the response to this action from now on
+  action_line_.restart(model_.twistFromWheels(a_));  // the unbiased prior expects the response to this action from now on
 }
 
 const char* toString(ActiveInferenceController::Status status)

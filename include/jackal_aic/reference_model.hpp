@@ -1,0 +1,123 @@
+#pragma once
+/**
+ * \file reference_model.hpp
+ * \brief The controller's goal stage: the goal (mu_d, mu_d'), its prediction and the rate-limited,
+ *        delayed reference path the beliefs' attractor follows (not in the thesis; its section
+ *        6-1 names it as future work; doc/active_inference.md, 'Set-point dynamics'). ROS-free.
+ */
+
+#include <array>
+
+#include "jackal_aic/params.hpp"
+#include "jackal_aic/types.hpp"
+
+namespace jackal_aic
+{
+/// Settings of a ReferenceModel (the AicParams keys of the same meaning; doc/active_inference.md,
+/// 'Set-point dynamics'). The controller passes validated AicParams; the stage does not check them.
+struct ReferenceModelParams
+{
+  bool generalized_goal = false;  ///< use the goal's rate mu_d' (generalized_goal); false: mu_d' = 0
+  double goal_lead = 0.0;         ///< t_lead [s], >= 0: the goal is predicted mu_d + t_lead mu_d'
+  double time_constant = 0.0;     ///< T_r [s], >= 0; 0 = no reference model (reference_time_constant)
+  double max_acceleration_linear = 1.0e3;   ///< |m'| bound along x_dot, y_dot [m/s^2], > 0
+  double max_acceleration_angular = 1.0e3;  ///< |m'| bound along theta_dot [rad/s^2], > 0
+  double delay = 0.0;             ///< d_r [s], in [0, kMaxReferenceDelay] (reference_delay)
+  double goal_limit = 1.0e3;      ///< largest accepted |element| of mu_d and mu_d' (runaway_limit), > 0
+};
+
+/**
+ * \brief Goal -> predicted goal -> reference path with its delay line.
+ *
+ * The goal mu_d = (x_dot [m/s], y_dot [m/s], theta_dot [rad/s]) and its rate mu_d' (zero unless
+ * generalized_goal) give the predicted goal mu_hat_d = mu_d + t_lead mu_d' (target()). With
+ * T_r > 0 a first-order model m follows it,
+ *   m' = clamp((mu_hat_d - m) / T_r, -acc, acc),   acc = accelerationLimit(),
+ * integrated exactly with the target held over each step, m <- m + clamp((mu_hat_d - m)(1 - e^(-h/T_r)),
+ * -acc h, acc h), and delayed by d_r: mu_r(t) = m(t - d_r), mu_r' = m'(t - d_r), from a delay line
+ * of kLine samples at least kMaxReferenceDelay / 800 apart (linear interpolation; a delay beyond
+ * the line uses its oldest sample). The beliefs' attractor is then f(mu) = mu_r' + (mu_r - mu) / tau;
+ * with T_r = 0 it is f(mu) = mu_d' + (mu_d - mu) / tau (attractorGoal(), attractorRate()).
+ *
+ * No heap allocation (the delay line has a fixed capacity), no exceptions.
+ */
+class ReferenceModel
+{
+public:
+  /// Delay-line length [samples]: samples >= kMaxReferenceDelay / 800 apart cover the longest delay.
+  static constexpr int kLine = 1024;
+
+  /// Goal, path and delay line at zero.
+  explicit ReferenceModel(const ReferenceModelParams& params = ReferenceModelParams());
+
+  /// Replace the settings; goal, path and delay line kept, the goal's rate zeroed unless
+  /// generalized_goal.
+  void setParams(const ReferenceModelParams& params);
+  /// The settings in use.
+  const ReferenceModelParams& params() const { return params_; }
+  /// True with a reference model (time_constant > 0).
+  bool enabled() const { return params_.time_constant > 0.0; }
+
+  /**
+   * \brief Set the goal mu_d [m/s, m/s, rad/s] and its rate mu_d' [m/s^2, m/s^2, rad/s^2]
+   *        (the rate is stored as zero unless generalized_goal).
+   * \return false (goal unchanged) for a non-finite element or one beyond goal_limit.
+   */
+  bool setGoal(const Vector3& mu_d, const Vector3& mu_d_dot = Vector3::Zero());
+  /// The goal mu_d [m/s, m/s, rad/s]; zero until setGoal().
+  const Vector3& goal() const { return mu_d_; }
+  /// The goal's rate mu_d' [m/s^2, m/s^2, rad/s^2] (zero unless generalized_goal).
+  const Vector3& goalRate() const { return mu_d_dot_; }
+  /// The predicted goal mu_hat_d = mu_d + goal_lead mu_d' with generalized_goal, else mu_d
+  /// [m/s, m/s, rad/s]: the reference model's input.
+  Vector3 target() const;
+
+  /**
+   * \brief Start the path at m0 [m/s, m/s, rad/s]: m = m0, m' = 0, the delay line one sample at
+   *        time 0, mu_r = m0, mu_r' = 0. The goal is kept.
+   * \return false (unchanged) if m0 is not finite.
+   */
+  bool start(const Vector3& m0);
+  /// Advance m and its delay line by h [s] (h finite and > 0) with the goal held; no effect
+  /// without a reference model.
+  void advance(double h);
+
+  /// The undelayed path m [m/s, m/s, rad/s].
+  const Vector3& path() const { return m_; }
+  /// The path's rate m' = clamp((target() - m) / T_r, -acc, acc) [m/s^2, m/s^2, rad/s^2].
+  /// Requires enabled().
+  Vector3 rate() const;
+  /// The path's largest acceleration per channel acc = (max_acceleration_linear,
+  /// max_acceleration_linear, max_acceleration_angular) [m/s^2, m/s^2, rad/s^2].
+  Vector3 accelerationLimit() const;
+  /// The attractor's goal [m/s, m/s, rad/s]: mu_r = m(t - d_r) with a reference model, else mu_d.
+  Vector3 attractorGoal() const { return enabled() ? mu_r_ : mu_d_; }
+  /// The attractor's rate [m/s^2, m/s^2, rad/s^2]: mu_r' with a reference model, else mu_d'.
+  Vector3 attractorRate() const { return enabled() ? mu_r_dot_ : mu_d_dot_; }
+  /// The path's clock: the time advanced since start() [s].
+  double time() const { return time_; }
+  /// Samples in the delay line, 1 ... kLine.
+  int lineSize() const { return count_; }
+
+private:
+  /// One delay-line sample: time [s], m, m'.
+  struct Sample
+  {
+    double t;
+    Vector3 m;
+    Vector3 m_dot;
+  };
+
+  ReferenceModelParams params_;
+  Vector3 mu_d_ = Vector3::Zero();
+  Vector3 mu_d_dot_ = Vector3::Zero();
+  Vector3 m_ = Vector3::Zero();
+  double time_ = 0.0;
+  std::array<Sample, kLine> line_{};
+  int head_ = 0;   ///< index of the newest sample
+  int count_ = 1;  ///< samples in the line
+  Vector3 mu_r_ = Vector3::Zero();      ///< the delayed path mu_r at time_
+  Vector3 mu_r_dot_ = Vector3::Zero();  ///< its rate mu_r'
+};
+
+}  // namespace jackal_aic

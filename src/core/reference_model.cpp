@@ -1,0 +1,117 @@
+/**
+ * \file reference_model.cpp
+ * \brief The goal and the rate-limited, delayed reference path (doc/active_inference.md,
+ *        'Set-point dynamics').
+ */
+#include "jackal_aic/reference_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+namespace jackal_aic
+{
+ReferenceModel::ReferenceModel(const ReferenceModelParams& params) : params_(params)
+{
+  start(Vector3::Zero());
+}
+
+void ReferenceModel::setParams(const ReferenceModelParams& params)
+{
+  params_ = params;
+  if (!params.generalized_goal)
+  {
+    mu_d_dot_.setZero();
+  }
+}
+
+bool ReferenceModel::setGoal(const Vector3& mu_d, const Vector3& mu_d_dot)
+{
+  if (!mu_d.allFinite() || mu_d.cwiseAbs().maxCoeff() > params_.goal_limit || !mu_d_dot.allFinite() ||
+      mu_d_dot.cwiseAbs().maxCoeff() > params_.goal_limit)
+  {
+    return false;
+  }
+  mu_d_ = mu_d;
+  mu_d_dot_ = params_.generalized_goal ? mu_d_dot : Vector3::Zero();
+  return true;
+}
+
+Vector3 ReferenceModel::target() const
+{
+  return params_.generalized_goal ? Vector3(mu_d_ + params_.goal_lead * mu_d_dot_) : mu_d_;
+}
+
+Vector3 ReferenceModel::accelerationLimit() const
+{
+  return Vector3(params_.max_acceleration_linear, params_.max_acceleration_linear, params_.max_acceleration_angular);
+}
+
+Vector3 ReferenceModel::rate() const
+{
+  const Vector3 acc = accelerationLimit();
+  return ((target() - m_) / params_.time_constant).cwiseMax(-acc).cwiseMin(acc);
+}
+
+bool ReferenceModel::start(const Vector3& m0)
+{
+  if (!m0.allFinite())
+  {
+    return false;
+  }
+  m_ = m0;
+  time_ = 0.0;
+  head_ = 0;
+  count_ = 1;
+  line_[0] = Sample{ 0.0, m0, Vector3::Zero() };
+  mu_r_ = m0;
+  mu_r_dot_.setZero();
+  return true;
+}
+
+void ReferenceModel::advance(double h)
+{
+  const double t_r = params_.time_constant;
+  if (t_r <= 0.0)
+  {
+    return;
+  }
+  // Exact step of m' = (target - m) / T_r with the target held over h, its change clamped to
+  // the path's largest acceleration; m' the same, clamped.
+  const Vector3 acc = accelerationLimit();
+  const Vector3 change = ((target() - m_) * (1.0 - std::exp(-h / t_r))).cwiseMax(-acc * h).cwiseMin(acc * h);
+  m_ += change;
+  const Vector3 m_dot = rate();
+  time_ += h;
+  // The delay line keeps samples at least kMaxReferenceDelay / 800 apart (kLine of them cover the
+  // longest delay); between them m(t - d_r) is interpolated linearly.
+  const double spacing = kMaxReferenceDelay / 800.0;
+  if (time_ - line_[static_cast<std::size_t>(head_)].t >= spacing)
+  {
+    head_ = (head_ + 1) % kLine;
+    count_ = std::min(count_ + 1, kLine);
+  }
+  line_[static_cast<std::size_t>(head_)] = Sample{ time_, m_, m_dot };
+  const double t_query = time_ - params_.delay;
+  // Walk back from the newest sample to the first one at or before t_query.
+  int newer = head_;
+  for (int k = 1; k < count_; ++k)
+  {
+    const int older = (head_ - k + kLine) % kLine;
+    const Sample& o = line_[static_cast<std::size_t>(older)];
+    if (o.t <= t_query)
+    {
+      const Sample& n = line_[static_cast<std::size_t>(newer)];
+      const double w = n.t > o.t ? (t_query - o.t) / (n.t - o.t) : 1.0;
+      mu_r_ = o.m + w * (n.m - o.m);
+      mu_r_dot_ = o.m_dot + w * (n.m_dot - o.m_dot);
+      return;
+    }
+    newer = older;
+  }
+  const Sample& oldest = line_[static_cast<std::size_t>(newer)];  // the delay reaches before the line
+  mu_r_ = oldest.m;
+  mu_r_dot_ = oldest.m_dot;
+}
+
+}  // namespace jackal_aic
