@@ -199,3 +199,48 @@ TEST(NoAlloc, UnbiasedBeliefsAndLearningUpdatePath)
     EXPECT_NE(c.precisionY()(kGyroZ, 0), params.precisionY()(kGyroZ, 0));  // it learned and rebuilt
   }
 }
+
+TEST(NoAlloc, ControllerStagesUpdatePath)
+{
+  // Each stage on its own, every option on: the reference model's and the action's delay lines
+  // (fixed capacity, run past it), the action prior, the release at rest, all clamps.
+  ReferenceModelParams rp;
+  rp.generalized_goal = true;
+  rp.goal_lead = 0.05;
+  rp.time_constant = 0.1;
+  rp.delay = kMaxReferenceDelay;
+  ReferenceModel reference(rp);
+  ActionDelayLine line(0.085);
+  ActionPriorParams ap;
+  ap.gain = 1.0;
+  ap.time_constant = 0.06;
+  const ActionPrior prior(ap);
+  const RestRelease release(0.5);
+  AntiWindupParams aw;
+  aw.max_action_lead = 1.0;
+  aw.max_action_lead_turn = 0.5;
+  aw.max_wheel_speed = 5.0;
+  const AntiWindup anti_windup(aw);
+  const SkidSteerModel model(0.098, 1.0, 0.5621);
+  Vector2 a_F = Vector2::Zero();
+  AllocationCounter counter;
+  reference.start(Vector3(0.1, 0.0, 0.0));
+  line.restart(Vector3::Zero());
+  for (int k = 0; k < 3 * ReferenceModel::kLine; ++k)
+  {
+    reference.setGoal(Vector3((k / 500) % 2 == 0 ? 1.0 : 0.0, 0.0, 0.5), Vector3(0.5, 0.0, 0.0));
+    reference.advance(0.001);
+    if (k % 2 == 0)
+    {
+      const Vector2 a_ff = prior.wheels(model, reference);
+      a_F = release.apply(a_F, reference.target(), 0.002);
+      const AntiWindup::Result r =
+          anti_windup.apply(a_F, a_F + Vector2(0.1, -0.1), Vector2(50.0, -50.0), a_ff, Vector2(1.0, 2.0), true, true);
+      a_F = r.free_energy_part;
+      line.record(0.002, model.twistFromWheels(r.command));
+    }
+  }
+  volatile double sink = reference.attractorGoal()(0) + line.delayed()(0) + a_F(0);
+  (void)sink;
+  EXPECT_EQ(counter.count(), 0);
+}
