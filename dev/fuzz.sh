@@ -62,7 +62,17 @@ flags=(-std=c++17 -g -O2 -fsanitize=fuzzer,address,undefined -fno-sanitize-recov
        -I"$repo/include" -I/usr/include/eigen3)
 sources=("$repo"/src/core/{params,param_spec,param_schema,node_params,generalizer,skid_steer_model,reference_model,action_delay_line,action_prior,rest_release,anti_windup,controller,separation_learner,precision_learner,fault_monitor,diff_drive}.cpp
          "$repo/test/fuzz/fuzz_core.cpp")
-if ! "$cxx" "${flags[@]}" "${sources[@]}" -o "$out/fuzz_core" > "$out/build.log" 2>&1; then
+# The binary is rebuilt only when its inputs change: a stamp holds the SHA-256 of the compiler's
+# version, the flags and every source and header it can include (the core's headers, the
+# sources, the two lists). dev/run_tests.sh builds it with the other tests (FUZZ_BUILD_ONLY=1)
+# so that the suite's run is the fuzzing alone.
+stamp="$out/fuzz_core.inputs"
+inputs="$( { "$cxx" --version; printf '%s\n' "${flags[@]}";
+             cat "${sources[@]}" "$repo"/test/fuzz/*.txt;
+             find "$repo/include" -type f -name '*.hpp' | LC_ALL=C sort | xargs cat; } | sha256sum | cut -d' ' -f1)"
+if [ -x "$out/fuzz_core" ] && [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$inputs" ]; then
+  echo "fuzz: fuzz_core is up to date"
+elif ! { rm -f "$stamp"; "$cxx" "${flags[@]}" "${sources[@]}" -o "$out/fuzz_core" > "$out/build.log" 2>&1; }; then
   if grep -q -- "-fsanitize=fuzzer\|libclang_rt.fuzzer\|FuzzedDataProvider" "$out/build.log"; then
     echo "fuzz: this clang has no libFuzzer; skipped"; tail -5 "$out/build.log"
     junit skip "clang without libFuzzer"
@@ -71,6 +81,11 @@ if ! "$cxx" "${flags[@]}" "${sources[@]}" -o "$out/fuzz_core" > "$out/build.log"
   echo "fuzz: build failed:"; tail -20 "$out/build.log"
   junit fail "fuzz target build failed"
   exit 1
+fi
+[ -f "$stamp" ] || echo "$inputs" > "$stamp"
+if [ "${FUZZ_BUILD_ONLY:-0}" = 1 ]; then
+  echo "fuzz: built $out/fuzz_core (FUZZ_BUILD_ONLY: not run)"
+  exit 0
 fi
 workers="${FUZZ_WORKERS:-1}"
 echo "fuzz: running fuzz_core, seed ${seed}, ${runs} runs per worker (0: unbounded), at most ${seconds} s, ${workers} worker(s) (log: $log)"

@@ -10,6 +10,9 @@ source "$here/ws_env.sh"
 bash "$here/setup_deps.sh" || { echo "run_tests: installing dependencies failed"; echo "0 passed, 1 failed"; exit 1; }
 bash "$here/build.sh" || { echo "run_tests: build failed"; echo "0 passed, 1 failed"; exit 1; }
 bash "$here/build.sh" tests || { echo "run_tests: building the tests failed"; echo "0 passed, 1 failed"; exit 1; }
+# The fuzz target is a test binary too: built here (when its inputs changed), run below. A
+# failed build is reported by the run below, with its verdict.
+FUZZ_BUILD_ONLY=1 bash "$here/fuzz.sh" > /dev/null 2>&1 || true
 
 # The tests' Python nodes import this workspace's message and tool modules (jackal_msgs,
 # jackal_aic, jackal_aic_tools): run them in the workspace's environment.
