@@ -2,7 +2,7 @@
 """Python unit test (no roscore, no build): the logic of the experiment tools that run ROS
 (aic_sweep.py, aic_node_load.py, aic_soak.py, aic_experiment.py: jackal_aic_tools.sweep,
 .node_load, .soak, .procfs, .experiment), of the report and summary printers
-(jackal_aic_tools.report, .summary), of dev/failure_summary.py, and the plant-limited pairs of
+(jackal_aic_tools.report, .summary), of dev/failure_summary.py and dev/mutants.py's list, and the plant-limited pairs of
 the tracking benchmark (jackal_aic_tools.plant_limits, driving.judge_tracking,
 track_suite.metric_limited), on inputs made up here.
 """
@@ -431,7 +431,50 @@ class FailureSummaryTest(unittest.TestCase):
         self.assertNotIn("Suite.fine", out)
 
 
+class MutantsListTest(unittest.TestCase):
+    """dev/mutants.py's list (dev/mutants.txt) against the tree: each mutant applies (its 'find'
+    occurs once in its file) and names gtest targets that CMakeLists.txt declares."""
+
+    @classmethod
+    def setUpClass(cls):
+        sys.path.insert(0, os.path.join(ROOT, "dev"))
+        import mutants  # noqa: E402 (dev/mutants.py)
+        cls.m = mutants
+        with open(os.path.join(ROOT, "dev", "mutants.txt")) as f:
+            cls.mutants = mutants.parse_list(f.read(), "dev/mutants.txt")
+        with open(os.path.join(ROOT, "CMakeLists.txt")) as f:
+            cls.cmake = f.read()
+
+    def test_every_mutant_applies_to_the_tree(self):
+        self.assertGreater(len(self.mutants), 10)
+        for mutant in self.mutants:
+            with open(os.path.join(ROOT, mutant["file"])) as f:
+                text = f.read()
+            self.assertNotEqual(self.m.apply(text, mutant), text, mutant["id"])
+
+    def test_a_find_text_that_moved_away_is_an_error(self):
+        mutant = dict(self.mutants[0], find="no such line in any file")
+        with self.assertRaises(self.m.ListError):
+            self.m.apply("some source", mutant)
+
+    def test_the_core_gtests_are_the_ones_cmake_declares(self):
+        core = self.m.core_tests()
+        self.assertIn("test_core_controller", core)
+        for target in core:
+            name = target[len("test_core_"):]
+            self.assertTrue(os.path.isfile(os.path.join(ROOT, "test", "unit", "test_%s.cpp" % name)), target)
+        for mutant in self.mutants:
+            for target in mutant["tests"]:
+                self.assertIn(target[len("test_core_"):] if target.startswith("test_core_") else target, self.cmake,
+                              "%s names %s, which CMakeLists.txt does not declare" % (mutant["id"], target))
+        with tempfile.NamedTemporaryFile("w", suffix=".txt") as f:
+            f.write("project(x)\n")
+            f.flush()
+            with self.assertRaises(ValueError):
+                self.m.core_tests(f.name)
+
+
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
     pyunit.main("tool_logic", ProcfsTest, SweepTest, ExperimentTest, SoakTest, ReportAndSummaryTest,
-                FailureSummaryTest, PlantLimitsTest, IdealCacheTest)
+                FailureSummaryTest, PlantLimitsTest, IdealCacheTest, MutantsListTest)

@@ -38,8 +38,8 @@ struct PrecisionLearnerParams
  *
  * The free energy of eq. 3-10 with the normalisation term of the Gaussians the precisions belong
  * to (dropped in the thesis because Pi_y is fixed there; the Laplace-encoded free energy and the
- * precision learning of Baioumy et al., arXiv 2005.05894, cited by its learning section: its
- * equation numbers could not be checked here), per channel j of order 0:
+ * precision learning of Baioumy et al., arXiv 2005.05894, its section on learning the model's
+ * parameters and precisions), per channel j of order 0:
  *   F_j = 1/2 (Pi_j eps_j^2 - ln Pi_j) + const,
  *   dF_j / dPi_j = 1/2 (eps_j^2 - 1 / Pi_j),
  * zero at Pi_j = 1 / E[eps_j^2]: the precision is the inverse variance of the prediction error.
