@@ -2,13 +2,14 @@
 """rostest: each invalid parameter makes jackal_aic_node exit non-zero and name the
 parameter in its log; a valid set keeps it running (so the check can fail).
 
-Runs the node binary once per case against the rostest master, under a unique node
+Runs the node binary once per case (WORKERS at a time) against the rostest master, under a unique node
 name whose private namespace holds the valid config/default.yaml plus the case's override
 (set on the parameter server, as a launch file's rosparam would).
 
 Parameters (~): exit_timeout [s] (how long an invalid node may take to exit),
 alive_time [s] (how long the valid node must stay up).
 """
+import concurrent.futures
 import os
 import subprocess
 import sys
@@ -52,6 +53,8 @@ CASES = [
      "cmd_vel_max_linear_acceleration"),
 ]
 
+WORKERS = 4  # nodes started at a time: each only reads its parameters and exits
+
 
 class InvalidParamsTest(unittest.TestCase):
     @classmethod
@@ -93,18 +96,26 @@ class InvalidParamsTest(unittest.TestCase):
             proc.communicate(timeout=10)
 
     def test_each_invalid_parameter_exits_non_zero(self):
-        for case, overrides, name in CASES:
+        # Each case's node is independent (its own name and parameters): up to WORKERS at a time.
+        commands = [(case, self.args("aic_" + case, overrides), name) for case, overrides, name in CASES]
+
+        def run(item):
+            case, command, name = item
+            proc = subprocess.run(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                  timeout=self.exit_timeout)
+            return case, name, proc.returncode, proc.stdout + proc.stderr
+
+        with concurrent.futures.ThreadPoolExecutor(max_workers=WORKERS) as pool:
+            results = list(pool.map(run, commands))
+        self.assertEqual(len(results), len(CASES))
+        for case, name, returncode, log in results:
             with self.subTest(case=case):
-                proc = subprocess.run(self.args("aic_" + case, overrides), stdout=subprocess.PIPE,
-                                      stderr=subprocess.PIPE, text=True, timeout=self.exit_timeout)
-                log = proc.stdout + proc.stderr
-                self.assertNotEqual(proc.returncode, 0, "%s: exit code 0\n%s" % (case, log))
+                self.assertNotEqual(returncode, 0, "%s: exit code 0\n%s" % (case, log))
                 self.assertIn("invalid parameter ~" + name, log, "%s: the log does not name %s\n%s"
                               % (case, name, log))
-                print("OK %s: exit %d, '%s'" % (case, proc.returncode,
+                print("OK %s: exit %d, '%s'" % (case, returncode,
                                                 [l for l in log.splitlines() if "~" + name in l][0].strip()),
                       file=sys.stderr)
-
 
 if __name__ == "__main__":
     rospy.init_node("test_invalid_params")
