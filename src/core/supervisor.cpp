@@ -386,6 +386,7 @@ IdleCommand Supervisor::idleCommand() const
     case NodeState::kRunning:
     case NodeState::kStale:
     case NodeState::kRunaway:
+    case NodeState::kBlocked:  // nothing is published while blocked; zero if it were
       break;
   }
   return IdleCommand::kZero;
