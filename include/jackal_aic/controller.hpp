@@ -273,6 +273,9 @@ private:
 
   /// eps_y for given beliefs and measurement (eq. 3-8; plus the optional accelerometer coupling).
   void computeEpsY(const MuTilde& mu, const YTilde& y_tilde, YTilde* eps_y) const;
+  /// Column i of eps_y, eps_y^(i) = y^(i) - R mu^(i) (eq. 3-8; accelerometer x also minus x_dot^(i+1)
+  /// with accel_in_model), 5 x 1 per SensorIndex [sensor units]; 0 <= i <= p.
+  Vector5 epsYOrder(const MuTilde& mu, const YTilde& y_tilde, int i) const;
   /// eps_mu for given beliefs, attractor goal g and its rate g_dot (eq. 3-9, with g_dot).
   void computeEpsMu(const MuTilde& mu, const Vector3& g, const Vector3& g_dot, MuTilde* eps_mu) const;
   /// dF/dmu_tilde (eq. 3-13).
@@ -292,6 +295,9 @@ private:
   /// Learning, the last stage: one SeparationLearner step on y^(0), y^(1) of the gyro and wheels
   /// (frozen while the mask isolates one of them or actionSaturated()), then applyLearnedSeparation().
   void learn(double h);
+  /// Precision learning (learn_precision): one PrecisionLearner step on eps_y^(0) of the beliefs
+  /// just integrated, then Pi_y and M rebuilt if a precision moved beyond its apply tolerance.
+  void learnPrecision(double h);
   /// Give the model the learner's b_hat if it moved beyond kSeparationApplyTolerance.
   void applyLearnedSeparation(bool force);
 

@@ -287,16 +287,22 @@ bool ActiveInferenceController::setBeliefs(const MuTilde& mu)
 void ActiveInferenceController::computeEpsY(const MuTilde& mu, const YTilde& y_tilde, YTilde* eps_y) const
 {
   const int n = params_.numOrders();
-  const SensorMatrix& R = model_.R();
   for (int i = 0; i < n; ++i)
   {
-    eps_y->col(i).noalias() = y_tilde.col(i) - R * mu.col(i);
-    if (params_.accel_in_model && i + 1 < n)
-    {
-      // Optional kinematic accelerometer row: accel_x^(i) predicted by x_dot^(i+1).
-      (*eps_y)(kAccelX, i) -= mu(0, i + 1);
-    }
+    eps_y->col(i) = epsYOrder(mu, y_tilde, i);
   }
+}
+
+Vector5 ActiveInferenceController::epsYOrder(const MuTilde& mu, const YTilde& y_tilde, int i) const
+{
+  Vector5 e;
+  e.noalias() = y_tilde.col(i) - model_.R() * mu.col(i);
+  if (params_.accel_in_model && i + 1 < params_.numOrders())
+  {
+    // Optional kinematic accelerometer row: accel_x^(i) predicted by x_dot^(i+1).
+    e(kAccelX) -= mu(0, i + 1);
+  }
+  return e;
 }
 
 void ActiveInferenceController::computeEpsMu(const MuTilde& mu, const Vector3& g, const Vector3& g_dot,
@@ -505,15 +511,19 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
   }
   if (params_.learn_precision)
   {
-    const YTilde eps = epsY();
-    precision_learner_.update(h, eps.col(0), y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0), sensor_mask_,
-                              action_saturated_);
-    if (precision_learner_.changedSince(PrecisionLearner::kApplyTolerance))
-    {
-      rebuildDynamics();
-    }
+    learnPrecision(h);
   }
   return Status::kOk;
+}
+
+void ActiveInferenceController::learnPrecision(double h)
+{
+  precision_learner_.update(h, epsYOrder(mu_, y_tilde_, 0), y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0),
+                            sensor_mask_, action_saturated_);
+  if (precision_learner_.changedSince(PrecisionLearner::kApplyTolerance))
+  {
+    rebuildDynamics();
+  }
 }
 
 void ActiveInferenceController::learn(double h)
