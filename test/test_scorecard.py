@@ -43,7 +43,7 @@ sys.path.insert(0, os.path.join(ROOT, "src"))
 from jackal_aic_tools import driving, plant_limits  # noqa: E402
 
 #: Regression guards: (what, today's figure, the guard, the documented bound). Today's figures are
-#: doc/results/scorecard.txt's (6a, 6b, 6d).
+#: doc/results/scorecard.txt's (6a, 6b, 6d, 6e, 6g).
 GUARD_GMEAN = ("tracking, geometric mean AIC / stock (plant-following channels)", 0.784, 0.82,
                driving.TRACK_GMEAN_BOUND)
 #: AIC / latency floor (table 6e) over the plant-following channels; the bound 1.20 removes three
@@ -51,6 +51,10 @@ GUARD_GMEAN = ("tracking, geometric mean AIC / stock (plant-following channels)"
 GUARD_FLOOR = ("tracking, geometric mean AIC / latency floor (plant-following channels)", 1.441, 1.49, 1.20)
 GUARD_WORST_PAIR = ("tracking, worst plant-following channel AIC / stock", 1.457, 1.50, driving.TRACK_PAIR_BOUND)
 GUARD_ARC_OVERSHOOT = ("arc, yaw overshoot [%]", 11.0, 11.5, driving.STEP_OVERSHOOT)
+#: Tracking runs whose steady |belief - truth| is above its bound (table 6g; driving.BELIEF_BOUND where the
+#: plant follows, BELIEF_LIMITED_BOUND where it cannot): the goal-biased belief reports the goal where
+#: the robot does not reach it.
+GUARD_BELIEF = ("honest belief, tracking runs above their bound", 16, 18, 0)
 #: The driving step rows the default meets at their documented bound.
 ACCEPTED_STEPS = ("0.1 m/s", "0.5 m/s", "1 rad/s turn", "arc, speed", "arc, yaw")
 #: The step cases whose overshoot is a guard, not acceptance (GUARD_ARC_OVERSHOOT).
@@ -169,6 +173,10 @@ class ScorecardRegressionGuards(unittest.TestCase):
 
     def test_regression_guard_tracking_against_the_latency_floor(self):
         self.guard(GUARD_FLOOR, scorecard_report()["criteria"]["driving_aic_floor_gmean"]["all"])
+
+    def test_regression_guard_honest_belief(self):
+        rows = scorecard_report()["criteria"]["driving_tracking"]
+        self.guard(GUARD_BELIEF, sum(1 for r in rows if not r["belief_pass"]))
 
     def test_regression_guard_tracking_worst_pair(self):
         rows = scorecard_report()["criteria"]["driving_tracking"]

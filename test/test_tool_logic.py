@@ -321,6 +321,54 @@ class PlantLimitsTest(unittest.TestCase):
         self.assertIsNone(out["limited_gmean"]["aic_stock"])
 
 
+class HonestBeliefTest(unittest.TestCase):
+    """driving.judge_belief and its part in judge_tracking: the steady |belief - truth| of a run is
+    judged against BELIEF_BOUND where the plant follows the channel and BELIEF_LIMITED_BOUND where
+    it cannot."""
+
+    @staticmethod
+    def belief(vx, wz, samples=100):
+        return {"belief_settle": 0.5,
+                "belief": {"vx": {"steady_mean_abs": vx, "steady_max_abs": 2 * vx, "samples": samples},
+                           "wz": {"steady_mean_abs": wz, "steady_max_abs": 2 * wz, "samples": samples}}}
+
+    def test_bounds_follow_the_plant_limits(self):
+        row = {"limited_vx": None, "limited_wz": None}
+        self.assertTrue(driving.judge_belief(row, self.belief(0.005, 0.009)))
+        self.assertEqual((row["belief_vx"], row["belief_max_wz"], row["belief_settle"]), (0.005, 0.018, 0.5))
+        self.assertFalse(driving.judge_belief(row, self.belief(0.005, 0.02)))
+        # The same belief error on a channel the plant cannot follow (a stall) is within its bound.
+        row = {"limited_vx": None, "limited_wz": "ideal 3.0 x floor on wz"}
+        self.assertTrue(driving.judge_belief(row, self.belief(0.005, 0.02)))
+        self.assertEqual(row["belief_bound_wz"], driving.BELIEF_LIMITED_BOUND)
+        self.assertFalse(driving.judge_belief(row, self.belief(0.005, 0.04)))
+
+    def test_a_run_without_a_belief_passes_and_no_sample_is_no_figure(self):
+        row = {}
+        self.assertTrue(driving.judge_belief(row, {"truth": {}}))
+        self.assertIsNone(row["belief_vx"])
+        self.assertTrue(driving.judge_belief(row, self.belief(0.5, 0.5, samples=0)))
+        self.assertIsNone(row["belief_wz"])
+
+    def test_judge_tracking_fails_on_a_dishonest_belief_and_the_cost_rises(self):
+        def judge(wz_belief):
+            aic = track_result(0.05, 0.05)
+            aic["tracking"].update(self.belief(0.001, wz_belief))
+            res = {("track", "a.csv", "default", "aic"): (aic, None),
+                   ("track", "a.csv", "default", "stock"): (track_result(0.1, 0.1), None)}
+            out = {"tracking": []}
+            ok = driving.judge_tracking(res, ["a.csv"], ["default"], False, out,
+                                        floor_of=lambda p, latency, cache: {"vx": 0.1, "wz": 0.1})
+            return ok, out
+        ok, out = judge(0.002)
+        self.assertTrue(ok)
+        honest = driving.cost(out)
+        ok, out = judge(0.1)  # 10 x the bound
+        self.assertFalse(ok)
+        self.assertFalse(out["tracking"][0]["belief_pass"])
+        self.assertAlmostEqual(driving.cost(out) - honest, driving.BELIEF_WEIGHT * math.log(10.0), places=9)
+
+
 class IdealCacheTest(unittest.TestCase):
     """jackal_aic_tools.ideal_cache: kept ideal runs are used only for the sources, plant, overlay
     and profile that made them; driving.Runner takes them instead of running the ideal controller."""

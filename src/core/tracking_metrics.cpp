@@ -208,6 +208,89 @@ VelocityTrackingError velocityTrackingError(const TwistProfile& profile, const s
   return e;
 }
 
+namespace
+{
+/// The times at which one channel of the profile's set point changes value (from (0, 0) before
+/// the first point), in order.
+std::vector<double> changeTimes(const TwistProfile& profile, bool linear)
+{
+  std::vector<double> out;
+  double value = 0.0;
+  for (const auto& p : profile.points)
+  {
+    const double v = linear ? p.vx : p.wz;
+    if (v != value)
+    {
+      out.push_back(p.t);
+      value = v;
+    }
+  }
+  return out;
+}
+
+/// Adds |estimate - truth| at profile time t to c when t is `settle` past the channel's last
+/// change (changes: changeTimes()); a new segment counts when its first steady sample does.
+void accumulateSteady(SteadyEstimateChannel* c, int* last_segment, const std::vector<double>& changes, double t,
+                      double settle, double estimate, double truth)
+{
+  const auto it = std::upper_bound(changes.begin(), changes.end(), t);
+  const int segment = static_cast<int>(it - changes.begin());
+  const double last_change = segment > 0 ? *(it - 1) : 0.0;
+  if (t - last_change < settle)
+  {
+    return;
+  }
+  const double e = std::abs(estimate - truth);
+  c->mean_abs += e;  // the sum until the end
+  c->max_abs = std::max(c->max_abs, e);
+  ++c->samples;
+  if (segment != *last_segment)
+  {
+    ++c->segments;
+    *last_segment = segment;
+  }
+}
+}  // namespace
+
+SteadyEstimateError steadyEstimateError(const TwistProfile& profile, const std::vector<double>& time,
+                                        const std::vector<double>& est_vx, const std::vector<double>& est_wz,
+                                        const std::vector<double>& true_vx, const std::vector<double>& true_wz,
+                                        double settle)
+{
+  profile.validate();
+  require(std::isfinite(settle) && settle >= 0.0,
+          "steady estimate error: settle must be finite and >= 0 s, got " + fmt(settle));
+  require(est_vx.size() == time.size() && est_wz.size() == time.size(),
+          "steady estimate error: time has " + std::to_string(time.size()) + " samples but an estimate series has " +
+              std::to_string(est_vx.size() != time.size() ? est_vx.size() : est_wz.size()));
+  checkSeries("steady estimate error", time, { &true_vx, &true_wz });
+  const std::vector<double> changes_vx = changeTimes(profile, true);
+  const std::vector<double> changes_wz = changeTimes(profile, false);
+  SteadyEstimateError e;
+  int seg_vx = -1;
+  int seg_wz = -1;
+  for (std::size_t k = 0; k < time.size(); ++k)
+  {
+    const double t = time[k];
+    if (t < 0.0 || t > profile.duration)
+    {
+      continue;
+    }
+    if (!std::isfinite(est_vx[k]) || !std::isfinite(est_wz[k]))
+    {
+      ++e.unavailable;
+      continue;
+    }
+    accumulateSteady(&e.vx, &seg_vx, changes_vx, t, settle, est_vx[k], true_vx[k]);
+    accumulateSteady(&e.wz, &seg_wz, changes_wz, t, settle, est_wz[k], true_wz[k]);
+  }
+  for (SteadyEstimateChannel* c : { &e.vx, &e.wz })
+  {
+    c->mean_abs = c->samples > 0 ? c->mean_abs / c->samples : 0.0;
+  }
+  return e;
+}
+
 VelocityTrackingError latencyFloor(const TwistProfile& profile, const AicParams& goal_rate,
                                    const LatencyFloorSettings& settings)
 {
@@ -361,6 +444,20 @@ std::string toJson(const VelocityTrackingError& e)
   std::ostringstream os;
   os << "{\"vx\": {\"rms\": " << fmt(e.vx.rms) << ", \"max\": " << fmt(e.vx.max) << "}, \"wz\": {\"rms\": "
      << fmt(e.wz.rms) << ", \"max\": " << fmt(e.wz.max) << "}, \"samples\": " << e.samples << "}";
+  return os.str();
+}
+
+std::string toJson(const SteadyEstimateError& e)
+{
+  std::ostringstream os;
+  os << "{";
+  for (const auto& [name, c] : { std::pair<const char*, const SteadyEstimateChannel&>("vx", e.vx),
+                                 std::pair<const char*, const SteadyEstimateChannel&>("wz", e.wz) })
+  {
+    os << "\"" << name << "\": {\"steady_mean_abs\": " << fmt(c.mean_abs) << ", \"steady_max_abs\": " << fmt(c.max_abs)
+       << ", \"samples\": " << c.samples << ", \"segments\": " << c.segments << "}, ";
+  }
+  os << "\"unavailable\": " << e.unavailable << "}";
   return os.str();
 }
 

@@ -71,6 +71,14 @@ DEFICIT_ERROR = 0.02
 #: Tracking bounds: every pair's AIC / stock RMS ratio (vx and wz), and their geometric mean.
 TRACK_PAIR_BOUND = 1.02
 TRACK_GMEAN_BOUND = 0.6
+#: Honest belief: the steady mean |belief - truth| of every tracking run, per channel (closed_loop_run's
+#: tracking.belief: from 0.5 s after each set-point change to the next), within this where the plant
+#: follows the channel [m/s, rad/s] and within BELIEF_LIMITED_BOUND where it cannot (a plant-limited
+#: channel: stalls, saturation).
+BELIEF_BOUND = 0.01
+BELIEF_LIMITED_BOUND = 0.03
+#: Weight of the honest-belief term in cost().
+BELIEF_WEIGHT = 0.5
 
 
 def default_profiles(root):
@@ -211,7 +219,8 @@ def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, st
     stock), ideal_vx, ideal_wz (the ideal controller's RMS error, None without ``ideal``),
     ideal_vx_ratio, ideal_wz_ratio (ideal / floor), limited_vx, limited_wz (plant_limits.classify:
     the reason, or None where the plant follows), pass (the plant-following channels' AIC / stock
-    within TRACK_PAIR_BOUND)};
+    within TRACK_PAIR_BOUND), belief_vx, belief_wz, belief_max_vx, belief_max_wz, belief_bound_vx,
+    belief_bound_wz, belief_pass (judge_belief)};
     over the plant-following channels: gmean {vx, wz, all} of AIC / stock (judged),
     floor_gmean of floor / stock, aic_floor_gmean of AIC / floor, stock_floor_gmean of stock / floor;
     over the plant-limited ones: limited_gmean {aic_stock, aic_floor, stock_floor, aic_ideal,
@@ -287,7 +296,7 @@ def judge_tracking(res, profiles, variants, ideal, out, floor_of=None):
     aic_floor_gmean, stock_floor_gmean, limited_gmean; see evaluate()). ``floor_of(profile,
     latency, cache)``: the latency floor {vx, wz} (default floor_rms). Returns True when every
     judged figure passes: each pair's plant-following channels within TRACK_PAIR_BOUND, their
-    geometric mean within TRACK_GMEAN_BOUND."""
+    geometric mean within TRACK_GMEAN_BOUND, each pair's honest belief (judge_belief)."""
     floor_of = floor_of or floor_rms
     ok = True
     ratios = []  # (name, channel, plant-limited, value)
@@ -322,6 +331,7 @@ def judge_tracking(res, profiles, variants, ideal, out, floor_of=None):
                     passed = passed and ra <= TRACK_PAIR_BOUND
             row["pass"] = passed
             ok = ok and passed
+            ok = judge_belief(row, res[("track", p, v, "aic")][0]["tracking"]) and ok
             out["tracking"].append(row)
 
     def following(name):
@@ -339,6 +349,28 @@ def judge_tracking(res, profiles, variants, ideal, out, floor_of=None):
     return ok and out["gmean"]["all"] <= TRACK_GMEAN_BOUND
 
 
+def judge_belief(row, tracking):
+    """The honest-belief verdict of one tracking row (judge_tracking's, with its limited_vx / _wz):
+    adds belief_vx, belief_wz (the AIC's steady mean |belief - truth| [m/s, rad/s], closed_loop_run's
+    tracking.belief), belief_max_vx, belief_max_wz (the steady maxima, reported), belief_bound_vx,
+    belief_bound_wz (BELIEF_BOUND, or BELIEF_LIMITED_BOUND on a plant-limited channel), belief_settle
+    (closed_loop_run's tracking.belief_settle [s]) and belief_pass. ``tracking``: the run's JSON
+    tracking object (without a belief, e.g. not the AIC: the row's belief figures are None and it
+    passes). Returns belief_pass."""
+    belief = tracking.get("belief")
+    row["belief_settle"] = tracking.get("belief_settle")
+    ok = True
+    for ch in ("vx", "wz"):
+        bound = BELIEF_LIMITED_BOUND if row.get("limited_" + ch) else BELIEF_BOUND
+        value = belief[ch]["steady_mean_abs"] if belief and belief[ch]["samples"] > 0 else None
+        row["belief_" + ch] = value
+        row["belief_max_" + ch] = belief[ch]["steady_max_abs"] if value is not None else None
+        row["belief_bound_" + ch] = bound
+        ok = ok and (value is None or value <= bound)
+    row["belief_pass"] = ok
+    return ok
+
+
 def _gmean(logs):
     """{vx, wz, all}: the geometric means of the ratios whose logs are ``logs`` {vx: [...], wz: [...]}
     (a channel without values is left out; "all" of both, 1.0 when there is none)."""
@@ -352,6 +384,8 @@ def cost(ev):
     """The tuner's scalar of evaluate()'s figures [-, lower is better]:
     the mean log ratio AIC / stock over every tracking pair and channel
     + 2 x the sum of each pair's log ratio above log(TRACK_PAIR_BOUND), / the number of pairs
+    + BELIEF_WEIGHT x the sum of each pair's log(steady |belief - truth| / its bound) where above 0, /
+      the number of pairs
     + per step case (its worst phase): 0.5 x max(0, log(ratio / bound)) (3 when unsettled) + 0.1
       per % of overshoot above STEP_OVERSHOOT
     + per turn-deficit hold: 5 x max(0, |error| / command - DEFICIT_ERROR)
@@ -362,6 +396,10 @@ def cost(ev):
         logs = [math.log(max(r[ch + "_ratio"], 1e-9)) for r in rows for ch in ("vx", "wz")]
         total += sum(logs) / len(logs)
         total += 2.0 * sum(max(0.0, x - math.log(TRACK_PAIR_BOUND)) for x in logs) / len(logs)
+    if rows:
+        total += BELIEF_WEIGHT * sum(max(0.0, math.log(max(r["belief_" + ch], 1e-9) / r["belief_bound_" + ch]))
+                                     for r in rows for ch in ("vx", "wz")
+                                     if r.get("belief_" + ch) is not None) / len(rows)
     for r in ev.get("steps", []):
         total += 3.0 if r["ratio"] is None else 0.5 * max(0.0, math.log(r["ratio"] / r["bound"]))
         total += 0.1 * max(0.0, (r["aic_overshoot"] or 0.0) - STEP_OVERSHOOT)

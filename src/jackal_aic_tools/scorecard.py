@@ -25,7 +25,9 @@ Criteria (doc/experiments.md, 'Tuning'):
      (RMS error of vx and wz, AIC / stock) with its geometric mean; beside it the latency floor
      and the ideal controller, and the plant-limited channels (the ideal controller above
      plant_limits.PLANT_LIMIT_RATIO x the floor) apart, with their reasons: the per-pair bound and
-     the geometric mean judge the plant-following channels. Judged with the rest.
+     the geometric mean judge the plant-following channels; and the honest belief of every
+     tracking run (the AIC's steady mean |belief - truth| per channel within
+     driving.BELIEF_BOUND, BELIEF_LIMITED_BOUND on a plant-limited channel). Judged with the rest.
 
 Usage:
   aic_scorecard.py [--aic-config FILE] [--plant-config FILE] [--seeds S ...] [--jobs N]
@@ -192,7 +194,7 @@ def judge_driving(ev, crit):
     (over the plant-following channels, judged against driving.TRACK_GMEAN_BOUND),
     driving_floor_gmean, driving_aic_floor_gmean, driving_stock_floor_gmean (over the same) and
     driving_limited_gmean (over the plant-limited channels; reported). Returns True when every
-    judged row passes."""
+    judged row passes (the tracking rows' honest belief, belief_pass, included)."""
     for part in ("steps", "deficit", "robust", "tracking"):
         crit["driving_" + part] = ev[part]
     gm = dict(ev["gmean"], bound=driving.TRACK_GMEAN_BOUND)
@@ -201,6 +203,7 @@ def judge_driving(ev, crit):
     for name in ("floor_gmean", "aic_floor_gmean", "stock_floor_gmean", "limited_gmean"):
         crit["driving_" + name] = ev[name]
     verdicts = [gm["pass"]] + [r["pass"] for part in ("steps", "deficit", "robust", "tracking") for r in ev[part]]
+    verdicts += [r.get("belief_pass") for r in ev["tracking"]]
     all_ok = not any(ok is False for ok in verdicts)
     return all_ok
 

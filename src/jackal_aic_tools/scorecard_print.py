@@ -126,6 +126,19 @@ def print_driving(crit):
           [[r["profile"], r["variant"], ch, "%.4f %s" % (r["ideal_" + ch], plant_limits.UNITS[ch]), "%.2f" % (r["aic_" + ch] / r["ideal_" + ch]),
             "%.2f" % (r["stock_" + ch] / r["ideal_" + ch]), "%.2f" % r[ch + "_ratio"], r["limited_" + ch]]
            for r, ch in limited] or [["(none)", "", "", "", "", "", "", ""]])
+    n_belief = sum(1 for r in rows if r.get("belief_pass"))
+    settle = next((r["belief_settle"] for r in rows if r.get("belief_settle") is not None), None)
+    table("6g. Honest belief: the AIC's steady mean |belief - truth| on every tracking run (from %s s after each "
+          "change of a channel's set point to the next; closed_loop_run's tracking.belief), <= %g m/s and %g rad/s "
+          "where the plant follows the channel, <= %g where it cannot (plant-limited, 6f); max: the largest steady "
+          "|belief - truth| (reported). %d of %d runs pass"
+          % (fmt(settle, "%g"), driving.BELIEF_BOUND, driving.BELIEF_BOUND, driving.BELIEF_LIMITED_BOUND, n_belief,
+             len(rows)),
+          ["profile", "variant", "vx mean [m/s]", "vx max [m/s]", "vx bound", "wz mean [rad/s]", "wz max [rad/s]",
+           "wz bound", "verdict"],
+          [[r["profile"], r["variant"], fmt(r.get("belief_vx"), "%.4f"), fmt(r.get("belief_max_vx"), "%.4f"),
+            "%g" % r["belief_bound_vx"], fmt(r.get("belief_wz"), "%.4f"), fmt(r.get("belief_max_wz"), "%.4f"),
+            "%g" % r["belief_bound_wz"], verdict(r["belief_pass"])] for r in rows])
 
 
 def report(crit, ok, a, root):

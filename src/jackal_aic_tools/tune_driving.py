@@ -66,6 +66,9 @@ def run(a, tool):
           "%d of %d" % (
         ev["gmean"]["vx"], ev["gmean"]["wz"], driving.TRACK_PAIR_BOUND,
         sum(1 for r in ev["tracking"] if not r["pass"]), len(ev["tracking"])))
+    print("  honest belief (steady |belief - truth| within %g, %g where plant-limited): %d of %d tracking runs" % (
+        driving.BELIEF_BOUND, driving.BELIEF_LIMITED_BOUND, sum(1 for r in ev["tracking"] if r["belief_pass"]),
+        len(ev["tracking"])))
     if a.write:
         write_yaml(a.write, a.base, best["values"],
                    "# tuned by aic_tune.py --driving (%d evaluations, variants %s): driving cost %.4f" % (

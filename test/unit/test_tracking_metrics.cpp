@@ -353,3 +353,65 @@ TEST(LatencyFloor, BadSettingsAreRefused)
   }
   EXPECT_THROW(latencyFloor(profileOf({}, 1.0), recommendedAicParams(), LatencyFloorSettings{}), std::invalid_argument);
 }
+
+TEST(SteadyEstimateError, CountsOnlySettledSamplesPerChannel)
+{
+  // vx: 0 until 1 s, then 0.5 (repeated rows with the same value are no change); wz: 0 until 2 s,
+  // then 0.3. Estimate = truth + 0.02 on vx and + 0.1 on wz everywhere, except a 1.0 error on both
+  // channels in the 0.5 s after each channel's change (the transient the measure leaves out).
+  const TwistProfile p = profileOf({ { 0.0, 0.0, 0.0 }, { 1.0, 0.5, 0.0 }, { 1.5, 0.5, 0.0 }, { 2.0, 0.5, 0.3 } }, 4.0);
+  const std::vector<double> t = grid(0.005, 3.995, 0.01);  // no sample on a boundary
+  std::vector<double> tv(t.size(), 0.0), tw(t.size(), 0.0), ev(t.size()), ew(t.size());
+  for (std::size_t k = 0; k < t.size(); ++k)
+  {
+    const bool transient = (t[k] >= 1.0 && t[k] < 1.5) || (t[k] >= 2.0 && t[k] < 2.5);
+    ev[k] = tv[k] + (transient ? 1.0 : 0.02);
+    ew[k] = tw[k] + (transient ? 1.0 : 0.1);
+  }
+  const SteadyEstimateError e = steadyEstimateError(p, t, ev, ew, tv, tw, 0.5);
+  // vx changes at 1.0 only (0 at t = 0 is no change): steady [0.5, 1.0) and [1.5, 4.0].
+  // vx is steady in wz's transient [2.0, 2.5): those 50 samples carry the 1.0 error.
+  EXPECT_EQ(e.vx.segments, 2);
+  EXPECT_EQ(e.vx.samples, 50 + 250);
+  EXPECT_NEAR(e.vx.mean_abs, (250 * 0.02 + 50 * 1.0) / 300.0, 1e-12);
+  EXPECT_NEAR(e.vx.max_abs, 1.0, 1e-12);
+  // wz changes at 2.0 only: steady [0.5, 2.0) (vx's transient [1.0, 1.5) in it) and [2.5, 4.0].
+  EXPECT_EQ(e.wz.segments, 2);
+  EXPECT_EQ(e.wz.samples, 150 + 150);
+  EXPECT_NEAR(e.wz.mean_abs, (250 * 0.1 + 50 * 1.0) / 300.0, 1e-12);
+  EXPECT_EQ(e.unavailable, 0);
+  // The control: with settle 0 every sample counts, the transients too.
+  const SteadyEstimateError all = steadyEstimateError(p, t, ev, ew, tv, tw, 0.0);
+  EXPECT_EQ(all.vx.samples, static_cast<int>(t.size()));
+  EXPECT_GT(all.vx.mean_abs, 0.1);
+}
+
+TEST(SteadyEstimateError, AGoalBiasedBeliefOfAStallIsSeen)
+{
+  // A 1 rad/s turn the robot cannot make (truth 0.1 rad/s) with a belief at the goal.
+  const TwistProfile p = profileOf({ { 0.0, 0.0, 1.0 } }, 3.0);
+  const std::vector<double> t = grid(0.0, 3.0, 0.02);
+  const std::vector<double> zero(t.size(), 0.0), stall(t.size(), 0.1), goal(t.size(), 1.0);
+  const SteadyEstimateError e = steadyEstimateError(p, t, zero, goal, zero, stall, 0.5);
+  EXPECT_NEAR(e.wz.mean_abs, 0.9, 1e-12);
+  EXPECT_EQ(e.wz.segments, 1);
+  EXPECT_NEAR(steadyEstimateError(p, t, zero, stall, zero, stall, 0.5).wz.mean_abs, 0.0, 1e-15);
+}
+
+TEST(SteadyEstimateError, MissingEstimatesAreCountedAndBadInputRefused)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const TwistProfile p = profileOf({ { 0.0, 0.5, 0.0 } }, 2.0);
+  const std::vector<double> t = grid(0.0, 2.0, 0.5);  // 0, 0.5, 1, 1.5, 2
+  const std::vector<double> z(t.size(), 0.0);
+  const SteadyEstimateError e = steadyEstimateError(p, t, { nan, 0.1, 0.1, nan, 0.1 }, z, z, z, 0.5);
+  EXPECT_EQ(e.unavailable, 2);
+  EXPECT_EQ(e.vx.samples, 3);  // 0.5 s after the change at 0: from t = 0.5 on, two NaN left out
+  EXPECT_NEAR(e.vx.mean_abs, 0.1, 1e-12);
+  EXPECT_THROW(steadyEstimateError(p, t, z, z, z, z, -0.1), std::invalid_argument);
+  EXPECT_THROW(steadyEstimateError(p, t, z, z, z, z, nan), std::invalid_argument);
+  EXPECT_THROW(steadyEstimateError(p, t, { 0.0 }, z, z, z, 0.5), std::invalid_argument);
+  EXPECT_THROW(steadyEstimateError(p, t, z, z, { 0.0, nan, 0.0, 0.0, 0.0 }, z, 0.5), std::invalid_argument);
+  EXPECT_THROW(steadyEstimateError(p, { 0.0, 0.0, 1.0, 1.5, 2.0 }, z, z, z, z, 0.5), std::invalid_argument);
+  EXPECT_THROW(steadyEstimateError(profileOf({}, 1.0), t, z, z, z, z, 0.5), std::invalid_argument);
+}

@@ -48,7 +48,10 @@
  *        "segments": [{"t_step", "initial", "target", "measured": {...}, "truth": {...}, "belief": {...},
  *        "drive": {...}}] [, "angular_segments": [...]] ("measured": wheel odometry in "segments", the
  *        gyro in "angular_segments"), "profile",
- *        "duration", "tracking": {"truth": {"vx": {"rms", "max"}, "wz": {...}, "samples"}, "odometry": {...}},
+ *        "duration", "tracking": {"truth": {"vx": {"rms", "max"}, "wz": {...}, "samples"}, "odometry": {...},
+ *        with the AIC "belief": {"vx": {"steady_mean_abs", "steady_max_abs", "samples", "segments"}, "wz":
+ *        {...}, "unavailable"} (belief mu^(0) against the truth from "belief_settle" [s] after each change
+ *        of the channel's set point to the next: jackal_aic/tracking_metrics.hpp, steadyEstimateError)},
  *        "path": {"final_position_error", "max_position_error", "final_heading_error", "ideal_length",
  *        "samples"}} with rise, settling, overshoot, sse, settled; times from the profile's start
  *        (--rest + 10 ms into the run); tracking over the profile's span.
@@ -84,6 +87,10 @@ using namespace jackal_aic::harness;
 
 namespace
 {
+/// Steady segments of the honest-belief measure start this long after a set-point change [s]
+/// (doc/experiments.md, 'Driving acceptance').
+constexpr double kBeliefSettle = 0.5;
+
 std::string metricsJson(const std::vector<double>& t, const std::vector<double>& y, double t_step, double t_end,
                         double initial, double target)
 {
@@ -341,8 +348,16 @@ int main(int argc, char** argv)
   try
   {
     tracking_json = "{\"truth\": " + toJson(velocityTrackingError(tracked, t_profile, rec.v_true, rec.yaw_true)) +
-                    ", \"odometry\": " + toJson(velocityTrackingError(tracked, t_profile, rec.v_odom, rec.yaw_odom)) +
-                    "}";
+                    ", \"odometry\": " + toJson(velocityTrackingError(tracked, t_profile, rec.v_odom, rec.yaw_odom));
+    if (c.controller == LoopController::kAic)
+    {
+      // The honest-belief measure: belief mu^(0) against the truth where the set point holds.
+      tracking_json += ", \"belief\": " +
+                       toJson(steadyEstimateError(tracked, t_profile, rec.belief, rec.belief_yaw, rec.v_true,
+                                                  rec.yaw_true, kBeliefSettle)) +
+                       ", \"belief_settle\": " + jsonNumber(kBeliefSettle);
+    }
+    tracking_json += "}";
     drift = pathDrift(tracked, t_profile, rec.x_true, rec.y_true, rec.heading_true);
   }
   catch (const std::exception& e)
