@@ -13,6 +13,7 @@
 #include "jackal_aic/anti_windup.hpp"
 #include "jackal_aic/params.hpp"
 #include "jackal_aic/precision_learner.hpp"
+#include "jackal_aic/goal_response.hpp"
 #include "jackal_aic/reference_model.hpp"
 #include "jackal_aic/rest_release.hpp"
 #include "jackal_aic/separation_learner.hpp"
@@ -311,6 +312,7 @@ private:
   ActionDelayLine action_line_;
   ActionPrior action_prior_;
   RestRelease release_;
+  GoalResponse response_;
   AntiWindup anti_windup_;
   SeparationLearner learner_;
   PrecisionLearner precision_learner_;  ///< used only with params_.learn_precision

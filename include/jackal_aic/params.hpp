@@ -173,6 +173,11 @@ struct AicParams
   /// Reference model: the latency d_r [s] between a command and the wheels' response that the
   /// beliefs expect. >= 0, <= kMaxReferenceDelay.
   double reference_delay = 0.0;
+  /// Unbiased beliefs: time constant T_g [s] of the goal's path as the robot is expected to
+  /// follow it, the target of the action's goal prior (GoalResponse: g' = (mu_r - g) / T_g);
+  /// >= 0, <= 10; 0 = off (the goal prior on the reference path mu_r itself). No effect with
+  /// belief_model goal.
+  double goal_response_time_constant = 0.0;
   /**
    * Action prior gain k_ff [-], in [0, 2]; 0 = off (the thesis: the action only descends the
    * free energy, eq. 3-16). The action is a = a_F + a_ff, a_ff = k_ff W (m + T_p m') (with no

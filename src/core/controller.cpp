@@ -100,6 +100,7 @@ ActiveInferenceController::ActiveInferenceController(const AicParams& params)
   y_tilde_.setZero(kYDim, n);
   applyParams(params);
   reference_.start(Vector3::Zero());
+  response_.start(Vector3::Zero());
   action_line_.restart(model_.twistFromWheels(a_));
 }
 
@@ -144,6 +145,11 @@ void ActiveInferenceController::applyParams(const AicParams& params)
   action_line_.setDelay(params.reference_delay);
   action_prior_ = ActionPrior(actionPriorParams(params));
   release_ = RestRelease(params.action_release_time);
+  if (params.goal_response_time_constant != response_.timeConstant())
+  {
+    response_ = GoalResponse(params.goal_response_time_constant);
+    response_.start(reference_.attractorGoal());
+  }
   anti_windup_ = AntiWindup(antiWindupParams(params));
   pi_mu_ = params.precisionMu();
   precision_learner_.setParams(precisionLearnerParams(params));
@@ -259,7 +265,12 @@ Vector2 ActiveInferenceController::actionPrior() const
 
 bool ActiveInferenceController::startReference(const Vector3& m0)
 {
-  return reference_.start(m0);
+  if (!reference_.start(m0))
+  {
+    return false;
+  }
+  response_.start(m0);
+  return true;
 }
 
 bool ActiveInferenceController::setMeasurement(const YTilde& y_tilde)
@@ -406,8 +417,10 @@ Vector2 ActiveInferenceController::aDot() const
     // the goal's path g = (mu_r, mu_r', 0, ...), so eps_g^(i) = R (mu^(i) - g^(i)) takes eps_y's
     // place (sign: a belief below the goal asks for more, as eps_y = y - R mu < 0 does).
     const SensorMatrix& R = model_.R();
-    const Vector3 g0 = reference_.attractorGoal();
-    const Vector3 g1 = reference_.attractorRate();
+    // With goal_response_time_constant T_g > 0 the goal's path as the robot is expected to follow
+    // it (GoalResponse), else the reference path itself.
+    const Vector3 g0 = response_.enabled() ? response_.goal() : reference_.attractorGoal();
+    const Vector3 g1 = response_.enabled() ? response_.rate() : reference_.attractorRate();
     for (int i = 0; i < n; ++i)
     {
       Vector3 d = mu_.col(i);
@@ -505,6 +518,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
   }
   mu_ = next;
   reference_.advance(h);
+  response_.advance(h, reference_.attractorGoal(), reference_.attractorRate());
   if (params_.learn_wheel_separation)
   {
     learn(h);
@@ -588,6 +602,7 @@ void ActiveInferenceController::runawayReset()
   a_F_.setZero();
   action_line_.reset(model_.twistFromWheels(a_));
   reference_.start(Vector3::Zero());
+  response_.start(Vector3::Zero());
   ++runaway_count_;
 }
 
@@ -600,6 +615,7 @@ void ActiveInferenceController::reset()
   y_tilde_.setZero();
   has_measurement_ = false;
   reference_.start(Vector3::Zero());
+  response_.start(Vector3::Zero());
 }
 
 void ActiveInferenceController::setAction(const Vector2& a)

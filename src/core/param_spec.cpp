@@ -127,6 +127,10 @@ std::vector<ParamSpec> buildControllerRows()
       "Reference model T_r: the beliefs are drawn to the path m' = (goal - m) / T_r delayed by reference_delay, "
       "f(mu) = mu_r' + (mu_r - mu) / tau; 0 = off (the thesis's f(mu) = (mu_d - mu) / tau, eq. 3-7)",
       true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(reference_time_constant) },
+    { "goal_response_time_constant", T::kDouble, C, "active_inference", 0.0, false, 10.0, "s",
+      "Unbiased beliefs: the action's goal prior targets the goal's path as the robot follows it, "
+      "g' = (mu_r - g) / T_g; 0 = off (the reference path mu_r itself); no effect with belief_model goal",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(goal_response_time_constant) },
     { "max_reference_acceleration_linear", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "m/s^2",
       "Reference model: the path's acceleration along x_dot is clamped to this (what the wheels' torque allows)",
       true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(max_reference_acceleration_linear) },

@@ -1,5 +1,5 @@
 /// Tests of the controller's stages on their own: ReferenceModel, ActionDelayLine, ActionPrior,
-/// RestRelease, AntiWindup (doc/active_inference.md, 'Structure of the controller'); the
+/// RestRelease, GoalResponse, AntiWindup (doc/active_inference.md, 'Structure of the controller'); the
 /// learning stage, SeparationLearner, has test_separation_learner.cpp.
 #include <gtest/gtest.h>
 
@@ -9,6 +9,7 @@
 #include "jackal_aic/action_delay_line.hpp"
 #include "jackal_aic/action_prior.hpp"
 #include "jackal_aic/anti_windup.hpp"
+#include "jackal_aic/goal_response.hpp"
 #include "jackal_aic/reference_model.hpp"
 #include "jackal_aic/rest_release.hpp"
 #include "jackal_aic/skid_steer_model.hpp"
@@ -265,6 +266,57 @@ TEST(ActionPrior, WithAReferenceModelInvertsTheWheelLoopAlongThePath)
   // k_ff W (m + T_p m'): the undelayed path, not the delayed attractor.
   const Vector2 expected = model.wheelsFromTwist(r.path() + 0.06 * r.rate());
   EXPECT_TRUE(prior.wheels(model, r).isApprox(expected, 1e-12));
+}
+
+// ---- GoalResponse ----
+
+TEST(GoalResponse, OffPassesTheReferencePathOnBitForBit)
+{
+  GoalResponse response(0.0);
+  EXPECT_FALSE(response.enabled());
+  const Vector3 mu_r(0.3, 0.0, -0.7);
+  const Vector3 mu_r_dot(1.5, 0.0, 2.5);
+  response.advance(0.001, mu_r, mu_r_dot);
+  for (int i = 0; i < 3; ++i)
+  {
+    EXPECT_EQ(response.goal()(i), mu_r(i));
+    EXPECT_EQ(response.rate()(i), mu_r_dot(i));
+  }
+}
+
+TEST(GoalResponse, FollowsAStepExactlyAsAFirstOrderLag)
+{
+  const double t_g = 0.05;
+  GoalResponse response(t_g);
+  response.start(Vector3(0.1, 0.0, 0.0));
+  const Vector3 step(0.5, 0.0, 1.0);
+  // The exact discretization: any split of the time gives the same g (up to rounding).
+  double t = 0.0;
+  for (int k = 0; k < 37; ++k)
+  {
+    const double h = k % 2 == 0 ? 0.001 : 0.0025;
+    response.advance(h, step, Vector3::Zero());
+    t += h;
+  }
+  const double decay = std::exp(-t / t_g);
+  EXPECT_NEAR(response.goal()(0), 0.5 + (0.1 - 0.5) * decay, 1e-12);
+  EXPECT_NEAR(response.goal()(2), 1.0 * (1.0 - decay), 1e-12);
+  EXPECT_NEAR(response.rate()(2), (1.0 - response.goal()(2)) / t_g, 1e-9);
+  EXPECT_EQ(response.goal()(1), 0.0);
+}
+
+TEST(GoalResponse, BadStepsAndInputsLeaveItUnchanged)
+{
+  GoalResponse response(0.1);
+  response.start(Vector3(0.2, 0.0, 0.3));
+  response.advance(0.0, Vector3::Ones(), Vector3::Zero());
+  response.advance(-0.01, Vector3::Ones(), Vector3::Zero());
+  response.advance(kNaN, Vector3::Ones(), Vector3::Zero());
+  response.advance(0.01, Vector3(kInf, 0.0, 0.0), Vector3::Zero());
+  response.advance(0.01, Vector3::Ones(), Vector3(0.0, kNaN, 0.0));
+  response.start(Vector3(kNaN, 0.0, 0.0));
+  EXPECT_EQ(response.goal(), Vector3(0.2, 0.0, 0.3));
+  EXPECT_EQ(response.rate(), Vector3::Zero());
 }
 
 // ---- RestRelease ----

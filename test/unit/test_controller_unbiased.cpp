@@ -113,6 +113,63 @@ TEST(ControllerUnbiased, ActionDrivenByTheGoalThroughTheBelief)
   EXPECT_LT(c.aDot().cwiseAbs().maxCoeff(), 1e-2 * std::abs(a_dot(0)));
 }
 
+TEST(ControllerUnbiased, TheGoalPriorTargetsTheExpectedResponse)
+{
+  // A goal step with a reference model: 50 ms after it the reference path has moved (0 -> 0.5 m/s
+  // at the acceleration limit, 0.18 m/s by then), the expected response with T_g = 0.05 s lags it,
+  // so the action's goal prior asks for less; after 10 T_g they agree.
+  AicParams p = unbiased();
+  p.action_prior_gain = 0.0;
+  p.reference_delay = 0.0;
+  AicParams lagged = p;
+  lagged.goal_response_time_constant = 0.05;
+  ActiveInferenceController c{ p };
+  ActiveInferenceController cl{ lagged };
+  for (ActiveInferenceController* x : { &c, &cl })
+  {
+    x->setGoal(Vector3(0.5, 0.0, 0.0));
+    ASSERT_TRUE(x->setMeasurement(arcMeasurement(*x, 0.0, 0.0, p.wheel_separation)));
+    runBeliefs(x, 0.05);
+  }
+  // Both beliefs at rest (the data): a belief below the goal asks both wheels to speed up.
+  EXPECT_GT(cl.aDot()(0), 0.0);
+  EXPECT_LT(cl.aDot()(0), 0.7 * c.aDot()(0));
+  for (ActiveInferenceController* x : { &c, &cl })
+  {
+    runBeliefs(x, 0.5);
+  }
+  EXPECT_NEAR(cl.aDot()(0), c.aDot()(0), 1e-3 * std::abs(c.aDot()(0)));
+}
+
+TEST(ControllerUnbiased, TheGoalResponseDoesNotChangeTheGoalModel)
+{
+  // belief_model goal: goal_response_time_constant has no effect, bit for bit.
+  AicParams p = recommendedAicParams();
+  AicParams lagged = p;
+  lagged.goal_response_time_constant = 0.05;
+  ActiveInferenceController c{ p };
+  ActiveInferenceController cl{ lagged };
+  for (ActiveInferenceController* x : { &c, &cl })
+  {
+    x->setGoal(Vector3(0.5, 0.0, 0.3));
+    ASSERT_TRUE(x->setMeasurement(arcMeasurement(*x, 0.2, 0.1, p.wheel_separation)));
+    for (int k = 0; k < 500; ++k)
+    {
+      ASSERT_EQ(x->updateBeliefs(kH), Status::kOk);
+      if (k % 20 == 0)
+      {
+        ASSERT_EQ(x->updateAction(0.02), Status::kOk);
+      }
+    }
+  }
+  for (int i = 0; i < 3; ++i)
+  {
+    EXPECT_EQ(c.mu()(i, 0), cl.mu()(i, 0));
+  }
+  EXPECT_EQ(c.action()(0), cl.action()(0));
+  EXPECT_EQ(c.action()(1), cl.action()(1));
+}
+
 TEST(ControllerUnbiased, PriorTargetIsTheDelayedAction)
 {
   AicParams p = unbiased();

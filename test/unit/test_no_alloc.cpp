@@ -170,6 +170,7 @@ TEST(NoAlloc, UnbiasedBeliefsAndLearningUpdatePath)
     params.learn_wheel_separation = true;
     params.learn_precision = true;
     params.reference_delay = 0.085;
+    params.goal_response_time_constant = 0.05;
     params.integrator = integ;
     ActiveInferenceController c(params);
     YTilde y = YTilde::Zero(kYDim, params.numOrders());
@@ -203,7 +204,8 @@ TEST(NoAlloc, UnbiasedBeliefsAndLearningUpdatePath)
 TEST(NoAlloc, ControllerStagesUpdatePath)
 {
   // Each stage on its own, every option on: the reference model's and the action's delay lines
-  // (fixed capacity, run past it), the action prior, the release at rest, all clamps.
+  // (fixed capacity, run past it), the goal's expected response, the action prior, the release at
+  // rest, all clamps.
   ReferenceModelParams rp;
   rp.generalized_goal = true;
   rp.goal_lead = 0.05;
@@ -216,6 +218,7 @@ TEST(NoAlloc, ControllerStagesUpdatePath)
   ap.time_constant = 0.06;
   const ActionPrior prior(ap);
   const RestRelease release(0.5);
+  GoalResponse response(0.05);
   AntiWindupParams aw;
   aw.max_action_lead = 1.0;
   aw.max_action_lead_turn = 0.5;
@@ -230,6 +233,7 @@ TEST(NoAlloc, ControllerStagesUpdatePath)
   {
     reference.setGoal(Vector3((k / 500) % 2 == 0 ? 1.0 : 0.0, 0.0, 0.5), Vector3(0.5, 0.0, 0.0));
     reference.advance(0.001);
+    response.advance(0.001, reference.attractorGoal(), reference.attractorRate());
     if (k % 2 == 0)
     {
       const Vector2 a_ff = prior.wheels(model, reference);
@@ -240,7 +244,7 @@ TEST(NoAlloc, ControllerStagesUpdatePath)
       line.record(0.002, model.twistFromWheels(r.command));
     }
   }
-  volatile double sink = reference.attractorGoal()(0) + line.delayed()(0) + a_F(0);
+  volatile double sink = reference.attractorGoal()(0) + line.delayed()(0) + a_F(0) + response.goal()(0);
   (void)sink;
   EXPECT_EQ(counter.count(), 0);
 }
