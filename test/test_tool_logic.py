@@ -525,4 +525,4 @@ class MutantsListTest(unittest.TestCase):
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
     pyunit.main("tool_logic", ProcfsTest, SweepTest, ExperimentTest, SoakTest, ReportAndSummaryTest,
-                FailureSummaryTest, PlantLimitsTest, IdealCacheTest, MutantsListTest)
+                FailureSummaryTest, PlantLimitsTest, HonestBeliefTest, IdealCacheTest, MutantsListTest)
