@@ -221,6 +221,18 @@ class SpaceTest(unittest.TestCase):
         over = tune_space.driving_values(np.full(len(u), 1.5), base["var_y"])
         self.assertAlmostEqual(over["k_a"], tune_space.DRIVING_SPACE["k_a"][1])  # clipped to the box
 
+    def test_an_unbiased_base_searches_its_own_space(self):
+        base = {"var_y": [2.0, 40.0, 1e5], "belief_model": "unbiased", "k_mu": 20.0, "tau": 0.1,
+                "goal_response_time_constant": 0.05}
+        space = tune_space.driving_space(base)
+        self.assertIs(space, tune_space.UNBIASED_DRIVING_SPACE)
+        self.assertIs(tune_space.driving_space({"belief_model": "goal"}), tune_space.DRIVING_SPACE)
+        v = tune_space.driving_values(tune_space.driving_unit(base, space), base["var_y"], space)
+        self.assertAlmostEqual(v["k_mu"], 20.0)  # above DRIVING_SPACE's k_mu range
+        self.assertAlmostEqual(v["goal_response_time_constant"], 0.05)
+        self.assertNotIn("goal_response_time_constant",
+                         tune_space.driving_values(tune_space.driving_unit(base), base["var_y"]))
+
     def test_yaml_numbers(self):
         self.assertEqual(tune_space.yaml_float(1000.0), "1000.0")
         self.assertEqual(tune_space.yaml_float(0.0123456), "0.01235")

@@ -1,6 +1,7 @@
 """aic_tune.py --driving: tune the controller for real driving from a base configuration.
 
-A bounded Nelder-Mead (on the unit box, scipy) over tune_space.DRIVING_SPACE, scored by
+A bounded Nelder-Mead (on the unit box, scipy) over tune_space.DRIVING_SPACE (UNBIASED_DRIVING_SPACE
+from a base with belief_model: unbiased), scored by
 jackal_aic_tools.driving.cost on the plant variants --driving-variants; prints each improvement
 and the winner's acceptance figures over every variant, and writes the winner (--write)."""
 import os
@@ -11,15 +12,16 @@ from scipy.optimize import minimize
 
 from . import driving
 from .tables import fmt
-from .tune_space import driving_unit, driving_values, to_args, write_yaml
+from .tune_space import driving_space, driving_unit, driving_values, to_args, write_yaml
 
 
 def run(a, tool):
-    """--driving: Nelder-Mead over DRIVING_SPACE from the base config, scored by
+    """--driving: Nelder-Mead over the base config's driving_space() from it, scored by
     jackal_aic_tools.driving.cost on a.driving_variants; writes the winner (a.write). a: parsed
     arguments of aic_tune.py, tool: cli.Tool. Returns the exit status."""
     t_start = time.time()
     base = tool.config([a.base])
+    space = driving_space(base)
     exe = tool.exe("closed_loop_run")
     plant_config = tool.path("sim", "config", "plant.yaml")
     variants = [v if v == "default" else os.path.abspath(v) for v in a.driving_variants]
@@ -35,7 +37,7 @@ def run(a, tool):
     n = [0]
 
     def f(u):
-        values = driving_values(u, base["var_y"])
+        values = driving_values(u, base["var_y"], space)
         try:
             c = driving.cost(evaluate(values, variants))
         except RuntimeError as e:  # a run that fails (invalid combination) scores as a runaway
@@ -48,7 +50,7 @@ def run(a, tool):
                   flush=True)
         return c
 
-    u0 = driving_unit(base)
+    u0 = driving_unit(base, space)
     step = np.full(len(u0), 0.15)
     simplex = [u0] + [np.clip(u0 + np.eye(len(u0))[i] * np.where(u0[i] > 0.5, -step[i], step[i]), 0, 1)
                       for i in range(len(u0))]

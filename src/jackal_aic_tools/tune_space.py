@@ -43,6 +43,17 @@ DRIVING_SPACE = {
     "goal_lead": (0.0, 0.3, False),         # s
 }
 DRIVING_FIXED = {"generalized_goal": "true", "max_action_lead_turn": 0.0}
+# --driving from a base with belief_model: unbiased: the beliefs follow the sensors (a larger k_mu),
+# tau is the robot's response time, and the goal prior's expected response T_g is searched too
+# (doc/active_inference.md, 'Unbiased beliefs').
+UNBIASED_DRIVING_SPACE = dict(DRIVING_SPACE, tau=(0.02, 0.3, True), k_mu=(0.5, 50.0, True),
+                              goal_response_time_constant=(0.005, 0.3, True))
+
+
+def driving_space(d):
+    """The --driving search space of a base config dict d: UNBIASED_DRIVING_SPACE when its
+    belief_model is unbiased, else DRIVING_SPACE (name -> (lower, upper, log scale))."""
+    return UNBIASED_DRIVING_SPACE if d.get("belief_model") == "unbiased" else DRIVING_SPACE
 
 
 def log_bounds(space):
@@ -105,12 +116,12 @@ def base_vector(d):
     return order, x
 
 
-def driving_values(u, var_y):
-    """Controller values (dict) of a point u of the unit box (DRIVING_SPACE; u is clipped to the
-    box: Nelder-Mead's vertices outside it are evaluated at their projection). var_y: the base
-    config's list, whose order-1 entry var_y1 replaces."""
+def driving_values(u, var_y, space=None):
+    """Controller values (dict) of a point u of the unit box (``space``, default DRIVING_SPACE; u
+    is clipped to the box: Nelder-Mead's vertices outside it are evaluated at their projection).
+    var_y: the base config's list, whose order-1 entry var_y1 replaces."""
     v = {}
-    for (k, (lo, hi, log)), x in zip(DRIVING_SPACE.items(), np.clip(u, 0.0, 1.0)):
+    for (k, (lo, hi, log)), x in zip((space or DRIVING_SPACE).items(), np.clip(u, 0.0, 1.0)):
         v[k] = 10.0 ** (math.log10(lo) + x * (math.log10(hi) - math.log10(lo))) if log else lo + x * (hi - lo)
     vy = list(var_y)
     vy[1] = v.pop("var_y1")
@@ -119,10 +130,11 @@ def driving_values(u, var_y):
     return v
 
 
-def driving_unit(d):
-    """The unit-box point of a config dict d (absent keys: the middle of their range)."""
+def driving_unit(d, space=None):
+    """The unit-box point of a config dict d in ``space`` (default DRIVING_SPACE; absent keys: the
+    middle of their range)."""
     u = []
-    for k, (lo, hi, log) in DRIVING_SPACE.items():
+    for k, (lo, hi, log) in (space or DRIVING_SPACE).items():
         val = d["var_y"][1] if k == "var_y1" else d.get(k)
         if val is None or (log and float(val) <= 0.0):
             u.append(0.5)

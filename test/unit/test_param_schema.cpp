@@ -409,6 +409,7 @@ const std::map<std::string, std::vector<std::string>>& overlayBases()
   static const std::map<std::string, std::vector<std::string>> bases{
     { "config/robot.yaml", { "config/default.yaml" } },
     { "config/first_run.yaml", { "config/default.yaml", "config/robot.yaml" } },
+    { "config/unbiased.yaml", { "config/default.yaml", "config/robot.yaml" } },
   };
   return bases;
 }
