@@ -176,9 +176,14 @@ class Workspace:
         exe = os.path.join(self.bin, target)
         if os.path.exists(report):
             os.remove(report)
+        # The scratch build's own libraries first: a shell that sourced another workspace's
+        # setup.bash would otherwise load that workspace's unmutated core into every test.
+        env = dict(os.environ)
+        env["LD_LIBRARY_PATH"] = os.pathsep.join(
+            filter(None, [os.path.join(self.root, "devel", "lib"), env.get("LD_LIBRARY_PATH")]))
         try:
             proc = subprocess.run([exe, "--gtest_output=json:" + report], stdout=subprocess.DEVNULL,
-                                  stderr=subprocess.DEVNULL, timeout=TEST_TIMEOUT, cwd=self.root)
+                                  stderr=subprocess.DEVNULL, timeout=TEST_TIMEOUT, cwd=self.root, env=env)
             code = proc.returncode
         except subprocess.TimeoutExpired:
             code = "timeout"
