@@ -102,7 +102,8 @@ public:
   Vector3 priorRate() const;
   /**
    * \brief Start the reference model at the twist m0 [m/s, m/s, rad/s] (its whole delay line;
-   *        e.g. the measured twist at a bumpless start). No effect on anything else.
+   *        e.g. the measured twist at a bumpless start) and the goal's expected response
+   *        (GoalResponse) with it. No effect on anything else.
    * \return false (unchanged) if m0 is not finite.
    */
   bool startReference(const Vector3& m0);

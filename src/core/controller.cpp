@@ -99,8 +99,7 @@ ActiveInferenceController::ActiveInferenceController(const AicParams& params)
   mu_.setZero(kMuDim, n);
   y_tilde_.setZero(kYDim, n);
   applyParams(params);
-  reference_.start(Vector3::Zero());
-  response_.start(Vector3::Zero());
+  startReference(Vector3::Zero());
   action_line_.restart(model_.twistFromWheels(a_));
 }
 
@@ -601,8 +600,7 @@ void ActiveInferenceController::runawayReset()
   a_.setZero();
   a_F_.setZero();
   action_line_.reset(model_.twistFromWheels(a_));
-  reference_.start(Vector3::Zero());
-  response_.start(Vector3::Zero());
+  startReference(Vector3::Zero());
   ++runaway_count_;
 }
 
@@ -614,8 +612,7 @@ void ActiveInferenceController::reset()
   action_line_.reset(model_.twistFromWheels(a_));
   y_tilde_.setZero();
   has_measurement_ = false;
-  reference_.start(Vector3::Zero());
-  response_.start(Vector3::Zero());
+  startReference(Vector3::Zero());
 }
 
 void ActiveInferenceController::setAction(const Vector2& a)
