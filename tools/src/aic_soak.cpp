@@ -120,6 +120,87 @@ struct SoakStats
   double rss_baseline = 0.0, rss_max_after = 0.0, rss_end = 0.0;  // [bytes]
   double rss_first = 0.0;
 };
+
+/**
+ * \brief Drift of a learned value: its means over consecutive windows of simulated time and its
+ *        least-squares trend, from the samples given (a soak's b_hat after the learner's warm-up).
+ *
+ * The window of a sample is floor(t / window); a window counts only if it holds at least half as
+ * many samples as the fullest one (a window cut by a node start or the run's end is left out).
+ * Units are the value's own ([m] for b_hat) and seconds.
+ */
+class WindowDrift
+{
+public:
+  /// \param window length of a window [s], > 0 (not checked: the soak's constants).
+  explicit WindowDrift(double window) : window_(window) {}
+
+  /// Add the value b at time t [s]; non-finite values are ignored.
+  void add(double t, double b)
+  {
+    if (!std::isfinite(t) || !std::isfinite(b))
+    {
+      return;
+    }
+    const auto k = static_cast<long>(std::floor(t / window_));
+    if (sums_.empty() || k != index_.back())
+    {
+      index_.push_back(k);
+      sums_.push_back(0.0);
+      counts_.push_back(0);
+    }
+    sums_.back() += b;
+    ++counts_.back();
+    // Least-squares trend about the first sample's time (keeps the sums well conditioned).
+    if (n_ == 0)
+    {
+      t0_ = t;
+    }
+    const double u = t - t0_;
+    ++n_;
+    su_ += u;
+    sb_ += b;
+    suu_ += u * u;
+    sub_ += u * b;
+  }
+
+  /// The means of the windows that count (see the class), in time order; empty if none.
+  std::vector<double> means() const
+  {
+    std::uint64_t fullest = 0;
+    for (std::uint64_t c : counts_)
+    {
+      fullest = std::max(fullest, c);
+    }
+    std::vector<double> out;
+    for (std::size_t i = 0; i < sums_.size(); ++i)
+    {
+      if (2 * counts_[i] >= fullest && counts_[i] > 0)
+      {
+        out.push_back(sums_[i] / static_cast<double>(counts_[i]));
+      }
+    }
+    return out;
+  }
+
+  /// Least-squares slope of the value against time [value / s]; NaN with fewer than two distinct times.
+  double slope() const
+  {
+    const double n = static_cast<double>(n_);
+    const double den = n * suu_ - su_ * su_;
+    return n_ >= 2 && den > 0.0 ? (n * sub_ - su_ * sb_) / den : std::nan("");
+  }
+
+  double window() const { return window_; }
+
+private:
+  double window_;
+  std::vector<long> index_;
+  std::vector<double> sums_;
+  std::vector<std::uint64_t> counts_;
+  std::uint64_t n_ = 0;
+  double t0_ = 0.0, su_ = 0.0, sb_ = 0.0, suu_ = 0.0, sub_ = 0.0;
+};
 }  // namespace
 
 int main(int argc, char** argv)
@@ -150,17 +231,19 @@ int main(int argc, char** argv)
   cl.overrides("aic-set", &aic_overrides, "override a controller or node key");
   plant.addTo(&cl);
   cl.flag("noise", &noise, "keep the plant YAML's sensor noise (seeded; default: ideal sensors)");
-  cl.option("fault-every", &fault_every, "mean interval between fault scenarios [s], > 0");
-  cl.option("operation-every", &operation_every, "mean interval between operations around the node [s], > 0");
+  cl.option("fault-every", &fault_every, "mean interval between fault scenarios [s], > 0; 0 = none");
+  cl.option("operation-every", &operation_every,
+            "mean interval between operations around the node [s], > 0; 0 = none");
   cl.option("output", &output, "write the report (markdown) to this file as well");
   cl.footer("Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments, 3 if a check fails.");
   if (const int code = cl.parse(argc, argv); code >= 0)
   {
     return code;
   }
-  if (!(hours > 0.0) || !std::isfinite(hours) || !(fault_every > 0.0) || !(operation_every > 0.0))
+  if (!(hours > 0.0) || !std::isfinite(hours) || !(fault_every >= 0.0) || !std::isfinite(fault_every) ||
+      !(operation_every >= 0.0) || !std::isfinite(operation_every))
   {
-    return cl.bad("--hours, --fault-every and --operation-every must be > 0");
+    return cl.bad("--hours must be > 0, --fault-every and --operation-every >= 0 (0 = none)");
   }
   std::string profile_label = profile_dir;
   if (profile_files.empty() && profile_dir.empty())
@@ -223,9 +306,9 @@ int main(int argc, char** argv)
   }
   const std::size_t n_fault_lines = sizeof(kFaultLines) / sizeof(kFaultLines[0]);
   std::uniform_int_distribution<std::size_t> pick_fault(0, n_fault_lines - 1);
-  std::exponential_distribution<double> next_fault(1.0 / fault_every);
+  std::exponential_distribution<double> next_fault(fault_every > 0.0 ? 1.0 / fault_every : 1.0);
   std::vector<int> fault_counts(n_fault_lines, 0);
-  for (double t = next_fault(rng); t < c.duration; t += next_fault(rng))
+  for (double t = next_fault(rng); fault_every > 0.0 && t < c.duration; t += next_fault(rng))
   {
     const std::size_t i = pick_fault(rng);
     plant::FaultSpec f;
@@ -239,12 +322,12 @@ int main(int argc, char** argv)
     c.faults.push_back(f);
     ++fault_counts[i];
   }
-  std::exponential_distribution<double> next_operation(1.0 / operation_every);
+  std::exponential_distribution<double> next_operation(operation_every > 0.0 ? 1.0 / operation_every : 1.0);
   std::uniform_int_distribution<int> pick_operation(0, 3);
   std::uniform_real_distribution<double> clock_back(0.5, 60.0);   // [s]
   std::uniform_real_distribution<double> pause(1.0, 8.0);         // [s]
   std::uniform_real_distribution<double> down(0.05, 0.4);         // [s]
-  for (double t = next_operation(rng); t < c.duration - 10.0; t += next_operation(rng))
+  for (double t = next_operation(rng); operation_every > 0.0 && t < c.duration - 10.0; t += next_operation(rng))
   {
     Operation o;
     o.kind = static_cast<Operation::Kind>(pick_operation(rng));
@@ -279,6 +362,9 @@ int main(int argc, char** argv)
   std::vector<std::uint64_t> b_hist(kBins, 0);
   std::uint64_t b_count = 0, b_outside = 0;
   double b_min = std::numeric_limits<double>::infinity(), b_max = -b_min, b_last = std::nan("");
+  // Drift of b_hat: its 1-minute and 5-minute means and its trend (the spread above includes
+  // b_hat following the operating point, whose effective separation differs; doc/tools.md, 'Soak').
+  WindowDrift drift_1min(60.0), drift_5min(300.0);
   double loop_since = 0.0;
   c.observer = [&](const ClosedLoopSample& x) {
     ++s.samples;
@@ -304,6 +390,8 @@ int main(int argc, char** argv)
         b_min = std::min(b_min, b);
         b_max = std::max(b_max, b);
         b_last = b;
+        drift_1min.add(x.time, b);
+        drift_5min.add(x.time, b);
       }
     }
     const bool finite = x.wheels_command.allFinite() && x.wheels_measured.allFinite() && std::isfinite(x.v_true);
@@ -457,6 +545,23 @@ int main(int argc, char** argv)
       << b_min << " .. " << b_max << " m, at the end " << b_last << " m; bounds " << b_lo << " .. " << b_hi
       << " m (samples outside: " << b_outside << "); p1 and p99 within 2 % of the median: "
       << (b_drift <= 0.02 ? "yes" : "no") << " |\n";
+    for (const WindowDrift* d : { &drift_1min, &drift_5min })
+    {
+      const std::vector<double> m = d->means();
+      r << "| b_hat's means over " << static_cast<int>(d->window() / 60.0) << "-minute windows (" << m.size() << ") | ";
+      if (m.empty())
+      {
+        r << "no full window |\n";
+        continue;
+      }
+      const auto [lo, hi] = std::minmax_element(m.begin(), m.end());
+      const double dev = std::max(median - *lo, *hi - median) / median;
+      r << "min .. max " << *lo << " .. " << *hi << " m (" << 100.0 * (*lo - median) / median << " % .. +"
+        << 100.0 * (*hi - median) / median << " % of the median); within 2 % of the median: "
+        << (dev <= 0.02 ? "yes" : "no") << " |\n";
+    }
+    r << "| b_hat's trend (least squares over its samples) | " << 100.0 * drift_1min.slope() * 3600.0 / median
+      << " % of the median per hour |\n";
   }
   r << "\n| operation | count | recovery p50 [s] | recovery max [s] |\n|---|---|---|---|\n";
   for (int k = 0; k < 4; ++k)
@@ -504,12 +609,23 @@ int main(int argc, char** argv)
     {
       cmd << " " << argv[i];
     }
-    out << "# Soak: hours of driving with faults and operations around the node\n\n"
+    auto every = [](double mean, const char* what) {
+      std::ostringstream o;
+      if (mean > 0.0)
+      {
+        o << "a" << (what[0] == 'o' ? "n " : " ") << what << " every " << mean << " s on average";
+      }
+      else
+      {
+        o << "no " << what << "s";
+      }
+      return o.str();
+    };
+    out << "# Soak: " << (fault_every > 0.0 || operation_every > 0.0 ? "hours of driving with faults and operations around the node" : "random driving, no faults and no operations") << "\n\n"
         << "Written by `" << cmd.str() << "` (tools/src/aic_soak.cpp; doc/tools.md, 'Soak'): the AIC through the "
         << "node's logic on the ODE plant core, faster than real time, seed " << seed << ", profiles "
         << (profile_label.empty() ? std::string("given on the command line") : "of " + profile_label)
-        << ", a fault every " << fault_every << " s and an operation every " << operation_every
-        << " s on average.\n\n"
+        << ", " << every(fault_every, "fault") << ", " << every(operation_every, "operation") << ".\n\n"
         << r.str();
     if (!out)
     {
