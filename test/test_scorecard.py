@@ -55,6 +55,11 @@ GUARD_ARC_OVERSHOOT = ("arc, yaw overshoot [%]", 11.0, 11.5, driving.STEP_OVERSH
 #: plant follows, BELIEF_LIMITED_BOUND where it cannot): the goal-biased belief reports the goal where
 #: the robot does not reach it.
 GUARD_BELIEF = ("honest belief, tracking runs above their bound", 16, 18, 0)
+#: Judged tracking runs whose end-of-profile |heading error| is above the stock controller's + 0.02 rad
+#: (table 6h; pairs whose plant follows both channels): the heading drifts where the yaw-rate belief
+#: follows the wheels' separation (s-curves, low friction), and the robot with its rated payload 0.15 m
+#: forward tips over its front wheels on the fast profile's stop.
+GUARD_HEADING = ("end-of-profile heading, judged runs above their bound", 13, 15, 0)
 #: The driving step rows the default meets at their documented bound.
 ACCEPTED_STEPS = ("0.1 m/s", "0.5 m/s", "1 rad/s turn", "arc, speed", "arc, yaw")
 #: The step cases whose overshoot is a guard, not acceptance (GUARD_ARC_OVERSHOOT).
@@ -177,6 +182,10 @@ class ScorecardRegressionGuards(unittest.TestCase):
     def test_regression_guard_honest_belief(self):
         rows = scorecard_report()["criteria"]["driving_tracking"]
         self.guard(GUARD_BELIEF, sum(1 for r in rows if not r["belief_pass"]))
+
+    def test_regression_guard_end_of_profile_heading(self):
+        rows = scorecard_report()["criteria"]["driving_tracking"]
+        self.guard(GUARD_HEADING, sum(1 for r in rows if r["heading_judged"] and not r["heading_pass"]))
 
     def test_regression_guard_tracking_worst_pair(self):
         rows = scorecard_report()["criteria"]["driving_tracking"]

@@ -321,6 +321,54 @@ class PlantLimitsTest(unittest.TestCase):
         self.assertIsNone(out["limited_gmean"]["aic_stock"])
 
 
+class EndHeadingTest(unittest.TestCase):
+    """driving.judge_heading and its part in judge_tracking: the AIC's end-of-profile |heading error|
+    within the stock controller's + HEADING_MARGIN, judged where the plant follows both channels."""
+
+    @staticmethod
+    def run(heading):
+        return {"path": {"final_heading_error": heading}}
+
+    def test_bound_is_the_stock_error_plus_the_margin(self):
+        row = {"limited_vx": None, "limited_wz": None}
+        self.assertTrue(driving.judge_heading(row, self.run(-0.11), self.run(0.1)))
+        self.assertTrue(row["heading_judged"])
+        self.assertAlmostEqual(row["heading_bound"], 0.1 + driving.HEADING_MARGIN, places=12)
+        self.assertEqual((row["heading_aic"], row["heading_stock"]), (-0.11, 0.1))
+        self.assertFalse(driving.judge_heading(row, self.run(0.1 + driving.HEADING_MARGIN + 1e-6), self.run(-0.1)))
+        # A robot that ended facing the other way (tipped over) fails by a wide margin.
+        self.assertFalse(driving.judge_heading(row, self.run(-3.0), self.run(-0.14)))
+
+    def test_plant_limited_pairs_and_runs_without_a_path_are_reported_not_judged(self):
+        row = {"limited_vx": "ideal 3.0 x floor on vx", "limited_wz": None}
+        self.assertTrue(driving.judge_heading(row, self.run(-3.0), self.run(0.0)))
+        self.assertFalse(row["heading_judged"])
+        self.assertEqual(row["heading_aic"], -3.0)
+        row = {"limited_vx": None, "limited_wz": None}
+        self.assertTrue(driving.judge_heading(row, {"tracking": {}}, self.run(0.0)))
+        self.assertIsNone(row["heading_aic"])
+        self.assertTrue(driving.judge_heading(row, self.run(float("nan")), self.run(0.0)))
+        self.assertFalse(row["heading_judged"])
+
+    def test_judge_tracking_fails_on_the_heading(self):
+        def judge(heading):
+            aic = track_result(0.05, 0.05)
+            aic.update(self.run(heading))
+            stock = track_result(0.1, 0.1)
+            stock.update(self.run(0.05))
+            res = {("track", "a.csv", "default", "aic"): (aic, None),
+                   ("track", "a.csv", "default", "stock"): (stock, None)}
+            out = {"tracking": []}
+            ok = driving.judge_tracking(res, ["a.csv"], ["default"], False, out,
+                                        floor_of=lambda p, latency, cache: {"vx": 0.1, "wz": 0.1})
+            return ok, out["tracking"][0]
+        ok, row = judge(0.06)
+        self.assertTrue(ok)
+        ok, row = judge(0.08)
+        self.assertFalse(ok)
+        self.assertFalse(row["heading_pass"])
+
+
 class HonestBeliefTest(unittest.TestCase):
     """driving.judge_belief and its part in judge_tracking: the steady |belief - truth| of a run is
     judged against BELIEF_BOUND where the plant follows the channel and BELIEF_LIMITED_BOUND where
@@ -525,4 +573,4 @@ class MutantsListTest(unittest.TestCase):
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
     pyunit.main("tool_logic", ProcfsTest, SweepTest, ExperimentTest, SoakTest, ReportAndSummaryTest,
-                FailureSummaryTest, PlantLimitsTest, HonestBeliefTest, IdealCacheTest, MutantsListTest)
+                FailureSummaryTest, PlantLimitsTest, EndHeadingTest, HonestBeliefTest, IdealCacheTest, MutantsListTest)

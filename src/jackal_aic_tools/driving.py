@@ -79,6 +79,10 @@ BELIEF_BOUND = 0.01
 BELIEF_LIMITED_BOUND = 0.03
 #: Weight of the honest-belief term in cost().
 BELIEF_WEIGHT = 0.5
+#: End-of-profile heading: the AIC's |heading error| at the end of each tracking run (closed_loop_run's
+#: path.final_heading_error, ground truth against the set point's ideal path) within the stock
+#: controller's + this [rad], judged on the pairs whose plant follows both channels.
+HEADING_MARGIN = 0.02
 
 
 def default_profiles(root):
@@ -220,7 +224,8 @@ def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, st
     ideal_vx_ratio, ideal_wz_ratio (ideal / floor), limited_vx, limited_wz (plant_limits.classify:
     the reason, or None where the plant follows), pass (the plant-following channels' AIC / stock
     within TRACK_PAIR_BOUND), belief_vx, belief_wz, belief_max_vx, belief_max_wz, belief_bound_vx,
-    belief_bound_wz, belief_pass (judge_belief)};
+    belief_bound_wz, belief_pass (judge_belief), heading_aic, heading_stock, heading_bound,
+    heading_judged, heading_pass (judge_heading)};
     over the plant-following channels: gmean {vx, wz, all} of AIC / stock (judged),
     floor_gmean of floor / stock, aic_floor_gmean of AIC / floor, stock_floor_gmean of stock / floor;
     over the plant-limited ones: limited_gmean {aic_stock, aic_floor, stock_floor, aic_ideal,
@@ -296,7 +301,8 @@ def judge_tracking(res, profiles, variants, ideal, out, floor_of=None):
     aic_floor_gmean, stock_floor_gmean, limited_gmean; see evaluate()). ``floor_of(profile,
     latency, cache)``: the latency floor {vx, wz} (default floor_rms). Returns True when every
     judged figure passes: each pair's plant-following channels within TRACK_PAIR_BOUND, their
-    geometric mean within TRACK_GMEAN_BOUND, each pair's honest belief (judge_belief)."""
+    geometric mean within TRACK_GMEAN_BOUND, each pair's honest belief (judge_belief) and
+    end-of-profile heading (judge_heading)."""
     floor_of = floor_of or floor_rms
     ok = True
     ratios = []  # (name, channel, plant-limited, value)
@@ -332,6 +338,7 @@ def judge_tracking(res, profiles, variants, ideal, out, floor_of=None):
             row["pass"] = passed
             ok = ok and passed
             ok = judge_belief(row, res[("track", p, v, "aic")][0]["tracking"]) and ok
+            ok = judge_heading(row, res[("track", p, v, "aic")][0], res[("track", p, v, "stock")][0]) and ok
             out["tracking"].append(row)
 
     def following(name):
@@ -369,6 +376,28 @@ def judge_belief(row, tracking):
         ok = ok and (value is None or value <= bound)
     row["belief_pass"] = ok
     return ok
+
+
+def judge_heading(row, aic, stock):
+    """The end-of-profile heading verdict of one tracking row (judge_tracking's, with its limited_vx /
+    _wz): adds heading_aic, heading_stock (closed_loop_run's path.final_heading_error of the AIC's and
+    the stock controller's run [rad], signed, wrapped to (-pi, pi]; None without a path),
+    heading_bound (|heading_stock| + HEADING_MARGIN [rad]), heading_judged (True where the plant
+    follows both channels and both runs have a path) and heading_pass (|heading_aic| <=
+    heading_bound where judged, else True). ``aic``, ``stock``: the runs' JSON results. A heading
+    error near pi is a robot that ended facing the other way: spun, or tipped over (the chassis
+    turned upside down). Returns heading_pass."""
+    def final(result):
+        path = result.get("path") or {}
+        value = path.get("final_heading_error")
+        return value if value is not None and math.isfinite(value) else None
+
+    a, s = final(aic), final(stock)
+    row["heading_aic"], row["heading_stock"] = a, s
+    row["heading_bound"] = abs(s) + HEADING_MARGIN if s is not None else None
+    row["heading_judged"] = a is not None and s is not None and not row.get("limited_vx") and not row.get("limited_wz")
+    row["heading_pass"] = not row["heading_judged"] or abs(a) <= row["heading_bound"]
+    return row["heading_pass"]
 
 
 def _gmean(logs):

@@ -194,7 +194,8 @@ def judge_driving(ev, crit):
     (over the plant-following channels, judged against driving.TRACK_GMEAN_BOUND),
     driving_floor_gmean, driving_aic_floor_gmean, driving_stock_floor_gmean (over the same) and
     driving_limited_gmean (over the plant-limited channels; reported). Returns True when every
-    judged row passes (the tracking rows' honest belief, belief_pass, included)."""
+    judged row passes (the tracking rows' honest belief, belief_pass, and end-of-profile heading,
+    heading_pass, included)."""
     for part in ("steps", "deficit", "robust", "tracking"):
         crit["driving_" + part] = ev[part]
     gm = dict(ev["gmean"], bound=driving.TRACK_GMEAN_BOUND)
@@ -203,7 +204,7 @@ def judge_driving(ev, crit):
     for name in ("floor_gmean", "aic_floor_gmean", "stock_floor_gmean", "limited_gmean"):
         crit["driving_" + name] = ev[name]
     verdicts = [gm["pass"]] + [r["pass"] for part in ("steps", "deficit", "robust", "tracking") for r in ev[part]]
-    verdicts += [r.get("belief_pass") for r in ev["tracking"]]
+    verdicts += [r.get("belief_pass") for r in ev["tracking"]] + [r.get("heading_pass") for r in ev["tracking"]]
     all_ok = not any(ok is False for ok in verdicts)
     return all_ok
 

@@ -139,6 +139,16 @@ def print_driving(crit):
           [[r["profile"], r["variant"], fmt(r.get("belief_vx"), "%.4f"), fmt(r.get("belief_max_vx"), "%.4f"),
             "%g" % r["belief_bound_vx"], fmt(r.get("belief_wz"), "%.4f"), fmt(r.get("belief_max_wz"), "%.4f"),
             "%g" % r["belief_bound_wz"], verdict(r["belief_pass"])] for r in rows])
+    judged = [r for r in rows if r.get("heading_judged")]
+    table("6h. End-of-profile heading: the AIC's |heading error| at the end of each tracking run (ground truth "
+          "against the set point's ideal path, closed_loop_run's path.final_heading_error) <= the stock "
+          "controller's + %g rad, judged where the plant follows both channels (others reported); an error near "
+          "pi is a robot that ended facing the other way (spun, or tipped over). %d of %d judged runs pass"
+          % (driving.HEADING_MARGIN, sum(1 for r in judged if r["heading_pass"]), len(judged)),
+          ["profile", "variant", "AIC [rad]", "stock [rad]", "bound [rad]", "verdict"],
+          [[r["profile"], r["variant"], fmt(r.get("heading_aic"), "%+.3f"), fmt(r.get("heading_stock"), "%+.3f"),
+            fmt(r.get("heading_bound"), "%.3f"),
+            verdict(r["heading_pass"]) if r.get("heading_judged") else "reported"] for r in rows])
 
 
 def report(crit, ok, a, root):

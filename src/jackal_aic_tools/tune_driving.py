@@ -71,6 +71,9 @@ def run(a, tool):
     print("  honest belief (steady |belief - truth| within %g, %g where plant-limited): %d of %d tracking runs" % (
         driving.BELIEF_BOUND, driving.BELIEF_LIMITED_BOUND, sum(1 for r in ev["tracking"] if r["belief_pass"]),
         len(ev["tracking"])))
+    judged = [r for r in ev["tracking"] if r["heading_judged"]]
+    print("  end-of-profile heading (|AIC| within the stock controller's + %g rad): %d of %d judged runs" % (
+        driving.HEADING_MARGIN, sum(1 for r in judged if r["heading_pass"]), len(judged)))
     if a.write:
         write_yaml(a.write, a.base, best["values"],
                    "# tuned by aic_tune.py --driving (%d evaluations, variants %s): driving cost %.4f" % (
