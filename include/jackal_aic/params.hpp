@@ -170,6 +170,12 @@ struct AicParams
   double max_reference_acceleration_linear = 1.0e3;
   /// Reference model: as max_reference_acceleration_linear, along theta_dot [rad/s^2], > 0.
   double max_reference_acceleration_angular = 1.0e3;
+  /// Reference model: the path's deceleration along x_dot (a rate that slows it toward 0) is
+  /// clamped to this [m/s^2], >= 0; 0 = max_reference_acceleration_linear. Below the deceleration
+  /// g d / h at which the robot tips over its front (rear) wheels, d the horizontal distance of the
+  /// centre of mass (with the payload) behind the front (ahead of the rear) axle, h its height
+  /// above the ground (ReferenceModel::accelerationBounds; doc/usage.md, 'Payloads').
+  double max_reference_deceleration_linear = 0.0;
   /// Reference model: the latency d_r [s] between a command and the wheels' response that the
   /// beliefs expect. >= 0, <= kMaxReferenceDelay.
   double reference_delay = 0.0;

@@ -22,6 +22,8 @@ struct ReferenceModelParams
   double time_constant = 0.0;     ///< T_r [s], >= 0; 0 = no reference model (reference_time_constant)
   double max_acceleration_linear = 1.0e3;   ///< |m'| bound along x_dot, y_dot [m/s^2], > 0
   double max_acceleration_angular = 1.0e3;  ///< |m'| bound along theta_dot [rad/s^2], > 0
+  /// |m'| bound along x_dot, y_dot where m' slows the path toward 0 [m/s^2], >= 0; 0 = max_acceleration_linear.
+  double max_deceleration_linear = 0.0;
   double delay = 0.0;             ///< d_r [s], in [0, kMaxReferenceDelay] (reference_delay)
   double goal_limit = 1.0e3;      ///< largest accepted |element| of mu_d and mu_d' (runaway_limit), > 0
 };
@@ -32,9 +34,9 @@ struct ReferenceModelParams
  * The goal mu_d = (x_dot [m/s], y_dot [m/s], theta_dot [rad/s]) and its rate mu_d' (zero unless
  * generalized_goal) give the predicted goal mu_hat_d = mu_d + t_lead mu_d' (target()). With
  * T_r > 0 a first-order model m follows it,
- *   m' = clamp((mu_hat_d - m) / T_r, -acc, acc),   acc = accelerationLimit(),
+ *   m' = clamp((mu_hat_d - m) / T_r, lo, hi),   (lo, hi) = accelerationBounds(),
  * integrated exactly with the target held over each step, m <- m + clamp((mu_hat_d - m)(1 - e^(-h/T_r)),
- * -acc h, acc h), and delayed by d_r: mu_r(t) = m(t - d_r), mu_r' = m'(t - d_r), from a delay line
+ * lo h, hi h), and delayed by d_r: mu_r(t) = m(t - d_r), mu_r' = m'(t - d_r), from a delay line
  * of kLine samples at least kMaxReferenceDelay / 800 apart (linear interpolation; a delay beyond
  * the line uses its oldest sample). The beliefs' attractor is then f(mu) = mu_r' + (mu_r - mu) / tau;
  * with T_r = 0 it is f(mu) = mu_d' + (mu_d - mu) / tau (attractorGoal(), attractorRate()).
@@ -84,12 +86,21 @@ public:
 
   /// The undelayed path m [m/s, m/s, rad/s].
   const Vector3& path() const { return m_; }
-  /// The path's rate m' = clamp((target() - m) / T_r, -acc, acc) [m/s^2, m/s^2, rad/s^2].
-  /// Requires enabled().
+  /// The path's rate m' = clamp((target() - m) / T_r, lo, hi) [m/s^2, m/s^2, rad/s^2], (lo, hi) =
+  /// accelerationBounds(). Requires enabled().
   Vector3 rate() const;
   /// The path's largest acceleration per channel acc = (max_acceleration_linear,
   /// max_acceleration_linear, max_acceleration_angular) [m/s^2, m/s^2, rad/s^2].
   Vector3 accelerationLimit() const;
+  /**
+   * \brief The bounds lo <= m' <= hi of the path's rate at its present value m [m/s^2, m/s^2, rad/s^2].
+   *
+   * acc = accelerationLimit() both ways, except along x_dot and y_dot where m is not 0: the
+   * direction that slows the path toward 0 (m' < 0 for m > 0, m' > 0 for m < 0) is bounded by
+   * max_deceleration_linear when it is > 0 (braking a robot whose payload would tip it forward
+   * or backward above that deceleration; doc/active_inference.md, 'Set-point dynamics').
+   */
+  void accelerationBounds(Vector3* lo, Vector3* hi) const;
   /// The attractor's goal [m/s, m/s, rad/s]: mu_r = m(t - d_r) with a reference model, else mu_d.
   Vector3 attractorGoal() const { return enabled() ? mu_r_ : mu_d_; }
   /// The attractor's rate [m/s^2, m/s^2, rad/s^2]: mu_r' with a reference model, else mu_d'.

@@ -51,6 +51,7 @@ ReferenceModelParams referenceParams(const AicParams& params)
   rp.time_constant = params.reference_time_constant;
   rp.max_acceleration_linear = params.max_reference_acceleration_linear;
   rp.max_acceleration_angular = params.max_reference_acceleration_angular;
+  rp.max_deceleration_linear = params.max_reference_deceleration_linear;
   rp.delay = params.reference_delay;
   rp.goal_limit = params.runaway_limit;
   return rp;

@@ -137,6 +137,11 @@ std::vector<ParamSpec> buildControllerRows()
     { "max_reference_acceleration_angular", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "rad/s^2",
       "Reference model: the path's acceleration along theta_dot is clamped to this",
       true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(max_reference_acceleration_angular) },
+    { "max_reference_deceleration_linear", T::kDouble, C, "active_inference", 0.0, false, kMaxGain, "m/s^2",
+      "Reference model: the path's deceleration along x_dot (slowing toward 0) is clamped to this: below the "
+      "deceleration at which the robot with its payload tips over (g d / h; doc/usage.md, 'Payloads'); 0 = "
+      "max_reference_acceleration_linear",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(max_reference_deceleration_linear) },
     { "reference_delay", T::kDouble, C, "active_inference", 0.0, false, kMaxReferenceDelay, "s",
       "Reference model: the latency from command to wheel response that the beliefs expect",
       true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(reference_delay) },

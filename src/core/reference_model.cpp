@@ -47,10 +47,33 @@ Vector3 ReferenceModel::accelerationLimit() const
   return Vector3(params_.max_acceleration_linear, params_.max_acceleration_linear, params_.max_acceleration_angular);
 }
 
-Vector3 ReferenceModel::rate() const
+void ReferenceModel::accelerationBounds(Vector3* lo, Vector3* hi) const
 {
   const Vector3 acc = accelerationLimit();
-  return ((target() - m_) / params_.time_constant).cwiseMax(-acc).cwiseMin(acc);
+  *lo = -acc;
+  *hi = acc;
+  const double dec = params_.max_deceleration_linear;
+  if (dec > 0.0)
+  {
+    for (int i = 0; i < 2; ++i)  // x_dot, y_dot
+    {
+      if (m_(i) > 0.0)
+      {
+        (*lo)(i) = -dec;
+      }
+      else if (m_(i) < 0.0)
+      {
+        (*hi)(i) = dec;
+      }
+    }
+  }
+}
+
+Vector3 ReferenceModel::rate() const
+{
+  Vector3 lo, hi;
+  accelerationBounds(&lo, &hi);
+  return ((target() - m_) / params_.time_constant).cwiseMax(lo).cwiseMin(hi);
 }
 
 bool ReferenceModel::start(const Vector3& m0)
@@ -77,9 +100,18 @@ void ReferenceModel::advance(double h)
     return;
   }
   // Exact step of m' = (target - m) / T_r with the target held over h, its change clamped to
-  // the path's largest acceleration; m' the same, clamped.
-  const Vector3 acc = accelerationLimit();
-  const Vector3 change = ((target() - m_) * (1.0 - std::exp(-h / t_r))).cwiseMax(-acc * h).cwiseMin(acc * h);
+  // the path's acceleration bounds at the present m (a slowing path may reach 0 and go on in the
+  // other direction within the step: it stops at 0 there); m' the same, clamped.
+  Vector3 lo, hi;
+  accelerationBounds(&lo, &hi);
+  Vector3 change = ((target() - m_) * (1.0 - std::exp(-h / t_r))).cwiseMax(lo * h).cwiseMin(hi * h);
+  for (int i = 0; i < 2; ++i)
+  {
+    if (params_.max_deceleration_linear > 0.0 && m_(i) != 0.0 && (m_(i) + change(i)) * m_(i) < 0.0)
+    {
+      change(i) = -m_(i);
+    }
+  }
   m_ += change;
   const Vector3 m_dot = rate();
   time_ += h;

@@ -113,6 +113,53 @@ TEST(ReferenceModel, TheAccelerationLimitBoundsThePathsSlope)
   EXPECT_EQ(r.rate(), Vector3(2.0, 0.0, -4.0));
 }
 
+TEST(ReferenceModel, TheDecelerationLimitBoundsOnlyTheSlowingOfTheLinearPath)
+{
+  ReferenceModelParams p = referenceOn(0.001, 0.0);
+  p.max_acceleration_linear = 4.0;
+  p.max_acceleration_angular = 4.0;
+  p.max_deceleration_linear = 1.0;
+  ReferenceModel r(p);
+  ASSERT_TRUE(r.start(Vector3(1.0, -1.0, 1.0)));
+  Vector3 lo, hi;
+  r.accelerationBounds(&lo, &hi);
+  EXPECT_EQ(lo, Vector3(-1.0, -4.0, -4.0));  // x_dot > 0 slows with m' < 0; theta_dot is not a linear channel
+  EXPECT_EQ(hi, Vector3(4.0, 1.0, 4.0));     // y_dot < 0 slows with m' > 0
+  // Speeding up keeps the acceleration's bound: from 1 m/s toward 2 m/s at 4 m/s^2.
+  ASSERT_TRUE(r.setGoal(Vector3(2.0, -1.0, 1.0)));
+  for (int k = 0; k < 100; ++k)
+  {
+    r.advance(0.001);
+  }
+  EXPECT_NEAR(r.path()(0), 1.4, 1e-12);
+  // Slowing down: to 0 at 1 m/s^2, then on into reverse at 4 m/s^2 (speeding up again).
+  ASSERT_TRUE(r.setGoal(Vector3(-1.0, -1.0, 1.0)));
+  for (int k = 0; k < 1000; ++k)
+  {
+    r.advance(0.001);
+  }
+  EXPECT_NEAR(r.path()(0), 0.4, 1e-9);
+  EXPECT_NEAR(r.rate()(0), -1.0, 1e-12);
+  int steps = 0;
+  for (; steps < 410 && r.path()(0) > 0.0; ++steps)
+  {
+    r.advance(0.001);
+  }
+  EXPECT_NEAR(steps, 400, 1);
+  EXPECT_EQ(r.path()(0), 0.0) << "a slowing path stops at 0 within the step it would cross it";
+  for (int k = 0; k < 100; ++k)
+  {
+    r.advance(0.001);
+  }
+  EXPECT_NEAR(r.path()(0), -0.4, 1e-9);
+  // 0 = the acceleration's bound both ways (the default, the thesis configurations unchanged).
+  p.max_deceleration_linear = 0.0;
+  r.setParams(p);
+  r.accelerationBounds(&lo, &hi);
+  EXPECT_EQ(lo, -r.accelerationLimit());
+  EXPECT_EQ(hi, r.accelerationLimit());
+}
+
 TEST(ReferenceModel, TheDelayLineShiftsThePathByTheDelay)
 {
   const double delay = 0.05;

@@ -1,0 +1,140 @@
+/**
+ * \file test_payload.cpp
+ * \brief A payload's tip-over limit and the AIC's deceleration bound (doc/usage.md, 'Payloads'):
+ *        plant_payload's figures for the rated 20 kg payload mounted 0.15 m forward and 0.25 m up
+ *        (sim/config/variants/payload_20kg_forward.yaml) and its refusals of bad arguments; in
+ *        closed loop on that plant, a planner's stop from 1.5 m/s (0.2 m/s every 0.1 s, as the
+ *        fast profile ends) tips the robot over its front wheels with the defaults and leaves it on
+ *        its wheels with plant_payload's bound. config/default.yaml, seeded sensor noise:
+ *        deterministic.
+ */
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <sys/wait.h>
+#include <vector>
+
+#include "jackal_sim/harness/closed_loop.hpp"
+#include "jackal_sim/plant/plant_params.hpp"
+#include "jackal_sim/plant/robot_description.hpp"
+#include "jackal_tools/params_yaml.hpp"
+#include "jackal_tools/yaml_overrides.hpp"
+
+namespace jackal_aic
+{
+namespace harness
+{
+namespace
+{
+const std::string kRoot = JACKAL_SIM_SOURCE_DIR;
+const std::string kForward = "sim/config/variants/payload_20kg_forward.yaml";
+
+struct Result
+{
+  int code;
+  std::string out;  ///< stdout and stderr
+};
+
+Result runTool(const std::string& args)
+{
+  Result r{ -1, "" };
+  const std::string command = std::string("JACKAL_AIC_SHARE=") + kRoot + " " + PLANT_PAYLOAD_BIN + " " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr)
+  {
+    return r;
+  }
+  char buf[512];
+  while (fgets(buf, sizeof(buf), pipe) != nullptr)
+  {
+    r.out += buf;
+  }
+  const int status = pclose(pipe);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+/// The number after `key` in `text` (NaN if absent).
+double after(const std::string& text, const std::string& key)
+{
+  const std::size_t at = text.find(key);
+  return at == std::string::npos ? std::nan("") : std::stod(text.substr(at + key.size()));
+}
+
+TEST(PlantPayload, TheForwardPayloadTipsOverTheFrontWheelsAboveTwoMetresPerSecondSquared)
+{
+  const Result r = runTool("--overlay " + kRoot + "/" + kForward);
+  ASSERT_EQ(r.code, 0) << r.out;
+  // By hand from sim/urdf/jackal.urdf: chassis 16.523 kg at (0.012, 0.067) m, four 0.477 kg wheels
+  // at x +-0.131 m, z 0.0345 m, radius 0.098 m; 20 kg at (0.15, 0.25) m: centre of mass x 0.0832 m,
+  // 0.2241 m above the ground, 0.0478 m behind the front axle: g 0.0478 / 0.2241 = 2.09 m/s^2.
+  EXPECT_NEAR(after(r.out, "deceleration of "), 2.091, 0.002) << r.out;
+  EXPECT_NEAR(after(r.out, "acceleration of "), 9.373, 0.002) << r.out;
+  EXPECT_NEAR(after(r.out, "max_reference_deceleration_linear: "), 0.8 * 2.091, 0.002) << r.out;
+  // The default's 3.689 m/s^2 in reverse would tip it too: the acceleration bound follows.
+  EXPECT_NEAR(after(r.out, "max_reference_acceleration_linear: "), 0.8 * 2.091, 0.002) << r.out;
+}
+
+TEST(PlantPayload, WithoutAPayloadTheDefaultsAccelerationKeepsTheRobotOnItsWheels)
+{
+  const Result r = runTool("--mass 0 --position 0,0,0 --margin 0.5");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NEAR(after(r.out, "deceleration of "), 9.275, 0.002) << r.out;
+  EXPECT_NEAR(after(r.out, "max_reference_deceleration_linear: "), 0.5 * 9.275, 0.002) << r.out;
+  EXPECT_EQ(r.out.find("max_reference_acceleration_linear:"), std::string::npos) << r.out;
+}
+
+TEST(PlantPayload, RefusesBadArguments)
+{
+  EXPECT_EQ(runTool("--margin 0").code, 2);
+  EXPECT_EQ(runTool("--margin 1.5").code, 2);
+  EXPECT_EQ(runTool("--mass 20").code, 2);
+  EXPECT_EQ(runTool("--mass 20 --position 0.1,0").code, 2);
+  EXPECT_EQ(runTool("--mass 20 --position 2,0,0").code, 2);
+  EXPECT_EQ(runTool("--mass nan --position 0,0,0").code, 2);
+  EXPECT_EQ(runTool("--mass 20 --position 0,x,0").code, 2);
+  EXPECT_EQ(runTool("--urdf /nonexistent.urdf").code, 1);
+}
+
+/// The largest |heading| [rad] after the stop begins, on the forward payload's plant, of the AIC
+/// (config/default.yaml with `overrides`) driving 1.5 m/s straight then a planner's stop.
+double headingAfterAStop(const std::vector<std::string>& overrides)
+{
+  ClosedLoopConfig c;
+  c.controller = LoopController::kAic;
+  c.node = loadNodeParamsFiles({ kRoot + "/config/default.yaml" }, overrides);
+  c.aic = c.node.aic;
+  c.profile = { { 0.0, 0.0, 0.0 }, { 0.5, 1.5, 0.0 } };
+  for (int k = 1; k <= 8; ++k)
+  {
+    c.profile.push_back({ 3.0 + 0.1 * k, 1.5 - 0.2 * k < 0.05 ? 0.0 : 1.5 - 0.2 * k, 0.0 });
+  }
+  c.duration = 6.0;
+  c.ideal_sensors = false;
+  const std::vector<std::string> plant = loadOverlayFile(kRoot + "/" + kForward);
+  const ClosedLoopRecord r = runClosedLoop(plant::loadRobotDescription(kRoot + "/sim/urdf/jackal.urdf"),
+                                           plant::loadPlantParams(kRoot + "/sim/config/plant.yaml", plant), c);
+  double worst = 0.0;
+  for (std::size_t k = 0; k < r.time.size(); ++k)
+  {
+    worst = std::max(worst, r.time[k] >= 3.0 ? std::abs(r.heading_true[k]) : 0.0);
+  }
+  return worst;
+}
+
+TEST(PayloadStop, TheDefaultsTipTheForwardPayloadOverItsFrontWheels)
+{
+  // The robot turned upside down over its front wheels: its yaw reads ~pi (roll and pitch
+  // through pi/2).
+  EXPECT_GT(headingAfterAStop({}), 2.5);
+}
+
+TEST(PayloadStop, PlantPayloadsDecelerationBoundKeepsItOnItsWheels)
+{
+  EXPECT_LT(headingAfterAStop({ "max_reference_deceleration_linear=1.672" }), 0.1);
+}
+}  // namespace
+}  // namespace harness
+}  // namespace jackal_aic
