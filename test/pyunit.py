@@ -30,12 +30,25 @@ def unlisted(cases, module=None):
     return sorted(c.__name__ for c in defined if c not in cases)
 
 
+def shadowing(cases):
+    """Names of the ``cases`` (unittest.TestCase classes) that define an attribute ``run``, sorted: it
+    hides unittest.TestCase.run, so none of their tests would run (each would count, silently, as
+    passed)."""
+    return sorted(c.__name__ for c in cases if "run" in vars(c))
+
+
 def main(name, *cases):
     """Run ``cases`` (unittest.TestCase classes) of the calling test file: with a
     --gtest_output=xml:FILE argument through rosunit.unitrun as the result ``name`` of package
     jackal_aic, else with unittest.main() on the file. A test case class of the file that is not
     among ``cases`` (unlisted()) adds a failing test naming it, so no case is left unrun. Exits
-    with the tests' status."""
+    with the tests' status. A case that hides TestCase.run (shadowing()) stops the file with exit
+    status 1 before anything runs."""
+    hidden = shadowing(cases)
+    if hidden:
+        sys.stderr.write("pyunit: %s define 'run', which hides unittest.TestCase.run: their tests would not "
+                         "run; rename it\n" % ", ".join(hidden))
+        sys.exit(1)
     if any(arg.startswith("--gtest_output=xml:") for arg in sys.argv):
         import rosunit
         missing = unlisted(cases)

@@ -326,36 +326,36 @@ class EndHeadingTest(unittest.TestCase):
     within the stock controller's + HEADING_MARGIN, judged where the plant follows both channels."""
 
     @staticmethod
-    def run(heading):
+    def result(heading):
         return {"path": {"final_heading_error": heading}}
 
     def test_bound_is_the_stock_error_plus_the_margin(self):
         row = {"limited_vx": None, "limited_wz": None}
-        self.assertTrue(driving.judge_heading(row, self.run(-0.11), self.run(0.1)))
+        self.assertTrue(driving.judge_heading(row, self.result(-0.11), self.result(0.1)))
         self.assertTrue(row["heading_judged"])
         self.assertAlmostEqual(row["heading_bound"], 0.1 + driving.HEADING_MARGIN, places=12)
         self.assertEqual((row["heading_aic"], row["heading_stock"]), (-0.11, 0.1))
-        self.assertFalse(driving.judge_heading(row, self.run(0.1 + driving.HEADING_MARGIN + 1e-6), self.run(-0.1)))
+        self.assertFalse(driving.judge_heading(row, self.result(0.1 + driving.HEADING_MARGIN + 1e-6), self.result(-0.1)))
         # A robot that ended facing the other way (tipped over) fails by a wide margin.
-        self.assertFalse(driving.judge_heading(row, self.run(-3.0), self.run(-0.14)))
+        self.assertFalse(driving.judge_heading(row, self.result(-3.0), self.result(-0.14)))
 
     def test_plant_limited_pairs_and_runs_without_a_path_are_reported_not_judged(self):
         row = {"limited_vx": "ideal 3.0 x floor on vx", "limited_wz": None}
-        self.assertTrue(driving.judge_heading(row, self.run(-3.0), self.run(0.0)))
+        self.assertTrue(driving.judge_heading(row, self.result(-3.0), self.result(0.0)))
         self.assertFalse(row["heading_judged"])
         self.assertEqual(row["heading_aic"], -3.0)
         row = {"limited_vx": None, "limited_wz": None}
-        self.assertTrue(driving.judge_heading(row, {"tracking": {}}, self.run(0.0)))
+        self.assertTrue(driving.judge_heading(row, {"tracking": {}}, self.result(0.0)))
         self.assertIsNone(row["heading_aic"])
-        self.assertTrue(driving.judge_heading(row, self.run(float("nan")), self.run(0.0)))
+        self.assertTrue(driving.judge_heading(row, self.result(float("nan")), self.result(0.0)))
         self.assertFalse(row["heading_judged"])
 
     def test_judge_tracking_fails_on_the_heading(self):
         def judge(heading):
             aic = track_result(0.05, 0.05)
-            aic.update(self.run(heading))
+            aic.update(self.result(heading))
             stock = track_result(0.1, 0.1)
-            stock.update(self.run(0.05))
+            stock.update(self.result(0.05))
             res = {("track", "a.csv", "default", "aic"): (aic, None),
                    ("track", "a.csv", "default", "stock"): (stock, None)}
             out = {"tracking": []}
@@ -367,6 +367,32 @@ class EndHeadingTest(unittest.TestCase):
         ok, row = judge(0.08)
         self.assertFalse(ok)
         self.assertFalse(row["heading_pass"])
+
+
+class PyunitTest(unittest.TestCase):
+    """pyunit.shadowing: a test case class that defines ``run`` hides unittest.TestCase.run, and its
+    tests would count as passed without running; pyunit.main refuses such a file."""
+
+    def test_a_case_defining_run_is_named(self):
+        import pyunit  # test/pyunit.py, beside this file
+        class Hides(unittest.TestCase):
+            @staticmethod
+            def run(x):
+                return x
+
+            def test_never_runs(self):
+                self.fail("unreachable")
+
+        class Fine(unittest.TestCase):
+            def test_runs(self):
+                pass
+
+        self.assertEqual(pyunit.shadowing((Fine, Hides)), ["Hides"])
+        self.assertEqual(pyunit.shadowing((Fine,)), [])
+        # What it guards against: the hidden run executes nothing and reports nothing.
+        result = unittest.TestResult()
+        unittest.TestLoader().loadTestsFromTestCase(Hides).run(result)
+        self.assertEqual((result.testsRun, len(result.failures)), (0, 0))
 
 
 class HonestBeliefTest(unittest.TestCase):
@@ -573,4 +599,4 @@ class MutantsListTest(unittest.TestCase):
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
     pyunit.main("tool_logic", ProcfsTest, SweepTest, ExperimentTest, SoakTest, ReportAndSummaryTest,
-                FailureSummaryTest, PlantLimitsTest, EndHeadingTest, HonestBeliefTest, IdealCacheTest, MutantsListTest)
+                FailureSummaryTest, PlantLimitsTest, EndHeadingTest, PyunitTest, HonestBeliefTest, IdealCacheTest, MutantsListTest)
