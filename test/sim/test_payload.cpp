@@ -13,12 +13,12 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
-#include <sys/wait.h>
 #include <vector>
 
 #include "jackal_sim/harness/closed_loop.hpp"
 #include "jackal_sim/plant/plant_params.hpp"
 #include "jackal_sim/plant/robot_description.hpp"
+#include "jackal_test/run_command.hpp"
 #include "jackal_tools/params_yaml.hpp"
 #include "jackal_tools/yaml_overrides.hpp"
 
@@ -31,29 +31,12 @@ namespace
 const std::string kRoot = JACKAL_SIM_SOURCE_DIR;
 const std::string kForward = "sim/config/variants/payload_20kg_forward.yaml";
 
-struct Result
-{
-  int code;
-  std::string out;  ///< stdout and stderr
-};
+using Result = jackal_test::CommandResult;
 
+/// plant_payload with `args`, the package's share folder the source tree.
 Result runTool(const std::string& args)
 {
-  Result r{ -1, "" };
-  const std::string command = std::string("JACKAL_AIC_SHARE=") + kRoot + " " + PLANT_PAYLOAD_BIN + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr)
-  {
-    return r;
-  }
-  char buf[512];
-  while (fgets(buf, sizeof(buf), pipe) != nullptr)
-  {
-    r.out += buf;
-  }
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return jackal_test::runCommand(std::string("JACKAL_AIC_SHARE=") + kRoot + " " + PLANT_PAYLOAD_BIN + " " + args);
 }
 
 /// The number after `key` in `text` (NaN if absent).

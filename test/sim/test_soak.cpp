@@ -10,35 +10,15 @@
  */
 #include <gtest/gtest.h>
 
+#include "jackal_test/run_command.hpp"
+
 #include <cstdio>
 #include <string>
-#include <sys/wait.h>
 
 namespace
 {
-struct Result
-{
-  int code;
-  std::string out;  ///< stdout and stderr
-};
-
-Result run(const std::string& command)
-{
-  Result r{ -1, "" };
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (pipe == nullptr)
-  {
-    return r;
-  }
-  char buf[512];
-  while (fgets(buf, sizeof(buf), pipe) != nullptr)
-  {
-    r.out += buf;
-  }
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using Result = jackal_test::CommandResult;
+constexpr auto* run = &jackal_test::runCommand;
 
 const std::string kSoak = std::string("JACKAL_AIC_SHARE=") + SOURCE_DIR + " " + AIC_SOAK_BIN + " --profile-dir " + SOURCE_DIR + "/test/data/soak_profiles";
 
@@ -58,9 +38,10 @@ TEST(Soak, ShortFormPassesEveryCheck)
   }
 }
 
-// Regression guard on the learned b_hat's drift in random driving (doc/results/soak_learning.md
-// has the 30-minute figures): its 5-minute means within 2 % of its median, while single samples
-// follow the operating point's effective separation further (reported, not judged).
+// The learned b_hat's drift bound in random driving, on a 15-minute form (doc/results/soak_learning.md
+// has the 30-minute figures): its 5-minute means within 2 % of its median (the bound itself, not
+// today's figure), while single samples follow the operating point's effective separation further
+// (reported, not judged).
 TEST(Soak, RandomDrivingKeepsTheLearnedSeparationsFiveMinuteMeansWithinTwoPercent)
 {
   const Result r = run(kSoak + " --hours 0.25 --seed 7 --noise --fault-every 0 --operation-every 0");

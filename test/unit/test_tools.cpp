@@ -1,6 +1,8 @@
 /// Bad-input paths and basic output of the CLI tools aic_analyze, aic_step_metrics and aic_predict.
 #include <gtest/gtest.h>
 
+#include "jackal_test/run_command.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -9,33 +11,11 @@
 #include <string>
 #include <utility>
 #include <vector>
-#include <sys/wait.h>
 
 namespace
 {
-struct Result
-{
-  int code;
-  std::string out;  ///< stdout and stderr
-};
-
-Result run(const std::string& command)
-{
-  Result r{ -1, "" };
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (pipe == nullptr)
-  {
-    return r;
-  }
-  char buf[512];
-  while (fgets(buf, sizeof(buf), pipe) != nullptr)
-  {
-    r.out += buf;
-  }
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using Result = jackal_test::CommandResult;
+constexpr auto* run = &jackal_test::runCommand;
 
 std::string writeFile(const std::string& name, const std::string& text)
 {

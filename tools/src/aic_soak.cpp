@@ -122,18 +122,18 @@ struct SoakStats
 };
 
 /**
- * \brief Drift of a learned value: its means over consecutive windows of simulated time and its
- *        least-squares trend, from the samples given (a soak's b_hat after the learner's warm-up).
+ * \brief Drift of a learned value, part 1: its means over consecutive windows of simulated time,
+ *        from the samples given (a soak's b_hat after the learner's warm-up).
  *
  * The window of a sample is floor(t / window); a window counts only if it holds at least half as
  * many samples as the fullest one (a window cut by a node start or the run's end is left out).
  * Units are the value's own ([m] for b_hat) and seconds.
  */
-class WindowDrift
+class WindowMeans
 {
 public:
   /// \param window length of a window [s], > 0 (not checked: the soak's constants).
-  explicit WindowDrift(double window) : window_(window) {}
+  explicit WindowMeans(double window) : window_(window) {}
 
   /// Add the value b at time t [s]; non-finite values are ignored.
   void add(double t, double b)
@@ -151,17 +151,6 @@ public:
     }
     sums_.back() += b;
     ++counts_.back();
-    // Least-squares trend about the first sample's time (keeps the sums well conditioned).
-    if (n_ == 0)
-    {
-      t0_ = t;
-    }
-    const double u = t - t0_;
-    ++n_;
-    su_ += u;
-    sb_ += b;
-    suu_ += u * u;
-    sub_ += u * b;
   }
 
   /// The means of the windows that count (see the class), in time order; empty if none.
@@ -183,14 +172,7 @@ public:
     return out;
   }
 
-  /// Least-squares slope of the value against time [value / s]; NaN with fewer than two distinct times.
-  double slope() const
-  {
-    const double n = static_cast<double>(n_);
-    const double den = n * suu_ - su_ * su_;
-    return n_ >= 2 && den > 0.0 ? (n * sub_ - su_ * sb_) / den : std::nan("");
-  }
-
+  /// The window's length [s].
   double window() const { return window_; }
 
 private:
@@ -198,6 +180,43 @@ private:
   std::vector<long> index_;
   std::vector<double> sums_;
   std::vector<std::uint64_t> counts_;
+};
+
+/**
+ * \brief Drift of a learned value, part 2: the least-squares slope of its samples b against time
+ *        t [value / s], the sums taken about the first sample's time (well conditioned over hours).
+ */
+class LeastSquaresTrend
+{
+public:
+  /// Add the value b at time t [s]; non-finite values are ignored.
+  void add(double t, double b)
+  {
+    if (!std::isfinite(t) || !std::isfinite(b))
+    {
+      return;
+    }
+    if (n_ == 0)
+    {
+      t0_ = t;
+    }
+    const double u = t - t0_;
+    ++n_;
+    su_ += u;
+    sb_ += b;
+    suu_ += u * u;
+    sub_ += u * b;
+  }
+
+  /// The slope [value / s]; NaN with fewer than two distinct times.
+  double slope() const
+  {
+    const double n = static_cast<double>(n_);
+    const double den = n * suu_ - su_ * su_;
+    return n_ >= 2 && den > 0.0 ? (n * sub_ - su_ * sb_) / den : std::nan("");
+  }
+
+private:
   std::uint64_t n_ = 0;
   double t0_ = 0.0, su_ = 0.0, sb_ = 0.0, suu_ = 0.0, sub_ = 0.0;
 };
@@ -240,8 +259,7 @@ int main(int argc, char** argv)
   {
     return code;
   }
-  if (!(hours > 0.0) || !std::isfinite(hours) || !(fault_every >= 0.0) || !std::isfinite(fault_every) ||
-      !(operation_every >= 0.0) || !std::isfinite(operation_every))
+  if (!(hours > 0.0) || !std::isfinite(hours) || !(fault_every >= 0.0) || !(operation_every >= 0.0))
   {
     return cl.bad("--hours must be > 0, --fault-every and --operation-every >= 0 (0 = none)");
   }
@@ -364,7 +382,8 @@ int main(int argc, char** argv)
   double b_min = std::numeric_limits<double>::infinity(), b_max = -b_min, b_last = std::nan("");
   // Drift of b_hat: its 1-minute and 5-minute means and its trend (the spread above includes
   // b_hat following the operating point, whose effective separation differs; doc/tools.md, 'Soak').
-  WindowDrift drift_1min(60.0), drift_5min(300.0);
+  WindowMeans drift_1min(60.0), drift_5min(300.0);
+  LeastSquaresTrend trend;
   double loop_since = 0.0;
   c.observer = [&](const ClosedLoopSample& x) {
     ++s.samples;
@@ -392,6 +411,7 @@ int main(int argc, char** argv)
         b_last = b;
         drift_1min.add(x.time, b);
         drift_5min.add(x.time, b);
+        trend.add(x.time, b);
       }
     }
     const bool finite = x.wheels_command.allFinite() && x.wheels_measured.allFinite() && std::isfinite(x.v_true);
@@ -545,7 +565,7 @@ int main(int argc, char** argv)
       << b_min << " .. " << b_max << " m, at the end " << b_last << " m; bounds " << b_lo << " .. " << b_hi
       << " m (samples outside: " << b_outside << "); p1 and p99 within 2 % of the median: "
       << (b_drift <= 0.02 ? "yes" : "no") << " |\n";
-    for (const WindowDrift* d : { &drift_1min, &drift_5min })
+    for (const WindowMeans* d : { &drift_1min, &drift_5min })
     {
       const std::vector<double> m = d->means();
       r << "| b_hat's means over " << static_cast<int>(d->window() / 60.0) << "-minute windows (" << m.size() << ") | ";
@@ -560,7 +580,7 @@ int main(int argc, char** argv)
         << 100.0 * (*hi - median) / median << " % of the median); within 2 % of the median: "
         << (dev <= 0.02 ? "yes" : "no") << " |\n";
     }
-    r << "| b_hat's trend (least squares over its samples) | " << 100.0 * drift_1min.slope() * 3600.0 / median
+    r << "| b_hat's trend (least squares over its samples) | " << 100.0 * trend.slope() * 3600.0 / median
       << " % of the median per hour |\n";
   }
   r << "\n| operation | count | recovery p50 [s] | recovery max [s] |\n|---|---|---|---|\n";

@@ -52,17 +52,19 @@ struct MassLayout
 };
 
 /**
- * \brief The robot's mass layout: the URDF's chassis and wheel inertials (in base_link through
- *        chassis_in_base and each wheel joint's origin) plus a point payload (mass [kg] >= 0 at
- *        position [m], base_link). The contact box spans the wheel joints' x and y; the ground is
- *        the lowest wheel's centre less its radius.
+ * \brief The robot's mass layout: the URDF's chassis with a point payload (mass [kg] >= 0 at
+ *        position [m], base_link) composed as the plant composes it (plant::withPointMass, in the
+ *        chassis frame), and the wheel inertials, in base_link through chassis_in_base and each
+ *        wheel joint's origin. The contact box spans the wheel joints' x and y; the ground is the
+ *        lowest wheel's centre less its radius.
  */
 MassLayout massLayout(const plant::RobotDescription& d, double payload_mass, const Eigen::Vector3d& payload_position)
 {
   MassLayout m;
-  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
-  m.mass = d.chassis.mass + payload_mass;
-  moment += d.chassis.mass * (d.chassis_in_base * d.chassis.com) + payload_mass * payload_position;
+  const plant::MassProperties chassis =
+      plant::withPointMass(d.chassis, payload_mass, d.chassis_in_base.inverse() * payload_position);
+  m.mass = chassis.mass;
+  Eigen::Vector3d moment = chassis.mass * (d.chassis_in_base * chassis.com);
   m.front = m.left = -1e9;
   m.rear = m.right = m.ground = 1e9;
   for (const plant::WheelDescription& w : d.wheels)
@@ -88,6 +90,7 @@ double tipAcceleration(double d, double h)
   return d > 0.0 && h > 0.0 ? kGravity * d / h : 0.0;
 }
 
+/// Parse "X,Y,Z" (three finite numbers, nothing else) into *p. \return false if it is not that.
 bool parsePosition(const std::string& text, Eigen::Vector3d* p)
 {
   std::stringstream in(text);

@@ -335,5 +335,20 @@ RobotDescription parseRobotDescription(const std::string& xml, const std::string
   return d;
 }
 
+/// The mass properties of `body` (in its link frame) with a point mass `mass` [kg] added at
+/// `position` (link frame) [m]: masses add, the centre of mass is their weighted mean, and each
+/// part's inertia moves to the new centre by the parallel-axis theorem, I + m ((d.d) 1 - d d^T).
+MassProperties withPointMass(const MassProperties& body, double mass, const Eigen::Vector3d& position)
+{
+  MassProperties out;
+  out.mass = body.mass + mass;
+  out.com = (body.mass * body.com + mass * position) / out.mass;
+  auto shift = [](double m, const Eigen::Vector3d& d) {
+    return (m * (d.dot(d) * Eigen::Matrix3d::Identity() - d * d.transpose())).eval();
+  };
+  out.inertia = body.inertia + shift(body.mass, body.com - out.com) + shift(mass, position - out.com);
+  return out;
+}
+
 }  // namespace plant
 }  // namespace jackal_aic

@@ -59,6 +59,17 @@ struct MassProperties
   Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();   ///< about the COM, link axes [kg m^2]
 };
 
+/**
+ * \brief The mass properties of `body` (in its link frame) with a point mass added (a payload).
+ * \param body     mass [kg] > 0, centre of mass [m] and inertia about it [kg m^2], link frame
+ * \param mass     the point mass [kg], >= 0
+ * \param position where it sits, link frame [m]
+ * \return masses added, the centre of mass their weighted mean, each part's inertia moved to the
+ *         new centre by the parallel-axis theorem, I + m ((d.d) 1 - d d^T). Inputs are not checked
+ *         (PayloadParams::validate() bounds the payload).
+ */
+MassProperties withPointMass(const MassProperties& body, double mass, const Eigen::Vector3d& position);
+
 /// An axis-aligned (in its own frame) collision box of the chassis.
 struct CollisionBox
 {
