@@ -78,8 +78,8 @@ public:
    *        doc/active_inference.md 'Set-point dynamics'):
    *        no reference model: f(mu) = mu_d' + (mu_d - mu) / tau;
    *        reference model (reference_time_constant T_r > 0): f(mu) = mu_r' + (mu_r - mu) / tau
-   *        with mu_r(t) = m(t - d_r), m' = (mu_d + goal_lead mu_d' - m) / T_r advanced with the
-   *        beliefs (updateBeliefs()).
+   *        with mu_r(t) = m(t - d_r), m' = (mu_d + t_lead mu_d' - m) / T_r advanced with the
+   *        beliefs (updateBeliefs()); t_lead per channel (goal_lead, goal_lead_angular).
    * \return false (goal unchanged) for a non-finite element or one beyond runaway_limit.
    */
   bool setGoal(const Vector3& mu_d, const Vector3& mu_d_dot = Vector3::Zero());
@@ -109,7 +109,7 @@ public:
   bool startReference(const Vector3& m0);
   /**
    * \brief The action prior a_ff [rad/s] = k_ff W (m + T_p m') with a reference model, else
-   *        k_ff W (mu_d + goal_lead mu_d') (W: the wheel rows of R, the inverse kinematics G^+ of
+   *        k_ff W (mu_d + t_lead mu_d') (W: the wheel rows of R, the inverse kinematics G^+ of
    *        eq. 3-3; k_ff = action_prior_gain, T_p = action_prior_time_constant): the wheel speeds
    *        the goal's path predicts (ActionPrior). Zero when action_prior_gain is 0.
    */

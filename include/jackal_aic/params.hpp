@@ -137,8 +137,9 @@ struct AicParams
    * Generalized goal [-]: false = every set point is a step (mu_d' = 0); true = the goal's rate
    * mu_d' is estimated from the set-point stream by finite differences (GoalRateEstimator:
    * goal_rate_hold, max_goal_rate_linear, max_goal_rate_angular) and the goal is predicted
-   * goal_lead ahead, mu_d + goal_lead mu_d'. Without a reference model (reference_time_constant
-   * 0) the attractor becomes f(mu) = mu_d' + (mu_d - mu) / tau. Not in the thesis (its section
+   * t_lead ahead, mu_d + t_lead mu_d' (t_lead = goal_lead for x_dot and y_dot, goal_lead_angular
+   * for theta_dot). Without a reference model (reference_time_constant 0) the attractor becomes
+   * f(mu) = mu_d' + (mu_d - mu) / tau. Not in the thesis (its section
    * 6-1: a generative model "that predicts the path towards the desired state");
    * doc/active_inference.md, 'Set-point dynamics'.
    */
@@ -151,13 +152,17 @@ struct AicParams
   double max_goal_rate_linear = 4.0;
   /// Generalized goal: |mu_d'| of theta_dot is clamped to this [rad/s^2]. > 0.
   double max_goal_rate_angular = 8.0;
-  /// Generalized goal: the goal is predicted this far ahead along its rate [s],
-  /// mu_d + goal_lead mu_d' (the wheel loop's latency). >= 0, <= 1.
+  /// Generalized goal: the linear channels' goal (x_dot, y_dot) is predicted this far ahead
+  /// along its rate [s], mu_d + goal_lead mu_d' (the wheel loop's latency). >= 0, <= 1.
   double goal_lead = 0.0;
+  /// Generalized goal: the yaw rate's goal is predicted this far ahead along its rate [s]; a
+  /// turn's body lags its wheels further than a speed change does (the tyres' lateral slip).
+  /// >= 0, <= 1.
+  double goal_lead_angular = 0.0;
   /**
    * Reference model T_r [s], >= 0, <= 10; 0 = off (the thesis: f(mu) = (mu_d - mu) / tau, eq. 3-7).
    * When > 0 the attractor is the path a wheel loop is expected to take to the (predicted) goal:
-   * m' = (mu_d + goal_lead mu_d' - m) / T_r, each channel's m' clamped to
+   * m' = (mu_d + t_lead mu_d' - m) / T_r, each channel's m' clamped to
    * max_reference_acceleration_linear / _angular, delayed by reference_delay, mu_r(t) = m(t - d_r),
    * and f(mu) = mu_r' + (mu_r - mu) / tau. The sensory prediction error then measures the
    * deviation from the expected path, not the path itself, so the free-energy action does not
@@ -187,7 +192,7 @@ struct AicParams
   /**
    * Action prior gain k_ff [-], in [0, 2]; 0 = off (the thesis: the action only descends the
    * free energy, eq. 3-16). The action is a = a_F + a_ff, a_ff = k_ff W (m + T_p m') (with no
-   * reference model: k_ff W (mu_d + goal_lead mu_d')), W the wheel rows of R (the inverse
+   * reference model: k_ff W (mu_d + t_lead mu_d')), W the wheel rows of R (the inverse
    * kinematics G^+, eq. 3-3), T_p = action_prior_time_constant: the wheel speeds the goal's path
    * predicts, through the inverse of a first-order wheel loop, handed to the MCU's wheel-speed
    * loop as a reflex arc fulfils a proprioceptive prediction (Adams, Shipp & Friston, Brain

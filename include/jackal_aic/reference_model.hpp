@@ -18,7 +18,8 @@ namespace jackal_aic
 struct ReferenceModelParams
 {
   bool generalized_goal = false;  ///< use the goal's rate mu_d' (generalized_goal); false: mu_d' = 0
-  double goal_lead = 0.0;         ///< t_lead [s], >= 0: the goal is predicted mu_d + t_lead mu_d'
+  double goal_lead = 0.0;         ///< t_lead [s], >= 0: x_dot's and y_dot's goal is predicted mu_d + t_lead mu_d'
+  double goal_lead_angular = 0.0; ///< t_lead [s], >= 0, of theta_dot's goal
   double time_constant = 0.0;     ///< T_r [s], >= 0; 0 = no reference model (reference_time_constant)
   double max_acceleration_linear = 1.0e3;   ///< |m'| bound along x_dot, y_dot [m/s^2], > 0
   double max_acceleration_angular = 1.0e3;  ///< |m'| bound along theta_dot [rad/s^2], > 0
@@ -32,7 +33,8 @@ struct ReferenceModelParams
  * \brief Goal -> predicted goal -> reference path with its delay line.
  *
  * The goal mu_d = (x_dot [m/s], y_dot [m/s], theta_dot [rad/s]) and its rate mu_d' (zero unless
- * generalized_goal) give the predicted goal mu_hat_d = mu_d + t_lead mu_d' (target()). With
+ * generalized_goal) give the predicted goal mu_hat_d = mu_d + t_lead mu_d' (target(); t_lead per
+ * channel: goal_lead for x_dot and y_dot, goal_lead_angular for theta_dot). With
  * T_r > 0 a first-order model m follows it,
  *   m' = clamp((mu_hat_d - m) / T_r, lo, hi),   (lo, hi) = accelerationBounds(),
  * integrated exactly with the target held over each step, m <- m + clamp((mu_hat_d - m)(1 - e^(-h/T_r)),
@@ -70,8 +72,9 @@ public:
   const Vector3& goal() const { return mu_d_; }
   /// The goal's rate mu_d' [m/s^2, m/s^2, rad/s^2] (zero unless generalized_goal).
   const Vector3& goalRate() const { return mu_d_dot_; }
-  /// The predicted goal mu_hat_d = mu_d + goal_lead mu_d' with generalized_goal, else mu_d
-  /// [m/s, m/s, rad/s]: the reference model's input.
+  /// The predicted goal mu_hat_d = mu_d + t_lead mu_d' with generalized_goal (t_lead = goal_lead
+  /// for x_dot and y_dot, goal_lead_angular for theta_dot), else mu_d [m/s, m/s, rad/s]: the
+  /// reference model's input.
   Vector3 target() const;
 
   /**

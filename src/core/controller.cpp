@@ -48,6 +48,7 @@ ReferenceModelParams referenceParams(const AicParams& params)
   ReferenceModelParams rp;
   rp.generalized_goal = params.generalized_goal;
   rp.goal_lead = params.goal_lead;
+  rp.goal_lead_angular = params.goal_lead_angular;
   rp.time_constant = params.reference_time_constant;
   rp.max_acceleration_linear = params.max_reference_acceleration_linear;
   rp.max_acceleration_angular = params.max_reference_acceleration_angular;

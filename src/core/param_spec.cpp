@@ -121,8 +121,11 @@ std::vector<ParamSpec> buildControllerRows()
       "Generalized goal: |mu_d'| of theta_dot is clamped to this",
       true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(max_goal_rate_angular) },
     { "goal_lead", T::kDouble, C, "active_inference", 0.0, false, 1.0, "s",
-      "Generalized goal: the goal is predicted this far ahead, mu_d + goal_lead mu_d'",
+      "Generalized goal: the linear goal (x_dot, y_dot) is predicted this far ahead, mu_d + goal_lead mu_d'",
       true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(goal_lead) },
+    { "goal_lead_angular", T::kDouble, C, "active_inference", 0.0, false, 1.0, "s",
+      "Generalized goal: the yaw-rate goal is predicted this far ahead, mu_d + goal_lead_angular mu_d'",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(goal_lead_angular) },
     { "reference_time_constant", T::kDouble, C, "active_inference", 0.0, false, 10.0, "s",
       "Reference model T_r: the beliefs are drawn to the path m' = (goal - m) / T_r delayed by reference_delay, "
       "f(mu) = mu_r' + (mu_r - mu) / tau; 0 = off (the thesis's f(mu) = (mu_d - mu) / tau, eq. 3-7)",

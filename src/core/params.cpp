@@ -98,6 +98,7 @@ AicParams recommendedAicParams()
   p.max_goal_rate_linear = 4.0;
   p.max_goal_rate_angular = 8.0;
   p.goal_lead = 0.08095;
+  p.goal_lead_angular = 0.125;
   p.reference_time_constant = 0.005;
   p.max_reference_acceleration_linear = 3.689;
   p.max_reference_acceleration_angular = 10.95;

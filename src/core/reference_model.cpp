@@ -39,7 +39,12 @@ bool ReferenceModel::setGoal(const Vector3& mu_d, const Vector3& mu_d_dot)
 
 Vector3 ReferenceModel::target() const
 {
-  return params_.generalized_goal ? Vector3(mu_d_ + params_.goal_lead * mu_d_dot_) : mu_d_;
+  if (!params_.generalized_goal)
+  {
+    return mu_d_;
+  }
+  const Vector3 lead(params_.goal_lead, params_.goal_lead, params_.goal_lead_angular);
+  return mu_d_ + lead.cwiseProduct(mu_d_dot_);
 }
 
 Vector3 ReferenceModel::accelerationLimit() const

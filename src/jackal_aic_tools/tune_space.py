@@ -41,6 +41,7 @@ DRIVING_SPACE = {
     "reference_delay": (0.0, 0.25, False),          # s
     "action_prior_time_constant": (0.0, 0.3, False),  # s
     "goal_lead": (0.0, 0.3, False),         # s
+    "goal_lead_angular": (0.0, 0.3, False),  # s
 }
 DRIVING_FIXED = {"generalized_goal": "true", "max_action_lead_turn": 0.0}
 # --driving from a base with belief_model: unbiased: the beliefs follow the sensors (a larger k_mu),

@@ -50,6 +50,7 @@ TEST(ReferenceModel, GeneralizedGoalPredictsTheGoalAlongItsRate)
   ReferenceModelParams p;
   p.generalized_goal = true;
   p.goal_lead = 0.1;
+  p.goal_lead_angular = 0.1;
   ReferenceModel r(p);
   ASSERT_TRUE(r.setGoal(Vector3(0.5, 0.0, 1.0), Vector3(1.0, 0.0, -2.0)));
   EXPECT_EQ(r.goalRate(), Vector3(1.0, 0.0, -2.0));
@@ -60,6 +61,22 @@ TEST(ReferenceModel, GeneralizedGoalPredictsTheGoalAlongItsRate)
   r.setParams(p);
   EXPECT_TRUE(r.goalRate().isZero());
   EXPECT_EQ(r.target(), Vector3(0.5, 0.0, 1.0));
+}
+
+TEST(ReferenceModel, TheYawRateHasItsOwnLead)
+{
+  // goal_lead predicts x_dot and y_dot, goal_lead_angular theta_dot: mu_d + t_lead mu_d' per channel.
+  ReferenceModelParams p;
+  p.generalized_goal = true;
+  p.goal_lead = 0.1;
+  p.goal_lead_angular = 0.25;
+  ReferenceModel r(p);
+  ASSERT_TRUE(r.setGoal(Vector3(0.5, 0.2, 1.0), Vector3(1.0, -1.0, -2.0)));
+  EXPECT_TRUE(r.target().isApprox(Vector3(0.6, 0.1, 0.5), 1e-15));
+  // No angular lead: the yaw rate's goal is not predicted, the linear one still is.
+  p.goal_lead_angular = 0.0;
+  r.setParams(p);
+  EXPECT_TRUE(r.target().isApprox(Vector3(0.6, 0.1, 1.0), 1e-15));
 }
 
 TEST(ReferenceModel, RejectsNonFiniteAndRunawayGoals)
