@@ -54,6 +54,13 @@ AicNode::AicNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) : nh_(nh
 
 AicNode::~AicNode()
 {
+  // On the event schedule the subscribers' callbacks run on roscpp's network thread, not on
+  // this one: shut them down first (roscpp waits for a callback in flight), before the members
+  // they use go.
+  for (ros::Subscriber* sub : { &joint_sub_, &imu_sub_, &set_point_sub_, &status_sub_, &feedback_sub_ })
+  {
+    sub->shutdown();
+  }
   if (belief_loop_)
   {
     belief_loop_->stop();
@@ -81,7 +88,8 @@ bool AicNode::init()
   }
 
   // Timer schedule on the wall clock: the belief thread serves the subscribers (BeliefLoop);
-  // otherwise the spinner does.
+  // on the simulated clock the spinner does. Event schedule: each message's callback runs on
+  // roscpp's network thread as it arrives (InlineCallbackQueue): no hand-over to the spinner.
   const bool timer_schedule = params_.belief_schedule == BeliefSchedule::kTimer;
   belief_on_thread_ = timer_schedule && BeliefLoop::useThread();
   ros::NodeHandle sensor_nh(nh_), sensor_pnh(pnh_);
@@ -89,6 +97,11 @@ bool AicNode::init()
   {
     sensor_nh.setCallbackQueue(&sensor_queue_);
     sensor_pnh.setCallbackQueue(&sensor_queue_);
+  }
+  else if (!timer_schedule)
+  {
+    sensor_nh.setCallbackQueue(&inline_queue_);
+    sensor_pnh.setCallbackQueue(&inline_queue_);
   }
   const auto hints = ros::TransportHints().tcpNoDelay();
   joint_sub_ = sensor_nh.subscribe("joint_states", 10, &AicNode::jointStateCallback, this, hints);
@@ -135,7 +148,7 @@ bool AicNode::init()
     outputs_->capture(loop_->controller(), clock_.time(loop_->beliefTime()), snapshot);
     return true;
   });
-  std::string schedule = "each event (belief_schedule event)";
+  std::string schedule = "each event (belief_schedule event; messages on the network thread)";
   if (timer_schedule)
   {
     belief_loop_ = std::make_unique<BeliefLoop>(nh_, params_.aic.belief_rate, params_.realtime_priority,

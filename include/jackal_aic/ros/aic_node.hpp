@@ -25,10 +25,11 @@
  * (include/jackal_aic/param_schema.hpp) through loadNodeParams() and NodeReconfigure;
  * diagnostics are NodeDiagnostics.
  *
- * Threading (doc/jackal_aic_node.md, 'Loops'). belief_schedule event (default): every
- * callback runs on the spinner (ros::spin): the subscribers, the action timer (action_rate:
- * with action_trigger sample a keep-alive), the debug timer (debug_rate, only while a debug
- * topic has a subscriber), the diagnostics and dynamic_reconfigure; each event advances the
+ * Threading (doc/jackal_aic_node.md, 'Loops'). belief_schedule event (default): the
+ * subscribers' callbacks run on roscpp's network thread as each message is read
+ * (InlineCallbackQueue); the action timer (action_rate: with action_trigger sample a
+ * keep-alive), the debug timer (debug_rate, only while a debug topic has a subscriber), the
+ * diagnostics and dynamic_reconfigure on the spinner (ros::spin); each event advances the
  * beliefs to its time, so nothing wakes at belief_rate. belief_schedule timer: the belief loop
  * (BeliefLoop) runs at belief_rate on its own PeriodicThread on the wall clock (which then
  * also serves the subscribers' queue) or on a ROS timer on simulated time.
@@ -68,6 +69,7 @@
 #include "jackal_aic/output_conflict.hpp"
 #include "jackal_aic/output_gate.hpp"
 #include "jackal_aic/ros/belief_loop.hpp"
+#include "jackal_aic/ros/inline_callback_queue.hpp"
 #include "jackal_aic/ros/node_diagnostics.hpp"
 #include "jackal_aic/ros/node_outputs.hpp"
 #include "jackal_aic/ros/node_reconfigure.hpp"
@@ -166,6 +168,8 @@ private:
   /// The subscribers' queue while the belief thread runs (served by it); declared before the
   /// subscribers, so it outlives them.
   ros::CallbackQueue sensor_queue_;
+  /// The subscribers' queue on the event schedule: callbacks run on roscpp's network thread.
+  InlineCallbackQueue inline_queue_;
   ros::Subscriber joint_sub_, imu_sub_, set_point_sub_, status_sub_, feedback_sub_;
   ros::Timer action_timer_;
 
