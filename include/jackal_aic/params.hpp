@@ -175,6 +175,10 @@ struct AicParams
   double max_reference_acceleration_linear = 1.0e3;
   /// Reference model: as max_reference_acceleration_linear, along theta_dot [rad/s^2], > 0.
   double max_reference_acceleration_angular = 1.0e3;
+  /// Reference model: each wheel's rim-speed rate along the path, |m'_x -+ m'_theta b_hat / 2|, is
+  /// clamped to this [m/s^2], >= 0, before the body channels' bounds; 0 = none. A turn started with
+  /// the forward speed then waits for the inner wheel, as the wheel loops do (ReferenceModel).
+  double max_reference_acceleration_wheel = 0.0;
   /// Reference model: the path's deceleration along x_dot (a rate that slows it toward 0) is
   /// clamped to this [m/s^2], >= 0; 0 = max_reference_acceleration_linear. Below the deceleration
   /// g d / h at which the robot tips over its front (rear) wheels, d the horizontal distance of the

@@ -25,6 +25,10 @@ struct ReferenceModelParams
   double max_acceleration_angular = 1.0e3;  ///< |m'| bound along theta_dot [rad/s^2], > 0
   /// |m'| bound along x_dot, y_dot where m' slows the path toward 0 [m/s^2], >= 0; 0 = max_acceleration_linear.
   double max_deceleration_linear = 0.0;
+  /// Bound of each wheel's rim-speed rate along the path, |m'_x -+ m'_theta b / 2| [m/s^2], >= 0;
+  /// 0 = none (each body channel is bounded on its own).
+  double max_acceleration_wheel = 0.0;
+  double wheel_separation = 0.5;  ///< b [m], > 0: the model's wheel separation (setWheelSeparation())
   double delay = 0.0;             ///< d_r [s], in [0, kMaxReferenceDelay] (reference_delay)
   double goal_limit = 1.0e3;      ///< largest accepted |element| of mu_d and mu_d' (runaway_limit), > 0
 };
@@ -36,9 +40,16 @@ struct ReferenceModelParams
  * generalized_goal) give the predicted goal mu_hat_d = mu_d + t_lead mu_d' (target(); t_lead per
  * channel: goal_lead for x_dot and y_dot, goal_lead_angular for theta_dot). With
  * T_r > 0 a first-order model m follows it,
- *   m' = clamp((mu_hat_d - m) / T_r, lo, hi),   (lo, hi) = accelerationBounds(),
- * integrated exactly with the target held over each step, m <- m + clamp((mu_hat_d - m)(1 - e^(-h/T_r)),
- * lo h, hi h), and delayed by d_r: mu_r(t) = m(t - d_r), mu_r' = m'(t - d_r), from a delay line
+ *   m' = clamp(W((mu_hat_d - m) / T_r, A_w), lo, hi),   (lo, hi) = accelerationBounds(),
+ * integrated exactly with the target held over each step, m <- m + clamp(W((mu_hat_d - m)(1 -
+ * e^(-h/T_r)), A_w h), lo h, hi h), and delayed by d_r. W(d, c) bounds a change d of the body's
+ * twist in the wheels' frame: each rim speed's change d_x -+ d_theta b / 2 is clamped to [-c, c]
+ * and the body's change recomputed from the two (d_y untouched; A_w = max_acceleration_wheel,
+ * W the identity when it is 0). A skid-steer's wheel loops saturate per wheel: a turn commanded
+ * with a forward start waits for the inner wheel, and the path waits with it instead of asking the
+ * action for a yaw rate the wheels cannot give yet (doc/active_inference.md, 'Set-point dynamics').
+ * The body bounds only shrink a channel toward 0, so |m'_x| + |m'_theta| b / 2 <= A_w still holds
+ * after them. Then the delay: mu_r(t) = m(t - d_r), mu_r' = m'(t - d_r), from a delay line
  * of kLine samples at least kMaxReferenceDelay / 800 apart (linear interpolation; a delay beyond
  * the line uses its oldest sample). The beliefs' attractor is then f(mu) = mu_r' + (mu_r - mu) / tau;
  * with T_r = 0 it is f(mu) = mu_d' + (mu_d - mu) / tau (attractorGoal(), attractorRate()).
@@ -59,6 +70,9 @@ public:
   void setParams(const ReferenceModelParams& params);
   /// The settings in use.
   const ReferenceModelParams& params() const { return params_; }
+  /// Set the wheel separation b [m] of the wheel bound (the model's, as it is learned); ignored
+  /// unless finite and > 0. Path and line kept.
+  void setWheelSeparation(double b);
   /// True with a reference model (time_constant > 0).
   bool enabled() const { return params_.time_constant > 0.0; }
 
@@ -114,6 +128,9 @@ public:
   int lineSize() const { return count_; }
 
 private:
+  /// W(d, bound): each rim speed's change d_x -+ d_theta b / 2 of the body change d [m/s or m/s^2]
+  /// clamped to [-bound, bound], d_x and d_theta recomputed; no change when max_acceleration_wheel is 0.
+  void clampWheels(Vector3* d, double bound) const;
   /// One delay-line sample: time [s], m, m'.
   struct Sample
   {

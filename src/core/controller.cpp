@@ -53,6 +53,8 @@ ReferenceModelParams referenceParams(const AicParams& params)
   rp.max_acceleration_linear = params.max_reference_acceleration_linear;
   rp.max_acceleration_angular = params.max_reference_acceleration_angular;
   rp.max_deceleration_linear = params.max_reference_deceleration_linear;
+  rp.max_acceleration_wheel = params.max_reference_acceleration_wheel;
+  rp.wheel_separation = params.wheel_separation;
   rp.delay = params.reference_delay;
   rp.goal_limit = params.runaway_limit;
   return rp;
@@ -143,6 +145,7 @@ void ActiveInferenceController::applyParams(const AicParams& params)
     model_.setWheelSeparation(learner_.separation());
   }
   reference_.setParams(referenceParams(params));  // zeroes the goal's rate unless generalized_goal
+  reference_.setWheelSeparation(model_.wheelSeparation());  // the learned b_hat when learning
   action_line_.setDelay(params.reference_delay);
   action_prior_ = ActionPrior(actionPriorParams(params));
   release_ = RestRelease(params.action_release_time);
@@ -164,6 +167,7 @@ void ActiveInferenceController::applyLearnedSeparation(bool force)
   if (force || std::abs(b - b_model) > kSeparationApplyTolerance * b_model)
   {
     model_.setWheelSeparation(b);
+    reference_.setWheelSeparation(b);
     rebuildDynamics();
   }
 }

@@ -140,6 +140,11 @@ std::vector<ParamSpec> buildControllerRows()
     { "max_reference_acceleration_angular", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "rad/s^2",
       "Reference model: the path's acceleration along theta_dot is clamped to this",
       true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(max_reference_acceleration_angular) },
+    { "max_reference_acceleration_wheel", T::kDouble, C, "active_inference", 0.0, false, kMaxGain, "m/s^2",
+      "Reference model: each wheel's rim-speed rate along the path, |m'_x -+ m'_theta b_hat / 2|, is clamped to "
+      "this before the body channels' bounds (the wheel loops saturate per wheel: a turn started with the "
+      "forward speed waits for the inner wheel); 0 = none",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(max_reference_acceleration_wheel) },
     { "max_reference_deceleration_linear", T::kDouble, C, "active_inference", 0.0, false, kMaxGain, "m/s^2",
       "Reference model: the path's deceleration along x_dot (slowing toward 0) is clamped to this: below the "
       "deceleration at which the robot with its payload tips over (g d / h; doc/usage.md, 'Payloads'); 0 = "

@@ -102,6 +102,7 @@ AicParams recommendedAicParams()
   p.reference_time_constant = 0.005;
   p.max_reference_acceleration_linear = 3.689;
   p.max_reference_acceleration_angular = 10.95;
+  p.max_reference_acceleration_wheel = 4.5;
   p.reference_delay = 0.085;
   p.action_prior_gain = 0.9715;
   p.action_prior_time_constant = 0.00834;

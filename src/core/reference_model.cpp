@@ -78,7 +78,30 @@ Vector3 ReferenceModel::rate() const
 {
   Vector3 lo, hi;
   accelerationBounds(&lo, &hi);
-  return ((target() - m_) / params_.time_constant).cwiseMax(lo).cwiseMin(hi);
+  Vector3 r = (target() - m_) / params_.time_constant;
+  clampWheels(&r, params_.max_acceleration_wheel);
+  return r.cwiseMax(lo).cwiseMin(hi);
+}
+
+void ReferenceModel::setWheelSeparation(double b)
+{
+  if (std::isfinite(b) && b > 0.0)
+  {
+    params_.wheel_separation = b;
+  }
+}
+
+void ReferenceModel::clampWheels(Vector3* d, double bound) const
+{
+  if (!(params_.max_acceleration_wheel > 0.0))
+  {
+    return;
+  }
+  const double half = 0.5 * params_.wheel_separation;
+  const double left = std::min(std::max((*d)(0) - (*d)(2) * half, -bound), bound);
+  const double right = std::min(std::max((*d)(0) + (*d)(2) * half, -bound), bound);
+  (*d)(0) = 0.5 * (left + right);
+  (*d)(2) = (right - left) / params_.wheel_separation;
 }
 
 bool ReferenceModel::start(const Vector3& m0)
@@ -109,7 +132,9 @@ void ReferenceModel::advance(double h)
   // other direction within the step: it stops at 0 there); m' the same, clamped.
   Vector3 lo, hi;
   accelerationBounds(&lo, &hi);
-  Vector3 change = ((target() - m_) * (1.0 - std::exp(-h / t_r))).cwiseMax(lo * h).cwiseMin(hi * h);
+  Vector3 change = (target() - m_) * (1.0 - std::exp(-h / t_r));
+  clampWheels(&change, params_.max_acceleration_wheel * h);
+  change = change.cwiseMax(lo * h).cwiseMin(hi * h);
   for (int i = 0; i < 2; ++i)
   {
     if (params_.max_deceleration_linear > 0.0 && m_(i) != 0.0 && (m_(i) + change(i)) * m_(i) < 0.0)

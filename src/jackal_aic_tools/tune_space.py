@@ -38,6 +38,7 @@ DRIVING_SPACE = {
     "reference_time_constant": (0.005, 0.3, True),  # s
     "max_reference_acceleration_linear": (1.0, 20.0, True),   # m/s^2
     "max_reference_acceleration_angular": (2.0, 60.0, True),  # rad/s^2
+    "max_reference_acceleration_wheel": (2.0, 20.0, True),  # m/s^2
     "reference_delay": (0.0, 0.25, False),          # s
     "action_prior_time_constant": (0.0, 0.3, False),  # s
     "goal_lead": (0.0, 0.3, False),         # s

@@ -130,6 +130,52 @@ TEST(ReferenceModel, TheAccelerationLimitBoundsThePathsSlope)
   EXPECT_EQ(r.rate(), Vector3(2.0, 0.0, -4.0));
 }
 
+TEST(ReferenceModel, TheWheelBoundMakesATurnWaitForTheInnerWheel)
+{
+  // Goal 0.5 m/s + 0.5 rad/s with b = 0.5 m: rim speeds 0.375 (inner) and 0.625 m/s (outer).
+  ReferenceModelParams p = referenceOn(0.005, 0.0);
+  p.max_acceleration_linear = 100.0;  // the body bounds out of the way
+  p.max_acceleration_angular = 100.0;
+  p.max_acceleration_wheel = 2.0;
+  p.wheel_separation = 0.5;
+  ReferenceModel r(p);
+  ReferenceModel free(referenceOn(0.005, 0.0));
+  const Vector3 goal(0.5, 0.0, 0.5);
+  ASSERT_TRUE(r.setGoal(goal));
+  ASSERT_TRUE(free.setGoal(goal));
+  const double h = 0.001;
+  auto rims = [](const Vector3& v) { return Vector2(v(0) - 0.25 * v(2), v(0) + 0.25 * v(2)); };
+  for (int k = 1; k <= 600; ++k)
+  {
+    const Vector2 before = rims(r.path());
+    r.advance(h);
+    free.advance(h);
+    EXPECT_LE((rims(r.path()) - before).cwiseAbs().maxCoeff(), 2.0 * h + 1e-12) << "step " << k;
+    EXPECT_LE(rims(r.rate()).cwiseAbs().maxCoeff(), 2.0 + 1e-9) << "step " << k;
+    if (k == 150)
+    {
+      // Both wheels ramp at 2 m/s^2 while the inner one is short of its speed: no turn yet.
+      EXPECT_NEAR(r.path()(0), 0.3, 1e-12);
+      EXPECT_NEAR(r.path()(2), 0.0, 1e-12);
+      EXPECT_NEAR(free.path()(2), 0.5, 1e-9) << "without the bound the turn starts with the speed";
+    }
+    if (k == 250)
+    {
+      // The inner wheel holds 0.375 m/s; the outer one goes on: the yaw rate rises.
+      EXPECT_NEAR(rims(r.path())(0), 0.375, 1e-3);
+      EXPECT_GT(r.path()(2), 0.2);
+      EXPECT_LT(r.path()(2), goal(2));
+    }
+  }
+  EXPECT_TRUE(r.path().isApprox(goal, 1e-9)) << r.path().transpose();
+  // The learned separation moves the rim speeds' frame; a non-finite or non-positive one is ignored.
+  r.setWheelSeparation(0.6);
+  EXPECT_EQ(r.params().wheel_separation, 0.6);
+  r.setWheelSeparation(kNaN);
+  r.setWheelSeparation(0.0);
+  EXPECT_EQ(r.params().wheel_separation, 0.6);
+}
+
 TEST(ReferenceModel, TheDecelerationLimitBoundsOnlyTheSlowingOfTheLinearPath)
 {
   ReferenceModelParams p = referenceOn(0.001, 0.0);

@@ -231,8 +231,10 @@ TEST(ControllerUnbiased, LearningFrozenWhileASensorIsIsolatedAndResettable)
   EXPECT_GT(c.separationLearner().separation(), p.wheel_separation);
   EXPECT_TRUE(c.setLearnedSeparation(0.7));
   EXPECT_DOUBLE_EQ(c.model().wheelSeparation(), 0.7);
+  EXPECT_DOUBLE_EQ(c.referenceModel().params().wheel_separation, 0.7) << "the path's wheel bound uses b_hat";
   c.resetLearning();
   EXPECT_DOUBLE_EQ(c.model().wheelSeparation(), p.wheel_separation);
+  EXPECT_DOUBLE_EQ(c.referenceModel().params().wheel_separation, p.wheel_separation);
   // Learning off: b_hat never moves.
   p.learn_wheel_separation = false;
   ActiveInferenceController d{ p };

@@ -101,6 +101,7 @@ TEST(Params, SetPointDynamicsAndActionPrior)
     { "goal_lead", &AicParams::goal_lead, { -0.01, 1.5, kNaN, kInf }, 0.0 },
     { "goal_lead_angular", &AicParams::goal_lead_angular, { -0.01, 1.5, kNaN, kInf }, 0.0 },
     { "reference_time_constant", &AicParams::reference_time_constant, { -0.01, 11.0, kNaN, kInf }, 0.0 },
+    { "max_reference_acceleration_wheel", &AicParams::max_reference_acceleration_wheel, { -0.1, 2.0e6, kNaN, kInf }, 0.0 },
     { "reference_delay", &AicParams::reference_delay, { -0.01, jackal_aic::kMaxReferenceDelay * 1.01, kNaN }, 0.1 },
     { "action_prior_gain", &AicParams::action_prior_gain, { -0.1, 2.5, kNaN, kInf }, 1.0 },
     { "action_prior_time_constant", &AicParams::action_prior_time_constant, { -0.1, 11.0, kNaN }, 0.2 },
