@@ -200,8 +200,14 @@ public:
    */
   bool setLearnedSeparation(double b) { return pipeline_.controller().setLearnedSeparation(b); }
   /// Forget what the controller learned (ActiveInferenceController::resetLearning()): b_hat back
-  /// to wheel_separation.
-  void resetLearning() { pipeline_.controller().resetLearning(); }
+  /// to wheel_separation, and the gyro's offset beta_hat back to 0 (it learns again at the next rest).
+  void resetLearning()
+  {
+    pipeline_.controller().resetLearning();
+    pipeline_.resetGyroBias();
+  }
+  /// The gyro's offset estimator (beta_hat [rad/s], learned with learn_gyro_bias).
+  const GyroBiasEstimator& gyroBias() const { return pipeline_.gyroBias(); }
 
   // ---- state
   /// The parameters in force.

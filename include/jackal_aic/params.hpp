@@ -261,6 +261,23 @@ struct AicParams
   double precision_time_constant = 1.0;
   /// The precisions are frozen while both |omega_L|, |omega_R| are below this [rad/s], >= 0, <= 100.
   double precision_min_wheel_speed = 0.5;
+  /**
+   * Learning of the gyro's offset beta_hat at standstill (not in the thesis): false = the gyro is
+   * used as it reads. true = beta_hat is the mean of the gyro's readings while the wheels and their
+   * commands stand still, subtracted from every gyro sample (GyroBiasEstimator);
+   * doc/active_inference.md, 'Learning the gyro's offset'.
+   */
+  bool learn_gyro_bias = false;
+  /// |beta_hat| bound, and the largest |y_gyro| at rest taken as an offset [rad/s], > 0, <= 1.
+  double gyro_bias_max = 0.1;
+  /// At rest: both wheels' and both commands' |speed| below this [rad/s], > 0, <= 10.
+  double gyro_bias_rest_speed = 0.05;
+  /// beta_hat learns from this long after a rest began [s], >= 0, <= 10.
+  double gyro_bias_rest_time = 0.5;
+  /// Forgetting time constant T_beta once the first rest is averaged [s], > 0, <= 1e5.
+  double gyro_bias_time_constant = 30.0;
+  /// beta_hat is removed from the gyro once this much rest has been learned from [s], >= 0, <= 600.
+  double gyro_bias_min_rest = 5.0;
 
   /// Number of generalized orders, p + 1.
   int numOrders() const { return embedding_order + 1; }

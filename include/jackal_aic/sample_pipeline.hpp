@@ -11,18 +11,20 @@
 #include "jackal_aic/controller.hpp"
 #include "jackal_aic/fault_monitor.hpp"
 #include "jackal_aic/generalizer.hpp"
+#include "jackal_aic/gyro_bias_estimator.hpp"
 #include "jackal_aic/params.hpp"
 #include "jackal_aic/types.hpp"
 
 namespace jackal_aic
 {
 /**
- * \brief Owns the controller, the generalizer and the fault monitor of the jackal_AIC node and
- *        carries a sample through them in the node's order. Not thread-safe: the node calls it
+ * \brief Owns the controller, the generalizer, the fault monitor and the gyro's offset estimator
+ *        of the jackal_AIC node and carries a sample through them in the node's order. Not thread-safe: the node calls it
  *        under its lock. No allocation on the per-sample path.
  *
- * Per sample: generalize() (always: the history must stay continuous while the node waits),
- * then, only while the node runs, measure() (the controller's y_tilde, then the FDI test;
+ * Per sample: generalize() (always: the history must stay continuous while the node waits;
+ * with learn_gyro_bias the learned offset beta_hat is subtracted from the gyro first), then, only
+ * while the node runs, measure() (which also lets the offset estimator learn from the sample) (the controller's y_tilde, then the FDI test;
  * doc/active_inference.md, 'Fault detection and isolation', after Baioumy et al., ECC 2021).
  */
 class SamplePipeline
@@ -38,8 +40,8 @@ public:
   /**
    * \brief Generalize one sample (thesis eqs. 3-17 ... 3-22).
    * \param y        (gyro z, omega_L, omega_R, accel x, accel y) [rad/s, rad/s, rad/s, m/s^2, m/s^2];
-   *                 modified: without the IMU (imu_ok false) the gyro slot gets the wheels' yaw
-   *                 rate (r alpha / b_hat)(omega_R - omega_L), so its generalized orders stay
+   *                 modified: with learn_gyro_bias the gyro slot is y_gyro - beta_hat; without the
+   *                 IMU (imu_ok false) it gets the wheels' yaw rate (r alpha / b_hat)(omega_R - omega_L), so its generalized orders stay
    *                 smooth for when the IMU returns (the channel itself is masked, Pi_y = 0)
    * \param h        interval since the previous sample [s] (ignored on a first sample)
    * \param imu_ok   the sample has a paired IMU message
@@ -62,7 +64,9 @@ public:
    * \brief Give the controller the newest generalized measurement, then run the FDI test on
    *        the sample (y as generalize() left it, its interval h [s], imu_ok) against the
    *        belief mu^(0) and set the controller's channel mask (Pi_y = 0 for isolated or
-   *        missing channels), so a channel isolated now is out of the next action step.
+   *        missing channels), so a channel isolated now is out of the next action step. With
+   *        learn_gyro_bias the offset estimator then takes the sample's raw gyro reading, the wheels
+   *        and the controller's action (it learns only at standstill with a healthy gyro).
    */
   Measurement measure(const Vector5& y, double h, bool imu_ok);
 
@@ -91,6 +95,10 @@ public:
   FaultMonitor& faultMonitor() { return *fault_monitor_; }
   /// \copydoc faultMonitor()
   const FaultMonitor& faultMonitor() const { return *fault_monitor_; }
+  /// The gyro's offset estimator (beta_hat [rad/s]; learns with learn_gyro_bias).
+  const GyroBiasEstimator& gyroBias() const { return gyro_bias_; }
+  /// Forget the learned gyro offset (beta_hat = 0).
+  void resetGyroBias() { gyro_bias_.reset(); }
   /// The generalizer: y_tilde, 5 x (p+1), of the newest accepted sample.
   const Generalizer& generalizer() const { return *generalizer_; }
 
@@ -98,5 +106,7 @@ private:
   std::unique_ptr<ActiveInferenceController> controller_;
   std::unique_ptr<Generalizer> generalizer_;
   std::unique_ptr<FaultMonitor> fault_monitor_;
+  GyroBiasEstimator gyro_bias_;
+  double raw_gyro_ = 0.0;  ///< the gyro's reading of the newest generalized sample, offset not removed [rad/s]
 };
 }  // namespace jackal_aic

@@ -208,6 +208,27 @@ std::vector<ParamSpec> buildControllerRows()
     { "precision_min_wheel_speed", T::kDouble, C, "active_inference", 0.0, false, 100.0, "rad/s",
       "The precisions are frozen while both wheels' |speed| is below this (near rest)",
       true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(precision_min_wheel_speed) },
+    { "learn_gyro_bias", T::kBool, C, "active_inference", kNone, false, kNone, "-",
+      "If true, the gyro's offset beta_hat is learned while the wheels and their commands stand still and "
+      "subtracted from every gyro sample (frozen while moving and while the gyro is flagged); false: none",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(learn_gyro_bias) },
+    { "gyro_bias_max", T::kDouble, C, "active_inference", 0.0, true, 1.0, "rad/s",
+      "Bound of the learned gyro offset |beta_hat|; a larger |reading| at rest is not learned from (the robot "
+      "is turned by hand, or a fault)",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(gyro_bias_max) },
+    { "gyro_bias_rest_speed", T::kDouble, C, "active_inference", 0.0, true, 10.0, "rad/s",
+      "At rest for the gyro offset: both wheels' and both wheel commands' |speed| below this",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(gyro_bias_rest_speed) },
+    { "gyro_bias_rest_time", T::kDouble, C, "active_inference", 0.0, false, 10.0, "s",
+      "The gyro offset learns from this long after a rest began (the body's yaw settles)",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(gyro_bias_rest_time) },
+    { "gyro_bias_time_constant", T::kDouble, C, "active_inference", 0.0, true, 1.0e5, "s",
+      "Time constant T_beta with which the gyro offset follows a drift once the first rest is averaged",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(gyro_bias_time_constant) },
+    { "gyro_bias_min_rest", T::kDouble, C, "active_inference", 0.0, false, 600.0, "s",
+      "The learned gyro offset is removed from the gyro once this much rest has been learned from (the "
+      "average of a shorter rest is mostly noise); before that, none",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(gyro_bias_min_rest) },
     // ---- robot (Clearpath Jackal; doc/jackal.md)
     { "wheel_radius", T::kDouble, C, "robot", kMinLength, false, kMaxLength, "m",
       "Wheel radius r (thesis eq. 3-1 to 3-4)",

@@ -107,6 +107,7 @@ AicParams recommendedAicParams()
   p.action_prior_gain = 0.9715;
   p.action_prior_time_constant = 0.00834;
   p.learn_wheel_separation = true;  // b_hat learned from the gyro-encoder disagreement
+  p.learn_gyro_bias = true;         // the gyro's offset learned at standstill
   return p;
 }
 

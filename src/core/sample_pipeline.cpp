@@ -28,11 +28,30 @@ void requireValid(const AicParams& aic, const FdiParams& fdi)
     throw std::invalid_argument("invalid parameters: " + message);
   }
 }
-}  // namespace
 
-SamplePipeline::SamplePipeline(const AicParams& aic, const FdiParams& fdi)
+/// The offset estimator's settings from the controller's keys gyro_bias_*.
+GyroBiasEstimatorParams gyroBiasParams(const AicParams& aic)
+{
+  GyroBiasEstimatorParams p;
+  p.max_bias = aic.gyro_bias_max;
+  p.rest_speed = aic.gyro_bias_rest_speed;
+  p.rest_time = aic.gyro_bias_rest_time;
+  p.time_constant = aic.gyro_bias_time_constant;
+  p.min_rest = aic.gyro_bias_min_rest;
+  return p;
+}
+
+/// gyroBiasParams(aic) after requireValid(aic, fdi): the pipeline's first member to need the
+/// settings reports every violation of both sets, not only the estimator's.
+GyroBiasEstimatorParams validGyroBiasParams(const AicParams& aic, const FdiParams& fdi)
 {
   requireValid(aic, fdi);
+  return gyroBiasParams(aic);
+}
+}  // namespace
+
+SamplePipeline::SamplePipeline(const AicParams& aic, const FdiParams& fdi) : gyro_bias_(validGyroBiasParams(aic, fdi))
+{
   controller_ = std::make_unique<ActiveInferenceController>(aic);
   generalizer_ = std::make_unique<Generalizer>(kYDim, aic.embedding_order);
   fault_monitor_ = std::make_unique<FaultMonitor>(fdi, aic);
@@ -40,6 +59,11 @@ SamplePipeline::SamplePipeline(const AicParams& aic, const FdiParams& fdi)
 
 Generalizer::Status SamplePipeline::generalize(Vector5* y, double h, bool imu_ok, bool restart, bool* restarted)
 {
+  raw_gyro_ = (*y)(kGyroZ);
+  if (imu_ok && controller_->params().learn_gyro_bias)
+  {
+    (*y)(kGyroZ) -= gyro_bias_.offset();  // the generative model's sensor row y_gyro = theta_dot + beta
+  }
   if (!imu_ok)
   {
     // Degraded mode: the gyro channel is masked; the wheels' yaw rate keeps its history smooth.
@@ -73,6 +97,13 @@ SamplePipeline::Measurement SamplePipeline::measure(const Vector5& y, double h, 
   const int isolated_before = fault_monitor_->isolatedChannel();
   m.event = fault_monitor_->update(y, controller_->mu().col(0), h);
   controller_->setSensorMask(fault_monitor_->sensorMask());
+  if (controller_->params().learn_gyro_bias)
+  {
+    const bool gyro_ok = imu_ok && (fault_monitor_->sensorMask() & (1u << kGyroZ)) != 0 &&
+                         !fault_monitor_->faultPresent();
+    const Vector2& a = controller_->action();
+    gyro_bias_.update(h, raw_gyro_, y(kOmegaLeft), y(kOmegaRight), a(0), a(1), gyro_ok);
+  }
   if (m.event != FaultMonitor::Event::kNone)
   {
     m.event_channel =
@@ -103,6 +134,11 @@ bool SamplePipeline::setParams(const AicParams& aic, const FdiParams& fdi)
 {
   requireValid(aic, fdi);
   controller_->setParams(aic);
+  gyro_bias_.setParams(gyroBiasParams(aic));
+  if (!aic.learn_gyro_bias)
+  {
+    gyro_bias_.reset();  // off: the gyro is used as it reads, and a later start learns afresh
+  }
   fault_monitor_->setParams(fdi, aic);
   if (aic.embedding_order == generalizer_->embeddingOrder())
   {

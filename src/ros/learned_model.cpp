@@ -135,6 +135,10 @@ bool LearnedModelService::reset(std::string* message)
   std::ostringstream text;
   text << "learned wheel separation " << before << " m forgotten; b_hat "
        << loop_.controller().separationLearner().separation() << " m (wheel_separation)";
+  if (loop_.controller().params().learn_gyro_bias)
+  {
+    text << "; gyro offset back to 0 (learned again at the next standstill)";
+  }
   *message = text.str();
   ROS_INFO_STREAM("jackal_AIC: ~reset_learned_model: " << *message);
   return true;

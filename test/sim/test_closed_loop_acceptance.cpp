@@ -491,6 +491,48 @@ TEST(SensorFaults, GyroBiasInATurnDoesNotTeachTheModel)
   }
 }
 
+TEST(SensorFaults, GyroOffsetFromPowerOnIsLearnedAtRest)
+{
+  // A MEMS gyro's offset at power-on (0.03 rad/s, below the fault monitor's threshold: not a fault
+  // it isolates) through the whole run; 6 s at rest (gyro_bias_min_rest after the settling time),
+  // then 10 s of (0.5 m/s, +-0.5 rad/s) arc. The
+  // offset is learned at rest (learn_gyro_bias) and removed, so the separation learner does not
+  // fold it into b_hat: the arc's true yaw rate and the learned b_hat stay those of a run without
+  // it. With learn_gyro_bias off, b_hat absorbs the offset and the arc is 6 % off, of opposite sign
+  // left and right.
+  const double offset = 0.03;
+  for (const double turn : { 0.5, -0.5 })
+  {
+    SCOPED_TRACE(turn);
+    const std::vector<SetPointSegment> arc = { { 0.0, 0.0, 0.0 }, { 6.0, 0.5, turn } };
+    const ClosedLoopRecord clean = run(aic(config("default"), arc, 16.0));
+    ClosedLoopConfig c = aic(config("default"), arc, 16.0);
+    c.faults = { fault("gyro bias " + fixed(offset, 2) + " 0") };
+    const ClosedLoopRecord r = run(c);
+    expectBounded(r);
+    EXPECT_EQ(firstIsolation(r, 0.0), nullptr) << "an offset below the threshold is no isolated fault";
+    const double yaw = meanOver(r, r.yaw_true, 13.0, 16.0);
+    const double yaw_error = std::abs(yaw / turn - 1.0);
+    EXPECT_LT(yaw_error, 0.015);  // the arcs' bound of doc/active_inference.md
+    const double b = r.separation.back();
+    const double b_error = std::abs(b / clean.separation.back() - 1.0);
+    EXPECT_LT(b_error, kFaultSeparationMove);
+
+    c.aic.learn_gyro_bias = false;
+    const ClosedLoopRecord off = run(c);
+    const double yaw_off = meanOver(off, off.yaw_true, 13.0, 16.0);
+    EXPECT_GT(std::abs(yaw_off / turn - 1.0), 0.04) << "without learning the offset the arc should be off";
+    results().push_back({ std::string("gyro offset from power-on, 6 s at rest, then a (0.5 m/s, ") + fixed(turn, 1) +
+                              " rad/s) arc",
+                          "`gyro bias " + fixed(offset, 2) + " 0`", isolationText(r, 0.0, 0.0),
+                          "yaw rate error " + fixed(100.0 * yaw_error, 2) + " % (bound 1.5 %); learned b_hat " +
+                              fixed(100.0 * b_error, 2) + " % from the run without the offset (bound 2 %); with "
+                              "`learn_gyro_bias: false` " + fixed(100.0 * std::abs(yaw_off / turn - 1.0), 2) +
+                              " % and " + fixed(100.0 * std::abs(off.separation.back() / clean.separation.back() - 1.0), 2) +
+                              " %" });
+  }
+}
+
 TEST(SensorFaults, ImuLossDegradesToTheEncoders)
 {
   // A healthy 0.5 m/s step at 1 s, back to rest at 4 s, the same step at 6.5 s with the IMU

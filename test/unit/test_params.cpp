@@ -106,6 +106,11 @@ TEST(Params, SetPointDynamicsAndActionPrior)
     { "action_prior_gain", &AicParams::action_prior_gain, { -0.1, 2.5, kNaN, kInf }, 1.0 },
     { "action_prior_time_constant", &AicParams::action_prior_time_constant, { -0.1, 11.0, kNaN }, 0.2 },
     { "action_release_time", &AicParams::action_release_time, { -0.1, 10.5, kNaN, kInf }, 0.5 },
+    { "gyro_bias_max", &AicParams::gyro_bias_max, { 0.0, -0.1, 1.5, kNaN, kInf }, 0.05 },
+    { "gyro_bias_rest_speed", &AicParams::gyro_bias_rest_speed, { 0.0, -0.1, 10.5, kNaN, kInf }, 0.1 },
+    { "gyro_bias_rest_time", &AicParams::gyro_bias_rest_time, { -0.1, 10.5, kNaN, kInf }, 0.0 },
+    { "gyro_bias_time_constant", &AicParams::gyro_bias_time_constant, { 0.0, -1.0, 2.0e5, kNaN, kInf }, 5.0 },
+    { "gyro_bias_min_rest", &AicParams::gyro_bias_min_rest, { -0.1, 601.0, kNaN, kInf }, 0.0 },
   };
   for (const Case& c : cases)
   {

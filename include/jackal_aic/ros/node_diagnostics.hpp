@@ -52,6 +52,8 @@ struct ControllerReport
   double wheel_separation = 0.0;        ///< b_hat the generative model uses [m] (learned if learn_wheel_separation)
   std::string separation_learning = "off";  ///< the learner's state (learning, near rest, transient, ...) or "off"
   std::uint64_t separation_learning_steps = 0;  ///< learning steps taken
+  double gyro_bias = 0.0;               ///< the gyro's learned offset beta_hat [rad/s] (0 without learn_gyro_bias)
+  std::string gyro_bias_learning = "off";  ///< the offset estimator's state (learning, moving, settling, ...) or "off"
   std::string precision_learning = "off";  ///< the precision learner's state (learning, near rest, ...) or "off"
   /// The sensory precisions Pi_y^(0) in use, "gyro_z <Pi>, omega_left <Pi>, omega_right <Pi>"
   /// [1/(rad/s)^2] (learned if learn_precision).
