@@ -533,6 +533,45 @@ TEST(SensorFaults, GyroOffsetFromPowerOnIsLearnedAtRest)
   }
 }
 
+TEST(SensorFaults, GyroFaultsAtRestDoNotTeachTheOffset)
+{
+  // The robot stands 12 s with a 0.03 rad/s gyro offset from power-on: the offset is learned and
+  // removed from 5.5 s on. At 7 s a gyro fault strikes while it still stands: a 0.5 rad/s bias
+  // for 3 s (above the fault monitor's threshold: isolated), or 1 s of 3 rad/s spikes every
+  // 0.1 s (single samples: not isolated). Neither is an offset (|reading| > gyro_bias_max, or the
+  // fault statistic above its threshold), so beta_hat stays where it was and the arc driven
+  // afterwards, (0.5 m/s, 0.5 rad/s) from 12 s, keeps its yaw rate.
+  const double offset = 0.03;
+  const std::vector<SetPointSegment> profile = { { 0.0, 0.0, 0.0 }, { 12.0, 0.5, 0.5 } };
+  struct Case
+  {
+    const char* name;
+    std::string fault;
+    bool isolated;
+  };
+  for (const Case& k : { Case{ "0.5 rad/s gyro bias", "gyro bias 0.5 7 3", true },
+                         Case{ "gyro spikes (3 rad/s every 0.1 s)", "gyro spikes 3 7 1 0.1", false } })
+  {
+    SCOPED_TRACE(k.name);
+    ClosedLoopConfig c = aic(config("default"), profile, 20.0);
+    c.faults = { fault("gyro bias " + fixed(offset, 2) + " 0"), fault(k.fault) };
+    const ClosedLoopRecord r = run(c);
+    expectBounded(r);
+    const double before = meanOver(r, r.gyro_offset, 6.8, 6.98);
+    EXPECT_NEAR(before, offset, 0.003) << "the offset was not learned in the 7 s at rest";
+    const double moved = maxDeviation(r, r.gyro_offset, before, 7.0, 12.0);
+    EXPECT_LT(moved, 0.001);
+    EXPECT_EQ(firstIsolation(r, 7.0) != nullptr, k.isolated);
+    const double yaw_error = std::abs(meanOver(r, r.yaw_true, 17.0, 20.0) / 0.5 - 1.0);
+    EXPECT_LT(yaw_error, 0.015);
+    results().push_back({ std::string(k.name) + " while standing, 7 s after power-on (0.03 rad/s offset learned); an arc from 12 s",
+                          "`gyro bias 0.03 0`, `" + k.fault + "`", isolationText(r, 7.0, 7.0),
+                          "learned gyro offset " + fixed(before, 4) + " rad/s, moved " + fixed(moved, 4) +
+                              " rad/s during the fault (bound 0.001); the arc's yaw rate error " +
+                              fixed(100.0 * yaw_error, 2) + " % (bound 1.5 %)" });
+  }
+}
+
 TEST(SensorFaults, ImuLossDegradesToTheEncoders)
 {
   // A healthy 0.5 m/s step at 1 s, back to rest at 4 s, the same step at 6.5 s with the IMU

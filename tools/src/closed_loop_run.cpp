@@ -370,7 +370,7 @@ int main(int argc, char** argv)
   {
     std::ofstream f(csv);
     f << "t,set_point,v_odom,v_true,yaw_odom,yaw_true,command,belief,angular_set_point,command_yaw,belief_yaw,"
-         "x,y,heading,x_ideal,y_ideal,heading_ideal,separation\n";
+         "x,y,heading,x_ideal,y_ideal,heading_ideal,separation,gyro_offset\n";
     std::size_t ideal = 0;  // next analysed sample of the path drift
     for (std::size_t k = 0; k < rec.time.size(); ++k)
     {
@@ -390,7 +390,8 @@ int main(int argc, char** argv)
       {
         f << ",,,";
       }
-      f << "," << (std::isfinite(rec.separation[k]) ? jsonNumber(rec.separation[k]) : "") << "\n";
+      f << "," << (std::isfinite(rec.separation[k]) ? jsonNumber(rec.separation[k]) : "") << ","
+        << (std::isfinite(rec.gyro_offset[k]) ? jsonNumber(rec.gyro_offset[k]) : "") << "\n";
     }
     if (!f)
     {

@@ -191,6 +191,9 @@ struct ClosedLoopRecord
   /// AIC: the generative model's wheel separation b_hat [m] (learned with learn_wheel_separation;
   /// NaN for the others and before the controller starts).
   std::vector<double> separation;
+  /// AIC: the gyro offset removed from the gyro [rad/s] (GyroBiasEstimator::offset(), learned at
+  /// standstill with learn_gyro_bias; 0 until enough rest is learned; NaN for the others).
+  std::vector<double> gyro_offset;
   std::vector<double> x_true;       ///< ground-truth position x of base_link in the world [m]
   std::vector<double> y_true;       ///< ground-truth position y of base_link in the world [m]
   std::vector<double> heading_true; ///< ground-truth yaw of base_link in the world [rad], wrapped to (-pi, pi]
