@@ -192,6 +192,10 @@ def run(exp):
         # the generative model's b_hat [m] over the run (learned with learn_wheel_separation)
         result["wheel_separation"] = {"first": sep[0, 1], "last": sep[-1, 1],
                                       "min": float(sep[:, 1].min()), "max": float(sep[:, 1].max())}
+    beta = arr["gyro_offset"]
+    if beta.size:
+        # the gyro offset beta_hat [rad/s] the node removed over the run (learned with learn_gyro_bias)
+        result["gyro_offset"] = {"first": beta[0, 1], "last": beta[-1, 1]}
     if t0 is not None:
         segs = recording.actual_segments(exp.profile, arr["setpoint"], t0)
         result["segments"] = analyse(arr, segs, t0, wheel_radius, wheel_sep)
@@ -247,6 +251,7 @@ def drive_profile(profile, rec, controller="aic", settle=1.0, ready_timeout=60.0
     if controller == "aic":
         from std_msgs.msg import Float64
         subs.append(rospy.Subscriber("/jackal_AIC/wheel_separation", Float64, rec.on_separation, queue_size=50))
+        subs.append(rospy.Subscriber("/jackal_AIC/gyro_offset", Float64, rec.on_gyro_offset, queue_size=50))
     pub = rospy.Publisher("/jackal_AIC/set_point", Twist, queue_size=10)
     period = 1.0 / rate
 

@@ -21,7 +21,7 @@ from . import profiles
 
 STREAMS = ("setpoint", "odom", "belief", "drive")
 #: Columns of each stream's array (the stamp first).
-WIDTH = dict({s: 3 for s in STREAMS}, pose=4, wheels=3, separation=2)
+WIDTH = dict({s: 3 for s in STREAMS}, pose=4, wheels=3, separation=2, gyro_offset=2)
 
 
 class Recorder(object):
@@ -69,15 +69,24 @@ class Recorder(object):
         st, now = self._stamp(msg)
         self._add("belief", st, msg.twist.linear.x, msg.twist.angular.z, "/jackal_AIC/belief", msg, now)
 
-    def on_separation(self, msg):
-        """The generative model's wheel separation b_hat [m] (std_msgs/Float64 on
-        /jackal_AIC/wheel_separation; learned with learn_wheel_separation), at receipt time."""
+    def _scalar(self, stream, topic, msg):
+        """Append the std_msgs/Float64 ``msg`` of ``topic`` to ``stream`` at receipt time."""
         import rospy
         now = rospy.Time.now()
         with self.lock:
-            self.data["separation"].append((now.to_sec(), float(msg.data)))
+            self.data[stream].append((now.to_sec(), float(msg.data)))
             if self.bag is not None:
-                self.bag.write("/jackal_AIC/wheel_separation", msg, now)
+                self.bag.write(topic, msg, now)
+
+    def on_separation(self, msg):
+        """The generative model's wheel separation b_hat [m] (std_msgs/Float64 on
+        /jackal_AIC/wheel_separation; learned with learn_wheel_separation), at receipt time."""
+        self._scalar("separation", "/jackal_AIC/wheel_separation", msg)
+
+    def on_gyro_offset(self, msg):
+        """The gyro offset beta_hat the node removes from the gyro [rad/s] (std_msgs/Float64 on
+        /jackal_AIC/gyro_offset; learned at standstill with learn_gyro_bias), at receipt time."""
+        self._scalar("gyro_offset", "/jackal_AIC/gyro_offset", msg)
 
     def on_drive(self, msg):
         import rospy

@@ -146,7 +146,7 @@ bool AicNode::init()
       return false;  // no belief step since the last publication (not running, or belief_rate < debug_rate)
     }
     published_steps_ = loop_->beliefSteps();
-    outputs_->capture(loop_->controller(), clock_.time(loop_->beliefTime()), snapshot);
+    outputs_->capture(loop_->controller(), loop_->gyroBias().offset(), clock_.time(loop_->beliefTime()), snapshot);
     return true;
   });
   std::string schedule = "each event (belief_schedule event; messages on the network thread)";

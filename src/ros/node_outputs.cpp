@@ -62,6 +62,7 @@ NodeOutputs::NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, const std::s
   eps_y_pub_ = pnh.advertise<std_msgs::Float64MultiArray>("eps_y", 10, changed, changed);
   eps_mu_pub_ = pnh.advertise<std_msgs::Float64MultiArray>("eps_mu", 10, changed, changed);
   wheel_separation_pub_ = pnh.advertise<std_msgs::Float64>("wheel_separation", 10, changed, changed);
+  gyro_offset_pub_ = pnh.advertise<std_msgs::Float64>("gyro_offset", 10, changed, changed);
 }
 
 void NodeOutputs::startDebug(ros::NodeHandle& nh, Capture capture)
@@ -99,7 +100,8 @@ void NodeOutputs::debugSubscribersChanged()
 bool NodeOutputs::debugWanted() const
 {
   return belief_pub_.getNumSubscribers() + free_energy_pub_.getNumSubscribers() + eps_y_pub_.getNumSubscribers() +
-             eps_mu_pub_.getNumSubscribers() + wheel_separation_pub_.getNumSubscribers() >
+             eps_mu_pub_.getNumSubscribers() + wheel_separation_pub_.getNumSubscribers() +
+             gyro_offset_pub_.getNumSubscribers() >
          0;
 }
 
@@ -155,9 +157,10 @@ void NodeOutputs::belief(const ros::Time& stamp, const MuTilde& mu)
   belief_pub_.publish(belief);
 }
 
-void NodeOutputs::capture(const ActiveInferenceController& controller, const ros::Time& stamp,
+void NodeOutputs::capture(const ActiveInferenceController& controller, double gyro_offset, const ros::Time& stamp,
                           DebugSnapshot* snapshot) const
 {
+  snapshot->gyro_offset = gyro_offset;
   snapshot->stamp = stamp;
   snapshot->mu = controller.mu();
   snapshot->free_energy = controller.hasMeasurement() ? controller.freeEnergy() : 0.0;
@@ -204,6 +207,12 @@ void NodeOutputs::debug(const DebugSnapshot& snapshot)
     std_msgs::Float64 b;
     b.data = snapshot.wheel_separation;
     wheel_separation_pub_.publish(b);
+  }
+  if (gyro_offset_pub_.getNumSubscribers() > 0)
+  {
+    std_msgs::Float64 g;
+    g.data = snapshot.gyro_offset;
+    gyro_offset_pub_.publish(g);
   }
   // eps_y, eps_mu: captured only for a subscriber, never published non-finite.
   auto publishErrors = [this](const ros::Publisher& pub, const auto& errors) {

@@ -8,8 +8,11 @@ time (node_learned_model.test; doc/jackal_aic_node.md, 'Learned model').
 3. At rest (learning frozen) ~save_learned_model answers success and the file it names holds
    `wheel_separation:` equal to the published b_hat (within the model's 1e-3 relative apply
    tolerance), as YAML.
-4. ~reset_learned_model answers success and ~wheel_separation reads ~start_separation again.
+4. ~reset_learned_model answers success, ~wheel_separation reads ~start_separation again and
+   ~gyro_offset (the gyro offset learned at standstill, published finite and within
+   gyro_bias_max) reads 0.
 """
+import math
 import os
 import re
 import sys
@@ -30,7 +33,9 @@ class LearnedModelTest(unittest.TestCase):
     def setUp(self):
         self.lock = threading.Lock()
         self.b_hat = None
+        self.beta = None
         rospy.Subscriber("/jackal_AIC/wheel_separation", Float64, self.on_b, queue_size=10)
+        rospy.Subscriber("/jackal_AIC/gyro_offset", Float64, self.on_beta, queue_size=10)
         self.pub = rospy.Publisher("/jackal_AIC/set_point", Twist, queue_size=10)
         self.twist = Twist()
         rospy.Timer(rospy.Duration(0.02), lambda _: self.pub.publish(self.twist))
@@ -42,6 +47,14 @@ class LearnedModelTest(unittest.TestCase):
     def b(self):
         with self.lock:
             return self.b_hat
+
+    def on_beta(self, msg):
+        with self.lock:
+            self.beta = msg.data
+
+    def gyro_offset(self):
+        with self.lock:
+            return self.beta
 
     def test_save_and_reset(self):
         start = float(rospy.get_param("~start_separation"))
@@ -58,6 +71,11 @@ class LearnedModelTest(unittest.TestCase):
         self.assertGreater(abs(learned - start) / start, min_change, "b_hat did not learn on the arc")
         rospy.sleep(2.0)  # at rest: learning frozen, b_hat steady
         steady = self.b()
+        beta = self.gyro_offset()
+        self.assertIsNotNone(beta, "no ~gyro_offset")
+        self.assertTrue(math.isfinite(beta) and abs(beta) <= rospy.get_param("/jackal_AIC/gyro_bias_max", 0.1),
+                        "~gyro_offset %r" % beta)
+        self.assertNotEqual(beta, 0.0, "gyro_bias_min_rest 0: the noisy gyro's offset is learned at the first rest")
 
         rospy.wait_for_service("/jackal_AIC/save_learned_model", 10.0)
         res = rospy.ServiceProxy("/jackal_AIC/save_learned_model", Trigger)()
@@ -75,6 +93,8 @@ class LearnedModelTest(unittest.TestCase):
         self.assertTrue(res.success, res.message)
         self.assertTrue(wait_for(lambda: abs(self.b() - start) < 1e-6, 5.0),
                         "b_hat %.4f after the reset, expected %.4f" % (self.b(), start))
+        self.assertTrue(wait_for(lambda: self.gyro_offset() == 0.0, 5.0),
+                        "~gyro_offset %r after the reset, expected 0" % self.gyro_offset())
         os.remove(path)
 
 

@@ -37,12 +37,14 @@ struct DebugSnapshot
   YTilde eps_y;              ///< eps_y, 5 x (p+1); 0 columns when nobody subscribes
   MuTilde eps_mu;            ///< eps_mu, 3 x (p+1); 0 columns when nobody subscribes
   double wheel_separation = 0.0;  ///< b_hat of the generative model [m] (learned with learn_wheel_separation)
+  double gyro_offset = 0.0;       ///< the gyro offset beta_hat removed from the gyro [rad/s] (learn_gyro_bias)
 };
 
 /**
  * \brief The node's outputs: the wheel command (/cmd_drive, or in output mode cmd_vel the
  *        twist the stock diff drive maps back onto it), and ~belief, ~free_energy, ~eps_y,
- *        ~eps_mu, ~wheel_separation (the model's b_hat [m]) at debug_rate while anyone subscribes.
+ *        ~eps_mu, ~wheel_separation (the model's b_hat [m]), ~gyro_offset (the gyro offset beta_hat removed
+ *        from the gyro [rad/s]) at debug_rate while anyone subscribes.
  *
  * Every suppressed non-finite output is counted (guardedOutputs(), shown in diagnostics).
  * Threading: wheels() and resetWheels() from the node's locked sections (either thread); the
@@ -93,10 +95,12 @@ public:
   void belief(const ros::Time& stamp, const MuTilde& mu);
   /**
    * \brief Fill `snapshot` from `controller` (call under the node's lock): mu, the free
-   *        energy (0 before the first measurement), and eps_y / eps_mu only when someone
+   *        energy (0 before the first measurement), b_hat, the gyro offset in use `gyro_offset`
+   *        [rad/s] (GyroBiasEstimator::offset()), and eps_y / eps_mu only when someone
    *        subscribes to them (else 0 columns).
    */
-  void capture(const ActiveInferenceController& controller, const ros::Time& stamp, DebugSnapshot* snapshot) const;
+  void capture(const ActiveInferenceController& controller, double gyro_offset, const ros::Time& stamp,
+               DebugSnapshot* snapshot) const;
   /**
    * \brief Publish a snapshot: ~belief (as belief()), the free energy and eps_y / eps_mu
    *        (rows = channels, cols = orders), each only for subscribers and only when finite.
@@ -111,6 +115,7 @@ private:
   bool cmd_vel_mode_ = false;
   ros::Publisher cmd_pub_, belief_pub_, free_energy_pub_, eps_y_pub_, eps_mu_pub_;
   ros::Publisher wheel_separation_pub_;  ///< ~wheel_separation (std_msgs/Float64): the model's b_hat [m]
+  ros::Publisher gyro_offset_pub_;  ///< ~gyro_offset (std_msgs/Float64): the gyro offset beta_hat in use [rad/s]
   std::atomic<std::uint64_t> guarded_outputs_{ 0 };  ///< commands may be guarded on the belief thread
   double debug_rate_;
   Capture capture_;
