@@ -7,6 +7,7 @@
  */
 
 #include <cstdint>
+#include <string>
 
 namespace jackal_aic
 {
@@ -108,5 +109,12 @@ private:
 
 /// Name of an estimator state, e.g. "settling".
 const char* toString(GyroBiasEstimator::State state);
+
+/**
+ * \brief The estimator's status line for diagnostics: the state's name, and until offset() is in
+ *        use "; not removed yet (<learned> of <min_rest> s of rest learned)", e.g.
+ *        "moving; not removed yet (1.2 of 5.0 s of rest learned)". Allocates (not for the belief loop).
+ */
+std::string statusText(const GyroBiasEstimator& estimator);
 
 }  // namespace jackal_aic

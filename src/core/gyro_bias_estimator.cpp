@@ -5,8 +5,11 @@
  */
 #include "jackal_aic/gyro_bias_estimator.hpp"
 
+#include "jackal_aic/rule_list.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -16,21 +19,15 @@ namespace
 {
 void check(const GyroBiasEstimatorParams& p)
 {
-  std::string msg;
-  auto rule = [&msg](bool ok, const char* text) {
-    if (!ok)
-    {
-      msg += std::string(" ") + text + ";";
-    }
-  };
-  rule(std::isfinite(p.max_bias) && p.max_bias > 0.0, "gyro_bias_max finite and > 0");
-  rule(std::isfinite(p.rest_speed) && p.rest_speed > 0.0, "gyro_bias_rest_speed finite and > 0");
-  rule(std::isfinite(p.rest_time) && p.rest_time >= 0.0, "gyro_bias_rest_time finite and >= 0");
-  rule(std::isfinite(p.time_constant) && p.time_constant > 0.0, "gyro_bias_time_constant finite and > 0");
-  rule(std::isfinite(p.min_rest) && p.min_rest >= 0.0, "gyro_bias_min_rest finite and >= 0");
-  if (!msg.empty())
+  RuleList rules;
+  rules.require(std::isfinite(p.max_bias) && p.max_bias > 0.0, "gyro_bias_max finite and > 0");
+  rules.require(std::isfinite(p.rest_speed) && p.rest_speed > 0.0, "gyro_bias_rest_speed finite and > 0");
+  rules.require(std::isfinite(p.rest_time) && p.rest_time >= 0.0, "gyro_bias_rest_time finite and >= 0");
+  rules.require(std::isfinite(p.time_constant) && p.time_constant > 0.0, "gyro_bias_time_constant finite and > 0");
+  rules.require(std::isfinite(p.min_rest) && p.min_rest >= 0.0, "gyro_bias_min_rest finite and >= 0");
+  if (!rules.ok())
   {
-    throw std::invalid_argument("invalid GyroBiasEstimatorParams:" + msg);
+    throw std::invalid_argument("invalid GyroBiasEstimatorParams:" + rules.violations());
   }
 }
 }  // namespace
@@ -117,6 +114,20 @@ const char* toString(GyroBiasEstimator::State state)
       return "bad input";
   }
   return "unknown";
+}
+
+std::string statusText(const GyroBiasEstimator& estimator)
+{
+  std::string text = toString(estimator.state());
+  const double learned = estimator.learnedTime();
+  const double needed = estimator.params().min_rest;
+  if (learned < needed)
+  {
+    char more[96];
+    std::snprintf(more, sizeof more, "; not removed yet (%.1f of %.1f s of rest learned)", learned, needed);
+    text += more;
+  }
+  return text;
 }
 
 }  // namespace jackal_aic

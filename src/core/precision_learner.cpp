@@ -6,6 +6,8 @@
  */
 #include "jackal_aic/precision_learner.hpp"
 
+#include "jackal_aic/rule_list.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -25,25 +27,19 @@ bool finite(double v)
 
 std::string check(const PrecisionLearnerParams& p)
 {
-  std::string msg;
-  auto rule = [&msg](bool ok, const std::string& text) {
-    if (!ok)
-    {
-      msg += " " + text + ";";
-    }
-  };
+  RuleList rules;
   for (int j = 0; j < kYDim; ++j)
   {
     const double c = p.configured[static_cast<std::size_t>(j)];
-    rule(finite(c) && c > 0.0, "configured precision of channel " + std::to_string(j) + " finite and > 0");
+    rules.require(finite(c) && c > 0.0, "configured precision of channel " + std::to_string(j) + " finite and > 0");
   }
-  rule(finite(p.rate) && p.rate >= 0.0, "precision_learning_rate finite and >= 0");
-  rule(finite(p.min_factor) && p.min_factor > 0.0 && p.min_factor <= 1.0,
-       "precision_min_factor finite, > 0 and <= 1");
-  rule(finite(p.max_factor) && p.max_factor >= 1.0, "precision_max_factor finite and >= 1");
-  rule(finite(p.time_constant) && p.time_constant > 0.0, "precision_time_constant finite and > 0");
-  rule(finite(p.min_wheel_speed) && p.min_wheel_speed >= 0.0, "precision_min_wheel_speed finite and >= 0");
-  return msg;
+  rules.require(finite(p.rate) && p.rate >= 0.0, "precision_learning_rate finite and >= 0");
+  rules.require(finite(p.min_factor) && p.min_factor > 0.0 && p.min_factor <= 1.0,
+                "precision_min_factor finite, > 0 and <= 1");
+  rules.require(finite(p.max_factor) && p.max_factor >= 1.0, "precision_max_factor finite and >= 1");
+  rules.require(finite(p.time_constant) && p.time_constant > 0.0, "precision_time_constant finite and > 0");
+  rules.require(finite(p.min_wheel_speed) && p.min_wheel_speed >= 0.0, "precision_min_wheel_speed finite and >= 0");
+  return rules.violations();
 }
 
 bool learned(const PrecisionLearnerParams& p, int j)

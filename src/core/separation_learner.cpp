@@ -5,6 +5,8 @@
  */
 #include "jackal_aic/separation_learner.hpp"
 
+#include "jackal_aic/rule_list.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -22,24 +24,18 @@ bool finite(double v)
 
 std::string check(const SeparationLearnerParams& p)
 {
-  std::string msg;
-  auto rule = [&msg](bool ok, const char* text) {
-    if (!ok)
-    {
-      msg += std::string(" ") + text + ";";
-    }
-  };
-  rule(finite(p.wheel_radius) && p.wheel_radius > 0.0, "wheel_radius finite and > 0");
-  rule(finite(p.slip_factor) && p.slip_factor > 0.0, "slip_factor finite and > 0");
-  rule(finite(p.min) && p.min > 0.0, "separation_min finite and > 0");
-  rule(finite(p.max) && p.max >= p.min, "separation_max finite and >= separation_min");
-  rule(finite(p.initial) && p.initial >= p.min && p.initial <= p.max, "initial separation within [min, max]");
-  rule(finite(p.rate) && p.rate >= 0.0, "separation_learning_rate finite and >= 0");
-  rule(finite(p.min_yaw_rate) && p.min_yaw_rate >= 0.0, "separation_min_yaw_rate finite and >= 0");
-  rule(finite(p.max_yaw_acceleration) && p.max_yaw_acceleration > 0.0,
-       "separation_max_yaw_acceleration finite and > 0");
-  rule(finite(p.max_rate) && p.max_rate >= 0.0, "separation_max_rate finite and >= 0");
-  return msg;
+  RuleList rules;
+  rules.require(finite(p.wheel_radius) && p.wheel_radius > 0.0, "wheel_radius finite and > 0");
+  rules.require(finite(p.slip_factor) && p.slip_factor > 0.0, "slip_factor finite and > 0");
+  rules.require(finite(p.min) && p.min > 0.0, "separation_min finite and > 0");
+  rules.require(finite(p.max) && p.max >= p.min, "separation_max finite and >= separation_min");
+  rules.require(finite(p.initial) && p.initial >= p.min && p.initial <= p.max, "initial separation within [min, max]");
+  rules.require(finite(p.rate) && p.rate >= 0.0, "separation_learning_rate finite and >= 0");
+  rules.require(finite(p.min_yaw_rate) && p.min_yaw_rate >= 0.0, "separation_min_yaw_rate finite and >= 0");
+  rules.require(finite(p.max_yaw_acceleration) && p.max_yaw_acceleration > 0.0,
+                "separation_max_yaw_acceleration finite and > 0");
+  rules.require(finite(p.max_rate) && p.max_rate >= 0.0, "separation_max_rate finite and >= 0");
+  return rules.violations();
 }
 }  // namespace
 

@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -271,16 +270,8 @@ ControllerReport AicNode::controllerReport() const
   r.generalizer_drops = loop_->refusedSamples();
   if (loop_->controller().params().learn_gyro_bias)
   {
-    const GyroBiasEstimator& g = loop_->gyroBias();
-    r.gyro_bias = g.bias();
-    r.gyro_bias_learning = toString(g.state());
-    if (g.learnedTime() < g.params().min_rest)
-    {
-      char more[96];
-      std::snprintf(more, sizeof more, "; not removed yet (%.1f of %.1f s of rest learned)", g.learnedTime(),
-                    g.params().min_rest);
-      r.gyro_bias_learning += more;
-    }
+    r.gyro_bias = loop_->gyroBias().bias();
+    r.gyro_bias_learning = statusText(loop_->gyroBias());
   }
   r.output_mode = params_.output_mode;
   r.output_clips = loop_->outputClips();

@@ -16,10 +16,10 @@ void InlineCallbackQueue::addCallback(const ros::CallbackInterfacePtr& callback,
 {
   if (callback->ready() && callback->call() != ros::CallbackInterface::TryAgain)
   {
-    ++inline_calls_;
+    inline_calls_.fetch_add(1, std::memory_order_relaxed);
     return;
   }
-  ++deferred_;
+  deferred_.fetch_add(1, std::memory_order_relaxed);
   fallback()->addCallback(callback, owner_id);
 }
 

@@ -137,6 +137,21 @@ TEST(GyroBiasEstimator, BadInputIsIgnored)
   EXPECT_STREQ(toString(e.state()), "moving");
 }
 
+TEST(GyroBiasEstimator, StatusTextSaysUntilWhenTheOffsetIsNotRemoved)
+{
+  GyroBiasEstimatorParams p;
+  p.rest_time = 0.0;
+  p.min_rest = 1.0;
+  GyroBiasEstimator e{ p };
+  std::mt19937 rng(4);
+  rest(&e, 0.5, 0.01, 0.0, &rng);
+  EXPECT_EQ(statusText(e), "learning; not removed yet (0.5 of 1.0 s of rest learned)");
+  rest(&e, 0.6, 0.01, 0.0, &rng);
+  EXPECT_EQ(statusText(e), "learning");
+  EXPECT_EQ(e.update(kH, 0.2, 4.0, 4.0, 4.0, 4.0, true), State::kMoving);
+  EXPECT_EQ(statusText(e), "moving");
+}
+
 TEST(GyroBiasEstimator, InvalidSettingsNameEveryRule)
 {
   GyroBiasEstimatorParams p;

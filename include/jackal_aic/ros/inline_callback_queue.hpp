@@ -4,6 +4,7 @@
  * \brief A ROS callback queue that runs each callback on the thread that receives it
  *        (doc/jackal_aic_node.md, 'Loops').
  */
+#include <atomic>
 #include <cstdint>
 
 #include <ros/callback_queue.h>
@@ -39,16 +40,17 @@ public:
   /// Removes `owner_id`'s callbacks waiting in the fallback queue (none wait here).
   void removeByID(uint64_t owner_id) override;
 
-  /// Callbacks called inline, and handed to the fallback queue, since construction.
-  std::uint64_t calledInline() const { return inline_calls_; }
-  std::uint64_t deferred() const { return deferred_; }
+  /// Callbacks called inline, and handed to the fallback queue, since construction (counted on
+  /// whichever thread added them; readable from any thread).
+  std::uint64_t calledInline() const { return inline_calls_.load(std::memory_order_relaxed); }
+  std::uint64_t deferred() const { return deferred_.load(std::memory_order_relaxed); }
 
 private:
   ros::CallbackQueueInterface* fallback() const;
 
   ros::CallbackQueueInterface* fallback_;
-  std::uint64_t inline_calls_ = 0;
-  std::uint64_t deferred_ = 0;
+  std::atomic<std::uint64_t> inline_calls_{ 0 };
+  std::atomic<std::uint64_t> deferred_{ 0 };
 };
 
 }  // namespace jackal_aic
