@@ -200,14 +200,18 @@ public:
    */
   bool setLearnedSeparation(double b) { return pipeline_.controller().setLearnedSeparation(b); }
   /// Forget what the controller learned (ActiveInferenceController::resetLearning()): b_hat back
-  /// to wheel_separation, and the gyro's offset beta_hat back to 0 (it learns again at the next rest).
+  /// to wheel_separation, the gyro's offset beta_hat back to 0 (it learns again at the next rest)
+  /// and the tip-over guard's learned bounds forgotten (a payload removed).
   void resetLearning()
   {
     pipeline_.controller().resetLearning();
     pipeline_.resetGyroBias();
+    pipeline_.resetTipGuard();
   }
   /// The gyro's offset estimator (beta_hat [rad/s], learned with learn_gyro_bias).
   const GyroBiasEstimator& gyroBias() const { return pipeline_.gyroBias(); }
+  /// The tip-over guard (pitch, learned bounds, trips; acts with tip_guard).
+  const TipGuard& tipGuard() const { return pipeline_.tipGuard(); }
 
   // ---- state
   /// The parameters in force.

@@ -217,6 +217,9 @@ public:
   const SeparationLearner& separationLearner() const { return learner_; }
   /// The goal stage: goal, predicted goal, reference path and its delay line.
   const ReferenceModel& referenceModel() const { return reference_; }
+  /// Bound the reference path's rate along x_dot to [-front, rear] [m/s^2] (the TipGuard's
+  /// bounds; +inf = none; ReferenceModel::setTipBounds). No effect without a reference model.
+  void setTipBounds(double front, double rear) { reference_.setTipBounds(front, rear); }
   /// The delay line of the sent action's twist (belief_model unbiased's state prior).
   const ActionDelayLine& actionLine() const { return action_line_; }
 

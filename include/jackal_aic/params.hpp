@@ -278,6 +278,22 @@ struct AicParams
   double gyro_bias_time_constant = 30.0;
   /// beta_hat is removed from the gyro once this much rest has been learned from [s], >= 0, <= 600.
   double gyro_bias_min_rest = 5.0;
+  /**
+   * Tip-over guard (not in the thesis): false = none. true = the body's pitch is integrated from
+   * the IMU's gyro y; when it exceeds tip_guard_pitch while the robot brakes (speeds up), the
+   * reference path stops braking (speeding up) until the body is level again, and later paths are
+   * bounded by tip_guard_margin x the deceleration (acceleration) at which the wheels lifted
+   * (TipGuard). It acts on the reference path: no effect with reference_time_constant 0;
+   * doc/active_inference.md, 'The tip-over guard'.
+   */
+  bool tip_guard = false;
+  /// |pitch| [rad] that trips the tip-over guard, > 0, <= 0.5.
+  double tip_guard_pitch = 0.02;
+  /// The learned bound is this factor of the wheels' acceleration at the lift's onset [-], in (0, 1]
+  /// (braked wheels slip: their deceleration there is 1.2-1.5 x the body's tipping limit).
+  double tip_guard_margin = 0.6;
+  /// Floor of the tip-over guard's learned bounds [m/s^2], > 0, <= 100.
+  double tip_guard_min_acceleration = 1.0;
 
   /// Number of generalized orders, p + 1.
   int numOrders() const { return embedding_order + 1; }

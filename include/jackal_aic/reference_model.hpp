@@ -7,6 +7,7 @@
  */
 
 #include <array>
+#include <limits>
 
 #include "jackal_aic/params.hpp"
 #include "jackal_aic/types.hpp"
@@ -73,6 +74,17 @@ public:
   /// Set the wheel separation b [m] of the wheel bound (the model's, as it is learned); ignored
   /// unless finite and > 0. Path and line kept.
   void setWheelSeparation(double b);
+  /**
+   * \brief Bound the path's rate along x_dot to [-front, rear] [m/s^2] (the TipGuard's bounds:
+   *        the deceleration that lifts the rear wheels, the acceleration that lifts the front
+   *        ones), on top of accelerationBounds()' other bounds. +inf = none (the default); a value
+   *        that is NaN or < 0 is ignored. Kept by setParams() and start().
+   */
+  void setTipBounds(double front, double rear);
+  /// The tip bounds in force (front, rear) [m/s^2] (+inf: none).
+  double tipBoundFront() const { return tip_front_; }
+  /// See tipBoundFront().
+  double tipBoundRear() const { return tip_rear_; }
   /// True with a reference model (time_constant > 0).
   bool enabled() const { return params_.time_constant > 0.0; }
 
@@ -115,7 +127,8 @@ public:
    * acc = accelerationLimit() both ways, except along x_dot and y_dot where m is not 0: the
    * direction that slows the path toward 0 (m' < 0 for m > 0, m' > 0 for m < 0) is bounded by
    * max_deceleration_linear when it is > 0 (braking a robot whose payload would tip it forward
-   * or backward above that deceleration; doc/active_inference.md, 'Set-point dynamics').
+   * or backward above that deceleration; doc/active_inference.md, 'Set-point dynamics'); then
+   * along x_dot lo >= -tipBoundFront(), hi <= tipBoundRear() (setTipBounds()).
    */
   void accelerationBounds(Vector3* lo, Vector3* hi) const;
   /// The attractor's goal [m/s, m/s, rad/s]: mu_r = m(t - d_r) with a reference model, else mu_d.
@@ -149,6 +162,8 @@ private:
   int count_ = 1;  ///< samples in the line
   Vector3 mu_r_ = Vector3::Zero();      ///< the delayed path mu_r at time_
   Vector3 mu_r_dot_ = Vector3::Zero();  ///< its rate mu_r'
+  double tip_front_ = std::numeric_limits<double>::infinity();  ///< setTipBounds()' front [m/s^2]
+  double tip_rear_ = std::numeric_limits<double>::infinity();   ///< setTipBounds()' rear [m/s^2]
 };
 
 }  // namespace jackal_aic

@@ -13,19 +13,22 @@
 #include "jackal_aic/generalizer.hpp"
 #include "jackal_aic/gyro_bias_estimator.hpp"
 #include "jackal_aic/params.hpp"
+#include "jackal_aic/tip_guard.hpp"
 #include "jackal_aic/types.hpp"
 
 namespace jackal_aic
 {
 /**
- * \brief Owns the controller, the generalizer, the fault monitor and the gyro's offset estimator
- *        of the jackal_AIC node and carries a sample through them in the node's order. Not thread-safe: the node calls it
+ * \brief Owns the controller, the generalizer, the fault monitor, the gyro's offset estimator
+ *        and the tip-over guard of the jackal_AIC node and carries a sample through them in the node's order. Not thread-safe: the node calls it
  *        under its lock. No allocation on the per-sample path.
  *
  * Per sample: generalize() (always: the history must stay continuous while the node waits;
  * with learn_gyro_bias the learned offset beta_hat is subtracted from the gyro first), then, only
  * while the node runs, measure() (which also lets the offset estimator learn from the sample) (the controller's y_tilde, then the FDI test;
  * doc/active_inference.md, 'Fault detection and isolation', after Baioumy et al., ECC 2021).
+ * guardTip() takes every generalized sample's pitch rate and wheel speeds into the tip-over
+ * guard and, with tip_guard, its bounds into the controller's reference path.
  */
 class SamplePipeline
 {
@@ -99,6 +102,23 @@ public:
   const GyroBiasEstimator& gyroBias() const { return gyro_bias_; }
   /// Forget the learned gyro offset (beta_hat = 0).
   void resetGyroBias() { gyro_bias_.reset(); }
+  /**
+   * \brief One sample into the tip-over guard (TipGuard) and, with tip_guard, its bounds into the
+   *        controller's reference path (ActiveInferenceController::setTipBounds; none without).
+   *        With learn_gyro_bias the gyro y's offset is learned at rest as the gyro z's is (a second
+   *        GyroBiasEstimator) and removed from the pitch rate first.
+   * \param y           the sample (its wheel speeds; SensorSample::y)
+   * \param pitch_rate  the IMU's gyro y [rad/s] (SensorSample::pitch_rate)
+   * \param h           interval since the previous sample [s]; a first sample (h <= 0) is skipped
+   * \param imu_ok      false without a valid IMU sample (the guard's pitch decays)
+   */
+  void guardTip(const Vector5& y, double pitch_rate, double h, bool imu_ok);
+  /// The tip-over guard (its pitch, learned bounds and trips).
+  const TipGuard& tipGuard() const { return tip_guard_; }
+  /// Forget the tip-over guard's learned bounds and pitch, and the gyro y's offset.
+  void resetTipGuard();
+  /// The gyro y's offset estimator (learned with learn_gyro_bias; the tip-over guard's pitch rate).
+  const GyroBiasEstimator& pitchBias() const { return pitch_bias_; }
   /// The generalizer: y_tilde, 5 x (p+1), of the newest accepted sample.
   const Generalizer& generalizer() const { return *generalizer_; }
 
@@ -107,6 +127,8 @@ private:
   std::unique_ptr<Generalizer> generalizer_;
   std::unique_ptr<FaultMonitor> fault_monitor_;
   GyroBiasEstimator gyro_bias_;
+  TipGuard tip_guard_;
+  GyroBiasEstimator pitch_bias_;
   double raw_gyro_ = 0.0;  ///< the gyro's reading of the newest generalized sample, offset not removed [rad/s]
 };
 }  // namespace jackal_aic

@@ -37,6 +37,9 @@ struct SensorSample
   /// fields are then 0 and must not be used (the channels are masked: Pi_y = 0, degraded mode).
   bool imu_ok = true;
   double stamp = 0.0;           ///< the joint state's stamp [s] (the caller's epoch)
+  /// The paired IMU's gyro y [rad/s]: the body's pitch rate q (REP 103, base_link: > 0 noses
+  /// down), read by the TipGuard, not by the beliefs; 0 when imu_ok is false.
+  double pitch_rate = 0.0;
 };
 
 /// One joint-state message, by reference to its arrays (sensor_msgs/JointState's fields).
@@ -146,6 +149,7 @@ private:
   {
     double stamp;
     double gyro_z;
+    double gyro_y;
     double accel_x;
     double accel_y;
   };

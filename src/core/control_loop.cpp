@@ -145,6 +145,7 @@ bool ControlLoop::jointState(const JointStateInput& joints)
     return false;
   }
   supervisor_.sampleAccepted(Vector2(sample.y(kOmegaLeft), sample.y(kOmegaRight)));
+  pipeline_.guardTip(sample.y, sample.pitch_rate, sample.first ? 0.0 : sample.h, sample.imu_ok);
   newest_sample_stamp_ = sample.stamp;
   watch();  // a warm history and a set point: the controller starts here, from this sample
   if (!supervisor_.active())

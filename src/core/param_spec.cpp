@@ -229,6 +229,23 @@ std::vector<ParamSpec> buildControllerRows()
       "The learned gyro offset is removed from the gyro once this much rest has been learned from (the "
       "average of a shorter rest is mostly noise); before that, none",
       true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(gyro_bias_min_rest) },
+    { "tip_guard", T::kBool, C, "active_inference", kNone, false, kNone, "-",
+      "If true, the body's pitch is integrated from the gyro's y axis; when it passes tip_guard_pitch while "
+      "the robot brakes (speeds up), the reference path stops braking until the body is level, and later "
+      "paths stay below tip_guard_margin x the deceleration at which the wheels lifted (no effect with "
+      "reference_time_constant 0)",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(tip_guard) },
+    { "tip_guard_pitch", T::kDouble, C, "active_inference", 0.0, true, 0.5, "rad",
+      "|pitch| that trips the tip-over guard (a rigid robot on flat ground pitches only when a pair of "
+      "wheels leaves it)",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(tip_guard_pitch) },
+    { "tip_guard_margin", T::kDouble, C, "active_inference", 0.0, true, 1.0, "-",
+      "The tip-over guard's learned bound is this factor of the deceleration (acceleration) at which the "
+      "wheels lifted",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(tip_guard_margin) },
+    { "tip_guard_min_acceleration", T::kDouble, C, "active_inference", 0.0, true, 100.0, "m/s^2",
+      "Floor of the tip-over guard's learned deceleration and acceleration bounds",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(tip_guard_min_acceleration) },
     // ---- robot (Clearpath Jackal; doc/jackal.md)
     { "wheel_radius", T::kDouble, C, "robot", kMinLength, false, kMaxLength, "m",
       "Wheel radius r (thesis eq. 3-1 to 3-4)",

@@ -108,6 +108,7 @@ AicParams recommendedAicParams()
   p.action_prior_time_constant = 0.00834;
   p.learn_wheel_separation = true;  // b_hat learned from the gyro-encoder disagreement
   p.learn_gyro_bias = true;         // the gyro's offset learned at standstill
+  p.tip_guard = true;               // braking eased when the body pitches over its wheels
   return p;
 }
 

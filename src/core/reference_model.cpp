@@ -72,6 +72,20 @@ void ReferenceModel::accelerationBounds(Vector3* lo, Vector3* hi) const
       }
     }
   }
+  (*lo)(0) = std::max((*lo)(0), -tip_front_);
+  (*hi)(0) = std::min((*hi)(0), tip_rear_);
+}
+
+void ReferenceModel::setTipBounds(double front, double rear)
+{
+  if (front >= 0.0)  // false for NaN
+  {
+    tip_front_ = front;
+  }
+  if (rear >= 0.0)
+  {
+    tip_rear_ = rear;
+  }
 }
 
 Vector3 ReferenceModel::rate() const

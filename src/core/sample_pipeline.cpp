@@ -5,6 +5,7 @@
  */
 #include "jackal_aic/sample_pipeline.hpp"
 
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -41,6 +42,16 @@ GyroBiasEstimatorParams gyroBiasParams(const AicParams& aic)
   return p;
 }
 
+/// The tip-over guard's settings from the controller's keys tip_guard_*.
+TipGuardParams tipGuardParams(const AicParams& aic)
+{
+  TipGuardParams p;
+  p.trip_pitch = aic.tip_guard_pitch;
+  p.margin = aic.tip_guard_margin;
+  p.min_acceleration = aic.tip_guard_min_acceleration;
+  return p;
+}
+
 /// gyroBiasParams(aic) after requireValid(aic, fdi): the pipeline's first member to need the
 /// settings reports every violation of both sets, not only the estimator's.
 GyroBiasEstimatorParams validGyroBiasParams(const AicParams& aic, const FdiParams& fdi)
@@ -50,7 +61,8 @@ GyroBiasEstimatorParams validGyroBiasParams(const AicParams& aic, const FdiParam
 }
 }  // namespace
 
-SamplePipeline::SamplePipeline(const AicParams& aic, const FdiParams& fdi) : gyro_bias_(validGyroBiasParams(aic, fdi))
+SamplePipeline::SamplePipeline(const AicParams& aic, const FdiParams& fdi)
+  : gyro_bias_(validGyroBiasParams(aic, fdi)), tip_guard_(tipGuardParams(aic)), pitch_bias_(gyroBiasParams(aic))
 {
   controller_ = std::make_unique<ActiveInferenceController>(aic);
   generalizer_ = std::make_unique<Generalizer>(kYDim, aic.embedding_order);
@@ -112,6 +124,30 @@ SamplePipeline::Measurement SamplePipeline::measure(const Vector5& y, double h, 
   return m;
 }
 
+void SamplePipeline::guardTip(const Vector5& y, double pitch_rate, double h, bool imu_ok)
+{
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  const AicParams& p = controller_->params();
+  if (h > 0.0)
+  {
+    if (p.learn_gyro_bias)
+    {
+      const Vector2& a = controller_->action();
+      pitch_bias_.update(h, pitch_rate, y(kOmegaLeft), y(kOmegaRight), a(0), a(1), imu_ok);
+    }
+    const double speed = controller_->model().twistFromWheels(Vector2(y(kOmegaLeft), y(kOmegaRight)))(0);
+    tip_guard_.update(h, pitch_rate - (p.learn_gyro_bias ? pitch_bias_.offset() : 0.0), speed, imu_ok);
+  }
+  controller_->setTipBounds(p.tip_guard ? tip_guard_.frontBound() : kNone, p.tip_guard ? tip_guard_.rearBound() : kNone);
+}
+
+void SamplePipeline::resetTipGuard()
+{
+  tip_guard_.reset();
+  pitch_bias_.reset();
+  controller_->setTipBounds(std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity());
+}
+
 void SamplePipeline::restartHistory()
 {
   generalizer_->reset();
@@ -135,9 +171,12 @@ bool SamplePipeline::setParams(const AicParams& aic, const FdiParams& fdi)
   requireValid(aic, fdi);
   controller_->setParams(aic);
   gyro_bias_.setParams(gyroBiasParams(aic));
+  tip_guard_.setParams(tipGuardParams(aic));
+  pitch_bias_.setParams(gyroBiasParams(aic));
   if (!aic.learn_gyro_bias)
   {
     gyro_bias_.reset();  // off: the gyro is used as it reads, and a later start learns afresh
+    pitch_bias_.reset();
   }
   fault_monitor_->setParams(fdi, aic);
   if (aic.embedding_order == generalizer_->embeddingOrder())

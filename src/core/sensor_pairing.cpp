@@ -102,7 +102,7 @@ bool SensorPairing::addImu(const ImuInput& imu, std::string* why)
   }
   last_imu_stamp_ = imu.stamp;
   has_imu_stamp_ = true;
-  imu_[imu_next_] = { imu.stamp, imu.angular_velocity.z(), imu.linear_acceleration.x(), imu.linear_acceleration.y() };
+  imu_[imu_next_] = { imu.stamp, imu.angular_velocity.z(), imu.angular_velocity.y(), imu.linear_acceleration.x(), imu.linear_acceleration.y() };
   imu_next_ = (imu_next_ + 1) % kImuHistory;
   imu_count_ = imu_count_ < kImuHistory ? imu_count_ + 1 : kImuHistory;
   return true;
@@ -198,6 +198,7 @@ bool SensorPairing::addJointState(const JointStateInput& joints, SensorSample* o
   out->y(kOmegaRight) = mean[1];
   out->y(kAccelX) = imu ? imu->accel_x : 0.0;
   out->y(kAccelY) = imu ? imu->accel_y : 0.0;
+  out->pitch_rate = imu ? imu->gyro_y : 0.0;
   out->h = h;
   out->first = first;
   out->stamp = stamp;

@@ -273,6 +273,10 @@ ControllerReport AicNode::controllerReport() const
     r.gyro_bias = loop_->gyroBias().bias();
     r.gyro_bias_learning = statusText(loop_->gyroBias());
   }
+  if (loop_->controller().params().tip_guard)
+  {
+    r.tip_guard = statusText(loop_->tipGuard());
+  }
   r.output_mode = params_.output_mode;
   r.output_clips = loop_->outputClips();
   r.last_output_clipped = loop_->lastOutputClipped();

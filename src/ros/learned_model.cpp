@@ -139,6 +139,10 @@ bool LearnedModelService::reset(std::string* message)
   {
     text << "; gyro offset back to 0 (learned again at the next standstill)";
   }
+  if (loop_.controller().params().tip_guard)
+  {
+    text << "; tip-over guard's learned bounds forgotten";
+  }
   *message = text.str();
   ROS_INFO_STREAM("jackal_AIC: ~reset_learned_model: " << *message);
   return true;

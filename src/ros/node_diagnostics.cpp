@@ -228,6 +228,7 @@ void NodeDiagnostics::controller(diagnostic_updater::DiagnosticStatusWrapper& st
   stat.add("wheel separation learning steps", report.separation_learning_steps);
   stat.addf("gyro offset beta_hat [rad/s]", "%.4f", report.gyro_bias);
   stat.add("gyro offset learning", report.gyro_bias_learning);
+  stat.add("tip-over guard", report.tip_guard);
   stat.add("sensory precisions Pi_y^(0) [1/(rad/s)^2]", report.sensory_precisions);
   stat.add("sensory precision learning", report.precision_learning);
   stat.add("output mode", report.output_mode);

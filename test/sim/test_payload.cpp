@@ -4,9 +4,9 @@
  *        plant_payload's figures for the rated 20 kg payload mounted 0.15 m forward and 0.25 m up
  *        (sim/config/variants/payload_20kg_forward.yaml) and its refusals of bad arguments; in
  *        closed loop on that plant, a planner's stop from 1.5 m/s (0.2 m/s every 0.1 s, as the
- *        fast profile ends) tips the robot over its front wheels with the defaults and leaves it on
- *        its wheels with plant_payload's bound. config/default.yaml, seeded sensor noise:
- *        deterministic.
+ *        fast profile ends) tips the robot over its front wheels without the tip-over guard, and
+ *        leaves it on its wheels with the guard (which learns a bound below the limit) or with
+ *        plant_payload's bound. config/default.yaml, seeded sensor noise: deterministic.
  */
 #include <gtest/gtest.h>
 
@@ -81,42 +81,74 @@ TEST(PlantPayload, RefusesBadArguments)
   EXPECT_EQ(runTool("--urdf /nonexistent.urdf").code, 1);
 }
 
-/// The largest |heading| [rad] after the stop begins, on the forward payload's plant, of the AIC
-/// (config/default.yaml with `overrides`) driving 1.5 m/s straight then a planner's stop.
-double headingAfterAStop(const std::vector<std::string>& overrides)
+/// What a planner's stop does on the forward payload's plant with the AIC (config/default.yaml
+/// with `overrides`) driving 1.5 m/s straight then stopping at 0.2 m/s every 0.1 s (2 m/s^2).
+struct StopResult
+{
+  double heading = 0.0;  ///< the largest |heading| after the stop begins [rad] (~pi: turned over)
+  double pitch = 0.0;    ///< the largest |pitch| [rad] (the tip-over angle is 0.21 rad)
+  ClosedLoopRecord record;
+};
+
+StopResult stopWithThePayload(const std::vector<std::string>& overrides, int stops = 1)
 {
   ClosedLoopConfig c;
   c.controller = LoopController::kAic;
   c.node = loadNodeParamsFiles({ kRoot + "/config/default.yaml" }, overrides);
   c.aic = c.node.aic;
-  c.profile = { { 0.0, 0.0, 0.0 }, { 0.5, 1.5, 0.0 } };
-  for (int k = 1; k <= 8; ++k)
+  c.profile = { { 0.0, 0.0, 0.0 } };
+  for (int s = 0; s < stops; ++s)
   {
-    c.profile.push_back({ 3.0 + 0.1 * k, 1.5 - 0.2 * k < 0.05 ? 0.0 : 1.5 - 0.2 * k, 0.0 });
+    const double t0 = 4.0 * s;
+    c.profile.push_back({ t0 + 0.5, 1.5, 0.0 });
+    for (int k = 1; k <= 8; ++k)
+    {
+      c.profile.push_back({ t0 + 3.0 + 0.1 * k, 1.5 - 0.2 * k < 0.05 ? 0.0 : 1.5 - 0.2 * k, 0.0 });
+    }
   }
-  c.duration = 6.0;
+  c.duration = 4.0 * stops + 2.0;
   c.ideal_sensors = false;
   const std::vector<std::string> plant = loadOverlayFile(kRoot + "/" + kForward);
-  const ClosedLoopRecord r = runClosedLoop(plant::loadRobotDescription(kRoot + "/sim/urdf/jackal.urdf"),
-                                           plant::loadPlantParams(kRoot + "/sim/config/plant.yaml", plant), c);
-  double worst = 0.0;
+  StopResult out;
+  out.record = runClosedLoop(plant::loadRobotDescription(kRoot + "/sim/urdf/jackal.urdf"),
+                             plant::loadPlantParams(kRoot + "/sim/config/plant.yaml", plant), c);
+  const ClosedLoopRecord& r = out.record;
   for (std::size_t k = 0; k < r.time.size(); ++k)
   {
-    worst = std::max(worst, r.time[k] >= 3.0 ? std::abs(r.heading_true[k]) : 0.0);
+    out.heading = std::max(out.heading, r.time[k] >= 3.0 ? std::abs(r.heading_true[k]) : 0.0);
+    out.pitch = std::max(out.pitch, std::abs(r.pitch_true[k]));
   }
-  return worst;
+  return out;
 }
 
-TEST(PayloadStop, TheDefaultsTipTheForwardPayloadOverItsFrontWheels)
+TEST(PayloadStop, WithoutTheTipGuardTheStopTipsTheForwardPayloadOverItsFrontWheels)
 {
   // The robot turned upside down over its front wheels: its yaw reads ~pi (roll and pitch
   // through pi/2).
-  EXPECT_GT(headingAfterAStop({}), 2.5);
+  const StopResult r = stopWithThePayload({ "tip_guard=false" });
+  EXPECT_GT(r.heading, 2.5);
+  EXPECT_GT(r.pitch, 1.0);
 }
 
-TEST(PayloadStop, PlantPayloadsDecelerationBoundKeepsItOnItsWheels)
+TEST(PayloadStop, TheTipGuardKeepsItOnItsWheelsAndLearnsABoundBelowTheLimit)
 {
-  EXPECT_LT(headingAfterAStop({ "max_reference_deceleration_linear=1.672" }), 0.1);
+  // Two stops: the first lifts the rear wheels and trips the guard (the path stops braking until
+  // the body is level), the second is planned below the learned bound and does not lift them.
+  const StopResult r = stopWithThePayload({}, 2);
+  EXPECT_LT(r.heading, 0.1);
+  EXPECT_LT(r.pitch, 0.18) << "the rear wheels came down before the tip-over angle (0.21 rad)";
+  EXPECT_EQ(r.record.tip_trips, 1u) << "the second stop stays below the learned bound";
+  // plant_payload's limit for this payload is 2.09 m/s^2.
+  EXPECT_GT(r.record.tip_front, 1.2);
+  EXPECT_LT(r.record.tip_front, 2.09);
+  EXPECT_TRUE(std::isinf(r.record.tip_rear));
+}
+
+TEST(PayloadStop, PlantPayloadsDecelerationBoundKeepsItOnItsWheelsWithoutATrip)
+{
+  const StopResult r = stopWithThePayload({ "tip_guard=false", "max_reference_deceleration_linear=1.672" });
+  EXPECT_LT(r.heading, 0.1);
+  EXPECT_LT(r.pitch, 0.02) << "below the limit the rear wheels stay down";
 }
 }  // namespace
 }  // namespace harness

@@ -111,6 +111,9 @@ TEST(Params, SetPointDynamicsAndActionPrior)
     { "gyro_bias_rest_time", &AicParams::gyro_bias_rest_time, { -0.1, 10.5, kNaN, kInf }, 0.0 },
     { "gyro_bias_time_constant", &AicParams::gyro_bias_time_constant, { 0.0, -1.0, 2.0e5, kNaN, kInf }, 5.0 },
     { "gyro_bias_min_rest", &AicParams::gyro_bias_min_rest, { -0.1, 601.0, kNaN, kInf }, 0.0 },
+    { "tip_guard_pitch", &AicParams::tip_guard_pitch, { 0.0, -0.01, 0.51, kNaN, kInf }, 0.05 },
+    { "tip_guard_margin", &AicParams::tip_guard_margin, { 0.0, -0.1, 1.01, kNaN, kInf }, 1.0 },
+    { "tip_guard_min_acceleration", &AicParams::tip_guard_min_acceleration, { 0.0, -1.0, 101.0, kNaN, kInf }, 0.5 },
   };
   for (const Case& c : cases)
   {

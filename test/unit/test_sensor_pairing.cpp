@@ -66,7 +66,7 @@ ImuInput imu(double t, double gyro_z = 0.3)
 {
   ImuInput msg;
   msg.stamp = t == 0.0 ? std::numeric_limits<double>::quiet_NaN() : t;
-  msg.angular_velocity.z() = gyro_z;
+  msg.angular_velocity << 0.05, -0.2, gyro_z;  // roll, pitch, yaw rates
   msg.linear_acceleration << 0.4, -0.1, 9.81;
   return msg;
 }
@@ -88,6 +88,7 @@ TEST(SensorPairing, PairsByNameAndAverages)
   EXPECT_NEAR(s.y(kGyroZ), 0.3, kValueTol);
   EXPECT_NEAR(s.y(kAccelX), 0.4, kValueTol);
   EXPECT_NEAR(s.y(kAccelY), -0.1, kValueTol);
+  EXPECT_NEAR(s.pitch_rate, -0.2, kValueTol) << "gyro y, for the tip-over guard";
 
   ASSERT_TRUE(sync.addImu(imu(kT0 + 0.025, 0.7)));
   ASSERT_TRUE(sync.addJointState(in(joints(kT0 + 0.02)), &s));
@@ -171,6 +172,7 @@ TEST(SensorPairing, NoImuWithinSkew)
   ASSERT_TRUE(sync.addJointState(in(joints(kT0)), &s));  // no IMU at all
   EXPECT_FALSE(s.imu_ok);
   EXPECT_EQ(s.y(kGyroZ), 0.0);
+  EXPECT_EQ(s.pitch_rate, 0.0);
   ASSERT_TRUE(sync.addImu(imu(kT0 + 0.02)));
   ASSERT_TRUE(sync.addJointState(in(joints(kT0 + 0.1)), &s));  // IMU 80 ms old: stale
   EXPECT_FALSE(s.imu_ok);

@@ -37,7 +37,10 @@
  *                     step metrics of every transition, "segments" vx and "angular_segments" wz)
  *   --noise           keep the plant YAML's sensor noise (seeded; default: ideal sensors)
  *   --fault LINE      inject a fault from START s after the run's start (sim/README.md)
- * JSON: {"runaways", "max_abs_speed", "command_delay" (the plant's motor.command_delay [s]),
+ * JSON: {"runaways", "max_abs_speed", "max_abs_pitch" (the largest |ground-truth pitch| [rad]: a
+ *        pair of wheels off the ground, pi / 2 a robot tipped over), with the AIC "tip_guard":
+ *        {"trips", "front", "rear"} (the tip-over guard's trips and learned bounds [m/s^2], null: none),
+ *        "command_delay" (the plant's motor.command_delay [s]),
  *        with learn_precision "sensory_precisions" (the AIC's Pi_y^(0) per sensor channel at the end),
  *        "plant": what the plant did over the profile's span, any controller: {"torque_limited" (share
  *        of the samples x sides with the motor torque clamped to its limit), "wheel_loop": {"vx", "wz"}
@@ -58,10 +61,12 @@
  * CSV (--csv): t (from the profile's start), set points, speeds, beliefs, drive commands, the
  *        ground-truth pose x, y, heading, the ideal pose x_ideal, y_ideal, heading_ideal (empty
  *        outside the analysed span) and the AIC's wheel separation b_hat [m] (learned with
- *        learn_wheel_separation; empty for the other controllers and before the AIC starts).
+ *        learn_wheel_separation; empty for the other controllers and before the AIC starts), its gyro
+ *        offset gyro_offset [rad/s], and the ground-truth pitch [rad] (> 0 nose down).
  * Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.
  */
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -370,7 +375,7 @@ int main(int argc, char** argv)
   {
     std::ofstream f(csv);
     f << "t,set_point,v_odom,v_true,yaw_odom,yaw_true,command,belief,angular_set_point,command_yaw,belief_yaw,"
-         "x,y,heading,x_ideal,y_ideal,heading_ideal,separation,gyro_offset\n";
+         "x,y,heading,x_ideal,y_ideal,heading_ideal,separation,gyro_offset,pitch\n";
     std::size_t ideal = 0;  // next analysed sample of the path drift
     for (std::size_t k = 0; k < rec.time.size(); ++k)
     {
@@ -391,7 +396,8 @@ int main(int argc, char** argv)
         f << ",,,";
       }
       f << "," << (std::isfinite(rec.separation[k]) ? jsonNumber(rec.separation[k]) : "") << ","
-        << (std::isfinite(rec.gyro_offset[k]) ? jsonNumber(rec.gyro_offset[k]) : "") << "\n";
+        << (std::isfinite(rec.gyro_offset[k]) ? jsonNumber(rec.gyro_offset[k]) : "") << ","
+        << jsonNumber(rec.pitch_true[k], 6) << "\n";
     }
     if (!f)
     {
@@ -405,10 +411,22 @@ int main(int argc, char** argv)
   {
     max_abs = std::max(max_abs, std::abs(v));
   }
+  double max_pitch = 0.0;  // the largest |pitch| over the run: a lifted pair of wheels, or a tip-over
+  for (double p : rec.pitch_true)
+  {
+    max_pitch = std::max(max_pitch, std::abs(p));
+  }
   std::cout << "{\"controller\": \"" << controller << "\", \"channel\": \"" << channel
             << "\", \"runaways\": " << rec.runaways
-            << ", \"max_abs_speed\": " << jsonNumber(max_abs)
+            << ", \"max_abs_speed\": " << jsonNumber(max_abs) << ", \"max_abs_pitch\": " << jsonNumber(max_pitch)
             << ", \"command_delay\": " << jsonNumber(params.motor.command_delay) << ", \"t0\": " << jsonNumber(t0);
+  if (c.controller == LoopController::kAic)
+  {
+    // The tip-over guard: trips and learned bounds (null: none learned).
+    const auto bound = [](double b) { return std::isfinite(b) ? jsonNumber(b) : std::string("null"); };
+    std::cout << ", \"tip_guard\": {\"trips\": " << rec.tip_trips << ", \"front\": " << bound(rec.tip_front)
+              << ", \"rear\": " << bound(rec.tip_rear) << "}";
+  }
   if (c.controller == LoopController::kAic && c.aic.learn_precision)
   {
     // The sensory precisions Pi_y^(0) at the end (learn_precision), per SensorIndex.

@@ -54,6 +54,8 @@ struct ControllerReport
   std::uint64_t separation_learning_steps = 0;  ///< learning steps taken
   double gyro_bias = 0.0;               ///< the gyro's learned offset beta_hat [rad/s] (0 without learn_gyro_bias)
   std::string gyro_bias_learning = "off";  ///< the offset estimator's state (learning, moving, settling, ...) or "off"
+  /// The tip-over guard's state, learned bounds and trips (statusText(const TipGuard&)) or "off".
+  std::string tip_guard = "off";
   std::string precision_learning = "off";  ///< the precision learner's state (learning, near rest, ...) or "off"
   /// The sensory precisions Pi_y^(0) in use, "gyro_z <Pi>, omega_left <Pi>, omega_right <Pi>"
   /// [1/(rad/s)^2] (learned if learn_precision).

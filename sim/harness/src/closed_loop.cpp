@@ -475,6 +475,7 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
         out.x_true.push_back(sample.x_true);
         out.y_true.push_back(sample.y_true);
         out.heading_true.push_back(sample.heading_true);
+        out.pitch_true.push_back(std::asin(std::clamp(-pose.linear()(2, 0), -1.0, 1.0)));
         const double sl = plant->servo(kLeft).effectiveSetpoint();
         const double sr = plant->servo(kRight).effectiveSetpoint();
         out.wheel_setpoint.push_back(r * 0.5 * (sl + sr));
@@ -518,6 +519,9 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
   if (aic && loop)
   {
     out.runaways = loop->supervisor().runaways();
+    out.tip_trips = loop->tipGuard().trips();
+    out.tip_front = loop->tipGuard().learnedFront();
+    out.tip_rear = loop->tipGuard().learnedRear();
     out.belief_steps = loop->beliefSteps();
     const auto pi_y = loop->controller().precisionY();
     for (int j = 0; j < pi_y.rows(); ++j)

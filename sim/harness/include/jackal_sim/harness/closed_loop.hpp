@@ -27,6 +27,7 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <limits>
 #include <vector>
 
 #include "jackal_aic/control_loop.hpp"
@@ -197,6 +198,9 @@ struct ClosedLoopRecord
   std::vector<double> x_true;       ///< ground-truth position x of base_link in the world [m]
   std::vector<double> y_true;       ///< ground-truth position y of base_link in the world [m]
   std::vector<double> heading_true; ///< ground-truth yaw of base_link in the world [rad], wrapped to (-pi, pi]
+  /// Ground-truth pitch of base_link against the world's horizontal [rad] (REP 103: > 0 nose down):
+  /// a rigid robot on flat ground pitches only when a pair of wheels leaves it.
+  std::vector<double> pitch_true;
   /// Body speed r (s_L + s_R) / 2 [m/s] of the wheel loops' set points in effect (after the
   /// MCU's delay and lag: WheelSpeedServo::effectiveSetpoint()); what the wheels are driven to.
   std::vector<double> wheel_setpoint;
@@ -207,6 +211,11 @@ struct ClosedLoopRecord
   /// WheelSpeedServo::torqueLimited()) in the step before the sample: 0, 0.5 or 1.
   std::vector<double> torque_limited;
   std::uint64_t runaways = 0;     ///< AIC runaway resets during the run
+  /// AIC: the tip-over guard's trips during the run and its learned bounds at the end [m/s^2]
+  /// (TipGuard::learnedFront(), learnedRear(); +inf: none learned).
+  std::uint64_t tip_trips = 0;
+  double tip_front = std::numeric_limits<double>::infinity();
+  double tip_rear = std::numeric_limits<double>::infinity();
   bool active = false;            ///< AIC: the controller started (p + 1 samples and a set point)
   std::uint64_t belief_steps = 0;  ///< AIC: belief integration steps run
   /// AIC: the sensory precisions Pi_y^(0) in use at the end of the run, per SensorIndex (learned
