@@ -19,16 +19,17 @@
 namespace jackal_aic
 {
 /**
- * \brief Owns the controller, the generalizer, the fault monitor, the gyro's offset estimator
- *        and the tip-over guard of the jackal_AIC node and carries a sample through them in the node's order. Not thread-safe: the node calls it
- *        under its lock. No allocation on the per-sample path.
+ * \brief Owns the controller, the generalizer, the fault monitor, the gyro's offset estimators
+ *        and the tip-over guard of the jackal_AIC node and carries a sample through them in the
+ *        node's order. Not thread-safe: the node calls it under its lock. No allocation on the
+ *        per-sample path.
  *
  * Per sample: generalize() (always: the history must stay continuous while the node waits;
- * with learn_gyro_bias the learned offset beta_hat is subtracted from the gyro first), then, only
- * while the node runs, measure() (which also lets the offset estimator learn from the sample) (the controller's y_tilde, then the FDI test;
- * doc/active_inference.md, 'Fault detection and isolation', after Baioumy et al., ECC 2021).
- * guardTip() takes every generalized sample's pitch rate and wheel speeds into the tip-over
- * guard and, with tip_guard, its bounds into the controller's reference path.
+ * with learn_gyro_bias the learned offset beta_hat is subtracted from the gyro first), then
+ * guardTip() (always: the tip-over guard's pitch stays current; with tip_guard its bounds go into
+ * the controller's reference path), then, only while the node runs, measure() (the controller's
+ * y_tilde, then the FDI test; doc/active_inference.md, 'Fault detection and isolation', after
+ * Baioumy et al., ECC 2021; the offset estimator then learns from the sample).
  */
 class SamplePipeline
 {
@@ -44,8 +45,9 @@ public:
    * \brief Generalize one sample (thesis eqs. 3-17 ... 3-22).
    * \param y        (gyro z, omega_L, omega_R, accel x, accel y) [rad/s, rad/s, rad/s, m/s^2, m/s^2];
    *                 modified: with learn_gyro_bias the gyro slot is y_gyro - beta_hat; without the
-   *                 IMU (imu_ok false) it gets the wheels' yaw rate (r alpha / b_hat)(omega_R - omega_L), so its generalized orders stay
-   *                 smooth for when the IMU returns (the channel itself is masked, Pi_y = 0)
+   *                 IMU (imu_ok false) it gets the wheels' yaw rate (r alpha / b_hat)(omega_R -
+   *                 omega_L), so its generalized orders stay smooth for when the IMU returns (the
+   *                 channel itself is masked, Pi_y = 0)
    * \param h        interval since the previous sample [s] (ignored on a first sample)
    * \param imu_ok   the sample has a paired IMU message
    * \param restart  the sample starts a new history (after a gap); so does an uninitialized

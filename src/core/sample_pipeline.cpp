@@ -13,6 +13,9 @@ namespace jackal_aic
 {
 namespace
 {
+/// No bound on the reference path's rate (ReferenceModel::setTipBounds).
+constexpr double kNone = std::numeric_limits<double>::infinity();
+
 /// Throws std::invalid_argument listing every violation of both sets, if any.
 void requireValid(const AicParams& aic, const FdiParams& fdi)
 {
@@ -126,7 +129,6 @@ SamplePipeline::Measurement SamplePipeline::measure(const Vector5& y, double h, 
 
 void SamplePipeline::guardTip(const Vector5& y, double pitch_rate, double h, bool imu_ok)
 {
-  constexpr double kNone = std::numeric_limits<double>::infinity();
   const AicParams& p = controller_->params();
   if (h > 0.0)
   {
@@ -145,7 +147,7 @@ void SamplePipeline::resetTipGuard()
 {
   tip_guard_.reset();
   pitch_bias_.reset();
-  controller_->setTipBounds(std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity());
+  controller_->setTipBounds(kNone, kNone);
 }
 
 void SamplePipeline::restartHistory()

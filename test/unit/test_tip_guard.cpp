@@ -4,7 +4,8 @@
  *        holds the braking bound at 0 until the body is level; a slope, a pitch without braking
  *        and a missing IMU do not trip it; reset, settings and bad input
  *        (include/jackal_aic/tip_guard.hpp); the reference path's tip bounds
- *        (ReferenceModel::setTipBounds).
+ *        (ReferenceModel::setTipBounds); in SamplePipeline, the gyro y's offset learned at rest
+ *        and removed before the guard, and the guard's bounds in the controller's path.
  */
 #include <cmath>
 #include <limits>
@@ -13,7 +14,9 @@
 
 #include <gtest/gtest.h>
 
+#include "jackal_aic/params.hpp"
 #include "jackal_aic/reference_model.hpp"
+#include "jackal_aic/sample_pipeline.hpp"
 #include "jackal_aic/tip_guard.hpp"
 
 namespace jackal_aic
@@ -41,6 +44,17 @@ State drive(TipGuard* g, double seconds, double q, double a, double* theta, doub
   }
   return s;
 }
+/// The body noses down at 0.3 rad/s while braking at `a` [m/s^2] (a < 0) until the guard trips
+/// (or the pitch reaches 0.2 rad). Returns the state.
+State tipNoseDown(TipGuard* g, double a, double* theta, double* v)
+{
+  State s = g->state();
+  while (s != State::kTippingFront && *theta < 0.2)
+  {
+    s = drive(g, kH, 0.3, a, theta, v);
+  }
+  return s;
+}
 }  // namespace
 
 TEST(TipGuard, LevelBrakingDoesNotTrip)
@@ -65,18 +79,17 @@ TEST(TipGuard, TripsWhileBrakingLearnsTheOnsetAndHoldsUntilLevel)
   double theta = 0.0;
   double v = 1.5;
   drive(&g, 0.5, 0.0, -2.0, &theta, &v);  // braking at 2 m/s^2, all wheels down
-  // The rear wheels lift: the body noses down at 0.3 rad/s while it still brakes at 2.0 m/s^2.
-  State s = State::kLevel;
-  while (s != State::kTippingFront && theta < 0.2)
-  {
-    s = drive(&g, kH, 0.3, -2.0, &theta, &v);
-  }
+  // The rear wheels lift at 2.0 m/s^2 and the brake, still pressing, reaches 3.0 m/s^2 before
+  // the pitch trips the guard: the bound is learned from the onset, not from the trip.
+  State s = drive(&g, kH, 0.3, -2.0, &theta, &v);
+  s = tipNoseDown(&g, -3.0, &theta, &v);
   ASSERT_EQ(s, State::kTippingFront);
   EXPECT_GT(g.pitch(), p.trip_pitch);
   EXPECT_EQ(g.trips(), 1u);
   EXPECT_EQ(g.frontBound(), 0.0) << "while the body is tipped, the path does not brake";
   EXPECT_TRUE(std::isinf(g.rearBound()));
   // Learned at the onset (theta through 0.1 trip_pitch), where the acceleration was 2.0 m/s^2.
+  EXPECT_LT(g.acceleration(), -2.6) << "the brake pressed on to the trip";
   EXPECT_NEAR(g.learnedFront(), 0.8 * 2.0, 0.05);
   // The brake released, the body rolls back onto its wheels.
   s = drive(&g, 0.1, 0.1, -0.2, &theta, &v);
@@ -90,10 +103,7 @@ TEST(TipGuard, TripsWhileBrakingLearnsTheOnsetAndHoldsUntilLevel)
   EXPECT_NEAR(g.frontBound(), 0.8 * 2.0, 0.05) << "after the trip, the learned bound";
   // A second, harder trip does not raise the bound.
   drive(&g, 0.5, 0.0, -3.0, &theta, &v);
-  while (g.state() != State::kTippingFront && theta < 0.2)
-  {
-    drive(&g, kH, 0.3, -3.0, &theta, &v);
-  }
+  tipNoseDown(&g, -3.0, &theta, &v);
   EXPECT_EQ(g.trips(), 2u);
   EXPECT_NEAR(g.learnedFront(), 0.8 * 2.0, 0.05);
 }
@@ -151,10 +161,7 @@ TEST(TipGuard, ResetForgetsTheBounds)
   TipGuard g{ TipGuardParams() };
   double theta = 0.0;
   double v = 1.5;
-  while (g.state() != State::kTippingFront && theta < 0.2)
-  {
-    drive(&g, kH, 0.3, -2.5, &theta, &v);
-  }
+  tipNoseDown(&g, -2.5, &theta, &v);
   ASSERT_TRUE(std::isfinite(g.learnedFront()));
   g.reset();
   EXPECT_TRUE(std::isinf(g.frontBound()));
@@ -170,10 +177,7 @@ TEST(TipGuard, TheFloorBoundsWhatATripTeaches)
   TipGuard g{ p };
   double theta = 0.0;
   double v = 1.5;
-  while (g.state() != State::kTippingFront && theta < 0.2)
-  {
-    drive(&g, kH, 0.3, -1.0, &theta, &v);  // a lift at 1 m/s^2 (a robot much heavier in front)
-  }
+  tipNoseDown(&g, -1.0, &theta, &v);  // a lift at 1 m/s^2 (a robot much heavier in front)
   EXPECT_EQ(g.learnedFront(), 1.5);
   p.min_acceleration = 2.0;
   g.setParams(p);
@@ -217,10 +221,7 @@ TEST(TipGuard, StatusTextNamesStateBoundsAndTrips)
   double theta = 0.0;
   double v = 1.5;
   drive(&g, 0.5, 0.0, -2.5, &theta, &v);
-  while (g.state() != State::kTippingFront && theta < 0.2)
-  {
-    drive(&g, kH, 0.3, -2.5, &theta, &v);
-  }
+  tipNoseDown(&g, -2.5, &theta, &v);
   EXPECT_EQ(statusText(g), "tipping nose-down; front 1.50 m/s^2, rear none; 1 trip");
 }
 
@@ -248,6 +249,47 @@ TEST(ReferenceModelTipBounds, ClampThePathsRateAlongXDot)
   r.setTipBounds(std::numeric_limits<double>::infinity(), 0.5);
   ASSERT_TRUE(r.setGoal(Vector3(3.0, 0.0, 0.0)));
   EXPECT_NEAR(r.rate()(0), 0.5, 1e-9) << "speeding up below the rear bound";
+}
+
+TEST(TipGuardInThePipeline, TheGyroYOffsetIsRemovedAndTheBoundsReachThePath)
+{
+  AicParams aic = recommendedAicParams();  // tip_guard and learn_gyro_bias on
+  FdiParams fdi;
+  SamplePipeline pipe(aic, fdi);
+  pipe.activate(Vector2::Zero(), Vector3::Zero());
+  // 6 s at rest with a 0.03 rad/s gyro y offset from power-on: without its removal the leaky
+  // pitch would settle at offset x T_theta = 0.03 rad, above tip_guard_pitch.
+  for (int i = 0; i < 300; ++i)
+  {
+    pipe.guardTip(Vector5::Zero(), 0.03, kH, true);
+  }
+  EXPECT_NEAR(pipe.pitchBias().offset(), 0.03, 0.002);
+  for (int i = 0; i < 250; ++i)
+  {
+    pipe.guardTip(Vector5::Zero(), 0.03, kH, true);
+  }
+  EXPECT_NEAR(pipe.tipGuard().pitch(), 0.0, 0.003);
+  EXPECT_TRUE(std::isinf(pipe.controller().referenceModel().tipBoundFront()));
+  // Braking (the wheels slow by 2.5 m/s^2) while the body noses down at 0.3 rad/s: it trips.
+  const double r = aic.wheel_radius;
+  double v = 1.5;
+  for (int i = 0; i < 10 && pipe.tipGuard().state() != TipGuard::State::kTippingFront; ++i)
+  {
+    v -= 2.5 * kH;
+    Vector5 y;
+    y << 0.0, v / r, v / r, 0.0, 0.0;
+    pipe.guardTip(y, 0.03 + 0.3, kH, true);
+  }
+  ASSERT_EQ(pipe.tipGuard().state(), TipGuard::State::kTippingFront);
+  EXPECT_EQ(pipe.controller().referenceModel().tipBoundFront(), 0.0) << "the path holds while tipped";
+  // Off: the controller's path is not bounded, whatever the guard saw.
+  aic.tip_guard = false;
+  pipe.setParams(aic, fdi);
+  pipe.guardTip(Vector5::Zero(), 0.03, kH, true);
+  EXPECT_TRUE(std::isinf(pipe.controller().referenceModel().tipBoundFront()));
+  pipe.resetTipGuard();
+  EXPECT_EQ(pipe.pitchBias().bias(), 0.0);
+  EXPECT_EQ(pipe.tipGuard().trips(), 0u);
 }
 
 }  // namespace jackal_aic
