@@ -14,6 +14,7 @@ scorecard's verdicts, whose bounds are jackal_aic_tools.driving's and scorecard'
   stable with the plant's latency and torque +-20 %);
 - of the driving set ('Driving acceptance'): the 0.1 and 0.5 m/s steps, the 1 rad/s turn in
   place and the arc's two channels within their settling-ratio bounds (yaw rates on the gyro), every step's overshoot <= 5 % but the arc's yaw,
+  the arc's yaw overshoot <= 5 % when the model starts from the plant's effective wheel separation (table 6i),
   stability on every varied plant, the turn-deficit holds (0.3, 0.5, 1.0 rad/s) within 2 % of the
   command;
   the tracking benchmark holds every profile x variant pair, each with the ideal controller's
@@ -44,12 +45,12 @@ from jackal_aic_tools import driving, plant_limits  # noqa: E402
 
 #: Regression guards: (what, today's figure, the guard, the documented bound). Today's figures are
 #: doc/results/scorecard.txt's (6a, 6b, 6d, 6e, 6g).
-GUARD_GMEAN = ("tracking, geometric mean AIC / stock (plant-following channels)", 0.773, 0.81,
+GUARD_GMEAN = ("tracking, geometric mean AIC / stock (plant-following channels)", 0.767, 0.81,
                driving.TRACK_GMEAN_BOUND)
 #: AIC / latency floor (table 6e) over the plant-following channels; the bound 1.20 removes three
 #: quarters of the error a controller acting through the plant's latency could avoid.
-GUARD_FLOOR = ("tracking, geometric mean AIC / latency floor (plant-following channels)", 1.420, 1.47, 1.20)
-GUARD_WORST_PAIR = ("tracking, worst plant-following channel AIC / stock", 1.457, 1.50, driving.TRACK_PAIR_BOUND)
+GUARD_FLOOR = ("tracking, geometric mean AIC / latency floor (plant-following channels)", 1.408, 1.47, 1.20)
+GUARD_WORST_PAIR = ("tracking, worst plant-following channel AIC / stock", 1.405, 1.50, driving.TRACK_PAIR_BOUND)
 GUARD_ARC_OVERSHOOT = ("arc, yaw overshoot [%]", 7.8, 8.5, driving.STEP_OVERSHOOT)
 #: Tracking runs whose steady |belief - truth| is above its bound (table 6g; driving.BELIEF_BOUND where the
 #: plant follows, BELIEF_LIMITED_BOUND where it cannot): the goal-biased belief reports the goal where
@@ -59,7 +60,11 @@ GUARD_BELIEF = ("honest belief, tracking runs above their bound", 17, 18, 0)
 #: (table 6h; pairs whose plant follows both channels): the heading drifts where the yaw-rate belief
 #: follows the wheels' separation (s-curves, low friction), and the robot with its rated payload 0.15 m
 #: forward tips over its front wheels on the fast profile's stop.
-GUARD_HEADING = ("end-of-profile heading, judged runs above their bound", 13, 15, 0)
+GUARD_HEADING = ("end-of-profile heading, judged runs above their bound", 11, 15, 0)
+#: The arc's yaw overshoot is acceptance with the model's initial wheel separation at the plant's
+#: effective one (table 6i): what remains of GUARD_ARC_OVERSHOOT is the prior b_hat_0 (the thesis's
+#: 0.5621 m, identified on the robot) against the turning the plant assumes.
+ARC_PRIOR_FACTOR = 1.0
 #: The driving step rows the default meets at their documented bound.
 ACCEPTED_STEPS = ("0.1 m/s", "0.5 m/s", "1 rad/s turn", "arc, speed", "arc, yaw")
 #: The step cases whose overshoot is a guard, not acceptance (GUARD_ARC_OVERSHOOT).
@@ -132,6 +137,17 @@ class ScorecardAcceptance(unittest.TestCase):
             # The learned wheel separation holds every turn on the deficit variant within 2 %.
             self.assertLessEqual(abs(r["aic_error"]), driving.DEFICIT_ERROR * r["command"], r)
             self.assertLess(r["stock_error"], -0.25, "the turn-deficit variant lost its deficit")
+
+    def test_arc_yaw_overshoot_is_within_the_bound_with_the_plants_effective_separation(self):
+        """Table 6i: the arc's yaw overshoot (gyro, worst phase) <= STEP_OVERSHOOT when the model
+        starts from b_hat_0 = the plant's effective separation on that arc."""
+        arc = scorecard_report()["criteria"]["driving_arc_prior"]
+        rows = [r for r in arc["rows"] if not r["configured"] and abs(r["factor"] - ARC_PRIOR_FACTOR) < 1e-9]
+        self.assertEqual(len(rows), 1, arc)
+        self.assertLessEqual(rows[0]["overshoot"], driving.STEP_OVERSHOOT,
+                             "arc yaw overshoot %.2f %% with b_hat_0 = b_eff %.4f m" % (rows[0]["overshoot"], arc["b_eff"]))
+        # b_eff is the plant's: between the track and 1.5 x the track (doc/robot_data.md, 'Turning').
+        self.assertTrue(0.37 < arc["b_eff"] < 0.57, arc["b_eff"])
 
     def test_the_tracking_benchmark_covers_every_profile_and_variant(self):
         crit = scorecard_report()["criteria"]

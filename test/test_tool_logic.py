@@ -19,6 +19,8 @@ import threading
 import time
 import unittest
 
+import numpy as np
+
 ROOT = os.path.realpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), ".."))
 sys.path.insert(0, os.path.join(ROOT, "src"))
 from jackal_aic_tools import driving, experiment, ideal_cache, plant_limits, procfs, report, soak, summary, sweep  # noqa: E402
@@ -596,7 +598,77 @@ class MutantsListTest(unittest.TestCase):
                 self.m.core_tests(f.name)
 
 
+class ArcPriorTest(unittest.TestCase):
+    """driving.arc_effective_separation and driving.arc_prior (the scorecard's table 6i), on made-up
+    arc traces and a runner that returns made-up runs."""
+
+    @staticmethod
+    def trace(b0, b_eff, yaw=0.5, n=300, dt=0.01):
+        """An arc run's trace: the true yaw rate ``yaw`` and the wheels' yaw rate through b0, of wheels
+        that turn the body with the separation b_eff (r (omega_R - omega_L) = yaw b_eff)."""
+        t = np.arange(n) * dt
+        sep = np.full(n, float("nan"))
+        sep[50:] = b0 - 0.01 * np.arange(n - 50) / n  # the learned b_hat moves; b0 is its start
+        return {"t": t, "yaw_true": np.full(n, yaw), "yaw_odom": np.full(n, yaw * b_eff / b0), "separation": sep}
+
+    def test_effective_separation_from_the_wheels_and_the_gyro(self):
+        b0, b_eff = driving.arc_effective_separation(self.trace(0.5621, 0.5355))
+        self.assertAlmostEqual(b0, 0.5621, places=12)
+        self.assertAlmostEqual(b_eff, 0.5355, places=9)
+        # Only the last window counts: a transient before it does not move b_eff.
+        tr = self.trace(0.5621, 0.5355)
+        tr["yaw_odom"][:100] = 0.0
+        self.assertAlmostEqual(driving.arc_effective_separation(tr, window=1.0)[1], 0.5355, places=9)
+
+    def test_no_separation_or_no_turn_is_an_error(self):
+        tr = self.trace(0.5621, 0.5355)
+        tr["separation"][:] = float("nan")
+        with self.assertRaisesRegex(ValueError, "no finite separation"):
+            driving.arc_effective_separation(tr)
+        with self.assertRaisesRegex(ValueError, "no turn to measure"):
+            driving.arc_effective_separation(self.trace(0.5621, 0.5355, yaw=0.01))
+
+    def test_rows_rerun_the_arc_at_each_factor_of_b_eff(self):
+        key = driving.STEP_CASES["arc, yaw"][1]
+
+        def run(overshoot):
+            return {key: [{"measured": {"overshoot": overshoot}}]}
+
+        res = {("step", "arc, speed", ph, "aic"): (run(7.0 + i), self.trace(0.5621, 0.5355) if i == 0 else None)
+               for i, ph in enumerate(driving.STEP_PHASES)}
+        seen = []
+
+        class Runner:
+            def run_all(self, jobs):
+                out = {}
+                for key_, controller, args, overlay, sets, want_trace in jobs:
+                    self_sets = [a for a in args if a.startswith("wheel_separation=")]
+                    seen.append((controller, self_sets[0], overlay, want_trace))
+                    factor = key_[1]
+                    out[key_] = (run(100.0 * (factor - 1.0) + 2.0), None)
+                return out
+
+        arc = driving.arc_prior(Runner(), res)
+        self.assertAlmostEqual(arc["b_eff"], 0.5355, places=9)
+        self.assertAlmostEqual(arc["b_hat_0"], 0.5621, places=12)
+        rows = arc["rows"]
+        self.assertEqual(len(rows), 1 + len(driving.ARC_PRIOR_FACTORS))
+        # The configured row is the worst phase of the runs it was given.
+        self.assertTrue(rows[0]["configured"])
+        self.assertEqual(rows[0]["overshoot"], 7.0 + len(driving.STEP_PHASES) - 1)
+        self.assertFalse(rows[0]["within"])
+        for row, f in zip(rows[1:], driving.ARC_PRIOR_FACTORS):
+            self.assertAlmostEqual(row["separation"], f * 0.5355, places=9)
+            self.assertAlmostEqual(row["overshoot"], 100.0 * (f - 1.0) + 2.0, places=9)
+            self.assertEqual(row["within"], row["overshoot"] <= driving.STEP_OVERSHOOT)
+        # Every factor at every phase, on the AIC, with the separation set and no trace.
+        self.assertEqual(len(seen), len(driving.ARC_PRIOR_FACTORS) * len(driving.STEP_PHASES))
+        self.assertTrue(all(c == "aic" and o is None and not w for c, _, o, w in seen))
+        self.assertIn("wheel_separation=%.5f" % (1.05 * 0.5355), [s for _, s, _, _ in seen])
+
+
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
     pyunit.main("tool_logic", ProcfsTest, SweepTest, ExperimentTest, SoakTest, ReportAndSummaryTest,
-                FailureSummaryTest, PlantLimitsTest, EndHeadingTest, PyunitTest, HonestBeliefTest, IdealCacheTest, MutantsListTest)
+                FailureSummaryTest, PlantLimitsTest, EndHeadingTest, PyunitTest, HonestBeliefTest, ArcPriorTest,
+                IdealCacheTest, MutantsListTest)

@@ -64,6 +64,12 @@ ROBUST_PLANTS = {
     "torque +20 %": TORQUE_PLUS_20,
     "payload +10 kg": "payload_10kg.yaml",
 }
+#: The arc step's yaw overshoot against the model's initial wheel separation (reported, table 6i of
+#: the scorecard): the arc ("arc, yaw") run again at every phase with b_hat_0 = factor x the plant's
+#: effective separation on that arc (arc_effective_separation).
+ARC_PRIOR_FACTORS = (1.0, 1.025, 1.05)
+#: Window at the end of the arc run over which the plant's effective separation is measured [s].
+ARC_SEPARATION_WINDOW = 1.0
 #: Turn-deficit holds [rad/s]; steady error bound (fraction of the command) over the last second.
 DEFICIT_TURNS = (0.3, 0.5, 1.0)
 DEFICIT_HOLD = 3.0
@@ -182,6 +188,62 @@ def floor_rms(profile, latency, cache=None):
     return out
 
 
+def arc_effective_separation(trace, window=ARC_SEPARATION_WINDOW):
+    """The model's initial wheel separation b_hat_0 and the plant's effective separation b_eff [m] of
+    an AIC arc run, from its trace (closed_loop_run --csv columns t, yaw_odom, yaw_true, separation):
+    b_hat_0 is the first finite value of the separation column (the learned b_hat starts there), and
+    yaw_odom is the wheels' yaw rate through b_hat_0, r (omega_R - omega_L) / b_hat_0 (thesis eq. 3-1),
+    so the separation that maps the wheel speeds onto the body's true yaw rate is
+
+        b_eff = b_hat_0 x mean(yaw_odom) / mean(yaw_true)   over the last ``window`` s.
+
+    Returns (b_hat_0, b_eff). Raises ValueError when the trace has no finite separation, or the
+    window's mean |yaw_true| is below 0.05 rad/s (no turn to measure)."""
+    sep = np.asarray(trace["separation"], dtype=float)
+    finite = sep[np.isfinite(sep)]
+    if finite.size == 0:
+        raise ValueError("arc_effective_separation: the trace has no finite separation (not an AIC run?)")
+    t = np.asarray(trace["t"], dtype=float)
+    keep = t >= t[-1] - window
+    yaw_true = float(np.mean(np.asarray(trace["yaw_true"], dtype=float)[keep]))
+    yaw_odom = float(np.mean(np.asarray(trace["yaw_odom"], dtype=float)[keep]))
+    if not (abs(yaw_true) >= 0.05 and math.isfinite(yaw_odom)):
+        raise ValueError("arc_effective_separation: mean yaw rate %.4f rad/s over the last %g s: no turn to "
+                         "measure" % (yaw_true, window))
+    b0 = float(finite[0])
+    return b0, b0 * yaw_odom / yaw_true
+
+
+def arc_prior(runner, res):
+    """Table 6i's rows: the arc step's yaw overshoot (on the gyro, the worst of STEP_PHASES) with the
+    configured initial wheel separation (the runs ``res`` of evaluate(), key ("step", "arc, speed",
+    phase, "aic"), the first phase's with its trace) and with b_hat_0 = each of ARC_PRIOR_FACTORS x
+    the plant's effective separation on that arc (arc_effective_separation; run with ``runner``, the
+    AIC's settings but wheel_separation, which a wheel_separation among the runner's own aic_sets
+    would override). Returns {b_eff [m], b_hat_0 [m] (configured), rows: list of
+    {separation [m], factor (separation / b_eff), overshoot [%], configured (bool), within (overshoot
+    <= STEP_OVERSHOOT)}}. Reported, not judged: it tells how much of the arc's overshoot the model's
+    prior separation decides. Raises ValueError as arc_effective_separation."""
+    args, key = STEP_CASES["arc, yaw"]
+    b0, b_eff = arc_effective_separation(res[("step", "arc, speed", STEP_PHASES[0], "aic")][1])
+
+    def worst(runs):
+        return max(r[key][0]["measured"]["overshoot"] or 0.0 for r in runs)
+
+    rows = [{"separation": b0, "factor": b0 / b_eff, "configured": True,
+             "overshoot": worst([res[("step", "arc, speed", ph, "aic")][0] for ph in STEP_PHASES])}]
+    jobs = [(("arc_prior", f, ph), "aic",
+             args + ["--rest", "%.4f" % (1.0 + ph), "--aic-set", "wheel_separation=%.5f" % (f * b_eff)],
+             None, (), False) for f in ARC_PRIOR_FACTORS for ph in STEP_PHASES]
+    more = runner.run_all(jobs)
+    for f in ARC_PRIOR_FACTORS:
+        rows.append({"separation": f * b_eff, "factor": f, "configured": False,
+                     "overshoot": worst([more[("arc_prior", f, ph)][0] for ph in STEP_PHASES])})
+    for r in rows:
+        r["within"] = r["overshoot"] <= STEP_OVERSHOOT
+    return {"b_eff": b_eff, "b_hat_0": b0, "rows": rows}
+
+
 def judge_step(name, runs):
     """The row of step case ``name`` (a STEP_CASES key) from its runs at every phase of
     STEP_PHASES: ``runs`` is a list of (aic, stock, aic_runaways), aic and stock the "measured"
@@ -211,12 +273,14 @@ def judge_step(name, runs):
             "aic_overshoot": a_os, "stock_overshoot": s_os, "bound": STEP_BOUNDS[name], "pass": passed}
 
 
-def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, steps=True, ideal=True):
+def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, steps=True, ideal=True,
+             arc_prior_table=True):
     """Run the driving acceptance set with ``runner`` (Runner); with ``ideal`` the tracking pairs'
     ideal controller too (else every channel counts as plant-following). Returns a dict:
     steps: list of judge_step() rows, {case, aic_settling, stock_settling, ratio, ratios,
     aic_overshoot, stock_overshoot, bound, pass};
     robust: list of {plant, case, runaways, settled, overshoot, pass};
+    arc_prior: arc_prior()'s table (with ``steps`` and ``arc_prior_table``; reported, not judged);
     deficit: list of {command, aic_error, stock_error, pass} (errors in rad/s);
     tracking: list of {profile, variant, aic_vx, stock_vx, vx_ratio, aic_wz, stock_wz, wz_ratio,
     floor_vx, floor_wz (floor_rms at the variant's latency), floor_vx_ratio, floor_wz_ratio (floor /
@@ -241,7 +305,9 @@ def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, st
             for phase in STEP_PHASES:
                 rest = ["--rest", "%.4f" % (1.0 + phase)]
                 for c in ("aic", "stock"):
-                    jobs.append((("step", name, phase, c), c, args + rest, None, (), False))
+                    # The arc's first AIC phase keeps its trace: table 6i's effective separation.
+                    trace = name == "arc, speed" and phase == STEP_PHASES[0] and c == "aic"
+                    jobs.append((("step", name, phase, c), c, args + rest, None, (), trace))
         for plant, change in ROBUST_PLANTS.items():
             overlay, sets = (os.path.join(variant_dir, change), ()) if isinstance(change, str) else (None, tuple(change))
             for name in ("0.5 m/s", "arc, speed"):
@@ -288,6 +354,8 @@ def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, st
             passed = abs(ea) <= DEFICIT_ERROR * w
             ok = ok and passed
             out["deficit"].append({"command": w, "aic_error": ea, "stock_error": es, "pass": passed})
+        if arc_prior_table:
+            out["arc_prior"] = arc_prior(runner, res)
     if tracking_suite:
         ok = judge_tracking(res, profiles, variants, ideal, out) and ok
     out["pass"] = ok

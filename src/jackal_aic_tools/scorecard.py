@@ -193,7 +193,8 @@ def judge_driving(ev, crit):
     to ``crit`` as driving_steps, driving_deficit, driving_robust, driving_tracking, driving_gmean
     (over the plant-following channels, judged against driving.TRACK_GMEAN_BOUND),
     driving_floor_gmean, driving_aic_floor_gmean, driving_stock_floor_gmean (over the same) and
-    driving_limited_gmean (over the plant-limited channels; reported). Returns True when every
+    driving_limited_gmean (over the plant-limited channels; reported) and driving_arc_prior (the
+    arc's yaw overshoot against the model's initial separation; reported). Returns True when every
     judged row passes (the tracking rows' honest belief, belief_pass, and end-of-profile heading,
     heading_pass, included)."""
     for part in ("steps", "deficit", "robust", "tracking"):
@@ -201,8 +202,9 @@ def judge_driving(ev, crit):
     gm = dict(ev["gmean"], bound=driving.TRACK_GMEAN_BOUND)
     gm["pass"] = gm["all"] <= driving.TRACK_GMEAN_BOUND
     crit["driving_gmean"] = gm
-    for name in ("floor_gmean", "aic_floor_gmean", "stock_floor_gmean", "limited_gmean"):
-        crit["driving_" + name] = ev[name]
+    for name in ("floor_gmean", "aic_floor_gmean", "stock_floor_gmean", "limited_gmean", "arc_prior"):
+        if name in ev:
+            crit["driving_" + name] = ev[name]
     verdicts = [gm["pass"]] + [r["pass"] for part in ("steps", "deficit", "robust", "tracking") for r in ev[part]]
     verdicts += [r.get("belief_pass") for r in ev["tracking"]] + [r.get("heading_pass") for r in ev["tracking"]]
     all_ok = not any(ok is False for ok in verdicts)

@@ -149,6 +149,22 @@ def print_driving(crit):
           [[r["profile"], r["variant"], fmt(r.get("heading_aic"), "%+.3f"), fmt(r.get("heading_stock"), "%+.3f"),
             fmt(r.get("heading_bound"), "%.3f"),
             verdict(r["heading_pass"]) if r.get("heading_judged") else "reported"] for r in rows])
+    if crit.get("driving_arc_prior"):
+        print_arc_prior(crit["driving_arc_prior"])
+
+
+def print_arc_prior(arc):
+    """Print table 6i from driving.arc_prior()'s dict ``arc``: the arc step's yaw overshoot against the
+    model's initial wheel separation b_hat_0."""
+    table("6i. The arc step's yaw overshoot (on the gyro, worst of the %d phases; table 6a's 'arc, yaw') against "
+          "the model's initial wheel separation b_hat_0 (reported): the plant's effective separation on this arc, "
+          "b_eff = b_hat_0 x wheel-odometry yaw rate / true yaw rate over the last %g s, is %.4f m; the "
+          "configured b_hat_0 %.4f m is %.3f x b_eff"
+          % (len(driving.STEP_PHASES), driving.ARC_SEPARATION_WINDOW, arc["b_eff"], arc["b_hat_0"],
+             arc["b_hat_0"] / arc["b_eff"]),
+          ["b_hat_0", "b_hat_0 / b_eff", "AIC yaw overshoot", "within %g %%" % driving.STEP_OVERSHOOT],
+          [["%.4f m%s" % (r["separation"], " (configured)" if r["configured"] else ""), "%.3f" % r["factor"],
+            "%.1f %%" % r["overshoot"], "yes" if r["within"] else "no"] for r in arc["rows"]])
 
 
 def report(crit, ok, a, root):
