@@ -666,6 +666,25 @@ class ArcPriorTest(unittest.TestCase):
         self.assertTrue(all(c == "aic" and o is None and not w for c, _, o, w in seen))
         self.assertIn("wheel_separation=%.5f" % (1.05 * 0.5355), [s for _, s, _, _ in seen])
 
+    def test_table_and_its_error_form_print(self):
+        from jackal_aic_tools import scorecard_print
+        arc = {"b_eff": 0.5355, "b_hat_0": 0.5621,
+               "rows": [{"separation": 0.5621, "factor": 0.5621 / 0.5355, "configured": True, "overshoot": 7.8,
+                         "within": False},
+                        {"separation": 0.5355, "factor": 1.0, "configured": False, "overshoot": 2.8, "within": True}]}
+        buf = io.StringIO()
+        with contextlib.redirect_stdout(buf):
+            scorecard_print.print_arc_prior(arc)
+        text = buf.getvalue()
+        self.assertIn("6i.", text)
+        self.assertIn("is 0.5355 m; the configured b_hat_0 0.5621 m is 1.050 x b_eff", text)
+        self.assertIn("0.5621 m (configured)", text)
+        self.assertRegex(text, r"0\.5355 m\s+1\.000\s+2\.8 %\s+yes")
+        buf = io.StringIO()
+        with contextlib.redirect_stdout(buf):
+            scorecard_print.print_arc_prior({"error": "arc_effective_separation: no turn to measure"})
+        self.assertIn("not measured (arc_effective_separation: no turn to measure)", buf.getvalue())
+
 
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file

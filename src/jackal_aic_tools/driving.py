@@ -280,7 +280,8 @@ def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, st
     steps: list of judge_step() rows, {case, aic_settling, stock_settling, ratio, ratios,
     aic_overshoot, stock_overshoot, bound, pass};
     robust: list of {plant, case, runaways, settled, overshoot, pass};
-    arc_prior: arc_prior()'s table (with ``steps`` and ``arc_prior_table``; reported, not judged);
+    arc_prior: arc_prior()'s table, or {error} where the arc gave no effective separation (with
+    ``steps`` and ``arc_prior_table``; reported, not judged);
     deficit: list of {command, aic_error, stock_error, pass} (errors in rad/s);
     tracking: list of {profile, variant, aic_vx, stock_vx, vx_ratio, aic_wz, stock_wz, wz_ratio,
     floor_vx, floor_wz (floor_rms at the variant's latency), floor_vx_ratio, floor_wz_ratio (floor /
@@ -355,7 +356,10 @@ def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, st
             ok = ok and passed
             out["deficit"].append({"command": w, "aic_error": ea, "stock_error": es, "pass": passed})
         if arc_prior_table:
-            out["arc_prior"] = arc_prior(runner, res)
+            try:
+                out["arc_prior"] = arc_prior(runner, res)
+            except ValueError as e:  # an arc that does not turn: nothing to measure, the rest stands
+                out["arc_prior"] = {"error": str(e)}
     if tracking_suite:
         ok = judge_tracking(res, profiles, variants, ideal, out) and ok
     out["pass"] = ok

@@ -155,7 +155,11 @@ def print_driving(crit):
 
 def print_arc_prior(arc):
     """Print table 6i from driving.arc_prior()'s dict ``arc``: the arc step's yaw overshoot against the
-    model's initial wheel separation b_hat_0."""
+    model's initial wheel separation b_hat_0 (or, for {error}, why it was not measured)."""
+    if "error" in arc:
+        print("\n6i. The arc step's yaw overshoot against the model's initial wheel separation: not measured (%s)"
+              % arc["error"])
+        return
     table("6i. The arc step's yaw overshoot (on the gyro, worst of the %d phases; table 6a's 'arc, yaw') against "
           "the model's initial wheel separation b_hat_0 (reported): the plant's effective separation on this arc, "
           "b_eff = b_hat_0 x wheel-odometry yaw rate / true yaw rate over the last %g s, is %.4f m; the "

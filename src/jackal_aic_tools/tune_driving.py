@@ -28,8 +28,8 @@ def run(a, tool):
     best = {"cost": float("inf"), "values": None}
 
     def evaluate(values, variant_list, ideal=False):
-        # The search's cost uses neither the ideal controller nor the arc's prior table (driving.cost):
-        # only the winner's report.
+        # The search's cost uses neither the ideal controller (only the winner's report runs it) nor
+        # the scorecard's arc-prior table (driving.cost).
         runner = driving.Runner(exe, a.base, plant_config, to_args(values), a.jobs)
         runner._stock = stock_cache
         return driving.evaluate(runner, tool.root, variants=variant_list, ideal=ideal, arc_prior_table=False)
