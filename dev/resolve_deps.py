@@ -8,13 +8,19 @@ bookworm); ROS package keys resolve, on Debian, to Debian's own ROS 1 packages
 packages (test/data/rosdep_keys.txt: ros-noetic-<key>). A key with no package on the OS is
 an error: rosdep could not install it there, and neither can this script.
 
+A dependency with a REP 149 condition counts only where its condition holds in this
+process's environment, as in rosdep: JACKAL_AIC_NODE_ONLY=1 leaves out what only the
+simulated Jackal, the tools and the tests need (doc/platforms.md, "The robot's build").
+
     dev/resolve_deps.py --os bullseye            # one apt package per line
     dev/resolve_deps.py --os focal --keys        # key -> packages, one key per line
+    JACKAL_AIC_NODE_ONLY=1 dev/resolve_deps.py --os focal   # the robot's packages
 
 Exit status: 0 every key resolved; 1 some key did not (each named on stderr, with its OS);
 2 bad arguments or unreadable data files. Runs on Python 3.8 with PyYAML.
 """
 import argparse
+import operator
 import os
 import re
 import sys
@@ -29,13 +35,93 @@ DEP_TAGS = ("depend", "build_depend", "build_export_depend", "exec_depend", "tes
 OSES = ("focal", "bullseye", "bookworm")
 
 
-def package_keys(path):
-    """Dependency keys of a package.xml (format 2 or 3), in order of first appearance."""
+_COMPARISONS = {"==": operator.eq, "!=": operator.ne, "<=": operator.le, "<": operator.lt,
+                ">=": operator.ge, ">": operator.gt}
+_CONDITION_TOKEN = re.compile(r"\s*(?:(\(|\)|==|!=|<=|>=|<|>)|\$(\w+)|\"([^\"]*)\"|'([^']*)'|([\w-]+))")
+
+
+def evaluate_condition(condition, env):
+    """The value of a REP 149 condition attribute in the environment env (a mapping).
+
+    The grammar of catkin_pkg.condition, which rosdep and catkin use: comparisons
+    `TERM OP TERM` (OP one of == != < <= > >=; a TERM is $VARIABLE, a bare word or a quoted
+    string; an unset variable is the empty string) joined by `and` (binds first) and `or`,
+    with parentheses. None (no condition) is true. Raises ValueError on a malformed condition.
+    """
+    if condition is None:
+        return True
+    tokens, pos = [], 0
+    while pos < len(condition):
+        m = _CONDITION_TOKEN.match(condition, pos)
+        if not m or m.end() == pos:
+            if condition[pos:].strip():
+                raise ValueError("condition %r: cannot read %r" % (condition, condition[pos:]))
+            break
+        pos = m.end()
+        op, var, dq, sq, word = m.groups()
+        if op:
+            tokens.append(("op", op))
+        elif var is not None:
+            tokens.append(("term", env.get(var, "")))
+        elif word in ("and", "or"):
+            tokens.append(("op", word))
+        else:
+            tokens.append(("term", next(t for t in (dq, sq, word) if t is not None)))
+    at = [0]
+
+    def take(kind, value=None):
+        if at[0] < len(tokens) and tokens[at[0]][0] == kind and value in (None, tokens[at[0]][1]):
+            at[0] += 1
+            return tokens[at[0] - 1][1]
+        return None
+
+    def expected(what):
+        return ValueError("condition %r: %s expected" % (condition, what))
+
+    def either():
+        value = both()
+        while take("op", "or") is not None:
+            value = both() or value
+        return value
+
+    def both():
+        value = single()
+        while take("op", "and") is not None:
+            value = single() and value
+        return value
+
+    def single():
+        if take("op", "(") is not None:
+            value = either()
+            if take("op", ")") is None:
+                raise expected("')'")
+            return value
+        left = take("term")
+        op = take("op")
+        right = take("term")
+        if left is None or op not in _COMPARISONS or right is None:
+            raise expected("TERM OP TERM")
+        return _COMPARISONS[op](left, right)
+
+    value = either()
+    if at[0] != len(tokens):
+        raise expected("the end")
+    return value
+
+
+def package_keys(path, env=None):
+    """Dependency keys of a package.xml (format 2 or 3), in order of first appearance.
+
+    A dependency whose condition attribute is false in env (default: os.environ, as rosdep
+    reads it) is left out.
+    """
+    env = os.environ if env is None else env
     root = ET.parse(path).getroot()
     keys = []
     for el in root:
         if el.tag in DEP_TAGS and el.text and el.text.strip() not in keys:
-            keys.append(el.text.strip())
+            if evaluate_condition(el.get("condition"), env):
+                keys.append(el.text.strip())
     return keys
 
 

@@ -24,7 +24,8 @@ import argparse
 import logging
 import sys
 
-from jackal_aic_tools import cli, experiment, report
+from jackal_aic_tools.common import cli, report
+from jackal_aic_tools.experiment import experiment
 
 
 def main(argv=None):

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The report of a field-trial session (jackal_aic_tools.field_report; doc/field_trials.md): from
+"""The report of a field-trial session (jackal_aic_tools.field.field_report; doc/field_trials.md): from
 the session's bags, aic_experiment.py's step table and aic_track.py's tracking table, AIC against
 stock, with a plot per run; whether the two controllers ever fed the diff drive in the same 50 Hz
 period; with --sim, the runs replayed on the simulated Jackal beside the robot's numbers.
@@ -17,7 +17,8 @@ import os
 import shlex
 import sys
 
-from jackal_aic_tools import cli, field_report
+from jackal_aic_tools.common import cli
+from jackal_aic_tools.field import field_report
 
 
 def main():

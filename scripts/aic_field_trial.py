@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Field trial on the Jackal that is running: a session plan's step responses, square waves and
 tracking profiles, each for the AIC and the stock controller, out and back inside the plan's
-corridor, with a bag per run and a session summary (jackal_aic_tools.field_trial; doc/field_trials.md).
+corridor, with a bag per run and a session summary (jackal_aic_tools.field.field_trial; doc/field_trials.md).
 
 Examples:
   aic_field_trial.py --plan config/field_trials/standard.yaml --dry-run     # paths, corridor, limits, time
@@ -17,7 +17,7 @@ import sys
 
 import rospy
 
-from jackal_aic_tools import field_trial
+from jackal_aic_tools.field import field_trial
 
 
 def main():

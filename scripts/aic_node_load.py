@@ -1,11 +1,13 @@
 #!/usr/bin/env python3
 """aic_node_load.py: measure what the jackal_AIC node costs on the simulated Jackal, in wall-clock
-time. The command line of jackal_aic_tools.node_load; --help describes the table."""
+time. The command line of jackal_aic_tools.robustness.node_load; --help describes the table."""
 import argparse
 import os
 import sys
 
-from jackal_aic_tools import cli, experiment, node_load
+from jackal_aic_tools.common import cli
+from jackal_aic_tools.experiment import experiment
+from jackal_aic_tools.robustness import node_load
 
 
 def main(argv=None):

@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
 """aic_reproduce.py: reproduce the thesis's experiments on the simulated Jackal, one command.
 
-The command line of jackal_aic_tools.reproduce (the runs: reproduce_runs, the tables:
+The command line of jackal_aic_tools.reproduce.reproduce (the runs: reproduce_runs, the tables:
 reproduce_tables); --help describes the tables and the backends.
 """
 import argparse
 import sys
 
-from jackal_aic_tools import cli, reproduce, reproduce_tables
+from jackal_aic_tools.common import cli
+from jackal_aic_tools.reproduce import reproduce, reproduce_tables
 
 
 def main(argv=None):

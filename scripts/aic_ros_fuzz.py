@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 """aic_ros_fuzz.py: fuzz the jackal_AIC node through ROS with seeded random messages on its
-inputs; the command line of jackal_aic_tools.ros_fuzz (--help describes the verdict)."""
+inputs; the command line of jackal_aic_tools.robustness.ros_fuzz (--help describes the verdict)."""
 import argparse
 import sys
 
-from jackal_aic_tools import ros_fuzz
+from jackal_aic_tools.robustness import ros_fuzz
 
 
 def main(argv=None):

@@ -1,14 +1,15 @@
 #!/usr/bin/env python3
 """aic_scorecard.py: the tuning acceptance set, the AIC against the stock controller, in one command.
 
-The command line of jackal_aic_tools.scorecard (the runs and the criteria) and
-jackal_aic_tools.scorecard_print (the tables); --help lists the criteria.
+The command line of jackal_aic_tools.tune.scorecard (the runs and the criteria) and
+jackal_aic_tools.tune.scorecard_print (the tables); --help lists the criteria.
 """
 import argparse
 import os
 import sys
 
-from jackal_aic_tools import cli, scorecard, scorecard_print
+from jackal_aic_tools.common import cli
+from jackal_aic_tools.tune import scorecard, scorecard_print
 
 
 def main():

@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
 """aic_sweep.py: sweep step-response experiments of jackal_aic across parameters; one table, one
-plot. The command line of jackal_aic_tools.sweep; --help shows examples."""
+plot. The command line of jackal_aic_tools.experiment.sweep; --help shows examples."""
 import argparse
 import os
 import sys
 
-from jackal_aic_tools import cli, experiment, sweep
+from jackal_aic_tools.common import cli
+from jackal_aic_tools.experiment import experiment, sweep
 
 
 def parse(argv):

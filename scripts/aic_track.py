@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
 """aic_track.py: the tracking benchmark of real driving, headless, in one command: the command
-line of jackal_aic_tools.track_suite (the runs) and track_report (tables, plots, results page).
+line of jackal_aic_tools.track.track_suite (the runs) and track_report (tables, plots, results page).
 """
 import argparse
 import sys
 
-from jackal_aic_tools import cli, track_profiles, track_report, track_suite
+from jackal_aic_tools.common import cli
+from jackal_aic_tools.track import track_profiles, track_report, track_suite
 
 
 def fail(message):

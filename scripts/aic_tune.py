@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
 """aic_tune.py: model-based tuning of the active inference controller on the simulated Jackal.
 
-The command line of jackal_aic_tools.tune (the three stages: identify, search on the model,
-refine in the simulator) and jackal_aic_tools.tune_driving (--driving); --help describes both.
+The command line of jackal_aic_tools.tune.tune (the three stages: identify, search on the model,
+refine in the simulator) and jackal_aic_tools.tune.tune_driving (--driving); --help describes both.
 """
 import argparse
 import sys
 
-from jackal_aic_tools import cli, tune, tune_driving
+from jackal_aic_tools.common import cli
+from jackal_aic_tools.tune import tune, tune_driving
 
 
 def main():
@@ -41,7 +42,7 @@ def main():
     ap.add_argument("--robust", type=float, default=0.2, help="relative variation of plant gain and delay")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--driving", action="store_true",
-                    help="tune for real driving from the base config (DRIVING_SPACE, jackal_aic_tools.driving)")
+                    help="tune for real driving from the base config (DRIVING_SPACE, jackal_aic_tools.track.driving)")
     ap.add_argument("--driving-variants", nargs="+", metavar="VARIANT",
                     default=["default"] + [tool.path("sim", "config", "variants", v + ".yaml")
                                            for v in ("turn_deficit", "latency_plus_20", "payload_10kg")],

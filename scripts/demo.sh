@@ -41,10 +41,10 @@ done
 echo
 {
   echo "Step response, ${v} m/s from rest (rise 10-90 %, settling +-5 %; drive cmd = the twist the wheel commands ask for):"
-  /usr/bin/python3 -m jackal_aic_tools.summary "$out/demo_aic_step_${v}.json" "$out/demo_stock_step_${v}.json"
+  /usr/bin/python3 -m jackal_aic_tools.common.summary "$out/demo_aic_step_${v}.json" "$out/demo_stock_step_${v}.json"
   echo
   echo "Tracking of ${track} (error against the set point; truth = /odom, odom = wheel odometry; drift of the /odom path):"
-  /usr/bin/python3 -m jackal_aic_tools.summary --tracking "$out/demo_aic_${track}.json" "$out/demo_stock_${track}.json"
+  /usr/bin/python3 -m jackal_aic_tools.common.summary --tracking "$out/demo_aic_${track}.json" "$out/demo_stock_${track}.json"
 } | tee "$out/summary.txt"
 if [ "${AIC_DEMO_DOC:-0}" = "1" ]; then
   mkdir -p "$repo/doc/results" "$repo/doc/img"

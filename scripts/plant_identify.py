@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
 """plant_identify.py: identify the simulated Jackal's MCU wheel loop from the robot's step responses
-(jackal_aic_tools.plant_identification) or from a robot's bag (--bag: jackal_aic_tools.bag_fit)."""
+(jackal_aic_tools.identify.plant_identification) or from a robot's bag (--bag: jackal_aic_tools.identify.bag_fit)."""
 import argparse
 import sys
 
-from jackal_aic_tools import bag_fit, bag_identification, cli, plant_identification
+from jackal_aic_tools.common import cli
+from jackal_aic_tools.identify import bag_fit, bag_identification, plant_identification
 
 
 def main():

@@ -1,13 +1,14 @@
 #!/usr/bin/env python3
 """record_identification.py: drive a Jackal through the identification sequence and record the bag
 that `plant_identify.py --bag` identifies its wheel loop from: on the robot a ROS node
-(jackal_aic_tools.identification_recorder, whose docstring gives its parameters and safety rules),
+(jackal_aic_tools.identify.identification_recorder, whose docstring gives its parameters and safety rules),
 or --headless the bag of the simulated Jackal (plant_replay)."""
 import argparse
 import sys
 
-from jackal_aic_tools import bag_identification as bi
-from jackal_aic_tools import cli, identification_recorder
+from jackal_aic_tools.common import cli
+from jackal_aic_tools.identify import bag_identification as bi
+from jackal_aic_tools.identify import identification_recorder
 
 
 def headless(argv):

@@ -8,7 +8,9 @@ import unittest
 
 import numpy as np
 
-from jackal_aic_tools import driving, experiment, metrics, profiles, recording, tracking
+from jackal_aic_tools.common import metrics, profiles, recording, tracking
+from jackal_aic_tools.experiment import experiment
+from jackal_aic_tools.track import driving
 
 kTimeTol = 0.02  # s: the metrics' interpolation on a 1 kHz series
 kPctTol = 0.5    # %
@@ -231,7 +233,7 @@ class PlotTest(unittest.TestCase):
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        from jackal_aic_tools import report
+        from jackal_aic_tools.common import report
         p = profiles.step(v=0.5, t_step=0.0, hold=4.0)
         result = {"name": "run", "controller": "aic", "profile": p.name, "status": "ok", "reason": "",
                   "segments": []}

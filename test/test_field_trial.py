@@ -1,14 +1,14 @@
 #!/usr/bin/env python3
 """Python unit test: the field trial's logic without ROS (doc/field_trials.md).
 
-- plans (jackal_aic_tools.field_plan): the shipped standard plan loads, fits its corridor and its
+- plans (jackal_aic_tools.field.field_plan): the shipped standard plan loads, fits its corridor and its
   dry run states the corridor, the limits and a duration under 12 minutes; bad plans (not YAML,
   unknown keys, missing corridor, absurd limits, a profile beyond the limits, a corridor too small,
   a bad experiment) are refused with a message naming the file and the key;
 - runs: every experiment for every controller, alternating, each followed by its mirror, whose ideal
   path ends where the out run started; corridor arithmetic (frames, extents, excess);
-- safety (jackal_aic_tools.field_safety): every stop condition, in its order, and the start checks;
-- the report's pieces (jackal_aic_tools.field_report): the switch-overlap check on publisher
+- safety (jackal_aic_tools.field.field_safety): every stop condition, in its order, and the start checks;
+- the report's pieces (jackal_aic_tools.field.field_report): the switch-overlap check on publisher
   records, a bag written with the rosbag API read back as the recorder's arrays, the relative error
   and its floor, the Markdown report (its lines and the shape of its tables).
 """
@@ -24,7 +24,8 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.realpath(__file__)))
 import pyunit  # noqa: E402
 
-from jackal_aic_tools import field_plan, field_report, field_safety, profiles  # noqa: E402
+from jackal_aic_tools.common import profiles  # noqa: E402
+from jackal_aic_tools.field import field_plan, field_report, field_safety  # noqa: E402
 
 ROOT = os.path.realpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), ".."))
 STANDARD = os.path.join(ROOT, "config", "field_trials", "standard.yaml")

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Python unit test: aic_reproduce.py's tables and runs (jackal_aic_tools.reproduce_tables,
-reproduce_runs) and the shared table formatter (jackal_aic_tools.tables), on made-up run results
+"""Python unit test: aic_reproduce.py's tables and runs (jackal_aic_tools.reproduce.reproduce_tables,
+reproduce_runs) and the shared table formatter (jackal_aic_tools.common.tables), on made-up run results
 whose table is known; no simulator. Deterministic."""
 import csv
 import math
@@ -8,8 +8,9 @@ import os
 import tempfile
 import unittest
 
-from jackal_aic_tools import reproduce_runs, reproduce_tables, tables
-from jackal_aic_tools.reproduce_runs import Run
+from jackal_aic_tools.common import tables
+from jackal_aic_tools.reproduce import reproduce_runs, reproduce_tables
+from jackal_aic_tools.reproduce.reproduce_runs import Run
 
 
 def result(status="ok", settling=None, rise=None, overshoot=None, segments=None):

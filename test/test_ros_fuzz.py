@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Python unit test (no roscore): the ROS fuzz's generator and verdict
-(jackal_aic_tools.ros_fuzz, scripts/aic_ros_fuzz.py): seeded and deterministic, every kind of
-odd input it promises, plausible messages that are valid, messages that serialize, the command
-check (float32 limit, non-finite, over-limit), the verdict and the figures' formatting.
+(jackal_aic_tools.robustness.ros_fuzz, scripts/aic_ros_fuzz.py): seeded and deterministic, every
+kind of odd input it promises, plausible messages that are valid, messages that serialize, the
+command check (jackal_aic_tools.robustness.node_watch: float32 limit, non-finite, over-limit), the
+verdict and the figures' formatting.
 """
 import collections
 import io
@@ -14,8 +15,9 @@ import unittest
 
 ROOT = os.path.realpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), ".."))
 sys.path.insert(0, os.path.join(ROOT, "src"))
-from jackal_aic_tools import ros_fuzz  # noqa: E402
-from jackal_aic_tools.ros_fuzz import CommandCheck, FuzzGenerator  # noqa: E402
+from jackal_aic_tools.robustness import node_watch, ros_fuzz  # noqa: E402
+from jackal_aic_tools.robustness.node_watch import CommandCheck  # noqa: E402
+from jackal_aic_tools.robustness.ros_fuzz import FuzzGenerator  # noqa: E402
 
 import random  # noqa: E402
 
@@ -161,7 +163,7 @@ class CheckAndVerdictTest(unittest.TestCase):
 
     def test_limit_is_compared_in_float32(self):
         c = CommandCheck(8.1)
-        c.add([ros_fuzz.float32(8.1), -ros_fuzz.float32(8.1)])
+        c.add([node_watch.float32(8.1), -node_watch.float32(8.1)])
         self.assertTrue(c.clean())
         c.add([8.1001, 0.0])
         c.add([float("nan"), 0.0])
@@ -190,9 +192,9 @@ class CheckAndVerdictTest(unittest.TestCase):
     def test_drop_counters(self):
         diag = {"jackal_AIC: sensors": {"dropped: imu: non-finite value": "7", "set points clamped": "2",
                                         "stale events": "1", "state": "fresh", "dropped: odd": "?"}}
-        self.assertEqual(ros_fuzz.drop_counters(diag), {"dropped: imu: non-finite value": 7,
-                                                        "set points clamped": 2, "stale events": 1})
-        self.assertEqual(ros_fuzz.drop_counters({}), {})
+        self.assertEqual(node_watch.drop_counters(diag), {"dropped: imu: non-finite value": 7,
+                                                          "set points clamped": 2, "stale events": 1})
+        self.assertEqual(node_watch.drop_counters({}), {})
 
     def test_figures_formatting(self):
         c = CommandCheck(20.0)

@@ -7,7 +7,7 @@ on the simulated Jackal's plant core through the node's logic, headless, seeded 
 the figures are the same on every machine) on config/default.yaml and the default plant.
 
 Acceptance (ScorecardAcceptance), each row against the bound doc/experiments.md states (the
-scorecard's verdicts, whose bounds are jackal_aic_tools.driving's and scorecard's constants):
+scorecard's verdicts, whose bounds are jackal_aic_tools.track.driving's and scorecard's constants):
 - every straight-step criterion (0.5 m/s step: settling <= 0.8 x and rise <= 0.7 x the stock
   controller's, overshoot <= 5 %, steady-state error <= 1 %, for every noise seed; the 1 rad/s
   turn settles no later than the stock's; every square-wave transition overshoots <= 10 %;
@@ -41,7 +41,7 @@ import unittest
 ROOT = os.path.join(os.path.dirname(os.path.realpath(__file__)), "..")
 SCRIPT = os.path.join(ROOT, "scripts", "aic_scorecard.py")
 sys.path.insert(0, os.path.join(ROOT, "src"))
-from jackal_aic_tools import driving, plant_limits  # noqa: E402
+from jackal_aic_tools.track import driving, plant_limits  # noqa: E402
 
 #: Regression guards: (what, today's figure, the guard, the documented bound). Today's figures are
 #: doc/results/scorecard.txt's (6a, 6b, 6d, 6e, 6g).

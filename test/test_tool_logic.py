@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """Python unit test (no roscore, no build): the logic of the experiment tools that run ROS
-(aic_sweep.py, aic_node_load.py, aic_soak.py, aic_experiment.py: jackal_aic_tools.sweep,
-.node_load, .soak, .procfs, .experiment), of the report and summary printers
-(jackal_aic_tools.report, .summary), of dev/failure_summary.py and dev/mutants.py's list, and the plant-limited pairs of
-the tracking benchmark (jackal_aic_tools.plant_limits, driving.judge_tracking,
+(aic_sweep.py, aic_node_load.py, aic_ros_soak.py, aic_experiment.py: jackal_aic_tools.experiment.sweep,
+.experiment, jackal_aic_tools.robustness.node_watch, .soak), the launcher and stop routine of
+ROS processes (jackal_aic_tools.common.ros_process), of the report and summary printers
+(jackal_aic_tools.common.report, .summary), of dev/failure_summary.py and dev/mutants.py's list, and the
+plant-limited pairs of the tracking benchmark (jackal_aic_tools.track.plant_limits, driving.judge_tracking,
 track_suite.metric_limited), on inputs made up here.
 """
 import argparse
@@ -23,8 +24,10 @@ import numpy as np
 
 ROOT = os.path.realpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), ".."))
 sys.path.insert(0, os.path.join(ROOT, "src"))
-from jackal_aic_tools import driving, experiment, ideal_cache, plant_limits, procfs, report, soak, summary, sweep  # noqa: E402
-from jackal_aic_tools import track_suite  # noqa: E402
+from jackal_aic_tools.common import report, ros_process, summary  # noqa: E402
+from jackal_aic_tools.experiment import experiment, sweep  # noqa: E402
+from jackal_aic_tools.robustness import node_watch, soak  # noqa: E402
+from jackal_aic_tools.track import driving, ideal_cache, plant_limits, track_suite  # noqa: E402
 
 
 def step_result(name, status="ok", rise=0.1, settle=0.3, overshoot=2.0):
@@ -34,40 +37,133 @@ def step_result(name, status="ok", rise=0.1, settle=0.3, overshoot=2.0):
             "segments": [{"channel": "vx", "start": 0.0, "target": 0.5, "metrics": {"measured": measured}}]}
 
 
-class ProcfsTest(unittest.TestCase):
+def proc_stat_cpu(pid):
+    """utime + stime [s] of /proc/<pid>/stat read here (fields 14 and 15, counted after the name's
+    last ')'), to hold psutil's figures against."""
+    with open("/proc/%d/stat" % pid) as f:
+        fields = f.read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / float(os.sysconf("SC_CLK_TCK"))
 
-    def test_cpu_seconds_reads_fields_14_and_15_past_a_name_with_spaces(self):
-        # A comm of ") x y (" must not shift the fields: they are counted after the last ')'.
-        with tempfile.NamedTemporaryFile("w", suffix="stat", delete=False) as f:
-            fields = ["S", "1", "1", "1", "0", "-1", "4194560", "0", "0", "0", "0", str(3 * procfs.CLK_TCK),
-                      str(procfs.CLK_TCK // 2), "0", "0"]
-            f.write("1234 (a) x y (b) " + " ".join(fields) + "\n")
-        try:
-            self.assertAlmostEqual(procfs.cpu_seconds(f.name), 3.5)
-        finally:
-            os.remove(f.name)
 
-    def test_this_process_cpu_time_threads_memory_and_parent(self):
-        before = procfs.cpu_seconds("/proc/self/stat")
-        stop = time.monotonic() + 0.3
-        while time.monotonic() < stop:
+class NodeWatchTest(unittest.TestCase):
+    """robustness.node_watch's resource use (psutil) against /proc read directly."""
+
+    def test_this_process_cpu_time_and_memory(self):
+        pid = os.getpid()
+        before = node_watch.cpu_seconds(pid)
+        spin_until = time.process_time() + 0.2  # CPU time, whatever the host's load
+        while time.process_time() < spin_until:
             pass
-        self.assertGreater(procfs.cpu_seconds("/proc/self/stat"), before)
-        done = threading.Event()
-        worker = threading.Thread(target=done.wait, name="procfs_probe")
+        after = node_watch.cpu_seconds(pid)
+        self.assertGreater(after, before + 0.1)
+        self.assertAlmostEqual(after, proc_stat_cpu(pid), delta=0.05)
+        rss, cpu = node_watch.rss_and_cpu(pid)
+        with open("/proc/self/status") as f:
+            vm_rss = int([l for l in f if l.startswith("VmRSS:")][0].split()[1])
+        self.assertGreater(rss, 1000)  # KiB: a Python interpreter
+        self.assertAlmostEqual(rss, vm_rss, delta=512)  # VmRSS [KiB], the same count of pages
+        self.assertAlmostEqual(cpu, proc_stat_cpu(pid), delta=0.05)
+        self.assertEqual(len(node_watch.loadavg().split()), 3)
+
+    def test_threads_by_the_name_they_set(self):
+        import ctypes
+        libc = ctypes.CDLL(None, use_errno=True)
+        ready, done, tid = threading.Event(), threading.Event(), []
+
+        def named():  # the name as the node's threads set it (pthread_setname_np: PR_SET_NAME)
+            libc.prctl(15, b"aic_probe", 0, 0, 0)
+            tid.append(threading.get_native_id())
+            spin_until = time.thread_time() + 0.1  # this thread's CPU time, whatever the host's load
+            while time.thread_time() < spin_until:
+                pass
+            ready.set()
+            done.wait()
+
+        worker = threading.Thread(target=named)
         worker.start()
         try:
-            names = procfs.thread_times(os.getpid())
+            self.assertTrue(ready.wait(30.0))
+            names = node_watch.thread_times(os.getpid())
         finally:
             done.set()
             worker.join()
         with open("/proc/self/comm") as f:
             self.assertIn("%s:%d" % (f.read().strip(), os.getpid()), names)
+        self.assertIn("aic_probe:%d" % tid[0], names)
+        self.assertGreater(names["aic_probe:%d" % tid[0]], 0.05)  # its 0.1 s, in clock ticks
         self.assertGreaterEqual(len(names), 2)
-        rss, cpu = procfs.proc_stats(os.getpid())
-        self.assertGreater(rss, 1000)  # KiB: a Python interpreter
-        self.assertGreater(cpu, 0.0)
-        self.assertEqual(procfs.parent_of(os.getpid()), os.getppid())
+
+
+class RosProcessTest(unittest.TestCase):
+    """common.ros_process's launcher and stop routine on plain child processes (no ROS): the whole
+    process group gets SIGINT, SIGKILL follows after the timeout, an ended group is no error; the
+    nodes of a launch are found among its descendants."""
+
+    CHILD = ("import signal, subprocess, sys, time\n"
+             "if sys.argv[1] == 'ignore':\n"
+             "    signal.signal(signal.SIGINT, signal.SIG_IGN)\n"
+             "grandchild = subprocess.Popen([sys.executable, '-c', 'import time; time.sleep(60)', '__name:=probe'])\n"
+             "try:\n"
+             "    print(grandchild.pid, flush=True)\n"
+             "    time.sleep(60)\n"
+             "except KeyboardInterrupt:\n"
+             "    grandchild.wait()\n"
+             "    sys.exit(7)\n")
+
+    def start(self, mode):
+        proc = ros_process.start([sys.executable, "-c", self.CHILD, mode], stdout=subprocess.PIPE,
+                                 stderr=subprocess.DEVNULL)
+        self.addCleanup(lambda: proc.poll() is None and ros_process.stop(proc, 1.0))
+        self.addCleanup(proc.stdout.close)
+        grandchild = int(proc.stdout.readline())
+        return proc, grandchild
+
+    @staticmethod
+    def gone(pid, timeout=5.0):
+        """True once ``pid`` no longer runs (or is a zombie) within ``timeout`` [s]."""
+        import psutil
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            try:
+                if psutil.Process(pid).status() == psutil.STATUS_ZOMBIE:
+                    return True
+            except psutil.NoSuchProcess:
+                return True
+            time.sleep(0.02)
+        return False
+
+    def test_sigint_reaches_the_whole_group(self):
+        proc, grandchild = self.start("interrupt")
+        self.assertNotEqual(os.getpgid(proc.pid), os.getpgid(0))  # a group of its own
+        self.assertEqual(os.getpgid(grandchild), proc.pid)
+        # (its __name:= argument is there once it has exec'd: wait_for_nodes polls, find_node looks once)
+        self.assertEqual(ros_process.wait_for_nodes(("probe",), proc, timeout=5.0), {"probe": grandchild})
+        self.assertEqual(ros_process.find_node("probe", proc.pid), grandchild)
+        self.assertIsNone(ros_process.find_node("other", proc.pid))
+        t = time.monotonic()
+        self.assertEqual(ros_process.stop(proc, timeout=10.0), 7)  # its KeyboardInterrupt handler ran
+        self.assertLess(time.monotonic() - t, 5.0)
+        self.assertTrue(self.gone(grandchild))
+
+    def test_sigkill_after_the_timeout(self):
+        proc, grandchild = self.start("ignore")
+        t = time.monotonic()
+        self.assertEqual(ros_process.stop(proc, timeout=0.5), -9)
+        self.assertGreaterEqual(time.monotonic() - t, 0.5)
+        self.assertTrue(self.gone(grandchild))  # the grandchild (SIGINT ended it) or SIGKILL
+
+    def test_an_ended_process_is_no_error(self):
+        proc = ros_process.start([sys.executable, "-c", "import sys; sys.exit(3)"])
+        proc.wait()
+        self.assertEqual(ros_process.stop(proc), 3)
+        self.assertFalse(ros_process.interrupt(proc))
+
+    def test_command_line_and_free_port(self):
+        self.assertEqual(ros_process.roslaunch_command("sim.launch", ["base:=direct"], port=11411),
+                         ["roslaunch", "-p", "11411", "jackal_aic", "sim.launch", "base:=direct"])
+        self.assertEqual(ros_process.roslaunch_command("robot.launch"), ["roslaunch", "jackal_aic", "robot.launch"])
+        port = ros_process.free_port()
+        self.assertTrue(1024 <= port <= 65535)
 
 
 class SweepTest(unittest.TestCase):
@@ -142,7 +238,7 @@ class SoakTest(unittest.TestCase):
     def test_markdown_figures(self):
         md = soak.markdown(self.figures(), ["--minutes", "30", "--seed", "1", "--output", "x.md"])
         self.assertTrue(md.startswith("# ROS soak"))
-        self.assertIn("`scripts/aic_soak.py --minutes 30 --seed 1 --output x.md`", md)
+        self.assertIn("`scripts/aic_ros_soak.py --minutes 30 --seed 1 --output x.md`", md)
         self.assertIn("| wall time | 30.0 min (real time, after the warm-up) |", md)
         self.assertIn("| jackal_AIC resident memory | 14236 KiB at start, 14300 KiB at the end; growth +64 KiB |", md)
         self.assertIn("| jackal_plant CPU | 4.5 % of one core |", md)
@@ -161,7 +257,7 @@ class SoakTest(unittest.TestCase):
         fig = self.figures(alive=False, non_finite=1, findings=["non-finite command [nan, 0.0] at 5.0 s"],
                            belief_rate=None)
         md = soak.markdown(fig)
-        self.assertIn("`scripts/aic_soak.py --seed 1`", md)
+        self.assertIn("`scripts/aic_ros_soak.py --seed 1`", md)
         self.assertIn("| node alive at the end | no |", md)
         self.assertIn("- non-finite command [nan, 0.0] at 5.0 s", md)
         self.assertNotIn("belief steps", md)
@@ -446,7 +542,7 @@ class HonestBeliefTest(unittest.TestCase):
 
 
 class IdealCacheTest(unittest.TestCase):
-    """jackal_aic_tools.ideal_cache: kept ideal runs are used only for the sources, plant, overlay
+    """jackal_aic_tools.track.ideal_cache: kept ideal runs are used only for the sources, plant, overlay
     and profile that made them; driving.Runner takes them instead of running the ideal controller."""
 
     def make_tree(self, root):
@@ -491,7 +587,7 @@ class IdealCacheTest(unittest.TestCase):
             stale = ideal_cache.IdealCache(root)
             self.assertIn("other sources", stale.status)
             self.assertIsNone(stale.get(cmd))
-            os.remove(os.path.join(root, "src", "jackal_aic_tools", "plant_limits.py"))
+            os.remove(os.path.join(root, "src", "jackal_aic_tools", "track", "plant_limits.py"))
             gone = ideal_cache.IdealCache(root)
             self.assertIsNone(gone.sources)
             gone.put(cmd, {"rms": 2.0})
@@ -667,7 +763,7 @@ class ArcPriorTest(unittest.TestCase):
         self.assertIn("wheel_separation=%.5f" % (1.05 * 0.5355), [s for _, s, _, _ in seen])
 
     def test_table_and_its_error_form_print(self):
-        from jackal_aic_tools import scorecard_print
+        from jackal_aic_tools.tune import scorecard_print
         arc = {"b_eff": 0.5355, "b_hat_0": 0.5621,
                "rows": [{"separation": 0.5621, "factor": 0.5621 / 0.5355, "configured": True, "overshoot": 7.8,
                          "within": False},
@@ -688,6 +784,6 @@ class ArcPriorTest(unittest.TestCase):
 
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
-    pyunit.main("tool_logic", ProcfsTest, SweepTest, ExperimentTest, SoakTest, ReportAndSummaryTest,
+    pyunit.main("tool_logic", NodeWatchTest, RosProcessTest, SweepTest, ExperimentTest, SoakTest, ReportAndSummaryTest,
                 FailureSummaryTest, PlantLimitsTest, EndHeadingTest, PyunitTest, HonestBeliefTest, ArcPriorTest,
                 IdealCacheTest, MutantsListTest)

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Python unit test: the tracking benchmark (scripts/aic_track.py) and its profiles.
 
-- sim/profiles/*.csv are the generator's output (jackal_aic_tools/track_profiles.py), and each
+- sim/profiles/*.csv are the generator's output (jackal_aic_tools/track/track_profiles.py), and each
   profile is what it claims (rates, the J100 ramps, turns in place, reversing, creeping, 1.5 m/s);
 - one short profile on the default plant and on an overlay of this test's own, AIC and stock
   (closed_loop_run, seeded noise: deterministic): every output is written and consistent (the
@@ -21,7 +21,8 @@ import unittest
 import numpy as np
 import yaml
 
-from jackal_aic_tools import cli, profiles, track_profiles
+from jackal_aic_tools.common import cli, profiles
+from jackal_aic_tools.track import track_profiles
 
 ROOT = os.path.realpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), ".."))
 SCRIPT = os.path.join(ROOT, "scripts", "aic_track.py")
@@ -128,7 +129,7 @@ class TrackCheck(unittest.TestCase):
             self.assertEqual(direct["path"], runs[("slow_latency", "stock")]["path"])
             # The latency floor at the plant's latency (the run reports the overlay's 0.2 s) is below
             # both controllers' errors on both plants: no controller moves before its command arrives.
-            from jackal_aic_tools import driving
+            from jackal_aic_tools.track import driving
             self.assertEqual(direct["command_delay"], 0.2)
             with open(os.path.join(ROOT, "sim", "config", "plant.yaml")) as f:
                 plant_latency = yaml.safe_load(f)["motor"]["command_delay"]
@@ -226,7 +227,8 @@ class TrackCheck(unittest.TestCase):
     def test_latency_floor(self):
         """tracking.latency_floor through aic_track_metrics and driving.floor_rms: a step held 0.1 s
         late, the lower of holding and predicting per channel, bad settings refused."""
-        from jackal_aic_tools import driving, tracking
+        from jackal_aic_tools.common import tracking
+        from jackal_aic_tools.track import driving
         with tempfile.TemporaryDirectory(prefix="track_floor_") as tmp:
             path = os.path.join(tmp, "step.csv")
             with open(path, "w") as f:

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Python unit test: aic_tune.py's search spaces and costs (jackal_aic_tools.tune_space,
+"""Python unit test: aic_tune.py's search spaces and costs (jackal_aic_tools.tune.tune_space,
 tune_cost, tune.fit_fopdt) on made-up predictions and step figures whose cost is worked out by
 hand; no simulator, no tool runs. Deterministic."""
 import math
@@ -10,7 +10,7 @@ import unittest
 
 import numpy as np
 
-from jackal_aic_tools import tune, tune_cost, tune_space
+from jackal_aic_tools.tune import tune, tune_cost, tune_space
 
 
 def args(**kw):

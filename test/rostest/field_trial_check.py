@@ -12,7 +12,7 @@ and the robot has moved for ~trigger_after s, and checks:
   the plan's data_timeout; joystick the first joystick twist; aic_fault the first WARN on
   /jackal_AIC/sensor_health; sigint the SIGINT;
 - the completed runs (at least ~trigger_runs) have readable bags, session.json lists them, and the
-  report (jackal_aic_tools.field_report.analyse_session) gives every one step metrics; on no
+  report (jackal_aic_tools.field.field_report.analyse_session) gives every one step metrics; on no
   command topic did two publishers share a 50 Hz period (switch_overlaps on every bag).
 
 Scenarios (~scenario): geofence (nothing to do: the plan's arc leaves the corridor on the
@@ -20,11 +20,8 @@ turn-deficit plant), estop, sensor_loss, joystick, aic_fault (a 2.5 rad/s bias o
 encoder), sigint.
 """
 import json
-import math
 import os
 import shutil
-import signal
-import subprocess
 import sys
 import threading
 import time
@@ -38,7 +35,8 @@ from jackal_msgs.msg import Drive
 from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool
 
-from jackal_aic_tools import field_plan, field_report, field_trial
+from jackal_aic_tools.common import ros_process
+from jackal_aic_tools.field import field_plan, field_report, field_trial
 
 PKG = "jackal_aic"
 
@@ -103,7 +101,7 @@ class FieldTrialStop(unittest.TestCase):
         cmd = ["rosrun", PKG, "aic_field_trial.py", "--plan", plan_path, "--out", out, "--yes",
                "--set-point-topic", "/jackal_AIC/set_point", "--odom-topic", "/odom",
                "--joystick-topic", "/joy_teleop/cmd_vel", "--start-timeout", "40"]
-        proc = subprocess.Popen(cmd)
+        proc = ros_process.start(cmd, stdout=None, stderr=None)  # its output in the test's
         wall_end = time.monotonic() + timeout
         t_event = None
         session_path = os.path.join(out, "session.json")
@@ -136,11 +134,11 @@ class FieldTrialStop(unittest.TestCase):
                     t_event = None  # the event is the AIC's WARN
                     break
                 elif scenario == "sigint":
-                    proc.send_signal(signal.SIGINT)
+                    ros_process.interrupt(proc)  # Ctrl-C: SIGINT to the trial's process group
             rc = proc.wait(timeout=max(1.0, wall_end - time.monotonic()))
         finally:
             if proc.poll() is None:
-                proc.kill()
+                ros_process.stop(proc, timeout=10.0)
             rospy.set_param("/jackal_plant/faults", [])
             stop_pub.publish(Bool(data=False))
         time.sleep(0.5)

@@ -32,7 +32,7 @@ import rostest
 from geometry_msgs.msg import Twist
 from std_msgs.msg import Bool, String
 
-from jackal_aic_tools import bag_identification as bi
+from jackal_aic_tools.identify import bag_identification as bi
 
 PKG = "jackal_aic"
 

@@ -43,6 +43,8 @@ from geometry_msgs.msg import Twist, TwistStamped
 from jackal_msgs.msg import Drive, Status
 from sensor_msgs.msg import Imu, JointState
 
+from jackal_aic_tools.common import ros_process
+
 WHEEL_RADIUS = 0.098  # m (the Jackal's, sim/urdf/jackal.urdf)
 
 
@@ -191,8 +193,7 @@ class RestartTest(unittest.TestCase):
 
     def run_loop_replay(self):
         bag = self.write_bag()
-        player = subprocess.Popen(["rosbag", "play", "--clock", "--loop", "-q", bag],
-                                  stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        player = ros_process.start(["rosbag", "play", "--clock", "--loop", "-q", bag], stderr=subprocess.DEVNULL)
         try:
             since = 0
             for loop in (1, 2):
@@ -203,8 +204,7 @@ class RestartTest(unittest.TestCase):
                 self.judge(t0, self.joints.snapshot()[i][0], n_cmd, "replay loop %d" % loop)
                 since = i + 1
         finally:
-            player.terminate()
-            player.wait()
+            ros_process.stop(player)
             os.unlink(bag)
 
     def write_bag(self):

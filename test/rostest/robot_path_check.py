@@ -25,9 +25,7 @@ on a condition with a deadline, never a fixed sleep.
   engagement per case decides. The times from the lock are printed too.
 """
 import os
-import signal
 import statistics
-import subprocess
 import sys
 import threading
 import unittest
@@ -43,6 +41,7 @@ from std_msgs.msg import Bool
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from aic_test_utils import wait_for  # noqa: E402
+from jackal_aic_tools.common import ros_process  # noqa: E402
 
 PKG = "jackal_aic"
 CMD_VEL = "/jackal_velocity_controller/cmd_vel"
@@ -248,10 +247,7 @@ class RobotPath(unittest.TestCase):
 
     # ---- mode stop_path ---------------------------------------------------------------
     def start_robot_launch(self, controller):
-        env = dict(os.environ)
-        proc = subprocess.Popen(["roslaunch", PKG, "robot.launch", "controller:=" + controller],
-                                env=env, stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT,
-                                start_new_session=True)
+        proc = ros_process.roslaunch("robot.launch", ["controller:=" + controller], package=PKG)
         node = "/jackal_AIC" if controller == "aic" else "/jackal_AIC_bypass"
         # The AIC publishes its output at once; the relay advertises at its first message, so
         # it is up when it subscribes to the set point.
@@ -262,12 +258,7 @@ class RobotPath(unittest.TestCase):
         return proc
 
     def stop_robot_launch(self, proc):
-        os.killpg(proc.pid, signal.SIGINT)
-        try:
-            proc.wait(timeout=30.0)
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.wait()
+        ros_process.stop(proc, timeout=30.0)
         self.assertTrue(wait_for(lambda: publishers_of(CMD_VEL) == [], 30.0),
                         "a publisher stayed on %s: %s" % (CMD_VEL, publishers_of(CMD_VEL)))
 

@@ -21,7 +21,8 @@ import unittest
 import rospy
 import rostest
 
-from jackal_aic_tools import experiment, profiles, recording
+from jackal_aic_tools.common import profiles, recording
+from jackal_aic_tools.experiment import experiment
 
 PKG = "jackal_aic"
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The AIC through the stock base's path (launch/sim.launch base:=stock_diff_drive):
 output_mode cmd_vel -> stock diff drive (stock_controller_node) -> /cmd_drive -> plant.
-Metrics from /odom message stamps by the core's aic_step_metrics (jackal_aic_tools.metrics).
+Metrics from /odom message stamps by the core's aic_step_metrics (jackal_aic_tools.common.metrics).
 
 Runs on simulated time (use_sim_time: the plant node publishes /clock): every time below is
 plant time, from /odom stamps or this node's ROS time at receipt (jackal_msgs/Drive and
@@ -26,8 +26,6 @@ fixed sleep. The set points stream at RATE Hz on a ROS-time timer.
   the resumed step overshoots by at most ~overshoot_limit %.
 """
 import os
-import signal
-import subprocess
 import sys
 import threading
 import unittest
@@ -43,7 +41,7 @@ from std_msgs.msg import Bool
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from aic_test_utils import wait_for  # noqa: E402
-from jackal_aic_tools import metrics  # noqa: E402
+from jackal_aic_tools.common import metrics, ros_process  # noqa: E402
 
 PKG = "jackal_aic"
 R = 0.098                 # m, the stock controller's wheel radius (control.yaml)
@@ -194,8 +192,7 @@ class StockBaseCheck(unittest.TestCase):
 
     # ---- mode steps -------------------------------------------------------------------
     def start_sim(self, base):
-        proc = subprocess.Popen(["roslaunch", PKG, "sim.launch", "plant:=false", "base:=" + base],
-                                stdout=subprocess.DEVNULL, stderr=subprocess.STDOUT, start_new_session=True)
+        proc = ros_process.roslaunch("sim.launch", ["plant:=false", "base:=" + base], package=PKG)
         expected = "/stock_base" if base == "stock_diff_drive" else "/jackal_AIC"
         up = wait_for(lambda: publishers_of("/cmd_drive") == [expected] and "/jackal_AIC" in (
             publishers_of(CMD_VEL) if base == "stock_diff_drive" else publishers_of("/cmd_drive")), 60.0)
@@ -203,12 +200,7 @@ class StockBaseCheck(unittest.TestCase):
         return proc
 
     def stop_sim(self, proc):
-        os.killpg(proc.pid, signal.SIGINT)
-        try:
-            proc.wait(timeout=30.0)
-        except subprocess.TimeoutExpired:
-            os.killpg(proc.pid, signal.SIGKILL)
-            proc.wait()
+        ros_process.stop(proc, timeout=30.0)
         self.assertTrue(wait_for(lambda: publishers_of("/cmd_drive") == [], 30.0),
                         "a publisher stayed on /cmd_drive: %s" % publishers_of("/cmd_drive"))
 

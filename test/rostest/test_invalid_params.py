@@ -20,6 +20,8 @@ import rospy
 import rostest
 import yaml
 
+from jackal_aic_tools.common import ros_process
+
 # (case, overrides {key: value, or None to leave the key out}, parameter the log must name)
 CASES = [
     ("tau_negative", {"tau": -1.0}, "tau"),
@@ -86,14 +88,14 @@ class InvalidParamsTest(unittest.TestCase):
         # integers where the node reads doubles (as a hand-written YAML may have them) are valid
         # (var_y: one per order of default.yaml's embedding order, 2)
         valid = {"belief_rate": 1000, "action_rate": 50, "k_a": 8, "var_y": [2, 20, 100000]}
-        proc = subprocess.Popen(self.args("aic_valid", valid), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                text=True)
+        proc = ros_process.start(self.args("aic_valid", valid), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                 text=True)
         try:
             out, err = proc.communicate(timeout=self.alive_time)
             self.fail("the node exited (%s) with valid parameters:\n%s\n%s" % (proc.returncode, out, err))
         except subprocess.TimeoutExpired:
-            proc.terminate()
-            proc.communicate(timeout=10)
+            ros_process.stop(proc, timeout=10.0)
+            proc.communicate()
 
     def test_each_invalid_parameter_exits_non_zero(self):
         # Each case's node is independent (its own name and parameters): up to WORKERS at a time.

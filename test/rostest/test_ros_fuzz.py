@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""rostest: the ROS fuzz (jackal_aic_tools.ros_fuzz.fuzz, the generator and verdict of
+"""rostest: the ROS fuzz (jackal_aic_tools.robustness.ros_fuzz.fuzz, the generator and verdict of
 scripts/aic_ros_fuzz.py) against the node of the .test: seeded random messages on every input
 for ~seconds, then a plausible stretch; no finding (every /cmd_drive finite and within the
 limit, commands during the final stretch), and the node drove (commands beyond 0.1 rad/s).
@@ -14,7 +14,7 @@ import rospy
 import rostest
 
 from aic_test_utils import wait_for
-from jackal_aic_tools import ros_fuzz
+from jackal_aic_tools.robustness import ros_fuzz
 
 
 class RosFuzzTest(unittest.TestCase):

@@ -24,8 +24,9 @@ HERE = os.path.dirname(os.path.realpath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 sys.path.insert(0, os.path.join(ROOT, "src"))
 
-from jackal_aic_tools import bag_identification as bi  # noqa: E402
-from jackal_aic_tools import cli, identify  # noqa: E402
+from jackal_aic_tools.identify import bag_identification as bi  # noqa: E402
+from jackal_aic_tools.common import cli  # noqa: E402
+from jackal_aic_tools.identify import identify  # noqa: E402
 
 VARIANT = os.path.join(ROOT, "sim", "config", "variants", "turn_deficit.yaml")
 PLANT = os.path.join(ROOT, "sim", "config", "plant.yaml")

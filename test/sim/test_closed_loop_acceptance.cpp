@@ -658,7 +658,7 @@ TEST(PhysicalFaults, LowFrictionPatchUnderTheLeftWheels)
 // 'Driving acceptance'; scripts/aic_scorecard.py --driving has the whole set).
 
 /// The driving set's bounds as doc/experiments.md, 'Driving acceptance', states them (and
-/// jackal_aic_tools.driving judges them): the steady yaw-rate error on the turn-deficit variant
+/// jackal_aic_tools.track.driving judges them): the steady yaw-rate error on the turn-deficit variant
 /// (DEFICIT_ERROR, a fraction of the command), the 0.1 m/s step's settling time against the
 /// stock controller's (STEP_BOUNDS["0.1 m/s"], ground truth), and a tracking pair's RMS errors
 /// against the stock controller's (TRACK_PAIR_BOUND), here the planner profile on the default plant.

@@ -1,0 +1,121 @@
+"""plant_identify.py --bag: identify a robot's wheel loop from its bag (the fit:
+jackal_aic_tools.identify.bag_identification), print the fit and write the overlay YAML of the keys that
+differ from the plant's."""
+import json
+import os
+import sys
+
+import numpy as np
+import yaml
+
+from . import bag_identification, identify
+
+# Comments of the overlay keys --bag writes (unit, meaning).
+OVERLAY_COMMENTS = {
+    "speed_kp": "proportional gain [N m / (rad/s)]",
+    "proportional_limit": "clamp of the proportional path [N m]",
+    "speed_ki": "integral gain [N m / rad]",
+    "load_observer_time_constant": "load-torque observer's filter [s] (0 = no observer)",
+    "command_delay": "lumped latency /cmd_drive -> MCU [s]",
+}
+
+
+def overlay_values(values):
+    """motor key -> value of fitted values (the observer's bandwidth as its time constant)."""
+    out = {}
+    for s in bag_identification.motor_sets(values):
+        key, value = s.split("=", 1)
+        out[key.split(".", 1)[1]] = float(value)
+    return out
+
+
+def write_overlay(path, values, base, bag, cost):
+    """Write the identified motor values that differ from ``base`` (the plant YAML's motor section)
+    as an overlay YAML, commented key by key; returns the keys written."""
+    keys = [k for k, v in values.items()
+            if k not in base or abs(v - base[k]) > 1e-3 * max(abs(base[k]), 1e-6)]
+    with open(path, "w") as f:
+        f.write("# Wheel loop identified by plant_identify.py --bag from %s (replay cost %.4f).\n"
+                "# Overlay of sim/config/plant.yaml: only the keys that differ. Use it with --overlay FILE\n"
+                "# (closed_loop_run, plant_fit, plant_calibrate, plant_replay) or the launch argument\n"
+                "# plant_overlay (sim.launch, plant.launch).\n" % (os.path.basename(bag), cost))
+        if keys:
+            f.write("motor:\n")
+            for k in keys:
+                f.write("  %s: %.4g  # %s\n" % (k, values[k], OVERLAY_COMMENTS.get(k, "")))
+        else:
+            f.write("{}  # the bag's wheel loop is the plant's\n")
+    return keys
+
+
+def run(a, tool):
+    """The --bag mode of plant_identify.py (a: its parsed arguments, tool: cli.Tool): read the bag,
+    fit BAG_PARAMETERS by replaying it on the plant, print the fit table and the turn deficits,
+    write the overlay (and a.json). Returns the exit status."""
+    keys = list(a.fit) if a.fit else list(bag_identification.BAG_PARAMETERS)
+    unknown = [k for k in keys if k not in bag_identification.BAG_PARAMETERS]
+    if unknown:
+        print("plant_identify: --bag fits %s, not %s" % (", ".join(bag_identification.BAG_PARAMETERS),
+                                                         ", ".join(unknown)), file=sys.stderr)
+        return 2
+    plant_replay = a.plant_replay or tool.exe("plant_replay")
+    try:
+        data = bag_identification.read_bag(a.bag)
+    except ValueError as e:
+        print("plant_identify: %s" % e, file=sys.stderr)
+        return 1
+    base = identify.read_motor(a.config)
+    for o in a.overlay:
+        with open(o) as f:
+            base.update({k: float(v) for k, v in ((yaml.safe_load(f) or {}).get("motor") or {}).items()})
+    sys.stdout.reconfigure(line_buffering=True)
+    print("plant_identify: bag %s, %.1f s, %d commands (%s), %d joint states, %d IMU samples%s"
+          % (a.bag, data.duration, len(data.cmd), "cmd_vel through the stock mapping" if data.cmd_is_twist else
+             "/cmd_drive", len(data.wheels), len(data.gyro),
+             ", %d /feedback" % len(data.feedback) if data.feedback is not None else ", no /feedback"))
+    if data.feedback is not None and not np.any(data.feedback[:, 1:]):
+        print("  /feedback carries no measured_velocity (all zero): not compared")
+    elif data.feedback is not None:
+        fb_l = np.interp(data.wheels[:, 0], data.feedback[:, 0], data.feedback[:, 1])
+        fb_r = np.interp(data.wheels[:, 0], data.feedback[:, 0], data.feedback[:, 2])
+        diff = np.sqrt(np.mean(np.concatenate([fb_l - data.wheels[:, 1], fb_r - data.wheels[:, 2]]) ** 2))
+        print("  /feedback measured_velocity vs /joint_states: RMS difference %.3f rad/s" % diff)
+    print("  fitting %s on the plant %s%s" % (", ".join(keys), a.config,
+                                              "".join(" + " + o for o in a.overlay)))
+    try:
+        r = bag_identification.fit_bag(data, plant_replay, base, keys, a.config, a.overlay, a.jobs, a.max_evals,
+                                       a.starts, a.samples, a.seed, log=lambda m: print(m, flush=True))
+    except RuntimeError as e:
+        print("plant_identify: %s" % e, file=sys.stderr)
+        return 1
+    print("\n%-24s | %10s | %10s" % ("parameter", "plant", "identified"))
+    for k in keys:
+        print("%-24s | %10.4g | %10.4g%s" % (k, r["start"][k], r["values"][k],
+                                             "  (turning)" if k in bag_identification.TURNING else ""))
+    print("\n%-24s | %10s | %10s | %10s" % ("stream (RMS error)", "plant", "identified", "bag's RMS"))
+    for name, label in (("left", "left wheels [rad/s]"), ("right", "right wheels [rad/s]"), ("yaw", "gyro yaw [rad/s]")):
+        print("%-24s | %10.4f | %10.4f | %10.4f" % (label, r["start_errors"][name], r["errors"][name],
+                                                   r["errors"][name + "_rms"]))
+    print("%-24s | %10.4f | %10.4f |" % ("cost", r["start_cost"], r["cost"]))
+    cmd = data.cmd if not data.cmd_is_twist else None
+    deficits = {}
+    if cmd is not None:
+        deficits["bag"] = bag_identification.turn_deficits(data.gyro[:, 0], data.gyro[:, 1], cmd)
+        for key in ("start_replay", "replay"):
+            sim = r[key]
+            deficits[key] = bag_identification.turn_deficits(sim["t"], sim["gyro_z"], cmd)
+        if deficits["bag"]:
+            print("\nsteady turns in place: commanded yaw rate -> deficit (commanded - gyro) [rad/s]")
+            print("%-10s | %8s | %8s | %10s" % ("command", "bag", "plant", "identified"))
+            for i, (w, d) in enumerate(deficits["bag"]):
+                print("%-10.2f | %8.3f | %8.3f | %10.3f" % (w, d, deficits["start_replay"][i][1], deficits["replay"][i][1]))
+    out = a.overlay_out or os.path.splitext(a.bag)[0] + "_wheel_loop.yaml"
+    written = write_overlay(out, overlay_values(r["values"]), base, a.bag, r["cost"])
+    print("\noverlay written: %s (%s)" % (out, ", ".join("motor." + k for k in written) or "no key differs"))
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump({"bag": a.bag, "duration": data.duration, "keys": keys, "start": r["start"],
+                       "values": r["values"], "start_cost": r["start_cost"], "cost": r["cost"],
+                       "start_errors": r["start_errors"], "errors": r["errors"], "evaluations": r["evaluations"],
+                       "deficits": deficits, "overlay": out}, f, indent=1)
+    return 0

@@ -1,0 +1,111 @@
+"""Plant-limited pairs of the tracking benchmark: where the plant, not the controller, decides.
+
+For a profile x plant variant pair, the ideal controller (`closed_loop_run --controller ideal`:
+the command sequence learned over repeated runs by iterative learning control, knowing the whole
+profile in advance and the ground truth; sim/harness closed_loop.hpp, runIdealController) is the
+plant's best response to the profile. The latency floor (driving.floor_rms) is the error of a
+servo that only has the variant's latency and no preview of the stream. A channel (vx or wz) of a
+pair is *plant-limited* when the ideal controller's RMS error exceeds PLANT_LIMIT_RATIO x the
+floor: with the whole profile known in advance the ideal controller ends well below the floor
+wherever the plant can follow (0.2-0.8 x on the default plant), so an ideal above it means the
+plant cannot follow that channel, whatever the controller (doc/tools.md, 'Plant-limited pairs').
+
+The reason names the error's largest measured part in the ideal run (closed_loop_run's "plant"
+figures over the profile's span): the wheel loop not following its set point (the MCU loop's
+lag; with the share of the time the motor torque sits at its limit) or the wheels slipping
+against the body (wheel speeds' twist minus the ground truth).
+
+Pure functions but run_ideal(); the benchmark's modules (driving, track_suite) use them.
+"""
+import math
+
+from ..common import cli
+
+#: A channel is plant-limited when the ideal controller's RMS error > this x the latency floor.
+PLANT_LIMIT_RATIO = 1.2
+#: Share of the run with the motor torque at its limit above which the reason is the torque limit.
+TORQUE_LIMITED_SHARE = 0.05
+CHANNELS = ("vx", "wz")
+UNITS = {"vx": "m/s", "wz": "rad/s"}
+
+
+def ideal_command(exe, plant_config, args, overlay=None, plant_sets=()):
+    """closed_loop_run's argument list of the ideal controller with the profile arguments ``args``
+    (e.g. ["--profile", CSV]), the plant YAML ``plant_config``, the overlay file ``overlay`` (None:
+    the plant YAML alone) and plant KEY=VALUE overrides ``plant_sets``; ideal sensors (the ideal
+    controller uses the ground truth; sensor noise would change no figure of it)."""
+    cmd = [exe, "--controller", "ideal", "--config", plant_config] + list(args)
+    if overlay:
+        cmd += ["--overlay", overlay]
+    for s in plant_sets:
+        cmd += ["--set", s]
+    return cmd
+
+
+def ideal_figures(result):
+    """The ideal controller's figures of closed_loop_run's JSON ``result`` (--controller ideal):
+    {"vx", "wz": RMS error of the ground truth [m/s, rad/s], "plant": the run's "plant" dict
+    (torque_limited, wheel_loop {vx, wz}, slip {vx, wz}), "runs", "best"}. Raises KeyError when
+    the result is not an ideal run's."""
+    t = result["tracking"]["truth"]
+    return {"vx": t["vx"]["rms"], "wz": t["wz"]["rms"], "plant": result["plant"],
+            "runs": result["ideal"]["runs"], "best": result["ideal"]["best"]}
+
+
+def run_ideal(exe, plant_config, profile, overlay=None):
+    """Run the ideal controller (ideal_command) and return ideal_figures(). Raises RuntimeError
+    when closed_loop_run fails."""
+    return ideal_figures(cli.run_json_tool(ideal_command(exe, plant_config, ["--profile", profile], overlay)))
+
+
+def reason(channel, ratio, plant):
+    """The reason string of a plant-limited ``channel`` ("vx" or "wz") whose ideal error is
+    ``ratio`` x the floor, from the ideal run's ``plant`` figures (ideal_figures()["plant"]):
+    the larger of the wheel loop's RMS lag and the wheels' RMS slip on that channel names the
+    cause; a wheel-loop lag is the torque limit when the torque sits at its limit at least
+    TORQUE_LIMITED_SHARE of the time, else the MCU's loop below the limit.
+    e.g. "ideal 3.7 x floor on wz: the wheel loop lags its set point (RMS 2.19 rad/s), torque at
+    its limit 2 % of the time: the MCU's loop, not the motor". Raises KeyError on a bad channel."""
+    unit = UNITS[channel]
+    lag, slip = plant["wheel_loop"][channel], plant["slip"][channel]
+    share = plant["torque_limited"]
+    head = "ideal %.1f x floor on %s: " % (ratio, channel)
+    if slip >= lag:
+        return head + "the wheels slip against the body (RMS %.3g %s; wheel loop lag %.3g %s)" % (
+            slip, unit, lag, unit)
+    what = "the motor's torque limit" if share >= TORQUE_LIMITED_SHARE else "the MCU's loop, not the motor"
+    return head + "the wheel loop lags its set point (RMS %.3g %s), torque at its limit %.0f %% of the time: %s" % (
+        lag, unit, 100.0 * share, what)
+
+
+def classify(ideal, floor, limit=PLANT_LIMIT_RATIO):
+    """Per channel, whether the plant limits a pair: ``ideal`` is ideal_figures() (or a dict
+    with "vx", "wz" and "plant"), ``floor`` {"vx", "wz"} the latency floor's RMS [m/s, rad/s].
+    Returns {"vx": reason or None, "wz": ...}: a reason() string where ideal > limit x floor, None
+    where the plant follows (a zero floor: limited when the ideal error is > 0). Raises KeyError on
+    missing figures, ValueError on a negative or non-finite error."""
+    out = {}
+    for ch in CHANNELS:
+        i, f = float(ideal[ch]), float(floor[ch])
+        if not (math.isfinite(i) and math.isfinite(f)) or i < 0.0 or f < 0.0:
+            raise ValueError("classify: bad RMS error on %s: ideal %r, floor %r" % (ch, i, f))
+        ratio = i / f if f > 0.0 else (math.inf if i > 0.0 else 0.0)
+        out[ch] = reason(ch, ratio, ideal["plant"]) if ratio > limit else None
+    return out
+
+
+def gmean(values):
+    """(geometric mean, count) of the positive values (None, 0 when there is none)."""
+    vals = [v for v in values if v is not None and v > 0.0]
+    if not vals:
+        return None, 0
+    return math.exp(sum(math.log(v) for v in vals) / len(vals)), len(vals)
+
+
+def split(items):
+    """``items``: (value, limited) pairs. Returns (the values where limited is falsy, those where
+    it is truthy): the plant-following and the plant-limited ones, in order."""
+    items = list(items)
+    following = [v for v, lim in items if not lim]
+    limited = [v for v, lim in items if lim]
+    return following, limited
