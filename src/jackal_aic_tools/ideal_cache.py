@@ -22,9 +22,9 @@ import threading
 IDEAL_SOURCES = (
     "sim/plant", "sim/harness", "sim/urdf",
     "tools/src/closed_loop_run.cpp", "tools/lib", "tools/include",
-    "include/jackal_aic/step_metrics.hpp", "include/jackal_aic/tracking_metrics.hpp",
-    "include/jackal_aic/csv_table.hpp", "include/jackal_aic/json_number.hpp",
-    "src/core/step_metrics.cpp", "src/core/tracking_metrics.cpp", "src/core/csv_table.cpp",
+    "include/jackal_aic/analysis/step_metrics.hpp", "include/jackal_aic/analysis/tracking_metrics.hpp",
+    "include/jackal_aic/analysis/csv_table.hpp", "include/jackal_aic/base/json_number.hpp",
+    "src/analysis/step_metrics.cpp", "src/analysis/tracking_metrics.cpp", "src/analysis/csv_table.cpp",
     "src/jackal_aic_tools/plant_limits.py",
 )
 #: The kept runs, relative to the repository root.
