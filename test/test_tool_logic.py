@@ -9,6 +9,7 @@ track_suite.metric_limited), on inputs made up here.
 """
 import argparse
 import contextlib
+import glob
 import io
 import json
 import math
@@ -653,7 +654,7 @@ class FailureSummaryTest(unittest.TestCase):
 
 class MutantsListTest(unittest.TestCase):
     """dev/mutants.py's list (dev/mutants.txt) against the tree: each mutant applies (its 'find'
-    occurs once in its file) and names gtest targets that CMakeLists.txt declares."""
+    occurs once in its file) and names gtest targets that the CMakeLists.txt files declare."""
 
     @classmethod
     def setUpClass(cls):
@@ -662,8 +663,11 @@ class MutantsListTest(unittest.TestCase):
         cls.m = mutants
         with open(os.path.join(ROOT, "dev", "mutants.txt")) as f:
             cls.mutants = mutants.parse_list(f.read(), "dev/mutants.txt")
-        with open(os.path.join(ROOT, "CMakeLists.txt")) as f:
-            cls.cmake = f.read()
+        cls.cmake = ""
+        for path in [os.path.join(ROOT, "CMakeLists.txt")] + glob.glob(os.path.join(ROOT, "*", "CMakeLists.txt")) + \
+                glob.glob(os.path.join(ROOT, "src", "*", "CMakeLists.txt")):
+            with open(path) as f:
+                cls.cmake += f.read()
 
     def test_every_mutant_applies_to_the_tree(self):
         self.assertGreater(len(self.mutants), 10)
@@ -682,16 +686,17 @@ class MutantsListTest(unittest.TestCase):
         self.assertIn("test_core_controller", core)
         for target in core:
             name = target[len("test_core_"):]
-            self.assertTrue(os.path.isfile(os.path.join(ROOT, "test", "unit", "test_%s.cpp" % name)), target)
+            self.assertTrue(glob.glob(os.path.join(ROOT, "test", "unit", "*", "test_%s.cpp" % name)), target)
         for mutant in self.mutants:
             for target in mutant["tests"]:
                 self.assertIn(target[len("test_core_"):] if target.startswith("test_core_") else target, self.cmake,
                               "%s names %s, which CMakeLists.txt does not declare" % (mutant["id"], target))
-        with tempfile.NamedTemporaryFile("w", suffix=".txt") as f:
-            f.write("project(x)\n")
-            f.flush()
+        with tempfile.TemporaryDirectory() as d:
+            os.makedirs(os.path.join(d, "src", "x"))
+            with open(os.path.join(d, "src", "x", "CMakeLists.txt"), "w") as f:
+                f.write("add_library(jackal_aic_x x.cpp)\n")
             with self.assertRaises(ValueError):
-                self.m.core_tests(f.name)
+                self.m.core_tests(d)
 
 
 class ArcPriorTest(unittest.TestCase):

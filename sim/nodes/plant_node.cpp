@@ -121,9 +121,8 @@ PlantNode::PlantNode(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pn
                                         << description_.wheelRadius() << " m, track " << description_.track()
                                         << " m, mass " << description_.totalMass() << " kg); config " << config
                                         << "; step " << params_.physics.step << " s; joint_states "
-                                        << params_.sensors.joint_states.rate << " Hz, imu "
-                                        << params_.sensors.imu.rate << " Hz; real_time_factor "
-                                        << params_.node.real_time_factor
+                                        << params_.sensors.joint_states.rate << " Hz, imu " << params_.sensors.imu.rate
+                                        << " Hz; real_time_factor " << params_.node.real_time_factor
                                         << (use_sim_time_ ? "; publishing /clock" : ""));
 }
 
@@ -143,8 +142,9 @@ void PlantNode::onDrive(const jackal_msgs::Drive::ConstPtr& msg)
   }
   else if (msg->mode != jackal_msgs::Drive::MODE_NONE)
   {
-    ROS_WARN_THROTTLE(1.0, "jackal_plant: /cmd_drive mode %d is not supported (only MODE_VELOCITY=0 and "
-                           "MODE_NONE=-1); treated as MODE_NONE (motors released)",
+    ROS_WARN_THROTTLE(1.0,
+                      "jackal_plant: /cmd_drive mode %d is not supported (only MODE_VELOCITY=0 and "
+                      "MODE_NONE=-1); treated as MODE_NONE (motors released)",
                       static_cast<int>(msg->mode));
   }
   std::lock_guard<std::mutex> lock(command_mutex_);
@@ -428,8 +428,8 @@ int PlantNode::run()
       stepOnce();
     }
     const double next_wall = static_cast<double>(plant_->stepCount() + 1 - base_steps) * h / rtf;
-    std::this_thread::sleep_until(sync + std::chrono::duration_cast<Clock::duration>(
-                                             std::chrono::duration<double>(next_wall)));
+    std::this_thread::sleep_until(
+        sync + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(next_wall)));
   }
   spinner.stop();
   return 0;

@@ -45,7 +45,7 @@
 #include <deque>
 #include <vector>
 
-#include "jackal_aic/time_jump.hpp"
+#include "jackal_aic/loop/time_jump.hpp"
 #include "jackal_sim/plant/fault_injection.hpp"
 #include "jackal_sim/plant/plant.hpp"
 #include "jackal_sim/plant/plant_params.hpp"
@@ -58,9 +58,9 @@ namespace sim_nodes
 {
 /// The plant's names this interface uses (jackal_sim/plant/).
 using plant::FaultedSensors;
-using plant::Plant;
 using plant::ImuSample;
 using plant::JointStateSample;
+using plant::Plant;
 using plant::PlantParams;
 using plant::RobotDescription;
 /// The plant node (see file comment).

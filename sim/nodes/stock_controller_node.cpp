@@ -41,8 +41,8 @@ StockControllerNode::StockControllerNode(ros::NodeHandle nh, ros::NodeHandle pnh
   }
   if (publish_odom_ || cycle_on_joint_states_)
   {
-    joint_sub_ = nh.subscribe("joint_states", 10, &StockControllerNode::onJointState, this,
-                              ros::TransportHints().tcpNoDelay());
+    joint_sub_ =
+        nh.subscribe("joint_states", 10, &StockControllerNode::onJointState, this, ros::TransportHints().tcpNoDelay());
   }
   if (publish_mcu_)
   {
@@ -55,8 +55,7 @@ StockControllerNode::StockControllerNode(ros::NodeHandle nh, ros::NodeHandle pnh
     });
     publishStatus();
   }
-  timer_ = nh.createTimer(ros::Duration(1.0 / controller_.params().publish_rate), &StockControllerNode::onTimer,
-                          this);
+  timer_ = nh.createTimer(ros::Duration(1.0 / controller_.params().publish_rate), &StockControllerNode::onTimer, this);
   ROS_INFO("stock_controller: diff_drive mapping, separation %.5f m x %.2f, radius %.3f m, %.1f Hz%s, input %s%s%s",
            controller_.params().wheel_separation, controller_.params().wheel_separation_multiplier,
            controller_.params().wheel_radius, controller_.params().publish_rate,
@@ -100,8 +99,7 @@ void StockControllerNode::onCommand(const geometry_msgs::Twist::ConstPtr& msg)
   checkClock();
   if (!controller_.setCommand(msg->linear.x, msg->angular.z, ros::Time::now().toSec()))
   {
-    ROS_WARN_THROTTLE(1.0, "stock_controller: dropped non-finite command (%f, %f)", msg->linear.x,
-                      msg->angular.z);
+    ROS_WARN_THROTTLE(1.0, "stock_controller: dropped non-finite command (%f, %f)", msg->linear.x, msg->angular.z);
   }
 }
 
@@ -116,7 +114,8 @@ void StockControllerNode::onSetStop(const std_msgs::Bool::ConstPtr& msg)
   }
 }
 
-bool StockControllerNode::meanVelocity(const sensor_msgs::JointState& js, const std::vector<std::string>& names, double* out)
+bool StockControllerNode::meanVelocity(const sensor_msgs::JointState& js, const std::vector<std::string>& names,
+                                       double* out)
 {
   double sum = 0.0;
   for (const auto& n : names)

@@ -42,7 +42,7 @@
 #include <sensor_msgs/JointState.h>
 #include <std_msgs/Bool.h>
 
-#include "jackal_aic/time_jump.hpp"
+#include "jackal_aic/loop/time_jump.hpp"
 #include "jackal_sim/harness/stock_controller.hpp"
 
 namespace jackal_aic

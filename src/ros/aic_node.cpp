@@ -48,9 +48,7 @@ ros::Time RosClock::time(double seconds) const
   return t;
 }
 
-AicNode::AicNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) : nh_(nh), pnh_(pnh)
-{
-}
+AicNode::AicNode(const ros::NodeHandle& nh, const ros::NodeHandle& pnh) : nh_(nh), pnh_(pnh) {}
 
 AicNode::~AicNode()
 {
@@ -122,14 +120,16 @@ bool AicNode::init()
     std::string error;
     const bool ok = PublisherWatch::publishersOf(outputs_->commandTopic(), &publishers, &error);
     publishersPolled(ok, publishers, error);
-    publisher_watch_ = std::make_unique<PublisherWatch>(
-        outputs_->commandTopic(), params_.publisher_check_period,
-        [this](bool ok, const std::vector<std::string>& pubs, const std::string& why) { publishersPolled(ok, pubs, why); });
+    publisher_watch_ =
+        std::make_unique<PublisherWatch>(outputs_->commandTopic(), params_.publisher_check_period,
+                                         [this](bool ok, const std::vector<std::string>& pubs, const std::string& why) {
+                                           publishersPolled(ok, pubs, why);
+                                         });
   }
   else
   {
     ROS_WARN_STREAM("jackal_AIC: publisher_check_period 0: another publisher on " << outputs_->commandTopic()
-                                                                                   << " would go unnoticed");
+                                                                                  << " would go unnoticed");
   }
 
   action_timer_ = nh_.createTimer(ros::Duration(loop_->supervisor().actionLoop().nominalPeriod()),
@@ -151,8 +151,8 @@ bool AicNode::init()
   std::string schedule = "each event (belief_schedule event; messages on the network thread)";
   if (timer_schedule)
   {
-    belief_loop_ = std::make_unique<BeliefLoop>(nh_, params_.aic.belief_rate, params_.realtime_priority,
-                                                &sensor_queue_, [this](double interval) { beliefTick(interval); });
+    belief_loop_ = std::make_unique<BeliefLoop>(nh_, params_.aic.belief_rate, params_.realtime_priority, &sensor_queue_,
+                                                [this](double interval) { beliefTick(interval); });
     if (belief_loop_->priorityRefused())
     {
       ROS_WARN_STREAM("jackal_AIC: belief loop: " << belief_loop_->description());

@@ -32,8 +32,9 @@ void AicNode::imuCallback(const sensor_msgs::Imu::ConstPtr& msg)
 
 void AicNode::setPointCallback(const geometry_msgs::Twist::ConstPtr& msg)
 {
-  const double fields[6] = { msg->linear.x,  msg->linear.y,  msg->linear.z,
-                             msg->angular.x, msg->angular.y, msg->angular.z };
+  const double fields[6] = {
+    msg->linear.x, msg->linear.y, msg->linear.z, msg->angular.x, msg->angular.y, msg->angular.z
+  };
   const std::lock_guard<std::mutex> lock(mutex_);
   loop_->setPoint(fields);
 }

@@ -47,8 +47,8 @@ BeliefLoop::BeliefLoop(ros::NodeHandle& nh, double rate, int realtime_priority, 
       [this](std::int64_t deadline_ns, std::int64_t period_ns) { waitServingSensors(deadline_ns, period_ns); });
   const std::string priority = thread_->start(rate, realtime_priority);
   refused_ = priority.find("refused") != std::string::npos;
-  description_ = "real-time thread (clock_nanosleep, " + (priority.empty() ? std::string("default scheduler") : priority) +
-                 ")";
+  description_ =
+      "real-time thread (clock_nanosleep, " + (priority.empty() ? std::string("default scheduler") : priority) + ")";
 }
 
 BeliefLoop::~BeliefLoop()

@@ -8,9 +8,7 @@
 
 namespace jackal_aic
 {
-InlineCallbackQueue::InlineCallbackQueue(ros::CallbackQueueInterface* fallback) : fallback_(fallback)
-{
-}
+InlineCallbackQueue::InlineCallbackQueue(ros::CallbackQueueInterface* fallback) : fallback_(fallback) {}
 
 void InlineCallbackQueue::addCallback(const ros::CallbackInterfacePtr& callback, uint64_t owner_id)
 {

@@ -17,8 +17,8 @@
 
 #include <std_srvs/Trigger.h>
 
-#include "jackal_aic/control_loop.hpp"
-#include "jackal_aic/separation_learner.hpp"
+#include "jackal_aic/loop/control_loop.hpp"
+#include "jackal_aic/aic/separation_learner.hpp"
 
 namespace jackal_aic
 {
@@ -114,8 +114,7 @@ bool LearnedModelService::save(std::string* message)
     return false;
   }
   std::ostringstream text;
-  text << "wheel_separation " << b_hat << " m written to " << file_ << " (load it with learned_model:=" << file_
-       << ")";
+  text << "wheel_separation " << b_hat << " m written to " << file_ << " (load it with learned_model:=" << file_ << ")";
   *message = text.str();
   ROS_INFO_STREAM("jackal_AIC: ~save_learned_model: " << *message);
   return true;

@@ -246,9 +246,9 @@ void NodeDiagnostics::controller(diagnostic_updater::DiagnosticStatusWrapper& st
     case NodeState::kRunning:
       if (report.last_output_clipped)
       {
-        stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
-                     "running; command clipped to the stock controller's velocity/acceleration limits "
-                     "(fed back as the action)");
+        stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "running; command clipped to the stock controller's "
+                                                              "velocity/acceleration limits "
+                                                              "(fed back as the action)");
       }
       else
       {
@@ -347,13 +347,11 @@ void NodeDiagnostics::publishHealth(FaultMonitor::Event event, int channel)
     }
     else
     {
-      ROS_WARN_STREAM("jackal_AIC: sensor fault: residual s = " << monitor_->statistic() << " above fdi_threshold "
-                                                                << monitor_->params().threshold << " for "
-                                                                << monitor_->lastDetectionDelay() << " s; channel "
-                                                                << FaultMonitor::channelName(channel)
-                                                                << (event == FaultMonitor::Event::kIsolated
-                                                                        ? " isolated (Pi_y = 0)"
-                                                                        : " suspected (fdi_enabled false: not isolated)"));
+      ROS_WARN_STREAM("jackal_AIC: sensor fault: residual s = "
+                      << monitor_->statistic() << " above fdi_threshold " << monitor_->params().threshold << " for "
+                      << monitor_->lastDetectionDelay() << " s; channel " << FaultMonitor::channelName(channel)
+                      << (event == FaultMonitor::Event::kIsolated ? " isolated (Pi_y = 0)" :
+                                                                    " suspected (fdi_enabled false: not isolated)"));
     }
   }
   published_state_ = healthState();

@@ -41,8 +41,7 @@ std_msgs::Float64MultiArray toMultiArray(const Eigen::Ref<const Eigen::MatrixXd>
 }
 }  // namespace
 
-NodeOutputs::NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, const std::string& output_mode,
-                         double debug_rate)
+NodeOutputs::NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, const std::string& output_mode, double debug_rate)
   : cmd_vel_mode_(output_mode == "cmd_vel"), debug_rate_(debug_rate)
 {
   // Only the command topic of the mode: on the robot, jackal_node is the one /cmd_drive publisher.

@@ -178,8 +178,7 @@ NodeReconfigure::NodeReconfigure(const ros::NodeHandle& pnh, const NodeParams& i
 {
   shown_ = configFromParams(in_force_, AICConfig::__getDefault__());
   server_.updateConfig(shown_);  // the validated YAML values
-  server_.setCallback(boost::bind(&NodeReconfigure::callback, this, boost::placeholders::_1,
-                                  boost::placeholders::_2));
+  server_.setCallback(boost::bind(&NodeReconfigure::callback, this, boost::placeholders::_1, boost::placeholders::_2));
 }
 
 std::unique_ptr<NodeParams> NodeReconfigure::takePending()

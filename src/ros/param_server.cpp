@@ -39,8 +39,7 @@ ParamSource::Status RosParamSource::read(const std::string& key, ParamType type,
   {
     case ParamType::kDouble:
       return readAs<double>(nh_, key, out);
-    case ParamType::kInt:
-    {
+    case ParamType::kInt: {
       // roscpp's getParam(int&) rounds a double (2.5 -> 3) instead of failing: require an XML-RPC int.
       XmlRpc::XmlRpcValue raw;
       if (!nh_.getParam(key, raw) || raw.getType() != XmlRpc::XmlRpcValue::TypeInt)

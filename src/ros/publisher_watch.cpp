@@ -44,8 +44,7 @@ bool PublisherWatch::publishersOf(const std::string& topic, std::vector<std::str
     {
       XmlRpc::XmlRpcValue& entry = publishers[i];
       if (entry.getType() != XmlRpc::XmlRpcValue::TypeArray || entry.size() < 2 ||
-          entry[0].getType() != XmlRpc::XmlRpcValue::TypeString ||
-          entry[1].getType() != XmlRpc::XmlRpcValue::TypeArray)
+          entry[0].getType() != XmlRpc::XmlRpcValue::TypeString || entry[1].getType() != XmlRpc::XmlRpcValue::TypeArray)
       {
         return fail("getSystemState: unexpected publisher entry");
       }

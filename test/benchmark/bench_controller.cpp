@@ -3,8 +3,8 @@
 ///   .ws/devel/lib/jackal_aic/bench_controller
 #include <benchmark/benchmark.h>
 
-#include "jackal_aic/controller.hpp"
-#include "jackal_aic/generalizer.hpp"
+#include "jackal_aic/aic/controller.hpp"
+#include "jackal_aic/aic/generalizer.hpp"
 
 using namespace jackal_aic;
 

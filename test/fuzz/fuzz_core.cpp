@@ -18,9 +18,9 @@
 
 #include <fuzzer/FuzzedDataProvider.h>
 
-#include "jackal_aic/controller.hpp"
-#include "jackal_aic/fault_monitor.hpp"
-#include "jackal_aic/generalizer.hpp"
+#include "jackal_aic/aic/controller.hpp"
+#include "jackal_aic/safety/fault_monitor.hpp"
+#include "jackal_aic/aic/generalizer.hpp"
 
 using namespace jackal_aic;
 
@@ -39,8 +39,7 @@ double number(FuzzedDataProvider& in, double lo_exp, double hi_exp)
   {
     case 0:
       return in.ConsumeFloatingPoint<double>();  // any finite double
-    case 1:
-    {
+    case 1: {
       const double special[] = { NAN, INFINITY, -INFINITY, 0.0, -0.0, -1.0, 1e308, 5e-324 };
       return special[in.ConsumeIntegralInRange<int>(0, 7)];
     }
@@ -129,8 +128,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   {
     switch (in.ConsumeIntegralInRange<int>(0, 7))
     {
-      case 0:
-      {
+      case 0: {
         Vector5 y;
         for (int j = 0; j < kYDim; ++j)
         {
@@ -151,8 +149,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         c->setGoal(Vector3(number(in, -2.0, 1.0), 0.0, number(in, -2.0, 1.0)));
         break;
       case 2:
-      case 3:
-      {
+      case 3: {
         const double h = number(in, -5.0, 0.0);
         const int steps = in.ConsumeIntegralInRange<int>(1, 10);
         for (int i = 0; i < steps; ++i)
@@ -169,8 +166,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       case 5:
         c->setSensorMask(in.ConsumeIntegral<std::uint8_t>());
         break;
-      case 6:
-      {
+      case 6: {
         const AicParams q = params(in);
         try
         {

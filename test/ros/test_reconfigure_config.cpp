@@ -65,8 +65,7 @@ AICConfig requestFrom(const AICConfig& shown, Edit edit)
 
 bool hasViolation(const ReconfigureOutcome& o, const std::string& name)
 {
-  return std::any_of(o.violations.begin(), o.violations.end(),
-                     [&](const ParamViolation& v) { return v.name == name; });
+  return std::any_of(o.violations.begin(), o.violations.end(), [&](const ParamViolation& v) { return v.name == name; });
 }
 }  // namespace
 
@@ -83,8 +82,9 @@ TEST(ReconfigureConfig, AicConfigAgreesWithTheSchema)
   {
     SCOPED_TRACE(e.name);
     schema_names.insert(e.name);
-    const auto it = std::find_if(descriptions.begin(), descriptions.end(),
-                                 [&](const AICConfig::AbstractParamDescriptionConstPtr& d) { return d->name == e.name; });
+    const auto it =
+        std::find_if(descriptions.begin(), descriptions.end(),
+                     [&](const AICConfig::AbstractParamDescriptionConstPtr& d) { return d->name == e.name; });
     ASSERT_NE(it, descriptions.end()) << "cfg/AIC.cfg lacks " << e.name;
     EXPECT_EQ((*it)->type, cfgTypeName(e.type));
     EXPECT_EQ(static_cast<int>((*it)->level), e.row->level);
@@ -224,8 +224,7 @@ TEST(ReconfigureConfig, VarianceSlotsAndEmbeddingOrder)
   out = paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.var_mu_5 = 64.0; }), shown, base);
   EXPECT_TRUE(out.violations.empty());
   EXPECT_EQ(out.params.aic.var_mu, base.aic.var_mu);
-  EXPECT_EQ(configFromParams(out.params, requestFrom(shown, [](AICConfig& c) { c.var_mu_5 = 64.0; })).var_mu_5,
-            64.0);
+  EXPECT_EQ(configFromParams(out.params, requestFrom(shown, [](AICConfig& c) { c.var_mu_5 = 64.0; })).var_mu_5, 64.0);
 }
 
 TEST(ReconfigureConfig, PerChannelVariancesAreNotLive)

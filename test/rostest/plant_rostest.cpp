@@ -192,11 +192,11 @@ double stddev(const std::vector<double>& v)
 /// Constant drive omega on both sides -> steady body speed r omega within tolerance.
 TEST_F(PlantRosTest, ConstantDrive)
 {
-  const double omega = param("omega");          // rad/s
-  const double r = param("wheel_radius");       // m
+  const double omega = param("omega");             // rad/s
+  const double r = param("wheel_radius");          // m
   const double tol = param("relative_tolerance");  // -
-  const double settle = param("settle_time");   // s of plant time
-  const double window = param("measure_time");  // s of plant time
+  const double settle = param("settle_time");      // s of plant time
+  const double window = param("measure_time");     // s of plant time
   ASSERT_TRUE(waitFor([&] { return !odom_.empty(); }, kStartupWall)) << "no /odom from the plant";
   command(jackal_msgs::Drive::MODE_VELOCITY, omega, omega);
   const double t0 = lastOdomStamp();
@@ -218,9 +218,9 @@ TEST_F(PlantRosTest, ConstantDrive)
 TEST_F(PlantRosTest, TurnInPlace)
 {
   const double omega = param("omega");
-  const double min_yaw_rate = param("min_yaw_rate");          // rad/s
-  const double max_linear = param("max_linear_speed");        // m/s
-  const double max_drift = param("max_drift");                // m
+  const double min_yaw_rate = param("min_yaw_rate");    // rad/s
+  const double max_linear = param("max_linear_speed");  // m/s
+  const double max_drift = param("max_drift");          // m
   const double settle = param("settle_time");
   const double window = param("measure_time");
   ASSERT_TRUE(waitFor([&] { return !odom_.empty(); }, kStartupWall));
@@ -243,7 +243,7 @@ TEST_F(PlantRosTest, TurnInPlace)
 /// /joint_states and /imu/data at the expected rate (stamps, and arrival over wall time).
 TEST_F(PlantRosTest, SensorRates)
 {
-  const double rate = param("expected_rate");   // Hz
+  const double rate = param("expected_rate");  // Hz
   const double tol = param("relative_tolerance");
   const double duration = param("measure_time");  // s
   ASSERT_TRUE(waitFor([&] { return js_stamps_.size() > 5 && imu_.size() > 5; }, kStartupWall));
@@ -317,9 +317,9 @@ TEST_F(PlantRosTest, ImuNoise)
 TEST_F(PlantRosTest, ModeNoneCoasts)
 {
   const double omega = param("omega");
-  const double drive_time = param("drive_time");   // s
-  const double coast_time = param("coast_time");   // s allowed to come to rest
-  const double rest_speed = param("rest_speed");   // m/s
+  const double drive_time = param("drive_time");  // s
+  const double coast_time = param("coast_time");  // s allowed to come to rest
+  const double rest_speed = param("rest_speed");  // m/s
   ASSERT_TRUE(waitFor([&] { return !odom_.empty(); }, kStartupWall));
   command(jackal_msgs::Drive::MODE_VELOCITY, omega, omega);
   const double t0 = lastOdomStamp();
@@ -345,15 +345,15 @@ TEST_F(PlantRosTest, ModeNoneCoasts)
 /// the plant has little longitudinal slip) and cmd_drive streams at 50 Hz.
 TEST_F(PlantRosTest, StockControllerTracksSetPoint)
 {
-  const double v = param("set_point");          // m/s
+  const double v = param("set_point");  // m/s
   const double tol = param("relative_tolerance");
   const double settle = param("settle_time");   // s of plant time
   const double window = param("measure_time");  // s of plant time
   ros::Publisher sp = nh_.advertise<geometry_msgs::Twist>("jackal_AIC/set_point", 10);
   std::vector<double> drive_wall;
   std::mutex drive_mutex;
-  ros::Subscriber drive_sub = nh_.subscribe<jackal_msgs::Drive>(
-      "cmd_drive", 100, [&](const jackal_msgs::Drive::ConstPtr& m) {
+  ros::Subscriber drive_sub =
+      nh_.subscribe<jackal_msgs::Drive>("cmd_drive", 100, [&](const jackal_msgs::Drive::ConstPtr& m) {
         std::lock_guard<std::mutex> lock(drive_mutex);
         if (m->mode == jackal_msgs::Drive::MODE_VELOCITY)
         {
@@ -400,8 +400,8 @@ TEST_F(PlantRosTest, BadUrdfExitsNonZero)
   self[n] = '\0';
   std::string dir(self);
   dir = dir.substr(0, dir.rfind('/'));
-  const std::string cmd = dir + "/jackal_plant_node __name:=jackal_plant_bad_urdf _urdf:=" + bad +
-                          " _plant_config:=" + config + " 2>&1";
+  const std::string cmd =
+      dir + "/jackal_plant_node __name:=jackal_plant_bad_urdf _urdf:=" + bad + " _plant_config:=" + config + " 2>&1";
   FILE* p = popen(cmd.c_str(), "r");
   ASSERT_NE(p, nullptr);
   std::string output;

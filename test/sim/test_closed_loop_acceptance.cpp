@@ -24,9 +24,9 @@
 #include <vector>
 
 #include "jackal_tools/params_yaml.hpp"
-#include "jackal_aic/step_metrics.hpp"
-#include "jackal_aic/tracking_metrics.hpp"
-#include "jackal_tools/yaml_overrides.hpp"
+#include "jackal_aic/analysis/step_metrics.hpp"
+#include "jackal_aic/analysis/tracking_metrics.hpp"
+#include "jackal_aic/overrides/yaml_overrides.hpp"
 #include "jackal_sim/harness/closed_loop.hpp"
 #include "jackal_sim/plant/plant_params.hpp"
 #include "jackal_sim/plant/robot_description.hpp"
@@ -272,14 +272,14 @@ TEST(StepResponse, DefaultConfiguration)
 
 TEST(StepResponse, DefaultWithTheTimerActionTrigger)
 {
-  checkStep({ "timer trigger", aic(config("default", { "action_trigger=timer" }), stepProfile(1.0, 0.5), 4.0), 0.5,
-              1.0, 20.0, 2.0 });
+  checkStep({ "timer trigger", aic(config("default", { "action_trigger=timer" }), stepProfile(1.0, 0.5), 4.0), 0.5, 1.0,
+              20.0, 2.0 });
 }
 
 TEST(StepResponse, DefaultWithTheBeliefTimer)
 {
-  checkStep({ "belief timer", aic(config("default", { "belief_schedule=timer" }), stepProfile(1.0, 0.5), 4.0), 0.5,
-              1.0, 20.0, 2.0 });
+  checkStep({ "belief timer", aic(config("default", { "belief_schedule=timer" }), stepProfile(1.0, 0.5), 4.0), 0.5, 1.0,
+              20.0, 2.0 });
 }
 
 TEST(StepResponse, LargeStepStaysBoundedWithTheAntiWindup)
@@ -346,8 +346,11 @@ TEST(StepResponse, SquareWaveSettlesEveryHalfPeriod)
 ClosedLoopRecord stopAfterAStalledTurn(double release)
 {
   const std::vector<SetPointSegment> profile{ { 0.0, 0.0, 0.0 }, { 1.0, 0.1, -0.2 }, { 4.0, 0.0, 0.0 } };
-  return run(aic(config("default", { "action_release_time=" + std::to_string(release) }), profile, 6.5),
-             { "sim/config/variants/slow_breakaway.yaml" });
+  return run(aic(config("default", { "action_release_time=" + std::to_string(release) }), profile, 6.5), { "sim/config/"
+                                                                                                           "variants/"
+                                                                                                           "slow_"
+                                                                                                           "breakaway."
+                                                                                                           "yaml" });
 }
 
 TEST(StepResponse, AStopStopsTheWheelsAfterAStalledTurn)
@@ -406,7 +409,7 @@ TEST(SensorFaults, EncoderBiasWithoutIsolationIsBounded)
 {
   // With fdi_enabled false the biased encoder stays in the loop; the action prior carries the
   // speed, so the error stays within the 5 % bound all the same (the thesis's free-energy action
-  // alone follows the bias: test/unit/test_fault_monitor.cpp,
+  // alone follows the bias: test/unit/safety/test_fault_monitor.cpp,
   // ClosedLoopFdi.EncoderBiasMisleadsTheFreeEnergyActionUnlessIsolated).
   const ClosedLoopRecord r = encoderBias("left", 2.5, false);
   expectBounded(r);
@@ -440,10 +443,10 @@ TEST(SensorFaults, FrozenGyroIsIsolatedWhenTheTurnEnds)
   // The frozen gyro's reading repeats bit for bit: the learner takes no new information from it,
   // before and after the fault monitor isolates it.
   EXPECT_LT(separationMove(r, 6.5, 15.5), kFaultSeparationMove) << "b_hat learned from the frozen gyro";
-  results().push_back({ "gyro freeze 6 s into a (0.4 m/s, 0.8 rad/s) turn; straight 1 s later", "`gyro freeze 6.5`",
-                        "`gyro_z` isolated " + fixed(iso->time - 7.5) + " s after the set point went straight",
-                        "yaw rate " + fixed(yaw) + " rad/s (bound 0.03)" + separationText(r, 6.5, 15.5) +
-                            " (bound 2 %)" });
+  results().push_back(
+      { "gyro freeze 6 s into a (0.4 m/s, 0.8 rad/s) turn; straight 1 s later", "`gyro freeze 6.5`",
+        "`gyro_z` isolated " + fixed(iso->time - 7.5) + " s after the set point went straight",
+        "yaw rate " + fixed(yaw) + " rad/s (bound 0.03)" + separationText(r, 6.5, 15.5) + " (bound 2 %)" });
 }
 
 TEST(SensorFaults, FrozenGyroWithoutIsolationKeepsTurning)
@@ -522,14 +525,15 @@ TEST(SensorFaults, GyroOffsetFromPowerOnIsLearnedAtRest)
     const ClosedLoopRecord off = run(c);
     const double yaw_off = meanOver(off, off.yaw_true, 13.0, 16.0);
     EXPECT_GT(std::abs(yaw_off / turn - 1.0), 0.04) << "without learning the offset the arc should be off";
-    results().push_back({ std::string("gyro offset from power-on, 6 s at rest, then a (0.5 m/s, ") + fixed(turn, 1) +
-                              " rad/s) arc",
-                          "`gyro bias " + fixed(offset, 2) + " 0`", isolationText(r, 0.0, 0.0),
-                          "yaw rate error " + fixed(100.0 * yaw_error, 2) + " % (bound 1.5 %); learned b_hat " +
-                              fixed(100.0 * b_error, 2) + " % from the run without the offset (bound 2 %); with "
-                              "`learn_gyro_bias: false` " + fixed(100.0 * std::abs(yaw_off / turn - 1.0), 2) +
-                              " % and " + fixed(100.0 * std::abs(off.separation.back() / clean.separation.back() - 1.0), 2) +
-                              " %" });
+    results().push_back(
+        { std::string("gyro offset from power-on, 6 s at rest, then a (0.5 m/s, ") + fixed(turn, 1) + " rad/s) arc",
+          "`gyro bias " + fixed(offset, 2) + " 0`", isolationText(r, 0.0, 0.0),
+          "yaw rate error " + fixed(100.0 * yaw_error, 2) + " % (bound 1.5 %); learned b_hat " +
+              fixed(100.0 * b_error, 2) +
+              " % from the run without the offset (bound 2 %); with "
+              "`learn_gyro_bias: false` " +
+              fixed(100.0 * std::abs(yaw_off / turn - 1.0), 2) + " % and " +
+              fixed(100.0 * std::abs(off.separation.back() / clean.separation.back() - 1.0), 2) + " %" });
   }
 }
 
@@ -564,7 +568,8 @@ TEST(SensorFaults, GyroFaultsAtRestDoNotTeachTheOffset)
     EXPECT_EQ(firstIsolation(r, 7.0) != nullptr, k.isolated);
     const double yaw_error = std::abs(meanOver(r, r.yaw_true, 17.0, 20.0) / 0.5 - 1.0);
     EXPECT_LT(yaw_error, 0.015);
-    results().push_back({ std::string(k.name) + " while standing, 7 s after power-on (0.03 rad/s offset learned); an arc from 12 s",
+    results().push_back({ std::string(k.name) + " while standing, 7 s after power-on (0.03 rad/s offset learned); an "
+                                                "arc from 12 s",
                           "`gyro bias 0.03 0`, `" + k.fault + "`", isolationText(r, 7.0, 7.0),
                           "learned gyro offset " + fixed(before, 4) + " rad/s, moved " + fixed(moved, 4) +
                               " rad/s during the fault (bound 0.001); the arc's yaw rate error " +
@@ -576,9 +581,8 @@ TEST(SensorFaults, ImuLossDegradesToTheEncoders)
 {
   // A healthy 0.5 m/s step at 1 s, back to rest at 4 s, the same step at 6.5 s with the IMU
   // dropping out 0.2 s into it: the second settles within 1.5 x the first.
-  ClosedLoopConfig c = aic(config("default"), { { 0.0, 0.0, 0.0 }, { 1.0, 0.5, 0.0 }, { 4.0, 0.0, 0.0 },
-                                                { 6.5, 0.5, 0.0 } },
-                           9.5);
+  ClosedLoopConfig c =
+      aic(config("default"), { { 0.0, 0.0, 0.0 }, { 1.0, 0.5, 0.0 }, { 4.0, 0.0, 0.0 }, { 6.5, 0.5, 0.0 } }, 9.5);
   c.faults = { fault("imu dropout 6.7") };
   const ClosedLoopRecord r = run(c);
   expectBounded(r);
@@ -590,11 +594,11 @@ TEST(SensorFaults, ImuLossDegradesToTheEncoders)
   ASSERT_FALSE(r.imu_missing.empty());
   EXPECT_GE(r.imu_missing.front(), 6.7);
   EXPECT_LE(r.imu_missing.front(), 6.7 + 0.02 + 0.025);  // the next sample past imu_max_skew
-  results().push_back({ "IMU lost 0.2 s into a 0.5 m/s step", "`imu dropout 6.7`",
-                        "IMU channels masked from the sample at " + fixed(r.imu_missing.front() - 6.7) +
-                            " s after the loss",
-                        "settles (+-5 %) in " + fixed(faulty.settling_time) + " s; the healthy step " +
-                            fixed(healthy.settling_time) + " s (bound 1.5 x)" });
+  results().push_back(
+      { "IMU lost 0.2 s into a 0.5 m/s step", "`imu dropout 6.7`",
+        "IMU channels masked from the sample at " + fixed(r.imu_missing.front() - 6.7) + " s after the loss",
+        "settles (+-5 %) in " + fixed(faulty.settling_time) + " s; the healthy step " + fixed(healthy.settling_time) +
+            " s (bound 1.5 x)" });
 }
 
 TEST(SensorFaults, TransientsAreRiddenThrough)
@@ -638,9 +642,9 @@ void checkPhysical(const std::string& name, const std::string& line)
   EXPECT_LE(m.settling_time, 1.5);
   EXPECT_LE(error, 0.05);
   EXPECT_LT(std::abs(meanOver(r, r.yaw_true, 6.0, 7.0)), 0.1);
-  results().push_back({ name + " at rest, then a 0.5 m/s step", "`" + line + "`", isolationText(r, 1.0, 2.0, "the step"),
-                        "settles in " + fixed(m.settling_time) + " s (bound 1.5), speed error " +
-                            fixed(100.0 * error, 2) + " %" });
+  results().push_back(
+      { name + " at rest, then a 0.5 m/s step", "`" + line + "`", isolationText(r, 1.0, 2.0, "the step"),
+        "settles in " + fixed(m.settling_time) + " s (bound 1.5), speed error " + fixed(100.0 * error, 2) + " %" });
 }
 
 TEST(PhysicalFaults, PayloadOf10Kg)

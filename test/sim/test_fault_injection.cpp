@@ -111,7 +111,7 @@ TEST(FaultInjector, BiasFreezeDropoutDelayAndWindows)
   imu.angular_velocity.z() = -1.0;
   ASSERT_TRUE(inj.applyImu(10.6, &imu, &d));
   EXPECT_NEAR(imu.angular_velocity.z(), 0.4, kTol);  // frozen
-  EXPECT_NEAR(d, 0.3, kTol);                          // delayed
+  EXPECT_NEAR(d, 0.3, kTol);                         // delayed
   EXPECT_DOUBLE_EQ(inj.payload(11.0), 0.0);
   EXPECT_DOUBLE_EQ(inj.frictionScale(kLeft, 11.0), 1.0);
 }

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "jackal_tools/params_yaml.hpp"
-#include "jackal_aic/step_metrics.hpp"
+#include "jackal_aic/analysis/step_metrics.hpp"
 #include "jackal_sim/harness/closed_loop.hpp"
 #include "jackal_sim/harness/identification.hpp"
 #include "jackal_sim/plant/plant.hpp"
@@ -125,14 +125,14 @@ TEST(RobotData, MalformedFilesAreNamedErrors)
             std::string::npos);
   const std::string no_tables = writeTemp("rows: []\n");
   EXPECT_NE(errorOf([&] { loadRobotStepTables(no_tables); }).find("tables"), std::string::npos);
-  const std::string short_row = writeTemp(
-      "tables:\n  - {id: x, title: t, source: s, controller: stock, rows: [[0.1, 50, 50, 0.14]]}\n");
+  const std::string short_row = writeTemp("tables:\n  - {id: x, title: t, source: s, controller: stock, rows: [[0.1, "
+                                          "50, 50, 0.14]]}\n");
   EXPECT_NE(errorOf([&] { loadRobotStepTables(short_row); }).find("row 0"), std::string::npos);
-  const std::string bad_controller = writeTemp(
-      "tables:\n  - {id: x, title: t, source: s, controller: pid, rows: [[0.1, 50, 50, 0.14, 0.04]]}\n");
+  const std::string bad_controller = writeTemp("tables:\n  - {id: x, title: t, source: s, controller: pid, rows: "
+                                               "[[0.1, 50, 50, 0.14, 0.04]]}\n");
   EXPECT_NE(errorOf([&] { loadRobotStepTables(bad_controller); }).find("pid"), std::string::npos);
-  const std::string negative = writeTemp(
-      "tables:\n  - {id: x, title: t, source: s, controller: aic, rows: [[0.1, 50, 50, -0.14, 0.04]]}\n");
+  const std::string negative = writeTemp("tables:\n  - {id: x, title: t, source: s, controller: aic, rows: [[0.1, 50, "
+                                         "50, -0.14, 0.04]]}\n");
   EXPECT_THROW(loadRobotStepTables(negative), std::runtime_error);
   const std::string missing_id = writeTemp("tables:\n  - {title: t, source: s, controller: aic, rows: []}\n");
   EXPECT_THROW(loadRobotStepTables(missing_id), std::runtime_error);
@@ -141,8 +141,9 @@ TEST(RobotData, MalformedFilesAreNamedErrors)
 // ---------------------------------------------------------------- fit arithmetic
 TEST(FitSummary, ErrorsCostsAndAcceptance)
 {
-  RobotStepTable stock{ "s", "stock", "src", LoopController::kStock, { { 0.1, 50, 50, 0.1, 0.1 },
-                                                                       { 0.5, 50, 50, 1.0, 1.0 } } };
+  RobotStepTable stock{
+    "s", "stock", "src", LoopController::kStock, { { 0.1, 50, 50, 0.1, 0.1 }, { 0.5, 50, 50, 1.0, 1.0 } }
+  };
   RobotStepTable aic{ "a", "aic", "src", LoopController::kAic, { { 0.5, 50, 50, 1.0, 1.0 } } };
   FitEntry e0;
   e0.table = "s";
@@ -202,8 +203,9 @@ TEST(WheelSpeedServo, IntegralLimitBoundsTheIntegralPath)
   // Torque = Kp e + I + Ki e h (the current step's integral increment), I clamped at 1.5 N m.
   EXPECT_NEAR(torque, 0.1 * 10.0 + 1.5 + 100.0 * 10.0 * 0.001, kTorqueTol);
   s.setSetpoint(20.0, 1.0);
-  EXPECT_NEAR(s.update(0.0, 1.0), 0.1 * 20.0 + 1.5 + 100.0 * 20.0 * 0.001, kTorqueTol)
-      << "a set point further ahead gives more torque through the proportional path";
+  EXPECT_NEAR(s.update(0.0, 1.0), 0.1 * 20.0 + 1.5 + 100.0 * 20.0 * 0.001, kTorqueTol) << "a set point further ahead "
+                                                                                          "gives more torque through "
+                                                                                          "the proportional path";
 }
 
 TEST(WheelSpeedServo, FeedforwardFollowsTheCommandRate)
@@ -256,8 +258,8 @@ std::vector<double> driveSide(const MotorParams& m, double inertia, double load,
       out.push_back(w);  // static friction holds the side
       continue;
     }
-    const double w_next = w + h * (torque - load * (w != 0.0 ? (w > 0.0 ? 1.0 : -1.0) : (torque > 0.0 ? 1.0 : -1.0))) /
-                                  inertia;
+    const double w_next =
+        w + h * (torque - load * (w != 0.0 ? (w > 0.0 ? 1.0 : -1.0) : (torque > 0.0 ? 1.0 : -1.0))) / inertia;
     w = (w != 0.0 && w * w_next < 0.0) ? 0.0 : w_next;  // friction stops, it does not reverse
     out.push_back(w);
   }
@@ -381,8 +383,8 @@ TEST(IdentifiedPlant, StockStepsWithinTheAcceptance)
   for (const RobotStepRow& row : tables[0].rows)
   {
     const FitEntry e = runFitEntry(d, p, NodeParams(), tables[0], row);
-    EXPECT_LE(std::abs(e.settling_error), stockTolerance(row.step)) << row.step << " m/s: settling "
-                                                                    << e.sim.settling_time;
+    EXPECT_LE(std::abs(e.settling_error), stockTolerance(row.step))
+        << row.step << " m/s: settling " << e.sim.settling_time;
     EXPECT_LE(std::abs(e.rise_error), stockTolerance(row.step)) << row.step << " m/s: rise " << e.sim.rise_time;
   }
 }
@@ -413,8 +415,8 @@ TEST(IdentifiedPlant, AFastControllerIsFasterThanTheStockOne)
 /// and the turning targets.
 TEST(IdentifiedPlant, EveryTableAcceptedAndTheTurningTargetsMet)
 {
-  const FitReport r = runFit(loadRobotDescription(kUrdf), loadPlantParams(kPlant), loadNodeParamsFiles({ kThesisEquivalent }),
-                             loadRobotStepTables(kData));
+  const FitReport r = runFit(loadRobotDescription(kUrdf), loadPlantParams(kPlant),
+                             loadNodeParamsFiles({ kThesisEquivalent }), loadRobotStepTables(kData));
   for (const TableFit& f : r.fits)
   {
     EXPECT_TRUE(f.accepted) << "table " << f.id << ": mean |error| " << f.mean_abs_error;
@@ -519,10 +521,10 @@ TEST(ClosedLoop, OpenLoopSendsTheSetPointsWheelSpeedsAndRecordsTheYaw)
     }
     EXPECT_TRUE(std::isnan(rec.belief_yaw[k]));  // no AIC
   }
-  const std::size_t at_3s = static_cast<std::size_t>(std::lower_bound(rec.time.begin(), rec.time.end(), 3.0) -
-                                                     rec.time.begin());
+  const std::size_t at_3s =
+      static_cast<std::size_t>(std::lower_bound(rec.time.begin(), rec.time.end(), 3.0) - rec.time.begin());
   EXPECT_NEAR(rec.v_odom[at_3s], 0.3, 0.015);  // the wheels reached the set point
-  EXPECT_GT(rec.yaw_odom.back(), 0.3);          // and turn once commanded to
+  EXPECT_GT(rec.yaw_odom.back(), 0.3);         // and turn once commanded to
 }
 
 // ---------------------------------------------------------------- replay of a /cmd_drive stream
@@ -563,17 +565,24 @@ TEST(Replay, ModeNoneReleasesAndBadStreamsAreRefused)
       replayDriveCommands(d, p, { { 0.0, true, 5.0, 5.0 }, { 1.0, false, 0.0, 0.0 } }, 1.5);
   EXPECT_TRUE(rep.front().command_enabled);
   EXPECT_FALSE(rep.back().command_enabled);
-  EXPECT_DOUBLE_EQ(rep.back().torque_left, 0.0);  // released (after the command latency)
+  EXPECT_DOUBLE_EQ(rep.back().torque_left, 0.0);    // released (after the command latency)
   EXPECT_GT(rep.back().velocity[kFrontLeft], 0.5);  // coasting
   EXPECT_NE(errorOf([&] { replayDriveCommands(d, p, {}, 1.0); }).find("empty"), std::string::npos);
-  EXPECT_NE(errorOf([&] { replayDriveCommands(d, p, { { 0.5, true, 1, 1 }, { 0.2, true, 1, 1 } }, 1.0); })
-                .find("out-of-order"),
+  EXPECT_NE(errorOf([&] {
+              replayDriveCommands(d, p, { { 0.5, true, 1, 1 }, { 0.2, true, 1, 1 } }, 1.0);
+            }).find("out-of-order"),
             std::string::npos);
-  EXPECT_NE(errorOf([&] { replayDriveCommands(d, p, { { 0.0, true, std::nan(""), 1 } }, 1.0); }).find("non-finite"),
+  EXPECT_NE(errorOf([&] {
+              replayDriveCommands(d, p, { { 0.0, true, std::nan(""), 1 } }, 1.0);
+            }).find("non-finite"),
             std::string::npos);
   EXPECT_NO_THROW(replayDriveCommands(d, p, { { 0.0, false, std::nan(""), 1 } }, 0.1));  // MODE_NONE: values ignored
-  EXPECT_NE(errorOf([&] { replayDriveCommands(d, p, { { 0.0, true, 1, 1 } }, -1.0); }).find("duration"),
+  EXPECT_NE(errorOf([&] {
+              replayDriveCommands(d, p, { { 0.0, true, 1, 1 } }, -1.0);
+            }).find("duration"),
             std::string::npos);
-  EXPECT_NE(errorOf([&] { stockDriveCommands({ { 0.0, INFINITY, 0.0 } }, 1.0); }).find("non-finite"),
+  EXPECT_NE(errorOf([&] {
+              stockDriveCommands({ { 0.0, INFINITY, 0.0 } }, 1.0);
+            }).find("non-finite"),
             std::string::npos);
 }

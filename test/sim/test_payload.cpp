@@ -20,7 +20,7 @@
 #include "jackal_sim/plant/robot_description.hpp"
 #include "jackal_test/run_command.hpp"
 #include "jackal_tools/params_yaml.hpp"
-#include "jackal_tools/yaml_overrides.hpp"
+#include "jackal_aic/overrides/yaml_overrides.hpp"
 
 namespace jackal_aic
 {

@@ -28,11 +28,11 @@ namespace
 const std::string kUrdf = std::string(JACKAL_SIM_SOURCE_DIR) + "/sim/urdf/jackal.urdf";
 const std::string kConfig = std::string(JACKAL_SIM_SOURCE_DIR) + "/sim/config/plant.yaml";
 
-constexpr double kGeomTol = 1e-9;      // m, kg: values copied from the URDF
-constexpr double kSpeedRelTol = 0.05;  // -, steady body speed vs r*omega (slip included)
+constexpr double kGeomTol = 1e-9;        // m, kg: values copied from the URDF
+constexpr double kSpeedRelTol = 0.05;    // -, steady body speed vs r*omega (slip included)
 constexpr double kWheelSpeedTol = 0.05;  // rad/s, servo steady-state error
-constexpr double kRestSpeed = 0.005;   // m/s counted as rest
-constexpr double kGravityTol = 0.05;   // m/s^2
+constexpr double kRestSpeed = 0.005;     // m/s counted as rest
+constexpr double kGravityTol = 0.05;     // m/s^2
 
 std::string readFile(const std::string& path)
 {
@@ -179,21 +179,24 @@ TEST(PlantParams, InvalidValuesAreAllListed)
 TEST(PlantParams, FrictionModelIsValidated)
 {
   const std::string yaml = readFile(kConfig);
-  EXPECT_NE(errorOf([&] { parsePlantParams(yaml, "t", { "contact.friction_model=coulomb" }); }).find(
-                "contact.friction_model"),
+  EXPECT_NE(errorOf([&] {
+              parsePlantParams(yaml, "t", { "contact.friction_model=coulomb" });
+            }).find("contact.friction_model"),
             std::string::npos);
   // The cone and the slip law are isotropic: anisotropic friction (or, for the cone, compliance) is refused.
-  EXPECT_NE(errorOf([&] { parsePlantParams(yaml, "t", { "contact.mu2=0.8" }); }).find("isotropic"),
+  EXPECT_NE(errorOf([&] { parsePlantParams(yaml, "t", { "contact.mu2=0.8" }); }).find("isotropic"), std::string::npos);
+  EXPECT_NE(errorOf([&] {
+              parsePlantParams(yaml, "t", { "contact.friction_model=cone", "contact.mu2=0.8" });
+            }).find("isotropic"),
             std::string::npos);
-  EXPECT_NE(errorOf([&] { parsePlantParams(yaml, "t", { "contact.friction_model=cone", "contact.mu2=0.8" }); })
-                .find("isotropic"),
-            std::string::npos);
-  EXPECT_NE(errorOf([&] { parsePlantParams(yaml, "t", { "contact.friction_model=cone", "contact.slip2=0.02" }); })
-                .find("isotropic"),
+  EXPECT_NE(errorOf([&] {
+              parsePlantParams(yaml, "t", { "contact.friction_model=cone", "contact.slip2=0.02" });
+            }).find("isotropic"),
             std::string::npos);
   EXPECT_NO_THROW(parsePlantParams(yaml, "t", { "contact.friction_model=pyramid", "contact.slip2=0.02" }));
-  EXPECT_NE(errorOf([&] { parsePlantParams(yaml, "t", { "contact.sliding_threshold=0" }); }).find(
-                "contact.sliding_threshold"),
+  EXPECT_NE(errorOf([&] {
+              parsePlantParams(yaml, "t", { "contact.sliding_threshold=0" });
+            }).find("contact.sliding_threshold"),
             std::string::npos);
 }
 
@@ -226,7 +229,7 @@ TEST(WheelSpeedServo, TorqueIsLimitedAndReleasedIsZero)
   m.no_load_speed = 20.0;
   WheelSpeedServo s(m, 0.001);
   s.setSetpoint(20.0, 0.0);
-  EXPECT_DOUBLE_EQ(s.update(0.0, 0.0), 2.0);   // current limit at rest
+  EXPECT_DOUBLE_EQ(s.update(0.0, 0.0), 2.0);  // current limit at rest
   EXPECT_TRUE(s.torqueLimited());
   EXPECT_NEAR(s.update(15.0, 0.001), 1.0, 1e-12);  // voltage limit: 4 (1 - 15/20)
   EXPECT_TRUE(s.torqueLimited());
@@ -398,8 +401,8 @@ TEST(SensorModel, RatesNoiseDropoutAndSeed)
       ++imu;
     }
   }
-  EXPECT_EQ(imu, 5000);                 // 100 s at 50 Hz
-  EXPECT_NEAR(js, 4000, 150);           // 20 % dropped (binomial sd ~ 28)
+  EXPECT_EQ(imu, 5000);        // 100 s at 50 Hz
+  EXPECT_NEAR(js, 4000, 150);  // 20 % dropped (binomial sd ~ 28)
   const double m = std::accumulate(gz.begin(), gz.end(), 0.0) / gz.size();
   double var = 0.0;
   for (double x : gz)

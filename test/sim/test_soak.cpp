@@ -20,7 +20,8 @@ namespace
 using Result = jackal_test::CommandResult;
 constexpr auto* run = &jackal_test::runCommand;
 
-const std::string kSoak = std::string("JACKAL_AIC_SHARE=") + SOURCE_DIR + " " + AIC_SOAK_BIN + " --profile-dir " + SOURCE_DIR + "/test/data/soak_profiles";
+const std::string kSoak = std::string("JACKAL_AIC_SHARE=") + SOURCE_DIR + " " + AIC_SOAK_BIN + " --profile-dir " +
+                          SOURCE_DIR + "/test/data/soak_profiles";
 
 TEST(Soak, ShortFormPassesEveryCheck)
 {

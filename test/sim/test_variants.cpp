@@ -19,8 +19,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include "jackal_tools/params_yaml.hpp"
-#include "jackal_aic/step_metrics.hpp"
-#include "jackal_tools/yaml_overrides.hpp"
+#include "jackal_aic/analysis/step_metrics.hpp"
+#include "jackal_aic/overrides/yaml_overrides.hpp"
 #include "jackal_sim/harness/calibration.hpp"
 #include "jackal_sim/harness/closed_loop.hpp"
 #include "jackal_sim/harness/identification.hpp"
@@ -174,7 +174,8 @@ TEST(Variants, BadOverlaysAreNamedErrors)
   }
   // Overlays first, then the overrides: a later layer wins.
   const std::vector<std::string> o =
-      plantOverrides({ kVariants + "latency_plus_20.yaml", kVariants + "latency_minus_20.yaml" }, { "motor.command_delay=0.2" });
+      plantOverrides({ kVariants + "latency_plus_20.yaml", kVariants + "latency_minus_20.yaml" }, { "motor.command_"
+                                                                                                    "delay=0.2" });
   EXPECT_DOUBLE_EQ(loadPlantParams(kPlant, o).motor.command_delay, 0.2);
   // A variant alone: its file's value, as the file spells it.
   const double in_file = YAML::LoadFile(kVariants + "latency_plus_20.yaml")["motor"]["command_delay"].as<double>();
@@ -309,13 +310,14 @@ TEST(Variants, PayloadAddsMassInertiaAndWeight)
     }
     return torque / n;
   };
-  const double inertia_ratio = (0.5 * (robot_mass + 10.0) * r * r + 0.5 * spin) / (0.5 * robot_mass * r * r + 0.5 * spin);
+  const double inertia_ratio =
+      (0.5 * (robot_mass + 10.0) * r * r + 0.5 * spin) / (0.5 * robot_mass * r * r + 0.5 * spin);
   EXPECT_NEAR(rampTorque(loaded) / rampTorque(base), inertia_ratio, 0.1 * inertia_ratio);
 
   // Turning in place: the scrub grows with the weight.
   const double weight_ratio = (robot_mass + 10.0) / robot_mass;
-  EXPECT_NEAR(scrub(steadyTurn(loaded, 2.874), loaded.motor) / scrub(steadyTurn(base, 2.874), base.motor),
-              weight_ratio, 0.1 * weight_ratio);
+  EXPECT_NEAR(scrub(steadyTurn(loaded, 2.874), loaded.motor) / scrub(steadyTurn(base, 2.874), base.motor), weight_ratio,
+              0.1 * weight_ratio);
 }
 
 TEST(Variants, PayloadIsValidated)
@@ -359,8 +361,8 @@ TEST(Variants, RatedPayloadTurnsInPlaceWithinASecond)
   const PlantParams base = loadPlantParams(kPlant);
   const PlantParams loaded = variant("payload_20kg");
   const double weight_ratio = (robot_mass + 20.0) / robot_mass;
-  EXPECT_NEAR(scrub(steadyTurn(loaded, 2.874), loaded.motor) / scrub(steadyTurn(base, 2.874), base.motor),
-              weight_ratio, 0.1 * weight_ratio);
+  EXPECT_NEAR(scrub(steadyTurn(loaded, 2.874), loaded.motor) / scrub(steadyTurn(base, 2.874), base.motor), weight_ratio,
+              0.1 * weight_ratio);
 }
 
 /// A front-heavy robot turns on its front wheels: turning in place its effective separation is near the
@@ -394,7 +396,8 @@ TEST(Variants, LatencyConditionsShiftTheResponse)
     return std::nan("");
   };
   const double t0 = start(loadPlantParams(kPlant));
-  for (const auto& [name, factor] : { std::pair<const char*, double>{ "latency_minus_20", 0.8 }, { "latency_plus_20", 1.2 } })
+  for (const auto& [name, factor] :
+       { std::pair<const char*, double>{ "latency_minus_20", 0.8 }, { "latency_plus_20", 1.2 } })
   {
     const PlantParams p = variant(name);
     EXPECT_NEAR(p.motor.command_delay, factor * nominal, 5e-4 * nominal) << name << " (4 significant digits)";

@@ -11,7 +11,7 @@
 #include <sstream>
 #include <vector>
 
-#include "jackal_aic/param_schema.hpp"
+#include "jackal_aic/params/param_schema.hpp"
 
 namespace jackal_aic
 {
@@ -183,9 +183,9 @@ std::string reconfigureCfgScript()
   os << "#!/usr/bin/env python3\n"
         "# Live-tunable parameters of the jackal_AIC node (dynamic_reconfigure).\n"
         "#\n"
-        "# GENERATED from the parameter schema (src/core/param_schema.cpp): do not edit; run\n"
+        "# GENERATED from the parameter schema (src/params/param_schema.cpp): do not edit; run\n"
         "#   aic_params --cfg > cfg/AIC.cfg\n"
-        "# test/unit/test_param_schema.cpp fails while this file differs from the schema, and\n"
+        "# test/unit/params/test_param_schema.cpp fails while this file differs from the schema, and\n"
         "# test/ros/test_reconfigure_config.cpp compares the generated AICConfig with it.\n"
         "#\n"
         "# Ranges are the schema's, so every value the node accepts can be shown and no valid\n"
@@ -219,13 +219,13 @@ std::string reconfigureCfgScript()
        << pyString(e.description) << ", " << pyValue(e.default_value);
     if (e.type == ParamType::kDouble || e.type == ParamType::kInt)
     {
-      const ParamValue min = e.type == ParamType::kInt ? ParamValue(static_cast<int>(e.row->min)) :
-                                                         ParamValue(e.row->min);
+      const ParamValue min =
+          e.type == ParamType::kInt ? ParamValue(static_cast<int>(e.row->min)) : ParamValue(e.row->min);
       os << ", " << pyValue(min);
       if (std::isfinite(e.row->nodeMax()))
       {
-        const ParamValue max = e.type == ParamType::kInt ? ParamValue(static_cast<int>(e.row->nodeMax())) :
-                                                           ParamValue(e.row->nodeMax());
+        const ParamValue max =
+            e.type == ParamType::kInt ? ParamValue(static_cast<int>(e.row->nodeMax())) : ParamValue(e.row->nodeMax());
         os << ", " << pyValue(max);
       }
     }
@@ -253,8 +253,8 @@ std::string parameterTableMarkdown()
       key += " (node)";
     }
     const std::string range = cell(rangeDoc(s));
-    os << "| " << key << " | " << typeText(s) << " | " << (s.required ? "required" : docValue(defaultValue(s)))
-       << " | " << range << " | " << s.unit << " | " << live << " | " << cell(s.description) << " |\n";
+    os << "| " << key << " | " << typeText(s) << " | " << (s.required ? "required" : docValue(defaultValue(s))) << " | "
+       << range << " | " << s.unit << " | " << live << " | " << cell(s.description) << " |\n";
   }
   return os.str();
 }

@@ -8,7 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "jackal_tools/yaml_overrides.hpp"
+#include "jackal_aic/overrides/yaml_overrides.hpp"
 
 namespace jackal_aic
 {

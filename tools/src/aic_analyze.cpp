@@ -8,8 +8,8 @@
  * unknown keys are warned about) and prints, per belief rate and integrator: the spectral radius
  * of the dual-rate closed loop, stable or not, the predicted step metrics of v_x, and the
  * stability limits (smallest stable tau, largest stable k_mu and k_a, the others fixed).
- * Keys are those of the parameter schema (include/jackal_aic/param_schema.hpp); --set uses the
- * shared override parser (include/jackal_tools/yaml_overrides.hpp). Run with --help for the
+ * Keys are those of the parameter schema (include/jackal_aic/params/param_schema.hpp); --set uses the
+ * shared override parser (include/jackal_aic/overrides/yaml_overrides.hpp). Run with --help for the
  * options (Boost.program_options). Exit 0 on success, 1 on a bad file or invalid parameters, 2 on bad arguments.
  */
 #include <cmath>
@@ -27,10 +27,10 @@
 #include <yaml-cpp/yaml.h>
 
 #include "jackal_tools/cli.hpp"
-#include "jackal_aic/params.hpp"
+#include "jackal_aic/params/aic_params.hpp"
 #include "jackal_tools/params_yaml.hpp"
-#include "jackal_aic/state_space.hpp"
-#include "jackal_tools/yaml_overrides.hpp"
+#include "jackal_aic/analysis/state_space.hpp"
+#include "jackal_aic/overrides/yaml_overrides.hpp"
 
 using namespace jackal_aic;
 
@@ -97,10 +97,11 @@ int main(int argc, char** argv)
   bool no_scan = false;
   std::vector<std::string> overrides;
 
-  CommandLine cl("aic_analyze",
-                 "Linear analysis of an active inference controller configuration: spectral radius of the dual-rate "
-                 "closed loop, predicted step response of v_x and stability limits per belief rate and integrator "
-                 "(thesis ch. 4; doc/active_inference.md).");
+  CommandLine cl("aic_analyze", "Linear analysis of an active inference controller configuration: spectral radius of "
+                                "the dual-rate "
+                                "closed loop, predicted step response of v_x and stability limits per belief rate and "
+                                "integrator "
+                                "(thesis ch. 4; doc/active_inference.md).");
   cl.positional("CONFIG", &file, "controller YAML (config/*.yaml)");
   cl.list("rates", &rates,
           "belief rates to analyse [Hz] (default 50,100,1000); the action rate is the file's action_rate (or the "
@@ -294,7 +295,8 @@ int main(int argc, char** argv)
     const Eigen::EigenSolver<Eigen::MatrixXd> es(m.M(), false);
     const double lambda_max = es.eigenvalues().cwiseAbs().maxCoeff();
     const double pi_mu0 = params.precisionMu().col(0).maxCoeff();
-    std::cout << "  belief stiffness: order-0 gain k_mu * Pi_mu0 / tau^2 = " << fmt(params.k_mu * pi_mu0 / (params.tau * params.tau))
+    std::cout << "  belief stiffness: order-0 gain k_mu * Pi_mu0 / tau^2 = "
+              << fmt(params.k_mu * pi_mu0 / (params.tau * params.tau))
               << " 1/s; fastest mode of dmu/dt |lambda|max = " << fmt(lambda_max)
               << " 1/s -> Euler needs belief_rate > " << fmt(lambda_max / 2.0) << " Hz\n";
   }
@@ -315,9 +317,8 @@ int main(int argc, char** argv)
   {
     const bool m = r.pred.stable && r.pred.velocity_valid;
     std::printf("%9g %9g %-7s %12s %-8s %9s %9s %9s %10s | %16s %16s %16s\n", r.belief_rate, r.action_rate,
-                toString(r.integrator).c_str(), fmt(r.pred.spectral_radius, 6).c_str(),
-                r.pred.stable ? "yes" : "NO", m ? fmt(r.pred.velocity.rise_time).c_str() : "-",
-                m ? fmt(r.pred.velocity.settling_time).c_str() : "-",
+                toString(r.integrator).c_str(), fmt(r.pred.spectral_radius, 6).c_str(), r.pred.stable ? "yes" : "NO",
+                m ? fmt(r.pred.velocity.rise_time).c_str() : "-", m ? fmt(r.pred.velocity.settling_time).c_str() : "-",
                 m ? fmt(r.pred.velocity.overshoot_percent).c_str() : "-",
                 m ? fmt(r.pred.velocity.steady_state_error).c_str() : "-",
                 r.scanned ? limitText(r.tau, true, false).c_str() : "-",
@@ -332,7 +333,8 @@ int main(int argc, char** argv)
   {
     std::cout << "note: with the point plant, y^(1) (finite differences of the wheel speeds = of a) feeds back into\n"
                  "      da/dt as a sampled derivative; it is unstable once k_a / var_y[1] exceeds ~1. A lagging wheel\n"
-                 "      loop changes that: try --plant-time-constant 0.05 (the Jackal's small-step response, doc/jackal.md).\n";
+                 "      loop changes that: try --plant-time-constant 0.05 (the Jackal's small-step response, "
+                 "doc/jackal.md).\n";
   }
   return 0;
 }

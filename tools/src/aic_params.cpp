@@ -1,7 +1,7 @@
 /**
  * \file aic_params.cpp
  * \brief CLI: print what is generated from the parameter schema
- *        (include/jackal_aic/param_schema.hpp, tools/include/jackal_tools/param_docs.hpp):
+ *        (include/jackal_aic/params/param_schema.hpp, tools/include/jackal_tools/param_docs.hpp):
  *
  *   aic_params --cfg        > cfg/AIC.cfg       the dynamic_reconfigure definition
  *   aic_params --markdown                       the parameter table of doc/jackal_aic_node.md
@@ -21,7 +21,7 @@
 
 #include "jackal_tools/cli.hpp"
 #include "jackal_tools/param_docs.hpp"
-#include "jackal_aic/param_schema.hpp"
+#include "jackal_aic/params/param_schema.hpp"
 #include "jackal_tools/params_yaml.hpp"
 
 using namespace jackal_aic;
@@ -79,7 +79,8 @@ int main(int argc, char** argv)
   bool yaml = false;
   std::string check;
   std::vector<std::string> configs;
-  CommandLine cl("aic_params", "Print what is generated from the jackal_AIC parameter schema, or check a YAML against it.");
+  CommandLine cl("aic_params", "Print what is generated from the jackal_AIC parameter schema, or check a YAML against "
+                               "it.");
   cl.flag("cfg", &cfg, "cfg/AIC.cfg (dynamic_reconfigure), generated");
   cl.flag("markdown", &markdown, "the parameter table of doc/jackal_aic_node.md");
   cl.flag("yaml", &yaml, "every key with its default, as a commented YAML file");

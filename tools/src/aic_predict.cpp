@@ -16,7 +16,7 @@
  * An empty line is answered with an empty object. Exit 0 at end of input; 1 if CONFIG cannot
  * be read; 2 on bad arguments. The tuner (scripts/aic_tune.py) keeps one process open.
  * Command line on Boost.program_options, overrides through the shared parser (tools/include/jackal_tools/cli.hpp,
- * include/jackal_tools/yaml_overrides.hpp).
+ * include/jackal_aic/overrides/yaml_overrides.hpp).
  */
 #include <cmath>
 #include <cstdlib>
@@ -27,8 +27,8 @@
 
 #include "jackal_tools/cli.hpp"
 #include "jackal_tools/params_yaml.hpp"
-#include "jackal_aic/state_space.hpp"
-#include "jackal_tools/yaml_overrides.hpp"
+#include "jackal_aic/analysis/state_space.hpp"
+#include "jackal_aic/overrides/yaml_overrides.hpp"
 
 using namespace jackal_aic;
 
@@ -107,7 +107,8 @@ std::string predictLine(const std::string& config, const std::string& line, doub
   const ClosedLoopModel model(p, plant);
   const double rho = model.spectralRadius();
   std::ostringstream os;
-  os << "{\"ok\": true, \"spectral_radius\": " << jsonNumber(rho, 8) << ", \"stable\": " << (rho < 1.0 ? "true" : "false");
+  os << "{\"ok\": true, \"spectral_radius\": " << jsonNumber(rho, 8)
+     << ", \"stable\": " << (rho < 1.0 ? "true" : "false");
   double rise = NAN, settling = NAN, overshoot = NAN, sse = NAN, peak = NAN;
   if (rho < 1.0)
   {
@@ -129,8 +130,9 @@ std::string predictLine(const std::string& config, const std::string& line, doub
     overshoot = m.overshoot_percent;
     sse = m.steady_state_error;
   }
-  os << ", \"rise\": " << jsonNumber(rise, 8) << ", \"settling\": " << jsonNumber(settling, 8) << ", \"overshoot\": " << jsonNumber(overshoot, 8)
-     << ", \"sse\": " << jsonNumber(sse, 8) << ", \"peak_command\": " << jsonNumber(peak, 8) << "}";
+  os << ", \"rise\": " << jsonNumber(rise, 8) << ", \"settling\": " << jsonNumber(settling, 8)
+     << ", \"overshoot\": " << jsonNumber(overshoot, 8) << ", \"sse\": " << jsonNumber(sse, 8)
+     << ", \"peak_command\": " << jsonNumber(peak, 8) << "}";
   return os.str();
 }
 }  // namespace
@@ -140,10 +142,11 @@ int main(int argc, char** argv)
   std::string config;
   double target = 0.5;
   double duration = 3.0;
-  CommandLine cl("aic_predict",
-                 "Batch predictions of the dual-rate closed-loop state-space model, one candidate per stdin line: "
-                 "whitespace-separated KEY=VALUE overrides of the YAML and plant.time_constant|gain|delay=...; one "
-                 "JSON object per line.");
+  CommandLine cl("aic_predict", "Batch predictions of the dual-rate closed-loop state-space model, one candidate per "
+                                "stdin line: "
+                                "whitespace-separated KEY=VALUE overrides of the YAML and "
+                                "plant.time_constant|gain|delay=...; one "
+                                "JSON object per line.");
   cl.positional("CONFIG", &config, "controller YAML");
   cl.option("target", &target, "step of v_x from 0 [m/s], non-zero");
   cl.option("duration", &duration, "simulated time [s], > 0");

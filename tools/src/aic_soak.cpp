@@ -36,7 +36,7 @@
 #include <unistd.h>
 #include <vector>
 
-#include "jackal_aic/tracking_metrics.hpp"
+#include "jackal_aic/analysis/tracking_metrics.hpp"
 #include "jackal_sim/harness/closed_loop.hpp"
 #include "jackal_sim/plant/fault_injection.hpp"
 #include "jackal_tools/cli.hpp"
@@ -109,12 +109,12 @@ struct SoakStats
   std::uint64_t non_finite = 0;
   std::uint64_t commands_beyond_limit = 0;
   std::uint64_t beliefs_beyond_limit = 0;
-  double max_abs_command = 0.0;      // [rad/s]
-  double max_command_rise = 0.0;     // [rad/s] |command| rise between consecutive samples
+  double max_abs_command = 0.0;               // [rad/s]
+  double max_command_rise = 0.0;              // [rad/s] |command| rise between consecutive samples
   double max_abs_mu0[3] = { 0.0, 0.0, 0.0 };  // [m/s, m/s, rad/s]
-  double max_abs_mu = 0.0;           // any order [SI]
-  double max_abs_v_true = 0.0;       // [m/s]
-  std::uint64_t runaways = 0;        // summed over the node's lives
+  double max_abs_mu = 0.0;                    // any order [SI]
+  double max_abs_v_true = 0.0;                // [m/s]
+  std::uint64_t runaways = 0;                 // summed over the node's lives
   std::uint64_t time_jumps = 0;
   std::uint64_t starts = 0;
   double rss_baseline = 0.0, rss_max_after = 0.0, rss_end = 0.0;  // [bytes]
@@ -235,11 +235,13 @@ int main(int argc, char** argv)
   double fault_every = 120.0;
   double operation_every = 300.0;
   std::string output;
-  CommandLine cl("aic_soak",
-                 "Hours of driving, headless and faster than real time: the AIC (the node's logic) on the ODE plant "
-                 "core, seeded random planner and joystick streams, every fault scenario and every operation around "
-                 "the node (clock steps back, simulator restarts, driver pauses, node respawns) at seeded random "
-                 "times; reports and checks memory, belief and command bounds and the recoveries.");
+  CommandLine cl("aic_soak", "Hours of driving, headless and faster than real time: the AIC (the node's logic) on the "
+                             "ODE plant "
+                             "core, seeded random planner and joystick streams, every fault scenario and every "
+                             "operation around "
+                             "the node (clock steps back, simulator restarts, driver pauses, node respawns) at seeded "
+                             "random "
+                             "times; reports and checks memory, belief and command bounds and the recoveries.");
   cl.option("hours", &hours, "simulated time [h], > 0");
   cl.option("seed", &seed, "seed of the order of the profiles, the faults and the operations");
   cl.repeated("profile", &profile_files, "a twist profile CSV (t,vx,wz); repeatable");
@@ -251,8 +253,7 @@ int main(int argc, char** argv)
   plant.addTo(&cl);
   cl.flag("noise", &noise, "keep the plant YAML's sensor noise (seeded; default: ideal sensors)");
   cl.option("fault-every", &fault_every, "mean interval between fault scenarios [s], > 0; 0 = none");
-  cl.option("operation-every", &operation_every,
-            "mean interval between operations around the node [s], > 0; 0 = none");
+  cl.option("operation-every", &operation_every, "mean interval between operations around the node [s], > 0; 0 = none");
   cl.option("output", &output, "write the report (markdown) to this file as well");
   cl.footer("Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments, 3 if a check fails.");
   if (const int code = cl.parse(argc, argv); code >= 0)
@@ -342,17 +343,18 @@ int main(int argc, char** argv)
   }
   std::exponential_distribution<double> next_operation(operation_every > 0.0 ? 1.0 / operation_every : 1.0);
   std::uniform_int_distribution<int> pick_operation(0, 3);
-  std::uniform_real_distribution<double> clock_back(0.5, 60.0);   // [s]
-  std::uniform_real_distribution<double> pause(1.0, 8.0);         // [s]
-  std::uniform_real_distribution<double> down(0.05, 0.4);         // [s]
+  std::uniform_real_distribution<double> clock_back(0.5, 60.0);  // [s]
+  std::uniform_real_distribution<double> pause(1.0, 8.0);        // [s]
+  std::uniform_real_distribution<double> down(0.05, 0.4);        // [s]
   for (double t = next_operation(rng); operation_every > 0.0 && t < c.duration - 10.0; t += next_operation(rng))
   {
     Operation o;
     o.kind = static_cast<Operation::Kind>(pick_operation(rng));
     o.start = t;
-    o.size = o.kind == Operation::Kind::kClockBack ? clock_back(rng) :
+    o.size = o.kind == Operation::Kind::kClockBack   ? clock_back(rng) :
              o.kind == Operation::Kind::kDriverPause ? pause(rng) :
-             o.kind == Operation::Kind::kNodeRestart ? down(rng) : 0.0;
+             o.kind == Operation::Kind::kNodeRestart ? down(rng) :
+                                                       0.0;
     c.operations.push_back(o);
   }
 
@@ -364,7 +366,7 @@ int main(int argc, char** argv)
   std::uint64_t loop_runaways = 0, loop_jumps = 0, loop_starts = 0;
   Vector2 last_command = Vector2::Zero();
   std::size_t op_index = 0;
-  double op_ready_at = -1.0;   // run time from which the operation's recovery is measured [s]
+  double op_ready_at = -1.0;  // run time from which the operation's recovery is measured [s]
   std::vector<std::vector<double>> recoveries(4);
   std::uint64_t unrecovered = 0;  // the controller never ran again after the last operation
   std::uint64_t superseded = 0;   // operations followed by the next before the controller ran again
@@ -455,8 +457,8 @@ int main(int argc, char** argv)
         ++superseded;  // the next came before the controller ran again: judged with the next
       }
       const Operation& o = c.operations[op_index];
-      op_ready_at = o.start + (o.kind == Operation::Kind::kDriverPause || o.kind == Operation::Kind::kNodeRestart ?
-                                   o.size : 0.0);
+      op_ready_at =
+          o.start + (o.kind == Operation::Kind::kDriverPause || o.kind == Operation::Kind::kNodeRestart ? o.size : 0.0);
       ++op_index;
     }
     if (op_ready_at >= 0.0 && x.time >= op_ready_at && loop != nullptr && loop->active())
@@ -513,25 +515,31 @@ int main(int argc, char** argv)
   r << "| wall time | " << wall << " s (" << c.duration / wall << " x real time) |\n";
   r << "| joint-state samples | " << s.samples << " |\n";
   r << "| profiles played | " << std::count_if(profile_plays.begin(), profile_plays.end(), [](int n) { return n > 0; })
-    << " of " << profiles.size() << " files, " << [&] { int n = 0; for (int p : profile_plays) n += p; return n; }()
+    << " of " << profiles.size() << " files, " <<
+      [&] {
+        int n = 0;
+        for (int p : profile_plays)
+          n += p;
+        return n;
+      }()
     << " plays |\n";
   r << "| fault scenarios injected | " << c.faults.size() << " (" << n_fault_lines << " kinds) |\n";
   r << "| operations | " << c.operations.size() << " |\n";
   r << "| non-finite values | " << s.non_finite << " |\n";
-  r << "| max abs wheel command | " << s.max_abs_command << " rad/s (limit " << limit << "; beyond: "
-    << s.commands_beyond_limit << ") |\n";
+  r << "| max abs wheel command | " << s.max_abs_command << " rad/s (limit " << limit
+    << "; beyond: " << s.commands_beyond_limit << ") |\n";
   r << "| max rise of abs wheel command between samples | " << s.max_command_rise << " rad/s |\n";
   r << "| max abs belief mu^(0) while running | x_dot " << s.max_abs_mu0[0] << " m/s, y_dot " << s.max_abs_mu0[1]
     << " m/s, theta_dot " << s.max_abs_mu0[2] << " rad/s |\n";
-  r << "| max abs belief, any order | " << s.max_abs_mu << " (runaway_limit " << runaway_limit << "; beyond: "
-    << s.beliefs_beyond_limit << ") |\n";
+  r << "| max abs belief, any order | " << s.max_abs_mu << " (runaway_limit " << runaway_limit
+    << "; beyond: " << s.beliefs_beyond_limit << ") |\n";
   r << "| max abs true speed | " << s.max_abs_v_true << " m/s |\n";
   r << "| runaway resets | " << s.runaways << " |\n";
   r << "| ROS time jumps back seen by the loop | " << s.time_jumps << " |\n";
   r << "| controller starts | " << s.starts << " |\n";
   r << "| resident memory | " << s.rss_first / 1048576.0 << " MiB at start, " << s.rss_baseline / 1048576.0
-    << " MiB after " << rss_start / 60.0 << " simulated minutes, " << s.rss_end / 1048576.0 << " MiB at the end; growth "
-    << growth / 1024.0 << " KiB |\n";
+    << " MiB after " << rss_start / 60.0 << " simulated minutes, " << s.rss_end / 1048576.0
+    << " MiB at the end; growth " << growth / 1024.0 << " KiB |\n";
   if (!c.aic.learn_wheel_separation)
   {
     r << "| learned parameters | none (learn_wheel_separation off): the controller adapts only its beliefs and its "
@@ -559,12 +567,12 @@ int main(int argc, char** argv)
     };
     const double median = quantile(0.5), p1 = quantile(0.01), p99 = quantile(0.99);
     b_drift = std::max(median - p1, p99 - median) / median;
-    r << "| learned wheel separation b_hat (from " << kLearnWarmup << " s after each node start; "
-      << b_count << " samples) | median " << median << " m, p1 .. p99 " << p1 << " .. " << p99 << " m ("
-      << 100.0 * (p1 - median) / median << " % .. +" << 100.0 * (p99 - median) / median << " %), min .. max "
-      << b_min << " .. " << b_max << " m, at the end " << b_last << " m; bounds " << b_lo << " .. " << b_hi
-      << " m (samples outside: " << b_outside << "); p1 and p99 within 2 % of the median: "
-      << (b_drift <= 0.02 ? "yes" : "no") << " |\n";
+    r << "| learned wheel separation b_hat (from " << kLearnWarmup << " s after each node start; " << b_count
+      << " samples) | median " << median << " m, p1 .. p99 " << p1 << " .. " << p99 << " m ("
+      << 100.0 * (p1 - median) / median << " % .. +" << 100.0 * (p99 - median) / median << " %), min .. max " << b_min
+      << " .. " << b_max << " m, at the end " << b_last << " m; bounds " << b_lo << " .. " << b_hi
+      << " m (samples outside: " << b_outside
+      << "); p1 and p99 within 2 % of the median: " << (b_drift <= 0.02 ? "yes" : "no") << " |\n";
     for (const WindowMeans* d : { &drift_1min, &drift_5min })
     {
       const std::vector<double> m = d->means();
@@ -577,8 +585,8 @@ int main(int argc, char** argv)
       const auto [lo, hi] = std::minmax_element(m.begin(), m.end());
       const double dev = std::max(median - *lo, *hi - median) / median;
       r << "min .. max " << *lo << " .. " << *hi << " m (" << 100.0 * (*lo - median) / median << " % .. +"
-        << 100.0 * (*hi - median) / median << " % of the median); within 2 % of the median: "
-        << (dev <= 0.02 ? "yes" : "no") << " |\n";
+        << 100.0 * (*hi - median) / median
+        << " % of the median); within 2 % of the median: " << (dev <= 0.02 ? "yes" : "no") << " |\n";
     }
     r << "| b_hat's trend (least squares over its samples) | " << 100.0 * trend.slope() * 3600.0 / median
       << " % of the median per hour |\n";
@@ -592,7 +600,8 @@ int main(int argc, char** argv)
       << (v.empty() ? std::nan("") : v[v.size() / 2]) << " | " << (v.empty() ? std::nan("") : v.back()) << " |\n";
   }
   r << "\nRecovery: from the first sample after the operation (a clock step or a restart: at once; a driver pause "
-       "or a respawn: after its length) to the first sample with the controller running; an operation followed by the next before that is "
+       "or a respawn: after its length) to the first sample with the controller running; an operation followed by the "
+       "next before that is "
        "judged with the next ("
     << superseded << " such). Operations after which the controller never ran again: " << unrecovered
     << ".\n\n| fault line | injected |\n|---|---|\n";
@@ -641,11 +650,14 @@ int main(int argc, char** argv)
       }
       return o.str();
     };
-    out << "# Soak: " << (fault_every > 0.0 || operation_every > 0.0 ? "hours of driving with faults and operations around the node" : "random driving, no faults and no operations") << "\n\n"
+    out << "# Soak: "
+        << (fault_every > 0.0 || operation_every > 0.0 ? "hours of driving with faults and operations around the node" :
+                                                         "random driving, no faults and no operations")
+        << "\n\n"
         << "Written by `" << cmd.str() << "` (tools/src/aic_soak.cpp; doc/tools.md, 'Soak'): the AIC through the "
         << "node's logic on the ODE plant core, faster than real time, seed " << seed << ", profiles "
-        << (profile_label.empty() ? std::string("given on the command line") : "of " + profile_label)
-        << ", " << every(fault_every, "fault") << ", " << every(operation_every, "operation") << ".\n\n"
+        << (profile_label.empty() ? std::string("given on the command line") : "of " + profile_label) << ", "
+        << every(fault_every, "fault") << ", " << every(operation_every, "operation") << ".\n\n"
         << r.str();
     if (!out)
     {

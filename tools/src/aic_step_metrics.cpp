@@ -20,8 +20,8 @@
 #include <vector>
 
 #include "jackal_tools/cli.hpp"
-#include "jackal_aic/csv_table.hpp"
-#include "jackal_aic/step_metrics.hpp"
+#include "jackal_aic/analysis/csv_table.hpp"
+#include "jackal_aic/analysis/step_metrics.hpp"
 
 namespace
 {
@@ -39,11 +39,12 @@ int main(int argc, char** argv)
   std::string value_column = "value";
   std::string band_basis = "final";
   jackal_aic::StepMetricsOptions o;
-  jackal_aic::CommandLine cl(
-      "aic_step_metrics",
-      "Step-response metrics of one column of a CSV file, printed as one JSON line: rise_time, settling_time [s from "
-      "the step], overshoot_percent [% of step], steady_state_error [target - value, time-weighted mean over the last "
-      "WINDOW s]. The final value of the settling band is the set point TARGET.");
+  jackal_aic::CommandLine cl("aic_step_metrics", "Step-response metrics of one column of a CSV file, printed as one "
+                                                 "JSON line: rise_time, settling_time [s from "
+                                                 "the step], overshoot_percent [% of step], steady_state_error [target "
+                                                 "- value, time-weighted mean over the last "
+                                                 "WINDOW s]. The final value of the settling band is the set point "
+                                                 "TARGET.");
   cl.positional("FILE", &file, "CSV with a header line naming the columns; '-' reads stdin");
   cl.option("step-time", &o.step_time, "time of the set-point step [s]", true);
   cl.option("initial", &o.initial, "value before the step", true);

@@ -31,9 +31,9 @@
 #include <vector>
 
 #include "jackal_tools/cli.hpp"
-#include "jackal_aic/control_loop.hpp"
+#include "jackal_aic/loop/control_loop.hpp"
 #include "jackal_tools/params_yaml.hpp"
-#include "jackal_aic/periodic_thread.hpp"
+#include "jackal_aic/os/periodic_thread.hpp"
 
 namespace
 {
@@ -139,8 +139,8 @@ void printRow(const char* loop, double rate, const PeriodicStats& s, double step
 
 int main(int argc, char** argv)
 {
-  jackal_aic::CommandLine cl("aic_timing",
-                             "aic_timing: the belief loop's real-time figures beside a bare clock_nanosleep loop");
+  jackal_aic::CommandLine cl("aic_timing", "aic_timing: the belief loop's real-time figures beside a bare "
+                                           "clock_nanosleep loop");
   double duration = 10.0;
   std::vector<double> rates{ 1000.0, 10000.0 };
   std::string config;
@@ -194,9 +194,10 @@ int main(int argc, char** argv)
   }
 
   const std::string source = config.empty() ? std::string(" (the node's defaults)") : ", " + config;
-  std::printf("aic_timing: %.1f s per rate; controller p = %d, integrator %s%s\n", duration,
-              params.aic.embedding_order, jackal_aic::toString(params.aic.integrator).c_str(), source.c_str());
-  std::printf("| loop   | rate [Hz] | achieved [Hz] | of nominal | steps [Hz] | p50 [ms] | p99 [ms] | max [ms] | overruns "
+  std::printf("aic_timing: %.1f s per rate; controller p = %d, integrator %s%s\n", duration, params.aic.embedding_order,
+              jackal_aic::toString(params.aic.integrator).c_str(), source.c_str());
+  std::printf("| loop   | rate [Hz] | achieved [Hz] | of nominal | steps [Hz] | p50 [ms] | p99 [ms] | max [ms] | "
+              "overruns "
               "| CPU (1 core) |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|\n");
   for (const double rate : rates)

@@ -1,7 +1,7 @@
 /**
  * \file aic_track_metrics.cpp
  * \brief CLI: tracking metrics of a recorded run against a twist profile
- *        (include/jackal_aic/tracking_metrics.hpp), printed as one JSON line; or the profile
+ *        (include/jackal_aic/analysis/tracking_metrics.hpp), printed as one JSON line; or the profile
  *        itself, read and checked. The experiment scripts call this so that the profile reader,
  *        the velocity tracking error and the path drift have one implementation.
  *
@@ -32,9 +32,9 @@
 #include <vector>
 
 #include "jackal_tools/cli.hpp"
-#include "jackal_aic/csv_table.hpp"
-#include "jackal_aic/params.hpp"
-#include "jackal_aic/tracking_metrics.hpp"
+#include "jackal_aic/analysis/csv_table.hpp"
+#include "jackal_aic/params/aic_params.hpp"
+#include "jackal_aic/analysis/tracking_metrics.hpp"
 
 using namespace jackal_aic;
 
@@ -96,11 +96,13 @@ int main(int argc, char** argv)
   double floor_latency = 0.0;
   double floor_accel_linear = 0.0;
   double floor_accel_angular = 0.0;
-  CommandLine cl("aic_track_metrics",
-                 "Tracking metrics of a recorded run against a twist profile (t, vx, wz; zero-order hold), one JSON "
-                 "line: per measured twist S (columns S_vx, S_wz) the RMS and max error of vx [m/s] and wz [rad/s]; "
-                 "with columns x, y, heading the path drift from the profile's ideal path (final and max position "
-                 "error [m], final heading error [rad]).");
+  CommandLine cl("aic_track_metrics", "Tracking metrics of a recorded run against a twist profile (t, vx, wz; "
+                                      "zero-order hold), one JSON "
+                                      "line: per measured twist S (columns S_vx, S_wz) the RMS and max error of vx "
+                                      "[m/s] and wz [rad/s]; "
+                                      "with columns x, y, heading the path drift from the profile's ideal path (final "
+                                      "and max position "
+                                      "error [m], final heading error [rad]).");
   cl.option("profile", &profile_file, "twist profile CSV: t,vx,wz rows, the last row's t ends it", true);
   cl.option("trace", &trace_file, "recorded run, CSV with a header; time in profile time");
   cl.option("time-column", &time_column, "name of the trace's time column");
@@ -178,8 +180,8 @@ int main(int argc, char** argv)
       const Series s = series(csv, tcol, { csv.column(h), wcol });
       // A signal with no sample at all (empty columns) is null; one with samples is analysed.
       tracking << (signals ? ", " : "") << "\"" << name << "\": "
-               << (s.time.empty() ? std::string("null")
-                                  : toJson(velocityTrackingError(profile, s.time, s.values[0], s.values[1])));
+               << (s.time.empty() ? std::string("null") :
+                                    toJson(velocityTrackingError(profile, s.time, s.values[0], s.values[1])));
       ++signals;
     }
     const int xcol = csv.column("x");

@@ -6,7 +6,7 @@
  *        every transition of the profile for the measured (wheel-odometry), ground-truth,
  *        belief and drive-command speeds, and the tracking of the whole profile (RMS and max
  *        error of vx and wz, ground truth and wheel odometry, against the set point; the
- *        ground-truth path's drift from the set point's ideal path: jackal_aic/tracking_metrics.hpp);
+ *        ground-truth path's drift from the set point's ideal path: jackal_aic/analysis/tracking_metrics.hpp);
  *        optionally the trace as CSV. The experiment engine of aic_reproduce.py (--backend core)
  *        and aic_track.py; the ROS backend runs the nodes instead.
  *
@@ -32,7 +32,7 @@
  *   --square LOW HIGH 0 until --rest, LOW for --rest seconds (lead-in), then --cycles periods of
  *                     HIGH / LOW, each half --period / 2
  *   --profile FILE    a twist profile CSV (t, vx, wz rows, header optional, zero-order hold, the
- *                     last row's t ends it; jackal_aic/tracking_metrics.hpp), played from --rest on;
+ *                     last row's t ends it; jackal_aic/analysis/tracking_metrics.hpp), played from --rest on;
  *                     its transitions are not steps: "segments" is empty unless --segments (then the
  *                     step metrics of every transition, "segments" vx and "angular_segments" wz)
  *   --noise           keep the plant YAML's sensor noise (seeded; default: ideal sensors)
@@ -54,7 +54,7 @@
  *        "duration", "tracking": {"truth": {"vx": {"rms", "max"}, "wz": {...}, "samples"}, "odometry": {...},
  *        with the AIC "belief": {"vx": {"steady_mean_abs", "steady_max_abs", "samples", "segments"}, "wz":
  *        {...}, "unavailable"} (belief mu^(0) against the truth from "belief_settle" [s] after each change
- *        of the channel's set point to the next: jackal_aic/tracking_metrics.hpp, steadyEstimateError)},
+ *        of the channel's set point to the next: jackal_aic/analysis/tracking_metrics.hpp, steadyEstimateError)},
  *        "path": {"final_position_error", "max_position_error", "final_heading_error", "ideal_length",
  *        "samples"}} with rise, settling, overshoot, sse, settled; times from the profile's start
  *        (--rest + 10 ms into the run); tracking over the profile's span.
@@ -78,8 +78,8 @@
 
 #include "jackal_tools/cli.hpp"
 #include "jackal_tools/params_yaml.hpp"
-#include "jackal_aic/step_metrics.hpp"
-#include "jackal_aic/tracking_metrics.hpp"
+#include "jackal_aic/analysis/step_metrics.hpp"
+#include "jackal_aic/analysis/tracking_metrics.hpp"
 #include "jackal_tools/plant_cli.hpp"
 #include "jackal_tools/share_path.hpp"
 #include "jackal_sim/harness/closed_loop.hpp"
@@ -149,9 +149,10 @@ int main(int argc, char** argv)
   bool profile_segments = false;
   int ideal_iterations = kIdealIterations;
   double ideal_gain = kIdealLearningGain;
-  CommandLine cl("closed_loop_run",
-                 "One set-point profile with the stock controller or the AIC on the ODE plant core, headless and "
-                 "faster than real time; prints one JSON object with the metrics of every transition.");
+  CommandLine cl("closed_loop_run", "One set-point profile with the stock controller or the AIC on the ODE plant core, "
+                                    "headless and "
+                                    "faster than real time; prints one JSON object with the metrics of every "
+                                    "transition.");
   cl.option("controller", &controller,
             "aic, stock, open (no controller: the set point's wheel speeds go to the MCU as they are) or ideal (the "
             "command sequence learned over repeated runs, knowing the profile and the ground truth: what the plant "
@@ -182,8 +183,8 @@ int main(int argc, char** argv)
   cl.flag("noise", &noise, "keep the plant YAML's sensor noise (seeded; default: ideal sensors)");
   std::vector<std::string> fault_lines;
   cl.repeated("fault", &fault_lines,
-                "inject a fault, \"TARGET KIND [VALUE] [START] [DURATION] [PERIOD]\" with START from the run's "
-                "start (sim/README.md, 'Fault injection')");
+              "inject a fault, \"TARGET KIND [VALUE] [START] [DURATION] [PERIOD]\" with START from the run's "
+              "start (sim/README.md, 'Fault injection')");
   cl.option("csv", &csv, "write the trace as CSV");
   cl.footer("Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.");
   if (const int code = cl.parse(argc, argv); code >= 0)
@@ -237,10 +238,10 @@ int main(int argc, char** argv)
     }
     c.faults.push_back(f);
   }
-  c.controller = controller == "aic"     ? LoopController::kAic
-                 : controller == "open"  ? LoopController::kOpenLoop
-                 : controller == "ideal" ? LoopController::kIdeal
-                                         : LoopController::kStock;
+  c.controller = controller == "aic"   ? LoopController::kAic :
+                 controller == "open"  ? LoopController::kOpenLoop :
+                 controller == "ideal" ? LoopController::kIdeal :
+                                         LoopController::kStock;
   // A set point on the chosen channel, 0 on the other.
   auto sp = [angular](double start, double value) -> SetPointSegment {
     return angular ? SetPointSegment{ start, 0.0, value } : SetPointSegment{ start, value, 0.0 };
@@ -417,8 +418,8 @@ int main(int argc, char** argv)
     max_pitch = std::max(max_pitch, std::abs(p));
   }
   std::cout << "{\"controller\": \"" << controller << "\", \"channel\": \"" << channel
-            << "\", \"runaways\": " << rec.runaways
-            << ", \"max_abs_speed\": " << jsonNumber(max_abs) << ", \"max_abs_pitch\": " << jsonNumber(max_pitch)
+            << "\", \"runaways\": " << rec.runaways << ", \"max_abs_speed\": " << jsonNumber(max_abs)
+            << ", \"max_abs_pitch\": " << jsonNumber(max_pitch)
             << ", \"command_delay\": " << jsonNumber(params.motor.command_delay) << ", \"t0\": " << jsonNumber(t0);
   if (c.controller == LoopController::kAic)
   {
@@ -437,8 +438,7 @@ int main(int argc, char** argv)
     }
     std::cout << "]";
   }
-  std::cout
-            << ", \"segments\": ";
+  std::cout << ", \"segments\": ";
   // The transitions of one channel (angular: the yaw rate) as a JSON list of metrics.
   auto segments = [&](bool yaw) {
     std::ostringstream out;
@@ -464,8 +464,8 @@ int main(int argc, char** argv)
       {
         continue;
       }
-      out << (first ? "" : ", ") << "{\"t_step\": " << jsonNumber(t_step - t0) << ", \"initial\": " << jsonNumber(initial)
-          << ", \"target\": " << jsonNumber(target)
+      out << (first ? "" : ", ") << "{\"t_step\": " << jsonNumber(t_step - t0)
+          << ", \"initial\": " << jsonNumber(initial) << ", \"target\": " << jsonNumber(target)
           << ", \"measured\": " << metricsJson(rec.time, measured, t_step, t_end, initial, target)
           << ", \"truth\": " << metricsJson(rec.time, truth, t_step, t_end, initial, target)
           << ", \"belief\": " << metricsJson(rec.time, belief, t_step, t_end, initial, target)
@@ -513,10 +513,11 @@ int main(int argc, char** argv)
       ++n;
     }
     const double m = std::max<double>(1.0, static_cast<double>(n));
-    std::cout << ", \"plant\": {\"torque_limited\": " << jsonNumber(limited / m) << ", \"wheel_loop\": {\"vx\": "
-              << jsonNumber(std::sqrt(loop_v / m)) << ", \"wz\": " << jsonNumber(std::sqrt(loop_w / m))
-              << "}, \"slip\": {\"vx\": " << jsonNumber(std::sqrt(slip_v / m)) << ", \"wz\": "
-              << jsonNumber(std::sqrt(slip_w / m)) << "}}";
+    std::cout << ", \"plant\": {\"torque_limited\": " << jsonNumber(limited / m)
+              << ", \"wheel_loop\": {\"vx\": " << jsonNumber(std::sqrt(loop_v / m))
+              << ", \"wz\": " << jsonNumber(std::sqrt(loop_w / m))
+              << "}, \"slip\": {\"vx\": " << jsonNumber(std::sqrt(slip_v / m))
+              << ", \"wz\": " << jsonNumber(std::sqrt(slip_w / m)) << "}}";
   }
   if (c.controller == LoopController::kIdeal)
   {

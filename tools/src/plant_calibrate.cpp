@@ -97,8 +97,8 @@ bool printSeparation(const RobotDescription& desc, const PlantParams& params)
   std::printf("\neffective wheel separation b = r*(wR-wL)/yaw rate, steady (means over %.0f-%.0f s; yaw rate: ground "
               "truth)\n",
               kSettle, kSettle + kMeasure);
-  std::printf("%-30s | %-15s | %-18s | %-8s | %-27s | %s\n", "scenario", "wheels [rad/s]", "yaw rate [rad/s]",
-              "speed", "separation b [m]", "");
+  std::printf("%-30s | %-15s | %-18s | %-8s | %-27s | %s\n", "scenario", "wheels [rad/s]", "yaw rate [rad/s]", "speed",
+              "separation b [m]", "");
   std::printf("%-30s | %7s %7s | %8s %9s | %8s | %8s %8s %9s | %s\n", "", "left", "right", "sim", "set pt", "[m/s]",
               "sim", "robot", "error", "");
   bool ok = true;
@@ -129,10 +129,11 @@ int main(int argc, char** argv)
   PlantOptions plant;
   std::string csv;
   bool check = false;
-  jackal_aic::CommandLine cl("plant_calibrate",
-                             "The stock controller on the ODE plant for velocity steps from rest, beside the real "
-                             "Jackal's settling and rise times (thesis table 3-1b), then the top-speed and "
-                             "wheel-separation checks.");
+  jackal_aic::CommandLine cl("plant_calibrate", "The stock controller on the ODE plant for velocity steps from rest, "
+                                                "beside the real "
+                                                "Jackal's settling and rise times (thesis table 3-1b), then the "
+                                                "top-speed and "
+                                                "wheel-separation checks.");
   plant.addTo(&cl);
   cl.option("csv", &csv, "write the step traces as CSV");
   cl.flag("check", &check, "exit 1 unless every acceptance band holds");
@@ -160,8 +161,8 @@ int main(int argc, char** argv)
               "  set point, times from the set-point step\n\n");
   std::printf("%-6s | %-27s | %-27s | %-9s | %-20s\n", "step", "settling 5% [s]", "rise 10-90% [s]", "overshoot",
               "ground truth");
-  std::printf("%-6s | %8s %8s %9s | %8s %8s %9s | %9s | %9s %10s\n", "[m/s]", "sim", "robot", "error", "sim",
-              "robot", "error", "[%]", "settl [s]", "rise [s]");
+  std::printf("%-6s | %8s %8s %9s | %8s %8s %9s | %9s | %9s %10s\n", "[m/s]", "sim", "robot", "error", "sim", "robot",
+              "error", "[%]", "settl [s]", "rise [s]");
   std::ofstream csv_out;
   if (!csv.empty())
   {
@@ -175,8 +176,8 @@ int main(int argc, char** argv)
     const StepRecord rec = runStockStep(desc, params, row.step);
     for (std::size_t k = 0; k < rec.time.size() && csv_out; ++k)
     {
-      csv_out << row.step << "," << rec.time[k] << "," << rec.v_odom[k] << "," << rec.v_true[k] << ","
-              << rec.command[k] << "\n";
+      csv_out << row.step << "," << rec.time[k] << "," << rec.v_odom[k] << "," << rec.v_true[k] << "," << rec.command[k]
+              << "\n";
     }
     const jackal_aic::StepMetrics m = stepMetricsOf(rec);
     const jackal_aic::StepMetrics g = stepMetricsOf(rec, true);

@@ -67,9 +67,8 @@ int main(int argc, char** argv)
   bool json = false;
   bool check = false;
   std::vector<std::string> table_ids;
-  CommandLine cl("plant_fit",
-                 "Every robot step response of the data file on the ODE plant (stock controller and the "
-                 "thesis-equivalent AIC), headless: the fit table, or one JSON object with --json.");
+  CommandLine cl("plant_fit", "Every robot step response of the data file on the ODE plant (stock controller and the "
+                              "thesis-equivalent AIC), headless: the fit table, or one JSON object with --json.");
   plant.addTo(&cl);
   cl.option("aic-config", &aic_config, "controller YAML of the AIC rows");
   cl.option("data", &data, "the robot's step tables");
@@ -134,8 +133,9 @@ int main(int argc, char** argv)
               << ", \"tables\": [";
     for (std::size_t i = 0; i < fits.size(); ++i)
     {
-      std::cout << (i ? ", " : "") << "{\"id\": \"" << fits[i].id << "\", \"mean_abs_error\": "
-                << jsonNumber(fits[i].mean_abs_error) << ", \"cost\": " << jsonNumber(fits[i].cost)
+      std::cout << (i ? ", " : "") << "{\"id\": \"" << fits[i].id
+                << "\", \"mean_abs_error\": " << jsonNumber(fits[i].mean_abs_error)
+                << ", \"cost\": " << jsonNumber(fits[i].cost)
                 << ", \"accepted\": " << (fits[i].accepted ? "true" : "false") << "}";
     }
     std::cout << "], \"steady\": {\"turn_hold_error\": " << jsonNumber(steady.turn_hold_error)
@@ -184,10 +184,10 @@ int main(int argc, char** argv)
           std::printf("\n%s: %s (%s)\n", t.id.c_str(), t.title.c_str(), t.source.c_str());
         }
       }
-      std::printf("%-6s %-6s %-6s | %-24s | %-24s | %s\n", "step", "belief", "action", "settling [s]",
-                  "rise [s]", "overshoot");
-      std::printf("%-6s %-6s %-6s | %7s %7s %8s | %7s %7s %8s | %s\n", "[m/s]", "[Hz]", "[Hz]", "sim", "robot",
-                  "error", "sim", "robot", "error", "[%]");
+      std::printf("%-6s %-6s %-6s | %-24s | %-24s | %s\n", "step", "belief", "action", "settling [s]", "rise [s]",
+                  "overshoot");
+      std::printf("%-6s %-6s %-6s | %7s %7s %8s | %7s %7s %8s | %s\n", "[m/s]", "[Hz]", "[Hz]", "sim", "robot", "error",
+                  "sim", "robot", "error", "[%]");
     }
     std::printf("%-6.1f %-6.0f %-6.0f | %7s %7.2f %+7.0f%% | %7s %7.2f %+7.0f%% | %6.1f%s\n", e.robot.step,
                 e.robot.belief_rate, e.robot.action_rate, fmtTime(e.sim.settling_time).c_str(), e.robot.settling,
@@ -203,8 +203,8 @@ int main(int argc, char** argv)
   std::printf("\nsteady checks: turning in place at 5 and 10 rad/s the servo holds the wheels within %.3f rad/s "
               "(accepted <= %.2f); the stock controller turns in place at 0.5 rad/s within %.0f %% (accepted <= "
               "10 %%): %s; stock controller at 2.0 m/s reaches %.3f m/s: %s; penalty %.3f\n",
-              steady.turn_hold_error, kTurnHoldTolerance, 100.0 * steady.stock_turn_error,
-              steady.turn_ok ? "ok" : "NO", steady.top_speed, steady.top_speed_ok ? "ok" : "NO", steady.penalty);
+              steady.turn_hold_error, kTurnHoldTolerance, 100.0 * steady.stock_turn_error, steady.turn_ok ? "ok" : "NO",
+              steady.top_speed, steady.top_speed_ok ? "ok" : "NO", steady.penalty);
   std::printf("turning targets (stock controller, yaw rate from wheel odometry; gyro in brackets): 1 rad/s turn in "
               "place rise %s s [%s] (accepted <= %.2f), settling %s s [%s] (<= %.2f); 0.5 m/s + 0.5 rad/s arc "
               "settling %s s [%s] (<= %.2f): %s; penalty %.3f\n",

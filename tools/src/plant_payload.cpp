@@ -44,11 +44,11 @@ constexpr double kGravity = 9.80665;  ///< [m/s^2]
 /// Mass, centre of mass and the wheels' contact box of the robot with its payload (base_link [m]).
 struct MassLayout
 {
-  double mass = 0.0;                            ///< chassis, wheels and payload [kg]
+  double mass = 0.0;                              ///< chassis, wheels and payload [kg]
   Eigen::Vector3d com = Eigen::Vector3d::Zero();  ///< centre of mass [m]
-  double front = 0.0, rear = 0.0;               ///< x of the front and rear wheel axles [m]
-  double left = 0.0, right = 0.0;               ///< y of the left and right wheels' centre planes [m]
-  double ground = 0.0;                          ///< z of the ground under the wheels [m]
+  double front = 0.0, rear = 0.0;                 ///< x of the front and rear wheel axles [m]
+  double left = 0.0, right = 0.0;                 ///< y of the left and right wheels' centre planes [m]
+  double ground = 0.0;                            ///< z of the ground under the wheels [m]
 };
 
 /**
@@ -129,10 +129,11 @@ int main(int argc, char** argv)
   double mass = -1.0;
   std::string position_text;
   double margin = 0.8;
-  CommandLine cl("plant_payload",
-                 "Where a payload puts the Jackal's centre of mass, the acceleration at which the robot then tips "
-                 "over its wheels (quasi-static, rigid: g d / h), and the AIC's reference-path bounds that keep it on "
-                 "them, as a YAML overlay.");
+  CommandLine cl("plant_payload", "Where a payload puts the Jackal's centre of mass, the acceleration at which the "
+                                  "robot then tips "
+                                  "over its wheels (quasi-static, rigid: g d / h), and the AIC's reference-path bounds "
+                                  "that keep it on "
+                                  "them, as a YAML overlay.");
   plant.addTo(&cl);
   cl.option("mass", &mass, "payload mass [kg], in [0, 100] (instead of the plant YAML's payload.mass)");
   cl.option("position", &position_text, "payload position X,Y,Z in base_link [m] (with --mass)");
@@ -178,25 +179,27 @@ int main(int argc, char** argv)
   const double front = tipAcceleration(m.front - m.com.x(), h);
   const double rear = tipAcceleration(m.com.x() - m.rear, h);
   const double side = tipAcceleration(std::min(m.left - m.com.y(), m.com.y() - m.right), h);
-  std::printf("robot %.3f kg with a payload of %.3f kg at (%.3f, %.3f, %.3f) m in base_link: %.3f kg\n",
-              m.mass - mass, mass, position.x(), position.y(), position.z(), m.mass);
+  std::printf("robot %.3f kg with a payload of %.3f kg at (%.3f, %.3f, %.3f) m in base_link: %.3f kg\n", m.mass - mass,
+              mass, position.x(), position.y(), position.z(), m.mass);
   std::printf("centre of mass (%.4f, %.4f, %.4f) m in base_link, %.4f m above the ground\n", m.com.x(), m.com.y(),
               m.com.z(), h);
   std::printf("wheel contacts: axles at x %.4f and %.4f m, wheels at y %.4f and %.4f m, ground at z %.4f m\n", m.front,
               m.rear, m.left, m.right, m.ground);
   std::printf("tips over its front wheels above a deceleration of %.3f m/s^2 (braking forward, speeding up in "
-              "reverse): %.4f m ahead over %.4f m up\n", front, m.front - m.com.x(), h);
+              "reverse): %.4f m ahead over %.4f m up\n",
+              front, m.front - m.com.x(), h);
   std::printf("tips over its rear wheels above an acceleration of %.3f m/s^2 (speeding up forward, braking in "
-              "reverse): %.4f m behind over %.4f m up\n", rear, m.com.x() - m.rear, h);
+              "reverse): %.4f m behind over %.4f m up\n",
+              rear, m.com.x() - m.rear, h);
   std::printf("tips sideways above a centripetal acceleration (speed x yaw rate) of %.3f m/s^2\n", side);
   const double bound = margin * std::min(front, rear);
   std::printf("\n# YAML overlay for the AIC (plant_payload, margin %.2f of the tip-over limits; doc/usage.md, "
-              "'Payloads')\n", margin);
+              "'Payloads')\n",
+              margin);
   std::printf("max_reference_deceleration_linear: %.3f\n", bound);
   if (accel > bound)
   {
-    std::printf("max_reference_acceleration_linear: %.3f  # was %.3f: the same bound holds in reverse\n", bound,
-                accel);
+    std::printf("max_reference_acceleration_linear: %.3f  # was %.3f: the same bound holds in reverse\n", bound, accel);
   }
   return 0;
 }

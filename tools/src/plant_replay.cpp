@@ -38,9 +38,9 @@
 #include <vector>
 
 #include "jackal_tools/cli.hpp"
-#include "jackal_aic/csv_table.hpp"
-#include "jackal_aic/json_number.hpp"
-#include "jackal_aic/tracking_metrics.hpp"
+#include "jackal_aic/analysis/csv_table.hpp"
+#include "jackal_aic/base/json_number.hpp"
+#include "jackal_aic/analysis/tracking_metrics.hpp"
 #include "jackal_sim/harness/closed_loop.hpp"
 #include "jackal_tools/plant_cli.hpp"
 #include "jackal_sim/plant/plant_params.hpp"
@@ -106,9 +106,9 @@ int main(int argc, char** argv)
   std::string commands_file;
   double duration = 0.0;
   bool noise = false;
-  CommandLine cl("plant_replay",
-                 "Replay a /cmd_drive stream (or a twist profile through the stock controller) on the ODE plant, "
-                 "headless; write the joint-state, IMU, torque and ground-truth streams as CSV.");
+  CommandLine cl("plant_replay", "Replay a /cmd_drive stream (or a twist profile through the stock controller) on the "
+                                 "ODE plant, "
+                                 "headless; write the joint-state, IMU, torque and ground-truth streams as CSV.");
   cl.option("drive", &drive_file, "CSV t,mode,left,right: the /cmd_drive stream (mode 0 velocity, -1 none)");
   cl.option("twist", &twist_file, "CSV t,vx,wz: a set-point profile for the stock controller (last row ends it)");
   cl.option("duration", &duration, "replay length [s] (default: --drive last t + 1 s, --twist last t)");
@@ -167,8 +167,8 @@ int main(int argc, char** argv)
     c << "t,mode,left,right\n";
     for (const DriveCommand& d : commands)
     {
-      c << num(d.time) << "," << (d.enabled ? kModeVelocity : kModeNone) << "," << num(d.left) << ","
-        << num(d.right) << "\n";
+      c << num(d.time) << "," << (d.enabled ? kModeVelocity : kModeNone) << "," << num(d.left) << "," << num(d.right)
+        << "\n";
     }
     if (!c)
     {
@@ -202,8 +202,8 @@ int main(int argc, char** argv)
     {
       row << "," << num(v);
     }
-    row << "," << num(s.imu_time) << "," << num(s.orientation.x()) << ","
-        << num(s.orientation.y()) << "," << num(s.orientation.z()) << "," << num(s.orientation.w());
+    row << "," << num(s.imu_time) << "," << num(s.orientation.x()) << "," << num(s.orientation.y()) << ","
+        << num(s.orientation.z()) << "," << num(s.orientation.w());
     for (int i = 0; i < 3; ++i)
     {
       row << "," << num(s.angular_velocity[i]);

@@ -103,9 +103,10 @@ int main(int argc, char** argv)
   std::vector<std::string> cases;
   bool markdown = false;
   bool check = false;
-  CommandLine cl("plant_turning",
-                 "How the simulated Jackal turns: the stock controller's turns in place and steady arcs from rest, "
-                 "with the steady speed and yaw rate, the effective wheel separation and the time to 95 %.");
+  CommandLine cl("plant_turning", "How the simulated Jackal turns: the stock controller's turns in place and steady "
+                                  "arcs from rest, "
+                                  "with the steady speed and yaw rate, the effective wheel separation and the time to "
+                                  "95 %.");
   plant_options.addTo(&cl);
   cl.repeated("variant", &variants, "also run the plant with this overlay (after --overlay)");
   cl.list("speeds", &grid.speeds, "forward speeds of the arcs [m/s]");
@@ -168,7 +169,8 @@ int main(int argc, char** argv)
     std::vector<TwistRun> runs;
     try
     {
-      params = plant::loadPlantParams(plant_options.config, plant::plantOverrides(layer.overlays, plant_options.overrides));
+      params =
+          plant::loadPlantParams(plant_options.config, plant::plantOverrides(layer.overlays, plant_options.overrides));
       if (twists.empty())
       {
         runs = runTurningGrid(description, params, grid);
@@ -237,7 +239,8 @@ int main(int argc, char** argv)
       continue;
     }
     std::printf("%s (track %.4f m)\n", layer.label.c_str(), track);
-    std::printf("  command v [m/s] w [rad/s] | steady v [m/s]  w [rad/s] | b / track | t95 [s] | torque L / R [N m] | followed\n");
+    std::printf("  command v [m/s] w [rad/s] | steady v [m/s]  w [rad/s] | b / track | t95 [s] | torque L / R [N m] | "
+                "followed\n");
     for (const TwistRun& r : runs)
     {
       std::printf("  %15.2f %9.2f | %14.3f %10.3f | %9.3f | %7.3f | %8.2f / %5.2f | %s\n", r.linear, r.angular,

@@ -10,7 +10,7 @@
  *        /status (jackal_msgs/Status), /feedback (jackal_msgs/Feedback): the MCU's stop state
  *   out: /cmd_drive (jackal_msgs/Drive, MODE_VELOCITY, drivers [rad/s]) every action tick, or in
  *        output mode cmd_vel jackal_velocity_controller/cmd_vel (geometry_msgs/Twist, the
- *        inverse of the stock diff drive: CmdVelOutput, include/jackal_aic/diff_drive.hpp);
+ *        inverse of the stock diff drive: CmdVelOutput, include/jackal_aic/loop/diff_drive.hpp);
  *        ~belief (geometry_msgs/TwistStamped, mu^(0)), ~free_energy (std_msgs/Float64),
  *        ~eps_y, ~eps_mu (std_msgs/Float64MultiArray, rows = channels, cols = orders) at
  *        debug_rate (100 Hz) from the newest belief, when there is a new one, while any
@@ -19,10 +19,10 @@
  *        /diagnostics (NodeDiagnostics). Publishers and the finiteness guard: NodeOutputs.
  *
  * The node is wiring: the node's logic is the ROS-free ControlLoop
- * (include/jackal_aic/control_loop.hpp: sensor pairing, sample pipeline, supervisor,
+ * (include/jackal_aic/loop/control_loop.hpp: sensor pairing, sample pipeline, supervisor,
  * scheduling, command stage). The node turns messages and timers into its events and its
  * outputs into messages; the parameters come from the schema
- * (include/jackal_aic/param_schema.hpp) through loadNodeParams() and NodeReconfigure;
+ * (include/jackal_aic/params/param_schema.hpp) through loadNodeParams() and NodeReconfigure;
  * diagnostics are NodeDiagnostics.
  *
  * Threading (doc/jackal_aic_node.md, 'Loops'). belief_schedule event (default): the
@@ -64,10 +64,10 @@
 #include <sensor_msgs/Imu.h>
 #include <sensor_msgs/JointState.h>
 
-#include "jackal_aic/control_loop.hpp"
-#include "jackal_aic/node_params.hpp"
-#include "jackal_aic/output_conflict.hpp"
-#include "jackal_aic/output_gate.hpp"
+#include "jackal_aic/loop/control_loop.hpp"
+#include "jackal_aic/params/node_params.hpp"
+#include "jackal_aic/safety/output_conflict.hpp"
+#include "jackal_aic/safety/output_gate.hpp"
 #include "jackal_aic/ros/belief_loop.hpp"
 #include "jackal_aic/ros/inline_callback_queue.hpp"
 #include "jackal_aic/ros/node_diagnostics.hpp"

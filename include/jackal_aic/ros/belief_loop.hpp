@@ -13,7 +13,7 @@
 #include <ros/node_handle.h>
 #include <ros/timer.h>
 
-#include "jackal_aic/periodic_thread.hpp"
+#include "jackal_aic/os/periodic_thread.hpp"
 
 namespace jackal_aic
 {

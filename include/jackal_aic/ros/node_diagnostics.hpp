@@ -17,11 +17,11 @@
 #include <ros/publisher.h>
 #include <ros/timer.h>
 
-#include "jackal_aic/control_loop.hpp"
-#include "jackal_aic/controller.hpp"
-#include "jackal_aic/fault_monitor.hpp"
-#include "jackal_aic/periodic_thread.hpp"
-#include "jackal_aic/types.hpp"
+#include "jackal_aic/loop/control_loop.hpp"
+#include "jackal_aic/aic/controller.hpp"
+#include "jackal_aic/safety/fault_monitor.hpp"
+#include "jackal_aic/os/periodic_thread.hpp"
+#include "jackal_aic/base/types.hpp"
 
 // update_functions.h is included by node_diagnostics.cpp only: diagnostic_updater 1.10
 // (Debian 11) defines TimeStampStatus::run in that header without `inline`, so a second
@@ -36,23 +36,23 @@ namespace jackal_aic
 /// The controller's side of the diagnostics, gathered by the node when they are published.
 struct ControllerReport
 {
-  double free_energy = 0.0;             ///< F (thesis eq. 3-10) at the diagnostics publication
-  double belief_vx = 0.0;               ///< mu^(0) x_dot [m/s]
-  double belief_wz = 0.0;               ///< mu^(0) theta_dot [rad/s]
-  Vector2 command = Vector2::Zero();    ///< wheel command (omega_L, omega_R) [rad/s], zero when inactive
-  std::uint64_t guarded_outputs = 0;    ///< non-finite outputs suppressed
-  std::uint64_t generalizer_drops = 0;  ///< samples the generalizer or the controller refused
-  std::string output_mode = "cmd_drive";  ///< output_mode parameter
-  std::uint64_t output_clips = 0;       ///< cmd_vel mode: commands clipped to the stock controller's limits
-  bool last_output_clipped = false;     ///< cmd_vel mode: the last command was clipped (anti-windup active)
-  std::string output_topic;             ///< the command topic's resolved name
-  std::string other_publishers = "none";  ///< other nodes publishing on it ("unchecked" with the check off)
-  std::uint64_t output_conflicts = 0;   ///< conflicts started (another publisher appeared)
-  std::uint64_t blocked_commands = 0;   ///< commands withheld while another node published on the topic
-  double wheel_separation = 0.0;        ///< b_hat the generative model uses [m] (learned if learn_wheel_separation)
+  double free_energy = 0.0;                 ///< F (thesis eq. 3-10) at the diagnostics publication
+  double belief_vx = 0.0;                   ///< mu^(0) x_dot [m/s]
+  double belief_wz = 0.0;                   ///< mu^(0) theta_dot [rad/s]
+  Vector2 command = Vector2::Zero();        ///< wheel command (omega_L, omega_R) [rad/s], zero when inactive
+  std::uint64_t guarded_outputs = 0;        ///< non-finite outputs suppressed
+  std::uint64_t generalizer_drops = 0;      ///< samples the generalizer or the controller refused
+  std::string output_mode = "cmd_drive";    ///< output_mode parameter
+  std::uint64_t output_clips = 0;           ///< cmd_vel mode: commands clipped to the stock controller's limits
+  bool last_output_clipped = false;         ///< cmd_vel mode: the last command was clipped (anti-windup active)
+  std::string output_topic;                 ///< the command topic's resolved name
+  std::string other_publishers = "none";    ///< other nodes publishing on it ("unchecked" with the check off)
+  std::uint64_t output_conflicts = 0;       ///< conflicts started (another publisher appeared)
+  std::uint64_t blocked_commands = 0;       ///< commands withheld while another node published on the topic
+  double wheel_separation = 0.0;            ///< b_hat the generative model uses [m] (learned if learn_wheel_separation)
   std::string separation_learning = "off";  ///< the learner's state (learning, near rest, transient, ...) or "off"
   std::uint64_t separation_learning_steps = 0;  ///< learning steps taken
-  double gyro_bias = 0.0;               ///< the gyro's learned offset beta_hat [rad/s] (0 without learn_gyro_bias)
+  double gyro_bias = 0.0;                  ///< the gyro's learned offset beta_hat [rad/s] (0 without learn_gyro_bias)
   std::string gyro_bias_learning = "off";  ///< the offset estimator's state (learning, moving, settling, ...) or "off"
   /// The tip-over guard's state, learned bounds and trips (statusText(const TipGuard&)) or "off".
   std::string tip_guard = "off";
@@ -156,8 +156,8 @@ private:
   const FaultMonitor* monitor_ = nullptr;
   ros::Publisher health_pub_;
   std::string last_event_ = "none";
-  int published_state_ = -1;  ///< healthState() at the last publication
-  ros::Time published_at_;    ///< time of the last publication
+  int published_state_ = -1;           ///< healthState() at the last publication
+  ros::Time published_at_;             ///< time of the last publication
   std::uint64_t seen_time_jumps_ = 0;  ///< loop_.timeJumps() at the last poll
   /// The channel states as one number (IMU available, isolated channel, fault present).
   int healthState() const;

@@ -19,8 +19,8 @@
 #include <ros/time.h>
 #include <ros/timer.h>
 
-#include "jackal_aic/control_loop.hpp"
-#include "jackal_aic/controller.hpp"
+#include "jackal_aic/loop/control_loop.hpp"
+#include "jackal_aic/aic/controller.hpp"
 
 namespace jackal_aic
 {
@@ -31,11 +31,11 @@ namespace jackal_aic
  */
 struct DebugSnapshot
 {
-  ros::Time stamp;           ///< time of the newest belief step the snapshot holds
-  MuTilde mu;                ///< beliefs, 3 x (p+1)
-  double free_energy = 0.0;  ///< F (thesis eq. 3-12); 0 before the first measurement
-  YTilde eps_y;              ///< eps_y, 5 x (p+1); 0 columns when nobody subscribes
-  MuTilde eps_mu;            ///< eps_mu, 3 x (p+1); 0 columns when nobody subscribes
+  ros::Time stamp;                ///< time of the newest belief step the snapshot holds
+  MuTilde mu;                     ///< beliefs, 3 x (p+1)
+  double free_energy = 0.0;       ///< F (thesis eq. 3-12); 0 before the first measurement
+  YTilde eps_y;                   ///< eps_y, 5 x (p+1); 0 columns when nobody subscribes
+  MuTilde eps_mu;                 ///< eps_mu, 3 x (p+1); 0 columns when nobody subscribes
   double wheel_separation = 0.0;  ///< b_hat of the generative model [m] (learned with learn_wheel_separation)
   double gyro_offset = 0.0;       ///< the gyro offset beta_hat removed from the gyro [rad/s] (learn_gyro_bias)
 };
@@ -115,7 +115,7 @@ private:
   bool cmd_vel_mode_ = false;
   ros::Publisher cmd_pub_, belief_pub_, free_energy_pub_, eps_y_pub_, eps_mu_pub_;
   ros::Publisher wheel_separation_pub_;  ///< ~wheel_separation (std_msgs/Float64): the model's b_hat [m]
-  ros::Publisher gyro_offset_pub_;  ///< ~gyro_offset (std_msgs/Float64): the gyro offset beta_hat in use [rad/s]
+  ros::Publisher gyro_offset_pub_;       ///< ~gyro_offset (std_msgs/Float64): the gyro offset beta_hat in use [rad/s]
   std::atomic<std::uint64_t> guarded_outputs_{ 0 };  ///< commands may be guarded on the belief thread
   double debug_rate_;
   Capture capture_;

@@ -23,8 +23,8 @@
 #include <ros/node_handle.h>
 
 #include "jackal_aic/AICConfig.h"
-#include "jackal_aic/node_params.hpp"
-#include "jackal_aic/param_schema.hpp"
+#include "jackal_aic/params/node_params.hpp"
+#include "jackal_aic/params/param_schema.hpp"
 
 namespace jackal_aic
 {
@@ -54,9 +54,9 @@ AICConfig configFromParams(const NodeParams& params, const AICConfig& base);
 /// Outcome of paramsFromRequest().
 struct ReconfigureOutcome
 {
-  NodeParams params;                      ///< base with the changed keys applied
-  std::vector<std::string> changed;       ///< cfg names that changed, in schema order
-  std::vector<ParamViolation> violations; ///< empty: accept `params`
+  NodeParams params;                       ///< base with the changed keys applied
+  std::vector<std::string> changed;        ///< cfg names that changed, in schema order
+  std::vector<ParamViolation> violations;  ///< empty: accept `params`
 };
 
 /**
@@ -97,8 +97,8 @@ private:
   const NodeParams& in_force_;
   boost::recursive_mutex server_mutex_;
   dynamic_reconfigure::Server<AICConfig> server_;
-  AICConfig shown_;          ///< what the server holds (the last config given to it)
-  bool initialized_ = false; ///< setCallback()'s first call carries the values already in force
+  AICConfig shown_;           ///< what the server holds (the last config given to it)
+  bool initialized_ = false;  ///< setCallback()'s first call carries the values already in force
   std::mutex pending_mutex_;
   std::unique_ptr<NodeParams> pending_;
 };

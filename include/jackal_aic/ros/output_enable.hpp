@@ -2,7 +2,7 @@
 /**
  * \file output_enable.hpp
  * \brief The jackal_AIC node's ~enable_output service (std_srvs/SetBool) over its OutputGate
- *        (include/jackal_aic/output_gate.hpp; doc/jackal_aic_node.md, 'Output gate'): a field trial
+ *        (include/jackal_aic/safety/output_gate.hpp; doc/jackal_aic_node.md, 'Output gate'): a field trial
  *        switches between the AIC and the stock controller on a live robot without two command
  *        streams reaching the diff drive (doc/field_trials.md).
  *
@@ -20,7 +20,7 @@
 
 #include <ros/ros.h>
 
-#include "jackal_aic/output_gate.hpp"
+#include "jackal_aic/safety/output_gate.hpp"
 
 namespace diagnostic_updater
 {

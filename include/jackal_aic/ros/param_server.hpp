@@ -1,9 +1,9 @@
 #pragma once
 /**
  * \file param_server.hpp
- * \brief Reading NodeParams (include/jackal_aic/node_params.hpp) from the node's private
+ * \brief Reading NodeParams (include/jackal_aic/params/node_params.hpp) from the node's private
  *        namespace, key by key as the parameter schema lists them
- *        (include/jackal_aic/param_schema.hpp; doc/jackal_aic_node.md, 'Parameters').
+ *        (include/jackal_aic/params/param_schema.hpp; doc/jackal_aic_node.md, 'Parameters').
  */
 
 #include <string>
@@ -11,8 +11,8 @@
 
 #include <ros/node_handle.h>
 
-#include "jackal_aic/node_params.hpp"
-#include "jackal_aic/param_schema.hpp"
+#include "jackal_aic/params/node_params.hpp"
+#include "jackal_aic/params/param_schema.hpp"
 
 namespace jackal_aic
 {

@@ -2,7 +2,7 @@
 /**
  * \file publisher_watch.hpp
  * \brief The publishers of one topic, polled from the ROS master (getSystemState) on a thread
- *        of its own, for the node's OutputConflict (include/jackal_aic/output_conflict.hpp;
+ *        of its own, for the node's OutputConflict (include/jackal_aic/safety/output_conflict.hpp;
  *        doc/jackal_aic_node.md, 'One publisher per command topic').
  */
 

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "jackal_aic/control_loop.hpp"
+#include "jackal_aic/loop/control_loop.hpp"
 #include "jackal_sim/plant/plant.hpp"
 #include "jackal_sim/plant/fault_injection.hpp"
 #include "jackal_sim/plant/sensor_model.hpp"
@@ -209,8 +209,7 @@ std::vector<SetPointSegment> stepProfile(double t_step, double linear, double an
   return { { 0.0, 0.0, 0.0 }, { t_step, linear, angular } };
 }
 
-ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams params,
-                               const ClosedLoopConfig& config)
+ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams params, const ClosedLoopConfig& config)
 {
   checkConfig(config);
   if (config.ideal_sensors)
@@ -248,8 +247,8 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
     action_period = periodSteps(config.aic.action_rate, dt);
     belief_timer = node.belief_schedule == BeliefSchedule::kTimer;
   }
-  const double b_hat = aic ? config.aic.wheel_separation : stock.params().wheel_separation *
-                                                               stock.params().wheel_separation_multiplier;
+  const double b_hat =
+      aic ? config.aic.wheel_separation : stock.params().wheel_separation * stock.params().wheel_separation_multiplier;
   std::vector<std::string> joint_names;
   for (const WheelDescription& w : description.wheels)
   {
@@ -271,8 +270,8 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
   double clock_offset = 0.0;  // the loop's clock and stamps minus the plant's time [s] (clock steps)
   std::size_t next_operation = 0;
   bool paused = false;
-  double pause_until = 0.0;   // run time [s]
-  double node_up_at = 0.0;    // run time [s] at which a killed node respawns
+  double pause_until = 0.0;  // run time [s]
+  double node_up_at = 0.0;   // run time [s] at which a killed node respawns
   bool first_action_tick = true;
   bool first_belief_tick = true;
   auto startNode = [&]() {
@@ -469,8 +468,8 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
         out.angular_set_point.push_back(sample.angular_set_point);
         out.command_yaw.push_back(sample.command_yaw);
         out.belief_yaw.push_back(sample.belief_yaw);
-        out.separation.push_back(has_belief ? loop->controller().model().wheelSeparation()
-                                            : std::numeric_limits<double>::quiet_NaN());
+        out.separation.push_back(has_belief ? loop->controller().model().wheelSeparation() :
+                                              std::numeric_limits<double>::quiet_NaN());
         out.gyro_offset.push_back(loop ? loop->gyroBias().offset() : std::numeric_limits<double>::quiet_NaN());
         out.x_true.push_back(sample.x_true);
         out.y_true.push_back(sample.y_true);

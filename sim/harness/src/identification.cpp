@@ -89,9 +89,8 @@ double relativeError(double sim, double robot)
 /// One identification run with `config`'s controller: rest, then the step to (linear [m/s],
 /// angular [rad/s]) kIdentStepPhase after a 50 Hz tick, recorded for kIdentRecord; ideal sensors.
 /// *options gets the step metrics' options for a step of the given target.
-ClosedLoopRecord runIdentStep(const RobotDescription& description, const PlantParams& params,
-                              ClosedLoopConfig config, double linear, double angular, double target,
-                              StepMetricsOptions* options)
+ClosedLoopRecord runIdentStep(const RobotDescription& description, const PlantParams& params, ClosedLoopConfig config,
+                              double linear, double angular, double target, StepMetricsOptions* options)
 {
   const double t_step = kIdentRest + kIdentStepPhase;
   config.profile = stepProfile(t_step, linear, angular);
@@ -203,8 +202,8 @@ std::vector<TableFit> summarizeFit(const std::vector<RobotStepTable>& tables, co
       const double miss = std::max(0.0, f.mean_abs_error / kAicTableTolerance - 1.0);
       f.cost += kAcceptanceWeight * miss * miss;  // the table's mean must be within 25 %
     }
-    f.accepted = n > 0 && (t.controller == LoopController::kStock ? all_within :
-                                                                    f.mean_abs_error <= kAicTableTolerance);
+    f.accepted =
+        n > 0 && (t.controller == LoopController::kStock ? all_within : f.mean_abs_error <= kAicTableTolerance);
     out.push_back(f);
   }
   return out;
@@ -217,8 +216,8 @@ SteadyChecks runSteadyChecks(const RobotDescription& description, const PlantPar
   {
     const SteadyScenario& turn = kSeparationScenarios[i];
     const SteadyDrive t = runSteadyDrive(description, params, turn);
-    c.turn_hold_error = std::max(
-        c.turn_hold_error, std::max(std::abs(t.wheel_left - turn.a), std::abs(t.wheel_right - turn.b)));
+    c.turn_hold_error =
+        std::max(c.turn_hold_error, std::max(std::abs(t.wheel_left - turn.a), std::abs(t.wheel_right - turn.b)));
   }
   const SteadyScenario& stock_turn = kSeparationScenarios[2];  // stock controller, in place at 0.5 rad/s
   const SteadyDrive st = runSteadyDrive(description, params, stock_turn);

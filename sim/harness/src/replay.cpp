@@ -42,9 +42,9 @@ std::vector<ReplaySample> replayDriveCommands(const RobotDescription& descriptio
     const bool bad_value = c.enabled && (!std::isfinite(c.left) || !std::isfinite(c.right));
     if (bad_time || bad_value)
     {
-      throw std::invalid_argument("replayDriveCommands: command " + std::to_string(i) +
-                                  (bad_time ? " has a negative, non-finite or out-of-order time" :
-                                              " has a non-finite set point"));
+      throw std::invalid_argument(
+          "replayDriveCommands: command " + std::to_string(i) +
+          (bad_time ? " has a negative, non-finite or out-of-order time" : " has a non-finite set point"));
     }
   }
   if (ideal_sensors)

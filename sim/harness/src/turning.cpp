@@ -23,8 +23,8 @@ double TwistRun::separation() const
   return wheel_radius * (wheel_right - wheel_left) / yaw_rate;
 }
 
-TwistRun runStockTwist(const RobotDescription& description, const PlantParams& params, double linear,
-                       double angular, const TwistRunOptions& o)
+TwistRun runStockTwist(const RobotDescription& description, const PlantParams& params, double linear, double angular,
+                       const TwistRunOptions& o)
 {
   if (!std::isfinite(linear) || !std::isfinite(angular))
   {
@@ -33,8 +33,8 @@ TwistRun runStockTwist(const RobotDescription& description, const PlantParams& p
   if (!(o.settle >= 0.0) || !(o.window > 0.0) || !(o.duration > o.window) || !(o.reach > 0.0 && o.reach <= 1.0) ||
       !(o.tolerance > 0.0) || !std::isfinite(o.settle + o.duration))
   {
-    throw std::invalid_argument(
-        "runStockTwist: options need settle >= 0, duration > window > 0, reach in (0, 1], tolerance > 0");
+    throw std::invalid_argument("runStockTwist: options need settle >= 0, duration > window > 0, reach in (0, 1], "
+                                "tolerance > 0");
   }
   Plant plant(description, params);
   StockController stock;

@@ -62,14 +62,22 @@ bool parseFaultSpec(const std::string& text, FaultSpec* out, std::string* error)
   }
   FaultSpec f;
   const std::string& target = tok[0];
-  if (target == "left_encoder") f.target = Target::kLeftEncoder;
-  else if (target == "right_encoder") f.target = Target::kRightEncoder;
-  else if (target == "gyro") f.target = Target::kGyro;
-  else if (target == "imu") f.target = Target::kImu;
-  else if (target == "joint_states") f.target = Target::kJointStates;
-  else if (target == "friction_left") f.target = Target::kFrictionLeft;
-  else if (target == "friction_right") f.target = Target::kFrictionRight;
-  else if (target == "payload") f.target = Target::kPayload;
+  if (target == "left_encoder")
+    f.target = Target::kLeftEncoder;
+  else if (target == "right_encoder")
+    f.target = Target::kRightEncoder;
+  else if (target == "gyro")
+    f.target = Target::kGyro;
+  else if (target == "imu")
+    f.target = Target::kImu;
+  else if (target == "joint_states")
+    f.target = Target::kJointStates;
+  else if (target == "friction_left")
+    f.target = Target::kFrictionLeft;
+  else if (target == "friction_right")
+    f.target = Target::kFrictionRight;
+  else if (target == "payload")
+    f.target = Target::kPayload;
   else
   {
     *error = "unknown target '" + target +
@@ -77,12 +85,18 @@ bool parseFaultSpec(const std::string& text, FaultSpec* out, std::string* error)
     return false;
   }
   const std::string& kind = tok[1];
-  if (kind == "freeze") f.kind = Kind::kFreeze;
-  else if (kind == "bias") f.kind = Kind::kBias;
-  else if (kind == "spikes") f.kind = Kind::kSpikes;
-  else if (kind == "delay") f.kind = Kind::kDelay;
-  else if (kind == "dropout") f.kind = Kind::kDropout;
-  else if (kind == "set") f.kind = Kind::kSet;
+  if (kind == "freeze")
+    f.kind = Kind::kFreeze;
+  else if (kind == "bias")
+    f.kind = Kind::kBias;
+  else if (kind == "spikes")
+    f.kind = Kind::kSpikes;
+  else if (kind == "delay")
+    f.kind = Kind::kDelay;
+  else if (kind == "dropout")
+    f.kind = Kind::kDropout;
+  else if (kind == "set")
+    f.kind = Kind::kSet;
   else
   {
     *error = "unknown kind '" + kind + "' (freeze, bias, spikes, delay, dropout, set)";
@@ -128,8 +142,8 @@ bool parseFaultSpec(const std::string& text, FaultSpec* out, std::string* error)
       return false;
     }
   }
-  const bool physical = f.target == Target::kFrictionLeft || f.target == Target::kFrictionRight ||
-                        f.target == Target::kPayload;
+  const bool physical =
+      f.target == Target::kFrictionLeft || f.target == Target::kFrictionRight || f.target == Target::kPayload;
   if (physical != (f.kind == Kind::kSet))
   {
     *error = "kind '" + kind + "' does not apply to target '" + target +
@@ -162,8 +176,7 @@ bool parseFaultSpec(const std::string& text, FaultSpec* out, std::string* error)
     *error = "a payload VALUE must be in [0, 1000] kg";
     return false;
   }
-  if ((f.target == Target::kFrictionLeft || f.target == Target::kFrictionRight) &&
-      !(f.value >= 0.0 && f.value <= 10.0))
+  if ((f.target == Target::kFrictionLeft || f.target == Target::kFrictionRight) && !(f.value >= 0.0 && f.value <= 10.0))
   {
     *error = "a friction scale VALUE must be in [0, 10]";
     return false;

@@ -348,8 +348,7 @@ void Plant::collide()
       const Eigen::Vector3d centre = vec(dBodyGetLinearVel(o.wheel[i]));
       const double forward = centre.dot(rolling_dir.normalized());
       const double spin = vec(dBodyGetAngularVel(o.wheel[i])).dot(a.normalized());
-      const WheelSlip ws =
-          wheelSlip(forward, spin * description_.wheels[i].radius, sliding.norm(), c.slip_min_speed);
+      const WheelSlip ws = wheelSlip(forward, spin * description_.wheels[i].radius, sliding.norm(), c.slip_min_speed);
       const double load = std::max(wheel_load_[i], kMinWheelLoad);
       const OdeSlip ode_slip = odeSlip(ws, c.slip_stiffness, mu1, load);
       slip1 = ode_slip.along;

@@ -7,7 +7,7 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "jackal_tools/yaml_overrides.hpp"
+#include "jackal_aic/overrides/yaml_overrides.hpp"
 
 namespace jackal_aic
 {
@@ -181,8 +181,7 @@ std::vector<std::string> MotorParams::validate() const
   check(&e, speed_kp > 0.0 || speed_ki > 0.0, "motor.speed_kp", speed_kp, "speed_kp or speed_ki > 0");
   check(&e, max_torque > 0.0, "motor.max_torque", max_torque, "> 0 N m");
   check(&e, integral_limit >= 0.0, "motor.integral_limit", integral_limit, ">= 0 N m (0 = max_torque)");
-  check(&e, integral_error_limit >= 0.0, "motor.integral_error_limit", integral_error_limit,
-        ">= 0 rad/s (0 = none)");
+  check(&e, integral_error_limit >= 0.0, "motor.integral_error_limit", integral_error_limit, ">= 0 rad/s (0 = none)");
   check(&e, proportional_limit >= 0.0, "motor.proportional_limit", proportional_limit, ">= 0 N m (0 = none)");
   check(&e, setpoint_feedforward >= 0.0 && setpoint_feedforward <= 100.0, "motor.setpoint_feedforward",
         setpoint_feedforward, "[0, 100] N m s/rad (0 = off)");
@@ -214,8 +213,7 @@ std::vector<std::string> PayloadParams::validate() const
   check(&e, mass >= 0.0 && mass <= 100.0, "payload.mass", mass, "[0, 100] kg");
   for (int i = 0; i < 3; ++i)
   {
-    check(&e, std::abs(position[i]) <= 1.0, "payload.position[" + std::to_string(i) + "]", position[i],
-          "[-1, 1] m");
+    check(&e, std::abs(position[i]) <= 1.0, "payload.position[" + std::to_string(i) + "]", position[i], "[-1, 1] m");
   }
   return e;
 }
@@ -233,8 +231,7 @@ std::vector<std::string> JointStateSensorParams::validate() const
 {
   auto e = StreamParams::validate("sensors.joint_states");
   check(&e, position_noise_std >= 0.0, "sensors.joint_states.position_noise_std", position_noise_std, ">= 0 rad");
-  check(&e, velocity_noise_std >= 0.0, "sensors.joint_states.velocity_noise_std", velocity_noise_std,
-        ">= 0 rad/s");
+  check(&e, velocity_noise_std >= 0.0, "sensors.joint_states.velocity_noise_std", velocity_noise_std, ">= 0 rad/s");
   check(&e, true, "sensors.joint_states.velocity_bias", velocity_bias, "finite rad/s");
   return e;
 }
@@ -351,7 +348,7 @@ PlantParams parsePlantParams(const std::string& yaml, const std::string& source,
   }
   try
   {
-    applyOverrides(root, overrides);  // the shared KEY=VALUE parser (jackal_tools/yaml_overrides.hpp)
+    applyOverrides(root, overrides);  // the shared KEY=VALUE parser (jackal_aic/overrides/yaml_overrides.hpp)
   }
   catch (const std::invalid_argument& e)
   {

@@ -261,13 +261,13 @@ RobotDescription parseRobotDescription(const std::string& xml, const std::string
     }
     if (!found_cylinder)
     {
-      throw RobotDescriptionError(fail(source, "wheel link '" + w.link_name +
-                                                   "' has no collision cylinder (the wheel radius comes from it)"));
+      throw RobotDescriptionError(
+          fail(source, "wheel link '" + w.link_name + "' has no collision cylinder (the wheel radius comes from it)"));
     }
     if (!(w.radius > 0.0) || !(w.width > 0.0) || !std::isfinite(w.radius) || !std::isfinite(w.width))
     {
-      throw RobotDescriptionError(fail(source, "wheel link '" + w.link_name +
-                                                   "' has a collision cylinder with non-positive radius or length"));
+      throw RobotDescriptionError(
+          fail(source, "wheel link '" + w.link_name + "' has a collision cylinder with non-positive radius or length"));
     }
     if (!linkMass(*link, &w.inertial) || !(w.inertial.mass > 0.0) || !finiteMass(w.inertial))
     {

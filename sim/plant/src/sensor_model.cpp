@@ -98,10 +98,10 @@ bool SensorModel::pollImu(ImuSample* out)
   {
     e[k] = p.orientation_noise_std * normal_(imu_rng_);
   }
-  out->orientation = (r.imu.orientation * Eigen::AngleAxisd(e.z(), Eigen::Vector3d::UnitZ()) *
-                      Eigen::AngleAxisd(e.y(), Eigen::Vector3d::UnitY()) *
-                      Eigen::AngleAxisd(e.x(), Eigen::Vector3d::UnitX()))
-                         .normalized();
+  out->orientation =
+      (r.imu.orientation * Eigen::AngleAxisd(e.z(), Eigen::Vector3d::UnitZ()) *
+       Eigen::AngleAxisd(e.y(), Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(e.x(), Eigen::Vector3d::UnitX()))
+          .normalized();
   if (drop)
   {
     ++imu_dropped_;

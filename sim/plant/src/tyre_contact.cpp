@@ -42,8 +42,8 @@ WheelSlip wheelSlip(double forward_speed, double rolling_speed, double sliding_s
 
 OdeSlip odeSlip(const WheelSlip& s, double stiffness, double mu, double normal_load)
 {
-  if (!(stiffness > 0.0) || !std::isfinite(stiffness) || !(mu > 0.0) || !std::isfinite(mu) ||
-      !(normal_load > 0.0) || !std::isfinite(normal_load))
+  if (!(stiffness > 0.0) || !std::isfinite(stiffness) || !(mu > 0.0) || !std::isfinite(mu) || !(normal_load > 0.0) ||
+      !std::isfinite(normal_load))
   {
     throw std::invalid_argument("odeSlip: stiffness, mu and the normal load must be > 0 and finite");
   }

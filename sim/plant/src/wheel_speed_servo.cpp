@@ -7,9 +7,7 @@ namespace jackal_aic
 {
 namespace plant
 {
-WheelSpeedServo::WheelSpeedServo(const MotorParams& params, double step) : params_(params), step_(step)
-{
-}
+WheelSpeedServo::WheelSpeedServo(const MotorParams& params, double step) : params_(params), step_(step) {}
 
 void WheelSpeedServo::reset()
 {
@@ -128,8 +126,8 @@ double WheelSpeedServo::update(double measured_speed, double t)
     observer_torque_ += a * (torque_ - observer_torque_);
     observer_speed_ += a * (measured_speed - observer_speed_);
     const double acceleration = (measured_speed - observer_speed_) * a / ((1.0 - a) * step_);
-    load_estimate_ = std::clamp(observer_torque_ - params_.load_observer_inertia * acceleration,
-                                -params_.max_torque, params_.max_torque);
+    load_estimate_ = std::clamp(observer_torque_ - params_.load_observer_inertia * acceleration, -params_.max_torque,
+                                params_.max_torque);
   }
   const double error = filtered_setpoint_ - measured_speed;
   const auto [lo, hi] = torqueLimits(measured_speed);

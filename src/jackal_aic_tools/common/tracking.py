@@ -1,6 +1,6 @@
 """Tracking metrics through the core's ``aic_track_metrics`` CLI (the one implementation of the
 twist-profile reader, the velocity tracking error and the path drift:
-include/jackal_aic/tracking_metrics.hpp). This module prepares the CLI's input, runs it and
+include/jackal_aic/analysis/tracking_metrics.hpp). This module prepares the CLI's input, runs it and
 parses its output; it computes nothing itself.
 
 Metrics of a run against a profile (t, vx, wz rows, zero-order hold): per measured body twist

@@ -22,9 +22,8 @@ import threading
 IDEAL_SOURCES = (
     "sim/plant", "sim/harness", "sim/urdf",
     "tools/src/closed_loop_run.cpp", "tools/lib", "tools/include",
-    "include/jackal_aic/step_metrics.hpp", "include/jackal_aic/tracking_metrics.hpp",
-    "include/jackal_aic/csv_table.hpp", "include/jackal_aic/json_number.hpp",
-    "src/core/step_metrics.cpp", "src/core/tracking_metrics.cpp", "src/core/csv_table.cpp",
+    "include/jackal_aic/analysis", "src/analysis", "include/jackal_aic/base/json_number.hpp",
+    "include/jackal_aic/overrides", "src/overrides",
     "src/jackal_aic_tools/track/plant_limits.py",
 )
 #: The kept runs, relative to the repository root.

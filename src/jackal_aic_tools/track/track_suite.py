@@ -10,7 +10,7 @@ plant and on every plant variant (an overlay YAML of sim/config/variants/). Per 
 set point: the RMS and maximum error of vx [m/s] and wz [rad/s] (ground truth; wheel odometry in
 the JSON and CSV) and the path drift (ground-truth pose against the ideal path, the commanded
 twist integrated from the same start: final and maximum position error [m], final heading error
-[rad]); all computed by the core (jackal_aic/tracking_metrics.hpp). Then the AIC / stock ratio of
+[rad]); all computed by the core (jackal_aic/analysis/tracking_metrics.hpp). Then the AIC / stock ratio of
 every metric and its geometric mean over profiles x variants (< 1: the AIC tracks better).
 
 Per pair also the ideal controller (`closed_loop_run --controller ideal`, the command learned over

@@ -28,7 +28,7 @@ Three stages, all reproducible from this command and the repository's plant:
 
 Prints the identified plant, the model's top candidates, the verification table, and writes
 the winner as YAML (--write FILE): the base file with the tuned keys set in place or added. The
-defaults are the code's (recommendedAicParams(), src/core/params.cpp); adopting a winner as the
+defaults are the code's (recommendedAicParams(), src/params/aic_params.cpp); adopting a winner as the
 default means writing its values there.
 
 --driving: instead of the three stages, tune for real driving from the base config: a bounded

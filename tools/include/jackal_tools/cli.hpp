@@ -19,7 +19,7 @@
 
 #include <boost/program_options.hpp>
 
-#include "jackal_aic/json_number.hpp"
+#include "jackal_aic/base/json_number.hpp"
 
 namespace jackal_aic
 {
@@ -49,10 +49,7 @@ public:
   }
 
   /// Text printed below the options by --help (exit codes, notes).
-  void footer(const std::string& text)
-  {
-    footer_ = text;
-  }
+  void footer(const std::string& text) { footer_ = text; }
 
   /**
    * \brief An option "--NAME VALUE" writing into *value (its current value is the default).
@@ -139,7 +136,7 @@ public:
 
   /**
    * \brief A repeatable "--NAME KEY=VALUE" override, one per occurrence; the texts are parsed by
-   *        parseOverride() / applyOverrides() (include/jackal_tools/yaml_overrides.hpp), the one
+   *        parseOverride() / applyOverrides() (include/jackal_aic/overrides/yaml_overrides.hpp), the one
    *        override parser of the tools.
    */
   void overrides(const std::string& name, std::vector<std::string>* values, const std::string& help)
@@ -275,8 +272,9 @@ private:
   void addFiniteCheck(const std::string& name, double* value)
   {
     checks_.push_back([this, name, value]() -> std::string {
-      return !given(name) || std::isfinite(*value) ? std::string() :
-                                                     "--" + name + ": '" + std::to_string(*value) + "' is not a finite number";
+      return !given(name) || std::isfinite(*value) ?
+                 std::string() :
+                 "--" + name + ": '" + std::to_string(*value) + "' is not a finite number";
     });
   }
   void addFiniteCheck(const std::string& name, std::vector<double>* values)

@@ -6,7 +6,7 @@
  *        (closed_loop_run). ROS-free; yaml-cpp only.
  *
  * Keys, types and defaults are those of the parameter schema
- * (include/jackal_aic/param_schema.hpp); the node reads the same files through rosparam
+ * (include/jackal_aic/params/param_schema.hpp); the node reads the same files through rosparam
  * (src/ros/param_server.cpp). loadAicParams() skips node-only keys; unknown keys are reported.
  */
 
@@ -15,8 +15,8 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "jackal_aic/param_schema.hpp"
-#include "jackal_aic/params.hpp"
+#include "jackal_aic/params/param_schema.hpp"
+#include "jackal_aic/params/aic_params.hpp"
 
 namespace jackal_aic
 {
@@ -52,7 +52,7 @@ AicParams aicParamsFromYaml(const YAML::Node& root, const std::string& file, std
 
 /**
  * \brief As aicParamsFromYaml() from a file, with "key=value" overrides (applyOverrides(),
- *        include/jackal_tools/yaml_overrides.hpp) applied on top, and validated.
+ *        include/jackal_aic/overrides/yaml_overrides.hpp) applied on top, and validated.
  * \throws std::runtime_error on an unreadable file, a YAML error, a malformed override, a value of
  *         the wrong type, or invalid parameters (every violation listed)
  */

@@ -40,7 +40,10 @@ struct PlantOptions
 
   /// The plant parameters: config, then the overlays, then the overrides (plantOverrides()).
   /// \throws plant::PlantParamsError as loadPlantParams() and plantOverrides()
-  plant::PlantParams params() const { return plant::loadPlantParams(config, plant::plantOverrides(overlays, overrides)); }
+  plant::PlantParams params() const
+  {
+    return plant::loadPlantParams(config, plant::plantOverrides(overlays, overrides));
+  }
 
   /// The robot model. \throws as loadRobotDescription()
   plant::RobotDescription description() const { return plant::loadRobotDescription(urdf); }

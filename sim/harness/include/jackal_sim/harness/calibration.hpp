@@ -17,7 +17,7 @@
 #include <array>
 #include <vector>
 
-#include "jackal_aic/step_metrics.hpp"
+#include "jackal_aic/analysis/step_metrics.hpp"
 #include "jackal_sim/plant/plant_params.hpp"
 #include "jackal_sim/plant/robot_description.hpp"
 
@@ -38,9 +38,9 @@ struct RobotStepReference
 };
 
 /// Thesis table 3-1b: 0.1, 0.5, 1.0 m/s (accepted within 50 %, 25 %, 25 %).
-constexpr std::array<RobotStepReference, 3> kRobotStepTable{ { { 0.1, 0.14, 0.04, 0.50 },
-                                                                { 0.5, 0.54, 0.35, 0.25 },
-                                                                { 1.0, 1.05, 0.62, 0.25 } } };
+constexpr std::array<RobotStepReference, 3> kRobotStepTable{
+  { { 0.1, 0.14, 0.04, 0.50 }, { 0.5, 0.54, 0.35, 0.25 }, { 1.0, 1.05, 0.62, 0.25 } }
+};
 
 /// Recorded step response; times from the set-point step [s].
 struct StepRecord
@@ -107,13 +107,13 @@ struct SteadyScenario
 /// bias and dropout off) and the ground truth at the same instants.
 struct SteadyDrive
 {
-  double wheel_left = 0.0;   ///< mean left wheel speed (front and rear) [rad/s]
-  double wheel_right = 0.0;  ///< mean right wheel speed [rad/s]
-  double v_odom = 0.0;       ///< wheel-odometry forward speed r (wL + wR) / 2 [m/s]
-  double v_true = 0.0;       ///< ground-truth forward speed in base_link [m/s]
-  double v_lateral = 0.0;    ///< ground-truth lateral speed in base_link [m/s]
-  double yaw_rate = 0.0;     ///< ground-truth yaw rate (the noise-free gyro) [rad/s]
-  double wheel_radius = 0.0; ///< r [m]
+  double wheel_left = 0.0;    ///< mean left wheel speed (front and rear) [rad/s]
+  double wheel_right = 0.0;   ///< mean right wheel speed [rad/s]
+  double v_odom = 0.0;        ///< wheel-odometry forward speed r (wL + wR) / 2 [m/s]
+  double v_true = 0.0;        ///< ground-truth forward speed in base_link [m/s]
+  double v_lateral = 0.0;     ///< ground-truth lateral speed in base_link [m/s]
+  double yaw_rate = 0.0;      ///< ground-truth yaw rate (the noise-free gyro) [rad/s]
+  double wheel_radius = 0.0;  ///< r [m]
 
   /// Effective (virtual) wheel separation r (wR - wL) / yaw_rate [m]: the b_hat with which
   /// an ideal differential drive would turn as the plant does. NaN if the yaw rate is ~0.

@@ -3,7 +3,7 @@
  * \file closed_loop.hpp
  * \brief A controller in closed loop with the ODE plant, headless and faster than real
  *        time: the stock controller, or the active inference controller through the
- *        jackal_AIC node's own logic (ControlLoop, include/jackal_aic/control_loop.hpp) on
+ *        jackal_AIC node's own logic (ControlLoop, include/jackal_aic/loop/control_loop.hpp) on
  *        simulated time. ROS-free; the engine of closed_loop_run, plant_fit, aic_tune.py,
  *        aic_scorecard.py and aic_reproduce.py (--backend core), and of the identification
  *        gtests.
@@ -30,11 +30,11 @@
 #include <limits>
 #include <vector>
 
-#include "jackal_aic/control_loop.hpp"
-#include "jackal_aic/fault_monitor.hpp"
-#include "jackal_aic/node_params.hpp"
-#include "jackal_aic/params.hpp"
-#include "jackal_aic/tracking_metrics.hpp"
+#include "jackal_aic/loop/control_loop.hpp"
+#include "jackal_aic/safety/fault_monitor.hpp"
+#include "jackal_aic/params/node_params.hpp"
+#include "jackal_aic/params/aic_params.hpp"
+#include "jackal_aic/analysis/tracking_metrics.hpp"
 #include "jackal_sim/plant/fault_injection.hpp"
 #include "jackal_sim/plant/plant_params.hpp"
 #include "jackal_sim/plant/robot_description.hpp"
@@ -126,8 +126,8 @@ struct ClosedLoopSample
   double belief = 0.0;             ///< AIC belief mu^(0) x_dot [m/s] (NaN if none)
   double belief_yaw = 0.0;         ///< AIC belief mu^(0) theta_dot [rad/s] (NaN if none)
   double x_true = 0.0, y_true = 0.0, heading_true = 0.0;  ///< ground-truth pose [m, m, rad]
-  Vector2 wheels_command = Vector2::Zero();   ///< the last drive command (omega_L, omega_R) [rad/s]
-  Vector2 wheels_measured = Vector2::Zero();  ///< the sample's mean wheel speeds per side [rad/s]
+  Vector2 wheels_command = Vector2::Zero();               ///< the last drive command (omega_L, omega_R) [rad/s]
+  Vector2 wheels_measured = Vector2::Zero();              ///< the sample's mean wheel speeds per side [rad/s]
   /// AIC: the loop after it took the sample (null for the other controllers and while the
   /// node is down, Operation::kNodeRestart); valid during the call only.
   const ControlLoop* loop = nullptr;
@@ -147,7 +147,7 @@ struct ClosedLoopConfig
   /// Set-point profile, sorted by start; the first segment should start at 0 (before it the
   /// set point is 0). Streamed, as teleop or a planner would, so no timeout fires.
   std::vector<SetPointSegment> profile;
-  double duration = 4.0;    ///< length of the run [s], > 0
+  double duration = 4.0;  ///< length of the run [s], > 0
   /// true: joint-state and IMU noise, bias and dropout off; false: the plant YAML's sensor
   /// models (seeded: the same run every time)
   bool ideal_sensors = true;
@@ -177,27 +177,27 @@ struct HealthEvent
 /// Recorded run, one entry per joint-state sample (50 Hz).
 struct ClosedLoopRecord
 {
-  std::vector<double> time;       ///< sample time from the run's start [s]
-  std::vector<double> set_point;  ///< linear set point in force [m/s]
-  std::vector<double> v_odom;     ///< wheel-odometry body speed r (omega_L + omega_R) / 2 [m/s]
-  std::vector<double> v_true;     ///< ground-truth forward speed in base_link [m/s]
-  std::vector<double> yaw_odom;   ///< wheel-odometry yaw rate r (omega_R - omega_L) / b_hat [rad/s]
-  std::vector<double> yaw_true;   ///< ground-truth yaw rate [rad/s]
-  std::vector<double> yaw_gyro;   ///< the IMU's newest gyro z reading at the sample [rad/s]
-  std::vector<double> command;    ///< body speed of the last drive command r (a_L + a_R) / 2 [m/s]
-  std::vector<double> belief;     ///< AIC belief mu^(0) x_dot [m/s] (NaN for the stock controller)
+  std::vector<double> time;               ///< sample time from the run's start [s]
+  std::vector<double> set_point;          ///< linear set point in force [m/s]
+  std::vector<double> v_odom;             ///< wheel-odometry body speed r (omega_L + omega_R) / 2 [m/s]
+  std::vector<double> v_true;             ///< ground-truth forward speed in base_link [m/s]
+  std::vector<double> yaw_odom;           ///< wheel-odometry yaw rate r (omega_R - omega_L) / b_hat [rad/s]
+  std::vector<double> yaw_true;           ///< ground-truth yaw rate [rad/s]
+  std::vector<double> yaw_gyro;           ///< the IMU's newest gyro z reading at the sample [rad/s]
+  std::vector<double> command;            ///< body speed of the last drive command r (a_L + a_R) / 2 [m/s]
+  std::vector<double> belief;             ///< AIC belief mu^(0) x_dot [m/s] (NaN for the stock controller)
   std::vector<double> angular_set_point;  ///< yaw-rate set point in force [rad/s]
-  std::vector<double> command_yaw;  ///< yaw rate of the last drive command r (a_R - a_L) / b_hat [rad/s]
-  std::vector<double> belief_yaw;   ///< AIC belief mu^(0) theta_dot [rad/s] (NaN for the others)
+  std::vector<double> command_yaw;        ///< yaw rate of the last drive command r (a_R - a_L) / b_hat [rad/s]
+  std::vector<double> belief_yaw;         ///< AIC belief mu^(0) theta_dot [rad/s] (NaN for the others)
   /// AIC: the generative model's wheel separation b_hat [m] (learned with learn_wheel_separation;
   /// NaN for the others and before the controller starts).
   std::vector<double> separation;
   /// AIC: the gyro offset removed from the gyro [rad/s] (GyroBiasEstimator::offset(), learned at
   /// standstill with learn_gyro_bias; 0 until enough rest is learned; NaN for the others).
   std::vector<double> gyro_offset;
-  std::vector<double> x_true;       ///< ground-truth position x of base_link in the world [m]
-  std::vector<double> y_true;       ///< ground-truth position y of base_link in the world [m]
-  std::vector<double> heading_true; ///< ground-truth yaw of base_link in the world [rad], wrapped to (-pi, pi]
+  std::vector<double> x_true;        ///< ground-truth position x of base_link in the world [m]
+  std::vector<double> y_true;        ///< ground-truth position y of base_link in the world [m]
+  std::vector<double> heading_true;  ///< ground-truth yaw of base_link in the world [rad], wrapped to (-pi, pi]
   /// Ground-truth pitch of base_link against the world's horizontal [rad] (REP 103: > 0 nose down):
   /// a rigid robot on flat ground pitches only when a pair of wheels leaves it.
   std::vector<double> pitch_true;
@@ -210,13 +210,13 @@ struct ClosedLoopRecord
   /// Share of the two sides whose motor torque is clamped to its limit (current or voltage;
   /// WheelSpeedServo::torqueLimited()) in the step before the sample: 0, 0.5 or 1.
   std::vector<double> torque_limited;
-  std::uint64_t runaways = 0;     ///< AIC runaway resets during the run
+  std::uint64_t runaways = 0;  ///< AIC runaway resets during the run
   /// AIC: the tip-over guard's trips during the run and its learned bounds at the end [m/s^2]
   /// (TipGuard::learnedFront(), learnedRear(); +inf: none learned).
   std::uint64_t tip_trips = 0;
   double tip_front = std::numeric_limits<double>::infinity();
   double tip_rear = std::numeric_limits<double>::infinity();
-  bool active = false;            ///< AIC: the controller started (p + 1 samples and a set point)
+  bool active = false;             ///< AIC: the controller started (p + 1 samples and a set point)
   std::uint64_t belief_steps = 0;  ///< AIC: belief integration steps run
   /// AIC: the sensory precisions Pi_y^(0) in use at the end of the run, per SensorIndex (learned
   /// with learn_precision); empty for the others.
@@ -236,8 +236,7 @@ struct ClosedLoopRecord
  *         negative or non-finite start or size, or are given for a controller other than the
  *         AIC (message says which)
  */
-ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams params,
-                               const ClosedLoopConfig& config);
+ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams params, const ClosedLoopConfig& config);
 
 /**
  * \brief A twist profile (tracking_metrics.hpp: t, vx, wz rows, zero-order hold) as set-point
@@ -262,11 +261,11 @@ constexpr double kIdealLearningGain = 0.7;
 /// What runIdealController() learned.
 struct IdealRun
 {
-  ClosedLoopRecord record;            ///< the best run (least mean-square wheel-rim speed error)
-  std::vector<Vector2> commands;      ///< its command sequence (ClosedLoopConfig::ideal_commands)
-  int best = 0;                       ///< its run, 0-based
-  std::vector<double> vx_rms;         ///< every run's RMS error of the ground-truth body speed [m/s]
-  std::vector<double> wz_rms;         ///< every run's RMS error of the ground-truth yaw rate [rad/s]
+  ClosedLoopRecord record;        ///< the best run (least mean-square wheel-rim speed error)
+  std::vector<Vector2> commands;  ///< its command sequence (ClosedLoopConfig::ideal_commands)
+  int best = 0;                   ///< its run, 0-based
+  std::vector<double> vx_rms;     ///< every run's RMS error of the ground-truth body speed [m/s]
+  std::vector<double> wz_rms;     ///< every run's RMS error of the ground-truth yaw rate [rad/s]
 };
 
 /**

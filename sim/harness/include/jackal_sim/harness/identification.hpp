@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "jackal_aic/params.hpp"
-#include "jackal_aic/step_metrics.hpp"
+#include "jackal_aic/params/aic_params.hpp"
+#include "jackal_aic/analysis/step_metrics.hpp"
 #include "jackal_sim/harness/closed_loop.hpp"
 #include "jackal_sim/plant/plant_params.hpp"
 #include "jackal_sim/plant/robot_description.hpp"
@@ -27,11 +27,11 @@ using plant::RobotDescription;
 /// One step response measured on the robot.
 struct RobotStepRow
 {
-  double step = 0.0;         ///< set-point step from rest [m/s]
-  double belief_rate = 50;   ///< AIC belief loop rate [Hz] (ignored for the stock controller)
-  double action_rate = 50;   ///< AIC action loop rate [Hz] (ignored for the stock controller)
-  double settling = 0.0;     ///< settling time into +-5 % on the robot [s]
-  double rise = 0.0;         ///< rise time 10-90 % on the robot [s]
+  double step = 0.0;        ///< set-point step from rest [m/s]
+  double belief_rate = 50;  ///< AIC belief loop rate [Hz] (ignored for the stock controller)
+  double action_rate = 50;  ///< AIC action loop rate [Hz] (ignored for the stock controller)
+  double settling = 0.0;    ///< settling time into +-5 % on the robot [s]
+  double rise = 0.0;        ///< rise time 10-90 % on the robot [s]
 };
 
 /// One table of the thesis.
@@ -60,10 +60,10 @@ constexpr double kIdentRecord = 3.0;
 /// Simulated counterpart of one robot row.
 struct FitEntry
 {
-  std::string table;   ///< table id
+  std::string table;                                         ///< table id
   LoopController table_controller = LoopController::kStock;  ///< the controller the row was run with
-  RobotStepRow robot;  ///< the robot's row
-  StepMetrics sim;     ///< metrics of the plant's wheel-odometry speed (NaN where undefined)
+  RobotStepRow robot;                                        ///< the robot's row
+  StepMetrics sim;              ///< metrics of the plant's wheel-odometry speed (NaN where undefined)
   double settling_error = 0.0;  ///< (sim - robot) / robot [-]; kUnsettledError if sim is NaN
   double rise_error = 0.0;      ///< as above for the rise time
   std::uint64_t runaways = 0;   ///< AIC runaway resets during the run
@@ -110,7 +110,7 @@ struct TableFit
   double mean_abs_error = 0.0;  ///< mean |relative error| over its settling and rise entries [-]
   /// mean of (error / tolerance)^2 over its entries, plus the acceptance misses (kAcceptanceWeight) [-]
   double cost = 0.0;
-  bool accepted = false;        ///< stock: every entry within stockTolerance; AIC: mean within kAicTableTolerance
+  bool accepted = false;  ///< stock: every entry within stockTolerance; AIC: mean within kAicTableTolerance
 };
 
 /// Fit of each table (entries grouped by table id, in the order of `tables`).
@@ -126,10 +126,10 @@ struct SteadyChecks
   double turn_hold_error = 0.0;
   /// |yaw rate - set point| / set point of the stock controller turning in place at 0.5 rad/s [-]
   double stock_turn_error = 0.0;
-  double top_speed = 0.0;        ///< wheel-odometry speed with the stock controller at 2.0 m/s [m/s]
-  bool turn_ok = false;          ///< turn_hold_error <= kTurnHoldTolerance and stock_turn_error <= 10 %
-  bool top_speed_ok = false;     ///< top_speed >= (1 - kTopSpeedTolerance) * 2.0 m/s
-  double penalty = 0.0;          ///< added to the identification cost: 0 when both hold, grows with the miss
+  double top_speed = 0.0;     ///< wheel-odometry speed with the stock controller at 2.0 m/s [m/s]
+  bool turn_ok = false;       ///< turn_hold_error <= kTurnHoldTolerance and stock_turn_error <= 10 %
+  bool top_speed_ok = false;  ///< top_speed >= (1 - kTopSpeedTolerance) * 2.0 m/s
+  double penalty = 0.0;       ///< added to the identification cost: 0 when both hold, grows with the miss
 };
 /// Accepted steady wheel-speed error of the servo turning in place [rad/s].
 constexpr double kTurnHoldTolerance = 0.05;

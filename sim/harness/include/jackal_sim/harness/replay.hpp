@@ -34,30 +34,30 @@ using plant::RobotDescription;
 /// One jackal_msgs/Drive message as the MCU receives it.
 struct DriveCommand
 {
-  double time = 0.0;     ///< receipt time from the start of the replay [s], >= 0
-  bool enabled = true;   ///< MODE_VELOCITY (true) or MODE_NONE (false: motors released)
-  double left = 0.0;     ///< left wheel-speed set point [rad/s] (ignored when !enabled)
-  double right = 0.0;    ///< right wheel-speed set point [rad/s]
+  double time = 0.0;    ///< receipt time from the start of the replay [s], >= 0
+  bool enabled = true;  ///< MODE_VELOCITY (true) or MODE_NONE (false: motors released)
+  double left = 0.0;    ///< left wheel-speed set point [rad/s] (ignored when !enabled)
+  double right = 0.0;   ///< right wheel-speed set point [rad/s]
 };
 
 /// One joint-state sample of the replay (50 Hz by default) with the newest IMU sample and the
 /// ground truth at the same instant.
 struct ReplaySample
 {
-  double time = 0.0;                             ///< joint-state stamp [s]
-  std::array<double, kNumWheels> position{};     ///< wheel angles [rad], WheelIndex order
-  std::array<double, kNumWheels> velocity{};     ///< wheel speeds [rad/s], WheelIndex order
-  double imu_time = 0.0;                         ///< stamp of the IMU sample [s] (NaN before the first)
+  double time = 0.0;                          ///< joint-state stamp [s]
+  std::array<double, kNumWheels> position{};  ///< wheel angles [rad], WheelIndex order
+  std::array<double, kNumWheels> velocity{};  ///< wheel speeds [rad/s], WheelIndex order
+  double imu_time = 0.0;                      ///< stamp of the IMU sample [s] (NaN before the first)
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< IMU frame in odom
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();       ///< gyro [rad/s]
   Eigen::Vector3d linear_acceleration = Eigen::Vector3d::Zero();    ///< specific force [m/s^2]
-  double v_true = 0.0;       ///< ground-truth forward speed in base_link [m/s]
-  double yaw_true = 0.0;     ///< ground-truth yaw rate [rad/s]
-  bool command_enabled = false;   ///< the last command received (MODE_VELOCITY)
-  double command_left = 0.0;      ///< its left set point [rad/s]
-  double command_right = 0.0;     ///< its right set point [rad/s]
-  double torque_left = 0.0;       ///< the left servo's torque in the last step [N m]
-  double torque_right = 0.0;      ///< the right servo's torque [N m]
+  double v_true = 0.0;                                              ///< ground-truth forward speed in base_link [m/s]
+  double yaw_true = 0.0;                                            ///< ground-truth yaw rate [rad/s]
+  bool command_enabled = false;                                     ///< the last command received (MODE_VELOCITY)
+  double command_left = 0.0;                                        ///< its left set point [rad/s]
+  double command_right = 0.0;                                       ///< its right set point [rad/s]
+  double torque_left = 0.0;                                         ///< the left servo's torque in the last step [N m]
+  double torque_right = 0.0;                                        ///< the right servo's torque [N m]
 };
 
 /**

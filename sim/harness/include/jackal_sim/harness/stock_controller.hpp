@@ -11,14 +11,14 @@
  * jerk limits off); then
  *   omega_L = (v - w * s / 2) / r,   omega_R = (v + w * s / 2) / r,
  * with s = wheel_separation_multiplier * wheel_separation. No body-velocity feedback.
- * The mapping and the limits are the core's (include/jackal_aic/diff_drive.hpp), shared with
+ * The mapping and the limits are the core's (include/jackal_aic/loop/diff_drive.hpp), shared with
  * the jackal_AIC node's cmd_vel output mode, which inverts them.
  */
 
 #include <string>
 #include <vector>
 
-#include "jackal_aic/diff_drive.hpp"
+#include "jackal_aic/loop/diff_drive.hpp"
 
 namespace jackal_aic
 {
@@ -30,8 +30,8 @@ struct StockControllerParams : public jackal_aic::DiffDriveParams
   // Kinematics and limits: jackal_aic::DiffDriveParams (wheel_separation, wheel_separation_multiplier,
   // wheel_radius, max_linear_velocity, max_linear_acceleration, max_angular_velocity,
   // max_angular_acceleration), defaults from the Jackal's control.yaml.
-  double cmd_vel_timeout = 0.25;             ///< command age after which the target is zero [s], > 0
-  double publish_rate = 50.0;                ///< update / publication rate [Hz], > 0
+  double cmd_vel_timeout = 0.25;  ///< command age after which the target is zero [s], > 0
+  double publish_rate = 50.0;     ///< update / publication rate [Hz], > 0
 
   /// Every violation as "key = value (allowed range)"; empty when valid.
   std::vector<std::string> validate() const;

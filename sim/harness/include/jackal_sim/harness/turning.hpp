@@ -72,15 +72,15 @@ struct TwistRun
  * \param options     timing and thresholds
  * \throws std::invalid_argument on non-finite commands or invalid options (message says which)
  */
-TwistRun runStockTwist(const RobotDescription& description, const PlantParams& params, double linear,
-                       double angular, const TwistRunOptions& options = {});
+TwistRun runStockTwist(const RobotDescription& description, const PlantParams& params, double linear, double angular,
+                       const TwistRunOptions& options = {});
 
 /// The arcs of the turning grid: forward speeds [m/s] and yaw rates [rad/s].
 struct TurningGrid
 {
-  std::vector<double> speeds{ 0.2, 0.5, 1.0, 1.5 };       ///< [m/s]
-  std::vector<double> yaw_rates{ 0.2, 0.5, 1.0, 1.5 };    ///< [rad/s]
-  std::vector<double> in_place{ 0.3, 1.0, 1.57 };         ///< turns in place [rad/s]
+  std::vector<double> speeds{ 0.2, 0.5, 1.0, 1.5 };     ///< [m/s]
+  std::vector<double> yaw_rates{ 0.2, 0.5, 1.0, 1.5 };  ///< [rad/s]
+  std::vector<double> in_place{ 0.3, 1.0, 1.57 };       ///< turns in place [rad/s]
 };
 
 /// Every run of a grid: turns in place first (in_place order), then the arcs, speed-major.

@@ -60,10 +60,10 @@ struct FaultSpec
   };
   Target target = Target::kGyro;
   Kind kind = Kind::kFreeze;
-  double value = 0.0;     ///< bias / spike amplitude [rad/s], delay [s], friction scale [-] or payload [kg]
-  double start = 0.0;     ///< [s] after activation, >= 0
-  double duration = -1.0; ///< [s]; <= 0: for ever
-  double period = 0.1;    ///< spike period [s], > 0
+  double value = 0.0;      ///< bias / spike amplitude [rad/s], delay [s], friction scale [-] or payload [kg]
+  double start = 0.0;      ///< [s] after activation, >= 0
+  double duration = -1.0;  ///< [s]; <= 0: for ever
+  double period = 0.1;     ///< spike period [s], > 0
 };
 
 /**
@@ -109,8 +109,8 @@ public:
 private:
   bool active(std::size_t k, double t) const;
   std::vector<FaultSpec> faults_;
-  std::vector<double> starts_;      ///< absolute start per fault [s]
-  std::vector<double> last_spike_;  ///< time of the last spike per fault [s]
+  std::vector<double> starts_;                      ///< absolute start per fault [s]
+  std::vector<double> last_spike_;                  ///< time of the last spike per fault [s]
   std::array<double, kNumWheels> last_velocity_{};  ///< last published wheel velocities
   double last_gyro_ = 0.0;
   bool have_last_joints_ = false, have_last_imu_ = false;
@@ -140,8 +140,8 @@ public:
   /// What afterStep() changed on the plant (for logs).
   struct Changes
   {
-    bool payload = false;                  ///< the payload changed (Plant::payload())
-    std::array<bool, 2> friction{};        ///< the friction scale of a Side changed
+    bool payload = false;            ///< the payload changed (Plant::payload())
+    std::array<bool, 2> friction{};  ///< the friction scale of a Side changed
   };
 
   /**

@@ -71,23 +71,24 @@ struct PhysicsParams
  */
 struct ContactParams
 {
-  std::string friction_model = "slip";  ///< "slip" (brush tyre), "cone" (isotropic Coulomb) or "pyramid" (ODE/Gazebo default)
-  double sliding_threshold = 0.001;    ///< cone, slip: sliding speed above which fdir1 follows the sliding [m/s], > 0
+  std::string friction_model =
+      "slip";  ///< "slip" (brush tyre), "cone" (isotropic Coulomb) or "pyramid" (ODE/Gazebo default)
+  double sliding_threshold = 0.001;  ///< cone, slip: sliding speed above which fdir1 follows the sliding [m/s], > 0
   /// slip: slip stiffness C, the initial slope of friction force over normal load against the combined
   /// slip [-] (per unit slip), (0, 1000]; the force reaches mu1 N at a slip of 3 mu1 / C.
   double slip_stiffness = 10.0;
   /// slip: the smallest reference speed of the slip [m/s], (0, 1]: below it (starting, stopping, slow
   /// turns) the force follows the sliding speed, C N |v_s| / slip_min_speed, as a tyre compliance.
   double slip_min_speed = 0.15;
-  double mu1 = 0.5;                    ///< Coulomb friction along the rolling direction (fdir1) [-], >= 0
-  double mu2 = 0.5;                    ///< Coulomb friction along the axle [-], >= 0
-  double slip1 = 0.001;                ///< ODE force-dependent slip along fdir1 [m/(s N)], >= 0 (Gazebo slip1); not slip
-  double slip2 = 0.001;                 ///< ODE force-dependent slip along the axle [m/(s N)], >= 0 (Gazebo slip2); not slip
-  double kp = 1.0e7;                   ///< contact stiffness [N/m], > 0
-  double kd = 1.0;                     ///< contact damping [N s/m], >= 0
-  double max_correcting_vel = 100.0;   ///< ODE contact_max_correcting_vel [m/s], > 0
-  double surface_layer = 0.001;        ///< ODE contact_surface_layer (allowed penetration) [m], >= 0
-  int max_contacts = 4;                ///< contact points per wheel-ground pair, [1, 16]
+  double mu1 = 0.5;      ///< Coulomb friction along the rolling direction (fdir1) [-], >= 0
+  double mu2 = 0.5;      ///< Coulomb friction along the axle [-], >= 0
+  double slip1 = 0.001;  ///< ODE force-dependent slip along fdir1 [m/(s N)], >= 0 (Gazebo slip1); not slip
+  double slip2 = 0.001;  ///< ODE force-dependent slip along the axle [m/(s N)], >= 0 (Gazebo slip2); not slip
+  double kp = 1.0e7;     ///< contact stiffness [N/m], > 0
+  double kd = 1.0;       ///< contact damping [N s/m], >= 0
+  double max_correcting_vel = 100.0;  ///< ODE contact_max_correcting_vel [m/s], > 0
+  double surface_layer = 0.001;       ///< ODE contact_surface_layer (allowed penetration) [m], >= 0
+  int max_contacts = 4;               ///< contact points per wheel-ground pair, [1, 16]
 
   /// Every violated rule of the members above, one message each naming the YAML key, its
   /// value and the allowed range ("motor.stall_torque = -1 (allowed: > 0)"); empty = valid.
@@ -104,9 +105,9 @@ struct ContactParams
  */
 struct MotorParams
 {
-  double speed_kp = 10.38;              ///< proportional gain [N m / (rad/s)], >= 0
-  double speed_ki = 0.4892;             ///< integral gain [N m / rad], >= 0
-  double max_torque = 8.0;            ///< current (torque) limit of one side, at the wheels [N m], > 0
+  double speed_kp = 10.38;   ///< proportional gain [N m / (rad/s)], >= 0
+  double speed_ki = 0.4892;  ///< integral gain [N m / rad], >= 0
+  double max_torque = 8.0;   ///< current (torque) limit of one side, at the wheels [N m], > 0
   /// Clamp of the PI integrator [N m], >= 0; 0 = max_torque. Below max_torque the integral path alone
   /// cannot drive the motor to its limit: on a large error the torque is integral_limit + speed_kp * error,
   /// so a set point further ahead of the wheels accelerates them faster.
@@ -144,15 +145,15 @@ struct MotorParams
   double load_observer_inertia = 0.0933;
   /// Time constant of the load-torque observer's filter [s], [0, 5]; 0 = no observer.
   double load_observer_time_constant = 0.04105;
-  double stall_torque = 12.0;         ///< voltage limit: stall torque of one side [N m]; 0 = no voltage limit
-  double no_load_speed = 26.0;        ///< voltage limit: no-load wheel speed [rad/s], > 0 if stall_torque > 0
-  double setpoint_slew_rate = 0.0;    ///< MCU ramp of the speed set point [rad/s^2]; 0 = none
+  double stall_torque = 12.0;                ///< voltage limit: stall torque of one side [N m]; 0 = no voltage limit
+  double no_load_speed = 26.0;               ///< voltage limit: no-load wheel speed [rad/s], > 0 if stall_torque > 0
+  double setpoint_slew_rate = 0.0;           ///< MCU ramp of the speed set point [rad/s^2]; 0 = none
   double setpoint_time_constant = 0.004661;  ///< first-order lag on the set point inside the MCU [s], >= 0
-  double command_delay = 0.1187;          ///< transport delay /cmd_drive -> MCU [s], [0, 0.5]
-  double coulomb_friction = 0.1565;      ///< drivetrain Coulomb friction per wheel [N m], >= 0
-  double viscous_friction = 0.01;      ///< drivetrain viscous friction per wheel [N m / (rad/s)], >= 0
-  double coupling_damping = 1.0;      ///< front-rear drivetrain coupling on a side [N m / (rad/s)], >= 0
-  double max_wheel_speed = 25.0;      ///< set points are clamped to +-this [rad/s], > 0
+  double command_delay = 0.1187;             ///< transport delay /cmd_drive -> MCU [s], [0, 0.5]
+  double coulomb_friction = 0.1565;          ///< drivetrain Coulomb friction per wheel [N m], >= 0
+  double viscous_friction = 0.01;            ///< drivetrain viscous friction per wheel [N m / (rad/s)], >= 0
+  double coupling_damping = 1.0;             ///< front-rear drivetrain coupling on a side [N m / (rad/s)], >= 0
+  double max_wheel_speed = 25.0;             ///< set points are clamped to +-this [rad/s], > 0
 
   /// Every violated rule of the members above, one message each naming the YAML key, its
   /// value and the allowed range ("motor.stall_torque = -1 (allowed: > 0)"); empty = valid.
@@ -167,8 +168,8 @@ struct MotorParams
  */
 struct PayloadParams
 {
-  double mass = 0.0;                  ///< [kg], [0, 100]; 0 = none
-  std::array<double, 3> position{};   ///< x, y, z in base_link [m], each within [-1, 1]
+  double mass = 0.0;                 ///< [kg], [0, 100]; 0 = none
+  std::array<double, 3> position{};  ///< x, y, z in base_link [m], each within [-1, 1]
 
   /// Every violated rule of the members above, one message each naming the YAML key, its
   /// value and the allowed range ("payload.mass = -1 (allowed: [0, 100] kg)"); empty = valid.
@@ -178,9 +179,9 @@ struct PayloadParams
 /// Noise model of one sensor stream.
 struct StreamParams
 {
-  double rate = 50.0;      ///< publication rate [Hz], > 0; the period is rounded to whole physics steps
-  double delay = 0.0;      ///< age of the data in a sample [s], [0, 1]
-  double dropout = 0.0;    ///< probability that a sample is not published [-], [0, 1)
+  double rate = 50.0;    ///< publication rate [Hz], > 0; the period is rounded to whole physics steps
+  double delay = 0.0;    ///< age of the data in a sample [s], [0, 1]
+  double dropout = 0.0;  ///< probability that a sample is not published [-], [0, 1)
 
   /// As the other validate()s, with the YAML keys prefixed by \p prefix (e.g. "sensors.imu.").
   std::vector<std::string> validate(const std::string& prefix) const;
@@ -231,10 +232,10 @@ SensorParams idealSensors(SensorParams sensors);
 /// Settings of the ROS node around the plant (ignored by the ROS-free core).
 struct PlantNodeParams
 {
-  double real_time_factor = 1.0;  ///< plant seconds per wall second; 0 = as fast as possible, [0, 100]
-  double odom_rate = 50.0;        ///< /odom and tf rate [Hz], (0, 1000]
-  double clock_rate = 1000.0;     ///< /clock rate with use_sim_time [Hz], (0, 1000]
-  double cmd_timeout = 0.5;       ///< /cmd_drive silence after which set points are zeroed [s]; 0 = never
+  double real_time_factor = 1.0;    ///< plant seconds per wall second; 0 = as fast as possible, [0, 100]
+  double odom_rate = 50.0;          ///< /odom and tf rate [Hz], (0, 1000]
+  double clock_rate = 1000.0;       ///< /clock rate with use_sim_time [Hz], (0, 1000]
+  double cmd_timeout = 0.5;         ///< /cmd_drive silence after which set points are zeroed [s]; 0 = never
   std::string odom_frame = "odom";  ///< world frame name
 
   /// Every violated rule of the members above, one message each naming the YAML key, its

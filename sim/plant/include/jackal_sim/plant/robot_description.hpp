@@ -54,9 +54,9 @@ public:
 /// Mass properties of a rigid body.
 struct MassProperties
 {
-  double mass = 0.0;                                   ///< [kg], > 0
-  Eigen::Vector3d com = Eigen::Vector3d::Zero();       ///< centre of mass in the link frame [m]
-  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();   ///< about the COM, link axes [kg m^2]
+  double mass = 0.0;                                  ///< [kg], > 0
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();      ///< centre of mass in the link frame [m]
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();  ///< about the COM, link axes [kg m^2]
 };
 
 /**
@@ -87,8 +87,8 @@ struct WheelDescription
   Eigen::Vector3d axis = Eigen::Vector3d::UnitY();  ///< unit rotation axis, joint frame
   /// Collision cylinder pose in the wheel link frame (cylinder along its local z).
   Eigen::Isometry3d collision_origin = Eigen::Isometry3d::Identity();
-  double radius = 0.0;  ///< collision cylinder radius [m], > 0
-  double width = 0.0;   ///< collision cylinder length [m], > 0
+  double radius = 0.0;      ///< collision cylinder radius [m], > 0
+  double width = 0.0;       ///< collision cylinder length [m], > 0
   MassProperties inertial;  ///< wheel link inertial
 };
 
@@ -107,8 +107,8 @@ struct RobotDescription
   /// Chassis mass properties in the chassis_link frame, including every link fixed to it
   /// (and the root links above it) except the wheels.
   MassProperties chassis;
-  std::vector<CollisionBox> chassis_boxes;         ///< chassis collision boxes (may be empty)
-  std::array<WheelDescription, kNumWheels> wheels; ///< in WheelIndex order
+  std::vector<CollisionBox> chassis_boxes;          ///< chassis collision boxes (may be empty)
+  std::array<WheelDescription, kNumWheels> wheels;  ///< in WheelIndex order
 
   /// Mean wheel radius [m].
   double wheelRadius() const;

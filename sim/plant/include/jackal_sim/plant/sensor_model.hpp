@@ -29,7 +29,7 @@ namespace plant
 /// One wheel-encoder sample (WheelIndex order).
 struct JointStateSample
 {
-  double stamp = 0.0;                      ///< plant time of publication [s]
+  double stamp = 0.0;                         ///< plant time of publication [s]
   std::array<double, kNumWheels> position{};  ///< [rad]
   std::array<double, kNumWheels> velocity{};  ///< [rad/s]
 };
@@ -37,7 +37,7 @@ struct JointStateSample
 /// One IMU sample in the IMU frame.
 struct ImuSample
 {
-  double stamp = 0.0;  ///< plant time of publication [s]
+  double stamp = 0.0;                                               ///< plant time of publication [s]
   Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();  ///< IMU frame in odom
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();       ///< [rad/s]
   Eigen::Vector3d linear_acceleration = Eigen::Vector3d::Zero();    ///< specific force [m/s^2]

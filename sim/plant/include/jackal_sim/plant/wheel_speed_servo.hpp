@@ -92,7 +92,7 @@ private:
   double setpoint_ = 0.0;
   double ramped_setpoint_ = 0.0;
   double filtered_setpoint_ = 0.0;
-  double integral_ = 0.0;  ///< integrator state [N m]
+  double integral_ = 0.0;           ///< integrator state [N m]
   double last_command_time_ = 0.0;  ///< when the last received set point took effect [s]
   double setpoint_rate_ = 0.0;      ///< rate of change of the received set point [rad/s^2], held
   double feedforward_ = 0.0;        ///< last feedforward torque [N m]

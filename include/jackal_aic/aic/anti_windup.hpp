@@ -1,0 +1,81 @@
+#pragma once
+/**
+ * \file anti_windup.hpp
+ * \brief The action's clamps and the conditional integration of its free-energy part (not in the
+ *        thesis; doc/active_inference.md, 'Update rules', Anti-windup). ROS-free.
+ */
+
+#include "jackal_aic/base/types.hpp"
+
+namespace jackal_aic
+{
+/// Settings of an AntiWindup (the AicParams keys of the same names).
+struct AntiWindupParams
+{
+  double max_action_lead = 0.0;       ///< |a_i - y^(0)[omega_i]| bound [rad/s], >= 0; 0 = off
+  double max_action_lead_turn = 0.0;  ///< bound of the wheels' differential lead [rad/s], >= 0; 0 = off
+  double max_wheel_speed = 20.0;      ///< |a_i| bound [rad/s], > 0
+};
+
+/**
+ * \brief The command a = clamps(a_F + h a_F' + a_ff) and the a_F it leaves.
+ *
+ * The clamps, in order, on the sum raw = a_F + h a_F' + a_ff (a_F' = da_F/dt of eq. 3-16, a_ff the
+ * action prior), with omega the measured wheel speeds y^(0)[omega_L], y^(0)[omega_R]:
+ *  1. lead (max_action_lead L > 0): a_i in [min(omega_i - L, a_ff,i), max(omega_i + L, a_ff,i)]
+ *     (the prior alone is never cut), only on a wheel whose channel is trusted;
+ *  2. turning lead (max_action_lead_turn L_t > 0, both wheel channels trusted): the differential
+ *     part (e_R - e_L) / 2 of the lead e = a - omega within +-L_t, its common part kept;
+ *  3. wheel speed: a_i in [-max_wheel_speed, max_wheel_speed] (always; it wins over the others).
+ * Conditional integration: where a clamp cut a wheel's command (raw_i != a_i) in the direction
+ * a_F' integrates,
+ *   a_F,i <- max(a_F,i, min(a_F,i + h a_F,i', a_i - a_ff,i))   if cut > 0 and a_F,i' > 0,
+ *   a_F,i <- min(a_F,i, max(a_F,i + h a_F,i', a_i - a_ff,i))   if cut < 0 and a_F,i' < 0,
+ *   a_F,i <- a_F,i + h a_F,i'                                   otherwise,
+ * so a_F never winds up against a clamp, is never pulled back by one, and a cut of the prior's
+ * part is not stored in it.
+ *
+ * No heap allocation, no exceptions.
+ */
+class AntiWindup
+{
+public:
+  /// One clamped action step.
+  struct Result
+  {
+    Vector2 command;           ///< a, the clamped command (omega_L, omega_R) [rad/s]
+    Vector2 free_energy_part;  ///< a_F after the step [rad/s]
+    bool saturated;            ///< the wheel-speed clamp (3) cut the command (the lead clamps do not count)
+  };
+
+  explicit AntiWindup(const AntiWindupParams& params = AntiWindupParams()) : params_(params) {}
+
+  /// The settings in use.
+  const AntiWindupParams& params() const { return params_; }
+
+  /**
+   * \brief Clamp one action step and integrate a_F conditionally.
+   * \param a_F            free-energy part before the step [rad/s]
+   * \param candidate      its unclamped update a_F + h a_F' [rad/s]
+   * \param a_dot          a_F' [rad/s^2] (its sign is the direction a_F integrates)
+   * \param prior          the action prior a_ff [rad/s]
+   * \param omega          measured wheel speeds (omega_L, omega_R) [rad/s]
+   * \param left_trusted   the left wheel channel is used (not isolated by the sensor mask)
+   * \param right_trusted  the right wheel channel is used
+   * \return the command, the new a_F and whether the wheel-speed clamp cut the command.
+   *         Inputs are expected finite (the controller checks candidate + prior first).
+   */
+  Result apply(const Vector2& a_F, const Vector2& candidate, const Vector2& a_dot, const Vector2& prior,
+               const Vector2& omega, bool left_trusted, bool right_trusted) const;
+
+  /// a with each wheel clamped to +-max_wheel_speed [rad/s].
+  Vector2 limitWheelSpeed(const Vector2& a) const
+  {
+    return a.cwiseMax(-params_.max_wheel_speed).cwiseMin(params_.max_wheel_speed);
+  }
+
+private:
+  AntiWindupParams params_;
+};
+
+}  // namespace jackal_aic

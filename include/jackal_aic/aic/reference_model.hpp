@@ -1,0 +1,169 @@
+#pragma once
+/**
+ * \file reference_model.hpp
+ * \brief The controller's goal stage: the goal (mu_d, mu_d'), its prediction and the rate-limited,
+ *        delayed reference path the beliefs' attractor follows (not in the thesis; its section
+ *        6-1 names it as future work; doc/active_inference.md, 'Set-point dynamics'). ROS-free.
+ */
+
+#include <array>
+#include <limits>
+
+#include "jackal_aic/params/aic_params.hpp"
+#include "jackal_aic/base/types.hpp"
+
+namespace jackal_aic
+{
+/// Settings of a ReferenceModel (the AicParams keys of the same meaning; doc/active_inference.md,
+/// 'Set-point dynamics'). The controller passes validated AicParams; the stage does not check them.
+struct ReferenceModelParams
+{
+  bool generalized_goal = false;   ///< use the goal's rate mu_d' (generalized_goal); false: mu_d' = 0
+  double goal_lead = 0.0;          ///< t_lead [s], >= 0: x_dot's and y_dot's goal is predicted mu_d + t_lead mu_d'
+  double goal_lead_angular = 0.0;  ///< t_lead [s], >= 0, of theta_dot's goal
+  double time_constant = 0.0;      ///< T_r [s], >= 0; 0 = no reference model (reference_time_constant)
+  double max_acceleration_linear = 1.0e3;   ///< |m'| bound along x_dot, y_dot [m/s^2], > 0
+  double max_acceleration_angular = 1.0e3;  ///< |m'| bound along theta_dot [rad/s^2], > 0
+  /// |m'| bound along x_dot, y_dot where m' slows the path toward 0 [m/s^2], >= 0; 0 = max_acceleration_linear.
+  double max_deceleration_linear = 0.0;
+  /// Bound of each wheel's rim-speed rate along the path, |m'_x -+ m'_theta b / 2| [m/s^2], >= 0;
+  /// 0 = none (each body channel is bounded on its own).
+  double max_acceleration_wheel = 0.0;
+  double wheel_separation = 0.5;  ///< b [m], > 0: the model's wheel separation (setWheelSeparation())
+  double delay = 0.0;             ///< d_r [s], in [0, kMaxReferenceDelay] (reference_delay)
+  double goal_limit = 1.0e3;      ///< largest accepted |element| of mu_d and mu_d' (runaway_limit), > 0
+};
+
+/**
+ * \brief Goal -> predicted goal -> reference path with its delay line.
+ *
+ * The goal mu_d = (x_dot [m/s], y_dot [m/s], theta_dot [rad/s]) and its rate mu_d' (zero unless
+ * generalized_goal) give the predicted goal mu_hat_d = mu_d + t_lead mu_d' (target(); t_lead per
+ * channel: goal_lead for x_dot and y_dot, goal_lead_angular for theta_dot). With
+ * T_r > 0 a first-order model m follows it,
+ *   m' = clamp(W((mu_hat_d - m) / T_r, A_w), lo, hi),   (lo, hi) = accelerationBounds(),
+ * integrated exactly with the target held over each step, m <- m + clamp(W((mu_hat_d - m)(1 -
+ * e^(-h/T_r)), A_w h), lo h, hi h), and delayed by d_r. W(d, c) bounds a change d of the body's
+ * twist in the wheels' frame: each rim speed's change d_x -+ d_theta b / 2 is clamped to [-c, c]
+ * and the body's change recomputed from the two (d_y untouched; A_w = max_acceleration_wheel,
+ * W the identity when it is 0). A skid-steer's wheel loops saturate per wheel: a turn commanded
+ * with a forward start waits for the inner wheel, and the path waits with it instead of asking the
+ * action for a yaw rate the wheels cannot give yet (doc/active_inference.md, 'Set-point dynamics').
+ * The body bounds only shrink a channel toward 0, so |m'_x| + |m'_theta| b / 2 <= A_w still holds
+ * after them. Then the delay: mu_r(t) = m(t - d_r), mu_r' = m'(t - d_r), from a delay line
+ * of kLine samples at least kMaxReferenceDelay / 800 apart (linear interpolation; a delay beyond
+ * the line uses its oldest sample). The beliefs' attractor is then f(mu) = mu_r' + (mu_r - mu) / tau;
+ * with T_r = 0 it is f(mu) = mu_d' + (mu_d - mu) / tau (attractorGoal(), attractorRate()).
+ *
+ * No heap allocation (the delay line has a fixed capacity), no exceptions.
+ */
+class ReferenceModel
+{
+public:
+  /// Delay-line length [samples]: samples >= kMaxReferenceDelay / 800 apart cover the longest delay.
+  static constexpr int kLine = 1024;
+
+  /// Goal, path and delay line at zero.
+  explicit ReferenceModel(const ReferenceModelParams& params = ReferenceModelParams());
+
+  /// Replace the settings; goal, path and delay line kept, the goal's rate zeroed unless
+  /// generalized_goal.
+  void setParams(const ReferenceModelParams& params);
+  /// The settings in use.
+  const ReferenceModelParams& params() const { return params_; }
+  /// Set the wheel separation b [m] of the wheel bound (the model's, as it is learned); ignored
+  /// unless finite and > 0. Path and line kept.
+  void setWheelSeparation(double b);
+  /**
+   * \brief Bound the path's rate along x_dot to [-front, rear] [m/s^2] (the TipGuard's bounds:
+   *        the deceleration that lifts the rear wheels, the acceleration that lifts the front
+   *        ones), on top of accelerationBounds()' other bounds. +inf = none (the default); a value
+   *        that is NaN or < 0 is ignored. Kept by setParams() and start().
+   */
+  void setTipBounds(double front, double rear);
+  /// The tip bounds in force (front, rear) [m/s^2] (+inf: none).
+  double tipBoundFront() const { return tip_front_; }
+  /// See tipBoundFront().
+  double tipBoundRear() const { return tip_rear_; }
+  /// True with a reference model (time_constant > 0).
+  bool enabled() const { return params_.time_constant > 0.0; }
+
+  /**
+   * \brief Set the goal mu_d [m/s, m/s, rad/s] and its rate mu_d' [m/s^2, m/s^2, rad/s^2]
+   *        (the rate is stored as zero unless generalized_goal).
+   * \return false (goal unchanged) for a non-finite element or one beyond goal_limit.
+   */
+  bool setGoal(const Vector3& mu_d, const Vector3& mu_d_dot = Vector3::Zero());
+  /// The goal mu_d [m/s, m/s, rad/s]; zero until setGoal().
+  const Vector3& goal() const { return mu_d_; }
+  /// The goal's rate mu_d' [m/s^2, m/s^2, rad/s^2] (zero unless generalized_goal).
+  const Vector3& goalRate() const { return mu_d_dot_; }
+  /// The predicted goal mu_hat_d = mu_d + t_lead mu_d' with generalized_goal (t_lead = goal_lead
+  /// for x_dot and y_dot, goal_lead_angular for theta_dot), else mu_d [m/s, m/s, rad/s]: the
+  /// reference model's input.
+  Vector3 target() const;
+
+  /**
+   * \brief Start the path at m0 [m/s, m/s, rad/s]: m = m0, m' = 0, the delay line one sample at
+   *        time 0, mu_r = m0, mu_r' = 0. The goal is kept.
+   * \return false (unchanged) if m0 is not finite.
+   */
+  bool start(const Vector3& m0);
+  /// Advance m and its delay line by h [s] (h finite and > 0) with the goal held; no effect
+  /// without a reference model.
+  void advance(double h);
+
+  /// The undelayed path m [m/s, m/s, rad/s].
+  const Vector3& path() const { return m_; }
+  /// The path's rate m' = clamp((target() - m) / T_r, lo, hi) [m/s^2, m/s^2, rad/s^2], (lo, hi) =
+  /// accelerationBounds(). Requires enabled().
+  Vector3 rate() const;
+  /// The path's largest acceleration per channel acc = (max_acceleration_linear,
+  /// max_acceleration_linear, max_acceleration_angular) [m/s^2, m/s^2, rad/s^2].
+  Vector3 accelerationLimit() const;
+  /**
+   * \brief The bounds lo <= m' <= hi of the path's rate at its present value m [m/s^2, m/s^2, rad/s^2].
+   *
+   * acc = accelerationLimit() both ways, except along x_dot and y_dot where m is not 0: the
+   * direction that slows the path toward 0 (m' < 0 for m > 0, m' > 0 for m < 0) is bounded by
+   * max_deceleration_linear when it is > 0 (braking a robot whose payload would tip it forward
+   * or backward above that deceleration; doc/active_inference.md, 'Set-point dynamics'); then
+   * along x_dot lo >= -tipBoundFront(), hi <= tipBoundRear() (setTipBounds()).
+   */
+  void accelerationBounds(Vector3* lo, Vector3* hi) const;
+  /// The attractor's goal [m/s, m/s, rad/s]: mu_r = m(t - d_r) with a reference model, else mu_d.
+  Vector3 attractorGoal() const { return enabled() ? mu_r_ : mu_d_; }
+  /// The attractor's rate [m/s^2, m/s^2, rad/s^2]: mu_r' with a reference model, else mu_d'.
+  Vector3 attractorRate() const { return enabled() ? mu_r_dot_ : mu_d_dot_; }
+  /// The path's clock: the time advanced since start() [s].
+  double time() const { return time_; }
+  /// Samples in the delay line, 1 ... kLine.
+  int lineSize() const { return count_; }
+
+private:
+  /// W(d, bound): each rim speed's change d_x -+ d_theta b / 2 of the body change d [m/s or m/s^2]
+  /// clamped to [-bound, bound], d_x and d_theta recomputed; no change when max_acceleration_wheel is 0.
+  void clampWheels(Vector3* d, double bound) const;
+  /// One delay-line sample: time [s], m, m'.
+  struct Sample
+  {
+    double t;
+    Vector3 m;
+    Vector3 m_dot;
+  };
+
+  ReferenceModelParams params_;
+  Vector3 mu_d_ = Vector3::Zero();
+  Vector3 mu_d_dot_ = Vector3::Zero();
+  Vector3 m_ = Vector3::Zero();
+  double time_ = 0.0;
+  std::array<Sample, kLine> line_{};
+  int head_ = 0;                                                ///< index of the newest sample
+  int count_ = 1;                                               ///< samples in the line
+  Vector3 mu_r_ = Vector3::Zero();                              ///< the delayed path mu_r at time_
+  Vector3 mu_r_dot_ = Vector3::Zero();                          ///< its rate mu_r'
+  double tip_front_ = std::numeric_limits<double>::infinity();  ///< setTipBounds()' front [m/s^2]
+  double tip_rear_ = std::numeric_limits<double>::infinity();   ///< setTipBounds()' rear [m/s^2]
+};
+
+}  // namespace jackal_aic

@@ -1,0 +1,47 @@
+#pragma once
+/**
+ * \file latency_floor.hpp
+ * \brief The latency floor: the tracking error of an ideal servo that only lags the set-point
+ *        stream by the plant's latency (doc/tools.md, 'Tracking benchmark'). ROS-free.
+ */
+
+#include <vector>
+
+#include "jackal_aic/analysis/tracking_error.hpp"
+#include "jackal_aic/analysis/twist_profile.hpp"
+#include "jackal_aic/params/aic_params.hpp"
+
+namespace jackal_aic
+{
+/// The ideal servo of latencyFloor(): what it knows of the stream and what it can do.
+struct LatencyFloorSettings
+{
+  double latency = 0.0;        ///< L: command-to-motion latency of the plant [s], finite, in [0, 10]
+  double accel_linear = 0.0;   ///< largest |dvx/dt| [m/s^2]; 0 = unlimited; finite, >= 0
+  double accel_angular = 0.0;  ///< largest |dwz/dt| [rad/s^2]; 0 = unlimited; finite, >= 0
+  /// true: the servo aims at the set point predicted L ahead, mu_d + L mu_d' (mu_d' by the
+  /// GoalRateEstimator, as the AIC's generalized goal); false: at the set point it has (hold)
+  bool predict = false;
+  double dt = 0.001;  ///< sample period of the servo and of the error [s], finite, in [1e-5, 0.1]
+};
+
+/**
+ * \brief The latency floor of a profile: the velocity tracking error of an ideal servo, the
+ *        best any controller can do through a plant that moves only L after it is commanded,
+ *        for a given way of predicting the stream.
+ *
+ * The servo receives each profile point at its time, as the controller receives the stream, and
+ * its body twist is y(t) = clamp_a(u(t - L)) with u the held set point mu_d(t) (predict false) or
+ * its prediction mu_d(t) + L mu_d'(t) (predict true, mu_d' from a GoalRateEstimator with
+ * goal_rate's goal_rate_hold and max_goal_rate_*), clamp_a a rate limit of
+ * accel_linear / accel_angular (none where 0), y = 0 before t = L. No wheel loop, no slip, no
+ * torque limit, no noise: a controller on the plant cannot do better than this servo with the same
+ * predictor (doc/tools.md, 'Latency floor'). The error is velocityTrackingError() of y sampled
+ * every dt over [0, duration].
+ * \param goal_rate  parameters of the goal-rate estimator (validated AicParams; only its
+ *                   goal-rate keys are used)
+ * \throws std::invalid_argument on an invalid profile or settings out of range (message says which)
+ */
+VelocityTrackingError latencyFloor(const TwistProfile& profile, const AicParams& goal_rate,
+                                   const LatencyFloorSettings& settings);
+}  // namespace jackal_aic

@@ -1,0 +1,652 @@
+/**
+ * \file controller.cpp
+ * \brief Active inference controller (thesis eq. 3-6 ... 3-16; Pezzato et al. 2020; doc/active_inference.md,
+ *        'Prediction errors and free energy' to 'Integrators'), composed of its stages ('Structure of
+ *        the controller').
+ */
+#include "jackal_aic/aic/controller.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <unsupported/Eigen/MatrixFunctions>
+
+namespace jackal_aic
+{
+namespace
+{
+std::string joinViolations(const std::vector<ParamViolation>& violations)
+{
+  std::string msg = "invalid AicParams:";
+  for (const auto& v : violations)
+  {
+    msg += " " + v.toString() + ";";
+  }
+  return msg;
+}
+
+/// Returns params if valid, throws std::invalid_argument listing every violation otherwise.
+const AicParams& checked(const AicParams& params)
+{
+  const auto violations = params.validate();
+  if (!violations.empty())
+  {
+    throw std::invalid_argument(joinViolations(violations));
+  }
+  return params;
+}
+
+bool finiteStep(double h)
+{
+  return std::isfinite(h) && h > 0.0;
+}
+
+ReferenceModelParams referenceParams(const AicParams& params)
+{
+  ReferenceModelParams rp;
+  rp.generalized_goal = params.generalized_goal;
+  rp.goal_lead = params.goal_lead;
+  rp.goal_lead_angular = params.goal_lead_angular;
+  rp.time_constant = params.reference_time_constant;
+  rp.max_acceleration_linear = params.max_reference_acceleration_linear;
+  rp.max_acceleration_angular = params.max_reference_acceleration_angular;
+  rp.max_deceleration_linear = params.max_reference_deceleration_linear;
+  rp.max_acceleration_wheel = params.max_reference_acceleration_wheel;
+  rp.wheel_separation = params.wheel_separation;
+  rp.delay = params.reference_delay;
+  rp.goal_limit = params.runaway_limit;
+  return rp;
+}
+
+ActionPriorParams actionPriorParams(const AicParams& params)
+{
+  ActionPriorParams ap;
+  ap.gain = params.action_prior_gain;
+  ap.time_constant = params.action_prior_time_constant;
+  return ap;
+}
+
+AntiWindupParams antiWindupParams(const AicParams& params)
+{
+  AntiWindupParams aw;
+  aw.max_action_lead = params.max_action_lead;
+  aw.max_action_lead_turn = params.max_action_lead_turn;
+  aw.max_wheel_speed = params.max_wheel_speed;
+  return aw;
+}
+
+/// Settings of the learner from params (initial b_hat: wheel_separation clamped to the bounds).
+SeparationLearnerParams learnerParams(const AicParams& params)
+{
+  SeparationLearnerParams lp;
+  lp.wheel_radius = params.wheel_radius;
+  lp.slip_factor = params.slip_factor;
+  lp.min = params.separation_min;
+  lp.max = params.separation_max;
+  lp.initial = std::clamp(params.wheel_separation, params.separation_min, params.separation_max);
+  lp.rate = params.separation_learning_rate;
+  lp.min_yaw_rate = params.separation_min_yaw_rate;
+  lp.max_yaw_acceleration = params.separation_max_yaw_acceleration;
+  lp.max_rate = params.separation_max_rate;
+  return lp;
+}
+}  // namespace
+
+ActiveInferenceController::ActiveInferenceController(const AicParams& params)
+  : params_(checked(params))
+  , model_(params.wheel_radius, params.slip_factor, params.wheel_separation)
+  , learner_(learnerParams(params))
+{
+  const int n = params.numOrders();
+  mu_.setZero(kMuDim, n);
+  y_tilde_.setZero(kYDim, n);
+  applyParams(params);
+  startReference(Vector3::Zero());
+  action_line_.restart(model_.twistFromWheels(a_));
+}
+
+void ActiveInferenceController::setParams(const AicParams& params)
+{
+  checked(params);
+  const bool order_changed = params.embedding_order != params_.embedding_order;
+  applyParams(params);
+  // A lower max_wheel_speed applies to the action held now, not only from the next action step
+  // (found by test/fuzz/fuzz_core.cpp).
+  a_ = anti_windup_.limitWheelSpeed(a_);
+  if (order_changed)
+  {
+    const int n = params.numOrders();
+    mu_.setZero(kMuDim, n);
+    y_tilde_.setZero(kYDim, n);
+    a_.setZero();
+    a_F_.setZero();
+    has_measurement_ = false;
+  }
+}
+
+void ActiveInferenceController::applyParams(const AicParams& params)
+{
+  // What was learned survives a parameter change that keeps learning on and the geometry.
+  const bool keep_learned = params.learn_wheel_separation && params_.learn_wheel_separation &&
+                            params.wheel_separation == params_.wheel_separation &&
+                            params.wheel_radius == params_.wheel_radius && params.slip_factor == params_.slip_factor;
+  const double learned = learner_.separation();
+  params_ = params;
+  model_ = SkidSteerModel(params.wheel_radius, params.slip_factor, params.wheel_separation);
+  learner_ = SeparationLearner(learnerParams(params));
+  if (keep_learned)
+  {
+    learner_.setSeparation(learned);
+  }
+  if (params.learn_wheel_separation)
+  {
+    model_.setWheelSeparation(learner_.separation());
+  }
+  reference_.setParams(referenceParams(params));            // zeroes the goal's rate unless generalized_goal
+  reference_.setWheelSeparation(model_.wheelSeparation());  // the learned b_hat when learning
+  action_line_.setDelay(params.reference_delay);
+  action_prior_ = ActionPrior(actionPriorParams(params));
+  release_ = RestRelease(params.action_release_time);
+  if (params.goal_response_time_constant != response_.timeConstant())
+  {
+    response_ = GoalResponse(params.goal_response_time_constant);
+    response_.start(reference_.attractorGoal());
+  }
+  anti_windup_ = AntiWindup(antiWindupParams(params));
+  pi_mu_ = params.precisionMu();
+  precision_learner_.setParams(precisionLearnerParams(params));
+  rebuildDynamics();
+}
+
+void ActiveInferenceController::applyLearnedSeparation(bool force)
+{
+  const double b = learner_.separation();
+  const double b_model = model_.wheelSeparation();
+  if (force || std::abs(b - b_model) > kSeparationApplyTolerance * b_model)
+  {
+    model_.setWheelSeparation(b);
+    reference_.setWheelSeparation(b);
+    rebuildDynamics();
+  }
+}
+
+bool ActiveInferenceController::setLearnedSeparation(double b)
+{
+  if (!learner_.setSeparation(b))
+  {
+    return false;
+  }
+  if (params_.learn_wheel_separation)
+  {
+    applyLearnedSeparation(true);
+  }
+  return true;
+}
+
+void ActiveInferenceController::resetLearning()
+{
+  learner_.reset();
+  if (params_.learn_wheel_separation)
+  {
+    applyLearnedSeparation(true);
+  }
+}
+
+void ActiveInferenceController::setSensorMask(std::uint8_t mask)
+{
+  mask &= static_cast<std::uint8_t>((1u << kYDim) - 1u);
+  if (mask == sensor_mask_)
+  {
+    return;
+  }
+  sensor_mask_ = mask;
+  rebuildDynamics();
+}
+
+void ActiveInferenceController::rebuildDynamics()
+{
+  const AicParams& params = params_;
+  pi_y_ = params.precisionY();
+  if (params.learn_precision)
+  {
+    precision_learner_.applyTo(&pi_y_);
+  }
+  for (int j = 0; j < kYDim; ++j)
+  {
+    if ((sensor_mask_ & (1u << j)) == 0)
+    {
+      pi_y_.row(j).setZero();
+    }
+  }
+
+  // The belief dynamics are affine in mu_tilde: dmu/dt = M vec(mu) + (terms in y_tilde, mu_d).
+  // Column j of M is dmu/dt at mu = e_j with y_tilde = 0 and mu_d = 0.
+  const int n = params.numOrders();
+  const int dim = kMuDim * n;
+  M_.setZero(dim, dim);
+  MuTilde e(kMuDim, n);
+  MuTilde f(kMuDim, n);
+  YTilde y0 = YTilde::Zero(kYDim, n);
+  const Vector3 zero3 = Vector3::Zero();
+  for (int j = 0; j < dim; ++j)
+  {
+    e.setZero();
+    e.data()[j] = 1.0;
+    computeMuDot(e, y0, zero3, zero3, &f);
+    M_.col(j) = Eigen::Map<const Eigen::VectorXd>(f.data(), dim);
+  }
+  m_norm_ = M_.cwiseAbs().rowwise().sum().maxCoeff();  // ||M||_inf [1/s]
+  phi_.setZero(dim, dim);
+  psi_.setZero(dim, dim);
+  exact_h_ = 0.0;
+}
+
+bool ActiveInferenceController::setGoal(const Vector3& mu_d, const Vector3& mu_d_dot)
+{
+  return reference_.setGoal(mu_d, mu_d_dot);
+}
+
+Vector3 ActiveInferenceController::attractorGoal() const
+{
+  return reference_.attractorGoal();
+}
+
+Vector3 ActiveInferenceController::priorGoal() const
+{
+  return params_.belief_model == BeliefModel::kUnbiased ? action_line_.delayed() : reference_.attractorGoal();
+}
+
+Vector3 ActiveInferenceController::priorRate() const
+{
+  return params_.belief_model == BeliefModel::kUnbiased ? Vector3::Zero() : reference_.attractorRate();
+}
+
+Vector2 ActiveInferenceController::actionPrior() const
+{
+  return action_prior_.wheels(model_, reference_);
+}
+
+bool ActiveInferenceController::startReference(const Vector3& m0)
+{
+  if (!reference_.start(m0))
+  {
+    return false;
+  }
+  response_.start(m0);
+  return true;
+}
+
+bool ActiveInferenceController::setMeasurement(const YTilde& y_tilde)
+{
+  if (y_tilde.cols() != params_.numOrders() || !y_tilde.allFinite() ||
+      y_tilde.cwiseAbs().maxCoeff() > kMaxMeasurementMagnitude)
+  {
+    return false;
+  }
+  y_tilde_ = y_tilde;
+  has_measurement_ = true;
+  return true;
+}
+
+bool ActiveInferenceController::setBeliefs(const MuTilde& mu)
+{
+  if (mu.cols() != params_.numOrders() || !mu.allFinite() || mu.cwiseAbs().maxCoeff() > params_.runaway_limit)
+  {
+    return false;
+  }
+  mu_ = mu;
+  return true;
+}
+
+void ActiveInferenceController::computeEpsY(const MuTilde& mu, const YTilde& y_tilde, YTilde* eps_y) const
+{
+  const int n = params_.numOrders();
+  for (int i = 0; i < n; ++i)
+  {
+    eps_y->col(i) = epsYOrder(mu, y_tilde, i);
+  }
+}
+
+Vector5 ActiveInferenceController::epsYOrder(const MuTilde& mu, const YTilde& y_tilde, int i) const
+{
+  Vector5 e;
+  e.noalias() = y_tilde.col(i) - model_.R() * mu.col(i);
+  if (params_.accel_in_model && i + 1 < params_.numOrders())
+  {
+    // Optional kinematic accelerometer row: accel_x^(i) predicted by x_dot^(i+1).
+    e(kAccelX) -= mu(0, i + 1);
+  }
+  return e;
+}
+
+void ActiveInferenceController::computeEpsMu(const MuTilde& mu, const Vector3& g, const Vector3& g_dot,
+                                             MuTilde* eps_mu) const
+{
+  const int n = params_.numOrders();
+  const double inv_tau = 1.0 / params_.tau;
+  // eps_mu^(0) = mu^(1) - g' - (g - mu^(0)) / tau (g = mu_d, g' = 0: eq. 3-9; a generalized goal or
+  // the reference path: doc/active_inference.md, 'Set-point dynamics');
+  // eps_mu^(i) = mu^(i+1) + mu^(i) / tau, mu^(p+1) = 0.
+  eps_mu->col(0) = mu.col(1) - g_dot - (g - mu.col(0)) * inv_tau;
+  for (int i = 1; i < n; ++i)
+  {
+    eps_mu->col(i) = mu.col(i) * inv_tau;
+    if (i + 1 < n)
+    {
+      eps_mu->col(i) += mu.col(i + 1);
+    }
+  }
+}
+
+void ActiveInferenceController::computeDfDmu(const MuTilde& mu, const YTilde& y_tilde, const Vector3& g,
+                                             const Vector3& g_dot, MuTilde* grad) const
+{
+  const int n = params_.numOrders();
+  const double inv_tau = 1.0 / params_.tau;
+  YTilde wy(kYDim, n);    // Pi_y eps_y
+  MuTilde wm(kMuDim, n);  // Pi_mu eps_mu
+  computeEpsY(mu, y_tilde, &wy);
+  computeEpsMu(mu, g, g_dot, &wm);
+  wy.array() *= pi_y_.array();
+  wm.array() *= pi_mu_.array();
+  const SensorMatrix& R = model_.R();
+  for (int i = 0; i < n; ++i)
+  {
+    grad->col(i).noalias() = -R.transpose() * wy.col(i);
+    grad->col(i) += inv_tau * wm.col(i);
+    if (i >= 1)
+    {
+      grad->col(i) += wm.col(i - 1);
+      if (params_.accel_in_model)
+      {
+        (*grad)(0, i) -= wy(kAccelX, i - 1);
+      }
+    }
+  }
+}
+
+void ActiveInferenceController::computeMuDot(const MuTilde& mu, const YTilde& y_tilde, const Vector3& g,
+                                             const Vector3& g_dot, MuTilde* mu_dot) const
+{
+  const int n = params_.numOrders();
+  computeDfDmu(mu, y_tilde, g, g_dot, mu_dot);
+  *mu_dot *= -params_.k_mu;
+  // Shift operator D: (D mu)^(i) = mu^(i+1), (D mu)^(p) = 0.
+  mu_dot->leftCols(n - 1) += mu.rightCols(n - 1);
+}
+
+YTilde ActiveInferenceController::epsY() const
+{
+  YTilde e(kYDim, params_.numOrders());
+  computeEpsY(mu_, y_tilde_, &e);
+  return e;
+}
+
+MuTilde ActiveInferenceController::epsMu() const
+{
+  MuTilde e(kMuDim, params_.numOrders());
+  computeEpsMu(mu_, priorGoal(), priorRate(), &e);
+  return e;
+}
+
+double ActiveInferenceController::freeEnergy() const
+{
+  const YTilde ey = epsY();
+  const MuTilde em = epsMu();
+  return 0.5 * ((ey.array().square() * pi_y_.array()).sum() + (em.array().square() * pi_mu_.array()).sum());
+}
+
+MuTilde ActiveInferenceController::dFdMu() const
+{
+  MuTilde g(kMuDim, params_.numOrders());
+  computeDfDmu(mu_, y_tilde_, priorGoal(), priorRate(), &g);
+  return g;
+}
+
+MuTilde ActiveInferenceController::muDot() const
+{
+  MuTilde d(kMuDim, params_.numOrders());
+  computeMuDot(mu_, y_tilde_, priorGoal(), priorRate(), &d);
+  return d;
+}
+
+Vector2 ActiveInferenceController::aDot() const
+{
+  const int n = params_.numOrders();
+  YTilde ey(kYDim, n);
+  if (params_.belief_model == BeliefModel::kUnbiased)
+  {
+    // The goal prior on the action's outcome: the predicted sensations R mu^(i) should be those of
+    // the goal's path g = (mu_r, mu_r', 0, ...), so eps_g^(i) = R (mu^(i) - g^(i)) takes eps_y's
+    // place (sign: a belief below the goal asks for more, as eps_y = y - R mu < 0 does).
+    const SensorMatrix& R = model_.R();
+    // With goal_response_time_constant T_g > 0 the goal's path as the robot is expected to follow
+    // it (GoalResponse), else the reference path itself.
+    const Vector3 g0 = response_.enabled() ? response_.goal() : reference_.attractorGoal();
+    const Vector3 g1 = response_.enabled() ? response_.rate() : reference_.attractorRate();
+    for (int i = 0; i < n; ++i)
+    {
+      Vector3 d = mu_.col(i);
+      if (i == 0)
+      {
+        d -= g0;
+      }
+      else if (i == 1)
+      {
+        d -= g1;
+      }
+      ey.col(i).noalias() = R * d;
+    }
+  }
+  else
+  {
+    computeEpsY(mu_, y_tilde_, &ey);
+  }
+  ey.array() *= pi_y_.array();
+  // da/dt = -k_a sum_i K Pi_y^(i) eps_y^(i)
+  const Vector5 sum = ey.rowwise().sum();
+  return -params_.k_a * (model_.K() * sum);
+}
+
+void ActiveInferenceController::computeExactStep(double h)
+{
+  // Zero-order hold over one step with y_tilde and mu_d held: x' = M x + c (c constant), so
+  //   x(h) = exp(M h) x + Psi c,  Psi = int_0^h exp(M s) ds,  and since exp(M h) = I + Psi M,
+  //   x(h) = x + Psi (M x + c) = x + Psi * (dmu/dt at x).
+  // Phi and Psi come from one exponential of the augmented matrix [[M, I], [0, 0]] h (Van Loan).
+  using AugMatrix =
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 2 * kMaxStateDim, 2 * kMaxStateDim>;
+  const int dim = static_cast<int>(M_.rows());
+  AugMatrix aug = AugMatrix::Zero(2 * dim, 2 * dim);
+  aug.topLeftCorner(dim, dim) = M_ * h;
+  aug.topRightCorner(dim, dim).setIdentity();
+  aug.topRightCorner(dim, dim) *= h;
+  AugMatrix ex(2 * dim, 2 * dim);
+  ex = aug.exp();
+  phi_ = ex.topLeftCorner(dim, dim);
+  psi_ = ex.topRightCorner(dim, dim);
+  exact_h_ = h;
+  ++exact_recompute_count_;
+}
+
+ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(double h)
+{
+  if (!finiteStep(h))
+  {
+    return Status::kBadInterval;
+  }
+  if (!has_measurement_)
+  {
+    return Status::kNoMeasurement;
+  }
+  const int n = params_.numOrders();
+  MuTilde f(kMuDim, n);
+  computeMuDot(mu_, y_tilde_, priorGoal(), priorRate(), &f);
+  MuTilde next(kMuDim, n);
+  if (params_.integrator == Integrator::kExact)
+  {
+    if (exact_h_ <= 0.0 || std::abs(h - exact_h_) * m_norm_ > kExactSeriesLimit)
+    {
+      computeExactStep(h);
+    }
+    const int dim = kMuDim * n;
+    Eigen::Map<const Eigen::VectorXd> fv(f.data(), dim);
+    Eigen::Map<Eigen::VectorXd> nv(next.data(), dim);
+    nv.noalias() = psi_ * fv;
+    const double dh = h - exact_h_;
+    if (dh != 0.0)
+    {
+      // h = h0 + dh: Psi(h) = Psi(h0) + Phi(h0) Psi(dh) (exact, either sign of dh), with
+      // Psi(dh) = dh (I + dh M / 2 + dh^2 M^2 / 6 + ...) summed to the third term; the rest is
+      // below (|dh| ||M||)^3 / 24 <= kExactSeriesLimit^3 / 24 of the first.
+      StateVector g(dim);
+      g.noalias() = M_ * fv;
+      StateVector series(dim);
+      series.noalias() = dh * fv + (0.5 * dh * dh) * g;
+      StateVector g2(dim);
+      g2.noalias() = M_ * g;
+      series.noalias() += (dh * dh * dh / 6.0) * g2;
+      nv.noalias() += phi_ * series;
+    }
+    next += mu_;
+  }
+  else
+  {
+    next = mu_ + h * f;
+  }
+  if (!next.allFinite() || next.cwiseAbs().maxCoeff() > params_.runaway_limit)
+  {
+    runawayReset();
+    return Status::kRunaway;
+  }
+  mu_ = next;
+  reference_.advance(h);
+  response_.advance(h, reference_.attractorGoal(), reference_.attractorRate());
+  if (params_.learn_wheel_separation)
+  {
+    learn(h);
+  }
+  if (params_.learn_precision)
+  {
+    learnPrecision(h);
+  }
+  return Status::kOk;
+}
+
+void ActiveInferenceController::learnPrecision(double h)
+{
+  precision_learner_.update(h, epsYOrder(mu_, y_tilde_, 0), y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0),
+                            sensor_mask_, action_saturated_);
+  if (precision_learner_.changedSince(PrecisionLearner::kApplyTolerance))
+  {
+    rebuildDynamics();
+  }
+}
+
+void ActiveInferenceController::learn(double h)
+{
+  const std::uint8_t needed = (1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight);
+  learner_.update(h, y_tilde_(kGyroZ, 0), y_tilde_(kGyroZ, 1), y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0),
+                  y_tilde_(kOmegaLeft, 1), y_tilde_(kOmegaRight, 1), pi_y_(kGyroZ, 0),
+                  (sensor_mask_ & needed) == needed, action_saturated_);
+  applyLearnedSeparation(false);
+}
+
+ActiveInferenceController::Status ActiveInferenceController::updateAction(double h)
+{
+  if (!finiteStep(h))
+  {
+    return Status::kBadInterval;
+  }
+  if (!has_measurement_)
+  {
+    return Status::kNoMeasurement;
+  }
+  // Release at rest, before the step's integration (a no-op with action_release_time 0).
+  a_F_ = release_.apply(a_F_, reference_.target(), h);
+  // da_F/dt does not depend on a, so with beliefs and measurement held over the step the
+  // Euler step is also the exact one. a = a_F + a_ff.
+  const Vector2 a_dot = aDot();
+  const Vector2 prior = actionPrior();
+  const Vector2 increment = h * a_dot;
+  const Vector2 candidate = a_F_ + increment;
+  const Vector2 raw = candidate + prior;
+  // A diverging action is never clamped and sent: a non-finite command, or one step that moves
+  // a wheel's command by more than the whole range of wheel speeds (2 max_wheel_speed), resets
+  // (zero action) here, before the command leaves. The belief update's runaway_limit catches
+  // diverging beliefs only once they exceed it; on the way there (an Euler-unstable
+  // belief update grows ~6x per step) the action step can read beliefs a hundred times the
+  // robot's speed, whose action the wheel clamp would turn into +-max_wheel_speed.
+  if (!raw.allFinite() || !(increment.cwiseAbs().maxCoeff() <= 2.0 * params_.max_wheel_speed))
+  {
+    runawayReset();
+    return Status::kRunaway;
+  }
+  // The clamps and anti-windup of a_F (a masked, isolated, wheel channel is not trusted).
+  const Vector2 omega(y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0));
+  const AntiWindup::Result clamped =
+      anti_windup_.apply(a_F_, candidate, a_dot, prior, omega, (sensor_mask_ & (1u << kOmegaLeft)) != 0,
+                         (sensor_mask_ & (1u << kOmegaRight)) != 0);
+  a_F_ = clamped.free_energy_part;
+  // Saturation: the wheel-speed limit cut the command (the lead limits are anti-windup, not saturation).
+  action_saturated_ = clamped.saturated;
+  a_ = clamped.command;
+  if (params_.belief_model == BeliefModel::kUnbiased)
+  {
+    action_line_.record(h, model_.twistFromWheels(a_));
+  }
+  return Status::kOk;
+}
+
+void ActiveInferenceController::runawayReset()
+{
+  mu_.setZero();
+  a_.setZero();
+  a_F_.setZero();
+  action_line_.reset(model_.twistFromWheels(a_));
+  startReference(Vector3::Zero());
+  ++runaway_count_;
+}
+
+void ActiveInferenceController::reset()
+{
+  mu_.setZero();
+  a_.setZero();
+  a_F_.setZero();
+  action_line_.reset(model_.twistFromWheels(a_));
+  y_tilde_.setZero();
+  has_measurement_ = false;
+  startReference(Vector3::Zero());
+}
+
+void ActiveInferenceController::setAction(const Vector2& a)
+{
+  if (!a.allFinite())
+  {
+    return;
+  }
+  a_ = anti_windup_.limitWheelSpeed(a);
+  a_F_ = a_ - actionPrior();  // bumpless: the free-energy part takes the difference
+  action_line_.restart(
+      model_.twistFromWheels(a_));  // the unbiased prior expects the response to this action from now on
+}
+
+const char* toString(ActiveInferenceController::Status status)
+{
+  switch (status)
+  {
+    case ActiveInferenceController::Status::kOk:
+      return "ok";
+    case ActiveInferenceController::Status::kNoMeasurement:
+      return "no measurement";
+    case ActiveInferenceController::Status::kBadInterval:
+      return "bad interval";
+    case ActiveInferenceController::Status::kRunaway:
+      return "runaway";
+  }
+  return "unknown";
+}
+
+}  // namespace jackal_aic

@@ -1,0 +1,191 @@
+/**
+ * \file sample_pipeline.cpp
+ * \brief One sensor sample through generalizer, controller and fault monitor
+ *        (include/jackal_aic/loop/sample_pipeline.hpp).
+ */
+#include "jackal_aic/loop/sample_pipeline.hpp"
+
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace jackal_aic
+{
+namespace
+{
+/// No bound on the reference path's rate (ReferenceModel::setTipBounds).
+constexpr double kNone = std::numeric_limits<double>::infinity();
+
+/// Throws std::invalid_argument listing every violation of both sets, if any.
+void requireValid(const AicParams& aic, const FdiParams& fdi)
+{
+  std::string message;
+  for (const auto& violations : { aic.validate(), fdi.validate() })
+  {
+    for (const auto& v : violations)
+    {
+      message += (message.empty() ? "" : "; ") + v.toString();
+    }
+  }
+  if (!message.empty())
+  {
+    throw std::invalid_argument("invalid parameters: " + message);
+  }
+}
+
+/// The offset estimator's settings from the controller's keys gyro_bias_*.
+GyroBiasEstimatorParams gyroBiasParams(const AicParams& aic)
+{
+  GyroBiasEstimatorParams p;
+  p.max_bias = aic.gyro_bias_max;
+  p.rest_speed = aic.gyro_bias_rest_speed;
+  p.rest_time = aic.gyro_bias_rest_time;
+  p.time_constant = aic.gyro_bias_time_constant;
+  p.min_rest = aic.gyro_bias_min_rest;
+  return p;
+}
+
+/// The tip-over guard's settings from the controller's keys tip_guard_*.
+TipGuardParams tipGuardParams(const AicParams& aic)
+{
+  TipGuardParams p;
+  p.trip_pitch = aic.tip_guard_pitch;
+  p.margin = aic.tip_guard_margin;
+  p.min_acceleration = aic.tip_guard_min_acceleration;
+  return p;
+}
+
+/// gyroBiasParams(aic) after requireValid(aic, fdi): the pipeline's first member to need the
+/// settings reports every violation of both sets, not only the estimator's.
+GyroBiasEstimatorParams validGyroBiasParams(const AicParams& aic, const FdiParams& fdi)
+{
+  requireValid(aic, fdi);
+  return gyroBiasParams(aic);
+}
+}  // namespace
+
+SamplePipeline::SamplePipeline(const AicParams& aic, const FdiParams& fdi)
+  : gyro_bias_(validGyroBiasParams(aic, fdi)), tip_guard_(tipGuardParams(aic)), pitch_bias_(gyroBiasParams(aic))
+{
+  controller_ = std::make_unique<ActiveInferenceController>(aic);
+  generalizer_ = std::make_unique<Generalizer>(kYDim, aic.embedding_order);
+  fault_monitor_ = std::make_unique<FaultMonitor>(fdi, aic);
+}
+
+Generalizer::Status SamplePipeline::generalize(Vector5* y, double h, bool imu_ok, bool restart, bool* restarted)
+{
+  raw_gyro_ = (*y)(kGyroZ);
+  if (imu_ok && controller_->params().learn_gyro_bias)
+  {
+    (*y)(kGyroZ) -= gyro_bias_.offset();  // the generative model's sensor row y_gyro = theta_dot + beta
+  }
+  if (!imu_ok)
+  {
+    // Degraded mode: the gyro channel is masked; the wheels' yaw rate keeps its history smooth.
+    (*y)(kGyroZ) = controller_->model().twistFromWheels(Vector2((*y)(kOmegaLeft), (*y)(kOmegaRight)))(2);
+  }
+  const bool restart_now = restart || !generalizer_->initialized();
+  if (restart_now)
+  {
+    generalizer_->reset();
+  }
+  if (restarted != nullptr)
+  {
+    *restarted = restart_now;
+  }
+  return generalizer_->update(*y, h);
+}
+
+SamplePipeline::Measurement SamplePipeline::measure(const Vector5& y, double h, bool imu_ok)
+{
+  Measurement m;
+  m.accepted = controller_->setMeasurement(generalizer_->yTilde());
+  if (!m.accepted)
+  {
+    return m;
+  }
+  fault_monitor_->setImuAvailable(imu_ok);
+  if (controller_->params().learn_wheel_separation)
+  {
+    fault_monitor_->setWheelSeparation(controller_->model().wheelSeparation());  // the learned model
+  }
+  const int isolated_before = fault_monitor_->isolatedChannel();
+  m.event = fault_monitor_->update(y, controller_->mu().col(0), h);
+  controller_->setSensorMask(fault_monitor_->sensorMask());
+  if (controller_->params().learn_gyro_bias)
+  {
+    const bool gyro_ok =
+        imu_ok && (fault_monitor_->sensorMask() & (1u << kGyroZ)) != 0 && !fault_monitor_->faultPresent();
+    const Vector2& a = controller_->action();
+    gyro_bias_.update(h, raw_gyro_, y(kOmegaLeft), y(kOmegaRight), a(0), a(1), gyro_ok);
+  }
+  if (m.event != FaultMonitor::Event::kNone)
+  {
+    m.event_channel = m.event == FaultMonitor::Event::kRestored ? isolated_before : fault_monitor_->suspectedChannel();
+  }
+  return m;
+}
+
+void SamplePipeline::guardTip(const Vector5& y, double pitch_rate, double h, bool imu_ok)
+{
+  const AicParams& p = controller_->params();
+  if (h > 0.0)
+  {
+    if (p.learn_gyro_bias)
+    {
+      const Vector2& a = controller_->action();
+      pitch_bias_.update(h, pitch_rate, y(kOmegaLeft), y(kOmegaRight), a(0), a(1), imu_ok);
+    }
+    const double speed = controller_->model().twistFromWheels(Vector2(y(kOmegaLeft), y(kOmegaRight)))(0);
+    tip_guard_.update(h, pitch_rate - (p.learn_gyro_bias ? pitch_bias_.offset() : 0.0), speed, imu_ok);
+  }
+  controller_->setTipBounds(p.tip_guard ? tip_guard_.frontBound() : kNone,
+                            p.tip_guard ? tip_guard_.rearBound() : kNone);
+}
+
+void SamplePipeline::resetTipGuard()
+{
+  tip_guard_.reset();
+  pitch_bias_.reset();
+  controller_->setTipBounds(kNone, kNone);
+}
+
+void SamplePipeline::restartHistory()
+{
+  generalizer_->reset();
+  fault_monitor_->reset();
+}
+
+void SamplePipeline::activate(const Vector2& wheels, const Vector3& goal)
+{
+  controller_->reset();
+  controller_->setGoal(goal);
+  controller_->setMeasurement(generalizer_->yTilde());
+  MuTilde mu = MuTilde::Zero(kMuDim, controller_->params().numOrders());
+  mu.col(0) = controller_->model().twistFromWheels(wheels);
+  controller_->setBeliefs(mu);
+  controller_->startReference(mu.col(0));  // the expected path starts where the robot is
+  controller_->setAction(wheels);          // bumpless start from the measured wheel speeds
+}
+
+bool SamplePipeline::setParams(const AicParams& aic, const FdiParams& fdi)
+{
+  requireValid(aic, fdi);
+  controller_->setParams(aic);
+  gyro_bias_.setParams(gyroBiasParams(aic));
+  tip_guard_.setParams(tipGuardParams(aic));
+  pitch_bias_.setParams(gyroBiasParams(aic));
+  if (!aic.learn_gyro_bias)
+  {
+    gyro_bias_.reset();  // off: the gyro is used as it reads, and a later start learns afresh
+    pitch_bias_.reset();
+  }
+  fault_monitor_->setParams(fdi, aic);
+  if (aic.embedding_order == generalizer_->embeddingOrder())
+  {
+    return false;
+  }
+  generalizer_ = std::make_unique<Generalizer>(kYDim, aic.embedding_order);
+  return true;
+}
+}  // namespace jackal_aic

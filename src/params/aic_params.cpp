@@ -1,0 +1,173 @@
+/**
+ * \file params.cpp
+ * \brief AicParams validation and precisions (thesis tables C-1 and 5-8; doc/active_inference.md,
+ *        'Prediction errors and free energy' and 'Parameter sets of the thesis').
+ */
+#include "jackal_aic/params/aic_params.hpp"
+
+#include "jackal_aic/params/param_spec.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace jackal_aic
+{
+bool integratorFromString(const std::string& name, Integrator* out)
+{
+  if (out == nullptr)
+  {
+    return false;
+  }
+  if (name == "euler")
+  {
+    *out = Integrator::kEuler;
+    return true;
+  }
+  if (name == "exact")
+  {
+    *out = Integrator::kExact;
+    return true;
+  }
+  return false;
+}
+
+std::string toString(Integrator integrator)
+{
+  switch (integrator)
+  {
+    case Integrator::kEuler:
+      return "euler";
+    case Integrator::kExact:
+      return "exact";
+  }
+  return "unknown";
+}
+
+bool beliefModelFromString(const std::string& name, BeliefModel* out)
+{
+  if (out == nullptr)
+  {
+    return false;
+  }
+  if (name == "goal")
+  {
+    *out = BeliefModel::kGoal;
+    return true;
+  }
+  if (name == "unbiased")
+  {
+    *out = BeliefModel::kUnbiased;
+    return true;
+  }
+  return false;
+}
+
+std::string toString(BeliefModel model)
+{
+  switch (model)
+  {
+    case BeliefModel::kGoal:
+      return "goal";
+    case BeliefModel::kUnbiased:
+      return "unbiased";
+  }
+  return "unknown";
+}
+
+AicParams recommendedAicParams()
+{
+  AicParams p;  // rates 1000 / 50 Hz, robot geometry, runaway_limit: as table 5-8
+  p.integrator = Integrator::kExact;
+  p.tau = 0.01232;
+  p.k_mu = 0.008264;
+  p.k_a = 3.193;
+  p.embedding_order = 2;
+  p.var_mu = { 0.5, 0.6667, 1.333 };
+  p.var_y = { 2.0, 61.83, 1.0e5 };
+  p.max_action_lead = 1.606;
+  p.max_action_lead_turn = 0.0;
+  p.action_release_time = 0.5;
+  p.generalized_goal = true;
+  p.goal_rate_hold = 0.15;
+  p.max_goal_rate_linear = 4.0;
+  p.max_goal_rate_angular = 8.0;
+  p.goal_lead = 0.08095;
+  p.goal_lead_angular = 0.125;
+  p.reference_time_constant = 0.005;
+  p.max_reference_acceleration_linear = 3.689;
+  p.max_reference_acceleration_angular = 10.95;
+  p.max_reference_acceleration_wheel = 4.5;
+  p.reference_delay = 0.085;
+  p.action_prior_gain = 0.9715;
+  p.action_prior_time_constant = 0.00834;
+  p.learn_wheel_separation = true;  // b_hat learned from the gyro-encoder disagreement
+  p.learn_gyro_bias = true;         // the gyro's offset learned at standstill
+  p.tip_guard = true;               // braking eased when the body pitches over its wheels
+  return p;
+}
+
+std::string AicParams::summary() const
+{
+  std::ostringstream out;
+  out << "belief " << belief_rate << " Hz, action " << action_rate << " Hz, tau " << tau << " s, k_mu " << k_mu
+      << ", k_a " << k_a << ", p " << embedding_order << ", integrator " << toString(integrator);
+  return out.str();
+}
+
+std::vector<ParamViolation> AicParams::validate() const
+{
+  // The ranges are the controller's rows (include/jackal_aic/params/param_spec.hpp); the cross rule is here.
+  std::vector<ParamViolation> v = checkParamRanges(*this);
+  if (std::isfinite(belief_rate) && std::isfinite(action_rate) && belief_rate > 0.0 && action_rate > 0.0 &&
+      belief_rate < action_rate)
+  {
+    v.push_back(
+        { "belief_rate", formatParamValue(belief_rate), ">= action_rate (" + formatParamValue(action_rate) + ")" });
+  }
+  if (std::isfinite(separation_min) && std::isfinite(separation_max) && separation_min > separation_max)
+  {
+    v.push_back({ "separation_min", formatParamValue(separation_min),
+                  "<= separation_max (" + formatParamValue(separation_max) + ")" });
+  }
+  return v;
+}
+
+namespace
+{
+template <int Rows>
+Eigen::Matrix<double, Rows, Eigen::Dynamic, Eigen::ColMajor, Rows, kMaxOrders>
+precisionFrom(const std::vector<double>& var, int orders)
+{
+  if (orders < 1 || orders > kMaxOrders ||
+      (var.size() != static_cast<std::size_t>(orders) && var.size() != static_cast<std::size_t>(Rows * orders)))
+  {
+    throw std::invalid_argument("AicParams: variances of size " + std::to_string(var.size()) +
+                                " do not fit embedding_order " + std::to_string(orders - 1) +
+                                " (call validate() first)");
+  }
+  Eigen::Matrix<double, Rows, Eigen::Dynamic, Eigen::ColMajor, Rows, kMaxOrders> pi(Rows, orders);
+  const bool per_channel = var.size() == static_cast<std::size_t>(Rows * orders);
+  for (int i = 0; i < orders; ++i)
+  {
+    for (int c = 0; c < Rows; ++c)
+    {
+      const double s2 = per_channel ? var[static_cast<std::size_t>(i * Rows + c)] : var[static_cast<std::size_t>(i)];
+      pi(c, i) = 1.0 / s2;
+    }
+  }
+  return pi;
+}
+}  // namespace
+
+MuTilde AicParams::precisionMu() const
+{
+  return precisionFrom<kMuDim>(var_mu, numOrders());
+}
+
+YTilde AicParams::precisionY() const
+{
+  return precisionFrom<kYDim>(var_y, numOrders());
+}
+
+}  // namespace jackal_aic

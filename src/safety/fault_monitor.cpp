@@ -1,0 +1,252 @@
+/**
+ * \file fault_monitor.cpp
+ * \brief Sensor fault detection and isolation (Baioumy et al., ECC 2021, arXiv 2104.01817;
+ *        doc/active_inference.md, 'Fault detection and isolation').
+ */
+#include "jackal_aic/safety/fault_monitor.hpp"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace jackal_aic
+{
+namespace
+{
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+}  // namespace
+
+constexpr std::array<int, 3> FaultMonitor::kChannels;
+
+FaultMonitor::FaultMonitor(const FdiParams& fdi, const AicParams& aic)
+  : residual_(kNaN), statistic_(kNaN), last_delay_(kNaN)
+{
+  setParams(fdi, aic);
+}
+
+void FaultMonitor::setParams(const FdiParams& fdi, const AicParams& aic)
+{
+  auto violations = fdi.validate();
+  for (auto& v : aic.validate())
+  {
+    violations.push_back(std::move(v));
+  }
+  if (!violations.empty())
+  {
+    std::string msg = "invalid fault detection parameters:";
+    for (const auto& v : violations)
+    {
+      msg += " " + v.toString() + ";";
+    }
+    throw std::invalid_argument(msg);
+  }
+  fdi_ = fdi;
+  r_alpha_ = aic.wheel_radius * aic.slip_factor;
+  half_b_ = 0.5 * aic.wheel_separation;
+  c_ = r_alpha_ / aic.wheel_separation;
+  const YTilde pi_y = aic.precisionY();
+  const MuTilde pi_mu = aic.precisionMu();
+  // Var(r) = sigma^2_gyro + c^2 (sigma^2_L + sigma^2_R) for independent channel noise.
+  var_gyro_ = 1.0 / pi_y(kGyroZ, 0);
+  var_wheels_ = 1.0 / pi_y(kOmegaLeft, 0) + 1.0 / pi_y(kOmegaRight, 0);
+  const double var_r = var_gyro_ + c_ * c_ * var_wheels_;
+  pi_r_ = 1.0 / var_r;
+  pi_vx_ = pi_mu(0, 0);
+  pi_wz_ = pi_mu(2, 0);
+}
+
+bool FaultMonitor::setWheelSeparation(double b)
+{
+  if (!(std::isfinite(b) && b > 0.0))
+  {
+    return false;
+  }
+  half_b_ = 0.5 * b;
+  c_ = r_alpha_ / b;
+  pi_r_ = 1.0 / (var_gyro_ + c_ * c_ * var_wheels_);
+  return true;
+}
+
+Vector3 FaultMonitor::twistWithout(int excluded, const Vector5& y) const
+{
+  double vx = 0.0;
+  double wz = 0.0;
+  switch (excluded)
+  {
+    case kGyroZ:  // wheels only: mu = G omega (thesis eq. 3-1)
+      vx = 0.5 * r_alpha_ * (y(kOmegaLeft) + y(kOmegaRight));
+      wz = c_ * (y(kOmegaRight) - y(kOmegaLeft));
+      break;
+    case kOmegaLeft:  // gyro + right wheel: omega_R = (x_dot + theta_dot b/2) / (r alpha)
+      wz = y(kGyroZ);
+      vx = r_alpha_ * y(kOmegaRight) - wz * half_b_;
+      break;
+    default:  // kOmegaRight: gyro + left wheel: omega_L = (x_dot - theta_dot b/2) / (r alpha)
+      wz = y(kGyroZ);
+      vx = r_alpha_ * y(kOmegaLeft) + wz * half_b_;
+      break;
+  }
+  return Vector3(vx, 0.0, wz);
+}
+
+FaultMonitor::Event FaultMonitor::update(const Vector5& y, const Vector3& mu0, double h)
+{
+  if (!(std::isfinite(h) && h >= 0.0) || !y.allFinite() || !mu0.allFinite())
+  {
+    ++ignored_;
+    return Event::kNone;
+  }
+  if (!imu_available_)
+  {
+    residual_ = kNaN;
+    statistic_ = kNaN;
+    above_for_ = -1.0;
+    return Event::kNone;
+  }
+  residual_ = y(kGyroZ) - c_ * (y(kOmegaRight) - y(kOmegaLeft));
+  statistic_ = pi_r_ * residual_ * residual_;
+  const double release_level = fdi_.release_ratio * fdi_.threshold;
+
+  if (isolated_ >= 0)
+  {
+    // Restoration: the isolated channel agrees with the other two again.
+    below_for_ = statistic_ < release_level ? below_for_ + h : 0.0;
+    if (below_for_ >= fdi_.release_time && statistic_ < release_level)
+    {
+      isolated_ = -1;
+      below_for_ = 0.0;
+      above_for_ = -1.0;
+      confirmed_ = false;
+      ++restorations_;
+      return Event::kRestored;
+    }
+    return Event::kNone;
+  }
+
+  if (statistic_ <= fdi_.threshold)
+  {
+    // Below the threshold; with isolation off, a confirmed detection ends at the release level.
+    if (statistic_ < release_level || !confirmed_)
+    {
+      above_for_ = -1.0;
+      confirmed_ = false;
+      hypothesis_cost_.fill(0.0);
+    }
+    return Event::kNone;
+  }
+  if (above_for_ < 0.0)
+  {
+    above_for_ = 0.0;
+    hypothesis_cost_.fill(0.0);
+  }
+  else
+  {
+    above_for_ += h;
+  }
+  // Which exclusion makes the remaining channels agree with the beliefs (accumulated over the window).
+  for (std::size_t k = 0; k < kChannels.size(); ++k)
+  {
+    const Vector3 x = twistWithout(kChannels[k], y);
+    const double dvx = x(0) - mu0(0);
+    const double dwz = x(2) - mu0(2);
+    hypothesis_cost_[k] += pi_vx_ * dvx * dvx + pi_wz_ * dwz * dwz;
+  }
+  if (confirmed_ || above_for_ < fdi_.detect_time)
+  {
+    return Event::kNone;
+  }
+  confirmed_ = true;
+  last_delay_ = above_for_;
+  std::size_t best = 0;
+  for (std::size_t k = 1; k < kChannels.size(); ++k)
+  {
+    if (hypothesis_cost_[k] < hypothesis_cost_[best])
+    {
+      best = k;
+    }
+  }
+  suspected_ = kChannels[best];
+  if (!fdi_.enabled)
+  {
+    ++detections_;
+    return Event::kDetected;
+  }
+  isolated_ = kChannels[best];
+  below_for_ = 0.0;
+  ++isolations_;
+  return Event::kIsolated;
+}
+
+void FaultMonitor::setImuAvailable(bool available)
+{
+  imu_available_ = available;
+  if (!available)
+  {
+    above_for_ = -1.0;
+    confirmed_ = false;
+  }
+}
+
+void FaultMonitor::reset()
+{
+  isolated_ = -1;
+  above_for_ = -1.0;
+  below_for_ = 0.0;
+  confirmed_ = false;
+  hypothesis_cost_.fill(0.0);
+  residual_ = kNaN;
+  statistic_ = kNaN;
+}
+
+std::uint8_t FaultMonitor::sensorMask() const
+{
+  std::uint8_t mask = (1u << kYDim) - 1u;
+  if (!imu_available_)
+  {
+    mask &= static_cast<std::uint8_t>(~((1u << kGyroZ) | (1u << kAccelX) | (1u << kAccelY)));
+  }
+  if (isolated_ >= 0 && fdi_.enabled)
+  {
+    mask &= static_cast<std::uint8_t>(~(1u << isolated_));
+  }
+  return mask;
+}
+
+const char* FaultMonitor::channelName(int channel)
+{
+  switch (channel)
+  {
+    case kGyroZ:
+      return "gyro_z";
+    case kOmegaLeft:
+      return "omega_left";
+    case kOmegaRight:
+      return "omega_right";
+    case kAccelX:
+      return "accel_x";
+    case kAccelY:
+      return "accel_y";
+    default:
+      return "none";
+  }
+}
+
+const char* toString(FaultMonitor::Event event)
+{
+  switch (event)
+  {
+    case FaultMonitor::Event::kNone:
+      return "none";
+    case FaultMonitor::Event::kIsolated:
+      return "isolated";
+    case FaultMonitor::Event::kRestored:
+      return "restored";
+    case FaultMonitor::Event::kDetected:
+      return "detected";
+  }
+  return "unknown";
+}
+
+}  // namespace jackal_aic

@@ -1,0 +1,81 @@
+/// \file test_goal_rate.cpp  GoalRateEstimator: mu_d' of a zero-order-hold set-point stream.
+#include <gtest/gtest.h>
+
+#include <limits>
+
+#include "jackal_aic/aic/goal_rate.hpp"
+
+using namespace jackal_aic;
+
+namespace
+{
+AicParams limits()
+{
+  AicParams p;
+  p.goal_rate_hold = 0.15;
+  p.max_goal_rate_linear = 4.0;
+  p.max_goal_rate_angular = 8.0;
+  return p;
+}
+
+TEST(GoalRate, RampAtTenHertzStreamedAtFifty)
+{
+  // At rest for 0.5 s, then a planner ramps 0 -> 0.8 m/s at 2 m/s^2 in 10 Hz steps (0.5 ... 0.8 s);
+  // the set point is repeated at 50 Hz.
+  GoalRateEstimator g(limits());
+  double value = 0.0;
+  for (int k = 0; k <= 50; ++k)  // t = 0 ... 1 s
+  {
+    const double t = 0.02 * k;
+    if (k >= 25 && k % 5 == 0 && value < 0.8 - 1e-9)
+    {
+      value += 0.2;
+    }
+    ASSERT_TRUE(g.update(t, Vector3(value, 0.0, 0.0)));
+    if (k == 25)
+    {
+      EXPECT_EQ(g.rate(t), Vector3::Zero());  // the first change after a hold is a step
+    }
+    if (k >= 30 && k <= 40)
+    {
+      EXPECT_NEAR(g.rate(t)(0), 2.0, 1e-9) << t;  // the ramp continues
+    }
+  }
+  // The last change was at 0.8 s; 1.25 intervals (0.125 s) later the ramp has ended.
+  EXPECT_NEAR(g.rate(0.92)(0), 2.0, 1e-9);
+  EXPECT_EQ(g.rate(0.93), Vector3::Zero());
+}
+
+TEST(GoalRate, StepAfterHoldIsNotARamp)
+{
+  GoalRateEstimator g(limits());
+  ASSERT_TRUE(g.update(0.0, Vector3::Zero()));
+  ASSERT_TRUE(g.update(2.0, Vector3(0.5, 0.0, 1.0)));
+  EXPECT_EQ(g.rate(2.0), Vector3::Zero());
+}
+
+TEST(GoalRate, ClampedToTheLimits)
+{
+  GoalRateEstimator g(limits());
+  ASSERT_TRUE(g.update(0.0, Vector3::Zero()));
+  ASSERT_TRUE(g.update(0.05, Vector3(0.1, 0.0, 0.1)));
+  ASSERT_TRUE(g.update(0.10, Vector3(1.1, 0.0, -1.0)));  // 20 m/s^2, -22 rad/s^2
+  EXPECT_NEAR(g.rate(0.1)(0), 4.0, 1e-12);
+  EXPECT_NEAR(g.rate(0.1)(2), -8.0, 1e-12);
+}
+
+TEST(GoalRate, BadInputIsRefused)
+{
+  GoalRateEstimator g(limits());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(g.update(nan, Vector3::Zero()));
+  EXPECT_FALSE(g.update(0.0, Vector3(nan, 0.0, 0.0)));
+  ASSERT_TRUE(g.update(1.0, Vector3::Zero()));
+  ASSERT_TRUE(g.update(1.05, Vector3(0.1, 0.0, 0.0)));
+  ASSERT_TRUE(g.update(1.10, Vector3(0.2, 0.0, 0.0)));
+  EXPECT_FALSE(g.update(1.0, Vector3(5.0, 0.0, 0.0)));  // before the last change: out of order
+  EXPECT_NEAR(g.rate(1.1)(0), 2.0, 1e-9);               // state kept
+  g.reset();
+  EXPECT_EQ(g.rate(1.1), Vector3::Zero());
+}
+}  // namespace

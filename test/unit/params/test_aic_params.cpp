@@ -1,0 +1,293 @@
+/// Tests of AicParams::validate() (one test per rule), precisions and integrator names.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "jackal_aic/params/aic_params.hpp"
+
+using jackal_aic::AicParams;
+using jackal_aic::Integrator;
+
+namespace
+{
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kPrecisionTol = 1e-12;  // 1/variance units
+
+bool hasViolation(const AicParams& p, const std::string& name)
+{
+  const auto v = p.validate();
+  return std::any_of(v.begin(), v.end(), [&](const jackal_aic::ParamViolation& x) { return x.name == name; });
+}
+
+/// Every bounded scalar rule, checked for 0, negative, NaN, Inf and just above its upper bound.
+void expectPositiveRule(double AicParams::*member, const std::string& name, double upper)
+{
+  for (double bad : { 0.0, -1.0, kNaN, kInf, upper * 1.01 })
+  {
+    AicParams p;
+    p.*member = bad;
+    EXPECT_TRUE(hasViolation(p, name)) << name << " = " << bad;
+  }
+  AicParams ok;
+  EXPECT_FALSE(hasViolation(ok, name));
+  ok.*member = upper;
+  EXPECT_FALSE(hasViolation(ok, name)) << name << " = " << upper << " must be allowed";
+}
+}  // namespace
+
+TEST(Params, DefaultsAreValid)
+{
+  EXPECT_TRUE(AicParams().validate().empty());
+}
+
+TEST(Params, BeliefRate)
+{
+  expectPositiveRule(&AicParams::belief_rate, "belief_rate", jackal_aic::kMaxRate);
+}
+TEST(Params, ActionRate)
+{
+  expectPositiveRule(&AicParams::action_rate, "action_rate", jackal_aic::kMaxRate);
+}
+TEST(Params, Tau)
+{
+  expectPositiveRule(&AicParams::tau, "tau", jackal_aic::kMaxTau);
+}
+TEST(Params, KMu)
+{
+  expectPositiveRule(&AicParams::k_mu, "k_mu", jackal_aic::kMaxGain);
+}
+TEST(Params, KA)
+{
+  expectPositiveRule(&AicParams::k_a, "k_a", jackal_aic::kMaxGain);
+}
+TEST(Params, WheelRadius)
+{
+  expectPositiveRule(&AicParams::wheel_radius, "wheel_radius", jackal_aic::kMaxLength);
+}
+TEST(Params, SlipFactor)
+{
+  expectPositiveRule(&AicParams::slip_factor, "slip_factor", jackal_aic::kMaxSlipFactor);
+}
+TEST(Params, WheelSeparation)
+{
+  expectPositiveRule(&AicParams::wheel_separation, "wheel_separation", jackal_aic::kMaxLength);
+}
+TEST(Params, MaxWheelSpeed)
+{
+  expectPositiveRule(&AicParams::max_wheel_speed, "max_wheel_speed", jackal_aic::kMaxWheelSpeedLimit);
+}
+TEST(Params, RunawayLimit)
+{
+  expectPositiveRule(&AicParams::runaway_limit, "runaway_limit", jackal_aic::kMaxRunawayLimit);
+}
+
+TEST(Params, MaxActionLead)
+{
+  for (double bad : { -1.0, kNaN, kInf, jackal_aic::kMaxWheelSpeedLimit * 1.01 })
+  {
+    AicParams p;
+    p.max_action_lead = bad;
+    EXPECT_TRUE(hasViolation(p, "max_action_lead")) << bad;
+  }
+  AicParams p;
+  EXPECT_FALSE(hasViolation(p, "max_action_lead"));  // 0 = off
+  p.max_action_lead = 3.0;
+  EXPECT_FALSE(hasViolation(p, "max_action_lead"));
+}
+
+TEST(Params, MaxActionLeadTurn)
+{
+  for (double bad : { -1.0, kNaN, kInf, jackal_aic::kMaxWheelSpeedLimit * 1.01 })
+  {
+    AicParams p;
+    p.max_action_lead_turn = bad;
+    EXPECT_TRUE(hasViolation(p, "max_action_lead_turn")) << bad;
+  }
+  AicParams p;
+  EXPECT_FALSE(hasViolation(p, "max_action_lead_turn"));  // 0 = off
+  p.max_action_lead_turn = 1.0;
+  EXPECT_FALSE(hasViolation(p, "max_action_lead_turn"));
+}
+
+TEST(Params, SetPointDynamicsAndActionPrior)
+{
+  struct Case
+  {
+    const char* key;
+    double AicParams::*member;
+    std::vector<double> bad;
+    double good;
+  };
+  const std::vector<Case> cases = {
+    { "goal_rate_hold", &AicParams::goal_rate_hold, { 0.0, -0.1, 10.5, kNaN, kInf }, 0.15 },
+    { "max_goal_rate_linear", &AicParams::max_goal_rate_linear, { 0.0, -1.0, kNaN, kInf }, 4.0 },
+    { "max_goal_rate_angular", &AicParams::max_goal_rate_angular, { 0.0, -1.0, kNaN, kInf }, 8.0 },
+    { "goal_lead", &AicParams::goal_lead, { -0.01, 1.5, kNaN, kInf }, 0.0 },
+    { "goal_lead_angular", &AicParams::goal_lead_angular, { -0.01, 1.5, kNaN, kInf }, 0.0 },
+    { "reference_time_constant", &AicParams::reference_time_constant, { -0.01, 11.0, kNaN, kInf }, 0.0 },
+    { "max_reference_acceleration_wheel",
+      &AicParams::max_reference_acceleration_wheel,
+      { -0.1, 2.0e6, kNaN, kInf },
+      0.0 },
+    { "reference_delay", &AicParams::reference_delay, { -0.01, jackal_aic::kMaxReferenceDelay * 1.01, kNaN }, 0.1 },
+    { "action_prior_gain", &AicParams::action_prior_gain, { -0.1, 2.5, kNaN, kInf }, 1.0 },
+    { "action_prior_time_constant", &AicParams::action_prior_time_constant, { -0.1, 11.0, kNaN }, 0.2 },
+    { "action_release_time", &AicParams::action_release_time, { -0.1, 10.5, kNaN, kInf }, 0.5 },
+    { "gyro_bias_max", &AicParams::gyro_bias_max, { 0.0, -0.1, 1.5, kNaN, kInf }, 0.05 },
+    { "gyro_bias_rest_speed", &AicParams::gyro_bias_rest_speed, { 0.0, -0.1, 10.5, kNaN, kInf }, 0.1 },
+    { "gyro_bias_rest_time", &AicParams::gyro_bias_rest_time, { -0.1, 10.5, kNaN, kInf }, 0.0 },
+    { "gyro_bias_time_constant", &AicParams::gyro_bias_time_constant, { 0.0, -1.0, 2.0e5, kNaN, kInf }, 5.0 },
+    { "gyro_bias_min_rest", &AicParams::gyro_bias_min_rest, { -0.1, 601.0, kNaN, kInf }, 0.0 },
+    { "tip_guard_pitch", &AicParams::tip_guard_pitch, { 0.0, -0.01, 0.51, kNaN, kInf }, 0.05 },
+    { "tip_guard_margin", &AicParams::tip_guard_margin, { 0.0, -0.1, 1.01, kNaN, kInf }, 1.0 },
+    { "tip_guard_min_acceleration", &AicParams::tip_guard_min_acceleration, { 0.0, -1.0, 101.0, kNaN, kInf }, 0.5 },
+  };
+  for (const Case& c : cases)
+  {
+    for (double bad : c.bad)
+    {
+      AicParams p;
+      p.*c.member = bad;
+      EXPECT_TRUE(hasViolation(p, c.key)) << c.key << " = " << bad;
+    }
+    AicParams p;
+    p.*c.member = c.good;
+    EXPECT_FALSE(hasViolation(p, c.key)) << c.key;
+  }
+}
+
+TEST(Params, LowerSanityBounds)
+{
+  AicParams p;
+  p.tau = jackal_aic::kMinTau * 0.99;
+  p.wheel_radius = jackal_aic::kMinLength * 0.99;
+  p.wheel_separation = jackal_aic::kMinLength * 0.99;
+  p.slip_factor = jackal_aic::kMinSlipFactor * 0.99;
+  EXPECT_TRUE(hasViolation(p, "tau"));
+  EXPECT_TRUE(hasViolation(p, "wheel_radius"));
+  EXPECT_TRUE(hasViolation(p, "wheel_separation"));
+  EXPECT_TRUE(hasViolation(p, "slip_factor"));
+  p.tau = jackal_aic::kMinTau;
+  p.wheel_radius = jackal_aic::kMinLength;
+  p.wheel_separation = jackal_aic::kMinLength;
+  p.slip_factor = jackal_aic::kMinSlipFactor;
+  p.belief_rate = 1000.0;  // belief_rate >= action_rate still holds
+  EXPECT_TRUE(p.validate().empty());
+}
+
+TEST(Params, BeliefRateNotBelowActionRate)
+{
+  AicParams p;
+  p.belief_rate = 20.0;
+  p.action_rate = 50.0;
+  EXPECT_TRUE(hasViolation(p, "belief_rate"));
+  p.belief_rate = 50.0;
+  EXPECT_TRUE(p.validate().empty());
+}
+
+TEST(Params, EmbeddingOrderRange)
+{
+  for (int bad : { 0, -1, 6, 100 })
+  {
+    AicParams p;
+    p.embedding_order = bad;
+    EXPECT_TRUE(hasViolation(p, "embedding_order")) << bad;
+  }
+  for (int ok = 1; ok <= jackal_aic::kMaxEmbeddingOrder; ++ok)
+  {
+    AicParams p;
+    p.embedding_order = ok;
+    p.var_mu.assign(ok + 1, 1.0);
+    p.var_y.assign(ok + 1, 1.0);
+    EXPECT_TRUE(p.validate().empty()) << ok;
+  }
+}
+
+TEST(Params, VarianceSizes)
+{
+  AicParams p;  // p = 3
+  p.var_mu = { 1.0, 1.0 };
+  EXPECT_TRUE(hasViolation(p, "var_mu.size()"));
+  p.var_mu.assign(12, 1.0);  // 3 channels x 4 orders
+  EXPECT_FALSE(hasViolation(p, "var_mu.size()"));
+  p.var_y.assign(12, 1.0);  // wrong: per channel needs 20
+  EXPECT_TRUE(hasViolation(p, "var_y.size()"));
+  p.var_y.assign(20, 1.0);
+  EXPECT_TRUE(p.validate().empty());
+  p.var_y.clear();
+  EXPECT_TRUE(hasViolation(p, "var_y.size()"));
+}
+
+TEST(Params, VarianceValues)
+{
+  for (double bad : { 0.0, -2.0, kNaN, kInf, jackal_aic::kMinVariance * 0.99, jackal_aic::kMaxVariance * 1.01 })
+  {
+    AicParams p;
+    p.var_mu[2] = bad;
+    p.var_y[0] = bad;
+    EXPECT_TRUE(hasViolation(p, "var_mu[2]")) << bad;
+    EXPECT_TRUE(hasViolation(p, "var_y[0]")) << bad;
+  }
+}
+
+TEST(Params, IntegratorValue)
+{
+  AicParams p;
+  p.integrator = static_cast<Integrator>(7);
+  EXPECT_TRUE(hasViolation(p, "integrator"));
+}
+
+TEST(Params, ReportsEveryViolation)
+{
+  AicParams p;
+  p.tau = -1.0;
+  p.k_mu = kNaN;
+  p.wheel_radius = 0.0;
+  const auto v = p.validate();
+  ASSERT_EQ(v.size(), 3u);
+  EXPECT_EQ(v[0].toString(), "tau = -1 (allowed: >= 1e-06 and <= 1000, finite)");
+  EXPECT_EQ(v[1].name, "k_mu");
+  EXPECT_EQ(v[2].name, "wheel_radius");
+}
+
+TEST(Params, Precisions)
+{
+  AicParams p;
+  const auto pi_mu = p.precisionMu();
+  ASSERT_EQ(pi_mu.cols(), 4);
+  for (int c = 0; c < 3; ++c)
+  {
+    EXPECT_NEAR(pi_mu(c, 0), 1.0 / 1.5, kPrecisionTol);
+    EXPECT_NEAR(pi_mu(c, 3), 1.0 / 8.0, kPrecisionTol);
+  }
+  p.var_y.assign(20, 1.0);
+  p.var_y[2 * 5 + 4] = 4.0;  // order 2, channel 4
+  const auto pi_y = p.precisionY();
+  EXPECT_NEAR(pi_y(4, 2), 0.25, kPrecisionTol);
+  EXPECT_NEAR(pi_y(3, 2), 1.0, kPrecisionTol);
+}
+
+TEST(Params, PrecisionsRejectMismatch)
+{
+  AicParams p;
+  p.var_mu = { 1.0 };
+  EXPECT_THROW(p.precisionMu(), std::invalid_argument);
+}
+
+TEST(Params, IntegratorNames)
+{
+  Integrator i = Integrator::kEuler;
+  EXPECT_TRUE(jackal_aic::integratorFromString("exact", &i));
+  EXPECT_EQ(i, Integrator::kExact);
+  EXPECT_FALSE(jackal_aic::integratorFromString("Euler", &i));
+  EXPECT_EQ(i, Integrator::kExact);
+  EXPECT_TRUE(jackal_aic::integratorFromString("euler", &i));
+  EXPECT_EQ(jackal_aic::toString(i), "euler");
+  EXPECT_FALSE(jackal_aic::integratorFromString("euler", nullptr));
+}

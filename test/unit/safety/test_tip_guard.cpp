@@ -1,0 +1,295 @@
+/**
+ * \file test_tip_guard.cpp
+ * \brief TipGuard: trips on a pitch while braking, learns the deceleration at the lift's onset,
+ *        holds the braking bound at 0 until the body is level; a slope, a pitch without braking
+ *        and a missing IMU do not trip it; reset, settings and bad input
+ *        (include/jackal_aic/safety/tip_guard.hpp); the reference path's tip bounds
+ *        (ReferenceModel::setTipBounds); in SamplePipeline, the gyro y's offset learned at rest
+ *        and removed before the guard, and the guard's bounds in the controller's path.
+ */
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+
+#include "jackal_aic/params/aic_params.hpp"
+#include "jackal_aic/aic/reference_model.hpp"
+#include "jackal_aic/loop/sample_pipeline.hpp"
+#include "jackal_aic/safety/tip_guard.hpp"
+
+namespace jackal_aic
+{
+namespace
+{
+constexpr double kH = 0.02;  // the robot's 50 Hz sensor rate [s]
+constexpr double kG = TipGuard::kGravity;
+using State = TipGuard::State;
+
+/// `seconds` of samples at pitch rate q [rad/s] and body acceleration a [m/s^2] (the wheels'
+/// speed `*v` changes by a h per sample). `theta` carries the true pitch, `v` the speed, between
+/// calls. Returns the last state.
+State drive(TipGuard* g, double seconds, double q, double a, double* theta, double* v, double noise = 0.0,
+            std::mt19937* rng = nullptr)
+{
+  std::normal_distribution<double> n(0.0, 1.0);
+  State s = State::kLevel;
+  for (int i = 0; i < static_cast<int>(std::lround(seconds / kH)); ++i)
+  {
+    *theta += q * kH;
+    *v += a * kH;
+    const double wq = rng ? noise * n(*rng) : 0.0;
+    s = g->update(kH, q + wq, *v, true);
+  }
+  return s;
+}
+/// The body noses down at 0.3 rad/s while braking at `a` [m/s^2] (a < 0) until the guard trips
+/// (or the pitch reaches 0.2 rad). Returns the state.
+State tipNoseDown(TipGuard* g, double a, double* theta, double* v)
+{
+  State s = g->state();
+  while (s != State::kTippingFront && *theta < 0.2)
+  {
+    s = drive(g, kH, 0.3, a, theta, v);
+  }
+  return s;
+}
+}  // namespace
+
+TEST(TipGuard, LevelBrakingDoesNotTrip)
+{
+  TipGuard g{ TipGuardParams() };
+  double theta = 0.0;
+  double v = 1.5;
+  std::mt19937 rng(3);
+  EXPECT_EQ(drive(&g, 2.0, 0.0, -3.0, &theta, &v, 0.005, &rng), State::kLevel);
+  EXPECT_EQ(g.trips(), 0u);
+  EXPECT_TRUE(std::isinf(g.frontBound()));
+  EXPECT_TRUE(std::isinf(g.rearBound()));
+  EXPECT_NEAR(g.acceleration(), -3.0, 1e-9);
+}
+
+TEST(TipGuard, TripsWhileBrakingLearnsTheOnsetAndHoldsUntilLevel)
+{
+  TipGuardParams p;
+  p.margin = 0.8;
+  p.min_acceleration = 0.5;
+  TipGuard g{ p };
+  double theta = 0.0;
+  double v = 1.5;
+  drive(&g, 0.5, 0.0, -2.0, &theta, &v);  // braking at 2 m/s^2, all wheels down
+  // The rear wheels lift at 2.0 m/s^2 and the brake, still pressing, reaches 3.0 m/s^2 before
+  // the pitch trips the guard: the bound is learned from the onset, not from the trip.
+  State s = drive(&g, kH, 0.3, -2.0, &theta, &v);
+  s = tipNoseDown(&g, -3.0, &theta, &v);
+  ASSERT_EQ(s, State::kTippingFront);
+  EXPECT_GT(g.pitch(), p.trip_pitch);
+  EXPECT_EQ(g.trips(), 1u);
+  EXPECT_EQ(g.frontBound(), 0.0) << "while the body is tipped, the path does not brake";
+  EXPECT_TRUE(std::isinf(g.rearBound()));
+  // Learned at the onset (theta through 0.1 trip_pitch), where the acceleration was 2.0 m/s^2.
+  EXPECT_LT(g.acceleration(), -2.6) << "the brake pressed on to the trip";
+  EXPECT_NEAR(g.learnedFront(), 0.8 * 2.0, 0.05);
+  // The brake released, the body rolls back onto its wheels.
+  s = drive(&g, 0.1, 0.1, -0.2, &theta, &v);
+  EXPECT_EQ(s, State::kTippingFront) << "still tipped: theta " << g.pitch();
+  while (theta > 0.0)
+  {
+    s = drive(&g, kH, -0.3, 0.0, &theta, &v);
+  }
+  EXPECT_EQ(s, State::kLevel);
+  EXPECT_NEAR(g.pitch(), 0.0, 0.01) << "no leak while it rotates: the landing integrates back";
+  EXPECT_NEAR(g.frontBound(), 0.8 * 2.0, 0.05) << "after the trip, the learned bound";
+  // A second, harder trip does not raise the bound.
+  drive(&g, 0.5, 0.0, -3.0, &theta, &v);
+  tipNoseDown(&g, -3.0, &theta, &v);
+  EXPECT_EQ(g.trips(), 2u);
+  EXPECT_NEAR(g.learnedFront(), 0.8 * 2.0, 0.05);
+}
+
+TEST(TipGuard, TailDownWhileSpeedingUpLearnsTheRearBound)
+{
+  TipGuard g{ TipGuardParams() };
+  double theta = 0.0;
+  double v = 1.5;
+  drive(&g, 0.3, 0.0, 4.0, &theta, &v);
+  while (g.state() != State::kTippingRear && theta > -0.2)
+  {
+    drive(&g, kH, -0.3, 4.0, &theta, &v);
+  }
+  EXPECT_EQ(g.state(), State::kTippingRear);
+  EXPECT_EQ(g.rearBound(), 0.0);
+  EXPECT_NEAR(g.learnedRear(), 0.6 * 4.0, 0.1);
+  EXPECT_TRUE(std::isinf(g.frontBound()));
+}
+
+TEST(TipGuard, ASlopeOrAPitchWithoutBrakingIsNotLearned)
+{
+  TipGuard g{ TipGuardParams() };
+  double theta = 0.0;
+  double v = 1.5;
+  // Onto a 5 degree downhill ramp while cruising (no acceleration): pitched, not tripped.
+  // (kBrakingThreshold: a pitch without braking is a slope or a bump.)
+  drive(&g, 0.29, 0.3, 0.0, &theta, &v);
+  EXPECT_EQ(g.state(), State::kPitched);
+  EXPECT_EQ(g.trips(), 0u);
+  // On the ramp the body does not rotate: the estimate fades to the ramp's plane.
+  drive(&g, 5.0, 0.0, 0.0, &theta, &v);
+  EXPECT_NEAR(g.pitch(), 0.0, 0.001);
+  EXPECT_EQ(g.state(), State::kLevel);
+  // Braking on the ramp with all wheels down does not trip it.
+  drive(&g, 1.0, 0.0, -2.0, &theta, &v);
+  EXPECT_EQ(g.trips(), 0u);
+  EXPECT_TRUE(std::isinf(g.frontBound()));
+}
+
+TEST(TipGuard, WithoutTheImuThePitchFadesAndNothingIsLearned)
+{
+  TipGuard g{ TipGuardParams() };
+  double theta = 0.0;
+  double v = 1.5;
+  drive(&g, 0.05, 0.3, 0.0, &theta, &v);
+  const double before = g.pitch();
+  EXPECT_EQ(g.update(kH, 5.0, v, false), State::kNoImu) << "the gyro's reading is ignored";
+  EXPECT_NEAR(g.pitch(), before * std::exp(-kH / TipGuard::kPitchTimeConstant), 1e-12);
+  EXPECT_EQ(g.trips(), 0u);
+}
+
+TEST(TipGuard, ResetForgetsTheBounds)
+{
+  TipGuard g{ TipGuardParams() };
+  double theta = 0.0;
+  double v = 1.5;
+  tipNoseDown(&g, -2.5, &theta, &v);
+  ASSERT_TRUE(std::isfinite(g.learnedFront()));
+  g.reset();
+  EXPECT_TRUE(std::isinf(g.frontBound()));
+  EXPECT_EQ(g.pitch(), 0.0);
+  EXPECT_EQ(g.trips(), 0u);
+  EXPECT_EQ(g.state(), State::kLevel);
+}
+
+TEST(TipGuard, TheFloorBoundsWhatATripTeaches)
+{
+  TipGuardParams p;
+  p.min_acceleration = 1.5;
+  TipGuard g{ p };
+  double theta = 0.0;
+  double v = 1.5;
+  tipNoseDown(&g, -1.0, &theta, &v);  // a lift at 1 m/s^2 (a robot much heavier in front)
+  EXPECT_EQ(g.learnedFront(), 1.5);
+  p.min_acceleration = 2.0;
+  g.setParams(p);
+  EXPECT_EQ(g.learnedFront(), 2.0) << "a new floor raises the learned bound";
+}
+
+TEST(TipGuard, BadInputIsIgnoredAndBadSettingsRefused)
+{
+  TipGuard g{ TipGuardParams() };
+  EXPECT_EQ(g.update(0.0, 0.1, 0.0, true), State::kBadInput);
+  EXPECT_EQ(g.update(kH, std::nan(""), 0.0, true), State::kBadInput);
+  EXPECT_EQ(g.update(kH, 0.0, std::numeric_limits<double>::infinity(), true), State::kBadInput);
+  EXPECT_EQ(g.update(kH, 0.0, std::nan(""), false), State::kBadInput);
+  EXPECT_EQ(g.pitch(), 0.0);
+  EXPECT_EQ(g.acceleration(), 0.0);
+  for (const auto& bad :
+       { TipGuardParams{ 0.0, 0.8, 1.0 }, TipGuardParams{ 0.02, 0.0, 1.0 }, TipGuardParams{ 0.02, 1.1, 1.0 },
+         TipGuardParams{ 0.02, 0.8, 0.0 }, TipGuardParams{ std::nan(""), 0.8, 1.0 } })
+  {
+    EXPECT_THROW(TipGuard{ bad }, std::invalid_argument);
+    EXPECT_THROW(g.setParams(bad), std::invalid_argument);
+  }
+  try
+  {
+    TipGuard{ TipGuardParams{ 0.0, 0.0, 0.0 } };
+    FAIL() << "no exception";
+  }
+  catch (const std::invalid_argument& e)
+  {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("tip_guard_pitch"), std::string::npos) << what;
+    EXPECT_NE(what.find("tip_guard_margin"), std::string::npos) << what;
+    EXPECT_NE(what.find("tip_guard_min_acceleration"), std::string::npos) << what;
+  }
+}
+
+TEST(TipGuard, StatusTextNamesStateBoundsAndTrips)
+{
+  TipGuard g{ TipGuardParams() };
+  EXPECT_EQ(statusText(g), "level; front none, rear none; 0 trips");
+  double theta = 0.0;
+  double v = 1.5;
+  drive(&g, 0.5, 0.0, -2.5, &theta, &v);
+  tipNoseDown(&g, -2.5, &theta, &v);
+  EXPECT_EQ(statusText(g), "tipping nose-down; front 1.50 m/s^2, rear none; 1 trip");
+}
+
+TEST(ReferenceModelTipBounds, ClampThePathsRateAlongXDot)
+{
+  ReferenceModelParams p;
+  p.time_constant = 0.005;
+  p.max_acceleration_linear = 4.0;
+  ReferenceModel r{ p };
+  ASSERT_TRUE(r.start(Vector3(1.5, 0.0, 0.0)));
+  ASSERT_TRUE(r.setGoal(Vector3(0.0, 0.0, 0.5)));
+  EXPECT_NEAR(r.rate()(0), -4.0, 1e-9);
+  r.setTipBounds(1.6, std::numeric_limits<double>::infinity());
+  EXPECT_NEAR(r.rate()(0), -1.6, 1e-9) << "braking below the front bound";
+  EXPECT_NEAR(r.rate()(2), 0.5 / 0.005, 1e-9) << "the yaw channel is not bounded by it";
+  r.setTipBounds(0.0, std::numeric_limits<double>::infinity());
+  EXPECT_EQ(r.rate()(0), 0.0) << "tipping: the path holds its speed";
+  r.advance(0.1);
+  EXPECT_NEAR(r.path()(0), 1.5, 1e-12);
+  r.setTipBounds(std::nan(""), -1.0);
+  EXPECT_EQ(r.tipBoundFront(), 0.0) << "NaN and negative bounds are ignored";
+  EXPECT_TRUE(std::isinf(r.tipBoundRear()));
+  r.setParams(p);
+  EXPECT_EQ(r.tipBoundFront(), 0.0) << "kept by setParams()";
+  r.setTipBounds(std::numeric_limits<double>::infinity(), 0.5);
+  ASSERT_TRUE(r.setGoal(Vector3(3.0, 0.0, 0.0)));
+  EXPECT_NEAR(r.rate()(0), 0.5, 1e-9) << "speeding up below the rear bound";
+}
+
+TEST(TipGuardInThePipeline, TheGyroYOffsetIsRemovedAndTheBoundsReachThePath)
+{
+  AicParams aic = recommendedAicParams();  // tip_guard and learn_gyro_bias on
+  FdiParams fdi;
+  SamplePipeline pipe(aic, fdi);
+  pipe.activate(Vector2::Zero(), Vector3::Zero());
+  // 6 s at rest with a 0.03 rad/s gyro y offset from power-on: without its removal the leaky
+  // pitch would settle at offset x T_theta = 0.03 rad, above tip_guard_pitch.
+  for (int i = 0; i < 300; ++i)
+  {
+    pipe.guardTip(Vector5::Zero(), 0.03, kH, true);
+  }
+  EXPECT_NEAR(pipe.pitchBias().offset(), 0.03, 0.002);
+  for (int i = 0; i < 250; ++i)
+  {
+    pipe.guardTip(Vector5::Zero(), 0.03, kH, true);
+  }
+  EXPECT_NEAR(pipe.tipGuard().pitch(), 0.0, 0.003);
+  EXPECT_TRUE(std::isinf(pipe.controller().referenceModel().tipBoundFront()));
+  // Braking (the wheels slow by 2.5 m/s^2) while the body noses down at 0.3 rad/s: it trips.
+  const double r = aic.wheel_radius;
+  double v = 1.5;
+  for (int i = 0; i < 10 && pipe.tipGuard().state() != TipGuard::State::kTippingFront; ++i)
+  {
+    v -= 2.5 * kH;
+    Vector5 y;
+    y << 0.0, v / r, v / r, 0.0, 0.0;
+    pipe.guardTip(y, 0.03 + 0.3, kH, true);
+  }
+  ASSERT_EQ(pipe.tipGuard().state(), TipGuard::State::kTippingFront);
+  EXPECT_EQ(pipe.controller().referenceModel().tipBoundFront(), 0.0) << "the path holds while tipped";
+  // Off: the controller's path is not bounded, whatever the guard saw.
+  aic.tip_guard = false;
+  pipe.setParams(aic, fdi);
+  pipe.guardTip(Vector5::Zero(), 0.03, kH, true);
+  EXPECT_TRUE(std::isinf(pipe.controller().referenceModel().tipBoundFront()));
+  pipe.resetTipGuard();
+  EXPECT_EQ(pipe.pitchBias().bias(), 0.0);
+  EXPECT_EQ(pipe.tipGuard().trips(), 0u);
+}
+
+}  // namespace jackal_aic
