@@ -398,6 +398,16 @@ double ActiveInferenceController::freeEnergy() const
   return 0.5 * ((ey.array().square() * pi_y_.array()).sum() + (em.array().square() * pi_mu_.array()).sum());
 }
 
+double ActiveInferenceController::sensoryFreeEnergy() const
+{
+  return 0.5 * (epsY().array().square() * pi_y_.array()).sum();
+}
+
+double ActiveInferenceController::priorFreeEnergy() const
+{
+  return 0.5 * (epsMu().array().square() * pi_mu_.array()).sum();
+}
+
 MuTilde ActiveInferenceController::dFdMu() const
 {
   MuTilde g(kMuDim, params_.numOrders());

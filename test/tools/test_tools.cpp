@@ -6,7 +6,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <algorithm>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -362,6 +364,96 @@ TEST(ClosedLoopRun, CsvProfileReportsTrackingAndPath)
   EXPECT_EQ(run(bin + " --controller stock --profile /nonexistent.csv").code, 1);
   EXPECT_EQ(run(bin + " --controller stock --profile " + profile + " --step 0.5").code, 2);
   EXPECT_EQ(run(bin + " --controller stock --step 0.5 --segments").code, 2);
+}
+
+/// The rows of a CSV file as maps from column name to cell.
+std::vector<std::map<std::string, std::string>> readCsv(const std::string& path, std::vector<std::string>* header)
+{
+  std::ifstream f(path);
+  std::string line;
+  std::vector<std::map<std::string, std::string>> rows;
+  auto split = [](const std::string& text) {
+    std::vector<std::string> cells;
+    std::stringstream ss(text);
+    std::string cell;
+    while (std::getline(ss, cell, ','))
+    {
+      cells.push_back(cell);
+    }
+    if (!text.empty() && text.back() == ',')
+    {
+      cells.emplace_back();
+    }
+    return cells;
+  };
+  if (!std::getline(f, line))
+  {
+    return rows;
+  }
+  *header = split(line);
+  while (std::getline(f, line))
+  {
+    const std::vector<std::string> cells = split(line);
+    std::map<std::string, std::string> row;
+    for (std::size_t i = 0; i < header->size() && i < cells.size(); ++i)
+    {
+      row[(*header)[i]] = cells[i];
+    }
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+TEST(ClosedLoopRun, CsvTraceHoldsTheInference)
+{
+  const std::string bin = CLOSED_LOOP_RUN_BIN;
+  const std::string trace = std::string(::testing::TempDir()) + "inference_trace.csv";
+  // The default configuration (embedding order 2) on the 0.5 m/s + 0.5 rad/s arc.
+  Result r = run(bin + " --controller aic --aic-config " + SOURCE_DIR + "/config/default.yaml --step 0.5 --turn 0.5" +
+                 " --hold 2 --csv " + trace);
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::vector<std::string> header;
+  const auto rows = readCsv(trace, &header);
+  ASSERT_GT(rows.size(), 100u);
+  int eps_mu = 0, eps_y = 0, mu = 0;
+  for (const std::string& h : header)
+  {
+    eps_mu += h.rfind("eps_mu", 0) == 0;
+    eps_y += h.rfind("eps_y", 0) == 0;
+    mu += h.rfind("mu", 0) == 0;
+  }
+  EXPECT_EQ(mu, 3 * 3);
+  EXPECT_EQ(eps_y, 5 * 3);
+  EXPECT_EQ(eps_mu, 3 * 3);
+  for (const char* column : { "F[-]", "F_sensory[-]", "F_prior[-]", "a_L[rad/s]", "mu0_theta_dot[rad/s]",
+                              "eps_y2_gyro_z[rad/s^3]", "eps_mu0_x_dot[m/s^2]", "mu2_x_dot[m/s^3]" })
+  {
+    EXPECT_NE(std::find(header.begin(), header.end(), column), header.end()) << column;
+  }
+  int started = 0;
+  double peak = 0.0;
+  for (const auto& row : rows)
+  {
+    if (row.at("F[-]").empty())
+    {
+      EXPECT_EQ(started, 0) << "the inference stops after the controller started, t = " << row.at("t");
+      continue;
+    }
+    ++started;
+    const double f = std::stod(row.at("F[-]"));
+    const double parts = std::stod(row.at("F_sensory[-]")) + std::stod(row.at("F_prior[-]"));
+    ASSERT_TRUE(std::isfinite(f) && f >= 0.0) << row.at("t");
+    EXPECT_NEAR(f, parts, 1e-5 * std::max(1.0, f)) << row.at("t");  // 6 significant digits each
+    EXPECT_EQ(row.at("mu0_theta_dot[rad/s]"), row.at("belief_yaw")) << row.at("t");
+    peak = std::max(peak, f);
+  }
+  EXPECT_GT(started, 100);
+  EXPECT_GT(peak, 0.0);  // the step's transient has a free energy to descend
+  // The stock controller has no inference to trace.
+  r = run(bin + " --controller stock --step 0.5 --hold 1 --csv " + trace);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(readCsv(trace, &header).size() > 10u);
+  EXPECT_EQ(std::find(header.begin(), header.end(), "F[-]"), header.end());
 }
 
 TEST(AicTrackMetrics, SignalsPoseAndBadInput)

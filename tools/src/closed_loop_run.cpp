@@ -62,7 +62,12 @@
  *        ground-truth pose x, y, heading, the ideal pose x_ideal, y_ideal, heading_ideal (empty
  *        outside the analysed span) and the AIC's wheel separation b_hat [m] (learned with
  *        learn_wheel_separation; empty for the other controllers and before the AIC starts), its gyro
- *        offset gyro_offset [rad/s], and the ground-truth pitch [rad] (> 0 nose down).
+ *        offset gyro_offset [rad/s], and the ground-truth pitch [rad] (> 0 nose down); with the AIC
+ *        then its inference, units in brackets: the free energy F and its sensory and prior parts
+ *        F_sensory, F_prior (thesis eq. 3-10), the action a_L, a_R, and per order i = 0..p the beliefs
+ *        mu<i>_{x_dot,y_dot,theta_dot}, the sensory prediction errors eps_y<i>_{gyro_z,omega_L,omega_R,
+ *        accel_x,accel_y} (eq. 3-8) and the state prediction errors eps_mu<i>_* (eq. 3-9), empty
+ *        before the controller starts.
  * Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.
  */
 
@@ -72,6 +77,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -124,6 +130,88 @@ std::string metricsJson(const std::vector<double>& t, const std::vector<double>&
      << ", \"overshoot\": " << jsonNumber(m.overshoot_percent) << ", \"sse\": " << jsonNumber(m.steady_state_error)
      << ", \"settled\": " << (m.settled ? "true" : "false") << "}";
   return os.str();
+}
+}  // namespace
+
+namespace
+{
+const char* const kMuNames[kMuDim] = { "x_dot", "y_dot", "theta_dot" };
+const char* const kMuUnits[kMuDim] = { "m/s", "m/s", "rad/s" };
+const char* const kYNames[kYDim] = { "gyro_z", "omega_L", "omega_R", "accel_x", "accel_y" };
+const char* const kYUnits[kYDim] = { "rad/s", "rad/s", "rad/s", "m/s^2", "m/s^2" };
+
+/// The unit of order i of a signal in `unit` (per second per order), e.g. "m/s^3" for m/s, i = 2.
+std::string orderUnit(const std::string& unit, int i)
+{
+  if (i == 0)
+  {
+    return unit;
+  }
+  const std::size_t slash = unit.find("/s");
+  const std::string base = unit.substr(0, slash);
+  int power = i;
+  if (slash != std::string::npos)
+  {
+    power += (unit.size() > slash + 2 && unit[slash + 2] == '^') ? std::stoi(unit.substr(slash + 3)) : 1;
+  }
+  return base + "/s" + (power == 1 ? std::string() : "^" + std::to_string(power));
+}
+
+/// The inference columns of the trace (AIC, --csv), units in brackets: F and its parts, the
+/// action, then per order i the beliefs mu<i>_*, the sensory errors eps_y<i>_* and the state
+/// errors eps_mu<i>_*. Empty for orders = 0 (no AIC).
+std::string inferenceCsvHeader(int orders)
+{
+  if (orders == 0)
+  {
+    return "";
+  }
+  std::ostringstream h;
+  h << ",F[-],F_sensory[-],F_prior[-],a_L[rad/s],a_R[rad/s]";
+  for (int i = 0; i < orders; ++i)
+  {
+    for (int c = 0; c < kMuDim; ++c)
+    {
+      h << ",mu" << i << "_" << kMuNames[c] << "[" << orderUnit(kMuUnits[c], i) << "]";
+    }
+    for (int c = 0; c < kYDim; ++c)
+    {
+      h << ",eps_y" << i << "_" << kYNames[c] << "[" << orderUnit(kYUnits[c], i) << "]";
+    }
+    for (int c = 0; c < kMuDim; ++c)
+    {
+      h << ",eps_mu" << i << "_" << kMuNames[c] << "[" << orderUnit(kMuUnits[c], i + 1) << "]";
+    }
+  }
+  return h.str();
+}
+
+/// One sample's inference columns (inferenceCsvHeader's order; empty cells: NaN, an order
+/// beyond the sample's).
+std::string inferenceCsvRow(const InferenceSample& s, int orders)
+{
+  auto cell = [](double v) { return std::isfinite(v) ? jsonNumber(v) : std::string(); };
+  std::ostringstream r;
+  r << "," << cell(s.free_energy) << "," << cell(s.sensory) << "," << cell(s.prior) << "," << cell(s.action(0)) << ","
+    << cell(s.action(1));
+  const double kNaN = std::numeric_limits<double>::quiet_NaN();
+  for (int i = 0; i < orders; ++i)
+  {
+    const bool has = i < s.mu.cols();
+    for (int c = 0; c < kMuDim; ++c)
+    {
+      r << "," << cell(has ? s.mu(c, i) : kNaN);
+    }
+    for (int c = 0; c < kYDim; ++c)
+    {
+      r << "," << cell(has ? s.eps_y(c, i) : kNaN);
+    }
+    for (int c = 0; c < kMuDim; ++c)
+    {
+      r << "," << cell(has ? s.eps_mu(c, i) : kNaN);
+    }
+  }
+  return r.str();
 }
 }  // namespace
 
@@ -322,6 +410,7 @@ int main(int argc, char** argv)
   {
     return cl.bad("--ideal-iterations must be >= 1 and --ideal-gain in (0, 2)");
   }
+  c.record_inference = !csv.empty();  // the trace's inference columns (AIC only)
   ClosedLoopRecord rec;
   IdealRun ideal;
   try
@@ -375,8 +464,10 @@ int main(int argc, char** argv)
   if (!csv.empty())
   {
     std::ofstream f(csv);
+    const int orders = rec.inference.empty() ? 0 : static_cast<int>(rec.inference.front().mu.cols());
     f << "t,set_point,v_odom,v_true,yaw_odom,yaw_true,command,belief,angular_set_point,command_yaw,belief_yaw,"
-         "x,y,heading,x_ideal,y_ideal,heading_ideal,separation,gyro_offset,pitch\n";
+         "x,y,heading,x_ideal,y_ideal,heading_ideal,separation,gyro_offset,pitch"
+      << inferenceCsvHeader(orders) << "\n";
     std::size_t ideal = 0;  // next analysed sample of the path drift
     for (std::size_t k = 0; k < rec.time.size(); ++k)
     {
@@ -398,7 +489,12 @@ int main(int argc, char** argv)
       }
       f << "," << (std::isfinite(rec.separation[k]) ? jsonNumber(rec.separation[k]) : "") << ","
         << (std::isfinite(rec.gyro_offset[k]) ? jsonNumber(rec.gyro_offset[k]) : "") << ","
-        << jsonNumber(rec.pitch_true[k], 6) << "\n";
+        << jsonNumber(rec.pitch_true[k], 6);
+      if (k < rec.inference.size())
+      {
+        f << inferenceCsvRow(rec.inference[k], orders);
+      }
+      f << "\n";
     }
     if (!f)
     {

@@ -182,6 +182,11 @@ public:
   MuTilde epsMu() const;
   /// Variational free energy F (eq. 3-10) at the current state [-].
   double freeEnergy() const;
+  /// The sensory part of F, (1/2) sum_i eps_y^(i)T Pi_y^(i) eps_y^(i) [-] (eq. 3-10, first sum).
+  double sensoryFreeEnergy() const;
+  /// The prior part of F, (1/2) sum_i eps_mu^(i)T Pi_mu^(i) eps_mu^(i) [-] (eq. 3-10, second sum);
+  /// sensoryFreeEnergy() + priorFreeEnergy() = freeEnergy() up to rounding.
+  double priorFreeEnergy() const;
   /// Gradient dF/dmu_tilde, 3 x (p+1) (eq. 3-13).
   MuTilde dFdMu() const;
   /// Belief rate of change dmu_tilde/dt = D mu_tilde - k_mu dF/dmu_tilde, 3 x (p+1) (eq. 3-15).

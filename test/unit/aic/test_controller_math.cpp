@@ -99,6 +99,29 @@ TEST(ControllerMath, GradientMatchesNumericalDerivativeOfF)
   }
 }
 
+TEST(ControllerMath, FreeEnergyIsItsSensoryAndPriorParts)
+{
+  // F = (1/2) sum_i eps_y^(i)T Pi_y^(i) eps_y^(i) + (1/2) sum_i eps_mu^(i)T Pi_mu^(i) eps_mu^(i) (eq. 3-10),
+  // each part from its own prediction errors: the sensory part moves with y alone, not with the goal.
+  std::mt19937 rng(11);
+  for (int p = 1; p <= kMaxEmbeddingOrder; ++p)
+  {
+    ActiveInferenceController c(paramsForOrder(p, &rng, true, false));
+    randomize(&c, &rng);
+    const double sensory = c.sensoryFreeEnergy();
+    const double prior = c.priorFreeEnergy();
+    EXPECT_GT(sensory, 0.0) << "p=" << p;
+    EXPECT_GT(prior, 0.0) << "p=" << p;
+    EXPECT_NEAR(sensory + prior, c.freeEnergy(), 1e-12 * c.freeEnergy()) << "p=" << p;
+    const YTilde ey = c.epsY();
+    EXPECT_NEAR(sensory, 0.5 * (ey.array().square() * c.precisionY().array()).sum(), 1e-12 * sensory);
+    // A new goal moves the prior part only.
+    ASSERT_TRUE(c.setGoal(c.mu().col(0) + Vector3(0.3, 0.0, -0.2), Vector3::Zero()));
+    EXPECT_DOUBLE_EQ(c.sensoryFreeEnergy(), sensory) << "p=" << p;
+    EXPECT_NE(c.priorFreeEnergy(), prior) << "p=" << p;
+  }
+}
+
 TEST(ControllerMath, ActionRateIsMinusKaTimesDfDaThroughK)
 {
   // dF/da = sum_i (dy^(i)/da)^T dF/dy^(i) with dy^(i)/da = K^T for every order (thesis eq. 3-16).

@@ -108,6 +108,23 @@ struct Operation
 const char* toString(Operation::Kind kind);
 
 /**
+ * \brief The AIC's inference at one sample of a run (doc/active_inference.md, 'Prediction errors
+ *        and free energy'): the free energy and its two parts, the beliefs of every order, the
+ *        prediction errors of every order and the action. All orders 0..p of one run's
+ *        embedding order p.
+ */
+struct InferenceSample
+{
+  double free_energy = 0.0;          ///< F (thesis eq. 3-10) [-]
+  double sensory = 0.0;              ///< its sensory part (1/2) sum_i eps_y^(i)T Pi_y^(i) eps_y^(i) [-]
+  double prior = 0.0;                ///< its prior part (1/2) sum_i eps_mu^(i)T Pi_mu^(i) eps_mu^(i) [-]
+  MuTilde mu;                        ///< beliefs mu_tilde, 3 x (p+1) (x_dot, y_dot, theta_dot; SI per order)
+  YTilde eps_y;                      ///< sensory prediction errors eps_y, 5 x (p+1) (eq. 3-8; SensorIndex rows)
+  MuTilde eps_mu;                    ///< state prediction errors eps_mu, 3 x (p+1) (eq. 3-9)
+  Vector2 action = Vector2::Zero();  ///< the action a = (omega_L, omega_R) [rad/s]
+};
+
+/**
  * \brief One joint-state sample of a run: what ClosedLoopRecord keeps per sample, and the loop
  *        for an observer (ClosedLoopConfig::observer).
  */
@@ -159,6 +176,9 @@ struct ClosedLoopConfig
   std::vector<Operation> operations;
   /// false: no per-sample record, health events or IMU-missing times (long runs: use observer).
   bool record = true;
+  /// With record, the AIC's inference at every sample too (ClosedLoopRecord::inference): F, its
+  /// parts, the beliefs and prediction errors of every order, the action.
+  bool record_inference = false;
   /// Called for every joint-state sample (optional).
   std::function<void(const ClosedLoopSample&)> observer;
   /// kIdeal: the command of every 50 Hz tick from the run's start, (body speed [m/s], yaw rate
@@ -210,6 +230,9 @@ struct ClosedLoopRecord
   /// Share of the two sides whose motor torque is clamped to its limit (current or voltage;
   /// WheelSpeedServo::torqueLimited()) in the step before the sample: 0, 0.5 or 1.
   std::vector<double> torque_limited;
+  /// AIC: the inference at each sample, with time (ClosedLoopConfig::record_inference; empty
+  /// otherwise, and for the other controllers). Before the controller starts a sample holds NaN.
+  std::vector<InferenceSample> inference;
   std::uint64_t runaways = 0;  ///< AIC runaway resets during the run
   /// AIC: the tip-over guard's trips during the run and its learned bounds at the end [m/s^2]
   /// (TipGuard::learnedFront(), learnedRear(); +inf: none learned).
