@@ -10,7 +10,8 @@ below it (LAYERS, the order of CMakeLists.txt). Above the core:
   parser, and links no controller library;
 - the harness (sim/harness) and the nodes (sim/nodes) include the core and the plant, never
   the tools (tools/include/jackal_tools);
-- the node (ros) includes the core, never the simulator, the tools or the override parser.
+- the node (ros) includes the core, never the simulator, the tools or the override parser;
+- no core folder includes a ROS header (the core is ROS-free).
 
 Each check is shown to fail on a seeded upward include.
 
@@ -39,6 +40,16 @@ LAYERS = {
 # The Python package under src/ (catkin_python_setup's layout) is not a C++ library.
 NOT_A_LIBRARY = {"jackal_aic_tools"}
 INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]((?:jackal_aic|jackal_sim|jackal_tools)/[^">]+)[">]', re.M)
+
+
+ROS_INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]((?:ros|roscpp|rosbag|std_msgs|std_srvs|sensor_msgs|geometry_msgs|'
+                         r'nav_msgs|diagnostic_msgs|diagnostic_updater|dynamic_reconfigure|jackal_msgs|tf2_ros)/[^">]+)'
+                         r'[">]', re.M)
+
+
+def ros_includes(files):
+    """ROS headers included by ``files`` ({name: text}): "file: include" each."""
+    return ["%s: %s" % (n, i) for n, t in sorted(files.items()) for i in ROS_INCLUDE.findall(t)]
 
 
 def includes(text):
@@ -112,6 +123,15 @@ class LayersTest(unittest.TestCase):
             files = sources_of(os.path.join("include", "jackal_aic", folder), os.path.join("src", folder))
             self.assertTrue(files, folder)
             self.assertFalse(breaches(folder, files), "%s includes what it must not" % folder)
+
+    def test_the_core_includes_no_ros_header(self):
+        for folder in CORE + ("overrides",):
+            files = sources_of(os.path.join("include", "jackal_aic", folder), os.path.join("src", folder))
+            self.assertFalse(ros_includes(files), "the core folder %s includes ROS" % folder)
+        self.assertTrue(ros_includes(sources_of("src/ros")), "the node's ROS includes were not found")
+        self.assertEqual(ros_includes({"a.cpp": "#include <ros/ros.h>\n#include <Eigen/Core>\n",
+                                       "b.hpp": '#include "sensor_msgs/Imu.h"'}),
+                         ["a.cpp: ros/ros.h", "b.hpp: sensor_msgs/Imu.h"])
 
     def test_a_seeded_upward_include_fails(self):
         seeded = {"controller.cpp": '#include "jackal_aic/aic/controller.hpp"\n#include "jackal_aic/loop/control_loop.hpp"\n'}
