@@ -57,6 +57,18 @@ ReferenceModelParams referenceParams(const AicParams& params)
   rp.wheel_separation = params.wheel_separation;
   rp.delay = params.reference_delay;
   rp.goal_limit = params.runaway_limit;
+  if (params.belief_model == BeliefModel::kRobot)
+  {
+    // The robot model: the goal predicted one latency ahead (the time the command sent now acts),
+    // its path bounded per wheel by what the wheel loop gives (A_w at the rim), no delay: the
+    // latency is in the model (WheelLoopModel), not in the goal's path.
+    rp.goal_lead = params.robot.latency;
+    rp.goal_lead_angular = params.robot.latency;
+    rp.max_acceleration_linear = ReferenceModelParams().max_acceleration_linear;
+    rp.max_acceleration_angular = ReferenceModelParams().max_acceleration_angular;
+    rp.max_acceleration_wheel = params.robot.wheel_acceleration * params.wheel_radius * params.slip_factor;
+    rp.delay = 0.0;
+  }
   return rp;
 }
 
@@ -155,6 +167,8 @@ void ActiveInferenceController::applyParams(const AicParams& params)
     response_.start(reference_.attractorGoal());
   }
   anti_windup_ = AntiWindup(antiWindupParams(params));
+  wheel_loop_.setParams(params.robot);
+  robot_belief_.setParams(params.robot);
   pi_mu_ = params.precisionMu();
   precision_learner_.setParams(precisionLearnerParams(params));
   rebuildDynamics();
@@ -287,6 +301,7 @@ bool ActiveInferenceController::setMeasurement(const YTilde& y_tilde)
   }
   y_tilde_ = y_tilde;
   has_measurement_ = true;
+  robot_sample_pending_ = true;
   return true;
 }
 
@@ -393,6 +408,10 @@ MuTilde ActiveInferenceController::epsMu() const
 
 double ActiveInferenceController::freeEnergy() const
 {
+  if (params_.belief_model == BeliefModel::kRobot)
+  {
+    return sensoryFreeEnergy() + priorFreeEnergy();
+  }
   const YTilde ey = epsY();
   const MuTilde em = epsMu();
   return 0.5 * ((ey.array().square() * pi_y_.array()).sum() + (em.array().square() * pi_mu_.array()).sum());
@@ -400,11 +419,19 @@ double ActiveInferenceController::freeEnergy() const
 
 double ActiveInferenceController::sensoryFreeEnergy() const
 {
+  if (params_.belief_model == BeliefModel::kRobot)
+  {
+    return robot_belief_.sensoryFreeEnergy();
+  }
   return 0.5 * (epsY().array().square() * pi_y_.array()).sum();
 }
 
 double ActiveInferenceController::priorFreeEnergy() const
 {
+  if (params_.belief_model == BeliefModel::kRobot)
+  {
+    return robot_belief_.priorFreeEnergy();
+  }
   return 0.5 * (epsMu().array().square() * pi_mu_.array()).sum();
 }
 
@@ -491,6 +518,10 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
   {
     return Status::kNoMeasurement;
   }
+  if (params_.belief_model == BeliefModel::kRobot)
+  {
+    return updateRobotBeliefs(h);
+  }
   const int n = params_.numOrders();
   MuTilde f(kMuDim, n);
   computeMuDot(mu_, y_tilde_, priorGoal(), priorRate(), &f);
@@ -545,6 +576,79 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
   return Status::kOk;
 }
 
+ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(double h)
+{
+  // The robot model's belief step (doc/active_inference.md, 'The robot model'): the model's
+  // prediction over h under the command in effect at the wheels, then, with a new sample, the
+  // minimiser of the free energy (RobotBelief::correct()).
+  robot_clock_ += h;
+  const double yaw_gain = model_.G()(2, 1);  // r alpha / b_hat
+  robot_belief_.predict(h, wheel_loop_, wheel_loop_.commandAt(robot_clock_), yaw_gain);
+  if (robot_sample_pending_)
+  {
+    robot_sample_pending_ = false;
+    robot_belief_.correct(Vector2(y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0)), y_tilde_(kGyroZ, 0),
+                          (sensor_mask_ & (1u << kOmegaLeft)) != 0, (sensor_mask_ & (1u << kOmegaRight)) != 0,
+                          (sensor_mask_ & (1u << kGyroZ)) != 0);
+  }
+  // The beliefs in the thesis's coordinates: mu^(0) = (x_dot, 0, theta_dot), mu^(1) their rates.
+  MuTilde next = MuTilde::Zero(kMuDim, params_.numOrders());
+  next(0, 0) = model_.twistFromWheels(robot_belief_.wheelSpeeds())(0);
+  next(2, 0) = robot_belief_.yawRate();
+  if (params_.numOrders() > 1)
+  {
+    next(0, 1) = model_.twistFromWheels(robot_belief_.wheelAccelerations())(0);
+    next(2, 1) = robot_belief_.yawAcceleration();
+  }
+  if (!next.allFinite() || next.cwiseAbs().maxCoeff() > params_.runaway_limit)
+  {
+    runawayReset();
+    return Status::kRunaway;
+  }
+  mu_ = next;
+  reference_.advance(h);
+  if (params_.learn_wheel_separation)
+  {
+    learn(h);
+  }
+  return Status::kOk;
+}
+
+ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(double h)
+{
+  // The robot model's action step: the goal's path, predicted one latency ahead and bounded by
+  // the wheel loop (ReferenceModel), at the end of the step the command will be held for, in
+  // the wheels' coordinates of the learned model; then LatencyAction's descent of F_a.
+  Vector2 goal = Vector2::Zero();
+  const bool at_rest = reference_.target().isZero(0.0) && reference_.path().cwiseAbs().maxCoeff() <= kRobotRestPath;
+  if (!at_rest)
+  {
+    const Vector3 path =
+        reference_.enabled() ? Vector3(reference_.path() + h * reference_.rate()) : reference_.target();
+    // The wheels' yaw goal makes up the believed yaw shortfall e: the gyro's part of the goal prior.
+    const Vector3 wheels_path(path(0), path(1), path(2) + robot_belief_.yawShortfall());
+    const SensorMatrix& R = model_.R();
+    goal << R.row(kOmegaLeft).dot(wheels_path), R.row(kOmegaRight).dot(wheels_path);
+  }
+  const double pi_e = 1.0 / (params_.robot.encoder_noise * params_.robot.encoder_noise);
+  // At rest the command is zero: the MCU holds the wheels, there is no shortfall to make up.
+  const Vector2 shortfall = at_rest ? Vector2::Zero() : robot_belief_.shortfalls();
+  const LatencyActionResult r =
+      LatencyAction::step(wheel_loop_, robot_belief_.wheelSpeeds(), shortfall, robot_clock_, goal, a_, h,
+                          params_.robot.action_gain, params_.max_wheel_speed, pi_e);
+  if (!r.command.allFinite())
+  {
+    runawayReset();
+    return Status::kRunaway;
+  }
+  a_ = at_rest ? Vector2::Zero() : r.command;
+  a_F_ = a_;
+  action_free_energy_ = r.free_energy;
+  action_saturated_ = r.minimiser.cwiseAbs().maxCoeff() >= params_.max_wheel_speed;
+  wheel_loop_.record(robot_clock_, a_);
+  return Status::kOk;
+}
+
 void ActiveInferenceController::learnPrecision(double h)
 {
   precision_learner_.update(h, epsYOrder(mu_, y_tilde_, 0), y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0),
@@ -573,6 +677,10 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
   if (!has_measurement_)
   {
     return Status::kNoMeasurement;
+  }
+  if (params_.belief_model == BeliefModel::kRobot)
+  {
+    return updateRobotAction(h);
   }
   // Release at rest, before the step's integration (a no-op with action_release_time 0).
   a_F_ = release_.apply(a_F_, reference_.target(), h);
@@ -616,6 +724,8 @@ void ActiveInferenceController::runawayReset()
   a_.setZero();
   a_F_.setZero();
   action_line_.reset(model_.twistFromWheels(a_));
+  wheel_loop_.reset(robot_clock_, a_);
+  robot_belief_.reset(Vector2::Zero(), 0.0);
   startReference(Vector3::Zero());
   ++runaway_count_;
 }
@@ -626,8 +736,11 @@ void ActiveInferenceController::reset()
   a_.setZero();
   a_F_.setZero();
   action_line_.reset(model_.twistFromWheels(a_));
+  wheel_loop_.reset(robot_clock_, a_);
+  robot_belief_.reset(Vector2::Zero(), 0.0);
   y_tilde_.setZero();
   has_measurement_ = false;
+  robot_sample_pending_ = false;
   startReference(Vector3::Zero());
 }
 
@@ -640,7 +753,8 @@ void ActiveInferenceController::setAction(const Vector2& a)
   a_ = anti_windup_.limitWheelSpeed(a);
   a_F_ = a_ - actionPrior();  // bumpless: the free-energy part takes the difference
   action_line_.restart(
-      model_.twistFromWheels(a_));  // the unbiased prior expects the response to this action from now on
+      model_.twistFromWheels(a_));      // the unbiased prior expects the response to this action from now on
+  wheel_loop_.reset(robot_clock_, a_);  // the robot model: this command is the one in flight
 }
 
 const char* toString(ActiveInferenceController::Status status)

@@ -60,6 +60,11 @@ bool beliefModelFromString(const std::string& name, BeliefModel* out)
     *out = BeliefModel::kUnbiased;
     return true;
   }
+  if (name == "robot")
+  {
+    *out = BeliefModel::kRobot;
+    return true;
+  }
   return false;
 }
 
@@ -71,6 +76,8 @@ std::string toString(BeliefModel model)
       return "goal";
     case BeliefModel::kUnbiased:
       return "unbiased";
+    case BeliefModel::kRobot:
+      return "robot";
   }
   return "unknown";
 }

@@ -14,6 +14,9 @@
 #include "jackal_aic/params/aic_params.hpp"
 #include "jackal_aic/aic/precision_learner.hpp"
 #include "jackal_aic/aic/goal_response.hpp"
+#include "jackal_aic/aic/latency_action.hpp"
+#include "jackal_aic/aic/robot_belief.hpp"
+#include "jackal_aic/aic/wheel_loop_model.hpp"
 #include "jackal_aic/aic/reference_model.hpp"
 #include "jackal_aic/aic/rest_release.hpp"
 #include "jackal_aic/aic/separation_learner.hpp"
@@ -248,6 +251,13 @@ public:
    */
   const PrecisionLearner& precisionLearner() const { return precision_learner_; }
 
+  /// belief_model robot: the beliefs (wheel speeds, shortfalls, yaw rate; RobotBelief).
+  const RobotBelief& robotBelief() const { return robot_belief_; }
+  /// belief_model robot: the sent commands and the wheel loop's model (WheelLoopModel).
+  const WheelLoopModel& wheelLoop() const { return wheel_loop_; }
+  /// belief_model robot: F_a of the last action step, the goal prior on the predicted wheel speeds [-].
+  double actionFreeEnergy() const { return action_free_energy_; }
+
   /// Number of runaway resets since construction.
   std::uint64_t runawayCount() const { return runaway_count_; }
 
@@ -271,6 +281,10 @@ public:
 
   /// Length of the action delay line (belief_model unbiased) [action steps].
   static constexpr int kActionLine = ActionDelayLine::kCapacity;
+
+  /// belief_model robot: with a zero goal, the goal's path below this on every channel [m/s, rad/s]
+  /// is rest: the action is zero (the MCU holds the wheels; no shortfall to make up).
+  static constexpr double kRobotRestPath = 1.0e-3;
 
   /// Number of times the exact integrator computed its matrix exponential (for tests and diagnostics).
   std::uint64_t exactRecomputeCount() const { return exact_recompute_count_; }
@@ -311,6 +325,10 @@ private:
   void learnPrecision(double h);
   /// Give the model the learner's b_hat if it moved beyond kSeparationApplyTolerance.
   void applyLearnedSeparation(bool force);
+  /// belief_model robot: the belief step (RobotBelief: the model's prediction, then the sample).
+  Status updateRobotBeliefs(double h);
+  /// belief_model robot: the action step (LatencyAction through WheelLoopModel).
+  Status updateRobotAction(double h);
 
   AicParams params_;
   SkidSteerModel model_;
@@ -326,6 +344,12 @@ private:
   AntiWindup anti_windup_;
   SeparationLearner learner_;
   PrecisionLearner precision_learner_;  ///< used only with params_.learn_precision
+  // belief_model robot: the commands in flight and the wheel loop, the beliefs, the model's clock [s].
+  WheelLoopModel wheel_loop_;
+  RobotBelief robot_belief_;
+  double robot_clock_ = 0.0;
+  bool robot_sample_pending_ = false;  ///< a sample arrived since the last robot belief step
+  double action_free_energy_ = 0.0;    ///< F_a of the last robot action step [-]
   bool action_saturated_ = false;
 
   Vector2 a_ = Vector2::Zero();

@@ -17,6 +17,7 @@
 
 #include "jackal_aic/base/types.hpp"
 #include "jackal_aic/params/param_violation.hpp"
+#include "jackal_aic/params/robot_model_params.hpp"
 
 namespace jackal_aic
 {
@@ -35,14 +36,17 @@ std::string toString(Integrator integrator);
 /// The state prior f of the beliefs (doc/active_inference.md, 'Unbiased beliefs').
 enum class BeliefModel
 {
-  kGoal,     ///< the thesis: f(mu) = (mu_d - mu) / tau pulls the beliefs to the goal (eq. 3-7)
-  kUnbiased  ///< f(mu, a) = (G a(t - d_r) - mu) / tau, the robot's response to the action it sends;
-             ///< the goal enters through the action (Baioumy, Pezzato, Ferrari & Hawes, IROS 2022)
+  kGoal,      ///< the thesis: f(mu) = (mu_d - mu) / tau pulls the beliefs to the goal (eq. 3-7)
+  kUnbiased,  ///< f(mu, a) = (G a(t - d_r) - mu) / tau, the robot's response to the action it sends;
+              ///< the goal enters through the action (Baioumy, Pezzato, Ferrari & Hawes, IROS 2022)
+  kRobot      ///< the identified model of the wheels through the latency and of the yaw rate
+              ///< (RobotModelParams); the action descends F through it (doc/active_inference.md,
+              ///< 'The robot model')
 };
 
-/// Parse "goal" / "unbiased" (case-sensitive). \return false if the name is unknown (out untouched).
+/// Parse "goal" / "unbiased" / "robot" (case-sensitive). \return false if the name is unknown (out untouched).
 bool beliefModelFromString(const std::string& name, BeliefModel* out);
-/// "goal" or "unbiased".
+/// "goal", "unbiased" or "robot".
 std::string toString(BeliefModel model);
 
 /// \name Sanity bounds of AicParams::validate(), used by the parameter schema (guards against
@@ -214,6 +218,8 @@ struct AicParams
    * IROS 2022; doc/active_inference.md, 'Unbiased beliefs').
    */
   BeliefModel belief_model = BeliefModel::kGoal;
+  /// The robot model's settings (belief_model robot only; doc/active_inference.md, 'The robot model').
+  RobotModelParams robot;
   /**
    * Learning of the effective wheel separation b_hat on the robot (not in the thesis): false =
    * b_hat = wheel_separation, fixed. true = b_hat descends the free energy of the gyro-encoder

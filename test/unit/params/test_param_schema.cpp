@@ -411,6 +411,7 @@ const std::map<std::string, std::vector<std::string>>& overlayBases()
     { "config/robot.yaml", { "config/default.yaml" } },
     { "config/first_run.yaml", { "config/default.yaml", "config/robot.yaml" } },
     { "config/unbiased.yaml", { "config/default.yaml", "config/robot.yaml" } },
+    { "config/robot_model.yaml", { "config/default.yaml", "config/robot.yaml" } },
   };
   return bases;
 }

@@ -1,0 +1,69 @@
+#pragma once
+/**
+ * \file latency_action.hpp
+ * \brief The robot model's action: the wheel commands descend the free energy of the goal prior on
+ *        the sensations they cause, predicted through the latency and the wheel loop
+ *        (doc/active_inference.md, 'The robot model'). ROS-free.
+ */
+
+#include "jackal_aic/aic/wheel_loop_model.hpp"
+#include "jackal_aic/base/types.hpp"
+
+namespace jackal_aic
+{
+/// What one action step of LatencyAction found.
+struct LatencyActionResult
+{
+  Vector2 command = Vector2::Zero();     ///< the new action a (omega_L, omega_R) [rad/s]
+  Vector2 minimiser = Vector2::Zero();   ///< u*, the minimiser of F_a [rad/s]
+  Vector2 at_latency = Vector2::Zero();  ///< predicted wheel speeds at t + L [rad/s]
+  Vector2 predicted = Vector2::Zero();   ///< predicted wheel speeds at t + L + h_a under `command` [rad/s]
+  double free_energy = 0.0;              ///< F_a at `command` [-]
+};
+
+/**
+ * \brief One action step of the robot model.
+ *
+ * The command a sent now reaches the wheels at t + L and is held there for the action step h_a, so
+ * the sensation it causes is the wheel speed at t + L + h_a, omega_s(t + L + h_a | a): the belief
+ * omega_s(t) carried through the commands in flight (WheelLoopModel::predict()) to t + L, then
+ * through the wheel loop under a_s - d_s for h_a. The goal, predicted to that time, is its prior:
+ *   F_a(a) = 1/2 sum_s pi_e (omega_s(t + L + h_a | a) - g_s)^2,   pi_e = 1 / sigma_e^2.
+ * Each side's prediction is monotone in a_s, so the minimiser u* is found per side by bisection (to
+ * kTolerance): where g_s is beyond what the wheel loop can give within h_a (its rate bound), the
+ * command nearest the previous action that gives the most it can. The action then takes the
+ * Gauss-Newton step of the descent da/dt = -k_a (J^T pi_e J)^{-1} dF_a/da over h_a,
+ *   a <- a + min(1, k_a h_a) (u* - a),
+ * J = d omega(t + L + h_a)/da from the same model (not the static K of thesis eq. 3-16). The
+ * feed-forward (the model's inverse through the latency) and the feedback (the believed state's
+ * departure from the goal's path) are the same term.
+ *
+ * No heap allocation, no exceptions.
+ */
+class LatencyAction
+{
+public:
+  /// Bisection tolerance on the command [rad/s].
+  static constexpr double kTolerance = 1.0e-6;
+
+  /**
+   * \param loop        the wheel loop with the commands sent so far (the clock's `now` is the newest)
+   * \param omega       believed wheel speeds now [rad/s]
+   * \param shortfall   believed shortfalls d [rad/s]
+   * \param now         the model's clock [s]
+   * \param goal        the wheels' goal g at t + L + h_a [rad/s]
+   * \param previous    the action held now [rad/s]
+   * \param h_a         the action step [s], > 0
+   * \param gain        k_a [1/s], > 0
+   * \param max_speed   the command's bound [rad/s], > 0
+   * \param pi_e        the goal prior's precision [(rad/s)^-2], > 0 (only scales free_energy)
+   */
+  static LatencyActionResult step(const WheelLoopModel& loop, const Vector2& omega, const Vector2& shortfall,
+                                  double now, const Vector2& goal, const Vector2& previous, double h_a, double gain,
+                                  double max_speed, double pi_e);
+
+  /// One side's wheel speed after h [s] from omega0 [rad/s] under the command u less d [rad/s].
+  static double response(const WheelLoopModel& loop, double omega0, double u, double d, double h);
+};
+
+}  // namespace jackal_aic

@@ -1,0 +1,82 @@
+#pragma once
+/**
+ * \file wheel_loop_model.hpp
+ * \brief The robot model's wheel loop: the commands in flight through the latency and the MCU's
+ *        rate-bounded first-order response to them (doc/active_inference.md, 'The robot model').
+ *        ROS-free.
+ */
+
+#include <array>
+
+#include "jackal_aic/base/types.hpp"
+#include "jackal_aic/params/robot_model_params.hpp"
+
+namespace jackal_aic
+{
+/**
+ * \brief The sent wheel commands and the model of how each side's wheel speed answers them.
+ *
+ * record(t, u) stores the command u = (omega_L, omega_R) [rad/s] sent at time t [s] (the model's
+ * clock, advanced by the caller); the command in effect at the wheels at time t is the newest one
+ * sent at or before t - L (commandAt()), zero before the first. step() advances one side's wheel
+ * speed by the MCU's response,
+ *   omega <- omega + clamp((u - omega) (1 - exp(-h / T_w)), -A_w h, A_w h)
+ * (the lag integrated exactly with u held, then its rate bound), and predict() runs it over the
+ * commands in flight.
+ *
+ * No heap allocation (fixed capacity kCapacity), no exceptions.
+ */
+class WheelLoopModel
+{
+public:
+  /// Commands remembered; older ones are forgotten (the oldest kept stands in for them).
+  static constexpr int kCapacity = 1024;
+
+  /// \param params  the latency, T_w and A_w (validated by the caller)
+  explicit WheelLoopModel(const RobotModelParams& params = RobotModelParams());
+
+  /// Replace L, T_w, A_w; the history is kept.
+  void setParams(const RobotModelParams& params);
+
+  /// Forget every command: the history is u at time t [s].
+  void reset(double t, const Vector2& u);
+  /// Store the command u [rad/s] sent at time t [s] (t not before the newest stored; an earlier t
+  /// is taken as the newest's).
+  void record(double t, const Vector2& u);
+  /// The command in effect at the wheels at time t [s]: the newest sent at or before t - L [rad/s].
+  Vector2 commandAt(double t) const;
+  /// The newest command sent [rad/s] (zero before the first).
+  Vector2 lastCommand() const;
+
+  /**
+   * \brief One side's wheel speed after h [s] with the command u held [rad/s]: the lag integrated
+   *        exactly, then its change bounded by A_w h.
+   * \param[out] gain  d(result)/d(omega) (exp(-h / T_w), or 1 when the rate bound is active); may be null
+   */
+  double step(double omega, double u, double h, double* gain = nullptr) const;
+
+  /**
+   * \brief The wheel speeds at time t1 > t0 from omega0 at t0 [s], under the commands in flight
+   *        (commandAt()) less the shortfall d [rad/s], in substeps of at most kSubstep.
+   */
+  Vector2 predict(const Vector2& omega0, const Vector2& d, double t0, double t1) const;
+
+  /// Substep of predict() [s].
+  static constexpr double kSubstep = 1.0e-3;
+
+  /// L [s].
+  double latency() const { return params_.latency; }
+
+private:
+  struct Entry
+  {
+    double t;
+    Vector2 u;
+  };
+  RobotModelParams params_;
+  std::array<Entry, kCapacity> line_{};
+  int head_ = 0;   ///< index of the newest entry
+  int count_ = 1;  ///< entries in the line
+};
+
+}  // namespace jackal_aic

@@ -1,0 +1,55 @@
+#pragma once
+/**
+ * \file robot_model_params.hpp
+ * \brief Settings of the robot belief model (belief_model robot; doc/active_inference.md, 'The robot
+ *        model'): the identified latency and wheel loop, the sensors' measured noise and the
+ *        action's loop gain. ROS-free.
+ */
+
+namespace jackal_aic
+{
+/**
+ * \brief The generative model of the robot as it is (AicParams::robot; used only with
+ *        belief_model robot). Each value is identified, measured or a named gain; the source of
+ *        each default is in doc/active_inference.md, 'The robot model', table 'Parameters'.
+ *
+ * Per side s in {L, R} the wheel speed omega_s follows the commanded wheel speed u_s through the
+ * latency L and the MCU's wheel loop, a first-order lag T_w whose rate is bounded by A_w, less
+ * the side's actuation shortfall d_s (a slowly varying state):
+ *   omega_s' = clamp((u_s(t - L) - d_s - omega_s) / T_w, -A_w, A_w),   d_s' = w_d (white).
+ * The body's yaw rate follows the wheels through the effective separation b (learned) and the
+ * scrub lag T_s, less a yaw shortfall e (a slowly varying state):
+ * theta_dot' = (r (omega_R - omega_L) / b - e - theta_dot) / T_s + w_theta. The encoders
+ * read omega_s + n_e, the gyro theta_dot + beta + n_g (beta: the gyro's offset, learned).
+ */
+struct RobotModelParams
+{
+  /// L [s]: /cmd_drive to the wheels' response (plant_identify: the plant's motor.command_delay).
+  double latency = 0.1187;
+  /// T_w [s], >= 0: the wheel loop's lag to a ramped command (identified motor keys: the set-point
+  /// lag plus the part (1 - J_ff / J_n) J_n / K_p the acceleration feedforward leaves to the P path).
+  double wheel_time_constant = 0.00657;
+  /// A_w [rad/s^2], > 0: the largest wheel acceleration the wheel loop gives (identified motor keys:
+  /// (accel_feedforward_limit + proportional_limit) / J_n).
+  double wheel_acceleration = 42.87;
+  /// T_s [s], > 0: the scrub lag of the body's yaw rate behind the wheels' (a turn's transient).
+  double yaw_time_constant = 0.03;
+  /// sigma_e [rad/s], > 0: the noise of one side's measured wheel speed (a rest segment).
+  double encoder_noise = 0.0071;
+  /// sigma_g [rad/s], > 0: the gyro's noise (a rest segment).
+  double gyro_noise = 0.005;
+  /// q_w [rad/s^1.5], > 0: the wheel model's error, the spectral density of w on omega_s'.
+  double wheel_model_noise = 1.0;
+  /// q_d [rad/s^0.5], >= 0: the drift of the actuation shortfall d_s (its random walk).
+  double shortfall_noise = 0.002;
+  /// q_theta [rad/s^1.5], > 0: the yaw model's error on theta_dot'.
+  double yaw_model_noise = 1.0;
+  /// q_e [rad/s^0.5], >= 0: the drift of the yaw shortfall e, the yaw rate the wheels through the
+  /// learned separation do not deliver (its random walk); 0 = e fixed at 0.
+  double yaw_slip_noise = 0.03;
+  /// k_a [1/s], > 0: the action's loop gain, the rate of its Gauss-Newton descent of the action's
+  /// free energy; k_a h_a >= 1 (h_a the action step) reaches the minimiser in one step.
+  double action_gain = 50.0;
+};
+
+}  // namespace jackal_aic

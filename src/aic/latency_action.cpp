@@ -1,0 +1,77 @@
+/**
+ * \file latency_action.cpp
+ * \brief The robot model's action through the latency (doc/active_inference.md, 'The robot model').
+ */
+#include "jackal_aic/aic/latency_action.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace jackal_aic
+{
+namespace
+{
+/// The command within [-max_speed, max_speed] nearest `previous` whose response from omega0 over h
+/// is g (or, g out of reach, the most the loop gives toward it), by bisection.
+double minimiser(const WheelLoopModel& loop, double omega0, double d, double h, double g, double previous,
+                 double max_speed)
+{
+  const double lo_response = LatencyAction::response(loop, omega0, -max_speed, d, h);
+  const double hi_response = LatencyAction::response(loop, omega0, max_speed, d, h);
+  const double target = std::clamp(g, lo_response, hi_response);
+  const double at_previous = LatencyAction::response(loop, omega0, std::clamp(previous, -max_speed, max_speed), d, h);
+  double lo = -max_speed;
+  double hi = max_speed;
+  // Upward: the smallest command reaching the target; downward: the largest. Either way the
+  // nearest to the previous action on a plateau of the rate bound.
+  const bool upward = target >= at_previous;
+  const double slack = 1.0e-9;
+  while (hi - lo > LatencyAction::kTolerance)
+  {
+    const double mid = 0.5 * (lo + hi);
+    const double r = LatencyAction::response(loop, omega0, mid, d, h);
+    const bool below = upward ? r < target - slack : r <= target + slack;
+    if (below)
+    {
+      lo = mid;
+    }
+    else
+    {
+      hi = mid;
+    }
+  }
+  return upward ? hi : lo;
+}
+}  // namespace
+
+double LatencyAction::response(const WheelLoopModel& loop, double omega0, double u, double d, double h)
+{
+  double omega = omega0;
+  double t = 0.0;
+  while (t < h - 1.0e-12)
+  {
+    const double dt = std::min(WheelLoopModel::kSubstep, h - t);
+    omega = loop.step(omega, u - d, dt);
+    t += dt;
+  }
+  return omega;
+}
+
+LatencyActionResult LatencyAction::step(const WheelLoopModel& loop, const Vector2& omega, const Vector2& shortfall,
+                                        double now, const Vector2& goal, const Vector2& previous, double h_a,
+                                        double gain, double max_speed, double pi_e)
+{
+  LatencyActionResult r;
+  r.at_latency = loop.predict(omega, shortfall, now, now + loop.latency());
+  const double fraction = std::min(1.0, gain * h_a);
+  for (int s = 0; s < 2; ++s)
+  {
+    r.minimiser(s) = minimiser(loop, r.at_latency(s), shortfall(s), h_a, goal(s), previous(s), max_speed);
+    r.command(s) = std::clamp(previous(s) + fraction * (r.minimiser(s) - previous(s)), -max_speed, max_speed);
+    r.predicted(s) = response(loop, r.at_latency(s), r.command(s), shortfall(s), h_a);
+  }
+  r.free_energy = 0.5 * pi_e * (r.predicted - goal).squaredNorm();
+  return r;
+}
+
+}  // namespace jackal_aic

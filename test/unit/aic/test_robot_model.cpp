@@ -1,0 +1,192 @@
+/// Tests of the robot model (belief_model robot): the wheel loop with its commands in flight, the
+/// beliefs in their filter form and the action through the latency (doc/active_inference.md,
+/// 'The robot model').
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "jackal_aic/aic/controller.hpp"
+#include "jackal_aic/aic/latency_action.hpp"
+#include "jackal_aic/aic/robot_belief.hpp"
+#include "jackal_aic/aic/wheel_loop_model.hpp"
+
+using namespace jackal_aic;
+using Status = ActiveInferenceController::Status;
+
+namespace
+{
+RobotModelParams model()
+{
+  RobotModelParams p;
+  p.latency = 0.1;
+  p.wheel_time_constant = 0.01;
+  p.wheel_acceleration = 40.0;
+  return p;
+}
+}  // namespace
+
+TEST(WheelLoopModel, CommandsTakeEffectOneLatencyLater)
+{
+  WheelLoopModel loop(model());
+  loop.record(0.0, Vector2(1.0, 2.0));
+  loop.record(0.02, Vector2(3.0, 4.0));
+  EXPECT_TRUE(loop.commandAt(0.05).isZero());  // before the first command reached the wheels
+  EXPECT_DOUBLE_EQ(loop.commandAt(0.1)(0), 1.0);
+  EXPECT_DOUBLE_EQ(loop.commandAt(0.119)(1), 2.0);
+  EXPECT_DOUBLE_EQ(loop.commandAt(0.12)(0), 3.0);
+  EXPECT_DOUBLE_EQ(loop.lastCommand()(1), 4.0);
+}
+
+TEST(WheelLoopModel, StepIsTheExactLagThenTheRateBound)
+{
+  const WheelLoopModel loop(model());
+  double gain = 0.0;
+  // A small change: the lag, exactly.
+  EXPECT_NEAR(loop.step(0.0, 0.01, 0.001, &gain), 0.01 * (1.0 - std::exp(-0.1)), 1e-15);
+  EXPECT_NEAR(gain, std::exp(-0.1), 1e-15);
+  // A large one: A_w h.
+  EXPECT_NEAR(loop.step(0.0, 10.0, 0.001, &gain), 0.04, 1e-15);
+  EXPECT_EQ(gain, 1.0);
+  EXPECT_NEAR(loop.step(0.0, -10.0, 0.001), -0.04, 1e-15);
+}
+
+TEST(WheelLoopModel, PredictRunsTheCommandsInFlight)
+{
+  WheelLoopModel loop(model());
+  loop.record(0.0, Vector2(1.0, -1.0));
+  // Nothing reaches the wheels before L; 0.3 s after the command the sides sit at u - d.
+  const Vector2 early = loop.predict(Vector2::Zero(), Vector2::Zero(), 0.0, 0.1);
+  EXPECT_TRUE(early.isZero());
+  const Vector2 late = loop.predict(Vector2::Zero(), Vector2(0.1, 0.0), 0.0, 0.4);
+  EXPECT_NEAR(late(0), 0.9, 1e-9);
+  EXPECT_NEAR(late(1), -1.0, 1e-9);
+}
+
+TEST(RobotBelief, FollowsTheEncodersAndTheGyroAtTheirPrecision)
+{
+  RobotModelParams p = model();
+  RobotBelief belief(p);
+  WheelLoopModel loop(p);
+  // The wheels turn at 2 rad/s each way while the model thinks nothing was commanded: the
+  // measurement wins (the model's noise q_w against sigma_e).
+  for (int k = 0; k < 200; ++k)
+  {
+    belief.predict(0.001, loop, Vector2::Zero(), 0.2);
+    if (k % 20 == 19)
+    {
+      ASSERT_TRUE(belief.correct(Vector2(-2.0, 2.0), 0.75, true, true, true));
+    }
+  }
+  EXPECT_NEAR(belief.wheelSpeeds()(0), -2.0, 0.05);
+  EXPECT_NEAR(belief.wheelSpeeds()(1), 2.0, 0.05);
+  EXPECT_NEAR(belief.yawRate(), 0.75, 0.02);
+  EXPECT_GT(belief.sensoryFreeEnergy(), 0.0);
+  EXPECT_GT(belief.priorFreeEnergy(), 0.0);
+}
+
+TEST(RobotBelief, LearnsTheShortfallTheWheelsDoNotDeliver)
+{
+  RobotModelParams p = model();
+  p.shortfall_noise = 0.05;
+  RobotBelief belief(p);
+  WheelLoopModel loop(p);
+  // Commanded 5 rad/s, delivered 4.8 rad/s (a load): after a few seconds d = 0.2.
+  for (int k = 0; k < 10000; ++k)
+  {
+    belief.predict(0.001, loop, Vector2(5.0, 5.0), 0.0);
+    if (k % 20 == 19)
+    {
+      ASSERT_TRUE(belief.correct(Vector2(4.8, 4.8), 0.0, true, true, true));
+    }
+  }
+  EXPECT_NEAR(belief.shortfalls()(0), 0.2, 0.01);
+  EXPECT_NEAR(belief.shortfalls()(1), 0.2, 0.01);
+}
+
+TEST(RobotBelief, RejectsANonFiniteSampleAndSkipsAnIsolatedChannel)
+{
+  RobotBelief belief(model());
+  EXPECT_FALSE(belief.correct(Vector2(std::nan(""), 0.0), 0.0, true, true, true));
+  EXPECT_TRUE(belief.correct(Vector2(std::nan(""), 1.0), 0.0, false, true, true));  // left isolated
+  EXPECT_TRUE(belief.wheelSpeeds().allFinite());
+  EXPECT_EQ(belief.wheelSpeeds()(0), 0.0);
+  EXPECT_GT(belief.wheelSpeeds()(1), 0.9);
+}
+
+TEST(LatencyAction, TheMinimiserIsTheModelsInverseThroughTheLatency)
+{
+  WheelLoopModel loop(model());
+  loop.record(0.0, Vector2(1.0, 1.0));
+  // Everything in flight is 1 rad/s; the goal 1.2 rad/s one latency and one step ahead.
+  const LatencyActionResult r = LatencyAction::step(loop, Vector2(1.0, 1.0), Vector2::Zero(), 0.5, Vector2(1.2, 0.8),
+                                                    Vector2(1.0, 1.0), 0.02, 50.0, 20.0, 1.0);
+  EXPECT_NEAR(r.predicted(0), 1.2, 1e-5);
+  EXPECT_NEAR(r.predicted(1), 0.8, 1e-5);
+  // The lag asks for a little more than the goal (the exact inverse: 0.2 / (1 - exp(-2))).
+  EXPECT_NEAR(r.command(0), 1.0 + 0.2 / (1.0 - std::exp(-2.0)), 1e-4);
+  EXPECT_NEAR(r.free_energy, 0.0, 1e-8);
+}
+
+TEST(LatencyAction, AGoalBeyondTheRateBoundAsksNoMoreThanTheLoopGives)
+{
+  WheelLoopModel loop(model());
+  const LatencyActionResult r = LatencyAction::step(loop, Vector2::Zero(), Vector2::Zero(), 0.5, Vector2(10.0, -10.0),
+                                                    Vector2::Zero(), 0.02, 50.0, 20.0, 1.0);
+  // 40 rad/s^2 for 0.02 s: 0.8 rad/s at most, reached by a command below 2 rad/s, not the bound 20.
+  EXPECT_NEAR(r.predicted(0), 0.8, 1e-6);
+  EXPECT_LT(r.command(0), 2.0);
+  EXPECT_GT(r.command(1), -2.0);
+  EXPECT_GT(r.free_energy, 0.0);
+}
+
+TEST(LatencyAction, TheLoopGainScalesTheStep)
+{
+  WheelLoopModel loop(model());
+  const LatencyActionResult full = LatencyAction::step(loop, Vector2::Zero(), Vector2::Zero(), 0.5, Vector2(0.3, 0.3),
+                                                       Vector2::Zero(), 0.02, 50.0, 20.0, 1.0);
+  const LatencyActionResult half = LatencyAction::step(loop, Vector2::Zero(), Vector2::Zero(), 0.5, Vector2(0.3, 0.3),
+                                                       Vector2::Zero(), 0.02, 25.0, 20.0, 1.0);
+  EXPECT_NEAR(half.command(0), 0.5 * full.command(0), 1e-9);
+  EXPECT_NEAR(full.minimiser(0), half.minimiser(0), 1e-12);
+}
+
+TEST(ControllerRobotModel, BeliefsAreTheMeasuredTwistAndTheActionTheGoalsWheels)
+{
+  AicParams p = recommendedAicParams();
+  p.belief_model = BeliefModel::kRobot;
+  p.learn_wheel_separation = false;
+  ActiveInferenceController c(p);
+  ASSERT_TRUE(c.setGoal(Vector3(0.5, 0.0, 0.0)));
+  // The robot drives at 0.5 m/s on both wheels; after a few seconds the belief is the measured
+  // twist and the command holds the goal's wheel speeds.
+  YTilde y = YTilde::Zero(kYDim, p.numOrders());
+  const double omega = 0.5 / (p.wheel_radius * p.slip_factor);
+  y(kOmegaLeft, 0) = omega;
+  y(kOmegaRight, 0) = omega;
+  for (int k = 0; k < 3000; ++k)
+  {
+    if (k % 20 == 0)
+    {
+      ASSERT_TRUE(c.setMeasurement(y));
+    }
+    ASSERT_EQ(c.updateBeliefs(0.001), Status::kOk);
+    if (k % 20 == 19)
+    {
+      ASSERT_EQ(c.updateAction(0.02), Status::kOk);
+    }
+  }
+  EXPECT_NEAR(c.mu()(0, 0), 0.5, 1e-3);
+  EXPECT_NEAR(c.mu()(2, 0), 0.0, 1e-3);
+  EXPECT_NEAR(c.action()(0), omega, 0.05);
+  EXPECT_NEAR(c.action()(1), omega, 0.05);
+  EXPECT_TRUE(std::isfinite(c.freeEnergy()));
+  EXPECT_NEAR(c.freeEnergy(), c.sensoryFreeEnergy() + c.priorFreeEnergy(), 1e-12);
+  // A zero goal stops the wheels at once.
+  ASSERT_TRUE(c.setGoal(Vector3::Zero()));
+  for (int k = 0; k < 200; ++k)
+  {
+    ASSERT_EQ(c.updateBeliefs(0.001), Status::kOk);
+  }
+  ASSERT_EQ(c.updateAction(0.02), Status::kOk);
+  EXPECT_TRUE(c.action().isZero());
+}
