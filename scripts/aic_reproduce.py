@@ -23,12 +23,16 @@ def main(argv=None):
     ap.add_argument("--out", default=tool.path("results", "reproduction"))
     ap.add_argument("--config", default=tool.path("config", "thesis_equivalent.yaml"),
                     help="the thesis-equivalent controller YAML (default: %(default)s)")
+    ap.add_argument("--improved-config", default=tool.path("config", "thesis_improved_exact.yaml"),
+                    help="the improved controller's YAML, tables 5-9 and 5-10 (default: %(default)s)")
     ap.add_argument("--plant-config", default=None, help="plant YAML (default: the package's sim/config/plant.yaml)")
     ap.add_argument("--jobs", type=int, default=2, help="runs in parallel (core backend)")
     ap.add_argument("--rows", type=int, default=0, help="only the first N rows of each step table (0 = all)")
     ap.add_argument("--bisections", type=int, default=6, help="bisection steps per stability limit")
     ap.add_argument("--real-time-factor", type=float, default=2.0, help="ros backend: plant speed-up")
     ap.add_argument("--no-plot", action="store_true")
+    ap.add_argument("--doc", action="store_true",
+                    help="also write the tables into doc/reproduction.md (every table, core backend, defaults)")
     a = ap.parse_args(argv)
 
     return reproduce.run(a, tool)

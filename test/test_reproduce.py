@@ -5,8 +5,13 @@ steps; the thesis-equivalent AIC at 50 Hz and the stock controller) with the cor
 table is written (Markdown, CSV) with the robot's numbers beside; every run is stable; the
 simulated rise and settling times are within the identification's acceptance of the robot's
 (stock +-50 % at 0.1 m/s, +-20 % at 0.5 m/s; AIC +-40 % per entry, looser than the 25 % table
-mean)."""
+mean).
+
+And the published tables cannot go stale: every table on the core backend (deterministic: ideal
+sensors, simulated time), and its block of tables must equal doc/reproduction.md's, the block
+`aic_reproduce.py --doc` writes there."""
 import csv
+import difflib
 import os
 import subprocess
 import sys
@@ -28,6 +33,42 @@ def number(text):
         return float(text)
     except ValueError:
         return None
+
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.realpath(__file__)), "..", "src"))
+from jackal_aic_tools.reproduce import reproduce  # noqa: E402
+
+
+def stale_diff(page_text, fresh_block):
+    """The unified diff of the page's block of tables against a fresh run's, "" when equal."""
+    old = reproduce.page_block(page_text)
+    return "".join(difflib.unified_diff(old.splitlines(True), fresh_block.splitlines(True),
+                                        reproduce.DOC_PAGE, "a fresh run"))
+
+
+class PublishedTablesAreFresh(unittest.TestCase):
+    def test_the_page_holds_a_fresh_runs_tables(self):
+        root = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
+        with tempfile.TemporaryDirectory() as out:
+            proc = subprocess.run([sys.executable, SCRIPT, "--out", out, "--no-plot"], capture_output=True,
+                                  text=True, timeout=600)
+            self.assertEqual(proc.returncode, 0, (proc.stdout + proc.stderr)[-2000:])
+            with open(os.path.join(out, reproduce.DOC_BLOCK)) as f:
+                fresh = f.read()
+        with open(os.path.join(root, reproduce.DOC_PAGE)) as f:
+            diff = stale_diff(f.read(), fresh)
+        self.assertEqual(diff, "", "%s's tables differ from a fresh run (regenerate them: scripts/aic_reproduce.py "
+                                   "--doc, then check the page's text against them):\n%s"
+                         % (reproduce.DOC_PAGE, diff[:6000]))
+
+    def test_a_changed_figure_is_caught(self):
+        # The control: one figure changed in a page's block is a difference.
+        block = reproduce.doc_block(["### Table 1\n\n| a |\n|---|\n| 0.42 |\n"])
+        page = "intro\n" + block + "outro\n"
+        self.assertEqual(stale_diff(page, block), "")
+        self.assertIn("+| 0.65 |", stale_diff(page, block.replace("0.42", "0.65")))
+        with self.assertRaises(ValueError):
+            reproduce.page_block("no block here")
 
 
 class ReproduceSubset(unittest.TestCase):
@@ -75,4 +116,4 @@ class ReproduceSubset(unittest.TestCase):
 
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
-    pyunit.main("reproduce", ReproduceSubset)
+    pyunit.main("reproduce", ReproduceSubset, PublishedTablesAreFresh)

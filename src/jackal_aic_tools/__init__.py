@@ -3,6 +3,8 @@
   common      what every tool shares: command-line helpers, set-point profiles, recording and
               the stability monitor, step and tracking metrics (through the core's CLIs),
               tables, reports and plots, and the launcher and stop routine of ROS processes
+  compare     named controller variants side by side against the stock controller and the
+              latency floor, and run_variant, the Python API of one headless run (aic_compare.py)
   experiment  step-response experiments on the simulated Jackal and sweeps of them
               (aic_experiment.py, aic_sweep.py)
   reproduce   the thesis's tables reproduced on the simulated Jackal (aic_reproduce.py)

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """rostest: runaway beliefs are reset, the command is zero, diagnostics report ERROR.
 
-With config/thesis_improved.yaml (tau = 0.001 s, forward Euler at 1 kHz) the printed
+With config/thesis_improved_euler_diverges.yaml (tau = 0.001 s, forward Euler at 1 kHz) the printed
 belief update is unstable (order-0 gain k_mu Pi_mu / tau^2 ~ 6.7e3 1/s, h * gain ~ 6.7 > 2,
 doc/active_inference.md, 'Analysis notes'): the node must catch every divergence.
 

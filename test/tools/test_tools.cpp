@@ -81,7 +81,7 @@ const std::string kData = TEST_DATA_DIR;
 TEST(AicAnalyze, ThesisSetsShowBeliefStiffness)
 {
   const Result r = run(kAnalyze + " " + kData +
-                       "/thesis_improved.yaml --csv --rates 1000 --no-scan"
+                       "/thesis_improved_euler_diverges.yaml --csv --rates 1000 --no-scan"
                        " --plant-time-constant 0.15");
   ASSERT_EQ(r.code, 0) << r.out;
   // Each row's own stable column: forward Euler unstable (spectral radius > 1), exact stable.

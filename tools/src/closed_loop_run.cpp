@@ -68,7 +68,13 @@
  *        mu<i>_{x_dot,y_dot,theta_dot}, the sensory prediction errors eps_y<i>_{gyro_z,omega_L,omega_R,
  *        accel_x,accel_y} (eq. 3-8) and the state prediction errors eps_mu<i>_* (eq. 3-9), empty
  *        before the controller starts.
- * Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.
+ * Divergence: a run whose controller had a runaway reset, whose ground truth or drive command
+ *        went non-finite, or whose robot never moved (no commanded channel's ground-truth speed
+ *        reached kMovedShare of its largest set point) has diverged: the JSON's "diverged" holds
+ *        the cause (null otherwise), one line "closed_loop_run: diverged: CAUSE" goes to stderr
+ *        and the exit status is 3, unless --keep-going (then the JSON alone reports it, exit 0).
+ * Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments, 3 on a diverged run
+ *        (without --keep-going).
  */
 
 #include <algorithm>
@@ -80,6 +86,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "jackal_tools/cli.hpp"
@@ -101,6 +108,11 @@ namespace
 /// Steady segments of the honest-belief measure start this long after a set-point change [s]
 /// (doc/experiments.md, 'Driving acceptance').
 constexpr double kBeliefSettle = 0.5;
+/// A robot "moved" when a commanded channel's ground-truth speed reached this share of the
+/// channel's largest |set point| [-].
+constexpr double kMovedShare = 0.1;
+/// Exit status of a diverged run (without --keep-going).
+constexpr int kExitDiverged = 3;
 
 std::string metricsJson(const std::vector<double>& t, const std::vector<double>& y, double t_step, double t_end,
                         double initial, double target)
@@ -213,6 +225,85 @@ std::string inferenceCsvRow(const InferenceSample& s, int orders)
   }
   return r.str();
 }
+
+/// Why the run ``rec`` of the profile ``profile`` (set-point segments; the analysed span starts at
+/// ``t0`` [s]) diverged, or "" when it did not: runaway resets, a non-finite ground truth or drive
+/// command, or a robot that never moved (every commanded channel's largest |ground truth| below
+/// kMovedShare of its largest |set point|). Causes joined by "; ".
+std::string divergence(const ClosedLoopRecord& rec, const std::vector<SetPointSegment>& profile, double t0)
+{
+  std::vector<std::string> causes;
+  if (rec.runaways > 0)
+  {
+    causes.push_back(std::to_string(rec.runaways) + " runaway reset(s): a belief left runaway_limit or went non-finite "
+                                                    "(the belief dynamics are "
+                                                    "unstable at these settings; check them with aic_analyze)");
+  }
+  const std::vector<std::pair<const char*, const std::vector<double>*>> signals = {
+    { "ground-truth speed", &rec.v_true }, { "ground-truth yaw rate", &rec.yaw_true },
+    { "drive command", &rec.command },     { "drive command's yaw rate", &rec.command_yaw },
+    { "ground-truth x", &rec.x_true },     { "ground-truth y", &rec.y_true },
+  };
+  for (const auto& s : signals)
+  {
+    const auto bad = std::find_if(s.second->begin(), s.second->end(), [](double v) { return !std::isfinite(v); });
+    if (bad != s.second->end())
+    {
+      const std::size_t k = static_cast<std::size_t>(bad - s.second->begin());
+      causes.push_back(std::string("non-finite ") + s.first + " at t = " + jsonNumber(rec.time[k] - t0) + " s");
+      break;
+    }
+  }
+  double set_lin = 0.0;
+  double set_ang = 0.0;
+  for (const SetPointSegment& p : profile)
+  {
+    set_lin = std::max(set_lin, std::abs(p.linear));
+    set_ang = std::max(set_ang, std::abs(p.angular));
+  }
+  double max_lin = 0.0;
+  double max_ang = 0.0;
+  for (std::size_t k = 0; k < rec.time.size(); ++k)
+  {
+    if (rec.time[k] >= t0 - 1e-9)
+    {
+      max_lin = std::max(max_lin, std::isfinite(rec.v_true[k]) ? std::abs(rec.v_true[k]) : 0.0);
+      max_ang = std::max(max_ang, std::isfinite(rec.yaw_true[k]) ? std::abs(rec.yaw_true[k]) : 0.0);
+    }
+  }
+  const bool commanded = set_lin > 0.0 || set_ang > 0.0;
+  const bool moved =
+      (set_lin > 0.0 && max_lin >= kMovedShare * set_lin) || (set_ang > 0.0 && max_ang >= kMovedShare * set_ang);
+  if (commanded && !moved)
+  {
+    std::ostringstream os;
+    os << "the robot never moved: largest ground-truth |vx| " << jsonNumber(max_lin, 3)
+       << " m/s against a set point of " << jsonNumber(set_lin, 3) << " m/s, |wz| " << jsonNumber(max_ang, 3)
+       << " rad/s against " << jsonNumber(set_ang, 3) << " rad/s (below " << jsonNumber(100.0 * kMovedShare) << " %)";
+    causes.push_back(os.str());
+  }
+  std::string out;
+  for (const std::string& c : causes)
+  {
+    out += (out.empty() ? "" : "; ") + c;
+  }
+  return out;
+}
+
+/// ``text`` as a JSON string (quotes and backslashes escaped).
+std::string jsonString(const std::string& text)
+{
+  std::string out = "\"";
+  for (char ch : text)
+  {
+    if (ch == '"' || ch == '\\')
+    {
+      out += '\\';
+    }
+    out += ch;
+  }
+  return out + "\"";
+}
 }  // namespace
 
 int main(int argc, char** argv)
@@ -274,7 +365,12 @@ int main(int argc, char** argv)
               "inject a fault, \"TARGET KIND [VALUE] [START] [DURATION] [PERIOD]\" with START from the run's "
               "start (sim/README.md, 'Fault injection')");
   cl.option("csv", &csv, "write the trace as CSV");
-  cl.footer("Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.");
+  bool keep_going = false;
+  cl.flag("keep-going", &keep_going,
+          "a diverged run (runaway, non-finite values, a robot that never moved) is reported in the JSON's "
+          "\"diverged\" and exits 0 (default: also one line on stderr and exit 3)");
+  cl.footer("Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments, 3 on a diverged run (runaway, "
+            "non-finite values, a robot that never moved) without --keep-going.");
   if (const int code = cl.parse(argc, argv); code >= 0)
   {
     return code;
@@ -628,7 +724,15 @@ int main(int argc, char** argv)
     std::cout << ", \"ideal\": {\"runs\": " << ideal.vx_rms.size() << ", \"best\": " << ideal.best
               << ", \"vx_rms\": " << list(ideal.vx_rms) << ", \"wz_rms\": " << list(ideal.wz_rms) << "}";
   }
+  const std::string diverged = divergence(rec, c.profile, t0);
   std::cout << ", \"profile\": \"" << tracked.name << "\", \"duration\": " << jsonNumber(tracked.duration)
-            << ", \"tracking\": " << tracking_json << ", \"path\": " << toJson(drift) << "}\n";
+            << ", \"tracking\": " << tracking_json << ", \"path\": " << toJson(drift)
+            << ", \"diverged\": " << (diverged.empty() ? std::string("null") : jsonString(diverged)) << "}\n";
+  if (!diverged.empty() && !keep_going)
+  {
+    std::cout.flush();
+    std::cerr << "closed_loop_run: diverged: " << diverged << " (--keep-going: report and exit 0)\n";
+    return kExitDiverged;
+  }
   return 0;
 }

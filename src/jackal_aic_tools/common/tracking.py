@@ -106,3 +106,29 @@ def read_columns(path):
         for h, cell in zip(header, r):
             cols[h].append(float(cell) if cell.strip() else float("nan"))
     return {h: np.array(v, dtype=float) for h, v in cols.items()}
+
+
+#: Trace columns of the AIC's belief mu^(0) and the ground truth, per channel (closed_loop_run --csv).
+BELIEF_COLUMNS = {"vx": ("mu0_x_dot[m/s]", "v_true"), "wz": ("mu0_theta_dot[rad/s]", "yaw_true")}
+
+
+def belief_truth_rms(trace, start=0.0, end=None):
+    """RMS of belief mu^(0) minus the ground truth over a closed_loop_run trace (``trace``:
+    read_columns() of an AIC run's --csv, columns BELIEF_COLUMNS and t in profile time [s]), over
+    the samples with t in [``start``, ``end``] (None: to the end) where the belief is finite:
+    {"vx": m/s, "wz": rad/s, "samples": n}; vx and wz None without such samples. Unlike
+    closed_loop_run's tracking.belief (the steady segments only) it includes every transient.
+    Raises KeyError when the trace has no belief columns (not an AIC run)."""
+    t = trace["t"]
+    keep = t >= start - 1e-9
+    if end is not None:
+        keep &= t <= end + 1e-9
+    out = {}
+    n = 0
+    for ch, (belief, truth) in BELIEF_COLUMNS.items():
+        d = trace[belief][keep] - trace[truth][keep]
+        d = d[np.isfinite(d)]
+        out[ch] = float(np.sqrt(np.mean(d ** 2))) if d.size else None
+        n = max(n, int(d.size))
+    out["samples"] = n
+    return out

@@ -16,7 +16,7 @@ import subprocess
 
 import numpy as np
 
-from ..common import profiles, recording, tracking
+from ..common import closed_loop, profiles, recording, tracking
 from ..common.tables import fmt, md_table, text_table
 from ..experiment import experiment
 from . import field_plan, field_trial
@@ -238,7 +238,7 @@ def simulate(run_result, profile_csv, controller, closed_loop_run, aic_config=No
     sensor noise, from ``settle`` [s] at rest; plant ``overlays``, e.g. a wheel loop identified from
     the session's bags). Returns closed_loop_run's JSON (dict). Raises ReportError."""
     cmd = [closed_loop_run, "--controller", controller, "--profile", profile_csv, "--segments", "--noise",
-           "--rest", repr(max(0.25, float(settle)))]
+           "--rest", repr(max(0.25, float(settle))), closed_loop.KEEP_GOING]  # reported beside the robot's run
     if controller == "aic" and aic_config:
         cmd += ["--aic-config", aic_config]
     for o in overlays:

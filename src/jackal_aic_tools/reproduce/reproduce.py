@@ -17,8 +17,9 @@ Tables (--tables, default all):
   5-6   k_a in {8, 10, 15, 20} at belief rates 50 / 100 / 1000 Hz (0.5 m/s step)
   5-7   stability limits per belief rate: smallest stable tau, largest stable k_mu and k_a,
         each found by bisection (on a log scale) with the others at their C-1 values
-  5-9   improved controller (tau = 0.001, belief loop 1 kHz, action 50 Hz, exact integrator, on
-        the thesis-equivalent variances) against the stock controller, steps 0.3 / 0.5 / 1.0 m/s
+  5-9   improved controller (config/thesis_improved_exact.yaml, --improved-config: tau = 0.001,
+        belief loop 1 kHz, action 50 Hz, exact integrator, on the thesis-equivalent variances)
+        against the stock controller, steps 0.3 / 0.5 / 1.0 m/s
   5-10  square waves (0.1, 0.5), (0.1, 1.0), (0.2, 1.2) m/s: improved controller and stock
 Sweeps and limits run the action loop at 50 Hz. A run is "unstable" ("unst." in a table)
 when the controller hit its runaway limit, the speed exceeded 3 m/s, or a held level
@@ -37,8 +38,12 @@ Backends:
                   --real-time-factor; slower.
 
 Usage:
-  aic_reproduce.py [--tables 3-1 5-1 ...] [--backend core|ros] [--out DIR] [--jobs N]
-                   [--rows N] [--real-time-factor F] [--config FILE] [--plant-config FILE]
+  aic_reproduce.py [--doc] [--tables 3-1 5-1 ...] [--backend core|ros] [--out DIR] [--jobs N]
+                   [--rows N] [--real-time-factor F] [--config FILE] [--improved-config FILE]
+                   [--plant-config FILE]
+--doc also writes the tables (the block DOC_BLOCK in --out) into doc/reproduction.md between the
+lines DOC_BEGIN and DOC_END; test/test_reproduce.py fails when the page's block differs from a
+fresh run's.
 Exit: 0 when every run ran (unstable runs are results, not failures), 1 on a failed run.
 """
 import csv
@@ -47,7 +52,40 @@ import sys
 import time
 
 from .reproduce_runs import CoreBackend, RosBackend, Runner
-from .reproduce_tables import build, robot_tables
+from .reproduce_tables import ALL_TABLES, build, robot_tables
+
+#: The page whose tables --doc writes, relative to the package's folder, and the lines around them.
+DOC_PAGE = os.path.join("doc", "reproduction.md")
+DOC_BEGIN = "<!-- The tables below are written by `aic_reproduce.py --doc`; do not edit them. -->"
+DOC_END = "<!-- End of the tables written by `aic_reproduce.py --doc`. -->"
+#: The file in --out that holds the block of the tables as --doc writes it.
+DOC_BLOCK = "doc_tables.md"
+
+
+def doc_block(markdowns):
+    """The tables' block of doc/reproduction.md: DOC_BEGIN, each table's Markdown (Table.markdown())
+    separated by blank lines, DOC_END; ends with a newline."""
+    return DOC_BEGIN + "\n\n" + "\n".join(markdowns) + "\n" + DOC_END + "\n"
+
+
+def page_block(text):
+    """The tables' block of the page's ``text`` (from DOC_BEGIN to DOC_END and its newline).
+    Raises ValueError when the page has no such block."""
+    start, end = text.find(DOC_BEGIN), text.find(DOC_END)
+    if start < 0 or end < start:
+        raise ValueError("%s has no block between %r and %r" % (DOC_PAGE, DOC_BEGIN, DOC_END))
+    return text[start:end + len(DOC_END)] + "\n"
+
+
+def write_doc(root, block):
+    """Replace the tables' block of <root>/DOC_PAGE by ``block`` (doc_block()). Raises ValueError
+    (page_block) or OSError."""
+    path = os.path.join(root, DOC_PAGE)
+    with open(path) as f:
+        text = f.read()
+    old = page_block(text)
+    with open(path, "w") as f:
+        f.write(text.replace(old, block))
 
 
 def plot_table(table, runs, out_dir):
@@ -93,11 +131,13 @@ def run(a, tool):
     plots = []
     started = time.time()
     written = []
+    markdowns = []
     for tid in a.tables:
         t0 = time.time()
         t = build(tid, runner, robot, plots, a.bisections, max(0, a.rows))
         base = t.write(a.out)
         written.append(base)
+        markdowns.append(t.markdown())
         print(t.markdown())
         print("(%s: %.0f s, %s.md / .csv)\n" % (tid, time.time() - t0, base))
     if not a.no_plot:
@@ -110,7 +150,22 @@ def run(a, tool):
         for base in written:
             with open(base + ".md") as tf:
                 f.write(tf.read() + "\n")
+    block = doc_block(markdowns)
+    with open(os.path.join(a.out, DOC_BLOCK), "w") as f:
+        f.write(block)
     print("aic_reproduce: %d runs, %.0f s; tables in %s" % (len(runner.cache), time.time() - started, a.out))
     for k, reason in runner.failures:
         print("FAILED run %s: %s" % (k, reason), file=sys.stderr)
-    return 1 if runner.failures else 0
+    if runner.failures:
+        return 1
+    if getattr(a, "doc", False):
+        defaults = (os.path.abspath(a.config) == tool.path("config", "thesis_equivalent.yaml") and
+                    os.path.abspath(a.improved_config) == tool.path("config", "thesis_improved_exact.yaml") and
+                    a.plant_config is None)
+        if list(a.tables) != ALL_TABLES or a.backend != "core" or a.rows or a.bisections != 6 or not defaults:
+            print("aic_reproduce: --doc writes the page's tables only from every table of the core backend with "
+                  "the default configurations, rows and bisections", file=sys.stderr)
+            return 1
+        write_doc(tool.root, block)
+        print("aic_reproduce: wrote the tables into %s" % DOC_PAGE)
+    return 0

@@ -9,7 +9,7 @@ import sys
 import tempfile
 from concurrent.futures import ThreadPoolExecutor
 
-from ..common import recording
+from ..common import closed_loop, recording
 from ..common.tables import fmt_value
 
 HOLD = 3.0           # s a step is held (the identification's record length)
@@ -19,24 +19,35 @@ BOUND_V = 3.0        # m/s: beyond it a run is unstable
 # the plant's 0.12 s command delay a sustained oscillation has a period of 0.5-1 s, and two
 # crossings of the set point in 1.5 s (a full period) already count.
 LIMITS = recording.StabilityLimits(v_bound=BOUND_V, osc_window=1.5, osc_crossings=2)
+#: Run.config of the improved controller (tables 5-9, 5-10): aic_reproduce.py's --improved-config,
+#: config/thesis_improved_exact.yaml.
+IMPROVED = "improved"
+
+
+def config_of(r, a):
+    """The controller YAML of the Run ``r``: a.improved_config for IMPROVED, else a.config."""
+    return a.improved_config if r.config == IMPROVED else a.config
 
 
 class Run(object):
-    """One simulated experiment: a controller, its parameter overrides, and a profile."""
+    """One simulated experiment: a controller, its configuration (``config``: None, the
+    reproduction's controller, --config; IMPROVED, the improved controller's file,
+    --improved-config), its parameter overrides, and a profile."""
 
-    def __init__(self, controller, step=None, square=None, params=None):
+    def __init__(self, controller, step=None, square=None, params=None, config=None):
         self.controller = controller
         self.step = step
         self.square = square
         self.params = dict(params or {}) if controller == "aic" else {}
+        self.config = config if controller == "aic" else None
 
     def key(self):
         """A string that identifies the run (equal for equal runs)."""
-        return json.dumps([self.controller, self.step, self.square, sorted(self.params.items())])
+        return json.dumps([self.controller, self.config, self.step, self.square, sorted(self.params.items())])
 
     def name(self):
-        """A file name of the run: controller, step or square wave, the overrides."""
-        parts = [self.controller]
+        """A file name of the run: controller, configuration, step or square wave, the overrides."""
+        parts = [self.controller] + ([self.config] if self.config else [])
         parts += ["v%g" % self.step] if self.step is not None else ["sq%g-%g" % tuple(self.square)]
         parts += ["%s%s" % (k, fmt_value(v)) for k, v in sorted(self.params.items())]
         return "".join(c if c.isalnum() or c in "._-" else "_" for c in "_".join(parts))
@@ -82,7 +93,8 @@ def verdict(runaways, max_abs, segments, oscillating=None):
 
 class CoreBackend(object):
     """closed_loop_run (controller core + plant core, one process, simulated time). a: .config
-    (the AIC's YAML), .plant_config (or None); tool: cli.Tool."""
+    (the AIC's YAML), .improved_config (the improved controller's), .plant_config (or None);
+    tool: cli.Tool."""
 
     def __init__(self, a, tool):
         self.exe = tool.exe("closed_loop_run")
@@ -91,7 +103,9 @@ class CoreBackend(object):
     def run(self, r, trace_path=None):
         """Run ``r`` (a Run), its trace written to ``trace_path``: dict status (ok, slow, unstable,
         failed), reason, segments (closed_loop_run's), trace."""
-        cmd = [self.exe, "--controller", r.controller, "--aic-config", self.a.config, "--hold", str(HOLD)]
+        # Unstable runs are results of the reproduction (verdict), not errors: KEEP_GOING.
+        cmd = [self.exe, "--controller", r.controller, "--aic-config", config_of(r, self.a), "--hold", str(HOLD),
+               closed_loop.KEEP_GOING]
         if self.a.plant_config:
             cmd += ["--config", self.a.plant_config]
         for k, v in sorted(r.params.items()):
@@ -114,7 +128,8 @@ class CoreBackend(object):
 
 class RosBackend(object):
     """aic_experiment.py (beside the tool's script): the nodes under their own master, on
-    simulated time. a: .config, .plant_config (or None), .real_time_factor; tool: cli.Tool."""
+    simulated time. a: .config, .improved_config, .plant_config (or None), .real_time_factor; tool:
+    cli.Tool."""
 
     def __init__(self, a, tool):
         self.a = a
@@ -125,7 +140,7 @@ class RosBackend(object):
         """Run ``r`` (a Run) with aic_experiment.py: dict status, reason, segments (in
         closed_loop_run's layout), trace (its CSV when ``trace_path`` is given), ros_csv."""
         name = r.name()
-        cmd = [sys.executable, self.script, "--controller", r.controller, "--config", self.a.config,
+        cmd = [sys.executable, self.script, "--controller", r.controller, "--config", config_of(r, self.a),
                "--out", self.tmp, "--name", name, "--no-plot", "--settle", "1.0",
                "--launch-arg", "use_sim_time:=true",
                "--launch-arg", "overrides:=['node.real_time_factor=%g']" % self.a.real_time_factor]

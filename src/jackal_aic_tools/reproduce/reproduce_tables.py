@@ -8,12 +8,11 @@ import os
 import yaml
 
 from ..common.tables import fmt_value, md_table
-from .reproduce_runs import SQUARE_PERIOD, Run
+from .reproduce_runs import IMPROVED, SQUARE_PERIOD, Run
 
 ALL_TABLES = ["3-1", "5-1", "5-2", "5-4", "5-5", "5-6", "5-7", "5-9", "5-10"]
 RATES = [50, 100, 1000]
 SQUARES = [(0.1, 0.5), (0.1, 1.0), (0.2, 1.2)]
-IMPROVED = {"tau": 0.001, "belief_rate": 1000, "action_rate": 50, "integrator": "exact"}
 
 
 def lim(values, rows):
@@ -226,15 +225,15 @@ def table_5_7(runner, bisections, rows=0):
 
 
 def table_5_9(runner, plots, rows=0):
-    """Table 5-9: the improved controller (IMPROVED) against the stock controller, steps 0.3 /
-    0.5 / 1.0 m/s (runner, plots, rows as table_3_1)."""
+    """Table 5-9: the improved controller (IMPROVED: config/thesis_improved_exact.yaml) against the
+    stock controller, steps 0.3 / 0.5 / 1.0 m/s (runner, plots, rows as table_3_1)."""
     t = Table("5-9", "improved controller (tau = 0.001, belief 1 kHz, action 50 Hz, exact integrator, "
                      "thesis-equivalent variances) against the stock controller",
               ["step [m/s]", "improved settling [s]", "improved rise [s]", "improved overshoot [%]",
                "stock settling [s]", "stock rise [s]", "stock overshoot [%]", "rise improved / stock"])
     runs_plot = []
     for v in lim([0.3, 0.5, 1.0], rows):
-        ri = runner.get(Run("aic", v, params=IMPROVED))
+        ri = runner.get(Run("aic", v, config=IMPROVED))
         rs = runner.get(Run("stock", v))
         ratio = ""
         if metric(ri, "rise") and metric(rs, "rise"):
@@ -256,7 +255,7 @@ def table_5_10(runner, plots, rows=0):
                "down: rise [s]", "down: settling [s]", "down: overshoot [%]"])
     runs_plot = []
     for low, high in lim(SQUARES, rows):
-        for name, r in (("improved", Run("aic", square=(low, high), params=IMPROVED)),
+        for name, r in (("improved", Run("aic", square=(low, high), config=IMPROVED)),
                         ("stock", Run("stock", square=(low, high)))):
             res = runner.get(r)
             row = ["%g <-> %g" % (low, high), name]

@@ -35,7 +35,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from ..common import cli, tracking
+from ..common import closed_loop, tracking
 from . import plant_limits
 
 #: Step cases: name -> (closed_loop_run arguments, result key, which channel's figures).
@@ -117,20 +117,13 @@ class Runner:
         self._stock = {}
 
     def command(self, controller, args, overlay=None, plant_sets=()):
-        """The argument list of one run (noisy sensors; the ideal controller uses the ground truth
-        and ideal sensors: plant_limits.ideal_command)."""
+        """The argument list of one run (closed_loop.command: noisy sensors, a diverged run reported
+        and judged here, not an error; the ideal controller uses the ground truth and ideal sensors:
+        plant_limits.ideal_command)."""
         if controller == "ideal":
             return plant_limits.ideal_command(self.exe, self.plant_config, args, overlay, plant_sets)
-        cmd = [self.exe, "--controller", controller, "--noise", "--config", self.plant_config] + list(args)
-        if controller == "aic":
-            cmd += ["--aic-config", self.aic_config]
-            for s in self.aic_sets:
-                cmd += ["--aic-set", s]
-        if overlay:
-            cmd += ["--overlay", overlay]
-        for s in plant_sets:
-            cmd += ["--set", s]
-        return cmd
+        return closed_loop.command(self.exe, controller, args, self.aic_config, self.aic_sets, self.plant_config,
+                                   [overlay] if overlay else [], plant_sets, noise=True, keep_going=True)
 
     def run_all(self, jobs):
         """jobs: list of (key, controller, args, overlay, plant_sets, want_trace). Returns key ->
@@ -152,7 +145,8 @@ class Runner:
                 extra = []
                 if want_trace:
                     extra = ["--csv", os.path.join(tmp, "trace.csv")]
-                result = cli.run_json_tool(self.command(controller, list(args) + extra, overlay, plant_sets))
+                result = closed_loop.execute(self.command(controller, list(args) + extra, overlay,
+                                                          plant_sets)).result
                 if want_trace:
                     trace = tracking.read_columns(os.path.join(tmp, "trace.csv"))
             out = (result, trace)

@@ -19,7 +19,7 @@ Pure functions but run_ideal(); the benchmark's modules (driving, track_suite) u
 """
 import math
 
-from ..common import cli
+from ..common import closed_loop
 
 #: A channel is plant-limited when the ideal controller's RMS error > this x the latency floor.
 PLANT_LIMIT_RATIO = 1.2
@@ -33,13 +33,10 @@ def ideal_command(exe, plant_config, args, overlay=None, plant_sets=()):
     """closed_loop_run's argument list of the ideal controller with the profile arguments ``args``
     (e.g. ["--profile", CSV]), the plant YAML ``plant_config``, the overlay file ``overlay`` (None:
     the plant YAML alone) and plant KEY=VALUE overrides ``plant_sets``; ideal sensors (the ideal
-    controller uses the ground truth; sensor noise would change no figure of it)."""
-    cmd = [exe, "--controller", "ideal", "--config", plant_config] + list(args)
-    if overlay:
-        cmd += ["--overlay", overlay]
-    for s in plant_sets:
-        cmd += ["--set", s]
-    return cmd
+    controller uses the ground truth; sensor noise would change no figure of it); a run that does
+    not follow is reported, not an error (closed_loop.KEEP_GOING)."""
+    return closed_loop.command(exe, "ideal", args, plant_config=plant_config, overlays=[overlay] if overlay else [],
+                               plant_sets=plant_sets, noise=False, keep_going=True)
 
 
 def ideal_figures(result):
@@ -55,7 +52,7 @@ def ideal_figures(result):
 def run_ideal(exe, plant_config, profile, overlay=None):
     """Run the ideal controller (ideal_command) and return ideal_figures(). Raises RuntimeError
     when closed_loop_run fails."""
-    return ideal_figures(cli.run_json_tool(ideal_command(exe, plant_config, ["--profile", profile], overlay)))
+    return ideal_figures(closed_loop.execute(ideal_command(exe, plant_config, ["--profile", profile], overlay)).result)
 
 
 def reason(channel, ratio, plant):

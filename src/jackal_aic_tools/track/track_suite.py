@@ -46,7 +46,7 @@ import subprocess
 import time
 from concurrent.futures import ThreadPoolExecutor
 
-from ..common import cli, tracking
+from ..common import cli, closed_loop, tracking
 from . import driving, plant_limits, track_profiles, track_report
 from .track_report import CONTROLLERS, TABLE_METRICS, UNITS
 
@@ -78,7 +78,7 @@ def run_job(exe, controller, profile, variant, aic_config, plant_config, trace):
     ('default' or an overlay file), seeded sensor noise, the trace written to ``trace``. Returns
     (result dict or None, error message or None)."""
     cmd = [exe, "--controller", controller, "--noise", "--config", plant_config, "--profile", profile,
-           "--csv", trace]
+           "--csv", trace, closed_loop.KEEP_GOING]  # a diverged run is a result of the benchmark
     if variant != "default":
         cmd += ["--overlay", variant]
     if controller == "aic":

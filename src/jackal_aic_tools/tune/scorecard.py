@@ -45,7 +45,7 @@ import os
 import sys
 from concurrent.futures import ThreadPoolExecutor
 
-from ..common import cli
+from ..common import closed_loop as loop_api
 from ..track import driving, ideal_cache
 
 SETTLE_RATIO = 0.8   # AIC / stock settling, 0.5 m/s step
@@ -72,15 +72,10 @@ def closed_loop(exe, controller, profile, aic_config, plant_config, plant_sets=(
     """One `closed_loop_run` (the executable ``exe``) of `controller` (aic or stock) with the
     profile arguments `profile` (list of strings), noisy sensors, plant overlay files `overlays`,
     then plant KEY=VALUE overrides `plant_sets`.
+    A diverged run is judged by the criteria, not an error (loop_api.KEEP_GOING).
     Returns the tool's JSON result as a dict; raises RuntimeError when the tool fails."""
-    cmd = [exe, "--controller", controller, "--noise", "--config", plant_config] + list(profile)
-    if controller == "aic":
-        cmd += ["--aic-config", aic_config]
-    for o in overlays:
-        cmd += ["--overlay", o]
-    for s in plant_sets:
-        cmd += ["--set", s]
-    return cli.run_json_tool(cmd)
+    return loop_api.run(exe, controller, profile, aic_config, (), plant_config, overlays, plant_sets, noise=True,
+                           keep_going=True).result
 
 
 def step_profile(v, channel="linear", hold=3.0):

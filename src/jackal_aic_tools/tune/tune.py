@@ -62,7 +62,7 @@ import numpy as np
 from scipy.optimize import differential_evolution, least_squares, minimize
 from scipy.signal import lfilter
 
-from ..common import cli
+from ..common import cli, closed_loop
 from ..common.tables import fmt
 from ..track import driving
 from .tune_cost import model_cost, plant_corners, sim_cost, stock_reference
@@ -111,7 +111,7 @@ def identify_plant(tool, low, high, period=2.0, plant_config=None):
     tmp = tempfile.mkdtemp(prefix="aic_tune_")
     path = os.path.join(tmp, "open.csv")
     args = ["--controller", "open", "--square", str(low), str(high), "--period", str(period), "--cycles", "2",
-            "--rest", "2.0"]
+            "--rest", "2.0", closed_loop.KEEP_GOING]
     if plant_config:
         args += ["--config", plant_config]
     cli.run_json_tool([tool.exe("closed_loop_run")] + args + ["--csv", path])
@@ -161,7 +161,9 @@ class StepRunner(object):
         overshoot [%], sse [m/s or rad/s], settled). overrides: the AIC's KEY=VALUE strings;
         plant_sets: plant KEY=VALUE overrides (e.g. sensors.seed=3 for another noise draw with
         noise=True). Raises RuntimeError when the tool fails."""
-        args = ["--controller", controller, "--step", str(v), "--hold", str(hold), "--channel", channel]
+        # A diverging candidate is a cost (its runaways), not an error: KEEP_GOING.
+        args = ["--controller", controller, "--step", str(v), "--hold", str(hold), "--channel", channel,
+                closed_loop.KEEP_GOING]
         if controller == "aic":
             args += ["--aic-config", self.base]
             for o in overrides:

@@ -172,7 +172,7 @@ TEST(Controller, ANonFiniteActionIsResetNotClamped)
 TEST(Controller, ADivergingActionIsResetNotClamped)
 {
   // The thesis's improved controller as printed (Euler, tau = 0.001 s at 1 kHz, config/
-  // thesis_improved.yaml) diverges: from rest its beliefs grow ~6x per belief step and the
+  // thesis_improved_euler_diverges.yaml) diverges: from rest its beliefs grow ~6x per belief step and the
   // belief update's runaway check (|mu| > runaway_limit) fires at the fifth. An action step that
   // reads the fourth step's beliefs (finite, below runaway_limit, hundreds of m/s) must reset and
   // send zero, not clamp that action to +-max_wheel_speed and send it.

@@ -273,12 +273,12 @@ TEST_F(ControlLoopTest, RunawayResetsAndHoldsZero)
 TEST_F(ControlLoopTest, NoActionStepDrivesADivergingControllerAfterARunaway)
 {
   // The thesis's improved controller as printed (Euler, tau = 0.001 s, config/
-  // thesis_improved.yaml) re-diverges within a few belief steps of every restart. The timers of
+  // thesis_improved_euler_diverges.yaml) re-diverges within a few belief steps of every restart. The timers of
   // the node (beliefs at 1 kHz, action at 50 Hz, samples at 50 Hz) at every phase of the action
   // timer against the samples: once the first runaway is caught, every command is zero (the
   // restart is on probation for one action period, which the divergence never survives); before
   // it, at most the one action step of the first start can read a belief part-way to divergence.
-  p.aic = AicParams();  // the thesis's improved controller (thesis_improved.yaml)
+  p.aic = AicParams();  // the thesis's improved controller (thesis_improved_euler_diverges.yaml)
   ASSERT_EQ(p.aic.integrator, Integrator::kEuler);
   p.belief_schedule = BeliefSchedule::kTimer;
   p.action_trigger = ActionTrigger::kTimer;

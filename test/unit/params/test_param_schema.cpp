@@ -489,7 +489,7 @@ void expectDocumentedAsTheSchema(const std::string& path)
 TEST(ParamSchema, EveryConfigFileIsValid)
 {
   std::vector<std::string> files = configFiles();
-  files.insert(files.end(), { "test/data/thesis_standard.yaml", "test/data/thesis_improved.yaml" });
+  files.insert(files.end(), { "test/data/thesis_standard.yaml", "test/data/thesis_improved_euler_diverges.yaml" });
   for (const std::string& file : files)
   {
     SCOPED_TRACE(file);

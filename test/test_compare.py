@@ -1,0 +1,174 @@
+#!/usr/bin/env python3
+"""Python unit test: the Python API of the headless closed loop (jackal_aic_tools.compare.run_variant
+over jackal_aic_tools.common.closed_loop) and aic_compare.py, on closed_loop_run (seeded sensor
+noise, simulated time: deterministic). Checks:
+
+- the API's run of the 0.5 m/s + 0.5 rad/s arc gives exactly closed_loop_run's JSON and trace;
+- closed_loop_run's divergence check: the order-4 extension of the thesis's variances (doc/tuning.md,
+  'Embedding order and the variance lists') exits 3 with one line naming the cause, and reports it
+  and exits 0 with --keep-going; the variance rule's order-4 lists run;
+- variant lines (brackets, KEY*=FACTOR, bad lines) and the floored ratios near zero;
+- aic_compare.py on two variants and one profile: the table, CSV, JSON and figures are written, the
+  default's step figures are the scorecard's (aic_scorecard.py's run of the same step), the
+  tracking ones closed_loop_run's, the floor the driving set's.
+"""
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.realpath(__file__))
+ROOT = os.path.dirname(HERE)
+sys.path.insert(0, os.path.join(ROOT, "src"))
+SCRIPT = os.path.join(ROOT, "scripts", "aic_compare.py")
+PLANT = os.path.join(ROOT, "sim", "config", "plant.yaml")
+DEFAULT = os.path.join(ROOT, "config", "default.yaml")
+EQUIVALENT = os.path.join(ROOT, "config", "thesis_equivalent.yaml")
+
+from jackal_aic_tools.common import cli, closed_loop  # noqa: E402
+from jackal_aic_tools.common.tables import fmt_value  # noqa: E402
+from jackal_aic_tools.compare import compare, run_variant, variants  # noqa: E402
+from jackal_aic_tools.track import driving  # noqa: E402
+from jackal_aic_tools.tune import scorecard  # noqa: E402
+
+#: The order-4 extension of the thesis's variances (each order's var_mu doubled, var_y 1e5).
+ORDER4_DIVERGES = ["embedding_order=4", "var_mu=[1.5,2,4,8,16]", "var_y=[2,1e5,1e5,1e5,1e5]"]
+
+
+def exe():
+    return cli.find_executable("closed_loop_run", SCRIPT, "test_compare")
+
+
+def same(a, b):
+    """Arrays equal, NaN where the other is NaN."""
+    return a.shape == b.shape and bool(np.all((a == b) | (np.isnan(a) & np.isnan(b))))
+
+
+class ApiRun(unittest.TestCase):
+    def test_the_api_arc_is_closed_loop_runs(self):
+        r = run_variant(exe(), DEFAULT, plant_config=PLANT, step=0.5, turn=0.5)
+        with tempfile.TemporaryDirectory() as tmp:
+            trace = os.path.join(tmp, "arc.csv")
+            out = subprocess.run([exe(), "--controller", "aic", "--aic-config", DEFAULT, "--config", PLANT, "--noise",
+                                  "--step", "0.5", "--turn", "0.5", "--csv", trace],
+                                 stdout=subprocess.PIPE, universal_newlines=True, check=True)
+            direct = json.loads(out.stdout)
+            columns = driving.tracking.read_columns(trace)
+        self.assertEqual(r.result, direct)
+        self.assertEqual(sorted(r.trace), sorted(columns))
+        for name in columns:
+            self.assertTrue(same(r.trace[name], columns[name]), name)
+        # The metrics are the JSON's; the belief's RMS is over the trace's profile span.
+        self.assertEqual(r.metrics["segments"], direct["segments"])
+        self.assertEqual(r.metrics["tracking"]["vx"], direct["tracking"]["truth"]["vx"]["rms"])
+        self.assertIsNone(r.metrics["floor"])
+        b = r.metrics["belief_rms"]
+        self.assertGreater(b["samples"], 100)
+        self.assertTrue(0.0 < b["vx"] < 0.1 and 0.0 < b["wz"] < 0.2, b)
+        self.assertIsNone(r.diverged)
+
+
+class Divergence(unittest.TestCase):
+    def run_tool(self, sets, keep_going=False):
+        cmd = closed_loop.command(exe(), "aic", ["--step", "0.5"], EQUIVALENT, sets, PLANT, noise=False,
+                                  keep_going=keep_going)
+        return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True)
+
+    def test_the_order_4_extension_fails_loudly(self):
+        out = self.run_tool(ORDER4_DIVERGES)
+        self.assertEqual(out.returncode, closed_loop.EXIT_DIVERGED, out.stderr)
+        lines = [l for l in out.stderr.splitlines() if l.startswith("closed_loop_run")]
+        self.assertEqual(len(lines), 1, out.stderr)
+        self.assertIn("closed_loop_run: diverged: ", lines[0])
+        self.assertIn("runaway", lines[0])
+        self.assertIn("runaway", json.loads(out.stdout)["diverged"])
+        with self.assertRaises(closed_loop.Diverged) as caught:
+            closed_loop.run(exe(), "aic", ["--step", "0.5"], EQUIVALENT, ORDER4_DIVERGES, PLANT)
+        self.assertIn("runaway", caught.exception.message)
+        # Asked to go on: the same cause in the JSON, exit 0.
+        kept = self.run_tool(ORDER4_DIVERGES, keep_going=True)
+        self.assertEqual(kept.returncode, 0, kept.stderr)
+        self.assertIn("runaway", json.loads(kept.stdout)["diverged"])
+
+    def test_the_documented_order_4_lists_run(self):
+        # doc/tuning.md's rule: var_mu doubles per added order, var_y of order 4 at least 8.5e7 (1e9).
+        out = self.run_tool(["embedding_order=4", "var_mu=[1.5,2,4,8,16]", "var_y=[2,1e5,1e5,1e5,1e9]"])
+        self.assertEqual(out.returncode, 0, out.stderr)
+        result = json.loads(out.stdout)
+        self.assertIsNone(result["diverged"])
+        self.assertTrue(result["segments"][0]["measured"]["settled"])
+
+    def test_a_robot_that_never_moves_has_diverged(self):
+        # The open loop with every wheel command clamped to zero: the set point never reaches the wheels.
+        cmd = closed_loop.command(exe(), "open", ["--step", "0.5"], plant_config=PLANT, noise=False,
+                                  plant_sets=["motor.max_torque=0.0001"])
+        out = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True)
+        self.assertEqual(out.returncode, closed_loop.EXIT_DIVERGED, out.stderr)
+        self.assertIn("never moved", out.stderr)
+
+
+class VariantLines(unittest.TestCase):
+    def test_lines(self):
+        v = variants.parse("o4=default:embedding_order=4,var_mu=[1,2,3,4,5],k_a*=0.5", ROOT,
+                           lambda path: {"k_a": 3.0, "embedding_order": 2})
+        self.assertEqual(v.name, "o4")
+        self.assertEqual(v.config, DEFAULT)
+        self.assertEqual(v.sets, ["embedding_order=4", "var_mu=[1,2,3,4,5]", "k_a=1.5"])
+        self.assertEqual(variants.parse("plain=config/default.yaml", ROOT).sets, [])
+        for bad in ("no_base", "x=no_such_config", "x=default:k_a", "x=default:tau*=2", "bad name=default"):
+            with self.assertRaises(variants.VariantError):
+                variants.parse(bad, ROOT, (lambda path: {"tau": "a"}) if "*" in bad else None)
+        with self.assertRaises(variants.VariantError):
+            variants.check_names([variants.parse("stock=default", ROOT)])
+
+    def test_floored_ratios(self):
+        self.assertEqual(compare.floored_ratio(0.0, 0.0, "m/s"), 1.0)
+        self.assertEqual(compare.floored_ratio(0.0001, 0.004, "m/s"), 0.5)
+        self.assertAlmostEqual(compare.floored_ratio(0.1, 0.2, "s"), 0.5)
+        self.assertIsNone(compare.floored_ratio(None, 0.2, "s"))
+        self.assertIsNone(compare.floored_ratio(float("nan"), 0.2, "s"))
+
+
+class CompareTool(unittest.TestCase):
+    def test_two_variants_on_one_profile(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            profile = os.path.join(tmp, "short.csv")
+            with open(profile, "w") as f:
+                f.write("t,vx,wz\n0,0.4,0\n1.5,0.4,0.5\n3,0,0\n4,0,0\n")
+            out = subprocess.run([sys.executable, SCRIPT, "--variant", "default=default", "--variant",
+                                  "slow=default:k_a*=0.5", "--profiles", profile, "--out", tmp],
+                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True, timeout=300)
+            self.assertEqual(out.returncode, 0, out.stderr)
+            self.assertIn("tracking RMS / floor", out.stdout)
+            for name in ("compare.csv", "compare.json", "tracking_ratios.png", "tracking_ratios.pdf", "steps.png",
+                         "steps.pdf", "belief_error.png", "belief_error.pdf"):
+                self.assertTrue(os.path.isfile(os.path.join(tmp, name)), name)
+            with open(os.path.join(tmp, "compare.csv")) as f:
+                cells = {(r["metric"], r["column"]): r for r in csv.DictReader(f)}
+            # The default's 0.5 m/s step is the scorecard's run (criterion 1, seed 42).
+            ref = scorecard.closed_loop(exe(), "aic", scorecard.step_profile(0.5), DEFAULT, PLANT, ["sensors.seed=42"])
+            for metric in ("rise", "settling", "overshoot"):
+                self.assertEqual(float(cells[("0.5 m/s %s" % metric, "default")]["value"]),
+                                 ref["segments"][0]["measured"][metric])
+            # Tracking: closed_loop_run's RMS; the floor the driving set's at the plant's latency.
+            k_a = cli.effective_config([DEFAULT], SCRIPT, "test_compare")["k_a"] * 0.5
+            track = closed_loop.run(exe(), "aic", ["--profile", profile], DEFAULT, ["k_a=%s" % fmt_value(k_a)], PLANT)
+            self.assertAlmostEqual(float(cells[("short vx RMS", "slow")]["value"]),
+                                   track.result["tracking"]["truth"]["vx"]["rms"], places=12)
+            floor = driving.floor_rms(profile, track.result["command_delay"])
+            self.assertEqual(float(cells[("short wz RMS", "floor")]["value"]), floor["wz"])
+            ratio = float(cells[("short vx RMS", "slow")]["ratio"])
+            stock = float(cells[("short vx RMS", "stock")]["value"])
+            self.assertTrue(math.isclose(ratio, max(track.result["tracking"]["truth"]["vx"]["rms"], 0.002) /
+                                         max(stock, 0.002)))
+
+
+if __name__ == "__main__":
+    import pyunit  # test/pyunit.py, beside this file
+    pyunit.main("compare", ApiRun, Divergence, VariantLines, CompareTool)
