@@ -134,7 +134,8 @@ TEST(JackalNodeSampler, PhaseSweepSpansTheRobotsRepeatRates)
     highest = std::max(highest, st.repeatRate());
     EXPECT_GE(st.min_age, 0.0);
     EXPECT_LT(st.max_age, kMcuPeriod + kTimeTol);
-    EXPECT_EQ(st.repeats, st.skipped) << "phase " << params.phase;  // each repeat is a sample lost later
+    // Each repeat is an MCU sample never published a cycle later (the run may end between the two).
+    EXPECT_LE(std::max(st.repeats, st.skipped) - std::min(st.repeats, st.skipped), 1u) << "phase " << params.phase;
   }
   EXPECT_LT(lowest, 0.005);
   EXPECT_GE(highest, 0.15);

@@ -6,7 +6,7 @@
  *        states and to the stock odometry, and what it costs the AIC.
  *
  * Usage: jackal_node_sweep [--part resample|aic|all] [--phases N] [--drift PPM] [--jitter S]
- *            [--stall-probability P] [--seed N] [--aic-config FILE] [--aic-set key=value]...
+ *            [--stall-probability P] [--seed N] [--case NAME] [--verbose] [--aic-config FILE] [--aic-set key=value]...
  *            [--config PLANT.yaml] [--overlay FILE]... [--set key=value]... [--urdf FILE]
  * --part resample: per phase, the stock controller's 0.5 m/s step from rest: share of repeated
  *   joint states [%], their ages (min, max [ms]), MCU samples never published, catch-up cycles, and
@@ -98,6 +98,8 @@ int main(int argc, char** argv)
   int seed = 1;
   std::string aic_config = packageFile("config/default.yaml");
   std::vector<std::string> aic_overrides;
+  std::string only;
+  bool verbose = false;
   CommandLine cl("jackal_node_sweep", "jackal_node's re-sampled joint states through one period of the phase against "
                                       "the MCU, on the "
                                       "headless closed loop: repeats, ages, the stock odometry, and the AIC against "
@@ -109,6 +111,8 @@ int main(int argc, char** argv)
   cl.option("jitter", &jitter, "the loop's wake-up latency |N(0, S)| [s], in [0, 0.005]");
   cl.option("stall-probability", &stall, "share of cycles that stall up to 30 ms (catch-up cycles), in [0, 1]");
   cl.option("seed", &seed, "seed of the latency draws, >= 0");
+  cl.option("case", &only, "--part aic: only the case of this name (e.g. \"step 0.1 m/s\", creep)");
+  cl.flag("verbose", &verbose, "--part aic: every phase's figures, repeats and ages too");
   cl.option("aic-config", &aic_config, "controller YAML (controller and node keys)");
   cl.overrides("aic-set", &aic_overrides, "override a controller or node key");
   cl.footer("Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.");
@@ -224,6 +228,10 @@ int main(int argc, char** argv)
                   "drops (clean | sweep), imu_missing (clean | sweep)");
       for (const Case& k : cases)
       {
+        if (!only.empty() && k.name != only)
+        {
+          continue;
+        }
         ClosedLoopConfig c;
         c.controller = LoopController::kAic;
         c.node = node;
@@ -245,6 +253,17 @@ int main(int argc, char** argv)
           c.jackal_node_sampler.phase = phaseOf(p);
           const ClosedLoopRecord r = runClosedLoop(desc, params, c);
           const std::vector<double> f = figures(k, r);
+          if (verbose)
+          {
+            std::printf("  %-16s phase %5.1f ms: repeats %5.2f %%, ages %4.1f..%4.1f ms, figures", k.name.c_str(),
+                        1e3 * phaseOf(p), 100.0 * r.jackal_node_stats.repeatRate(), 1e3 * r.jackal_node_stats.min_age,
+                        1e3 * r.jackal_node_stats.max_age);
+            for (double x : f)
+            {
+              std::printf(" %.4f", x);
+            }
+            std::printf("\n");
+          }
           for (std::size_t i = 0; i < f.size(); ++i)
           {
             const double ratio = f[i] / f0[i];
