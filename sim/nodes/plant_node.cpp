@@ -1,11 +1,14 @@
 #include "plant_node.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <thread>
 
 #include <geometry_msgs/TransformStamped.h>
+#include <jackal_msgs/Feedback.h>
+#include <jackal_msgs/Status.h>
 #include <ros/master.h>
 #include <rosgraph_msgs/Clock.h>
 
@@ -106,7 +109,40 @@ PlantNode::PlantNode(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pn
   joint_msg_.velocity.resize(kNumWheels);
   joint_msg_.effort.resize(kNumWheels);
 
-  joint_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
+  const std::string source = pnh_.param<std::string>("joint_states_source", "direct");
+  if (source == "jackal_node")
+  {
+    joint_source_ = JointSource::kJackalNode;
+    sampler_ = std::make_unique<plant::JackalNodeSampler>(samplerParams());  // throws on a bad value
+  }
+  else if (source == "none")
+  {
+    joint_source_ = JointSource::kNone;
+  }
+  else if (source != "direct")
+  {
+    throw std::runtime_error("parameter " + pnh_.resolveName("joint_states_source") + " = '" + source +
+                             "' (allowed: direct, jackal_node, none)");
+  }
+  publish_mcu_ = pnh_.param("publish_mcu", false);
+  pnh_.param("mcu/torque_constant", torque_constant_, torque_constant_);
+  pnh_.param("mcu/temperature", mcu_temperature_, mcu_temperature_);
+  if (!std::isfinite(torque_constant_) || !(torque_constant_ > 0.0) || !std::isfinite(mcu_temperature_))
+  {
+    throw std::runtime_error("parameter " + pnh_.resolveName("mcu/torque_constant") +
+                             " must be finite and > 0 [N m / A], " + pnh_.resolveName("mcu/temperature") +
+                             " finite [deg C]");
+  }
+  status_period_ = periodSteps(1.0, params_.physics.step);
+  if (joint_source_ != JointSource::kNone)
+  {
+    joint_pub_ = nh_.advertise<sensor_msgs::JointState>("joint_states", 10);
+  }
+  if (publish_mcu_)
+  {
+    feedback_pub_ = nh_.advertise<jackal_msgs::Feedback>("feedback", 10);
+    status_pub_ = nh_.advertise<jackal_msgs::Status>("status", 1, true);
+  }
   imu_pub_ = nh_.advertise<sensor_msgs::Imu>("imu/data", 10);
   odom_pub_ = nh_.advertise<nav_msgs::Odometry>("odom", 10);
   if (use_sim_time_)
@@ -123,7 +159,75 @@ PlantNode::PlantNode(ros::NodeHandle nh, ros::NodeHandle pnh) : nh_(nh), pnh_(pn
                                         << "; step " << params_.physics.step << " s; joint_states "
                                         << params_.sensors.joint_states.rate << " Hz, imu " << params_.sensors.imu.rate
                                         << " Hz; real_time_factor " << params_.node.real_time_factor
-                                        << (use_sim_time_ ? "; publishing /clock" : ""));
+                                        << (use_sim_time_ ? "; publishing /clock" : "") << "; joint_states " << source
+                                        << (publish_mcu_ ? "; /feedback and /status" : ""));
+}
+
+plant::JackalNodeSamplerParams PlantNode::samplerParams() const
+{
+  plant::JackalNodeSamplerParams p;
+  pnh_.param("jackal_node/phase", p.phase, p.phase);
+  pnh_.param("jackal_node/drift", p.drift, p.drift);
+  pnh_.param("jackal_node/jitter_std", p.jitter_std, p.jitter_std);
+  pnh_.param("jackal_node/stall_probability", p.stall_probability, p.stall_probability);
+  pnh_.param("jackal_node/stall_max", p.stall_max, p.stall_max);
+  pnh_.param("jackal_node/link_delay", p.link_delay, p.link_delay);
+  int seed = static_cast<int>(p.seed);
+  pnh_.param("jackal_node/seed", seed, seed);
+  p.seed = static_cast<std::uint32_t>(seed);
+  return p;
+}
+
+void PlantNode::publishFeedback(const JointStateSample& s)
+{
+  jackal_msgs::Feedback fb;
+  fb.header.stamp = stamp(s.stamp);
+  for (const Side side : { kLeft, kRight })
+  {
+    double travel = 0.0, speed = 0.0, torque = 0.0;
+    for (int i = 0; i < kNumWheels; ++i)
+    {
+      if (kWheelSide[static_cast<std::size_t>(i)] == side)
+      {
+        travel += 0.5 * s.position[static_cast<std::size_t>(i)];
+        speed += 0.5 * s.velocity[static_cast<std::size_t>(i)];
+        torque += plant_->wheelTorque(i);
+      }
+    }
+    jackal_msgs::DriveFeedback& d = fb.drivers[side == kLeft ? jackal_msgs::Drive::LEFT : jackal_msgs::Drive::RIGHT];
+    d.measured_travel = static_cast<float>(travel);
+    d.measured_velocity = static_cast<float>(speed);
+    d.current = static_cast<float>(std::abs(torque) / torque_constant_);
+    const MotorParams& m = params_.motor;
+    const double duty = m.stall_torque > 0.0 ? torque / m.stall_torque + speed / m.no_load_speed : 0.0;
+    d.duty_cycle = static_cast<float>(std::clamp(duty, -1.0, 1.0));
+    d.bridge_temperature = d.motor_temperature = static_cast<float>(mcu_temperature_);
+    d.driver_fault = false;
+  }
+  fb.pcb_temperature = fb.mcu_temperature = static_cast<float>(mcu_temperature_);
+  bool velocity = false;
+  {
+    std::lock_guard<std::mutex> lock(command_mutex_);
+    velocity = command_.velocity && !timed_out_;
+  }
+  fb.commanded_mode = fb.actual_mode = velocity ? jackal_msgs::Drive::MODE_VELOCITY : jackal_msgs::Drive::MODE_NONE;
+  feedback_pub_.publish(fb);
+}
+
+void PlantNode::publishStatus()
+{
+  jackal_msgs::Status st;
+  st.header.stamp = stamp(plant_->time());
+  st.hardware_id = "jackal_aic simulated MCU";
+  st.mcu_uptime = ros::Duration(plant_->time());
+  st.connection_uptime = ros::Duration(plant_->time());
+  st.drivers_active = true;
+  st.driver_external_stop_present = false;
+  st.driver_external_stop_stopped = false;
+  st.measured_battery = 26.0f;
+  st.measured_12v = 12.0f;
+  st.measured_5v = 5.0f;
+  status_pub_.publish(st);
 }
 
 void PlantNode::onDrive(const jackal_msgs::Drive::ConstPtr& msg)
@@ -228,7 +332,30 @@ void PlantNode::stepOnce()
   }
   for (const JointStateSample& js : joint_samples_)
   {
-    publishJointStates(js);
+    if (publish_mcu_)
+    {
+      publishFeedback(js);
+    }
+    if (joint_source_ == JointSource::kDirect)
+    {
+      publishJointStates(js);
+    }
+    else if (joint_source_ == JointSource::kJackalNode)
+    {
+      sampler_->feedback(js);
+    }
+  }
+  if (joint_source_ == JointSource::kJackalNode)
+  {
+    sampler_->advance(plant_->time(), &resampled_);
+    for (const plant::ResampledJointState& r : resampled_)
+    {
+      publishJointStates(r.sample);
+    }
+  }
+  if (publish_mcu_ && (k % status_period_ == 0 || k == 1))
+  {
+    publishStatus();
   }
   for (const ImuSample& imu : imu_samples_)
   {
@@ -321,7 +448,7 @@ void PlantNode::fillJointStates(const JointStateSample& s)
   {
     joint_msg_.position[i] = s.position[i];
     joint_msg_.velocity[i] = s.velocity[i];
-    joint_msg_.effort[i] = plant_->wheelTorque(i);
+    joint_msg_.effort[i] = joint_source_ == JointSource::kJackalNode ? 0.0 : plant_->wheelTorque(i);
   }
 }
 

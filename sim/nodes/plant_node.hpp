@@ -24,6 +24,25 @@
  * time (0 = as fast as possible). A lag of more than 0.5 s is dropped (logged) instead of
  * being caught up.
  *
+ * ~joint_states_source: who publishes /joint_states. "direct" (default): the sensor model's
+ * samples as they are (fresh, distinct, stamped when taken). "jackal_node": as a Jackal's
+ * jackal_node does (plant::JackalNodeSampler: the samples are the MCU's feedback, re-sampled by a
+ * free-running 50 Hz loop with ~jackal_node/phase [s], ~jackal_node/drift [ppm],
+ * ~jackal_node/jitter_std [s], ~jackal_node/stall_probability, ~jackal_node/stall_max [s],
+ * ~jackal_node/link_delay [s], ~jackal_node/seed; stamped with the loop's time; both joints of a
+ * side carry the side's measurement; effort 0). "none": nothing (the real jackal_node publishes them
+ * from /feedback).
+ *
+ * ~publish_mcu (default false): the MCU's interface, as jackal_node expects it over rosserial:
+ * jackal_msgs/Feedback on /feedback with every joint-state sample of the sensor model (50 Hz; per side:
+ * measured_velocity [rad/s] and measured_travel [rad] (the mean of the side's wheels, travel from
+ * the plant's start), current [A] = |side torque| / ~mcu/torque_constant, duty_cycle = side torque /
+ * motor.stall_torque + speed / motor.no_load_speed in [-1, 1] (the plant's DC-motor voltage
+ * model), temperatures a constant ~mcu/temperature [deg C], driver_fault false; commanded_mode and
+ * actual_mode MODE_VELOCITY while velocity commands arrive, else MODE_NONE) and jackal_msgs/Status on
+ * /status at 1 Hz (drivers active, no external stop, nominal rails 26 / 12 / 5 V, uptimes = plant
+ * time). The rosserial link itself is not simulated.
+ *
  * Private parameters: ~urdf (URDF path, required), ~plant_config (plant YAML path,
  * required), ~overlay (a plant YAML with only the keys that differ, e.g.
  * sim/config/variants/turn_deficit.yaml, or a list of them applied in order; "" or absent =
@@ -47,6 +66,7 @@
 
 #include "jackal_aic/loop/time_jump.hpp"
 #include "jackal_sim/plant/fault_injection.hpp"
+#include "jackal_sim/plant/jackal_node_sampler.hpp"
 #include "jackal_sim/plant/plant.hpp"
 #include "jackal_sim/plant/plant_params.hpp"
 #include "jackal_sim/plant/robot_description.hpp"
@@ -98,6 +118,12 @@ private:
   /// The Imu message of a sample.
   sensor_msgs::Imu imuMessage(const ImuSample& s) const;
   void publishOdom();
+  /// /feedback of one MCU sample (~publish_mcu).
+  void publishFeedback(const JointStateSample& s);
+  /// /status (~publish_mcu), at 1 Hz of plant time.
+  void publishStatus();
+  /// The re-sampler's parameters from ~jackal_node/* (defaults: JackalNodeSamplerParams).
+  plant::JackalNodeSamplerParams samplerParams() const;
   /// Re-read ~faults (a list of fault lines, sim/plant/include/jackal_sim/plant/fault_injection.hpp) if it changed.
   void pollFaults();
   /**
@@ -142,6 +168,21 @@ private:
   ros::Publisher imu_pub_;
   ros::Publisher odom_pub_;
   ros::Publisher clock_pub_;
+  ros::Publisher feedback_pub_;
+  ros::Publisher status_pub_;
+  /// ~joint_states_source
+  enum class JointSource
+  {
+    kDirect,
+    kJackalNode,
+    kNone
+  } joint_source_ = JointSource::kDirect;
+  std::unique_ptr<plant::JackalNodeSampler> sampler_;  ///< with kJackalNode
+  std::vector<plant::ResampledJointState> resampled_;
+  bool publish_mcu_ = false;
+  double torque_constant_ = 1.0;        ///< [N m / A], ~mcu/torque_constant
+  double mcu_temperature_ = 30.0;       ///< [deg C], ~mcu/temperature
+  std::uint64_t status_period_ = 1000;  ///< steps between /status messages
   tf2_ros::TransformBroadcaster tf_;
   sensor_msgs::JointState joint_msg_;
   std::vector<std::string> fault_lines_;

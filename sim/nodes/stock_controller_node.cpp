@@ -24,7 +24,8 @@ constexpr double kFallbackPeriods = 1.5;
 
 }  // namespace
 
-StockControllerNode::StockControllerNode(ros::NodeHandle nh, ros::NodeHandle pnh) : controller_(readParams(pnh))
+StockControllerNode::StockControllerNode(ros::NodeHandle nh, ros::NodeHandle pnh)
+  : controller_(readParams(pnh)), odometry_(makeOdometry())
 {
   const std::string input = pnh.param<std::string>("input_topic", "jackal_AIC/set_point");
   publish_odom_ = pnh.param("publish_odom", false);
@@ -61,6 +62,13 @@ StockControllerNode::StockControllerNode(ros::NodeHandle nh, ros::NodeHandle pnh
            controller_.params().wheel_radius, controller_.params().publish_rate,
            cycle_on_joint_states_ ? " (cycle on joint_states)" : "", sub_.getTopic().c_str(),
            publish_odom_ ? ", odometry" : "", publish_mcu_ ? ", /status and /feedback" : "");
+}
+
+harness::DiffDriveOdometry StockControllerNode::makeOdometry() const
+{
+  return harness::DiffDriveOdometry(controller_.params().wheel_separation *
+                                        controller_.params().wheel_separation_multiplier,
+                                    controller_.params().wheel_radius);
 }
 
 harness::StockControllerParams StockControllerNode::readParams(const ros::NodeHandle& pnh)
@@ -114,18 +122,18 @@ void StockControllerNode::onSetStop(const std_msgs::Bool::ConstPtr& msg)
   }
 }
 
-bool StockControllerNode::meanVelocity(const sensor_msgs::JointState& js, const std::vector<std::string>& names,
-                                       double* out)
+bool StockControllerNode::meanField(const sensor_msgs::JointState& js, const std::vector<double>& field,
+                                    const std::vector<std::string>& names, double* out)
 {
   double sum = 0.0;
   for (const auto& n : names)
   {
     bool found = false;
-    for (std::size_t i = 0; i < js.name.size() && i < js.velocity.size(); ++i)
+    for (std::size_t i = 0; i < js.name.size() && i < field.size(); ++i)
     {
-      if (js.name[i] == n && std::isfinite(js.velocity[i]))
+      if (js.name[i] == n && std::isfinite(field[i]))
       {
-        sum += js.velocity[i];
+        sum += field[i];
         found = true;
         break;
       }
@@ -149,37 +157,41 @@ void StockControllerNode::onJointState(const sensor_msgs::JointState::ConstPtr& 
   {
     return;
   }
-  double wl = 0.0, wr = 0.0;
-  if (!meanVelocity(*msg, left_joints_, &wl) || !meanVelocity(*msg, right_joints_, &wr))
+  double pl = 0.0, pr = 0.0;
+  if (!meanField(*msg, msg->position, left_joints_, &pl) || !meanField(*msg, msg->position, right_joints_, &pr))
   {
-    ROS_WARN_THROTTLE(1.0, "stock_controller: joint_states without finite velocities of the wheel joints");
+    ROS_WARN_THROTTLE(1.0, "stock_controller: joint_states without finite positions of the wheel joints");
     return;
   }
-  const jackal_aic::BodyTwist t = jackal_aic::twistFromWheels(controller_.params(), jackal_aic::Vector2(wl, wr));
   const ros::Time stamp = msg->header.stamp;
+  const bool back = !last_odom_.isZero() && stamp < last_odom_;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     checkClock();
   }
-  if (!last_odom_.isZero() && stamp > last_odom_)
+  if (back)
   {
-    const double dt = (stamp - last_odom_).toSec();
-    const double heading = yaw_ + 0.5 * t.angular * dt;  // second-order Runge-Kutta, as diff_drive_controller
-    x_ += t.linear * std::cos(heading) * dt;
-    y_ += t.linear * std::sin(heading) * dt;
-    yaw_ += t.angular * dt;
+    // A new timeline: the odometry starts afresh from the pose reached (kept as the offset).
+    const double c = std::cos(heading_offset_), s = std::sin(heading_offset_);
+    x_offset_ += c * odometry_.x() - s * odometry_.y();
+    y_offset_ += s * odometry_.x() + c * odometry_.y();
+    heading_offset_ += odometry_.heading();
+    odometry_ = makeOdometry();
   }
+  odometry_.update(pl, pr, stamp.toSec());
   last_odom_ = stamp;
+  const double c = std::cos(heading_offset_), s = std::sin(heading_offset_);
+  const double heading = heading_offset_ + odometry_.heading();
   nav_msgs::Odometry odom;
   odom.header.stamp = stamp;
   odom.header.frame_id = "odom";
   odom.child_frame_id = "base_link";
-  odom.pose.pose.position.x = x_;
-  odom.pose.pose.position.y = y_;
-  odom.pose.pose.orientation.z = std::sin(yaw_ / 2.0);
-  odom.pose.pose.orientation.w = std::cos(yaw_ / 2.0);
-  odom.twist.twist.linear.x = t.linear;
-  odom.twist.twist.angular.z = t.angular;
+  odom.pose.pose.position.x = x_offset_ + c * odometry_.x() - s * odometry_.y();
+  odom.pose.pose.position.y = y_offset_ + s * odometry_.x() + c * odometry_.y();
+  odom.pose.pose.orientation.z = std::sin(heading / 2.0);
+  odom.pose.pose.orientation.w = std::cos(heading / 2.0);
+  odom.twist.twist.linear.x = odometry_.linear();
+  odom.twist.twist.angular.z = odometry_.angular();
   odom_pub_.publish(odom);
 }
 

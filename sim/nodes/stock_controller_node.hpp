@@ -43,6 +43,7 @@
 #include <std_msgs/Bool.h>
 
 #include "jackal_aic/loop/time_jump.hpp"
+#include "jackal_sim/harness/diff_drive_odometry.hpp"
 #include "jackal_sim/harness/stock_controller.hpp"
 
 namespace jackal_aic
@@ -68,9 +69,13 @@ private:
   void onCommand(const geometry_msgs::Twist::ConstPtr& msg);
   /// ~set_stop: engage (true) or release (false) the simulated MCU stop.
   void onSetStop(const std_msgs::Bool::ConstPtr& msg);
-  /// Mean velocity of the named joints [rad/s]; false if one is missing or non-finite.
-  static bool meanVelocity(const sensor_msgs::JointState& js, const std::vector<std::string>& names, double* out);
-  /// diff_drive_controller's odometry from the wheel speeds: v = r (wL + wR) / 2, w = r (wR - wL) / s.
+  /// Mean of one field (js.position or js.velocity) over the named joints; false if one is missing or non-finite.
+  static bool meanField(const sensor_msgs::JointState& js, const std::vector<double>& field,
+                        const std::vector<std::string>& names, double* out);
+  /// diff_drive_controller's odometry for the parameters in force (control.yaml's s and r).
+  harness::DiffDriveOdometry makeOdometry() const;
+  /// Runs the cycle (~cycle_on_joint_states), then diff_drive_controller's odometry from the wheel
+  /// positions at the message's stamp (harness::DiffDriveOdometry), published on jackal_velocity_controller/odom.
   void onJointState(const sensor_msgs::JointState::ConstPtr& msg);
   /// Publish jackal_msgs/Status. Call with mutex_ held.
   void publishStatus();
@@ -87,6 +92,7 @@ private:
 
   std::mutex mutex_;
   harness::StockController controller_;
+  harness::DiffDriveOdometry odometry_;  ///< joint-state thread only
   bool publish_odom_ = false, publish_mcu_ = false, stopped_ = false, cycle_on_joint_states_ = false;
   ros::Time last_cycle_;  ///< time of the last cycle (mutex_)
   std::vector<std::string> left_joints_, right_joints_;
@@ -95,7 +101,8 @@ private:
   ros::Timer timer_, status_timer_;
   ros::Time last_odom_;
   TimeJumpDetector time_jump_{ 0.001 };  ///< ROS time (mutex_)
-  double x_ = 0.0, y_ = 0.0, yaw_ = 0.0;
+  /// The pose reached before the odometry last restarted (ROS time moved back) [m, m, rad].
+  double x_offset_ = 0.0, y_offset_ = 0.0, heading_offset_ = 0.0;
 };
 
 }  // namespace sim_nodes

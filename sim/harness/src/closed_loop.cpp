@@ -11,7 +11,9 @@
 #include "jackal_sim/plant/plant.hpp"
 #include "jackal_sim/plant/fault_injection.hpp"
 #include "jackal_sim/plant/sensor_model.hpp"
+#include "jackal_sim/harness/diff_drive_odometry.hpp"
 #include "jackal_sim/harness/stock_controller.hpp"
+#include "jackal_sim/plant/jackal_node_sampler.hpp"
 
 namespace jackal_aic
 {
@@ -62,6 +64,19 @@ void checkConfig(const ClosedLoopConfig& config)
     if (i > 0 && s.start < config.profile[i - 1].start)
     {
       throw std::invalid_argument("runClosedLoop: profile not sorted by start time");
+    }
+  }
+  if (config.jackal_node)
+  {
+    const auto violations = config.jackal_node_sampler.validate();
+    if (!violations.empty())
+    {
+      std::string what = "runClosedLoop: invalid jackal_node_sampler:";
+      for (const auto& v : violations)
+      {
+        what += " " + v + ";";
+      }
+      throw std::invalid_argument(what);
     }
   }
   if (!config.operations.empty() && config.controller != LoopController::kAic)
@@ -246,6 +261,11 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
   sensors->setFaults(config.faults, 0.0);
   std::vector<JointStateSample> joint_samples;
   std::vector<ImuSample> imu_samples;
+  // jackal_node's re-sampling of the MCU's feedback (ClosedLoopConfig::jackal_node).
+  auto sampler = std::make_unique<JackalNodeSampler>(config.jackal_node_sampler);
+  std::vector<ResampledJointState> resampled;
+  std::vector<double> sample_source;  // when each joint sample's data was measured [s]
+  std::vector<double> sample_repeated;
   const double dt = params.physics.step;
   const double r = description.wheelRadius();
   const auto total = static_cast<std::uint64_t>(std::llround(config.duration / dt));
@@ -253,6 +273,9 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
 
   StockController stock;
   const std::uint64_t stock_period = periodSteps(stock.params().publish_rate, dt);
+  // The stock bringup's odometry over the joint states (control.yaml's separation and radius).
+  DiffDriveOdometry diff_drive(stock.params().wheel_separation * stock.params().wheel_separation_multiplier,
+                               stock.params().wheel_radius);
 
   // The AIC: the node's logic on the plant's clock.
   ClosedLoopRecord out;
@@ -321,6 +344,7 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
           plant = std::make_unique<Plant>(description, params);
           sensors = std::make_unique<FaultedSensors>(params.sensors, params.physics.step);
           sensors->setFaults(config.faults, -run_offset);
+          sampler = std::make_unique<JackalNodeSampler>(config.jackal_node_sampler);
           output.setPlant(plant.get());
           clock_offset = 0.0;  // the restarted simulator's clock starts at 0
           break;
@@ -432,6 +456,31 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
       first_belief_tick = false;
     }
     sensors->afterStep(*plant, &joint_samples, &imu_samples);
+    sample_source.clear();
+    sample_repeated.clear();
+    if (config.jackal_node)
+    {
+      for (const JointStateSample& js : joint_samples)
+      {
+        sampler->feedback(js);
+      }
+      sampler->advance(plant->time(), &resampled);
+      joint_samples.clear();
+      for (const ResampledJointState& rs : resampled)
+      {
+        joint_samples.push_back(rs.sample);
+        sample_source.push_back(rs.source_stamp);
+        sample_repeated.push_back(rs.repeated ? 1.0 : 0.0);
+      }
+    }
+    else
+    {
+      for (const JointStateSample& js : joint_samples)
+      {
+        sample_source.push_back(js.stamp);
+        sample_repeated.push_back(0.0);
+      }
+    }
     if (!imu_samples.empty())
     {
       gyro_z = imu_samples.back().angular_velocity.z();
@@ -448,8 +497,11 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
         loop->imu(in);
       }
     }
-    for (const JointStateSample& js : joint_samples)  // the record and the loop, per joint-state sample
+    for (std::size_t j = 0; j < joint_samples.size(); ++j)  // the record and the loop, per joint-state sample
     {
+      const JointStateSample& js = joint_samples[j];
+      diff_drive.update(0.5 * (js.position[kFrontLeft] + js.position[kRearLeft]),
+                        0.5 * (js.position[kFrontRight] + js.position[kRearRight]), run_offset + js.stamp);
       if (deliver)
       {
         loop->advance();  // the beliefs at the sample's time, for the record
@@ -508,6 +560,10 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
         const double tr = plant->sideVelocity(kRight);
         out.v_wheels.push_back(r * 0.5 * (tl + tr));
         out.yaw_wheels.push_back(r * (tr - tl) / b_hat);
+        out.v_diff_drive.push_back(diff_drive.linear());
+        out.yaw_diff_drive.push_back(diff_drive.angular());
+        out.sample_age.push_back(js.stamp - sample_source[j]);
+        out.repeated.push_back(sample_repeated[j]);
         out.torque_limited.push_back(0.5 * (static_cast<double>(plant->servo(kLeft).torqueLimited()) +
                                             static_cast<double>(plant->servo(kRight).torqueLimited())));
         if (config.record_inference && aic)
@@ -544,8 +600,17 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
       }
     }
   }
+  out.jackal_node_stats = sampler->stats();
   if (aic && loop)
   {
+    for (int i = 0; i < static_cast<int>(DropReason::kCount); ++i)
+    {
+      const auto reason = static_cast<DropReason>(i);
+      if (loop->pairing().drops(reason) > 0)
+      {
+        out.drops.emplace_back(toString(reason), loop->pairing().drops(reason));
+      }
+    }
     out.runaways = loop->supervisor().runaways();
     out.tip_trips = loop->tipGuard().trips();
     out.tip_front = loop->tipGuard().learnedFront();

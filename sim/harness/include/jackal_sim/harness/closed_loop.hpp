@@ -26,6 +26,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <utility>
 #include <string>
 #include <limits>
 #include <vector>
@@ -36,6 +37,7 @@
 #include "jackal_aic/params/aic_params.hpp"
 #include "jackal_aic/analysis/tracking_metrics.hpp"
 #include "jackal_sim/plant/fault_injection.hpp"
+#include "jackal_sim/plant/jackal_node_sampler.hpp"
 #include "jackal_sim/plant/plant_params.hpp"
 #include "jackal_sim/plant/robot_description.hpp"
 
@@ -184,6 +186,14 @@ struct ClosedLoopConfig
   /// kIdeal: the command of every 50 Hz tick from the run's start, (body speed [m/s], yaw rate
   /// [rad/s]); ticks past its end send the set point command_delay ahead.
   std::vector<Vector2> ideal_commands;
+  /**
+   * true: the joint states are jackal_node's (plant::JackalNodeSampler with jackal_node_sampler):
+   * the sensor model's samples are the MCU's feedback, re-sampled by jackal_node's free-running
+   * loop (0..20 ms old, some repeated, stamped with the loop's time), for the record and for the
+   * controller alike; false: the sensor model's samples as they are (fresh, distinct).
+   */
+  bool jackal_node = false;
+  plant::JackalNodeSamplerParams jackal_node_sampler;  ///< with jackal_node (validated by runClosedLoop)
 };
 
 /// One event of the AIC's fault monitor during a run.
@@ -247,6 +257,21 @@ struct ClosedLoopRecord
   std::vector<HealthEvent> health_events;  ///< AIC: the fault monitor's events, in order
   /// AIC: plant times [s] of the joint-state samples the loop paired without an IMU (degraded mode).
   std::vector<double> imu_missing;
+  /// diff_drive_controller's odometry (DiffDriveOdometry, control.yaml's separation and radius)
+  /// updated with every joint-state sample at its stamp: its smoothed body speed [m/s] and yaw
+  /// rate [rad/s], as the stock bringup publishes them.
+  std::vector<double> v_diff_drive;
+  std::vector<double> yaw_diff_drive;
+  /// Age of each joint-state sample: its stamp minus when its data was measured [s] (0 without
+  /// ClosedLoopConfig::jackal_node).
+  std::vector<double> sample_age;
+  /// 1 where the sample repeats the previous one's data (jackal_node), else 0.
+  std::vector<double> repeated;
+  /// With ClosedLoopConfig::jackal_node: the re-sampler's counts over the run (the last plant's).
+  plant::JackalNodeSamplerStats jackal_node_stats;
+  /// AIC: joint-state and IMU inputs the loop dropped during the run, per DropReason name (e.g.
+  /// "min_sample_interval", "no_imu"), counted from the loop's pairing.
+  std::vector<std::pair<std::string, std::uint64_t>> drops;
 };
 
 /**
