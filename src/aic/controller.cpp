@@ -600,7 +600,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(
     next(0, 1) = model_.twistFromWheels(robot_belief_.wheelAccelerations())(0);
     next(2, 1) = robot_belief_.yawAcceleration();
   }
-  if (!next.allFinite() || next.cwiseAbs().maxCoeff() > params_.runaway_limit)
+  if (!next.allFinite() || !(next.cwiseAbs().maxCoeff() <= params_.runaway_limit))
   {
     runawayReset();
     return Status::kRunaway;
