@@ -241,6 +241,30 @@ TEST(AicParams, GeneratesAndChecks)
   EXPECT_EQ(bad_config.out.find("k_mu:"), std::string::npos) << "printed a listing for a bad file";
   EXPECT_EQ(run(bin + " --yaml --config /nonexistent.yaml").code, 1);
   EXPECT_EQ(run(bin + " --markdown --config " + src + "/config/default.yaml").code, 2);
+
+  // --check of an overlay (no joint lists) is done over config/default.yaml + config/robot.yaml,
+  // as the robot loads it; --config names other bases; a comment-only file is one clear error.
+  const Result overlay = run(bin + " --check " + src + "/config/unbiased.yaml");
+  EXPECT_EQ(overlay.code, 0) << overlay.out;
+  EXPECT_NE(overlay.out.find("an overlay (no joint lists): checked over config/default.yaml + config/robot.yaml"),
+            std::string::npos)
+      << overlay.out;
+  const Result over_bases =
+      run(bin + " --check " + src + "/config/robot_model.yaml --config " + src + "/config/default.yaml");
+  EXPECT_EQ(over_bases.code, 0) << over_bases.out;
+  EXPECT_EQ(over_bases.out.find("an overlay"), std::string::npos) << over_bases.out;
+  const Result comments = run(bin + " --check " + writeFile("params_comments.yaml", "# only a comment\n"));
+  EXPECT_EQ(comments.code, 1);
+  EXPECT_NE(comments.out.find("no parameters (the file is empty or holds only comments)"), std::string::npos)
+      << comments.out;
+  EXPECT_EQ(comments.out.find("must be"), std::string::npos) << "one line, not one per key: " << comments.out;
+  const Result empty_config = run(bin + " --yaml --config " + writeFile("params_comments2.yaml", "# x\n"));
+  EXPECT_EQ(empty_config.code, 1);
+  EXPECT_NE(empty_config.out.find("no parameters"), std::string::npos) << empty_config.out;
+  // A relative path not found from the working directory is the package's.
+  const Result relative = run("cd / && JACKAL_AIC_SHARE=" + src + " " + bin + " --check config/default.yaml");
+  EXPECT_EQ(relative.code, 0) << relative.out;
+  EXPECT_EQ(run("cd / && JACKAL_AIC_SHARE=" + src + " " + bin + " --check config/nonexistent.yaml").code, 1);
 }
 
 TEST(CommandLines, HelpExitsZeroAndBadArgumentsTwo)

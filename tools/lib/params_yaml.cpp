@@ -4,6 +4,7 @@
  *        'Parameters').
  */
 #include "jackal_tools/params_yaml.hpp"
+#include "jackal_tools/share_path.hpp"
 
 #include <sstream>
 #include <stdexcept>
@@ -109,7 +110,11 @@ YAML::Node readYamlMap(const std::string& file, const std::vector<std::string>& 
   YAML::Node root;
   try
   {
-    root = YAML::LoadFile(file);
+    root = YAML::LoadFile(resolveDataFile(file));
+    if (root.IsNull())
+    {
+      throw std::runtime_error(file + ": no parameters (the file is empty or holds only comments)");
+    }
     if (!root.IsMap())
     {
       throw std::runtime_error(file + ": expected a map of parameters at the top level");

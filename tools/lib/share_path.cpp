@@ -5,6 +5,7 @@
 #include "jackal_tools/share_path.hpp"
 
 #include <cstdlib>
+#include <fstream>
 
 #include <ros/package.h>
 
@@ -24,6 +25,16 @@ std::string packageShareDir()
 std::string packageFile(const std::string& relative)
 {
   return packageShareDir() + "/" + relative;
+}
+
+std::string resolveDataFile(const std::string& path)
+{
+  if (path.empty() || std::ifstream(path).good() || path.front() == '/')
+  {
+    return path;
+  }
+  const std::string in_package = packageFile(path);
+  return std::ifstream(in_package).good() ? in_package : path;
 }
 
 }  // namespace jackal_aic

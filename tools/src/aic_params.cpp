@@ -8,8 +8,11 @@
  *   aic_params --yaml                           every key with its default, commented
  *   aic_params --yaml --config F [--config G]   every key as the node reads F, then G, over the
  *                                               defaults (the effective configuration)
- *   aic_params --check FILE                     read a controller YAML like the node: unknown
+ *   aic_params --check FILE [--config BASE ...] read a controller YAML like the node (over its
+ *                                               bases; an overlay without joint lists over
+ *                                               config/default.yaml + config/robot.yaml): unknown
  *                                               keys, type errors and violations; exit 1 on any
+ * A relative file that is not found is looked up in the package (jackal_tools/share_path.hpp).
  *
  * Exit 0 on success, 1 on a bad file, 2 on bad arguments.
  */
@@ -23,14 +26,23 @@
 #include "jackal_tools/param_docs.hpp"
 #include "jackal_aic/params/param_schema.hpp"
 #include "jackal_tools/params_yaml.hpp"
+#include "jackal_tools/share_path.hpp"
 
 using namespace jackal_aic;
 
 namespace
 {
-/// Every key of a YAML file checked as the node would (both scopes): 0 if clean, 1 otherwise.
-int checkFile(const std::string& file)
+/// The files the robot loads before an overlay (doc/usage.md, 'On the robot').
+const std::vector<std::string> kOverlayBases = { "config/default.yaml", "config/robot.yaml" };
+
+/**
+ * Every key of a YAML file checked as the node would (both scopes), loaded over `bases` in order:
+ * 0 if clean, 1 otherwise. With no bases, a file that sets neither joint list is an overlay and is
+ * checked over kOverlayBases (from the package), as the robot loads it; that is said on stdout.
+ */
+int checkFile(const std::string& given, std::vector<std::string> bases)
 {
+  const std::string file = resolveDataFile(given);
   YAML::Node root;
   try
   {
@@ -38,21 +50,48 @@ int checkFile(const std::string& file)
   }
   catch (const YAML::Exception& e)
   {
-    std::cerr << "aic_params: " << file << ": " << e.what() << "\n";
+    std::cerr << "aic_params: " << given << ": " << e.what() << "\n";
     return 1;
   }
+  if (root.IsNull())
+  {
+    std::cerr << "aic_params: " << given << ": no parameters (the file is empty or holds only comments)\n";
+    return 1;
+  }
+  if (!root.IsMap())
+  {
+    std::cerr << "aic_params: " << given << ": expected a map of parameters at the top level\n";
+    return 1;
+  }
+  if (bases.empty() && !root["left_joints"] && !root["right_joints"])
+  {
+    bases = kOverlayBases;
+    std::cout << given << ": an overlay (no joint lists): checked over " << bases[0] << " + " << bases[1] << "\n";
+  }
   NodeParams params;
+  try
+  {
+    if (!bases.empty())
+    {
+      params = loadNodeParamsFiles(bases);
+    }
+  }
+  catch (const std::exception& e)
+  {
+    std::cerr << "aic_params: a base of " << given << ": " << e.what() << "\n";
+    return 1;
+  }
   const ParamLoadReport report =
       loadParams(YamlParamSource(root), { ParamScope::kController, ParamScope::kNode }, false, &params);
   int problems = 0;
   for (const auto& key : report.unknown)
   {
-    std::cerr << "aic_params: " << file << ": unknown key '" << key << "'\n";
+    std::cerr << "aic_params: " << given << ": unknown key '" << key << "'\n";
     ++problems;
   }
   for (const auto& e : report.errors)
   {
-    std::cerr << "aic_params: " << file << ": key '" << e.name << "' must be " << e.allowed << " (got " << e.value
+    std::cerr << "aic_params: " << given << ": key '" << e.name << "' must be " << e.allowed << " (got " << e.value
               << ")\n";
     ++problems;
   }
@@ -60,13 +99,13 @@ int checkFile(const std::string& file)
   {
     for (const auto& v : params.validate())
     {
-      std::cerr << "aic_params: " << file << ": " << v.toString() << "\n";
+      std::cerr << "aic_params: " << given << ": " << v.toString() << "\n";
       ++problems;
     }
   }
   if (problems == 0)
   {
-    std::cout << file << ": ok\n";
+    std::cout << given << ": ok\n";
   }
   return problems == 0 ? 0 : 1;
 }
@@ -86,8 +125,12 @@ int main(int argc, char** argv)
   cl.flag("yaml", &yaml, "every key with its default, as a commented YAML file");
   cl.repeated("config", &configs,
               "with --yaml: print the values after loading these YAML files in order over the defaults, as the "
-              "node and the tools do (e.g. --config config/default.yaml --config config/robot.yaml)");
-  cl.option("check", &check, "check a YAML file (config/*.yaml) as the node reads it");
+              "node and the tools do (e.g. --config config/default.yaml --config config/robot.yaml); with "
+              "--check: the files loaded before the checked one. A relative path not found is looked up in the "
+              "package");
+  cl.option("check", &check,
+            "check a YAML file (config/*.yaml) as the node reads it; an overlay (a file without the joint lists) "
+            "is checked over config/default.yaml and config/robot.yaml unless --config names its bases");
   cl.footer("Give exactly one of --cfg, --markdown, --yaml and --check. Exit 0 on success, 1 on a bad file, 2 on "
             "bad arguments.");
   if (const int code = cl.parse(argc, argv); code >= 0)
@@ -98,13 +141,13 @@ int main(int argc, char** argv)
   {
     return cl.bad("give exactly one of --cfg, --markdown, --yaml and --check");
   }
-  if (!configs.empty() && !yaml)
+  if (!configs.empty() && !yaml && !cl.given("check"))
   {
-    return cl.bad("--config goes with --yaml");
+    return cl.bad("--config goes with --yaml or --check");
   }
   if (!check.empty())
   {
-    return checkFile(check);
+    return checkFile(check, configs);
   }
   if (!configs.empty())
   {

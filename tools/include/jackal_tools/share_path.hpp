@@ -26,5 +26,11 @@ std::string packageShareDir();
  * \param relative  a path below the package's folder, e.g. "sim/urdf/jackal.urdf"
  */
 std::string packageFile(const std::string& relative);
+/**
+ * \brief A data file named on a command line: `path` itself when it can be opened; otherwise, for
+ *        a relative path, packageFile(path) when that can be opened (so `config/default.yaml`
+ *        works from any folder); otherwise `path` unchanged, for the loader to report. Never throws.
+ */
+std::string resolveDataFile(const std::string& path);
 
 }  // namespace jackal_aic
