@@ -7,6 +7,8 @@ no stamp.
 import math
 import threading
 
+import rosgraph
+import rosnode
 import rospy
 
 
@@ -52,3 +54,17 @@ def rate_of(times):
 
 def finite(values):
     return all(math.isfinite(v) for v in values)
+
+
+def live_publishers(topic):
+    """Node names the master lists as publishers of `topic`, after the registrations of nodes
+    that no longer answer a ping are removed from the master, as `rosnode cleanup` does. A node
+    that ends by SIGKILL (roslaunch escalates when a node is slow to exit under load) cannot
+    unregister; its stale entry would otherwise read as a publisher that stayed."""
+    master = rosgraph.Master(rospy.get_name())
+    nodes = sorted(n for t, ns in master.getSystemState()[0] if t == topic for n in ns)
+    dead = [n for n in nodes if not rosnode.rosnode_ping(n, max_count=1, verbose=False)]
+    if dead:
+        rospy.logwarn("%s: removing the stale registration(s) of %s", topic, dead)
+        rosnode.cleanup_master_blacklist(master, dead)
+    return [n for n in nodes if n not in dead]

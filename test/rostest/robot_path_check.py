@@ -40,7 +40,7 @@ from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from aic_test_utils import wait_for  # noqa: E402
+from aic_test_utils import live_publishers, wait_for  # noqa: E402
 from jackal_aic_tools.common import ros_process  # noqa: E402
 
 PKG = "jackal_aic"
@@ -259,7 +259,7 @@ class RobotPath(unittest.TestCase):
 
     def stop_robot_launch(self, proc):
         ros_process.stop(proc, timeout=30.0)
-        self.assertTrue(wait_for(lambda: publishers_of(CMD_VEL) == [], 30.0),
+        self.assertTrue(wait_for(lambda: live_publishers(CMD_VEL) == [], 30.0),
                         "a publisher stayed on %s: %s" % (CMD_VEL, publishers_of(CMD_VEL)))
 
     def run_stop_path(self):

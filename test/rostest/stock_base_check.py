@@ -40,7 +40,7 @@ from diagnostic_msgs.msg import DiagnosticArray
 from std_msgs.msg import Bool
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from aic_test_utils import wait_for  # noqa: E402
+from aic_test_utils import live_publishers, wait_for  # noqa: E402
 from jackal_aic_tools.common import metrics, ros_process  # noqa: E402
 
 PKG = "jackal_aic"
@@ -201,7 +201,7 @@ class StockBaseCheck(unittest.TestCase):
 
     def stop_sim(self, proc):
         ros_process.stop(proc, timeout=30.0)
-        self.assertTrue(wait_for(lambda: publishers_of("/cmd_drive") == [], 30.0),
+        self.assertTrue(wait_for(lambda: live_publishers("/cmd_drive") == [], 30.0),
                         "a publisher stayed on /cmd_drive: %s" % publishers_of("/cmd_drive"))
 
     def run_steps(self, base, path, steps):
