@@ -182,7 +182,10 @@ void ActiveInferenceController::applyLearnedSeparation(bool force)
   {
     model_.setWheelSeparation(b);
     reference_.setWheelSeparation(b);
-    rebuildDynamics();
+    if (params_.belief_model != BeliefModel::kRobot)  // the robot model has no linear belief dynamics
+    {
+      rebuildDynamics();
+    }
   }
 }
 
@@ -583,13 +586,27 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(
   // minimiser of the free energy (RobotBelief::correct()).
   robot_clock_ += h;
   const double yaw_gain = model_.G()(2, 1);  // r alpha / b_hat
-  robot_belief_.predict(h, wheel_loop_, wheel_loop_.commandAt(robot_clock_), yaw_gain);
+  robot_belief_.predict(h, wheel_loop_, wheel_loop_.commandAt(robot_clock_), yaw_gain, reference_.path()(2));
   if (robot_sample_pending_)
   {
     robot_sample_pending_ = false;
+    // The slow states (slip ratio, gyro offset) learn from the three channels together only (under
+    // a fault mask they are held), and only while the gyro's and the believed wheels' yaw
+    // accelerations are within the separation learner's gate: a turn's scrub transient, which the
+    // first-order yaw model does not describe, is left to theta_dot.
+    const std::uint8_t needed = (1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight);
+    const Vector2 wheel_rates = robot_belief_.wheelAccelerations();
+    const double wheels_yaw_rate = model_.G()(2, 1) * (wheel_rates(1) - wheel_rates(0));
+    const bool learn = (sensor_mask_ & needed) == needed &&
+                       std::abs(y_tilde_(kGyroZ, 1)) <= params_.separation_max_yaw_acceleration &&
+                       std::abs(wheels_yaw_rate) <= params_.separation_max_yaw_acceleration;
     robot_belief_.correct(Vector2(y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0)), y_tilde_(kGyroZ, 0),
                           (sensor_mask_ & (1u << kOmegaLeft)) != 0, (sensor_mask_ & (1u << kOmegaRight)) != 0,
-                          (sensor_mask_ & (1u << kGyroZ)) != 0);
+                          (sensor_mask_ & (1u << kGyroZ)) != 0, learn);
+  }
+  if (params_.learn_wheel_separation)
+  {
+    learnRobotSeparation(h);
   }
   // The beliefs in the thesis's coordinates: mu^(0) = (x_dot, 0, theta_dot), mu^(1) their rates.
   MuTilde next = MuTilde::Zero(kMuDim, params_.numOrders());
@@ -607,11 +624,32 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(
   }
   mu_ = next;
   reference_.advance(h);
-  if (params_.learn_wheel_separation)
-  {
-    learn(h);
-  }
   return Status::kOk;
+}
+
+void ActiveInferenceController::learnRobotSeparation(double h)
+{
+  // The slip ratio's steady part is the separation's error: b_hat / (1 - s) turns (1 - s) u into
+  // the new b_hat's u. b_hat moves there at most separation_max_rate b_hat per second (the
+  // learner's bound), and the slip ratio is re-expressed on the b_hat it reached.
+  const double s = robot_belief_.slipRatio();
+  if (!(std::abs(s) > kSeparationApplyTolerance) || !(s < 1.0))
+  {
+    return;
+  }
+  const double before = learner_.separation();
+  double factor = 1.0 / (1.0 - s);
+  if (params_.separation_max_rate > 0.0)
+  {
+    const double step = params_.separation_max_rate * h;
+    factor = std::clamp(factor, 1.0 - step, 1.0 + step);
+  }
+  if (!learner_.setSeparation(before * factor))
+  {
+    return;
+  }
+  robot_belief_.rescaleSlip(learner_.separation() / before);
+  applyLearnedSeparation(false);
 }
 
 ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(double h)
@@ -625,10 +663,10 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
   {
     const Vector3 path =
         reference_.enabled() ? Vector3(reference_.path() + h * reference_.rate()) : reference_.target();
-    // The wheels' yaw goal makes up the believed yaw shortfall e: the gyro's part of the goal prior.
-    const Vector3 wheels_path(path(0), path(1), path(2) + robot_belief_.yawShortfall());
+    // The wheels through the learned b_hat (the slip ratio's steady part reaches the command
+    // through b_hat, at the learner's rate: a transient's slip does not).
     const SensorMatrix& R = model_.R();
-    goal << R.row(kOmegaLeft).dot(wheels_path), R.row(kOmegaRight).dot(wheels_path);
+    goal << R.row(kOmegaLeft).dot(path), R.row(kOmegaRight).dot(path);
   }
   const double pi_e = 1.0 / (params_.robot.encoder_noise * params_.robot.encoder_noise);
   // At rest the command is zero: the MCU holds the wheels, there is no shortfall to make up.

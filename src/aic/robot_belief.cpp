@@ -5,6 +5,7 @@
 #include "jackal_aic/aic/robot_belief.hpp"
 
 #include <cmath>
+#include <limits>
 
 namespace jackal_aic
 {
@@ -57,12 +58,15 @@ void RobotBelief::setParams(const RobotModelParams& params)
 
 void RobotBelief::reset(const Vector2& omega, double theta_dot)
 {
-  x_ << omega(0), 0.0, omega(1), 0.0, theta_dot, 0.0;
-  // The fast states start uncertain, the shortfalls at zero and certain: they drift from there at
-  // their own rate (shortfall_noise, yaw_slip_noise), not on the first transient.
+  x_ << omega(0), 0.0, omega(1), 0.0, theta_dot, 0.0, 0.0;
+  // The fast states start uncertain, the slow ones at zero and certain: they drift from there at
+  // their own rate (shortfall_noise, yaw_slip_noise, gyro_offset_noise), not on the first transient.
   p_left_ << kInitialVariance, 0.0, 0.0, 0.0;
   p_right_ = p_left_;
-  p_yaw_ = p_left_;
+  p_yaw_.setZero();
+  p_yaw_(0, 0) = kInitialVariance;
+  turn_ = std::numeric_limits<double>::quiet_NaN();  // no predict() yet
+  jump_samples_ = 0;
   omega_rate_.setZero();
   yaw_rate_ = 0.0;
   f_sensory_ = 0.0;
@@ -70,27 +74,41 @@ void RobotBelief::reset(const Vector2& omega, double theta_dot)
   innovation_.setZero();
 }
 
-void RobotBelief::predict(double h, const WheelLoopModel& loop, const Vector2& u_at_wheels, double yaw_gain)
+void RobotBelief::predict(double h, const WheelLoopModel& loop, const Vector2& u_at_wheels, double yaw_gain,
+                          double turn)
 {
   const Vector2 before = wheelSpeeds();
   const double yaw_before = x_(4);
   predictSide(loop, params_, h, u_at_wheels(0), &x_(0), x_(1), &p_left_);
   predictSide(loop, params_, h, u_at_wheels(1), &x_(2), x_(3), &p_right_);
-  // The yaw pair (theta_dot, e): theta_dot' = (yaw_gain (omega_R - omega_L) - e - theta_dot) / T_s,
-  // integrated exactly with the wheels' yaw held; e a random walk.
-  const double target = yaw_gain * (x_(2) - x_(0)) - x_(5);
+  // The yaw triple (theta_dot, s, beta): theta_dot' = ((1 - s) u - theta_dot) / T_s, u =
+  // yaw_gain (omega_R - omega_L), integrated exactly with u held; s moves with the goal's turn
+  // (variance sigma_s^2 |dw|), beta with time.
+  const double u = yaw_gain * (x_(2) - x_(0));
+  wheels_yaw_ = u;
+  const double dw = std::isfinite(turn_) && std::isfinite(turn) ? std::abs(turn - turn_) : 0.0;
+  turn_ = turn;
+  const double target = (1.0 - x_(5)) * u;
   const double decay = std::exp(-h / params_.yaw_time_constant);
   x_(4) = target + (x_(4) - target) * decay;
-  Eigen::Matrix2d f;
-  f << decay, -(1.0 - decay), 0.0, 1.0;
+  Eigen::Matrix3d f = Eigen::Matrix3d::Identity();
+  f(0, 0) = decay;
+  f(0, 1) = -u * (1.0 - decay);
   p_yaw_ = f * p_yaw_ * f.transpose();
   p_yaw_(0, 0) += params_.yaw_model_noise * params_.yaw_model_noise * h;
-  p_yaw_(1, 1) += params_.yaw_slip_noise * params_.yaw_slip_noise * h;
+  p_yaw_(1, 1) += params_.yaw_slip_noise * params_.yaw_slip_noise * dw;
+  // The offset drifts where it is observed: at rest and in straight driving (the goal's turn
+  // below kStraightTurn). In a turn it changes by a jump only (correct()).
+  if (std::abs(turn) < kStraightTurn)
+  {
+    p_yaw_(2, 2) += params_.gyro_offset_noise * params_.gyro_offset_noise * h;
+  }
   omega_rate_ = (wheelSpeeds() - before) / h;
   yaw_rate_ = (x_(4) - yaw_before) / h;
 }
 
-bool RobotBelief::correct(const Vector2& y_omega, double y_gyro, bool use_left, bool use_right, bool use_gyro)
+bool RobotBelief::correct(const Vector2& y_omega, double y_gyro, bool use_left, bool use_right, bool use_gyro,
+                          bool learn)
 {
   if ((use_left && !std::isfinite(y_omega(0))) || (use_right && !std::isfinite(y_omega(1))) ||
       (use_gyro && !std::isfinite(y_gyro)))
@@ -111,16 +129,76 @@ bool RobotBelief::correct(const Vector2& y_omega, double y_gyro, bool use_left, 
   }
   if (use_gyro)
   {
-    correctPair(y_gyro, params_.gyro_noise * params_.gyro_noise, &x_(4), &x_(5), &p_yaw_, &f_sensory_, &f_prior_,
-                &innovation_(2));
+    // y = theta_dot + beta: H = (1, 0, 1). Without learning the slow states take no gain.
+    const double r_g = params_.gyro_noise * params_.gyro_noise;
+    const Eigen::RowVector3d hrow(1.0, 0.0, 1.0);
+    const Eigen::Vector3d ph = p_yaw_ * hrow.transpose();
+    const double sv = hrow.dot(ph) + r_g;
+    Eigen::Vector3d k = ph / sv;
+    if (!learn)
+    {
+      k(1) = 0.0;
+      k(2) = 0.0;
+      jump_samples_ = 0;
+      jump_sum_ = 0.0;
+    }
+    else
+    {
+      // The gyro against the model's steady yaw rate (1 - s) u + beta: kJumpSamples residuals in a
+      // row beyond kJumpThreshold standard deviations (sigma_g and the slow states' uncertainty)
+      // are an offset jump, taken up at once: beta moves by their mean, theta_dot back by it.
+      const double r = y_gyro - ((1.0 - x_(5)) * wheels_yaw_ + x_(6));
+      const double var_r = r_g + wheels_yaw_ * wheels_yaw_ * p_yaw_(1, 1) + p_yaw_(2, 2);
+      if (std::isfinite(r) && r * r > kJumpThreshold * kJumpThreshold * var_r)
+      {
+        jump_sum_ += r;
+        if (++jump_samples_ >= kJumpSamples)
+        {
+          const double jump = jump_sum_ / jump_samples_;
+          x_(6) += jump;
+          x_(4) -= jump;
+          jump_samples_ = 0;
+          jump_sum_ = 0.0;
+          ++offset_jumps_;
+        }
+      }
+      else
+      {
+        jump_samples_ = 0;
+        jump_sum_ = 0.0;
+      }
+    }
+    const double e = y_gyro - (x_(4) + x_(6));
+    x_(4) += k(0) * e;
+    x_(5) += k(1) * e;
+    x_(6) += k(2) * e;
+    // Joseph form: valid for the gain used, optimal or held.
+    const Eigen::Matrix3d a = Eigen::Matrix3d::Identity() - k * hrow;
+    p_yaw_ = a * p_yaw_ * a.transpose() + r_g * k * k.transpose();
+    const double corrected = e - hrow.dot(k) * e;  // y - H mu at the corrected belief
+    f_sensory_ += 0.5 * corrected * corrected / r_g;
+    f_prior_ += 0.5 * e * e * hrow.dot(k) * (1.0 - hrow.dot(k)) / r_g;
+    innovation_(2) = e;
   }
   return true;
 }
 
-Eigen::Matrix<double, 6, 1> RobotBelief::variances() const
+bool RobotBelief::rescaleSlip(double k)
 {
-  Eigen::Matrix<double, 6, 1> v;
-  v << p_left_(0, 0), p_left_(1, 1), p_right_(0, 0), p_right_(1, 1), p_yaw_(0, 0), p_yaw_(1, 1);
+  if (!std::isfinite(k) || !(k > 0.0))
+  {
+    return false;
+  }
+  x_(5) = 1.0 - k * (1.0 - x_(5));
+  p_yaw_.row(1) *= k;
+  p_yaw_.col(1) *= k;
+  return true;
+}
+
+Eigen::Matrix<double, 7, 1> RobotBelief::variances() const
+{
+  Eigen::Matrix<double, 7, 1> v;
+  v << p_left_(0, 0), p_left_(1, 1), p_right_(0, 0), p_right_(1, 1), p_yaw_(0, 0), p_yaw_(1, 1), p_yaw_(2, 2);
   return v;
 }
 

@@ -194,10 +194,14 @@ std::vector<ParamSpec> buildControllerRows()
     { "yaw_model_noise", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "rad/s^1.5",
       "Robot model: q_theta, the yaw model's error on theta_dot'",
       true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(robot.yaw_model_noise) },
-    { "yaw_slip_noise", T::kDouble, C, "active_inference", 0.0, false, kMaxGain, "rad/s^0.5",
-      "Robot model: q_e, the drift of the yaw shortfall e (the yaw rate the wheels through b_hat do not deliver); "
-      "0 = e fixed at 0",
+    { "yaw_slip_noise", T::kDouble, C, "active_inference", 0.0, false, kMaxGain, "(rad/s)^-0.5",
+      "Robot model: sigma_s, how far the yaw slip ratio s may move with the turn (its variance grows by "
+      "sigma_s^2 |du| as the wheels' yaw rate changes by du); 0 = s fixed at 0",
       true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(robot.yaw_slip_noise) },
+    { "gyro_offset_noise", T::kDouble, C, "active_inference", 0.0, false, kMaxGain, "rad/s^0.5",
+      "Robot model: q_beta, the drift of the gyro's offset beta (a random walk); sets how fast an offset "
+      "jump is taken up; 0 = beta fixed at 0",
+      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(robot.gyro_offset_noise) },
     { "action_gain", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "1/s",
       "Robot model: k_a, the action's loop gain (the rate of its Gauss-Newton descent of F; k_a >= action_rate "
       "reaches the minimiser each action step)",

@@ -323,6 +323,11 @@ private:
   /// Precision learning (learn_precision): one PrecisionLearner step on eps_y^(0) of the beliefs
   /// just integrated, then Pi_y and M rebuilt if a precision moved beyond its apply tolerance.
   void learnPrecision(double h);
+  /// The robot model's learning of b_hat over a step of h [s]: the believed slip ratio s beyond
+  /// kSeparationApplyTolerance moves b_hat toward b_hat / (1 - s), at most separation_max_rate b_hat
+  /// per second and within the learner's bounds, and the slip ratio is re-expressed on the b_hat
+  /// reached (RobotBelief::rescaleSlip()); held under a fault mask (s is).
+  void learnRobotSeparation(double h);
   /// Give the model the learner's b_hat if it moved beyond kSeparationApplyTolerance.
   void applyLearnedSeparation(bool force);
   /// belief_model robot: the belief step (RobotBelief: the model's prediction, then the sample).

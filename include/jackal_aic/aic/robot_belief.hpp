@@ -6,6 +6,8 @@
  *        'The robot model'). ROS-free.
  */
 
+#include <cstdint>
+
 #include <Eigen/Core>
 
 #include "jackal_aic/aic/wheel_loop_model.hpp"
@@ -15,9 +17,10 @@
 namespace jackal_aic
 {
 /**
- * \brief Beliefs mu = (omega_L, d_L, omega_R, d_R, theta_dot, e) with their covariance, under the
- *        robot model (RobotModelParams); e is the yaw rate the wheels' r (omega_R - omega_L) / b_hat
- *        does not deliver (the slip the learned separation does not explain yet).
+ * \brief Beliefs mu = (omega_L, d_L, omega_R, d_R, theta_dot, s, beta) with their covariance, under
+ *        the robot model (RobotModelParams). s is the yaw slip ratio: the body turns at (1 - s) times
+ *        the wheels' yaw rate u = r alpha (omega_R - omega_L) / b_hat in steady state; beta is the
+ *        gyro's offset (the gyro reads theta_dot + beta).
  *
  * A Gaussian belief N(mu, P) on a linear-Gaussian model: the free energy of a measurement y with
  * the model's prediction N(mu_-, P_-) as the prior (the Laplace form, Friston et al. 2007),
@@ -27,8 +30,15 @@ namespace jackal_aic
  * the curvature P^{-1} = P_-^{-1} + H^T Pi_y H is its covariance update. correct() takes that
  * minimiser directly (the descent run to convergence); predict() carries the belief through the
  * model's dynamics with its process noise (the prior's precision between samples).
- * Each side's pair (omega_s, d_s) and the yaw pair (theta_dot, e) are filtered on their own (their
- * covariances are not coupled: the yaw pair takes the believed wheel speeds as its input).
+ * Each side's pair (omega_s, d_s) and the yaw triple (theta_dot, s, beta) are filtered on their own
+ * (their covariances are not coupled: the yaw triple takes the believed wheel speeds as its input).
+ *
+ * The slip ratio moves with the turn, not with time: its variance grows by sigma_s^2 |dw| over a
+ * step in which the goal's yaw rate changes by dw (RobotModelParams::yaw_slip_noise), so it is
+ * learned after a turn changes and held in a steady turn. The offset is a random walk in time
+ * (gyro_offset_noise) at rest and in straight driving, where the gyro observes it alone (u = 0), and
+ * jumps (kJumpThreshold, kJumpSamples): in a steady turn, a gyro that leaves the wheels' prediction
+ * for several samples in a row has jumped.
  *
  * No heap allocation, no exceptions.
  */
@@ -42,24 +52,39 @@ public:
   void setParams(const RobotModelParams& params);
 
   /// Beliefs: wheel speeds omega (rad/s), yaw rate theta_dot (rad/s) with variance kInitialVariance;
-  /// the shortfalls d_L, d_R, e zero with variance zero (they drift from there at their noise rates).
+  /// the shortfalls d_L, d_R, the slip ratio s and the gyro offset beta zero with variance zero
+  /// (they drift from there at their noise rates).
   void reset(const Vector2& omega, double theta_dot);
 
   /**
    * \brief Carry the beliefs h [s] forward under the command u_at_wheels [rad/s] (the command in
    *        effect at the wheels, WheelLoopModel::commandAt()) through the wheel loop, and the yaw
-   *        rate toward the wheels' yaw_gain (omega_R - omega_L) - e with the scrub lag T_s.
+   *        rate toward (1 - s) u, u = yaw_gain (omega_R - omega_L), with the scrub lag T_s.
    * \param yaw_gain  r alpha / b_hat [m/m]: the wheels' yaw rate per unit of their speed difference
+   * \param turn      the yaw rate [rad/s] the goal asks for: the slip ratio's variance grows by
+   *                  yaw_slip_noise^2 times its change since the last predict() (a turn that changes)
    */
-  void predict(double h, const WheelLoopModel& loop, const Vector2& u_at_wheels, double yaw_gain);
+  void predict(double h, const WheelLoopModel& loop, const Vector2& u_at_wheels, double yaw_gain, double turn);
 
   /**
-   * \brief Take a measurement: the sides' wheel speeds y_omega [rad/s] and the gyro's yaw rate less
-   *        its learned offset y_gyro [rad/s]; a channel whose flag is false is skipped (isolated or absent).
-   *        Sets the free energy's parts at the new beliefs (sensoryFreeEnergy(), priorFreeEnergy()).
+   * \brief Take a measurement: the sides' wheel speeds y_omega [rad/s] and the gyro's yaw rate
+   *        y_gyro [rad/s] (theta_dot + beta + noise); a channel whose flag is false is skipped
+   *        (isolated or absent). Sets the free energy's parts at the new beliefs
+   *        (sensoryFreeEnergy(), priorFreeEnergy()).
+   * \param learn  false: the slow states (s, beta) are held, the gyro corrects theta_dot only (a
+   *               fault mask on one of the three channels: nothing is learned from two)
    * \return false (nothing changed) if a used value is not finite
    */
-  bool correct(const Vector2& y_omega, double y_gyro, bool use_left, bool use_right, bool use_gyro);
+  bool correct(const Vector2& y_omega, double y_gyro, bool use_left, bool use_right, bool use_gyro,
+               bool learn = true);
+
+  /**
+   * \brief Re-express the slip ratio after the wheels' yaw gain changed by the factor k =
+   *        yaw_gain_old / yaw_gain_new (b_hat_new / b_hat_old): (1 - s_new) = k (1 - s), so the
+   *        model's yaw rate (1 - s) u is unchanged; the covariance follows (ds_new = k ds).
+   * \return false (unchanged) unless k is finite and > 0
+   */
+  bool rescaleSlip(double k);
 
   /// Believed wheel speeds (omega_L, omega_R) [rad/s].
   Vector2 wheelSpeeds() const { return Vector2(x_(0), x_(2)); }
@@ -67,14 +92,16 @@ public:
   Vector2 shortfalls() const { return Vector2(x_(1), x_(3)); }
   /// Believed yaw rate theta_dot [rad/s].
   double yawRate() const { return x_(4); }
-  /// Believed yaw shortfall e [rad/s]: the wheels' yaw through b_hat less the body's, in steady state.
-  double yawShortfall() const { return x_(5); }
+  /// Believed yaw slip ratio s [-]: the body turns at (1 - s) times the wheels' yaw rate.
+  double slipRatio() const { return x_(5); }
+  /// Believed gyro offset beta [rad/s] (on top of any offset removed before correct()).
+  double gyroOffset() const { return x_(6); }
   /// Its rate theta_dot' [rad/s^2] under the model (the last predict()).
   double yawAcceleration() const { return yaw_rate_; }
   /// Believed wheel accelerations (omega_L', omega_R') [rad/s^2] under the model (the last predict()).
   Vector2 wheelAccelerations() const { return omega_rate_; }
-  /// Covariance diagonal of (omega_L, d_L, omega_R, d_R, theta_dot, e).
-  Eigen::Matrix<double, 6, 1> variances() const;
+  /// Covariance diagonal of (omega_L, d_L, omega_R, d_R, theta_dot, s, beta).
+  Eigen::Matrix<double, 7, 1> variances() const;
 
   /// Sensory part of F at the last correct(): 1/2 sum eps_y^2 / sigma^2 [-].
   double sensoryFreeEnergy() const { return f_sensory_; }
@@ -83,15 +110,31 @@ public:
   /// Sensory prediction errors of the last correct() (eps_L, eps_R, eps_gyro) at the prior beliefs [rad/s].
   const Vector3& innovation() const { return innovation_; }
 
+  /// Number of gyro offset jumps taken since construction.
+  std::uint64_t offsetJumps() const { return offset_jumps_; }
+
   /// Variance of omega_L, omega_R and theta_dot after reset() [(rad/s)^2].
   static constexpr double kInitialVariance = 1.0;
+  /// |goal's yaw rate| [rad/s] below which the robot drives straight: the gyro offset drifts there.
+  static constexpr double kStraightTurn = 0.05;
+  /// An offset jump: kJumpSamples gyro residuals in a row, against the model's steady yaw rate
+  /// (1 - s) u + beta, beyond kJumpThreshold times their standard deviation
+  /// sqrt(sigma_g^2 + u^2 P_s + P_beta) (a false alarm about once in (1.7e6)^3 samples of a healthy
+  /// gyro in a steady turn); checked only while the slow states learn (no transient).
+  static constexpr double kJumpThreshold = 5.0;
+  static constexpr int kJumpSamples = 3;
 
 private:
   RobotModelParams params_;
-  Eigen::Matrix<double, 6, 1> x_ = Eigen::Matrix<double, 6, 1>::Zero();
+  Eigen::Matrix<double, 7, 1> x_ = Eigen::Matrix<double, 7, 1>::Zero();
   Eigen::Matrix2d p_left_ = Eigen::Matrix2d::Identity();
   Eigen::Matrix2d p_right_ = Eigen::Matrix2d::Identity();
-  Eigen::Matrix2d p_yaw_ = Eigen::Matrix2d::Identity();
+  Eigen::Matrix3d p_yaw_ = Eigen::Matrix3d::Identity();
+  double turn_ = 0.0;  ///< the goal's yaw rate at the last predict() [rad/s] (NaN: none yet)
+  double wheels_yaw_ = 0.0;        ///< u at the last predict() [rad/s]
+  int jump_samples_ = 0;           ///< gyro residuals in a row beyond kJumpThreshold
+  double jump_sum_ = 0.0;          ///< their sum [rad/s]
+  std::uint64_t offset_jumps_ = 0;
   Vector2 omega_rate_ = Vector2::Zero();
   double yaw_rate_ = 0.0;
   double f_sensory_ = 0.0;

@@ -17,10 +17,10 @@ namespace jackal_aic
  * latency L and the MCU's wheel loop, a first-order lag T_w whose rate is bounded by A_w, less
  * the side's actuation shortfall d_s (a slowly varying state):
  *   omega_s' = clamp((u_s(t - L) - d_s - omega_s) / T_w, -A_w, A_w),   d_s' = w_d (white).
- * The body's yaw rate follows the wheels through the effective separation b (learned) and the
- * scrub lag T_s, less a yaw shortfall e (a slowly varying state):
- * theta_dot' = (r (omega_R - omega_L) / b - e - theta_dot) / T_s + w_theta. The encoders
- * read omega_s + n_e, the gyro theta_dot + beta + n_g (beta: the gyro's offset, learned).
+ * The body's yaw rate follows the wheels' yaw rate u = r alpha (omega_R - omega_L) / b through the
+ * effective separation b (learned), a yaw slip ratio s (a state that moves with the turn) and the
+ * scrub lag T_s: theta_dot' = ((1 - s) u - theta_dot) / T_s + w_theta. The encoders read
+ * omega_s + n_e, the gyro theta_dot + beta + n_g (beta: the gyro's offset, a state).
  */
 struct RobotModelParams
 {
@@ -43,10 +43,13 @@ struct RobotModelParams
   /// q_d [rad/s^0.5], >= 0: the drift of the actuation shortfall d_s (its random walk).
   double shortfall_noise = 0.002;
   /// q_theta [rad/s^1.5], > 0: the yaw model's error on theta_dot'.
-  double yaw_model_noise = 1.0;
-  /// q_e [rad/s^0.5], >= 0: the drift of the yaw shortfall e, the yaw rate the wheels through the
-  /// learned separation do not deliver (its random walk); 0 = e fixed at 0.
-  double yaw_slip_noise = 0.03;
+  double yaw_model_noise = 0.1;
+  /// sigma_s [(rad/s)^-0.5], >= 0: how far the yaw slip ratio s may move with the turn: its
+  /// variance grows by sigma_s^2 |du| when the wheels' yaw rate u changes by du; 0 = s fixed at 0.
+  double yaw_slip_noise = 0.3;
+  /// q_beta [rad/s^0.5], >= 0: the drift of the gyro's offset beta (its random walk in time); it sets
+  /// how fast an offset jump is taken up; 0 = beta fixed at 0.
+  double gyro_offset_noise = 0.01;
   /// k_a [1/s], > 0: the action's loop gain, the rate of its Gauss-Newton descent of the action's
   /// free energy; k_a h_a >= 1 (h_a the action step) reaches the minimiser in one step.
   double action_gain = 50.0;

@@ -547,7 +547,10 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
         out.belief_yaw.push_back(sample.belief_yaw);
         out.separation.push_back(has_belief ? loop->controller().model().wheelSeparation() :
                                               std::numeric_limits<double>::quiet_NaN());
-        out.gyro_offset.push_back(loop ? loop->gyroBias().offset() : std::numeric_limits<double>::quiet_NaN());
+        // The believed offset: the rest estimate removed before the controller, plus the robot
+        // model's beta on top of it.
+        out.gyro_offset.push_back(loop ? loop->gyroBias().offset() + loop->controller().robotBelief().gyroOffset() :
+                                         std::numeric_limits<double>::quiet_NaN());
         out.x_true.push_back(sample.x_true);
         out.y_true.push_back(sample.y_true);
         out.heading_true.push_back(sample.heading_true);

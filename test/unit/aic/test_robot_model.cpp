@@ -71,10 +71,11 @@ TEST(RobotBelief, FollowsTheEncodersAndTheGyroAtTheirPrecision)
   // measurement wins (the model's noise q_w against sigma_e).
   for (int k = 0; k < 200; ++k)
   {
-    belief.predict(0.001, loop, Vector2::Zero(), 0.2);
+    belief.predict(0.001, loop, Vector2::Zero(), 0.2, 0.0);
     if (k % 20 == 19)
     {
-      ASSERT_TRUE(belief.correct(Vector2(-2.0, 2.0), 0.75, true, true, true));
+      // A transient: the slow states are held (the controller's learning gate).
+      ASSERT_TRUE(belief.correct(Vector2(-2.0, 2.0), 0.75, true, true, true, false));
     }
   }
   EXPECT_NEAR(belief.wheelSpeeds()(0), -2.0, 0.05);
@@ -93,7 +94,7 @@ TEST(RobotBelief, LearnsTheShortfallTheWheelsDoNotDeliver)
   // Commanded 5 rad/s, delivered 4.8 rad/s (a load): after a few seconds d = 0.2.
   for (int k = 0; k < 10000; ++k)
   {
-    belief.predict(0.001, loop, Vector2(5.0, 5.0), 0.0);
+    belief.predict(0.001, loop, Vector2(5.0, 5.0), 0.0, 0.0);
     if (k % 20 == 19)
     {
       ASSERT_TRUE(belief.correct(Vector2(4.8, 4.8), 0.0, true, true, true));
@@ -101,6 +102,73 @@ TEST(RobotBelief, LearnsTheShortfallTheWheelsDoNotDeliver)
   }
   EXPECT_NEAR(belief.shortfalls()(0), 0.2, 0.01);
   EXPECT_NEAR(belief.shortfalls()(1), 0.2, 0.01);
+}
+
+namespace
+{
+/// Drive `belief` for `seconds` with both sides' command and measurement held (left, right
+/// [rad/s]), the goal's turn their yaw rate through yaw gain 0.2 m/m, and the gyro reading `gyro`
+/// [rad/s]; a sample every 20 ms. The first 0.3 s are the change's transient: the slow states are
+/// held then, as the controller's learning gate holds them.
+void hold(RobotBelief* belief, const WheelLoopModel& loop, const Vector2& wheels, double gyro, double seconds)
+{
+  const int steps = static_cast<int>(std::lround(seconds / 0.001));
+  for (int k = 0; k < steps; ++k)
+  {
+    belief->predict(0.001, loop, wheels, 0.2, 0.2 * (wheels(1) - wheels(0)));
+    if (k % 20 == 19)
+    {
+      ASSERT_TRUE(belief->correct(wheels, gyro, true, true, true, k >= 300));
+    }
+  }
+}
+}  // namespace
+
+TEST(RobotBelief, TheSlipRatioIsLearnedInATurnAndTheOffsetWhenStraight)
+{
+  const RobotModelParams p = model();
+  RobotBelief belief(p);
+  WheelLoopModel loop(p);
+  // At rest the gyro reads 0.02 rad/s: its offset.
+  hold(&belief, loop, Vector2::Zero(), 0.02, 3.0);
+  EXPECT_NEAR(belief.gyroOffset(), 0.02, 0.002);
+  // A turn whose wheels say 0.5 rad/s (yaw gain 0.2 x 2.5 rad/s of difference) while the body
+  // turns at 0.45: the slip ratio is 0.1, the offset stays.
+  hold(&belief, loop, Vector2(-1.25, 1.25), 0.47, 3.0);
+  EXPECT_NEAR(belief.slipRatio(), 0.1, 0.01);
+  EXPECT_NEAR(belief.gyroOffset(), 0.02, 0.003);
+  EXPECT_NEAR(belief.yawRate(), 0.45, 0.003);
+}
+
+TEST(RobotBelief, AGyroOffsetJumpInASteadyTurnIsTheOffset)
+{
+  const RobotModelParams p = model();
+  RobotBelief belief(p);
+  WheelLoopModel loop(p);
+  hold(&belief, loop, Vector2::Zero(), 0.0, 1.0);
+  hold(&belief, loop, Vector2(-1.25, 1.25), 0.45, 5.0);  // learned: s = 0.1
+  const double s = belief.slipRatio();
+  EXPECT_NEAR(s, 0.1, 0.01);
+  // The gyro jumps by 0.1 rad/s with the wheels unchanged: the body's yaw rate is unchanged.
+  const std::uint64_t jumps = belief.offsetJumps();
+  hold(&belief, loop, Vector2(-1.25, 1.25), 0.55, 2.0);
+  EXPECT_EQ(belief.offsetJumps(), jumps + 1);
+  EXPECT_NEAR(belief.gyroOffset(), 0.1, 0.01);
+  EXPECT_NEAR(belief.slipRatio(), s, 0.01);
+  EXPECT_NEAR(belief.yawRate(), 0.45, 0.005);
+}
+
+TEST(RobotBelief, RescalingTheSlipRatioKeepsTheModelsYawRate)
+{
+  RobotBelief belief(model());
+  WheelLoopModel loop(model());
+  hold(&belief, loop, Vector2::Zero(), 0.0, 1.0);
+  hold(&belief, loop, Vector2(-1.25, 1.25), 0.4, 3.0);  // s = 0.2
+  const double s = belief.slipRatio();
+  ASSERT_TRUE(belief.rescaleSlip(0.8));  // b_hat x 0.8: the wheels' yaw gain x 1.25
+  EXPECT_NEAR(1.0 - belief.slipRatio(), 0.8 * (1.0 - s), 1e-12);
+  EXPECT_FALSE(belief.rescaleSlip(0.0));
+  EXPECT_FALSE(belief.rescaleSlip(std::nan("")));
 }
 
 TEST(RobotBelief, RejectsANonFiniteSampleAndSkipsAnIsolatedChannel)
