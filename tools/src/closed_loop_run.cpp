@@ -64,7 +64,9 @@
  *        learn_wheel_separation; empty for the other controllers and before the AIC starts), its gyro
  *        offset gyro_offset [rad/s], and the ground-truth pitch [rad] (> 0 nose down); with the AIC
  *        then its inference, units in brackets: the free energy F and its sensory and prior parts
- *        F_sensory, F_prior (thesis eq. 3-10), the action a_L, a_R, and per order i = 0..p the beliefs
+ *        F_sensory, F_prior (thesis eq. 3-10), the action a_L, a_R, its prior a_ff_L, a_ff_R, the
+ *        attractor goal mu_r as goal_{x_dot,y_dot,theta_dot} (the reference model's output), the sensory
+ *        precisions in use Pi_y0_<channel> (learned with learn_precision), and per order i = 0..p the beliefs
  *        mu<i>_{x_dot,y_dot,theta_dot}, the sensory prediction errors eps_y<i>_{gyro_z,omega_L,omega_R,
  *        accel_x,accel_y} (eq. 3-8) and the state prediction errors eps_mu<i>_* (eq. 3-9), empty
  *        before the controller starts.
@@ -147,31 +149,10 @@ std::string metricsJson(const std::vector<double>& t, const std::vector<double>&
 
 namespace
 {
-const char* const kMuNames[kMuDim] = { "x_dot", "y_dot", "theta_dot" };
-const char* const kMuUnits[kMuDim] = { "m/s", "m/s", "rad/s" };
-const char* const kYNames[kYDim] = { "gyro_z", "omega_L", "omega_R", "accel_x", "accel_y" };
-const char* const kYUnits[kYDim] = { "rad/s", "rad/s", "rad/s", "m/s^2", "m/s^2" };
-
-/// The unit of order i of a signal in `unit` (per second per order), e.g. "m/s^3" for m/s, i = 2.
-std::string orderUnit(const std::string& unit, int i)
-{
-  if (i == 0)
-  {
-    return unit;
-  }
-  const std::size_t slash = unit.find("/s");
-  const std::string base = unit.substr(0, slash);
-  int power = i;
-  if (slash != std::string::npos)
-  {
-    power += (unit.size() > slash + 2 && unit[slash + 2] == '^') ? std::stoi(unit.substr(slash + 3)) : 1;
-  }
-  return base + "/s" + (power == 1 ? std::string() : "^" + std::to_string(power));
-}
-
 /// The inference columns of the trace (AIC, --csv), units in brackets: F and its parts, the
-/// action, then per order i the beliefs mu<i>_*, the sensory errors eps_y<i>_* and the state
-/// errors eps_mu<i>_*. Empty for orders = 0 (no AIC).
+/// action, its prior, the attractor goal, the sensory precisions Pi_y^(0), then per order i the
+/// beliefs mu<i>_*, the sensory errors eps_y<i>_* and the state errors eps_mu<i>_*
+/// (jackal_aic/aic/inference_sample.hpp). Empty for orders = 0 (no AIC).
 std::string inferenceCsvHeader(int orders)
 {
   if (orders == 0)
@@ -179,20 +160,28 @@ std::string inferenceCsvHeader(int orders)
     return "";
   }
   std::ostringstream h;
-  h << ",F[-],F_sensory[-],F_prior[-],a_L[rad/s],a_R[rad/s]";
+  h << ",F[-],F_sensory[-],F_prior[-],a_L[rad/s],a_R[rad/s],a_ff_L[rad/s],a_ff_R[rad/s]";
+  for (int c = 0; c < kMuDim; ++c)
+  {
+    h << ",goal_" << kBeliefChannelNames[c] << "[" << kBeliefChannelUnits[c] << "]";
+  }
+  for (int c = 0; c < kYDim; ++c)
+  {
+    h << ",Pi_y0_" << kSensorChannelNames[c] << "[1/(" << kSensorChannelUnits[c] << ")^2]";
+  }
   for (int i = 0; i < orders; ++i)
   {
     for (int c = 0; c < kMuDim; ++c)
     {
-      h << ",mu" << i << "_" << kMuNames[c] << "[" << orderUnit(kMuUnits[c], i) << "]";
+      h << ",mu" << i << "_" << kBeliefChannelNames[c] << "[" << orderUnit(kBeliefChannelUnits[c], i) << "]";
     }
     for (int c = 0; c < kYDim; ++c)
     {
-      h << ",eps_y" << i << "_" << kYNames[c] << "[" << orderUnit(kYUnits[c], i) << "]";
+      h << ",eps_y" << i << "_" << kSensorChannelNames[c] << "[" << orderUnit(kSensorChannelUnits[c], i) << "]";
     }
     for (int c = 0; c < kMuDim; ++c)
     {
-      h << ",eps_mu" << i << "_" << kMuNames[c] << "[" << orderUnit(kMuUnits[c], i + 1) << "]";
+      h << ",eps_mu" << i << "_" << kBeliefChannelNames[c] << "[" << orderUnit(kBeliefChannelUnits[c], i + 1) << "]";
     }
   }
   return h.str();
@@ -205,7 +194,15 @@ std::string inferenceCsvRow(const InferenceSample& s, int orders)
   auto cell = [](double v) { return std::isfinite(v) ? jsonNumber(v) : std::string(); };
   std::ostringstream r;
   r << "," << cell(s.free_energy) << "," << cell(s.sensory) << "," << cell(s.prior) << "," << cell(s.action(0)) << ","
-    << cell(s.action(1));
+    << cell(s.action(1)) << "," << cell(s.action_prior(0)) << "," << cell(s.action_prior(1));
+  for (int c = 0; c < kMuDim; ++c)
+  {
+    r << "," << cell(s.goal(c));
+  }
+  for (int c = 0; c < kYDim; ++c)
+  {
+    r << "," << cell(s.precision_y(c));
+  }
   const double kNaN = std::numeric_limits<double>::quiet_NaN();
   for (int i = 0; i < orders; ++i)
   {

@@ -192,30 +192,6 @@ private:
   std::size_t next_ = 0;
 };
 
-/// The controller's inference now (all NaN, of the configured orders, while it has not started).
-InferenceSample inferenceSample(const ActiveInferenceController* controller, const AicParams& params)
-{
-  InferenceSample s;
-  if (controller == nullptr)
-  {
-    constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-    const int n = params.numOrders();
-    s.free_energy = s.sensory = s.prior = kNaN;
-    s.mu = MuTilde::Constant(kMuDim, n, kNaN);
-    s.eps_y = YTilde::Constant(kYDim, n, kNaN);
-    s.eps_mu = MuTilde::Constant(kMuDim, n, kNaN);
-    s.action = Vector2::Constant(kNaN);
-    return s;
-  }
-  s.free_energy = controller->freeEnergy();
-  s.sensory = controller->sensoryFreeEnergy();
-  s.prior = controller->priorFreeEnergy();
-  s.mu = controller->mu();
-  s.eps_y = controller->epsY();
-  s.eps_mu = controller->epsMu();
-  s.action = controller->action();
-  return s;
-}
 }  // namespace
 
 const char* toString(Operation::Kind kind)
@@ -568,7 +544,8 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
                                             static_cast<double>(plant->servo(kRight).torqueLimited())));
         if (config.record_inference && aic)
         {
-          out.inference.push_back(inferenceSample(has_belief ? &loop->controller() : nullptr, config.aic));
+          out.inference.push_back(has_belief ? inferenceSample(loop->controller()) :
+                                               unavailableInferenceSample(config.aic.numOrders()));
         }
       }
 
