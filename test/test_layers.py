@@ -10,7 +10,8 @@ below it (LAYERS, the order of CMakeLists.txt). Above the core:
   parser, and links no controller library;
 - the harness (sim/harness) and the nodes (sim/nodes) include the core and the plant, never
   the tools (tools/include/jackal_tools);
-- the node (ros) includes the core, never the simulator, the tools or the override parser;
+- the node (ros) includes the core (analysis for the stability check of its configuration),
+  never the simulator, the tools or the override parser;
 - no core folder includes a ROS header (the core is ROS-free).
 
 Each check is shown to fail on a seeded upward include.
@@ -35,7 +36,7 @@ LAYERS = {
     "analysis": {"base", "params", "aic"},
     "os": {"base"},
     "overrides": set(),
-    "ros": (set(CORE) - {"analysis"}) | {"cfg"},
+    "ros": set(CORE) | {"cfg"},
 }
 # The Python package under src/ (catkin_python_setup's layout) is not a C++ library.
 NOT_A_LIBRARY = {"jackal_aic_tools"}

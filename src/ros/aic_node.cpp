@@ -72,6 +72,7 @@ bool AicNode::init()
   {
     return false;
   }
+  warnIfUnstable(params_.aic, "");
   clock_.start();
   outputs_ = std::make_unique<NodeOutputs>(nh_, pnh_, params_.output_mode, params_.debug_rate);
   try

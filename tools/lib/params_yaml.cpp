@@ -6,9 +6,11 @@
 #include "jackal_tools/params_yaml.hpp"
 #include "jackal_tools/share_path.hpp"
 
+#include <iostream>
 #include <sstream>
 #include <stdexcept>
 
+#include "jackal_aic/analysis/configured_stability.hpp"
 #include "jackal_aic/overrides/yaml_overrides.hpp"
 
 namespace jackal_aic
@@ -183,6 +185,12 @@ NodeParams loadNodeParamsFiles(const std::vector<std::string>& files, const std:
     check.right_joints = { "right" };
   }
   requireValid(check.validate(), names);
+  const std::string unstable = stabilityWarning(params.aic);
+  if (!unstable.empty())
+  {
+    std::cerr << names << (overrides.empty() ? "" : " with overrides") << ": warning: the configuration is " << unstable
+              << "\n";
+  }
   return params;
 }
 

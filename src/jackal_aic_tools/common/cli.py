@@ -138,10 +138,13 @@ def find_executable(name, script_file, tool):
     sys.exit("%s: %s not found (build the workspace: bash dev/build.sh)" % (tool, name))
 
 
-def effective_config(paths, script_file, tool):
+def effective_config(paths, script_file, tool, warn=True):
     """Every parameter of the node as it reads the YAML files ``paths`` in order over the schema's
     defaults (config/default.yaml holds only what has no default): a dict key -> value, from
-    ``aic_params --yaml --config PATH ...``. Exits with the tool's message on a bad file."""
+    ``aic_params --yaml --config PATH ...``. Exits with the tool's message on a bad file. Its
+    warnings (a controller unstable on the linear model at its rates, with the spectral radius:
+    doc/tuning.md, 'The stability check at load') go to stderr as "<tool>: <warning>" unless
+    ``warn`` is false; the configuration is returned all the same."""
     import subprocess
     import sys
     import yaml
@@ -151,6 +154,9 @@ def effective_config(paths, script_file, tool):
     out = subprocess.run(cmd, capture_output=True, text=True, check=False)
     if out.returncode != 0:
         sys.exit("%s: %s" % (tool, out.stderr.strip()))
+    for line in out.stderr.splitlines() if warn else ():
+        if "warning:" in line:
+            print("%s: %s" % (tool, line), file=sys.stderr)
     return yaml.safe_load(out.stdout)
 
 

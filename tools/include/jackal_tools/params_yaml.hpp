@@ -62,7 +62,11 @@ AicParams loadAicParams(const std::string& file, const std::vector<std::string>&
  * \brief Every key of the schema (controller and node) from YAML files read in order, each
  *        over the previous (config/default.yaml, then an overlay such as config/robot.yaml),
  *        the "key=value" overrides applied to the last; absent keys keep the schema's defaults.
- *        For the tools that run the node's logic headless (closed_loop_run).
+ *        For the tools that run the node's logic headless (closed_loop_run). A controller that
+ *        is unstable on the linear model at its rates (stabilityWarning(),
+ *        jackal_aic/analysis/configured_stability.hpp) is loaded all the same, with one line
+ *        "<files>: warning: the configuration is unstable on the linear model ... spectral radius
+ *        R >= 1 ..." on stderr, as the node warns (doc/tuning.md, 'The stability check at load').
  * \param files      at least one YAML file
  * \param overrides  applied on top of the last file
  * \return the parameters, validated except that both joint lists may be empty (for the caller to fill)
