@@ -36,7 +36,7 @@ LAYERS = {
     "analysis": {"base", "params", "aic"},
     "os": {"base"},
     "overrides": set(),
-    "ros": set(CORE) | {"cfg"},
+    "ros": set(CORE) | {"cfg", "msg"},
 }
 # The Python package under src/ (catkin_python_setup's layout) is not a C++ library.
 NOT_A_LIBRARY = {"jackal_aic_tools"}
@@ -66,8 +66,11 @@ def target_of(include):
     if root == "jackal_tools":
         return "tools"
     if "/" not in rest:
-        # dynamic_reconfigure's generated header of cfg/AIC.cfg: jackal_aic/AICConfig.h
-        return "cfg" if rest.endswith("Config.h") else "<flat>"
+        # dynamic_reconfigure's generated header of cfg/AIC.cfg: jackal_aic/AICConfig.h; a
+        # message's generated header of msg/<Name>.msg: jackal_aic/<Name>.h
+        if rest.endswith("Config.h"):
+            return "cfg"
+        return "msg" if os.path.isfile(os.path.join(ROOT, "msg", rest[:-2] + ".msg")) else "<flat>"
     return rest.split("/", 1)[0]
 
 
