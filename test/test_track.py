@@ -6,7 +6,8 @@
 - one short profile on the default plant and on an overlay of this test's own, AIC and stock
   (closed_loop_run, seeded noise: deterministic): every output is written and consistent (the
   figures of tracking.json are closed_loop_run's, the path drift is the one aic_track_metrics
-  computes from the trace, the ratios are AIC / stock, the results page has the table);
+  computes from the trace, the ratios are AIC / stock, the results page has the table, the AIC's
+  traces carry F and its parts);
 - bad profile CSVs and a missing overlay are refused with exit 1 and a message naming them.
 """
 import csv
@@ -119,6 +120,17 @@ class TrackCheck(unittest.TestCase):
                 self.assertLess(r["metrics"]["vx_rms"], 0.5)
                 self.assertEqual(r["metrics"]["vx_rms"], r["tracking"]["truth"]["vx"]["rms"])
                 self.assertTrue(os.path.isfile(r["trace"]))
+                # The AIC's traces carry its inference on the trace's time base: F and its parts.
+                if key[1] == "aic":
+                    from jackal_aic_tools.common import tracking
+                    cols = tracking.read_columns(r["trace"])
+                    for c in ("F[-]", "F_sensory[-]", "F_prior[-]", "mu0_x_dot[m/s]", "eps_y0_gyro_z[rad/s]"):
+                        self.assertIn(c, cols)
+                    f = cols["F[-]"]
+                    ok = np.isfinite(f)
+                    self.assertGreater(np.count_nonzero(ok), 100)
+                    np.testing.assert_allclose(f[ok], cols["F_sensory[-]"][ok] + cols["F_prior[-]"][ok],
+                                               rtol=1e-5, atol=1e-9)
             # The figures are closed_loop_run's (deterministic: the same run again).
             exe = cli.find_executable("closed_loop_run", SCRIPT, "track_check")
             direct = json.loads(subprocess.run(

@@ -30,9 +30,9 @@ def default_results_dir():
 
 def add_profile_args(p):
     g = p.add_argument_group("set-point profile")
-    g.add_argument("--profile", choices=("step", "angular", "square", "csv"), default="step",
-                   help="step: linear step to --v; angular: step to --w; square: wave between "
-                        "--low and --high; csv: --csv file (default: %(default)s)")
+    g.add_argument("--profile", choices=("step", "angular", "arc", "square", "csv"), default="step",
+                   help="step: linear step to --v; angular: step to --w; arc: both at once; square: wave "
+                        "between --low and --high; csv: --csv file (default: %(default)s)")
     g.add_argument("--v", type=float, default=0.5, help="linear step size [m/s] (default %(default)s)")
     g.add_argument("--w", type=float, default=1.0, help="angular step size [rad/s] (default %(default)s)")
     g.add_argument("--t-step", type=float, default=0.5, help="time of the step after the profile starts [s]")
@@ -49,6 +49,8 @@ def make_profile(a):
         return profiles.step(v=a.v, t_step=a.t_step, hold=a.hold)
     if a.profile == "angular":
         return profiles.step(v=0.0, w=a.w, t_step=a.t_step, hold=a.hold)
+    if a.profile == "arc":
+        return profiles.step(v=a.v, w=a.w, t_step=a.t_step, hold=a.hold)
     if a.profile == "square":
         return profiles.square(a.low, a.high, a.period, a.cycles)
     if not a.csv:
