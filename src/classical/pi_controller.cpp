@@ -83,6 +83,10 @@ std::vector<std::string> PiControllerParams::validate() const
   {
     out.push_back(violation("wheel_time_constant", robot.wheel_time_constant, ">= 0 s"));
   }
+  if (!positive(robot.yaw_time_constant))
+  {
+    out.push_back(violation("yaw_time_constant", robot.yaw_time_constant, "> 0 s"));
+  }
   if (!positive(robot.wheel_acceleration))
   {
     out.push_back(violation("wheel_acceleration", robot.wheel_acceleration, "> 0 rad/s^2"));
@@ -160,6 +164,7 @@ void PiController::reset()
   goal_now_.setZero();
   w_ff_.setZero();
   w_ref_.setZero();
+  yaw_expected_ = 0.0;
   u_ff_.setZero();
   wheel_integral_.setZero();
   yaw_integral_ = 0.0;
@@ -204,6 +209,7 @@ PiCommand PiController::update(double t, const Vector2& wheels, double gyro_z)
     ref_loop_.reset(t, Vector2::Zero());
     w_ff_ = wheels;
     w_ref_ = wheels;
+    yaw_expected_ = model_.twistFromWheels(wheels)(2);
     started_ = true;
   }
   else
@@ -211,6 +217,9 @@ PiCommand PiController::update(double t, const Vector2& wheels, double gyro_z)
     dt = t - last_t_;
     w_ff_ = ff_loop_.predict(w_ff_, Vector2::Zero(), last_t_, t);
     w_ref_ = ref_loop_.predict(w_ref_, Vector2::Zero(), last_t_, t);
+    // The body's yaw rate follows the wheels' through the scrub lag T_s (the robot model's).
+    const double T_s = params_.robot.yaw_time_constant;
+    yaw_expected_ += (model_.twistFromWheels(w_ff_)(2) - yaw_expected_) * (1.0 - std::exp(-dt / T_s));
   }
   last_t_ = t;
 
@@ -235,7 +244,7 @@ PiCommand PiController::update(double t, const Vector2& wheels, double gyro_z)
   }
   else
   {
-    yaw_error = model_.twistFromWheels(w_ff_)(2) - gyro_z;
+    yaw_error = yaw_expected_ - gyro_z;
     trim = params_.yaw.kp * yaw_error + yaw_integral_;
   }
   const Vector2 trim_wheels = model_.wheelsFromTwist(Vector3(0.0, 0.0, trim));

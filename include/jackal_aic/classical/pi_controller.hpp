@@ -40,7 +40,8 @@ struct PiGains
  */
 struct PiControllerParams
 {
-  /// The identified wheel loop: latency, wheel_time_constant, wheel_acceleration (the rest unused).
+  /// The identified wheel loop and the body's scrub lag: latency, wheel_time_constant,
+  /// wheel_acceleration, yaw_time_constant (the rest unused).
   RobotModelParams robot;
   double wheel_radius = AicParams().wheel_radius;          ///< r [m], > 0
   double wheel_separation = AicParams().wheel_separation;  ///< b [m] of the skid-steer map, > 0
@@ -101,8 +102,9 @@ struct PiCommand
  * response, after the commands in flight, reaches g at t + L + h): u_ff.
  *
  * Expected responses: two WheelLoopModel's carry the commands in flight through L, T_w, A_w: w_ff
- * of u_ff alone, and w_ref of u_ff + the yaw trim. The outer loop's reference is the yaw rate of
- * w_ff, its error e_psi = r (w_ff,R - w_ff,L) / b - gyro; its PI gives the trim psi, a
+ * of u_ff alone, and w_ref of u_ff + the yaw trim. The outer loop's reference psi_ff is the yaw
+ * rate of w_ff, r (w_ff,R - w_ff,L) / b, through the body's scrub lag T_s (the robot model's
+ * yaw_time_constant, integrated exactly over each step), its error e_psi = psi_ff - gyro; its PI gives the trim psi, a
  * differential (-psi b / (2 r), +psi b / (2 r)) added to the command and to w_ref. The inner
  * loops' errors are e_s = w_ref,s - omega_s (encoders); their PIs give u_fb. The command is
  * u = clamp(u_ff + trim + u_fb, +-max_wheel_speed). The feedback acts only on what the model does
@@ -162,6 +164,7 @@ private:
   Vector2 goal_now_ = Vector2::Zero();  ///< (v_d, w_d) [m/s, rad/s]
   Vector2 w_ff_ = Vector2::Zero();      ///< expected wheel speeds under u_ff [rad/s]
   Vector2 w_ref_ = Vector2::Zero();     ///< expected wheel speeds under u_ff + trim [rad/s]
+  double yaw_expected_ = 0.0;           ///< psi_ff: the yaw rate expected of u_ff [rad/s]
   Vector2 u_ff_ = Vector2::Zero();      ///< the last feed-forward [rad/s]
   Vector2 wheel_integral_ = Vector2::Zero();
   double yaw_integral_ = 0.0;
