@@ -137,8 +137,8 @@ TEST(PiController, FeedForwardAloneTracksTheModelsOwnPlant)
   PiController c;
   TestPlant plant(c.params());
   const PiCommand cmd = drive(&c, &plant, 0.5, 0.4, 2.0);
-  const Vector2 goal = SkidSteerModel(c.params().wheel_radius, 1.0, c.params().wheel_separation)
-                           .wheelsFromTwist(Vector3(0.5, 0.0, 0.4));
+  const Vector2 goal =
+      SkidSteerModel(c.params().wheel_radius, 1.0, c.params().wheel_separation).wheelsFromTwist(Vector3(0.5, 0.0, 0.4));
   // (the feedback's share: the yaw lag's reference is integrated over the 20 ms step, the test
   // plant's over 1 ms substeps)
   EXPECT_NEAR(plant.omega(0), goal(0), 1e-3);

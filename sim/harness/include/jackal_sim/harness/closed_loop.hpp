@@ -161,7 +161,7 @@ struct ClosedLoopSample
 struct ClosedLoopConfig
 {
   LoopController controller = LoopController::kStock;
-  AicParams aic;  ///< used when controller == kAic (validated by runClosedLoop)
+  AicParams aic;          ///< used when controller == kAic (validated by runClosedLoop)
   PiControllerParams pi;  ///< used when controller == kPi (validated by runClosedLoop)
   /**
    * The node's other settings for the AIC (timeouts, sensor pairing, fault detection,
