@@ -57,18 +57,23 @@ def to_sets(gains):
 def write_gains(path, base, gains, stamp):
     """Write the YAML ``base`` to ``path`` with each gain of ``gains`` ({"wheel.kp": value, ...})
     replaced in place (the line '  kp: ...' under 'wheel:'; comments kept) and the comment ``stamp``
-    (one or more lines, each starting with '#') before the first group, replacing an earlier one.
+    (one or more lines, each starting with '#') above the first tuned group's comment lines,
+    replacing an earlier one.
     Raises KeyError when a gain's line is not in the file."""
     with open(base) as f:
         lines = f.read().splitlines()
-    out, group, left, stamped = [], None, dict(gains), False
+    out, group, left, stamped, in_stamp = [], None, dict(gains), False, False
     for line in lines:
-        if line.startswith(STAMP) or (out and out[-1].startswith(STAMP) and line.startswith("#   ")):
+        in_stamp = line.startswith(STAMP) or (in_stamp and line.startswith("#   "))
+        if in_stamp:  # an earlier stamp and its indented continuation lines
             continue
         if line and not line.startswith((" ", "#")):
             group = line.split(":", 1)[0].strip()
             if not stamped and any(k.startswith(group + ".") for k in gains):
-                out.extend(stamp.splitlines())
+                at = len(out)  # above the group's own comment lines
+                while at > 0 and out[at - 1].startswith("#"):
+                    at -= 1
+                out[at:at] = stamp.splitlines()
                 stamped = True
         key = "%s.%s" % (group, line.split(":", 1)[0].strip()) if line.startswith("  ") and ":" in line else None
         if key in left:
