@@ -5,6 +5,7 @@ lines; compare: the runs, table, CSV and JSON; compare_plot: the figures).
 """
 import argparse
 import os
+import shlex
 import sys
 
 from jackal_aic_tools.common import cli, closed_loop
@@ -37,7 +38,7 @@ def main(argv=None):
     ap.add_argument("--title", default="Variants against the stock controller and the latency floor",
                     help="--markdown: the page's title")
     a = ap.parse_args(argv)
-    a.command_shown = " ".join(["aic_compare.py"] + list(sys.argv[1:] if argv is None else argv))
+    a.command_shown = " ".join(shlex.quote(x) for x in ["aic_compare.py"] + list(sys.argv[1:] if argv is None else argv))
     try:
         def effective(config):
             return tool.config([config])

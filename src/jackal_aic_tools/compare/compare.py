@@ -348,15 +348,16 @@ def belief_means(rows, name, plants_tag=""):
     return out
 
 
-def markdown_page(rows, summ, variants, command, root, title):
+def markdown_page(rows, summ, variants, command, root, title, diverged=()):
     """The --markdown results page (str): ``title``, the command, and one row per variant: its base
     (relative to ``root``) and overrides, the geometric means of summary() (tracking RMS / stock and
-    / floor, steps rise and settling / stock) and the belief - truth RMS (belief_means: the arc, the
-    mean over the profiles, vx [m/s] and wz [rad/s])."""
+    / floor, steps rise and settling / stock), the belief - truth RMS (belief_means: the arc, the
+    mean over the profiles, vx [m/s] and wz [rad/s]) and its diverged runs (run_all's ``diverged``:
+    a robot that never moved counts; its figures stay in the means)."""
     per = dict(summ)
     header = ["variant", "configuration", "tracking RMS / stock", "tracking RMS / floor", "steps / stock",
               "arc belief - truth vx [m/s]", "arc belief - truth wz [rad/s]",
-              "profiles belief - truth vx [m/s]", "profiles belief - truth wz [rad/s]"]
+              "profiles belief - truth vx [m/s]", "profiles belief - truth wz [rad/s]", "diverged runs"]
     body = []
     for v in variants:
         b = belief_means(rows, v.name)
@@ -367,7 +368,8 @@ def markdown_page(rows, summ, variants, command, root, title):
             return fmt(value, "%.3f") + (" (%d missing)" % miss if miss else "")
         body.append([v.name, cfg, g("tracking RMS / stock"), g("tracking RMS / floor"),
                      g("steps: rise, settling / stock"), fmt(b["arc"]["vx"], "%.4f"), fmt(b["arc"]["wz"], "%.4f"),
-                     fmt(b["profiles"]["vx"], "%.4f"), fmt(b["profiles"]["wz"], "%.4f")])
+                     fmt(b["profiles"]["vx"], "%.4f"), fmt(b["profiles"]["wz"], "%.4f"),
+                     str(sum(1 for key, _ in diverged if key[-1] == v.name))])
     floor_stock = per["tracking RMS / stock"].get("floor", (None, 0, 0))[0]
     return "\n".join([
         "# %s" % title, "",
@@ -417,7 +419,7 @@ def compare(a, tool):
     written = ["compare.csv", "compare.json"]
     if getattr(a, "markdown", None):
         with open(a.markdown, "w") as f:
-            f.write(markdown_page(rows, summ, a.variants, a.command_shown, tool.root, a.title))
+            f.write(markdown_page(rows, summ, a.variants, a.command_shown, tool.root, a.title, diverged))
         written.append(a.markdown)
     if not a.no_plot:
         from . import compare_plot
