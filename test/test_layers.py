@@ -26,7 +26,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
 
 # What each part may include, by include root: "jackal_aic/<folder>/" for the core and the
 # node, "jackal_sim/" for the simulator, "jackal_tools/" for the tools.
-CORE = ("base", "params", "aic", "safety", "loop", "analysis", "os")
+CORE = ("base", "params", "aic", "safety", "loop", "analysis", "classical", "os")
 LAYERS = {
     "base": set(),
     "params": {"base"},
@@ -34,9 +34,10 @@ LAYERS = {
     "safety": {"base", "params"},
     "loop": {"base", "params", "aic", "safety"},
     "analysis": {"base", "params", "aic"},
+    "classical": {"base", "params", "aic"},
     "os": {"base"},
     "overrides": set(),
-    "ros": set(CORE) | {"cfg", "msg"},
+    "ros": (set(CORE) - {"classical"}) | {"cfg", "msg"},
 }
 # The Python package under src/ (catkin_python_setup's layout) is not a C++ library.
 NOT_A_LIBRARY = {"jackal_aic_tools"}

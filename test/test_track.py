@@ -110,7 +110,7 @@ class TrackCheck(unittest.TestCase):
             with open(os.path.join(out, "tracking.json")) as f:
                 data = json.load(f)
             runs = {(r["variant"], r["controller"]): r for r in data["runs"]}
-            self.assertEqual(set(runs), {(v, c) for v in ("default", "slow_latency") for c in ("aic", "stock")})
+            self.assertEqual(set(runs), {(v, c) for v in ("default", "slow_latency") for c in ("aic", "stock", "pi")})
             for key, r in runs.items():
                 for name, value in r["metrics"].items():
                     self.assertTrue(value is not None and math.isfinite(value), "%s %s: %r" % (key, name, value))
@@ -148,7 +148,7 @@ class TrackCheck(unittest.TestCase):
             for v, latency in (("default", plant_latency), ("slow_latency", 0.2)):
                 floor = driving.floor_rms(profile, latency)
                 self.assertGreater(floor["vx"], 0.01)
-                for c in ("aic", "stock"):
+                for c in ("aic", "stock", "pi"):
                     for ch in ("vx", "wz"):
                         self.assertLess(floor[ch], runs[(v, c)]["tracking"]["truth"][ch]["rms"], (v, c, ch))
             # The path drift from the trace through aic_track_metrics is the same.
@@ -163,6 +163,14 @@ class TrackCheck(unittest.TestCase):
                 a = runs[(q["variant"], "aic")]["metrics"]["vx_rms"]
                 s = runs[(q["variant"], "stock")]["metrics"]["vx_rms"]
                 self.assertAlmostEqual(q["ratios"]["vx_rms"], a / s)
+            # The classical peer's table: AIC / peer per pair, and its geometric mean.
+            peer = data["peer_geometric_mean"]["aic_pi"]
+            ratios = [runs[(v, "aic")]["metrics"][ch + "_rms"] / runs[(v, "pi")]["metrics"][ch + "_rms"]
+                      for v in ("default", "slow_latency") for ch in ("vx", "wz")]
+            self.assertEqual(peer["all"][1], 4)
+            self.assertAlmostEqual(peer["all"][0], math.exp(sum(math.log(x) for x in ratios) / 4))
+            with open(md) as f:
+                self.assertIn("AIC / classical peer", f.read())
             gm, n = data["geometric_mean"]["vx_rms"]
             self.assertEqual(n, 2, "both pairs follow on vx")
             self.assertAlmostEqual(gm, math.sqrt(data["ratios"][0]["ratios"]["vx_rms"] *
@@ -180,7 +188,7 @@ class TrackCheck(unittest.TestCase):
             self.assertLess(limits["default"]["ideal_floor"]["vx"], 1.0)
             self.assertEqual([q["limited"] for q in data["ratios"] if q["variant"] == "default"], [[]])
             with open(os.path.join(out, "tracking.csv")) as f:
-                self.assertEqual(len(list(csv.DictReader(f))), 4)
+                self.assertEqual(len(list(csv.DictReader(f))), 6)  # 2 variants x 3 controllers
             with open(os.path.join(out, "ratios.csv")) as f:
                 self.assertEqual(len(list(csv.DictReader(f))), 3)  # two variants and the geometric mean
             for v in ("default", "slow_latency"):

@@ -104,9 +104,6 @@ AicParams aicParamsFromYaml(const YAML::Node& root, const std::string& file, std
   return params.aic;
 }
 
-namespace
-{
-/// A YAML file's top-level map with the overrides applied; errors as std::runtime_error naming the file.
 YAML::Node readYamlMap(const std::string& file, const std::vector<std::string>& overrides)
 {
   YAML::Node root;
@@ -138,6 +135,8 @@ YAML::Node readYamlMap(const std::string& file, const std::vector<std::string>& 
   return root;
 }
 
+namespace
+{
 /// Throws "<file>: invalid parameters: ..." listing every violation, if any.
 void requireValid(const std::vector<ParamViolation>& violations, const std::string& file)
 {

@@ -10,13 +10,17 @@
  *        optionally the trace as CSV. The experiment engine of aic_reproduce.py (--backend core)
  *        and aic_track.py; the ROS backend runs the nodes instead.
  *
- * Usage: closed_loop_run --controller aic|stock|open|ideal [--aic-config FILE] [--aic-set key=value]...
+ * Usage: closed_loop_run --controller aic|stock|open|ideal|pi [--aic-config FILE] [--aic-set key=value]...
+ *            [--pi-config FILE] [--pi-set key=value]...
  *            [--config PLANT.yaml] [--overlay FILE]... [--set key=value]... [--urdf FILE]
  *            (--step V [--turn W] | --square LOW HIGH | --profile FILE [--segments]) [--channel linear|angular]
  *            [--period S] [--cycles N] [--rest S] [--hold S] [--noise] [--fault LINE]... [--csv FILE]
  *            [--ideal-iterations N] [--ideal-gain G]
  *   --overlay FILE    plant YAML with only the keys that differ (e.g. a file of sim/config/variants/),
  *                     applied after --config and before --set; repeatable, later ones win
+ *   --controller pi    the classical peer (jackal_aic/classical/pi_controller.hpp): PI loops on the
+ *                     wheel speeds and the yaw rate around the robot model's feed-forward, its
+ *                     settings from --pi-config (default config/classical_pi.yaml) and --pi-set
  *   --controller open  no controller: the set point's wheel speeds go to the MCU as they are
  *   --controller ideal the ideal controller (jackal_sim/harness/closed_loop.hpp, runIdealController): the
  *                     command sequence learned over --ideal-iterations runs from rest (iterative
@@ -93,6 +97,7 @@
 
 #include "jackal_tools/cli.hpp"
 #include "jackal_tools/params_yaml.hpp"
+#include "jackal_tools/pi_params_yaml.hpp"
 #include "jackal_aic/analysis/step_metrics.hpp"
 #include "jackal_aic/analysis/tracking_metrics.hpp"
 #include "jackal_tools/plant_cli.hpp"
@@ -308,6 +313,8 @@ int main(int argc, char** argv)
   PlantOptions plant;
   std::string aic_config = packageFile("config/thesis_equivalent.yaml");
   std::vector<std::string> aic_overrides;
+  std::string pi_config = packageFile("config/classical_pi.yaml");
+  std::vector<std::string> pi_overrides;
   std::string controller;
   std::string csv;
   double step = 0.0;
@@ -332,10 +339,13 @@ int main(int argc, char** argv)
   cl.option("controller", &controller,
             "aic, stock, open (no controller: the set point's wheel speeds go to the MCU as they are) or ideal (the "
             "command sequence learned over repeated runs, knowing the profile and the ground truth: what the plant "
-            "allows)",
+            "allows) or pi (the classical peer: PI loops on the wheel speeds and the yaw rate around the robot "
+            "model's feed-forward)",
             true);
   cl.option("aic-config", &aic_config, "controller YAML (controller and node keys, as the node reads it)");
   cl.overrides("aic-set", &aic_overrides, "override a controller or node key");
+  cl.option("pi-config", &pi_config, "--controller pi: its YAML (default config/classical_pi.yaml)");
+  cl.overrides("pi-set", &pi_overrides, "--controller pi: override a key of its YAML (e.g. wheel.kp=0.4)");
   plant.addTo(&cl);
   cl.option("step", &step, "0 until --rest, then V [m/s] (or [rad/s]) for --hold seconds");
   cl.numbers("square", &square, 2,
@@ -380,9 +390,10 @@ int main(int argc, char** argv)
     low = square[0];
     high = square[1];
   }
-  if (controller != "aic" && controller != "stock" && controller != "open" && controller != "ideal")
+  if (controller != "aic" && controller != "stock" && controller != "open" && controller != "ideal" &&
+      controller != "pi")
   {
-    return cl.bad("--controller must be aic, stock, open or ideal");
+    return cl.bad("--controller must be aic, stock, open, ideal or pi");
   }
   if (channel != "linear" && channel != "angular")
   {
@@ -422,6 +433,7 @@ int main(int argc, char** argv)
   c.controller = controller == "aic"   ? LoopController::kAic :
                  controller == "open"  ? LoopController::kOpenLoop :
                  controller == "ideal" ? LoopController::kIdeal :
+                 controller == "pi"    ? LoopController::kPi :
                                          LoopController::kStock;
   // A set point on the chosen channel, 0 on the other.
   auto sp = [angular](double start, double value) -> SetPointSegment {
@@ -492,6 +504,10 @@ int main(int argc, char** argv)
     {
       c.node = loadNodeParamsFiles({ aic_config }, aic_overrides);  // the node's keys too (triggers, FDI, ...)
       c.aic = c.node.aic;
+    }
+    if (c.controller == LoopController::kPi)
+    {
+      c.pi = loadPiParams(pi_config, pi_overrides);
     }
   }
   catch (const std::exception& e)

@@ -38,6 +38,14 @@ private:
 };
 
 /**
+ * \brief A YAML file's top-level map (the file found as resolveDataFile() finds it) with the
+ *        "key=value" overrides applied (applyOverrides()).
+ * \throws std::runtime_error naming the file on an unreadable file, a YAML error, an empty file,
+ *         a top level that is not a map, or a malformed override
+ */
+YAML::Node readYamlMap(const std::string& file, const std::vector<std::string>& overrides = {});
+
+/**
  * \brief Controller parameters from a parsed YAML map (absent keys keep AicParams' defaults).
  * \param root       the file's top-level map
  * \param file       the file's name, for messages

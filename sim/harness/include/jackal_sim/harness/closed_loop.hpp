@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "jackal_aic/aic/inference_sample.hpp"
+#include "jackal_aic/classical/pi_controller.hpp"
 #include "jackal_aic/loop/control_loop.hpp"
 #include "jackal_aic/safety/fault_monitor.hpp"
 #include "jackal_aic/params/node_params.hpp"
@@ -68,7 +69,11 @@ enum class LoopController
    * delay). runIdealController() learns the sequence over repeated runs; where even it misses the
    * set point, the plant decides: torque, voltage or friction limits, a slow wheel loop.
    */
-  kIdeal
+  kIdeal,
+  /// The classical peer (jackal_aic/classical/pi_controller.hpp, ClosedLoopConfig::pi): the set
+  /// point streamed at 50 Hz and at once when it changes, an update on every joint-state sample
+  /// with that sample's side means and the newest gyro reading, each command to the plant at once.
+  kPi
 };
 
 /// One piece of a piecewise-constant set-point profile.
@@ -140,7 +145,8 @@ struct ClosedLoopSample
 struct ClosedLoopConfig
 {
   LoopController controller = LoopController::kStock;
-  AicParams aic;  ///< used when controller == kAic (validated by runClosedLoop)
+  AicParams aic;          ///< used when controller == kAic (validated by runClosedLoop)
+  PiControllerParams pi;  ///< used when controller == kPi (validated by runClosedLoop)
   /**
    * The node's other settings for the AIC (timeouts, sensor pairing, fault detection,
    * action_trigger, belief_schedule, output_mode; the schema's defaults unless set). Its `aic`
@@ -264,7 +270,7 @@ struct ClosedLoopRecord
  * \param description robot model
  * \param params      plant parameters (sensor noise switched off if config.ideal_sensors)
  * \param config      controller, profile, duration
- * \throws std::invalid_argument on an invalid AicParams, an empty or unsorted profile, a
+ * \throws std::invalid_argument on an invalid AicParams (kAic) or PiControllerParams (kPi), an empty or unsorted profile, a
  *         non-finite set point, a non-positive duration, or operations that are unsorted, have a
  *         negative or non-finite start or size, or are given for a controller other than the
  *         AIC (message says which)
