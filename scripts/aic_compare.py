@@ -5,6 +5,7 @@ lines; compare: the runs, table, CSV and JSON; compare_plot: the figures).
 """
 import argparse
 import os
+import shlex
 import sys
 
 from jackal_aic_tools.common import cli, closed_loop
@@ -32,7 +33,12 @@ def main(argv=None):
     ap.add_argument("--out", default=os.path.join(cli.default_results_dir(), "compare"), help="output folder")
     ap.add_argument("--keep-going", action="store_true", help="a diverged run is marked, exit 0")
     ap.add_argument("--no-plot", action="store_true", help="no figures")
+    ap.add_argument("--markdown", metavar="FILE",
+                    help="also write a results page: one row per variant (e.g. doc/results/who_tracks.md)")
+    ap.add_argument("--title", default="Variants against the stock controller and the latency floor",
+                    help="--markdown: the page's title")
     a = ap.parse_args(argv)
+    a.command_shown = " ".join(shlex.quote(x) for x in ["aic_compare.py"] + list(sys.argv[1:] if argv is None else argv))
     try:
         def effective(config):
             return tool.config([config])

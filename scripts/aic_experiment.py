@@ -9,7 +9,15 @@ and .png and prints the metrics (rise 10-90 %, settling +-5 %, overshoot, steady
 error, computed by the core's aic_step_metrics) and the tracking of the whole profile (RMS and
 max error of vx and wz, ground truth /odom and wheel odometry /joint_states, against the set
 point; the /odom path's drift from the set point's ideal path; aic_track_metrics), with the x-y
-path in the PNG.
+path in the PNG. With the AIC the CSV and the bag also carry its stamped inference
+(/jackal_AIC/inference, jackal_aic/InferenceState: F and its sensory and prior parts, the beliefs
+and prediction errors of every order, the action, its prior, the attractor goal, the precisions,
+b_hat, the gyro offset; columns named with their units as closed_loop_run --csv names them), and
+the PNG has a panel of F(t) and its parts.
+
+--headless runs the same profile on the headless closed loop instead (closed_loop_run: the
+node's logic on the plant core, simulated time, no ROS master): <name>_trace.csv is its trace,
+the PNG the same figure with F(t).
 
 Examples:
   aic_experiment.py --v 0.5                               # default config, 0.5 m/s step
@@ -17,6 +25,7 @@ Examples:
   aic_experiment.py --config config/thesis_standard.yaml --set tau=0.01 --set k_a=10
   aic_experiment.py --profile square --low 0.1 --high 1.0 --period 4
   aic_experiment.py --profile csv --csv my_profile.csv --bag
+  aic_experiment.py --headless --profile arc --v 0.5 --w 0.5     # the arc, headless, with F(t)
 
 Exit status: 0 ran and stable, 2 unstable (diverged), 1 failed (error, node died, no data).
 """
@@ -24,7 +33,7 @@ import argparse
 import logging
 import sys
 
-from jackal_aic_tools.common import cli, report
+from jackal_aic_tools.common import cli, closed_loop, report
 from jackal_aic_tools.experiment import experiment
 
 
@@ -39,6 +48,8 @@ def main(argv=None):
     p.add_argument("--name", help="run name, used for the file names (default: <controller>_<profile>)")
     p.add_argument("--bag", action="store_true", help="also write a rosbag of the four topics")
     p.add_argument("--no-plot", action="store_true", help="skip the PNG")
+    p.add_argument("--headless", action="store_true",
+                   help="run on the headless closed loop (closed_loop_run) instead of the nodes")
     cli.add_profile_args(p)
     cli.add_run_args(p)
     a = p.parse_args(argv)
@@ -55,7 +66,11 @@ def main(argv=None):
     except (ValueError, OSError) as e:
         print("aic_experiment: %s" % e, file=sys.stderr)
         return 1
-    res = experiment.run(exp)
+    try:
+        res = experiment.run_headless(exp) if a.headless else experiment.run(exp)
+    except (OSError, closed_loop.RunError) as e:
+        print("aic_experiment: %s" % e, file=sys.stderr)
+        return 1
     print(report.run_table([res]))
     if res.get("tracking") or res.get("tracking_error"):
         print(report.tracking_table([res]))

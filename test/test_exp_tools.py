@@ -1,17 +1,24 @@
 #!/usr/bin/env python3
 """Unit checks of jackal_aic_tools (profiles, stability monitor, segment timing, the
-metrics wrapper around aic_step_metrics) without a simulator; a Python unit test."""
+metrics wrapper around aic_step_metrics) without a simulator; the inference columns (the
+experiment's CSV against closed_loop_run's trace), the headless experiment of the arc with its
+F(t) panel, and the stability warning of the shipped configurations (closed_loop_run and
+aic_params, built); a Python unit test."""
 import math
 import os
+import subprocess
 import tempfile
+import types
 import unittest
 
 import numpy as np
 
-from jackal_aic_tools.common import metrics, profiles, recording, tracking
+from jackal_aic_tools.common import cli, inference, metrics, profiles, recording, tracking
 from jackal_aic_tools.experiment import experiment
 from jackal_aic_tools.track import driving
 
+ROOT = os.path.realpath(os.path.join(os.path.dirname(os.path.realpath(__file__)), ".."))
+SCRIPT = os.path.join(ROOT, "scripts", "aic_experiment.py")
 kTimeTol = 0.02  # s: the metrics' interpolation on a 1 kHz series
 kPctTol = 0.5    # %
 
@@ -256,6 +263,158 @@ class PlotTest(unittest.TestCase):
         self.assertEqual(len(panels["sep0.png"]) + 1, len(panels["sep1.png"]), panels)
         self.assertEqual(panels["sep1.png"][-1], "wheel separation [m]")
         self.assertNotIn("wheel separation [m]", panels["sep0.png"])
+
+
+def inference_msg(stamp, orders, f=3.0):
+    """A stand-in jackal_aic/InferenceState (the fields inference.values() reads): element (c, i)
+    of each matrix = 100 c + i."""
+    def mat(rows):
+        return [100.0 * c + i for c in range(rows) for i in range(orders)]
+    hdr = types.SimpleNamespace(stamp=types.SimpleNamespace(to_sec=lambda: stamp, is_zero=lambda: False))
+    return types.SimpleNamespace(header=hdr, orders=orders, free_energy=f, free_energy_sensory=1.0,
+                                 free_energy_prior=f - 1.0, mu=mat(3), eps_y=mat(5), eps_mu=mat(3),
+                                 action=[4.0, 5.0], action_prior=[0.5, 0.6], goal=[0.5, 0.0, 0.1],
+                                 precision_y=[0.5, 0.5, 0.5, 1e-5, 1e-5], wheel_separation=0.56, gyro_offset=0.001)
+
+
+class InferenceColumnsTest(unittest.TestCase):
+    """The experiment's inference columns are closed_loop_run's, and a message's values land in them."""
+
+    def test_columns_are_closed_loop_runs(self):
+        exe = cli.find_executable("closed_loop_run", SCRIPT, "test_exp_tools")
+        with tempfile.TemporaryDirectory() as tmp:
+            trace = os.path.join(tmp, "t.csv")
+            subprocess.run([exe, "--controller", "aic", "--aic-config", os.path.join(ROOT, "config", "default.yaml"),
+                            "--step", "0.3", "--hold", "0.5", "--csv", trace], check=True, stdout=subprocess.PIPE)
+            with open(trace) as f:
+                header = f.readline().strip().split(",")
+        first = header.index("F[-]")
+        self.assertEqual(header[first:], inference.columns(3))  # config/default.yaml: p = 2
+
+    def test_values_follow_the_columns(self):
+        cols = inference.columns(2)
+        vals = inference.values(inference_msg(10.0, 2))
+        self.assertEqual(len(vals), len(cols) + len(inference.LEARNED))
+        row = dict(zip(cols + list(inference.LEARNED), vals))
+        self.assertEqual(row["F[-]"], 3.0)
+        self.assertEqual(row["F_prior[-]"], 2.0)
+        self.assertEqual(row["mu1_theta_dot[rad/s^2]"], 201.0)  # channel 2, order 1
+        self.assertEqual(row["eps_y0_accel_y[m/s^2]"], 400.0)
+        self.assertEqual(row["eps_mu1_x_dot[m/s^3]"], 1.0)
+        self.assertEqual(row["Pi_y0_accel_x[1/(m/s^2)^2]"], 1e-5)
+        self.assertEqual(row["a_ff_R[rad/s]"], 0.6)
+        self.assertEqual(row["gyro_offset[rad/s]"], 0.001)
+        self.assertEqual(inference.order_unit("m/s", 2), "m/s^3")
+        self.assertEqual(inference.order_unit("m/s^2", 1), "m/s^3")
+        self.assertEqual(inference.order_unit("m", 1), "m/s")
+        bad = inference_msg(10.0, 2)
+        bad.mu = bad.mu[:-1]
+        with self.assertRaises(ValueError) as ctx:
+            inference.values(bad)
+        self.assertIn("InferenceState.mu has 5 values, not 3 x 2", str(ctx.exception))
+        with self.assertRaises(ValueError):
+            inference.columns(0)
+
+    def test_experiment_csv_carries_the_inference_on_one_time_base(self):
+        rec = recording.Recorder()
+        rec._stamp = lambda msg: (msg.header.stamp.to_sec(), None)  # no ROS clock here
+        for k in range(3):
+            rec.on_inference(inference_msg(100.0 + 0.02 * k, 2, f=3.0 + k))
+        rec.on_inference(inference_msg(100.1, 3))  # another embedding order: dropped
+        rec._add("odom", 100.01, 0.4, 0.0)
+        arr = rec.arrays()
+        self.assertEqual(arr["inference"].shape, (3, 1 + len(rec.inference_columns())))
+        with tempfile.TemporaryDirectory() as tmp:
+            path = experiment.write_csv(os.path.join(tmp, "run.csv"), arr, 100.0, rec.inference_columns())
+            with open(path) as f:
+                rows = list(__import__("csv").DictReader(f))
+        self.assertEqual([r["source"] for r in rows], ["inference", "odom", "inference", "inference"])
+        self.assertEqual([r["t"] for r in rows], ["0.000000", "0.010000", "0.020000", "0.040000"])
+        self.assertEqual(rows[0]["odom_vx"], "")
+        self.assertEqual(rows[1]["F[-]"], "3")  # the latest inference holds in the odom row
+        self.assertEqual(rows[3]["F[-]"], "5")
+        self.assertEqual(rows[3]["wheel_separation[m]"], "0.56")
+        with self.assertRaises(ValueError):
+            experiment.write_csv(os.path.join(ROOT, "never.csv"), arr, 100.0, ["F[-]"])
+
+
+class HeadlessArcTest(unittest.TestCase):
+    """aic_experiment --headless on the arc (0.5 m/s + 0.5 rad/s; closed_loop_run, seeded noise):
+    the result, the trace with F, and the figure with the F(t) panel."""
+
+    def test_arc(self):
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        labels = []
+        real_savefig = plt.Figure.savefig
+
+        def keep(fig, path, **kw):
+            labels.extend(a.get_ylabel() for a in fig.axes)
+            return real_savefig(fig, path, **kw)
+        plt.Figure.savefig = keep
+        try:
+            with tempfile.TemporaryDirectory() as tmp:
+                exp = experiment.Experiment(profiles.step(v=0.5, w=0.5, t_step=0.5, hold=2.0),
+                                            config=os.path.join(ROOT, "config", "default.yaml"), out_dir=tmp,
+                                            name="arc")
+                res = experiment.run_headless(exp)
+                self.assertEqual(res["status"], "ok", res["reason"])
+                self.assertEqual([s["channel"] for s in res["segments"]], ["vx", "wz"])
+                self.assertLess(res["segments"][0]["metrics"]["measured"]["rise_time"], 1.0)
+                self.assertLess(res["tracking"]["truth"]["vx"]["rms"], 0.2)
+                for k in ("csv", "png", "json", "profile_csv"):
+                    self.assertTrue(os.path.isfile(res["files"][k]), k)
+                arr = experiment.trace_arrays(tracking.read_columns(res["files"]["csv"]), 0.098, 0.5621)
+                inf = arr["inference"]
+                self.assertGreater(inf.shape[0], 100)
+                self.assertEqual(inf.shape[1], 1 + len(inference.columns(3)) + len(inference.LEARNED))
+                np.testing.assert_allclose(inf[:, 1], inf[:, 2] + inf[:, 3], rtol=1e-5, atol=1e-9)
+                self.assertGreater(np.max(inf[:, 1]), 10.0 * inf[-1, 1])  # the transient's F, then descended
+                # the drive command's twist survives the trip through wheel speeds
+                eq = recording.drive_equivalent(arr["drive"], 0.098, 0.5621)
+                cols = tracking.read_columns(res["files"]["csv"])
+                np.testing.assert_allclose(eq[:, 2], cols["command_yaw"], atol=1e-9)
+        finally:
+            plt.Figure.savefig = real_savefig
+        self.assertIn("free energy [-]", labels)
+
+
+class StabilityWarningTest(unittest.TestCase):
+    """Configuration loading warns about a controller unstable on the linear model at its rates
+    (doc/tuning.md, 'The stability check at load'): of the shipped configurations exactly the
+    thesis's two that are unstable as printed, and the order-4 example."""
+
+    def check(self, path, *configs):
+        exe = cli.find_executable("aic_params", SCRIPT, "test_exp_tools")
+        cmd = [exe, "--check", path] + [a for c in configs for a in ("--config", c)]
+        return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True)
+
+    def test_shipped_configurations(self):
+        warned = []
+        for name in sorted(os.listdir(os.path.join(ROOT, "config"))):
+            if not name.endswith(".yaml"):
+                continue
+            out = self.check(os.path.join(ROOT, "config", name))
+            self.assertEqual(out.returncode, 0, name + ": " + out.stderr)
+            if "warning:" in out.stderr:
+                self.assertIn("spectral radius", out.stderr)
+                warned.append(name)
+        self.assertEqual(warned, ["thesis_improved_euler_diverges.yaml", "thesis_standard.yaml"])
+
+    def test_order_four(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            for var_y4, radius in (("1e5", "spectral radius 13."), ("1e9", None)):
+                path = os.path.join(tmp, "order4_%s.yaml" % var_y4)
+                with open(path, "w") as f:
+                    f.write("embedding_order: 4\nvar_mu: [1.5, 2, 4, 8, 16]\nvar_y: [2, 1e5, 1e5, 1e5, %s]\n"
+                            % var_y4)
+                out = self.check(path, os.path.join(ROOT, "config", "thesis_equivalent.yaml"))
+                self.assertEqual(out.returncode, 0, out.stderr)
+                if radius:
+                    self.assertIn(radius, out.stderr)
+                else:
+                    self.assertNotIn("warning", out.stderr)
 
 
 class OverrideTest(unittest.TestCase):

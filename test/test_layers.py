@@ -10,7 +10,8 @@ below it (LAYERS, the order of CMakeLists.txt). Above the core:
   parser, and links no controller library;
 - the harness (sim/harness) and the nodes (sim/nodes) include the core and the plant, never
   the tools (tools/include/jackal_tools);
-- the node (ros) includes the core, never the simulator, the tools or the override parser;
+- the node (ros) includes the core (analysis for the stability check of its configuration),
+  never the simulator, the tools or the override parser;
 - no core folder includes a ROS header (the core is ROS-free).
 
 Each check is shown to fail on a seeded upward include.
@@ -25,7 +26,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.realpath(__file__)))
 
 # What each part may include, by include root: "jackal_aic/<folder>/" for the core and the
 # node, "jackal_sim/" for the simulator, "jackal_tools/" for the tools.
-CORE = ("base", "params", "aic", "safety", "loop", "analysis", "os")
+CORE = ("base", "params", "aic", "safety", "loop", "analysis", "classical", "os")
 LAYERS = {
     "base": set(),
     "params": {"base"},
@@ -33,9 +34,10 @@ LAYERS = {
     "safety": {"base", "params"},
     "loop": {"base", "params", "aic", "safety"},
     "analysis": {"base", "params", "aic"},
+    "classical": {"base", "params", "aic"},
     "os": {"base"},
     "overrides": set(),
-    "ros": (set(CORE) - {"analysis"}) | {"cfg"},
+    "ros": (set(CORE) - {"classical"}) | {"cfg", "msg"},
 }
 # The Python package under src/ (catkin_python_setup's layout) is not a C++ library.
 NOT_A_LIBRARY = {"jackal_aic_tools"}
@@ -65,8 +67,11 @@ def target_of(include):
     if root == "jackal_tools":
         return "tools"
     if "/" not in rest:
-        # dynamic_reconfigure's generated header of cfg/AIC.cfg: jackal_aic/AICConfig.h
-        return "cfg" if rest.endswith("Config.h") else "<flat>"
+        # dynamic_reconfigure's generated header of cfg/AIC.cfg: jackal_aic/AICConfig.h; a
+        # message's generated header of msg/<Name>.msg: jackal_aic/<Name>.h
+        if rest.endswith("Config.h"):
+            return "cfg"
+        return "msg" if os.path.isfile(os.path.join(ROOT, "msg", rest[:-2] + ".msg")) else "<flat>"
     return rest.split("/", 1)[0]
 
 

@@ -139,8 +139,9 @@ NODE_ONLY_VAR = "JACKAL_AIC_NODE_ONLY"
 ROBOT_ENV = {NODE_ONLY_VAR: "1"}
 NOT_ON_THE_ROBOT = "$%s != 1" % NODE_ONLY_VAR
 # Keys of the robot besides CMakeLists.txt's _node_components: the build tool, the node's system
-# libraries, and what launch/robot.launch runs (roslaunch; topic_tools' relay for controller:=stock).
-ROBOT_EXTRA_KEYS = {"catkin", "eigen", "boost", "roslaunch", "topic_tools"}
+# libraries, the run-time side of its message (message_runtime; message_generation is a component),
+# and what launch/robot.launch runs (roslaunch; topic_tools' relay for controller:=stock).
+ROBOT_EXTRA_KEYS = {"catkin", "eigen", "boost", "message_runtime", "roslaunch", "topic_tools"}
 # Focal apt packages (name prefixes) of the simulator and the tools: never in the robot's
 # install, always in the default one.
 SIM_AND_TOOLS_APT = ("libode", "liburdfdom", "libyaml-cpp", "python3-scipy", "python3-matplotlib",

@@ -6,7 +6,8 @@
 - one short profile on the default plant and on an overlay of this test's own, AIC and stock
   (closed_loop_run, seeded noise: deterministic): every output is written and consistent (the
   figures of tracking.json are closed_loop_run's, the path drift is the one aic_track_metrics
-  computes from the trace, the ratios are AIC / stock, the results page has the table);
+  computes from the trace, the ratios are AIC / stock, the results page has the table, the AIC's
+  traces carry F and its parts);
 - bad profile CSVs and a missing overlay are refused with exit 1 and a message naming them.
 """
 import csv
@@ -109,7 +110,7 @@ class TrackCheck(unittest.TestCase):
             with open(os.path.join(out, "tracking.json")) as f:
                 data = json.load(f)
             runs = {(r["variant"], r["controller"]): r for r in data["runs"]}
-            self.assertEqual(set(runs), {(v, c) for v in ("default", "slow_latency") for c in ("aic", "stock")})
+            self.assertEqual(set(runs), {(v, c) for v in ("default", "slow_latency") for c in ("aic", "stock", "pi")})
             for key, r in runs.items():
                 for name, value in r["metrics"].items():
                     self.assertTrue(value is not None and math.isfinite(value), "%s %s: %r" % (key, name, value))
@@ -119,6 +120,17 @@ class TrackCheck(unittest.TestCase):
                 self.assertLess(r["metrics"]["vx_rms"], 0.5)
                 self.assertEqual(r["metrics"]["vx_rms"], r["tracking"]["truth"]["vx"]["rms"])
                 self.assertTrue(os.path.isfile(r["trace"]))
+                # The AIC's traces carry its inference on the trace's time base: F and its parts.
+                if key[1] == "aic":
+                    from jackal_aic_tools.common import tracking
+                    cols = tracking.read_columns(r["trace"])
+                    for c in ("F[-]", "F_sensory[-]", "F_prior[-]", "mu0_x_dot[m/s]", "eps_y0_gyro_z[rad/s]"):
+                        self.assertIn(c, cols)
+                    f = cols["F[-]"]
+                    ok = np.isfinite(f)
+                    self.assertGreater(np.count_nonzero(ok), 100)
+                    np.testing.assert_allclose(f[ok], cols["F_sensory[-]"][ok] + cols["F_prior[-]"][ok],
+                                               rtol=1e-5, atol=1e-9)
             # The figures are closed_loop_run's (deterministic: the same run again).
             exe = cli.find_executable("closed_loop_run", SCRIPT, "track_check")
             direct = json.loads(subprocess.run(
@@ -136,7 +148,7 @@ class TrackCheck(unittest.TestCase):
             for v, latency in (("default", plant_latency), ("slow_latency", 0.2)):
                 floor = driving.floor_rms(profile, latency)
                 self.assertGreater(floor["vx"], 0.01)
-                for c in ("aic", "stock"):
+                for c in ("aic", "stock", "pi"):
                     for ch in ("vx", "wz"):
                         self.assertLess(floor[ch], runs[(v, c)]["tracking"]["truth"][ch]["rms"], (v, c, ch))
             # The path drift from the trace through aic_track_metrics is the same.
@@ -151,6 +163,14 @@ class TrackCheck(unittest.TestCase):
                 a = runs[(q["variant"], "aic")]["metrics"]["vx_rms"]
                 s = runs[(q["variant"], "stock")]["metrics"]["vx_rms"]
                 self.assertAlmostEqual(q["ratios"]["vx_rms"], a / s)
+            # The classical peer's table: AIC / peer per pair, and its geometric mean.
+            peer = data["peer_geometric_mean"]["aic_pi"]
+            ratios = [runs[(v, "aic")]["metrics"][ch + "_rms"] / runs[(v, "pi")]["metrics"][ch + "_rms"]
+                      for v in ("default", "slow_latency") for ch in ("vx", "wz")]
+            self.assertEqual(peer["all"][1], 4)
+            self.assertAlmostEqual(peer["all"][0], math.exp(sum(math.log(x) for x in ratios) / 4))
+            with open(md) as f:
+                self.assertIn("AIC / classical peer", f.read())
             gm, n = data["geometric_mean"]["vx_rms"]
             self.assertEqual(n, 2, "both pairs follow on vx")
             self.assertAlmostEqual(gm, math.sqrt(data["ratios"][0]["ratios"]["vx_rms"] *
@@ -168,7 +188,7 @@ class TrackCheck(unittest.TestCase):
             self.assertLess(limits["default"]["ideal_floor"]["vx"], 1.0)
             self.assertEqual([q["limited"] for q in data["ratios"] if q["variant"] == "default"], [[]])
             with open(os.path.join(out, "tracking.csv")) as f:
-                self.assertEqual(len(list(csv.DictReader(f))), 4)
+                self.assertEqual(len(list(csv.DictReader(f))), 6)  # 2 variants x 3 controllers
             with open(os.path.join(out, "ratios.csv")) as f:
                 self.assertEqual(len(list(csv.DictReader(f))), 3)  # two variants and the geometric mean
             for v in ("default", "slow_latency"):

@@ -10,7 +10,7 @@ import unittest
 
 import numpy as np
 
-from jackal_aic_tools.tune import tune, tune_cost, tune_space
+from jackal_aic_tools.tune import tune, tune_cost, tune_pi, tune_space
 
 
 def args(**kw):
@@ -250,6 +250,39 @@ class SpaceTest(unittest.TestCase):
             with open(out) as f:
                 self.assertEqual(f.read(), "# header\n# tuned by aic_tune.py: new\ntau: 0.002  # s\nnested:\n"
                                            "  tau: 1\nk_a: 12\nvar_y: [2.0, 30.0]\n")
+
+
+class PiGainsTest(unittest.TestCase):
+    """tune_pi: the unit box of the peer's gains and the YAML writer."""
+
+    def test_unit_box_round_trip_and_sets(self):
+        gains = {"wheel.kp": 0.1, "wheel.ki": 1.0, "yaw.kp": 0.05, "yaw.ki": 2.0}
+        back = tune_pi.from_unit(tune_pi.to_unit(gains))
+        for k, v in gains.items():
+            self.assertAlmostEqual(back[k], v)
+        self.assertEqual(tune_pi.to_sets({"wheel.kp": 0.1}), ["wheel.kp=0.1"])
+        self.assertEqual(tune_pi.to_unit({})[0], 0.5)  # absent: the middle
+
+    def test_write_gains_in_place_and_idempotent(self):
+        base = "# header\n\n# inner loops\nwheel:\n  kp: 0.3  # [-]\n  ki: 3.0\n# outer\nyaw:\n  kp: 0.3\n  ki: 3.0\n"
+        gains = {"wheel.kp": 0.07, "wheel.ki": 0.1, "yaw.kp": 0.06, "yaw.ki": 1.2}
+        stamp = tune_pi.STAMP + " (cost 1):\n#   aic_tune.py --driving --controller pi"
+        with tempfile.TemporaryDirectory() as tmp:
+            src, one, two = (os.path.join(tmp, n) for n in ("base.yaml", "one.yaml", "two.yaml"))
+            with open(src, "w") as f:
+                f.write(base)
+            tune_pi.write_gains(one, src, gains, stamp)
+            tune_pi.write_gains(two, one, gains, stamp)
+            with open(one) as f:
+                text = f.read()
+            with open(two) as f:
+                self.assertEqual(f.read(), text)
+            self.assertEqual(tune_pi.base_gains(one), gains)
+            lines = text.splitlines()
+            self.assertEqual(lines[2], tune_pi.STAMP + " (cost 1):")  # above the group's comment
+            self.assertEqual(lines[4], "# inner loops")
+            with self.assertRaises(KeyError):
+                tune_pi.write_gains(two, src, {"yaw.kd": 1.0}, stamp)
 
 
 class FopdtTest(unittest.TestCase):

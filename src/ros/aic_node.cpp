@@ -72,6 +72,7 @@ bool AicNode::init()
   {
     return false;
   }
+  warnIfUnstable(params_.aic, "");
   clock_.start();
   outputs_ = std::make_unique<NodeOutputs>(nh_, pnh_, params_.output_mode, params_.debug_rate);
   try
@@ -145,7 +146,9 @@ bool AicNode::init()
       return false;  // no belief step since the last publication (not running, or belief_rate < debug_rate)
     }
     published_steps_ = loop_->beliefSteps();
-    outputs_->capture(loop_->controller(), loop_->gyroBias().offset(), clock_.time(loop_->beliefTime()), snapshot);
+    const double sample = loop_->newestSampleStamp();  // NaN before the first: ROS time 0, no ~inference
+    outputs_->capture(loop_->controller(), loop_->gyroBias().offset(), clock_.time(loop_->beliefTime()),
+                      clock_.time(sample), snapshot);
     return true;
   });
   std::string schedule = "each event (belief_schedule event; messages on the network thread)";

@@ -6,10 +6,13 @@
 #include "jackal_aic/ros/node_outputs.hpp"
 
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 #include <geometry_msgs/Twist.h>
 #include <geometry_msgs/TwistStamped.h>
 #include <jackal_msgs/Drive.h>
+#include <jackal_aic/InferenceState.h>
 #include <ros/console.h>
 #include <std_msgs/Float64.h>
 #include <std_msgs/Float64MultiArray.h>
@@ -62,6 +65,7 @@ NodeOutputs::NodeOutputs(ros::NodeHandle& nh, ros::NodeHandle& pnh, const std::s
   eps_mu_pub_ = pnh.advertise<std_msgs::Float64MultiArray>("eps_mu", 10, changed, changed);
   wheel_separation_pub_ = pnh.advertise<std_msgs::Float64>("wheel_separation", 10, changed, changed);
   gyro_offset_pub_ = pnh.advertise<std_msgs::Float64>("gyro_offset", 10, changed, changed);
+  inference_pub_ = pnh.advertise<jackal_aic::InferenceState>("inference", 50, changed, changed);
 }
 
 void NodeOutputs::startDebug(ros::NodeHandle& nh, Capture capture)
@@ -100,7 +104,7 @@ bool NodeOutputs::debugWanted() const
 {
   return belief_pub_.getNumSubscribers() + free_energy_pub_.getNumSubscribers() + eps_y_pub_.getNumSubscribers() +
              eps_mu_pub_.getNumSubscribers() + wheel_separation_pub_.getNumSubscribers() +
-             gyro_offset_pub_.getNumSubscribers() >
+             gyro_offset_pub_.getNumSubscribers() + inference_pub_.getNumSubscribers() >
          0;
 }
 
@@ -157,44 +161,30 @@ void NodeOutputs::belief(const ros::Time& stamp, const MuTilde& mu)
 }
 
 void NodeOutputs::capture(const ActiveInferenceController& controller, double gyro_offset, const ros::Time& stamp,
-                          DebugSnapshot* snapshot) const
+                          const ros::Time& sample_stamp, DebugSnapshot* snapshot) const
 {
   snapshot->gyro_offset = gyro_offset;
   snapshot->stamp = stamp;
-  snapshot->mu = controller.mu();
-  snapshot->free_energy = controller.hasMeasurement() ? controller.freeEnergy() : 0.0;
-  snapshot->wheel_separation = controller.model().wheelSeparation();
-  if (eps_y_pub_.getNumSubscribers() > 0)
-  {
-    snapshot->eps_y = controller.epsY();
-  }
-  else
-  {
-    snapshot->eps_y.resize(kYDim, 0);
-  }
-  if (eps_mu_pub_.getNumSubscribers() > 0)
-  {
-    snapshot->eps_mu = controller.epsMu();
-  }
-  else
-  {
-    snapshot->eps_mu.resize(kMuDim, 0);
-  }
+  snapshot->sample_stamp = sample_stamp;
+  snapshot->has_measurement = controller.hasMeasurement();
+  snapshot->inference = inferenceSample(controller);
 }
 
 void NodeOutputs::debug(const DebugSnapshot& snapshot)
 {
+  const InferenceSample& inf = snapshot.inference;
   if (belief_pub_.getNumSubscribers() > 0)
   {
-    belief(snapshot.stamp, snapshot.mu);
+    belief(snapshot.stamp, inf.mu);
   }
   if (free_energy_pub_.getNumSubscribers() > 0)
   {
-    if (std::isfinite(snapshot.free_energy))
+    const double f = snapshot.has_measurement ? inf.free_energy : 0.0;
+    if (std::isfinite(f))
     {
-      std_msgs::Float64 f;
-      f.data = snapshot.free_energy;
-      free_energy_pub_.publish(f);
+      std_msgs::Float64 msg;
+      msg.data = f;
+      free_energy_pub_.publish(msg);
     }
     else
     {
@@ -204,7 +194,7 @@ void NodeOutputs::debug(const DebugSnapshot& snapshot)
   if (wheel_separation_pub_.getNumSubscribers() > 0)
   {
     std_msgs::Float64 b;
-    b.data = snapshot.wheel_separation;
+    b.data = inf.wheel_separation;
     wheel_separation_pub_.publish(b);
   }
   if (gyro_offset_pub_.getNumSubscribers() > 0)
@@ -213,7 +203,7 @@ void NodeOutputs::debug(const DebugSnapshot& snapshot)
     g.data = snapshot.gyro_offset;
     gyro_offset_pub_.publish(g);
   }
-  // eps_y, eps_mu: captured only for a subscriber, never published non-finite.
+  // eps_y, eps_mu: only for a subscriber, never published non-finite.
   auto publishErrors = [this](const ros::Publisher& pub, const auto& errors) {
     if (errors.cols() == 0 || pub.getNumSubscribers() == 0)
     {
@@ -228,8 +218,68 @@ void NodeOutputs::debug(const DebugSnapshot& snapshot)
       ++guarded_outputs_;
     }
   };
-  publishErrors(eps_y_pub_, snapshot.eps_y);
-  publishErrors(eps_mu_pub_, snapshot.eps_mu);
+  publishErrors(eps_y_pub_, inf.eps_y);
+  publishErrors(eps_mu_pub_, inf.eps_mu);
+  inference(snapshot);
+}
+
+bool NodeOutputs::inference(const DebugSnapshot& snapshot)
+{
+  if (inference_pub_.getNumSubscribers() == 0 || !snapshot.has_measurement || snapshot.sample_stamp.isZero() ||
+      snapshot.sample_stamp == last_inference_stamp_)
+  {
+    return false;
+  }
+  const InferenceSample& inf = snapshot.inference;
+  const bool finite = std::isfinite(inf.free_energy) && std::isfinite(inf.sensory) && std::isfinite(inf.prior) &&
+                      inf.mu.allFinite() && inf.eps_y.allFinite() && inf.eps_mu.allFinite() && inf.action.allFinite() &&
+                      inf.action_prior.allFinite() && inf.goal.allFinite() && inf.precision_y.allFinite() &&
+                      std::isfinite(inf.wheel_separation) && std::isfinite(snapshot.gyro_offset);
+  if (!finite)
+  {
+    ++guarded_outputs_;
+    return false;
+  }
+  jackal_aic::InferenceState msg;
+  msg.header.stamp = snapshot.sample_stamp;
+  msg.header.frame_id = "base_link";
+  const int orders = static_cast<int>(inf.mu.cols());
+  msg.orders = static_cast<std::uint8_t>(orders);
+  msg.free_energy = inf.free_energy;
+  msg.free_energy_sensory = inf.sensory;
+  msg.free_energy_prior = inf.prior;
+  // Channel-major: element (c, i) at c * orders + i (msg/InferenceState.msg).
+  auto flatten = [orders](const auto& m, std::vector<double>* out) {
+    out->resize(static_cast<std::size_t>(m.rows() * orders));
+    for (int c = 0; c < m.rows(); ++c)
+    {
+      for (int i = 0; i < orders; ++i)
+      {
+        (*out)[static_cast<std::size_t>(c * orders + i)] = m(c, i);
+      }
+    }
+  };
+  flatten(inf.mu, &msg.mu);
+  flatten(inf.eps_y, &msg.eps_y);
+  flatten(inf.eps_mu, &msg.eps_mu);
+  for (int k = 0; k < kADim; ++k)
+  {
+    msg.action[static_cast<std::size_t>(k)] = inf.action(k);
+    msg.action_prior[static_cast<std::size_t>(k)] = inf.action_prior(k);
+  }
+  for (int c = 0; c < kMuDim; ++c)
+  {
+    msg.goal[static_cast<std::size_t>(c)] = inf.goal(c);
+  }
+  for (int c = 0; c < kYDim; ++c)
+  {
+    msg.precision_y[static_cast<std::size_t>(c)] = inf.precision_y(c);
+  }
+  msg.wheel_separation = inf.wheel_separation;
+  msg.gyro_offset = snapshot.gyro_offset;
+  inference_pub_.publish(msg);
+  last_inference_stamp_ = snapshot.sample_stamp;
+  return true;
 }
 
 }  // namespace jackal_aic

@@ -12,6 +12,8 @@
 #include <boost/bind/bind.hpp>
 #include <ros/console.h>
 
+#include "jackal_aic/ros/param_server.hpp"
+
 namespace jackal_aic
 {
 namespace
@@ -220,6 +222,7 @@ void NodeReconfigure::callback(AICConfig& config, std::uint32_t /*level*/)
   }
   ROS_INFO_STREAM("jackal_AIC: reconfigure accepted (" << (changed.empty() ? "no change" : changed)
                                                        << "); applied at the next tick");
+  warnIfUnstable(outcome.params.aic, "reconfigure: ");
   config = configFromParams(outcome.params, config);
   shown_ = config;
   std::lock_guard<std::mutex> lock(pending_mutex_);

@@ -12,6 +12,8 @@
 #include <ros/param.h>
 #include <xmlrpcpp/XmlRpcValue.h>
 
+#include "jackal_aic/analysis/configured_stability.hpp"
+
 namespace jackal_aic
 {
 namespace
@@ -136,6 +138,17 @@ bool loadValidNodeParams(const ros::NodeHandle& pnh, NodeParams* params)
                                     << "; exiting");
   }
   return violations.empty();
+}
+
+bool warnIfUnstable(const AicParams& params, const std::string& what)
+{
+  const std::string warning = stabilityWarning(params);
+  if (!warning.empty())
+  {
+    ROS_WARN_STREAM("jackal_AIC: " << what << "the configuration is " << warning
+                                   << "; running it, the runaway reset guards the robot");
+  }
+  return !warning.empty();
 }
 
 }  // namespace jackal_aic

@@ -449,7 +449,8 @@ TEST(ClosedLoopRun, CsvTraceHoldsTheInference)
   EXPECT_EQ(mu, 3 * 3);
   EXPECT_EQ(eps_y, 5 * 3);
   EXPECT_EQ(eps_mu, 3 * 3);
-  for (const char* column : { "F[-]", "F_sensory[-]", "F_prior[-]", "a_L[rad/s]", "mu0_theta_dot[rad/s]",
+  for (const char* column : { "F[-]", "F_sensory[-]", "F_prior[-]", "a_L[rad/s]", "a_ff_R[rad/s]", "goal_x_dot[m/s]",
+                              "Pi_y0_gyro_z[1/(rad/s)^2]", "Pi_y0_accel_y[1/(m/s^2)^2]", "mu0_theta_dot[rad/s]",
                               "eps_y2_gyro_z[rad/s^3]", "eps_mu0_x_dot[m/s^2]", "mu2_x_dot[m/s^3]" })
   {
     EXPECT_NE(std::find(header.begin(), header.end(), column), header.end()) << column;

@@ -6,9 +6,11 @@
 #include "jackal_tools/params_yaml.hpp"
 #include "jackal_tools/share_path.hpp"
 
+#include <iostream>
 #include <sstream>
 #include <stdexcept>
 
+#include "jackal_aic/analysis/configured_stability.hpp"
 #include "jackal_aic/overrides/yaml_overrides.hpp"
 
 namespace jackal_aic
@@ -102,9 +104,6 @@ AicParams aicParamsFromYaml(const YAML::Node& root, const std::string& file, std
   return params.aic;
 }
 
-namespace
-{
-/// A YAML file's top-level map with the overrides applied; errors as std::runtime_error naming the file.
 YAML::Node readYamlMap(const std::string& file, const std::vector<std::string>& overrides)
 {
   YAML::Node root;
@@ -136,6 +135,8 @@ YAML::Node readYamlMap(const std::string& file, const std::vector<std::string>& 
   return root;
 }
 
+namespace
+{
 /// Throws "<file>: invalid parameters: ..." listing every violation, if any.
 void requireValid(const std::vector<ParamViolation>& violations, const std::string& file)
 {
@@ -183,6 +184,12 @@ NodeParams loadNodeParamsFiles(const std::vector<std::string>& files, const std:
     check.right_joints = { "right" };
   }
   requireValid(check.validate(), names);
+  const std::string unstable = stabilityWarning(params.aic);
+  if (!unstable.empty())
+  {
+    std::cerr << names << (overrides.empty() ? "" : " with overrides") << ": warning: the configuration is " << unstable
+              << "\n";
+  }
   return params;
 }
 

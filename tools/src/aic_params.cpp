@@ -11,7 +11,9 @@
  *   aic_params --check FILE [--config BASE ...] read a controller YAML like the node (over its
  *                                               bases; an overlay without joint lists over
  *                                               config/default.yaml + config/robot.yaml): unknown
- *                                               keys, type errors and violations; exit 1 on any
+ *                                               keys, type errors and violations; exit 1 on any;
+ *                                               a valid controller unstable on the linear model at
+ *                                               its rates: a warning on stderr, exit 0 (as the node)
  * A relative file that is not found is looked up in the package (jackal_tools/share_path.hpp).
  *
  * Exit 0 on success, 1 on a bad file, 2 on bad arguments.
@@ -24,6 +26,7 @@
 
 #include "jackal_tools/cli.hpp"
 #include "jackal_tools/param_docs.hpp"
+#include "jackal_aic/analysis/configured_stability.hpp"
 #include "jackal_aic/params/param_schema.hpp"
 #include "jackal_tools/params_yaml.hpp"
 #include "jackal_tools/share_path.hpp"
@@ -105,6 +108,12 @@ int checkFile(const std::string& given, std::vector<std::string> bases)
   }
   if (problems == 0)
   {
+    // Valid: loaded as the node loads it, with the node's warning of an unstable controller.
+    const std::string unstable = stabilityWarning(params.aic);
+    if (!unstable.empty())
+    {
+      std::cerr << "aic_params: " << given << ": warning: the configuration is " << unstable << "\n";
+    }
     std::cout << given << ": ok\n";
   }
   return problems == 0 ? 0 : 1;

@@ -10,13 +10,17 @@
  *        optionally the trace as CSV. The experiment engine of aic_reproduce.py (--backend core)
  *        and aic_track.py; the ROS backend runs the nodes instead.
  *
- * Usage: closed_loop_run --controller aic|stock|open|ideal [--aic-config FILE] [--aic-set key=value]...
+ * Usage: closed_loop_run --controller aic|stock|open|ideal|pi [--aic-config FILE] [--aic-set key=value]...
+ *            [--pi-config FILE] [--pi-set key=value]...
  *            [--config PLANT.yaml] [--overlay FILE]... [--set key=value]... [--urdf FILE]
  *            (--step V [--turn W] | --square LOW HIGH | --profile FILE [--segments]) [--channel linear|angular]
  *            [--period S] [--cycles N] [--rest S] [--hold S] [--noise] [--fault LINE]... [--csv FILE]
  *            [--ideal-iterations N] [--ideal-gain G]
  *   --overlay FILE    plant YAML with only the keys that differ (e.g. a file of sim/config/variants/),
  *                     applied after --config and before --set; repeatable, later ones win
+ *   --controller pi    the classical peer (jackal_aic/classical/pi_controller.hpp): PI loops on the
+ *                     wheel speeds and the yaw rate around the robot model's feed-forward, its
+ *                     settings from --pi-config (default config/classical_pi.yaml) and --pi-set
  *   --controller open  no controller: the set point's wheel speeds go to the MCU as they are
  *   --controller ideal the ideal controller (jackal_sim/harness/closed_loop.hpp, runIdealController): the
  *                     command sequence learned over --ideal-iterations runs from rest (iterative
@@ -64,7 +68,9 @@
  *        learn_wheel_separation; empty for the other controllers and before the AIC starts), its gyro
  *        offset gyro_offset [rad/s], and the ground-truth pitch [rad] (> 0 nose down); with the AIC
  *        then its inference, units in brackets: the free energy F and its sensory and prior parts
- *        F_sensory, F_prior (thesis eq. 3-10), the action a_L, a_R, and per order i = 0..p the beliefs
+ *        F_sensory, F_prior (thesis eq. 3-10), the action a_L, a_R, its prior a_ff_L, a_ff_R, the
+ *        attractor goal mu_r as goal_{x_dot,y_dot,theta_dot} (the reference model's output), the sensory
+ *        precisions in use Pi_y0_<channel> (learned with learn_precision), and per order i = 0..p the beliefs
  *        mu<i>_{x_dot,y_dot,theta_dot}, the sensory prediction errors eps_y<i>_{gyro_z,omega_L,omega_R,
  *        accel_x,accel_y} (eq. 3-8) and the state prediction errors eps_mu<i>_* (eq. 3-9), empty
  *        before the controller starts.
@@ -91,6 +97,7 @@
 
 #include "jackal_tools/cli.hpp"
 #include "jackal_tools/params_yaml.hpp"
+#include "jackal_tools/pi_params_yaml.hpp"
 #include "jackal_aic/analysis/step_metrics.hpp"
 #include "jackal_aic/analysis/tracking_metrics.hpp"
 #include "jackal_tools/plant_cli.hpp"
@@ -147,31 +154,10 @@ std::string metricsJson(const std::vector<double>& t, const std::vector<double>&
 
 namespace
 {
-const char* const kMuNames[kMuDim] = { "x_dot", "y_dot", "theta_dot" };
-const char* const kMuUnits[kMuDim] = { "m/s", "m/s", "rad/s" };
-const char* const kYNames[kYDim] = { "gyro_z", "omega_L", "omega_R", "accel_x", "accel_y" };
-const char* const kYUnits[kYDim] = { "rad/s", "rad/s", "rad/s", "m/s^2", "m/s^2" };
-
-/// The unit of order i of a signal in `unit` (per second per order), e.g. "m/s^3" for m/s, i = 2.
-std::string orderUnit(const std::string& unit, int i)
-{
-  if (i == 0)
-  {
-    return unit;
-  }
-  const std::size_t slash = unit.find("/s");
-  const std::string base = unit.substr(0, slash);
-  int power = i;
-  if (slash != std::string::npos)
-  {
-    power += (unit.size() > slash + 2 && unit[slash + 2] == '^') ? std::stoi(unit.substr(slash + 3)) : 1;
-  }
-  return base + "/s" + (power == 1 ? std::string() : "^" + std::to_string(power));
-}
-
 /// The inference columns of the trace (AIC, --csv), units in brackets: F and its parts, the
-/// action, then per order i the beliefs mu<i>_*, the sensory errors eps_y<i>_* and the state
-/// errors eps_mu<i>_*. Empty for orders = 0 (no AIC).
+/// action, its prior, the attractor goal, the sensory precisions Pi_y^(0), then per order i the
+/// beliefs mu<i>_*, the sensory errors eps_y<i>_* and the state errors eps_mu<i>_*
+/// (jackal_aic/aic/inference_sample.hpp). Empty for orders = 0 (no AIC).
 std::string inferenceCsvHeader(int orders)
 {
   if (orders == 0)
@@ -179,20 +165,28 @@ std::string inferenceCsvHeader(int orders)
     return "";
   }
   std::ostringstream h;
-  h << ",F[-],F_sensory[-],F_prior[-],a_L[rad/s],a_R[rad/s]";
+  h << ",F[-],F_sensory[-],F_prior[-],a_L[rad/s],a_R[rad/s],a_ff_L[rad/s],a_ff_R[rad/s]";
+  for (int c = 0; c < kMuDim; ++c)
+  {
+    h << ",goal_" << kBeliefChannelNames[c] << "[" << kBeliefChannelUnits[c] << "]";
+  }
+  for (int c = 0; c < kYDim; ++c)
+  {
+    h << ",Pi_y0_" << kSensorChannelNames[c] << "[1/(" << kSensorChannelUnits[c] << ")^2]";
+  }
   for (int i = 0; i < orders; ++i)
   {
     for (int c = 0; c < kMuDim; ++c)
     {
-      h << ",mu" << i << "_" << kMuNames[c] << "[" << orderUnit(kMuUnits[c], i) << "]";
+      h << ",mu" << i << "_" << kBeliefChannelNames[c] << "[" << orderUnit(kBeliefChannelUnits[c], i) << "]";
     }
     for (int c = 0; c < kYDim; ++c)
     {
-      h << ",eps_y" << i << "_" << kYNames[c] << "[" << orderUnit(kYUnits[c], i) << "]";
+      h << ",eps_y" << i << "_" << kSensorChannelNames[c] << "[" << orderUnit(kSensorChannelUnits[c], i) << "]";
     }
     for (int c = 0; c < kMuDim; ++c)
     {
-      h << ",eps_mu" << i << "_" << kMuNames[c] << "[" << orderUnit(kMuUnits[c], i + 1) << "]";
+      h << ",eps_mu" << i << "_" << kBeliefChannelNames[c] << "[" << orderUnit(kBeliefChannelUnits[c], i + 1) << "]";
     }
   }
   return h.str();
@@ -205,7 +199,15 @@ std::string inferenceCsvRow(const InferenceSample& s, int orders)
   auto cell = [](double v) { return std::isfinite(v) ? jsonNumber(v) : std::string(); };
   std::ostringstream r;
   r << "," << cell(s.free_energy) << "," << cell(s.sensory) << "," << cell(s.prior) << "," << cell(s.action(0)) << ","
-    << cell(s.action(1));
+    << cell(s.action(1)) << "," << cell(s.action_prior(0)) << "," << cell(s.action_prior(1));
+  for (int c = 0; c < kMuDim; ++c)
+  {
+    r << "," << cell(s.goal(c));
+  }
+  for (int c = 0; c < kYDim; ++c)
+  {
+    r << "," << cell(s.precision_y(c));
+  }
   const double kNaN = std::numeric_limits<double>::quiet_NaN();
   for (int i = 0; i < orders; ++i)
   {
@@ -311,6 +313,8 @@ int main(int argc, char** argv)
   PlantOptions plant;
   std::string aic_config = packageFile("config/thesis_equivalent.yaml");
   std::vector<std::string> aic_overrides;
+  std::string pi_config = packageFile("config/classical_pi.yaml");
+  std::vector<std::string> pi_overrides;
   std::string controller;
   std::string csv;
   double step = 0.0;
@@ -335,10 +339,13 @@ int main(int argc, char** argv)
   cl.option("controller", &controller,
             "aic, stock, open (no controller: the set point's wheel speeds go to the MCU as they are) or ideal (the "
             "command sequence learned over repeated runs, knowing the profile and the ground truth: what the plant "
-            "allows)",
+            "allows) or pi (the classical peer: PI loops on the wheel speeds and the yaw rate around the robot "
+            "model's feed-forward)",
             true);
   cl.option("aic-config", &aic_config, "controller YAML (controller and node keys, as the node reads it)");
   cl.overrides("aic-set", &aic_overrides, "override a controller or node key");
+  cl.option("pi-config", &pi_config, "--controller pi: its YAML (default config/classical_pi.yaml)");
+  cl.overrides("pi-set", &pi_overrides, "--controller pi: override a key of its YAML (e.g. wheel.kp=0.4)");
   plant.addTo(&cl);
   cl.option("step", &step, "0 until --rest, then V [m/s] (or [rad/s]) for --hold seconds");
   cl.numbers("square", &square, 2,
@@ -383,9 +390,10 @@ int main(int argc, char** argv)
     low = square[0];
     high = square[1];
   }
-  if (controller != "aic" && controller != "stock" && controller != "open" && controller != "ideal")
+  if (controller != "aic" && controller != "stock" && controller != "open" && controller != "ideal" &&
+      controller != "pi")
   {
-    return cl.bad("--controller must be aic, stock, open or ideal");
+    return cl.bad("--controller must be aic, stock, open, ideal or pi");
   }
   if (channel != "linear" && channel != "angular")
   {
@@ -425,6 +433,7 @@ int main(int argc, char** argv)
   c.controller = controller == "aic"   ? LoopController::kAic :
                  controller == "open"  ? LoopController::kOpenLoop :
                  controller == "ideal" ? LoopController::kIdeal :
+                 controller == "pi"    ? LoopController::kPi :
                                          LoopController::kStock;
   // A set point on the chosen channel, 0 on the other.
   auto sp = [angular](double start, double value) -> SetPointSegment {
@@ -495,6 +504,10 @@ int main(int argc, char** argv)
     {
       c.node = loadNodeParamsFiles({ aic_config }, aic_overrides);  // the node's keys too (triggers, FDI, ...)
       c.aic = c.node.aic;
+    }
+    if (c.controller == LoopController::kPi)
+    {
+      c.pi = loadPiParams(pi_config, pi_overrides);
     }
   }
   catch (const std::exception& e)

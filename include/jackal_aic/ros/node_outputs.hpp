@@ -21,6 +21,7 @@
 
 #include "jackal_aic/loop/control_loop.hpp"
 #include "jackal_aic/aic/controller.hpp"
+#include "jackal_aic/aic/inference_sample.hpp"
 
 namespace jackal_aic
 {
@@ -31,20 +32,20 @@ namespace jackal_aic
  */
 struct DebugSnapshot
 {
-  ros::Time stamp;                ///< time of the newest belief step the snapshot holds
-  MuTilde mu;                     ///< beliefs, 3 x (p+1)
-  double free_energy = 0.0;       ///< F (thesis eq. 3-12); 0 before the first measurement
-  YTilde eps_y;                   ///< eps_y, 5 x (p+1); 0 columns when nobody subscribes
-  MuTilde eps_mu;                 ///< eps_mu, 3 x (p+1); 0 columns when nobody subscribes
-  double wheel_separation = 0.0;  ///< b_hat of the generative model [m] (learned with learn_wheel_separation)
-  double gyro_offset = 0.0;       ///< the gyro offset beta_hat removed from the gyro [rad/s] (learn_gyro_bias)
+  ros::Time stamp;               ///< time of the newest belief step the snapshot holds (~belief)
+  ros::Time sample_stamp;        ///< stamp of the newest accepted sensor sample (~inference); 0 before the first
+  bool has_measurement = false;  ///< the controller has accepted a measurement (else F is published as 0)
+  InferenceSample inference;     ///< F and its parts, mu, eps_y, eps_mu, the action, its prior, mu_r, Pi_y^(0), b_hat
+  double gyro_offset = 0.0;      ///< the gyro offset beta_hat removed from the gyro [rad/s] (learn_gyro_bias)
 };
 
 /**
  * \brief The node's outputs: the wheel command (/cmd_drive, or in output mode cmd_vel the
  *        twist the stock diff drive maps back onto it), and ~belief, ~free_energy, ~eps_y,
  *        ~eps_mu, ~wheel_separation (the model's b_hat [m]), ~gyro_offset (the gyro offset beta_hat removed
- *        from the gyro [rad/s]) at debug_rate while anyone subscribes.
+ *        from the gyro [rad/s]) at debug_rate while anyone subscribes, and ~inference
+ *        (jackal_aic/InferenceState: all of them and the rest of the inference in one stamped
+ *        message) once per accepted sensor sample, at most at debug_rate, while anyone subscribes.
  *
  * Every suppressed non-finite output is counted (guardedOutputs(), shown in diagnostics).
  * Threading: wheels() and resetWheels() from the node's locked sections (either thread); the
@@ -62,7 +63,8 @@ public:
    *                     cmd_drive, jackal_velocity_controller/cmd_vel (geometry_msgs/Twist, queue 1)
    *                     in output mode cmd_vel; only the one of the mode is advertised
    * \param pnh          private node handle: ~belief (geometry_msgs/TwistStamped, queue 50),
-   *                     ~free_energy (std_msgs/Float64), ~eps_y, ~eps_mu (std_msgs/Float64MultiArray), queue 10
+   *                     ~free_energy (std_msgs/Float64), ~eps_y, ~eps_mu (std_msgs/Float64MultiArray), queue 10,
+   *                     ~inference (jackal_aic/InferenceState, queue 50)
    * \param output_mode  "cmd_drive" or "cmd_vel" (validated by NodeParams::validate())
    * \param debug_rate   [Hz] > 0: the debug topics' rate (startDebug())
    */
@@ -74,7 +76,8 @@ public:
    *        any of them has a subscriber (no wake-ups otherwise). Call once, after construction.
    */
   void startDebug(ros::NodeHandle& nh, Capture capture);
-  /// True if any of ~belief, ~free_energy, ~eps_y, ~eps_mu has a subscriber.
+  /// True if any of ~belief, ~free_energy, ~eps_y, ~eps_mu, ~wheel_separation, ~gyro_offset, ~inference has a
+  /// subscriber.
   bool debugWanted() const;
   /// True in output mode cmd_vel.
   bool cmdVelMode() const { return cmd_vel_mode_; }
@@ -94,18 +97,27 @@ public:
    */
   void belief(const ros::Time& stamp, const MuTilde& mu);
   /**
-   * \brief Fill `snapshot` from `controller` (call under the node's lock): mu, the free
-   *        energy (0 before the first measurement), b_hat, the gyro offset in use `gyro_offset`
-   *        [rad/s] (GyroBiasEstimator::offset()), and eps_y / eps_mu only when someone
-   *        subscribes to them (else 0 columns).
+   * \brief Fill `snapshot` from `controller` (call under the node's lock): its inference
+   *        (inferenceSample(), jackal_aic/aic/inference_sample.hpp), whether it has a measurement,
+   *        the gyro offset in use `gyro_offset` [rad/s] (GyroBiasEstimator::offset()), the belief
+   *        time `stamp` and the newest accepted sensor sample's stamp `sample_stamp`.
    */
   void capture(const ActiveInferenceController& controller, double gyro_offset, const ros::Time& stamp,
-               DebugSnapshot* snapshot) const;
+               const ros::Time& sample_stamp, DebugSnapshot* snapshot) const;
   /**
-   * \brief Publish a snapshot: ~belief (as belief()), the free energy and eps_y / eps_mu
-   *        (rows = channels, cols = orders), each only for subscribers and only when finite.
+   * \brief Publish a snapshot: ~belief (as belief()), the free energy (0 before the first
+   *        measurement), b_hat, the gyro offset and eps_y / eps_mu (rows = channels, cols =
+   *        orders), each only for subscribers and only when finite; ~inference (inference()).
    */
   void debug(const DebugSnapshot& snapshot);
+  /**
+   * \brief Publish ~inference from `snapshot` if it has a subscriber, the controller has a
+   *        measurement, its sample stamp is set and differs from the last one published (one
+   *        message per sensor sample: the stamps increase, except after the clock moved back), and
+   *        every value is finite (else counted in guardedOutputs()). Header: sample_stamp, frame
+   *        base_link. \return true if published.
+   */
+  bool inference(const DebugSnapshot& snapshot);
   /// Non-finite outputs suppressed so far (any thread).
   std::uint64_t guardedOutputs() const { return guarded_outputs_.load(); }
 
@@ -116,6 +128,8 @@ private:
   ros::Publisher cmd_pub_, belief_pub_, free_energy_pub_, eps_y_pub_, eps_mu_pub_;
   ros::Publisher wheel_separation_pub_;  ///< ~wheel_separation (std_msgs/Float64): the model's b_hat [m]
   ros::Publisher gyro_offset_pub_;       ///< ~gyro_offset (std_msgs/Float64): the gyro offset beta_hat in use [rad/s]
+  ros::Publisher inference_pub_;         ///< ~inference (jackal_aic/InferenceState): the whole inference, stamped
+  ros::Time last_inference_stamp_;       ///< sample stamp of the last ~inference message (spinner thread only)
   std::atomic<std::uint64_t> guarded_outputs_{ 0 };  ///< commands may be guarded on the belief thread
   double debug_rate_;
   Capture capture_;

@@ -59,4 +59,16 @@ void loadNodeParams(const ros::NodeHandle& pnh, NodeParams* params, std::vector<
  */
 bool loadValidNodeParams(const ros::NodeHandle& pnh, NodeParams* params);
 
+/**
+ * \brief Log at WARN "jackal_AIC: <what>the configuration is unstable on the linear model ...
+ *        spectral radius R >= 1 ..." when stabilityWarning() (jackal_aic/analysis/configured_stability.hpp)
+ *        finds the controller of `params` unstable at its rates; nothing for a stable one. The node
+ *        warns and runs: the runaway reset still guards the robot (doc/jackal_aic_node.md,
+ *        'Parameters'; doc/tuning.md, 'The stability check at load').
+ * \param params  the controller parameters about to be used (valid)
+ * \param what    prefix naming the occasion, e.g. "reconfigure: " ("" at start-up)
+ * \return true if it warned
+ */
+bool warnIfUnstable(const AicParams& params, const std::string& what);
+
 }  // namespace jackal_aic

@@ -192,30 +192,6 @@ private:
   std::size_t next_ = 0;
 };
 
-/// The controller's inference now (all NaN, of the configured orders, while it has not started).
-InferenceSample inferenceSample(const ActiveInferenceController* controller, const AicParams& params)
-{
-  InferenceSample s;
-  if (controller == nullptr)
-  {
-    constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-    const int n = params.numOrders();
-    s.free_energy = s.sensory = s.prior = kNaN;
-    s.mu = MuTilde::Constant(kMuDim, n, kNaN);
-    s.eps_y = YTilde::Constant(kYDim, n, kNaN);
-    s.eps_mu = MuTilde::Constant(kMuDim, n, kNaN);
-    s.action = Vector2::Constant(kNaN);
-    return s;
-  }
-  s.free_energy = controller->freeEnergy();
-  s.sensory = controller->sensoryFreeEnergy();
-  s.prior = controller->priorFreeEnergy();
-  s.mu = controller->mu();
-  s.eps_y = controller->epsY();
-  s.eps_mu = controller->epsMu();
-  s.action = controller->action();
-  return s;
-}
 }  // namespace
 
 const char* toString(Operation::Kind kind)
@@ -270,6 +246,12 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
   const double r = description.wheelRadius();
   const auto total = static_cast<std::uint64_t>(std::llround(config.duration / dt));
   const bool aic = config.controller == LoopController::kAic;
+  const bool classical = config.controller == LoopController::kPi;
+  std::unique_ptr<PiController> pi;
+  if (classical)
+  {
+    pi = std::make_unique<PiController>(config.pi);  // throws on invalid parameters
+  }
 
   StockController stock;
   const std::uint64_t stock_period = periodSteps(stock.params().publish_rate, dt);
@@ -295,8 +277,9 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
     action_period = periodSteps(config.aic.action_rate, dt);
     belief_timer = node.belief_schedule == BeliefSchedule::kTimer;
   }
-  const double b_hat =
-      aic ? config.aic.wheel_separation : stock.params().wheel_separation * stock.params().wheel_separation_multiplier;
+  const double b_hat = aic       ? config.aic.wheel_separation :
+                       classical ? config.pi.wheel_separation :
+                                   stock.params().wheel_separation * stock.params().wheel_separation_multiplier;
   std::vector<std::string> joint_names;
   for (const WheelDescription& w : description.wheels)
   {
@@ -416,6 +399,14 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
         plant->setWheelSpeeds(command_left, command_right);
       }
     }
+    else if (classical)
+    {
+      if (seg != last_segment || k % stock_period == 0)
+      {
+        // Streamed at 50 Hz as teleop would, and at once when the profile changes (as to the AIC).
+        pi->setGoal(t, sp_linear, sp_angular);
+      }
+    }
     else if (!aic)
     {
       if (k % stock_period == 0)
@@ -512,6 +503,13 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
       ClosedLoopSample sample;
       const double wl = 0.5 * (js.velocity[kFrontLeft] + js.velocity[kRearLeft]);
       const double wr = 0.5 * (js.velocity[kFrontRight] + js.velocity[kRearRight]);
+      if (classical)
+      {
+        const PiCommand c = pi->update(run_offset + js.stamp, Vector2(wl, wr), gyro_z);
+        command_left = c.wheels(0);
+        command_right = c.wheels(1);
+        plant->setWheelSpeeds(command_left, command_right);
+      }
       const bool has_belief = aic && loop && out.active;
       sample.time = run_offset + js.stamp;
       sample.set_point = sp_linear;
@@ -571,7 +569,8 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
                                             static_cast<double>(plant->servo(kRight).torqueLimited())));
         if (config.record_inference && aic)
         {
-          out.inference.push_back(inferenceSample(has_belief ? &loop->controller() : nullptr, config.aic));
+          out.inference.push_back(has_belief ? inferenceSample(loop->controller()) :
+                                               unavailableInferenceSample(config.aic.numOrders()));
         }
       }
 

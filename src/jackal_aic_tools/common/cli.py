@@ -30,9 +30,9 @@ def default_results_dir():
 
 def add_profile_args(p):
     g = p.add_argument_group("set-point profile")
-    g.add_argument("--profile", choices=("step", "angular", "square", "csv"), default="step",
-                   help="step: linear step to --v; angular: step to --w; square: wave between "
-                        "--low and --high; csv: --csv file (default: %(default)s)")
+    g.add_argument("--profile", choices=("step", "angular", "arc", "square", "csv"), default="step",
+                   help="step: linear step to --v; angular: step to --w; arc: both at once; square: wave "
+                        "between --low and --high; csv: --csv file (default: %(default)s)")
     g.add_argument("--v", type=float, default=0.5, help="linear step size [m/s] (default %(default)s)")
     g.add_argument("--w", type=float, default=1.0, help="angular step size [rad/s] (default %(default)s)")
     g.add_argument("--t-step", type=float, default=0.5, help="time of the step after the profile starts [s]")
@@ -49,6 +49,8 @@ def make_profile(a):
         return profiles.step(v=a.v, t_step=a.t_step, hold=a.hold)
     if a.profile == "angular":
         return profiles.step(v=0.0, w=a.w, t_step=a.t_step, hold=a.hold)
+    if a.profile == "arc":
+        return profiles.step(v=a.v, w=a.w, t_step=a.t_step, hold=a.hold)
     if a.profile == "square":
         return profiles.square(a.low, a.high, a.period, a.cycles)
     if not a.csv:
@@ -138,10 +140,13 @@ def find_executable(name, script_file, tool):
     sys.exit("%s: %s not found (build the workspace: bash dev/build.sh)" % (tool, name))
 
 
-def effective_config(paths, script_file, tool):
+def effective_config(paths, script_file, tool, warn=True):
     """Every parameter of the node as it reads the YAML files ``paths`` in order over the schema's
     defaults (config/default.yaml holds only what has no default): a dict key -> value, from
-    ``aic_params --yaml --config PATH ...``. Exits with the tool's message on a bad file."""
+    ``aic_params --yaml --config PATH ...``. Exits with the tool's message on a bad file. Its
+    warnings (a controller unstable on the linear model at its rates, with the spectral radius:
+    doc/tuning.md, 'The stability check at load') go to stderr as "<tool>: <warning>" unless
+    ``warn`` is false; the configuration is returned all the same."""
     import subprocess
     import sys
     import yaml
@@ -151,6 +156,9 @@ def effective_config(paths, script_file, tool):
     out = subprocess.run(cmd, capture_output=True, text=True, check=False)
     if out.returncode != 0:
         sys.exit("%s: %s" % (tool, out.stderr.strip()))
+    for line in out.stderr.splitlines() if warn else ():
+        if "warning:" in line:
+            print("%s: %s" % (tool, line), file=sys.stderr)
     return yaml.safe_load(out.stdout)
 
 

@@ -73,11 +73,11 @@ class Run(object):
 
 def command(exe, controller, args, aic_config=None, aic_sets=(), plant_config=None, overlays=(), plant_sets=(),
             noise=True, keep_going=False):
-    """closed_loop_run's argument list: the executable ``exe``, ``controller`` (aic, stock, open or
-    ideal), the seeded sensor noise of the plant YAML (``noise``), the plant YAML ``plant_config``
+    """closed_loop_run's argument list: the executable ``exe``, ``controller`` (aic, stock, open,
+    ideal or pi), the seeded sensor noise of the plant YAML (``noise``), the plant YAML ``plant_config``
     (None: the package's), the profile arguments ``args`` (e.g. ["--step", "0.5"] or ["--profile",
     CSV]), with the AIC its YAML ``aic_config`` and KEY=VALUE overrides ``aic_sets`` (applied in
-    order, as --aic-set), plant overlay files ``overlays`` and plant KEY=VALUE overrides
+    order, as --aic-set; with the classical peer, pi, its YAML and overrides: --pi-config, --pi-set), plant overlay files ``overlays`` and plant KEY=VALUE overrides
     ``plant_sets``; KEEP_GOING with ``keep_going``. The order is the one every tool uses, so equal
     runs give equal command lines."""
     cmd = [exe, "--controller", controller]
@@ -86,11 +86,11 @@ def command(exe, controller, args, aic_config=None, aic_sets=(), plant_config=No
     if plant_config:
         cmd += ["--config", plant_config]
     cmd += list(args)
-    if controller == "aic":
+    if controller in ("aic", "pi"):
         if aic_config:
-            cmd += ["--aic-config", aic_config]
+            cmd += ["--%s-config" % controller, aic_config]
         for s in aic_sets:
-            cmd += ["--aic-set", s]
+            cmd += ["--%s-set" % controller, s]
     for o in overlays:
         cmd += ["--overlay", o]
     for s in plant_sets:

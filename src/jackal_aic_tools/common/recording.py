@@ -11,13 +11,17 @@ and, kept beside them (not in the merged CSV of experiment.write_csv):
                                                              on the simulator)
   wheels     /joint_states          sensor_msgs/JointState  (header stamp, mean left, mean right wheel velocity
                                                              [rad/s]; joints named *left* / *right*)
+and the AIC's stamped inference (write_csv merges it in with its own columns):
+  inference  /jackal_AIC/inference  jackal_aic/InferenceState (header stamp = the sensor sample's, then
+                                                             inference.values(): F, its parts, ..., b_hat,
+                                                             gyro offset; columns inference.columns(orders))
 """
 import math
 import threading
 
 import numpy as np
 
-from . import profiles
+from . import inference, profiles
 
 STREAMS = ("setpoint", "odom", "belief", "drive")
 #: Columns of each stream's array (the stamp first).
@@ -30,6 +34,9 @@ class Recorder(object):
     def __init__(self, bag=None):
         self.lock = threading.Lock()
         self.data = {s: [] for s in WIDTH}
+        self.data["inference"] = []
+        #: generalized orders of the inference messages (None before the first)
+        self.inference_orders = None
         self.bad_stamps = 0
         self.bag = bag
 
@@ -88,6 +95,27 @@ class Recorder(object):
         /jackal_AIC/gyro_offset; learned at standstill with learn_gyro_bias), at receipt time."""
         self._scalar("gyro_offset", "/jackal_AIC/gyro_offset", msg)
 
+    def on_inference(self, msg):
+        """The AIC's stamped inference (jackal_aic/InferenceState on /jackal_AIC/inference): a row
+        (header stamp, *inference.values(msg)). A message of another embedding order than the first
+        is dropped (the columns are those of the first)."""
+        st, now = self._stamp(msg)
+        row = (st,) + tuple(inference.values(msg))
+        with self.lock:
+            if self.inference_orders is None:
+                self.inference_orders = int(msg.orders)
+            if int(msg.orders) == self.inference_orders:
+                self.data["inference"].append(row)
+            if self.bag is not None:
+                self.bag.write("/jackal_AIC/inference", msg, now)
+
+    def inference_columns(self):
+        """Column names of the inference array after its stamp (inference.columns + LEARNED), or []
+        before the first message."""
+        with self.lock:
+            n = self.inference_orders
+        return [] if n is None else inference.columns(n) + list(inference.LEARNED)
+
     def on_drive(self, msg):
         import rospy
         now = rospy.Time.now()
@@ -99,9 +127,14 @@ class Recorder(object):
                   "/jackal_AIC/set_point", msg, stamp)
 
     def arrays(self):
-        """Copy of every stream as an (n, WIDTH) numpy array [stamp, a, b(, c)]."""
+        """Copy of every stream as an (n, WIDTH) numpy array [stamp, a, b(, c)]; "inference" as an
+        (n, 1 + len(inference_columns())) array [stamp, values...]."""
         with self.lock:
-            return {s: np.array(self.data[s], dtype=float).reshape(-1, w) for s, w in WIDTH.items()}
+            out = {s: np.array(self.data[s], dtype=float).reshape(-1, w) for s, w in WIDTH.items()}
+            width = 1 if self.inference_orders is None else \
+                1 + len(inference.columns(self.inference_orders)) + len(inference.LEARNED)
+            out["inference"] = np.array(self.data["inference"], dtype=float).reshape(-1, width)
+            return out
 
     def count(self, stream):
         with self.lock:

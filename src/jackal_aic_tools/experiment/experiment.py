@@ -9,12 +9,13 @@ import csv
 import json
 import logging
 import os
+import re
 import time
 
 import numpy as np
 import yaml
 
-from ..common import cli, metrics, profiles, recording, ros_process, tracking
+from ..common import cli, closed_loop, inference, metrics, profiles, recording, ros_process, tracking
 
 log = logging.getLogger("aic_experiment")
 
@@ -49,8 +50,10 @@ def write_config(base_path, overrides, out_path):
     """Controller YAML = every parameter as the node reads ``base_path`` (over the schema's
     defaults: cli.effective_config) with ``overrides`` set, written to ``out_path`` (a complete
     record of the run's parameters); returns the dict. Unknown keys are refused: a typo must not
-    pass silently."""
-    cfg = cli.effective_config([base_path], __file__, "aic_experiment")
+    pass silently. The written file is then loaded as the node will load it: a controller unstable
+    on the linear model at its rates gets the node's warning with its spectral radius on stderr
+    (cli.effective_config)."""
+    cfg = cli.effective_config([base_path], __file__, "aic_experiment", warn=False)
     if not isinstance(cfg, dict):
         raise ValueError("%s: not a YAML mapping" % base_path)
     for k, v in overrides.items():
@@ -60,6 +63,7 @@ def write_config(base_path, overrides, out_path):
     with open(out_path, "w") as f:
         f.write("# written by aic_experiment: %s with overrides %s\n" % (base_path, overrides or "none"))
         yaml.safe_dump(cfg, f, default_flow_style=None, sort_keys=False)
+    cli.effective_config([out_path], __file__, "aic_experiment")  # the warnings of the run's configuration
     return cfg
 
 
@@ -88,14 +92,20 @@ class Experiment(object):
         self.plot = plot
 
 
-def run(exp):
-    """Run ``exp``; returns the result dict (also saved as <out_dir>/<name>.json)."""
+def _prepare(exp):
+    """The run's output folder (created) and files: returns (base path <out_dir>/<name>, the
+    written configuration's path <base>_config.yaml, its dict (write_config), wheel_radius [m],
+    wheel_separation [m] of it)."""
     os.makedirs(exp.out_dir, exist_ok=True)
     base = os.path.join(exp.out_dir, exp.name)
     cfg_path = base + "_config.yaml"
     cfg = write_config(exp.config, exp.overrides, cfg_path)
-    wheel_radius = float(cfg.get("wheel_radius", 0.098))
-    wheel_sep = float(cfg.get("wheel_separation", 0.5621))
+    return base, cfg_path, cfg, float(cfg.get("wheel_radius", 0.098)), float(cfg.get("wheel_separation", 0.5621))
+
+
+def run(exp):
+    """Run ``exp``; returns the result dict (also saved as <out_dir>/<name>.json)."""
+    base, cfg_path, cfg, wheel_radius, wheel_sep = _prepare(exp)
     args = ["config:=" + os.path.abspath(cfg_path), "controller:=" + exp.controller] + exp.launch_args
     result = {"name": exp.name, "controller": exp.controller, "profile": exp.profile.name,
               "base_config": exp.config, "config": cfg_path, "overrides": exp.overrides,
@@ -134,7 +144,7 @@ def run(exp):
     if t0 is not None:
         segs = recording.actual_segments(exp.profile, arr["setpoint"], t0)
         result["segments"] = analyse(arr, segs, t0, wheel_radius, wheel_sep)
-        result["files"]["csv"] = write_csv(base + ".csv", arr, t0)
+        result["files"]["csv"] = write_csv(base + ".csv", arr, t0, rec.inference_columns())
         ideal = analyse_tracking(exp.profile, arr, t0, base, wheel_radius, wheel_sep, result)
         if exp.plot:
             from ..common import report
@@ -144,6 +154,105 @@ def run(exp):
     with open(base + ".json", "w") as f:
         json.dump(result, f, indent=1, default=_json_default)
     return result
+
+
+def run_headless(exp):
+    """Run ``exp`` on the headless closed loop instead of the nodes: one ``closed_loop_run`` (the
+    node's logic, ControlLoop, on the plant core, simulated time, the plant YAML's seeded sensor
+    noise; --rest exp.settle, at least 0.3 s) of the profile with the written configuration, its
+    trace kept as <out_dir>/<name>_trace.csv (every column of closed_loop_run --csv: speeds,
+    pose, b_hat, and with the AIC F, its parts, the beliefs and errors per order, the action and
+    the stages' outputs, units in brackets), its metrics converted to the ROS run's result
+    layout ("segments": measured = ground truth, belief, drive; "tracking": truth and odometry;
+    "path"), and the same figure as run() with the F(t) panel (report.plot_run over
+    trace_arrays()). A diverged run is status "unstable" with closed_loop_run's cause. Returns the
+    result dict (also <out_dir>/<name>.json)."""
+    base, cfg_path, cfg, wheel_radius, wheel_sep = _prepare(exp)
+    profile_csv = getattr(exp.profile, "csv_path", None) or exp.profile.write_csv(base + "_profile.csv")
+    trace = base + "_trace.csv"
+    exe = cli.find_executable("closed_loop_run", __file__, "aic_experiment")
+    cmd = closed_loop.command(exe, exp.controller, ["--profile", profile_csv, "--segments", "--rest",
+                                                     "%g" % max(exp.settle, 0.3), "--csv", trace],
+                              aic_config=os.path.abspath(cfg_path), keep_going=True)
+    t_start_wall = time.time()
+    run_ = closed_loop.execute(cmd)
+    res = run_.result
+    result = {"name": exp.name, "controller": exp.controller, "profile": exp.profile.name, "backend": "headless",
+              "base_config": exp.config, "config": cfg_path, "overrides": exp.overrides,
+              "params": cfg if exp.controller == "aic" else None, "command": cmd,
+              "status": "unstable" if run_.diverged else "ok", "reason": run_.diverged or "", "t0": 0.0,
+              "wall_time": time.time() - t_start_wall, "segments": headless_segments(res),
+              "tracking": {k: res["tracking"][k] for k in ("truth", "odometry")}, "path": res.get("path"),
+              "files": {"csv": trace, "profile_csv": profile_csv}}
+    arr = trace_arrays(tracking.read_columns(trace), wheel_radius, wheel_sep)
+    sep = arr["separation"]
+    if sep.size:
+        result["wheel_separation"] = {"first": sep[0, 1], "last": sep[-1, 1],
+                                      "min": float(sep[:, 1].min()), "max": float(sep[:, 1].max())}
+    if exp.plot:
+        from ..common import report
+        ideal = None
+        cols = tracking.read_columns(trace)
+        if "x_ideal" in cols:
+            ok = np.isfinite(cols["x_ideal"])
+            ideal = {"x": cols["x_ideal"][ok], "y": cols["y_ideal"][ok]} if np.any(ok) else None
+        result["files"]["png"] = report.plot_run(base + ".png", arr, 0.0, exp.profile, result, wheel_radius,
+                                                 wheel_sep, ideal)
+    result["files"]["json"] = base + ".json"
+    with open(base + ".json", "w") as f:
+        json.dump(result, f, indent=1, default=_json_default)
+    return result
+
+
+def headless_segments(res):
+    """closed_loop_run's "segments" (vx) and "angular_segments" (wz) in run()'s layout: per
+    transition {"channel", "start", "target", "t_step", "metrics": {"measured" (the ground truth),
+    "belief", "drive": {"rise_time", "settling_time", "overshoot", "steady_state_error"}}}."""
+    keys = (("rise_time", "rise"), ("settling_time", "settling"), ("overshoot", "overshoot"),
+            ("steady_state_error", "sse"))
+    out = []
+    for channel, name in (("vx", "segments"), ("wz", "angular_segments")):
+        for seg in res.get(name) or []:
+            m = {}
+            for sig, src in (("measured", "truth"), ("belief", "belief"), ("drive", "drive")):
+                if seg.get(src):
+                    m[sig] = {k: seg[src].get(j) for k, j in keys}
+            out.append({"channel": channel, "start": seg["initial"], "target": seg["target"],
+                        "t_step": seg["t_step"], "metrics": m})
+    return out
+
+
+def trace_arrays(cols, wheel_radius, wheel_sep):
+    """A closed_loop_run --csv trace (``cols``: {column: array}, tracking.read_columns) as the
+    arrays recording.Recorder.arrays() holds for a ROS run, t in profile time: setpoint (set_point,
+    angular_set_point), odom (the ground truth v_true, yaw_true), belief, drive (the drive command's
+    twist back to wheel speeds [rad/s] with ``wheel_radius`` [m], ``wheel_sep`` [m]), pose (x, y,
+    heading), separation (b_hat where set), and with the AIC inference (F, F_sensory, F_prior, then
+    the other inference columns in inference.columns() order and inference.LEARNED: every row
+    where F is set). Raises KeyError naming a missing column."""
+    t = cols["t"]
+
+    def stack(*names):
+        return np.column_stack([t] + [cols[n] for n in names])
+
+    v, w = cols["command"], cols["command_yaw"]
+    drive = np.column_stack([t, (v - 0.5 * w * wheel_sep) / wheel_radius, (v + 0.5 * w * wheel_sep) / wheel_radius])
+    sep = stack("separation")
+    arr = {"setpoint": stack("set_point", "angular_set_point"), "odom": stack("v_true", "yaw_true"),
+           "belief": stack("belief", "belief_yaw"), "drive": drive, "pose": stack("x", "y", "heading"),
+           "separation": sep[np.isfinite(sep[:, 1])], "gyro_offset": np.empty((0, 2))}
+    arr["belief"] = arr["belief"][np.isfinite(arr["belief"][:, 1])]
+    arr["wheels"] = np.empty((0, 3))
+    if "F[-]" in cols:
+        orders = sum(1 for c in cols if re.match(r"mu\d+_x_dot\[", c))
+        names = inference.columns(max(orders, 1))
+        have = [n for n in names if n in cols]
+        learned = [cols["separation"], cols["gyro_offset"]]
+        inf = np.column_stack([t] + [cols[n] for n in have] + learned)
+        arr["inference"] = inf[np.isfinite(inf[:, 1])]
+    else:
+        arr["inference"] = np.empty((0, 1))
+    return arr
 
 
 def _json_default(o):
@@ -187,6 +296,9 @@ def drive_profile(profile, rec, controller="aic", settle=1.0, ready_timeout=60.0
         from std_msgs.msg import Float64
         subs.append(rospy.Subscriber("/jackal_AIC/wheel_separation", Float64, rec.on_separation, queue_size=50))
         subs.append(rospy.Subscriber("/jackal_AIC/gyro_offset", Float64, rec.on_gyro_offset, queue_size=50))
+        from jackal_aic.msg import InferenceState
+        subs.append(rospy.Subscriber("/jackal_AIC/inference", InferenceState, rec.on_inference, queue_size=500,
+                                     tcp_nodelay=True))
     pub = rospy.Publisher("/jackal_AIC/set_point", Twist, queue_size=10)
     period = 1.0 / rate
 
@@ -324,23 +436,35 @@ def analyse_tracking(profile, arr, t0, base, wheel_radius, wheel_sep, result):
     return {"x": ideal["x"], "y": ideal["y"]}
 
 
-def write_csv(path, arr, t0):
+def write_csv(path, arr, t0, inference_columns=()):
     """Merged record: one row per message (sorted by stamp), every column holding the latest
-    value of its stream (empty before the first). t [s] is relative to the profile start."""
+    value of its stream (empty before the first). t [s] is relative to the profile start, stamp
+    [s] the message's. Columns: t, stamp, source, then setpoint_vx, setpoint_wz, odom_vx, odom_wz,
+    belief_vx, belief_wz [m/s, rad/s], drive_left, drive_right [rad/s]; with the AIC's
+    ``inference_columns`` (recording.Recorder.inference_columns(): units in brackets, as
+    closed_loop_run --csv names them) the rows of arr["inference"] too (source "inference", stamped
+    with the sensor sample the beliefs were updated on)."""
     cols = {"setpoint": ("setpoint_vx", "setpoint_wz"), "odom": ("odom_vx", "odom_wz"),
             "belief": ("belief_vx", "belief_wz"), "drive": ("drive_left", "drive_right")}
+    names = [c for s in recording.STREAMS for c in cols[s]]
+    inference_columns = list(inference_columns)
     events = []
     for s in recording.STREAMS:
         for row in arr[s]:
-            events.append((row[0], s, row[1], row[2]))
+            events.append((row[0], s, ("%.6g" % row[1], "%.6g" % row[2])))
+    inf = arr.get("inference")
+    if inference_columns and inf is not None and inf.size:
+        if inf.shape[1] != 1 + len(inference_columns):
+            raise ValueError("inference rows have %d values, not %d columns" % (inf.shape[1] - 1, len(inference_columns)))
+        for row in inf:
+            events.append((row[0], "inference", tuple("%.9g" % v for v in row[1:])))
     events.sort(key=lambda e: e[0])
-    state = {c: "" for s in recording.STREAMS for c in cols[s]}
+    state = {c: "" for c in names + inference_columns}
     with open(path, "w") as f:
         w = csv.writer(f)
-        w.writerow(["t", "stamp", "source"] + [c for s in recording.STREAMS for c in cols[s]])
-        for st, s, a, b in events:
-            state[cols[s][0]] = "%.6g" % a
-            state[cols[s][1]] = "%.6g" % b
-            w.writerow(["%.6f" % (st - t0), "%.6f" % st, s] + [state[c] for s2 in recording.STREAMS
-                                                              for c in cols[s2]])
+        w.writerow(["t", "stamp", "source"] + names + inference_columns)
+        for st, s, vals in events:
+            for c, v in zip(cols[s] if s in cols else inference_columns, vals):
+                state[c] = v
+            w.writerow(["%.6f" % (st - t0), "%.6f" % st, s] + [state[c] for c in names + inference_columns])
     return path

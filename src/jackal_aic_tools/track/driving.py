@@ -107,10 +107,13 @@ class Runner:
     controller and the ideal controller, on one plant YAML; caches the stock and ideal controllers'
     results (they do not depend on the AIC's settings) for its lifetime, and takes the ideal
     controller's results from ``ideal_cache`` (ideal_cache.IdealCache, or None) where it keeps them
-    for the same sources, plant, overlay and profile."""
+    for the same sources, plant, overlay and profile. ``tuned``: the controller that plays the
+    AIC's part ("aic", or "pi": the classical peer, its YAML and overrides in aic_config and
+    aic_sets), so that the acceptance set and its cost judge either against the stock controller."""
 
-    def __init__(self, exe, aic_config, plant_config, aic_sets=(), jobs=2, ideal_cache=None):
+    def __init__(self, exe, aic_config, plant_config, aic_sets=(), jobs=2, ideal_cache=None, tuned="aic"):
         self.exe, self.aic_config, self.plant_config = exe, aic_config, plant_config
+        self.tuned = tuned
         self.aic_sets = list(aic_sets)
         self.jobs = max(1, jobs)
         self.ideal_cache = ideal_cache
@@ -122,6 +125,8 @@ class Runner:
         plant_limits.ideal_command)."""
         if controller == "ideal":
             return plant_limits.ideal_command(self.exe, self.plant_config, args, overlay, plant_sets)
+        if controller == "aic":
+            controller = self.tuned
         return closed_loop.command(self.exe, controller, args, self.aic_config, self.aic_sets, self.plant_config,
                                    [overlay] if overlay else [], plant_sets, noise=True, keep_going=True)
 

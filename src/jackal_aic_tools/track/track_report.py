@@ -1,5 +1,6 @@
 """The tables, plots and results page of the tracking benchmark (aic_track.py): per run, the
-AIC / stock ratios and their geometric mean, as text, Markdown and PNG."""
+AIC / stock ratios and their geometric mean, the AIC against the classical peer and the latency
+floor, as text, Markdown and PNG."""
 import os
 import shutil
 
@@ -7,7 +8,11 @@ from ..common import tracking
 from ..common.tables import fmt, md_table, text_table
 from . import plant_limits
 
-CONTROLLERS = ("aic", "stock")
+#: The controllers of every pair: the AIC, the stock controller and the classical peer
+#: (closed_loop_run --controller pi).
+CONTROLLERS = ("aic", "stock", "pi")
+#: Their names in plots.
+LABELS = {"aic": "AIC", "stock": "stock", "pi": "classical peer"}
 #: Metrics of the printed table and of the ratios (truth velocity errors and the drift).
 TABLE_METRICS = ("vx_rms", "vx_max", "wz_rms", "wz_max", "drift_final", "drift_max", "heading_final")
 HEADERS = {"vx_rms": "vx RMS", "vx_max": "vx max", "wz_rms": "wz RMS", "wz_max": "wz max",
@@ -75,6 +80,37 @@ IDEAL_HEADER = ["profile", "variant", "vx floor [m/s]", "vx ideal [m/s]", "ideal
                 "wz ideal [rad/s]", "ideal / floor", "best run"]
 
 
+def peer_rows(limits, peer):
+    """Rows of the classical peer's table: per pair and channel (vx, wz) the RMS error of the AIC,
+    the peer and the latency floor, AIC / peer (a '*' where the channel is plant-limited), then the
+    geometric means of track_suite.peer_means ``peer`` over the plant-following channels and over
+    the default plant's."""
+    rows = []
+    for q in limits:
+        row = [q["profile"], q["variant"]]
+        for ch in plant_limits.CHANNELS:
+            a, b, f = q["aic"][ch], q["pi"][ch], q["floor"][ch]
+            row += [fmt(a, "%.4f"), fmt(b, "%.4f"), fmt(f, "%.4f"),
+                    fmt(a / b if b else None, "%.2f") + (" *" if q["limited"][ch] else "")]
+        rows.append(row)
+    for label, key in (("geometric mean, plant-following", None), ("geometric mean, default plant", "default")):
+        cells = []
+        for name in ("aic_floor", "pi_floor", "aic_pi"):
+            if key:
+                v, n = peer[name]["default"]
+                cells.append("%s (n = %d)" % (fmt(v, "%.3f"), n))
+            else:
+                cells.append("%s (vx %s, wz %s; n = %d)" % (fmt(peer[name]["all"][0], "%.3f"),
+                                                            fmt(peer[name]["vx"][0], "%.3f"),
+                                                            fmt(peer[name]["wz"][0], "%.3f"), peer[name]["all"][1]))
+        rows.append([label, "AIC / floor %s, peer / floor %s, AIC / peer %s" % tuple(cells)] + [""] * 8)
+    return rows
+
+
+PEER_HEADER = ["profile", "variant", "vx AIC [m/s]", "vx peer [m/s]", "vx floor [m/s]", "AIC / peer",
+               "wz AIC [rad/s]", "wz peer [rad/s]", "wz floor [rad/s]", "AIC / peer"]
+
+
 def metric_header(names):
     """Column titles with units of the flat metrics ``names``."""
     return ["%s [%s]" % (HEADERS[m], UNITS[m]) for m in names]
@@ -88,7 +124,7 @@ def plot_pair(path, profile, traces, title, metrics):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from ..common import report
-    colors = {"aic": "C1", "stock": "C0"}
+    colors = {"aic": "C1", "stock": "C0", "pi": "C2"}
     fig = plt.figure(figsize=(10, 11))
     ax_v = fig.add_subplot(3, 1, 1)
     ax_w = fig.add_subplot(3, 1, 2, sharex=ax_v)
@@ -101,7 +137,7 @@ def plot_pair(path, profile, traces, title, metrics):
         for c in CONTROLLERS:
             if c in traces:
                 ax.plot(traces[c]["t"], traces[c][col], color=colors[c], lw=1.1,
-                        label="%s (RMS %s %s)" % (c.upper() if c == "aic" else c, fmt(metrics[c][name + "_rms"]), unit))
+                        label="%s (RMS %s %s)" % (LABELS[c], fmt(metrics[c][name + "_rms"]), unit))
         ax.set_ylabel("%s [%s]" % (name, unit))
         ax.grid(True, alpha=0.3)
         ax.legend(loc="upper right", fontsize=8)
@@ -115,7 +151,7 @@ def plot_pair(path, profile, traces, title, metrics):
     for c in CONTROLLERS:
         if c in traces:
             k = traces[c]["x_ideal"] == traces[c]["x_ideal"]
-            paths.append(("%s (drift end %s m)" % (c.upper() if c == "aic" else c, fmt(metrics[c]["drift_final"])),
+            paths.append(("%s (drift end %s m)" % (LABELS[c], fmt(metrics[c]["drift_final"])),
                           colors[c], traces[c]["x"][k], traces[c]["y"][k]))
     report.draw_paths(fig.add_subplot(3, 1, 3), ideal, paths)
     fig.tight_layout()
@@ -142,8 +178,8 @@ def results_md(report_data, plots_rel, root):
            "[tools.md](../tools.md), 'Tracking benchmark'." % (
                d["command"], len(d["runs"]), d["simulated_time"], len(d.get("plant_limits", [])), d["wall_time"],
                d["jobs"]), "",
-           "- AIC configuration: `%s`; plant: `%s`; sensor noise of the plant YAML (seeded)." % (
-               d["aic_config"], d["plant_config"]),
+           "- AIC configuration: `%s`; classical peer: `%s`; plant: `%s`; sensor noise of the plant YAML "
+           "(seeded)." % (d["aic_config"], d.get("pi_config"), d["plant_config"]),
            "- Variants: %s." % ", ".join(
                "`%s`%s" % (v["name"], "" if v["overlay"] is None else " (`%s`)" % shown(v["overlay"], root)) for v in d["variants"]),
            "- Profiles: %s." % ", ".join("`%s` (%.1f s)" % (p["name"], p["duration"]) for p in d["profiles"]),
@@ -152,6 +188,12 @@ def results_md(report_data, plots_rel, root):
            "follow on both); the plant-limited ones (column 'plant limits', next section) apart.", "",
            md_table(RATIO_HEADER, ratio_rows(d["ratios"], {m: tuple(v) for m, v in d["geometric_mean"].items()},
                                              {m: tuple(v) for m, v in d.get("geometric_mean_limited", {}).items()})),
+           "", "## AIC / classical peer and latency floor (RMS of the ground truth against the set point)", "",
+           "The classical peer: PI loops on the wheel speeds and the yaw rate around the robot model's "
+           "feed-forward through the latency, tuned on the AIC's driving cost (`closed_loop_run --controller pi`, "
+           "`config/classical_pi.yaml`; `doc/active_inference.md`, 'A classical peer'). "
+           "AIC / peer < 1: the AIC tracks better; * plant-limited (not in the geometric means).", "",
+           md_table(PEER_HEADER, peer_rows(d.get("plant_limits", []), d["peer_geometric_mean"])),
            "", "## Plant-limited pairs", "",
            "A channel is plant-limited where the ideal controller (`closed_loop_run --controller ideal`: the "
            "command learned over repeated runs, knowing the profile in advance and the ground truth) ends above "
@@ -202,6 +244,8 @@ def print_summary(data, out):
     print("\nAIC / stock (< 1: the AIC tracks better; heading end compared by magnitude; geometric means over the "
           "plant-following channels, the plant-limited ones apart)")
     print(text_table(RATIO_HEADER, ratio_rows(data["ratios"], gm, gl)))
+    print("\nAIC / classical peer and the latency floor (RMS; * plant-limited)")
+    print(text_table(PEER_HEADER, peer_rows(data["plant_limits"], data["peer_geometric_mean"])))
     print("\nPlant-limited channels (the ideal controller > %.2f x the latency floor)" % data["plant_limit_ratio"])
     print(text_table(LIMITED_HEADER, limited_rows(data["plant_limits"]) or [["(none)"] + [""] * 7]))
     print("\n%d runs, %.0f s simulated, and the ideal controller's learning on %d pairs; wall time %.1f s "

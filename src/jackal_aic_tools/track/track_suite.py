@@ -5,13 +5,17 @@ Plays every twist profile (default: sim/profiles/*.csv, written by --write-profi
 jackal_aic_tools/track/track_profiles.py: joystick teleop, a 10 Hz planner, S-curves, stop-and-go,
 creeping, fast driving) with `closed_loop_run --profile` on the simulated Jackal's plant core
 (headless, faster than real time, the plant YAML's seeded sensor noise: the same figures on every
-machine), once with the AIC (--aic-config) and once with the stock controller, on the default
-plant and on every plant variant (an overlay YAML of sim/config/variants/). Per run, against the
+machine), once with the AIC (--aic-config), once with the stock controller and once with the
+classical peer (`closed_loop_run --controller pi`, --pi-config: PI loops on the wheel speeds and the
+yaw rate around the robot model's feed-forward; doc/active_inference.md, 'A classical peer'), on
+the default plant and on every plant variant (an overlay YAML of sim/config/variants/). Per run, against the
 set point: the RMS and maximum error of vx [m/s] and wz [rad/s] (ground truth; wheel odometry in
 the JSON and CSV) and the path drift (ground-truth pose against the ideal path, the commanded
 twist integrated from the same start: final and maximum position error [m], final heading error
 [rad]); all computed by the core (jackal_aic/analysis/tracking_metrics.hpp). Then the AIC / stock ratio of
-every metric and its geometric mean over profiles x variants (< 1: the AIC tracks better).
+every metric and its geometric mean over profiles x variants (< 1: the AIC tracks better), and
+the AIC against the peer and the latency floor (RMS of vx and wz: AIC / peer, AIC / floor, peer /
+floor).
 
 Per pair also the ideal controller (`closed_loop_run --controller ideal`, the command learned over
 repeated runs) against the latency floor (driving.floor_rms): a channel (vx, wz) whose ideal error
@@ -27,7 +31,7 @@ and the default plant's plots to doc/img/tracking/.
 
 Usage:
   aic_track.py [--profiles CSV ...] [--variants default|OVERLAY.yaml ...] [--aic-config FILE]
-               [--plant-config FILE] [--jobs N] [--out DIR] [--no-plots] [--results-md FILE] [--doc]
+               [--pi-config FILE] [--plant-config FILE] [--jobs N] [--out DIR] [--no-plots] [--results-md FILE] [--doc]
   aic_track.py --write-profiles DIR      # regenerate the benchmark's profiles
   aic_track.py --write-random-profiles DIR [--count N] [--seed S]
                                          # seeded streams outside the benchmark (planner, joystick)
@@ -73,9 +77,10 @@ def _stem(path):
     return os.path.splitext(os.path.basename(path))[0]
 
 
-def run_job(exe, controller, profile, variant, aic_config, plant_config, trace):
+def run_job(exe, controller, profile, variant, aic_config, plant_config, trace, pi_config=None):
     """One closed_loop_run of ``controller`` on ``profile`` (CSV) with the plant ``variant``
-    ('default' or an overlay file), seeded sensor noise, the trace written to ``trace``. Returns
+    ('default' or an overlay file), seeded sensor noise, the trace written to ``trace``; the AIC
+    with ``aic_config``, the peer (pi) with ``pi_config`` (None: the program's default). Returns
     (result dict or None, error message or None)."""
     cmd = [exe, "--controller", controller, "--noise", "--config", plant_config, "--profile", profile,
            "--csv", trace, closed_loop.KEEP_GOING]  # a diverged run is a result of the benchmark
@@ -83,6 +88,8 @@ def run_job(exe, controller, profile, variant, aic_config, plant_config, trace):
         cmd += ["--overlay", variant]
     if controller == "aic":
         cmd += ["--aic-config", aic_config]
+    if controller == "pi" and pi_config:
+        cmd += ["--pi-config", pi_config]
     out = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, universal_newlines=True)
     if out.returncode != 0:
         # The tool's own message (the plant's ODE library may print notices as well).
@@ -115,7 +122,7 @@ def suite(a, tool):
     SuiteError (its message names the bad file or the failed runs)."""
     exe = tool.exe("closed_loop_run")
     metrics_cli = tool.exe("aic_track_metrics")
-    for f in (a.aic_config, a.plant_config):
+    for f in (a.aic_config, a.pi_config, a.plant_config):
         if not os.path.isfile(f):
             raise SuiteError("no such file: %s" % f)
     profiles = []
@@ -148,7 +155,8 @@ def suite(a, tool):
             except RuntimeError as e:
                 return job, None, None, str(e)
         trace = os.path.join(a.out, "traces", "%s__%s__%s.csv" % (p["name"], v["name"], c))
-        res, err = run_job(exe, c, p["path"], v["overlay"] or "default", a.aic_config, a.plant_config, trace)
+        res, err = run_job(exe, c, p["path"], v["overlay"] or "default", a.aic_config, a.plant_config, trace,
+                           a.pi_config)
         return job, trace, res, err
 
     runs = []
@@ -178,6 +186,7 @@ def suite(a, tool):
         for v in variants:
             aic = by_key[(p["name"], v["name"], "aic")]["metrics"]
             stock = by_key[(p["name"], v["name"], "stock")]["metrics"]
+            peer = by_key[(p["name"], v["name"], "pi")]["metrics"]
             best = ideal[(p["name"], v["name"])]
             try:
                 floor = driving.floor_rms(p["path"], latency[v["name"]], floors)
@@ -191,11 +200,13 @@ def suite(a, tool):
                            "ideal_floor": {ch: ratio(best[ch], floor[ch]) for ch in plant_limits.CHANNELS},
                            "aic": {ch: aic[ch + "_rms"] for ch in plant_limits.CHANNELS},
                            "stock": {ch: stock[ch + "_rms"] for ch in plant_limits.CHANNELS},
+                           "pi": {ch: peer[ch + "_rms"] for ch in plant_limits.CHANNELS},
                            "limited": limited})
     gmean, gmean_limited = {}, {}
     for m in TABLE_METRICS:
         following, lim = plant_limits.split((q["ratios"][m], metric_limited(m, q["limited"])) for q in ratios)
         gmean[m], gmean_limited[m] = plant_limits.gmean(following), plant_limits.gmean(lim)
+    peer = peer_means(limits)
 
     plots = {}
     if not a.no_plots:
@@ -204,12 +215,14 @@ def suite(a, tool):
                 traces = {c: tracking.read_columns(by_key[(p["name"], v["name"], c)]["trace"]) for c in CONTROLLERS}
                 mets = {c: by_key[(p["name"], v["name"], c)]["metrics"] for c in CONTROLLERS}
                 path = os.path.join(a.out, "plots", "%s__%s.png" % (p["name"], v["name"]))
-                track_report.plot_pair(path, p, traces, "%s on the %s plant: AIC (%s) and the stock controller" % (
-                    p["name"], v["name"], os.path.basename(a.aic_config)), mets)
+                track_report.plot_pair(path, p, traces, "%s on the %s plant: AIC (%s), the stock controller and the "
+                                                        "classical peer" % (p["name"], v["name"],
+                                                                            os.path.basename(a.aic_config)), mets)
                 plots[(p["name"], v["name"])] = path
     wall = time.time() - start
 
     data = {"command": a.command, "wall_time": wall, "jobs": a.jobs, "aic_config": a.aic_config_shown,
+            "pi_config": a.pi_config_shown, "peer_geometric_mean": peer,
             "plant_config": a.plant_config_shown,
             "simulated_time": sum(p["duration"] for p in profiles) * len(variants) * len(CONTROLLERS),
             "profiles": [{"name": p["name"], "file": p["path"], "duration": p["duration"]} for p in profiles],
@@ -240,6 +253,26 @@ def suite(a, tool):
     return data
 
 
+def peer_means(limits):
+    """The geometric means of the AIC against the classical peer and the latency floor over the
+    plant-following channels of ``limits`` (suite()'s plant_limits list, with "aic", "pi" and
+    "floor" RMS per channel): {"aic_pi", "aic_floor", "pi_floor", "aic_stock", "pi_stock": {"vx",
+    "wz", "all": [value, count]}}; a channel of a default-plant pair counts in "default" too
+    ({ratio: [value, count]}: the nominal channels)."""
+    out = {}
+    pairs = {"aic_pi": ("aic", "pi"), "aic_floor": ("aic", "floor"), "pi_floor": ("pi", "floor"),
+             "aic_stock": ("aic", "stock"), "pi_stock": ("pi", "stock")}
+    for name, (num, den) in pairs.items():
+        per = {ch: [ratio(q[num][ch], q[den][ch]) for q in limits if not q["limited"][ch]]
+               for ch in plant_limits.CHANNELS}
+        out[name] = {ch: list(plant_limits.gmean(v)) for ch, v in per.items()}
+        out[name]["all"] = list(plant_limits.gmean(per["vx"] + per["wz"]))
+        out[name]["default"] = list(plant_limits.gmean([ratio(q[num][ch], q[den][ch]) for q in limits
+                                                        if q["variant"] == "default"
+                                                        for ch in plant_limits.CHANNELS]))
+    return out
+
+
 def complete_args(a, argv, root):
     """Fill in the defaults of aic_track.py's parsed arguments ``a`` that depend on the package's
     folder ``root``: the AIC and plant YAMLs (and the names the results show for them), the
@@ -249,6 +282,8 @@ def complete_args(a, argv, root):
     a.aic_config_shown = a.aic_config or "config/default.yaml"
     a.plant_config_shown = a.plant_config or "sim/config/plant.yaml"
     a.aic_config = a.aic_config or os.path.join(root, "config", "default.yaml")
+    a.pi_config_shown = a.pi_config or "config/classical_pi.yaml"
+    a.pi_config = a.pi_config or os.path.join(root, "config", "classical_pi.yaml")
     a.plant_config = a.plant_config or os.path.join(root, "sim", "config", "plant.yaml")
     a.profiles = a.profiles or default_profiles(root)
     a.variants = a.variants or default_variants(root)

@@ -38,6 +38,14 @@ private:
 };
 
 /**
+ * \brief A YAML file's top-level map (the file found as resolveDataFile() finds it) with the
+ *        "key=value" overrides applied (applyOverrides()).
+ * \throws std::runtime_error naming the file on an unreadable file, a YAML error, an empty file,
+ *         a top level that is not a map, or a malformed override
+ */
+YAML::Node readYamlMap(const std::string& file, const std::vector<std::string>& overrides = {});
+
+/**
  * \brief Controller parameters from a parsed YAML map (absent keys keep AicParams' defaults).
  * \param root       the file's top-level map
  * \param file       the file's name, for messages
@@ -62,7 +70,11 @@ AicParams loadAicParams(const std::string& file, const std::vector<std::string>&
  * \brief Every key of the schema (controller and node) from YAML files read in order, each
  *        over the previous (config/default.yaml, then an overlay such as config/robot.yaml),
  *        the "key=value" overrides applied to the last; absent keys keep the schema's defaults.
- *        For the tools that run the node's logic headless (closed_loop_run).
+ *        For the tools that run the node's logic headless (closed_loop_run). A controller that
+ *        is unstable on the linear model at its rates (stabilityWarning(),
+ *        jackal_aic/analysis/configured_stability.hpp) is loaded all the same, with one line
+ *        "<files>: warning: the configuration is unstable on the linear model ... spectral radius
+ *        R >= 1 ..." on stderr, as the node warns (doc/tuning.md, 'The stability check at load').
  * \param files      at least one YAML file
  * \param overrides  applied on top of the last file
  * \return the parameters, validated except that both joint lists may be empty (for the caller to fill)

@@ -31,6 +31,8 @@
 #include <limits>
 #include <vector>
 
+#include "jackal_aic/aic/inference_sample.hpp"
+#include "jackal_aic/classical/pi_controller.hpp"
 #include "jackal_aic/loop/control_loop.hpp"
 #include "jackal_aic/safety/fault_monitor.hpp"
 #include "jackal_aic/params/node_params.hpp"
@@ -67,7 +69,11 @@ enum class LoopController
    * delay). runIdealController() learns the sequence over repeated runs; where even it misses the
    * set point, the plant decides: torque, voltage or friction limits, a slow wheel loop.
    */
-  kIdeal
+  kIdeal,
+  /// The classical peer (jackal_aic/classical/pi_controller.hpp, ClosedLoopConfig::pi): the set
+  /// point streamed at 50 Hz and at once when it changes, an update on every joint-state sample
+  /// with that sample's side means and the newest gyro reading, each command to the plant at once.
+  kPi
 };
 
 /// One piece of a piecewise-constant set-point profile.
@@ -110,23 +116,6 @@ struct Operation
 const char* toString(Operation::Kind kind);
 
 /**
- * \brief The AIC's inference at one sample of a run (doc/active_inference.md, 'Prediction errors
- *        and free energy'): the free energy and its two parts, the beliefs of every order, the
- *        prediction errors of every order and the action. All orders 0..p of one run's
- *        embedding order p.
- */
-struct InferenceSample
-{
-  double free_energy = 0.0;          ///< F (thesis eq. 3-10) [-]
-  double sensory = 0.0;              ///< its sensory part (1/2) sum_i eps_y^(i)T Pi_y^(i) eps_y^(i) [-]
-  double prior = 0.0;                ///< its prior part (1/2) sum_i eps_mu^(i)T Pi_mu^(i) eps_mu^(i) [-]
-  MuTilde mu;                        ///< beliefs mu_tilde, 3 x (p+1) (x_dot, y_dot, theta_dot; SI per order)
-  YTilde eps_y;                      ///< sensory prediction errors eps_y, 5 x (p+1) (eq. 3-8; SensorIndex rows)
-  MuTilde eps_mu;                    ///< state prediction errors eps_mu, 3 x (p+1) (eq. 3-9)
-  Vector2 action = Vector2::Zero();  ///< the action a = (omega_L, omega_R) [rad/s]
-};
-
-/**
  * \brief One joint-state sample of a run: what ClosedLoopRecord keeps per sample, and the loop
  *        for an observer (ClosedLoopConfig::observer).
  */
@@ -156,7 +145,8 @@ struct ClosedLoopSample
 struct ClosedLoopConfig
 {
   LoopController controller = LoopController::kStock;
-  AicParams aic;  ///< used when controller == kAic (validated by runClosedLoop)
+  AicParams aic;          ///< used when controller == kAic (validated by runClosedLoop)
+  PiControllerParams pi;  ///< used when controller == kPi (validated by runClosedLoop)
   /**
    * The node's other settings for the AIC (timeouts, sensor pairing, fault detection,
    * action_trigger, belief_schedule, output_mode; the schema's defaults unless set). Its `aic`
@@ -178,8 +168,9 @@ struct ClosedLoopConfig
   std::vector<Operation> operations;
   /// false: no per-sample record, health events or IMU-missing times (long runs: use observer).
   bool record = true;
-  /// With record, the AIC's inference at every sample too (ClosedLoopRecord::inference): F, its
-  /// parts, the beliefs and prediction errors of every order, the action.
+  /// With record, the AIC's inference at every sample too (ClosedLoopRecord::inference;
+  /// jackal_aic/aic/inference_sample.hpp): F, its parts, the beliefs and prediction errors of
+  /// every order, the action, its prior, the attractor goal, Pi_y^(0) and b_hat.
   bool record_inference = false;
   /// Called for every joint-state sample (optional).
   std::function<void(const ClosedLoopSample&)> observer;
@@ -279,7 +270,7 @@ struct ClosedLoopRecord
  * \param description robot model
  * \param params      plant parameters (sensor noise switched off if config.ideal_sensors)
  * \param config      controller, profile, duration
- * \throws std::invalid_argument on an invalid AicParams, an empty or unsorted profile, a
+ * \throws std::invalid_argument on an invalid AicParams (kAic) or PiControllerParams (kPi), an empty or unsorted profile, a
  *         non-finite set point, a non-positive duration, or operations that are unsorted, have a
  *         negative or non-finite start or size, or are given for a controller other than the
  *         AIC (message says which)

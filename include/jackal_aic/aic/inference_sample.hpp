@@ -1,0 +1,68 @@
+#pragma once
+/**
+ * \file inference_sample.hpp
+ * \brief The active inference controller's inference at one instant, as one record: the free
+ *        energy and its two parts, the beliefs and both prediction errors of every order, the
+ *        action and the stages' outputs (action prior, attractor goal), the sensory precisions and
+ *        b_hat in use (doc/active_inference.md, 'Prediction errors and free energy'). The one
+ *        reading of the controller that the headless closed loop's trace (closed_loop_run --csv)
+ *        and the node's ~inference topic (msg/InferenceState.msg) both carry. ROS-free.
+ */
+
+#include <string>
+
+#include "jackal_aic/aic/controller.hpp"
+#include "jackal_aic/base/types.hpp"
+
+namespace jackal_aic
+{
+/// Belief channel names, rows of mu and eps_mu: x_dot, y_dot, theta_dot.
+extern const char* const kBeliefChannelNames[kMuDim];
+/// Units of order 0 of the belief channels: m/s, m/s, rad/s (order i: per s^i).
+extern const char* const kBeliefChannelUnits[kMuDim];
+/// Sensor channel names, rows of eps_y and of Pi_y (SensorIndex): gyro_z, omega_L, omega_R, accel_x, accel_y.
+extern const char* const kSensorChannelNames[kYDim];
+/// Units of order 0 of the sensor channels: rad/s, rad/s, rad/s, m/s^2, m/s^2 (order i: per s^i).
+extern const char* const kSensorChannelUnits[kYDim];
+
+/**
+ * \brief The unit of order `i` of a signal whose order 0 is in `unit` (one "/s" more per order):
+ *        orderUnit("m/s", 2) = "m/s^3", orderUnit("rad/s", 0) = "rad/s", orderUnit("m", 1) = "m/s".
+ * \param unit  order-0 unit, "X" or "X/s" or "X/s^k"
+ * \param i     order, >= 0
+ */
+std::string orderUnit(const std::string& unit, int i);
+
+/**
+ * \brief The controller's inference at one instant. Matrices have one row per channel and one
+ *        column per generalized order 0..p of the controller's embedding order p; order i of a
+ *        channel is in its unit per s^i (eps_mu^(i): per s^(i+1), the unit of mu^(i+1)).
+ */
+struct InferenceSample
+{
+  double free_energy = 0.0;                ///< F (thesis eq. 3-10) [-]
+  double sensory = 0.0;                    ///< its sensory part (1/2) sum_i eps_y^(i)T Pi_y^(i) eps_y^(i) [-]
+  double prior = 0.0;                      ///< its prior part (1/2) sum_i eps_mu^(i)T Pi_mu^(i) eps_mu^(i) [-]
+  MuTilde mu;                              ///< beliefs mu_tilde, 3 x (p+1) (kBeliefChannelNames rows)
+  YTilde eps_y;                            ///< sensory prediction errors eps_y, 5 x (p+1) (eq. 3-8; SensorIndex rows)
+  MuTilde eps_mu;                          ///< state prediction errors eps_mu, 3 x (p+1) (eq. 3-9)
+  Vector2 action = Vector2::Zero();        ///< the action a = (omega_L, omega_R) [rad/s]
+  Vector2 action_prior = Vector2::Zero();  ///< its prior part a_ff (ActionPrior; 0 when off) [rad/s]
+  /// The attractor's goal mu_r (the reference model's output, else mu_d) [m/s, m/s, rad/s]
+  Vector3 goal = Vector3::Zero();
+  /// The precisions Pi_y^(0) in use per sensor channel (learned with learn_precision; 0: masked) [1/unit^2]
+  Vector5 precision_y = Vector5::Zero();
+  double wheel_separation = 0.0;  ///< b_hat of the generative model [m] (learned with learn_wheel_separation)
+};
+
+/**
+ * \brief The inference of `controller` now (ActiveInferenceController's freeEnergy(),
+ *        sensoryFreeEnergy(), priorFreeEnergy(), mu(), epsY(), epsMu(), action(), actionPrior(),
+ *        attractorGoal(), precisionY().col(0), model().wheelSeparation()). Before the first
+ *        measurement the errors and F are those of a zero measurement. No heap allocation.
+ */
+InferenceSample inferenceSample(const ActiveInferenceController& controller);
+
+/// An InferenceSample of `orders` columns with every value NaN: no controller running (yet).
+InferenceSample unavailableInferenceSample(int orders);
+}  // namespace jackal_aic

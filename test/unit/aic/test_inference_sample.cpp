@@ -1,0 +1,71 @@
+/**
+ * \file test_inference_sample.cpp
+ * \brief The controller's inference as one record (include/jackal_aic/aic/inference_sample.hpp):
+ *        every field is the controller's own reading, F is its two parts, the unavailable record is
+ *        NaN of the configured orders, and the order units.
+ */
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "jackal_aic/aic/inference_sample.hpp"
+
+using namespace jackal_aic;
+
+TEST(InferenceSample, IsTheControllersReading)
+{
+  AicParams p;  // the schema's recommendation: p = 2, reference model and action prior on
+  ActiveInferenceController c(p);
+  ASSERT_TRUE(c.setGoal(Vector3(0.5, 0.0, 0.3)));
+  YTilde y = YTilde::Zero(kYDim, p.numOrders());
+  y(kOmegaLeft, 0) = 2.0;
+  y(kOmegaRight, 0) = 3.0;
+  ASSERT_TRUE(c.setMeasurement(y));
+  for (int k = 0; k < 40; ++k)
+  {
+    c.updateBeliefs(1e-3);
+    if (k % 20 == 19)
+    {
+      c.updateAction(0.02);
+    }
+  }
+  const InferenceSample s = inferenceSample(c);
+  EXPECT_EQ(s.free_energy, c.freeEnergy());
+  EXPECT_NEAR(s.free_energy, s.sensory + s.prior, 1e-12 * std::max(1.0, s.free_energy));
+  EXPECT_GT(s.sensory, 0.0);
+  EXPECT_GT(s.prior, 0.0);
+  EXPECT_EQ(s.mu, c.mu());
+  EXPECT_EQ(s.eps_y, c.epsY());
+  EXPECT_EQ(s.eps_mu, c.epsMu());
+  EXPECT_EQ(s.mu.cols(), p.numOrders());
+  EXPECT_EQ(s.action, c.action());
+  EXPECT_EQ(s.action_prior, c.actionPrior());
+  EXPECT_EQ(s.goal, c.attractorGoal());
+  EXPECT_EQ(s.precision_y, c.precisionY().col(0));
+  EXPECT_EQ(s.wheel_separation, c.model().wheelSeparation());
+}
+
+TEST(InferenceSample, UnavailableIsNaNOfTheOrders)
+{
+  const InferenceSample s = unavailableInferenceSample(4);
+  EXPECT_EQ(s.mu.cols(), 4);
+  EXPECT_EQ(s.eps_y.cols(), 4);
+  EXPECT_TRUE(std::isnan(s.free_energy) && std::isnan(s.sensory) && std::isnan(s.prior));
+  EXPECT_TRUE(s.mu.array().isNaN().all() && s.eps_y.array().isNaN().all() && s.eps_mu.array().isNaN().all());
+  EXPECT_TRUE(s.action.array().isNaN().all() && s.goal.array().isNaN().all() && s.precision_y.array().isNaN().all() &&
+              std::isnan(s.wheel_separation));
+}
+
+TEST(InferenceSample, OrderUnits)
+{
+  EXPECT_EQ(orderUnit("m/s", 0), "m/s");
+  EXPECT_EQ(orderUnit("m/s", 1), "m/s^2");
+  EXPECT_EQ(orderUnit("rad/s", 2), "rad/s^3");
+  EXPECT_EQ(orderUnit("m/s^2", 1), "m/s^3");
+  EXPECT_EQ(orderUnit("m", 1), "m/s");
+  EXPECT_EQ(orderUnit("m", 2), "m/s^2");
+  EXPECT_EQ(std::string(kSensorChannelNames[kAccelX]), "accel_x");
+  EXPECT_EQ(std::string(kBeliefChannelUnits[2]), "rad/s");
+}
