@@ -77,7 +77,7 @@ public:
 
   /**
    * \brief Desired twist mu_d = (v_x [m/s], 0, omega_z [rad/s]) and its rate mu_d' [m/s^2, m/s^2,
-   *        rad/s^2] (used only with params().generalized_goal). The attractor (eq. 3-7, extended,
+   *        rad/s^2] (used only with params().reference.generalized_goal). The attractor (eq. 3-7, extended,
    *        doc/active_inference.md 'Set-point dynamics'):
    *        no reference model: f(mu) = mu_d' + (mu_d - mu) / tau;
    *        reference model (reference_time_constant T_r > 0): f(mu) = mu_r' + (mu_r - mu) / tau
@@ -88,7 +88,7 @@ public:
   bool setGoal(const Vector3& mu_d, const Vector3& mu_d_dot = Vector3::Zero());
   /// The goal mu_d in use [m/s, m/s, rad/s]; zero until setGoal().
   const Vector3& goal() const { return reference_.goal(); }
-  /// The goal's rate mu_d' in use [m/s^2, m/s^2, rad/s^2] (zero unless params().generalized_goal).
+  /// The goal's rate mu_d' in use [m/s^2, m/s^2, rad/s^2] (zero unless params().reference.generalized_goal).
   const Vector3& goalRate() const { return reference_.goalRate(); }
   /// The attractor's goal mu_r [m/s, m/s, rad/s]: the delayed reference path m(t - d_r) with a
   /// reference model, else mu_d.
@@ -215,7 +215,7 @@ public:
   const YTilde& precisionY() const { return pi_y_; }
 
   /**
-   * \brief The learner of the effective wheel separation b_hat (params().learn_wheel_separation;
+   * \brief The learner of the effective wheel separation b_hat (params().separation_learner.enabled;
    *        doc/active_inference.md, 'Learning the generative model'). It steps with updateBeliefs()
    *        on y^(0) of the gyro and wheels, with Pi_b = Pi_y^(0) of the gyro, frozen while the
    *        sensor mask isolates one of them or actionSaturated(); the model's
@@ -243,7 +243,7 @@ public:
   static constexpr double kSeparationApplyTolerance = 1.0e-3;
 
   /**
-   * \brief The learner of the order-0 sensory precisions (params().learn_precision;
+   * \brief The learner of the order-0 sensory precisions (params().precision_learner.enabled;
    *        doc/active_inference.md, 'Learning the sensory precisions'). It steps with
    *        updateBeliefs() on eps_y^(0) after the belief step, frozen while the sensor mask
    *        isolates a learned channel, near rest or actionSaturated(); precisionY() takes its
@@ -343,7 +343,7 @@ private:
   GoalResponse response_;
   AntiWindup anti_windup_;
   SeparationLearner learner_;
-  PrecisionLearner precision_learner_;  ///< used only with params_.learn_precision
+  PrecisionLearner precision_learner_;  ///< used only with params_.precision_learner.enabled
   // belief_model robot: the commands in flight and the wheel loop, the beliefs, the model's clock [s].
   WheelLoopModel wheel_loop_;
   RobotBelief robot_belief_;

@@ -129,7 +129,7 @@ public:
    * \brief A set point (geometry_msgs/Twist fields: linear x, y, z [m/s], angular x, y, z
    *        [rad/s]): checked by the supervisor (NaN/Inf dropped, clamped to max_linear_speed /
    *        max_angular_speed) and, unless dropped, the goal mu_d = (linear.x, 0, angular.z) with,
-   *        if AicParams::generalized_goal, its rate mu_d' from the stream (GoalRateEstimator; the
+   *        if AicParams::reference.generalized_goal, its rate mu_d' from the stream (GoalRateEstimator; the
    *        rate is refreshed at every event, so a ramp's slope expires).
    */
   SetPointResult setPoint(const double (&fields)[6]);
@@ -323,7 +323,7 @@ private:
   SensorPairing pairing_;
   SamplePipeline pipeline_;
   Supervisor supervisor_;
-  GoalRateEstimator goal_rate_;            ///< mu_d' of the set-point stream (AicParams::generalized_goal)
+  GoalRateEstimator goal_rate_;            ///< mu_d' of the set-point stream (AicParams::reference.generalized_goal)
   std::unique_ptr<CmdVelOutput> cmd_vel_;  ///< output mode cmd_vel only
   TimeJumpDetector time_jump_{ kTimeJumpTolerance };
   std::uint64_t starts_ = 0;
