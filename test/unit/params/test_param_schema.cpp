@@ -256,6 +256,62 @@ TEST(ParamSchema, EachRowIsAMemberOfItsOwn)
   }
 }
 
+TEST(ParamRow, NamedFieldsAndTheCommonRowAsDefaults)
+{
+  const ParamSpec row = ParamRow("active_inference", "latency")
+                            .unit("s")
+                            .atLeast(0.0)
+                            .describe("the robot model's latency")
+                            .member<&AicParams::robot, &RobotModelParams::latency>();
+  EXPECT_EQ(row.type, ParamType::kDouble);
+  EXPECT_EQ(row.scope, ParamScope::kController);
+  EXPECT_EQ(row.min, 0.0);
+  EXPECT_FALSE(row.min_exclusive);
+  EXPECT_TRUE(std::isinf(row.max));
+  EXPECT_TRUE(row.live);
+  EXPECT_EQ(row.level, 0);
+  EXPECT_FALSE(row.required);
+  EXPECT_EQ(row.channels, 0);
+  EXPECT_EQ(row.slots(), 0);
+  AicParams p;
+  ASSERT_TRUE(row.set_aic(p, 0.2));
+  EXPECT_EQ(p.robot.latency, 0.2);
+  EXPECT_EQ(row.get_aic(p), ParamValue(0.2));
+  EXPECT_FALSE(row.set_aic(p, std::string("x")));
+
+  const ParamSpec flag = ParamRow("active_inference", "tip_guard")
+                             .describe("the tip-over guard")
+                             .notLive()
+                             .member<&AicParams::tip_guard, &TipGuardParams::enabled>();
+  EXPECT_EQ(flag.type, ParamType::kBool);
+  EXPECT_FALSE(flag.live);
+  EXPECT_TRUE(std::isnan(flag.min));
+  EXPECT_TRUE(std::isnan(flag.max));
+  EXPECT_EQ(flag.unit, std::string("-"));
+}
+
+TEST(ParamRow, AnIncompleteRowIsAnErrorNamingItsKey)
+{
+  const auto message = [](const ParamRow& row) -> std::string {
+    try
+    {
+      const ParamSpec spec = row;
+      return "";
+    }
+    catch (const std::logic_error& e)
+    {
+      return e.what();
+    }
+  };
+  const std::string no_member = message(ParamRow("loops", "no_member").atLeast(0.0).describe("d"));
+  EXPECT_NE(no_member.find("no_member: no member"), std::string::npos) << no_member;
+  const std::string no_text = message(ParamRow("loops", "no_text").atLeast(0.0).member<&AicParams::tau>());
+  EXPECT_NE(no_text.find("no_text: no description"), std::string::npos) << no_text;
+  const std::string no_bound = message(ParamRow("loops", "no_bound").describe("d").member<&AicParams::tau>());
+  EXPECT_NE(no_bound.find("no_bound: a number without a lower bound"), std::string::npos) << no_bound;
+  EXPECT_EQ(message(ParamRow("loops", "complete").above(0.0).describe("d").member<&AicParams::tau>()), "");
+}
+
 TEST(ParamSchema, RangesDriveValidation)
 {
   // For every number: the bounds themselves are allowed (the lower one unless exclusive),
