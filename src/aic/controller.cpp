@@ -491,6 +491,27 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
   {
     return updateRobotBeliefs(h);
   }
+  // The belief step's stages, in order (control_loop.hpp, 'The controller's composition').
+  if (!integrateBeliefs(h))  // mu_tilde towards priorGoal(): ReferenceModel's mu_r or ActionDelayLine's G a(t - d_r)
+  {
+    runawayReset();
+    return Status::kRunaway;
+  }
+  reference_.advance(h);                                                         // ReferenceModel
+  response_.advance(h, reference_.attractorGoal(), reference_.attractorRate());  // GoalResponse
+  if (params_.separation_learner.enabled)
+  {
+    learn(h);  // SeparationLearner
+  }
+  if (params_.precision_learner.enabled)
+  {
+    learnPrecision(h);  // PrecisionLearner
+  }
+  return Status::kOk;
+}
+
+bool ActiveInferenceController::integrateBeliefs(double h)
+{
   const int n = params_.numOrders();
   MuTilde f(kMuDim, n);
   computeMuDot(mu_, y_tilde_, priorGoal(), priorRate(), &f);
@@ -528,21 +549,10 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
   }
   if (!next.allFinite() || next.cwiseAbs().maxCoeff() > params_.runaway_limit)
   {
-    runawayReset();
-    return Status::kRunaway;
+    return false;
   }
   mu_ = next;
-  reference_.advance(h);
-  response_.advance(h, reference_.attractorGoal(), reference_.attractorRate());
-  if (params_.separation_learner.enabled)
-  {
-    learn(h);
-  }
-  if (params_.precision_learner.enabled)
-  {
-    learnPrecision(h);
-  }
-  return Status::kOk;
+  return true;
 }
 
 ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(double h)
@@ -651,12 +661,13 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
   {
     return updateRobotAction(h);
   }
-  // Release at rest, before the step's integration (a no-op with action_release_time 0).
+  // The action step's stages, in order (control_loop.hpp, 'The controller's composition').
+  // RestRelease, before the step's integration (a no-op with action_release_time 0).
   a_F_ = release_.apply(a_F_, reference_.target(), h);
   // da_F/dt does not depend on a, so with beliefs and measurement held over the step the
   // Euler step is also the exact one. a = a_F + a_ff.
-  const Vector2 a_dot = aDot();
-  const Vector2 prior = actionPrior();
+  const Vector2 a_dot = aDot();         // eq. 3-16 (unbiased: the goal prior on GoalResponse's g)
+  const Vector2 prior = actionPrior();  // ActionPrior
   const Vector2 increment = h * a_dot;
   const Vector2 candidate = a_F_ + increment;
   const Vector2 raw = candidate + prior;
@@ -671,7 +682,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
     runawayReset();
     return Status::kRunaway;
   }
-  // The clamps and anti-windup of a_F (a masked, isolated, wheel channel is not trusted).
+  // AntiWindup: the clamps and conditional integration of a_F (a masked, isolated, wheel channel is not trusted).
   const Vector2 omega(y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0));
   const AntiWindup::Result clamped =
       anti_windup_.apply(a_F_, candidate, a_dot, prior, omega, (sensor_mask_ & (1u << kOmegaLeft)) != 0,
@@ -682,7 +693,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
   a_ = clamped.command;
   if (params_.belief_model == BeliefModel::kUnbiased)
   {
-    action_line_.record(h, model_.twistFromWheels(a_));
+    action_line_.record(h, model_.twistFromWheels(a_));  // ActionDelayLine
   }
   return Status::kOk;
 }
