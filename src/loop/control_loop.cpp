@@ -66,7 +66,7 @@ ControlLoop::ControlLoop(const NodeParams& params, const Clock& clock, Output& o
   , pairing_(pairingConfig(params))
   , pipeline_(params.aic, params.fdi)
   , supervisor_(params, clock)
-  , goal_rate_(params.aic)
+  , goal_rate_(params.aic.reference)
   , newest_sample_stamp_(kNaN)
 {
   if (params.output_mode == "cmd_vel")
@@ -318,7 +318,7 @@ void ControlLoop::setParams(const NodeParams& next)
     carryOut(supervisor_.embeddingOrderChanged());
   }
   supervisor_.setParams(next);
-  goal_rate_.setParams(next.aic);
+  goal_rate_.setParams(next.aic.reference);
   // Read at start only: the output stage and the belief schedule.
   const std::string output_mode = params_.output_mode;
   const DiffDriveParams cmd_vel = params_.cmd_vel;
@@ -405,7 +405,7 @@ void ControlLoop::advanceBeliefs()
 
 void ControlLoop::refreshGoalRate()
 {
-  if (params_.aic.generalized_goal)
+  if (params_.aic.reference.generalized_goal)
   {
     pipeline_.controller().setGoal(supervisor_.goal(), goal_rate_.rate(clock_.now()));
   }

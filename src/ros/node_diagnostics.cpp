@@ -30,12 +30,12 @@ ControllerReport ControllerReport::of(const ActiveInferenceController& controlle
   r.belief_wz = controller.mu()(2, 0);
   r.command = active ? controller.action() : Vector2::Zero();
   r.wheel_separation = controller.model().wheelSeparation();
-  if (controller.params().learn_wheel_separation)
+  if (controller.params().separation_learner.enabled)
   {
     r.separation_learning = toString(controller.separationLearner().state());
     r.separation_learning_steps = controller.separationLearner().learningSteps();
   }
-  if (controller.params().learn_precision)
+  if (controller.params().precision_learner.enabled)
   {
     r.precision_learning = toString(controller.precisionLearner().state());
   }

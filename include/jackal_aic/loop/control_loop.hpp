@@ -27,6 +27,35 @@
  * actionTimer() only keeps the command alive (idle command while not running, a repeat of the
  * held command when no sample ran the action for 1.5 action periods).
  *
+ * The controller's composition: every stage of the controller, in the order it runs, across its
+ * three owners (ControlLoop, SamplePipeline, ActiveInferenceController; the stages' settings are
+ * the structs nested in AicParams, doc/active_inference.md, 'Structure of the controller'):
+ *
+ *   set point (setPoint):  Supervisor's checks and clamps -> GoalRateEstimator (mu_d', with
+ *       generalized_goal) -> ActiveInferenceController::setGoal -> ReferenceModel's goal
+ *   sample (jointState):   TimeJumpDetector -> belief steps up to now on the held inputs
+ *       (advanceBeliefs, event schedule) -> GoalRateEstimator's rate refreshed -> SensorPairing
+ *       -> SamplePipeline::generalize [GyroBiasEstimator's offset off the gyro z, the wheels'
+ *       yaw rate in its place without the IMU, Generalizer] -> SamplePipeline::guardTip
+ *       [GyroBiasEstimator of the gyro y, TipGuard -> ReferenceModel's tip bounds] -> Supervisor
+ *       (activation: SamplePipeline::activate) -> while running SamplePipeline::measure
+ *       [the controller's y_tilde, FaultMonitor -> the sensor mask, GyroBiasEstimator learns]
+ *       -> with action_trigger sample, the action step
+ *   belief step (integrate -> ActiveInferenceController::updateBeliefs, h <= 1 / belief_rate):
+ *       the beliefs integrated towards the prior's target (eq. 3-15; ReferenceModel's mu_r, or
+ *       ActionDelayLine's G a(t - d_r) with belief_model unbiased) -> ReferenceModel::advance ->
+ *       GoalResponse::advance -> SeparationLearner (learn_wheel_separation; the model takes
+ *       b_hat) -> PrecisionLearner (learn_precision; Pi_y takes it). belief_model robot instead:
+ *       RobotBelief's prediction through WheelLoopModel and its correction by a new sample ->
+ *       ReferenceModel::advance -> SeparationLearner
+ *   action step (actionStep -> ActiveInferenceController::updateAction -> sendCommand):
+ *       Supervisor's action loop tick (idle or the runaway hold's zero instead) -> RestRelease ->
+ *       da_F/dt (eq. 3-16; unbiased: the goal prior on GoalResponse's g) -> ActionPrior -> the
+ *       divergence check -> AntiWindup (lead, turning lead, wheel-speed clamps) -> ActionDelayLine
+ *       records the command. belief_model robot instead: ReferenceModel's path -> LatencyAction
+ *       through WheelLoopModel. Then the command stage: the final guard, and in output mode
+ *       cmd_vel the stock diff drive's limits (a clipped command becomes the action)
+ *
  * Time moving backwards (a simulator's /clock restarting at 0, a `rosbag play --loop --clock`
  * loop, a wall clock stepped back): every event first reads the clock through a
  * TimeJumpDetector; a reading more than kTimeJumpTolerance before the latest one resets what
@@ -129,7 +158,7 @@ public:
    * \brief A set point (geometry_msgs/Twist fields: linear x, y, z [m/s], angular x, y, z
    *        [rad/s]): checked by the supervisor (NaN/Inf dropped, clamped to max_linear_speed /
    *        max_angular_speed) and, unless dropped, the goal mu_d = (linear.x, 0, angular.z) with,
-   *        if AicParams::generalized_goal, its rate mu_d' from the stream (GoalRateEstimator; the
+   *        if AicParams::reference.generalized_goal, its rate mu_d' from the stream (GoalRateEstimator; the
    *        rate is refreshed at every event, so a ramp's slope expires).
    */
   SetPointResult setPoint(const double (&fields)[6]);
@@ -323,7 +352,7 @@ private:
   SensorPairing pairing_;
   SamplePipeline pipeline_;
   Supervisor supervisor_;
-  GoalRateEstimator goal_rate_;            ///< mu_d' of the set-point stream (AicParams::generalized_goal)
+  GoalRateEstimator goal_rate_;            ///< mu_d' of the set-point stream (AicParams::reference.generalized_goal)
   std::unique_ptr<CmdVelOutput> cmd_vel_;  ///< output mode cmd_vel only
   TimeJumpDetector time_jump_{ kTimeJumpTolerance };
   std::uint64_t starts_ = 0;

@@ -174,7 +174,7 @@ TEST_F(ControlLoopTest, CommandsRiseWhenSlowerAndFallWhenFaster)
 {
   // The direction of the action update (thesis eq. 3-16) with wheels that never follow; the
   // anti-windup would hold the command at the measured speed +-max_action_lead.
-  p.aic.max_action_lead = 0.0;
+  p.aic.anti_windup.max_action_lead = 0.0;
   build();
   feed(p.aic.numOrders(), 0.0, 0.5);  // standing still, 0.5 m/s asked
   ASSERT_TRUE(loop->active());
@@ -538,12 +538,12 @@ void compareSchedules(Integrator integrator, ActionTrigger trigger, bool driving
   if (driving)
   {
     // Set-point dynamics and the action prior, on a ramped set point.
-    pe.aic.generalized_goal = true;
-    pe.aic.goal_lead = 0.1;
-    pe.aic.reference_time_constant = 0.1;
-    pe.aic.reference_delay = 0.06;
-    pe.aic.action_prior_gain = 0.8;
-    pe.aic.action_prior_time_constant = 0.15;
+    pe.aic.reference.generalized_goal = true;
+    pe.aic.reference.goal_lead = 0.1;
+    pe.aic.reference.time_constant = 0.1;
+    pe.aic.reference.delay = 0.06;
+    pe.aic.action_prior.gain = 0.8;
+    pe.aic.action_prior.time_constant = 0.15;
   }
   NodeParams pt = pe;
   pt.belief_schedule = BeliefSchedule::kTimer;
