@@ -15,8 +15,8 @@ int main(int argc, char** argv)
   const ros::NodeHandle nh;  // starts the node: it registers and advertises /rosout
   if (!jackal_aic::waitForRosout())
   {
-    ROS_WARN_STREAM("jackal_AIC: no rosout node connected within " << jackal_aic::kRosoutWait
-                                                                   << " s: the start-up lines are on stdout only");
+    ROS_WARN_STREAM("jackal_AIC: rosout did not connect within " << jackal_aic::kRosoutWait
+                                                                 << " s: the start-up lines may be on stdout only");
   }
   jackal_aic::AicNode node{ nh, ros::NodeHandle("~") };
   if (!node.init())

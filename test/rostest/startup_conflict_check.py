@@ -2,26 +2,29 @@
 """The AIC's start-up ERROR about another publisher on its output topic reaches /rosout.
 
 This node advertises /cmd_drive (jackal_msgs/Drive) and publishes zero commands on it at
-50 Hz; once the master lists it, it starts launch/jackal_aic.launch (the AIC on the direct
-path, output /cmd_drive) itself, with the node's stdout to a file, and once the master lists
-the AIC, a rosout node (rostest starts none): rosout connects to the AIC late, as when
+50 Hz and starts a rosout node (rostest starts none); once the master lists both, it stops
+rosout (SIGSTOP), starts launch/jackal_aic.launch (the AIC on the direct path, output
+/cmd_drive) with the node's stdout to a file, and lets rosout go on ~rosout_delay s (wall) after
+the AIC has registered: rosout connects to the AIC late, as on a loaded machine or when
 roslaunch starts the master, rosout and the nodes at once. The AIC finds this node at its first
-check, in its start-up, before any command.
+check, in its start-up, before any command; it waits for rosout first (at most 2 s).
 
 Checks: an ERROR of /jackal_AIC naming this node and /cmd_drive arrives on /rosout_agg (the
 rosout node's aggregate: what it received on /rosout, what rqt_console and the log files show)
-within ~limit s of rosout's start (wall time: the start-up itself); the same line is on the node's
+within ~limit s of rosout going on (wall time: the start-up itself); the same line is on the node's
 stdout; the AIC publishes nothing on /cmd_drive (each message's publisher is its connection
 header's callerid); its diagnostics report the state "blocked" naming this node. Waits are on
 conditions with deadlines.
 """
 import os
+import signal
 import sys
 import tempfile
 import threading
 import time
 import unittest
 
+import rosgraph
 import rospy
 import rostest
 from diagnostic_msgs.msg import DiagnosticArray
@@ -45,6 +48,12 @@ def wait_wall(predicate, timeout, period=0.05):
             return True
         time.sleep(period)
     return predicate()
+
+
+def subscribers_of(topic):
+    """Node names the master lists as subscribers of `topic`."""
+    _, subs, _ = rosgraph.Master(rospy.get_name()).getSystemState()
+    return sorted(n for t, ns in subs if t == topic for n in ns)
 
 
 def read_text(path):
@@ -86,6 +95,7 @@ class StartupConflict(unittest.TestCase):
 
     def test_startup_error_reaches_rosout(self):
         limit = rospy.get_param("~limit", 20.0)
+        self.rosout_delay = rospy.get_param("~rosout_delay", 1.0)
         pub = rospy.Publisher("/cmd_drive", Drive, queue_size=1)
         stop = Drive()
         stop.mode = Drive.MODE_VELOCITY
@@ -93,14 +103,19 @@ class StartupConflict(unittest.TestCase):
         self.assertTrue(wait_wall(lambda: self.me in live_publishers("/cmd_drive"), 10.0),
                         "the master never listed this node on /cmd_drive")
         with tempfile.NamedTemporaryFile("w+", suffix=".log", prefix="jackal_aic_startup_") as out:
-            proc = ros_process.roslaunch("jackal_aic.launch", [], package=PKG, stdout=out)
-            rosout = None
+            # A rosout node, registered, then stopped: it connects to the AIC late (as on a loaded
+            # machine, or when roslaunch starts the master, rosout and the nodes at once).
+            rosout = ros_process.start(["rosrun", "rosout", "rosout", "__name:=rosout_aggregator"])
+            proc = None
             try:
-                # The rosout node connects late, as when roslaunch starts the master, rosout and the
-                # nodes at once: it starts only once the AIC has registered.
+                self.assertTrue(wait_wall(lambda: "/rosout_aggregator" in subscribers_of("/rosout"), 30.0),
+                                "rosout never registered")
+                os.killpg(rosout.pid, signal.SIGSTOP)
+                proc = ros_process.roslaunch("jackal_aic.launch", [], package=PKG, stdout=out)
                 self.assertTrue(wait_wall(lambda: "/jackal_AIC" in live_publishers("/rosout"), 30.0),
                                 "the AIC never registered")
-                rosout = ros_process.start(["rosrun", "rosout", "rosout", "__name:=rosout_aggregator"])
+                time.sleep(self.rosout_delay)  # wall time: rosout stays stopped this long
+                os.killpg(rosout.pid, signal.SIGCONT)
                 t0 = time.monotonic()
                 found = wait_wall(lambda: self.conflict_errors() != [], limit)
                 elapsed = time.monotonic() - t0
@@ -108,7 +123,7 @@ class StartupConflict(unittest.TestCase):
                     errors = list(self.errors)
                 self.assertTrue(found, "no ERROR naming %s on /rosout_agg within %.0f s; the AIC's ERRORs there: %s"
                                 % (self.me, limit, errors))
-                rospy.loginfo("startup conflict: the ERROR reached /rosout_agg %.2f s after rosout's start: %s",
+                rospy.loginfo("startup conflict: the ERROR reached /rosout_agg %.2f s after rosout went on: %s",
                               elapsed, self.conflict_errors()[0])
                 self.assertTrue(wait_wall(lambda: self.state.startswith("blocked") and self.me in self.state, 10.0),
                                 "diagnostics: %r" % self.state)
@@ -119,9 +134,10 @@ class StartupConflict(unittest.TestCase):
                 self.assertEqual(len(self.conflict_errors()), 1, "more than one ERROR: %s" % self.conflict_errors())
             finally:
                 timer.shutdown()
-                ros_process.stop(proc, timeout=20.0)
-                if rosout is not None:
-                    ros_process.stop(rosout, timeout=10.0)
+                os.killpg(rosout.pid, signal.SIGCONT)
+                if proc is not None:
+                    ros_process.stop(proc, timeout=20.0)
+                ros_process.stop(rosout, timeout=10.0)
 
 
 if __name__ == "__main__":

@@ -14,17 +14,20 @@
 
 namespace jackal_aic
 {
-/// How long the node waits for rosout at start-up [s, wall time]: rosout connects within tens
-/// of milliseconds of the node's registration; without a rosout node (a bare rosmaster) the node
-/// starts after this, its start-up lines on stdout only.
+/// How long the node waits at most for a /rosout subscriber's connection at start-up [s, wall
+/// time]: rosout connects within tens of milliseconds of the node's registration; one that does
+/// not answer (a hung rosout) delays the start by this, its start-up lines then on stdout only.
 constexpr double kRosoutWait = 2.0;
 
 /**
- * \brief Block until the rosout node subscribes to this node's /rosout (the connection is up, so
- *        the lines logged from then on reach it), or `timeout` [s, wall time] passes, or ROS shuts
- *        down. Polls roscpp's TopicManager every 5 ms. Call after ros::start() (a NodeHandle).
+ * \brief If the master lists a subscriber of /rosout (the rosout node; rostest runs none), block
+ *        until one is connected to this node's /rosout (the lines logged from then on reach it),
+ *        or `timeout` [s, wall time] passes, or ROS shuts down; polls roscpp's TopicManager every
+ *        5 ms. Without a listed subscriber (or when the master cannot be asked) return at once:
+ *        there is nothing to wait for. Call after ros::start() (a NodeHandle).
  * \param timeout  [s], >= 0 (0: ask once)
- * \return true if rosout is connected
+ * \return false if a listed subscriber did not connect within `timeout` (or ROS shut down),
+ *         true otherwise
  */
 bool waitForRosout(double timeout = kRosoutWait);
 }  // namespace jackal_aic
