@@ -116,6 +116,12 @@ bool ControlLoop::jointState(const JointStateInput& joints)
     watch();
     return false;
   }
+  if (checkFrozen(sample))
+  {
+    ++frozen_samples_;
+    watch();  // stale: zero command, the sample history restarts
+    return false;
+  }
   if (!sample.imu_ok && due(kNoticeNoImu))
   {
     std::ostringstream os;
@@ -330,6 +336,31 @@ void ControlLoop::setParams(const NodeParams& next)
   output_.log(LogLevel::kInfo, "parameters applied (" + params_.aic.summary() + ")");
 }
 
+bool ControlLoop::checkFrozen(const SensorSample& sample)
+{
+  FrozenJointStates::Input in;
+  in.stamp = sample.stamp;
+  in.travel = sample.travel;
+  in.has_travel = sample.has_travel;
+  in.speed = Vector2(sample.y(kOmegaLeft), sample.y(kOmegaRight));
+  const FrozenJointStates::Event event = frozen_.update(in);
+  if (event == FrozenJointStates::Event::kFrozen)
+  {
+    std::ostringstream os;
+    os << "joint states frozen: travel and speeds (" << in.speed.transpose() << " rad/s) repeat exactly for "
+       << frozen_.heldFor() << " s (" << frozen_.repeats() << " repeats) with the wheels turning (longer than "
+       << frozen_.holdTime() << " s): the MCU's feedback has stopped behind jackal_node; treated as sensor loss ["
+       << frozen_.events() << " frozen stream(s) so far]";
+    supervisor_.jointStatesFrozen(true, os.str());
+  }
+  else if (event == FrozenJointStates::Event::kThawed)
+  {
+    supervisor_.jointStatesFrozen(false);
+    output_.log(LogLevel::kInfo, "joint states no longer frozen (new data): the sensors are used again");
+  }
+  return frozen_.frozen();
+}
+
 // ---------------------------------------------------------------------------
 // Time moving backwards
 
@@ -358,6 +389,8 @@ void ControlLoop::restartTimeline(double shift)
   const bool was_running = supervisor_.active();
   goal_rate_.reset();
   refreshGoalRate();  // no slope from the old timeline
+  frozen_.reset();    // its stamps were on the old timeline
+  supervisor_.jointStatesFrozen(false);
   belief_time_ = now;
   newest_sample_stamp_ = kNaN;
   last_notice_.fill(-std::numeric_limits<double>::infinity());  // the throttles' times were on the old timeline

@@ -191,12 +191,20 @@ void NodeDiagnostics::sensors(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.add("dropped: set point non-finite", loop_.supervisor().setPointDrops());
   stat.add("set points clamped", loop_.supervisor().setPointClamps());
   stat.add("stale events", loop_.supervisor().staleEvents());
+  stat.add("dropped: joint_states frozen", loop_.frozenSamples());
+  stat.add("frozen joint-state streams", loop_.frozenJointStates().events());
+  stat.add("joint states frozen", loop_.supervisor().jointStatesFrozen() ? "yes" : "no");
   const bool sensors_stale = !loop_.supervisor().sensorsFresh();
   const bool set_point_stale = !loop_.supervisor().setPointFresh();
   if (sensors_stale || set_point_stale)
   {
-    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
-                 sensors_stale ? "sensor samples stale or missing" : "set point stale or missing");
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, loop_.supervisor().jointStatesFrozen() ? "joint states "
+                                                                                                   "frozen (the same "
+                                                                                                   "data while the "
+                                                                                                   "wheels turn: MCU "
+                                                                                                   "feedback stopped)" :
+                                                          sensors_stale ? "sensor samples stale or missing" :
+                                                                          "set point stale or missing");
   }
   else if (dropped + loop_.supervisor().setPointDrops() + report.generalizer_drops > 0)
   {

@@ -78,6 +78,7 @@
 #include "jackal_aic/loop/sensor_pairing.hpp"
 #include "jackal_aic/loop/supervisor.hpp"
 #include "jackal_aic/loop/time_jump.hpp"
+#include "jackal_aic/safety/frozen_joint_states.hpp"
 
 namespace jackal_aic
 {
@@ -144,12 +145,14 @@ public:
 
   // ---- events (each at clock.now())
   /**
-   * \brief A joint-state message: pairing (with the newest IMU samples), generalization, the
+   * \brief A joint-state message: pairing (with the newest IMU samples), the frozen-stream
+   *        check (FrozenJointStates: while the data repeat with a wheel turning, the sample is
+   *        refused and the sensors count as lost, Supervisor::jointStatesFrozen()), generalization, the
    *        supervisor's warm-up, activation when due, the measurement and fault test while
    *        running and, with action_trigger sample, the action step and its command.
    *        Event schedule: the beliefs are first advanced to now with the old inputs.
-   * \return false if the message was dropped (pairing) or the sample refused (generalizer,
-   *         controller)
+   * \return false if the message was dropped (pairing), the stream is frozen or the sample
+   *         refused (generalizer, controller)
    */
   bool jointState(const JointStateInput& joints);
   /// An IMU message: validated and kept for pairing. \return false if dropped.
@@ -287,6 +290,10 @@ public:
   double lastTimeJump() const { return time_jump_.lastJump(); }
   /// Controller starts (entries into kRunning) since construction.
   std::uint64_t starts() const { return starts_; }
+  /// The frozen joint-state check (verdict, the current run of repeats, entries into frozen).
+  const FrozenJointStates& frozenJointStates() const { return frozen_; }
+  /// Joint-state samples refused because the stream was frozen.
+  std::uint64_t frozenSamples() const { return frozen_samples_; }
   /// Stamp [s] of the newest accepted sensor sample (the clock's epoch); NaN before the first.
   double newestSampleStamp() const { return newest_sample_stamp_; }
 
@@ -341,6 +348,9 @@ private:
   /// output mode cmd_vel publishes the twist of `wheels` without the stock controller's
   /// velocity and acceleration limits (the idle zero: the diff drive ramps down itself).
   void sendCommand(const Vector2& wheels, double latency, bool stock_limits = true);
+  /// The frozen-stream check of one paired sample; tells the supervisor and logs a change.
+  /// \return true if the stream is frozen (the sample must not be used)
+  bool checkFrozen(const SensorSample& sample);
   /// The command outside kRunning (Supervisor::idleCommand()): zero at once (cmd_vel: the zero
   /// twist, not ramped by our copy of the stock limits), the measured wheel speeds (kHeld,
   /// warming up), or nothing; withheld in kBlocked, as every command.
@@ -355,6 +365,8 @@ private:
   GoalRateEstimator goal_rate_;            ///< mu_d' of the set-point stream (AicParams::reference.generalized_goal)
   std::unique_ptr<CmdVelOutput> cmd_vel_;  ///< output mode cmd_vel only
   TimeJumpDetector time_jump_{ kTimeJumpTolerance };
+  FrozenJointStates frozen_;  ///< a frozen MCU behind jackal_node
+  std::uint64_t frozen_samples_ = 0;
   std::uint64_t starts_ = 0;
   std::string last_stop_reason_;        ///< why the controller last left kRunning (for the restart's log line)
   bool restart_after_runaway_ = false;  ///< the next start follows a runaway: it starts on probation

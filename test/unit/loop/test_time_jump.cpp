@@ -95,6 +95,10 @@ protected:
     imu.stamp = clock.t;
     loop->imu(imu);
     velocity.assign(4, wheels);
+    for (double& x : position)
+    {
+      x += 0.02 * wheels;  // the wheels travel (constant travel while turning is a frozen stream)
+    }
     JointStateInput j;
     j.stamp = clock.t;
     j.name = &names;
