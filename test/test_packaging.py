@@ -18,7 +18,7 @@
   the rosdep library itself is not used), each key resolved on focal through the rules
   snapshot above. With JACKAL_AIC_NODE_ONLY=1 the keys are exactly those of the node-only
   build (CMakeLists.txt's _node_components, catkin, eigen, boost) and what robot.launch runs
-  (roslaunch, topic_tools): no ODE, urdfdom, yaml-cpp, scipy, matplotlib, psutil; unset,
+  (roslaunch): no ODE, urdfdom, yaml-cpp, scipy, matplotlib, psutil; unset,
   every key, those included. dev/resolve_deps.py's own reading of the conditions agrees;
 - LICENSE (TestLicense) is the text of package.xml's <license> and names its maintainer.
 
@@ -140,8 +140,9 @@ ROBOT_ENV = {NODE_ONLY_VAR: "1"}
 NOT_ON_THE_ROBOT = "$%s != 1" % NODE_ONLY_VAR
 # Keys of the robot besides CMakeLists.txt's _node_components: the build tool, the node's system
 # libraries, the run-time side of its message (message_runtime; message_generation is a component),
-# and what launch/robot.launch runs (roslaunch; topic_tools' relay for controller:=stock).
-ROBOT_EXTRA_KEYS = {"catkin", "eigen", "boost", "message_runtime", "roslaunch", "topic_tools"}
+# and what launch/robot.launch runs (roslaunch; its nodes, controller:=stock's relay included, are
+# the package's own).
+ROBOT_EXTRA_KEYS = {"catkin", "eigen", "boost", "message_runtime", "roslaunch"}
 # Focal apt packages (name prefixes) of the simulator and the tools: never in the robot's
 # install, always in the default one.
 SIM_AND_TOOLS_APT = ("libode", "liburdfdom", "libyaml-cpp", "python3-scipy", "python3-matplotlib",

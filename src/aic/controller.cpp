@@ -43,25 +43,18 @@ bool finiteStep(double h)
   return std::isfinite(h) && h > 0.0;
 }
 
-ReferenceModelParams referenceParams(const AicParams& params)
+/**
+ * \brief The goal stage's settings: params.reference, except with belief_model robot. The robot
+ *        model's goal is predicted one latency ahead (the time the command sent now acts), its path
+ *        bounded per wheel by what the wheel loop gives (A_w at the rim) and not delayed: the
+ *        latency is in the model (WheelLoopModel), not in the goal's path. The one place a stage's
+ *        settings are derived rather than taken as they are.
+ */
+ReferenceModelParams goalStageParams(const AicParams& params)
 {
-  ReferenceModelParams rp;
-  rp.generalized_goal = params.generalized_goal;
-  rp.goal_lead = params.goal_lead;
-  rp.goal_lead_angular = params.goal_lead_angular;
-  rp.time_constant = params.reference_time_constant;
-  rp.max_acceleration_linear = params.max_reference_acceleration_linear;
-  rp.max_acceleration_angular = params.max_reference_acceleration_angular;
-  rp.max_deceleration_linear = params.max_reference_deceleration_linear;
-  rp.max_acceleration_wheel = params.max_reference_acceleration_wheel;
-  rp.wheel_separation = params.wheel_separation;
-  rp.delay = params.reference_delay;
-  rp.goal_limit = params.runaway_limit;
+  ReferenceModelParams rp = params.reference;
   if (params.belief_model == BeliefModel::kRobot)
   {
-    // The robot model: the goal predicted one latency ahead (the time the command sent now acts),
-    // its path bounded per wheel by what the wheel loop gives (A_w at the rim), no delay: the
-    // latency is in the model (WheelLoopModel), not in the goal's path.
     rp.goal_lead = params.robot.latency;
     rp.goal_lead_angular = params.robot.latency;
     rp.max_acceleration_linear = ReferenceModelParams().max_acceleration_linear;
@@ -72,44 +65,20 @@ ReferenceModelParams referenceParams(const AicParams& params)
   return rp;
 }
 
-ActionPriorParams actionPriorParams(const AicParams& params)
+/// The separation learner of params: its settings, the robot's geometry, and b_hat starting at
+/// wheel_separation clamped to the learner's bounds.
+SeparationLearner makeSeparationLearner(const AicParams& params)
 {
-  ActionPriorParams ap;
-  ap.gain = params.action_prior_gain;
-  ap.time_constant = params.action_prior_time_constant;
-  return ap;
-}
-
-AntiWindupParams antiWindupParams(const AicParams& params)
-{
-  AntiWindupParams aw;
-  aw.max_action_lead = params.max_action_lead;
-  aw.max_action_lead_turn = params.max_action_lead_turn;
-  aw.max_wheel_speed = params.max_wheel_speed;
-  return aw;
-}
-
-/// Settings of the learner from params (initial b_hat: wheel_separation clamped to the bounds).
-SeparationLearnerParams learnerParams(const AicParams& params)
-{
-  SeparationLearnerParams lp;
-  lp.wheel_radius = params.wheel_radius;
-  lp.slip_factor = params.slip_factor;
-  lp.min = params.separation_min;
-  lp.max = params.separation_max;
-  lp.initial = std::clamp(params.wheel_separation, params.separation_min, params.separation_max);
-  lp.rate = params.separation_learning_rate;
-  lp.min_yaw_rate = params.separation_min_yaw_rate;
-  lp.max_yaw_acceleration = params.separation_max_yaw_acceleration;
-  lp.max_rate = params.separation_max_rate;
-  return lp;
+  const SeparationLearnerParams& lp = params.separation_learner;
+  return SeparationLearner(lp, params.wheel_radius, params.slip_factor,
+                           std::clamp(params.wheel_separation, lp.min, lp.max));
 }
 }  // namespace
 
 ActiveInferenceController::ActiveInferenceController(const AicParams& params)
   : params_(checked(params))
   , model_(params.wheel_radius, params.slip_factor, params.wheel_separation)
-  , learner_(learnerParams(params))
+  , learner_(makeSeparationLearner(params))
 {
   const int n = params.numOrders();
   mu_.setZero(kMuDim, n);
@@ -141,36 +110,36 @@ void ActiveInferenceController::setParams(const AicParams& params)
 void ActiveInferenceController::applyParams(const AicParams& params)
 {
   // What was learned survives a parameter change that keeps learning on and the geometry.
-  const bool keep_learned = params.learn_wheel_separation && params_.learn_wheel_separation &&
+  const bool keep_learned = params.separation_learner.enabled && params_.separation_learner.enabled &&
                             params.wheel_separation == params_.wheel_separation &&
                             params.wheel_radius == params_.wheel_radius && params.slip_factor == params_.slip_factor;
   const double learned = learner_.separation();
   params_ = params;
   model_ = SkidSteerModel(params.wheel_radius, params.slip_factor, params.wheel_separation);
-  learner_ = SeparationLearner(learnerParams(params));
+  learner_ = makeSeparationLearner(params);
   if (keep_learned)
   {
     learner_.setSeparation(learned);
   }
-  if (params.learn_wheel_separation)
+  if (params.separation_learner.enabled)
   {
     model_.setWheelSeparation(learner_.separation());
   }
-  reference_.setParams(referenceParams(params));            // zeroes the goal's rate unless generalized_goal
-  reference_.setWheelSeparation(model_.wheelSeparation());  // the learned b_hat when learning
-  action_line_.setDelay(params.reference_delay);
-  action_prior_ = ActionPrior(actionPriorParams(params));
+  reference_.setParams(goalStageParams(params), params.runaway_limit);  // zeroes the goal's rate unless generalized
+  reference_.setWheelSeparation(model_.wheelSeparation());              // the learned b_hat when learning
+  action_line_.setDelay(params.reference.delay);
+  action_prior_ = ActionPrior(params.action_prior);
   release_ = RestRelease(params.action_release_time);
   if (params.goal_response_time_constant != response_.timeConstant())
   {
     response_ = GoalResponse(params.goal_response_time_constant);
     response_.start(reference_.attractorGoal());
   }
-  anti_windup_ = AntiWindup(antiWindupParams(params));
+  anti_windup_ = AntiWindup(params.anti_windup, params.max_wheel_speed);
   wheel_loop_.setParams(params.robot);
   robot_belief_.setParams(params.robot);
   pi_mu_ = params.precisionMu();
-  precision_learner_.setParams(precisionLearnerParams(params));
+  precision_learner_.setParams(params.precision_learner, precisionChannels(params));
   rebuildDynamics();
 }
 
@@ -195,7 +164,7 @@ bool ActiveInferenceController::setLearnedSeparation(double b)
   {
     return false;
   }
-  if (params_.learn_wheel_separation)
+  if (params_.separation_learner.enabled)
   {
     applyLearnedSeparation(true);
   }
@@ -205,7 +174,7 @@ bool ActiveInferenceController::setLearnedSeparation(double b)
 void ActiveInferenceController::resetLearning()
 {
   learner_.reset();
-  if (params_.learn_wheel_separation)
+  if (params_.separation_learner.enabled)
   {
     applyLearnedSeparation(true);
   }
@@ -226,7 +195,7 @@ void ActiveInferenceController::rebuildDynamics()
 {
   const AicParams& params = params_;
   pi_y_ = params.precisionY();
-  if (params.learn_precision)
+  if (params.precision_learner.enabled)
   {
     precision_learner_.applyTo(&pi_y_);
   }
@@ -525,6 +494,27 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
   {
     return updateRobotBeliefs(h);
   }
+  // The belief step's stages, in order (control_loop.hpp, 'The controller's composition').
+  if (!integrateBeliefs(h))  // mu_tilde towards priorGoal(): ReferenceModel's mu_r or ActionDelayLine's G a(t - d_r)
+  {
+    runawayReset();
+    return Status::kRunaway;
+  }
+  reference_.advance(h);                                                         // ReferenceModel
+  response_.advance(h, reference_.attractorGoal(), reference_.attractorRate());  // GoalResponse
+  if (params_.separation_learner.enabled)
+  {
+    learn(h);  // SeparationLearner
+  }
+  if (params_.precision_learner.enabled)
+  {
+    learnPrecision(h);  // PrecisionLearner
+  }
+  return Status::kOk;
+}
+
+bool ActiveInferenceController::integrateBeliefs(double h)
+{
   const int n = params_.numOrders();
   MuTilde f(kMuDim, n);
   computeMuDot(mu_, y_tilde_, priorGoal(), priorRate(), &f);
@@ -562,21 +552,10 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
   }
   if (!next.allFinite() || next.cwiseAbs().maxCoeff() > params_.runaway_limit)
   {
-    runawayReset();
-    return Status::kRunaway;
+    return false;
   }
   mu_ = next;
-  reference_.advance(h);
-  response_.advance(h, reference_.attractorGoal(), reference_.attractorRate());
-  if (params_.learn_wheel_separation)
-  {
-    learn(h);
-  }
-  if (params_.learn_precision)
-  {
-    learnPrecision(h);
-  }
-  return Status::kOk;
+  return true;
 }
 
 ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(double h)
@@ -598,13 +577,13 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(
     const Vector2 wheel_rates = robot_belief_.wheelAccelerations();
     const double wheels_yaw_rate = model_.G()(2, 1) * (wheel_rates(1) - wheel_rates(0));
     const bool learn = (sensor_mask_ & needed) == needed &&
-                       std::abs(y_tilde_(kGyroZ, 1)) <= params_.separation_max_yaw_acceleration &&
-                       std::abs(wheels_yaw_rate) <= params_.separation_max_yaw_acceleration;
+                       std::abs(y_tilde_(kGyroZ, 1)) <= params_.separation_learner.max_yaw_acceleration &&
+                       std::abs(wheels_yaw_rate) <= params_.separation_learner.max_yaw_acceleration;
     robot_belief_.correct(Vector2(y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0)), y_tilde_(kGyroZ, 0),
                           (sensor_mask_ & (1u << kOmegaLeft)) != 0, (sensor_mask_ & (1u << kOmegaRight)) != 0,
                           (sensor_mask_ & (1u << kGyroZ)) != 0, learn);
   }
-  if (params_.learn_wheel_separation)
+  if (params_.separation_learner.enabled)
   {
     learnRobotSeparation(h);
   }
@@ -639,9 +618,9 @@ void ActiveInferenceController::learnRobotSeparation(double h)
   }
   const double before = learner_.separation();
   double factor = 1.0 / (1.0 - s);
-  if (params_.separation_max_rate > 0.0)
+  if (params_.separation_learner.max_rate > 0.0)
   {
-    const double step = params_.separation_max_rate * h;
+    const double step = params_.separation_learner.max_rate * h;
     factor = std::clamp(factor, 1.0 - step, 1.0 + step);
   }
   if (!learner_.setSeparation(before * factor))
@@ -720,12 +699,13 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
   {
     return updateRobotAction(h);
   }
-  // Release at rest, before the step's integration (a no-op with action_release_time 0).
+  // The action step's stages, in order (control_loop.hpp, 'The controller's composition').
+  // RestRelease, before the step's integration (a no-op with action_release_time 0).
   a_F_ = release_.apply(a_F_, reference_.target(), h);
   // da_F/dt does not depend on a, so with beliefs and measurement held over the step the
   // Euler step is also the exact one. a = a_F + a_ff.
-  const Vector2 a_dot = aDot();
-  const Vector2 prior = actionPrior();
+  const Vector2 a_dot = aDot();         // eq. 3-16 (unbiased: the goal prior on GoalResponse's g)
+  const Vector2 prior = actionPrior();  // ActionPrior
   const Vector2 increment = h * a_dot;
   const Vector2 candidate = a_F_ + increment;
   const Vector2 raw = candidate + prior;
@@ -740,7 +720,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
     runawayReset();
     return Status::kRunaway;
   }
-  // The clamps and anti-windup of a_F (a masked, isolated, wheel channel is not trusted).
+  // AntiWindup: the clamps and conditional integration of a_F (a masked, isolated, wheel channel is not trusted).
   const Vector2 omega(y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0));
   const AntiWindup::Result clamped =
       anti_windup_.apply(a_F_, candidate, a_dot, prior, omega, (sensor_mask_ & (1u << kOmegaLeft)) != 0,
@@ -751,7 +731,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
   a_ = clamped.command;
   if (params_.belief_model == BeliefModel::kUnbiased)
   {
-    action_line_.record(h, model_.twistFromWheels(a_));
+    action_line_.record(h, model_.twistFromWheels(a_));  // ActionDelayLine
   }
   return Status::kOk;
 }

@@ -10,12 +10,12 @@
 
 namespace jackal_aic
 {
-GoalRateEstimator::GoalRateEstimator(const AicParams& params)
+GoalRateEstimator::GoalRateEstimator(const ReferenceModelParams& params)
 {
   setParams(params);
 }
 
-void GoalRateEstimator::setParams(const AicParams& params)
+void GoalRateEstimator::setParams(const ReferenceModelParams& params)
 {
   hold_ = params.goal_rate_hold;
   max_rate_ = Vector3(params.max_goal_rate_linear, params.max_goal_rate_linear, params.max_goal_rate_angular);

@@ -25,12 +25,12 @@ bool finite(double v)
   return std::isfinite(v);
 }
 
-std::string check(const PrecisionLearnerParams& p)
+std::string check(const PrecisionLearnerParams& p, const PrecisionChannels& channels)
 {
   RuleList rules;
   for (int j = 0; j < kYDim; ++j)
   {
-    const double c = p.configured[static_cast<std::size_t>(j)];
+    const double c = channels.configured[static_cast<std::size_t>(j)];
     rules.require(finite(c) && c > 0.0, "configured precision of channel " + std::to_string(j) + " finite and > 0");
   }
   rules.require(finite(p.rate) && p.rate >= 0.0, "precision_learning_rate finite and >= 0");
@@ -42,17 +42,14 @@ std::string check(const PrecisionLearnerParams& p)
   return rules.violations();
 }
 
-bool learned(const PrecisionLearnerParams& p, int j)
-{
-  return (p.channels & (1u << j)) != 0;
-}
 }  // namespace
 
-PrecisionLearner::PrecisionLearner() : PrecisionLearner(PrecisionLearnerParams()) {}
+PrecisionLearner::PrecisionLearner() : PrecisionLearner(PrecisionLearnerParams(), PrecisionChannels()) {}
 
-PrecisionLearner::PrecisionLearner(const PrecisionLearnerParams& params) : params_(params)
+PrecisionLearner::PrecisionLearner(const PrecisionLearnerParams& params, const PrecisionChannels& channels)
+  : params_(params), channels_(channels)
 {
-  const std::string violations = check(params);
+  const std::string violations = check(params, channels);
   if (!violations.empty())
   {
     throw std::invalid_argument("invalid PrecisionLearnerParams:" + violations);
@@ -60,15 +57,16 @@ PrecisionLearner::PrecisionLearner(const PrecisionLearnerParams& params) : param
   reset();
 }
 
-void PrecisionLearner::setParams(const PrecisionLearnerParams& params)
+void PrecisionLearner::setParams(const PrecisionLearnerParams& params, const PrecisionChannels& channels)
 {
-  const std::string violations = check(params);
+  const std::string violations = check(params, channels);
   if (!violations.empty())
   {
     throw std::invalid_argument("invalid PrecisionLearnerParams:" + violations);
   }
-  const bool keep = params.channels == params_.channels && params.configured == params_.configured;
+  const bool keep = channels.learned == channels_.learned && channels.configured == channels_.configured;
   params_ = params;
+  channels_ = channels;
   if (!keep)
   {
     reset();
@@ -77,7 +75,7 @@ void PrecisionLearner::setParams(const PrecisionLearnerParams& params)
   for (int j = 0; j < kYDim; ++j)
   {
     const auto k = static_cast<std::size_t>(j);
-    const double c = params_.configured[k];
+    const double c = channels_.configured[k];
     lambda_[k] = std::clamp(lambda_[k], std::log(params_.min_factor * c), std::log(params_.max_factor * c));
     pi_[k] = std::exp(lambda_[k]);
   }
@@ -89,14 +87,14 @@ PrecisionLearner::State PrecisionLearner::update(double h, const Vector5& eps, d
   bool ok = finite(h) && h > 0.0 && finite(omega_l) && finite(omega_r);
   for (int j = 0; j < kYDim && ok; ++j)
   {
-    ok = !learned(params_, j) || finite(eps(j));
+    ok = !learned(j) || finite(eps(j));
   }
   if (!ok)
   {
     state_ = State::kBadInput;
     return state_;
   }
-  if ((sensor_mask & params_.channels) != params_.channels)
+  if ((sensor_mask & channels_.learned) != channels_.learned)
   {
     state_ = State::kSensorFault;
   }
@@ -113,12 +111,12 @@ PrecisionLearner::State PrecisionLearner::update(double h, const Vector5& eps, d
     const double alpha = -std::expm1(-h / params_.time_constant);  // 1 - exp(-h / T_w)
     for (int j = 0; j < kYDim; ++j)
     {
-      if (!learned(params_, j))
+      if (!learned(j))
       {
         continue;
       }
       const auto k = static_cast<std::size_t>(j);
-      const double c = params_.configured[k];
+      const double c = channels_.configured[k];
       // s_j <- low-pass of eps_j^2, one sample at most a kOutlierClip-sigma error of Pi_j.
       const double e2 = std::min(eps(j) * eps(j), kOutlierClip * kOutlierClip / pi_[k]);
       s_[k] += alpha * (e2 - s_[k]);
@@ -148,7 +146,7 @@ void PrecisionLearner::applyTo(YTilde* pi_y)
 {
   for (int j = 0; j < kYDim; ++j)
   {
-    if (learned(params_, j) && pi_y->cols() > 0)
+    if (learned(j) && pi_y->cols() > 0)
     {
       (*pi_y)(j, 0) = pi_[static_cast<std::size_t>(j)];
     }
@@ -161,7 +159,7 @@ bool PrecisionLearner::changedSince(double tolerance) const
   for (int j = 0; j < kYDim; ++j)
   {
     const auto k = static_cast<std::size_t>(j);
-    if (learned(params_, j) && std::abs(pi_[k] - applied_[k]) > tolerance * applied_[k])
+    if (learned(j) && std::abs(pi_[k] - applied_[k]) > tolerance * applied_[k])
     {
       return true;
     }
@@ -173,7 +171,7 @@ void PrecisionLearner::reset()
 {
   for (std::size_t k = 0; k < static_cast<std::size_t>(kYDim); ++k)
   {
-    pi_[k] = params_.configured[k];
+    pi_[k] = channels_.configured[k];
     lambda_[k] = std::log(pi_[k]);
     s_[k] = 1.0 / pi_[k];  // start at the optimum of the configured precision
   }
@@ -182,22 +180,17 @@ void PrecisionLearner::reset()
   state_ = State::kNearRest;
 }
 
-PrecisionLearnerParams precisionLearnerParams(const AicParams& params)
+PrecisionChannels precisionChannels(const AicParams& params)
 {
-  PrecisionLearnerParams lp;
+  PrecisionChannels channels;
   const YTilde pi_y = params.precisionY();
   for (int j = 0; j < kYDim; ++j)
   {
-    lp.configured[static_cast<std::size_t>(j)] = pi_y(j, 0);
+    channels.configured[static_cast<std::size_t>(j)] = pi_y(j, 0);
   }
-  lp.channels = static_cast<std::uint8_t>((1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight) |
-                                          (params.accel_in_model ? (1u << kAccelX) : 0u));
-  lp.rate = params.precision_learning_rate;
-  lp.min_factor = params.precision_min_factor;
-  lp.max_factor = params.precision_max_factor;
-  lp.time_constant = params.precision_time_constant;
-  lp.min_wheel_speed = params.precision_min_wheel_speed;
-  return lp;
+  channels.learned = static_cast<std::uint8_t>((1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight) |
+                                               (params.accel_in_model ? (1u << kAccelX) : 0u));
+  return channels;
 }
 
 const char* toString(PrecisionLearner::State state)

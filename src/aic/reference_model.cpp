@@ -11,14 +11,16 @@
 
 namespace jackal_aic
 {
-ReferenceModel::ReferenceModel(const ReferenceModelParams& params) : params_(params)
+ReferenceModel::ReferenceModel(const ReferenceModelParams& params, double goal_limit)
+  : params_(params), goal_limit_(goal_limit)
 {
   start(Vector3::Zero());
 }
 
-void ReferenceModel::setParams(const ReferenceModelParams& params)
+void ReferenceModel::setParams(const ReferenceModelParams& params, double goal_limit)
 {
   params_ = params;
+  goal_limit_ = goal_limit;
   if (!params.generalized_goal)
   {
     mu_d_dot_.setZero();
@@ -27,8 +29,8 @@ void ReferenceModel::setParams(const ReferenceModelParams& params)
 
 bool ReferenceModel::setGoal(const Vector3& mu_d, const Vector3& mu_d_dot)
 {
-  if (!mu_d.allFinite() || mu_d.cwiseAbs().maxCoeff() > params_.goal_limit || !mu_d_dot.allFinite() ||
-      mu_d_dot.cwiseAbs().maxCoeff() > params_.goal_limit)
+  if (!mu_d.allFinite() || mu_d.cwiseAbs().maxCoeff() > goal_limit_ || !mu_d_dot.allFinite() ||
+      mu_d_dot.cwiseAbs().maxCoeff() > goal_limit_)
   {
     return false;
   }
@@ -101,7 +103,7 @@ void ReferenceModel::setWheelSeparation(double b)
 {
   if (std::isfinite(b) && b > 0.0)
   {
-    params_.wheel_separation = b;
+    wheel_separation_ = b;
   }
 }
 
@@ -111,11 +113,11 @@ void ReferenceModel::clampWheels(Vector3* d, double bound) const
   {
     return;
   }
-  const double half = 0.5 * params_.wheel_separation;
+  const double half = 0.5 * wheel_separation_;
   const double left = std::min(std::max((*d)(0) - (*d)(2) * half, -bound), bound);
   const double right = std::min(std::max((*d)(0) + (*d)(2) * half, -bound), bound);
   (*d)(0) = 0.5 * (left + right);
-  (*d)(2) = (right - left) / params_.wheel_separation;
+  (*d)(2) = (right - left) / wheel_separation_;
 }
 
 bool ReferenceModel::start(const Vector3& m0)

@@ -22,14 +22,14 @@ bool finite(double v)
   return std::isfinite(v);
 }
 
-std::string check(const SeparationLearnerParams& p)
+std::string check(const SeparationLearnerParams& p, double wheel_radius, double slip_factor, double initial)
 {
   RuleList rules;
-  rules.require(finite(p.wheel_radius) && p.wheel_radius > 0.0, "wheel_radius finite and > 0");
-  rules.require(finite(p.slip_factor) && p.slip_factor > 0.0, "slip_factor finite and > 0");
+  rules.require(finite(wheel_radius) && wheel_radius > 0.0, "wheel_radius finite and > 0");
+  rules.require(finite(slip_factor) && slip_factor > 0.0, "slip_factor finite and > 0");
   rules.require(finite(p.min) && p.min > 0.0, "separation_min finite and > 0");
   rules.require(finite(p.max) && p.max >= p.min, "separation_max finite and >= separation_min");
-  rules.require(finite(p.initial) && p.initial >= p.min && p.initial <= p.max, "initial separation within [min, max]");
+  rules.require(finite(initial) && initial >= p.min && initial <= p.max, "initial separation within [min, max]");
   rules.require(finite(p.rate) && p.rate >= 0.0, "separation_learning_rate finite and >= 0");
   rules.require(finite(p.min_yaw_rate) && p.min_yaw_rate >= 0.0, "separation_min_yaw_rate finite and >= 0");
   rules.require(finite(p.max_yaw_acceleration) && p.max_yaw_acceleration > 0.0, "separation_max_yaw_acceleration "
@@ -39,9 +39,11 @@ std::string check(const SeparationLearnerParams& p)
 }
 }  // namespace
 
-SeparationLearner::SeparationLearner(const SeparationLearnerParams& params) : params_(params), b_(params.initial)
+SeparationLearner::SeparationLearner(const SeparationLearnerParams& params, double wheel_radius, double slip_factor,
+                                     double initial)
+  : params_(params), wheel_radius_(wheel_radius), slip_factor_(slip_factor), initial_(initial), b_(initial)
 {
-  const std::string violations = check(params);
+  const std::string violations = check(params, wheel_radius, slip_factor, initial);
   if (!violations.empty())
   {
     throw std::invalid_argument("invalid SeparationLearnerParams:" + violations);
@@ -58,7 +60,7 @@ SeparationLearner::State SeparationLearner::update(double h, double gyro_z, doub
     state_ = State::kBadInput;
     return state_;
   }
-  const double r_alpha = params_.wheel_radius * params_.slip_factor;
+  const double r_alpha = wheel_radius_ * slip_factor_;
   const double phi = r_alpha * (omega_r - omega_l);  // b_hat times the wheels' yaw rate [m rad/s]
   if (!sensors_ok)
   {
@@ -115,7 +117,7 @@ bool SeparationLearner::setSeparation(double b)
 
 void SeparationLearner::reset()
 {
-  b_ = params_.initial;
+  b_ = initial_;
   eps_ = 0.0;
   steps_ = 0;
   state_ = State::kNearRest;

@@ -30,9 +30,9 @@ ClosedLoopModel::ClosedLoopModel(const AicParams& params, const PlantModel& plan
     // set-point dynamics and the action prior are not modelled either (the thesis's controller).
     AicParams probe_params = params;
     probe_params.runaway_limit = kMaxRunawayLimit;
-    probe_params.generalized_goal = false;
-    probe_params.reference_time_constant = 0.0;
-    probe_params.action_prior_gain = 0.0;
+    probe_params.reference.generalized_goal = false;
+    probe_params.reference.time_constant = 0.0;
+    probe_params.action_prior.gain = 0.0;
     c.setParams(probe_params);
   }
   if (plant.type == PlantModel::Type::kFirstOrder && !(std::isfinite(plant.time_constant) && plant.time_constant > 0.0))

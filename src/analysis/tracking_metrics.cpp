@@ -305,7 +305,7 @@ VelocityTrackingError latencyFloor(const TwistProfile& profile, const AicParams&
               fmt(s.accel_angular));
   require(std::isfinite(s.dt) && s.dt >= 1e-5 && s.dt <= 0.1,
           "latency floor: dt must be finite and in [1e-5, 0.1] s, got " + fmt(s.dt));
-  GoalRateEstimator estimator(goal_rate);
+  GoalRateEstimator estimator(goal_rate.reference);
   const std::size_t n = static_cast<std::size_t>(std::floor(profile.duration / s.dt)) + 1;
   const std::size_t lag = static_cast<std::size_t>(std::llround(s.latency / s.dt));
   // u[k]: what the servo aims at, from the stream as received up to time k dt.

@@ -66,7 +66,7 @@ ControlLoop::ControlLoop(const NodeParams& params, const Clock& clock, Output& o
   , pairing_(pairingConfig(params))
   , pipeline_(params.aic, params.fdi)
   , supervisor_(params, clock)
-  , goal_rate_(params.aic)
+  , goal_rate_(params.aic.reference)
   , newest_sample_stamp_(kNaN)
 {
   if (params.output_mode == "cmd_vel")
@@ -114,6 +114,12 @@ bool ControlLoop::jointState(const JointStateInput& joints)
                                        std::to_string(pairing_.drops(reason)) + " dropped for this reason so far]");
     }
     watch();
+    return false;
+  }
+  if (checkFrozen(sample))
+  {
+    ++frozen_samples_;
+    watch();  // stale: zero command, the sample history restarts
     return false;
   }
   if (!sample.imu_ok && due(kNoticeNoImu))
@@ -318,7 +324,7 @@ void ControlLoop::setParams(const NodeParams& next)
     carryOut(supervisor_.embeddingOrderChanged());
   }
   supervisor_.setParams(next);
-  goal_rate_.setParams(next.aic);
+  goal_rate_.setParams(next.aic.reference);
   // Read at start only: the output stage and the belief schedule.
   const std::string output_mode = params_.output_mode;
   const DiffDriveParams cmd_vel = params_.cmd_vel;
@@ -328,6 +334,31 @@ void ControlLoop::setParams(const NodeParams& next)
   params_.cmd_vel = cmd_vel;
   params_.belief_schedule = schedule;
   output_.log(LogLevel::kInfo, "parameters applied (" + params_.aic.summary() + ")");
+}
+
+bool ControlLoop::checkFrozen(const SensorSample& sample)
+{
+  FrozenJointStates::Input in;
+  in.stamp = sample.stamp;
+  in.travel = sample.travel;
+  in.has_travel = sample.has_travel;
+  in.speed = Vector2(sample.y(kOmegaLeft), sample.y(kOmegaRight));
+  const FrozenJointStates::Event event = frozen_.update(in);
+  if (event == FrozenJointStates::Event::kFrozen)
+  {
+    std::ostringstream os;
+    os << "joint states frozen: travel and speeds (" << in.speed.transpose() << " rad/s) repeat exactly for "
+       << frozen_.heldFor() << " s (" << frozen_.repeats() << " repeats) with the wheels turning (longer than "
+       << frozen_.holdTime() << " s): the MCU's feedback has stopped behind jackal_node; treated as sensor loss ["
+       << frozen_.events() << " frozen stream(s) so far]";
+    supervisor_.jointStatesFrozen(true, os.str());
+  }
+  else if (event == FrozenJointStates::Event::kThawed)
+  {
+    supervisor_.jointStatesFrozen(false);
+    output_.log(LogLevel::kInfo, "joint states no longer frozen (new data): the sensors are used again");
+  }
+  return frozen_.frozen();
 }
 
 // ---------------------------------------------------------------------------
@@ -358,6 +389,8 @@ void ControlLoop::restartTimeline(double shift)
   const bool was_running = supervisor_.active();
   goal_rate_.reset();
   refreshGoalRate();  // no slope from the old timeline
+  frozen_.reset();    // its stamps were on the old timeline
+  supervisor_.jointStatesFrozen(false);
   belief_time_ = now;
   newest_sample_stamp_ = kNaN;
   last_notice_.fill(-std::numeric_limits<double>::infinity());  // the throttles' times were on the old timeline
@@ -405,7 +438,7 @@ void ControlLoop::advanceBeliefs()
 
 void ControlLoop::refreshGoalRate()
 {
-  if (params_.aic.generalized_goal)
+  if (params_.aic.reference.generalized_goal)
   {
     pipeline_.controller().setGoal(supervisor_.goal(), goal_rate_.rate(clock_.now()));
   }

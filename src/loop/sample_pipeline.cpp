@@ -33,39 +33,17 @@ void requireValid(const AicParams& aic, const FdiParams& fdi)
   }
 }
 
-/// The offset estimator's settings from the controller's keys gyro_bias_*.
-GyroBiasEstimatorParams gyroBiasParams(const AicParams& aic)
-{
-  GyroBiasEstimatorParams p;
-  p.max_bias = aic.gyro_bias_max;
-  p.rest_speed = aic.gyro_bias_rest_speed;
-  p.rest_time = aic.gyro_bias_rest_time;
-  p.time_constant = aic.gyro_bias_time_constant;
-  p.min_rest = aic.gyro_bias_min_rest;
-  return p;
-}
-
-/// The tip-over guard's settings from the controller's keys tip_guard_*.
-TipGuardParams tipGuardParams(const AicParams& aic)
-{
-  TipGuardParams p;
-  p.trip_pitch = aic.tip_guard_pitch;
-  p.margin = aic.tip_guard_margin;
-  p.min_acceleration = aic.tip_guard_min_acceleration;
-  return p;
-}
-
-/// gyroBiasParams(aic) after requireValid(aic, fdi): the pipeline's first member to need the
-/// settings reports every violation of both sets, not only the estimator's.
-GyroBiasEstimatorParams validGyroBiasParams(const AicParams& aic, const FdiParams& fdi)
+/// aic.gyro_bias after requireValid(aic, fdi): the pipeline's first member to need the settings
+/// reports every violation of both sets, not only the estimator's.
+const GyroBiasEstimatorParams& validGyroBias(const AicParams& aic, const FdiParams& fdi)
 {
   requireValid(aic, fdi);
-  return gyroBiasParams(aic);
+  return aic.gyro_bias;
 }
 }  // namespace
 
 SamplePipeline::SamplePipeline(const AicParams& aic, const FdiParams& fdi)
-  : gyro_bias_(validGyroBiasParams(aic, fdi)), tip_guard_(tipGuardParams(aic)), pitch_bias_(gyroBiasParams(aic))
+  : gyro_bias_(validGyroBias(aic, fdi)), tip_guard_(aic.tip_guard), pitch_bias_(aic.gyro_bias)
 {
   controller_ = std::make_unique<ActiveInferenceController>(aic);
   generalizer_ = std::make_unique<Generalizer>(kYDim, aic.embedding_order);
@@ -75,7 +53,7 @@ SamplePipeline::SamplePipeline(const AicParams& aic, const FdiParams& fdi)
 Generalizer::Status SamplePipeline::generalize(Vector5* y, double h, bool imu_ok, bool restart, bool* restarted)
 {
   raw_gyro_ = (*y)(kGyroZ);
-  if (imu_ok && controller_->params().learn_gyro_bias)
+  if (imu_ok && controller_->params().gyro_bias.enabled)
   {
     (*y)(kGyroZ) -= gyro_bias_.offset();  // the generative model's sensor row y_gyro = theta_dot + beta
   }
@@ -105,14 +83,14 @@ SamplePipeline::Measurement SamplePipeline::measure(const Vector5& y, double h, 
     return m;
   }
   fault_monitor_->setImuAvailable(imu_ok);
-  if (controller_->params().learn_wheel_separation)
+  if (controller_->params().separation_learner.enabled)
   {
     fault_monitor_->setWheelSeparation(controller_->model().wheelSeparation());  // the learned model
   }
   const int isolated_before = fault_monitor_->isolatedChannel();
   m.event = fault_monitor_->update(y, controller_->mu().col(0), h);
   controller_->setSensorMask(fault_monitor_->sensorMask());
-  if (controller_->params().learn_gyro_bias)
+  if (controller_->params().gyro_bias.enabled)
   {
     const bool gyro_ok =
         imu_ok && (fault_monitor_->sensorMask() & (1u << kGyroZ)) != 0 && !fault_monitor_->faultPresent();
@@ -131,16 +109,16 @@ void SamplePipeline::guardTip(const Vector5& y, double pitch_rate, double h, boo
   const AicParams& p = controller_->params();
   if (h > 0.0)
   {
-    if (p.learn_gyro_bias)
+    if (p.gyro_bias.enabled)
     {
       const Vector2& a = controller_->action();
       pitch_bias_.update(h, pitch_rate, y(kOmegaLeft), y(kOmegaRight), a(0), a(1), imu_ok);
     }
     const double speed = controller_->model().twistFromWheels(Vector2(y(kOmegaLeft), y(kOmegaRight)))(0);
-    tip_guard_.update(h, pitch_rate - (p.learn_gyro_bias ? pitch_bias_.offset() : 0.0), speed, imu_ok);
+    tip_guard_.update(h, pitch_rate - (p.gyro_bias.enabled ? pitch_bias_.offset() : 0.0), speed, imu_ok);
   }
-  controller_->setTipBounds(p.tip_guard ? tip_guard_.frontBound() : kNone,
-                            p.tip_guard ? tip_guard_.rearBound() : kNone);
+  controller_->setTipBounds(p.tip_guard.enabled ? tip_guard_.frontBound() : kNone,
+                            p.tip_guard.enabled ? tip_guard_.rearBound() : kNone);
 }
 
 void SamplePipeline::resetTipGuard()
@@ -172,10 +150,10 @@ bool SamplePipeline::setParams(const AicParams& aic, const FdiParams& fdi)
 {
   requireValid(aic, fdi);
   controller_->setParams(aic);
-  gyro_bias_.setParams(gyroBiasParams(aic));
-  tip_guard_.setParams(tipGuardParams(aic));
-  pitch_bias_.setParams(gyroBiasParams(aic));
-  if (!aic.learn_gyro_bias)
+  gyro_bias_.setParams(aic.gyro_bias);
+  tip_guard_.setParams(aic.tip_guard);
+  pitch_bias_.setParams(aic.gyro_bias);
+  if (!aic.gyro_bias.enabled)
   {
     gyro_bias_.reset();  // off: the gyro is used as it reads, and a later start learns afresh
     pitch_bias_.reset();

@@ -124,6 +124,7 @@ bool SensorPairing::addJointState(const JointStateInput& joints, SensorSample* o
                     std::to_string(velocity.size()) + ", effort " + std::to_string(n_effort));
   }
   double mean[2] = { 0.0, 0.0 };
+  double travel[2] = { 0.0, 0.0 };
   const std::vector<std::string>* sides[2] = { &config_.left_joints, &config_.right_joints };
   for (int side = 0; side < 2; ++side)
   {
@@ -141,8 +142,10 @@ bool SensorPairing::addJointState(const JointStateInput& joints, SensorSample* o
         return drop(DropReason::kJointNonFinite, reason, why, "joint '" + joint + "' has a NaN/Inf");
       }
       mean[side] += velocity[k];
+      travel[side] += n_position != 0 ? (*joints.position)[k] : 0.0;
     }
     mean[side] /= static_cast<double>(sides[side]->size());
+    travel[side] /= static_cast<double>(sides[side]->size());
   }
   const double stamp = joints.stamp;
   if (!std::isfinite(stamp) || (has_joint_stamp_ && stamp <= last_joint_stamp_))
@@ -201,6 +204,8 @@ bool SensorPairing::addJointState(const JointStateInput& joints, SensorSample* o
   out->h = h;
   out->first = first;
   out->stamp = stamp;
+  out->travel = Vector2(travel[0], travel[1]);
+  out->has_travel = n_position != 0;
   return true;
 }
 

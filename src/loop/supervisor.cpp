@@ -78,6 +78,12 @@ void Supervisor::outputBlocked(bool blocked, const std::string& why)
   blocked_why_ = blocked ? why : std::string();
 }
 
+void Supervisor::jointStatesFrozen(bool frozen, const std::string& why)
+{
+  joints_frozen_ = frozen;
+  frozen_why_ = frozen ? why : std::string();
+}
+
 bool Supervisor::mcuStopped(std::string* why) const
 {
   std::string reason;
@@ -132,7 +138,7 @@ SetPointResult Supervisor::setPoint(const double (&fields)[6])
 Supervisor::Transition Supervisor::update()
 {
   const double now = clock_.now();
-  const bool sensors_fresh = has_sample_ && now - last_sample_ <= sensor_timeout_;
+  const bool sensors_fresh = has_sample_ && now - last_sample_ <= sensor_timeout_ && !joints_frozen_;
   const bool set_point_fresh = has_set_point_ && now - last_set_point_ <= set_point_timeout_;
   const bool warm = warm_samples_ >= num_orders_;
 
@@ -185,7 +191,11 @@ Supervisor::Transition Supervisor::update()
                                    "warming up the generalizer");
       break;
     case NodeState::kStale:
-      if (!sensors_fresh)
+      if (joints_frozen_)
+      {
+        reason << frozen_why_;
+      }
+      else if (!sensors_fresh)
       {
         reason << "no sensor sample for " << (now - last_sample_) << " s (sensor_timeout " << sensor_timeout_ << " s)";
       }
@@ -276,7 +286,7 @@ IdleCommand Supervisor::idleCommand() const
         return IdleCommand::kNone;
       }
       const double now = clock_.now();
-      const bool sensors_fresh = now - last_sample_ <= sensor_timeout_;
+      const bool sensors_fresh = now - last_sample_ <= sensor_timeout_ && !joints_frozen_;
       const bool set_point_ok =
           has_set_point_ ? now - last_set_point_ <= set_point_timeout_ : now - first_sample_ <= set_point_timeout_;
       return sensors_fresh && set_point_ok ? IdleCommand::kMeasured : IdleCommand::kZero;
@@ -318,7 +328,7 @@ double Supervisor::setPointAge() const
 
 bool Supervisor::sensorsFresh() const
 {
-  return has_sample_ && clock_.now() - last_sample_ <= sensor_timeout_;
+  return has_sample_ && clock_.now() - last_sample_ <= sensor_timeout_ && !joints_frozen_;
 }
 
 bool Supervisor::setPointFresh() const

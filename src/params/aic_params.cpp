@@ -92,25 +92,25 @@ AicParams recommendedAicParams()
   p.embedding_order = 2;
   p.var_mu = { 0.5, 0.6667, 1.333 };
   p.var_y = { 2.0, 61.83, 1.0e5 };
-  p.max_action_lead = 1.606;
-  p.max_action_lead_turn = 0.0;
+  p.anti_windup.max_action_lead = 1.606;
+  p.anti_windup.max_action_lead_turn = 0.0;
   p.action_release_time = 0.5;
-  p.generalized_goal = true;
-  p.goal_rate_hold = 0.15;
-  p.max_goal_rate_linear = 4.0;
-  p.max_goal_rate_angular = 8.0;
-  p.goal_lead = 0.08095;
-  p.goal_lead_angular = 0.125;
-  p.reference_time_constant = 0.005;
-  p.max_reference_acceleration_linear = 3.689;
-  p.max_reference_acceleration_angular = 10.95;
-  p.max_reference_acceleration_wheel = 4.5;
-  p.reference_delay = 0.085;
-  p.action_prior_gain = 0.9715;
-  p.action_prior_time_constant = 0.00834;
-  p.learn_wheel_separation = true;  // b_hat learned from the gyro-encoder disagreement
-  p.learn_gyro_bias = true;         // the gyro's offset learned at standstill
-  p.tip_guard = true;               // braking eased when the body pitches over its wheels
+  p.reference.generalized_goal = true;
+  p.reference.goal_rate_hold = 0.15;
+  p.reference.max_goal_rate_linear = 4.0;
+  p.reference.max_goal_rate_angular = 8.0;
+  p.reference.goal_lead = 0.08095;
+  p.reference.goal_lead_angular = 0.125;
+  p.reference.time_constant = 0.005;
+  p.reference.max_acceleration_linear = 3.689;
+  p.reference.max_acceleration_angular = 10.95;
+  p.reference.max_acceleration_wheel = 4.5;
+  p.reference.delay = 0.085;
+  p.action_prior.gain = 0.9715;
+  p.action_prior.time_constant = 0.00834;
+  p.separation_learner.enabled = true;  // b_hat learned from the gyro-encoder disagreement
+  p.gyro_bias.enabled = true;           // the gyro's offset learned at standstill
+  p.tip_guard.enabled = true;           // braking eased when the body pitches over its wheels
   return p;
 }
 
@@ -132,10 +132,11 @@ std::vector<ParamViolation> AicParams::validate() const
     v.push_back(
         { "belief_rate", formatParamValue(belief_rate), ">= action_rate (" + formatParamValue(action_rate) + ")" });
   }
-  if (std::isfinite(separation_min) && std::isfinite(separation_max) && separation_min > separation_max)
+  const SeparationLearnerParams& learner = separation_learner;
+  if (std::isfinite(learner.min) && std::isfinite(learner.max) && learner.min > learner.max)
   {
-    v.push_back({ "separation_min", formatParamValue(separation_min),
-                  "<= separation_max (" + formatParamValue(separation_max) + ")" });
+    v.push_back({ "separation_min", formatParamValue(learner.min),
+                  "<= separation_max (" + formatParamValue(learner.max) + ")" });
   }
   return v;
 }

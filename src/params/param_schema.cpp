@@ -9,7 +9,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <type_traits>
 #include <utility>
 
@@ -17,13 +16,6 @@ namespace jackal_aic
 {
 namespace
 {
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
-
-// Accessors of a member of NodeParams (p.m); no AicParams accessors.
-#define JACKAL_AIC_NODE(expr)                                                 \
-  nullptr, nullptr, [](const NodeParams& p) -> ParamValue { return p.expr; }, \
-      [](NodeParams& p, const ParamValue& v) { return assignParamValue(&p.expr, v); }
 
 ParamValue getActionTrigger(const NodeParams& p)
 {
@@ -50,110 +42,114 @@ bool setBeliefSchedule(NodeParams& p, const ParamValue& v)
 /// The node's rows (the controller's come first: controllerParamSpecs()).
 std::vector<ParamSpec> buildNodeRows()
 {
-  using T = ParamType;
-  const ParamScope N = ParamScope::kNode;
   // clang-format off
   return {
     // ---- node only
-    { "sensor_timeout", T::kDouble, N, "safety", 0.0, true, kInf, "s",
-      "No accepted sensor sample for this long -> zero command, diagnostics WARN",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_NODE(sensor_timeout) },
-    { "set_point_timeout", T::kDouble, N, "safety", 0.0, true, kInf, "s",
-      "No set point on ~set_point for this long -> zero command, diagnostics WARN",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_NODE(set_point_timeout) },
-    { "max_linear_speed", T::kDouble, N, "safety", 0.0, true, kInf, "m/s",
-      "|set point linear.x| is clamped to this (Jackal top speed)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_NODE(max_linear_speed) },
-    { "max_angular_speed", T::kDouble, N, "safety", 0.0, true, kInf, "rad/s",
-      "|set point angular.z| is clamped to this (stock controller's limit)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_NODE(max_angular_speed) },
-    { "imu_max_skew", T::kDouble, N, "safety", 0.0, true, kInf, "s",
-      "Largest joint_states / imu stamp difference for the two to form one sample",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_NODE(imu_max_skew) },
-    { "min_sample_interval", T::kDouble, N, "node", 0.0, false, kInf, "s",
-      "Samples closer (by stamp) than this to the previous one are dropped as duplicates; < sensor_timeout",
-      false, 0, false, 0, {}, 0, JACKAL_AIC_NODE(min_sample_interval) },
-    { "runaway_hold_time", T::kDouble, N, "safety", 0.0, false, kInf, "s",
-      "After a runaway reset the command stays zero for this long",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_NODE(runaway_hold_time) },
+    ParamRow("safety", "sensor_timeout").unit("s").above(0.0)
+        .describe("No accepted sensor sample for this long -> zero command, diagnostics WARN")
+        .node<&NodeParams::sensor_timeout>(),
+    ParamRow("safety", "set_point_timeout").unit("s").above(0.0)
+        .describe("No set point on ~set_point for this long -> zero command, diagnostics WARN")
+        .node<&NodeParams::set_point_timeout>(),
+    ParamRow("safety", "max_linear_speed").unit("m/s").above(0.0)
+        .describe("|set point linear.x| is clamped to this (Jackal top speed)")
+        .node<&NodeParams::max_linear_speed>(),
+    ParamRow("safety", "max_angular_speed").unit("rad/s").above(0.0)
+        .describe("|set point angular.z| is clamped to this (stock controller's limit)")
+        .node<&NodeParams::max_angular_speed>(),
+    ParamRow("safety", "imu_max_skew").unit("s").above(0.0)
+        .describe("Largest joint_states / imu stamp difference for the two to form one sample")
+        .node<&NodeParams::imu_max_skew>(),
+    ParamRow("node", "min_sample_interval").unit("s").atLeast(0.0)
+        .describe("Samples closer (by stamp) than this to the previous one are dropped as duplicates; < "
+                  "sensor_timeout")
+        .notLive().node<&NodeParams::min_sample_interval>(),
+    ParamRow("safety", "runaway_hold_time").unit("s").atLeast(0.0)
+        .describe("After a runaway reset the command stays zero for this long")
+        .node<&NodeParams::runaway_hold_time>(),
     // ---- fault detection and isolation (Baioumy et al. ECC 2021; doc/active_inference.md)
-    { "fdi_enabled", T::kBool, N, "safety", kNone, false, kNone, "-",
-      "Sensor fault isolation: a channel (gyro z, omega_L, omega_R) found faulty gets Pi_y = 0; false = the test "
-      "runs and is reported, nothing is isolated",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_NODE(fdi.enabled) },
-    { "fdi_threshold", T::kDouble, N, "safety", 0.0, true, kInf, "-",
-      "Fault threshold on the precision-weighted residual s = Pi_r r^2, r = gyro - (r alpha / b_hat) "
-      "(omega_R - omega_L)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_NODE(fdi.threshold) },
-    { "fdi_release_ratio", T::kDouble, N, "safety", 0.0, true, 1.0, "-",
-      "Hysteresis: an isolated channel is restored only while s < fdi_release_ratio * fdi_threshold",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_NODE(fdi.release_ratio) },
-    { "fdi_detect_time", T::kDouble, N, "safety", 0.0, false, kInf, "s",
-      "s must exceed fdi_threshold this long before a channel is isolated",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_NODE(fdi.detect_time) },
-    { "fdi_release_time", T::kDouble, N, "safety", 0.0, false, kInf, "s",
-      "s must stay below the release level this long before the isolated channel is restored",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_NODE(fdi.release_time) },
-    { "left_joints", T::kStringList, N, "node", kNone, false, kNone, "-",
-      "Joints (by name in /joint_states) whose velocities are averaged into omega_L",
-      false, 0, true, 0, {}, 0, JACKAL_AIC_NODE(left_joints) },
-    { "right_joints", T::kStringList, N, "node", kNone, false, kNone, "-",
-      "Joints (by name in /joint_states) whose velocities are averaged into omega_R; disjoint from left_joints",
-      false, 0, true, 0, {}, 0, JACKAL_AIC_NODE(right_joints) },
-    { "debug_rate", T::kDouble, N, "node", 0.0, true, kMaxLoopRate, "Hz",
-      "~belief, ~free_energy, ~eps_y and ~eps_mu are published at most this often, from the newest belief",
-      false, 0, false, 0, {}, 0, JACKAL_AIC_NODE(debug_rate) },
-    { "action_trigger", T::kString, N, "loops", kNone, false, kNone, "-",
-      "What starts an action step: timer (action_rate, the thesis) or sample (each accepted sensor sample, "
-      "so the command uses the newest data; the timer then only keeps /cmd_drive alive while inactive)",
-      false, 0, false, 0, { "timer", "sample" }, 0, nullptr, nullptr, &getActionTrigger, &setActionTrigger },
-    { "belief_schedule", T::kString, N, "loops", kNone, false, kNone, "-",
-      "How the beliefs are advanced: event (to the time of every input and timer event, in steps of at most "
-      "1 / belief_rate, inputs held between events; no belief timer) or timer (a free-running belief_rate timer: "
-      "a real-time thread on the wall clock, a ROS timer on simulated time)",
-      false, 0, false, 0, { "event", "timer" }, 0, nullptr, nullptr, &getBeliefSchedule, &setBeliefSchedule },
-    { "realtime_priority", T::kInt, N, "node", 0.0, false, 99.0, "-",
-      "Belief thread (wall-clock mode): 0 = default scheduler, 1..99 = SCHED_FIFO at this priority if permitted",
-      false, 0, false, 0, {}, 0, JACKAL_AIC_NODE(realtime_priority) },
-    { "publisher_check_period", T::kDouble, N, "safety", 0.0, false, 10.0, "s",
-      "Wall time between two polls of the ROS master for other publishers on the output topic; while there is "
-      "one the node publishes nothing there (diagnostics ERROR); 0 = no check",
-      false, 0, false, 0, {}, 0, JACKAL_AIC_NODE(publisher_check_period) },
+    ParamRow("safety", "fdi_enabled")
+        .describe("Sensor fault isolation: a channel (gyro z, omega_L, omega_R) found faulty gets Pi_y = 0; false "
+                  "= the test runs and is reported, nothing is isolated")
+        .node<&NodeParams::fdi, &FdiParams::enabled>(),
+    ParamRow("safety", "fdi_threshold").above(0.0)
+        .describe("Fault threshold on the precision-weighted residual s = Pi_r r^2, r = gyro - (r alpha / b_hat) "
+                  "(omega_R - omega_L)")
+        .node<&NodeParams::fdi, &FdiParams::threshold>(),
+    ParamRow("safety", "fdi_release_ratio").above(0.0).atMost(1.0)
+        .describe("Hysteresis: an isolated channel is restored only while s < fdi_release_ratio * fdi_threshold")
+        .node<&NodeParams::fdi, &FdiParams::release_ratio>(),
+    ParamRow("safety", "fdi_detect_time").unit("s").atLeast(0.0)
+        .describe("s must exceed fdi_threshold this long before a channel is isolated")
+        .node<&NodeParams::fdi, &FdiParams::detect_time>(),
+    ParamRow("safety", "fdi_release_time").unit("s").atLeast(0.0)
+        .describe("s must stay below the release level this long before the isolated channel is restored")
+        .node<&NodeParams::fdi, &FdiParams::release_time>(),
+    ParamRow("node", "left_joints")
+        .describe("Joints (by name in /joint_states) whose velocities are averaged into omega_L")
+        .notLive().required().node<&NodeParams::left_joints>(),
+    ParamRow("node", "right_joints")
+        .describe("Joints (by name in /joint_states) whose velocities are averaged into omega_R; disjoint from "
+                  "left_joints")
+        .notLive().required().node<&NodeParams::right_joints>(),
+    ParamRow("node", "debug_rate").unit("Hz").above(0.0).atMost(kMaxLoopRate)
+        .describe("~belief, ~free_energy, ~eps_y and ~eps_mu are published at most this often, from the newest "
+                  "belief")
+        .notLive().node<&NodeParams::debug_rate>(),
+    ParamRow("loops", "action_trigger")
+        .describe("What starts an action step: timer (action_rate, the thesis) or sample (each accepted sensor "
+                  "sample, so the command uses the newest data; the timer then only keeps /cmd_drive alive while "
+                  "inactive)")
+        .notLive().choices({ "timer", "sample" }).accessors(&getActionTrigger, &setActionTrigger),
+    ParamRow("loops", "belief_schedule")
+        .describe("How the beliefs are advanced: event (to the time of every input and timer event, in steps of at "
+                  "most 1 / belief_rate, inputs held between events; no belief timer) or timer (a free-running "
+                  "belief_rate timer: a real-time thread on the wall clock, a ROS timer on simulated time)")
+        .notLive().choices({ "event", "timer" }).accessors(&getBeliefSchedule, &setBeliefSchedule),
+    ParamRow("node", "realtime_priority").atLeast(0.0).atMost(99.0)
+        .describe("Belief thread (wall-clock mode): 0 = default scheduler, 1..99 = SCHED_FIFO at this priority if "
+                  "permitted")
+        .notLive().node<&NodeParams::realtime_priority>(),
+    ParamRow("safety", "publisher_check_period").unit("s").atLeast(0.0).atMost(10.0)
+        .describe("Wall time between two polls of the ROS master for other publishers on the output topic; while "
+                  "there is one the node publishes nothing there (diagnostics ERROR); 0 = no check")
+        .notLive().node<&NodeParams::publisher_check_period>(),
     // ---- output (node only, read at start): cmd_drive, or cmd_vel through the stock diff drive
-    { "output_mode", T::kString, N, "output", kNone, false, kNone, "-",
-      "cmd_drive: publish the wheel commands as jackal_msgs/Drive on /cmd_drive (simulator, modified bases); "
-      "cmd_vel: publish the twist the stock diff_drive_controller maps back onto them, as geometry_msgs/Twist "
-      "on jackal_velocity_controller/cmd_vel (an unmodified Jackal)",
-      false, 0, false, 0, { "cmd_drive", "cmd_vel" }, 0, JACKAL_AIC_NODE(output_mode) },
-    { "learned_model_file", T::kString, N, "node", kNone, false, kNone, "-",
-      "YAML overlay that ~save_learned_model writes the learned generative model to (wheel_separation); "
-      "empty = $ROS_HOME/jackal_aic/learned_model.yaml. Load it next time as the launch files' learned_model",
-      false, 0, false, 0, {}, 0, JACKAL_AIC_NODE(learned_model_file) },
-    { "cmd_vel_wheel_radius", T::kDouble, N, "output", 0.0, true, kInf, "m",
-      "cmd_vel mode: the stock controller's wheel radius (jackal_control control.yaml)",
-      false, 0, false, 0, {}, 0, JACKAL_AIC_NODE(cmd_vel.wheel_radius) },
-    { "cmd_vel_wheel_separation", T::kDouble, N, "output", 0.0, true, kInf, "m",
-      "cmd_vel mode: the stock controller's wheel separation (the track, jackal_description)",
-      false, 0, false, 0, {}, 0, JACKAL_AIC_NODE(cmd_vel.wheel_separation) },
-    { "cmd_vel_wheel_separation_multiplier", T::kDouble, N, "output", 0.0, true, kInf, "-",
-      "cmd_vel mode: the stock controller's wheel_separation_multiplier (control.yaml)",
-      false, 0, false, 0, {}, 0, JACKAL_AIC_NODE(cmd_vel.wheel_separation_multiplier) },
-    { "cmd_vel_max_linear_velocity", T::kDouble, N, "output", 0.0, true, kInf, "m/s",
-      "cmd_vel mode: the stock controller's linear.x max_velocity; beyond it the command is clipped (anti-windup)",
-      false, 0, false, 0, {}, 0, JACKAL_AIC_NODE(cmd_vel.max_linear_velocity) },
-    { "cmd_vel_max_linear_acceleration", T::kDouble, N, "output", 0.0, true, kInf, "m/s^2",
-      "cmd_vel mode: the stock controller's linear.x max_acceleration",
-      false, 0, false, 0, {}, 0, JACKAL_AIC_NODE(cmd_vel.max_linear_acceleration) },
-    { "cmd_vel_max_angular_velocity", T::kDouble, N, "output", 0.0, true, kInf, "rad/s",
-      "cmd_vel mode: the stock controller's angular.z max_velocity",
-      false, 0, false, 0, {}, 0, JACKAL_AIC_NODE(cmd_vel.max_angular_velocity) },
-    { "cmd_vel_max_angular_acceleration", T::kDouble, N, "output", 0.0, true, kInf, "rad/s^2",
-      "cmd_vel mode: the stock controller's angular.z max_acceleration",
-      false, 0, false, 0, {}, 0, JACKAL_AIC_NODE(cmd_vel.max_angular_acceleration) },
+    ParamRow("output", "output_mode")
+        .describe("cmd_drive: publish the wheel commands as jackal_msgs/Drive on /cmd_drive (simulator, modified "
+                  "bases); cmd_vel: publish the twist the stock diff_drive_controller maps back onto them, as "
+                  "geometry_msgs/Twist on jackal_velocity_controller/cmd_vel (an unmodified Jackal)")
+        .notLive().choices({ "cmd_drive", "cmd_vel" }).node<&NodeParams::output_mode>(),
+    ParamRow("node", "learned_model_file")
+        .describe("YAML overlay that ~save_learned_model writes the learned generative model to "
+                  "(wheel_separation); empty = $ROS_HOME/jackal_aic/learned_model.yaml. Load it next time as the "
+                  "launch files' learned_model")
+        .notLive().node<&NodeParams::learned_model_file>(),
+    ParamRow("output", "cmd_vel_wheel_radius").unit("m").above(0.0)
+        .describe("cmd_vel mode: the stock controller's wheel radius (jackal_control control.yaml)")
+        .notLive().node<&NodeParams::cmd_vel, &DiffDriveParams::wheel_radius>(),
+    ParamRow("output", "cmd_vel_wheel_separation").unit("m").above(0.0)
+        .describe("cmd_vel mode: the stock controller's wheel separation (the track, jackal_description)")
+        .notLive().node<&NodeParams::cmd_vel, &DiffDriveParams::wheel_separation>(),
+    ParamRow("output", "cmd_vel_wheel_separation_multiplier").above(0.0)
+        .describe("cmd_vel mode: the stock controller's wheel_separation_multiplier (control.yaml)")
+        .notLive().node<&NodeParams::cmd_vel, &DiffDriveParams::wheel_separation_multiplier>(),
+    ParamRow("output", "cmd_vel_max_linear_velocity").unit("m/s").above(0.0)
+        .describe("cmd_vel mode: the stock controller's linear.x max_velocity; beyond it the command is clipped "
+                  "(anti-windup)")
+        .notLive().node<&NodeParams::cmd_vel, &DiffDriveParams::max_linear_velocity>(),
+    ParamRow("output", "cmd_vel_max_linear_acceleration").unit("m/s^2").above(0.0)
+        .describe("cmd_vel mode: the stock controller's linear.x max_acceleration")
+        .notLive().node<&NodeParams::cmd_vel, &DiffDriveParams::max_linear_acceleration>(),
+    ParamRow("output", "cmd_vel_max_angular_velocity").unit("rad/s").above(0.0)
+        .describe("cmd_vel mode: the stock controller's angular.z max_velocity")
+        .notLive().node<&NodeParams::cmd_vel, &DiffDriveParams::max_angular_velocity>(),
+    ParamRow("output", "cmd_vel_max_angular_acceleration").unit("rad/s^2").above(0.0)
+        .describe("cmd_vel mode: the stock controller's angular.z max_acceleration")
+        .notLive().node<&NodeParams::cmd_vel, &DiffDriveParams::max_angular_acceleration>(),
   };
   // clang-format on
 }
-#undef JACKAL_AIC_NODE
 
 }  // namespace
 

@@ -11,6 +11,8 @@
 #include <limits>
 #include <set>
 #include <sstream>
+#include <stdexcept>
+#include <utility>
 #include <type_traits>
 
 namespace jackal_aic
@@ -19,11 +21,6 @@ namespace
 {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
-
-// Accessors of a member of AicParams (p.m); no NodeParams accessors.
-#define JACKAL_AIC_CONTROLLER(member)                        \
-  [](const AicParams& p) -> ParamValue { return p.member; }, \
-      [](AicParams& p, const ParamValue& v) { return assignParamValue(&p.member, v); }, nullptr, nullptr
 
 ParamValue getIntegrator(const AicParams& p)
 {
@@ -49,261 +46,271 @@ bool setBeliefModel(AicParams& p, const ParamValue& v)
 
 std::vector<ParamSpec> buildControllerRows()
 {
-  using T = ParamType;
-  const ParamScope C = ParamScope::kController;
   // clang-format off
   return {
     // ---- loops
-    { "belief_rate", T::kDouble, C, "loops", 0.0, true, kMaxRate, "Hz",
-      "Belief update rate (timer); >= action_rate; the node runs at most 10000 Hz",
-      true, 1, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(belief_rate), kMaxLoopRate },
-    { "action_rate", T::kDouble, C, "loops", 0.0, true, kMaxRate, "Hz",
-      "Action update rate; /cmd_drive is published at this rate; the node runs at most 10000 Hz",
-      true, 1, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(action_rate), kMaxLoopRate },
-    { "integrator", T::kString, C, "loops", kNone, false, kNone, "-",
-      "Belief integrator: euler (thesis eq. 3-15, forward Euler) or exact (zero-order-hold exact step of the "
-      "linear belief dynamics)",
-      true, 0, false, 0, { "euler", "exact" }, 0, &getIntegrator, &setIntegrator, nullptr, nullptr },
+    ParamRow("loops", "belief_rate").unit("Hz").above(0.0).atMost(kMaxRate).nodeMax(kMaxLoopRate)
+        .describe("Belief update rate (timer); >= action_rate; the node runs at most 10000 Hz")
+        .level(1).member<&AicParams::belief_rate>(),
+    ParamRow("loops", "action_rate").unit("Hz").above(0.0).atMost(kMaxRate).nodeMax(kMaxLoopRate)
+        .describe("Action update rate; /cmd_drive is published at this rate; the node runs at most 10000 Hz")
+        .level(1).member<&AicParams::action_rate>(),
+    ParamRow("loops", "integrator")
+        .describe("Belief integrator: euler (thesis eq. 3-15, forward Euler) or exact (zero-order-hold exact step "
+                  "of the linear belief dynamics)")
+        .choices({ "euler", "exact" }).accessors(&getIntegrator, &setIntegrator),
     // ---- active inference (thesis tables C-1 / 5-8)
-    { "tau", T::kDouble, C, "active_inference", kMinTau, false, kMaxTau, "s",
-      "Attractor time constant tau of f(mu) = (mu_d - mu) / tau (thesis eq. 3-7)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(tau) },
-    { "k_mu", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "-",
-      "Belief learning rate k_mu (thesis eq. 3-15)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(k_mu) },
-    { "k_a", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "-",
-      "Action learning rate k_a (thesis eq. 3-16)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(k_a) },
-    { "embedding_order", T::kInt, C, "active_inference", 1.0, false, static_cast<double>(kMaxEmbeddingOrder), "-",
-      "Embedding order p: generalized orders 0..p are used (thesis eq. 3-17)",
-      true, 2, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(embedding_order) },
-    { "var_mu", T::kDoubleList, C, "active_inference", kMinVariance, false, kMaxVariance, "SI^2 of each order",
-      "Belief variances sigma^2_mu, one per order 0..p or one per order and channel (x_dot, y_dot, theta_dot; "
-      "order-major); precision Pi_mu = 1/sigma^2 (thesis table C-1)",
-      true, 0, false, kMuDim, {}, kMaxOrders, JACKAL_AIC_CONTROLLER(var_mu) },
-    { "var_y", T::kDoubleList, C, "active_inference", kMinVariance, false, kMaxVariance, "SI^2 of each order",
-      "Sensor variances sigma^2_y, one per order 0..p or one per order and channel (gyro z, omega_L, omega_R, "
-      "accel x, accel y; order-major); precision Pi_y = 1/sigma^2 (thesis table C-1)",
-      true, 0, false, kYDim, {}, kMaxOrders, JACKAL_AIC_CONTROLLER(var_y) },
-    { "accel_in_model", T::kBool, C, "active_inference", kNone, false, kNone, "-",
-      "If true, the accelerometer-x row of the sensor model maps onto mu^(1); false is the thesis model "
-      "(accelerometer rows zero)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(accel_in_model) },
-    { "runaway_limit", T::kDouble, C, "active_inference", 0.0, true, kMaxRunawayLimit, "SI",
-      "Any belief element beyond this magnitude (or non-finite) is a runaway: reset, zero command, diagnostics "
-      "ERROR",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(runaway_limit) },
-    { "max_action_lead", T::kDouble, C, "robot", 0.0, false, kMaxWheelSpeedLimit, "rad/s",
-      "Anti-windup, not in the thesis: each wheel command is kept within +-this of the measured wheel speed; "
-      "0 = off",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(max_action_lead) },
-    { "max_action_lead_turn", T::kDouble, C, "robot", 0.0, false, kMaxWheelSpeedLimit, "rad/s",
-      "Anti-windup of turning, not in the thesis: half the difference of the two wheels' leads is kept within "
-      "+-this (a turn in place winds the wheel loop up while friction holds the wheels); 0 = off",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(max_action_lead_turn) },
-    { "action_release_time", T::kDouble, C, "robot", 0.0, false, 10.0, "s",
-      "Release at rest, not in the thesis: the free-energy action's common (differential) part decays with this "
-      "time constant while the linear (yaw-rate) goal is zero, so a stop stops the wheels; 0 = off",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(action_release_time) },
+    ParamRow("active_inference", "tau").unit("s").atLeast(kMinTau).atMost(kMaxTau)
+        .describe("Attractor time constant tau of f(mu) = (mu_d - mu) / tau (thesis eq. 3-7)")
+        .member<&AicParams::tau>(),
+    ParamRow("active_inference", "k_mu").above(0.0).atMost(kMaxGain)
+        .describe("Belief learning rate k_mu (thesis eq. 3-15)")
+        .member<&AicParams::k_mu>(),
+    ParamRow("active_inference", "k_a").above(0.0).atMost(kMaxGain)
+        .describe("Action learning rate k_a (thesis eq. 3-16)")
+        .member<&AicParams::k_a>(),
+    ParamRow("active_inference", "embedding_order").atLeast(1.0).atMost(static_cast<double>(kMaxEmbeddingOrder))
+        .describe("Embedding order p: generalized orders 0..p are used (thesis eq. 3-17)")
+        .level(2).member<&AicParams::embedding_order>(),
+    ParamRow("active_inference", "var_mu").unit("SI^2 of each order").atLeast(kMinVariance).atMost(kMaxVariance)
+        .describe("Belief variances sigma^2_mu, one per order 0..p or one per order and channel (x_dot, y_dot, "
+                  "theta_dot; order-major); precision Pi_mu = 1/sigma^2 (thesis table C-1)")
+        .perOrder(kMuDim, kMaxOrders).member<&AicParams::var_mu>(),
+    ParamRow("active_inference", "var_y").unit("SI^2 of each order").atLeast(kMinVariance).atMost(kMaxVariance)
+        .describe("Sensor variances sigma^2_y, one per order 0..p or one per order and channel (gyro z, omega_L, "
+                  "omega_R, accel x, accel y; order-major); precision Pi_y = 1/sigma^2 (thesis table C-1)")
+        .perOrder(kYDim, kMaxOrders).member<&AicParams::var_y>(),
+    ParamRow("active_inference", "accel_in_model")
+        .describe("If true, the accelerometer-x row of the sensor model maps onto mu^(1); false is the thesis "
+                  "model (accelerometer rows zero)")
+        .member<&AicParams::accel_in_model>(),
+    ParamRow("active_inference", "runaway_limit").unit("SI").above(0.0).atMost(kMaxRunawayLimit)
+        .describe("Any belief element beyond this magnitude (or non-finite) is a runaway: reset, zero command, "
+                  "diagnostics ERROR")
+        .member<&AicParams::runaway_limit>(),
+    ParamRow("robot", "max_action_lead").unit("rad/s").atLeast(0.0).atMost(kMaxWheelSpeedLimit)
+        .describe("Anti-windup, not in the thesis: each wheel command is kept within +-this of the measured wheel "
+                  "speed; 0 = off")
+        .member<&AicParams::anti_windup, &AntiWindupParams::max_action_lead>(),
+    ParamRow("robot", "max_action_lead_turn").unit("rad/s").atLeast(0.0).atMost(kMaxWheelSpeedLimit)
+        .describe("Anti-windup of turning, not in the thesis: half the difference of the two wheels' leads is kept "
+                  "within +-this (a turn in place winds the wheel loop up while friction holds the wheels); 0 = off")
+        .member<&AicParams::anti_windup, &AntiWindupParams::max_action_lead_turn>(),
+    ParamRow("robot", "action_release_time").unit("s").atLeast(0.0).atMost(10.0)
+        .describe("Release at rest, not in the thesis: the free-energy action's common (differential) part decays "
+                  "with this time constant while the linear (yaw-rate) goal is zero, so a stop stops the wheels; 0 "
+                  "= off")
+        .member<&AicParams::action_release_time>(),
     // ---- set-point dynamics and the action prior (not in the thesis; doc/active_inference.md)
-    { "generalized_goal", T::kBool, C, "active_inference", kNone, false, kNone, "-",
-      "If true, the goal's rate mu_d' comes from the set-point stream by finite differences and the goal is "
-      "predicted goal_lead ahead (a generalized goal); false: every set point is a step",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(generalized_goal) },
-    { "goal_rate_hold", T::kDouble, C, "active_inference", 0.0, true, 10.0, "s",
-      "Generalized goal: a set-point change within this of the previous one continues a ramp (mu_d' = change / "
-      "interval), a later one is a step; a slope is held 1.25 change intervals, at most this long",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(goal_rate_hold) },
-    { "max_goal_rate_linear", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "m/s^2",
-      "Generalized goal: |mu_d'| of x_dot is clamped to this",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(max_goal_rate_linear) },
-    { "max_goal_rate_angular", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "rad/s^2",
-      "Generalized goal: |mu_d'| of theta_dot is clamped to this",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(max_goal_rate_angular) },
-    { "goal_lead", T::kDouble, C, "active_inference", 0.0, false, 1.0, "s",
-      "Generalized goal: the linear goal (x_dot, y_dot) is predicted this far ahead, mu_d + goal_lead mu_d'",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(goal_lead) },
-    { "goal_lead_angular", T::kDouble, C, "active_inference", 0.0, false, 1.0, "s",
-      "Generalized goal: the yaw-rate goal is predicted this far ahead, mu_d + goal_lead_angular mu_d'",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(goal_lead_angular) },
-    { "reference_time_constant", T::kDouble, C, "active_inference", 0.0, false, 10.0, "s",
-      "Reference model T_r: the beliefs are drawn to the path m' = (goal - m) / T_r delayed by reference_delay, "
-      "f(mu) = mu_r' + (mu_r - mu) / tau; 0 = off (the thesis's f(mu) = (mu_d - mu) / tau, eq. 3-7)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(reference_time_constant) },
-    { "goal_response_time_constant", T::kDouble, C, "active_inference", 0.0, false, 10.0, "s",
-      "Unbiased beliefs: the action's goal prior targets the goal's path as the robot follows it, "
-      "g' = (mu_r - g) / T_g; 0 = off (the reference path mu_r itself); no effect with belief_model goal",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(goal_response_time_constant) },
-    { "max_reference_acceleration_linear", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "m/s^2",
-      "Reference model: the path's acceleration along x_dot is clamped to this (what the wheels' torque allows)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(max_reference_acceleration_linear) },
-    { "max_reference_acceleration_angular", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "rad/s^2",
-      "Reference model: the path's acceleration along theta_dot is clamped to this",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(max_reference_acceleration_angular) },
-    { "max_reference_acceleration_wheel", T::kDouble, C, "active_inference", 0.0, false, kMaxGain, "m/s^2",
-      "Reference model: each wheel's rim-speed rate along the path, |m'_x -+ m'_theta b_hat / 2|, is clamped to "
-      "this before the body channels' bounds (the wheel loops saturate per wheel: a turn started with the "
-      "forward speed waits for the inner wheel); 0 = none",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(max_reference_acceleration_wheel) },
-    { "max_reference_deceleration_linear", T::kDouble, C, "active_inference", 0.0, false, kMaxGain, "m/s^2",
-      "Reference model: the path's deceleration along x_dot (slowing toward 0) is clamped to this: below the "
-      "deceleration at which the robot with its payload tips over (g d / h; doc/usage.md, 'Payloads'); 0 = "
-      "max_reference_acceleration_linear",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(max_reference_deceleration_linear) },
-    { "reference_delay", T::kDouble, C, "active_inference", 0.0, false, kMaxReferenceDelay, "s",
-      "Reference model: the latency from command to wheel response that the beliefs expect",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(reference_delay) },
-    { "action_prior_gain", T::kDouble, C, "active_inference", 0.0, false, 2.0, "-",
-      "Action prior k_ff: a = a_F + k_ff W (m + T_p m'), the reference path's wheel speeds (inverse model, "
-      "eq. 3-3) handed to the MCU's wheel loop, a_F the free-energy action (eq. 3-16); 0 = off (the thesis)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(action_prior_gain) },
-    { "action_prior_time_constant", T::kDouble, C, "active_inference", 0.0, false, 10.0, "s",
-      "Action prior: the wheel loop's time constant T_p that the prior inverts (with a reference model)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(action_prior_time_constant) },
+    ParamRow("active_inference", "generalized_goal")
+        .describe("If true, the goal's rate mu_d' comes from the set-point stream by finite differences and the "
+                  "goal is predicted goal_lead ahead (a generalized goal); false: every set point is a step")
+        .member<&AicParams::reference, &ReferenceModelParams::generalized_goal>(),
+    ParamRow("active_inference", "goal_rate_hold").unit("s").above(0.0).atMost(10.0)
+        .describe("Generalized goal: a set-point change within this of the previous one continues a ramp (mu_d' = "
+                  "change / interval), a later one is a step; a slope is held 1.25 change intervals, at most this "
+                  "long")
+        .member<&AicParams::reference, &ReferenceModelParams::goal_rate_hold>(),
+    ParamRow("active_inference", "max_goal_rate_linear").unit("m/s^2").above(0.0).atMost(kMaxGain)
+        .describe("Generalized goal: |mu_d'| of x_dot is clamped to this")
+        .member<&AicParams::reference, &ReferenceModelParams::max_goal_rate_linear>(),
+    ParamRow("active_inference", "max_goal_rate_angular").unit("rad/s^2").above(0.0).atMost(kMaxGain)
+        .describe("Generalized goal: |mu_d'| of theta_dot is clamped to this")
+        .member<&AicParams::reference, &ReferenceModelParams::max_goal_rate_angular>(),
+    ParamRow("active_inference", "goal_lead").unit("s").atLeast(0.0).atMost(1.0)
+        .describe("Generalized goal: the linear goal (x_dot, y_dot) is predicted this far ahead, mu_d + goal_lead "
+                  "mu_d'")
+        .member<&AicParams::reference, &ReferenceModelParams::goal_lead>(),
+    ParamRow("active_inference", "goal_lead_angular").unit("s").atLeast(0.0).atMost(1.0)
+        .describe("Generalized goal: the yaw-rate goal is predicted this far ahead, mu_d + goal_lead_angular mu_d'")
+        .member<&AicParams::reference, &ReferenceModelParams::goal_lead_angular>(),
+    ParamRow("active_inference", "reference_time_constant").unit("s").atLeast(0.0).atMost(10.0)
+        .describe("Reference model T_r: the beliefs are drawn to the path m' = (goal - m) / T_r delayed by "
+                  "reference_delay, f(mu) = mu_r' + (mu_r - mu) / tau; 0 = off (the thesis's f(mu) = (mu_d - mu) / "
+                  "tau, eq. 3-7)")
+        .member<&AicParams::reference, &ReferenceModelParams::time_constant>(),
+    ParamRow("active_inference", "goal_response_time_constant").unit("s").atLeast(0.0).atMost(10.0)
+        .describe("Unbiased beliefs: the action's goal prior targets the goal's path as the robot follows it, g' = "
+                  "(mu_r - g) / T_g; 0 = off (the reference path mu_r itself); no effect with belief_model goal")
+        .member<&AicParams::goal_response_time_constant>(),
+    ParamRow("active_inference", "max_reference_acceleration_linear").unit("m/s^2").above(0.0).atMost(kMaxGain)
+        .describe("Reference model: the path's acceleration along x_dot is clamped to this (what the wheels' "
+                  "torque allows)")
+        .member<&AicParams::reference, &ReferenceModelParams::max_acceleration_linear>(),
+    ParamRow("active_inference", "max_reference_acceleration_angular").unit("rad/s^2").above(0.0).atMost(kMaxGain)
+        .describe("Reference model: the path's acceleration along theta_dot is clamped to this")
+        .member<&AicParams::reference, &ReferenceModelParams::max_acceleration_angular>(),
+    ParamRow("active_inference", "max_reference_acceleration_wheel").unit("m/s^2").atLeast(0.0).atMost(kMaxGain)
+        .describe("Reference model: each wheel's rim-speed rate along the path, |m'_x -+ m'_theta b_hat / 2|, is "
+                  "clamped to this before the body channels' bounds (the wheel loops saturate per wheel: a turn "
+                  "started with the forward speed waits for the inner wheel); 0 = none")
+        .member<&AicParams::reference, &ReferenceModelParams::max_acceleration_wheel>(),
+    ParamRow("active_inference", "max_reference_deceleration_linear").unit("m/s^2").atLeast(0.0).atMost(kMaxGain)
+        .describe("Reference model: the path's deceleration along x_dot (slowing toward 0) is clamped to this: "
+                  "below the deceleration at which the robot with its payload tips over (g d / h; doc/usage.md, "
+                  "'Payloads'); 0 = max_reference_acceleration_linear")
+        .member<&AicParams::reference, &ReferenceModelParams::max_deceleration_linear>(),
+    ParamRow("active_inference", "reference_delay").unit("s").atLeast(0.0).atMost(kMaxReferenceDelay)
+        .describe("Reference model: the latency from command to wheel response that the beliefs expect")
+        .member<&AicParams::reference, &ReferenceModelParams::delay>(),
+    ParamRow("active_inference", "action_prior_gain").atLeast(0.0).atMost(2.0)
+        .describe("Action prior k_ff: a = a_F + k_ff W (m + T_p m'), the reference path's wheel speeds (inverse "
+                  "model, eq. 3-3) handed to the MCU's wheel loop, a_F the free-energy action (eq. 3-16); 0 = off "
+                  "(the thesis)")
+        .member<&AicParams::action_prior, &ActionPriorParams::gain>(),
+    ParamRow("active_inference", "action_prior_time_constant").unit("s").atLeast(0.0).atMost(10.0)
+        .describe("Action prior: the wheel loop's time constant T_p that the prior inverts (with a reference model)")
+        .member<&AicParams::action_prior, &ActionPriorParams::time_constant>(),
     // ---- unbiased beliefs and learning the generative model (not in the thesis; doc/active_inference.md)
-    { "belief_model", T::kString, C, "active_inference", kNone, false, kNone, "-",
-      "State prior of the beliefs: goal (the thesis, f(mu) = (mu_d - mu) / tau, eq. 3-7) or unbiased "
-      "(f = (G a(t - d_r) - mu) / tau, the robot's response to the sent action; the goal drives the action) or "
-      "robot (the identified model of the wheels, their latency and the yaw rate; the action descends F through it)",
-      true, 0, false, 0, { "goal", "unbiased", "robot" }, 0, &getBeliefModel, &setBeliefModel, nullptr, nullptr },
+    ParamRow("active_inference", "belief_model")
+        .describe("State prior of the beliefs: goal (the thesis, f(mu) = (mu_d - mu) / tau, eq. 3-7) or unbiased "
+                  "(f = (G a(t - d_r) - mu) / tau, the robot's response to the sent action; the goal drives the "
+                  "action) or robot (the identified model of the wheels, their latency and the yaw rate; the "
+                  "action descends F through it)")
+        .choices({ "goal", "unbiased", "robot" }).accessors(&getBeliefModel, &setBeliefModel),
     // ---- the robot model (belief_model robot; doc/active_inference.md, 'The robot model')
-    { "latency", T::kDouble, C, "active_inference", 0.0, false, kMaxReferenceDelay, "s",
-      "Robot model: L, /cmd_drive to the wheels' response (identified: plant_identify's command_delay)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(robot.latency) },
-    { "wheel_time_constant", T::kDouble, C, "active_inference", 0.0, false, 1.0, "s",
-      "Robot model: T_w, the MCU wheel loop's lag to a ramped command (identified motor keys)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(robot.wheel_time_constant) },
-    { "wheel_acceleration", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "rad/s^2",
-      "Robot model: A_w, the largest wheel acceleration the MCU's wheel loop gives (identified motor keys)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(robot.wheel_acceleration) },
-    { "yaw_time_constant", T::kDouble, C, "active_inference", 0.0, true, 10.0, "s",
-      "Robot model: T_s, the scrub lag of the body's yaw rate behind the wheels'",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(robot.yaw_time_constant) },
-    { "encoder_noise", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "rad/s",
-      "Robot model: sigma_e, one side's wheel-speed noise (measured on a rest segment); Pi = 1 / sigma_e^2",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(robot.encoder_noise) },
-    { "gyro_noise", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "rad/s",
-      "Robot model: sigma_g, the gyro's noise (measured on a rest segment); Pi = 1 / sigma_g^2",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(robot.gyro_noise) },
-    { "wheel_model_noise", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "rad/s^1.5",
-      "Robot model: q_w, the wheel model's error (spectral density on omega'): the prior's precision",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(robot.wheel_model_noise) },
-    { "shortfall_noise", T::kDouble, C, "active_inference", 0.0, false, kMaxGain, "rad/s^0.5",
-      "Robot model: q_d, the drift of each side's actuation shortfall d (its random walk); 0 = d fixed at 0",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(robot.shortfall_noise) },
-    { "yaw_model_noise", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "rad/s^1.5",
-      "Robot model: q_theta, the yaw model's error on theta_dot'",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(robot.yaw_model_noise) },
-    { "yaw_slip_noise", T::kDouble, C, "active_inference", 0.0, false, kMaxGain, "(rad/s)^-0.5",
-      "Robot model: sigma_s, how far the yaw slip ratio s may move with the turn (its variance grows by "
-      "sigma_s^2 |du| as the wheels' yaw rate changes by du); 0 = s fixed at 0",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(robot.yaw_slip_noise) },
-    { "gyro_offset_noise", T::kDouble, C, "active_inference", 0.0, false, kMaxGain, "rad/s^0.5",
-      "Robot model: q_beta, the drift of the gyro's offset beta (a random walk); sets how fast an offset "
-      "jump is taken up; 0 = beta fixed at 0",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(robot.gyro_offset_noise) },
-    { "action_gain", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "1/s",
-      "Robot model: k_a, the action's loop gain (the rate of its Gauss-Newton descent of F; k_a >= action_rate "
-      "reaches the minimiser each action step)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(robot.action_gain) },
-    { "learn_wheel_separation", T::kBool, C, "active_inference", kNone, false, kNone, "-",
-      "If true, the model's wheel separation b_hat descends the free energy of the gyro-encoder disagreement "
-      "(frozen near rest, while the action saturates and while a sensor is isolated); false: b_hat fixed",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(learn_wheel_separation) },
-    { "separation_learning_rate", T::kDouble, C, "active_inference", 0.0, false, kMaxGain, "m^2 s/rad^2",
-      "Learning rate kappa_b of b_hat: db_hat/dt = -kappa_b dF_b/db_hat",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(separation_learning_rate) },
-    { "separation_min", T::kDouble, C, "active_inference", kMinLength, false, kMaxLength, "m",
-      "Lower bound of the learned wheel separation b_hat (<= separation_max)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(separation_min) },
-    { "separation_max", T::kDouble, C, "active_inference", kMinLength, false, kMaxLength, "m",
-      "Upper bound of the learned wheel separation b_hat",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(separation_max) },
-    { "separation_min_yaw_rate", T::kDouble, C, "active_inference", 0.0, false, 10.0, "rad/s",
-      "b_hat is frozen while the gyro's |yaw rate| is below this (near rest)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(separation_min_yaw_rate) },
-    { "separation_max_yaw_acceleration", T::kDouble, C, "active_inference", 0.0, true, kMaxGain, "rad/s^2",
-      "b_hat is frozen while the gyro's |yaw acceleration| (its generalized order 1) is above this (a transient)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(separation_max_yaw_acceleration) },
-    { "separation_max_rate", T::kDouble, C, "active_inference", 0.0, false, 10.0, "1/s",
-      "b_hat moves by at most this share of itself per second (slower than the fault monitor detects a "
-      "sensor fault, so that learning cannot explain the fault away); 0 = unlimited",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(separation_max_rate) },
-    { "learn_precision", T::kBool, C, "active_inference", kNone, false, kNone, "-",
-      "If true, the order-0 sensory precisions of the gyro and the wheels descend the free energy, "
-      "Pi_j -> 1 / E[eps_j^2] (frozen near rest, while the action saturates and while a sensor is isolated); "
-      "false: Pi_y = 1 / var_y fixed",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(learn_precision) },
-    { "precision_learning_rate", T::kDouble, C, "active_inference", 0.0, false, kMaxGain, "1/s",
-      "Learning rate kappa_pi of the log-precisions: d ln Pi_j/dt = -kappa_pi (Pi_j s_j - 1) / 2",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(precision_learning_rate) },
-    { "precision_min_factor", T::kDouble, C, "active_inference", 0.0, true, 1.0, "-",
-      "Lower bound of a learned precision, as a factor of the configured 1 / var_y",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(precision_min_factor) },
-    { "precision_max_factor", T::kDouble, C, "active_inference", 1.0, false, kMaxGain, "-",
-      "Upper bound of a learned precision, as a factor of the configured 1 / var_y",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(precision_max_factor) },
-    { "precision_time_constant", T::kDouble, C, "active_inference", 0.0, true, 1000.0, "s",
-      "Time constant of the low-pass of the squared prediction errors s_j the precisions learn from",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(precision_time_constant) },
-    { "precision_min_wheel_speed", T::kDouble, C, "active_inference", 0.0, false, 100.0, "rad/s",
-      "The precisions are frozen while both wheels' |speed| is below this (near rest)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(precision_min_wheel_speed) },
-    { "learn_gyro_bias", T::kBool, C, "active_inference", kNone, false, kNone, "-",
-      "If true, the gyro's offset beta_hat is learned while the wheels and their commands stand still and "
-      "subtracted from every gyro sample (frozen while moving and while the gyro is flagged); false: none",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(learn_gyro_bias) },
-    { "gyro_bias_max", T::kDouble, C, "active_inference", 0.0, true, 1.0, "rad/s",
-      "Bound of the learned gyro offset |beta_hat|; a larger |reading| at rest is not learned from (the robot "
-      "is turned by hand, or a fault)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(gyro_bias_max) },
-    { "gyro_bias_rest_speed", T::kDouble, C, "active_inference", 0.0, true, 10.0, "rad/s",
-      "At rest for the gyro offset: both wheels' and both wheel commands' |speed| below this",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(gyro_bias_rest_speed) },
-    { "gyro_bias_rest_time", T::kDouble, C, "active_inference", 0.0, false, 10.0, "s",
-      "The gyro offset learns from this long after a rest began (the body's yaw settles)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(gyro_bias_rest_time) },
-    { "gyro_bias_time_constant", T::kDouble, C, "active_inference", 0.0, true, 1.0e5, "s",
-      "Time constant T_beta with which the gyro offset follows a drift once the first rest is averaged",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(gyro_bias_time_constant) },
-    { "gyro_bias_min_rest", T::kDouble, C, "active_inference", 0.0, false, 600.0, "s",
-      "The learned gyro offset is removed from the gyro once this much rest has been learned from (the "
-      "average of a shorter rest is mostly noise); before that, none",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(gyro_bias_min_rest) },
-    { "tip_guard", T::kBool, C, "active_inference", kNone, false, kNone, "-",
-      "If true, the body's pitch is integrated from the gyro's y axis; when it passes tip_guard_pitch while "
-      "the robot brakes (speeds up), the reference path stops braking until the body is level, and later "
-      "paths stay below tip_guard_margin x the deceleration at which the wheels lifted (no effect with "
-      "reference_time_constant 0)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(tip_guard) },
-    { "tip_guard_pitch", T::kDouble, C, "active_inference", 0.0, true, 0.5, "rad",
-      "|pitch| that trips the tip-over guard (a rigid robot on flat ground pitches only when a pair of "
-      "wheels leaves it)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(tip_guard_pitch) },
-    { "tip_guard_margin", T::kDouble, C, "active_inference", 0.0, true, 1.0, "-",
-      "The tip-over guard's learned bound is this factor of the deceleration (acceleration) at which the "
-      "wheels lifted",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(tip_guard_margin) },
-    { "tip_guard_min_acceleration", T::kDouble, C, "active_inference", 0.0, true, 100.0, "m/s^2",
-      "Floor of the tip-over guard's learned deceleration and acceleration bounds",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(tip_guard_min_acceleration) },
+    ParamRow("active_inference", "latency").unit("s").atLeast(0.0).atMost(kMaxReferenceDelay)
+        .describe("Robot model: L, /cmd_drive to the wheels' response (identified: plant_identify's command_delay)")
+        .member<&AicParams::robot, &RobotModelParams::latency>(),
+    ParamRow("active_inference", "wheel_time_constant").unit("s").atLeast(0.0).atMost(1.0)
+        .describe("Robot model: T_w, the MCU wheel loop's lag to a ramped command (identified motor keys)")
+        .member<&AicParams::robot, &RobotModelParams::wheel_time_constant>(),
+    ParamRow("active_inference", "wheel_acceleration").unit("rad/s^2").above(0.0).atMost(kMaxGain)
+        .describe("Robot model: A_w, the largest wheel acceleration the MCU's wheel loop gives (identified motor "
+                  "keys)")
+        .member<&AicParams::robot, &RobotModelParams::wheel_acceleration>(),
+    ParamRow("active_inference", "yaw_time_constant").unit("s").above(0.0).atMost(10.0)
+        .describe("Robot model: T_s, the scrub lag of the body's yaw rate behind the wheels'")
+        .member<&AicParams::robot, &RobotModelParams::yaw_time_constant>(),
+    ParamRow("active_inference", "encoder_noise").unit("rad/s").above(0.0).atMost(kMaxGain)
+        .describe("Robot model: sigma_e, one side's wheel-speed noise (measured on a rest segment); Pi = 1 / "
+                  "sigma_e^2")
+        .member<&AicParams::robot, &RobotModelParams::encoder_noise>(),
+    ParamRow("active_inference", "gyro_noise").unit("rad/s").above(0.0).atMost(kMaxGain)
+        .describe("Robot model: sigma_g, the gyro's noise (measured on a rest segment); Pi = 1 / sigma_g^2")
+        .member<&AicParams::robot, &RobotModelParams::gyro_noise>(),
+    ParamRow("active_inference", "wheel_model_noise").unit("rad/s^1.5").above(0.0).atMost(kMaxGain)
+        .describe("Robot model: q_w, the wheel model's error (spectral density on omega'): the prior's precision")
+        .member<&AicParams::robot, &RobotModelParams::wheel_model_noise>(),
+    ParamRow("active_inference", "shortfall_noise").unit("rad/s^0.5").atLeast(0.0).atMost(kMaxGain)
+        .describe("Robot model: q_d, the drift of each side's actuation shortfall d (its random walk); 0 = d fixed "
+                  "at 0")
+        .member<&AicParams::robot, &RobotModelParams::shortfall_noise>(),
+    ParamRow("active_inference", "yaw_model_noise").unit("rad/s^1.5").above(0.0).atMost(kMaxGain)
+        .describe("Robot model: q_theta, the yaw model's error on theta_dot'")
+        .member<&AicParams::robot, &RobotModelParams::yaw_model_noise>(),
+    ParamRow("active_inference", "yaw_slip_noise").unit("(rad/s)^-0.5").atLeast(0.0).atMost(kMaxGain)
+        .describe("Robot model: sigma_s, how far the yaw slip ratio s may move with the turn (its variance grows "
+                  "by sigma_s^2 |dw| as the goal's yaw rate changes by dw); 0 = s fixed at 0")
+        .member<&AicParams::robot, &RobotModelParams::yaw_slip_noise>(),
+    ParamRow("active_inference", "gyro_offset_noise").unit("rad/s^0.5").atLeast(0.0).atMost(kMaxGain)
+        .describe("Robot model: q_beta, the drift of the gyro's offset beta at rest and in straight driving (a "
+                  "random walk; in a turn it changes by a jump only); 0 = beta fixed there")
+        .member<&AicParams::robot, &RobotModelParams::gyro_offset_noise>(),
+    ParamRow("active_inference", "action_gain").unit("1/s").above(0.0).atMost(kMaxGain)
+        .describe("Robot model: k_a, the action's loop gain (the rate of its Gauss-Newton descent of F; k_a >= "
+                  "action_rate reaches the minimiser each action step)")
+        .member<&AicParams::robot, &RobotModelParams::action_gain>(),
+    ParamRow("active_inference", "learn_wheel_separation")
+        .describe("If true, the model's wheel separation b_hat descends the free energy of the gyro-encoder "
+                  "disagreement (frozen near rest, while the action saturates and while a sensor is isolated); "
+                  "false: b_hat fixed")
+        .member<&AicParams::separation_learner, &SeparationLearnerParams::enabled>(),
+    ParamRow("active_inference", "separation_learning_rate").unit("m^2 s/rad^2").atLeast(0.0).atMost(kMaxGain)
+        .describe("Learning rate kappa_b of b_hat: db_hat/dt = -kappa_b dF_b/db_hat")
+        .member<&AicParams::separation_learner, &SeparationLearnerParams::rate>(),
+    ParamRow("active_inference", "separation_min").unit("m").atLeast(kMinLength).atMost(kMaxLength)
+        .describe("Lower bound of the learned wheel separation b_hat (<= separation_max)")
+        .member<&AicParams::separation_learner, &SeparationLearnerParams::min>(),
+    ParamRow("active_inference", "separation_max").unit("m").atLeast(kMinLength).atMost(kMaxLength)
+        .describe("Upper bound of the learned wheel separation b_hat")
+        .member<&AicParams::separation_learner, &SeparationLearnerParams::max>(),
+    ParamRow("active_inference", "separation_min_yaw_rate").unit("rad/s").atLeast(0.0).atMost(10.0)
+        .describe("b_hat is frozen while the gyro's |yaw rate| is below this (near rest)")
+        .member<&AicParams::separation_learner, &SeparationLearnerParams::min_yaw_rate>(),
+    ParamRow("active_inference", "separation_max_yaw_acceleration").unit("rad/s^2").above(0.0).atMost(kMaxGain)
+        .describe("b_hat is frozen while the gyro's |yaw acceleration| (its generalized order 1) is above this (a "
+                  "transient)")
+        .member<&AicParams::separation_learner, &SeparationLearnerParams::max_yaw_acceleration>(),
+    ParamRow("active_inference", "separation_max_rate").unit("1/s").atLeast(0.0).atMost(10.0)
+        .describe("b_hat moves by at most this share of itself per second (slower than the fault monitor detects a "
+                  "sensor fault, so that learning cannot explain the fault away); 0 = unlimited")
+        .member<&AicParams::separation_learner, &SeparationLearnerParams::max_rate>(),
+    ParamRow("active_inference", "learn_precision")
+        .describe("If true, the order-0 sensory precisions of the gyro and the wheels descend the free energy, "
+                  "Pi_j -> 1 / E[eps_j^2] (frozen near rest, while the action saturates and while a sensor is "
+                  "isolated); false: Pi_y = 1 / var_y fixed")
+        .member<&AicParams::precision_learner, &PrecisionLearnerParams::enabled>(),
+    ParamRow("active_inference", "precision_learning_rate").unit("1/s").atLeast(0.0).atMost(kMaxGain)
+        .describe("Learning rate kappa_pi of the log-precisions: d ln Pi_j/dt = -kappa_pi (Pi_j s_j - 1) / 2")
+        .member<&AicParams::precision_learner, &PrecisionLearnerParams::rate>(),
+    ParamRow("active_inference", "precision_min_factor").above(0.0).atMost(1.0)
+        .describe("Lower bound of a learned precision, as a factor of the configured 1 / var_y")
+        .member<&AicParams::precision_learner, &PrecisionLearnerParams::min_factor>(),
+    ParamRow("active_inference", "precision_max_factor").atLeast(1.0).atMost(kMaxGain)
+        .describe("Upper bound of a learned precision, as a factor of the configured 1 / var_y")
+        .member<&AicParams::precision_learner, &PrecisionLearnerParams::max_factor>(),
+    ParamRow("active_inference", "precision_time_constant").unit("s").above(0.0).atMost(1000.0)
+        .describe("Time constant of the low-pass of the squared prediction errors s_j the precisions learn from")
+        .member<&AicParams::precision_learner, &PrecisionLearnerParams::time_constant>(),
+    ParamRow("active_inference", "precision_min_wheel_speed").unit("rad/s").atLeast(0.0).atMost(100.0)
+        .describe("The precisions are frozen while both wheels' |speed| is below this (near rest)")
+        .member<&AicParams::precision_learner, &PrecisionLearnerParams::min_wheel_speed>(),
+    ParamRow("active_inference", "learn_gyro_bias")
+        .describe("If true, the gyro's offset beta_hat is learned while the wheels and their commands stand still "
+                  "and subtracted from every gyro sample (frozen while moving and while the gyro is flagged); "
+                  "false: none")
+        .member<&AicParams::gyro_bias, &GyroBiasEstimatorParams::enabled>(),
+    ParamRow("active_inference", "gyro_bias_max").unit("rad/s").above(0.0).atMost(1.0)
+        .describe("Bound of the learned gyro offset |beta_hat|; a larger |reading| at rest is not learned from "
+                  "(the robot is turned by hand, or a fault)")
+        .member<&AicParams::gyro_bias, &GyroBiasEstimatorParams::max_bias>(),
+    ParamRow("active_inference", "gyro_bias_rest_speed").unit("rad/s").above(0.0).atMost(10.0)
+        .describe("At rest for the gyro offset: both wheels' and both wheel commands' |speed| below this")
+        .member<&AicParams::gyro_bias, &GyroBiasEstimatorParams::rest_speed>(),
+    ParamRow("active_inference", "gyro_bias_rest_time").unit("s").atLeast(0.0).atMost(10.0)
+        .describe("The gyro offset learns from this long after a rest began (the body's yaw settles)")
+        .member<&AicParams::gyro_bias, &GyroBiasEstimatorParams::rest_time>(),
+    ParamRow("active_inference", "gyro_bias_time_constant").unit("s").above(0.0).atMost(1.0e5)
+        .describe("Time constant T_beta with which the gyro offset follows a drift once the first rest is averaged")
+        .member<&AicParams::gyro_bias, &GyroBiasEstimatorParams::time_constant>(),
+    ParamRow("active_inference", "gyro_bias_min_rest").unit("s").atLeast(0.0).atMost(600.0)
+        .describe("The learned gyro offset is removed from the gyro once this much rest has been learned from (the "
+                  "average of a shorter rest is mostly noise); before that, none")
+        .member<&AicParams::gyro_bias, &GyroBiasEstimatorParams::min_rest>(),
+    ParamRow("active_inference", "tip_guard")
+        .describe("If true, the body's pitch is integrated from the gyro's y axis; when it passes tip_guard_pitch "
+                  "while the robot brakes (speeds up), the reference path stops braking until the body is level, "
+                  "and later paths stay below tip_guard_margin x the deceleration at which the wheels lifted (no "
+                  "effect with reference_time_constant 0)")
+        .member<&AicParams::tip_guard, &TipGuardParams::enabled>(),
+    ParamRow("active_inference", "tip_guard_pitch").unit("rad").above(0.0).atMost(0.5)
+        .describe("|pitch| that trips the tip-over guard (a rigid robot on flat ground pitches only when a pair of "
+                  "wheels leaves it)")
+        .member<&AicParams::tip_guard, &TipGuardParams::trip_pitch>(),
+    ParamRow("active_inference", "tip_guard_margin").above(0.0).atMost(1.0)
+        .describe("The tip-over guard's learned bound is this factor of the deceleration (acceleration) at which "
+                  "the wheels lifted")
+        .member<&AicParams::tip_guard, &TipGuardParams::margin>(),
+    ParamRow("active_inference", "tip_guard_min_acceleration").unit("m/s^2").above(0.0).atMost(100.0)
+        .describe("Floor of the tip-over guard's learned deceleration and acceleration bounds")
+        .member<&AicParams::tip_guard, &TipGuardParams::min_acceleration>(),
     // ---- robot (Clearpath Jackal; doc/jackal.md)
-    { "wheel_radius", T::kDouble, C, "robot", kMinLength, false, kMaxLength, "m",
-      "Wheel radius r (thesis eq. 3-1 to 3-4)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(wheel_radius) },
-    { "slip_factor", T::kDouble, C, "robot", kMinSlipFactor, false, kMaxSlipFactor, "-",
-      "Slip factor alpha of the extended differential drive (thesis eq. 3-1 to 3-4)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(slip_factor) },
-    { "wheel_separation", T::kDouble, C, "robot", kMinLength, false, kMaxLength, "m",
-      "Virtual wheel separation b_hat (identified; the track is 0.376 m; thesis eq. 3-1 to 3-4)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(wheel_separation) },
-    { "max_wheel_speed", T::kDouble, C, "robot", 0.0, true, kMaxWheelSpeedLimit, "rad/s",
-      "Wheel commands are clamped to +-this (2.0 m/s / 0.098 m ~ 20.4 rad/s)",
-      true, 0, false, 0, {}, 0, JACKAL_AIC_CONTROLLER(max_wheel_speed) },
+    ParamRow("robot", "wheel_radius").unit("m").atLeast(kMinLength).atMost(kMaxLength)
+        .describe("Wheel radius r (thesis eq. 3-1 to 3-4)")
+        .member<&AicParams::wheel_radius>(),
+    ParamRow("robot", "slip_factor").atLeast(kMinSlipFactor).atMost(kMaxSlipFactor)
+        .describe("Slip factor alpha of the extended differential drive (thesis eq. 3-1 to 3-4)")
+        .member<&AicParams::slip_factor>(),
+    ParamRow("robot", "wheel_separation").unit("m").atLeast(kMinLength).atMost(kMaxLength)
+        .describe("Virtual wheel separation b_hat (identified; the track is 0.376 m; thesis eq. 3-1 to 3-4)")
+        .member<&AicParams::wheel_separation>(),
+    ParamRow("robot", "max_wheel_speed").unit("rad/s").above(0.0).atMost(kMaxWheelSpeedLimit)
+        .describe("Wheel commands are clamped to +-this (2.0 m/s / 0.098 m ~ 20.4 rad/s)")
+        .member<&AicParams::max_wheel_speed>(),
   };
   // clang-format on
 }
-#undef JACKAL_AIC_CONTROLLER
 
 std::string formatNumber(double v)
 {
@@ -371,6 +378,148 @@ void checkStringList(const ParamSpec& row, const std::vector<std::string>& names
   }
 }
 }  // namespace
+
+ParamRow::ParamRow(const char* group, const char* key)
+{
+  spec_.key = key;
+  spec_.type = ParamType::kDouble;  // until member(), node() or accessors()
+  spec_.scope = ParamScope::kController;
+  spec_.group = group;
+  spec_.min = kNone;
+  spec_.min_exclusive = false;
+  spec_.max = kNone;
+  spec_.unit = "-";
+  spec_.description = nullptr;
+  spec_.live = true;
+  spec_.level = 0;
+  spec_.required = false;
+  spec_.channels = 0;
+  spec_.reconfigure_slots = 0;
+  spec_.get_aic = nullptr;
+  spec_.set_aic = nullptr;
+  spec_.get_node = nullptr;
+  spec_.set_node = nullptr;
+}
+
+ParamRow& ParamRow::unit(const char* unit)
+{
+  spec_.unit = unit;
+  return *this;
+}
+
+ParamRow& ParamRow::describe(const char* description)
+{
+  spec_.description = description;
+  return *this;
+}
+
+ParamRow& ParamRow::atLeast(double min)
+{
+  spec_.min = min;
+  spec_.min_exclusive = false;
+  return *this;
+}
+
+ParamRow& ParamRow::above(double min)
+{
+  spec_.min = min;
+  spec_.min_exclusive = true;
+  return *this;
+}
+
+ParamRow& ParamRow::atMost(double max)
+{
+  spec_.max = max;
+  return *this;
+}
+
+ParamRow& ParamRow::nodeMax(double max)
+{
+  spec_.node_max = max;
+  return *this;
+}
+
+ParamRow& ParamRow::notLive()
+{
+  spec_.live = false;
+  return *this;
+}
+
+ParamRow& ParamRow::level(int bits)
+{
+  spec_.level = bits;
+  return *this;
+}
+
+ParamRow& ParamRow::required()
+{
+  spec_.required = true;
+  return *this;
+}
+
+ParamRow& ParamRow::perOrder(int channels, int slots)
+{
+  spec_.channels = channels;
+  spec_.reconfigure_slots = slots;
+  return *this;
+}
+
+ParamRow& ParamRow::choices(std::vector<std::string> names)
+{
+  spec_.choices = std::move(names);
+  return *this;
+}
+
+ParamRow& ParamRow::accessors(ParamValue (*get)(const AicParams&), bool (*set)(AicParams&, const ParamValue&))
+{
+  spec_.type = ParamType::kString;
+  spec_.scope = ParamScope::kController;
+  spec_.get_aic = get;
+  spec_.set_aic = set;
+  return *this;
+}
+
+ParamRow& ParamRow::accessors(ParamValue (*get)(const NodeParams&), bool (*set)(NodeParams&, const ParamValue&))
+{
+  spec_.type = ParamType::kString;
+  spec_.scope = ParamScope::kNode;
+  spec_.get_node = get;
+  spec_.set_node = set;
+  return *this;
+}
+
+ParamRow::operator ParamSpec() const
+{
+  const std::string key = spec_.key;
+  const bool accessed = spec_.scope == ParamScope::kController ? spec_.get_aic != nullptr && spec_.set_aic != nullptr :
+                                                                 spec_.get_node != nullptr && spec_.set_node != nullptr;
+  if (!accessed)
+  {
+    throw std::logic_error("schema row " + key + ": no member (member<...>(), node<...>() or accessors())");
+  }
+  if (spec_.description == nullptr)
+  {
+    throw std::logic_error("schema row " + key + ": no description (describe())");
+  }
+  ParamSpec row = spec_;
+  if (row.numeric())
+  {
+    if (std::isnan(row.min))
+    {
+      throw std::logic_error("schema row " + key + ": a number without a lower bound (atLeast() or above())");
+    }
+    if (std::isnan(row.max))
+    {
+      row.max = kInf;
+    }
+  }
+  else
+  {
+    row.min = kNone;
+    row.max = kNone;
+  }
+  return row;
+}
 
 bool ParamSpec::numeric() const
 {

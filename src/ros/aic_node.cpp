@@ -271,12 +271,12 @@ ControllerReport AicNode::controllerReport() const
   ControllerReport r = ControllerReport::of(loop_->controller(), loop_->active());
   r.guarded_outputs = outputs_->guardedOutputs() + loop_->guardedCommands();
   r.generalizer_drops = loop_->refusedSamples();
-  if (loop_->controller().params().learn_gyro_bias)
+  if (loop_->controller().params().gyro_bias.enabled)
   {
     r.gyro_bias = loop_->gyroBias().bias();
     r.gyro_bias_learning = statusText(loop_->gyroBias());
   }
-  if (loop_->controller().params().tip_guard)
+  if (loop_->controller().params().tip_guard.enabled)
   {
     r.tip_guard = statusText(loop_->tipGuard());
   }

@@ -95,7 +95,7 @@ bool LearnedModelService::save(std::string* message)
   double b_hat = 0.0;
   {
     const std::lock_guard<std::mutex> lock(mutex_);
-    if (!loop_.controller().params().learn_wheel_separation)
+    if (!loop_.controller().params().separation_learner.enabled)
     {
       *message = "learn_wheel_separation is off: nothing learned to save";
       ROS_WARN_STREAM("jackal_AIC: ~save_learned_model: " << *message);
@@ -123,7 +123,7 @@ bool LearnedModelService::save(std::string* message)
 bool LearnedModelService::reset(std::string* message)
 {
   const std::lock_guard<std::mutex> lock(mutex_);
-  if (!loop_.controller().params().learn_wheel_separation)
+  if (!loop_.controller().params().separation_learner.enabled)
   {
     *message = "learn_wheel_separation is off: nothing learned to reset";
     ROS_WARN_STREAM("jackal_AIC: ~reset_learned_model: " << *message);
@@ -134,11 +134,11 @@ bool LearnedModelService::reset(std::string* message)
   std::ostringstream text;
   text << "learned wheel separation " << before << " m forgotten; b_hat "
        << loop_.controller().separationLearner().separation() << " m (wheel_separation)";
-  if (loop_.controller().params().learn_gyro_bias)
+  if (loop_.controller().params().gyro_bias.enabled)
   {
     text << "; gyro offset back to 0 (learned again at the next standstill)";
   }
-  if (loop_.controller().params().tip_guard)
+  if (loop_.controller().params().tip_guard.enabled)
   {
     text << "; tip-over guard's learned bounds forgotten";
   }

@@ -30,12 +30,12 @@ ControllerReport ControllerReport::of(const ActiveInferenceController& controlle
   r.belief_wz = controller.mu()(2, 0);
   r.command = active ? controller.action() : Vector2::Zero();
   r.wheel_separation = controller.model().wheelSeparation();
-  if (controller.params().learn_wheel_separation)
+  if (controller.params().separation_learner.enabled)
   {
     r.separation_learning = toString(controller.separationLearner().state());
     r.separation_learning_steps = controller.separationLearner().learningSteps();
   }
-  if (controller.params().learn_precision)
+  if (controller.params().precision_learner.enabled)
   {
     r.precision_learning = toString(controller.precisionLearner().state());
   }
@@ -191,12 +191,20 @@ void NodeDiagnostics::sensors(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.add("dropped: set point non-finite", loop_.supervisor().setPointDrops());
   stat.add("set points clamped", loop_.supervisor().setPointClamps());
   stat.add("stale events", loop_.supervisor().staleEvents());
+  stat.add("dropped: joint_states frozen", loop_.frozenSamples());
+  stat.add("frozen joint-state streams", loop_.frozenJointStates().events());
+  stat.add("joint states frozen", loop_.supervisor().jointStatesFrozen() ? "yes" : "no");
   const bool sensors_stale = !loop_.supervisor().sensorsFresh();
   const bool set_point_stale = !loop_.supervisor().setPointFresh();
   if (sensors_stale || set_point_stale)
   {
-    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
-                 sensors_stale ? "sensor samples stale or missing" : "set point stale or missing");
+    stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, loop_.supervisor().jointStatesFrozen() ? "joint states "
+                                                                                                   "frozen (the same "
+                                                                                                   "data while the "
+                                                                                                   "wheels turn: MCU "
+                                                                                                   "feedback stopped)" :
+                                                          sensors_stale ? "sensor samples stale or missing" :
+                                                                          "set point stale or missing");
   }
   else if (dropped + loop_.supervisor().setPointDrops() + report.generalizer_drops > 0)
   {

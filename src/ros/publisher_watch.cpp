@@ -17,6 +17,17 @@ namespace jackal_aic
 {
 bool PublisherWatch::publishersOf(const std::string& topic, std::vector<std::string>* out, std::string* error)
 {
+  return registeredNodes(topic, 0, out, error);
+}
+
+bool PublisherWatch::subscribersOf(const std::string& topic, std::vector<std::string>* out, std::string* error)
+{
+  return registeredNodes(topic, 1, out, error);
+}
+
+bool PublisherWatch::registeredNodes(const std::string& topic, int kind, std::vector<std::string>* out,
+                                     std::string* error)
+{
   auto fail = [error](const std::string& why) {
     if (error != nullptr)
     {
@@ -32,21 +43,22 @@ bool PublisherWatch::publishersOf(const std::string& topic, std::vector<std::str
     {
       return fail("the ROS master did not answer getSystemState");
     }
-    // payload = [publishers, subscribers, services]; publishers = [[topic, [node, ...]], ...]
-    if (payload.getType() != XmlRpc::XmlRpcValue::TypeArray || payload.size() < 1 ||
-        payload[0].getType() != XmlRpc::XmlRpcValue::TypeArray)
+    // payload = [publishers, subscribers, services]; each = [[topic, [node, ...]], ...]
+    if (payload.getType() != XmlRpc::XmlRpcValue::TypeArray || payload.size() <= kind ||
+        payload[kind].getType() != XmlRpc::XmlRpcValue::TypeArray)
     {
       return fail("getSystemState: unexpected answer");
     }
     std::vector<std::string> names;
-    XmlRpc::XmlRpcValue& publishers = payload[0];
-    for (int i = 0; i < publishers.size(); ++i)
+    XmlRpc::XmlRpcValue& registrations = payload[kind];
+    for (int i = 0; i < registrations.size(); ++i)
     {
-      XmlRpc::XmlRpcValue& entry = publishers[i];
+      XmlRpc::XmlRpcValue& entry = registrations[i];
       if (entry.getType() != XmlRpc::XmlRpcValue::TypeArray || entry.size() < 2 ||
           entry[0].getType() != XmlRpc::XmlRpcValue::TypeString || entry[1].getType() != XmlRpc::XmlRpcValue::TypeArray)
       {
-        return fail("getSystemState: unexpected publisher entry");
+        return fail(kind == 0 ? "getSystemState: unexpected publisher entry" :
+                                "getSystemState: unexpected subscriber entry");
       }
       if (static_cast<std::string>(entry[0]) != topic)
       {

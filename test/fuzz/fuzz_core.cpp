@@ -71,7 +71,7 @@ AicParams params(FuzzedDataProvider& in)
   }
   p.max_wheel_speed = number(in, -1.0, 2.0);
   p.runaway_limit = number(in, 0.0, 4.0);
-  p.max_action_lead = in.ConsumeBool() ? 0.0 : number(in, -1.0, 1.0);
+  p.anti_windup.max_action_lead = in.ConsumeBool() ? 0.0 : number(in, -1.0, 1.0);
   p.accel_in_model = in.ConsumeBool();
   p.integrator = in.ConsumeBool() ? Integrator::kExact : Integrator::kEuler;
   return p;

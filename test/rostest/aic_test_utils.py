@@ -6,6 +6,7 @@ no stamp.
 """
 import math
 import threading
+import xmlrpc.client
 
 import rosgraph
 import rosnode
@@ -68,3 +69,21 @@ def live_publishers(topic):
         rospy.logwarn("%s: removing the stale registration(s) of %s", topic, dead)
         rosnode.cleanup_master_blacklist(master, dead)
     return [n for n in nodes if n not in dead]
+
+
+def connections(node):
+    """The topic connections of `node` from its own XML-RPC getBusInfo: a list of (topic,
+    direction, peer) with direction "i" (it subscribes; peer: the publisher's URI in roscpp) or
+    "o" (it publishes; peer: the subscriber's node name). A publisher lists a subscriber once
+    their connection's headers are exchanged, so from then on its messages reach it (rospy also
+    says whether the connection is still up: those that are not are left out; roscpp's sixth
+    field is a description). Empty if the node is unknown or does not answer."""
+    master = rosgraph.Master(rospy.get_name())
+    try:
+        uri = master.lookupNode(node)
+        code, _, info = xmlrpc.client.ServerProxy(uri).getBusInfo(rospy.get_name())
+    except (rosgraph.MasterError, OSError, xmlrpc.client.Error):
+        return []
+    if code != 1:
+        return []
+    return [(c[4], c[2], c[1]) for c in info if len(c) > 4 and (len(c) < 6 or c[5] is not False)]

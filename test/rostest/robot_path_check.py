@@ -23,6 +23,12 @@ on a condition with a deadline, never a fixed sleep.
   input the AIC stops within set_point_timeout 0.2 s + two 20 ms cycles, the stock path after
   its diff drive's cmd_vel_timeout of 0.25 s (config/robot.yaml), whatever the phases, so one
   engagement per case decides. The times from the lock are printed too.
+~mode first_message (this node starts `robot.launch controller:=stock` itself): the relay
+  advertises the diff drive's input at start-up (it is listed as its publisher before any
+  twist), and once its connections are up (twist_mux -> relay -> diff drive), the first and only
+  set point navigation sends (~speed m/s, one message) reaches the relay's output
+  (/jackal_velocity_controller/cmd_vel, from /jackal_AIC_bypass, this value) and the diff drive
+  turns the wheels for it (a /cmd_drive wheel above ~wheel_threshold rad/s).
 """
 import os
 import statistics
@@ -40,7 +46,7 @@ from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from aic_test_utils import live_publishers, wait_for  # noqa: E402
+from aic_test_utils import connections, live_publishers, wait_for  # noqa: E402
 from jackal_aic_tools.common import ros_process  # noqa: E402
 
 PKG = "jackal_aic"
@@ -55,6 +61,49 @@ def publishers_of(topic):
         if name == topic:
             return sorted(nodes)
     return []
+
+
+STOP_PATHS_TITLE = "# Stop paths on the robot's path: the e-stop lock, AIC against the stock relay\n"
+
+
+def write_stop_paths(path, sim_time, engagements, threshold, speeds, runs, results, load):
+    """Write this clock's section of the stop-path results file `path` (Markdown), keeping the
+    other clock's section if the file has one. runs: (controller, v, w) -> [(from the last
+    input, from the lock)] [s] per engagement; results: the same key -> the median engagement;
+    load: the host's load averages (1, 5, 15 min) before and after."""
+    key = "sim_time" if sim_time else "real_time"
+    rel = "doc/results/stop_paths.md"
+    where = "$PWD/" + rel if os.path.abspath(path).endswith(rel) else path
+    command = "rostest jackal_aic robot_stop_path.test %sengagements:=%d output:=%s" % (
+        "" if sim_time else "use_sim_time:=false ", engagements, where)
+    fmt = lambda r: "%.3f (%.3f)" % r  # noqa: E731
+    body = ["## %s" % ("Simulated time (the plant's /clock)" if sim_time else
+                       "Real time (every node on the wall clock, the plant paced at real time)"),
+            "",
+            "Written by `%s` (test/rostest/robot_path_check.py, mode stop_path): %d lock engagement(s) per case, "
+            "the median; host load average (1, 5, 15 min) before %s, after %s; %d CPU(s)."
+            % (command, engagements, " ".join("%.2f" % x for x in load[0]), " ".join("%.2f" % x for x in load[1]),
+               os.cpu_count() or 0),
+            "",
+            "| set point | AIC (`robot.launch`) [s] | stock relay (`controller:=stock`) [s] | AIC <= stock | "
+            "AIC, each engagement | stock, each engagement |",
+            "|---|---|---|---|---|---|"]
+    for v, w in speeds:
+        a, s = results[("aic", v, w)], results[("stock", v, w)]
+        body.append("| %.1f m/s, %.1f rad/s | %s | %s | %s | %s | %s |" % (
+            v, w, fmt(a), fmt(s), "yes" if a[0] <= s[0] else "**no**",
+            ", ".join(fmt(r) for r in runs[("aic", v, w)]), ", ".join(fmt(r) for r in runs[("stock", v, w)])))
+    body += ["", "Times from twist_mux's last output before the lock silences it to the last /cmd_drive with a "
+             "wheel above %.2f rad/s; in brackets, from the lock's engagement." % threshold, ""]
+    begin, end = "<!-- stop paths: %s -->" % key, "<!-- end of stop paths: %s -->" % key
+    section = "\n".join([begin] + body + [end])
+    old = open(path, encoding="utf-8").read() if os.path.exists(path) else STOP_PATHS_TITLE
+    if begin in old and end in old:
+        new = old[:old.index(begin)] + section + old[old.index(end) + len(end):]
+    else:
+        new = old.rstrip("\n") + "\n\n" + section + "\n"
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(new)
 
 
 class Stream:
@@ -249,11 +298,8 @@ class RobotPath(unittest.TestCase):
     def start_robot_launch(self, controller):
         proc = ros_process.roslaunch("robot.launch", ["controller:=" + controller], package=PKG)
         node = "/jackal_AIC" if controller == "aic" else "/jackal_AIC_bypass"
-        # The AIC publishes its output at once; the relay advertises at its first message, so
-        # it is up when it subscribes to the set point.
-        up = wait_for(lambda: node in publishers_of(CMD_VEL) or
-                      node in [n for t, ns in rosgraph.Master("/robot_path_check").getSystemState()[1]
-                               if t == SET_POINT for n in ns], 60.0)
+        # Both advertise their output at start-up.
+        up = wait_for(lambda: node in publishers_of(CMD_VEL), 60.0)
         self.assertTrue(up, "robot.launch controller:=%s did not come up" % controller)
         return proc
 
@@ -264,19 +310,28 @@ class RobotPath(unittest.TestCase):
 
     def run_stop_path(self):
         threshold = rospy.get_param("~wheel_threshold", 0.05)
+        engagements = int(rospy.get_param("~engagements", 1))
+        output = rospy.get_param("~output", "")
+        self.assertGreaterEqual(engagements, 1, "~engagements must be >= 1")
         speeds = [(0.5, 0.0), (1.0, 0.5)]
-        results = {}
+        runs = {}
+        load_before = os.getloadavg()
         for controller in ("aic", "stock"):
             self.engage_lock(False)
             proc = self.start_robot_launch(controller)
             try:
                 for v, w in speeds:
-                    results[(controller, v, w)] = self.lock_stop_time(v, w, threshold)
+                    runs[(controller, v, w)] = [self.lock_stop_time(v, w, threshold) for _ in range(engagements)]
             finally:
                 self.nav.set(None)
                 self.stop_robot_launch(proc)
+        load_after = os.getloadavg()
+        # Each case's median engagement (by the time from the last input), and its time from the lock.
+        results = {k: sorted(r)[(len(r) - 1) // 2] for k, r in runs.items()}
+        sim_time = rospy.get_param("/use_sim_time", False)
+        clock = "simulated time" if sim_time else "real time"
         lines = ["last input (/twist_mux/cmd_vel) -> last /cmd_drive with a wheel above %.2f rad/s "
-                 "[s, simulated time] (from the lock's engagement)" % threshold,
+                 "[s, %s] (from the lock's engagement); median of %d" % (threshold, clock, engagements),
                  "%-22s %-20s %-20s" % ("set point", "AIC (robot.launch)", "stock relay (controller:=stock)")]
         for v, w in speeds:
             a, s = results[("aic", v, w)], results[("stock", v, w)]
@@ -284,17 +339,61 @@ class RobotPath(unittest.TestCase):
         text = "\n".join(lines)
         print(text)
         rospy.loginfo("robot_stop_path:\n%s", text)
+        if output:
+            write_stop_paths(output, sim_time, engagements, threshold, speeds, runs, results, (load_before, load_after))
         for v, w in speeds:
             (a, a_lock), (s, s_lock) = results[("aic", v, w)], results[("stock", v, w)]
-            print("MEASURED %.1f m/s %.1f rad/s: from the last input AIC %.3f s, stock %.3f s; from the lock AIC "
-                  "%.3f s, stock %.3f s" % (v, w, a, s, a_lock, s_lock), file=sys.stderr)
+            print("MEASURED %.1f m/s %.1f rad/s (%s): from the last input AIC %.3f s, stock %.3f s; from the lock AIC "
+                  "%.3f s, stock %.3f s" % (v, w, clock, a, s, a_lock, s_lock), file=sys.stderr)
             self.assertGreater(s, 0.2, "the stock path stopped before its timeout?")
             self.assertLessEqual(a, s, "at %.1f m/s %.1f rad/s the AIC stops later than the stock path\n%s"
                                  % (v, w, text))
 
+    # ---- mode first_message -----------------------------------------------------------
+    def run_first_message(self):
+        speed = rospy.get_param("~speed", 0.3)
+        threshold = rospy.get_param("~wheel_threshold", 0.05)
+        relay = "/jackal_AIC_bypass"
+        received = []  # (callerid, linear.x) of every twist on the diff drive's input
+        lock = threading.Lock()
+
+        def on_cmd_vel(m):
+            with lock:
+                received.append((m._connection_header.get("callerid"), m.linear.x))
+
+        sub = rospy.Subscriber(CMD_VEL, Twist, on_cmd_vel, queue_size=100, tcp_nodelay=True)
+        once = rospy.Publisher("/cmd_vel", Twist, queue_size=1, tcp_nodelay=True)
+        self.engage_lock(False)
+        proc = self.start_robot_launch("stock")
+        try:
+            self.assertIn(relay, publishers_of(CMD_VEL), "the relay did not advertise at start-up")
+            me = rospy.get_name()
+            up = wait_for(lambda: (SET_POINT, "o", relay) in connections("/twist_mux") and
+                          (CMD_VEL, "o", "/stock_base") in connections(relay) and
+                          (CMD_VEL, "o", me) in connections(relay) and once.get_num_connections() > 0, 30.0)
+            self.assertTrue(up, "connections: twist_mux %s, relay %s" % (connections("/twist_mux"), connections(relay)))
+            with lock:
+                self.assertEqual(received, [], "a twist before the first set point")
+            t_sent = rospy.get_rostime().to_sec()
+            msg = Twist()
+            msg.linear.x = speed
+            once.publish(msg)
+            self.assertTrue(wait_for(lambda: received != [], 5.0), "the first set point never left the relay")
+            with lock:
+                self.assertEqual(received[0], (relay, speed))
+            self.assertTrue(wait_for(lambda: self.path.last_turning(t_sent, threshold) is not None, 5.0),
+                            "the diff drive never turned the wheels for the first set point")
+            with self.path.lock:
+                first = min(t for t, a in self.path.drive if t >= t_sent and a > threshold)
+            rospy.loginfo("robot_stock_first_message: the first set point left the relay and the diff drive "
+                          "commanded the wheels %.3f s after it was sent", first - t_sent)
+        finally:
+            sub.unregister()
+            self.stop_robot_launch(proc)
+
     def test_robot_path(self):
         mode = rospy.get_param("~mode")
-        {"drive": self.run_drive, "stop_path": self.run_stop_path}[mode]()
+        {"drive": self.run_drive, "stop_path": self.run_stop_path, "first_message": self.run_first_message}[mode]()
 
 
 if __name__ == "__main__":

@@ -75,7 +75,10 @@ class SyntheticSensors:
         msg.header.stamp = stamp
         msg.name = list(JOINTS)
         n = len(JOINTS)
-        msg.position = [0.1 * i for i in range(n)]
+        # The wheels travel at their speed (a turning wheel with a constant position is a frozen
+        # stream, which the node refuses: include/jackal_aic/safety/frozen_joint_states.hpp).
+        travel = self.wheel_speed * stamp.to_sec()
+        msg.position = [0.1 * i + travel for i in range(n)]
         msg.velocity = [self.wheel_speed] * n
         msg.effort = [0.5] * n
         return msg

@@ -521,7 +521,7 @@ TEST(SensorFaults, GyroOffsetFromPowerOnIsLearnedAtRest)
     const double b_error = std::abs(b / clean.separation.back() - 1.0);
     EXPECT_LT(b_error, kFaultSeparationMove);
 
-    c.aic.learn_gyro_bias = false;
+    c.aic.gyro_bias.enabled = false;
     const ClosedLoopRecord off = run(c);
     const double yaw_off = meanOver(off, off.yaw_true, 13.0, 16.0);
     EXPECT_GT(std::abs(yaw_off / turn - 1.0), 0.04) << "without learning the offset the arc should be off";

@@ -4,16 +4,23 @@
  *        headless and deterministic (simulated time, ideal sensors, the re-sampler's fixed seed):
  *        the phenomenon through one period of the phase (repeats, ages, the stock odometry's step)
  *        and the AIC against its clean-sample figures (regression guards of today's figures:
- *        `jackal_node_sweep` prints them all).
+ *        `jackal_node_sweep` prints them all); the MCU's feedback freezing behind jackal_node
+ *        mid-drive (a `joint_states dropout` before the re-sampler: jackal_node keeps publishing
+ *        the last data, freshly stamped) and the AIC's stop on it (FrozenJointStates), and no
+ *        such verdict on healthy re-sampled streams.
  */
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
 #include "jackal_aic/analysis/step_metrics.hpp"
+#include "jackal_aic/safety/frozen_joint_states.hpp"
 #include "jackal_sim/harness/closed_loop.hpp"
+#include "jackal_sim/plant/fault_injection.hpp"
 #include "jackal_sim/plant/plant_params.hpp"
 #include "jackal_sim/plant/robot_description.hpp"
 #include "jackal_tools/params_yaml.hpp"
@@ -124,6 +131,103 @@ TEST_F(JackalNodeClosedLoop, AicStepOverThePhaseSweepWithinFivePercentOfClean)
     EXPECT_TRUE(r.health_events.empty()) << "phase " << p + 1 << " ms";
     EXPECT_TRUE(r.drops.empty()) << "phase " << p + 1 << " ms: " << (r.drops.empty() ? "" : r.drops.front().first);
     EXPECT_TRUE(r.imu_missing.empty()) << "phase " << p + 1 << " ms";
+  }
+}
+
+/// What a run of the frozen-feedback tests saw of the loop, sample by sample.
+struct FrozenWatch
+{
+  double first_frozen = -1.0;          ///< run time of the first sample in the frozen verdict [s]; -1: never
+  std::uint64_t events = 0;            ///< FrozenJointStates::events() at the end
+  double last_turning_command = -1.0;  ///< run time of the last sample with a wheel command above 0.05 rad/s [s]
+  NodeState last_state = NodeState::kWaiting;
+  void attach(ClosedLoopConfig* c)
+  {
+    c->observer = [this](const ClosedLoopSample& s) {
+      if (s.loop == nullptr)
+      {
+        return;
+      }
+      if (s.loop->frozenJointStates().frozen() && first_frozen < 0.0)
+      {
+        first_frozen = s.time;
+      }
+      events = s.loop->frozenJointStates().events();
+      if (s.wheels_command.cwiseAbs().maxCoeff() > 0.05)
+      {
+        last_turning_command = s.time;
+      }
+      last_state = s.loop->supervisor().state();
+    };
+  }
+};
+
+// The MCU's feedback stops 2 s into a 0.5 m/s drive (from then on jackal_node republishes its
+// last data with fresh stamps; sensor_timeout never fires): the AIC's command is zero within
+// kFrozenBound of the freeze at every phase of jackal_node's loop, and stays zero; the node
+// reports stale sensors. kFrozenBound = kFrozenJointStateTime + 2 periods + 10 ms: the last MCU
+// sample is up to one period older than the freeze, its first publication up to one cycle (and
+// the loop's latency) later, the verdict comes at the first cycle more than
+// kFrozenJointStateTime after that publication, and the zero command at once.
+TEST_F(JackalNodeClosedLoop, FrozenMcuFeedbackStopsTheAicWithinTheBound)
+{
+  constexpr double kFreeze = kRest + 2.0;  // [s] into the run
+  constexpr double kFrozenBound = kFrozenJointStateTime + 2.0 * kPeriod + 0.01;
+  double worst = 0.0;
+  for (int p = 0; p < kPhases; p += 4)
+  {
+    ClosedLoopConfig c = step(LoopController::kAic, 0.5);
+    resample(&c, p + 1);
+    plant::FaultSpec freeze;
+    std::string error;
+    ASSERT_TRUE(plant::parseFaultSpec("joint_states dropout " + std::to_string(kFreeze), &freeze, &error)) << error;
+    c.faults = { freeze };
+    FrozenWatch w;
+    w.attach(&c);
+    const ClosedLoopRecord r = runClosedLoop(description_, params_, c);
+    ASSERT_GT(w.first_frozen, kFreeze) << "phase " << p + 1 << " ms: never frozen";
+    EXPECT_EQ(w.events, 1u) << "phase " << p + 1 << " ms";
+    ASSERT_GE(w.last_turning_command, 0.0);
+    worst = std::max(worst, w.first_frozen - kFreeze);
+    EXPECT_LE(w.first_frozen - kFreeze, kFrozenBound) << "phase " << p + 1 << " ms";
+    // The record's command at a sample is the one in force as it came: from the verdict's sample on, zero.
+    EXPECT_LE(w.last_turning_command, w.first_frozen)
+        << "phase " << p + 1 << " ms: a turning command after the verdict";
+    EXPECT_EQ(w.last_state, NodeState::kStale) << "phase " << p + 1 << " ms";
+    // The plant stops: the wheels' true speed at the end.
+    EXPECT_LT(std::abs(r.v_wheels.back()), 0.01) << "phase " << p + 1 << " ms";
+  }
+  std::printf("frozen MCU feedback: the AIC commands zero %.3f s after the freeze at worst (bound %.3f s)\n", worst,
+              kFrozenBound);
+}
+
+// Healthy re-sampled streams never read as frozen: the sampler's most repeating phase (19 ms),
+// its clock 5000 ppm off, stalls of up to 30 ms on a tenth of the cycles, with the plant's
+// sensor noise and without, driving a profile of steps, a turn in place and rests.
+TEST_F(JackalNodeClosedLoop, HealthyStreamsNeverReadAsFrozen)
+{
+  for (const bool ideal : { true, false })
+  {
+    for (const double drift : { 0.0, 5000.0, -5000.0 })
+    {
+      ClosedLoopConfig c = step(LoopController::kAic, 0.5);
+      c.profile = { { 0.0, 0.0, 0.0 }, { 1.0, 0.5, 0.0 }, { 3.0, 0.0, 0.0 },
+                    { 4.0, 0.0, 1.0 }, { 6.0, 1.0, 0.0 }, { 8.0, 0.0, 0.0 } };
+      c.duration = 10.0;
+      c.ideal_sensors = ideal;
+      resample(&c, 19);
+      c.jackal_node_sampler.drift = drift;
+      c.jackal_node_sampler.stall_probability = 0.1;
+      c.jackal_node_sampler.stall_max = 0.03;
+      FrozenWatch w;
+      w.attach(&c);
+      const ClosedLoopRecord r = runClosedLoop(description_, params_, c);
+      EXPECT_EQ(w.events, 0u) << "ideal " << ideal << ", drift " << drift;
+      EXPECT_EQ(w.first_frozen, -1.0);
+      EXPECT_GT(r.jackal_node_stats.repeats, 0u);
+      EXPECT_LE(r.jackal_node_stats.max_repeat_run, 2u) << "ideal " << ideal << ", drift " << drift;
+      EXPECT_LT(r.jackal_node_stats.max_held, 0.5 * kFrozenJointStateTime) << "ideal " << ideal << ", drift " << drift;
+    }
   }
 }
 

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "jackal_sim/harness/diff_drive_odometry.hpp"
+#include "jackal_aic/safety/frozen_joint_states.hpp"
 #include "jackal_sim/plant/jackal_node_sampler.hpp"
 
 using jackal_aic::harness::DiffDriveOdometry;
@@ -139,6 +140,41 @@ TEST(JackalNodeSampler, PhaseSweepSpansTheRobotsRepeatRates)
   }
   EXPECT_LT(lowest, 0.005);
   EXPECT_GE(highest, 0.15);
+}
+
+// Repeats come singly (a stall's back-to-back catch-up cycle may repeat once more), so one MCU
+// sample's data stay in the messages at most one period plus the loop's lateness: over the phase,
+// with the default latency, with stalls of up to 30 ms on a tenth of the cycles and with the clock
+// 5000 ppm off. The frozen-stream check's time
+// (kFrozenJointStateTime, include/jackal_aic/safety/frozen_joint_states.hpp) is twice the longest.
+TEST(JackalNodeSampler, RepeatsHoldDataAtMostAPeriodAndTheLateness)
+{
+  double held = 0.0;
+  for (int p = 0; p < 20; ++p)
+  {
+    for (const double stall : { 0.0, 0.1 })
+    {
+      for (const double drift : { 0.0, 5000.0, -5000.0 })
+      {
+        JackalNodeSamplerParams params;
+        params.phase = p * 0.001;
+        params.stall_probability = stall;
+        params.stall_max = 0.03;
+        params.drift = drift;
+        JackalNodeSampler s(params);
+        run(&s, 20.0);
+        const JackalNodeSamplerStats& st = s.stats();
+        const std::string what = "phase " + std::to_string(params.phase) + ", stall " + std::to_string(stall) +
+                                 ", drift " + std::to_string(drift);
+        // Singly with the robot's latency; a stall's catch-up cycles may add one more.
+        EXPECT_LE(st.max_repeat_run, stall > 0.0 ? 2u : 1u) << what;
+        EXPECT_LT(st.max_held, kMcuPeriod + (stall > 0.0 ? params.stall_max : 0.005) + kTimeTol) << what;
+        held = std::max(held, st.max_held);
+      }
+    }
+  }
+  EXPECT_GT(held, kMcuPeriod - 0.005);  // some data do stay about a period
+  EXPECT_LE(2.0 * held, jackal_aic::kFrozenJointStateTime);
 }
 
 // A loop clock 5000 ppm fast gains one period every 200 cycles: one repeat each time; 5000 ppm slow

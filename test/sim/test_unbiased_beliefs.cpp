@@ -121,7 +121,7 @@ TEST(LearnedSeparation, ConvergesFromOnceAndTwiceTheTrackWithFaultIsolationOn)
     SCOPED_TRACE("b_hat from " + std::to_string(start) + " m");
     const NodeParams node =
         loadNodeParamsFiles({ kRoot + "/config/default.yaml" }, { "wheel_separation=" + std::to_string(start) });
-    ASSERT_TRUE(node.aic.learn_wheel_separation);
+    ASSERT_TRUE(node.aic.separation_learner.enabled);
     ASSERT_TRUE(node.fdi.enabled);
     const ClosedLoopRecord r = run(node, 0.5, 0.5, 21.0);
     EXPECT_EQ(r.runaways, 0u);

@@ -377,8 +377,8 @@ int main(int argc, char** argv)
   // kLearnWarmup after each node start (a respawn starts learning again from wheel_separation).
   constexpr double kLearnWarmup = 120.0;  // [s]
   constexpr std::size_t kBins = 4000;
-  const double b_lo = c.aic.separation_min;
-  const double b_hi = c.aic.separation_max;
+  const double b_lo = c.aic.separation_learner.min;
+  const double b_hi = c.aic.separation_learner.max;
   std::vector<std::uint64_t> b_hist(kBins, 0);
   std::uint64_t b_count = 0, b_outside = 0;
   double b_min = std::numeric_limits<double>::infinity(), b_max = -b_min, b_last = std::nan("");
@@ -399,7 +399,7 @@ int main(int argc, char** argv)
       seen_loop = loop;
       loop_since = x.time;
     }
-    if (loop != nullptr && loop->controller().params().learn_wheel_separation)
+    if (loop != nullptr && loop->controller().params().separation_learner.enabled)
     {
       const double b = loop->controller().model().wheelSeparation();
       b_outside += (std::isfinite(b) && b >= b_lo && b <= b_hi) ? 0 : 1;
@@ -540,7 +540,7 @@ int main(int argc, char** argv)
   r << "| resident memory | " << s.rss_first / 1048576.0 << " MiB at start, " << s.rss_baseline / 1048576.0
     << " MiB after " << rss_start / 60.0 << " simulated minutes, " << s.rss_end / 1048576.0
     << " MiB at the end; growth " << growth / 1024.0 << " KiB |\n";
-  if (!c.aic.learn_wheel_separation)
+  if (!c.aic.separation_learner.enabled)
   {
     r << "| learned parameters | none (learn_wheel_separation off): the controller adapts only its beliefs and its "
          "action (bounds above) |\n";

@@ -633,7 +633,7 @@ int main(int argc, char** argv)
     std::cout << ", \"tip_guard\": {\"trips\": " << rec.tip_trips << ", \"front\": " << bound(rec.tip_front)
               << ", \"rear\": " << bound(rec.tip_rear) << "}";
   }
-  if (c.controller == LoopController::kAic && c.aic.learn_precision)
+  if (c.controller == LoopController::kAic && c.aic.precision_learner.enabled)
   {
     // The sensory precisions Pi_y^(0) at the end (learn_precision), per SensorIndex.
     std::cout << ", \"sensory_precisions\": [";

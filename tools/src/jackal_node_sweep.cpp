@@ -9,7 +9,9 @@
  *            [--stall-probability P] [--seed N] [--case NAME] [--verbose] [--aic-config FILE] [--aic-set key=value]...
  *            [--config PLANT.yaml] [--overlay FILE]... [--set key=value]... [--urdf FILE]
  * --part resample: per phase, the stock controller's 0.5 m/s step from rest: share of repeated
- *   joint states [%], their ages (min, max [ms]), MCU samples never published, catch-up cycles, and
+ *   joint states [%], the longest run of consecutive repeats (run) and the longest time one MCU
+ *   sample's data stayed in the messages (held_ms: what include/jackal_aic/safety/frozen_joint_states.hpp
+ *   must tolerate), their ages (min, max [ms]), MCU samples never published, catch-up cycles, and
  *   diff_drive_controller's odometry (jackal_sim/harness/diff_drive_odometry.hpp) on that step:
  *   overshoot [%] and settling (5 %) [s], beside the same odometry on the clean samples.
  * --part aic: the AIC on clean samples, then at every phase: the steps of the scorecard (0.1, 0.5,
@@ -32,6 +34,7 @@
 #include "jackal_aic/analysis/step_metrics.hpp"
 #include "jackal_aic/analysis/tracking_error.hpp"
 #include "jackal_aic/analysis/twist_profile.hpp"
+#include "jackal_aic/safety/frozen_joint_states.hpp"
 #include "jackal_sim/harness/closed_loop.hpp"
 #include "jackal_tools/cli.hpp"
 #include "jackal_tools/params_yaml.hpp"
@@ -168,8 +171,10 @@ int main(int argc, char** argv)
                   drift, 1e3 * jitter, stall);
       std::printf("clean samples: diff-drive odometry overshoot %.1f %%, settling %.3f s\n", mc.overshoot_percent,
                   mc.settling_time);
-      std::printf("%9s %9s %8s %8s %7s %8s %10s %9s\n", "phase_ms", "repeat_%", "age_min", "age_max", "skipped",
-                  "catch_up", "odom_os_%", "odom_ts");
+      std::printf("%9s %9s %6s %8s %8s %8s %7s %8s %10s %9s\n", "phase_ms", "repeat_%", "run", "held_ms", "age_min",
+                  "age_max", "skipped", "catch_up", "odom_os_%", "odom_ts");
+      std::uint64_t run = 0;
+      double held = 0.0;
       for (int p = 0; p < phases; ++p)
       {
         c.jackal_node = true;
@@ -178,10 +183,16 @@ int main(int argc, char** argv)
         const ClosedLoopRecord r = runClosedLoop(desc, params, c);
         const StepMetrics m = stepOf(r, r.v_diff_drive, 0.5);
         const auto& s = r.jackal_node_stats;
-        std::printf("%9.1f %9.2f %8.1f %8.1f %7lu %8lu %10.1f %9.3f\n", 1e3 * phaseOf(p), 100.0 * s.repeatRate(),
+        std::printf("%9.1f %9.2f %6lu %8.1f %8.1f %8.1f %7lu %8lu %10.1f %9.3f\n", 1e3 * phaseOf(p),
+                    100.0 * s.repeatRate(), static_cast<unsigned long>(s.max_repeat_run), 1e3 * s.max_held,
                     1e3 * s.min_age, 1e3 * s.max_age, static_cast<unsigned long>(s.skipped),
                     static_cast<unsigned long>(s.catch_up), m.overshoot_percent, m.settling_time);
+        run = std::max(run, s.max_repeat_run);
+        held = std::max(held, s.max_held);
       }
+      std::printf("over the sweep: the longest run of repeats %lu, the longest any data stayed %.1f ms (a frozen MCU "
+                  "reads as frozen after %.0f ms)\n",
+                  static_cast<unsigned long>(run), 1e3 * held, 1e3 * kFrozenJointStateTime);
     }
     if (part != "resample")
     {

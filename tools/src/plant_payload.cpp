@@ -167,7 +167,7 @@ int main(int argc, char** argv)
       mass = params.payload.mass;
       position = Eigen::Vector3d(params.payload.position[0], params.payload.position[1], params.payload.position[2]);
     }
-    accel = loadNodeParamsFiles({ aic_config }, aic_overrides).aic.max_reference_acceleration_linear;
+    accel = loadNodeParamsFiles({ aic_config }, aic_overrides).aic.reference.max_acceleration_linear;
   }
   catch (const std::exception& e)
   {

@@ -28,7 +28,7 @@ public:
   /// Length of the line [action steps]; a delay longer than kCapacity steps uses the oldest.
   static constexpr int kCapacity = 512;
 
-  /// \param delay  d_r [s], >= 0 (AicParams::reference_delay)
+  /// \param delay  d_r [s], >= 0 (AicParams::reference.delay)
   explicit ActionDelayLine(double delay = 0.0) : delay_(delay) {}
 
   /// Set d_r [s], >= 0; takes effect at the next record().

@@ -12,13 +12,6 @@
 
 namespace jackal_aic
 {
-/// Settings of an ActionPrior (AicParams action_prior_gain, action_prior_time_constant).
-struct ActionPriorParams
-{
-  double gain = 0.0;           ///< k_ff [-], in [0, 2]; 0 = off (the thesis)
-  double time_constant = 0.0;  ///< T_p [s], >= 0: the wheel loop's time constant the prior inverts
-};
-
 /**
  * \brief a_ff = k_ff W (m + T_p m') with a reference model, else a_ff = k_ff W mu_hat_d.
  *

@@ -6,17 +6,10 @@
  */
 
 #include "jackal_aic/base/types.hpp"
+#include "jackal_aic/params/stage_params.hpp"
 
 namespace jackal_aic
 {
-/// Settings of an AntiWindup (the AicParams keys of the same names).
-struct AntiWindupParams
-{
-  double max_action_lead = 0.0;       ///< |a_i - y^(0)[omega_i]| bound [rad/s], >= 0; 0 = off
-  double max_action_lead_turn = 0.0;  ///< bound of the wheels' differential lead [rad/s], >= 0; 0 = off
-  double max_wheel_speed = 20.0;      ///< |a_i| bound [rad/s], > 0
-};
-
 /**
  * \brief The command a = clamps(a_F + h a_F' + a_ff) and the a_F it leaves.
  *
@@ -26,7 +19,8 @@ struct AntiWindupParams
  *     (the prior alone is never cut), only on a wheel whose channel is trusted;
  *  2. turning lead (max_action_lead_turn L_t > 0, both wheel channels trusted): the differential
  *     part (e_R - e_L) / 2 of the lead e = a - omega within +-L_t, its common part kept;
- *  3. wheel speed: a_i in [-max_wheel_speed, max_wheel_speed] (always; it wins over the others).
+ *  3. wheel speed: a_i in [-max_wheel_speed, max_wheel_speed] (AicParams::max_wheel_speed: the
+ *     robot's, shared; always; it wins over the others).
  * Conditional integration: where a clamp cut a wheel's command (raw_i != a_i) in the direction
  * a_F' integrates,
  *   a_F,i <- max(a_F,i, min(a_F,i + h a_F,i', a_i - a_ff,i))   if cut > 0 and a_F,i' > 0,
@@ -48,10 +42,17 @@ public:
     bool saturated;            ///< the wheel-speed clamp (3) cut the command (the lead clamps do not count)
   };
 
-  explicit AntiWindup(const AntiWindupParams& params = AntiWindupParams()) : params_(params) {}
+  /// \param params           the lead limits (AicParams::anti_windup, validated)
+  /// \param max_wheel_speed  the wheel-speed clamp [rad/s], > 0 (AicParams::max_wheel_speed)
+  explicit AntiWindup(const AntiWindupParams& params = AntiWindupParams(), double max_wheel_speed = 20.0)
+    : params_(params), max_wheel_speed_(max_wheel_speed)
+  {
+  }
 
   /// The settings in use.
   const AntiWindupParams& params() const { return params_; }
+  /// The wheel-speed clamp in use [rad/s].
+  double maxWheelSpeed() const { return max_wheel_speed_; }
 
   /**
    * \brief Clamp one action step and integrate a_F conditionally.
@@ -69,13 +70,11 @@ public:
                const Vector2& omega, bool left_trusted, bool right_trusted) const;
 
   /// a with each wheel clamped to +-max_wheel_speed [rad/s].
-  Vector2 limitWheelSpeed(const Vector2& a) const
-  {
-    return a.cwiseMax(-params_.max_wheel_speed).cwiseMin(params_.max_wheel_speed);
-  }
+  Vector2 limitWheelSpeed(const Vector2& a) const { return a.cwiseMax(-max_wheel_speed_).cwiseMin(max_wheel_speed_); }
 
 private:
   AntiWindupParams params_;
+  double max_wheel_speed_;
 };
 
 }  // namespace jackal_aic

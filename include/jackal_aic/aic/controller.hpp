@@ -34,13 +34,24 @@ namespace jackal_aic
  * Neither update moves before the first setMeasurement().
  *
  * The controller holds the thesis's beliefs mu_tilde and action a (the free-energy part a_F,
- * eq. 3-15, 3-16) and composes these stages, each off with its parameter at the thesis value:
- *  - ReferenceModel: goal mu_d, mu_d' -> predicted goal -> delayed reference path (the attractor);
- *  - ActionDelayLine: the twist G a(t - d_r) of the sent action (belief_model unbiased's prior);
- *  - ActionPrior: a_ff, the wheel speeds of the goal's path (a = a_F + a_ff);
- *  - RestRelease: a_F's part along a channel whose goal is zero decays;
- *  - AntiWindup: the lead and wheel-speed clamps and the conditional integration of a_F;
- *  - SeparationLearner: learning the model's effective wheel separation b_hat.
+ * eq. 3-15, 3-16) and composes these eight stages, each off with its parameter at the thesis
+ * value, each taking its settings struct nested in AicParams as it is:
+ *  - ReferenceModel (AicParams::reference): goal mu_d, mu_d' -> predicted goal -> delayed
+ *    reference path (the attractor);
+ *  - ActionDelayLine (reference.delay): the twist G a(t - d_r) of the sent action (belief_model
+ *    unbiased's prior);
+ *  - GoalResponse (goal_response_time_constant): the goal's path as the robot is expected to
+ *    follow it (belief_model unbiased's goal prior on the action);
+ *  - ActionPrior (action_prior): a_ff, the wheel speeds of the goal's path (a = a_F + a_ff);
+ *  - RestRelease (action_release_time): a_F's part along a channel whose goal is zero decays;
+ *  - AntiWindup (anti_windup, max_wheel_speed): the lead and wheel-speed clamps and the
+ *    conditional integration of a_F;
+ *  - SeparationLearner (separation_learner): learning the model's effective wheel separation b_hat;
+ *  - PrecisionLearner (precision_learner): learning the order-0 sensory precisions.
+ * With belief_model robot, WheelLoopModel, RobotBelief and LatencyAction (AicParams::robot)
+ * replace the belief and action updates. The order the stages run in, with the sample pipeline's
+ * and the control loop's around them: include/jackal_aic/loop/control_loop.hpp, 'The
+ * controller's composition'; updateBeliefs() and updateAction() are its two middle parts.
  *
  * Not thread-safe; no heap allocation and no exceptions in setGoal,
  * setMeasurement, updateBeliefs, updateAction (the matrix exponential of the exact
@@ -77,7 +88,7 @@ public:
 
   /**
    * \brief Desired twist mu_d = (v_x [m/s], 0, omega_z [rad/s]) and its rate mu_d' [m/s^2, m/s^2,
-   *        rad/s^2] (used only with params().generalized_goal). The attractor (eq. 3-7, extended,
+   *        rad/s^2] (used only with params().reference.generalized_goal). The attractor (eq. 3-7, extended,
    *        doc/active_inference.md 'Set-point dynamics'):
    *        no reference model: f(mu) = mu_d' + (mu_d - mu) / tau;
    *        reference model (reference_time_constant T_r > 0): f(mu) = mu_r' + (mu_r - mu) / tau
@@ -88,7 +99,7 @@ public:
   bool setGoal(const Vector3& mu_d, const Vector3& mu_d_dot = Vector3::Zero());
   /// The goal mu_d in use [m/s, m/s, rad/s]; zero until setGoal().
   const Vector3& goal() const { return reference_.goal(); }
-  /// The goal's rate mu_d' in use [m/s^2, m/s^2, rad/s^2] (zero unless params().generalized_goal).
+  /// The goal's rate mu_d' in use [m/s^2, m/s^2, rad/s^2] (zero unless params().reference.generalized_goal).
   const Vector3& goalRate() const { return reference_.goalRate(); }
   /// The attractor's goal mu_r [m/s, m/s, rad/s]: the delayed reference path m(t - d_r) with a
   /// reference model, else mu_d.
@@ -215,7 +226,7 @@ public:
   const YTilde& precisionY() const { return pi_y_; }
 
   /**
-   * \brief The learner of the effective wheel separation b_hat (params().learn_wheel_separation;
+   * \brief The learner of the effective wheel separation b_hat (params().separation_learner.enabled;
    *        doc/active_inference.md, 'Learning the generative model'). It steps with updateBeliefs()
    *        on y^(0) of the gyro and wheels, with Pi_b = Pi_y^(0) of the gyro, frozen while the
    *        sensor mask isolates one of them or actionSaturated(); the model's
@@ -243,7 +254,7 @@ public:
   static constexpr double kSeparationApplyTolerance = 1.0e-3;
 
   /**
-   * \brief The learner of the order-0 sensory precisions (params().learn_precision;
+   * \brief The learner of the order-0 sensory precisions (params().precision_learner.enabled;
    *        doc/active_inference.md, 'Learning the sensory precisions'). It steps with
    *        updateBeliefs() on eps_y^(0) after the belief step, frozen while the sensor mask
    *        isolates a learned channel, near rest or actionSaturated(); precisionY() takes its
@@ -315,6 +326,9 @@ private:
   void rebuildDynamics();
   /// Compute Phi = exp(M h), Psi = int_0^h exp(M s) ds for the exact integrator (no heap).
   void computeExactStep(double h);
+  /// The belief integration of updateBeliefs() (Euler or exact, eq. 3-15) towards priorGoal(),
+  /// priorRate(). \return false (mu_ unchanged) if the result is not finite or beyond runaway_limit.
+  bool integrateBeliefs(double h);
   /// Zero beliefs and action after a runaway.
   void runawayReset();
   /// Learning, the last stage: one SeparationLearner step on y^(0), y^(1) of the gyro and wheels
@@ -339,8 +353,10 @@ private:
   SkidSteerModel model_;
   MuTilde mu_;
   YTilde y_tilde_;
-  // The stages (class comment): a belief step advances reference_, then learner_; an action step
-  // runs release_, action_prior_, anti_windup_, then records into action_line_.
+  // The stages (class comment). A belief step integrates mu_ towards reference_'s attractor (or
+  // action_line_'s twist), then advances reference_ and response_, then learner_ and
+  // precision_learner_; an action step runs release_, action_prior_, anti_windup_, then records
+  // into action_line_.
   ReferenceModel reference_;
   ActionDelayLine action_line_;
   ActionPrior action_prior_;
@@ -348,7 +364,7 @@ private:
   GoalResponse response_;
   AntiWindup anti_windup_;
   SeparationLearner learner_;
-  PrecisionLearner precision_learner_;  ///< used only with params_.learn_precision
+  PrecisionLearner precision_learner_;  ///< used only with params_.precision_learner.enabled
   // belief_model robot: the commands in flight and the wheel loop, the beliefs, the model's clock [s].
   WheelLoopModel wheel_loop_;
   RobotBelief robot_belief_;

@@ -28,11 +28,12 @@ namespace jackal_aic
 class GoalRateEstimator
 {
 public:
-  /// \param params  uses goal_rate_hold, max_goal_rate_linear, max_goal_rate_angular (validated AicParams)
-  explicit GoalRateEstimator(const AicParams& params);
+  /// \param params  the goal stage's settings (AicParams::reference, validated): uses goal_rate_hold,
+  ///                max_goal_rate_linear, max_goal_rate_angular
+  explicit GoalRateEstimator(const ReferenceModelParams& params);
 
-  /// New limits (AicParams::goal_rate_hold, max_goal_rate_*); the state is kept.
-  void setParams(const AicParams& params);
+  /// New limits (goal_rate_hold, max_goal_rate_*); the state is kept.
+  void setParams(const ReferenceModelParams& params);
 
   /**
    * \brief A set point mu_d [m/s, m/s, rad/s] received at time t [s].

@@ -9,18 +9,10 @@
 #include <cstdint>
 #include <string>
 
+#include "jackal_aic/params/stage_params.hpp"
+
 namespace jackal_aic
 {
-/// Settings of a GyroBiasEstimator (the AicParams keys gyro_bias_*; doc/active_inference.md).
-struct GyroBiasEstimatorParams
-{
-  double max_bias = 0.1;        ///< |beta_hat| bound and the largest |y_gyro| at rest taken as an offset [rad/s], > 0
-  double rest_speed = 0.05;     ///< at rest: both wheels' |speed| and both commands' |speed| below this [rad/s], > 0
-  double rest_time = 0.5;       ///< learning starts this long after the rest began [s], >= 0
-  double time_constant = 30.0;  ///< forgetting time constant T_beta once the first rest is averaged [s], > 0
-  double min_rest = 5.0;        ///< offset() is beta_hat once this much rest has been learned from, else 0 [s], >= 0
-};
-
 /**
  * \brief Posterior mean of the gyro's offset from the readings taken while the robot stands still.
  *

@@ -12,24 +12,21 @@
 #include <cstdint>
 
 #include "jackal_aic/base/types.hpp"
+#include "jackal_aic/params/stage_params.hpp"
 
 namespace jackal_aic
 {
 struct AicParams;
 
-/// Settings of a PrecisionLearner (the AicParams keys precision_*; doc/active_inference.md).
-struct PrecisionLearnerParams
+/// What a PrecisionLearner learns: the configured precisions it starts from and the channels it
+/// learns (the controller's: precisionChannels()).
+struct PrecisionChannels
 {
   /// Configured precisions Pi_y^(0) per channel (SensorIndex) [1/(channel unit)^2], each finite and > 0;
   /// the learning starts from them and the bounds are factors of them.
   std::array<double, kYDim> configured{ { 1.0, 1.0, 1.0, 1.0, 1.0 } };
   /// Bit j (SensorIndex) set = channel j learned; the others keep their configured precision.
-  std::uint8_t channels = (1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight);
-  double rate = 0.2;             ///< kappa_pi [1/s], finite and >= 0 (near the optimum ln Pi relaxes with 2 / kappa_pi)
-  double min_factor = 0.1;       ///< Pi_min = min_factor x configured, finite, > 0 and <= 1
-  double max_factor = 10.0;      ///< Pi_max = max_factor x configured, finite and >= 1
-  double time_constant = 1.0;    ///< T_w of the low-pass of eps^2 [s], finite and > 0
-  double min_wheel_speed = 0.5;  ///< frozen while both |omega_L|, |omega_R| are below this [rad/s], finite, >= 0
+  std::uint8_t learned = (1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight);
 };
 
 /**
@@ -89,17 +86,23 @@ public:
     kBadInput      ///< ignored: non-finite input or h <= 0
   };
 
-  /// Default settings (configured precisions 1).
+  /// Default settings and channels (configured precisions 1).
   PrecisionLearner();
-  /// \throws std::invalid_argument naming every violated rule of PrecisionLearnerParams.
-  explicit PrecisionLearner(const PrecisionLearnerParams& params);
+  /**
+   * \param params    the learning's settings (AicParams::precision_learner; `enabled` is the
+   *                  caller's): rate finite and >= 0, min_factor in (0, 1], max_factor >= 1,
+   *                  time_constant > 0, min_wheel_speed >= 0, each finite
+   * \param channels  the configured precisions (each finite and > 0) and the learned channels
+   * \throws std::invalid_argument naming every violated rule.
+   */
+  PrecisionLearner(const PrecisionLearnerParams& params, const PrecisionChannels& channels);
 
   /**
    * \brief New settings. What was learned is kept (clamped to the new bounds) if the learned
    *        channels and the configured precisions are unchanged, else the learning restarts.
    * \throws std::invalid_argument (state unchanged) naming every violated rule.
    */
-  void setParams(const PrecisionLearnerParams& params);
+  void setParams(const PrecisionLearnerParams& params, const PrecisionChannels& channels);
 
   /**
    * \brief One learning step.
@@ -134,9 +137,15 @@ public:
   void reset();
   /// The settings in use.
   const PrecisionLearnerParams& params() const { return params_; }
+  /// The configured precisions and learned channels in use.
+  const PrecisionChannels& channels() const { return channels_; }
 
 private:
+  /// True if channel j is learned.
+  bool learned(int j) const { return (channels_.learned & (1u << j)) != 0; }
+
   PrecisionLearnerParams params_;
+  PrecisionChannels channels_;
   std::array<double, kYDim> lambda_{};   ///< ln Pi_j
   std::array<double, kYDim> pi_{};       ///< exp(lambda_j)
   std::array<double, kYDim> s_{};        ///< low-pass of eps_j^2
@@ -145,10 +154,10 @@ private:
   std::uint64_t steps_ = 0;
 };
 
-/// Settings of the controller's precision learner from AicParams (configured: 1 / var_y of
-/// order 0; channels: gyro, both wheels, and accelerometer x with accel_in_model; the
-/// precision_* keys). Requires a valid AicParams.
-PrecisionLearnerParams precisionLearnerParams(const AicParams& params);
+/// The controller's precision learner's channels from AicParams: configured = 1 / var_y of
+/// order 0 (column 0 of precisionY()); learned = the gyro, both wheels, and accelerometer x with
+/// accel_in_model. Requires a valid AicParams.
+PrecisionChannels precisionChannels(const AicParams& params);
 
 /// Name of a learner state, e.g. "near rest".
 const char* toString(PrecisionLearner::State state);

@@ -14,26 +14,6 @@
 
 namespace jackal_aic
 {
-/// Settings of a ReferenceModel (the AicParams keys of the same meaning; doc/active_inference.md,
-/// 'Set-point dynamics'). The controller passes validated AicParams; the stage does not check them.
-struct ReferenceModelParams
-{
-  bool generalized_goal = false;   ///< use the goal's rate mu_d' (generalized_goal); false: mu_d' = 0
-  double goal_lead = 0.0;          ///< t_lead [s], >= 0: x_dot's and y_dot's goal is predicted mu_d + t_lead mu_d'
-  double goal_lead_angular = 0.0;  ///< t_lead [s], >= 0, of theta_dot's goal
-  double time_constant = 0.0;      ///< T_r [s], >= 0; 0 = no reference model (reference_time_constant)
-  double max_acceleration_linear = 1.0e3;   ///< |m'| bound along x_dot, y_dot [m/s^2], > 0
-  double max_acceleration_angular = 1.0e3;  ///< |m'| bound along theta_dot [rad/s^2], > 0
-  /// |m'| bound along x_dot, y_dot where m' slows the path toward 0 [m/s^2], >= 0; 0 = max_acceleration_linear.
-  double max_deceleration_linear = 0.0;
-  /// Bound of each wheel's rim-speed rate along the path, |m'_x -+ m'_theta b / 2| [m/s^2], >= 0;
-  /// 0 = none (each body channel is bounded on its own).
-  double max_acceleration_wheel = 0.0;
-  double wheel_separation = 0.5;  ///< b [m], > 0: the model's wheel separation (setWheelSeparation())
-  double delay = 0.0;             ///< d_r [s], in [0, kMaxReferenceDelay] (reference_delay)
-  double goal_limit = 1.0e3;      ///< largest accepted |element| of mu_d and mu_d' (runaway_limit), > 0
-};
-
 /**
  * \brief Goal -> predicted goal -> reference path with its delay line.
  *
@@ -63,17 +43,21 @@ public:
   /// Delay-line length [samples]: samples >= kMaxReferenceDelay / 800 apart cover the longest delay.
   static constexpr int kLine = 1024;
 
-  /// Goal, path and delay line at zero.
-  explicit ReferenceModel(const ReferenceModelParams& params = ReferenceModelParams());
+  /// Goal, path and delay line at zero; the wheel separation b 0.5 m until setWheelSeparation().
+  /// \param params      the settings (AicParams::reference, validated; the stage does not check them)
+  /// \param goal_limit  largest accepted |element| of mu_d and mu_d' (AicParams::runaway_limit), > 0
+  explicit ReferenceModel(const ReferenceModelParams& params = ReferenceModelParams(), double goal_limit = 1.0e3);
 
-  /// Replace the settings; goal, path and delay line kept, the goal's rate zeroed unless
-  /// generalized_goal.
-  void setParams(const ReferenceModelParams& params);
+  /// Replace the settings and the goal limit (as the constructor's); goal, path, delay line and
+  /// wheel separation kept, the goal's rate zeroed unless generalized_goal.
+  void setParams(const ReferenceModelParams& params, double goal_limit);
   /// The settings in use.
   const ReferenceModelParams& params() const { return params_; }
   /// Set the wheel separation b [m] of the wheel bound (the model's, as it is learned); ignored
   /// unless finite and > 0. Path and line kept.
   void setWheelSeparation(double b);
+  /// The wheel separation b of the wheel bound [m].
+  double wheelSeparation() const { return wheel_separation_; }
   /**
    * \brief Bound the path's rate along x_dot to [-front, rear] [m/s^2] (the TipGuard's bounds:
    *        the deceleration that lifts the rear wheels, the acceleration that lifts the front
@@ -91,7 +75,7 @@ public:
   /**
    * \brief Set the goal mu_d [m/s, m/s, rad/s] and its rate mu_d' [m/s^2, m/s^2, rad/s^2]
    *        (the rate is stored as zero unless generalized_goal).
-   * \return false (goal unchanged) for a non-finite element or one beyond goal_limit.
+   * \return false (goal unchanged) for a non-finite element or one beyond the goal limit.
    */
   bool setGoal(const Vector3& mu_d, const Vector3& mu_d_dot = Vector3::Zero());
   /// The goal mu_d [m/s, m/s, rad/s]; zero until setGoal().
@@ -153,6 +137,8 @@ private:
   };
 
   ReferenceModelParams params_;
+  double goal_limit_;              ///< largest accepted |element| of mu_d, mu_d'
+  double wheel_separation_ = 0.5;  ///< b [m] of the wheel bound (setWheelSeparation())
   Vector3 mu_d_ = Vector3::Zero();
   Vector3 mu_d_dot_ = Vector3::Zero();
   Vector3 m_ = Vector3::Zero();

@@ -11,22 +11,10 @@
 #include <cstdint>
 #include <string>
 
+#include "jackal_aic/params/stage_params.hpp"
+
 namespace jackal_aic
 {
-/// Settings of a SeparationLearner (the AicParams keys separation_*; doc/active_inference.md).
-struct SeparationLearnerParams
-{
-  double wheel_radius = 0.098;        ///< r [m], finite and > 0
-  double slip_factor = 1.0;           ///< alpha [-], finite and > 0
-  double initial = 0.5621;            ///< b_hat at construction and reset() [m], in [min, max]
-  double min = 0.3;                   ///< lower bound of b_hat [m], finite and > 0
-  double max = 1.5;                   ///< upper bound of b_hat [m], finite and >= min
-  double rate = 4.0;                  ///< learning rate kappa_b [m^2 s / rad^2 per unit precision], finite and >= 0
-  double min_yaw_rate = 0.1;          ///< frozen while |gyro| is below this [rad/s], finite and >= 0
-  double max_yaw_acceleration = 0.5;  ///< frozen while |d gyro/dt| is above this [rad/s^2], finite and > 0
-  double max_rate = 0.1;              ///< |d b_hat/dt| <= max_rate b_hat [1/s], finite and >= 0; 0 = unlimited
-};
-
 /**
  * \brief Gradient descent of b_hat on the free energy of the gyro-encoder disagreement.
  *
@@ -78,8 +66,17 @@ public:
     kBadInput      ///< ignored: non-finite input, h <= 0 or precision < 0
   };
 
-  /// \throws std::invalid_argument naming every violated rule of SeparationLearnerParams.
-  explicit SeparationLearner(const SeparationLearnerParams& params);
+  /**
+   * \param params        the learning's settings (AicParams::separation_learner; `enabled` is the
+   *                      caller's): min finite and > 0, max >= min, rate, min_yaw_rate, max_rate
+   *                      finite and >= 0, max_yaw_acceleration finite and > 0
+   * \param wheel_radius  r [m], finite and > 0 (AicParams::wheel_radius)
+   * \param slip_factor   alpha [-], finite and > 0 (AicParams::slip_factor)
+   * \param initial       b_hat at construction and reset() [m], in [min, max] (the controller's
+   *                      wheel_separation clamped to the bounds)
+   * \throws std::invalid_argument naming every violated rule.
+   */
+  SeparationLearner(const SeparationLearnerParams& params, double wheel_radius, double slip_factor, double initial);
 
   /**
    * \brief One learning step.
@@ -110,13 +107,16 @@ public:
   /// Set b_hat [m] (e.g. a value learned before, loaded from an overlay), clamped to [min, max].
   /// \return false (unchanged) if not finite.
   bool setSeparation(double b);
-  /// Back to params().initial; the step count and error cleared.
+  /// Back to the initial b_hat; the step count and error cleared.
   void reset();
   /// The settings in use.
   const SeparationLearnerParams& params() const { return params_; }
 
 private:
   SeparationLearnerParams params_;
+  double wheel_radius_;
+  double slip_factor_;
+  double initial_;
   double b_;
   double eps_ = 0.0;
   State state_ = State::kNearRest;

@@ -65,7 +65,7 @@ struct ResponseSample
  * z_{k+1} = Phi z_k + Gamma mu_d. The continuous belief and action dynamics are taken from
  * ActiveInferenceController::muDot()/aDot() (so model and controller share one implementation
  * of the equations); the clamp, max_action_lead and the runaway reset are not modelled (linear analysis),
- * nor are the set-point dynamics and the action prior (AicParams::generalized_goal,
+ * nor are the set-point dynamics and the action prior (AicParams::reference.generalized_goal,
  * reference_time_constant, action_prior_gain: the model is the thesis's controller with the
  * given gains).
  */

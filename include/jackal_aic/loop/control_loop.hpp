@@ -27,6 +27,35 @@
  * actionTimer() only keeps the command alive (idle command while not running, a repeat of the
  * held command when no sample ran the action for 1.5 action periods).
  *
+ * The controller's composition: every stage of the controller, in the order it runs, across its
+ * three owners (ControlLoop, SamplePipeline, ActiveInferenceController; the stages' settings are
+ * the structs nested in AicParams, doc/active_inference.md, 'Structure of the controller'):
+ *
+ *   set point (setPoint):  Supervisor's checks and clamps -> GoalRateEstimator (mu_d', with
+ *       generalized_goal) -> ActiveInferenceController::setGoal -> ReferenceModel's goal
+ *   sample (jointState):   TimeJumpDetector -> belief steps up to now on the held inputs
+ *       (advanceBeliefs, event schedule) -> GoalRateEstimator's rate refreshed -> SensorPairing
+ *       -> SamplePipeline::generalize [GyroBiasEstimator's offset off the gyro z, the wheels'
+ *       yaw rate in its place without the IMU, Generalizer] -> SamplePipeline::guardTip
+ *       [GyroBiasEstimator of the gyro y, TipGuard -> ReferenceModel's tip bounds] -> Supervisor
+ *       (activation: SamplePipeline::activate) -> while running SamplePipeline::measure
+ *       [the controller's y_tilde, FaultMonitor -> the sensor mask, GyroBiasEstimator learns]
+ *       -> with action_trigger sample, the action step
+ *   belief step (integrate -> ActiveInferenceController::updateBeliefs, h <= 1 / belief_rate):
+ *       the beliefs integrated towards the prior's target (eq. 3-15; ReferenceModel's mu_r, or
+ *       ActionDelayLine's G a(t - d_r) with belief_model unbiased) -> ReferenceModel::advance ->
+ *       GoalResponse::advance -> SeparationLearner (learn_wheel_separation; the model takes
+ *       b_hat) -> PrecisionLearner (learn_precision; Pi_y takes it). belief_model robot instead:
+ *       RobotBelief's prediction through WheelLoopModel and its correction by a new sample ->
+ *       ReferenceModel::advance -> SeparationLearner
+ *   action step (actionStep -> ActiveInferenceController::updateAction -> sendCommand):
+ *       Supervisor's action loop tick (idle or the runaway hold's zero instead) -> RestRelease ->
+ *       da_F/dt (eq. 3-16; unbiased: the goal prior on GoalResponse's g) -> ActionPrior -> the
+ *       divergence check -> AntiWindup (lead, turning lead, wheel-speed clamps) -> ActionDelayLine
+ *       records the command. belief_model robot instead: ReferenceModel's path -> LatencyAction
+ *       through WheelLoopModel. Then the command stage: the final guard, and in output mode
+ *       cmd_vel the stock diff drive's limits (a clipped command becomes the action)
+ *
  * Time moving backwards (a simulator's /clock restarting at 0, a `rosbag play --loop --clock`
  * loop, a wall clock stepped back): every event first reads the clock through a
  * TimeJumpDetector; a reading more than kTimeJumpTolerance before the latest one resets what
@@ -49,6 +78,7 @@
 #include "jackal_aic/loop/sensor_pairing.hpp"
 #include "jackal_aic/loop/supervisor.hpp"
 #include "jackal_aic/loop/time_jump.hpp"
+#include "jackal_aic/safety/frozen_joint_states.hpp"
 
 namespace jackal_aic
 {
@@ -115,12 +145,14 @@ public:
 
   // ---- events (each at clock.now())
   /**
-   * \brief A joint-state message: pairing (with the newest IMU samples), generalization, the
+   * \brief A joint-state message: pairing (with the newest IMU samples), the frozen-stream
+   *        check (FrozenJointStates: while the data repeat with a wheel turning, the sample is
+   *        refused and the sensors count as lost, Supervisor::jointStatesFrozen()), generalization, the
    *        supervisor's warm-up, activation when due, the measurement and fault test while
    *        running and, with action_trigger sample, the action step and its command.
    *        Event schedule: the beliefs are first advanced to now with the old inputs.
-   * \return false if the message was dropped (pairing) or the sample refused (generalizer,
-   *         controller)
+   * \return false if the message was dropped (pairing), the stream is frozen or the sample
+   *         refused (generalizer, controller)
    */
   bool jointState(const JointStateInput& joints);
   /// An IMU message: validated and kept for pairing. \return false if dropped.
@@ -129,7 +161,7 @@ public:
    * \brief A set point (geometry_msgs/Twist fields: linear x, y, z [m/s], angular x, y, z
    *        [rad/s]): checked by the supervisor (NaN/Inf dropped, clamped to max_linear_speed /
    *        max_angular_speed) and, unless dropped, the goal mu_d = (linear.x, 0, angular.z) with,
-   *        if AicParams::generalized_goal, its rate mu_d' from the stream (GoalRateEstimator; the
+   *        if AicParams::reference.generalized_goal, its rate mu_d' from the stream (GoalRateEstimator; the
    *        rate is refreshed at every event, so a ramp's slope expires).
    */
   SetPointResult setPoint(const double (&fields)[6]);
@@ -258,6 +290,10 @@ public:
   double lastTimeJump() const { return time_jump_.lastJump(); }
   /// Controller starts (entries into kRunning) since construction.
   std::uint64_t starts() const { return starts_; }
+  /// The frozen joint-state check (verdict, the current run of repeats, entries into frozen).
+  const FrozenJointStates& frozenJointStates() const { return frozen_; }
+  /// Joint-state samples refused because the stream was frozen.
+  std::uint64_t frozenSamples() const { return frozen_samples_; }
   /// Stamp [s] of the newest accepted sensor sample (the clock's epoch); NaN before the first.
   double newestSampleStamp() const { return newest_sample_stamp_; }
 
@@ -312,6 +348,9 @@ private:
   /// output mode cmd_vel publishes the twist of `wheels` without the stock controller's
   /// velocity and acceleration limits (the idle zero: the diff drive ramps down itself).
   void sendCommand(const Vector2& wheels, double latency, bool stock_limits = true);
+  /// The frozen-stream check of one paired sample; tells the supervisor and logs a change.
+  /// \return true if the stream is frozen (the sample must not be used)
+  bool checkFrozen(const SensorSample& sample);
   /// The command outside kRunning (Supervisor::idleCommand()): zero at once (cmd_vel: the zero
   /// twist, not ramped by our copy of the stock limits), the measured wheel speeds (kHeld,
   /// warming up), or nothing; withheld in kBlocked, as every command.
@@ -323,9 +362,11 @@ private:
   SensorPairing pairing_;
   SamplePipeline pipeline_;
   Supervisor supervisor_;
-  GoalRateEstimator goal_rate_;            ///< mu_d' of the set-point stream (AicParams::generalized_goal)
+  GoalRateEstimator goal_rate_;            ///< mu_d' of the set-point stream (AicParams::reference.generalized_goal)
   std::unique_ptr<CmdVelOutput> cmd_vel_;  ///< output mode cmd_vel only
   TimeJumpDetector time_jump_{ kTimeJumpTolerance };
+  FrozenJointStates frozen_;  ///< a frozen MCU behind jackal_node
+  std::uint64_t frozen_samples_ = 0;
   std::uint64_t starts_ = 0;
   std::string last_stop_reason_;        ///< why the controller last left kRunning (for the restart's log line)
   bool restart_after_runaway_ = false;  ///< the next start follows a runaway: it starts on probation

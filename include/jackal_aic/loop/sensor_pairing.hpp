@@ -40,6 +40,10 @@ struct SensorSample
   /// The paired IMU's gyro y [rad/s]: the body's pitch rate q (REP 103, base_link: > 0 noses
   /// down), read by the TipGuard, not by the beliefs; 0 when imu_ok is false.
   double pitch_rate = 0.0;
+  /// The joint state's wheel travel (mean position of left_joints, of right_joints) [rad]; zero
+  /// when the message has no positions (has_travel false). Read by FrozenJointStates.
+  Vector2 travel = Vector2::Zero();
+  bool has_travel = false;  ///< the message carried positions
 };
 
 /// One joint-state message, by reference to its arrays (sensor_msgs/JointState's fields).

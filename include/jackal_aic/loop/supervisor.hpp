@@ -55,8 +55,9 @@ enum class SetPointResult
  * - else kWaiting with no sensor sample yet, or with fresh sensors and no set point yet,
  *   or with fresh sensors and set point while fewer than p+1 samples have reached the
  *   generalizer since its (re)start (warm-up);
- * - else kStale if the last accepted sample is older than sensor_timeout or the last set
- *   point older than set_point_timeout;
+ * - else kStale if the last accepted sample is older than sensor_timeout, the joint states
+ *   are frozen (jointStatesFrozen(true): the same data repeat while the wheels turn,
+ *   FrozenJointStates) or the last set point is older than set_point_timeout;
  * - else kHeld while the MCU reports a stop (mcuStopped(): jackal_msgs/Status with
  *   drivers_active false or an external stop present and stopped, or a jackal_msgs/Feedback
  *   with actual_mode MODE_NONE within kMcuFeedbackExpiry): the node commands the measured
@@ -130,6 +131,17 @@ public:
    * \param why      the reason shown in diagnostics, e.g. "another node publishes on /cmd_drive: /jackal_node"
    */
   void outputBlocked(bool blocked, const std::string& why = "");
+  /**
+   * \brief Whether the joint states are frozen (FrozenJointStates: a stream that keeps coming
+   *        with the same data while the wheels turn): while frozen the sensors count as lost, as
+   *        after sensor_timeout (kStale, zero command, the sample history restarts); kept until
+   *        the next call.
+   * \param frozen  true while the stream is frozen
+   * \param why     the reason shown in diagnostics and the log, e.g. "joint states frozen: ..."
+   */
+  void jointStatesFrozen(bool frozen, const std::string& why = "");
+  /// The joint states are frozen now (jointStatesFrozen(true)).
+  bool jointStatesFrozen() const { return joints_frozen_; }
 
   // ---- decisions
   /// Watchdogs at the clock's time (every timer tick). See the class comment.
@@ -198,7 +210,7 @@ public:
   double imuAge() const;
   /// Age of the last accepted set point [s]; -1 if there was none.
   double setPointAge() const;
-  /// A sample was accepted within sensor_timeout.
+  /// A sample was accepted within sensor_timeout and the joint states are not frozen.
   bool sensorsFresh() const;
   /// A set point was accepted within set_point_timeout.
   bool setPointFresh() const;
@@ -271,6 +283,8 @@ private:
   bool output_blocked_ = false;  ///< outputBlocked(): another publisher on the output topic
   std::string blocked_why_;      ///< its reason
   std::uint64_t blocked_events_ = 0;
+  bool joints_frozen_ = false;  ///< jointStatesFrozen(): the joint states repeat while the wheels turn
+  std::string frozen_why_;      ///< its reason
 };
 
 }  // namespace jackal_aic

@@ -10,6 +10,7 @@
 #include <limits>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -122,6 +123,137 @@ bool assignParamValue(T* member, const ParamValue& value)
   }
   return false;
 }
+
+/// The member at the end of a path of member pointers: memberAt<&A::b, &B::c>(a) is a.b.c (const
+/// if `root` is).
+template <auto First, auto... Rest, class Root>
+constexpr auto& memberAt(Root& root)
+{
+  if constexpr (sizeof...(Rest) == 0)
+  {
+    return root.*First;
+  }
+  else
+  {
+    return memberAt<Rest...>(root.*First);
+  }
+}
+
+/// The ParamType of a member of C++ type T (double, int, bool, std::string, std::vector<double>,
+/// std::vector<std::string>); any other type does not compile.
+template <class T>
+constexpr ParamType paramTypeOf()
+{
+  if constexpr (std::is_same_v<T, double>)
+  {
+    return ParamType::kDouble;
+  }
+  else if constexpr (std::is_same_v<T, int>)
+  {
+    return ParamType::kInt;
+  }
+  else if constexpr (std::is_same_v<T, bool>)
+  {
+    return ParamType::kBool;
+  }
+  else if constexpr (std::is_same_v<T, std::string>)
+  {
+    return ParamType::kString;
+  }
+  else if constexpr (std::is_same_v<T, std::vector<double>>)
+  {
+    return ParamType::kDoubleList;
+  }
+  else
+  {
+    static_assert(std::is_same_v<T, std::vector<std::string>>, "a parameter member of an unsupported type");
+    return ParamType::kStringList;
+  }
+}
+
+/**
+ * \brief One row of the schema, written field by field: each setter names the ParamSpec field it
+ *        sets, and the common row is the default (live, reconfigure level 0, optional, not a
+ *        per-order list, no choices). The member decides the row's type and scope.
+ *
+ * A stage parameter is one member of its struct nested in AicParams and one row here, e.g.
+ *
+ *     ParamRow("active_inference", "reference_delay")
+ *         .unit("s")
+ *         .atLeast(0.0)
+ *         .atMost(kMaxReferenceDelay)
+ *         .describe("Reference model: the latency from command to wheel response that the beliefs expect")
+ *         .member<&AicParams::reference, &ReferenceModelParams::delay>()
+ *
+ * member<Path...>() takes the path of member pointers from AicParams to the value (one for a
+ * member of AicParams itself); node<Path...>() the same from NodeParams. A row converts to its
+ * ParamSpec; the conversion throws std::logic_error naming the key if the row has no member or
+ * accessors, no description, or (a number, an integer or a list of numbers) no lower bound.
+ */
+class ParamRow
+{
+public:
+  /// \param group  dynamic_reconfigure group: loops, active_inference, robot, safety, node, output
+  /// \param key    YAML / rosparam / reconfigure name
+  ParamRow(const char* group, const char* key);
+
+  /// SI unit as in config/*.yaml comments (default "-").
+  ParamRow& unit(const char* unit);
+  /// One sentence, with the thesis equation where there is one.
+  ParamRow& describe(const char* description);
+  /// Lower bound, inclusive: value >= min.
+  ParamRow& atLeast(double min);
+  /// Lower bound, exclusive: value > min.
+  ParamRow& above(double min);
+  /// Upper bound, inclusive (default +infinity: none, the value still finite).
+  ParamRow& atMost(double max);
+  /// The node's own upper bound when below atMost() (ParamSpec::node_max).
+  ParamRow& nodeMax(double max);
+  /// Not changeable through dynamic_reconfigure (read at start).
+  ParamRow& notLive();
+  /// dynamic_reconfigure level bits (1: loop rate, 2: embedding order).
+  ParamRow& level(int bits);
+  /// No default: the node refuses to start without it.
+  ParamRow& required();
+  /// A list of numbers per generalized order: p+1 values or `channels` per order (order-major);
+  /// `slots` reconfigure slots "<key>_<i>" when live.
+  ParamRow& perOrder(int channels, int slots);
+  /// A string that must be one of `names`.
+  ParamRow& choices(std::vector<std::string> names);
+
+  /// The AicParams member at the end of the member-pointer path (controller scope).
+  template <auto... Path>
+  ParamRow& member()
+  {
+    using T = std::decay_t<decltype(memberAt<Path...>(std::declval<AicParams&>()))>;
+    spec_.type = paramTypeOf<T>();
+    spec_.scope = ParamScope::kController;
+    spec_.get_aic = [](const AicParams& p) -> ParamValue { return memberAt<Path...>(p); };
+    spec_.set_aic = [](AicParams& p, const ParamValue& v) { return assignParamValue(&memberAt<Path...>(p), v); };
+    return *this;
+  }
+  /// The NodeParams member at the end of the member-pointer path (node scope).
+  template <auto... Path>
+  ParamRow& node()
+  {
+    using T = std::decay_t<decltype(memberAt<Path...>(std::declval<NodeParams&>()))>;
+    spec_.type = paramTypeOf<T>();
+    spec_.scope = ParamScope::kNode;
+    spec_.get_node = [](const NodeParams& p) -> ParamValue { return memberAt<Path...>(p); };
+    spec_.set_node = [](NodeParams& p, const ParamValue& v) { return assignParamValue(&memberAt<Path...>(p), v); };
+    return *this;
+  }
+  /// An AicParams member stored as a string (an enumerator's name): its own accessors, type kString.
+  ParamRow& accessors(ParamValue (*get)(const AicParams&), bool (*set)(AicParams&, const ParamValue&));
+  /// A NodeParams member stored as a string: its own accessors, type kString.
+  ParamRow& accessors(ParamValue (*get)(const NodeParams&), bool (*set)(NodeParams&, const ParamValue&));
+
+  /// The row. \throws std::logic_error naming the key if it is incomplete (see the class).
+  operator ParamSpec() const;  // NOLINT(google-explicit-constructor): rows are listed as ParamSpecs
+
+private:
+  ParamSpec spec_;
+};
 
 /// The controller's rows (the keys of AicParams), in the order of `aic_params --yaml`.
 const std::vector<ParamSpec>& controllerParamSpecs();

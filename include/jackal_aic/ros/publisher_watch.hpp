@@ -40,6 +40,8 @@ public:
    * \return false if the master did not answer or the answer is malformed
    */
   static bool publishersOf(const std::string& topic, std::vector<std::string>* out, std::string* error = nullptr);
+  /// As publishersOf(), for the nodes the master lists as subscribers of `topic`.
+  static bool subscribersOf(const std::string& topic, std::vector<std::string>* out, std::string* error = nullptr);
 
   /**
    * \brief Start polling: the first poll at once (on the thread), then every `period`.
@@ -55,6 +57,8 @@ public:
   PublisherWatch& operator=(const PublisherWatch&) = delete;
 
 private:
+  /// publishersOf() (kind 0) or subscribersOf() (kind 1): getSystemState's list of that kind.
+  static bool registeredNodes(const std::string& topic, int kind, std::vector<std::string>* out, std::string* error);
   void run();
 
   std::string topic_;

@@ -9,16 +9,10 @@
 #include <cstdint>
 #include <string>
 
+#include "jackal_aic/params/stage_params.hpp"
+
 namespace jackal_aic
 {
-/// Settings of a TipGuard (the AicParams keys tip_guard_*; doc/active_inference.md).
-struct TipGuardParams
-{
-  double trip_pitch = 0.02;       ///< |theta_hat| that trips the guard [rad], > 0
-  double margin = 0.6;            ///< learned bound = margin x the acceleration at the lift's onset [-], in (0, 1]
-  double min_acceleration = 1.0;  ///< the learned bounds' floor [m/s^2], > 0
-};
-
 /**
  * \brief Watches the body's pitch while the robot brakes and learns the acceleration at which it
  *        starts to tip over.

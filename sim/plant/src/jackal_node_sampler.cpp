@@ -143,10 +143,18 @@ void JackalNodeSampler::advance(double now, std::vector<ResampledJointState>* ou
       if (r.repeated)
       {
         ++stats_.repeats;
+        ++repeat_run_;
+        stats_.max_repeat_run = std::max(stats_.max_repeat_run, repeat_run_);
+        stats_.max_held = std::max(stats_.max_held, t - first_published_);
       }
-      else if (published_seq_ > 0)
+      else
       {
-        stats_.skipped += latest_seq_ - published_seq_ - 1;
+        if (published_seq_ > 0)
+        {
+          stats_.skipped += latest_seq_ - published_seq_ - 1;
+        }
+        first_published_ = t;
+        repeat_run_ = 0;
       }
       if (ran_ && t - last_time_ < 0.5 * period_)
       {

@@ -245,7 +245,7 @@ TEST(Controller, MaxActionLeadBoundsTheActionAroundTheMeasuredWheels)
   for (const double lead : { 0.0, kLead })
   {
     AicParams p = thesisStandard();
-    p.max_action_lead = lead;
+    p.anti_windup.max_action_lead = lead;
     ActiveInferenceController c{ p };
     c.setGoal(Vector3(2.0, 0.0, 0.0));
     ASSERT_TRUE(c.setMeasurement(y));
@@ -280,8 +280,8 @@ TEST(Controller, MaxActionLeadTurnBoundsOnlyTheDifferentialLead)
     for (const double turn_lead : { 0.0, kTurnLead })
     {
       AicParams p = thesisStandard();
-      p.max_action_lead = kLead;
-      p.max_action_lead_turn = turn_lead;
+      p.anti_windup.max_action_lead = kLead;
+      p.anti_windup.max_action_lead_turn = turn_lead;
       ActiveInferenceController c{ p };
       c.setGoal(turn ? Vector3(0.0, 0.0, 1.0) : Vector3(1.0, 0.0, 0.0));
       ASSERT_TRUE(c.setMeasurement(y));
@@ -316,7 +316,7 @@ TEST(Controller, MaxActionLeadTurnIgnoresAnIsolatedWheel)
   YTilde y = YTilde::Zero(kYDim, 4);
   y(kOmegaLeft, 0) = 8.0;  // a biased left encoder
   AicParams p = thesisStandard();
-  p.max_action_lead_turn = 0.5;
+  p.anti_windup.max_action_lead_turn = 0.5;
   ActiveInferenceController c{ p };
   c.setSensorMask(static_cast<std::uint8_t>(0x1F & ~(1u << kOmegaLeft)));
   c.setGoal(Vector3(0.0, 0.0, 1.0));
@@ -335,7 +335,7 @@ TEST(Controller, MaxActionLeadNeverBreaksTheWheelClamp)
 {
   AicParams p = thesisStandard();
   p.max_wheel_speed = 5.0;
-  p.max_action_lead = 1.0;
+  p.anti_windup.max_action_lead = 1.0;
   ActiveInferenceController c{ p };
   c.setGoal(Vector3(0.0, 0.0, 0.0));
   YTilde y = YTilde::Zero(kYDim, 4);
@@ -381,7 +381,7 @@ TEST(Controller, ActionPriorIsTheGoalsWheelSpeeds)
   ActiveInferenceController off{ p };
   off.setGoal(Vector3(1.0, 0.0, 0.5));
   EXPECT_EQ(off.actionPrior(), Vector2::Zero());  // gain 0: the thesis controller
-  p.action_prior_gain = 0.8;
+  p.action_prior.gain = 0.8;
   ActiveInferenceController c{ p };
   ASSERT_TRUE(c.setGoal(Vector3(1.0, 0.0, 0.5)));
   // W = the wheel rows of R: omega_L,R = (v -+ w b_hat / 2) / (r alpha).
@@ -397,7 +397,7 @@ TEST(Controller, ActionPriorIsTheGoalsWheelSpeeds)
 TEST(Controller, SetActionIsBumplessWithAPrior)
 {
   AicParams p = thesisStandard();
-  p.action_prior_gain = 1.0;
+  p.action_prior.gain = 1.0;
   ActiveInferenceController c{ p };
   c.setGoal(Vector3(0.5, 0.0, 0.0));
   c.setAction(Vector2(1.0, 1.0));  // e.g. the measured wheels at a start
@@ -455,8 +455,8 @@ TEST(Controller, TheLeadNeverCutsThePriorAndNoClampIsStored)
   // it (the MCU handles a stock base's step itself). The wheel clamp (6 rad/s) does; once the
   // goal is within it again the command is the prior again: the cut was not stored in a_F.
   AicParams p = thesisStandard();
-  p.action_prior_gain = 1.0;
-  p.max_action_lead = 1.0;
+  p.action_prior.gain = 1.0;
+  p.anti_windup.max_action_lead = 1.0;
   p.max_wheel_speed = 6.0;
   p.k_a = 1e-6;  // the free-energy part does (almost) nothing
   ActiveInferenceController c{ p };
@@ -479,7 +479,7 @@ TEST(Controller, TheFreeEnergyActionDoesNotWindUpBeyondTheLead)
   // Wheels held still, no prior: a_F integrates up to the lead and holds there, and comes back
   // at once when the error reverses (no stored windup).
   AicParams p = thesisStandard();
-  p.max_action_lead = 1.0;
+  p.anti_windup.max_action_lead = 1.0;
   ActiveInferenceController c{ p };
   YTilde y = YTilde::Zero(kYDim, 4);
   ASSERT_TRUE(c.setMeasurement(y));
@@ -509,7 +509,7 @@ TEST(Controller, GeneralizedGoalAddsTheGoalsRateToTheAttractor)
   mu(0, 1) = 0.7;
   for (const bool generalized : { false, true })
   {
-    p.generalized_goal = generalized;
+    p.reference.generalized_goal = generalized;
     ActiveInferenceController c{ p };
     ASSERT_TRUE(c.setGoal(mu_d, rate));
     ASSERT_TRUE(c.setBeliefs(mu));
@@ -528,8 +528,8 @@ TEST(Controller, ReferenceModelDelaysAndFiltersTheGoal)
 {
   AicParams p = thesisStandard();
   p.belief_rate = 1000.0;
-  p.reference_time_constant = 0.1;
-  p.reference_delay = 0.05;
+  p.reference.time_constant = 0.1;
+  p.reference.delay = 0.05;
   ActiveInferenceController c{ p };
   ASSERT_TRUE(c.startReference(Vector3::Zero()));
   c.setGoal(Vector3(1.0, 0.0, -1.0));
@@ -556,9 +556,9 @@ TEST(Controller, ReferencePriorInvertsTheWheelLoopLag)
 {
   // a_ff = k_ff W (m + T_p m'): at the step, with m at rest, the prior leads the goal by T_p / T_r.
   AicParams p = thesisStandard();
-  p.reference_time_constant = 0.1;
-  p.action_prior_gain = 1.0;
-  p.action_prior_time_constant = 0.2;
+  p.reference.time_constant = 0.1;
+  p.action_prior.gain = 1.0;
+  p.action_prior.time_constant = 0.2;
   ActiveInferenceController c{ p };
   ASSERT_TRUE(c.startReference(Vector3::Zero()));
   const double v = p.wheel_radius;  // 1 rad/s of wheel speed

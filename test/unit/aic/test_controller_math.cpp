@@ -225,7 +225,7 @@ TEST(ControllerMath, ExactSeriesCoversLargeJitterAccurately)
   // With ||M|| dh <= kExactSeriesLimit the matrices are reused, and the result matches an
   // integration recomputed for every h (a fresh controller per step) to ~1e-7.
   AicParams params = jackal_aic::recommendedAicParams();
-  params.reference_time_constant = 0.0;  // a fresh controller per step restarts the reference model
+  params.reference.time_constant = 0.0;  // a fresh controller per step restarts the reference model
   ActiveInferenceController jitter(params);
   std::mt19937 rng(5);
   YTilde y = YTilde::Zero(kYDim, params.numOrders());

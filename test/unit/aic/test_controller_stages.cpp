@@ -58,7 +58,7 @@ TEST(ReferenceModel, GeneralizedGoalPredictsTheGoalAlongItsRate)
   EXPECT_EQ(r.attractorRate(), Vector3(1.0, 0.0, -2.0));
   // Turning generalized_goal off drops the rate held.
   p.generalized_goal = false;
-  r.setParams(p);
+  r.setParams(p, 1.0e3);
   EXPECT_TRUE(r.goalRate().isZero());
   EXPECT_EQ(r.target(), Vector3(0.5, 0.0, 1.0));
 }
@@ -75,15 +75,13 @@ TEST(ReferenceModel, TheYawRateHasItsOwnLead)
   EXPECT_TRUE(r.target().isApprox(Vector3(0.6, 0.1, 0.5), 1e-15));
   // No angular lead: the yaw rate's goal is not predicted, the linear one still is.
   p.goal_lead_angular = 0.0;
-  r.setParams(p);
+  r.setParams(p, 1.0e3);
   EXPECT_TRUE(r.target().isApprox(Vector3(0.6, 0.1, 1.0), 1e-15));
 }
 
 TEST(ReferenceModel, RejectsNonFiniteAndRunawayGoals)
 {
-  ReferenceModelParams p;
-  p.goal_limit = 10.0;
-  ReferenceModel r(p);
+  ReferenceModel r(ReferenceModelParams(), 10.0);
   ASSERT_TRUE(r.setGoal(Vector3(1.0, 0.0, 0.0)));
   EXPECT_FALSE(r.setGoal(Vector3(kNaN, 0.0, 0.0)));
   EXPECT_FALSE(r.setGoal(Vector3(11.0, 0.0, 0.0)));
@@ -137,8 +135,8 @@ TEST(ReferenceModel, TheWheelBoundMakesATurnWaitForTheInnerWheel)
   p.max_acceleration_linear = 100.0;  // the body bounds out of the way
   p.max_acceleration_angular = 100.0;
   p.max_acceleration_wheel = 2.0;
-  p.wheel_separation = 0.5;
   ReferenceModel r(p);
+  r.setWheelSeparation(0.5);
   ReferenceModel free(referenceOn(0.005, 0.0));
   const Vector3 goal(0.5, 0.0, 0.5);
   ASSERT_TRUE(r.setGoal(goal));
@@ -170,10 +168,10 @@ TEST(ReferenceModel, TheWheelBoundMakesATurnWaitForTheInnerWheel)
   EXPECT_TRUE(r.path().isApprox(goal, 1e-9)) << r.path().transpose();
   // The learned separation moves the rim speeds' frame; a non-finite or non-positive one is ignored.
   r.setWheelSeparation(0.6);
-  EXPECT_EQ(r.params().wheel_separation, 0.6);
+  EXPECT_EQ(r.wheelSeparation(), 0.6);
   r.setWheelSeparation(kNaN);
   r.setWheelSeparation(0.0);
-  EXPECT_EQ(r.params().wheel_separation, 0.6);
+  EXPECT_EQ(r.wheelSeparation(), 0.6);
 }
 
 TEST(ReferenceModel, TheDecelerationLimitBoundsOnlyTheSlowingOfTheLinearPath)
@@ -217,7 +215,7 @@ TEST(ReferenceModel, TheDecelerationLimitBoundsOnlyTheSlowingOfTheLinearPath)
   EXPECT_NEAR(r.path()(0), -0.4, 1e-9);
   // 0 = the acceleration's bound both ways (the default, the thesis configurations unchanged).
   p.max_deceleration_linear = 0.0;
-  r.setParams(p);
+  r.setParams(p, 1.0e3);
   r.accelerationBounds(&lo, &hi);
   EXPECT_EQ(lo, -r.accelerationLimit());
   EXPECT_EQ(hi, r.accelerationLimit());
@@ -479,8 +477,7 @@ TEST(AntiWindup, AnUnclampedStepIntegratesFreely)
 TEST(AntiWindup, TheWheelClampSaturatesAndStopsTheIntegration)
 {
   AntiWindupParams p;
-  p.max_wheel_speed = 5.0;
-  const AntiWindup aw(p);
+  const AntiWindup aw(p, 5.0);
   const Vector2 a_F(4.0, -4.0);
   const Vector2 candidate(6.0, -6.0);  // a_dot > 0 on the left, < 0 on the right
   const Vector2 prior(0.5, -0.5);

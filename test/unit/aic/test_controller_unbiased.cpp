@@ -57,8 +57,8 @@ TEST(ControllerUnbiased, DefaultsAreTheThesisModelAndTheRecommendedLearns)
 {
   const AicParams p;
   EXPECT_EQ(p.belief_model, BeliefModel::kGoal);
-  EXPECT_FALSE(p.learn_wheel_separation);
-  EXPECT_TRUE(recommendedAicParams().learn_wheel_separation);
+  EXPECT_FALSE(p.separation_learner.enabled);
+  EXPECT_TRUE(recommendedAicParams().separation_learner.enabled);
   EXPECT_EQ(recommendedAicParams().belief_model, BeliefModel::kGoal);
   ActiveInferenceController c{ p };
   c.setGoal(Vector3(0.5, 0.0, 0.2));
@@ -96,7 +96,7 @@ TEST(ControllerUnbiased, BeliefFollowsTheDataNotTheGoal)
 TEST(ControllerUnbiased, ActionDrivenByTheGoalThroughTheBelief)
 {
   AicParams p = unbiased();
-  p.action_prior_gain = 0.0;
+  p.action_prior.gain = 0.0;
   ActiveInferenceController c{ p };
   c.setGoal(Vector3(1.0, 0.0, 0.0));
   c.startReference(Vector3(1.0, 0.0, 0.0));
@@ -119,8 +119,8 @@ TEST(ControllerUnbiased, TheGoalPriorTargetsTheExpectedResponse)
   // at the acceleration limit, 0.18 m/s by then), the expected response with T_g = 0.05 s lags it,
   // so the action's goal prior asks for less; after 10 T_g they agree.
   AicParams p = unbiased();
-  p.action_prior_gain = 0.0;
-  p.reference_delay = 0.0;
+  p.action_prior.gain = 0.0;
+  p.reference.delay = 0.0;
   AicParams lagged = p;
   lagged.goal_response_time_constant = 0.05;
   ActiveInferenceController c{ p };
@@ -173,8 +173,8 @@ TEST(ControllerUnbiased, TheGoalResponseDoesNotChangeTheGoalModel)
 TEST(ControllerUnbiased, PriorTargetIsTheDelayedAction)
 {
   AicParams p = unbiased();
-  p.reference_delay = 0.1;
-  p.action_prior_gain = 0.0;
+  p.reference.delay = 0.1;
+  p.action_prior.gain = 0.0;
   ActiveInferenceController c{ p };
   ASSERT_TRUE(c.setMeasurement(arcMeasurement(c, 0.0, 0.0, p.wheel_separation)));
   c.setGoal(Vector3(1.0, 0.0, 0.0));
@@ -200,7 +200,7 @@ TEST(ControllerUnbiased, LearnsTheEffectiveSeparationOnArcs)
   for (const double start : { 1.0, 2.0 })
   {
     AicParams p = unbiased();
-    p.learn_wheel_separation = true;
+    p.separation_learner.enabled = true;
     p.wheel_separation = start * 0.5621;
     ActiveInferenceController c{ p };
     const double b_eff = 1.4 * 0.5621;
@@ -219,7 +219,7 @@ TEST(ControllerUnbiased, LearnsTheEffectiveSeparationOnArcs)
 TEST(ControllerUnbiased, LearningFrozenWhileASensorIsIsolatedAndResettable)
 {
   AicParams p = unbiased();
-  p.learn_wheel_separation = true;
+  p.separation_learner.enabled = true;
   ActiveInferenceController c{ p };
   ASSERT_TRUE(c.setMeasurement(live(arcMeasurement(c, 0.5, 0.5, 1.4 * p.wheel_separation))));
   c.setSensorMask(static_cast<std::uint8_t>(((1u << kYDim) - 1u) & ~(1u << kGyroZ)));
@@ -231,12 +231,12 @@ TEST(ControllerUnbiased, LearningFrozenWhileASensorIsIsolatedAndResettable)
   EXPECT_GT(c.separationLearner().separation(), p.wheel_separation);
   EXPECT_TRUE(c.setLearnedSeparation(0.7));
   EXPECT_DOUBLE_EQ(c.model().wheelSeparation(), 0.7);
-  EXPECT_DOUBLE_EQ(c.referenceModel().params().wheel_separation, 0.7) << "the path's wheel bound uses b_hat";
+  EXPECT_DOUBLE_EQ(c.referenceModel().wheelSeparation(), 0.7) << "the path's wheel bound uses b_hat";
   c.resetLearning();
   EXPECT_DOUBLE_EQ(c.model().wheelSeparation(), p.wheel_separation);
-  EXPECT_DOUBLE_EQ(c.referenceModel().params().wheel_separation, p.wheel_separation);
+  EXPECT_DOUBLE_EQ(c.referenceModel().wheelSeparation(), p.wheel_separation);
   // Learning off: b_hat never moves.
-  p.learn_wheel_separation = false;
+  p.separation_learner.enabled = false;
   ActiveInferenceController d{ p };
   ASSERT_TRUE(d.setMeasurement(arcMeasurement(d, 0.5, 0.5, 1.4 * p.wheel_separation)));
   runBeliefs(&d, 1.0);
@@ -246,9 +246,9 @@ TEST(ControllerUnbiased, LearningFrozenWhileASensorIsIsolatedAndResettable)
 TEST(ControllerUnbiased, SeparationBoundsValidated)
 {
   AicParams p;
-  p.separation_min = 1.0;
-  p.separation_max = 0.5;
+  p.separation_learner.min = 1.0;
+  p.separation_learner.max = 0.5;
   EXPECT_FALSE(p.validate().empty());
-  p.separation_max = 2.0;
+  p.separation_learner.max = 2.0;
   EXPECT_TRUE(p.validate().empty());
 }

@@ -9,9 +9,9 @@ using namespace jackal_aic;
 
 namespace
 {
-AicParams limits()
+ReferenceModelParams limits()
 {
-  AicParams p;
+  ReferenceModelParams p;
   p.goal_rate_hold = 0.15;
   p.max_goal_rate_linear = 4.0;
   p.max_goal_rate_angular = 8.0;

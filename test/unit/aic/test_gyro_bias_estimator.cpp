@@ -217,7 +217,7 @@ TEST(GyroBiasEstimator, ThePipelineRemovesTheOffsetBeforeTheController)
   {
     sample(0.04);
   }
-  aic.learn_gyro_bias = false;
+  aic.gyro_bias.enabled = false;
   pipe.setParams(aic, fdi);
   EXPECT_EQ(pipe.gyroBias().bias(), 0.0);
   EXPECT_NEAR(sample(0.04), 0.04, 1e-12);

@@ -168,9 +168,9 @@ TEST(NoAlloc, UnbiasedBeliefsAndLearningUpdatePath)
   {
     AicParams params = recommendedAicParams();
     params.belief_model = BeliefModel::kUnbiased;
-    params.learn_wheel_separation = true;
-    params.learn_precision = true;
-    params.reference_delay = 0.085;
+    params.separation_learner.enabled = true;
+    params.precision_learner.enabled = true;
+    params.reference.delay = 0.085;
     params.goal_response_time_constant = 0.05;
     params.integrator = integ;
     ActiveInferenceController c(params);
@@ -223,8 +223,7 @@ TEST(NoAlloc, ControllerStagesUpdatePath)
   AntiWindupParams aw;
   aw.max_action_lead = 1.0;
   aw.max_action_lead_turn = 0.5;
-  aw.max_wheel_speed = 5.0;
-  const AntiWindup anti_windup(aw);
+  const AntiWindup anti_windup(aw, 5.0);
   const SkidSteerModel model(0.098, 1.0, 0.5621);
   Vector2 a_F = Vector2::Zero();
   AllocationCounter counter;

@@ -23,12 +23,18 @@ constexpr double kH = 0.001;    // 1 kHz [s]
 constexpr double kWheel = 5.0;  // a driving wheel speed [rad/s] (0.49 m/s)
 constexpr std::uint8_t kAll = (1u << kYDim) - 1u;
 
-/// Configured precision 20 (var_y 0.05) on every channel; gyro and wheels learned.
+/// The default settings.
 PrecisionLearnerParams params()
 {
-  PrecisionLearnerParams p;
-  p.configured = { { 20.0, 20.0, 20.0, 20.0, 20.0 } };
-  return p;
+  return PrecisionLearnerParams();
+}
+
+/// Configured precision 20 (var_y 0.05) on every channel; gyro and wheels learned.
+PrecisionChannels channels()
+{
+  PrecisionChannels c;
+  c.configured = { { 20.0, 20.0, 20.0, 20.0, 20.0 } };
+  return c;
 }
 
 /// Feed `seconds` of zero-mean Gaussian errors with standard deviation sigma[j] per channel while
@@ -63,7 +69,7 @@ Range feed(PrecisionLearner* l, const std::array<double, kYDim>& sigma, double s
 
 TEST(PrecisionLearner, StartsAtTheConfiguredPrecisions)
 {
-  PrecisionLearner l(params());
+  PrecisionLearner l(params(), channels());
   for (int j = 0; j < kYDim; ++j)
   {
     EXPECT_EQ(l.precision(j), 20.0);
@@ -79,7 +85,7 @@ TEST(PrecisionLearner, ConvergesToTheInverseVarianceOfWhiteNoise)
 {
   // sigma 0.1 on the gyro: Pi -> 1 / 0.01 = 100 (5 x configured, inside [2, 200]); sigma 0.3 on the
   // left wheel: 1 / 0.09 = 11.1 (below configured); the right wheel without error goes to the bound.
-  PrecisionLearner l(params());
+  PrecisionLearner l(params(), channels());
   feed(&l, { { 0.1, 0.3, 0.0, 0.1, 0.1 } }, 60.0);  // 6 time constants 2 / kappa_pi = 10 s
   EXPECT_NEAR(l.precision(kGyroZ), 100.0, 5.0);
   EXPECT_NEAR(l.precision(kOmegaLeft), 1.0 / 0.09, 0.05 / 0.09);
@@ -99,7 +105,7 @@ TEST(PrecisionLearner, FollowsBothWaysAtTheStatedTimeConstant)
   // From the configured 20 to 1 / 0.01 = 100. Upwards ln Pi rises at most kappa_pi / 2 = 0.1 per
   // second (d ln Pi/dt = -kappa_pi (Pi s - 1) / 2 with s -> 0.01), near the optimum it relaxes with
   // 2 / kappa_pi = 10 s: after 10 s less than 1 / ln 5 = 62 % of the way in ln Pi, within 5 % after 60 s.
-  PrecisionLearner l(params());
+  PrecisionLearner l(params(), channels());
   feed(&l, { { 0.1, 0.1, 0.1, 0.0, 0.0 } }, 10.0);
   const double share = std::log(l.precision(kGyroZ) / 20.0) / std::log(100.0 / 20.0);
   EXPECT_GT(share, 0.35);
@@ -118,7 +124,7 @@ TEST(PrecisionLearner, StaysWithinItsBounds)
   p.min_factor = 0.5;
   p.max_factor = 2.0;
   p.rate = 5.0;  // fast, to hit the bounds hard
-  PrecisionLearner l(p);
+  PrecisionLearner l(p, channels());
   Range r = feed(&l, { { 100.0, 0.0, 100.0, 0.0, 0.0 } }, 20.0, kGyroZ);
   EXPECT_GE(r.lo, 10.0 * (1.0 - 1e-12));
   EXPECT_DOUBLE_EQ(l.precision(kGyroZ), 10.0);
@@ -130,7 +136,7 @@ TEST(PrecisionLearner, StaysWithinItsBounds)
 
 TEST(PrecisionLearner, FrozenWhileMaskedNearRestOrSaturated)
 {
-  PrecisionLearner l(params());
+  PrecisionLearner l(params(), channels());
   feed(&l, { { 0.1, 0.1, 0.1, 0.0, 0.0 } }, 5.0);
   const auto before = l.precisions();
   const double s_before = l.meanSquaredError(kGyroZ);
@@ -158,8 +164,8 @@ TEST(PrecisionLearner, ASingleOutlierMovesItByAtMostTheStatedAmount)
 {
   // Two learners fed the same noise; one sees one sample of a 1e6 error on every channel. The
   // stated bound on its total effect: |d ln Pi| <= kOutlierClip^2 kappa_pi h / 2 = 2.5e-3.
-  PrecisionLearner a(params());
-  PrecisionLearner b(params());
+  PrecisionLearner a(params(), channels());
+  PrecisionLearner b(params(), channels());
   feed(&a, { { 0.1, 0.1, 0.1, 0.0, 0.0 } }, 20.0);
   feed(&b, { { 0.1, 0.1, 0.1, 0.0, 0.0 } }, 20.0);
   ASSERT_EQ(a.precisions(), b.precisions());
@@ -189,7 +195,7 @@ TEST(PrecisionLearner, ASingleOutlierMovesItByAtMostTheStatedAmount)
 
 TEST(PrecisionLearner, IgnoresBadInput)
 {
-  PrecisionLearner l(params());
+  PrecisionLearner l(params(), channels());
   const double nan = std::numeric_limits<double>::quiet_NaN();
   Vector5 eps = Vector5::Constant(0.1);
   EXPECT_EQ(l.update(0.0, eps, kWheel, kWheel, kAll, false), PrecisionLearner::State::kBadInput);
@@ -213,10 +219,11 @@ TEST(PrecisionLearner, RejectsInvalidParamsNamingEachRule)
   p.max_factor = 0.5;
   p.time_constant = 0.0;
   p.min_wheel_speed = std::numeric_limits<double>::quiet_NaN();
-  p.configured[kAccelX] = 0.0;
+  PrecisionChannels c = channels();
+  c.configured[kAccelX] = 0.0;
   try
   {
-    PrecisionLearner l(p);
+    PrecisionLearner l(p, c);
     FAIL() << "no exception";
   }
   catch (const std::invalid_argument& e)
@@ -228,33 +235,34 @@ TEST(PrecisionLearner, RejectsInvalidParamsNamingEachRule)
       EXPECT_NE(what.find(key), std::string::npos) << key << " missing from: " << what;
     }
   }
-  PrecisionLearner l(params());
-  EXPECT_THROW(l.setParams(p), std::invalid_argument);
+  PrecisionLearner l(params(), channels());
+  EXPECT_THROW(l.setParams(p, channels()), std::invalid_argument);
   EXPECT_EQ(l.params().rate, params().rate);
 }
 
 TEST(PrecisionLearner, SetParamsKeepsWhatWasLearnedUnlessTheConfigurationChanged)
 {
-  PrecisionLearner l(params());
+  PrecisionLearner l(params(), channels());
   feed(&l, { { 0.1, 0.1, 0.1, 0.0, 0.0 } }, 30.0);
   const double learned = l.precision(kGyroZ);
   ASSERT_GT(learned, 60.0);
   PrecisionLearnerParams p = params();
+  PrecisionChannels c = channels();
   p.rate = 0.5;
-  l.setParams(p);
+  l.setParams(p, c);
   EXPECT_EQ(l.precision(kGyroZ), learned);
   p.max_factor = 2.0;  // the new bound clamps it
-  l.setParams(p);
+  l.setParams(p, c);
   EXPECT_DOUBLE_EQ(l.precision(kGyroZ), 40.0);
-  p.configured[kGyroZ] = 10.0;  // another configuration: start again
-  l.setParams(p);
+  c.configured[kGyroZ] = 10.0;  // another configuration: start again
+  l.setParams(p, c);
   EXPECT_EQ(l.precision(kGyroZ), 10.0);
   EXPECT_EQ(l.learningSteps(), 0u);
 }
 
 TEST(PrecisionLearner, ApplyToWritesOrderZeroOfTheLearnedChannels)
 {
-  PrecisionLearner l(params());
+  PrecisionLearner l(params(), channels());
   YTilde pi_y = YTilde::Constant(kYDim, 3, 7.0);
   feed(&l, { { 0.1, 0.1, 0.1, 0.0, 0.0 } }, 1.0);
   EXPECT_TRUE(l.changedSince(PrecisionLearner::kApplyTolerance));
@@ -271,22 +279,25 @@ TEST(PrecisionLearner, ApplyToWritesOrderZeroOfTheLearnedChannels)
 TEST(PrecisionLearner, ParamsFromTheController)
 {
   AicParams a = recommendedAicParams();
-  a.precision_learning_rate = 0.3;
-  a.precision_min_factor = 0.2;
-  a.precision_max_factor = 5.0;
-  a.precision_time_constant = 2.0;
-  a.precision_min_wheel_speed = 1.0;
-  PrecisionLearnerParams p = precisionLearnerParams(a);
-  EXPECT_EQ(p.configured[kGyroZ], 1.0 / a.var_y[0]);
-  EXPECT_EQ(p.channels, (1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight));
+  a.precision_learner.rate = 0.3;
+  a.precision_learner.min_factor = 0.2;
+  a.precision_learner.max_factor = 5.0;
+  a.precision_learner.time_constant = 2.0;
+  a.precision_learner.min_wheel_speed = 1.0;
+  const PrecisionChannels c = precisionChannels(a);
+  EXPECT_EQ(c.configured[kGyroZ], 1.0 / a.var_y[0]);
+  EXPECT_EQ(c.learned, (1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight));
+  // The controller's learner takes AicParams::precision_learner as it is.
+  const ActiveInferenceController ctl(a);
+  const PrecisionLearnerParams& p = ctl.precisionLearner().params();
   EXPECT_EQ(p.rate, 0.3);
   EXPECT_EQ(p.min_factor, 0.2);
   EXPECT_EQ(p.max_factor, 5.0);
   EXPECT_EQ(p.time_constant, 2.0);
   EXPECT_EQ(p.min_wheel_speed, 1.0);
+  EXPECT_EQ(ctl.precisionLearner().channels().configured, c.configured);
   a.accel_in_model = true;
-  EXPECT_EQ(precisionLearnerParams(a).channels,
-            (1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight) | (1u << kAccelX));
+  EXPECT_EQ(precisionChannels(a).learned, (1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight) | (1u << kAccelX));
 }
 
 TEST(PrecisionLearnerParams, ValidationNamesTheKey)
@@ -295,25 +306,25 @@ TEST(PrecisionLearnerParams, ValidationNamesTheKey)
   // and the controller refuses it.
   struct Case
   {
-    double AicParams::*member;
+    double PrecisionLearnerParams::*member;
     const char* key;
     double bad;
   };
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  for (const Case& c : { Case{ &AicParams::precision_learning_rate, "precision_learning_rate", -0.1 },
-                         Case{ &AicParams::precision_learning_rate, "precision_learning_rate", nan },
-                         Case{ &AicParams::precision_min_factor, "precision_min_factor", 0.0 },
-                         Case{ &AicParams::precision_min_factor, "precision_min_factor", 1.5 },
-                         Case{ &AicParams::precision_max_factor, "precision_max_factor", 0.5 },
-                         Case{ &AicParams::precision_max_factor, "precision_max_factor", 2.0e6 },
-                         Case{ &AicParams::precision_time_constant, "precision_time_constant", 0.0 },
-                         Case{ &AicParams::precision_time_constant, "precision_time_constant", -1.0 },
-                         Case{ &AicParams::precision_min_wheel_speed, "precision_min_wheel_speed", -0.1 },
-                         Case{ &AicParams::precision_min_wheel_speed, "precision_min_wheel_speed", nan } })
+  for (const Case& c : { Case{ &PrecisionLearnerParams::rate, "precision_learning_rate", -0.1 },
+                         Case{ &PrecisionLearnerParams::rate, "precision_learning_rate", nan },
+                         Case{ &PrecisionLearnerParams::min_factor, "precision_min_factor", 0.0 },
+                         Case{ &PrecisionLearnerParams::min_factor, "precision_min_factor", 1.5 },
+                         Case{ &PrecisionLearnerParams::max_factor, "precision_max_factor", 0.5 },
+                         Case{ &PrecisionLearnerParams::max_factor, "precision_max_factor", 2.0e6 },
+                         Case{ &PrecisionLearnerParams::time_constant, "precision_time_constant", 0.0 },
+                         Case{ &PrecisionLearnerParams::time_constant, "precision_time_constant", -1.0 },
+                         Case{ &PrecisionLearnerParams::min_wheel_speed, "precision_min_wheel_speed", -0.1 },
+                         Case{ &PrecisionLearnerParams::min_wheel_speed, "precision_min_wheel_speed", nan } })
   {
     AicParams p = recommendedAicParams();
-    p.learn_precision = true;
-    p.*(c.member) = c.bad;
+    p.precision_learner.enabled = true;
+    p.precision_learner.*(c.member) = c.bad;
     const auto v = p.validate();
     ASSERT_EQ(v.size(), 1u) << c.key << " = " << c.bad;
     EXPECT_EQ(v[0].name, c.key);
@@ -329,10 +340,10 @@ TEST(PrecisionLearnerParams, ValidationNamesTheKey)
     }
   }
   AicParams edge = recommendedAicParams();
-  edge.precision_min_factor = 1.0;
-  edge.precision_max_factor = 1.0;
-  edge.precision_learning_rate = 0.0;
-  edge.precision_min_wheel_speed = 0.0;
+  edge.precision_learner.min_factor = 1.0;
+  edge.precision_learner.max_factor = 1.0;
+  edge.precision_learner.rate = 0.0;
+  edge.precision_learner.min_wheel_speed = 0.0;
   EXPECT_TRUE(edge.validate().empty());
 }
 
@@ -379,10 +390,10 @@ TEST(ControllerPrecisionLearning, OffLeavesTheControllerUnchanged)
   // learning off: the precision_* settings change nothing, bit for bit.
   AicParams p = recommendedAicParams();
   ActiveInferenceController a(p);
-  p.precision_learning_rate = 5.0;
-  p.precision_min_factor = 0.9;
-  p.precision_max_factor = 1.1;
-  p.precision_time_constant = 0.01;
+  p.precision_learner.rate = 5.0;
+  p.precision_learner.min_factor = 0.9;
+  p.precision_learner.max_factor = 1.1;
+  p.precision_learner.time_constant = 0.01;
   ActiveInferenceController b(p);
   drive(&a, 5.0);
   drive(&b, 5.0);
@@ -395,7 +406,7 @@ TEST(ControllerPrecisionLearning, OffLeavesTheControllerUnchanged)
 TEST(ControllerPrecisionLearning, TheLearnedPrecisionsReplaceTheConfiguredOnes)
 {
   AicParams p = recommendedAicParams();
-  p.learn_precision = true;
+  p.precision_learner.enabled = true;
   ActiveInferenceController c(p);
   drive(&c, 30.0);
   const PrecisionLearner& l = c.precisionLearner();
@@ -408,8 +419,8 @@ TEST(ControllerPrecisionLearning, TheLearnedPrecisionsReplaceTheConfiguredOnes)
     {
       EXPECT_NE(l.precision(j), configured(j, 0)) << j;
       EXPECT_NEAR(c.precisionY()(j, 0), l.precision(j), PrecisionLearner::kApplyTolerance * l.precision(j)) << j;
-      EXPECT_GE(l.precision(j), p.precision_min_factor * configured(j, 0)) << j;
-      EXPECT_LE(l.precision(j), p.precision_max_factor * configured(j, 0)) << j;
+      EXPECT_GE(l.precision(j), p.precision_learner.min_factor * configured(j, 0)) << j;
+      EXPECT_LE(l.precision(j), p.precision_learner.max_factor * configured(j, 0)) << j;
     }
     else
     {

@@ -222,7 +222,7 @@ TEST(ControllerRobotModel, BeliefsAreTheMeasuredTwistAndTheActionTheGoalsWheels)
 {
   AicParams p = recommendedAicParams();
   p.belief_model = BeliefModel::kRobot;
-  p.learn_wheel_separation = false;
+  p.separation_learner.enabled = false;
   ActiveInferenceController c(p);
   ASSERT_TRUE(c.setGoal(Vector3(0.5, 0.0, 0.0)));
   // The robot drives at 0.5 m/s on both wheels; after a few seconds the belief is the measured

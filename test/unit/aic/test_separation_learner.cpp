@@ -20,12 +20,10 @@ constexpr double kLive = 1e-3;     // a live gyro's rate in a steady turn [rad/s
 constexpr double kPi = 0.5;        // Pi_b: the recommended gyro precision 1 / var_y[0]
 constexpr double kH = 0.001;       // 1 kHz [s]
 
-SeparationLearnerParams params(double initial)
+/// A learner of settings p on the Jackal's wheels (r = kR, alpha = 1), starting at `initial` [m].
+SeparationLearner learner(double initial, const SeparationLearnerParams& p = SeparationLearnerParams())
 {
-  SeparationLearnerParams p;
-  p.wheel_radius = kR;
-  p.initial = initial;
-  return p;
+  return SeparationLearner(p, kR, 1.0, initial);
 }
 
 /// Deterministic zero-mean noise in [-a, a] (linear congruential generator).
@@ -61,7 +59,7 @@ TEST(SeparationLearner, ConvergesFromTrackAndTwiceTrack)
     const double b_eff = ratio * kTrack;
     for (const double start : { 1.0, 2.0 })
     {
-      SeparationLearner l(params(start * kTrack));
+      SeparationLearner l = learner(start * kTrack);
       driveArc(&l, 0.5, 0.5, b_eff, 10.0);
       EXPECT_NEAR(l.separation(), b_eff, 0.05 * b_eff) << "ratio " << ratio << " start " << start;
       driveArc(&l, 0.5, 0.5, b_eff, 10.0);
@@ -74,7 +72,7 @@ TEST(SeparationLearner, ConvergesFromTrackAndTwiceTrack)
 TEST(SeparationLearner, ConvergesWithNoiseAndBothTurnDirections)
 {
   const double b_eff = 1.4 * kTrack;
-  SeparationLearner l(params(kTrack));
+  SeparationLearner l = learner(kTrack);
   driveArc(&l, 0.5, -0.5, b_eff, 10.0, 0.02);
   EXPECT_NEAR(l.separation(), b_eff, 0.05 * b_eff);
   driveArc(&l, 0.0, 1.0, b_eff, 10.0, 0.02);  // turning in place
@@ -83,10 +81,10 @@ TEST(SeparationLearner, ConvergesWithNoiseAndBothTurnDirections)
 
 TEST(SeparationLearner, Bounded)
 {
-  SeparationLearnerParams p = params(kTrack);
+  SeparationLearnerParams p;
   p.min = 0.5;
   p.max = 0.7;
-  SeparationLearner l(p);
+  SeparationLearner l = learner(kTrack, p);
   // Effective separations beyond the bounds but within the plausible window [min / 2, 2 max]:
   // b_hat goes to the bound.
   driveArc(&l, 0.5, 0.5, 2.2 * kTrack, 20.0);
@@ -111,7 +109,7 @@ TEST(SeparationLearner, FrozenUnderEachCondition)
   const double b_eff = 1.4 * kTrack;
   const double wl = (0.5 - 0.25 * b_eff) / kR;
   const double wr = (0.5 + 0.25 * b_eff) / kR;
-  SeparationLearner l(params(kTrack));
+  SeparationLearner l = learner(kTrack);
   for (int k = 0; k < 1000; ++k)
   {
     EXPECT_EQ(l.update(kH, 0.5, kLive, wl, wr, 0.0, 0.0, kPi, false, false), SeparationLearner::State::kSensorFault);
@@ -146,11 +144,11 @@ TEST(SeparationLearner, MovesAtMostMaxRatePerSecond)
 {
   // A disagreement that the gradient alone would follow within a fraction of a second (a gyro
   // fault before the fault monitor isolates it): b_hat moves by at most max_rate b_hat per second.
-  SeparationLearnerParams p = params(kTrack);
+  SeparationLearnerParams p;
   p.max_rate = 0.05;
-  SeparationLearner limited(p);
+  SeparationLearner limited = learner(kTrack, p);
   p.max_rate = 0.0;  // unlimited
-  SeparationLearner free(p);
+  SeparationLearner free = learner(kTrack, p);
   driveArc(&limited, 0.5, 1.0, 2.0 * kTrack, 0.2);
   driveArc(&free, 0.5, 1.0, 2.0 * kTrack, 0.2);
   EXPECT_GT(free.separation(), 1.1 * kTrack) << "the control: the unlimited gradient moves fast";
@@ -160,27 +158,27 @@ TEST(SeparationLearner, MovesAtMostMaxRatePerSecond)
 
 TEST(SeparationLearner, ZeroRateOrPrecisionNeverMoves)
 {
-  SeparationLearnerParams p = params(kTrack);
+  SeparationLearnerParams p;
   p.rate = 0.0;
-  SeparationLearner l(p);
+  SeparationLearner l = learner(kTrack, p);
   driveArc(&l, 0.5, 0.5, 1.4 * kTrack, 2.0);
   EXPECT_EQ(l.separation(), kTrack);
 }
 
 TEST(SeparationLearner, RejectsBadParams)
 {
-  SeparationLearnerParams p = params(kTrack);
+  SeparationLearnerParams p;
   p.min = 0.8;  // initial below min
-  EXPECT_THROW(SeparationLearner{ p }, std::invalid_argument);
-  p = params(kTrack);
+  EXPECT_THROW(learner(kTrack, p), std::invalid_argument);
+  p = SeparationLearnerParams();
   p.rate = -1.0;
-  EXPECT_THROW(SeparationLearner{ p }, std::invalid_argument);
-  p = params(kTrack);
+  EXPECT_THROW(learner(kTrack, p), std::invalid_argument);
+  p = SeparationLearnerParams();
   p.max_yaw_acceleration = 0.0;
-  EXPECT_THROW(SeparationLearner{ p }, std::invalid_argument);
-  p = params(kTrack);
+  EXPECT_THROW(learner(kTrack, p), std::invalid_argument);
+  p = SeparationLearnerParams();
   p.max = std::numeric_limits<double>::infinity();
-  EXPECT_THROW(SeparationLearner{ p }, std::invalid_argument);
+  EXPECT_THROW(learner(kTrack, p), std::invalid_argument);
   EXPECT_STREQ(toString(SeparationLearner::State::kSaturated), "saturated");
   EXPECT_STREQ(toString(SeparationLearner::State::kImplausible), "implausible disagreement");
   EXPECT_STREQ(toString(SeparationLearner::State::kStuckGyro), "stuck gyro");

@@ -73,6 +73,8 @@ struct Sensors
   std::vector<double> position{ 0.0, 0.0, 0.0, 0.0 };
   std::vector<double> velocity{ 0.0, 0.0, 0.0, 0.0 };
   std::vector<double> effort;
+  double last_stamp = 0.0;
+  bool has_last = false;
 
   /// Feed one paired sample (wheel speeds [rad/s], gyro z [rad/s]) stamped `stamp`.
   bool feed(ControlLoop& loop, double stamp, double left, double right, double gyro)
@@ -82,6 +84,14 @@ struct Sensors
     imu.angular_velocity.z() = gyro;
     loop.imu(imu);
     velocity = { left, right, left, right };
+    // The wheels travel at their speeds (constant travel with a turning wheel is a frozen stream).
+    const double h = has_last ? stamp - last_stamp : 0.0;
+    for (std::size_t i = 0; i < position.size(); ++i)
+    {
+      position[i] += velocity[i] * h;
+    }
+    last_stamp = stamp;
+    has_last = true;
     JointStateInput j;
     j.stamp = stamp;
     j.name = &name;
@@ -174,7 +184,7 @@ TEST_F(ControlLoopTest, CommandsRiseWhenSlowerAndFallWhenFaster)
 {
   // The direction of the action update (thesis eq. 3-16) with wheels that never follow; the
   // anti-windup would hold the command at the measured speed +-max_action_lead.
-  p.aic.max_action_lead = 0.0;
+  p.aic.anti_windup.max_action_lead = 0.0;
   build();
   feed(p.aic.numOrders(), 0.0, 0.5);  // standing still, 0.5 m/s asked
   ASSERT_TRUE(loop->active());
@@ -237,6 +247,78 @@ TEST_F(ControlLoopTest, StaleSensorsCommandZeroAndWarmUpAgain)
   feed(1, 1.0, 0.5);
   EXPECT_TRUE(loop->active());
   EXPECT_NEAR(loop->controller().mu()(0, 0), p.aic.wheel_radius * 1.0, 1e-9);
+}
+
+// A frozen MCU behind jackal_node: the joint states keep coming, freshly stamped, with the same
+// travel and speeds. After kFrozenJointStateTime of them the loop treats the sensors as lost
+// (kStale, the zero command at once, one warning naming the cause, the samples refused); new
+// data restart it after the warm-up, as after sensor_timeout. Repeats at rest never count.
+TEST_F(ControlLoopTest, FrozenJointStatesAreSensorLoss)
+{
+  feed(p.aic.numOrders() + 10, 5.0, 0.5);
+  ASSERT_TRUE(loop->active());
+  const std::vector<double> frozen_position = sensors.position;
+  const std::size_t before = out.commands.size();
+  double sp[6];
+  setPointFields(0.5, 0.0, sp);
+  auto repeat = [&] {
+    clock.t += 0.02;
+    loop->setPoint(sp);
+    sensors.position = frozen_position;
+    sensors.has_last = false;  // no travel
+    return sensors.feed(*loop, clock.t, 5.0, 5.0, 0.0);
+  };
+  // The same data again, every 20 ms: 4 repeats (0.08 s) are still a healthy stream's worth.
+  for (int k = 0; k < 4; ++k)
+  {
+    EXPECT_TRUE(repeat()) << k;
+  }
+  EXPECT_TRUE(loop->active());
+  EXPECT_EQ(out.commands.size(), before + 4u);
+  // The fifth is 0.1 s after the data's first (on the limit, up to rounding), the sixth 0.12 s: frozen.
+  repeat();
+  EXPECT_FALSE(repeat());
+  EXPECT_EQ(loop->supervisor().state(), NodeState::kStale);
+  EXPECT_TRUE(loop->supervisor().jointStatesFrozen());
+  EXPECT_FALSE(loop->supervisor().sensorsFresh());
+  EXPECT_EQ(out.commands.back().wheels, Vector2::Zero());
+  EXPECT_EQ(out.linesWith("joint states frozen"), 1);
+  EXPECT_EQ(out.linesWith("commanding zero"), 1);
+  EXPECT_NE(loop->supervisor().reason().find("joint states frozen"), std::string::npos) << loop->supervisor().reason();
+  EXPECT_EQ(loop->frozenJointStates().events(), 1u);
+  const std::uint64_t refused = loop->frozenSamples();
+  EXPECT_GE(refused, 1u);
+  // It stays so while the data repeat (well within sensor_timeout of each other), commanding zero.
+  for (int i = 0; i < 30; ++i)
+  {
+    EXPECT_FALSE(repeat());
+    loop->actionTimer(0.02);
+    EXPECT_EQ(out.commands.back().wheels, Vector2::Zero());
+  }
+  EXPECT_EQ(loop->supervisor().state(), NodeState::kStale);
+  EXPECT_EQ(loop->frozenSamples(), refused + 30u);
+  EXPECT_EQ(out.linesWith("joint states frozen"), 1);
+  // The MCU is back: new data; a new history, its warm-up, a bumpless restart.
+  sensors.has_last = false;
+  feed(1, 1.0, 0.5);
+  EXPECT_FALSE(loop->supervisor().jointStatesFrozen());
+  EXPECT_EQ(out.linesWith("no longer frozen"), 1);
+  EXPECT_FALSE(loop->active());
+  feed(p.aic.numOrders(), 1.0, 0.5);
+  EXPECT_TRUE(loop->active());
+  EXPECT_EQ(loop->frozenJointStates().events(), 1u);
+}
+
+TEST_F(ControlLoopTest, FrozenJointStatesAtRestNeverCount)
+{
+  feed(p.aic.numOrders() + 2, 0.0, 0.0);  // standing, set point zero: constant travel
+  for (int i = 0; i < 500; ++i)
+  {
+    feed(1, 0.0, 0.0);
+  }
+  EXPECT_TRUE(loop->active());
+  EXPECT_EQ(loop->frozenJointStates().events(), 0u);
+  EXPECT_EQ(loop->frozenSamples(), 0u);
 }
 
 TEST_F(ControlLoopTest, EventScheduleBoundsTheIntervalItIntegrates)
@@ -538,12 +620,12 @@ void compareSchedules(Integrator integrator, ActionTrigger trigger, bool driving
   if (driving)
   {
     // Set-point dynamics and the action prior, on a ramped set point.
-    pe.aic.generalized_goal = true;
-    pe.aic.goal_lead = 0.1;
-    pe.aic.reference_time_constant = 0.1;
-    pe.aic.reference_delay = 0.06;
-    pe.aic.action_prior_gain = 0.8;
-    pe.aic.action_prior_time_constant = 0.15;
+    pe.aic.reference.generalized_goal = true;
+    pe.aic.reference.goal_lead = 0.1;
+    pe.aic.reference.time_constant = 0.1;
+    pe.aic.reference.delay = 0.06;
+    pe.aic.action_prior.gain = 0.8;
+    pe.aic.action_prior.time_constant = 0.15;
   }
   NodeParams pt = pe;
   pt.belief_schedule = BeliefSchedule::kTimer;

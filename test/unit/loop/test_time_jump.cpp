@@ -95,6 +95,10 @@ protected:
     imu.stamp = clock.t;
     loop->imu(imu);
     velocity.assign(4, wheels);
+    for (double& x : position)
+    {
+      x += 0.02 * wheels;  // the wheels travel (constant travel while turning is a frozen stream)
+    }
     JointStateInput j;
     j.stamp = clock.t;
     j.name = &names;
@@ -163,8 +167,8 @@ TEST_F(TimelineTest, ClockBackToZeroRestartsOnTheNewTimelineAtOnce)
   EXPECT_EQ(out.linesWith("resumed after: ROS time moved back"), 1);
   drive(25, 2.0);  // 0.5 s
   EXPECT_GT(out.commands.back().wheels(0), 2.0);
-  EXPECT_LE(largestRise(before), p.aic.max_action_lead + 2.0 + kTol);  // measured 0 -> 2 rad/s, lead 1.6
-  EXPECT_EQ(out.linesWith("restart on the new timeline"), 1);          // one warning per jump
+  EXPECT_LE(largestRise(before), p.aic.anti_windup.max_action_lead + 2.0 + kTol);  // measured 0 -> 2 rad/s, lead 1.6
+  EXPECT_EQ(out.linesWith("restart on the new timeline"), 1);                      // one warning per jump
   EXPECT_EQ(loop->timeJumps(), 1u);
 }
 
@@ -250,7 +254,7 @@ TEST_F(TimelineTest, IdleCommandBeforeTheFirstSampleAndWhileWarmingUp)
   EXPECT_NEAR(out.commands.back().wheels(0), kWheels, kTol);
   drive(p.aic.numOrders(), kWheels);
   EXPECT_TRUE(loop->active());
-  EXPECT_LE(largestRise(0), p.aic.max_action_lead + kTol);
+  EXPECT_LE(largestRise(0), p.aic.anti_windup.max_action_lead + kTol);
   // Without a set point for set_point_timeout after the first sample: zero.
   clock.t = 0.0;
   out.commands.clear();
@@ -275,7 +279,7 @@ TEST_F(TimelineTest, SensorsBackAfterAPauseResumeFromTheMeasuredWheels)
   drive(p.aic.numOrders(), 1.0);
   EXPECT_TRUE(loop->active());
   EXPECT_EQ(out.linesWith("resumed after: no sensor sample for"), 1);
-  EXPECT_LE(largestRise(back + 1), p.aic.max_action_lead + kTol);
+  EXPECT_LE(largestRise(back + 1), p.aic.anti_windup.max_action_lead + kTol);
 }
 
 }  // namespace

@@ -92,12 +92,12 @@ TEST(Params, MaxActionLead)
   for (double bad : { -1.0, kNaN, kInf, jackal_aic::kMaxWheelSpeedLimit * 1.01 })
   {
     AicParams p;
-    p.max_action_lead = bad;
+    p.anti_windup.max_action_lead = bad;
     EXPECT_TRUE(hasViolation(p, "max_action_lead")) << bad;
   }
   AicParams p;
   EXPECT_FALSE(hasViolation(p, "max_action_lead"));  // 0 = off
-  p.max_action_lead = 3.0;
+  p.anti_windup.max_action_lead = 3.0;
   EXPECT_FALSE(hasViolation(p, "max_action_lead"));
 }
 
@@ -106,58 +106,67 @@ TEST(Params, MaxActionLeadTurn)
   for (double bad : { -1.0, kNaN, kInf, jackal_aic::kMaxWheelSpeedLimit * 1.01 })
   {
     AicParams p;
-    p.max_action_lead_turn = bad;
+    p.anti_windup.max_action_lead_turn = bad;
     EXPECT_TRUE(hasViolation(p, "max_action_lead_turn")) << bad;
   }
   AicParams p;
   EXPECT_FALSE(hasViolation(p, "max_action_lead_turn"));  // 0 = off
-  p.max_action_lead_turn = 1.0;
+  p.anti_windup.max_action_lead_turn = 1.0;
   EXPECT_FALSE(hasViolation(p, "max_action_lead_turn"));
 }
+
+// The member of AicParams at `path` (e.g. reference.delay), as a function for a table of cases.
+#define JACKAL_AIC_MEMBER(path) [](AicParams& p) -> double& { return p.path; }
 
 TEST(Params, SetPointDynamicsAndActionPrior)
 {
   struct Case
   {
     const char* key;
-    double AicParams::*member;
+    double& (*member)(AicParams& p);
     std::vector<double> bad;
     double good;
   };
   const std::vector<Case> cases = {
-    { "goal_rate_hold", &AicParams::goal_rate_hold, { 0.0, -0.1, 10.5, kNaN, kInf }, 0.15 },
-    { "max_goal_rate_linear", &AicParams::max_goal_rate_linear, { 0.0, -1.0, kNaN, kInf }, 4.0 },
-    { "max_goal_rate_angular", &AicParams::max_goal_rate_angular, { 0.0, -1.0, kNaN, kInf }, 8.0 },
-    { "goal_lead", &AicParams::goal_lead, { -0.01, 1.5, kNaN, kInf }, 0.0 },
-    { "goal_lead_angular", &AicParams::goal_lead_angular, { -0.01, 1.5, kNaN, kInf }, 0.0 },
-    { "reference_time_constant", &AicParams::reference_time_constant, { -0.01, 11.0, kNaN, kInf }, 0.0 },
+    { "goal_rate_hold", JACKAL_AIC_MEMBER(reference.goal_rate_hold), { 0.0, -0.1, 10.5, kNaN, kInf }, 0.15 },
+    { "max_goal_rate_linear", JACKAL_AIC_MEMBER(reference.max_goal_rate_linear), { 0.0, -1.0, kNaN, kInf }, 4.0 },
+    { "max_goal_rate_angular", JACKAL_AIC_MEMBER(reference.max_goal_rate_angular), { 0.0, -1.0, kNaN, kInf }, 8.0 },
+    { "goal_lead", JACKAL_AIC_MEMBER(reference.goal_lead), { -0.01, 1.5, kNaN, kInf }, 0.0 },
+    { "goal_lead_angular", JACKAL_AIC_MEMBER(reference.goal_lead_angular), { -0.01, 1.5, kNaN, kInf }, 0.0 },
+    { "reference_time_constant", JACKAL_AIC_MEMBER(reference.time_constant), { -0.01, 11.0, kNaN, kInf }, 0.0 },
     { "max_reference_acceleration_wheel",
-      &AicParams::max_reference_acceleration_wheel,
+      JACKAL_AIC_MEMBER(reference.max_acceleration_wheel),
       { -0.1, 2.0e6, kNaN, kInf },
       0.0 },
-    { "reference_delay", &AicParams::reference_delay, { -0.01, jackal_aic::kMaxReferenceDelay * 1.01, kNaN }, 0.1 },
-    { "action_prior_gain", &AicParams::action_prior_gain, { -0.1, 2.5, kNaN, kInf }, 1.0 },
-    { "action_prior_time_constant", &AicParams::action_prior_time_constant, { -0.1, 11.0, kNaN }, 0.2 },
-    { "action_release_time", &AicParams::action_release_time, { -0.1, 10.5, kNaN, kInf }, 0.5 },
-    { "gyro_bias_max", &AicParams::gyro_bias_max, { 0.0, -0.1, 1.5, kNaN, kInf }, 0.05 },
-    { "gyro_bias_rest_speed", &AicParams::gyro_bias_rest_speed, { 0.0, -0.1, 10.5, kNaN, kInf }, 0.1 },
-    { "gyro_bias_rest_time", &AicParams::gyro_bias_rest_time, { -0.1, 10.5, kNaN, kInf }, 0.0 },
-    { "gyro_bias_time_constant", &AicParams::gyro_bias_time_constant, { 0.0, -1.0, 2.0e5, kNaN, kInf }, 5.0 },
-    { "gyro_bias_min_rest", &AicParams::gyro_bias_min_rest, { -0.1, 601.0, kNaN, kInf }, 0.0 },
-    { "tip_guard_pitch", &AicParams::tip_guard_pitch, { 0.0, -0.01, 0.51, kNaN, kInf }, 0.05 },
-    { "tip_guard_margin", &AicParams::tip_guard_margin, { 0.0, -0.1, 1.01, kNaN, kInf }, 1.0 },
-    { "tip_guard_min_acceleration", &AicParams::tip_guard_min_acceleration, { 0.0, -1.0, 101.0, kNaN, kInf }, 0.5 },
+    { "reference_delay",
+      JACKAL_AIC_MEMBER(reference.delay),
+      { -0.01, jackal_aic::kMaxReferenceDelay * 1.01, kNaN },
+      0.1 },
+    { "action_prior_gain", JACKAL_AIC_MEMBER(action_prior.gain), { -0.1, 2.5, kNaN, kInf }, 1.0 },
+    { "action_prior_time_constant", JACKAL_AIC_MEMBER(action_prior.time_constant), { -0.1, 11.0, kNaN }, 0.2 },
+    { "action_release_time", JACKAL_AIC_MEMBER(action_release_time), { -0.1, 10.5, kNaN, kInf }, 0.5 },
+    { "gyro_bias_max", JACKAL_AIC_MEMBER(gyro_bias.max_bias), { 0.0, -0.1, 1.5, kNaN, kInf }, 0.05 },
+    { "gyro_bias_rest_speed", JACKAL_AIC_MEMBER(gyro_bias.rest_speed), { 0.0, -0.1, 10.5, kNaN, kInf }, 0.1 },
+    { "gyro_bias_rest_time", JACKAL_AIC_MEMBER(gyro_bias.rest_time), { -0.1, 10.5, kNaN, kInf }, 0.0 },
+    { "gyro_bias_time_constant", JACKAL_AIC_MEMBER(gyro_bias.time_constant), { 0.0, -1.0, 2.0e5, kNaN, kInf }, 5.0 },
+    { "gyro_bias_min_rest", JACKAL_AIC_MEMBER(gyro_bias.min_rest), { -0.1, 601.0, kNaN, kInf }, 0.0 },
+    { "tip_guard_pitch", JACKAL_AIC_MEMBER(tip_guard.trip_pitch), { 0.0, -0.01, 0.51, kNaN, kInf }, 0.05 },
+    { "tip_guard_margin", JACKAL_AIC_MEMBER(tip_guard.margin), { 0.0, -0.1, 1.01, kNaN, kInf }, 1.0 },
+    { "tip_guard_min_acceleration",
+      JACKAL_AIC_MEMBER(tip_guard.min_acceleration),
+      { 0.0, -1.0, 101.0, kNaN, kInf },
+      0.5 },
   };
   for (const Case& c : cases)
   {
     for (double bad : c.bad)
     {
       AicParams p;
-      p.*c.member = bad;
+      c.member(p) = bad;
       EXPECT_TRUE(hasViolation(p, c.key)) << c.key << " = " << bad;
     }
     AicParams p;
-    p.*c.member = c.good;
+    c.member(p) = c.good;
     EXPECT_FALSE(hasViolation(p, c.key)) << c.key;
   }
 }

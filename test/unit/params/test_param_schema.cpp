@@ -17,6 +17,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -211,6 +212,106 @@ TEST(ParamSchema, ControllerKeysAreTheMembersOfAicParams)
   EXPECT_EQ(p.aic.tau, 2.0);
 }
 
+TEST(ParamSchema, EachRowIsAMemberOfItsOwn)
+{
+  // Changing one key's member leaves every other key's value as it was: no two rows share a member.
+  const NodeParams base = validNodeParams();
+  for (const ParamSpec& s : paramSchema())
+  {
+    NodeParams p = base;
+    ParamValue changed;
+    switch (s.type)
+    {
+      case ParamType::kDouble:
+        changed = std::get<double>(s.get(base)) + 0.125;
+        break;
+      case ParamType::kInt:
+        changed = std::get<int>(s.get(base)) + 1;
+        break;
+      case ParamType::kBool:
+        changed = !std::get<bool>(s.get(base));
+        break;
+      case ParamType::kString: {
+        // Another choice (any text without choices).
+        const std::string now = std::get<std::string>(s.get(base));
+        changed = s.choices.empty() ? std::string("x") : s.choices.back() == now ? s.choices.front() : s.choices.back();
+      }
+      break;
+      case ParamType::kDoubleList:
+        changed = std::vector<double>{ 0.25 };
+        break;
+      case ParamType::kStringList:
+        changed = std::vector<std::string>{ "x" };
+        break;
+    }
+    ASSERT_NE(s.get(base), changed) << s.key;
+    ASSERT_TRUE(s.set(p, changed)) << s.key;
+    for (const ParamSpec& other : paramSchema())
+    {
+      if (std::string(other.key) != s.key)
+      {
+        EXPECT_EQ(other.get(p), other.get(base)) << "setting " << s.key << " changed " << other.key;
+      }
+    }
+  }
+}
+
+TEST(ParamRow, NamedFieldsAndTheCommonRowAsDefaults)
+{
+  const ParamSpec row = ParamRow("active_inference", "latency")
+                            .unit("s")
+                            .atLeast(0.0)
+                            .describe("the robot model's latency")
+                            .member<&AicParams::robot, &RobotModelParams::latency>();
+  EXPECT_EQ(row.type, ParamType::kDouble);
+  EXPECT_EQ(row.scope, ParamScope::kController);
+  EXPECT_EQ(row.min, 0.0);
+  EXPECT_FALSE(row.min_exclusive);
+  EXPECT_TRUE(std::isinf(row.max));
+  EXPECT_TRUE(row.live);
+  EXPECT_EQ(row.level, 0);
+  EXPECT_FALSE(row.required);
+  EXPECT_EQ(row.channels, 0);
+  EXPECT_EQ(row.slots(), 0);
+  AicParams p;
+  ASSERT_TRUE(row.set_aic(p, 0.2));
+  EXPECT_EQ(p.robot.latency, 0.2);
+  EXPECT_EQ(row.get_aic(p), ParamValue(0.2));
+  EXPECT_FALSE(row.set_aic(p, std::string("x")));
+
+  const ParamSpec flag = ParamRow("active_inference", "tip_guard")
+                             .describe("the tip-over guard")
+                             .notLive()
+                             .member<&AicParams::tip_guard, &TipGuardParams::enabled>();
+  EXPECT_EQ(flag.type, ParamType::kBool);
+  EXPECT_FALSE(flag.live);
+  EXPECT_TRUE(std::isnan(flag.min));
+  EXPECT_TRUE(std::isnan(flag.max));
+  EXPECT_EQ(flag.unit, std::string("-"));
+}
+
+TEST(ParamRow, AnIncompleteRowIsAnErrorNamingItsKey)
+{
+  const auto message = [](const ParamRow& row) -> std::string {
+    try
+    {
+      const ParamSpec spec = row;
+      return "";
+    }
+    catch (const std::logic_error& e)
+    {
+      return e.what();
+    }
+  };
+  const std::string no_member = message(ParamRow("loops", "no_member").atLeast(0.0).describe("d"));
+  EXPECT_NE(no_member.find("no_member: no member"), std::string::npos) << no_member;
+  const std::string no_text = message(ParamRow("loops", "no_text").atLeast(0.0).member<&AicParams::tau>());
+  EXPECT_NE(no_text.find("no_text: no description"), std::string::npos) << no_text;
+  const std::string no_bound = message(ParamRow("loops", "no_bound").describe("d").member<&AicParams::tau>());
+  EXPECT_NE(no_bound.find("no_bound: a number without a lower bound"), std::string::npos) << no_bound;
+  EXPECT_EQ(message(ParamRow("loops", "complete").above(0.0).describe("d").member<&AicParams::tau>()), "");
+}
+
 TEST(ParamSchema, RangesDriveValidation)
 {
   // For every number: the bounds themselves are allowed (the lower one unless exclusive),
@@ -398,7 +499,7 @@ TEST(ParamSchema, EffectiveYamlLoadsBack)
     EXPECT_EQ(formatParamValue(s.get(back)), formatParamValue(s.get(robot)));
     EXPECT_TRUE(s.get(defaults) == defaultValue(s));
   }
-  EXPECT_NE(robot.aic.reference_delay, NodeParams().aic.reference_delay);  // the overlay's key
+  EXPECT_NE(robot.aic.reference.delay, NodeParams().aic.reference.delay);  // the overlay's key
 }
 
 namespace
@@ -461,7 +562,7 @@ TEST(ParamSchema, RobotYamlStopsNoLaterThanTheStockDiffDrive)
   EXPECT_LT(first.max_linear_speed, robot.max_linear_speed);
   EXPECT_LT(first.max_angular_speed, robot.max_angular_speed);
   EXPECT_LT(first.aic.max_wheel_speed, robot.aic.max_wheel_speed);
-  EXPECT_EQ(first.aic.reference_delay, robot.aic.reference_delay);  // stacked, not replaced
+  EXPECT_EQ(first.aic.reference.delay, robot.aic.reference.delay);  // stacked, not replaced
 }
 
 namespace
@@ -609,7 +710,7 @@ TEST(YamlOverrides, LoadNodeParamsFilesReadsBothScopesInOrder)
   // config/robot.yaml over config/default.yaml, as robot.launch loads them; node keys too.
   const NodeParams robot = loadNodeParamsFiles({ kSource + "/config/default.yaml", kSource + "/config/robot.yaml" });
   const NodeParams base = loadNodeParamsFiles({ kSource + "/config/default.yaml" });
-  EXPECT_NE(robot.aic.reference_delay, base.aic.reference_delay);
+  EXPECT_NE(robot.aic.reference.delay, base.aic.reference.delay);
   EXPECT_EQ(robot.aic.k_a, base.aic.k_a);
   EXPECT_EQ(robot.aic.tau, base.aic.tau);
   const NodeParams node = loadNodeParamsFiles({ kSource + "/config/default.yaml" },

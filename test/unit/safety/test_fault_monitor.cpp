@@ -32,7 +32,7 @@ constexpr double kIsolationDeadline = 0.5;  // s: isolated within 0.5 s
 AicParams defaultParams()
 {
   AicParams p = recommendedAicParams();
-  p.learn_wheel_separation = false;
+  p.separation_learner.enabled = false;
   return p;
 }
 
@@ -360,15 +360,15 @@ TEST(ClosedLoopFdi, EncoderBiasMisleadsTheFreeEnergyActionUnlessIsolated)
   bias.value = 2.5;
   bias.start = 3.0;
   AicParams p = defaultParams();
-  p.generalized_goal = false;
-  p.reference_time_constant = 0.0;
-  p.action_prior_gain = 0.0;
+  p.reference.generalized_goal = false;
+  p.reference.time_constant = 0.0;
+  p.action_prior.gain = 0.0;
   // The gains tuned for the free-energy action alone (straight steps, doc/experiments.md, 'Tuning').
   p.tau = 0.01721;
   p.k_mu = 0.02329;
   p.k_a = 12.59;
   p.var_y = { 2.0, 38.25, 1.0e5 };
-  p.max_action_lead = 4.367;
+  p.anti_windup.max_action_lead = 4.367;
   const LoopRun isolated = runClosedLoop(&straight, bias, true, 11.0, 0.05, &p);
   const LoopRun unisolated = runClosedLoop(&straight, bias, false, 11.0, 0.05, &p);
   EXPECT_EQ(isolated.isolated_channel, kOmegaLeft);

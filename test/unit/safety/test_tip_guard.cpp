@@ -193,16 +193,16 @@ TEST(TipGuard, BadInputIsIgnoredAndBadSettingsRefused)
   EXPECT_EQ(g.update(kH, 0.0, std::nan(""), false), State::kBadInput);
   EXPECT_EQ(g.pitch(), 0.0);
   EXPECT_EQ(g.acceleration(), 0.0);
-  for (const auto& bad :
-       { TipGuardParams{ 0.0, 0.8, 1.0 }, TipGuardParams{ 0.02, 0.0, 1.0 }, TipGuardParams{ 0.02, 1.1, 1.0 },
-         TipGuardParams{ 0.02, 0.8, 0.0 }, TipGuardParams{ std::nan(""), 0.8, 1.0 } })
+  for (const auto& bad : { TipGuardParams{ false, 0.0, 0.8, 1.0 }, TipGuardParams{ false, 0.02, 0.0, 1.0 },
+                           TipGuardParams{ false, 0.02, 1.1, 1.0 }, TipGuardParams{ false, 0.02, 0.8, 0.0 },
+                           TipGuardParams{ false, std::nan(""), 0.8, 1.0 } })
   {
     EXPECT_THROW(TipGuard{ bad }, std::invalid_argument);
     EXPECT_THROW(g.setParams(bad), std::invalid_argument);
   }
   try
   {
-    TipGuard{ TipGuardParams{ 0.0, 0.0, 0.0 } };
+    TipGuard{ TipGuardParams{ false, 0.0, 0.0, 0.0 } };
     FAIL() << "no exception";
   }
   catch (const std::invalid_argument& e)
@@ -244,7 +244,7 @@ TEST(ReferenceModelTipBounds, ClampThePathsRateAlongXDot)
   r.setTipBounds(std::nan(""), -1.0);
   EXPECT_EQ(r.tipBoundFront(), 0.0) << "NaN and negative bounds are ignored";
   EXPECT_TRUE(std::isinf(r.tipBoundRear()));
-  r.setParams(p);
+  r.setParams(p, 1.0e3);
   EXPECT_EQ(r.tipBoundFront(), 0.0) << "kept by setParams()";
   r.setTipBounds(std::numeric_limits<double>::infinity(), 0.5);
   ASSERT_TRUE(r.setGoal(Vector3(3.0, 0.0, 0.0)));
@@ -283,7 +283,7 @@ TEST(TipGuardInThePipeline, TheGyroYOffsetIsRemovedAndTheBoundsReachThePath)
   ASSERT_EQ(pipe.tipGuard().state(), TipGuard::State::kTippingFront);
   EXPECT_EQ(pipe.controller().referenceModel().tipBoundFront(), 0.0) << "the path holds while tipped";
   // Off: the controller's path is not bounded, whatever the guard saw.
-  aic.tip_guard = false;
+  aic.tip_guard.enabled = false;
   pipe.setParams(aic, fdi);
   pipe.guardTip(Vector5::Zero(), 0.03, kH, true);
   EXPECT_TRUE(std::isinf(pipe.controller().referenceModel().tipBoundFront()));

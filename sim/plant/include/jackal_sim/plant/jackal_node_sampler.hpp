@@ -85,6 +85,12 @@ struct JackalNodeSamplerStats
   std::uint64_t catch_up = 0;  ///< cycles run back to back after a late one (gap < half a period)
   double min_age = 0.0;        ///< least stamp - source_stamp [s] (0 before the first cycle)
   double max_age = 0.0;        ///< greatest [s]
+  /// Longest run of consecutive repeats (1: repeats come singly, each after a new sample).
+  std::uint64_t max_repeat_run = 0;
+  /// Longest time one MCU sample's data stayed in the messages [s]: the stamp of its last repeat
+  /// minus the stamp of its first publication (0 without repeats). What a frozen-stream check
+  /// on the joint states (include/jackal_aic/safety/frozen_joint_states.hpp) must tolerate.
+  double max_held = 0.0;
 
   /// repeats / cycles (0 without cycles).
   double repeatRate() const { return cycles == 0 ? 0.0 : static_cast<double>(repeats) / static_cast<double>(cycles); }
@@ -129,6 +135,8 @@ private:
   bool have_latest_ = false;
   std::uint64_t latest_seq_ = 0;             ///< arrivals so far
   std::uint64_t published_seq_ = 0;          ///< the arrival the last message carried
+  double first_published_ = 0.0;             ///< the stamp of its first publication [s]
+  std::uint64_t repeat_run_ = 0;             ///< consecutive repeats so far
   std::array<double, kNumWheels> offset_{};  ///< the first travel per joint [rad]
   bool have_offset_ = false;
   std::uint64_t k_ = 0;
