@@ -29,7 +29,7 @@ def main(argv=None):
                         "sim/config/variants/*.yaml)")
     p.add_argument("--aic-config", default=None, help="AIC YAML (default: config/default.yaml)")
     p.add_argument("--pi-config", default=None,
-                   help="the classical peer's YAML (default: config/classical_pi.yaml)")
+                   help="the classical peer's YAML (default: config/classical/pi.yaml)")
     p.add_argument("--plant-config", default=None, help="plant YAML (default: sim/config/plant.yaml)")
     p.add_argument("--jobs", type=int, default=2, help="closed_loop_run processes at once (default %(default)s)")
     p.add_argument("--out", default=None, help="output folder (default: <results>/tracking)")

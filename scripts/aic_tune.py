@@ -48,14 +48,14 @@ def main():
                                            for v in ("turn_deficit", "latency_plus_20", "payload_10kg")],
                     help="--driving: plant variants of the tracking cost ('default' or an overlay YAML)")
     ap.add_argument("--controller", choices=("aic", "pi"), default="aic",
-                    help="--driving: the controller tuned, aic or pi (the classical peer, config/classical_pi.yaml as "
+                    help="--driving: the controller tuned, aic or pi (the classical peer, config/classical/pi.yaml as "
                          "--base: its gains, jackal_aic_tools.tune.tune_pi)")
     a = ap.parse_args()
     if a.controller == "pi":
         if not a.driving:
             ap.error("--controller pi goes with --driving")
         if a.base == tool.path("config", "default.yaml"):
-            a.base = tool.path("config", "classical_pi.yaml")
+            a.base = tool.path("config", "classical/pi.yaml")
         return tune_pi.run(a, tool, " ".join(["aic_tune.py"] + sys.argv[1:]))
     return tune_driving.run(a, tool) if a.driving else tune.run(a, tool)
 

@@ -35,25 +35,18 @@ bool nonNegative(double x)
   return std::isfinite(x) && x >= 0.0;
 }
 
+/// The goal's rate estimator and the goal predicted one latency ahead, without a reference path.
 ReferenceModelParams goalParams(const PiControllerParams& p)
 {
   ReferenceModelParams r;
   r.generalized_goal = true;
+  r.goal_rate_hold = p.goal_rate_hold;
+  r.max_goal_rate_linear = p.max_goal_rate_linear;
+  r.max_goal_rate_angular = p.max_goal_rate_angular;
   r.goal_lead = p.robot.latency;
   r.goal_lead_angular = p.robot.latency;
   r.time_constant = 0.0;  // no reference path: the predicted goal alone
-  r.wheel_separation = p.wheel_separation;
-  r.goal_limit = std::numeric_limits<double>::max();
   return r;
-}
-
-AicParams goalRateParams(const PiControllerParams& p)
-{
-  AicParams a;
-  a.goal_rate_hold = p.goal_rate_hold;
-  a.max_goal_rate_linear = p.max_goal_rate_linear;
-  a.max_goal_rate_angular = p.max_goal_rate_angular;
-  return a;
 }
 
 const PiControllerParams& validated(const PiControllerParams& p)
@@ -145,11 +138,12 @@ const char* toString(PiStatus status)
 PiController::PiController(const PiControllerParams& params)
   : params_(validated(params))
   , model_(params.wheel_radius, 1.0, params.wheel_separation)
-  , goal_rate_(goalRateParams(params))
-  , goal_(goalParams(params))
+  , goal_rate_(goalParams(params))
+  , goal_(goalParams(params), std::numeric_limits<double>::max())
   , ff_loop_(params.robot)
   , ref_loop_(params.robot)
 {
+  goal_.setWheelSeparation(params.wheel_separation);
   reset();
 }
 

@@ -1,6 +1,6 @@
 /**
  * \file test_classical_peer.cpp
- * \brief The classical peer (config/classical_pi.yaml; include/jackal_aic/classical/pi_controller.hpp)
+ * \brief The classical peer (config/classical/pi.yaml; include/jackal_aic/classical/pi_controller.hpp)
  *        in closed loop on the simulated Jackal with seeded sensor noise (deterministic): an arc
  *        step settles on both channels on the nominal plant and comes within a few per cent on the
  *        turn-deficit firmware (the yaw loop's integral makes up most of the missing turn; the
@@ -33,7 +33,7 @@ ClosedLoopRecord arc(const std::vector<std::string>& overlays)
 {
   ClosedLoopConfig c;
   c.controller = LoopController::kPi;
-  c.pi = loadPiParams(kRoot + "/config/classical_pi.yaml");
+  c.pi = loadPiParams(kRoot + "/config/classical/pi.yaml");
   c.profile = { { 0.0, 0.0, 0.0 }, { 1.0, 0.5, 0.5 } };
   c.duration = 6.0;
   c.ideal_sensors = false;

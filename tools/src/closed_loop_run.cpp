@@ -20,7 +20,7 @@
  *                     applied after --config and before --set; repeatable, later ones win
  *   --controller pi    the classical peer (jackal_aic/classical/pi_controller.hpp): PI loops on the
  *                     wheel speeds and the yaw rate around the robot model's feed-forward, its
- *                     settings from --pi-config (default config/classical_pi.yaml) and --pi-set
+ *                     settings from --pi-config (default config/classical/pi.yaml) and --pi-set
  *   --controller open  no controller: the set point's wheel speeds go to the MCU as they are
  *   --controller ideal the ideal controller (jackal_sim/harness/closed_loop.hpp, runIdealController): the
  *                     command sequence learned over --ideal-iterations runs from rest (iterative
@@ -313,7 +313,7 @@ int main(int argc, char** argv)
   PlantOptions plant;
   std::string aic_config = packageFile("config/thesis_equivalent.yaml");
   std::vector<std::string> aic_overrides;
-  std::string pi_config = packageFile("config/classical_pi.yaml");
+  std::string pi_config = packageFile("config/classical/pi.yaml");
   std::vector<std::string> pi_overrides;
   std::string controller;
   std::string csv;
@@ -344,7 +344,7 @@ int main(int argc, char** argv)
             true);
   cl.option("aic-config", &aic_config, "controller YAML (controller and node keys, as the node reads it)");
   cl.overrides("aic-set", &aic_overrides, "override a controller or node key");
-  cl.option("pi-config", &pi_config, "--controller pi: its YAML (default config/classical_pi.yaml)");
+  cl.option("pi-config", &pi_config, "--controller pi: its YAML (default config/classical/pi.yaml)");
   cl.overrides("pi-set", &pi_overrides, "--controller pi: override a key of its YAML (e.g. wheel.kp=0.4)");
   plant.addTo(&cl);
   cl.option("step", &step, "0 until --rest, then V [m/s] (or [rad/s]) for --hold seconds");

@@ -75,8 +75,7 @@ public:
    *               fault mask on one of the three channels: nothing is learned from two)
    * \return false (nothing changed) if a used value is not finite
    */
-  bool correct(const Vector2& y_omega, double y_gyro, bool use_left, bool use_right, bool use_gyro,
-               bool learn = true);
+  bool correct(const Vector2& y_omega, double y_gyro, bool use_left, bool use_right, bool use_gyro, bool learn = true);
 
   /**
    * \brief Re-express the slip ratio after the wheels' yaw gain changed by the factor k =
@@ -130,10 +129,10 @@ private:
   Eigen::Matrix2d p_left_ = Eigen::Matrix2d::Identity();
   Eigen::Matrix2d p_right_ = Eigen::Matrix2d::Identity();
   Eigen::Matrix3d p_yaw_ = Eigen::Matrix3d::Identity();
-  double turn_ = 0.0;  ///< the goal's yaw rate at the last predict() [rad/s] (NaN: none yet)
-  double wheels_yaw_ = 0.0;        ///< u at the last predict() [rad/s]
-  int jump_samples_ = 0;           ///< gyro residuals in a row beyond kJumpThreshold
-  double jump_sum_ = 0.0;          ///< their sum [rad/s]
+  double turn_ = 0.0;        ///< the goal's yaw rate at the last predict() [rad/s] (NaN: none yet)
+  double wheels_yaw_ = 0.0;  ///< u at the last predict() [rad/s]
+  int jump_samples_ = 0;     ///< gyro residuals in a row beyond kJumpThreshold
+  double jump_sum_ = 0.0;    ///< their sum [rad/s]
   std::uint64_t offset_jumps_ = 0;
   Vector2 omega_rate_ = Vector2::Zero();
   double yaw_rate_ = 0.0;

@@ -47,9 +47,9 @@ struct PiControllerParams
   double wheel_separation = AicParams().wheel_separation;  ///< b [m] of the skid-steer map, > 0
   double max_wheel_speed = AicParams().max_wheel_speed;    ///< |command| clamp [rad/s], > 0
   /// The goal's rate estimator (GoalRateEstimator): hold [s] and rate bounds [m/s^2], [rad/s^2].
-  double goal_rate_hold = AicParams().goal_rate_hold;
-  double max_goal_rate_linear = AicParams().max_goal_rate_linear;
-  double max_goal_rate_angular = AicParams().max_goal_rate_angular;
+  double goal_rate_hold = ReferenceModelParams().goal_rate_hold;
+  double max_goal_rate_linear = ReferenceModelParams().max_goal_rate_linear;
+  double max_goal_rate_angular = ReferenceModelParams().max_goal_rate_angular;
   /// The nominal update period h [s], > 0 and <= 1: the step the feed-forward's inverse of the
   /// wheel loop plans over (the joint-state period, 50 Hz on the Jackal).
   double period = 0.02;

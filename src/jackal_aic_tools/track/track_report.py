@@ -191,7 +191,7 @@ def results_md(report_data, plots_rel, root):
            "", "## AIC / classical peer and latency floor (RMS of the ground truth against the set point)", "",
            "The classical peer: PI loops on the wheel speeds and the yaw rate around the robot model's "
            "feed-forward through the latency, tuned on the AIC's driving cost (`closed_loop_run --controller pi`, "
-           "`config/classical_pi.yaml`; `doc/active_inference.md`, 'A classical peer'). "
+           "`config/classical/pi.yaml`; `doc/active_inference.md`, 'A classical peer'). "
            "AIC / peer < 1: the AIC tracks better; * plant-limited (not in the geometric means).", "",
            md_table(PEER_HEADER, peer_rows(d.get("plant_limits", []), d["peer_geometric_mean"])),
            "", "## Plant-limited pairs", "",

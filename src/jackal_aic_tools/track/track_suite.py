@@ -282,8 +282,8 @@ def complete_args(a, argv, root):
     a.aic_config_shown = a.aic_config or "config/default.yaml"
     a.plant_config_shown = a.plant_config or "sim/config/plant.yaml"
     a.aic_config = a.aic_config or os.path.join(root, "config", "default.yaml")
-    a.pi_config_shown = a.pi_config or "config/classical_pi.yaml"
-    a.pi_config = a.pi_config or os.path.join(root, "config", "classical_pi.yaml")
+    a.pi_config_shown = a.pi_config or "config/classical/pi.yaml"
+    a.pi_config = a.pi_config or os.path.join(root, "config", "classical/pi.yaml")
     a.plant_config = a.plant_config or os.path.join(root, "sim", "config", "plant.yaml")
     a.profiles = a.profiles or default_profiles(root)
     a.variants = a.variants or default_variants(root)

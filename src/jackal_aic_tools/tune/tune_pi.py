@@ -1,4 +1,4 @@
-"""aic_tune.py --driving --controller pi: tune the classical peer's gains (config/classical_pi.yaml,
+"""aic_tune.py --driving --controller pi: tune the classical peer's gains (config/classical/pi.yaml,
 include/jackal_aic/classical/pi_controller.hpp) on the AIC's driving cost.
 
 The same search and the same cost as the AIC's --driving tuning (tune_driving): a bounded

@@ -3,7 +3,7 @@
  * \file pi_params_yaml.hpp
  * \brief The classical peer's settings (PiControllerParams,
  *        include/jackal_aic/classical/pi_controller.hpp) from a YAML file such as
- *        config/classical_pi.yaml. ROS-free; yaml-cpp only. Not the AIC's parameter schema: the
+ *        config/classical/pi.yaml. ROS-free; yaml-cpp only. Not the AIC's parameter schema: the
  *        peer is a tool's controller, not the node's.
  */
 
