@@ -43,7 +43,7 @@ struct RobotModelParams
   /// q_d [rad/s^0.5], >= 0: the drift of the actuation shortfall d_s (its random walk).
   double shortfall_noise = 0.002;
   /// q_theta [rad/s^1.5], > 0: the yaw model's error on theta_dot'.
-  double yaw_model_noise = 0.1;
+  double yaw_model_noise = 0.3;
   /// sigma_s [(rad/s)^-0.5], >= 0: how far the yaw slip ratio s may move with the turn: its
   /// variance grows by sigma_s^2 |du| when the wheels' yaw rate u changes by du; 0 = s fixed at 0.
   double yaw_slip_noise = 0.3;
