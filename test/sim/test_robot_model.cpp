@@ -16,6 +16,7 @@
 #include "jackal_tools/params_yaml.hpp"
 #include "jackal_aic/overrides/yaml_overrides.hpp"
 #include "jackal_sim/harness/closed_loop.hpp"
+#include "jackal_sim/plant/fault_injection.hpp"
 #include "jackal_sim/plant/plant_params.hpp"
 #include "jackal_sim/plant/robot_description.hpp"
 
@@ -34,9 +35,19 @@ NodeParams robotModel(const std::vector<std::string>& more = {})
 }
 
 ClosedLoopRecord run(const NodeParams& node, double linear, double angular, double duration,
-                     const std::vector<std::string>& overlays = {})
+                     const std::vector<std::string>& overlays = {}, const std::vector<std::string>& faults = {})
 {
   ClosedLoopConfig c;
+  for (const std::string& line : faults)
+  {
+    FaultSpec f;
+    std::string error;
+    if (!parseFaultSpec(line, &f, &error))
+    {
+      ADD_FAILURE() << line << ": " << error;
+    }
+    c.faults.push_back(f);
+  }
   c.controller = LoopController::kAic;
   c.node = node;
   c.aic = node.aic;
@@ -146,6 +157,26 @@ TEST(RobotModel, TheActionDoesTheDriving)
   // The action's loop gain x 0.001: the robot does not follow a 0.5 m/s step within 3 s.
   const ClosedLoopRecord cut = run(robotModel({ "action_gain=0.05" }), 0.5, 0.0, 4.0);
   EXPECT_LT(mean(cut, cut.v_true, 3.5, 4.0), 0.4);
+}
+
+TEST(RobotModel, AGyroOffsetAppearingMidArcIsTheOffset)
+{
+  // A 0.1 rad/s gyro offset from 6 s to 10 s into a 0.5 m/s + 0.5 rad/s arc (started at 1 s): b_hat
+  // moves less than 2 % and the true yaw rate stays within 5 % of the command; the offset is believed.
+  const ClosedLoopRecord r = run(robotModel(), 0.5, 0.5, 10.0, {}, { "gyro bias 0.1 6 4" });
+  EXPECT_EQ(r.runaways, 0u);
+  const double before = mean(r, r.separation, 5.5, 6.0);
+  double worst = 0.0;
+  for (std::size_t k = 0; k < r.time.size(); ++k)
+  {
+    if (r.time[k] >= 6.0 && std::isfinite(r.separation[k]))
+    {
+      worst = std::max(worst, std::abs(r.separation[k] - before) / before);
+    }
+  }
+  EXPECT_LT(worst, 0.02);
+  EXPECT_NEAR(mean(r, r.yaw_true, 6.5, 10.0), 0.5, 0.025);
+  EXPECT_NEAR(mean(r, r.gyro_offset, 7.0, 10.0), 0.1, 0.01);
 }
 
 TEST(RobotModel, SeparationLearnedFromOnceAndTwiceTheTrack)
