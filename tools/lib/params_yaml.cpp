@@ -137,6 +137,18 @@ YAML::Node readYamlMap(const std::string& file, const std::vector<std::string>& 
 
 namespace
 {
+/// What the values came from, for messages: "<what>", or "<what> with --aic-set K=V, ..." when
+/// overrides were applied (so an error they cause does not read as the file's).
+std::string sourceName(const std::string& what, const std::vector<std::string>& overrides)
+{
+  std::string name = what;
+  for (std::size_t i = 0; i < overrides.size(); ++i)
+  {
+    name += (i == 0 ? " with --aic-set " : ", ") + overrides[i];
+  }
+  return name;
+}
+
 /// Throws "<file>: invalid parameters: ..." listing every violation, if any.
 void requireValid(const std::vector<ParamViolation>& violations, const std::string& file)
 {
@@ -154,8 +166,8 @@ void requireValid(const std::vector<ParamViolation>& violations, const std::stri
 
 AicParams loadAicParams(const std::string& file, const std::vector<std::string>& overrides)
 {
-  const AicParams p = aicParamsFromYaml(readYamlMap(file, overrides), file, nullptr, nullptr);
-  requireValid(p.validate(), file);
+  const AicParams p = aicParamsFromYaml(readYamlMap(file, overrides), sourceName(file, overrides), nullptr, nullptr);
+  requireValid(p.validate(), sourceName(file, overrides));
   return p;
 }
 
@@ -166,13 +178,15 @@ NodeParams loadNodeParamsFiles(const std::vector<std::string>& files, const std:
   for (std::size_t i = 0; i < files.size(); ++i)
   {
     const std::string& file = files[i];
-    const YAML::Node root = readYamlMap(file, i + 1 == files.size() ? overrides : std::vector<std::string>());
+    const std::vector<std::string>& applied = i + 1 == files.size() ? overrides : std::vector<std::string>();
+    const YAML::Node root = readYamlMap(file, applied);
     const ParamLoadReport report = loadParams(YamlParamSource(root), { ParamScope::kController, ParamScope::kNode },
                                               /*with_reconfigure=*/false, &params);
     if (!report.errors.empty())
     {
       const ParamViolation& e = report.errors.front();
-      throw std::runtime_error(file + ": key '" + e.name + "' must be " + e.allowed + " (got " + e.value + ")");
+      throw std::runtime_error(sourceName(file, applied) + ": key '" + e.name + "' must be " + e.allowed + " (got " +
+                               e.value + ")");
     }
     names += (names.empty() ? "" : " + ") + file;
   }
@@ -183,12 +197,11 @@ NodeParams loadNodeParamsFiles(const std::vector<std::string>& files, const std:
     check.left_joints = { "left" };
     check.right_joints = { "right" };
   }
-  requireValid(check.validate(), names);
+  requireValid(check.validate(), sourceName(names, overrides));
   const std::string unstable = stabilityWarning(params.aic);
   if (!unstable.empty())
   {
-    std::cerr << names << (overrides.empty() ? "" : " with overrides") << ": warning: the configuration is " << unstable
-              << "\n";
+    std::cerr << sourceName(names, overrides) << ": warning: the configuration is " << unstable << "\n";
   }
   return params;
 }

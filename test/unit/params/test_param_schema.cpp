@@ -705,6 +705,33 @@ TEST(YamlOverrides, LoadAicParamsAppliesAndValidates)
   EXPECT_THROW(loadAicParams(kSource + "/no/such/file.yaml"), std::runtime_error);
 }
 
+TEST(YamlOverrides, AnErrorAnOverrideCausesNamesTheOverride)
+{
+  // var_mu of two elements for embedding order 2: the list is the override's, not the file's.
+  const std::string file = kSource + "/config/default.yaml";
+  for (const bool node : { true, false })
+  {
+    try
+    {
+      if (node)
+      {
+        loadNodeParamsFiles({ file }, { "var_mu=[1, 2]" });
+      }
+      else
+      {
+        loadAicParams(file, { "var_mu=[1, 2]" });
+      }
+      FAIL() << "accepted var_mu of two elements";
+    }
+    catch (const std::runtime_error& e)
+    {
+      EXPECT_NE(std::string(e.what()).find(file + " with --aic-set var_mu=[1, 2]: invalid parameters"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+}
+
 TEST(YamlOverrides, LoadNodeParamsFilesReadsBothScopesInOrder)
 {
   // config/robot.yaml over config/default.yaml, as robot.launch loads them; node keys too.
