@@ -487,4 +487,4 @@ class DrivingStepTest(unittest.TestCase):
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
     pyunit.main("exp_tools", ProfileTest, StabilityTest, MetricsTest, TrackingTest, OverrideTest, DrivingStepTest,
-                PlotTest)
+                PlotTest, InferenceColumnsTest, HeadlessArcTest, StabilityWarningTest)

@@ -307,4 +307,4 @@ class FopdtTest(unittest.TestCase):
 
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
-    pyunit.main("tune", SimCostTest, ModelCostTest, SpaceTest, FopdtTest)
+    pyunit.main("tune", SimCostTest, ModelCostTest, SpaceTest, PiGainsTest, FopdtTest)

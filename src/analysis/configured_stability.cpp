@@ -22,7 +22,7 @@ ConfiguredStability checkConfiguredStability(const AicParams& params)
     out.analysed = true;
     out.stable = out.spectral_radius < 1.0;  // NaN (a non-finite map) counts as unstable
   }
-  catch (const std::invalid_argument& e)
+  catch (const std::exception& e)  // invalid parameters, or a model the linear one does not represent
   {
     out.reason = e.what();
   }

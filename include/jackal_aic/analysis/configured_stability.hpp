@@ -38,7 +38,8 @@ struct ConfiguredStability
  * \param params  controller parameters; invalid ones give analysed = false with the violations
  *                in reason (the loaders refuse them before this check)
  * \return the radius, or analysed = false with the reason the model refused (e.g. a belief rate
- *         that is not a multiple of the action rate). Never throws std::invalid_argument.
+ *         that is not a multiple of the action rate, or an action that depends on the goal, as the
+ *         unbiased beliefs' goal response makes it). Never throws.
  */
 ConfiguredStability checkConfiguredStability(const AicParams& params);
 
