@@ -153,7 +153,7 @@ private:
   std::vector<ImuSample> imu_samples_;
   bool use_sim_time_ = false;
   ros::Time origin_;
-  TimeJumpDetector time_jump_{ 0.001 };  ///< ROS time in real-time mode
+  loop::TimeJumpDetector time_jump_{ 0.001 };  ///< ROS time in real-time mode
   std::uint64_t odom_period_ = 20;
   std::uint64_t clock_period_ = 1;
 

@@ -100,7 +100,7 @@ private:
   ros::Subscriber sub_, joint_sub_, stop_sub_;
   ros::Timer timer_, status_timer_;
   ros::Time last_odom_;
-  TimeJumpDetector time_jump_{ 0.001 };  ///< ROS time (mutex_)
+  loop::TimeJumpDetector time_jump_{ 0.001 };  ///< ROS time (mutex_)
   /// The pose reached before the odometry last restarted (ROS time moved back) [m, m, rad].
   double x_offset_ = 0.0, y_offset_ = 0.0, heading_offset_ = 0.0;
 };

@@ -9,7 +9,9 @@
 
 namespace jackal_aic
 {
-void ActionDelayLine::restart(const Vector3& u)
+namespace aic
+{
+void ActionDelayLine::restart(const base::Vector3& u)
 {
   head_ = 0;
   count_ = 1;
@@ -17,13 +19,13 @@ void ActionDelayLine::restart(const Vector3& u)
   line_[0] = Sample{ time_, delayed_ };
 }
 
-void ActionDelayLine::reset(const Vector3& u)
+void ActionDelayLine::reset(const base::Vector3& u)
 {
   time_ = 0.0;
   restart(u);
 }
 
-void ActionDelayLine::record(double h, const Vector3& u)
+void ActionDelayLine::record(double h, const base::Vector3& u)
 {
   // The body twist G a of the action just sent, from now until the next action step.
   time_ += h;
@@ -40,4 +42,5 @@ void ActionDelayLine::record(double h, const Vector3& u)
   delayed_ = line_[static_cast<std::size_t>(idx)].u;
 }
 
+}  // namespace aic
 }  // namespace jackal_aic

@@ -6,21 +6,24 @@
 
 namespace jackal_aic
 {
-Vector2 ActionPrior::wheels(const SkidSteerModel& model, const ReferenceModel& reference) const
+namespace aic
+{
+base::Vector2 ActionPrior::wheels(const SkidSteerModel& model, const ReferenceModel& reference) const
 {
   if (params_.gain <= 0.0)
   {
-    return Vector2::Zero();
+    return base::Vector2::Zero();
   }
   // W = the wheel rows of R (the pseudo-inverse of G, eq. 3-3): the wheel speeds of a twist.
-  Vector3 target = reference.target();
+  base::Vector3 target = reference.target();
   if (reference.enabled())
   {
     // The reference path through the inverse of a first-order wheel loop: m + T_p m'.
     target = reference.path() + params_.time_constant * reference.rate();
   }
-  const SensorMatrix& R = model.R();
-  return params_.gain * Vector2(R.row(kOmegaLeft).dot(target), R.row(kOmegaRight).dot(target));
+  const base::SensorMatrix& R = model.R();
+  return params_.gain * base::Vector2(R.row(base::kOmegaLeft).dot(target), R.row(base::kOmegaRight).dot(target));
 }
 
+}  // namespace aic
 }  // namespace jackal_aic

@@ -10,22 +10,24 @@
 
 namespace jackal_aic
 {
-AntiWindup::Result AntiWindup::apply(const Vector2& a_F, const Vector2& candidate, const Vector2& a_dot,
-                                     const Vector2& prior, const Vector2& omega, bool left_trusted,
-                                     bool right_trusted) const
+namespace aic
 {
-  const Vector2 raw = candidate + prior;
-  Vector2 a = raw;
+AntiWindup::Result AntiWindup::apply(const base::Vector2& a_F, const base::Vector2& candidate,
+                                     const base::Vector2& a_dot, const base::Vector2& prior, const base::Vector2& omega,
+                                     bool left_trusted, bool right_trusted) const
+{
+  const base::Vector2 raw = candidate + prior;
+  base::Vector2 a = raw;
   if (params_.max_action_lead > 0.0)
   {
     // The action may lead the measured wheel speeds by at most max_action_lead (what the wheel
     // loop can use before it saturates), or as far as the prior alone asks (the command a stock
     // base would send: the MCU's own loop handles it, and nothing integrates it). A masked
     // (isolated) wheel channel is not trusted, so it does not bound its command.
-    const Vector2 lead = Vector2::Constant(params_.max_action_lead);
-    const Vector2 lower = (omega - lead).cwiseMin(prior);
-    const Vector2 upper = (omega + lead).cwiseMax(prior);
-    const Vector2 bounded = a.cwiseMax(lower).cwiseMin(upper);
+    const base::Vector2 lead = base::Vector2::Constant(params_.max_action_lead);
+    const base::Vector2 lower = (omega - lead).cwiseMin(prior);
+    const base::Vector2 upper = (omega + lead).cwiseMax(prior);
+    const base::Vector2 bounded = a.cwiseMax(lower).cwiseMin(upper);
     if (left_trusted)
     {
       a(0) = bounded(0);
@@ -39,11 +41,11 @@ AntiWindup::Result AntiWindup::apply(const Vector2& a_F, const Vector2& candidat
   {
     // Differential (turning) lead bounded, common lead kept: e_L = c - d, e_R = c + d.
     // Both wheel channels must be trusted: the lead is measured against them.
-    Vector2 lead = commonDifferential(a - omega);
+    base::Vector2 lead = commonDifferential(a - omega);
     lead(1) = std::clamp(lead(1), -params_.max_action_lead_turn, params_.max_action_lead_turn);
     a = omega + wheelPair(lead);
   }
-  const Vector2 unsaturated = a;
+  const base::Vector2 unsaturated = a;
   a = limitWheelSpeed(a);  // applied last: the wheel clamp always wins
   // Where a clamp cut a wheel's command in the direction a_F integrates, a_F integrates only up
   // to the clamp (a - a_ff) and is never pulled back by it, so it cannot wind up against a limit,
@@ -69,4 +71,5 @@ AntiWindup::Result AntiWindup::apply(const Vector2& a_F, const Vector2& candidat
   return result;
 }
 
+}  // namespace aic
 }  // namespace jackal_aic

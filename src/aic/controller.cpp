@@ -15,9 +15,11 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 namespace
 {
-std::string joinViolations(const std::vector<ParamViolation>& violations)
+std::string joinViolations(const std::vector<params::ParamViolation>& violations)
 {
   std::string msg = "invalid AicParams:";
   for (const auto& v : violations)
@@ -28,7 +30,7 @@ std::string joinViolations(const std::vector<ParamViolation>& violations)
 }
 
 /// Returns params if valid, throws std::invalid_argument listing every violation otherwise.
-const AicParams& checked(const AicParams& params)
+const params::AicParams& checked(const params::AicParams& params)
 {
   const auto violations = params.validate();
   if (!violations.empty())
@@ -50,15 +52,15 @@ bool finiteStep(double h)
  *        latency is in the model (WheelLoopModel), not in the goal's path. The one place a stage's
  *        settings are derived rather than taken as they are.
  */
-ReferenceModelParams goalStageParams(const AicParams& params)
+params::ReferenceModelParams goalStageParams(const params::AicParams& params)
 {
-  ReferenceModelParams rp = params.reference;
-  if (params.belief_model == BeliefModel::kRobot)
+  params::ReferenceModelParams rp = params.reference;
+  if (params.belief_model == params::BeliefModel::kRobot)
   {
     rp.goal_lead = params.robot.latency;
     rp.goal_lead_angular = params.robot.latency;
-    rp.max_acceleration_linear = ReferenceModelParams().max_acceleration_linear;
-    rp.max_acceleration_angular = ReferenceModelParams().max_acceleration_angular;
+    rp.max_acceleration_linear = params::ReferenceModelParams().max_acceleration_linear;
+    rp.max_acceleration_angular = params::ReferenceModelParams().max_acceleration_angular;
     rp.max_acceleration_wheel = params.robot.wheel_acceleration * params.wheel_radius * params.slip_factor;
     rp.delay = 0.0;
   }
@@ -67,28 +69,28 @@ ReferenceModelParams goalStageParams(const AicParams& params)
 
 /// The separation learner of params: its settings, the robot's geometry, and b_hat starting at
 /// wheel_separation clamped to the learner's bounds.
-SeparationLearner makeSeparationLearner(const AicParams& params)
+SeparationLearner makeSeparationLearner(const params::AicParams& params)
 {
-  const SeparationLearnerParams& lp = params.separation_learner;
+  const params::SeparationLearnerParams& lp = params.separation_learner;
   return SeparationLearner(lp, params.wheel_radius, params.slip_factor,
                            std::clamp(params.wheel_separation, lp.min, lp.max));
 }
 }  // namespace
 
-ActiveInferenceController::ActiveInferenceController(const AicParams& params)
+ActiveInferenceController::ActiveInferenceController(const params::AicParams& params)
   : params_(checked(params))
   , model_(params.wheel_radius, params.slip_factor, params.wheel_separation)
   , learner_(makeSeparationLearner(params))
 {
   const int n = params.numOrders();
-  mu_.setZero(kMuDim, n);
-  y_tilde_.setZero(kYDim, n);
+  mu_.setZero(base::kMuDim, n);
+  y_tilde_.setZero(base::kYDim, n);
   applyParams(params);
-  startReference(Vector3::Zero());
+  startReference(base::Vector3::Zero());
   action_line_.restart(model_.twistFromWheels(a_));
 }
 
-void ActiveInferenceController::setParams(const AicParams& params)
+void ActiveInferenceController::setParams(const params::AicParams& params)
 {
   checked(params);
   const bool order_changed = params.embedding_order != params_.embedding_order;
@@ -99,15 +101,15 @@ void ActiveInferenceController::setParams(const AicParams& params)
   if (order_changed)
   {
     const int n = params.numOrders();
-    mu_.setZero(kMuDim, n);
-    y_tilde_.setZero(kYDim, n);
+    mu_.setZero(base::kMuDim, n);
+    y_tilde_.setZero(base::kYDim, n);
     a_.setZero();
     a_F_.setZero();
     has_measurement_ = false;
   }
 }
 
-void ActiveInferenceController::applyParams(const AicParams& params)
+void ActiveInferenceController::applyParams(const params::AicParams& params)
 {
   // What was learned survives a parameter change that keeps learning on and the geometry.
   const bool keep_learned = params.separation_learner.enabled && params_.separation_learner.enabled &&
@@ -151,7 +153,7 @@ void ActiveInferenceController::applyLearnedSeparation(bool force)
   {
     model_.setWheelSeparation(b);
     reference_.setWheelSeparation(b);
-    if (params_.belief_model != BeliefModel::kRobot)  // the robot model has no linear belief dynamics
+    if (params_.belief_model != params::BeliefModel::kRobot)  // the robot model has no linear belief dynamics
     {
       rebuildDynamics();
     }
@@ -182,7 +184,7 @@ void ActiveInferenceController::resetLearning()
 
 void ActiveInferenceController::setSensorMask(std::uint8_t mask)
 {
-  mask &= static_cast<std::uint8_t>((1u << kYDim) - 1u);
+  mask &= static_cast<std::uint8_t>((1u << base::kYDim) - 1u);
   if (mask == sensor_mask_)
   {
     return;
@@ -193,13 +195,13 @@ void ActiveInferenceController::setSensorMask(std::uint8_t mask)
 
 void ActiveInferenceController::rebuildDynamics()
 {
-  const AicParams& params = params_;
+  const params::AicParams& params = params_;
   pi_y_ = params.precisionY();
   if (params.precision_learner.enabled)
   {
     precision_learner_.applyTo(&pi_y_);
   }
-  for (int j = 0; j < kYDim; ++j)
+  for (int j = 0; j < base::kYDim; ++j)
   {
     if ((sensor_mask_ & (1u << j)) == 0)
     {
@@ -210,12 +212,12 @@ void ActiveInferenceController::rebuildDynamics()
   // The belief dynamics are affine in mu_tilde: dmu/dt = M vec(mu) + (terms in y_tilde, mu_d).
   // Column j of M is dmu/dt at mu = e_j with y_tilde = 0 and mu_d = 0.
   const int n = params.numOrders();
-  const int dim = kMuDim * n;
+  const int dim = base::kMuDim * n;
   M_.setZero(dim, dim);
-  MuTilde e(kMuDim, n);
-  MuTilde f(kMuDim, n);
-  YTilde y0 = YTilde::Zero(kYDim, n);
-  const Vector3 zero3 = Vector3::Zero();
+  base::MuTilde e(base::kMuDim, n);
+  base::MuTilde f(base::kMuDim, n);
+  base::YTilde y0 = base::YTilde::Zero(base::kYDim, n);
+  const base::Vector3 zero3 = base::Vector3::Zero();
   for (int j = 0; j < dim; ++j)
   {
     e.setZero();
@@ -229,32 +231,32 @@ void ActiveInferenceController::rebuildDynamics()
   exact_h_ = 0.0;
 }
 
-bool ActiveInferenceController::setGoal(const Vector3& mu_d, const Vector3& mu_d_dot)
+bool ActiveInferenceController::setGoal(const base::Vector3& mu_d, const base::Vector3& mu_d_dot)
 {
   return reference_.setGoal(mu_d, mu_d_dot);
 }
 
-Vector3 ActiveInferenceController::attractorGoal() const
+base::Vector3 ActiveInferenceController::attractorGoal() const
 {
   return reference_.attractorGoal();
 }
 
-Vector3 ActiveInferenceController::priorGoal() const
+base::Vector3 ActiveInferenceController::priorGoal() const
 {
-  return params_.belief_model == BeliefModel::kUnbiased ? action_line_.delayed() : reference_.attractorGoal();
+  return params_.belief_model == params::BeliefModel::kUnbiased ? action_line_.delayed() : reference_.attractorGoal();
 }
 
-Vector3 ActiveInferenceController::priorRate() const
+base::Vector3 ActiveInferenceController::priorRate() const
 {
-  return params_.belief_model == BeliefModel::kUnbiased ? Vector3::Zero() : reference_.attractorRate();
+  return params_.belief_model == params::BeliefModel::kUnbiased ? base::Vector3::Zero() : reference_.attractorRate();
 }
 
-Vector2 ActiveInferenceController::actionPrior() const
+base::Vector2 ActiveInferenceController::actionPrior() const
 {
   return action_prior_.wheels(model_, reference_);
 }
 
-bool ActiveInferenceController::startReference(const Vector3& m0)
+bool ActiveInferenceController::startReference(const base::Vector3& m0)
 {
   if (!reference_.start(m0))
   {
@@ -264,7 +266,7 @@ bool ActiveInferenceController::startReference(const Vector3& m0)
   return true;
 }
 
-bool ActiveInferenceController::setMeasurement(const YTilde& y_tilde)
+bool ActiveInferenceController::setMeasurement(const base::YTilde& y_tilde)
 {
   if (y_tilde.cols() != params_.numOrders() || !y_tilde.allFinite() ||
       y_tilde.cwiseAbs().maxCoeff() > kMaxMeasurementMagnitude)
@@ -277,7 +279,7 @@ bool ActiveInferenceController::setMeasurement(const YTilde& y_tilde)
   return true;
 }
 
-bool ActiveInferenceController::setBeliefs(const MuTilde& mu)
+bool ActiveInferenceController::setBeliefs(const base::MuTilde& mu)
 {
   if (mu.cols() != params_.numOrders() || !mu.allFinite() || mu.cwiseAbs().maxCoeff() > params_.runaway_limit)
   {
@@ -287,7 +289,8 @@ bool ActiveInferenceController::setBeliefs(const MuTilde& mu)
   return true;
 }
 
-void ActiveInferenceController::computeEpsY(const MuTilde& mu, const YTilde& y_tilde, YTilde* eps_y) const
+void ActiveInferenceController::computeEpsY(const base::MuTilde& mu, const base::YTilde& y_tilde,
+                                            base::YTilde* eps_y) const
 {
   const int n = params_.numOrders();
   for (int i = 0; i < n; ++i)
@@ -296,20 +299,20 @@ void ActiveInferenceController::computeEpsY(const MuTilde& mu, const YTilde& y_t
   }
 }
 
-Vector5 ActiveInferenceController::epsYOrder(const MuTilde& mu, const YTilde& y_tilde, int i) const
+base::Vector5 ActiveInferenceController::epsYOrder(const base::MuTilde& mu, const base::YTilde& y_tilde, int i) const
 {
-  Vector5 e;
+  base::Vector5 e;
   e.noalias() = y_tilde.col(i) - model_.R() * mu.col(i);
   if (params_.accel_in_model && i + 1 < params_.numOrders())
   {
     // Optional kinematic accelerometer row: accel_x^(i) predicted by x_dot^(i+1).
-    e(kAccelX) -= mu(0, i + 1);
+    e(base::kAccelX) -= mu(0, i + 1);
   }
   return e;
 }
 
-void ActiveInferenceController::computeEpsMu(const MuTilde& mu, const Vector3& g, const Vector3& g_dot,
-                                             MuTilde* eps_mu) const
+void ActiveInferenceController::computeEpsMu(const base::MuTilde& mu, const base::Vector3& g,
+                                             const base::Vector3& g_dot, base::MuTilde* eps_mu) const
 {
   const int n = params_.numOrders();
   const double inv_tau = 1.0 / params_.tau;
@@ -327,18 +330,19 @@ void ActiveInferenceController::computeEpsMu(const MuTilde& mu, const Vector3& g
   }
 }
 
-void ActiveInferenceController::computeDfDmu(const MuTilde& mu, const YTilde& y_tilde, const Vector3& g,
-                                             const Vector3& g_dot, MuTilde* grad) const
+void ActiveInferenceController::computeDfDmu(const base::MuTilde& mu, const base::YTilde& y_tilde,
+                                             const base::Vector3& g, const base::Vector3& g_dot,
+                                             base::MuTilde* grad) const
 {
   const int n = params_.numOrders();
   const double inv_tau = 1.0 / params_.tau;
-  YTilde wy(kYDim, n);    // Pi_y eps_y
-  MuTilde wm(kMuDim, n);  // Pi_mu eps_mu
+  base::YTilde wy(base::kYDim, n);    // Pi_y eps_y
+  base::MuTilde wm(base::kMuDim, n);  // Pi_mu eps_mu
   computeEpsY(mu, y_tilde, &wy);
   computeEpsMu(mu, g, g_dot, &wm);
   wy.array() *= pi_y_.array();
   wm.array() *= pi_mu_.array();
-  const SensorMatrix& R = model_.R();
+  const base::SensorMatrix& R = model_.R();
   for (int i = 0; i < n; ++i)
   {
     grad->col(i).noalias() = -R.transpose() * wy.col(i);
@@ -348,14 +352,15 @@ void ActiveInferenceController::computeDfDmu(const MuTilde& mu, const YTilde& y_
       grad->col(i) += wm.col(i - 1);
       if (params_.accel_in_model)
       {
-        (*grad)(0, i) -= wy(kAccelX, i - 1);
+        (*grad)(0, i) -= wy(base::kAccelX, i - 1);
       }
     }
   }
 }
 
-void ActiveInferenceController::computeMuDot(const MuTilde& mu, const YTilde& y_tilde, const Vector3& g,
-                                             const Vector3& g_dot, MuTilde* mu_dot) const
+void ActiveInferenceController::computeMuDot(const base::MuTilde& mu, const base::YTilde& y_tilde,
+                                             const base::Vector3& g, const base::Vector3& g_dot,
+                                             base::MuTilde* mu_dot) const
 {
   const int n = params_.numOrders();
   computeDfDmu(mu, y_tilde, g, g_dot, mu_dot);
@@ -364,34 +369,34 @@ void ActiveInferenceController::computeMuDot(const MuTilde& mu, const YTilde& y_
   mu_dot->leftCols(n - 1) += mu.rightCols(n - 1);
 }
 
-YTilde ActiveInferenceController::epsY() const
+base::YTilde ActiveInferenceController::epsY() const
 {
-  YTilde e(kYDim, params_.numOrders());
+  base::YTilde e(base::kYDim, params_.numOrders());
   computeEpsY(mu_, y_tilde_, &e);
   return e;
 }
 
-MuTilde ActiveInferenceController::epsMu() const
+base::MuTilde ActiveInferenceController::epsMu() const
 {
-  MuTilde e(kMuDim, params_.numOrders());
+  base::MuTilde e(base::kMuDim, params_.numOrders());
   computeEpsMu(mu_, priorGoal(), priorRate(), &e);
   return e;
 }
 
 double ActiveInferenceController::freeEnergy() const
 {
-  if (params_.belief_model == BeliefModel::kRobot)
+  if (params_.belief_model == params::BeliefModel::kRobot)
   {
     return sensoryFreeEnergy() + priorFreeEnergy();
   }
-  const YTilde ey = epsY();
-  const MuTilde em = epsMu();
+  const base::YTilde ey = epsY();
+  const base::MuTilde em = epsMu();
   return 0.5 * ((ey.array().square() * pi_y_.array()).sum() + (em.array().square() * pi_mu_.array()).sum());
 }
 
 double ActiveInferenceController::sensoryFreeEnergy() const
 {
-  if (params_.belief_model == BeliefModel::kRobot)
+  if (params_.belief_model == params::BeliefModel::kRobot)
   {
     return robot_belief_.sensoryFreeEnergy();
   }
@@ -400,44 +405,44 @@ double ActiveInferenceController::sensoryFreeEnergy() const
 
 double ActiveInferenceController::priorFreeEnergy() const
 {
-  if (params_.belief_model == BeliefModel::kRobot)
+  if (params_.belief_model == params::BeliefModel::kRobot)
   {
     return robot_belief_.priorFreeEnergy();
   }
   return 0.5 * (epsMu().array().square() * pi_mu_.array()).sum();
 }
 
-MuTilde ActiveInferenceController::dFdMu() const
+base::MuTilde ActiveInferenceController::dFdMu() const
 {
-  MuTilde g(kMuDim, params_.numOrders());
+  base::MuTilde g(base::kMuDim, params_.numOrders());
   computeDfDmu(mu_, y_tilde_, priorGoal(), priorRate(), &g);
   return g;
 }
 
-MuTilde ActiveInferenceController::muDot() const
+base::MuTilde ActiveInferenceController::muDot() const
 {
-  MuTilde d(kMuDim, params_.numOrders());
+  base::MuTilde d(base::kMuDim, params_.numOrders());
   computeMuDot(mu_, y_tilde_, priorGoal(), priorRate(), &d);
   return d;
 }
 
-Vector2 ActiveInferenceController::aDot() const
+base::Vector2 ActiveInferenceController::aDot() const
 {
   const int n = params_.numOrders();
-  YTilde ey(kYDim, n);
-  if (params_.belief_model == BeliefModel::kUnbiased)
+  base::YTilde ey(base::kYDim, n);
+  if (params_.belief_model == params::BeliefModel::kUnbiased)
   {
     // The goal prior on the action's outcome: the predicted sensations R mu^(i) should be those of
     // the goal's path g = (mu_r, mu_r', 0, ...), so eps_g^(i) = R (mu^(i) - g^(i)) takes eps_y's
     // place (sign: a belief below the goal asks for more, as eps_y = y - R mu < 0 does).
-    const SensorMatrix& R = model_.R();
+    const base::SensorMatrix& R = model_.R();
     // With goal_response_time_constant T_g > 0 the goal's path as the robot is expected to follow
     // it (GoalResponse), else the reference path itself.
-    const Vector3 g0 = response_.enabled() ? response_.goal() : reference_.attractorGoal();
-    const Vector3 g1 = response_.enabled() ? response_.rate() : reference_.attractorRate();
+    const base::Vector3 g0 = response_.enabled() ? response_.goal() : reference_.attractorGoal();
+    const base::Vector3 g1 = response_.enabled() ? response_.rate() : reference_.attractorRate();
     for (int i = 0; i < n; ++i)
     {
-      Vector3 d = mu_.col(i);
+      base::Vector3 d = mu_.col(i);
       if (i == 0)
       {
         d -= g0;
@@ -455,7 +460,7 @@ Vector2 ActiveInferenceController::aDot() const
   }
   ey.array() *= pi_y_.array();
   // da/dt = -k_a sum_i K Pi_y^(i) eps_y^(i)
-  const Vector5 sum = ey.rowwise().sum();
+  const base::Vector5 sum = ey.rowwise().sum();
   return -params_.k_a * (model_.K() * sum);
 }
 
@@ -490,7 +495,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
   {
     return Status::kNoMeasurement;
   }
-  if (params_.belief_model == BeliefModel::kRobot)
+  if (params_.belief_model == params::BeliefModel::kRobot)
   {
     return updateRobotBeliefs(h);
   }
@@ -516,16 +521,16 @@ ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(doubl
 bool ActiveInferenceController::integrateBeliefs(double h)
 {
   const int n = params_.numOrders();
-  MuTilde f(kMuDim, n);
+  base::MuTilde f(base::kMuDim, n);
   computeMuDot(mu_, y_tilde_, priorGoal(), priorRate(), &f);
-  MuTilde next(kMuDim, n);
-  if (params_.integrator == Integrator::kExact)
+  base::MuTilde next(base::kMuDim, n);
+  if (params_.integrator == params::Integrator::kExact)
   {
     if (exact_h_ <= 0.0 || std::abs(h - exact_h_) * m_norm_ > kExactSeriesLimit)
     {
       computeExactStep(h);
     }
-    const int dim = kMuDim * n;
+    const int dim = base::kMuDim * n;
     Eigen::Map<const Eigen::VectorXd> fv(f.data(), dim);
     Eigen::Map<Eigen::VectorXd> nv(next.data(), dim);
     nv.noalias() = psi_ * fv;
@@ -573,22 +578,23 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(
     // a fault mask they are held), and only while the gyro's and the believed wheels' yaw
     // accelerations are within the separation learner's gate: a turn's scrub transient, which the
     // first-order yaw model does not describe, is left to theta_dot.
-    const std::uint8_t needed = (1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight);
-    const Vector2 wheel_rates = robot_belief_.wheelAccelerations();
+    const std::uint8_t needed = (1u << base::kGyroZ) | (1u << base::kOmegaLeft) | (1u << base::kOmegaRight);
+    const base::Vector2 wheel_rates = robot_belief_.wheelAccelerations();
     const double wheels_yaw_rate = model_.G()(2, 1) * (wheel_rates(1) - wheel_rates(0));
     const bool learn = (sensor_mask_ & needed) == needed &&
-                       std::abs(y_tilde_(kGyroZ, 1)) <= params_.separation_learner.max_yaw_acceleration &&
+                       std::abs(y_tilde_(base::kGyroZ, 1)) <= params_.separation_learner.max_yaw_acceleration &&
                        std::abs(wheels_yaw_rate) <= params_.separation_learner.max_yaw_acceleration;
-    robot_belief_.correct(Vector2(y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0)), y_tilde_(kGyroZ, 0),
-                          (sensor_mask_ & (1u << kOmegaLeft)) != 0, (sensor_mask_ & (1u << kOmegaRight)) != 0,
-                          (sensor_mask_ & (1u << kGyroZ)) != 0, learn);
+    robot_belief_.correct(base::Vector2(y_tilde_(base::kOmegaLeft, 0), y_tilde_(base::kOmegaRight, 0)),
+                          y_tilde_(base::kGyroZ, 0), (sensor_mask_ & (1u << base::kOmegaLeft)) != 0,
+                          (sensor_mask_ & (1u << base::kOmegaRight)) != 0, (sensor_mask_ & (1u << base::kGyroZ)) != 0,
+                          learn);
   }
   if (params_.separation_learner.enabled)
   {
     learnRobotSeparation(h);
   }
   // The beliefs in the thesis's coordinates: mu^(0) = (x_dot, 0, theta_dot), mu^(1) their rates.
-  MuTilde next = MuTilde::Zero(kMuDim, params_.numOrders());
+  base::MuTilde next = base::MuTilde::Zero(base::kMuDim, params_.numOrders());
   next(0, 0) = model_.twistFromWheels(robot_belief_.wheelSpeeds())(0);
   next(2, 0) = robot_belief_.yawRate();
   if (params_.numOrders() > 1)
@@ -636,20 +642,20 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
   // The robot model's action step: the goal's path, predicted one latency ahead and bounded by
   // the wheel loop (ReferenceModel), at the end of the step the command will be held for, in
   // the wheels' coordinates of the learned model; then LatencyAction's descent of F_a.
-  Vector2 goal = Vector2::Zero();
+  base::Vector2 goal = base::Vector2::Zero();
   const bool at_rest = reference_.target().isZero(0.0) && reference_.path().cwiseAbs().maxCoeff() <= kRobotRestPath;
   if (!at_rest)
   {
-    const Vector3 path =
-        reference_.enabled() ? Vector3(reference_.path() + h * reference_.rate()) : reference_.target();
+    const base::Vector3 path =
+        reference_.enabled() ? base::Vector3(reference_.path() + h * reference_.rate()) : reference_.target();
     // The wheels through the learned b_hat (the slip ratio's steady part reaches the command
     // through b_hat, at the learner's rate: a transient's slip does not).
-    const SensorMatrix& R = model_.R();
-    goal << R.row(kOmegaLeft).dot(path), R.row(kOmegaRight).dot(path);
+    const base::SensorMatrix& R = model_.R();
+    goal << R.row(base::kOmegaLeft).dot(path), R.row(base::kOmegaRight).dot(path);
   }
   const double pi_e = 1.0 / (params_.robot.encoder_noise * params_.robot.encoder_noise);
   // At rest the command is zero: the MCU holds the wheels, there is no shortfall to make up.
-  const Vector2 shortfall = at_rest ? Vector2::Zero() : robot_belief_.shortfalls();
+  const base::Vector2 shortfall = at_rest ? base::Vector2::Zero() : robot_belief_.shortfalls();
   const LatencyActionResult r =
       LatencyAction::step(wheel_loop_, robot_belief_.wheelSpeeds(), shortfall, robot_clock_, goal, a_, h,
                           params_.robot.action_gain, params_.max_wheel_speed, pi_e);
@@ -658,7 +664,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
     runawayReset();
     return Status::kRunaway;
   }
-  a_ = at_rest ? Vector2::Zero() : r.command;
+  a_ = at_rest ? base::Vector2::Zero() : r.command;
   a_F_ = a_;
   action_free_energy_ = r.free_energy;
   action_saturated_ = r.minimiser.cwiseAbs().maxCoeff() >= params_.max_wheel_speed;
@@ -668,8 +674,8 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
 
 void ActiveInferenceController::learnPrecision(double h)
 {
-  precision_learner_.update(h, epsYOrder(mu_, y_tilde_, 0), y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0),
-                            sensor_mask_, action_saturated_);
+  precision_learner_.update(h, epsYOrder(mu_, y_tilde_, 0), y_tilde_(base::kOmegaLeft, 0),
+                            y_tilde_(base::kOmegaRight, 0), sensor_mask_, action_saturated_);
   if (precision_learner_.changedSince(PrecisionLearner::kApplyTolerance))
   {
     rebuildDynamics();
@@ -678,10 +684,10 @@ void ActiveInferenceController::learnPrecision(double h)
 
 void ActiveInferenceController::learn(double h)
 {
-  const std::uint8_t needed = (1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight);
-  learner_.update(h, y_tilde_(kGyroZ, 0), y_tilde_(kGyroZ, 1), y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0),
-                  y_tilde_(kOmegaLeft, 1), y_tilde_(kOmegaRight, 1), pi_y_(kGyroZ, 0),
-                  (sensor_mask_ & needed) == needed, action_saturated_);
+  const std::uint8_t needed = (1u << base::kGyroZ) | (1u << base::kOmegaLeft) | (1u << base::kOmegaRight);
+  learner_.update(h, y_tilde_(base::kGyroZ, 0), y_tilde_(base::kGyroZ, 1), y_tilde_(base::kOmegaLeft, 0),
+                  y_tilde_(base::kOmegaRight, 0), y_tilde_(base::kOmegaLeft, 1), y_tilde_(base::kOmegaRight, 1),
+                  pi_y_(base::kGyroZ, 0), (sensor_mask_ & needed) == needed, action_saturated_);
   applyLearnedSeparation(false);
 }
 
@@ -695,7 +701,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
   {
     return Status::kNoMeasurement;
   }
-  if (params_.belief_model == BeliefModel::kRobot)
+  if (params_.belief_model == params::BeliefModel::kRobot)
   {
     return updateRobotAction(h);
   }
@@ -704,11 +710,11 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
   a_F_ = release_.apply(a_F_, reference_.target(), h);
   // da_F/dt does not depend on a, so with beliefs and measurement held over the step the
   // Euler step is also the exact one. a = a_F + a_ff.
-  const Vector2 a_dot = aDot();         // eq. 3-16 (unbiased: the goal prior on GoalResponse's g)
-  const Vector2 prior = actionPrior();  // ActionPrior
-  const Vector2 increment = h * a_dot;
-  const Vector2 candidate = a_F_ + increment;
-  const Vector2 raw = candidate + prior;
+  const base::Vector2 a_dot = aDot();         // eq. 3-16 (unbiased: the goal prior on GoalResponse's g)
+  const base::Vector2 prior = actionPrior();  // ActionPrior
+  const base::Vector2 increment = h * a_dot;
+  const base::Vector2 candidate = a_F_ + increment;
+  const base::Vector2 raw = candidate + prior;
   // A diverging action is never clamped and sent: a non-finite command, or one step that moves
   // a wheel's command by more than the whole range of wheel speeds (2 max_wheel_speed), resets
   // (zero action) here, before the command leaves. The belief update's runaway_limit catches
@@ -721,15 +727,15 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
     return Status::kRunaway;
   }
   // AntiWindup: the clamps and conditional integration of a_F (a masked, isolated, wheel channel is not trusted).
-  const Vector2 omega(y_tilde_(kOmegaLeft, 0), y_tilde_(kOmegaRight, 0));
+  const base::Vector2 omega(y_tilde_(base::kOmegaLeft, 0), y_tilde_(base::kOmegaRight, 0));
   const AntiWindup::Result clamped =
-      anti_windup_.apply(a_F_, candidate, a_dot, prior, omega, (sensor_mask_ & (1u << kOmegaLeft)) != 0,
-                         (sensor_mask_ & (1u << kOmegaRight)) != 0);
+      anti_windup_.apply(a_F_, candidate, a_dot, prior, omega, (sensor_mask_ & (1u << base::kOmegaLeft)) != 0,
+                         (sensor_mask_ & (1u << base::kOmegaRight)) != 0);
   a_F_ = clamped.free_energy_part;
   // Saturation: the wheel-speed limit cut the command (the lead limits are anti-windup, not saturation).
   action_saturated_ = clamped.saturated;
   a_ = clamped.command;
-  if (params_.belief_model == BeliefModel::kUnbiased)
+  if (params_.belief_model == params::BeliefModel::kUnbiased)
   {
     action_line_.record(h, model_.twistFromWheels(a_));  // ActionDelayLine
   }
@@ -743,8 +749,8 @@ void ActiveInferenceController::runawayReset()
   a_F_.setZero();
   action_line_.reset(model_.twistFromWheels(a_));
   wheel_loop_.reset(robot_clock_, a_);
-  robot_belief_.reset(Vector2::Zero(), 0.0);
-  startReference(Vector3::Zero());
+  robot_belief_.reset(base::Vector2::Zero(), 0.0);
+  startReference(base::Vector3::Zero());
   ++runaway_count_;
 }
 
@@ -755,14 +761,14 @@ void ActiveInferenceController::reset()
   a_F_.setZero();
   action_line_.reset(model_.twistFromWheels(a_));
   wheel_loop_.reset(robot_clock_, a_);
-  robot_belief_.reset(Vector2::Zero(), 0.0);
+  robot_belief_.reset(base::Vector2::Zero(), 0.0);
   y_tilde_.setZero();
   has_measurement_ = false;
   robot_sample_pending_ = false;
-  startReference(Vector3::Zero());
+  startReference(base::Vector3::Zero());
 }
 
-void ActiveInferenceController::setAction(const Vector2& a)
+void ActiveInferenceController::setAction(const base::Vector2& a)
 {
   if (!a.allFinite())
   {
@@ -791,4 +797,5 @@ const char* toString(ActiveInferenceController::Status status)
   return "unknown";
 }
 
+}  // namespace aic
 }  // namespace jackal_aic

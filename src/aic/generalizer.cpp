@@ -10,6 +10,8 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 namespace
 {
 /// Fills q (resized to (p+1) x (p+1)) with the thesis's Q (eq. 3-22) for interval h.
@@ -38,10 +40,10 @@ Generalizer::Generalizer(int channels, int embedding_order) : channels_(channels
   {
     throw std::invalid_argument("Generalizer: channels = " + std::to_string(channels) + " (allowed: >= 1)");
   }
-  if (embedding_order < 1 || embedding_order > kMaxEmbeddingOrder)
+  if (embedding_order < 1 || embedding_order > base::kMaxEmbeddingOrder)
   {
     throw std::invalid_argument("Generalizer: embedding_order = " + std::to_string(embedding_order) + " (allowed: 1.." +
-                                std::to_string(kMaxEmbeddingOrder) + ")");
+                                std::to_string(base::kMaxEmbeddingOrder) + ")");
   }
   q_.setZero(p_ + 1, p_ + 1);
   y_tilde_.setZero(channels_, p_ + 1);
@@ -51,10 +53,10 @@ Generalizer::Generalizer(int channels, int embedding_order) : channels_(channels
 
 Eigen::MatrixXd Generalizer::buildQ(int p, double h)
 {
-  if (p < 1 || p > kMaxEmbeddingOrder)
+  if (p < 1 || p > base::kMaxEmbeddingOrder)
   {
     throw std::invalid_argument("Generalizer::buildQ: p = " + std::to_string(p) + " (allowed: 1.." +
-                                std::to_string(kMaxEmbeddingOrder) + ")");
+                                std::to_string(base::kMaxEmbeddingOrder) + ")");
   }
   if (!(std::isfinite(h) && h > 0.0))
   {
@@ -148,4 +150,5 @@ const char* toString(Generalizer::Status status)
   return "unknown";
 }
 
+}  // namespace aic
 }  // namespace jackal_aic

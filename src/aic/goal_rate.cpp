@@ -10,15 +10,17 @@
 
 namespace jackal_aic
 {
-GoalRateEstimator::GoalRateEstimator(const ReferenceModelParams& params)
+namespace aic
+{
+GoalRateEstimator::GoalRateEstimator(const params::ReferenceModelParams& params)
 {
   setParams(params);
 }
 
-void GoalRateEstimator::setParams(const ReferenceModelParams& params)
+void GoalRateEstimator::setParams(const params::ReferenceModelParams& params)
 {
   hold_ = params.goal_rate_hold;
-  max_rate_ = Vector3(params.max_goal_rate_linear, params.max_goal_rate_linear, params.max_goal_rate_angular);
+  max_rate_ = base::Vector3(params.max_goal_rate_linear, params.max_goal_rate_linear, params.max_goal_rate_angular);
 }
 
 void GoalRateEstimator::reset()
@@ -30,7 +32,7 @@ void GoalRateEstimator::reset()
   slope_until_ = 0.0;
 }
 
-bool GoalRateEstimator::update(double t, const Vector3& mu_d)
+bool GoalRateEstimator::update(double t, const base::Vector3& mu_d)
 {
   if (!std::isfinite(t) || !mu_d.allFinite() || (has_value_ && t < change_time_))
   {
@@ -63,9 +65,10 @@ bool GoalRateEstimator::update(double t, const Vector3& mu_d)
   return true;
 }
 
-Vector3 GoalRateEstimator::rate(double t) const
+base::Vector3 GoalRateEstimator::rate(double t) const
 {
-  return t < slope_until_ ? slope_ : Vector3::Zero();
+  return t < slope_until_ ? slope_ : base::Vector3::Zero();
 }
 
+}  // namespace aic
 }  // namespace jackal_aic

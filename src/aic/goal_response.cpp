@@ -8,7 +8,9 @@
 
 namespace jackal_aic
 {
-void GoalResponse::start(const Vector3& g0)
+namespace aic
+{
+void GoalResponse::start(const base::Vector3& g0)
 {
   if (!g0.allFinite())
   {
@@ -18,7 +20,7 @@ void GoalResponse::start(const Vector3& g0)
   g_dot_.setZero();
 }
 
-void GoalResponse::advance(double h, const Vector3& mu_r, const Vector3& mu_r_dot)
+void GoalResponse::advance(double h, const base::Vector3& mu_r, const base::Vector3& mu_r_dot)
 {
   if (!(std::isfinite(h) && h > 0.0) || !mu_r.allFinite() || !mu_r_dot.allFinite())
   {
@@ -34,4 +36,5 @@ void GoalResponse::advance(double h, const Vector3& mu_r, const Vector3& mu_r_do
   g_dot_ = (mu_r - g_) / time_constant_;
 }
 
+}  // namespace aic
 }  // namespace jackal_aic

@@ -15,11 +15,13 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 namespace
 {
-void check(const GyroBiasEstimatorParams& p)
+void check(const params::GyroBiasEstimatorParams& p)
 {
-  RuleList rules;
+  base::RuleList rules;
   rules.require(std::isfinite(p.max_bias) && p.max_bias > 0.0, "gyro_bias_max finite and > 0");
   rules.require(std::isfinite(p.rest_speed) && p.rest_speed > 0.0, "gyro_bias_rest_speed finite and > 0");
   rules.require(std::isfinite(p.rest_time) && p.rest_time >= 0.0, "gyro_bias_rest_time finite and >= 0");
@@ -32,12 +34,12 @@ void check(const GyroBiasEstimatorParams& p)
 }
 }  // namespace
 
-GyroBiasEstimator::GyroBiasEstimator(const GyroBiasEstimatorParams& params) : params_(params)
+GyroBiasEstimator::GyroBiasEstimator(const params::GyroBiasEstimatorParams& params) : params_(params)
 {
   check(params);
 }
 
-void GyroBiasEstimator::setParams(const GyroBiasEstimatorParams& params)
+void GyroBiasEstimator::setParams(const params::GyroBiasEstimatorParams& params)
 {
   check(params);
   params_ = params;
@@ -130,4 +132,5 @@ std::string statusText(const GyroBiasEstimator& estimator)
   return text;
 }
 
+}  // namespace aic
 }  // namespace jackal_aic

@@ -9,10 +9,12 @@
 
 namespace jackal_aic
 {
-const char* const kBeliefChannelNames[kMuDim] = { "x_dot", "y_dot", "theta_dot" };
-const char* const kBeliefChannelUnits[kMuDim] = { "m/s", "m/s", "rad/s" };
-const char* const kSensorChannelNames[kYDim] = { "gyro_z", "omega_L", "omega_R", "accel_x", "accel_y" };
-const char* const kSensorChannelUnits[kYDim] = { "rad/s", "rad/s", "rad/s", "m/s^2", "m/s^2" };
+namespace aic
+{
+const char* const kBeliefChannelNames[base::kMuDim] = { "x_dot", "y_dot", "theta_dot" };
+const char* const kBeliefChannelUnits[base::kMuDim] = { "m/s", "m/s", "rad/s" };
+const char* const kSensorChannelNames[base::kYDim] = { "gyro_z", "omega_L", "omega_R", "accel_x", "accel_y" };
+const char* const kSensorChannelUnits[base::kYDim] = { "rad/s", "rad/s", "rad/s", "m/s^2", "m/s^2" };
 
 std::string orderUnit(const std::string& unit, int i)
 {
@@ -52,14 +54,15 @@ InferenceSample unavailableInferenceSample(int orders)
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   InferenceSample s;
   s.free_energy = s.sensory = s.prior = kNaN;
-  s.mu = MuTilde::Constant(kMuDim, orders, kNaN);
-  s.eps_y = YTilde::Constant(kYDim, orders, kNaN);
-  s.eps_mu = MuTilde::Constant(kMuDim, orders, kNaN);
-  s.action = Vector2::Constant(kNaN);
-  s.action_prior = Vector2::Constant(kNaN);
-  s.goal = Vector3::Constant(kNaN);
-  s.precision_y = Vector5::Constant(kNaN);
+  s.mu = base::MuTilde::Constant(base::kMuDim, orders, kNaN);
+  s.eps_y = base::YTilde::Constant(base::kYDim, orders, kNaN);
+  s.eps_mu = base::MuTilde::Constant(base::kMuDim, orders, kNaN);
+  s.action = base::Vector2::Constant(kNaN);
+  s.action_prior = base::Vector2::Constant(kNaN);
+  s.goal = base::Vector3::Constant(kNaN);
+  s.precision_y = base::Vector5::Constant(kNaN);
   s.wheel_separation = kNaN;
   return s;
 }
+}  // namespace aic
 }  // namespace jackal_aic

@@ -9,6 +9,8 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 namespace
 {
 /// The command within [-max_speed, max_speed] nearest `previous` whose response from omega0 over h
@@ -57,9 +59,10 @@ double LatencyAction::response(const WheelLoopModel& loop, double omega0, double
   return omega;
 }
 
-LatencyActionResult LatencyAction::step(const WheelLoopModel& loop, const Vector2& omega, const Vector2& shortfall,
-                                        double now, const Vector2& goal, const Vector2& previous, double h_a,
-                                        double gain, double max_speed, double pi_e)
+LatencyActionResult LatencyAction::step(const WheelLoopModel& loop, const base::Vector2& omega,
+                                        const base::Vector2& shortfall, double now, const base::Vector2& goal,
+                                        const base::Vector2& previous, double h_a, double gain, double max_speed,
+                                        double pi_e)
 {
   LatencyActionResult r;
   r.at_latency = loop.predict(omega, shortfall, now, now + loop.latency());
@@ -74,4 +77,5 @@ LatencyActionResult LatencyAction::step(const WheelLoopModel& loop, const Vector
   return r;
 }
 
+}  // namespace aic
 }  // namespace jackal_aic

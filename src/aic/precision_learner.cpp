@@ -18,6 +18,8 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 namespace
 {
 bool finite(double v)
@@ -25,10 +27,10 @@ bool finite(double v)
   return std::isfinite(v);
 }
 
-std::string check(const PrecisionLearnerParams& p, const PrecisionChannels& channels)
+std::string check(const params::PrecisionLearnerParams& p, const PrecisionChannels& channels)
 {
-  RuleList rules;
-  for (int j = 0; j < kYDim; ++j)
+  base::RuleList rules;
+  for (int j = 0; j < base::kYDim; ++j)
   {
     const double c = channels.configured[static_cast<std::size_t>(j)];
     rules.require(finite(c) && c > 0.0, "configured precision of channel " + std::to_string(j) + " finite and > 0");
@@ -44,9 +46,9 @@ std::string check(const PrecisionLearnerParams& p, const PrecisionChannels& chan
 
 }  // namespace
 
-PrecisionLearner::PrecisionLearner() : PrecisionLearner(PrecisionLearnerParams(), PrecisionChannels()) {}
+PrecisionLearner::PrecisionLearner() : PrecisionLearner(params::PrecisionLearnerParams(), PrecisionChannels()) {}
 
-PrecisionLearner::PrecisionLearner(const PrecisionLearnerParams& params, const PrecisionChannels& channels)
+PrecisionLearner::PrecisionLearner(const params::PrecisionLearnerParams& params, const PrecisionChannels& channels)
   : params_(params), channels_(channels)
 {
   const std::string violations = check(params, channels);
@@ -57,7 +59,7 @@ PrecisionLearner::PrecisionLearner(const PrecisionLearnerParams& params, const P
   reset();
 }
 
-void PrecisionLearner::setParams(const PrecisionLearnerParams& params, const PrecisionChannels& channels)
+void PrecisionLearner::setParams(const params::PrecisionLearnerParams& params, const PrecisionChannels& channels)
 {
   const std::string violations = check(params, channels);
   if (!violations.empty())
@@ -72,7 +74,7 @@ void PrecisionLearner::setParams(const PrecisionLearnerParams& params, const Pre
     reset();
     return;
   }
-  for (int j = 0; j < kYDim; ++j)
+  for (int j = 0; j < base::kYDim; ++j)
   {
     const auto k = static_cast<std::size_t>(j);
     const double c = channels_.configured[k];
@@ -81,11 +83,11 @@ void PrecisionLearner::setParams(const PrecisionLearnerParams& params, const Pre
   }
 }
 
-PrecisionLearner::State PrecisionLearner::update(double h, const Vector5& eps, double omega_l, double omega_r,
+PrecisionLearner::State PrecisionLearner::update(double h, const base::Vector5& eps, double omega_l, double omega_r,
                                                  std::uint8_t sensor_mask, bool saturated)
 {
   bool ok = finite(h) && h > 0.0 && finite(omega_l) && finite(omega_r);
-  for (int j = 0; j < kYDim && ok; ++j)
+  for (int j = 0; j < base::kYDim && ok; ++j)
   {
     ok = !learned(j) || finite(eps(j));
   }
@@ -109,7 +111,7 @@ PrecisionLearner::State PrecisionLearner::update(double h, const Vector5& eps, d
   else
   {
     const double alpha = -std::expm1(-h / params_.time_constant);  // 1 - exp(-h / T_w)
-    for (int j = 0; j < kYDim; ++j)
+    for (int j = 0; j < base::kYDim; ++j)
     {
       if (!learned(j))
       {
@@ -134,17 +136,17 @@ PrecisionLearner::State PrecisionLearner::update(double h, const Vector5& eps, d
 
 double PrecisionLearner::precision(int j) const
 {
-  return j >= 0 && j < kYDim ? pi_[static_cast<std::size_t>(j)] : std::numeric_limits<double>::quiet_NaN();
+  return j >= 0 && j < base::kYDim ? pi_[static_cast<std::size_t>(j)] : std::numeric_limits<double>::quiet_NaN();
 }
 
 double PrecisionLearner::meanSquaredError(int j) const
 {
-  return j >= 0 && j < kYDim ? s_[static_cast<std::size_t>(j)] : std::numeric_limits<double>::quiet_NaN();
+  return j >= 0 && j < base::kYDim ? s_[static_cast<std::size_t>(j)] : std::numeric_limits<double>::quiet_NaN();
 }
 
-void PrecisionLearner::applyTo(YTilde* pi_y)
+void PrecisionLearner::applyTo(base::YTilde* pi_y)
 {
-  for (int j = 0; j < kYDim; ++j)
+  for (int j = 0; j < base::kYDim; ++j)
   {
     if (learned(j) && pi_y->cols() > 0)
     {
@@ -156,7 +158,7 @@ void PrecisionLearner::applyTo(YTilde* pi_y)
 
 bool PrecisionLearner::changedSince(double tolerance) const
 {
-  for (int j = 0; j < kYDim; ++j)
+  for (int j = 0; j < base::kYDim; ++j)
   {
     const auto k = static_cast<std::size_t>(j);
     if (learned(j) && std::abs(pi_[k] - applied_[k]) > tolerance * applied_[k])
@@ -169,7 +171,7 @@ bool PrecisionLearner::changedSince(double tolerance) const
 
 void PrecisionLearner::reset()
 {
-  for (std::size_t k = 0; k < static_cast<std::size_t>(kYDim); ++k)
+  for (std::size_t k = 0; k < static_cast<std::size_t>(base::kYDim); ++k)
   {
     pi_[k] = channels_.configured[k];
     lambda_[k] = std::log(pi_[k]);
@@ -180,16 +182,17 @@ void PrecisionLearner::reset()
   state_ = State::kNearRest;
 }
 
-PrecisionChannels precisionChannels(const AicParams& params)
+PrecisionChannels precisionChannels(const params::AicParams& params)
 {
   PrecisionChannels channels;
-  const YTilde pi_y = params.precisionY();
-  for (int j = 0; j < kYDim; ++j)
+  const base::YTilde pi_y = params.precisionY();
+  for (int j = 0; j < base::kYDim; ++j)
   {
     channels.configured[static_cast<std::size_t>(j)] = pi_y(j, 0);
   }
-  channels.learned = static_cast<std::uint8_t>((1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight) |
-                                               (params.accel_in_model ? (1u << kAccelX) : 0u));
+  channels.learned =
+      static_cast<std::uint8_t>((1u << base::kGyroZ) | (1u << base::kOmegaLeft) | (1u << base::kOmegaRight) |
+                                (params.accel_in_model ? (1u << base::kAccelX) : 0u));
   return channels;
 }
 
@@ -211,4 +214,5 @@ const char* toString(PrecisionLearner::State state)
   return "unknown";
 }
 
+}  // namespace aic
 }  // namespace jackal_aic

@@ -11,13 +11,15 @@
 
 namespace jackal_aic
 {
-ReferenceModel::ReferenceModel(const ReferenceModelParams& params, double goal_limit)
+namespace aic
+{
+ReferenceModel::ReferenceModel(const params::ReferenceModelParams& params, double goal_limit)
   : params_(params), goal_limit_(goal_limit)
 {
-  start(Vector3::Zero());
+  start(base::Vector3::Zero());
 }
 
-void ReferenceModel::setParams(const ReferenceModelParams& params, double goal_limit)
+void ReferenceModel::setParams(const params::ReferenceModelParams& params, double goal_limit)
 {
   params_ = params;
   goal_limit_ = goal_limit;
@@ -27,7 +29,7 @@ void ReferenceModel::setParams(const ReferenceModelParams& params, double goal_l
   }
 }
 
-bool ReferenceModel::setGoal(const Vector3& mu_d, const Vector3& mu_d_dot)
+bool ReferenceModel::setGoal(const base::Vector3& mu_d, const base::Vector3& mu_d_dot)
 {
   if (!mu_d.allFinite() || mu_d.cwiseAbs().maxCoeff() > goal_limit_ || !mu_d_dot.allFinite() ||
       mu_d_dot.cwiseAbs().maxCoeff() > goal_limit_)
@@ -35,28 +37,29 @@ bool ReferenceModel::setGoal(const Vector3& mu_d, const Vector3& mu_d_dot)
     return false;
   }
   mu_d_ = mu_d;
-  mu_d_dot_ = params_.generalized_goal ? mu_d_dot : Vector3::Zero();
+  mu_d_dot_ = params_.generalized_goal ? mu_d_dot : base::Vector3::Zero();
   return true;
 }
 
-Vector3 ReferenceModel::target() const
+base::Vector3 ReferenceModel::target() const
 {
   if (!params_.generalized_goal)
   {
     return mu_d_;
   }
-  const Vector3 lead(params_.goal_lead, params_.goal_lead, params_.goal_lead_angular);
+  const base::Vector3 lead(params_.goal_lead, params_.goal_lead, params_.goal_lead_angular);
   return mu_d_ + lead.cwiseProduct(mu_d_dot_);
 }
 
-Vector3 ReferenceModel::accelerationLimit() const
+base::Vector3 ReferenceModel::accelerationLimit() const
 {
-  return Vector3(params_.max_acceleration_linear, params_.max_acceleration_linear, params_.max_acceleration_angular);
+  return base::Vector3(params_.max_acceleration_linear, params_.max_acceleration_linear,
+                       params_.max_acceleration_angular);
 }
 
-void ReferenceModel::accelerationBounds(Vector3* lo, Vector3* hi) const
+void ReferenceModel::accelerationBounds(base::Vector3* lo, base::Vector3* hi) const
 {
-  const Vector3 acc = accelerationLimit();
+  const base::Vector3 acc = accelerationLimit();
   *lo = -acc;
   *hi = acc;
   const double dec = params_.max_deceleration_linear;
@@ -90,11 +93,11 @@ void ReferenceModel::setTipBounds(double front, double rear)
   }
 }
 
-Vector3 ReferenceModel::rate() const
+base::Vector3 ReferenceModel::rate() const
 {
-  Vector3 lo, hi;
+  base::Vector3 lo, hi;
   accelerationBounds(&lo, &hi);
-  Vector3 r = (target() - m_) / params_.time_constant;
+  base::Vector3 r = (target() - m_) / params_.time_constant;
   clampWheels(&r, params_.max_acceleration_wheel);
   return r.cwiseMax(lo).cwiseMin(hi);
 }
@@ -107,7 +110,7 @@ void ReferenceModel::setWheelSeparation(double b)
   }
 }
 
-void ReferenceModel::clampWheels(Vector3* d, double bound) const
+void ReferenceModel::clampWheels(base::Vector3* d, double bound) const
 {
   if (!(params_.max_acceleration_wheel > 0.0))
   {
@@ -120,7 +123,7 @@ void ReferenceModel::clampWheels(Vector3* d, double bound) const
   (*d)(2) = (right - left) / wheel_separation_;
 }
 
-bool ReferenceModel::start(const Vector3& m0)
+bool ReferenceModel::start(const base::Vector3& m0)
 {
   if (!m0.allFinite())
   {
@@ -130,7 +133,7 @@ bool ReferenceModel::start(const Vector3& m0)
   time_ = 0.0;
   head_ = 0;
   count_ = 1;
-  line_[0] = Sample{ 0.0, m0, Vector3::Zero() };
+  line_[0] = Sample{ 0.0, m0, base::Vector3::Zero() };
   mu_r_ = m0;
   mu_r_dot_.setZero();
   return true;
@@ -146,9 +149,9 @@ void ReferenceModel::advance(double h)
   // Exact step of m' = (target - m) / T_r with the target held over h, its change clamped to
   // the path's acceleration bounds at the present m (a slowing path may reach 0 and go on in the
   // other direction within the step: it stops at 0 there); m' the same, clamped.
-  Vector3 lo, hi;
+  base::Vector3 lo, hi;
   accelerationBounds(&lo, &hi);
-  Vector3 change = (target() - m_) * (1.0 - std::exp(-h / t_r));
+  base::Vector3 change = (target() - m_) * (1.0 - std::exp(-h / t_r));
   clampWheels(&change, params_.max_acceleration_wheel * h);
   change = change.cwiseMax(lo * h).cwiseMin(hi * h);
   for (int i = 0; i < 2; ++i)
@@ -159,11 +162,11 @@ void ReferenceModel::advance(double h)
     }
   }
   m_ += change;
-  const Vector3 m_dot = rate();
+  const base::Vector3 m_dot = rate();
   time_ += h;
   // The delay line keeps samples at least kMaxReferenceDelay / 800 apart (kLine of them cover the
   // longest delay); between them m(t - d_r) is interpolated linearly.
-  const double spacing = kMaxReferenceDelay / 800.0;
+  const double spacing = params::kMaxReferenceDelay / 800.0;
   if (time_ - line_[static_cast<std::size_t>(head_)].t >= spacing)
   {
     head_ = (head_ + 1) % kLine;
@@ -192,4 +195,5 @@ void ReferenceModel::advance(double h)
   mu_r_dot_ = oldest.m_dot;
 }
 
+}  // namespace aic
 }  // namespace jackal_aic

@@ -10,7 +10,9 @@
 
 namespace jackal_aic
 {
-Vector2 RestRelease::apply(const Vector2& a_F, const Vector3& goal, double h) const
+namespace aic
+{
+base::Vector2 RestRelease::apply(const base::Vector2& a_F, const base::Vector3& goal, double h) const
 {
   if (release_time_ <= 0.0)
   {
@@ -19,7 +21,7 @@ Vector2 RestRelease::apply(const Vector2& a_F, const Vector3& goal, double h) co
   // a_F's part along a channel whose goal is zero decays (common part: the linear goal,
   // differential part: the yaw-rate goal).
   const double keep = std::exp(-h / release_time_);
-  Vector2 cd = commonDifferential(a_F);
+  base::Vector2 cd = commonDifferential(a_F);
   if (goal(0) == 0.0 && goal(1) == 0.0)
   {
     cd(0) *= keep;
@@ -31,4 +33,5 @@ Vector2 RestRelease::apply(const Vector2& a_F, const Vector3& goal, double h) co
   return wheelPair(cd);
 }
 
+}  // namespace aic
 }  // namespace jackal_aic

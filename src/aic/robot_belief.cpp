@@ -9,10 +9,12 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 namespace
 {
 /// One side's belief (omega, d) with covariance p carried h [s] under the command u [rad/s].
-void predictSide(const WheelLoopModel& loop, const RobotModelParams& params, double h, double u, double* omega,
+void predictSide(const WheelLoopModel& loop, const params::RobotModelParams& params, double h, double u, double* omega,
                  double d, Eigen::Matrix2d* p)
 {
   double gain = 0.0;
@@ -46,17 +48,17 @@ void correctPair(double y, double r, double* x0, double* x1, Eigen::Matrix2d* p,
 }
 }  // namespace
 
-RobotBelief::RobotBelief(const RobotModelParams& params) : params_(params)
+RobotBelief::RobotBelief(const params::RobotModelParams& params) : params_(params)
 {
-  reset(Vector2::Zero(), 0.0);
+  reset(base::Vector2::Zero(), 0.0);
 }
 
-void RobotBelief::setParams(const RobotModelParams& params)
+void RobotBelief::setParams(const params::RobotModelParams& params)
 {
   params_ = params;
 }
 
-void RobotBelief::reset(const Vector2& omega, double theta_dot)
+void RobotBelief::reset(const base::Vector2& omega, double theta_dot)
 {
   x_ << omega(0), 0.0, omega(1), 0.0, theta_dot, 0.0, 0.0;
   // The fast states start uncertain, the slow ones at zero and certain: they drift from there at
@@ -74,10 +76,10 @@ void RobotBelief::reset(const Vector2& omega, double theta_dot)
   innovation_.setZero();
 }
 
-void RobotBelief::predict(double h, const WheelLoopModel& loop, const Vector2& u_at_wheels, double yaw_gain,
+void RobotBelief::predict(double h, const WheelLoopModel& loop, const base::Vector2& u_at_wheels, double yaw_gain,
                           double turn)
 {
-  const Vector2 before = wheelSpeeds();
+  const base::Vector2 before = wheelSpeeds();
   const double yaw_before = x_(4);
   predictSide(loop, params_, h, u_at_wheels(0), &x_(0), x_(1), &p_left_);
   predictSide(loop, params_, h, u_at_wheels(1), &x_(2), x_(3), &p_right_);
@@ -107,7 +109,7 @@ void RobotBelief::predict(double h, const WheelLoopModel& loop, const Vector2& u
   yaw_rate_ = (x_(4) - yaw_before) / h;
 }
 
-bool RobotBelief::correct(const Vector2& y_omega, double y_gyro, bool use_left, bool use_right, bool use_gyro,
+bool RobotBelief::correct(const base::Vector2& y_omega, double y_gyro, bool use_left, bool use_right, bool use_gyro,
                           bool learn)
 {
   if ((use_left && !std::isfinite(y_omega(0))) || (use_right && !std::isfinite(y_omega(1))) ||
@@ -202,4 +204,5 @@ Eigen::Matrix<double, 7, 1> RobotBelief::variances() const
   return v;
 }
 
+}  // namespace aic
 }  // namespace jackal_aic

@@ -15,6 +15,8 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 namespace
 {
 bool finite(double v)
@@ -22,9 +24,9 @@ bool finite(double v)
   return std::isfinite(v);
 }
 
-std::string check(const SeparationLearnerParams& p, double wheel_radius, double slip_factor, double initial)
+std::string check(const params::SeparationLearnerParams& p, double wheel_radius, double slip_factor, double initial)
 {
-  RuleList rules;
+  base::RuleList rules;
   rules.require(finite(wheel_radius) && wheel_radius > 0.0, "wheel_radius finite and > 0");
   rules.require(finite(slip_factor) && slip_factor > 0.0, "slip_factor finite and > 0");
   rules.require(finite(p.min) && p.min > 0.0, "separation_min finite and > 0");
@@ -39,8 +41,8 @@ std::string check(const SeparationLearnerParams& p, double wheel_radius, double 
 }
 }  // namespace
 
-SeparationLearner::SeparationLearner(const SeparationLearnerParams& params, double wheel_radius, double slip_factor,
-                                     double initial)
+SeparationLearner::SeparationLearner(const params::SeparationLearnerParams& params, double wheel_radius,
+                                     double slip_factor, double initial)
   : params_(params), wheel_radius_(wheel_radius), slip_factor_(slip_factor), initial_(initial), b_(initial)
 {
   const std::string violations = check(params, wheel_radius, slip_factor, initial);
@@ -164,4 +166,5 @@ const char* toString(SeparationLearner::State state)
   return "unknown";
 }
 
+}  // namespace aic
 }  // namespace jackal_aic

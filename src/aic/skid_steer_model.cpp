@@ -12,6 +12,8 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 namespace
 {
 void requirePositive(const char* name, double v)
@@ -47,17 +49,17 @@ SkidSteerModel::SkidSteerModel(double wheel_radius, double slip_factor, double w
   G_pinv_ = cod.pseudoInverse();
 
   R_.setZero();
-  R_(kGyroZ, 2) = 1.0;  // gyro z measures theta_dot
-  R_.row(kOmegaLeft) = G_pinv_.row(0);
-  R_.row(kOmegaRight) = G_pinv_.row(1);
+  R_(base::kGyroZ, 2) = 1.0;  // gyro z measures theta_dot
+  R_.row(base::kOmegaLeft) = G_pinv_.row(0);
+  R_.row(base::kOmegaRight) = G_pinv_.row(1);
   // Accelerometer rows stay zero (thesis model).
 
   // Thesis eq. 3-4: K = dy/da, one row per action (omega_L, omega_R).
   K_.setZero();
-  K_(0, kGyroZ) = -ra / b;
-  K_(0, kOmegaLeft) = 1.0;
-  K_(1, kGyroZ) = ra / b;
-  K_(1, kOmegaRight) = 1.0;
+  K_(0, base::kGyroZ) = -ra / b;
+  K_(0, base::kOmegaLeft) = 1.0;
+  K_(1, base::kGyroZ) = ra / b;
+  K_(1, base::kOmegaRight) = 1.0;
 }
 
 bool SkidSteerModel::setWheelSeparation(double b)
@@ -73,16 +75,17 @@ bool SkidSteerModel::setWheelSeparation(double b)
   // pinv(G) = (G^T G)^-1 G^T: G has full column rank, so its pseudo-inverse is its left inverse.
   G_pinv_ << 1.0 / ra, 0.0, -0.5 * b / ra,  //
       1.0 / ra, 0.0, 0.5 * b / ra;
-  R_.row(kOmegaLeft) = G_pinv_.row(0);
-  R_.row(kOmegaRight) = G_pinv_.row(1);
-  K_(0, kGyroZ) = -ra / b;
-  K_(1, kGyroZ) = ra / b;
+  R_.row(base::kOmegaLeft) = G_pinv_.row(0);
+  R_.row(base::kOmegaRight) = G_pinv_.row(1);
+  K_(0, base::kGyroZ) = -ra / b;
+  K_(1, base::kGyroZ) = ra / b;
   return true;
 }
 
-Vector2 SkidSteerModel::wheelsFromTwist(const Vector3& mu) const
+base::Vector2 SkidSteerModel::wheelsFromTwist(const base::Vector3& mu) const
 {
   return G_pinv_ * mu;
 }
 
+}  // namespace aic
 }  // namespace jackal_aic

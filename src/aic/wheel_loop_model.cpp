@@ -9,24 +9,26 @@
 
 namespace jackal_aic
 {
-WheelLoopModel::WheelLoopModel(const RobotModelParams& params) : params_(params)
+namespace aic
 {
-  reset(0.0, Vector2::Zero());
+WheelLoopModel::WheelLoopModel(const params::RobotModelParams& params) : params_(params)
+{
+  reset(0.0, base::Vector2::Zero());
 }
 
-void WheelLoopModel::setParams(const RobotModelParams& params)
+void WheelLoopModel::setParams(const params::RobotModelParams& params)
 {
   params_ = params;
 }
 
-void WheelLoopModel::reset(double t, const Vector2& u)
+void WheelLoopModel::reset(double t, const base::Vector2& u)
 {
   head_ = 0;
   count_ = 1;
   line_[0] = Entry{ t, u };
 }
 
-void WheelLoopModel::record(double t, const Vector2& u)
+void WheelLoopModel::record(double t, const base::Vector2& u)
 {
   const double newest = line_[head_].t;
   head_ = (head_ + 1) % kCapacity;
@@ -34,7 +36,7 @@ void WheelLoopModel::record(double t, const Vector2& u)
   count_ = std::min(count_ + 1, kCapacity);
 }
 
-Vector2 WheelLoopModel::commandAt(double t) const
+base::Vector2 WheelLoopModel::commandAt(double t) const
 {
   const double sent_by = t - params_.latency;
   for (int k = 0; k < count_; ++k)
@@ -48,7 +50,7 @@ Vector2 WheelLoopModel::commandAt(double t) const
   return line_[(head_ - count_ + 1 + kCapacity) % kCapacity].u;  // older than the line: its oldest
 }
 
-Vector2 WheelLoopModel::lastCommand() const
+base::Vector2 WheelLoopModel::lastCommand() const
 {
   return line_[head_].u;
 }
@@ -73,14 +75,14 @@ double WheelLoopModel::step(double omega, double u, double h, double* gain) cons
   return omega + change;
 }
 
-Vector2 WheelLoopModel::predict(const Vector2& omega0, const Vector2& d, double t0, double t1) const
+base::Vector2 WheelLoopModel::predict(const base::Vector2& omega0, const base::Vector2& d, double t0, double t1) const
 {
-  Vector2 omega = omega0;
+  base::Vector2 omega = omega0;
   double t = t0;
   while (t < t1 - 1.0e-12)
   {
     const double h = std::min(kSubstep, t1 - t);
-    const Vector2 u = commandAt(t) - d;
+    const base::Vector2 u = commandAt(t) - d;
     omega(0) = step(omega(0), u(0), h);
     omega(1) = step(omega(1), u(1), h);
     t += h;
@@ -88,4 +90,5 @@ Vector2 WheelLoopModel::predict(const Vector2& omega0, const Vector2& d, double 
   return omega;
 }
 
+}  // namespace aic
 }  // namespace jackal_aic

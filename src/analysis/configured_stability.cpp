@@ -12,7 +12,9 @@
 
 namespace jackal_aic
 {
-ConfiguredStability checkConfiguredStability(const AicParams& params)
+namespace analysis
+{
+ConfiguredStability checkConfiguredStability(const params::AicParams& params)
 {
   ConfiguredStability out;
   try
@@ -29,7 +31,7 @@ ConfiguredStability checkConfiguredStability(const AicParams& params)
   return out;
 }
 
-std::string stabilityWarning(const AicParams& params)
+std::string stabilityWarning(const params::AicParams& params)
 {
   const ConfiguredStability s = checkConfiguredStability(params);
   if (!s.analysed || s.stable)
@@ -39,8 +41,9 @@ std::string stabilityWarning(const AicParams& params)
   std::ostringstream os;
   os.precision(4);
   os << "unstable on the linear model at belief_rate " << params.belief_rate << " Hz, action_rate "
-     << params.action_rate << " Hz, integrator " << toString(params.integrator) << ": spectral radius "
+     << params.action_rate << " Hz, integrator " << params::toString(params.integrator) << ": spectral radius "
      << s.spectral_radius << " >= 1 (aic_analyze; doc/tuning.md, 'The stability check at load')";
   return os.str();
 }
+}  // namespace analysis
 }  // namespace jackal_aic

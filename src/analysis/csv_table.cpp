@@ -12,6 +12,8 @@
 
 namespace jackal_aic
 {
+namespace analysis
+{
 namespace
 {
 std::string trim(const std::string& s)
@@ -123,4 +125,5 @@ CsvTable readCsv(std::istream& in, const std::string& source, CsvHeader header)
   return table;
 }
 
+}  // namespace analysis
 }  // namespace jackal_aic

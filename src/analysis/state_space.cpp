@@ -17,19 +17,22 @@
 
 namespace jackal_aic
 {
+namespace analysis
+{
 namespace
 {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 }
 
-ClosedLoopModel::ClosedLoopModel(const AicParams& params, const PlantModel& plant) : params_(params), plant_(plant)
+ClosedLoopModel::ClosedLoopModel(const params::AicParams& params, const PlantModel& plant)
+  : params_(params), plant_(plant)
 {
-  ActiveInferenceController c(params);  // validates
+  aic::ActiveInferenceController c(params);  // validates
   {
     // Probe with unit vectors: the runaway limit (not modelled) must not reject them. The
     // set-point dynamics and the action prior are not modelled either (the thesis's controller).
-    AicParams probe_params = params;
-    probe_params.runaway_limit = kMaxRunawayLimit;
+    params::AicParams probe_params = params;
+    probe_params.runaway_limit = params::kMaxRunawayLimit;
     probe_params.reference.generalized_goal = false;
     probe_params.reference.time_constant = 0.0;
     probe_params.action_prior.gain = 0.0;
@@ -58,43 +61,43 @@ ClosedLoopModel::ClosedLoopModel(const AicParams& params, const PlantModel& plan
                                 " must be an integer for the dual-rate model");
   }
   const int n = params.numOrders();
-  const int nm = kMuDim * n;
-  const int ny = kYDim * n;
+  const int nm = base::kMuDim * n;
+  const int ny = base::kYDim * n;
 
   // Probe the controller's (affine, here linear) dynamics with unit vectors.
   m_.setZero(nm, nm);
   n_y_.setZero(nm, ny);
-  n_d_.setZero(nm, kMuDim);
-  a_mu_.setZero(kADim, nm);
-  a_y_.setZero(kADim, ny);
-  const MuTilde mu0 = MuTilde::Zero(kMuDim, n);
-  const YTilde y0 = YTilde::Zero(kYDim, n);
-  auto probe = [&](const MuTilde& mu, const YTilde& y, const Vector3& d, Eigen::Ref<Eigen::VectorXd> dmu,
-                   Eigen::Ref<Eigen::VectorXd> da) {
+  n_d_.setZero(nm, base::kMuDim);
+  a_mu_.setZero(base::kADim, nm);
+  a_y_.setZero(base::kADim, ny);
+  const base::MuTilde mu0 = base::MuTilde::Zero(base::kMuDim, n);
+  const base::YTilde y0 = base::YTilde::Zero(base::kYDim, n);
+  auto probe = [&](const base::MuTilde& mu, const base::YTilde& y, const base::Vector3& d,
+                   Eigen::Ref<Eigen::VectorXd> dmu, Eigen::Ref<Eigen::VectorXd> da) {
     if (!c.setBeliefs(mu) || !c.setMeasurement(y) || !c.setGoal(d))
     {
       throw std::logic_error("ClosedLoopModel: probing the controller failed");
     }
-    const MuTilde f = c.muDot();
+    const base::MuTilde f = c.muDot();
     dmu = Eigen::Map<const Eigen::VectorXd>(f.data(), nm);
     da = c.aDot();
   };
-  Eigen::VectorXd scratch(kADim);
+  Eigen::VectorXd scratch(base::kADim);
   for (int j = 0; j < nm; ++j)
   {
-    MuTilde e = mu0;
+    base::MuTilde e = mu0;
     e.data()[j] = 1.0;
-    probe(e, y0, Vector3::Zero(), m_.col(j), a_mu_.col(j));
+    probe(e, y0, base::Vector3::Zero(), m_.col(j), a_mu_.col(j));
   }
   for (int j = 0; j < ny; ++j)
   {
-    YTilde e = y0;
+    base::YTilde e = y0;
     e.data()[j] = 1.0;
-    probe(mu0, e, Vector3::Zero(), n_y_.col(j), a_y_.col(j));
+    probe(mu0, e, base::Vector3::Zero(), n_y_.col(j), a_y_.col(j));
   }
-  for (int j = 0; j < kMuDim; ++j)
+  for (int j = 0; j < base::kMuDim; ++j)
   {
-    probe(mu0, y0, Vector3::Unit(j), n_d_.col(j), scratch);
+    probe(mu0, y0, base::Vector3::Unit(j), n_d_.col(j), scratch);
     if (!scratch.isZero(0.0))
     {
       throw std::logic_error("ClosedLoopModel: da/dt depends on mu_d (not the thesis model)");
@@ -103,11 +106,11 @@ ClosedLoopModel::ClosedLoopModel(const AicParams& params, const PlantModel& plan
 
   // One belief step: mu' = Ab mu + Bb [y; mu_d].
   const double h = 1.0 / params.belief_rate;
-  Eigen::MatrixXd nin(nm, ny + kMuDim);
+  Eigen::MatrixXd nin(nm, ny + base::kMuDim);
   nin << n_y_, n_d_;
   Eigen::MatrixXd ab;
   Eigen::MatrixXd bb;
-  if (params.integrator == Integrator::kExact)
+  if (params.integrator == params::Integrator::kExact)
   {
     Eigen::MatrixXd aug = Eigen::MatrixXd::Zero(2 * nm, 2 * nm);
     aug.topLeftCorner(nm, nm) = m_ * h;
@@ -145,46 +148,47 @@ ClosedLoopModel::ClosedLoopModel(const AicParams& params, const PlantModel& plan
   // State layout.
   const int i_mu = 0;
   const int i_a = nm;
-  const int i_y = nm + kADim;
-  const int i_w = nm + kADim + ny;
-  const int i_h = i_w + kADim;  // past command j (1-based) at i_h + 2 (j - 1)
-  const int dim = i_h + kADim * n_hist;
+  const int i_y = nm + base::kADim;
+  const int i_w = nm + base::kADim + ny;
+  const int i_h = i_w + base::kADim;  // past command j (1-based) at i_h + 2 (j - 1)
+  const int dim = i_h + base::kADim * n_hist;
   i_w_ = i_w;
   // Index in z (after stage 3) of the command a_{k-j}: j = 0 is a, j >= 1 the history.
-  auto command_index = [&](int j) { return j == 0 ? i_a : i_h + kADim * (j - 1); };
-  const SkidSteerModel& model = c.model();
+  auto command_index = [&](int j) { return j == 0 ? i_a : i_h + base::kADim * (j - 1); };
+  const aic::SkidSteerModel& model = c.model();
 
   // Each stage is an affine map of the full state [z; mu_d]; compose them.
-  const int da = dim + kMuDim;
+  const int da = dim + base::kMuDim;
   auto identity = [&]() { return Eigen::MatrixXd(Eigen::MatrixXd::Identity(da, da)); };
 
   // Stage 1: sensor sample + generalization. y^(0) = S_w omega + S_a a.
   Eigen::MatrixXd s1 = identity();
   {
-    Eigen::MatrixXd sw = Eigen::MatrixXd::Zero(kYDim, kADim);
-    Eigen::MatrixXd sa = Eigen::MatrixXd::Zero(kYDim, kADim);
-    sw.row(kGyroZ) = model.G().row(2);
-    sw(kOmegaLeft, 0) = 1.0;
-    sw(kOmegaRight, 1) = 1.0;
+    Eigen::MatrixXd sw = Eigen::MatrixXd::Zero(base::kYDim, base::kADim);
+    Eigen::MatrixXd sa = Eigen::MatrixXd::Zero(base::kYDim, base::kADim);
+    sw.row(base::kGyroZ) = model.G().row(2);
+    sw(base::kOmegaLeft, 0) = 1.0;
+    sw(base::kOmegaRight, 1) = 1.0;
     // The command in effect at the end of the last period (a_{k-m}, with a the newest).
     const int i_u = command_index(m_delay);
     if (plant.type == PlantModel::Type::kFirstOrder)
     {
       // accel_x = G_1 d(omega)/dt = G_1 (K u - omega) / T_p
-      sa.row(kAccelX) = plant.gain * model.G().row(0) / plant.time_constant;
-      sw.row(kAccelX) = -model.G().row(0) / plant.time_constant;
+      sa.row(base::kAccelX) = plant.gain * model.G().row(0) / plant.time_constant;
+      sw.row(base::kAccelX) = -model.G().row(0) / plant.time_constant;
     }
-    const Eigen::MatrixXd q = Generalizer::buildQ(params.embedding_order, T);
+    const Eigen::MatrixXd q = aic::Generalizer::buildQ(params.embedding_order, T);
     // y_new^(i) (per channel) = q(i,0) y^(0) + sum_{j>=1} q(i,j) y_old^(j-1)
     s1.block(i_y, 0, ny, da).setZero();
     for (int i = 0; i < n; ++i)
     {
-      const int row = i_y + kYDim * i;
-      s1.block(row, i_w, kYDim, kADim) += q(i, 0) * sw;
-      s1.block(row, i_u, kYDim, kADim) += q(i, 0) * sa;
+      const int row = i_y + base::kYDim * i;
+      s1.block(row, i_w, base::kYDim, base::kADim) += q(i, 0) * sw;
+      s1.block(row, i_u, base::kYDim, base::kADim) += q(i, 0) * sa;
       for (int j = 1; j <= i; ++j)
       {
-        s1.block(row, i_y + kYDim * (j - 1), kYDim, kYDim) += q(i, j) * Eigen::MatrixXd::Identity(kYDim, kYDim);
+        s1.block(row, i_y + base::kYDim * (j - 1), base::kYDim, base::kYDim) +=
+            q(i, j) * Eigen::MatrixXd::Identity(base::kYDim, base::kYDim);
       }
     }
   }
@@ -192,44 +196,44 @@ ClosedLoopModel::ClosedLoopModel(const AicParams& params, const PlantModel& plan
   Eigen::MatrixXd s2 = identity();
   s2.block(i_mu, i_mu, nm, nm) = abn;
   s2.block(i_mu, i_y, nm, ny) = bbn.leftCols(ny);
-  s2.block(i_mu, dim, nm, kMuDim) = bbn.rightCols(kMuDim);
+  s2.block(i_mu, dim, nm, base::kMuDim) = bbn.rightCols(base::kMuDim);
   // Stage 3: shift the past commands (a_{k-1} into slot 1), then the action step a += T (a_mu mu + a_y y).
   Eigen::MatrixXd s3shift = identity();
   for (int j = n_hist; j >= 1; --j)
   {
     const int dst = command_index(j);
     const int src = j == 1 ? i_a : command_index(j - 1);
-    s3shift.block(dst, 0, kADim, da).setZero();
-    s3shift.block(dst, src, kADim, kADim) = Eigen::MatrixXd::Identity(kADim, kADim);
+    s3shift.block(dst, 0, base::kADim, da).setZero();
+    s3shift.block(dst, src, base::kADim, base::kADim) = Eigen::MatrixXd::Identity(base::kADim, base::kADim);
   }
   Eigen::MatrixXd s3 = identity();
-  s3.block(i_a, i_mu, kADim, nm) += T * a_mu_;
-  s3.block(i_a, i_y, kADim, ny) += T * a_y_;
+  s3.block(i_a, i_mu, base::kADim, nm) += T * a_mu_;
+  s3.block(i_a, i_y, base::kADim, ny) += T * a_y_;
   s3 = s3 * s3shift;
   // Stage 4: plant over T: a_{k-m-1} for f T (f > 0), then a_{k-m} for (1 - f) T.
   Eigen::MatrixXd s4 = identity();
-  s4.block(i_w, 0, kADim, da).setZero();
-  const Eigen::MatrixXd eye2 = Eigen::MatrixXd::Identity(kADim, kADim);
+  s4.block(i_w, 0, base::kADim, da).setZero();
+  const Eigen::MatrixXd eye2 = Eigen::MatrixXd::Identity(base::kADim, base::kADim);
   const int i_late = command_index(m_delay);                            // a_{k-m}
   const int i_early = f_delay > 0.0 ? command_index(m_delay + 1) : -1;  // a_{k-m-1}
   if (plant.type == PlantModel::Type::kFirstOrder)
   {
     const double e1 = std::exp(-f_delay * T / plant.time_constant);
     const double e2 = std::exp(-(1.0 - f_delay) * T / plant.time_constant);
-    s4.block(i_w, i_w, kADim, kADim) = e1 * e2 * eye2;
+    s4.block(i_w, i_w, base::kADim, base::kADim) = e1 * e2 * eye2;
     if (i_early >= 0)
     {
-      s4.block(i_w, i_early, kADim, kADim) += e2 * (1.0 - e1) * plant.gain * eye2;
+      s4.block(i_w, i_early, base::kADim, base::kADim) += e2 * (1.0 - e1) * plant.gain * eye2;
     }
-    s4.block(i_w, i_late, kADim, kADim) += (1.0 - e2) * plant.gain * eye2;
+    s4.block(i_w, i_late, base::kADim, base::kADim) += (1.0 - e2) * plant.gain * eye2;
   }
   else
   {
-    s4.block(i_w, i_late, kADim, kADim) = plant.gain * eye2;
+    s4.block(i_w, i_late, base::kADim, base::kADim) = plant.gain * eye2;
   }
   const Eigen::MatrixXd full = s4 * s3 * s2 * s1;
   phi_ = full.topLeftCorner(dim, dim);
-  gamma_ = full.topRightCorner(dim, kMuDim);
+  gamma_ = full.topRightCorner(dim, base::kMuDim);
 }
 
 double ClosedLoopModel::spectralRadius() const
@@ -242,35 +246,35 @@ double ClosedLoopModel::spectralRadius() const
   return es.eigenvalues().cwiseAbs().maxCoeff();
 }
 
-std::vector<ResponseSample> ClosedLoopModel::stepResponse(const Vector3& mu_d, double duration) const
+std::vector<ResponseSample> ClosedLoopModel::stepResponse(const base::Vector3& mu_d, double duration) const
 {
   if (!(std::isfinite(duration) && duration > 0.0) || !mu_d.allFinite())
   {
     throw std::invalid_argument("ClosedLoopModel::stepResponse: duration must be > 0 and mu_d finite");
   }
   const double T = 1.0 / params_.action_rate;
-  const int nm = kMuDim * params_.numOrders();
+  const int nm = base::kMuDim * params_.numOrders();
   const int i_w = i_w_;
   const int periods = static_cast<int>(std::floor(duration / T + 1e-9));
   std::vector<ResponseSample> out;
   out.reserve(static_cast<std::size_t>(periods) + 1);
   Eigen::VectorXd z = Eigen::VectorXd::Zero(stateDim());
-  const SkidSteerModel model(params_.wheel_radius, params_.slip_factor, params_.wheel_separation);
+  const aic::SkidSteerModel model(params_.wheel_radius, params_.slip_factor, params_.wheel_separation);
   for (int k = 0; k <= periods; ++k)
   {
     ResponseSample s;
     s.t = k * T;
-    const Vector2 w = z.segment<kADim>(i_w);
+    const base::Vector2 w = z.segment<base::kADim>(i_w);
     s.twist = model.twistFromWheels(w);
-    s.mu = z.head<kMuDim>();
-    s.a = z.segment<kADim>(nm);
+    s.mu = z.head<base::kMuDim>();
+    s.a = z.segment<base::kADim>(nm);
     out.push_back(s);
     z = phi_ * z + gamma_ * mu_d;
   }
   return out;
 }
 
-PredictedStep predictStep(const AicParams& params, const PlantModel& plant, double target, double duration)
+PredictedStep predictStep(const params::AicParams& params, const PlantModel& plant, double target, double duration)
 {
   const ClosedLoopModel model(params, plant);
   PredictedStep p{};
@@ -278,7 +282,7 @@ PredictedStep predictStep(const AicParams& params, const PlantModel& plant, doub
   p.stable = p.spectral_radius < 1.0;
   p.velocity_valid = false;
   p.velocity = StepMetrics{ kNaN, kNaN, kNaN, kNaN, false, kNaN, kNaN, kNaN, kNaN, 0 };
-  const auto r = model.stepResponse(Vector3(target, 0.0, 0.0), duration);
+  const auto r = model.stepResponse(base::Vector3(target, 0.0, 0.0), duration);
   std::vector<double> t;
   std::vector<double> v;
   for (const auto& s : r)
@@ -303,7 +307,7 @@ PredictedStep predictStep(const AicParams& params, const PlantModel& plant, doub
 
 namespace
 {
-double* member(AicParams* p, ScanParameter s)
+double* member(params::AicParams* p, ScanParameter s)
 {
   switch (s)
   {
@@ -318,14 +322,14 @@ double* member(AicParams* p, ScanParameter s)
 }
 }  // namespace
 
-StabilityLimit scanStabilityLimit(const AicParams& params, const PlantModel& plant, ScanParameter parameter, double lo,
-                                  double hi, int grid_points)
+StabilityLimit scanStabilityLimit(const params::AicParams& params, const PlantModel& plant, ScanParameter parameter,
+                                  double lo, double hi, int grid_points)
 {
   if (!(std::isfinite(lo) && std::isfinite(hi) && lo > 0.0 && hi > lo) || grid_points < 2)
   {
     throw std::invalid_argument("scanStabilityLimit: need 0 < lo < hi, finite, and grid_points >= 2");
   }
-  AicParams p = params;
+  params::AicParams p = params;
   double* x = member(&p, parameter);
   auto stable_at = [&](double value) {
     *x = value;
@@ -383,4 +387,5 @@ StabilityLimit scanStabilityLimit(const AicParams& params, const PlantModel& pla
            first_stable == 0 };
 }
 
+}  // namespace analysis
 }  // namespace jackal_aic

@@ -15,6 +15,8 @@
 
 namespace jackal_aic
 {
+namespace analysis
+{
 namespace
 {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -158,7 +160,7 @@ StepMetrics computeStepMetrics(const std::vector<double>& time, const std::vecto
 
 std::string toJson(const StepMetrics& m, const StepMetricsOptions& o)
 {
-  const auto num = [](double x) { return jsonNumber(x, 10); };
+  const auto num = [](double x) { return base::jsonNumber(x, 10); };
   std::ostringstream os;
   os << "{\"rise_time\": " << num(m.rise_time) << ", \"t_rise_low\": " << num(m.t_rise_low)
      << ", \"t_rise_high\": " << num(m.t_rise_high) << ", \"settling_time\": " << num(m.settling_time)
@@ -172,4 +174,5 @@ std::string toJson(const StepMetrics& m, const StepMetricsOptions& o)
   return os.str();
 }
 
+}  // namespace analysis
 }  // namespace jackal_aic

@@ -19,6 +19,8 @@
 
 namespace jackal_aic
 {
+namespace analysis
+{
 namespace
 {
 constexpr double kPi = 3.14159265358979323846;
@@ -42,7 +44,7 @@ std::string baseName(const std::string& path)
 
 std::string fmt(double v)
 {
-  return jsonNumber(v, 9);
+  return base::jsonNumber(v, 9);
 }
 
 void checkSeries(const std::string& what, const std::vector<double>& time,
@@ -292,7 +294,7 @@ SteadyEstimateError steadyEstimateError(const TwistProfile& profile, const std::
   return e;
 }
 
-VelocityTrackingError latencyFloor(const TwistProfile& profile, const AicParams& goal_rate,
+VelocityTrackingError latencyFloor(const TwistProfile& profile, const params::AicParams& goal_rate,
                                    const LatencyFloorSettings& settings)
 {
   profile.validate();
@@ -305,7 +307,7 @@ VelocityTrackingError latencyFloor(const TwistProfile& profile, const AicParams&
               fmt(s.accel_angular));
   require(std::isfinite(s.dt) && s.dt >= 1e-5 && s.dt <= 0.1,
           "latency floor: dt must be finite and in [1e-5, 0.1] s, got " + fmt(s.dt));
-  GoalRateEstimator estimator(goal_rate.reference);
+  aic::GoalRateEstimator estimator(goal_rate.reference);
   const std::size_t n = static_cast<std::size_t>(std::floor(profile.duration / s.dt)) + 1;
   const std::size_t lag = static_cast<std::size_t>(std::llround(s.latency / s.dt));
   // u[k]: what the servo aims at, from the stream as received up to time k dt.
@@ -318,14 +320,14 @@ VelocityTrackingError latencyFloor(const TwistProfile& profile, const AicParams&
     for (; next < profile.points.size() && profile.points[next].t <= t + 1e-12; ++next)
     {
       const TwistProfilePoint& p = profile.points[next];
-      estimator.update(p.t, Vector3(p.vx, 0.0, p.wz));
+      estimator.update(p.t, base::Vector3(p.vx, 0.0, p.wz));
     }
     double vx = 0.0;
     double wz = 0.0;
     profile.setPointAt(t, &vx, &wz);
     if (s.predict)
     {
-      const Vector3 rate = estimator.rate(t);
+      const base::Vector3 rate = estimator.rate(t);
       vx += s.latency * rate.x();
       wz += s.latency * rate.z();
     }
@@ -473,4 +475,5 @@ std::string toJson(const PathDrift& d)
   return os.str();
 }
 
+}  // namespace analysis
 }  // namespace jackal_aic

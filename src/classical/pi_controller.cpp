@@ -16,6 +16,8 @@
 
 namespace jackal_aic
 {
+namespace classical
+{
 namespace
 {
 std::string violation(const std::string& key, double value, const std::string& allowed)
@@ -36,9 +38,9 @@ bool nonNegative(double x)
 }
 
 /// The goal's rate estimator and the goal predicted one latency ahead, without a reference path.
-ReferenceModelParams goalParams(const PiControllerParams& p)
+params::ReferenceModelParams goalParams(const PiControllerParams& p)
 {
-  ReferenceModelParams r;
+  params::ReferenceModelParams r;
   r.generalized_goal = true;
   r.goal_rate_hold = p.goal_rate_hold;
   r.max_goal_rate_linear = p.max_goal_rate_linear;
@@ -150,9 +152,9 @@ PiController::PiController(const PiControllerParams& params)
 void PiController::reset()
 {
   goal_rate_.reset();
-  goal_.setGoal(Vector3::Zero());
-  ff_loop_.reset(0.0, Vector2::Zero());
-  ref_loop_.reset(0.0, Vector2::Zero());
+  goal_.setGoal(base::Vector3::Zero());
+  ff_loop_.reset(0.0, base::Vector2::Zero());
+  ref_loop_.reset(0.0, base::Vector2::Zero());
   started_ = false;
   last_t_ = 0.0;
   goal_now_.setZero();
@@ -171,15 +173,15 @@ PiStatus PiController::setGoal(double t, double linear, double angular)
   {
     return PiStatus::kNotFinite;
   }
-  if (!goal_rate_.update(t, Vector3(linear, 0.0, angular)))
+  if (!goal_rate_.update(t, base::Vector3(linear, 0.0, angular)))
   {
     return PiStatus::kGoalOutOfOrder;
   }
-  goal_now_ = Vector2(linear, angular);
+  goal_now_ = base::Vector2(linear, angular);
   return PiStatus::kOk;
 }
 
-PiCommand PiController::update(double t, const Vector2& wheels, double gyro_z)
+PiCommand PiController::update(double t, const base::Vector2& wheels, double gyro_z)
 {
   if (!(std::isfinite(t) && wheels.allFinite() && std::isfinite(gyro_z)))
   {
@@ -199,8 +201,8 @@ PiCommand PiController::update(double t, const Vector2& wheels, double gyro_z)
   {
     // The models start from the wheels as measured with no command in flight: what was sent
     // before the first update is unknown, the wheels' speeds are not.
-    ff_loop_.reset(t, Vector2::Zero());
-    ref_loop_.reset(t, Vector2::Zero());
+    ff_loop_.reset(t, base::Vector2::Zero());
+    ref_loop_.reset(t, base::Vector2::Zero());
     w_ff_ = wheels;
     w_ref_ = wheels;
     yaw_expected_ = model_.twistFromWheels(wheels)(2);
@@ -209,8 +211,8 @@ PiCommand PiController::update(double t, const Vector2& wheels, double gyro_z)
   else
   {
     dt = t - last_t_;
-    w_ff_ = ff_loop_.predict(w_ff_, Vector2::Zero(), last_t_, t);
-    w_ref_ = ref_loop_.predict(w_ref_, Vector2::Zero(), last_t_, t);
+    w_ff_ = ff_loop_.predict(w_ff_, base::Vector2::Zero(), last_t_, t);
+    w_ref_ = ref_loop_.predict(w_ref_, base::Vector2::Zero(), last_t_, t);
     // The body's yaw rate follows the wheels' through the scrub lag T_s (the robot model's).
     const double T_s = params_.robot.yaw_time_constant;
     yaw_expected_ += (model_.twistFromWheels(w_ff_)(2) - yaw_expected_) * (1.0 - std::exp(-dt / T_s));
@@ -218,13 +220,13 @@ PiCommand PiController::update(double t, const Vector2& wheels, double gyro_z)
   last_t_ = t;
 
   // Feed-forward: the goal one latency ahead, to the wheels, through the wheel loop's inverse.
-  const Vector3 rate = goal_rate_.rate(t);
-  goal_.setGoal(Vector3(goal_now_(0), 0.0, goal_now_(1)), rate);
-  const Vector3 target = goal_.target();
-  const Vector2 g_wheels = model_.wheelsFromTwist(target);
+  const base::Vector3 rate = goal_rate_.rate(t);
+  goal_.setGoal(base::Vector3(goal_now_(0), 0.0, goal_now_(1)), rate);
+  const base::Vector3 target = goal_.target();
+  const base::Vector2 g_wheels = model_.wheelsFromTwist(target);
   const double max_speed = params_.max_wheel_speed;
-  const LatencyActionResult inverse =
-      LatencyAction::step(ff_loop_, w_ff_, Vector2::Zero(), t, g_wheels, u_ff_, h, 1.0 / h, max_speed, 1.0);
+  const aic::LatencyActionResult inverse =
+      aic::LatencyAction::step(ff_loop_, w_ff_, base::Vector2::Zero(), t, g_wheels, u_ff_, h, 1.0 / h, max_speed, 1.0);
   u_ff_ = inverse.command;
 
   // Outer loop: the yaw rate against the feed-forward's expected yaw rate.
@@ -241,11 +243,11 @@ PiCommand PiController::update(double t, const Vector2& wheels, double gyro_z)
     yaw_error = yaw_expected_ - gyro_z;
     trim = params_.yaw.kp * yaw_error + yaw_integral_;
   }
-  const Vector2 trim_wheels = model_.wheelsFromTwist(Vector3(0.0, 0.0, trim));
+  const base::Vector2 trim_wheels = model_.wheelsFromTwist(base::Vector3(0.0, 0.0, trim));
 
   // Inner loops: each wheel against its expected speed under the feed-forward and the trim.
-  const Vector2 wheel_error = w_ref_ - wheels;
-  const Vector2 unclamped = u_ff_ + trim_wheels + params_.wheel.kp * wheel_error + wheel_integral_;
+  const base::Vector2 wheel_error = w_ref_ - wheels;
+  const base::Vector2 unclamped = u_ff_ + trim_wheels + params_.wheel.kp * wheel_error + wheel_integral_;
   PiCommand out;
   out.status = PiStatus::kOk;
   for (int s = 0; s < 2; ++s)
@@ -266,7 +268,7 @@ PiCommand PiController::update(double t, const Vector2& wheels, double gyro_z)
   }
   // The expected responses: u_ff alone, and u_ff with the trim (clamped as the command is).
   ff_loop_.record(t, u_ff_);
-  const Vector2 reference = (u_ff_ + trim_wheels).cwiseMax(-max_speed).cwiseMin(max_speed);
+  const base::Vector2 reference = (u_ff_ + trim_wheels).cwiseMax(-max_speed).cwiseMin(max_speed);
   ref_loop_.record(t, reference);
   out.feed_forward = u_ff_;
   out.expected = w_ref_;
@@ -275,4 +277,5 @@ PiCommand PiController::update(double t, const Vector2& wheels, double gyro_z)
   return out;
 }
 
+}  // namespace classical
 }  // namespace jackal_aic

@@ -16,6 +16,8 @@
 
 namespace jackal_aic
 {
+namespace loop
+{
 namespace
 {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -23,7 +25,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kNoticePeriod = 1.0;
 
 /// Throws std::invalid_argument listing every violation, if any.
-const NodeParams& requireValid(const NodeParams& params)
+const params::NodeParams& requireValid(const params::NodeParams& params)
 {
   std::string message;
   for (const auto& v : params.validate())
@@ -37,7 +39,7 @@ const NodeParams& requireValid(const NodeParams& params)
   return params;
 }
 
-SensorPairing::Config pairingConfig(const NodeParams& p)
+SensorPairing::Config pairingConfig(const params::NodeParams& p)
 {
   SensorPairing::Config c;
   c.left_joints = p.left_joints;
@@ -55,11 +57,11 @@ double monotonicSeconds()
 }
 }  // namespace
 
-void ControlLoop::Output::healthEvent(FaultMonitor::Event /*event*/, int /*channel*/) {}
+void ControlLoop::Output::healthEvent(safety::FaultMonitor::Event /*event*/, int /*channel*/) {}
 
 void ControlLoop::Output::log(LogLevel /*level*/, const std::string& /*text*/) {}
 
-ControlLoop::ControlLoop(const NodeParams& params, const Clock& clock, Output& output)
+ControlLoop::ControlLoop(const params::NodeParams& params, const Clock& clock, Output& output)
   : params_(requireValid(params))
   , clock_(clock)
   , output_(output)
@@ -131,22 +133,23 @@ bool ControlLoop::jointState(const JointStateInput& joints)
     output_.log(LogLevel::kWarn, os.str());
   }
   bool restarted = false;
-  const Generalizer::Status status = pipeline_.generalize(&sample.y, sample.h, sample.imu_ok, sample.first, &restarted);
+  const aic::Generalizer::Status status =
+      pipeline_.generalize(&sample.y, sample.h, sample.imu_ok, sample.first, &restarted);
   if (restarted)
   {
     supervisor_.historyRestarted();
   }
-  if (status != Generalizer::Status::kOk && status != Generalizer::Status::kFirstSample)
+  if (status != aic::Generalizer::Status::kOk && status != aic::Generalizer::Status::kFirstSample)
   {
     ++refused_samples_;
     if (due(kNoticeRefused))
     {
-      output_.log(LogLevel::kWarn, std::string("generalizer rejected a sample: ") + toString(status));
+      output_.log(LogLevel::kWarn, std::string("generalizer rejected a sample: ") + aic::toString(status));
     }
     watch();
     return false;
   }
-  supervisor_.sampleAccepted(Vector2(sample.y(kOmegaLeft), sample.y(kOmegaRight)));
+  supervisor_.sampleAccepted(base::Vector2(sample.y(base::kOmegaLeft), sample.y(base::kOmegaRight)));
   pipeline_.guardTip(sample.y, sample.pitch_rate, sample.first ? 0.0 : sample.h, sample.imu_ok);
   newest_sample_stamp_ = sample.stamp;
   watch();  // a warm history and a set point: the controller starts here, from this sample
@@ -164,11 +167,11 @@ bool ControlLoop::jointState(const JointStateInput& joints)
     }
     return false;
   }
-  if (m.event != FaultMonitor::Event::kNone)
+  if (m.event != safety::FaultMonitor::Event::kNone)
   {
     output_.healthEvent(m.event, m.event_channel);
   }
-  if (params_.action_trigger == ActionTrigger::kSample)
+  if (params_.action_trigger == params::ActionTrigger::kSample)
   {
     actionStep(sample.first ? -1.0 : sample.h);  // over the sensor interval (stamps), clamped to 3 periods
   }
@@ -266,7 +269,7 @@ void ControlLoop::actionTimer(double interval)
   checkClock();
   advanceBeliefs();
   refreshGoalRate();  // an expired ramp of the set point ends here
-  if (params_.action_trigger == ActionTrigger::kTimer)
+  if (params_.action_trigger == params::ActionTrigger::kTimer)
   {
     actionStep(interval);
     return;
@@ -282,7 +285,7 @@ void ControlLoop::actionTimer(double interval)
   {
     if (onProbation())
     {
-      sendCommand(Vector2::Zero(), kNaN, false);
+      sendCommand(base::Vector2::Zero(), kNaN, false);
     }
     else
     {
@@ -293,7 +296,7 @@ void ControlLoop::actionTimer(double interval)
 
 void ControlLoop::beliefTimer(double interval)
 {
-  if (params_.belief_schedule == BeliefSchedule::kEvent)
+  if (params_.belief_schedule == params::BeliefSchedule::kEvent)
   {
     advance();
     return;
@@ -310,7 +313,7 @@ void ControlLoop::beliefTimer(double interval)
   supervisor_.beliefLoop().recordDuration(monotonicSeconds() - start);
 }
 
-void ControlLoop::setParams(const NodeParams& next)
+void ControlLoop::setParams(const params::NodeParams& next)
 {
   requireValid(next);
   checkClock();
@@ -327,8 +330,8 @@ void ControlLoop::setParams(const NodeParams& next)
   goal_rate_.setParams(next.aic.reference);
   // Read at start only: the output stage and the belief schedule.
   const std::string output_mode = params_.output_mode;
-  const DiffDriveParams cmd_vel = params_.cmd_vel;
-  const BeliefSchedule schedule = params_.belief_schedule;
+  const params::DiffDriveParams cmd_vel = params_.cmd_vel;
+  const params::BeliefSchedule schedule = params_.belief_schedule;
   params_ = next;
   params_.output_mode = output_mode;
   params_.cmd_vel = cmd_vel;
@@ -338,13 +341,13 @@ void ControlLoop::setParams(const NodeParams& next)
 
 bool ControlLoop::checkFrozen(const SensorSample& sample)
 {
-  FrozenJointStates::Input in;
+  safety::FrozenJointStates::Input in;
   in.stamp = sample.stamp;
   in.travel = sample.travel;
   in.has_travel = sample.has_travel;
-  in.speed = Vector2(sample.y(kOmegaLeft), sample.y(kOmegaRight));
-  const FrozenJointStates::Event event = frozen_.update(in);
-  if (event == FrozenJointStates::Event::kFrozen)
+  in.speed = base::Vector2(sample.y(base::kOmegaLeft), sample.y(base::kOmegaRight));
+  const safety::FrozenJointStates::Event event = frozen_.update(in);
+  if (event == safety::FrozenJointStates::Event::kFrozen)
   {
     std::ostringstream os;
     os << "joint states frozen: travel and speeds (" << in.speed.transpose() << " rad/s) repeat exactly for "
@@ -353,7 +356,7 @@ bool ControlLoop::checkFrozen(const SensorSample& sample)
        << frozen_.events() << " frozen stream(s) so far]";
     supervisor_.jointStatesFrozen(true, os.str());
   }
-  else if (event == FrozenJointStates::Event::kThawed)
+  else if (event == safety::FrozenJointStates::Event::kThawed)
   {
     supervisor_.jointStatesFrozen(false);
     output_.log(LogLevel::kInfo, "joint states no longer frozen (new data): the sensors are used again");
@@ -414,7 +417,7 @@ void ControlLoop::restartTimeline(double shift)
 
 void ControlLoop::advanceBeliefs()
 {
-  if (params_.belief_schedule != BeliefSchedule::kEvent)
+  if (params_.belief_schedule != params::BeliefSchedule::kEvent)
   {
     return;
   }
@@ -449,7 +452,7 @@ void ControlLoop::integrate(int steps, double h)
   for (int i = 0; i < steps; ++i)
   {
     ++belief_steps_;
-    if (pipeline_.controller().updateBeliefs(h) == ActiveInferenceController::Status::kRunaway)
+    if (pipeline_.controller().updateBeliefs(h) == aic::ActiveInferenceController::Status::kRunaway)
     {
       handleRunaway("belief update");
       return;
@@ -492,7 +495,7 @@ void ControlLoop::carryOut(const Supervisor::Transition& t)
 void ControlLoop::activate()
 {
   ++starts_;
-  const Vector2& wheels = supervisor_.measuredWheels();
+  const base::Vector2& wheels = supervisor_.measuredWheels();
   pipeline_.activate(wheels, supervisor_.goal());  // beliefs at the measured twist, action at the wheels
   refreshGoalRate();
   if (cmd_vel_)
@@ -565,9 +568,9 @@ void ControlLoop::actionStep(double interval)
   }
   else if (onProbation())
   {
-    sendCommand(Vector2::Zero(), kNaN, false);  // the runaway hold's zero command goes on
+    sendCommand(base::Vector2::Zero(), kNaN, false);  // the runaway hold's zero command goes on
   }
-  else if (pipeline_.controller().updateAction(h) == ActiveInferenceController::Status::kRunaway)
+  else if (pipeline_.controller().updateAction(h) == aic::ActiveInferenceController::Status::kRunaway)
   {
     handleRunaway("action update");  // sends the zero command
   }
@@ -583,7 +586,7 @@ void ControlLoop::actionStep(double interval)
 // ---------------------------------------------------------------------------
 // Command stage
 
-void ControlLoop::sendCommand(const Vector2& wheels, double latency, bool stock_limits)
+void ControlLoop::sendCommand(const base::Vector2& wheels, double latency, bool stock_limits)
 {
   if (supervisor_.state() == NodeState::kBlocked)
   {
@@ -592,7 +595,7 @@ void ControlLoop::sendCommand(const Vector2& wheels, double latency, bool stock_
   }
   WheelCommand c;
   c.latency = latency;
-  const GuardedWheels guarded = guardWheelCommand(wheels, params_.aic.max_wheel_speed);
+  const safety::GuardedWheels guarded = safety::guardWheelCommand(wheels, params_.aic.max_wheel_speed);
   c.wheels = guarded.wheels;
   if (guarded.replaced)
   {
@@ -651,7 +654,8 @@ void ControlLoop::sendIdle()
     case IdleCommand::kZero:
       break;
   }
-  sendCommand(Vector2::Zero(), kNaN, false);  // at once: the diff drive ramps down itself
+  sendCommand(base::Vector2::Zero(), kNaN, false);  // at once: the diff drive ramps down itself
 }
 
+}  // namespace loop
 }  // namespace jackal_aic

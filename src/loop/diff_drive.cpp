@@ -12,6 +12,8 @@
 
 namespace jackal_aic
 {
+namespace loop
+{
 namespace
 {
 double finiteOrZero(double x)
@@ -33,7 +35,7 @@ double limitAxis(double target, double previous, double max_vel, double max_acc,
   return previous + std::clamp(v - previous, -dv_max, dv_max);
 }
 
-DiffDriveParams validated(const DiffDriveParams& p)
+params::DiffDriveParams validated(const params::DiffDriveParams& p)
 {
   const auto e = p.validate();
   if (!e.empty())
@@ -49,14 +51,14 @@ DiffDriveParams validated(const DiffDriveParams& p)
 }
 }  // namespace
 
-Vector2 wheelsFromTwist(const DiffDriveParams& p, const BodyTwist& twist)
+base::Vector2 wheelsFromTwist(const params::DiffDriveParams& p, const BodyTwist& twist)
 {
   const double s = p.effectiveSeparation();
-  return Vector2((twist.linear - twist.angular * s / 2.0) / p.wheel_radius,
-                 (twist.linear + twist.angular * s / 2.0) / p.wheel_radius);
+  return base::Vector2((twist.linear - twist.angular * s / 2.0) / p.wheel_radius,
+                       (twist.linear + twist.angular * s / 2.0) / p.wheel_radius);
 }
 
-BodyTwist twistFromWheels(const DiffDriveParams& p, const Vector2& wheels)
+BodyTwist twistFromWheels(const params::DiffDriveParams& p, const base::Vector2& wheels)
 {
   BodyTwist t;
   t.linear = p.wheel_radius * (wheels(0) + wheels(1)) / 2.0;
@@ -64,7 +66,7 @@ BodyTwist twistFromWheels(const DiffDriveParams& p, const Vector2& wheels)
   return t;
 }
 
-DiffDriveLimiter::DiffDriveLimiter(const DiffDriveParams& params) : params_(validated(params)) {}
+DiffDriveLimiter::DiffDriveLimiter(const params::DiffDriveParams& params) : params_(validated(params)) {}
 
 BodyTwist DiffDriveLimiter::limit(const BodyTwist& target, double dt, bool* clipped)
 {
@@ -89,13 +91,13 @@ void DiffDriveLimiter::reset(const BodyTwist& previous)
   last_ = BodyTwist{ finiteOrZero(previous.linear), finiteOrZero(previous.angular) };
 }
 
-CmdVelOutput::CmdVelOutput(const DiffDriveParams& params) : limiter_(params) {}
+CmdVelOutput::CmdVelOutput(const params::DiffDriveParams& params) : limiter_(params) {}
 
-CmdVelOutput::Result CmdVelOutput::convert(const Vector2& wheels, double dt)
+CmdVelOutput::Result CmdVelOutput::convert(const base::Vector2& wheels, double dt)
 {
   Result r;
   r.non_finite = !wheels.allFinite();
-  const Vector2 w(finiteOrZero(wheels(0)), finiteOrZero(wheels(1)));
+  const base::Vector2 w(finiteOrZero(wheels(0)), finiteOrZero(wheels(1)));
   const BodyTwist wanted = twistFromWheels(limiter_.params(), w);
   r.twist = limiter_.limit(wanted, dt, &r.clipped);
   // Unclipped: the command itself (bit-exact); clipped: what the stock controller will do.
@@ -107,9 +109,10 @@ CmdVelOutput::Result CmdVelOutput::convert(const Vector2& wheels, double dt)
   return r;
 }
 
-void CmdVelOutput::reset(const Vector2& wheels)
+void CmdVelOutput::reset(const base::Vector2& wheels)
 {
   limiter_.reset(twistFromWheels(limiter_.params(), wheels));
 }
 
+}  // namespace loop
 }  // namespace jackal_aic

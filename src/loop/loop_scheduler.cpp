@@ -10,6 +10,8 @@
 
 namespace jackal_aic
 {
+namespace loop
+{
 double LoopStats::maxInterval() const
 {
   return std::max(max_factor * nominal_period, min_max_interval);
@@ -83,4 +85,5 @@ void LoopScheduler::recordDuration(double seconds)
 {
   stats_.window_max_duration = std::max(stats_.window_max_duration, seconds);
 }
+}  // namespace loop
 }  // namespace jackal_aic

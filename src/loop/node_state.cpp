@@ -6,6 +6,8 @@
 
 namespace jackal_aic
 {
+namespace loop
+{
 const char* toString(NodeState state)
 {
   switch (state)
@@ -25,4 +27,5 @@ const char* toString(NodeState state)
   }
   return "unknown";
 }
+}  // namespace loop
 }  // namespace jackal_aic

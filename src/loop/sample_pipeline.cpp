@@ -11,13 +11,15 @@
 
 namespace jackal_aic
 {
+namespace loop
+{
 namespace
 {
 /// No bound on the reference path's rate (ReferenceModel::setTipBounds).
 constexpr double kNone = std::numeric_limits<double>::infinity();
 
 /// Throws std::invalid_argument listing every violation of both sets, if any.
-void requireValid(const AicParams& aic, const FdiParams& fdi)
+void requireValid(const params::AicParams& aic, const params::FdiParams& fdi)
 {
   std::string message;
   for (const auto& violations : { aic.validate(), fdi.validate() })
@@ -35,32 +37,34 @@ void requireValid(const AicParams& aic, const FdiParams& fdi)
 
 /// aic.gyro_bias after requireValid(aic, fdi): the pipeline's first member to need the settings
 /// reports every violation of both sets, not only the estimator's.
-const GyroBiasEstimatorParams& validGyroBias(const AicParams& aic, const FdiParams& fdi)
+const params::GyroBiasEstimatorParams& validGyroBias(const params::AicParams& aic, const params::FdiParams& fdi)
 {
   requireValid(aic, fdi);
   return aic.gyro_bias;
 }
 }  // namespace
 
-SamplePipeline::SamplePipeline(const AicParams& aic, const FdiParams& fdi)
+SamplePipeline::SamplePipeline(const params::AicParams& aic, const params::FdiParams& fdi)
   : gyro_bias_(validGyroBias(aic, fdi)), tip_guard_(aic.tip_guard), pitch_bias_(aic.gyro_bias)
 {
-  controller_ = std::make_unique<ActiveInferenceController>(aic);
-  generalizer_ = std::make_unique<Generalizer>(kYDim, aic.embedding_order);
-  fault_monitor_ = std::make_unique<FaultMonitor>(fdi, aic);
+  controller_ = std::make_unique<aic::ActiveInferenceController>(aic);
+  generalizer_ = std::make_unique<aic::Generalizer>(base::kYDim, aic.embedding_order);
+  fault_monitor_ = std::make_unique<safety::FaultMonitor>(fdi, aic);
 }
 
-Generalizer::Status SamplePipeline::generalize(Vector5* y, double h, bool imu_ok, bool restart, bool* restarted)
+aic::Generalizer::Status SamplePipeline::generalize(base::Vector5* y, double h, bool imu_ok, bool restart,
+                                                    bool* restarted)
 {
-  raw_gyro_ = (*y)(kGyroZ);
+  raw_gyro_ = (*y)(base::kGyroZ);
   if (imu_ok && controller_->params().gyro_bias.enabled)
   {
-    (*y)(kGyroZ) -= gyro_bias_.offset();  // the generative model's sensor row y_gyro = theta_dot + beta
+    (*y)(base::kGyroZ) -= gyro_bias_.offset();  // the generative model's sensor row y_gyro = theta_dot + beta
   }
   if (!imu_ok)
   {
     // Degraded mode: the gyro channel is masked; the wheels' yaw rate keeps its history smooth.
-    (*y)(kGyroZ) = controller_->model().twistFromWheels(Vector2((*y)(kOmegaLeft), (*y)(kOmegaRight)))(2);
+    (*y)(base::kGyroZ) =
+        controller_->model().twistFromWheels(base::Vector2((*y)(base::kOmegaLeft), (*y)(base::kOmegaRight)))(2);
   }
   const bool restart_now = restart || !generalizer_->initialized();
   if (restart_now)
@@ -74,7 +78,7 @@ Generalizer::Status SamplePipeline::generalize(Vector5* y, double h, bool imu_ok
   return generalizer_->update(*y, h);
 }
 
-SamplePipeline::Measurement SamplePipeline::measure(const Vector5& y, double h, bool imu_ok)
+SamplePipeline::Measurement SamplePipeline::measure(const base::Vector5& y, double h, bool imu_ok)
 {
   Measurement m;
   m.accepted = controller_->setMeasurement(generalizer_->yTilde());
@@ -93,28 +97,30 @@ SamplePipeline::Measurement SamplePipeline::measure(const Vector5& y, double h, 
   if (controller_->params().gyro_bias.enabled)
   {
     const bool gyro_ok =
-        imu_ok && (fault_monitor_->sensorMask() & (1u << kGyroZ)) != 0 && !fault_monitor_->faultPresent();
-    const Vector2& a = controller_->action();
-    gyro_bias_.update(h, raw_gyro_, y(kOmegaLeft), y(kOmegaRight), a(0), a(1), gyro_ok);
+        imu_ok && (fault_monitor_->sensorMask() & (1u << base::kGyroZ)) != 0 && !fault_monitor_->faultPresent();
+    const base::Vector2& a = controller_->action();
+    gyro_bias_.update(h, raw_gyro_, y(base::kOmegaLeft), y(base::kOmegaRight), a(0), a(1), gyro_ok);
   }
-  if (m.event != FaultMonitor::Event::kNone)
+  if (m.event != safety::FaultMonitor::Event::kNone)
   {
-    m.event_channel = m.event == FaultMonitor::Event::kRestored ? isolated_before : fault_monitor_->suspectedChannel();
+    m.event_channel =
+        m.event == safety::FaultMonitor::Event::kRestored ? isolated_before : fault_monitor_->suspectedChannel();
   }
   return m;
 }
 
-void SamplePipeline::guardTip(const Vector5& y, double pitch_rate, double h, bool imu_ok)
+void SamplePipeline::guardTip(const base::Vector5& y, double pitch_rate, double h, bool imu_ok)
 {
-  const AicParams& p = controller_->params();
+  const params::AicParams& p = controller_->params();
   if (h > 0.0)
   {
     if (p.gyro_bias.enabled)
     {
-      const Vector2& a = controller_->action();
-      pitch_bias_.update(h, pitch_rate, y(kOmegaLeft), y(kOmegaRight), a(0), a(1), imu_ok);
+      const base::Vector2& a = controller_->action();
+      pitch_bias_.update(h, pitch_rate, y(base::kOmegaLeft), y(base::kOmegaRight), a(0), a(1), imu_ok);
     }
-    const double speed = controller_->model().twistFromWheels(Vector2(y(kOmegaLeft), y(kOmegaRight)))(0);
+    const double speed =
+        controller_->model().twistFromWheels(base::Vector2(y(base::kOmegaLeft), y(base::kOmegaRight)))(0);
     tip_guard_.update(h, pitch_rate - (p.gyro_bias.enabled ? pitch_bias_.offset() : 0.0), speed, imu_ok);
   }
   controller_->setTipBounds(p.tip_guard.enabled ? tip_guard_.frontBound() : kNone,
@@ -134,19 +140,19 @@ void SamplePipeline::restartHistory()
   fault_monitor_->reset();
 }
 
-void SamplePipeline::activate(const Vector2& wheels, const Vector3& goal)
+void SamplePipeline::activate(const base::Vector2& wheels, const base::Vector3& goal)
 {
   controller_->reset();
   controller_->setGoal(goal);
   controller_->setMeasurement(generalizer_->yTilde());
-  MuTilde mu = MuTilde::Zero(kMuDim, controller_->params().numOrders());
+  base::MuTilde mu = base::MuTilde::Zero(base::kMuDim, controller_->params().numOrders());
   mu.col(0) = controller_->model().twistFromWheels(wheels);
   controller_->setBeliefs(mu);
   controller_->startReference(mu.col(0));  // the expected path starts where the robot is
   controller_->setAction(wheels);          // bumpless start from the measured wheel speeds
 }
 
-bool SamplePipeline::setParams(const AicParams& aic, const FdiParams& fdi)
+bool SamplePipeline::setParams(const params::AicParams& aic, const params::FdiParams& fdi)
 {
   requireValid(aic, fdi);
   controller_->setParams(aic);
@@ -163,7 +169,8 @@ bool SamplePipeline::setParams(const AicParams& aic, const FdiParams& fdi)
   {
     return false;
   }
-  generalizer_ = std::make_unique<Generalizer>(kYDim, aic.embedding_order);
+  generalizer_ = std::make_unique<aic::Generalizer>(base::kYDim, aic.embedding_order);
   return true;
 }
+}  // namespace loop
 }  // namespace jackal_aic

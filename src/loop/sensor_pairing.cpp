@@ -9,6 +9,8 @@
 
 namespace jackal_aic
 {
+namespace loop
+{
 namespace
 {
 /// Index of `joint` in `names`, or -1.
@@ -195,18 +197,19 @@ bool SensorPairing::addJointState(const JointStateInput& joints, SensorSample* o
   ++accepted_;
 
   out->imu_ok = imu != nullptr;
-  out->y(kGyroZ) = imu ? imu->gyro_z : 0.0;
-  out->y(kOmegaLeft) = mean[0];
-  out->y(kOmegaRight) = mean[1];
-  out->y(kAccelX) = imu ? imu->accel_x : 0.0;
-  out->y(kAccelY) = imu ? imu->accel_y : 0.0;
+  out->y(base::kGyroZ) = imu ? imu->gyro_z : 0.0;
+  out->y(base::kOmegaLeft) = mean[0];
+  out->y(base::kOmegaRight) = mean[1];
+  out->y(base::kAccelX) = imu ? imu->accel_x : 0.0;
+  out->y(base::kAccelY) = imu ? imu->accel_y : 0.0;
   out->pitch_rate = imu ? imu->gyro_y : 0.0;
   out->h = h;
   out->first = first;
   out->stamp = stamp;
-  out->travel = Vector2(travel[0], travel[1]);
+  out->travel = base::Vector2(travel[0], travel[1]);
   out->has_travel = n_position != 0;
   return true;
 }
 
+}  // namespace loop
 }  // namespace jackal_aic

@@ -14,7 +14,9 @@
 
 namespace jackal_aic
 {
-Supervisor::Supervisor(const NodeParams& params, const Clock& clock)
+namespace loop
+{
+Supervisor::Supervisor(const params::NodeParams& params, const Clock& clock)
   : clock_(clock)
   , sensor_timeout_(params.sensor_timeout)
   , set_point_timeout_(params.set_point_timeout)
@@ -28,7 +30,7 @@ Supervisor::Supervisor(const NodeParams& params, const Clock& clock)
 {
 }
 
-void Supervisor::setParams(const NodeParams& params)
+void Supervisor::setParams(const params::NodeParams& params)
 {
   sensor_timeout_ = params.sensor_timeout;
   set_point_timeout_ = params.set_point_timeout;
@@ -40,9 +42,9 @@ void Supervisor::setParams(const NodeParams& params)
   action_loop_.setRate(params.aic.action_rate);
 }
 
-void Supervisor::sampleAccepted(const Vector2& measured_wheels)
+void Supervisor::sampleAccepted(const base::Vector2& measured_wheels)
 {
-  warm_samples_ = std::min(warm_samples_ + 1, kMaxOrders + 1);
+  warm_samples_ = std::min(warm_samples_ + 1, base::kMaxOrders + 1);
   measured_wheels_ = measured_wheels;
   if (!has_sample_)
   {
@@ -336,4 +338,5 @@ bool Supervisor::setPointFresh() const
   return has_set_point_ && clock_.now() - last_set_point_ <= set_point_timeout_;
 }
 
+}  // namespace loop
 }  // namespace jackal_aic

@@ -16,6 +16,8 @@
 
 namespace jackal_aic
 {
+namespace os
+{
 namespace
 {
 constexpr std::int64_t kNsPerS = 1000000000;
@@ -260,4 +262,5 @@ void PeriodicThread::run()
   cpu_at_stop_ = cpuSeconds(CLOCK_THREAD_CPUTIME_ID);
 }
 
+}  // namespace os
 }  // namespace jackal_aic

@@ -11,6 +11,8 @@
 
 namespace jackal_aic
 {
+namespace overrides
+{
 namespace
 {
 std::vector<std::string> keyParts(const std::string& key)
@@ -133,4 +135,5 @@ std::vector<std::string> loadOverlayFile(const std::string& path)
   return overlayOverrides(root, path);
 }
 
+}  // namespace overrides
 }  // namespace jackal_aic

@@ -13,6 +13,8 @@
 
 namespace jackal_aic
 {
+namespace params
+{
 bool integratorFromString(const std::string& name, Integrator* out)
 {
   if (out == nullptr)
@@ -144,17 +146,17 @@ std::vector<ParamViolation> AicParams::validate() const
 namespace
 {
 template <int Rows>
-Eigen::Matrix<double, Rows, Eigen::Dynamic, Eigen::ColMajor, Rows, kMaxOrders>
+Eigen::Matrix<double, Rows, Eigen::Dynamic, Eigen::ColMajor, Rows, base::kMaxOrders>
 precisionFrom(const std::vector<double>& var, int orders)
 {
-  if (orders < 1 || orders > kMaxOrders ||
+  if (orders < 1 || orders > base::kMaxOrders ||
       (var.size() != static_cast<std::size_t>(orders) && var.size() != static_cast<std::size_t>(Rows * orders)))
   {
     throw std::invalid_argument("AicParams: variances of size " + std::to_string(var.size()) +
                                 " do not fit embedding_order " + std::to_string(orders - 1) +
                                 " (call validate() first)");
   }
-  Eigen::Matrix<double, Rows, Eigen::Dynamic, Eigen::ColMajor, Rows, kMaxOrders> pi(Rows, orders);
+  Eigen::Matrix<double, Rows, Eigen::Dynamic, Eigen::ColMajor, Rows, base::kMaxOrders> pi(Rows, orders);
   const bool per_channel = var.size() == static_cast<std::size_t>(Rows * orders);
   for (int i = 0; i < orders; ++i)
   {
@@ -168,14 +170,15 @@ precisionFrom(const std::vector<double>& var, int orders)
 }
 }  // namespace
 
-MuTilde AicParams::precisionMu() const
+base::MuTilde AicParams::precisionMu() const
 {
-  return precisionFrom<kMuDim>(var_mu, numOrders());
+  return precisionFrom<base::kMuDim>(var_mu, numOrders());
 }
 
-YTilde AicParams::precisionY() const
+base::YTilde AicParams::precisionY() const
 {
-  return precisionFrom<kYDim>(var_y, numOrders());
+  return precisionFrom<base::kYDim>(var_y, numOrders());
 }
 
+}  // namespace params
 }  // namespace jackal_aic

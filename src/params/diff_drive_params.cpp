@@ -9,6 +9,8 @@
 
 namespace jackal_aic
 {
+namespace params
+{
 namespace
 {
 void checkPositive(std::vector<std::string>* e, double v, const char* key)
@@ -34,4 +36,5 @@ std::vector<std::string> DiffDriveParams::validate() const
   checkPositive(&e, max_angular_acceleration, "max_angular_acceleration");
   return e;
 }
+}  // namespace params
 }  // namespace jackal_aic

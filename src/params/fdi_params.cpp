@@ -10,6 +10,8 @@
 
 namespace jackal_aic
 {
+namespace params
+{
 namespace
 {
 std::string number(double v)
@@ -42,4 +44,5 @@ std::vector<ParamViolation> FdiParams::validate() const
   }
   return out;
 }
+}  // namespace params
 }  // namespace jackal_aic

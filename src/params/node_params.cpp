@@ -12,6 +12,8 @@
 
 namespace jackal_aic
 {
+namespace params
+{
 bool actionTriggerFromString(const std::string& name, ActionTrigger* out)
 {
   if (name == "timer")
@@ -91,4 +93,5 @@ std::vector<ParamViolation> NodeParams::validate() const
   return violations;
 }
 
+}  // namespace params
 }  // namespace jackal_aic

@@ -14,6 +14,8 @@
 
 namespace jackal_aic
 {
+namespace params
+{
 namespace
 {
 
@@ -313,4 +315,5 @@ ParamLoadReport loadParams(const ParamSource& source, const std::vector<ParamSco
   return report;
 }
 
+}  // namespace params
 }  // namespace jackal_aic

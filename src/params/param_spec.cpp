@@ -17,6 +17,8 @@
 
 namespace jackal_aic
 {
+namespace params
+{
 namespace
 {
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -69,7 +71,7 @@ std::vector<ParamSpec> buildControllerRows()
     ParamRow("active_inference", "k_a").above(0.0).atMost(kMaxGain)
         .describe("Action learning rate k_a (thesis eq. 3-16)")
         .member<&AicParams::k_a>(),
-    ParamRow("active_inference", "embedding_order").atLeast(1.0).atMost(static_cast<double>(kMaxEmbeddingOrder))
+    ParamRow("active_inference", "embedding_order").atLeast(1.0).atMost(static_cast<double>(base::kMaxEmbeddingOrder))
         .describe("Embedding order p: generalized orders 0..p are used (thesis eq. 3-17); var_mu and var_y need "
                   "p + 1 entries: extend them by the rule of doc/tuning.md, 'Embedding order and the variance lists'")
         .level(2).member<&AicParams::embedding_order>(),
@@ -77,13 +79,13 @@ std::vector<ParamSpec> buildControllerRows()
         .describe("Belief variances sigma^2_mu, one per order 0..p or one per order and channel (x_dot, y_dot, "
                   "theta_dot; order-major); precision Pi_mu = 1/sigma^2 (thesis table C-1); order i weighs the "
                   "belief's i-th rate (doc/tuning.md, 'Embedding order and the variance lists')")
-        .perOrder(kMuDim, kMaxOrders).member<&AicParams::var_mu>(),
+        .perOrder(base::kMuDim, base::kMaxOrders).member<&AicParams::var_mu>(),
     ParamRow("active_inference", "var_y").unit("SI^2 of each order").atLeast(kMinVariance).atMost(kMaxVariance)
         .describe("Sensor variances sigma^2_y, one per order 0..p or one per order and channel (gyro z, omega_L, "
                   "omega_R, accel x, accel y; order-major); precision Pi_y = 1/sigma^2 (thesis table C-1); order i "
                   "weighs the sensors' i-th finite difference (doc/tuning.md, 'Embedding order and the variance "
                   "lists')")
-        .perOrder(kYDim, kMaxOrders).member<&AicParams::var_y>(),
+        .perOrder(base::kYDim, base::kMaxOrders).member<&AicParams::var_y>(),
     ParamRow("active_inference", "accel_in_model")
         .describe("If true, the accelerometer-x row of the sensor model maps onto mu^(1); false is the thesis "
                   "model (accelerometer rows zero)")
@@ -339,7 +341,7 @@ void checkListSize(const ParamSpec& row, const std::vector<double>& var, int emb
                    std::vector<ParamViolation>* out)
 {
   const std::string key = row.key;
-  const bool order_ok = embedding_order >= 1 && embedding_order <= kMaxEmbeddingOrder;
+  const bool order_ok = embedding_order >= 1 && embedding_order <= base::kMaxEmbeddingOrder;
   const int channels = row.channels;
   if (order_ok)
   {
@@ -673,4 +675,5 @@ std::string formatParamValue(const ParamValue& value)
   return std::visit(Printer{}, value);
 }
 
+}  // namespace params
 }  // namespace jackal_aic

@@ -6,8 +6,11 @@
 
 namespace jackal_aic
 {
+namespace params
+{
 std::string ParamViolation::toString() const
 {
   return name + " = " + value + " (allowed: " + allowed + ")";
 }
+}  // namespace params
 }  // namespace jackal_aic

@@ -16,6 +16,8 @@
 
 namespace jackal_aic
 {
+namespace node
+{
 double RosClock::sinceEpoch(const ros::Time& stamp) const
 {
   // Not ros::Duration: a stamp more than 2^31 s after the epoch (any uint32 second is valid in a
@@ -77,8 +79,8 @@ bool AicNode::init()
   outputs_ = std::make_unique<NodeOutputs>(nh_, pnh_, params_.output_mode, params_.debug_rate);
   try
   {
-    ControlLoop::Output& output = *this;
-    loop_ = std::make_unique<ControlLoop>(params_, clock_, output);
+    loop::ControlLoop::Output& output = *this;
+    loop_ = std::make_unique<loop::ControlLoop>(params_, clock_, output);
   }
   catch (const std::exception& e)
   {
@@ -89,7 +91,7 @@ bool AicNode::init()
   // Timer schedule on the wall clock: the belief thread serves the subscribers (BeliefLoop);
   // on the simulated clock the spinner does. Event schedule: each message's callback runs on
   // roscpp's network thread as it arrives (InlineCallbackQueue): no hand-over to the spinner.
-  const bool timer_schedule = params_.belief_schedule == BeliefSchedule::kTimer;
+  const bool timer_schedule = params_.belief_schedule == params::BeliefSchedule::kTimer;
   belief_on_thread_ = timer_schedule && BeliefLoop::useThread();
   ros::NodeHandle sensor_nh(nh_), sensor_pnh(pnh_);
   if (belief_on_thread_)
@@ -114,7 +116,7 @@ bool AicNode::init()
   diagnostics_->addFaultMonitor(pnh_, loop_->faultMonitor());
 
   // One publisher per command topic: checked now, before the first command, then on a thread.
-  conflict_ = std::make_unique<OutputConflict>(outputs_->commandTopic(), ros::this_node::getName());
+  conflict_ = std::make_unique<safety::OutputConflict>(outputs_->commandTopic(), ros::this_node::getName());
   if (params_.publisher_check_period > 0.0)
   {
     std::vector<std::string> publishers;
@@ -191,7 +193,7 @@ void AicNode::actionTimerCallback(const ros::TimerEvent& event)
 // ---------------------------------------------------------------------------
 // ControlLoop outputs (called with the lock held).
 
-void AicNode::command(const WheelCommand& command)
+void AicNode::command(const loop::WheelCommand& command)
 {
   if (!gate_.admit())
   {
@@ -215,22 +217,22 @@ void AicNode::startOutputGate()
       topic);
 }
 
-void AicNode::healthEvent(FaultMonitor::Event event, int channel)
+void AicNode::healthEvent(safety::FaultMonitor::Event event, int channel)
 {
   diagnostics_->publishHealth(event, channel);
 }
 
-void AicNode::log(LogLevel level, const std::string& text)
+void AicNode::log(loop::LogLevel level, const std::string& text)
 {
   switch (level)
   {
-    case LogLevel::kInfo:
+    case loop::LogLevel::kInfo:
       ROS_INFO_STREAM("jackal_AIC: " << text);
       break;
-    case LogLevel::kWarn:
+    case loop::LogLevel::kWarn:
       ROS_WARN_STREAM("jackal_AIC: " << text);
       break;
-    case LogLevel::kError:
+    case loop::LogLevel::kError:
       ROS_ERROR_STREAM("jackal_AIC: " << text);
       break;
   }
@@ -249,16 +251,16 @@ void AicNode::publishersPolled(bool ok, const std::vector<std::string>& publishe
   // While ~enable_output holds the output closed this node publishes nothing there: another
   // publisher is then the one meant to drive (a field trial's stock runs), not a conflict.
   static const std::vector<std::string> kNone;
-  const OutputConflict::Event event = conflict_->update(gate_.enabled() ? publishers : kNone, clock_.now());
+  const safety::OutputConflict::Event event = conflict_->update(gate_.enabled() ? publishers : kNone, clock_.now());
   switch (event)
   {
-    case OutputConflict::Event::kNone:
+    case safety::OutputConflict::Event::kNone:
       return;
-    case OutputConflict::Event::kStarted:
-    case OutputConflict::Event::kChanged:
+    case safety::OutputConflict::Event::kStarted:
+    case safety::OutputConflict::Event::kChanged:
       ROS_ERROR_STREAM("jackal_AIC: " << conflict_->message(event));
       break;
-    case OutputConflict::Event::kEnded:
+    case safety::OutputConflict::Event::kEnded:
       ROS_INFO_STREAM("jackal_AIC: " << conflict_->message(event));
       break;
   }
@@ -274,11 +276,11 @@ ControllerReport AicNode::controllerReport() const
   if (loop_->controller().params().gyro_bias.enabled)
   {
     r.gyro_bias = loop_->gyroBias().bias();
-    r.gyro_bias_learning = statusText(loop_->gyroBias());
+    r.gyro_bias_learning = aic::statusText(loop_->gyroBias());
   }
   if (loop_->controller().params().tip_guard.enabled)
   {
-    r.tip_guard = statusText(loop_->tipGuard());
+    r.tip_guard = safety::statusText(loop_->tipGuard());
   }
   r.output_mode = params_.output_mode;
   r.output_clips = loop_->outputClips();
@@ -295,7 +297,7 @@ ControllerReport AicNode::controllerReport() const
 
 void AicNode::applyPendingParams()
 {
-  const std::unique_ptr<NodeParams> next = reconfigure_->takePending();
+  const std::unique_ptr<params::NodeParams> next = reconfigure_->takePending();
   if (!next)
   {
     return;
@@ -321,4 +323,5 @@ void AicNode::applyPendingParams()
   params_ = loop_->params();
 }
 
+}  // namespace node
 }  // namespace jackal_aic

@@ -8,9 +8,11 @@
 
 namespace jackal_aic
 {
+namespace node
+{
 void AicNode::jointStateCallback(const sensor_msgs::JointState::ConstPtr& msg)
 {
-  JointStateInput joints;
+  loop::JointStateInput joints;
   joints.stamp = clock_.seconds(msg->header.stamp);
   joints.name = &msg->name;
   joints.position = &msg->position;
@@ -22,7 +24,7 @@ void AicNode::jointStateCallback(const sensor_msgs::JointState::ConstPtr& msg)
 
 void AicNode::imuCallback(const sensor_msgs::Imu::ConstPtr& msg)
 {
-  ImuInput imu;
+  loop::ImuInput imu;
   imu.stamp = clock_.seconds(msg->header.stamp);
   imu.angular_velocity << msg->angular_velocity.x, msg->angular_velocity.y, msg->angular_velocity.z;
   imu.linear_acceleration << msg->linear_acceleration.x, msg->linear_acceleration.y, msg->linear_acceleration.z;
@@ -51,4 +53,5 @@ void AicNode::feedbackCallback(const jackal_msgs::Feedback::ConstPtr& msg)
   loop_->mcuFeedback(msg->actual_mode);
 }
 
+}  // namespace node
 }  // namespace jackal_aic

@@ -10,6 +10,8 @@
 
 namespace jackal_aic
 {
+namespace node
+{
 namespace
 {
 /// Belief periods up to this [ns] serve the subscribers once per tick (<= 2 ms of added sample
@@ -42,7 +44,7 @@ BeliefLoop::BeliefLoop(ros::NodeHandle& nh, double rate, int realtime_priority, 
     description_ = "ROS timer (simulated time)";
     return;
   }
-  thread_ = std::make_unique<PeriodicThread>(
+  thread_ = std::make_unique<os::PeriodicThread>(
       [this](double interval) { tick_(interval); }, "aic_belief",
       [this](std::int64_t deadline_ns, std::int64_t period_ns) { waitServingSensors(deadline_ns, period_ns); });
   const std::string priority = thread_->start(rate, realtime_priority);
@@ -81,14 +83,15 @@ void BeliefLoop::waitServingSensors(std::int64_t deadline_ns, std::int64_t perio
 {
   if (period_ns <= kBatchedDispatchMaxPeriodNs)
   {
-    PeriodicThread::sleepUntil(deadline_ns);
+    os::PeriodicThread::sleepUntil(deadline_ns);
     sensor_queue_->callAvailable(ros::WallDuration(0.0));  // what came during the period, then the step
     return;
   }
-  for (std::int64_t left = deadline_ns - PeriodicThread::monotonicNow(); left > 0;
-       left = deadline_ns - PeriodicThread::monotonicNow())
+  for (std::int64_t left = deadline_ns - os::PeriodicThread::monotonicNow(); left > 0;
+       left = deadline_ns - os::PeriodicThread::monotonicNow())
   {
     sensor_queue_->callAvailable(ros::WallDuration(static_cast<double>(left) * 1e-9));
   }
 }
+}  // namespace node
 }  // namespace jackal_aic

@@ -8,6 +8,8 @@
 
 namespace jackal_aic
 {
+namespace node
+{
 InlineCallbackQueue::InlineCallbackQueue(ros::CallbackQueueInterface* fallback) : fallback_(fallback) {}
 
 void InlineCallbackQueue::addCallback(const ros::CallbackInterfacePtr& callback, uint64_t owner_id)
@@ -31,4 +33,5 @@ void InlineCallbackQueue::removeByID(uint64_t owner_id)
   fallback()->removeByID(owner_id);
 }
 
+}  // namespace node
 }  // namespace jackal_aic

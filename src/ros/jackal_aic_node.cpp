@@ -13,12 +13,12 @@ int main(int argc, char** argv)
 {
   ros::init(argc, argv, "jackal_AIC");
   const ros::NodeHandle nh;  // starts the node: it registers and advertises /rosout
-  if (!jackal_aic::waitForRosout())
+  if (!jackal_aic::node::waitForRosout())
   {
-    ROS_WARN_STREAM("jackal_AIC: rosout did not connect within " << jackal_aic::kRosoutWait
+    ROS_WARN_STREAM("jackal_AIC: rosout did not connect within " << jackal_aic::node::kRosoutWait
                                                                  << " s: the start-up lines may be on stdout only");
   }
-  jackal_aic::AicNode node{ nh, ros::NodeHandle("~") };
+  jackal_aic::node::AicNode node{ nh, ros::NodeHandle("~") };
   if (!node.init())
   {
     return 1;

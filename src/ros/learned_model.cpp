@@ -22,6 +22,8 @@
 
 namespace jackal_aic
 {
+namespace node
+{
 namespace
 {
 /// Write `text` to `path` through a temporary file in the same folder renamed over it (atomic on
@@ -58,7 +60,7 @@ void writeAtomically(const std::string& path, const std::string& text)
 }
 }  // namespace
 
-LearnedModelService::LearnedModelService(ros::NodeHandle& pnh, std::mutex& mutex, ControlLoop& loop,
+LearnedModelService::LearnedModelService(ros::NodeHandle& pnh, std::mutex& mutex, loop::ControlLoop& loop,
                                          const std::string& file)
   : mutex_(mutex), loop_(loop), file_(file.empty() ? defaultFile() : file)
 {
@@ -105,7 +107,7 @@ bool LearnedModelService::save(std::string* message)
   }
   try
   {
-    writeAtomically(file_, learnedSeparationOverlay(b_hat));
+    writeAtomically(file_, aic::learnedSeparationOverlay(b_hat));
   }
   catch (const std::exception& e)
   {
@@ -147,4 +149,5 @@ bool LearnedModelService::reset(std::string* message)
   return true;
 }
 
+}  // namespace node
 }  // namespace jackal_aic

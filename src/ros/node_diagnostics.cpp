@@ -14,6 +14,8 @@
 
 namespace jackal_aic
 {
+namespace node
+{
 namespace
 {
 /// Window (in diagnostics publications) of the FrequencyStatus tasks.
@@ -22,26 +24,27 @@ constexpr int kFrequencyWindow = 5;
 constexpr double kFrequencyTolerance = 0.1;
 }  // namespace
 
-ControllerReport ControllerReport::of(const ActiveInferenceController& controller, bool active)
+ControllerReport ControllerReport::of(const aic::ActiveInferenceController& controller, bool active)
 {
   ControllerReport r;
   r.free_energy = controller.hasMeasurement() ? controller.freeEnergy() : 0.0;
   r.belief_vx = controller.mu()(0, 0);
   r.belief_wz = controller.mu()(2, 0);
-  r.command = active ? controller.action() : Vector2::Zero();
+  r.command = active ? controller.action() : base::Vector2::Zero();
   r.wheel_separation = controller.model().wheelSeparation();
   if (controller.params().separation_learner.enabled)
   {
-    r.separation_learning = toString(controller.separationLearner().state());
+    r.separation_learning = aic::toString(controller.separationLearner().state());
     r.separation_learning_steps = controller.separationLearner().learningSteps();
   }
   if (controller.params().precision_learner.enabled)
   {
-    r.precision_learning = toString(controller.precisionLearner().state());
+    r.precision_learning = aic::toString(controller.precisionLearner().state());
   }
   char pi[128];
-  std::snprintf(pi, sizeof pi, "gyro_z %.4g, omega_left %.4g, omega_right %.4g", controller.precisionY()(kGyroZ, 0),
-                controller.precisionY()(kOmegaLeft, 0), controller.precisionY()(kOmegaRight, 0));
+  std::snprintf(pi, sizeof pi, "gyro_z %.4g, omega_left %.4g, omega_right %.4g",
+                controller.precisionY()(base::kGyroZ, 0), controller.precisionY()(base::kOmegaLeft, 0),
+                controller.precisionY()(base::kOmegaRight, 0));
   r.sensory_precisions = pi;
   return r;
 }
@@ -59,7 +62,7 @@ void NodeDiagnostics::start(ros::NodeHandle& nh, std::mutex& mutex)
       updater_->force_update();
       if (monitor_ != nullptr)
       {
-        publishHealth(FaultMonitor::Event::kNone, -1);
+        publishHealth(safety::FaultMonitor::Event::kNone, -1);
       }
       return;
     }
@@ -70,7 +73,7 @@ void NodeDiagnostics::start(ros::NodeHandle& nh, std::mutex& mutex)
 
 NodeDiagnostics::~NodeDiagnostics() = default;
 
-NodeDiagnostics::NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, ControlLoop& loop,
+NodeDiagnostics::NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, loop::ControlLoop& loop,
                                  std::function<ControllerReport()> controller)
   : loop_(loop), report_(std::move(controller))
 {
@@ -134,13 +137,13 @@ void NodeDiagnostics::beliefRate(diagnostic_updater::DiagnosticStatusWrapper& st
 
 void NodeDiagnostics::loops(diagnostic_updater::DiagnosticStatusWrapper& stat)
 {
-  LoopScheduler* loops[2] = { &loop_.supervisor().beliefLoop(), &loop_.supervisor().actionLoop() };
+  loop::LoopScheduler* loops[2] = { &loop_.supervisor().beliefLoop(), &loop_.supervisor().actionLoop() };
   const char* names[2] = { "belief", "action" };
   bool late = false;
   stat.add("belief loop", belief_loop_);
   for (int i = 0; i < 2; ++i)
   {
-    const LoopStats& s = loops[i]->stats();
+    const loop::LoopStats& s = loops[i]->stats();
     const double mean_jitter = s.window_ticks > 0 ? s.window_abs_jitter_sum / s.window_ticks : 0.0;
     stat.addf(std::string(names[i]) + " nominal period [ms]", "%.3f", 1e3 * s.nominal_period);
     stat.addf(std::string(names[i]) + " mean |jitter| [ms]", "%.3f", 1e3 * mean_jitter);
@@ -181,11 +184,11 @@ void NodeDiagnostics::sensors(diagnostic_updater::DiagnosticStatusWrapper& stat)
   stat.addf("set point age [s] (-1: never)", "%.3f", loop_.supervisor().setPointAge());
   stat.add("accepted samples", loop_.pairing().acceptedSamples());
   std::uint64_t dropped = 0;
-  for (int i = 0; i < static_cast<int>(DropReason::kCount); ++i)
+  for (int i = 0; i < static_cast<int>(loop::DropReason::kCount); ++i)
   {
     const std::uint64_t n = loop_.pairing().dropCounts()[static_cast<std::size_t>(i)];
     dropped += n;
-    stat.add(std::string("dropped: ") + toString(static_cast<DropReason>(i)), n);
+    stat.add(std::string("dropped: ") + loop::toString(static_cast<loop::DropReason>(i)), n);
   }
   stat.add("dropped: generalizer/controller refused", report.generalizer_drops);
   stat.add("dropped: set point non-finite", loop_.supervisor().setPointDrops());
@@ -220,7 +223,7 @@ void NodeDiagnostics::controller(diagnostic_updater::DiagnosticStatusWrapper& st
 {
   const ControllerReport report = report_();
   const std::string& reason = loop_.supervisor().reason();
-  stat.add("state", toString(loop_.supervisor().state()));
+  stat.add("state", loop::toString(loop_.supervisor().state()));
   stat.add("reason", reason);
   stat.add("runaway resets", loop_.supervisor().runaways());
   stat.add("non-finite outputs suppressed", report.guarded_outputs);
@@ -251,7 +254,7 @@ void NodeDiagnostics::controller(diagnostic_updater::DiagnosticStatusWrapper& st
   stat.addf("last time jump back [s]", "%.3f", loop_.lastTimeJump());
   switch (loop_.supervisor().state())
   {
-    case NodeState::kRunning:
+    case loop::NodeState::kRunning:
       if (report.last_output_clipped)
       {
         stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "running; command clipped to the stock controller's "
@@ -263,25 +266,25 @@ void NodeDiagnostics::controller(diagnostic_updater::DiagnosticStatusWrapper& st
         stat.summary(diagnostic_msgs::DiagnosticStatus::OK, "running");
       }
       break;
-    case NodeState::kHeld:
+    case loop::NodeState::kHeld:
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "held: " + reason);
       break;
-    case NodeState::kWaiting:
+    case loop::NodeState::kWaiting:
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "waiting: " + reason);
       break;
-    case NodeState::kStale:
+    case loop::NodeState::kStale:
       stat.summary(diagnostic_msgs::DiagnosticStatus::WARN, "stale: " + reason);
       break;
-    case NodeState::kRunaway:
+    case loop::NodeState::kRunaway:
       stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "runaway: " + reason);
       break;
-    case NodeState::kBlocked:
+    case loop::NodeState::kBlocked:
       stat.summary(diagnostic_msgs::DiagnosticStatus::ERROR, "blocked: " + reason);
       break;
   }
 }
 
-void NodeDiagnostics::addFaultMonitor(ros::NodeHandle& pnh, const FaultMonitor& monitor)
+void NodeDiagnostics::addFaultMonitor(ros::NodeHandle& pnh, const safety::FaultMonitor& monitor)
 {
   monitor_ = &monitor;
   health_pub_ = pnh.advertise<diagnostic_msgs::DiagnosticStatus>("sensor_health", 10, true);
@@ -294,11 +297,11 @@ void NodeDiagnostics::fillHealth(diagnostic_updater::DiagnosticStatusWrapper& st
   {
     return;
   }
-  const FaultMonitor& m = *monitor_;
+  const safety::FaultMonitor& m = *monitor_;
   std::string missing;
-  for (int j = 0; j < kYDim; ++j)
+  for (int j = 0; j < base::kYDim; ++j)
   {
-    const bool imu_channel = j == kGyroZ || j == kAccelX || j == kAccelY;
+    const bool imu_channel = j == base::kGyroZ || j == base::kAccelX || j == base::kAccelY;
     std::string health = "ok";
     if (imu_channel && !m.imuAvailable())
     {
@@ -308,7 +311,7 @@ void NodeDiagnostics::fillHealth(diagnostic_updater::DiagnosticStatusWrapper& st
     {
       health = m.params().enabled ? "isolated (Pi_y = 0)" : "faulty (isolation off)";
     }
-    stat.add(FaultMonitor::channelName(j), health);
+    stat.add(safety::FaultMonitor::channelName(j), health);
   }
   stat.add("isolation enabled", m.params().enabled ? "true" : "false");
   stat.addf("residual r [rad/s]", "%.4f", m.residual());
@@ -326,7 +329,7 @@ void NodeDiagnostics::fillHealth(diagnostic_updater::DiagnosticStatusWrapper& st
   else if (m.isolatedChannel() >= 0)
   {
     stat.summary(diagnostic_msgs::DiagnosticStatus::WARN,
-                 std::string("sensor fault: ") + FaultMonitor::channelName(m.isolatedChannel()) + " isolated");
+                 std::string("sensor fault: ") + safety::FaultMonitor::channelName(m.isolatedChannel()) + " isolated");
   }
   else if (m.faultPresent())
   {
@@ -338,28 +341,29 @@ void NodeDiagnostics::fillHealth(diagnostic_updater::DiagnosticStatusWrapper& st
   }
 }
 
-void NodeDiagnostics::publishHealth(FaultMonitor::Event event, int channel)
+void NodeDiagnostics::publishHealth(safety::FaultMonitor::Event event, int channel)
 {
   if (monitor_ == nullptr)
   {
     return;
   }
-  if (event != FaultMonitor::Event::kNone)
+  if (event != safety::FaultMonitor::Event::kNone)
   {
-    last_event_ = std::string(toString(event)) + " " + FaultMonitor::channelName(channel) + " at " +
+    last_event_ = std::string(safety::toString(event)) + " " + safety::FaultMonitor::channelName(channel) + " at " +
                   std::to_string(ros::Time::now().toSec());
-    if (event == FaultMonitor::Event::kRestored)
+    if (event == safety::FaultMonitor::Event::kRestored)
     {
-      ROS_INFO_STREAM("jackal_AIC: sensor channel " << FaultMonitor::channelName(channel)
+      ROS_INFO_STREAM("jackal_AIC: sensor channel " << safety::FaultMonitor::channelName(channel)
                                                     << " agrees with the others again: restored");
     }
     else
     {
       ROS_WARN_STREAM("jackal_AIC: sensor fault: residual s = "
                       << monitor_->statistic() << " above fdi_threshold " << monitor_->params().threshold << " for "
-                      << monitor_->lastDetectionDelay() << " s; channel " << FaultMonitor::channelName(channel)
-                      << (event == FaultMonitor::Event::kIsolated ? " isolated (Pi_y = 0)" :
-                                                                    " suspected (fdi_enabled false: not isolated)"));
+                      << monitor_->lastDetectionDelay() << " s; channel " << safety::FaultMonitor::channelName(channel)
+                      << (event == safety::FaultMonitor::Event::kIsolated ? " isolated (Pi_y = 0)" :
+                                                                            " suspected (fdi_enabled false: not "
+                                                                            "isolated)"));
     }
   }
   published_state_ = healthState();
@@ -373,7 +377,7 @@ void NodeDiagnostics::publishHealth(FaultMonitor::Event event, int channel)
 
 int NodeDiagnostics::healthState() const
 {
-  const FaultMonitor& m = *monitor_;
+  const safety::FaultMonitor& m = *monitor_;
   return (m.imuAvailable() ? 1 : 0) + 2 * (m.faultPresent() ? 1 : 0) + 4 * (m.isolatedChannel() + 1);
 }
 
@@ -385,8 +389,9 @@ void NodeDiagnostics::pollHealth()
   }
   if (healthState() != published_state_ || (ros::Time::now() - published_at_).toSec() >= kHealthPeriod)
   {
-    publishHealth(FaultMonitor::Event::kNone, -1);
+    publishHealth(safety::FaultMonitor::Event::kNone, -1);
   }
 }
 
+}  // namespace node
 }  // namespace jackal_aic

@@ -19,6 +19,8 @@
 
 namespace jackal_aic
 {
+namespace node
+{
 namespace
 {
 /// A matrix as Float64MultiArray: dim 0 "channel" (rows), dim 1 "order" (cols), row-major data.
@@ -108,7 +110,7 @@ bool NodeOutputs::debugWanted() const
          0;
 }
 
-void NodeOutputs::publish(const WheelCommand& command)
+void NodeOutputs::publish(const loop::WheelCommand& command)
 {
   if (cmd_vel_mode_)
   {
@@ -127,7 +129,7 @@ void NodeOutputs::publish(const WheelCommand& command)
     cmd_pub_.publish(cmd);
     return;
   }
-  Vector2 wheels = command.wheels;
+  base::Vector2 wheels = command.wheels;
   if (!wheels.allFinite())
   {
     ++guarded_outputs_;
@@ -141,7 +143,7 @@ void NodeOutputs::publish(const WheelCommand& command)
   cmd_pub_.publish(cmd);
 }
 
-void NodeOutputs::belief(const ros::Time& stamp, const MuTilde& mu)
+void NodeOutputs::belief(const ros::Time& stamp, const base::MuTilde& mu)
 {
   geometry_msgs::TwistStamped belief;
   belief.header.stamp = stamp;
@@ -160,19 +162,19 @@ void NodeOutputs::belief(const ros::Time& stamp, const MuTilde& mu)
   belief_pub_.publish(belief);
 }
 
-void NodeOutputs::capture(const ActiveInferenceController& controller, double gyro_offset, const ros::Time& stamp,
+void NodeOutputs::capture(const aic::ActiveInferenceController& controller, double gyro_offset, const ros::Time& stamp,
                           const ros::Time& sample_stamp, DebugSnapshot* snapshot) const
 {
   snapshot->gyro_offset = gyro_offset;
   snapshot->stamp = stamp;
   snapshot->sample_stamp = sample_stamp;
   snapshot->has_measurement = controller.hasMeasurement();
-  snapshot->inference = inferenceSample(controller);
+  snapshot->inference = aic::inferenceSample(controller);
 }
 
 void NodeOutputs::debug(const DebugSnapshot& snapshot)
 {
-  const InferenceSample& inf = snapshot.inference;
+  const aic::InferenceSample& inf = snapshot.inference;
   if (belief_pub_.getNumSubscribers() > 0)
   {
     belief(snapshot.stamp, inf.mu);
@@ -230,7 +232,7 @@ bool NodeOutputs::inference(const DebugSnapshot& snapshot)
   {
     return false;
   }
-  const InferenceSample& inf = snapshot.inference;
+  const aic::InferenceSample& inf = snapshot.inference;
   const bool finite = std::isfinite(inf.free_energy) && std::isfinite(inf.sensory) && std::isfinite(inf.prior) &&
                       inf.mu.allFinite() && inf.eps_y.allFinite() && inf.eps_mu.allFinite() && inf.action.allFinite() &&
                       inf.action_prior.allFinite() && inf.goal.allFinite() && inf.precision_y.allFinite() &&
@@ -262,16 +264,16 @@ bool NodeOutputs::inference(const DebugSnapshot& snapshot)
   flatten(inf.mu, &msg.mu);
   flatten(inf.eps_y, &msg.eps_y);
   flatten(inf.eps_mu, &msg.eps_mu);
-  for (int k = 0; k < kADim; ++k)
+  for (int k = 0; k < base::kADim; ++k)
   {
     msg.action[static_cast<std::size_t>(k)] = inf.action(k);
     msg.action_prior[static_cast<std::size_t>(k)] = inf.action_prior(k);
   }
-  for (int c = 0; c < kMuDim; ++c)
+  for (int c = 0; c < base::kMuDim; ++c)
   {
     msg.goal[static_cast<std::size_t>(c)] = inf.goal(c);
   }
-  for (int c = 0; c < kYDim; ++c)
+  for (int c = 0; c < base::kYDim; ++c)
   {
     msg.precision_y[static_cast<std::size_t>(c)] = inf.precision_y(c);
   }
@@ -282,4 +284,5 @@ bool NodeOutputs::inference(const DebugSnapshot& snapshot)
   return true;
 }
 
+}  // namespace node
 }  // namespace jackal_aic

@@ -16,6 +16,8 @@
 
 namespace jackal_aic
 {
+namespace node
+{
 namespace
 {
 using Description = AICConfig::AbstractParamDescription;
@@ -47,7 +49,7 @@ const T* fieldOf(const AICConfig& config, const Description& d)
 }
 
 template <class T>
-bool setField(AICConfig* config, const Description& d, const ParamValue& value)
+bool setField(AICConfig* config, const Description& d, const params::ParamValue& value)
 {
   const auto* typed = dynamic_cast<const AICConfig::ParamDescription<T>*>(&d);
   const T* v = std::get_if<T>(&value);
@@ -59,14 +61,14 @@ bool setField(AICConfig* config, const Description& d, const ParamValue& value)
   return true;
 }
 
-bool perOrder(const AicParams& a)
+bool perOrder(const params::AicParams& a)
 {
   const auto orders = static_cast<std::size_t>(a.numOrders());
   return a.var_mu.size() == orders && a.var_y.size() == orders;
 }
 }  // namespace
 
-ParamValue configValue(const AICConfig& config, const std::string& name)
+params::ParamValue configValue(const AICConfig& config, const std::string& name)
 {
   const Description& d = describe(name);
   if (const double* v = fieldOf<double>(config, d))
@@ -84,21 +86,22 @@ ParamValue configValue(const AICConfig& config, const std::string& name)
   return *fieldOf<std::string>(config, d);  // the generator's fourth and last type
 }
 
-void setConfigValue(AICConfig* config, const std::string& name, const ParamValue& value)
+void setConfigValue(AICConfig* config, const std::string& name, const params::ParamValue& value)
 {
   const Description& d = describe(name);
   if (!setField<double>(config, d, value) && !setField<int>(config, d, value) && !setField<bool>(config, d, value) &&
       !setField<std::string>(config, d, value))
   {
-    throw std::invalid_argument("cfg parameter '" + name + "' cannot take the value " + formatParamValue(value));
+    throw std::invalid_argument("cfg parameter '" + name + "' cannot take the value " +
+                                params::formatParamValue(value));
   }
 }
 
-AICConfig configFromParams(const NodeParams& params, const AICConfig& base)
+AICConfig configFromParams(const params::NodeParams& params, const AICConfig& base)
 {
   AICConfig c = base;
   const int orders = params.aic.numOrders();
-  for (const ReconfigureEntry& e : reconfigureEntries())
+  for (const params::ReconfigureEntry& e : params::reconfigureEntries())
   {
     if (e.slot < 0)
     {
@@ -117,16 +120,16 @@ AICConfig configFromParams(const NodeParams& params, const AICConfig& base)
   return c;
 }
 
-ReconfigureOutcome paramsFromRequest(const AICConfig& request, const AICConfig& shown, const NodeParams& base)
+ReconfigureOutcome paramsFromRequest(const AICConfig& request, const AICConfig& shown, const params::NodeParams& base)
 {
   AICConfig reference = shown;
   reference.__clamp__();  // what the server made of the keys the request did not carry
   ReconfigureOutcome out{ base, {}, {} };
   bool lists_touched = false;
   std::vector<bool> slot_changed;
-  for (const ReconfigureEntry& e : reconfigureEntries())
+  for (const params::ReconfigureEntry& e : params::reconfigureEntries())
   {
-    const ParamValue value = configValue(request, e.name);
+    const params::ParamValue value = configValue(request, e.name);
     if (value == configValue(reference, e.name))
     {
       continue;
@@ -138,7 +141,7 @@ ReconfigureOutcome paramsFromRequest(const AICConfig& request, const AICConfig& 
     }
     if (e.slot < 0 && !e.row->set(out.params, value))
     {
-      out.violations.push_back({ e.name, formatParamValue(value), expectedText(*e.row) });
+      out.violations.push_back({ e.name, params::formatParamValue(value), params::expectedText(*e.row) });
     }
   }
   if (lists_touched && !perOrder(base.aic))
@@ -150,9 +153,9 @@ ReconfigureOutcome paramsFromRequest(const AICConfig& request, const AICConfig& 
   {
     const int orders = out.params.aic.numOrders();
     const int base_orders = base.aic.numOrders();
-    for (const ParamSpec& row : paramSchema())
+    for (const params::ParamSpec& row : params::paramSchema())
     {
-      if (row.type != ParamType::kDoubleList || row.slots() == 0 || orders < 1 || orders > row.slots())
+      if (row.type != params::ParamType::kDoubleList || row.slots() == 0 || orders < 1 || orders > row.slots())
       {
         continue;  // an out-of-range order is reported by validate()
       }
@@ -161,7 +164,7 @@ ReconfigureOutcome paramsFromRequest(const AICConfig& request, const AICConfig& 
       for (int i = 0; i < orders; ++i)
       {
         const std::string slot = std::string(row.key) + "_" + std::to_string(i);
-        const ParamValue value = configValue(request, slot);
+        const params::ParamValue value = configValue(request, slot);
         const bool keep = i < base_orders && value == configValue(reference, slot);
         list[static_cast<std::size_t>(i)] = keep ? old_list[static_cast<std::size_t>(i)] : std::get<double>(value);
       }
@@ -175,7 +178,7 @@ ReconfigureOutcome paramsFromRequest(const AICConfig& request, const AICConfig& 
   return out;
 }
 
-NodeReconfigure::NodeReconfigure(const ros::NodeHandle& pnh, const NodeParams& in_force)
+NodeReconfigure::NodeReconfigure(const ros::NodeHandle& pnh, const params::NodeParams& in_force)
   : in_force_(in_force), server_(server_mutex_, pnh)
 {
   shown_ = configFromParams(in_force_, AICConfig::__getDefault__());
@@ -183,7 +186,7 @@ NodeReconfigure::NodeReconfigure(const ros::NodeHandle& pnh, const NodeParams& i
   server_.setCallback(boost::bind(&NodeReconfigure::callback, this, boost::placeholders::_1, boost::placeholders::_2));
 }
 
-std::unique_ptr<NodeParams> NodeReconfigure::takePending()
+std::unique_ptr<params::NodeParams> NodeReconfigure::takePending()
 {
   std::lock_guard<std::mutex> lock(pending_mutex_);
   return std::move(pending_);
@@ -196,7 +199,7 @@ void NodeReconfigure::callback(AICConfig& config, std::uint32_t /*level*/)
     initialized_ = true;  // setCallback's first call carries the values we already run with
     return;
   }
-  NodeParams base = in_force_;
+  params::NodeParams base = in_force_;
   {
     std::lock_guard<std::mutex> lock(pending_mutex_);
     if (pending_)
@@ -226,7 +229,8 @@ void NodeReconfigure::callback(AICConfig& config, std::uint32_t /*level*/)
   config = configFromParams(outcome.params, config);
   shown_ = config;
   std::lock_guard<std::mutex> lock(pending_mutex_);
-  pending_ = std::make_unique<NodeParams>(outcome.params);
+  pending_ = std::make_unique<params::NodeParams>(outcome.params);
 }
 
+}  // namespace node
 }  // namespace jackal_aic

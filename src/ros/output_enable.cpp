@@ -11,7 +11,9 @@
 
 namespace jackal_aic
 {
-OutputEnable::OutputEnable(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::mutex& mutex, OutputGate& gate,
+namespace node
+{
+OutputEnable::OutputEnable(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::mutex& mutex, safety::OutputGate& gate,
                            std::function<std::string()> restart, std::string topic)
   : mutex_(mutex), gate_(gate), restart_(std::move(restart)), topic_(std::move(topic))
 {
@@ -49,7 +51,7 @@ std::string OutputEnable::apply(bool enable)
   std::string text;
   {
     const std::lock_guard<std::mutex> lock(mutex_);
-    const OutputGate::Change change = gate_.set(enable);
+    const safety::OutputGate::Change change = gate_.set(enable);
     if (!change.changed)
     {
       text = std::string("output already ") + (enable ? "enabled" : "disabled");
@@ -69,4 +71,5 @@ std::string OutputEnable::apply(bool enable)
   return text;
 }
 
+}  // namespace node
 }  // namespace jackal_aic

@@ -16,22 +16,25 @@
 
 namespace jackal_aic
 {
+namespace node
+{
 namespace
 {
 template <class T>
-ParamSource::Status readAs(const ros::NodeHandle& nh, const std::string& key, ParamValue* out)
+params::ParamSource::Status readAs(const ros::NodeHandle& nh, const std::string& key, params::ParamValue* out)
 {
   T value{};
   if (!nh.getParam(key, value))
   {
-    return ParamSource::Status::kWrongType;
+    return params::ParamSource::Status::kWrongType;
   }
   *out = value;
-  return ParamSource::Status::kOk;
+  return params::ParamSource::Status::kOk;
 }
 }  // namespace
 
-ParamSource::Status RosParamSource::read(const std::string& key, ParamType type, ParamValue* out) const
+params::ParamSource::Status RosParamSource::read(const std::string& key, params::ParamType type,
+                                                 params::ParamValue* out) const
 {
   if (!nh_.hasParam(key))
   {
@@ -39,9 +42,9 @@ ParamSource::Status RosParamSource::read(const std::string& key, ParamType type,
   }
   switch (type)
   {
-    case ParamType::kDouble:
+    case params::ParamType::kDouble:
       return readAs<double>(nh_, key, out);
-    case ParamType::kInt: {
+    case params::ParamType::kInt: {
       // roscpp's getParam(int&) rounds a double (2.5 -> 3) instead of failing: require an XML-RPC int.
       XmlRpc::XmlRpcValue raw;
       if (!nh_.getParam(key, raw) || raw.getType() != XmlRpc::XmlRpcValue::TypeInt)
@@ -51,13 +54,13 @@ ParamSource::Status RosParamSource::read(const std::string& key, ParamType type,
       *out = static_cast<int>(raw);
       return Status::kOk;
     }
-    case ParamType::kBool:
+    case params::ParamType::kBool:
       return readAs<bool>(nh_, key, out);
-    case ParamType::kString:
+    case params::ParamType::kString:
       return readAs<std::string>(nh_, key, out);
-    case ParamType::kDoubleList:
+    case params::ParamType::kDoubleList:
       return readAs<std::vector<double>>(nh_, key, out);
-    case ParamType::kStringList:
+    case params::ParamType::kStringList:
       return readAs<std::vector<std::string>>(nh_, key, out);
   }
   return Status::kWrongType;
@@ -100,14 +103,15 @@ std::vector<std::string> RosParamSource::keys() const
   return out;
 }
 
-void loadNodeParams(const ros::NodeHandle& pnh, NodeParams* params, std::vector<ParamViolation>* violations)
+void loadNodeParams(const ros::NodeHandle& pnh, params::NodeParams* params,
+                    std::vector<params::ParamViolation>* violations)
 {
   const RosParamSource source(pnh);
-  const ParamLoadReport report =
-      loadParams(source, { ParamScope::kController, ParamScope::kNode }, /*with_reconfigure=*/true, params);
+  const params::ParamLoadReport report = params::loadParams(
+      source, { params::ParamScope::kController, params::ParamScope::kNode }, /*with_reconfigure=*/true, params);
   for (const auto& key : report.defaulted)
   {
-    const ParamSpec* row = findParam(key);
+    const params::ParamSpec* row = params::findParam(key);
     if (row != nullptr && !row->required)
     {
       ROS_INFO_STREAM("jackal_AIC: parameter ~" << key << " not set, using the default");
@@ -120,9 +124,9 @@ void loadNodeParams(const ros::NodeHandle& pnh, NodeParams* params, std::vector<
   }
 }
 
-bool loadValidNodeParams(const ros::NodeHandle& pnh, NodeParams* params)
+bool loadValidNodeParams(const ros::NodeHandle& pnh, params::NodeParams* params)
 {
-  std::vector<ParamViolation> violations;
+  std::vector<params::ParamViolation> violations;
   loadNodeParams(pnh, params, &violations);
   for (auto& v : params->validate())
   {
@@ -140,9 +144,9 @@ bool loadValidNodeParams(const ros::NodeHandle& pnh, NodeParams* params)
   return violations.empty();
 }
 
-bool warnIfUnstable(const AicParams& params, const std::string& what)
+bool warnIfUnstable(const params::AicParams& params, const std::string& what)
 {
-  const std::string warning = stabilityWarning(params);
+  const std::string warning = analysis::stabilityWarning(params);
   if (!warning.empty())
   {
     ROS_WARN_STREAM("jackal_AIC: " << what << "the configuration is " << warning
@@ -151,4 +155,5 @@ bool warnIfUnstable(const AicParams& params, const std::string& what)
   return !warning.empty();
 }
 
+}  // namespace node
 }  // namespace jackal_aic

@@ -15,6 +15,8 @@
 
 namespace jackal_aic
 {
+namespace node
+{
 bool PublisherWatch::publishersOf(const std::string& topic, std::vector<std::string>* out, std::string* error)
 {
   return registeredNodes(topic, 0, out, error);
@@ -120,4 +122,5 @@ void PublisherWatch::run()
   }
 }
 
+}  // namespace node
 }  // namespace jackal_aic

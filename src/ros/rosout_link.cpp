@@ -18,6 +18,8 @@
 
 namespace jackal_aic
 {
+namespace node
+{
 bool waitForRosout(double timeout)
 {
   const std::string topic = ros::names::resolve("/rosout");
@@ -41,4 +43,5 @@ bool waitForRosout(double timeout)
   }
   return false;
 }
+}  // namespace node
 }  // namespace jackal_aic

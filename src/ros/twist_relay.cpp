@@ -31,7 +31,7 @@ public:
 private:
   void forward(const geometry_msgs::Twist::ConstPtr& msg) { out_.publish(msg); }
 
-  jackal_aic::InlineCallbackQueue queue_;  ///< `in`'s callbacks on roscpp's network thread
+  jackal_aic::node::InlineCallbackQueue queue_;  ///< `in`'s callbacks on roscpp's network thread
   ros::Publisher out_;
   ros::Subscriber in_;
 };

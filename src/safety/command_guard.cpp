@@ -9,7 +9,9 @@
 
 namespace jackal_aic
 {
-GuardedWheels guardWheelCommand(const Vector2& wheels, double limit) noexcept
+namespace safety
+{
+GuardedWheels guardWheelCommand(const base::Vector2& wheels, double limit) noexcept
 {
   GuardedWheels g;
   if (!wheels.allFinite() || !std::isfinite(limit) || !(limit > 0.0))
@@ -25,4 +27,5 @@ GuardedWheels guardWheelCommand(const Vector2& wheels, double limit) noexcept
   return g;
 }
 
+}  // namespace safety
 }  // namespace jackal_aic

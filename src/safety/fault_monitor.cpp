@@ -12,6 +12,8 @@
 
 namespace jackal_aic
 {
+namespace safety
+{
 namespace
 {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -20,13 +22,13 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 constexpr std::array<int, 3> FaultMonitor::kChannels;
 
-FaultMonitor::FaultMonitor(const FdiParams& fdi, const AicParams& aic)
+FaultMonitor::FaultMonitor(const params::FdiParams& fdi, const params::AicParams& aic)
   : residual_(kNaN), statistic_(kNaN), last_delay_(kNaN)
 {
   setParams(fdi, aic);
 }
 
-void FaultMonitor::setParams(const FdiParams& fdi, const AicParams& aic)
+void FaultMonitor::setParams(const params::FdiParams& fdi, const params::AicParams& aic)
 {
   auto violations = fdi.validate();
   for (auto& v : aic.validate())
@@ -46,11 +48,11 @@ void FaultMonitor::setParams(const FdiParams& fdi, const AicParams& aic)
   r_alpha_ = aic.wheel_radius * aic.slip_factor;
   half_b_ = 0.5 * aic.wheel_separation;
   c_ = r_alpha_ / aic.wheel_separation;
-  const YTilde pi_y = aic.precisionY();
-  const MuTilde pi_mu = aic.precisionMu();
+  const base::YTilde pi_y = aic.precisionY();
+  const base::MuTilde pi_mu = aic.precisionMu();
   // Var(r) = sigma^2_gyro + c^2 (sigma^2_L + sigma^2_R) for independent channel noise.
-  var_gyro_ = 1.0 / pi_y(kGyroZ, 0);
-  var_wheels_ = 1.0 / pi_y(kOmegaLeft, 0) + 1.0 / pi_y(kOmegaRight, 0);
+  var_gyro_ = 1.0 / pi_y(base::kGyroZ, 0);
+  var_wheels_ = 1.0 / pi_y(base::kOmegaLeft, 0) + 1.0 / pi_y(base::kOmegaRight, 0);
   const double var_r = var_gyro_ + c_ * c_ * var_wheels_;
   pi_r_ = 1.0 / var_r;
   pi_vx_ = pi_mu(0, 0);
@@ -69,29 +71,29 @@ bool FaultMonitor::setWheelSeparation(double b)
   return true;
 }
 
-Vector3 FaultMonitor::twistWithout(int excluded, const Vector5& y) const
+base::Vector3 FaultMonitor::twistWithout(int excluded, const base::Vector5& y) const
 {
   double vx = 0.0;
   double wz = 0.0;
   switch (excluded)
   {
-    case kGyroZ:  // wheels only: mu = G omega (thesis eq. 3-1)
-      vx = 0.5 * r_alpha_ * (y(kOmegaLeft) + y(kOmegaRight));
-      wz = c_ * (y(kOmegaRight) - y(kOmegaLeft));
+    case base::kGyroZ:  // wheels only: mu = G omega (thesis eq. 3-1)
+      vx = 0.5 * r_alpha_ * (y(base::kOmegaLeft) + y(base::kOmegaRight));
+      wz = c_ * (y(base::kOmegaRight) - y(base::kOmegaLeft));
       break;
-    case kOmegaLeft:  // gyro + right wheel: omega_R = (x_dot + theta_dot b/2) / (r alpha)
-      wz = y(kGyroZ);
-      vx = r_alpha_ * y(kOmegaRight) - wz * half_b_;
+    case base::kOmegaLeft:  // gyro + right wheel: omega_R = (x_dot + theta_dot b/2) / (r alpha)
+      wz = y(base::kGyroZ);
+      vx = r_alpha_ * y(base::kOmegaRight) - wz * half_b_;
       break;
     default:  // kOmegaRight: gyro + left wheel: omega_L = (x_dot - theta_dot b/2) / (r alpha)
-      wz = y(kGyroZ);
-      vx = r_alpha_ * y(kOmegaLeft) + wz * half_b_;
+      wz = y(base::kGyroZ);
+      vx = r_alpha_ * y(base::kOmegaLeft) + wz * half_b_;
       break;
   }
-  return Vector3(vx, 0.0, wz);
+  return base::Vector3(vx, 0.0, wz);
 }
 
-FaultMonitor::Event FaultMonitor::update(const Vector5& y, const Vector3& mu0, double h)
+FaultMonitor::Event FaultMonitor::update(const base::Vector5& y, const base::Vector3& mu0, double h)
 {
   if (!(std::isfinite(h) && h >= 0.0) || !y.allFinite() || !mu0.allFinite())
   {
@@ -105,7 +107,7 @@ FaultMonitor::Event FaultMonitor::update(const Vector5& y, const Vector3& mu0, d
     above_for_ = -1.0;
     return Event::kNone;
   }
-  residual_ = y(kGyroZ) - c_ * (y(kOmegaRight) - y(kOmegaLeft));
+  residual_ = y(base::kGyroZ) - c_ * (y(base::kOmegaRight) - y(base::kOmegaLeft));
   statistic_ = pi_r_ * residual_ * residual_;
   const double release_level = fdi_.release_ratio * fdi_.threshold;
 
@@ -148,7 +150,7 @@ FaultMonitor::Event FaultMonitor::update(const Vector5& y, const Vector3& mu0, d
   // Which exclusion makes the remaining channels agree with the beliefs (accumulated over the window).
   for (std::size_t k = 0; k < kChannels.size(); ++k)
   {
-    const Vector3 x = twistWithout(kChannels[k], y);
+    const base::Vector3 x = twistWithout(kChannels[k], y);
     const double dvx = x(0) - mu0(0);
     const double dwz = x(2) - mu0(2);
     hypothesis_cost_[k] += pi_vx_ * dvx * dvx + pi_wz_ * dwz * dwz;
@@ -202,10 +204,10 @@ void FaultMonitor::reset()
 
 std::uint8_t FaultMonitor::sensorMask() const
 {
-  std::uint8_t mask = (1u << kYDim) - 1u;
+  std::uint8_t mask = (1u << base::kYDim) - 1u;
   if (!imu_available_)
   {
-    mask &= static_cast<std::uint8_t>(~((1u << kGyroZ) | (1u << kAccelX) | (1u << kAccelY)));
+    mask &= static_cast<std::uint8_t>(~((1u << base::kGyroZ) | (1u << base::kAccelX) | (1u << base::kAccelY)));
   }
   if (isolated_ >= 0 && fdi_.enabled)
   {
@@ -218,15 +220,15 @@ const char* FaultMonitor::channelName(int channel)
 {
   switch (channel)
   {
-    case kGyroZ:
+    case base::kGyroZ:
       return "gyro_z";
-    case kOmegaLeft:
+    case base::kOmegaLeft:
       return "omega_left";
-    case kOmegaRight:
+    case base::kOmegaRight:
       return "omega_right";
-    case kAccelX:
+    case base::kAccelX:
       return "accel_x";
-    case kAccelY:
+    case base::kAccelY:
       return "accel_y";
     default:
       return "none";
@@ -249,4 +251,5 @@ const char* toString(FaultMonitor::Event event)
   return "unknown";
 }
 
+}  // namespace safety
 }  // namespace jackal_aic

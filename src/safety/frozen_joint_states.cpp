@@ -10,6 +10,8 @@
 
 namespace jackal_aic
 {
+namespace safety
+{
 const char* toString(FrozenJointStates::Event event)
 {
   switch (event)
@@ -74,4 +76,5 @@ void FrozenJointStates::reset()
   frozen_ = false;
 }
 
+}  // namespace safety
 }  // namespace jackal_aic

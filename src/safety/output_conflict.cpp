@@ -12,6 +12,8 @@
 
 namespace jackal_aic
 {
+namespace safety
+{
 const char* toString(OutputConflict::Event event)
 {
   switch (event)
@@ -100,4 +102,5 @@ std::string OutputConflict::message(Event event) const
   return "";
 }
 
+}  // namespace safety
 }  // namespace jackal_aic

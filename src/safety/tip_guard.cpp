@@ -16,13 +16,15 @@
 
 namespace jackal_aic
 {
+namespace safety
+{
 namespace
 {
 constexpr double kNone = std::numeric_limits<double>::infinity();
 
-void check(const TipGuardParams& p)
+void check(const params::TipGuardParams& p)
 {
-  RuleList rules;
+  base::RuleList rules;
   rules.require(std::isfinite(p.trip_pitch) && p.trip_pitch > 0.0, "tip_guard_pitch finite and > 0");
   rules.require(std::isfinite(p.margin) && p.margin > 0.0 && p.margin <= 1.0, "tip_guard_margin in (0, 1]");
   rules.require(std::isfinite(p.min_acceleration) && p.min_acceleration > 0.0, "tip_guard_min_acceleration finite and "
@@ -46,12 +48,12 @@ std::string boundText(double bound)
 }
 }  // namespace
 
-TipGuard::TipGuard(const TipGuardParams& params) : params_(params), front_(kNone), rear_(kNone)
+TipGuard::TipGuard(const params::TipGuardParams& params) : params_(params), front_(kNone), rear_(kNone)
 {
   check(params);
 }
 
-void TipGuard::setParams(const TipGuardParams& params)
+void TipGuard::setParams(const params::TipGuardParams& params)
 {
   check(params);
   params_ = params;
@@ -174,4 +176,5 @@ std::string statusText(const TipGuard& guard)
          boundText(guard.learnedRear()) + trips;
 }
 
+}  // namespace safety
 }  // namespace jackal_aic

@@ -10,43 +10,43 @@ using namespace jackal_aic;
 
 namespace
 {
-ActiveInferenceController makeController(int p, Integrator integ)
+aic::ActiveInferenceController makeController(int p, params::Integrator integ)
 {
-  AicParams params;
+  params::AicParams params;
   params.embedding_order = p;
   params.var_mu.assign(static_cast<std::size_t>(p + 1), 2.0);
   params.var_y.assign(static_cast<std::size_t>(p + 1), 2.0);
   params.integrator = integ;
   params.tau = 0.03;  // stable with both integrators at 1 kHz
-  ActiveInferenceController c(params);
-  YTilde y = YTilde::Zero(kYDim, p + 1);
-  y(kOmegaLeft, 0) = 3.0;
-  y(kOmegaRight, 0) = 3.2;
-  y(kGyroZ, 0) = 0.03;
+  aic::ActiveInferenceController c(params);
+  base::YTilde y = base::YTilde::Zero(base::kYDim, p + 1);
+  y(base::kOmegaLeft, 0) = 3.0;
+  y(base::kOmegaRight, 0) = 3.2;
+  y(base::kGyroZ, 0) = 0.03;
   c.setMeasurement(y);
-  c.setGoal(Vector3(0.3, 0.0, 0.1));
+  c.setGoal(base::Vector3(0.3, 0.0, 0.1));
   return c;
 }
 
 void BM_UpdateBeliefs(benchmark::State& state)
 {
   const int p = static_cast<int>(state.range(0));
-  const Integrator integ = state.range(1) ? Integrator::kExact : Integrator::kEuler;
-  ActiveInferenceController c = makeController(p, integ);
+  const params::Integrator integ = state.range(1) ? params::Integrator::kExact : params::Integrator::kEuler;
+  aic::ActiveInferenceController c = makeController(p, integ);
   c.updateBeliefs(1e-3);  // exact: compute the matrices once, outside the loop
   for (auto _ : state)
   {
     benchmark::DoNotOptimize(c.updateBeliefs(1e-3));
     benchmark::ClobberMemory();
   }
-  state.SetLabel(toString(integ));
+  state.SetLabel(params::toString(integ));
 }
 BENCHMARK(BM_UpdateBeliefs)->ArgsProduct({ { 1, 2, 3, 4, 5 }, { 0, 1 } })->ArgNames({ "p", "exact" });
 
 /// Exact integrator with a jittered h (+-1 %, within kExactSeriesLimit: the series correction path).
 void BM_UpdateBeliefsExactJitter(benchmark::State& state)
 {
-  ActiveInferenceController c = makeController(static_cast<int>(state.range(0)), Integrator::kExact);
+  aic::ActiveInferenceController c = makeController(static_cast<int>(state.range(0)), params::Integrator::kExact);
   c.updateBeliefs(1e-3);
   int k = 0;
   for (auto _ : state)
@@ -59,7 +59,7 @@ BENCHMARK(BM_UpdateBeliefsExactJitter)->Arg(3)->ArgName("p");
 /// Exact integrator recomputing its matrix exponential every call (h alternating by 10 %).
 void BM_ExactRecompute(benchmark::State& state)
 {
-  ActiveInferenceController c = makeController(static_cast<int>(state.range(0)), Integrator::kExact);
+  aic::ActiveInferenceController c = makeController(static_cast<int>(state.range(0)), params::Integrator::kExact);
   int k = 0;
   for (auto _ : state)
   {
@@ -70,7 +70,7 @@ BENCHMARK(BM_ExactRecompute)->DenseRange(1, 5)->ArgName("p");
 
 void BM_UpdateAction(benchmark::State& state)
 {
-  ActiveInferenceController c = makeController(static_cast<int>(state.range(0)), Integrator::kEuler);
+  aic::ActiveInferenceController c = makeController(static_cast<int>(state.range(0)), params::Integrator::kEuler);
   for (auto _ : state)
   {
     benchmark::DoNotOptimize(c.updateAction(0.02));
@@ -81,8 +81,8 @@ BENCHMARK(BM_UpdateAction)->DenseRange(1, 5)->ArgName("p");
 
 void BM_GeneralizerUpdate(benchmark::State& state)
 {
-  Generalizer g(kYDim, static_cast<int>(state.range(0)));
-  Eigen::Matrix<double, kYDim, 1> y = Eigen::Matrix<double, kYDim, 1>::Constant(0.5);
+  aic::Generalizer g(base::kYDim, static_cast<int>(state.range(0)));
+  Eigen::Matrix<double, base::kYDim, 1> y = Eigen::Matrix<double, base::kYDim, 1>::Constant(0.5);
   for (auto _ : state)
   {
     y(0) += 1e-6;
@@ -93,7 +93,7 @@ BENCHMARK(BM_GeneralizerUpdate)->Arg(3)->ArgName("p");
 
 void BM_FreeEnergy(benchmark::State& state)
 {
-  ActiveInferenceController c = makeController(3, Integrator::kEuler);
+  aic::ActiveInferenceController c = makeController(3, params::Integrator::kEuler);
   for (auto _ : state)
   {
     benchmark::DoNotOptimize(c.freeEnergy());

@@ -48,15 +48,15 @@ double number(FuzzedDataProvider& in, double lo_exp, double hi_exp)
   }
 }
 
-AicParams params(FuzzedDataProvider& in)
+params::AicParams params(FuzzedDataProvider& in)
 {
-  AicParams p;
+  params::AicParams p;
   p.belief_rate = number(in, 0.0, 4.0);
   p.action_rate = number(in, 0.0, 3.0);
   p.tau = number(in, -4.0, 1.0);
   p.k_mu = number(in, -3.0, 2.0);
   p.k_a = number(in, -2.0, 2.0);
-  p.embedding_order = in.ConsumeIntegralInRange<int>(0, kMaxEmbeddingOrder + 1);
+  p.embedding_order = in.ConsumeIntegralInRange<int>(0, base::kMaxEmbeddingOrder + 1);
   const int n = std::max(1, p.embedding_order + 1);
   const bool per_channel = in.ConsumeBool();
   p.var_mu.resize(per_channel ? 3 * n : n);
@@ -73,13 +73,13 @@ AicParams params(FuzzedDataProvider& in)
   p.runaway_limit = number(in, 0.0, 4.0);
   p.anti_windup.max_action_lead = in.ConsumeBool() ? 0.0 : number(in, -1.0, 1.0);
   p.accel_in_model = in.ConsumeBool();
-  p.integrator = in.ConsumeBool() ? Integrator::kExact : Integrator::kEuler;
+  p.integrator = in.ConsumeBool() ? params::Integrator::kExact : params::Integrator::kEuler;
   return p;
 }
 
-void checkAction(const ActiveInferenceController& c)
+void checkAction(const aic::ActiveInferenceController& c)
 {
-  const Vector2& a = c.action();
+  const base::Vector2& a = c.action();
   const double lim = c.params().max_wheel_speed;
   for (int i = 0; i < 2; ++i)
   {
@@ -102,14 +102,14 @@ void checkAction(const ActiveInferenceController& c)
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
   FuzzedDataProvider in(data, size);
-  const AicParams p = params(in);
+  const params::AicParams p = params(in);
   const bool valid = p.validate().empty();
-  std::unique_ptr<ActiveInferenceController> c;
-  std::unique_ptr<FaultMonitor> monitor;
+  std::unique_ptr<aic::ActiveInferenceController> c;
+  std::unique_ptr<safety::FaultMonitor> monitor;
   try
   {
-    c = std::make_unique<ActiveInferenceController>(p);
-    monitor = std::make_unique<FaultMonitor>(FdiParams(), p);
+    c = std::make_unique<aic::ActiveInferenceController>(p);
+    monitor = std::make_unique<safety::FaultMonitor>(params::FdiParams(), p);
   }
   catch (const std::invalid_argument&)
   {
@@ -123,20 +123,20 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   {
     finding("invalid parameters accepted", p.tau);
   }
-  Generalizer gen(kYDim, p.embedding_order);
+  aic::Generalizer gen(base::kYDim, p.embedding_order);
   for (int op = 0; op < 32 && in.remaining_bytes() > 0; ++op)
   {
     switch (in.ConsumeIntegralInRange<int>(0, 7))
     {
       case 0: {
-        Vector5 y;
-        for (int j = 0; j < kYDim; ++j)
+        base::Vector5 y;
+        for (int j = 0; j < base::kYDim; ++j)
         {
           y(j) = in.ConsumeBool() ? in.ConsumeFloatingPointInRange<double>(-30.0, 30.0) : number(in, -3.0, 3.0);
         }
         const double h = number(in, -4.0, 0.0);
         const auto status = gen.update(y, h);
-        if (status == Generalizer::Status::kOk || status == Generalizer::Status::kFirstSample)
+        if (status == aic::Generalizer::Status::kOk || status == aic::Generalizer::Status::kFirstSample)
         {
           c->setMeasurement(gen.yTilde());
         }
@@ -146,7 +146,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         break;
       }
       case 1:
-        c->setGoal(Vector3(number(in, -2.0, 1.0), 0.0, number(in, -2.0, 1.0)));
+        c->setGoal(base::Vector3(number(in, -2.0, 1.0), 0.0, number(in, -2.0, 1.0)));
         break;
       case 2:
       case 3: {
@@ -167,14 +167,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         c->setSensorMask(in.ConsumeIntegral<std::uint8_t>());
         break;
       case 6: {
-        const AicParams q = params(in);
+        const params::AicParams q = params(in);
         try
         {
           c->setParams(q);
-          monitor->setParams(FdiParams(), q);
+          monitor->setParams(params::FdiParams(), q);
           if (q.embedding_order != gen.embeddingOrder())
           {
-            gen = Generalizer(kYDim, q.embedding_order);
+            gen = aic::Generalizer(base::kYDim, q.embedding_order);
           }
         }
         catch (const std::invalid_argument&)
@@ -188,7 +188,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         break;
       }
       default:
-        c->setAction(Vector2(number(in, -2.0, 2.0), number(in, -2.0, 2.0)));
+        c->setAction(base::Vector2(number(in, -2.0, 2.0), number(in, -2.0, 2.0)));
         checkAction(*c);
         break;
     }

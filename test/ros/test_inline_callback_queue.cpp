@@ -41,7 +41,7 @@ private:
 TEST(InlineCallbackQueue, CallsAReadyCallbackOnTheAddingThread)
 {
   ros::CallbackQueue fallback;
-  InlineCallbackQueue queue(&fallback);
+  node::InlineCallbackQueue queue(&fallback);
   auto cb = boost::make_shared<FakeCallback>();
   std::thread network([&] { queue.addCallback(cb, 1); });  // as roscpp's network thread would
   const std::thread::id network_id = network.get_id();
@@ -56,7 +56,7 @@ TEST(InlineCallbackQueue, CallsAReadyCallbackOnTheAddingThread)
 TEST(InlineCallbackQueue, TryAgainGoesToTheFallbackWhichCallsItAgain)
 {
   ros::CallbackQueue fallback;
-  InlineCallbackQueue queue(&fallback);
+  node::InlineCallbackQueue queue(&fallback);
   auto cb = boost::make_shared<FakeCallback>(ros::CallbackInterface::TryAgain);
   queue.addCallback(cb, 1);
   EXPECT_EQ(cb->calls(), 1);
@@ -71,7 +71,7 @@ TEST(InlineCallbackQueue, TryAgainGoesToTheFallbackWhichCallsItAgain)
 TEST(InlineCallbackQueue, ANotReadyCallbackWaitsInTheFallbackUncalled)
 {
   ros::CallbackQueue fallback;
-  InlineCallbackQueue queue(&fallback);
+  node::InlineCallbackQueue queue(&fallback);
   auto cb = boost::make_shared<FakeCallback>(ros::CallbackInterface::Success, false);
   queue.addCallback(cb, 1);
   EXPECT_EQ(cb->calls(), 0);
@@ -84,7 +84,7 @@ TEST(InlineCallbackQueue, ANotReadyCallbackWaitsInTheFallbackUncalled)
 TEST(InlineCallbackQueue, RemoveByIdRemovesWaitingCallbacksOfThatOwner)
 {
   ros::CallbackQueue fallback;
-  InlineCallbackQueue queue(&fallback);
+  node::InlineCallbackQueue queue(&fallback);
   auto mine = boost::make_shared<FakeCallback>(ros::CallbackInterface::Success, false);
   auto other = boost::make_shared<FakeCallback>(ros::CallbackInterface::Success, false);
   queue.addCallback(mine, 1);

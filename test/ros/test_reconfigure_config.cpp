@@ -21,9 +21,9 @@ namespace jackal_aic
 {
 namespace
 {
-NodeParams validNodeParams()
+params::NodeParams validNodeParams()
 {
-  NodeParams p;
+  params::NodeParams p;
   p.left_joints = { "front_left_wheel", "rear_left_wheel" };
   p.right_joints = { "front_right_wheel", "rear_right_wheel" };
   return p;
@@ -31,22 +31,22 @@ NodeParams validNodeParams()
 
 /// validNodeParams() with the thesis's controller (AicParams{}: table 5-8, p = 3), not the
 /// recommended defaults: four orders, so the slot tests see slots beyond p.
-NodeParams thesisNodeParams()
+params::NodeParams thesisNodeParams()
 {
-  NodeParams p = validNodeParams();
-  p.aic = AicParams();
+  params::NodeParams p = validNodeParams();
+  p.aic = params::AicParams();
   return p;
 }
 
-const char* cfgTypeName(ParamType t)
+const char* cfgTypeName(params::ParamType t)
 {
   switch (t)
   {
-    case ParamType::kInt:
+    case params::ParamType::kInt:
       return "int";
-    case ParamType::kBool:
+    case params::ParamType::kBool:
       return "bool";
-    case ParamType::kString:
+    case params::ParamType::kString:
       return "str";
     default:
       return "double";
@@ -63,9 +63,10 @@ AICConfig requestFrom(const AICConfig& shown, Edit edit)
   return request;
 }
 
-bool hasViolation(const ReconfigureOutcome& o, const std::string& name)
+bool hasViolation(const node::ReconfigureOutcome& o, const std::string& name)
 {
-  return std::any_of(o.violations.begin(), o.violations.end(), [&](const ParamViolation& v) { return v.name == name; });
+  return std::any_of(o.violations.begin(), o.violations.end(),
+                     [&](const params::ParamViolation& v) { return v.name == name; });
 }
 }  // namespace
 
@@ -78,7 +79,7 @@ TEST(ReconfigureConfig, AicConfigAgreesWithTheSchema)
     cfg_names.insert(d->name);
   }
   std::set<std::string> schema_names;
-  for (const ReconfigureEntry& e : reconfigureEntries())
+  for (const params::ReconfigureEntry& e : params::reconfigureEntries())
   {
     SCOPED_TRACE(e.name);
     schema_names.insert(e.name);
@@ -88,16 +89,16 @@ TEST(ReconfigureConfig, AicConfigAgreesWithTheSchema)
     ASSERT_NE(it, descriptions.end()) << "cfg/AIC.cfg lacks " << e.name;
     EXPECT_EQ((*it)->type, cfgTypeName(e.type));
     EXPECT_EQ(static_cast<int>((*it)->level), e.row->level);
-    EXPECT_EQ(configValue(AICConfig::__getDefault__(), e.name), e.default_value);
-    if (e.type == ParamType::kDouble)
+    EXPECT_EQ(node::configValue(AICConfig::__getDefault__(), e.name), e.default_value);
+    if (e.type == params::ParamType::kDouble)
     {
-      EXPECT_EQ(std::get<double>(configValue(AICConfig::__getMin__(), e.name)), e.row->min);
-      EXPECT_EQ(std::get<double>(configValue(AICConfig::__getMax__(), e.name)), e.row->nodeMax());  // inf: none
+      EXPECT_EQ(std::get<double>(node::configValue(AICConfig::__getMin__(), e.name)), e.row->min);
+      EXPECT_EQ(std::get<double>(node::configValue(AICConfig::__getMax__(), e.name)), e.row->nodeMax());  // inf: none
     }
-    else if (e.type == ParamType::kInt)
+    else if (e.type == params::ParamType::kInt)
     {
-      EXPECT_EQ(std::get<int>(configValue(AICConfig::__getMin__(), e.name)), static_cast<int>(e.row->min));
-      EXPECT_EQ(std::get<int>(configValue(AICConfig::__getMax__(), e.name)), static_cast<int>(e.row->nodeMax()));
+      EXPECT_EQ(std::get<int>(node::configValue(AICConfig::__getMin__(), e.name)), static_cast<int>(e.row->min));
+      EXPECT_EQ(std::get<int>(node::configValue(AICConfig::__getMax__(), e.name)), static_cast<int>(e.row->nodeMax()));
     }
   }
   EXPECT_EQ(cfg_names, schema_names) << "cfg/AIC.cfg and the schema name different parameters";
@@ -106,19 +107,19 @@ TEST(ReconfigureConfig, AicConfigAgreesWithTheSchema)
 TEST(ReconfigureConfig, NoValidValueIsClamped)
 {
   // The cfg ranges hold every value the schema allows: clamping a valid set changes nothing.
-  NodeParams p = thesisNodeParams();
+  params::NodeParams p = thesisNodeParams();
   p.aic.k_a = 2000.0;
   p.aic.tau = 1e-6;
   p.aic.var_y = { 1e-9, 1e12, 1e5, 1e5 };
   p.sensor_timeout = 3600.0;
   p.runaway_hold_time = 0.0;
   ASSERT_TRUE(p.validate().empty());
-  const AICConfig shown = configFromParams(p, AICConfig::__getDefault__());
+  const AICConfig shown = node::configFromParams(p, AICConfig::__getDefault__());
   AICConfig clamped = shown;
   clamped.__clamp__();
-  for (const ReconfigureEntry& e : reconfigureEntries())
+  for (const params::ReconfigureEntry& e : params::reconfigureEntries())
   {
-    EXPECT_EQ(configValue(clamped, e.name), configValue(shown, e.name)) << e.name;
+    EXPECT_EQ(node::configValue(clamped, e.name), node::configValue(shown, e.name)) << e.name;
   }
 }
 
@@ -129,10 +130,10 @@ TEST(ReconfigureConfig, DefaultsShowAsTheCfgDefaults)
   // slots beyond p keep the base's value).
   const AICConfig defaults = AICConfig::__getDefault__();
   AICConfig other = defaults;
-  for (const ReconfigureEntry& e : reconfigureEntries())
+  for (const params::ReconfigureEntry& e : params::reconfigureEntries())
   {
-    const ParamValue d = configValue(defaults, e.name);
-    ParamValue v = configValue(AICConfig::__getMax__(), e.name);
+    const params::ParamValue d = node::configValue(defaults, e.name);
+    params::ParamValue v = node::configValue(AICConfig::__getMax__(), e.name);
     if (std::holds_alternative<bool>(d))
     {
       v = !std::get<bool>(d);
@@ -143,103 +144,104 @@ TEST(ReconfigureConfig, DefaultsShowAsTheCfgDefaults)
     }
     else if (v == d)
     {
-      v = configValue(AICConfig::__getMin__(), e.name);
+      v = node::configValue(AICConfig::__getMin__(), e.name);
     }
-    setConfigValue(&other, e.name, v);
-    ASSERT_NE(configValue(other, e.name), d) << e.name << ": no value other than the default to start from";
+    node::setConfigValue(&other, e.name, v);
+    ASSERT_NE(node::configValue(other, e.name), d) << e.name << ": no value other than the default to start from";
   }
-  const NodeParams params = validNodeParams();
-  const AICConfig c = configFromParams(params, other);
-  for (const ReconfigureEntry& e : reconfigureEntries())
+  const params::NodeParams params = validNodeParams();
+  const AICConfig c = node::configFromParams(params, other);
+  for (const params::ReconfigureEntry& e : params::reconfigureEntries())
   {
     const bool kept = e.slot >= params.aic.numOrders();
-    EXPECT_EQ(configValue(c, e.name), configValue(kept ? other : defaults, e.name))
+    EXPECT_EQ(node::configValue(c, e.name), node::configValue(kept ? other : defaults, e.name))
         << e.name << (kept ? " (a slot beyond p: the base's)" : "");
   }
 }
 
 TEST(ReconfigureConfig, OnlyTheChangedKeyIsApplied)
 {
-  NodeParams base = validNodeParams();
+  params::NodeParams base = validNodeParams();
   base.aic.k_a = 2000.0;  // a YAML value
   base.sensor_timeout = 0.3;
-  const AICConfig shown = configFromParams(base, AICConfig::__getDefault__());
-  const auto out = paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.tau = 0.002; }), shown, base);
+  const AICConfig shown = node::configFromParams(base, AICConfig::__getDefault__());
+  const auto out = node::paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.tau = 0.002; }), shown, base);
   EXPECT_TRUE(out.violations.empty());
   EXPECT_EQ(out.changed, std::vector<std::string>{ "tau" });
   EXPECT_EQ(out.params.aic.tau, 0.002);
   EXPECT_EQ(out.params.aic.k_a, 2000.0);
   EXPECT_EQ(out.params.sensor_timeout, 0.3);
-  EXPECT_EQ(configFromParams(out.params, shown).k_a, 2000.0);  // what the server then shows
+  EXPECT_EQ(node::configFromParams(out.params, shown).k_a, 2000.0);  // what the server then shows
 }
 
 TEST(ReconfigureConfig, AValueTheServerClampsIsNotAChange)
 {
   // Were a value ever outside the cfg range, the server's clamp must not count as a change of it.
-  NodeParams base = validNodeParams();
-  AICConfig shown = configFromParams(base, AICConfig::__getDefault__());
+  params::NodeParams base = validNodeParams();
+  AICConfig shown = node::configFromParams(base, AICConfig::__getDefault__());
   shown.wheel_radius = 1e3;  // beyond the cfg max (100): the server clamps it in every request
   base.aic.wheel_radius = 1e3;
   const AICConfig request = requestFrom(shown, [](AICConfig& c) { c.k_mu = 0.02; });
   ASSERT_EQ(request.wheel_radius, 100.0);
-  const auto out = paramsFromRequest(request, shown, base);
+  const auto out = node::paramsFromRequest(request, shown, base);
   EXPECT_EQ(out.changed, std::vector<std::string>{ "k_mu" });
   EXPECT_EQ(out.params.aic.wheel_radius, 1e3);  // untouched (validate() reports it; a valid value never clamps)
 }
 
 TEST(ReconfigureConfig, InvalidSetsAreRefused)
 {
-  const NodeParams base = validNodeParams();
-  const AICConfig shown = configFromParams(base, AICConfig::__getDefault__());
-  auto out = paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.belief_rate = 25.0; }), shown, base);
+  const params::NodeParams base = validNodeParams();
+  const AICConfig shown = node::configFromParams(base, AICConfig::__getDefault__());
+  auto out = node::paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.belief_rate = 25.0; }), shown, base);
   EXPECT_TRUE(hasViolation(out, "belief_rate"));
-  out = paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.integrator = "rk4"; }), shown, base);
+  out = node::paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.integrator = "rk4"; }), shown, base);
   EXPECT_TRUE(hasViolation(out, "integrator"));
-  out = paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.k_a = 0.0; }), shown, base);
+  out = node::paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.k_a = 0.0; }), shown, base);
   EXPECT_TRUE(hasViolation(out, "k_a"));
-  out = paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.integrator = "exact"; }), shown, base);
+  out = node::paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.integrator = "exact"; }), shown, base);
   EXPECT_TRUE(out.violations.empty());
-  EXPECT_EQ(out.params.aic.integrator, Integrator::kExact);
+  EXPECT_EQ(out.params.aic.integrator, params::Integrator::kExact);
 }
 
 TEST(ReconfigureConfig, VarianceSlotsAndEmbeddingOrder)
 {
-  const NodeParams base = thesisNodeParams();  // p = 3, one variance per order
-  const AICConfig shown = configFromParams(base, AICConfig::__getDefault__());
-  auto out = paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.var_y_1 = 20.0; }), shown, base);
+  const params::NodeParams base = thesisNodeParams();  // p = 3, one variance per order
+  const AICConfig shown = node::configFromParams(base, AICConfig::__getDefault__());
+  auto out = node::paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.var_y_1 = 20.0; }), shown, base);
   EXPECT_TRUE(out.violations.empty());
   EXPECT_EQ(out.params.aic.var_y, (std::vector<double>{ 2.0, 20.0, 1e5, 1e5 }));
   EXPECT_EQ(out.params.aic.var_mu, base.aic.var_mu);
   // p 3 -> 5: the new orders take the slots shown (base's four, then the cfg defaults).
-  out = paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.embedding_order = 5; }), shown, base);
+  out = node::paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.embedding_order = 5; }), shown, base);
   EXPECT_TRUE(out.violations.empty());
   EXPECT_EQ(out.params.aic.var_mu, (std::vector<double>{ 1.5, 2.0, 4.0, 8.0, AICConfig::__getDefault__().var_mu_4,
                                                          AICConfig::__getDefault__().var_mu_5 }));
   EXPECT_EQ(out.params.aic.var_y.size(), 6u);
   // p 3 -> 1: truncated.
-  out = paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.embedding_order = 1; }), shown, base);
+  out = node::paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.embedding_order = 1; }), shown, base);
   EXPECT_TRUE(out.violations.empty());
   EXPECT_EQ(out.params.aic.var_mu, (std::vector<double>{ 1.5, 2.0 }));
   // A slot beyond p is kept in the config but not applied.
-  out = paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.var_mu_5 = 64.0; }), shown, base);
+  out = node::paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.var_mu_5 = 64.0; }), shown, base);
   EXPECT_TRUE(out.violations.empty());
   EXPECT_EQ(out.params.aic.var_mu, base.aic.var_mu);
-  EXPECT_EQ(configFromParams(out.params, requestFrom(shown, [](AICConfig& c) { c.var_mu_5 = 64.0; })).var_mu_5, 64.0);
+  EXPECT_EQ(node::configFromParams(out.params, requestFrom(shown, [](AICConfig& c) { c.var_mu_5 = 64.0; })).var_mu_5,
+            64.0);
 }
 
 TEST(ReconfigureConfig, PerChannelVariancesAreNotLive)
 {
-  NodeParams base = thesisNodeParams();
+  params::NodeParams base = thesisNodeParams();
   base.aic.var_mu.assign(12, 1.0);
   base.aic.var_mu[3] = 2.0;  // order 1, channel 0
   ASSERT_TRUE(base.validate().empty());
-  const AICConfig shown = configFromParams(base, AICConfig::__getDefault__());
+  const AICConfig shown = node::configFromParams(base, AICConfig::__getDefault__());
   EXPECT_EQ(shown.var_mu_1, 2.0);  // the first channel of each order is shown
-  auto out = paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.var_mu_0 = 3.0; }), shown, base);
+  auto out = node::paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.var_mu_0 = 3.0; }), shown, base);
   EXPECT_TRUE(hasViolation(out, "var_mu/var_y/embedding_order"));
-  out = paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.embedding_order = 2; }), shown, base);
+  out = node::paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.embedding_order = 2; }), shown, base);
   EXPECT_TRUE(hasViolation(out, "var_mu/var_y/embedding_order"));
-  out = paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.tau = 0.01; }), shown, base);
+  out = node::paramsFromRequest(requestFrom(shown, [](AICConfig& c) { c.tau = 0.01; }), shown, base);
   EXPECT_TRUE(out.violations.empty());
   EXPECT_EQ(out.params.aic.var_mu, base.aic.var_mu);
 }
@@ -247,8 +249,8 @@ TEST(ReconfigureConfig, PerChannelVariancesAreNotLive)
 TEST(ReconfigureConfig, UnknownNamesThrow)
 {
   AICConfig c = AICConfig::__getDefault__();
-  EXPECT_THROW(configValue(c, "no_such_param"), std::out_of_range);
-  EXPECT_THROW(setConfigValue(&c, "tau", std::string("fast")), std::invalid_argument);
+  EXPECT_THROW(node::configValue(c, "no_such_param"), std::out_of_range);
+  EXPECT_THROW(node::setConfigValue(&c, "tau", std::string("fast")), std::invalid_argument);
 }
 
 }  // namespace jackal_aic

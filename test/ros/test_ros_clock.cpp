@@ -20,7 +20,7 @@ const ros::Time kMaxTime(std::numeric_limits<std::uint32_t>::max(), 999999999);
 
 TEST(RosClock, AnyStampIsFiniteSecondsWithoutThrowing)
 {
-  RosClock clock;
+  node::RosClock clock;
   clock.start();
   const double now = ros::Time::now().toSec();
   double far = 0.0;
@@ -34,7 +34,7 @@ TEST(RosClock, AnyStampIsFiniteSecondsWithoutThrowing)
 
 TEST(RosClock, TimeIsTheInverseOfSecondsAndClamped)
 {
-  RosClock clock;
+  node::RosClock clock;
   clock.start();
   const ros::Time later = ros::Time::now() + ros::Duration(1, 234567891);
   EXPECT_EQ(clock.time(clock.seconds(later)), later);  // to the nanosecond

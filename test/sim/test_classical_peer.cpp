@@ -40,7 +40,7 @@ ClosedLoopRecord arc(const std::vector<std::string>& overlays)
   std::vector<std::string> overrides;
   for (const std::string& o : overlays)
   {
-    const std::vector<std::string> extra = loadOverlayFile(kRoot + "/" + o);
+    const std::vector<std::string> extra = overrides::loadOverlayFile(kRoot + "/" + o);
     overrides.insert(overrides.end(), extra.begin(), extra.end());
   }
   return runClosedLoop(loadRobotDescription(kRoot + "/sim/urdf/jackal.urdf"),

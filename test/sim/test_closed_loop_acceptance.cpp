@@ -95,10 +95,11 @@ std::string isolationText(const ClosedLoopRecord& r, double t0, double onset,
 {
   for (const HealthEvent& e : r.health_events)
   {
-    if (e.time >= t0 && (e.event == FaultMonitor::Event::kIsolated || e.event == FaultMonitor::Event::kDetected))
+    if (e.time >= t0 &&
+        (e.event == safety::FaultMonitor::Event::kIsolated || e.event == safety::FaultMonitor::Event::kDetected))
     {
-      return std::string("`") + FaultMonitor::channelName(e.channel) + "` " +
-             (e.event == FaultMonitor::Event::kIsolated ? "isolated " : "detected, not isolated, ") +
+      return std::string("`") + safety::FaultMonitor::channelName(e.channel) + "` " +
+             (e.event == safety::FaultMonitor::Event::kIsolated ? "isolated " : "detected, not isolated, ") +
              fixed(e.time - onset) + " s after " + since;
     }
   }
@@ -106,13 +107,13 @@ std::string isolationText(const ClosedLoopRecord& r, double t0, double onset,
 }
 
 /// The node's parameters of a configuration file, with overrides.
-NodeParams config(const std::string& name, const std::vector<std::string>& overrides = {})
+params::NodeParams config(const std::string& name, const std::vector<std::string>& overrides = {})
 {
   return loadNodeParamsFiles({ kRoot + "/config/" + name + ".yaml" }, overrides);
 }
 
 /// An AIC run of `node`'s configuration; noisy (seeded) sensors unless told otherwise.
-ClosedLoopConfig aic(const NodeParams& node, std::vector<SetPointSegment> profile, double duration)
+ClosedLoopConfig aic(const params::NodeParams& node, std::vector<SetPointSegment> profile, double duration)
 {
   ClosedLoopConfig c;
   c.controller = LoopController::kAic;
@@ -131,7 +132,7 @@ ClosedLoopRecord run(const ClosedLoopConfig& c, const std::vector<std::string>& 
   std::vector<std::string> overrides;
   for (const std::string& o : overlays)
   {
-    const std::vector<std::string> more = loadOverlayFile(kRoot + "/" + o);
+    const std::vector<std::string> more = overrides::loadOverlayFile(kRoot + "/" + o);
     overrides.insert(overrides.end(), more.begin(), more.end());
   }
   return runClosedLoop(loadRobotDescription(kRoot + "/sim/urdf/jackal.urdf"),
@@ -147,16 +148,16 @@ FaultSpec fault(const std::string& line)
 }
 
 /// Step metrics of the true forward speed for a step at t_step from `initial` to `target`, up to t_end.
-StepMetrics metrics(const ClosedLoopRecord& r, double t_step, double initial, double target, double t_end = 0.0,
-                    const std::vector<double>* signal = nullptr)
+analysis::StepMetrics metrics(const ClosedLoopRecord& r, double t_step, double initial, double target,
+                              double t_end = 0.0, const std::vector<double>* signal = nullptr)
 {
-  StepMetricsOptions o;
+  analysis::StepMetricsOptions o;
   o.step_time = t_step;
   o.end_time = t_end;
   o.initial = initial;
   o.target = target;
-  o.band_basis = SettlingBandBasis::kStepSize;
-  return computeStepMetrics(r.time, signal ? *signal : r.v_true, o);
+  o.band_basis = analysis::SettlingBandBasis::kStepSize;
+  return analysis::computeStepMetrics(r.time, signal ? *signal : r.v_true, o);
 }
 
 /// Mean of a signal over [t0, t1].
@@ -194,7 +195,7 @@ const HealthEvent* firstIsolation(const ClosedLoopRecord& r, double t0)
 {
   for (const HealthEvent& e : r.health_events)
   {
-    if (e.time >= t0 && e.event == FaultMonitor::Event::kIsolated)
+    if (e.time >= t0 && e.event == safety::FaultMonitor::Event::kIsolated)
     {
       return &e;
     }
@@ -257,7 +258,7 @@ void checkStep(const StepCase& s)
   SCOPED_TRACE(s.name);
   const ClosedLoopRecord r = run(s.config);
   expectBounded(r);
-  const StepMetrics m = metrics(r, 1.0, 0.0, s.step);
+  const analysis::StepMetrics m = metrics(r, 1.0, 0.0, s.step);
   EXPECT_TRUE(m.settled);
   EXPECT_LE(m.settling_time, s.settle_limit);
   EXPECT_LE(m.overshoot_percent, s.overshoot_limit);
@@ -299,7 +300,7 @@ TEST(StepResponse, ThesisStandardConvergesOnlyWithAWeakerOrderOneTerm)
               aic(config("thesis_standard", { "var_y=[2.0, 20.0, 100000.0, 100000.0]" }), stepProfile(1.0, 0.5), 7.0),
               0.5, 4.0, 30.0, 5.0 });
   const ClosedLoopRecord printed = run(aic(config("thesis_standard"), stepProfile(1.0, 0.5), 7.0));
-  const StepMetrics m = metrics(printed, 1.0, 0.0, 0.5);
+  const analysis::StepMetrics m = metrics(printed, 1.0, 0.0, 0.5);
   std::printf("thesis standard as printed: settled %d, settling %.3f s, overshoot %.1f %%, runaways %lu\n",
               static_cast<int>(m.settled), m.settling_time, m.overshoot_percent,
               static_cast<unsigned long>(printed.runaways));
@@ -333,7 +334,7 @@ TEST(StepResponse, SquareWaveSettlesEveryHalfPeriod)
   {
     SCOPED_TRACE(k);
     const double from = k % 2 == 0 ? 0.1 : 0.5, to = k % 2 == 0 ? 0.5 : 0.1;
-    const StepMetrics m = metrics(r, start + k * half, from, to, start + (k + 1) * half);
+    const analysis::StepMetrics m = metrics(r, start + k * half, from, to, start + (k + 1) * half);
     EXPECT_TRUE(m.settled);
     EXPECT_LE(m.settling_time, half);
     EXPECT_LE(m.overshoot_percent, 50.0);
@@ -375,7 +376,7 @@ TEST(StepResponse, AStopStopsTheWheelsAfterAStalledTurn)
 /// A bias of `bias` rad/s on one encoder at 0.5 m/s straight, from t = 3.5 s for good.
 ClosedLoopRecord encoderBias(const std::string& side, double bias, bool isolation)
 {
-  NodeParams node = config("default", { std::string("fdi_enabled=") + (isolation ? "true" : "false") });
+  params::NodeParams node = config("default", { std::string("fdi_enabled=") + (isolation ? "true" : "false") });
   ClosedLoopConfig c = aic(node, stepProfile(0.5, 0.5), 11.5);
   c.faults = { fault(side + "_encoder bias " + std::to_string(bias) + " 3.5") };
   return run(c);
@@ -391,7 +392,7 @@ TEST(SensorFaults, EncoderBiasIsIsolatedAndTheSpeedHolds)
     const double onset = *std::lower_bound(r.time.begin(), r.time.end(), 3.5);  // the first biased sample
     const HealthEvent* iso = firstIsolation(r, 3.5);
     ASSERT_NE(iso, nullptr) << "the biased encoder was never isolated";
-    EXPECT_EQ(iso->channel, side.first == "left" ? kOmegaLeft : kOmegaRight);
+    EXPECT_EQ(iso->channel, side.first == "left" ? base::kOmegaLeft : base::kOmegaRight);
     EXPECT_LE(iso->time - onset, 0.5);
     EXPECT_EQ(firstIsolation(r, 0.0), iso) << "a channel isolated before the fault";
     const double error = std::abs(meanOver(r, r.v_true, 10.5, 11.5) - 0.5) / 0.5;
@@ -425,7 +426,7 @@ TEST(SensorFaults, EncoderBiasWithoutIsolationIsBounded)
 /// broken away by then, so it freezes at about 0.8 rad/s); the set point goes straight at 7.5 s.
 ClosedLoopRecord gyroFreeze(bool isolation)
 {
-  NodeParams node = config("default", { std::string("fdi_enabled=") + (isolation ? "true" : "false") });
+  params::NodeParams node = config("default", { std::string("fdi_enabled=") + (isolation ? "true" : "false") });
   ClosedLoopConfig c = aic(node, { { 0.0, 0.0, 0.0 }, { 0.5, 0.4, 0.8 }, { 7.5, 0.4, 0.0 } }, 15.5);
   c.faults = { fault("gyro freeze 6.5") };
   return run(c);
@@ -437,7 +438,7 @@ TEST(SensorFaults, FrozenGyroIsIsolatedWhenTheTurnEnds)
   expectBounded(r);
   const HealthEvent* iso = firstIsolation(r, 6.5);
   ASSERT_NE(iso, nullptr) << "the frozen gyro was never isolated";
-  EXPECT_EQ(iso->channel, kGyroZ);
+  EXPECT_EQ(iso->channel, base::kGyroZ);
   const double yaw = meanOver(r, r.yaw_true, 13.5, 15.5);
   EXPECT_LT(std::abs(yaw), 0.03);
   // The frozen gyro's reading repeats bit for bit: the learner takes no new information from it,
@@ -586,8 +587,8 @@ TEST(SensorFaults, ImuLossDegradesToTheEncoders)
   c.faults = { fault("imu dropout 6.7") };
   const ClosedLoopRecord r = run(c);
   expectBounded(r);
-  const StepMetrics healthy = metrics(r, 1.0, 0.0, 0.5, 4.0);
-  const StepMetrics faulty = metrics(r, 6.5, 0.0, 0.5, 9.5);
+  const analysis::StepMetrics healthy = metrics(r, 1.0, 0.0, 0.5, 4.0);
+  const analysis::StepMetrics faulty = metrics(r, 6.5, 0.0, 0.5, 9.5);
   ASSERT_TRUE(healthy.settled);
   ASSERT_TRUE(faulty.settled);
   EXPECT_LE(faulty.settling_time, 1.5 * std::max(healthy.settling_time, 0.1));
@@ -636,7 +637,7 @@ void checkPhysical(const std::string& name, const std::string& line)
   c.faults = { fault(line) };
   const ClosedLoopRecord r = run(c);
   expectBounded(r);
-  const StepMetrics m = metrics(r, 2.0, 0.0, 0.5);
+  const analysis::StepMetrics m = metrics(r, 2.0, 0.0, 0.5);
   const double error = std::abs(meanOver(r, r.v_true, 6.0, 7.0) - 0.5) / 0.5;
   EXPECT_TRUE(m.settled);
   EXPECT_LE(m.settling_time, 1.5);
@@ -712,7 +713,7 @@ TEST(Driving, TurnDeficitIsRemoved)
 }
 
 /// The 0.1 m/s step from rest (t = 1 s), AIC and stock controller: their step metrics.
-std::pair<StepMetrics, StepMetrics> smallStep()
+std::pair<analysis::StepMetrics, analysis::StepMetrics> smallStep()
 {
   const std::vector<SetPointSegment> profile = stepProfile(1.0, 0.1);
   const ClosedLoopRecord a = run(aic(config("default"), profile, 4.0));
@@ -753,11 +754,11 @@ TEST(Driving, PlannerStreamIsTrackedAsWellAsByTheStockController)
 {
   // The 10 Hz planner profile of the tracking benchmark (ramps at the J100's limits, arcs, a turn
   // in place): RMS error of vx and wz against the set point, ground truth.
-  const TwistProfile planner = loadTwistProfileCsv(kRoot + "/sim/profiles/planner_10hz.csv");
+  const analysis::TwistProfile planner = analysis::loadTwistProfileCsv(kRoot + "/sim/profiles/planner_10hz.csv");
   const double t0 = 1.0;
   const std::vector<SetPointSegment> profile = profileSegments(planner, t0);
   const double duration = t0 + planner.duration + 0.1;
-  VelocityTrackingError e[2];
+  analysis::VelocityTrackingError e[2];
   int k = 0;
   for (const ClosedLoopRecord& r : { run(aic(config("default"), profile, duration)), run(stock(profile, duration)) })
   {
@@ -766,7 +767,7 @@ TEST(Driving, PlannerStreamIsTrackedAsWellAsByTheStockController)
     {
       t.push_back(x - t0);
     }
-    e[k++] = velocityTrackingError(planner, t, r.v_true, r.yaw_true);
+    e[k++] = analysis::velocityTrackingError(planner, t, r.v_true, r.yaw_true);
   }
   std::printf("planner profile, RMS AIC / stock: vx %.4f / %.4f m/s, wz %.4f / %.4f rad/s\n", e[0].vx.rms, e[1].vx.rms,
               e[0].wz.rms, e[1].wz.rms);

@@ -82,15 +82,15 @@ std::string errorOf(const std::function<void()>& f)
   return "";
 }
 
-StepMetrics stepOf(const ClosedLoopRecord& rec, double t_step, double target)
+analysis::StepMetrics stepOf(const ClosedLoopRecord& rec, double t_step, double target)
 {
-  StepMetricsOptions o;
+  analysis::StepMetricsOptions o;
   o.step_time = t_step;
   o.target = target;
-  return computeStepMetrics(rec.time, rec.v_odom, o);
+  return analysis::computeStepMetrics(rec.time, rec.v_odom, o);
 }
 
-ClosedLoopRecord runStep(LoopController controller, const AicParams& aic, double v, double hold = 3.0)
+ClosedLoopRecord runStep(LoopController controller, const params::AicParams& aic, double v, double hold = 3.0)
 {
   ClosedLoopConfig c;
   c.controller = controller;
@@ -358,7 +358,7 @@ TEST(ClosedLoop, RejectsBadConfigurations)
 
 TEST(ClosedLoop, AicStartsBumplesslyAndReachesTheSetPoint)
 {
-  const AicParams aic = loadAicParams(kThesisEquivalent);
+  const params::AicParams aic = loadAicParams(kThesisEquivalent);
   const ClosedLoopRecord rec = runStep(LoopController::kAic, aic, 0.5);
   EXPECT_TRUE(rec.active);
   EXPECT_EQ(rec.runaways, 0u);
@@ -367,7 +367,7 @@ TEST(ClosedLoop, AicStartsBumplesslyAndReachesTheSetPoint)
   {
     EXPECT_NEAR(rec.v_odom[k], 0.0, 1e-3) << "at rest before the step, t = " << rec.time[k];
   }
-  const StepMetrics m = stepOf(rec, 1.01, 0.5);
+  const analysis::StepMetrics m = stepOf(rec, 1.01, 0.5);
   EXPECT_TRUE(m.settled);
   EXPECT_NEAR(m.steady_state_error, 0.0, 0.005);  // m/s
 }
@@ -382,7 +382,7 @@ TEST(IdentifiedPlant, StockStepsWithinTheAcceptance)
   const PlantParams p = loadPlantParams(kPlant);
   for (const RobotStepRow& row : tables[0].rows)
   {
-    const FitEntry e = runFitEntry(d, p, NodeParams(), tables[0], row);
+    const FitEntry e = runFitEntry(d, p, params::NodeParams(), tables[0], row);
     EXPECT_LE(std::abs(e.settling_error), stockTolerance(row.step))
         << row.step << " m/s: settling " << e.sim.settling_time;
     EXPECT_LE(std::abs(e.rise_error), stockTolerance(row.step)) << row.step << " m/s: rise " << e.sim.rise_time;
@@ -395,7 +395,7 @@ TEST(IdentifiedPlant, StockStepsWithinTheAcceptance)
 /// exact integrator, thesis-equivalent variances) rises to 0.5 m/s in <= 0.75 x the stock rise.
 TEST(IdentifiedPlant, AFastControllerIsFasterThanTheStockOne)
 {
-  AicParams aic = loadAicParams(kThesisEquivalent);
+  params::AicParams aic = loadAicParams(kThesisEquivalent);
   const double stock_rise_1 = stepOf(runStep(LoopController::kStock, aic, 1.0), 1.01, 1.0).rise_time;
   const double aic_rise_1 = stepOf(runStep(LoopController::kAic, aic, 1.0), 1.01, 1.0).rise_time;
   EXPECT_LT(aic_rise_1, stock_rise_1) << "thesis-equivalent AIC vs stock, 1.0 m/s";
@@ -403,7 +403,7 @@ TEST(IdentifiedPlant, AFastControllerIsFasterThanTheStockOne)
   aic.tau = 0.001;
   aic.belief_rate = 1000.0;
   aic.action_rate = 50.0;
-  aic.integrator = Integrator::kExact;
+  aic.integrator = params::Integrator::kExact;
   const double stock_rise = stepOf(runStep(LoopController::kStock, aic, 0.5), 1.01, 0.5).rise_time;
   const ClosedLoopRecord improved = runStep(LoopController::kAic, aic, 0.5);
   const double improved_rise = stepOf(improved, 1.01, 0.5).rise_time;
@@ -441,7 +441,7 @@ TEST(IdentifiedPlant, TurnsOnTheTimeScaleOfAStraightStep)
   EXPECT_LE(c.turn_truth.settling_time, kTurnSettlingTarget);
   EXPECT_LE(c.arc.settling_time, kArcSettlingTarget);
   EXPECT_TRUE(c.ok);
-  const double straight = stepOf(runStep(LoopController::kStock, AicParams(), 0.3), 1.01, 0.3).settling_time;
+  const double straight = stepOf(runStep(LoopController::kStock, params::AicParams(), 0.3), 1.01, 0.3).settling_time;
   EXPECT_LE(c.turn.settling_time, 1.25 * straight) << "straight 0.3 m/s settles in " << straight << " s";
 }
 

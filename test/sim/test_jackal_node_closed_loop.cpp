@@ -40,11 +40,11 @@ constexpr double kRatioBound = 1.05;  // the AIC's figure on re-sampled data ove
 
 double settling(const ClosedLoopRecord& r, const std::vector<double>& y, double target, double* overshoot = nullptr)
 {
-  StepMetricsOptions o;
+  analysis::StepMetricsOptions o;
   o.step_time = kRest;
   o.initial = 0.0;
   o.target = target;
-  const StepMetrics m = computeStepMetrics(r.time, y, o);
+  const analysis::StepMetrics m = analysis::computeStepMetrics(r.time, y, o);
   if (overshoot != nullptr)
   {
     *overshoot = m.overshoot_percent;
@@ -140,7 +140,7 @@ struct FrozenWatch
   double first_frozen = -1.0;          ///< run time of the first sample in the frozen verdict [s]; -1: never
   std::uint64_t events = 0;            ///< FrozenJointStates::events() at the end
   double last_turning_command = -1.0;  ///< run time of the last sample with a wheel command above 0.05 rad/s [s]
-  NodeState last_state = NodeState::kWaiting;
+  loop::NodeState last_state = loop::NodeState::kWaiting;
   void attach(ClosedLoopConfig* c)
   {
     c->observer = [this](const ClosedLoopSample& s) {
@@ -172,7 +172,7 @@ struct FrozenWatch
 TEST_F(JackalNodeClosedLoop, FrozenMcuFeedbackStopsTheAicWithinTheBound)
 {
   constexpr double kFreeze = kRest + 2.0;  // [s] into the run
-  constexpr double kFrozenBound = kFrozenJointStateTime + 2.0 * kPeriod + 0.01;
+  constexpr double kFrozenBound = safety::kFrozenJointStateTime + 2.0 * kPeriod + 0.01;
   double worst = 0.0;
   for (int p = 0; p < kPhases; p += 4)
   {
@@ -193,7 +193,7 @@ TEST_F(JackalNodeClosedLoop, FrozenMcuFeedbackStopsTheAicWithinTheBound)
     // The record's command at a sample is the one in force as it came: from the verdict's sample on, zero.
     EXPECT_LE(w.last_turning_command, w.first_frozen)
         << "phase " << p + 1 << " ms: a turning command after the verdict";
-    EXPECT_EQ(w.last_state, NodeState::kStale) << "phase " << p + 1 << " ms";
+    EXPECT_EQ(w.last_state, loop::NodeState::kStale) << "phase " << p + 1 << " ms";
     // The plant stops: the wheels' true speed at the end.
     EXPECT_LT(std::abs(r.v_wheels.back()), 0.01) << "phase " << p + 1 << " ms";
   }
@@ -226,7 +226,8 @@ TEST_F(JackalNodeClosedLoop, HealthyStreamsNeverReadAsFrozen)
       EXPECT_EQ(w.first_frozen, -1.0);
       EXPECT_GT(r.jackal_node_stats.repeats, 0u);
       EXPECT_LE(r.jackal_node_stats.max_repeat_run, 2u) << "ideal " << ideal << ", drift " << drift;
-      EXPECT_LT(r.jackal_node_stats.max_held, 0.5 * kFrozenJointStateTime) << "ideal " << ideal << ", drift " << drift;
+      EXPECT_LT(r.jackal_node_stats.max_held, 0.5 * safety::kFrozenJointStateTime)
+          << "ideal " << ideal << ", drift " << drift;
     }
   }
 }

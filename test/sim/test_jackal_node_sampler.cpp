@@ -174,7 +174,7 @@ TEST(JackalNodeSampler, RepeatsHoldDataAtMostAPeriodAndTheLateness)
     }
   }
   EXPECT_GT(held, kMcuPeriod - 0.005);  // some data do stay about a period
-  EXPECT_LE(2.0 * held, jackal_aic::kFrozenJointStateTime);
+  EXPECT_LE(2.0 * held, jackal_aic::safety::kFrozenJointStateTime);
 }
 
 // A loop clock 5000 ppm fast gains one period every 200 cycles: one repeat each time; 5000 ppm slow

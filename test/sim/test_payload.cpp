@@ -108,7 +108,7 @@ StopResult stopWithThePayload(const std::vector<std::string>& overrides, int sto
   }
   c.duration = 4.0 * stops + 2.0;
   c.ideal_sensors = false;
-  const std::vector<std::string> plant = loadOverlayFile(kRoot + "/" + kForward);
+  const std::vector<std::string> plant = overrides::loadOverlayFile(kRoot + "/" + kForward);
   StopResult out;
   out.record = runClosedLoop(plant::loadRobotDescription(kRoot + "/sim/urdf/jackal.urdf"),
                              plant::loadPlantParams(kRoot + "/sim/config/plant.yaml", plant), c);

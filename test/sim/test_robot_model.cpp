@@ -29,12 +29,12 @@ namespace
 using namespace plant;
 const std::string kRoot = JACKAL_SIM_SOURCE_DIR;
 
-NodeParams robotModel(const std::vector<std::string>& more = {})
+params::NodeParams robotModel(const std::vector<std::string>& more = {})
 {
   return loadNodeParamsFiles({ kRoot + "/config/default.yaml", kRoot + "/config/robot_model.yaml" }, more);
 }
 
-ClosedLoopRecord run(const NodeParams& node, double linear, double angular, double duration,
+ClosedLoopRecord run(const params::NodeParams& node, double linear, double angular, double duration,
                      const std::vector<std::string>& overlays = {}, const std::vector<std::string>& faults = {})
 {
   ClosedLoopConfig c;
@@ -57,7 +57,7 @@ ClosedLoopRecord run(const NodeParams& node, double linear, double angular, doub
   std::vector<std::string> overrides;
   for (const std::string& o : overlays)
   {
-    const std::vector<std::string> extra = loadOverlayFile(kRoot + "/" + o);
+    const std::vector<std::string> extra = overrides::loadOverlayFile(kRoot + "/" + o);
     overrides.insert(overrides.end(), extra.begin(), extra.end());
   }
   return runClosedLoop(loadRobotDescription(kRoot + "/sim/urdf/jackal.urdf"),
@@ -116,8 +116,8 @@ TEST(RobotModel, ArcsHoldTheCommandedYawRateAndAreBelieved)
 {
   // Three arcs from rest at t = 1 s: the steady true yaw rate within 1.5 % of the command, the
   // beliefs within 0.01 of the truth in the steady segment.
-  const NodeParams node = robotModel();
-  ASSERT_EQ(node.aic.belief_model, BeliefModel::kRobot);
+  const params::NodeParams node = robotModel();
+  ASSERT_EQ(node.aic.belief_model, params::BeliefModel::kRobot);
   const double arcs[3][2] = { { 0.5, 0.5 }, { 1.0, 0.3 }, { 0.3, 1.0 } };
   for (const auto& arc : arcs)
   {
@@ -135,7 +135,7 @@ TEST(RobotModel, StepsAndTheArcsOvershootRegressionGuard)
   // Regression guard of the measured figures (doc/active_inference.md, 'The robot model'):
   // 0.5 m/s settles within 0.30 s with under 1 % overshoot (default: 0.284 s); the 0.5 m/s +
   // 0.5 rad/s arc's true yaw overshoots under 7 % (measured 5.9 %; the default 6.95 %).
-  const NodeParams node = robotModel();
+  const params::NodeParams node = robotModel();
   const ClosedLoopRecord step = run(node, 0.5, 0.0, 4.0);
   EXPECT_LE(peak(step, step.v_true, 1.0, 4.0), 0.505);
   double settled = NAN;

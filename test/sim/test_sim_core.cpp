@@ -493,7 +493,7 @@ TEST(Calibration, StockStepsMatchTheRobotTable)
   double previous_rise = 0.0;
   for (const RobotStepReference& row : kRobotStepTable)
   {
-    const jackal_aic::StepMetrics m = stepMetricsOf(runStockStep(d, p, row.step));
+    const jackal_aic::analysis::StepMetrics m = stepMetricsOf(runStockStep(d, p, row.step));
     EXPECT_NEAR(m.settling_time, row.settling, row.tolerance * row.settling) << "step " << row.step << " m/s";
     EXPECT_NEAR(m.rise_time, row.rise, row.tolerance * row.rise) << "step " << row.step << " m/s";
     EXPECT_GT(m.rise_time, previous_rise) << "rise time must grow with the step";

@@ -327,7 +327,7 @@ double meanFrom(const std::vector<double>& time, const std::vector<double>& y, d
 TEST(IdealController, LearnsToTrackBetterThanTheStockControllerAndRemovesADeficit)
 {
   const RobotDescription d = loadRobotDescription(kUrdf);
-  const TwistProfile planner = loadTwistProfileCsv(kRoot + "/sim/profiles/planner_10hz.csv");
+  const analysis::TwistProfile planner = analysis::loadTwistProfileCsv(kRoot + "/sim/profiles/planner_10hz.csv");
   const double t0 = 1.0;
   ClosedLoopConfig c;
   c.controller = LoopController::kStock;
@@ -339,7 +339,7 @@ TEST(IdealController, LearnsToTrackBetterThanTheStockControllerAndRemovesADefici
   EXPECT_LT(ideal.vx_rms[ideal.best], 0.5 * ideal.vx_rms[0]);
   EXPECT_LT(ideal.wz_rms[ideal.best], 0.6 * ideal.wz_rms[0]);
   const ClosedLoopRecord stock = runClosedLoop(d, loadPlantParams(kPlant), c);
-  VelocityTrackingError e[2];
+  analysis::VelocityTrackingError e[2];
   int k = 0;
   for (const ClosedLoopRecord* r : { &ideal.record, &stock })
   {
@@ -348,7 +348,7 @@ TEST(IdealController, LearnsToTrackBetterThanTheStockControllerAndRemovesADefici
     {
       t.push_back(x - t0);
     }
-    e[k++] = velocityTrackingError(planner, t, r->v_true, r->yaw_true);
+    e[k++] = analysis::velocityTrackingError(planner, t, r->v_true, r->yaw_true);
   }
   EXPECT_LT(e[0].vx.rms, 0.4 * e[1].vx.rms);
   EXPECT_LT(e[0].wz.rms, 0.4 * e[1].wz.rms);

@@ -32,7 +32,7 @@ const std::string kRoot = JACKAL_SIM_SOURCE_DIR;
 
 /// The unbiased configuration: the motion prior a first-order lag of 0.1 s with a low precision,
 /// fast beliefs (exact integrator), and a gentler action integral than the goal model's.
-NodeParams unbiasedNode(bool learn, const std::vector<std::string>& more = {})
+params::NodeParams unbiasedNode(bool learn, const std::vector<std::string>& more = {})
 {
   std::vector<std::string> overrides = {
     "belief_model=unbiased",   "tau=0.1", "k_mu=5",
@@ -42,7 +42,7 @@ NodeParams unbiasedNode(bool learn, const std::vector<std::string>& more = {})
   return loadNodeParamsFiles({ kRoot + "/config/default.yaml" }, overrides);
 }
 
-ClosedLoopRecord run(const NodeParams& node, double linear, double angular, double duration,
+ClosedLoopRecord run(const params::NodeParams& node, double linear, double angular, double duration,
                      const std::vector<std::string>& overlays = {})
 {
   ClosedLoopConfig c;
@@ -55,7 +55,7 @@ ClosedLoopRecord run(const NodeParams& node, double linear, double angular, doub
   std::vector<std::string> overrides;
   for (const std::string& o : overlays)
   {
-    const std::vector<std::string> extra = loadOverlayFile(kRoot + "/" + o);
+    const std::vector<std::string> extra = overrides::loadOverlayFile(kRoot + "/" + o);
     overrides.insert(overrides.end(), extra.begin(), extra.end());
   }
   return runClosedLoop(loadRobotDescription(kRoot + "/sim/urdf/jackal.urdf"),
@@ -119,7 +119,7 @@ TEST(LearnedSeparation, ConvergesFromOnceAndTwiceTheTrackWithFaultIsolationOn)
   {
     const double start = (i + 1) * kTrack;
     SCOPED_TRACE("b_hat from " + std::to_string(start) + " m");
-    const NodeParams node =
+    const params::NodeParams node =
         loadNodeParamsFiles({ kRoot + "/config/default.yaml" }, { "wheel_separation=" + std::to_string(start) });
     ASSERT_TRUE(node.aic.separation_learner.enabled);
     ASSERT_TRUE(node.fdi.enabled);
@@ -158,8 +158,9 @@ TEST(UnbiasedConfig, TracksAndBelievesOnArcsDeficitsAndSaturation)
   // in place on the turn-deficit firmware held within 2 % after 3 s and believed; at 2.0 m/s,
   // which the wheels cannot reach, the belief is the speed reached (doc/experiments.md, 'Driving
   // acceptance', honest belief: 0.03 where the plant cannot follow).
-  const NodeParams node = loadNodeParamsFiles({ kRoot + "/config/default.yaml", kRoot + "/config/unbiased.yaml" });
-  ASSERT_EQ(node.aic.belief_model, BeliefModel::kUnbiased);
+  const params::NodeParams node = loadNodeParamsFiles({ kRoot + "/config/default.yaml", kRoot + "/config/"
+                                                                                                "unbiased.yaml" });
+  ASSERT_EQ(node.aic.belief_model, params::BeliefModel::kUnbiased);
   const ClosedLoopRecord arc = run(node, 0.5, 0.5, 13.0);
   EXPECT_EQ(arc.runaways, 0u);
   EXPECT_NEAR(mean(arc, arc.yaw_true, 9.0, 13.0), 0.5, 0.015 * 0.5);

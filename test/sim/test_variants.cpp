@@ -141,12 +141,12 @@ TEST(Variants, EveryOverlayLoadsAndHoldsOnlyKeysThatDiffer)
   const YAML::Node base = YAML::LoadFile(kPlant);
   for (const std::string& f : files)
   {
-    const std::vector<std::string> overrides = loadOverlayFile(kVariants + f);
+    const std::vector<std::string> overrides = overrides::loadOverlayFile(kVariants + f);
     EXPECT_FALSE(overrides.empty()) << f << " is the default plant";
     EXPECT_NO_THROW(loadPlantParams(kPlant, overrides)) << f;
     for (const std::string& o : overrides)
     {
-      const Override ov = parseOverride(o);
+      const overrides::Override ov = overrides::parseOverride(o);
       const YAML::Node was = valueAt(base, ov.key);
       ASSERT_TRUE(was.IsDefined() && !was.IsNull()) << f << ": " << ov.key << " is not a key of plant.yaml";
       if (was.IsScalar())
@@ -221,10 +221,10 @@ TEST(Variants, SlowBreakawayTurnsInSecondsAndFitsTheStraightSteps)
   c.profile = stepProfile(1.01, 0.0, 1.0);
   c.duration = 1.01 + 6.0;
   const ClosedLoopRecord rec = runClosedLoop(d, p, c);
-  StepMetricsOptions o;
+  analysis::StepMetricsOptions o;
   o.step_time = 1.01;
   o.target = 1.0;
-  const StepMetrics m = computeStepMetrics(rec.time, rec.yaw_true, o);
+  const analysis::StepMetrics m = analysis::computeStepMetrics(rec.time, rec.yaw_true, o);
   EXPECT_GT(m.rise_time, 2.0);
   EXPECT_TRUE(m.settled) << "it does get there";
 

@@ -33,7 +33,7 @@ std::string pyString(const std::string& s)
 }
 
 /// A Python literal of a reconfigure value (floats keep a '.' or an exponent).
-std::string pyValue(const ParamValue& v)
+std::string pyValue(const params::ParamValue& v)
 {
   if (const bool* b = std::get_if<bool>(&v))
   {
@@ -55,43 +55,43 @@ std::string pyValue(const ParamValue& v)
   return pyString(std::get<std::string>(v));
 }
 
-const char* cfgType(ParamType t)
+const char* cfgType(params::ParamType t)
 {
   switch (t)
   {
-    case ParamType::kInt:
+    case params::ParamType::kInt:
       return "int_t";
-    case ParamType::kBool:
+    case params::ParamType::kBool:
       return "bool_t";
-    case ParamType::kString:
+    case params::ParamType::kString:
       return "str_t";
     default:
       return "double_t";
   }
 }
 
-std::string typeText(const ParamSpec& s)
+std::string typeText(const params::ParamSpec& s)
 {
   switch (s.type)
   {
-    case ParamType::kDouble:
+    case params::ParamType::kDouble:
       return "double";
-    case ParamType::kInt:
+    case params::ParamType::kInt:
       return "int";
-    case ParamType::kBool:
+    case params::ParamType::kBool:
       return "bool";
-    case ParamType::kString:
+    case params::ParamType::kString:
       return "string";
-    case ParamType::kDoubleList:
+    case params::ParamType::kDoubleList:
       return "double list";
-    case ParamType::kStringList:
+    case params::ParamType::kStringList:
       return "string list";
   }
   return "";
 }
 
 /// A value for the docs: numbers in their shortest form, lists as [a, b].
-std::string docValue(const ParamValue& v)
+std::string docValue(const params::ParamValue& v)
 {
   if (const double* d = std::get_if<double>(&v))
   {
@@ -106,7 +106,7 @@ std::string docValue(const ParamValue& v)
     }
     return out + "]";
   }
-  return formatParamValue(v);
+  return params::formatParamValue(v);
 }
 
 /// A Markdown table cell: '|' escaped.
@@ -120,17 +120,17 @@ std::string cell(const std::string& text)
   return out;
 }
 
-std::string rangeDoc(const ParamSpec& s)
+std::string rangeDoc(const params::ParamSpec& s)
 {
-  if (s.type == ParamType::kDoubleList && s.channels > 0)
+  if (s.type == params::ParamType::kDoubleList && s.channels > 0)
   {
-    return "p+1 or " + std::to_string(s.channels) + "(p+1) values, each " + rangeText(s);
+    return "p+1 or " + std::to_string(s.channels) + "(p+1) values, each " + params::rangeText(s);
   }
   if (s.node_max < s.max)
   {
-    return rangeText(s) + "; the node: <= " + shortestDecimal(s.node_max);
+    return params::rangeText(s) + "; the node: <= " + shortestDecimal(s.node_max);
   }
-  return rangeText(s);
+  return params::rangeText(s);
 }
 }  // namespace
 
@@ -202,7 +202,7 @@ std::string reconfigureCfgScript()
         "gen = ParameterGenerator()\n";
   std::vector<std::string> groups;
   std::string current_group;
-  for (const ReconfigureEntry& e : reconfigureEntries())
+  for (const params::ReconfigureEntry& e : params::reconfigureEntries())
   {
     const std::string group = e.row->group;
     bool known = false;
@@ -217,15 +217,17 @@ std::string reconfigureCfgScript()
     }
     os << group << ".add(" << pyString(e.name) << ", " << cfgType(e.type) << ", " << e.row->level << ", "
        << pyString(e.description) << ", " << pyValue(e.default_value);
-    if (e.type == ParamType::kDouble || e.type == ParamType::kInt)
+    if (e.type == params::ParamType::kDouble || e.type == params::ParamType::kInt)
     {
-      const ParamValue min =
-          e.type == ParamType::kInt ? ParamValue(static_cast<int>(e.row->min)) : ParamValue(e.row->min);
+      const params::ParamValue min = e.type == params::ParamType::kInt ?
+                                         params::ParamValue(static_cast<int>(e.row->min)) :
+                                         params::ParamValue(e.row->min);
       os << ", " << pyValue(min);
       if (std::isfinite(e.row->nodeMax()))
       {
-        const ParamValue max =
-            e.type == ParamType::kInt ? ParamValue(static_cast<int>(e.row->nodeMax())) : ParamValue(e.row->nodeMax());
+        const params::ParamValue max = e.type == params::ParamType::kInt ?
+                                           params::ParamValue(static_cast<int>(e.row->nodeMax())) :
+                                           params::ParamValue(e.row->nodeMax());
         os << ", " << pyValue(max);
       }
     }
@@ -240,7 +242,7 @@ std::string parameterTableMarkdown()
   std::ostringstream os;
   os << "| key | type | default | allowed | unit | live | meaning |\n"
         "|---|---|---|---|---|---|---|\n";
-  for (const ParamSpec& s : paramSchema())
+  for (const params::ParamSpec& s : params::paramSchema())
   {
     std::string live = s.live ? "yes" : "no";
     if (s.live && s.slots() > 0)
@@ -248,13 +250,13 @@ std::string parameterTableMarkdown()
       live = "per order: `" + std::string(s.key) + "_0`..`" + s.key + "_" + std::to_string(s.slots() - 1) + "`";
     }
     std::string key = std::string("`") + s.key + "`";
-    if (s.scope == ParamScope::kNode)
+    if (s.scope == params::ParamScope::kNode)
     {
       key += " (node)";
     }
     const std::string range = cell(rangeDoc(s));
-    os << "| " << key << " | " << typeText(s) << " | " << (s.required ? "required" : docValue(defaultValue(s))) << " | "
-       << range << " | " << s.unit << " | " << live << " | " << cell(s.description) << " |\n";
+    os << "| " << key << " | " << typeText(s) << " | " << (s.required ? "required" : docValue(params::defaultValue(s)))
+       << " | " << range << " | " << s.unit << " | " << live << " | " << cell(s.description) << " |\n";
   }
   return os.str();
 }
@@ -262,14 +264,14 @@ std::string parameterTableMarkdown()
 namespace
 {
 /// A value as YAML: docValue(), an empty string quoted.
-std::string yamlValue(const ParamValue& v)
+std::string yamlValue(const params::ParamValue& v)
 {
   const std::string text = docValue(v);
   return text.empty() ? std::string("\"\"") : text;
 }
 }  // namespace
 
-std::string parameterYaml(const NodeParams* values, const std::vector<std::string>& files)
+std::string parameterYaml(const params::NodeParams* values, const std::vector<std::string>& files)
 {
   std::ostringstream os;
   if (values == nullptr)
@@ -290,17 +292,17 @@ std::string parameterYaml(const NodeParams* values, const std::vector<std::strin
           "# by the node only.\n";
   }
   std::string group;
-  for (const ParamSpec& s : paramSchema())
+  for (const params::ParamSpec& s : params::paramSchema())
   {
     if (s.group != group)
     {
       group = s.group;
       os << "\n# ---- " << group << " " << std::string(group.size() < 80 ? 80 - group.size() : 0, '-') << "\n";
     }
-    os << "\n# [" << s.unit << "] " << s.description << (s.scope == ParamScope::kNode ? " (node)" : "")
+    os << "\n# [" << s.unit << "] " << s.description << (s.scope == params::ParamScope::kNode ? " (node)" : "")
        << ".\n# Allowed: " << rangeDoc(s) << ". "
-       << (s.required ? std::string("Required: no default.") : "Default: " + docValue(defaultValue(s))) << "\n";
-    const ParamValue v = values != nullptr ? s.get(*values) : defaultValue(s);
+       << (s.required ? std::string("Required: no default.") : "Default: " + docValue(params::defaultValue(s))) << "\n";
+    const params::ParamValue v = values != nullptr ? s.get(*values) : params::defaultValue(s);
     const auto* list = std::get_if<std::vector<std::string>>(&v);
     if (s.required && (list == nullptr || list->empty()))
     {

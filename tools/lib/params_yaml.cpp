@@ -18,21 +18,22 @@ namespace jackal_aic
 namespace
 {
 template <class T>
-ParamSource::Status readAs(const YAML::Node& n, ParamValue* out)
+params::ParamSource::Status readAs(const YAML::Node& n, params::ParamValue* out)
 {
   try
   {
     *out = n.as<T>();
-    return ParamSource::Status::kOk;
+    return params::ParamSource::Status::kOk;
   }
   catch (const YAML::Exception&)
   {
-    return ParamSource::Status::kWrongType;
+    return params::ParamSource::Status::kWrongType;
   }
 }
 }  // namespace
 
-ParamSource::Status YamlParamSource::read(const std::string& key, ParamType type, ParamValue* out) const
+params::ParamSource::Status YamlParamSource::read(const std::string& key, params::ParamType type,
+                                                  params::ParamValue* out) const
 {
   const YAML::Node n = root_.IsMap() ? root_[key] : YAML::Node();
   if (!n)
@@ -41,17 +42,17 @@ ParamSource::Status YamlParamSource::read(const std::string& key, ParamType type
   }
   switch (type)
   {
-    case ParamType::kDouble:
+    case params::ParamType::kDouble:
       return readAs<double>(n, out);
-    case ParamType::kInt:
+    case params::ParamType::kInt:
       return readAs<int>(n, out);
-    case ParamType::kBool:
+    case params::ParamType::kBool:
       return readAs<bool>(n, out);
-    case ParamType::kString:
+    case params::ParamType::kString:
       return n.IsScalar() ? readAs<std::string>(n, out) : Status::kWrongType;
-    case ParamType::kDoubleList:
+    case params::ParamType::kDoubleList:
       return readAs<std::vector<double>>(n, out);
-    case ParamType::kStringList:
+    case params::ParamType::kStringList:
       return readAs<std::vector<std::string>>(n, out);
   }
   return Status::kWrongType;
@@ -82,15 +83,15 @@ std::vector<std::string> YamlParamSource::keys() const
   return out;
 }
 
-AicParams aicParamsFromYaml(const YAML::Node& root, const std::string& file, std::vector<std::string>* defaulted,
-                            std::vector<std::string>* unknown)
+params::AicParams aicParamsFromYaml(const YAML::Node& root, const std::string& file,
+                                    std::vector<std::string>* defaulted, std::vector<std::string>* unknown)
 {
-  NodeParams params;
-  const ParamLoadReport report =
-      loadParams(YamlParamSource(root), { ParamScope::kController }, /*with_reconfigure=*/false, &params);
+  params::NodeParams params;
+  const params::ParamLoadReport report = params::loadParams(YamlParamSource(root), { params::ParamScope::kController },
+                                                            /*with_reconfigure=*/false, &params);
   if (!report.errors.empty())
   {
-    const ParamViolation& e = report.errors.front();
+    const params::ParamViolation& e = report.errors.front();
     throw std::runtime_error(file + ": key '" + e.name + "' must be " + e.allowed + " (got " + e.value + ")");
   }
   if (defaulted)
@@ -118,7 +119,7 @@ YAML::Node readYamlMap(const std::string& file, const std::vector<std::string>& 
     {
       throw std::runtime_error(file + ": expected a map of parameters at the top level");
     }
-    applyOverrides(root, overrides);
+    overrides::applyOverrides(root, overrides);
   }
   catch (const YAML::BadFile&)
   {
@@ -150,7 +151,7 @@ std::string sourceName(const std::string& what, const std::vector<std::string>& 
 }
 
 /// Throws "<file>: invalid parameters: ..." listing every violation, if any.
-void requireValid(const std::vector<ParamViolation>& violations, const std::string& file)
+void requireValid(const std::vector<params::ParamViolation>& violations, const std::string& file)
 {
   if (!violations.empty())
   {
@@ -164,41 +165,43 @@ void requireValid(const std::vector<ParamViolation>& violations, const std::stri
 }
 }  // namespace
 
-AicParams loadAicParams(const std::string& file, const std::vector<std::string>& overrides)
+params::AicParams loadAicParams(const std::string& file, const std::vector<std::string>& overrides)
 {
-  const AicParams p = aicParamsFromYaml(readYamlMap(file, overrides), sourceName(file, overrides), nullptr, nullptr);
+  const params::AicParams p =
+      aicParamsFromYaml(readYamlMap(file, overrides), sourceName(file, overrides), nullptr, nullptr);
   requireValid(p.validate(), sourceName(file, overrides));
   return p;
 }
 
-NodeParams loadNodeParamsFiles(const std::vector<std::string>& files, const std::vector<std::string>& overrides)
+params::NodeParams loadNodeParamsFiles(const std::vector<std::string>& files, const std::vector<std::string>& overrides)
 {
-  NodeParams params;
+  params::NodeParams params;
   std::string names;
   for (std::size_t i = 0; i < files.size(); ++i)
   {
     const std::string& file = files[i];
     const std::vector<std::string>& applied = i + 1 == files.size() ? overrides : std::vector<std::string>();
     const YAML::Node root = readYamlMap(file, applied);
-    const ParamLoadReport report = loadParams(YamlParamSource(root), { ParamScope::kController, ParamScope::kNode },
-                                              /*with_reconfigure=*/false, &params);
+    const params::ParamLoadReport report =
+        params::loadParams(YamlParamSource(root), { params::ParamScope::kController, params::ParamScope::kNode },
+                           /*with_reconfigure=*/false, &params);
     if (!report.errors.empty())
     {
-      const ParamViolation& e = report.errors.front();
+      const params::ParamViolation& e = report.errors.front();
       throw std::runtime_error(sourceName(file, applied) + ": key '" + e.name + "' must be " + e.allowed + " (got " +
                                e.value + ")");
     }
     names += (names.empty() ? "" : " + ") + file;
   }
   // The joint lists may be left to the caller (the simulator's wheels): check the rest.
-  NodeParams check = params;
+  params::NodeParams check = params;
   if (check.left_joints.empty() && check.right_joints.empty())
   {
     check.left_joints = { "left" };
     check.right_joints = { "right" };
   }
   requireValid(check.validate(), sourceName(names, overrides));
-  const std::string unstable = stabilityWarning(params.aic);
+  const std::string unstable = analysis::stabilityWarning(params.aic);
   if (!unstable.empty())
   {
     std::cerr << sourceName(names, overrides) << ": warning: the configuration is " << unstable << "\n";

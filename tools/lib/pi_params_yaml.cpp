@@ -32,10 +32,10 @@ double number(const YAML::Node& node, const std::string& file, const std::string
 }
 }  // namespace
 
-PiControllerParams loadPiParams(const std::string& file, const std::vector<std::string>& overrides)
+classical::PiControllerParams loadPiParams(const std::string& file, const std::vector<std::string>& overrides)
 {
   const YAML::Node root = readYamlMap(file, overrides);
-  PiControllerParams p;
+  classical::PiControllerParams p;
   const std::map<std::string, double*> scalars = {
     { "period", &p.period },
     { "rest_linear", &p.rest_linear },

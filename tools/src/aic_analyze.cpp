@@ -2,7 +2,7 @@
  * \file aic_analyze.cpp
  * \brief CLI: linear analysis of an active inference controller configuration (thesis ch. 4,
  *        appendix A; doc/active_inference.md, 'State-space model for analysis') on top of
- *        jackal_aic::ClosedLoopModel.
+ *        jackal_aic::analysis::ClosedLoopModel.
  *
  * Reads the same YAML parameter files as the jackal_AIC node (node-only keys are ignored,
  * unknown keys are warned about) and prints, per belief rate and integrator: the spectral radius
@@ -53,7 +53,7 @@ std::string fmt(double v, int precision = 4)
   return os.str();
 }
 
-std::string limitText(const StabilityLimit& l, bool lower_is_better, bool csv)
+std::string limitText(const analysis::StabilityLimit& l, bool lower_is_better, bool csv)
 {
   if (std::isnan(l.value))
   {
@@ -77,9 +77,9 @@ struct Row
 {
   double belief_rate;
   double action_rate;
-  Integrator integrator;
-  PredictedStep pred;
-  StabilityLimit tau, k_mu, k_a;
+  params::Integrator integrator;
+  analysis::PredictedStep pred;
+  analysis::StabilityLimit tau, k_mu, k_a;
   bool scanned;
 };
 }  // namespace
@@ -90,7 +90,7 @@ int main(int argc, char** argv)
   std::vector<double> rates{ 50.0, 100.0, 1000.0 };
   std::vector<std::string> integrator_names{ "euler", "exact" };
   std::string plant_name = "point";
-  PlantModel plant;
+  analysis::PlantModel plant;
   double target = 0.5;
   double duration = 20.0;
   bool csv = false;
@@ -133,11 +133,11 @@ int main(int argc, char** argv)
   {
     return cl.bad("--rates: empty list");
   }
-  std::vector<Integrator> integrators;
+  std::vector<params::Integrator> integrators;
   for (const auto& name : integrator_names)
   {
-    Integrator integ;
-    if (!integratorFromString(name, &integ))
+    params::Integrator integ;
+    if (!params::integratorFromString(name, &integ))
     {
       return cl.bad("--integrators: '" + name + "' (allowed: euler, exact)");
     }
@@ -149,11 +149,11 @@ int main(int argc, char** argv)
   }
   if (plant_name == "point")
   {
-    plant.type = PlantModel::Type::kPointMass;
+    plant.type = analysis::PlantModel::Type::kPointMass;
   }
   else if (plant_name == "first-order")
   {
-    plant.type = PlantModel::Type::kFirstOrder;
+    plant.type = analysis::PlantModel::Type::kFirstOrder;
   }
   else
   {
@@ -165,7 +165,7 @@ int main(int argc, char** argv)
     {
       return cl.bad("--plant-time-constant '" + fmt(plant.time_constant) + "' must be > 0");
     }
-    plant.type = PlantModel::Type::kFirstOrder;
+    plant.type = analysis::PlantModel::Type::kFirstOrder;
   }
   if (target == 0.0)
   {
@@ -179,7 +179,7 @@ int main(int argc, char** argv)
   {
     try
     {
-      parseOverride(o);
+      overrides::parseOverride(o);
     }
     catch (const std::invalid_argument& e)
     {
@@ -187,7 +187,7 @@ int main(int argc, char** argv)
     }
   }
 
-  AicParams params;
+  params::AicParams params;
   std::vector<std::string> defaulted;
   try
   {
@@ -196,7 +196,7 @@ int main(int argc, char** argv)
     {
       fail(1, file + ": expected a map of parameters at the top level");
     }
-    applyOverrides(root, overrides);  // the shared KEY=VALUE parser
+    overrides::applyOverrides(root, overrides);  // the shared KEY=VALUE parser
     std::vector<std::string> unknown;
     params = aicParamsFromYaml(root, file, &defaulted, &unknown);
     for (const auto& key : unknown)
@@ -235,9 +235,9 @@ int main(int argc, char** argv)
   {
     for (double br : rates)
     {
-      for (Integrator integ : integrators)
+      for (params::Integrator integ : integrators)
       {
-        AicParams p = params;
+        params::AicParams p = params;
         p.belief_rate = br;
         p.action_rate = std::min(params.action_rate, br);
         p.integrator = integ;
@@ -245,12 +245,12 @@ int main(int argc, char** argv)
         {
           fail(2, "belief rate " + fmt(br) + " Hz is not a multiple of the action rate " + fmt(p.action_rate) + " Hz");
         }
-        Row r{ br, p.action_rate, integ, predictStep(p, plant, target, duration), {}, {}, {}, scan };
+        Row r{ br, p.action_rate, integ, analysis::predictStep(p, plant, target, duration), {}, {}, {}, scan };
         if (scan)
         {
-          r.tau = scanStabilityLimit(p, plant, ScanParameter::kTau, 1e-5, 10.0);
-          r.k_mu = scanStabilityLimit(p, plant, ScanParameter::kKMu, 1e-4, 1e4);
-          r.k_a = scanStabilityLimit(p, plant, ScanParameter::kKA, 1e-4, 1e4);
+          r.tau = analysis::scanStabilityLimit(p, plant, analysis::ScanParameter::kTau, 1e-5, 10.0);
+          r.k_mu = analysis::scanStabilityLimit(p, plant, analysis::ScanParameter::kKMu, 1e-4, 1e4);
+          r.k_a = analysis::scanStabilityLimit(p, plant, analysis::ScanParameter::kKA, 1e-4, 1e4);
         }
         rows.push_back(r);
       }
@@ -261,7 +261,7 @@ int main(int argc, char** argv)
     fail(1, e.what());
   }
 
-  const std::string plant_text = plant.type == PlantModel::Type::kPointMass ?
+  const std::string plant_text = plant.type == analysis::PlantModel::Type::kPointMass ?
                                      "point (wheels follow the command)" :
                                      "first-order, time constant " + fmt(plant.time_constant) + " s";
   if (csv)
@@ -271,7 +271,7 @@ int main(int argc, char** argv)
     for (const auto& r : rows)
     {
       const bool m = r.pred.stable && r.pred.velocity_valid;
-      std::cout << r.belief_rate << "," << r.action_rate << "," << toString(r.integrator) << ","
+      std::cout << r.belief_rate << "," << r.action_rate << "," << params::toString(r.integrator) << ","
                 << fmt(r.pred.spectral_radius, 8) << "," << (r.pred.stable ? "true" : "false") << ","
                 << (m ? fmt(r.pred.velocity.rise_time, 6) : "nan") << ","
                 << (m ? fmt(r.pred.velocity.settling_time, 6) : "nan") << ","
@@ -286,12 +286,12 @@ int main(int argc, char** argv)
   std::cout << "config: " << file << "\n"
             << "  tau = " << params.tau << " s, k_mu = " << params.k_mu << ", k_a = " << params.k_a
             << ", p = " << params.embedding_order << ", file rates " << params.belief_rate << " / "
-            << params.action_rate << " Hz, file integrator " << toString(params.integrator) << "\n"
+            << params.action_rate << " Hz, file integrator " << params::toString(params.integrator) << "\n"
             << "  plant: " << plant_text << "; step of v_x 0 -> " << target << " m/s over " << duration << " s\n";
   {
     // Belief stiffness (doc/active_inference.md, 'Analysis notes'): Euler is stable only while
     // h * |lambda| < 2 for the fastest (real) mode of the continuous belief dynamics.
-    const ClosedLoopModel m(params, plant);
+    const analysis::ClosedLoopModel m(params, plant);
     const Eigen::EigenSolver<Eigen::MatrixXd> es(m.M(), false);
     const double lambda_max = es.eigenvalues().cwiseAbs().maxCoeff();
     const double pi_mu0 = params.precisionMu().col(0).maxCoeff();
@@ -317,8 +317,9 @@ int main(int argc, char** argv)
   {
     const bool m = r.pred.stable && r.pred.velocity_valid;
     std::printf("%9g %9g %-7s %12s %-8s %9s %9s %9s %10s | %16s %16s %16s\n", r.belief_rate, r.action_rate,
-                toString(r.integrator).c_str(), fmt(r.pred.spectral_radius, 6).c_str(), r.pred.stable ? "yes" : "NO",
-                m ? fmt(r.pred.velocity.rise_time).c_str() : "-", m ? fmt(r.pred.velocity.settling_time).c_str() : "-",
+                params::toString(r.integrator).c_str(), fmt(r.pred.spectral_radius, 6).c_str(),
+                r.pred.stable ? "yes" : "NO", m ? fmt(r.pred.velocity.rise_time).c_str() : "-",
+                m ? fmt(r.pred.velocity.settling_time).c_str() : "-",
                 m ? fmt(r.pred.velocity.overshoot_percent).c_str() : "-",
                 m ? fmt(r.pred.velocity.steady_state_error).c_str() : "-",
                 r.scanned ? limitText(r.tau, true, false).c_str() : "-",
@@ -329,7 +330,7 @@ int main(int argc, char** argv)
                "from the linear model (no clamp).\n"
                "min_tau / max_k_mu / max_k_a: stability limits with the other parameters as in the file "
                "(none = unstable over the whole scan range; A..B = stable only between A and B).\n";
-  if (plant.type == PlantModel::Type::kPointMass)
+  if (plant.type == analysis::PlantModel::Type::kPointMass)
   {
     std::cout << "note: with the point plant, y^(1) (finite differences of the wheel speeds = of a) feeds back into\n"
                  "      da/dt as a sampled derivative; it is unstable once k_a / var_y[1] exceeds ~1. A lagging wheel\n"

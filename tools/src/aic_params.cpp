@@ -71,7 +71,7 @@ int checkFile(const std::string& given, std::vector<std::string> bases)
     bases = kOverlayBases;
     std::cout << given << ": an overlay (no joint lists): checked over " << bases[0] << " + " << bases[1] << "\n";
   }
-  NodeParams params;
+  params::NodeParams params;
   try
   {
     if (!bases.empty())
@@ -84,8 +84,8 @@ int checkFile(const std::string& given, std::vector<std::string> bases)
     std::cerr << "aic_params: a base of " << given << ": " << e.what() << "\n";
     return 1;
   }
-  const ParamLoadReport report =
-      loadParams(YamlParamSource(root), { ParamScope::kController, ParamScope::kNode }, false, &params);
+  const params::ParamLoadReport report = params::loadParams(
+      YamlParamSource(root), { params::ParamScope::kController, params::ParamScope::kNode }, false, &params);
   int problems = 0;
   for (const auto& key : report.unknown)
   {
@@ -109,7 +109,7 @@ int checkFile(const std::string& given, std::vector<std::string> bases)
   if (problems == 0)
   {
     // Valid: loaded as the node loads it, with the node's warning of an unstable controller.
-    const std::string unstable = stabilityWarning(params.aic);
+    const std::string unstable = analysis::stabilityWarning(params.aic);
     if (!unstable.empty())
     {
       std::cerr << "aic_params: " << given << ": warning: the configuration is " << unstable << "\n";
@@ -162,7 +162,7 @@ int main(int argc, char** argv)
   {
     try
     {
-      const NodeParams values = loadNodeParamsFiles(configs);
+      const params::NodeParams values = loadNodeParamsFiles(configs);
       std::cout << parameterYaml(&values, configs);
     }
     catch (const std::exception& e)

@@ -1,7 +1,7 @@
 /**
  * \file aic_predict.cpp
  * \brief CLI: batch predictions of the dual-rate closed-loop state-space model
- *        (jackal_aic::ClosedLoopModel; thesis ch. 4, appendix A; doc/active_inference.md,
+ *        (jackal_aic::analysis::ClosedLoopModel; thesis ch. 4, appendix A; doc/active_inference.md,
  *        'State-space model for analysis') for a tuner: one candidate per input line.
  *
  * Usage: aic_predict CONFIG.yaml [--target V] [--duration S]
@@ -73,16 +73,16 @@ std::string predictLine(const std::string& config, const std::string& line, doub
   std::istringstream in(line);
   std::string tok;
   std::vector<std::string> overrides;
-  PlantModel plant;
+  analysis::PlantModel plant;
   while (in >> tok)
   {
-    const Override o = parseOverride(tok);  // the shared KEY=VALUE parser
+    const overrides::Override o = overrides::parseOverride(tok);  // the shared KEY=VALUE parser
     if (o.key.rfind("plant.", 0) == 0)
     {
       const double v = plantNumber(o.key, o.value);
       if (o.key == "plant.time_constant")
       {
-        plant.type = PlantModel::Type::kFirstOrder;
+        plant.type = analysis::PlantModel::Type::kFirstOrder;
         plant.time_constant = v;
       }
       else if (o.key == "plant.gain")
@@ -103,16 +103,16 @@ std::string predictLine(const std::string& config, const std::string& line, doub
       overrides.push_back(tok);
     }
   }
-  const AicParams p = loadAicParams(config, overrides);
-  const ClosedLoopModel model(p, plant);
+  const params::AicParams p = loadAicParams(config, overrides);
+  const analysis::ClosedLoopModel model(p, plant);
   const double rho = model.spectralRadius();
   std::ostringstream os;
-  os << "{\"ok\": true, \"spectral_radius\": " << jsonNumber(rho, 8)
+  os << "{\"ok\": true, \"spectral_radius\": " << base::jsonNumber(rho, 8)
      << ", \"stable\": " << (rho < 1.0 ? "true" : "false");
   double rise = NAN, settling = NAN, overshoot = NAN, sse = NAN, peak = NAN;
   if (rho < 1.0)
   {
-    const auto resp = model.stepResponse(Vector3(target, 0.0, 0.0), duration);
+    const auto resp = model.stepResponse(base::Vector3(target, 0.0, 0.0), duration);
     std::vector<double> t, v;
     peak = 0.0;
     for (const auto& s : resp)
@@ -121,18 +121,18 @@ std::string predictLine(const std::string& config, const std::string& line, doub
       v.push_back(s.twist(0));
       peak = std::max(peak, s.a.cwiseAbs().maxCoeff());
     }
-    StepMetricsOptions o;
+    analysis::StepMetricsOptions o;
     o.initial = 0.0;
     o.target = target;
-    const StepMetrics m = computeStepMetrics(t, v, o);
+    const analysis::StepMetrics m = analysis::computeStepMetrics(t, v, o);
     rise = m.rise_time;
     settling = m.settled ? m.settling_time : NAN;
     overshoot = m.overshoot_percent;
     sse = m.steady_state_error;
   }
-  os << ", \"rise\": " << jsonNumber(rise, 8) << ", \"settling\": " << jsonNumber(settling, 8)
-     << ", \"overshoot\": " << jsonNumber(overshoot, 8) << ", \"sse\": " << jsonNumber(sse, 8)
-     << ", \"peak_command\": " << jsonNumber(peak, 8) << "}";
+  os << ", \"rise\": " << base::jsonNumber(rise, 8) << ", \"settling\": " << base::jsonNumber(settling, 8)
+     << ", \"overshoot\": " << base::jsonNumber(overshoot, 8) << ", \"sse\": " << base::jsonNumber(sse, 8)
+     << ", \"peak_command\": " << base::jsonNumber(peak, 8) << "}";
   return os.str();
 }
 }  // namespace

@@ -274,7 +274,7 @@ int main(int argc, char** argv)
   ClosedLoopConfig c;
   plant::RobotDescription description;
   plant::PlantParams params;
-  std::vector<TwistProfile> profiles;
+  std::vector<analysis::TwistProfile> profiles;
   try
   {
     if (!profile_dir.empty())
@@ -290,7 +290,7 @@ int main(int argc, char** argv)
     }
     for (const std::string& f : profile_files)
     {
-      profiles.push_back(loadTwistProfileCsv(f));
+      profiles.push_back(analysis::loadTwistProfileCsv(f));
     }
     description = plant.description();
     params = plant.params();
@@ -362,9 +362,9 @@ int main(int argc, char** argv)
   SoakStats s;
   const double limit = c.aic.max_wheel_speed;
   const double runaway_limit = c.aic.runaway_limit;
-  const ControlLoop* seen_loop = nullptr;
+  const loop::ControlLoop* seen_loop = nullptr;
   std::uint64_t loop_runaways = 0, loop_jumps = 0, loop_starts = 0;
-  Vector2 last_command = Vector2::Zero();
+  base::Vector2 last_command = base::Vector2::Zero();
   std::size_t op_index = 0;
   double op_ready_at = -1.0;  // run time from which the operation's recovery is measured [s]
   std::vector<std::vector<double>> recoveries(4);
@@ -389,7 +389,7 @@ int main(int argc, char** argv)
   double loop_since = 0.0;
   c.observer = [&](const ClosedLoopSample& x) {
     ++s.samples;
-    const ControlLoop* loop = x.loop;
+    const loop::ControlLoop* loop = x.loop;
     if (loop != seen_loop)
     {
       s.runaways += loop_runaways;

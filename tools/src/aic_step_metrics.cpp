@@ -1,6 +1,6 @@
 /**
  * \file aic_step_metrics.cpp
- * \brief CLI: step-response metrics (jackal_aic::computeStepMetrics) of one column of a CSV file,
+ * \brief CLI: step-response metrics (jackal_aic::analysis::computeStepMetrics) of one column of a CSV file,
  *        printed as one JSON line. The experiment scripts call this so that the metrics have one
  *        implementation.
  *
@@ -38,7 +38,7 @@ int main(int argc, char** argv)
   std::string time_column = "time";
   std::string value_column = "value";
   std::string band_basis = "final";
-  jackal_aic::StepMetricsOptions o;
+  jackal_aic::analysis::StepMetricsOptions o;
   jackal_aic::CommandLine cl("aic_step_metrics", "Step-response metrics of one column of a CSV file, printed as one "
                                                  "JSON line: rise_time, settling_time [s from "
                                                  "the step], overshoot_percent [% of step], steady_state_error [target "
@@ -63,11 +63,11 @@ int main(int argc, char** argv)
   }
   if (band_basis == "final")
   {
-    o.band_basis = jackal_aic::SettlingBandBasis::kFinalValue;
+    o.band_basis = jackal_aic::analysis::SettlingBandBasis::kFinalValue;
   }
   else if (band_basis == "step")
   {
-    o.band_basis = jackal_aic::SettlingBandBasis::kStepSize;
+    o.band_basis = jackal_aic::analysis::SettlingBandBasis::kStepSize;
   }
   else
   {
@@ -89,7 +89,8 @@ int main(int argc, char** argv)
   std::vector<double> v;
   try
   {
-    const jackal_aic::CsvTable csv = jackal_aic::readCsv(*in, "'" + file + "'", jackal_aic::CsvHeader::kRequired);
+    const jackal_aic::analysis::CsvTable csv =
+        jackal_aic::analysis::readCsv(*in, "'" + file + "'", jackal_aic::analysis::CsvHeader::kRequired);
     const int tcol = csv.column(time_column);
     const int vcol = csv.column(value_column);
     if (tcol < 0 || vcol < 0)
@@ -113,8 +114,8 @@ int main(int argc, char** argv)
   }
   try
   {
-    const auto m = jackal_aic::computeStepMetrics(t, v, o);
-    std::cout << jackal_aic::toJson(m, o) << std::endl;
+    const auto m = jackal_aic::analysis::computeStepMetrics(t, v, o);
+    std::cout << jackal_aic::analysis::toJson(m, o) << std::endl;
   }
   catch (const std::invalid_argument& e)
   {

@@ -37,22 +37,22 @@
 
 namespace
 {
-using jackal_aic::NodeParams;
-using jackal_aic::PeriodicStats;
-using jackal_aic::PeriodicThread;
+using jackal_aic::os::PeriodicStats;
+using jackal_aic::os::PeriodicThread;
+using jackal_aic::params::NodeParams;
 
 /// CLOCK_MONOTONIC [s], the belief thread's own clock.
-class MonotonicClock : public jackal_aic::Clock
+class MonotonicClock : public jackal_aic::loop::Clock
 {
 public:
   double now() const override { return 1e-9 * static_cast<double>(PeriodicThread::monotonicNow()); }
 };
 
 /// Commands go nowhere.
-class NoOutput : public jackal_aic::ControlLoop::Output
+class NoOutput : public jackal_aic::loop::ControlLoop::Output
 {
 public:
-  void command(const jackal_aic::WheelCommand& /*command*/) override {}
+  void command(const jackal_aic::loop::WheelCommand& /*command*/) override {}
 };
 
 /**
@@ -68,8 +68,8 @@ public:
   {
     params.left_joints = { "left" };
     params.right_joints = { "right" };
-    params.belief_schedule = jackal_aic::BeliefSchedule::kTimer;
-    loop_ = std::make_unique<jackal_aic::ControlLoop>(params, clock_, output_);
+    params.belief_schedule = jackal_aic::params::BeliefSchedule::kTimer;
+    loop_ = std::make_unique<jackal_aic::loop::ControlLoop>(params, clock_, output_);
     wheels_ = 0.4 / params.aic.wheel_radius;
   }
 
@@ -82,11 +82,11 @@ public:
       last_sample_ = now;
       const double set_point[6] = { 0.5, 0.0, 0.0, 0.0, 0.0, 0.0 };
       loop_->setPoint(set_point);
-      jackal_aic::ImuInput imu;
+      jackal_aic::loop::ImuInput imu;
       imu.stamp = now;
       loop_->imu(imu);
       velocity_ = { wheels_, wheels_ };
-      jackal_aic::JointStateInput joints;
+      jackal_aic::loop::JointStateInput joints;
       joints.stamp = now;
       joints.name = &names_;
       joints.velocity = &velocity_;
@@ -113,7 +113,7 @@ private:
   mutable std::mutex mutex_;
   MonotonicClock clock_;
   NoOutput output_;
-  std::unique_ptr<jackal_aic::ControlLoop> loop_;
+  std::unique_ptr<jackal_aic::loop::ControlLoop> loop_;
   std::vector<std::string> names_;
   std::vector<double> velocity_, empty_;
   double wheels_ = 0.0;
@@ -195,7 +195,7 @@ int main(int argc, char** argv)
 
   const std::string source = config.empty() ? std::string(" (the node's defaults)") : ", " + config;
   std::printf("aic_timing: %.1f s per rate; controller p = %d, integrator %s%s\n", duration, params.aic.embedding_order,
-              jackal_aic::toString(params.aic.integrator).c_str(), source.c_str());
+              jackal_aic::params::toString(params.aic.integrator).c_str(), source.c_str());
   std::printf("| loop   | rate [Hz] | achieved [Hz] | of nominal | steps [Hz] | p50 [ms] | p99 [ms] | max [ms] | "
               "overruns "
               "| CPU (1 core) |\n");

@@ -47,7 +47,7 @@ struct Series
   std::vector<std::vector<double>> values;
 };
 
-Series series(const CsvTable& csv, int tcol, const std::vector<int>& cols)
+Series series(const analysis::CsvTable& csv, int tcol, const std::vector<int>& cols)
 {
   Series s;
   s.values.resize(cols.size());
@@ -72,14 +72,14 @@ Series series(const CsvTable& csv, int tcol, const std::vector<int>& cols)
   return s;
 }
 
-std::string profileJson(const TwistProfile& p)
+std::string profileJson(const analysis::TwistProfile& p)
 {
   std::ostringstream os;
-  os << "{\"name\": \"" << p.name << "\", \"duration\": " << jsonNumber(p.duration, 12) << ", \"points\": [";
+  os << "{\"name\": \"" << p.name << "\", \"duration\": " << base::jsonNumber(p.duration, 12) << ", \"points\": [";
   for (std::size_t i = 0; i < p.points.size(); ++i)
   {
-    os << (i ? ", " : "") << "[" << jsonNumber(p.points[i].t, 12) << ", " << jsonNumber(p.points[i].vx, 12) << ", "
-       << jsonNumber(p.points[i].wz, 12) << "]";
+    os << (i ? ", " : "") << "[" << base::jsonNumber(p.points[i].t, 12) << ", " << base::jsonNumber(p.points[i].vx, 12)
+       << ", " << base::jsonNumber(p.points[i].wz, 12) << "]";
   }
   os << "]}";
   return os.str();
@@ -129,7 +129,7 @@ int main(int argc, char** argv)
   }
   try
   {
-    const TwistProfile profile = loadTwistProfileCsv(profile_file);
+    const analysis::TwistProfile profile = analysis::loadTwistProfileCsv(profile_file);
     if (print_profile)
     {
       std::cout << profileJson(profile) << "\n";
@@ -137,17 +137,17 @@ int main(int argc, char** argv)
     }
     if (floor)
     {
-      LatencyFloorSettings settings;
+      analysis::LatencyFloorSettings settings;
       settings.latency = floor_latency;
       settings.accel_linear = floor_accel_linear;
       settings.accel_angular = floor_accel_angular;
-      const AicParams goal_rate = recommendedAicParams();
-      const VelocityTrackingError hold = latencyFloor(profile, goal_rate, settings);
+      const params::AicParams goal_rate = params::recommendedAicParams();
+      const analysis::VelocityTrackingError hold = analysis::latencyFloor(profile, goal_rate, settings);
       settings.predict = true;
-      const VelocityTrackingError predict = latencyFloor(profile, goal_rate, settings);
-      std::cout << "{\"profile\": \"" << profile.name << "\", \"duration\": " << jsonNumber(profile.duration)
-                << ", \"latency\": " << jsonNumber(floor_latency) << ", \"hold\": " << toJson(hold)
-                << ", \"predict\": " << toJson(predict) << "}\n";
+      const analysis::VelocityTrackingError predict = analysis::latencyFloor(profile, goal_rate, settings);
+      std::cout << "{\"profile\": \"" << profile.name << "\", \"duration\": " << base::jsonNumber(profile.duration)
+                << ", \"latency\": " << base::jsonNumber(floor_latency) << ", \"hold\": " << analysis::toJson(hold)
+                << ", \"predict\": " << analysis::toJson(predict) << "}\n";
       return 0;
     }
     std::ifstream f(trace_file);
@@ -155,7 +155,7 @@ int main(int argc, char** argv)
     {
       throw std::invalid_argument("cannot open trace '" + trace_file + "'");
     }
-    const CsvTable csv = readCsv(f, trace_file, CsvHeader::kRequired);
+    const analysis::CsvTable csv = analysis::readCsv(f, trace_file, analysis::CsvHeader::kRequired);
     const int tcol = csv.column(time_column);
     if (tcol < 0)
     {
@@ -180,8 +180,9 @@ int main(int argc, char** argv)
       const Series s = series(csv, tcol, { csv.column(h), wcol });
       // A signal with no sample at all (empty columns) is null; one with samples is analysed.
       tracking << (signals ? ", " : "") << "\"" << name << "\": "
-               << (s.time.empty() ? std::string("null") :
-                                    toJson(velocityTrackingError(profile, s.time, s.values[0], s.values[1])));
+               << (s.time.empty() ?
+                       std::string("null") :
+                       analysis::toJson(analysis::velocityTrackingError(profile, s.time, s.values[0], s.values[1])));
       ++signals;
     }
     const int xcol = csv.column("x");
@@ -196,8 +197,8 @@ int main(int argc, char** argv)
     if (have_pose)
     {
       const Series s = series(csv, tcol, { xcol, ycol, hcol });
-      const PathDrift d = pathDrift(profile, s.time, s.values[0], s.values[1], s.values[2]);
-      path = toJson(d);
+      const analysis::PathDrift d = analysis::pathDrift(profile, s.time, s.values[0], s.values[1], s.values[2]);
+      path = analysis::toJson(d);
       if (!ideal_csv.empty())
       {
         std::ofstream out(ideal_csv);
@@ -213,7 +214,7 @@ int main(int argc, char** argv)
         }
       }
     }
-    std::cout << "{\"profile\": \"" << profile.name << "\", \"duration\": " << jsonNumber(profile.duration)
+    std::cout << "{\"profile\": \"" << profile.name << "\", \"duration\": " << base::jsonNumber(profile.duration)
               << ", \"tracking\": {" << tracking.str() << "}, \"path\": " << path << "}\n";
   }
   catch (const std::exception& e)

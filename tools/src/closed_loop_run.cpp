@@ -124,7 +124,7 @@ constexpr int kExitDiverged = 3;
 std::string metricsJson(const std::vector<double>& t, const std::vector<double>& y, double t_step, double t_end,
                         double initial, double target)
 {
-  StepMetricsOptions o;
+  analysis::StepMetricsOptions o;
   o.step_time = t_step;
   o.end_time = t_end;
   o.initial = initial;
@@ -143,11 +143,12 @@ std::string metricsJson(const std::vector<double>& t, const std::vector<double>&
   {
     return "null";
   }
-  const StepMetrics m = computeStepMetrics(tt, yy, o);
+  const analysis::StepMetrics m = analysis::computeStepMetrics(tt, yy, o);
   std::ostringstream os;
-  os << "{\"rise\": " << jsonNumber(m.rise_time) << ", \"settling\": " << jsonNumber(m.settling_time)
-     << ", \"overshoot\": " << jsonNumber(m.overshoot_percent) << ", \"sse\": " << jsonNumber(m.steady_state_error)
-     << ", \"settled\": " << (m.settled ? "true" : "false") << "}";
+  os << "{\"rise\": " << base::jsonNumber(m.rise_time) << ", \"settling\": " << base::jsonNumber(m.settling_time)
+     << ", \"overshoot\": " << base::jsonNumber(m.overshoot_percent)
+     << ", \"sse\": " << base::jsonNumber(m.steady_state_error) << ", \"settled\": " << (m.settled ? "true" : "false")
+     << "}";
   return os.str();
 }
 }  // namespace
@@ -166,27 +167,30 @@ std::string inferenceCsvHeader(int orders)
   }
   std::ostringstream h;
   h << ",F[-],F_sensory[-],F_prior[-],a_L[rad/s],a_R[rad/s],a_ff_L[rad/s],a_ff_R[rad/s]";
-  for (int c = 0; c < kMuDim; ++c)
+  for (int c = 0; c < base::kMuDim; ++c)
   {
-    h << ",goal_" << kBeliefChannelNames[c] << "[" << kBeliefChannelUnits[c] << "]";
+    h << ",goal_" << aic::kBeliefChannelNames[c] << "[" << aic::kBeliefChannelUnits[c] << "]";
   }
-  for (int c = 0; c < kYDim; ++c)
+  for (int c = 0; c < base::kYDim; ++c)
   {
-    h << ",Pi_y0_" << kSensorChannelNames[c] << "[1/(" << kSensorChannelUnits[c] << ")^2]";
+    h << ",Pi_y0_" << aic::kSensorChannelNames[c] << "[1/(" << aic::kSensorChannelUnits[c] << ")^2]";
   }
   for (int i = 0; i < orders; ++i)
   {
-    for (int c = 0; c < kMuDim; ++c)
+    for (int c = 0; c < base::kMuDim; ++c)
     {
-      h << ",mu" << i << "_" << kBeliefChannelNames[c] << "[" << orderUnit(kBeliefChannelUnits[c], i) << "]";
+      h << ",mu" << i << "_" << aic::kBeliefChannelNames[c] << "[" << aic::orderUnit(aic::kBeliefChannelUnits[c], i)
+        << "]";
     }
-    for (int c = 0; c < kYDim; ++c)
+    for (int c = 0; c < base::kYDim; ++c)
     {
-      h << ",eps_y" << i << "_" << kSensorChannelNames[c] << "[" << orderUnit(kSensorChannelUnits[c], i) << "]";
+      h << ",eps_y" << i << "_" << aic::kSensorChannelNames[c] << "[" << aic::orderUnit(aic::kSensorChannelUnits[c], i)
+        << "]";
     }
-    for (int c = 0; c < kMuDim; ++c)
+    for (int c = 0; c < base::kMuDim; ++c)
     {
-      h << ",eps_mu" << i << "_" << kBeliefChannelNames[c] << "[" << orderUnit(kBeliefChannelUnits[c], i + 1) << "]";
+      h << ",eps_mu" << i << "_" << aic::kBeliefChannelNames[c] << "["
+        << aic::orderUnit(aic::kBeliefChannelUnits[c], i + 1) << "]";
     }
   }
   return h.str();
@@ -194,17 +198,17 @@ std::string inferenceCsvHeader(int orders)
 
 /// One sample's inference columns (inferenceCsvHeader's order; empty cells: NaN, an order
 /// beyond the sample's).
-std::string inferenceCsvRow(const InferenceSample& s, int orders)
+std::string inferenceCsvRow(const aic::InferenceSample& s, int orders)
 {
-  auto cell = [](double v) { return std::isfinite(v) ? jsonNumber(v) : std::string(); };
+  auto cell = [](double v) { return std::isfinite(v) ? base::jsonNumber(v) : std::string(); };
   std::ostringstream r;
   r << "," << cell(s.free_energy) << "," << cell(s.sensory) << "," << cell(s.prior) << "," << cell(s.action(0)) << ","
     << cell(s.action(1)) << "," << cell(s.action_prior(0)) << "," << cell(s.action_prior(1));
-  for (int c = 0; c < kMuDim; ++c)
+  for (int c = 0; c < base::kMuDim; ++c)
   {
     r << "," << cell(s.goal(c));
   }
-  for (int c = 0; c < kYDim; ++c)
+  for (int c = 0; c < base::kYDim; ++c)
   {
     r << "," << cell(s.precision_y(c));
   }
@@ -212,15 +216,15 @@ std::string inferenceCsvRow(const InferenceSample& s, int orders)
   for (int i = 0; i < orders; ++i)
   {
     const bool has = i < s.mu.cols();
-    for (int c = 0; c < kMuDim; ++c)
+    for (int c = 0; c < base::kMuDim; ++c)
     {
       r << "," << cell(has ? s.mu(c, i) : kNaN);
     }
-    for (int c = 0; c < kYDim; ++c)
+    for (int c = 0; c < base::kYDim; ++c)
     {
       r << "," << cell(has ? s.eps_y(c, i) : kNaN);
     }
-    for (int c = 0; c < kMuDim; ++c)
+    for (int c = 0; c < base::kMuDim; ++c)
     {
       r << "," << cell(has ? s.eps_mu(c, i) : kNaN);
     }
@@ -252,7 +256,7 @@ std::string divergence(const ClosedLoopRecord& rec, const std::vector<SetPointSe
     if (bad != s.second->end())
     {
       const std::size_t k = static_cast<std::size_t>(bad - s.second->begin());
-      causes.push_back(std::string("non-finite ") + s.first + " at t = " + jsonNumber(rec.time[k] - t0) + " s");
+      causes.push_back(std::string("non-finite ") + s.first + " at t = " + base::jsonNumber(rec.time[k] - t0) + " s");
       break;
     }
   }
@@ -279,9 +283,10 @@ std::string divergence(const ClosedLoopRecord& rec, const std::vector<SetPointSe
   if (commanded && !moved)
   {
     std::ostringstream os;
-    os << "the robot never moved: largest ground-truth |vx| " << jsonNumber(max_lin, 3)
-       << " m/s against a set point of " << jsonNumber(set_lin, 3) << " m/s, |wz| " << jsonNumber(max_ang, 3)
-       << " rad/s against " << jsonNumber(set_ang, 3) << " rad/s (below " << jsonNumber(100.0 * kMovedShare) << " %)";
+    os << "the robot never moved: largest ground-truth |vx| " << base::jsonNumber(max_lin, 3)
+       << " m/s against a set point of " << base::jsonNumber(set_lin, 3) << " m/s, |wz| "
+       << base::jsonNumber(max_ang, 3) << " rad/s against " << base::jsonNumber(set_ang, 3) << " rad/s (below "
+       << base::jsonNumber(100.0 * kMovedShare) << " %)";
     causes.push_back(os.str());
   }
   std::string out;
@@ -466,12 +471,12 @@ int main(int argc, char** argv)
   }
 
   // The profile in profile time (0 = t0), for the tracking metrics; a CSV profile is played from t0.
-  TwistProfile tracked;
+  analysis::TwistProfile tracked;
   try
   {
     if (have_profile)
     {
-      tracked = loadTwistProfileCsv(profile_file);
+      tracked = analysis::loadTwistProfileCsv(profile_file);
       c.profile = profileSegments(tracked, t0);
       c.duration = t0 + tracked.duration;
     }
@@ -481,7 +486,7 @@ int main(int argc, char** argv)
       {
         if (s.start >= t0 - 1e-9)
         {
-          tracked.points.push_back(TwistProfilePoint{ s.start - t0, s.linear, s.angular });
+          tracked.points.push_back(analysis::TwistProfilePoint{ s.start - t0, s.linear, s.angular });
         }
       }
       tracked.duration = c.duration - t0;
@@ -548,21 +553,23 @@ int main(int argc, char** argv)
     t_profile.push_back(t - t0);
   }
   std::string tracking_json;
-  PathDrift drift;
+  analysis::PathDrift drift;
   try
   {
-    tracking_json = "{\"truth\": " + toJson(velocityTrackingError(tracked, t_profile, rec.v_true, rec.yaw_true)) +
-                    ", \"odometry\": " + toJson(velocityTrackingError(tracked, t_profile, rec.v_odom, rec.yaw_odom));
+    tracking_json = "{\"truth\": " +
+                    analysis::toJson(analysis::velocityTrackingError(tracked, t_profile, rec.v_true, rec.yaw_true)) +
+                    ", \"odometry\": " +
+                    analysis::toJson(analysis::velocityTrackingError(tracked, t_profile, rec.v_odom, rec.yaw_odom));
     if (c.controller == LoopController::kAic)
     {
       // The honest-belief measure: belief mu^(0) against the truth where the set point holds.
       tracking_json += ", \"belief\": " +
-                       toJson(steadyEstimateError(tracked, t_profile, rec.belief, rec.belief_yaw, rec.v_true,
-                                                  rec.yaw_true, kBeliefSettle)) +
-                       ", \"belief_settle\": " + jsonNumber(kBeliefSettle);
+                       analysis::toJson(analysis::steadyEstimateError(tracked, t_profile, rec.belief, rec.belief_yaw,
+                                                                      rec.v_true, rec.yaw_true, kBeliefSettle)) +
+                       ", \"belief_settle\": " + base::jsonNumber(kBeliefSettle);
     }
     tracking_json += "}";
-    drift = pathDrift(tracked, t_profile, rec.x_true, rec.y_true, rec.heading_true);
+    drift = analysis::pathDrift(tracked, t_profile, rec.x_true, rec.y_true, rec.heading_true);
   }
   catch (const std::exception& e)
   {
@@ -582,23 +589,24 @@ int main(int argc, char** argv)
     {
       f << t_profile[k] << "," << rec.set_point[k] << "," << rec.v_odom[k] << "," << rec.v_true[k] << ","
         << rec.yaw_odom[k] << "," << rec.yaw_true[k] << "," << rec.command[k] << ","
-        << (std::isfinite(rec.belief[k]) ? jsonNumber(rec.belief[k]) : "") << "," << rec.angular_set_point[k] << ","
-        << rec.command_yaw[k] << "," << (std::isfinite(rec.belief_yaw[k]) ? jsonNumber(rec.belief_yaw[k]) : "") << ","
-        << jsonNumber(rec.x_true[k], 9) << "," << jsonNumber(rec.y_true[k], 9) << ","
-        << jsonNumber(rec.heading_true[k], 9);
+        << (std::isfinite(rec.belief[k]) ? base::jsonNumber(rec.belief[k]) : "") << "," << rec.angular_set_point[k]
+        << "," << rec.command_yaw[k] << ","
+        << (std::isfinite(rec.belief_yaw[k]) ? base::jsonNumber(rec.belief_yaw[k]) : "") << ","
+        << base::jsonNumber(rec.x_true[k], 9) << "," << base::jsonNumber(rec.y_true[k], 9) << ","
+        << base::jsonNumber(rec.heading_true[k], 9);
       if (ideal < drift.time.size() && drift.time[ideal] == t_profile[k])
       {
-        f << "," << jsonNumber(drift.ideal[ideal].x, 9) << "," << jsonNumber(drift.ideal[ideal].y, 9) << ","
-          << jsonNumber(drift.ideal[ideal].heading, 9);
+        f << "," << base::jsonNumber(drift.ideal[ideal].x, 9) << "," << base::jsonNumber(drift.ideal[ideal].y, 9) << ","
+          << base::jsonNumber(drift.ideal[ideal].heading, 9);
         ++ideal;
       }
       else
       {
         f << ",,,";
       }
-      f << "," << (std::isfinite(rec.separation[k]) ? jsonNumber(rec.separation[k]) : "") << ","
-        << (std::isfinite(rec.gyro_offset[k]) ? jsonNumber(rec.gyro_offset[k]) : "") << ","
-        << jsonNumber(rec.pitch_true[k], 6);
+      f << "," << (std::isfinite(rec.separation[k]) ? base::jsonNumber(rec.separation[k]) : "") << ","
+        << (std::isfinite(rec.gyro_offset[k]) ? base::jsonNumber(rec.gyro_offset[k]) : "") << ","
+        << base::jsonNumber(rec.pitch_true[k], 6);
       if (k < rec.inference.size())
       {
         f << inferenceCsvRow(rec.inference[k], orders);
@@ -623,13 +631,14 @@ int main(int argc, char** argv)
     max_pitch = std::max(max_pitch, std::abs(p));
   }
   std::cout << "{\"controller\": \"" << controller << "\", \"channel\": \"" << channel
-            << "\", \"runaways\": " << rec.runaways << ", \"max_abs_speed\": " << jsonNumber(max_abs)
-            << ", \"max_abs_pitch\": " << jsonNumber(max_pitch)
-            << ", \"command_delay\": " << jsonNumber(params.motor.command_delay) << ", \"t0\": " << jsonNumber(t0);
+            << "\", \"runaways\": " << rec.runaways << ", \"max_abs_speed\": " << base::jsonNumber(max_abs)
+            << ", \"max_abs_pitch\": " << base::jsonNumber(max_pitch)
+            << ", \"command_delay\": " << base::jsonNumber(params.motor.command_delay)
+            << ", \"t0\": " << base::jsonNumber(t0);
   if (c.controller == LoopController::kAic)
   {
     // The tip-over guard: trips and learned bounds (null: none learned).
-    const auto bound = [](double b) { return std::isfinite(b) ? jsonNumber(b) : std::string("null"); };
+    const auto bound = [](double b) { return std::isfinite(b) ? base::jsonNumber(b) : std::string("null"); };
     std::cout << ", \"tip_guard\": {\"trips\": " << rec.tip_trips << ", \"front\": " << bound(rec.tip_front)
               << ", \"rear\": " << bound(rec.tip_rear) << "}";
   }
@@ -639,7 +648,7 @@ int main(int argc, char** argv)
     std::cout << ", \"sensory_precisions\": [";
     for (std::size_t j = 0; j < rec.sensory_precisions.size(); ++j)
     {
-      std::cout << (j ? ", " : "") << jsonNumber(rec.sensory_precisions[j]);
+      std::cout << (j ? ", " : "") << base::jsonNumber(rec.sensory_precisions[j]);
     }
     std::cout << "]";
   }
@@ -669,8 +678,8 @@ int main(int argc, char** argv)
       {
         continue;
       }
-      out << (first ? "" : ", ") << "{\"t_step\": " << jsonNumber(t_step - t0)
-          << ", \"initial\": " << jsonNumber(initial) << ", \"target\": " << jsonNumber(target)
+      out << (first ? "" : ", ") << "{\"t_step\": " << base::jsonNumber(t_step - t0)
+          << ", \"initial\": " << base::jsonNumber(initial) << ", \"target\": " << base::jsonNumber(target)
           << ", \"measured\": " << metricsJson(rec.time, measured, t_step, t_end, initial, target)
           << ", \"truth\": " << metricsJson(rec.time, truth, t_step, t_end, initial, target)
           << ", \"belief\": " << metricsJson(rec.time, belief, t_step, t_end, initial, target)
@@ -718,11 +727,11 @@ int main(int argc, char** argv)
       ++n;
     }
     const double m = std::max<double>(1.0, static_cast<double>(n));
-    std::cout << ", \"plant\": {\"torque_limited\": " << jsonNumber(limited / m)
-              << ", \"wheel_loop\": {\"vx\": " << jsonNumber(std::sqrt(loop_v / m))
-              << ", \"wz\": " << jsonNumber(std::sqrt(loop_w / m))
-              << "}, \"slip\": {\"vx\": " << jsonNumber(std::sqrt(slip_v / m))
-              << ", \"wz\": " << jsonNumber(std::sqrt(slip_w / m)) << "}}";
+    std::cout << ", \"plant\": {\"torque_limited\": " << base::jsonNumber(limited / m)
+              << ", \"wheel_loop\": {\"vx\": " << base::jsonNumber(std::sqrt(loop_v / m))
+              << ", \"wz\": " << base::jsonNumber(std::sqrt(loop_w / m))
+              << "}, \"slip\": {\"vx\": " << base::jsonNumber(std::sqrt(slip_v / m))
+              << ", \"wz\": " << base::jsonNumber(std::sqrt(slip_w / m)) << "}}";
   }
   if (c.controller == LoopController::kIdeal)
   {
@@ -730,7 +739,7 @@ int main(int argc, char** argv)
       std::string o = "[";
       for (std::size_t i = 0; i < v.size(); ++i)
       {
-        o += (i ? ", " : "") + jsonNumber(v[i]);
+        o += (i ? ", " : "") + base::jsonNumber(v[i]);
       }
       return o + "]";
     };
@@ -738,8 +747,8 @@ int main(int argc, char** argv)
               << ", \"vx_rms\": " << list(ideal.vx_rms) << ", \"wz_rms\": " << list(ideal.wz_rms) << "}";
   }
   const std::string diverged = divergence(rec, c.profile, t0);
-  std::cout << ", \"profile\": \"" << tracked.name << "\", \"duration\": " << jsonNumber(tracked.duration)
-            << ", \"tracking\": " << tracking_json << ", \"path\": " << toJson(drift)
+  std::cout << ", \"profile\": \"" << tracked.name << "\", \"duration\": " << base::jsonNumber(tracked.duration)
+            << ", \"tracking\": " << tracking_json << ", \"path\": " << analysis::toJson(drift)
             << ", \"diverged\": " << (diverged.empty() ? std::string("null") : jsonString(diverged)) << "}\n";
   if (!diverged.empty() && !keep_going)
   {

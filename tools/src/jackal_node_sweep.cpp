@@ -51,13 +51,13 @@ constexpr double kHold = 5.0;      ///< a step's hold [s]
 constexpr double kMcuRate = 50.0;  ///< the MCU's feedback rate [Hz] (the sensor model's)
 
 /// Step metrics of y against a step at kRest + 10 ms (the set point's first sample) from 0 to target.
-StepMetrics stepOf(const ClosedLoopRecord& r, const std::vector<double>& y, double target)
+analysis::StepMetrics stepOf(const ClosedLoopRecord& r, const std::vector<double>& y, double target)
 {
-  StepMetricsOptions o;
+  analysis::StepMetricsOptions o;
   o.step_time = kRest;
   o.initial = 0.0;
   o.target = target;
-  return computeStepMetrics(r.time, y, o);
+  return analysis::computeStepMetrics(r.time, y, o);
 }
 
 /// One case of the AIC's sweep: a step (channel 0 speed, 1 yaw) or a profile.
@@ -69,7 +69,7 @@ struct Case
   int channel = 0;       ///< step: 0 speed, 1 yaw
   double target = 0.0;   ///< step: the channel's set point
   bool profile = false;  ///< true: RMS tracking of `tracked`
-  TwistProfile tracked;
+  analysis::TwistProfile tracked;
 };
 
 /// The case's figures of a run: settling [s] for a step; RMS vx [m/s], RMS wz [rad/s] for a profile.
@@ -77,7 +77,7 @@ std::vector<double> figures(const Case& c, const ClosedLoopRecord& r)
 {
   if (!c.profile)
   {
-    const StepMetrics m = stepOf(r, c.channel == 0 ? r.v_true : r.yaw_true, c.target);
+    const analysis::StepMetrics m = stepOf(r, c.channel == 0 ? r.v_true : r.yaw_true, c.target);
     return { m.settling_time };
   }
   std::vector<double> t;
@@ -85,7 +85,7 @@ std::vector<double> figures(const Case& c, const ClosedLoopRecord& r)
   {
     t.push_back(x - kRest);
   }
-  const VelocityTrackingError e = velocityTrackingError(c.tracked, t, r.v_true, r.yaw_true);
+  const analysis::VelocityTrackingError e = analysis::velocityTrackingError(c.tracked, t, r.v_true, r.yaw_true);
   return { e.vx.rms, e.wz.rms };
 }
 }  // namespace
@@ -143,7 +143,7 @@ int main(int argc, char** argv)
 
   RobotDescription desc;
   PlantParams params;
-  NodeParams node;
+  params::NodeParams node;
   try
   {
     desc = plant.description();
@@ -166,7 +166,7 @@ int main(int argc, char** argv)
       c.profile = stepProfile(kRest, 0.5);
       c.duration = kRest + kHold;
       const ClosedLoopRecord clean = runClosedLoop(desc, params, c);
-      const StepMetrics mc = stepOf(clean, clean.v_diff_drive, 0.5);
+      const analysis::StepMetrics mc = stepOf(clean, clean.v_diff_drive, 0.5);
       std::printf("Re-sampled joint states, stock controller, 0.5 m/s step (drift %g ppm, jitter %g ms, stall %g)\n",
                   drift, 1e3 * jitter, stall);
       std::printf("clean samples: diff-drive odometry overshoot %.1f %%, settling %.3f s\n", mc.overshoot_percent,
@@ -181,7 +181,7 @@ int main(int argc, char** argv)
         c.jackal_node_sampler = sp;
         c.jackal_node_sampler.phase = phaseOf(p);
         const ClosedLoopRecord r = runClosedLoop(desc, params, c);
-        const StepMetrics m = stepOf(r, r.v_diff_drive, 0.5);
+        const analysis::StepMetrics m = stepOf(r, r.v_diff_drive, 0.5);
         const auto& s = r.jackal_node_stats;
         std::printf("%9.1f %9.2f %6lu %8.1f %8.1f %8.1f %7lu %8lu %10.1f %9.3f\n", 1e3 * phaseOf(p),
                     100.0 * s.repeatRate(), static_cast<unsigned long>(s.max_repeat_run), 1e3 * s.max_held,
@@ -192,7 +192,7 @@ int main(int argc, char** argv)
       }
       std::printf("over the sweep: the longest run of repeats %lu, the longest any data stayed %.1f ms (a frozen MCU "
                   "reads as frozen after %.0f ms)\n",
-                  static_cast<unsigned long>(run), 1e3 * held, 1e3 * kFrozenJointStateTime);
+                  static_cast<unsigned long>(run), 1e3 * held, 1e3 * safety::kFrozenJointStateTime);
     }
     if (part != "resample")
     {
@@ -228,7 +228,7 @@ int main(int argc, char** argv)
         Case k;
         k.name = name;
         k.profile = true;
-        k.tracked = loadTwistProfileCsv(packageFile(std::string("sim/profiles/") + name + ".csv"));
+        k.tracked = analysis::loadTwistProfileCsv(packageFile(std::string("sim/profiles/") + name + ".csv"));
         k.segments = profileSegments(k.tracked, kRest);
         k.duration = kRest + k.tracked.duration + 1.0;
         cases.push_back(k);

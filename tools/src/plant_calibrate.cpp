@@ -6,7 +6,7 @@
  *
  * What is compared and how (see jackal_sim/harness/calibration.hpp): wheel-odometry body speed
  * r (omega_L + omega_R) / 2 from the 50 Hz joint states, as the robot's own estimate was;
- * metrics from jackal_aic::computeStepMetrics (rise 10-90 % of the step, settling into
+ * metrics from jackal_aic::analysis::computeStepMetrics (rise 10-90 % of the step, settling into
  * +-5 % of the set point, from the set-point step). Ground truth is printed beside it.
  *
  * Usage: plant_calibrate [--urdf FILE] [--config FILE] [--overlay FILE]... [--set key=value]...
@@ -157,7 +157,8 @@ int main(int argc, char** argv)
   std::printf("  urdf %s\n  config %s\n", plant.urdf.c_str(), plant.config.c_str());
   plant.printLayers();
   std::printf("  measured: wheel-odometry speed r*(wL+wR)/2 from 50 Hz joint states (the robot's own estimate);\n"
-              "  metrics: jackal_aic::computeStepMetrics, rise 10-90 %% of the step, settling into +-5 %% of the\n"
+              "  metrics: jackal_aic::analysis::computeStepMetrics, rise 10-90 %% of the step, settling into +-5 %% of "
+              "the\n"
               "  set point, times from the set-point step\n\n");
   std::printf("%-6s | %-27s | %-27s | %-9s | %-20s\n", "step", "settling 5% [s]", "rise 10-90% [s]", "overshoot",
               "ground truth");
@@ -179,8 +180,8 @@ int main(int argc, char** argv)
       csv_out << row.step << "," << rec.time[k] << "," << rec.v_odom[k] << "," << rec.v_true[k] << "," << rec.command[k]
               << "\n";
     }
-    const jackal_aic::StepMetrics m = stepMetricsOf(rec);
-    const jackal_aic::StepMetrics g = stepMetricsOf(rec, true);
+    const jackal_aic::analysis::StepMetrics m = stepMetricsOf(rec);
+    const jackal_aic::analysis::StepMetrics g = stepMetricsOf(rec, true);
     const double es = (m.settling_time - row.settling) / row.settling;
     const double er = (m.rise_time - row.rise) / row.rise;
     std::printf("%-6.1f | %8.3f %8.2f %+8.0f%% | %8.3f %8.2f %+8.0f%% | %9.1f | %9.3f %10.3f\n", row.step,

@@ -84,7 +84,7 @@ int main(int argc, char** argv)
 
   RobotDescription desc;
   PlantParams params;
-  NodeParams controller;
+  params::NodeParams controller;
   std::vector<RobotStepTable> tables;
   try
   {
@@ -129,39 +129,40 @@ int main(int argc, char** argv)
 
   if (json)
   {
-    std::cout << "{\"cost\": " << jsonNumber(cost) << ", \"accepted\": " << (all_ok ? "true" : "false")
+    std::cout << "{\"cost\": " << base::jsonNumber(cost) << ", \"accepted\": " << (all_ok ? "true" : "false")
               << ", \"tables\": [";
     for (std::size_t i = 0; i < fits.size(); ++i)
     {
       std::cout << (i ? ", " : "") << "{\"id\": \"" << fits[i].id
-                << "\", \"mean_abs_error\": " << jsonNumber(fits[i].mean_abs_error)
-                << ", \"cost\": " << jsonNumber(fits[i].cost)
+                << "\", \"mean_abs_error\": " << base::jsonNumber(fits[i].mean_abs_error)
+                << ", \"cost\": " << base::jsonNumber(fits[i].cost)
                 << ", \"accepted\": " << (fits[i].accepted ? "true" : "false") << "}";
     }
-    std::cout << "], \"steady\": {\"turn_hold_error\": " << jsonNumber(steady.turn_hold_error)
-              << ", \"stock_turn_error\": " << jsonNumber(steady.stock_turn_error)
-              << ", \"top_speed\": " << jsonNumber(steady.top_speed) << ", \"penalty\": " << jsonNumber(steady.penalty)
-              << "}, \"turning\": {\"turn_rise\": " << jsonNumber(turning.turn.rise_time)
-              << ", \"turn_settling\": " << jsonNumber(turning.turn.settling_time)
-              << ", \"turn_truth_rise\": " << jsonNumber(turning.turn_truth.rise_time)
-              << ", \"turn_truth_settling\": " << jsonNumber(turning.turn_truth.settling_time)
-              << ", \"arc_settling\": " << jsonNumber(turning.arc.settling_time)
-              << ", \"arc_truth_settling\": " << jsonNumber(turning.arc_truth.settling_time)
-              << ", \"ok\": " << (turning.ok ? "true" : "false") << ", \"penalty\": " << jsonNumber(turning.penalty)
-              << "}, \"entries\": [";
+    std::cout << "], \"steady\": {\"turn_hold_error\": " << base::jsonNumber(steady.turn_hold_error)
+              << ", \"stock_turn_error\": " << base::jsonNumber(steady.stock_turn_error)
+              << ", \"top_speed\": " << base::jsonNumber(steady.top_speed)
+              << ", \"penalty\": " << base::jsonNumber(steady.penalty)
+              << "}, \"turning\": {\"turn_rise\": " << base::jsonNumber(turning.turn.rise_time)
+              << ", \"turn_settling\": " << base::jsonNumber(turning.turn.settling_time)
+              << ", \"turn_truth_rise\": " << base::jsonNumber(turning.turn_truth.rise_time)
+              << ", \"turn_truth_settling\": " << base::jsonNumber(turning.turn_truth.settling_time)
+              << ", \"arc_settling\": " << base::jsonNumber(turning.arc.settling_time)
+              << ", \"arc_truth_settling\": " << base::jsonNumber(turning.arc_truth.settling_time)
+              << ", \"ok\": " << (turning.ok ? "true" : "false")
+              << ", \"penalty\": " << base::jsonNumber(turning.penalty) << "}, \"entries\": [";
     for (std::size_t i = 0; i < entries.size(); ++i)
     {
       const FitEntry& e = entries[i];
-      std::cout << (i ? ", " : "") << "{\"table\": \"" << e.table << "\", \"step\": " << jsonNumber(e.robot.step)
-                << ", \"belief_rate\": " << jsonNumber(e.robot.belief_rate)
-                << ", \"action_rate\": " << jsonNumber(e.robot.action_rate)
-                << ", \"settling\": " << jsonNumber(e.sim.settling_time)
-                << ", \"rise\": " << jsonNumber(e.sim.rise_time)
-                << ", \"overshoot\": " << jsonNumber(e.sim.overshoot_percent)
-                << ", \"robot_settling\": " << jsonNumber(e.robot.settling)
-                << ", \"robot_rise\": " << jsonNumber(e.robot.rise)
-                << ", \"settling_error\": " << jsonNumber(e.settling_error)
-                << ", \"rise_error\": " << jsonNumber(e.rise_error) << ", \"runaways\": " << e.runaways << "}";
+      std::cout << (i ? ", " : "") << "{\"table\": \"" << e.table << "\", \"step\": " << base::jsonNumber(e.robot.step)
+                << ", \"belief_rate\": " << base::jsonNumber(e.robot.belief_rate)
+                << ", \"action_rate\": " << base::jsonNumber(e.robot.action_rate)
+                << ", \"settling\": " << base::jsonNumber(e.sim.settling_time)
+                << ", \"rise\": " << base::jsonNumber(e.sim.rise_time)
+                << ", \"overshoot\": " << base::jsonNumber(e.sim.overshoot_percent)
+                << ", \"robot_settling\": " << base::jsonNumber(e.robot.settling)
+                << ", \"robot_rise\": " << base::jsonNumber(e.robot.rise)
+                << ", \"settling_error\": " << base::jsonNumber(e.settling_error)
+                << ", \"rise_error\": " << base::jsonNumber(e.rise_error) << ", \"runaways\": " << e.runaways << "}";
     }
     std::cout << "]}\n";
     return (check && !all_ok) ? 1 : 0;

@@ -65,7 +65,7 @@ std::vector<DriveCommand> driveCommands(const std::string& path)
   {
     throw std::invalid_argument("'" + path + "' cannot be opened");
   }
-  const CsvTable t = readCsv(in, "'" + path + "'", CsvHeader::kRequired);
+  const analysis::CsvTable t = analysis::readCsv(in, "'" + path + "'", analysis::CsvHeader::kRequired);
   const int ct = t.column("t"), cm = t.column("mode"), cl = t.column("left"), cr = t.column("right");
   if (ct < 0 || cm < 0 || cl < 0 || cr < 0)
   {
@@ -82,14 +82,14 @@ std::vector<DriveCommand> driveCommands(const std::string& path)
     const int mode = static_cast<int>(std::lround(m));
     if (m != mode || (mode != kModeVelocity && mode != kModeNone))
     {
-      throw std::invalid_argument(t.where(i) + "mode " + jsonNumber(m) +
+      throw std::invalid_argument(t.where(i) + "mode " + base::jsonNumber(m) +
                                   " (allowed: 0 MODE_VELOCITY, -1 MODE_NONE; the plant's MCU model has no PWM or "
                                   "effort mode)");
     }
     const double time = t.number(i, ct, "t");
     if (!out.empty() && time < out.back().time)
     {
-      throw std::invalid_argument(t.where(i) + "t " + jsonNumber(time) + " before the previous row's");
+      throw std::invalid_argument(t.where(i) + "t " + base::jsonNumber(time) + " before the previous row's");
     }
     out.push_back({ time, mode == kModeVelocity, t.number(i, cl, "left"), t.number(i, cr, "right") });
   }
@@ -143,7 +143,7 @@ int main(int argc, char** argv)
     }
     else
     {
-      const TwistProfile twist = loadTwistProfileCsv(twist_file);
+      const analysis::TwistProfile twist = analysis::loadTwistProfileCsv(twist_file);
       const std::vector<SetPointSegment> profile = profileSegments(twist, 0.0);
       duration = cl.given("duration") ? duration : twist.duration;
       commands = stockDriveCommands(profile, duration);

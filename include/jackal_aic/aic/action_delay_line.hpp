@@ -12,6 +12,8 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 /**
  * \brief Delay line of the sent action's body twist u = G a, one sample per action step.
  *
@@ -38,17 +40,17 @@ public:
 
   /// Restart the line at the twist u [m/s, m/s, rad/s] held now (one sample at the current
   /// clock; delayed() = u). The clock is kept.
-  void restart(const Vector3& u);
+  void restart(const base::Vector3& u);
   /// Clock back to 0, then restart(u).
-  void reset(const Vector3& u);
+  void reset(const base::Vector3& u);
   /**
    * \brief Record the twist u [m/s, m/s, rad/s] of the action just sent, after an action step
    *        h [s] (finite and > 0), and update delayed().
    */
-  void record(double h, const Vector3& u);
+  void record(double h, const base::Vector3& u);
 
   /// G a(t - d_r) [m/s, m/s, rad/s]: the unbiased state prior's target.
-  const Vector3& delayed() const { return delayed_; }
+  const base::Vector3& delayed() const { return delayed_; }
   /// The action clock [s]: the sum of the recorded steps since reset().
   double clock() const { return time_; }
   /// Samples in the line, 1 ... kCapacity.
@@ -59,7 +61,7 @@ private:
   struct Sample
   {
     double t;
-    Vector3 u;
+    base::Vector3 u;
   };
 
   double delay_;
@@ -67,7 +69,8 @@ private:
   int head_ = 0;
   int count_ = 1;
   double time_ = 0.0;
-  Vector3 delayed_ = Vector3::Zero();
+  base::Vector3 delayed_ = base::Vector3::Zero();
 };
 
+}  // namespace aic
 }  // namespace jackal_aic

@@ -12,6 +12,8 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 /**
  * \brief a_ff = k_ff W (m + T_p m') with a reference model, else a_ff = k_ff W mu_hat_d.
  *
@@ -25,10 +27,10 @@ namespace jackal_aic
 class ActionPrior
 {
 public:
-  explicit ActionPrior(const ActionPriorParams& params = ActionPriorParams()) : params_(params) {}
+  explicit ActionPrior(const params::ActionPriorParams& params = params::ActionPriorParams()) : params_(params) {}
 
   /// The settings in use.
-  const ActionPriorParams& params() const { return params_; }
+  const params::ActionPriorParams& params() const { return params_; }
   /// True when the prior acts (gain > 0).
   bool enabled() const { return params_.gain > 0.0; }
 
@@ -39,10 +41,11 @@ public:
    *                   predicted goal target()
    * \return zero when !enabled().
    */
-  Vector2 wheels(const SkidSteerModel& model, const ReferenceModel& reference) const;
+  base::Vector2 wheels(const SkidSteerModel& model, const ReferenceModel& reference) const;
 
 private:
-  ActionPriorParams params_;
+  params::ActionPriorParams params_;
 };
 
+}  // namespace aic
 }  // namespace jackal_aic

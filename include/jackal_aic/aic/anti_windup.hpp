@@ -10,6 +10,8 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 /**
  * \brief The command a = clamps(a_F + h a_F' + a_ff) and the a_F it leaves.
  *
@@ -37,20 +39,21 @@ public:
   /// One clamped action step.
   struct Result
   {
-    Vector2 command;           ///< a, the clamped command (omega_L, omega_R) [rad/s]
-    Vector2 free_energy_part;  ///< a_F after the step [rad/s]
-    bool saturated;            ///< the wheel-speed clamp (3) cut the command (the lead clamps do not count)
+    base::Vector2 command;           ///< a, the clamped command (omega_L, omega_R) [rad/s]
+    base::Vector2 free_energy_part;  ///< a_F after the step [rad/s]
+    bool saturated;                  ///< the wheel-speed clamp (3) cut the command (the lead clamps do not count)
   };
 
   /// \param params           the lead limits (AicParams::anti_windup, validated)
   /// \param max_wheel_speed  the wheel-speed clamp [rad/s], > 0 (AicParams::max_wheel_speed)
-  explicit AntiWindup(const AntiWindupParams& params = AntiWindupParams(), double max_wheel_speed = 20.0)
+  explicit AntiWindup(const params::AntiWindupParams& params = params::AntiWindupParams(),
+                      double max_wheel_speed = 20.0)
     : params_(params), max_wheel_speed_(max_wheel_speed)
   {
   }
 
   /// The settings in use.
-  const AntiWindupParams& params() const { return params_; }
+  const params::AntiWindupParams& params() const { return params_; }
   /// The wheel-speed clamp in use [rad/s].
   double maxWheelSpeed() const { return max_wheel_speed_; }
 
@@ -66,15 +69,19 @@ public:
    * \return the command, the new a_F and whether the wheel-speed clamp cut the command.
    *         Inputs are expected finite (the controller checks candidate + prior first).
    */
-  Result apply(const Vector2& a_F, const Vector2& candidate, const Vector2& a_dot, const Vector2& prior,
-               const Vector2& omega, bool left_trusted, bool right_trusted) const;
+  Result apply(const base::Vector2& a_F, const base::Vector2& candidate, const base::Vector2& a_dot,
+               const base::Vector2& prior, const base::Vector2& omega, bool left_trusted, bool right_trusted) const;
 
   /// a with each wheel clamped to +-max_wheel_speed [rad/s].
-  Vector2 limitWheelSpeed(const Vector2& a) const { return a.cwiseMax(-max_wheel_speed_).cwiseMin(max_wheel_speed_); }
+  base::Vector2 limitWheelSpeed(const base::Vector2& a) const
+  {
+    return a.cwiseMax(-max_wheel_speed_).cwiseMin(max_wheel_speed_);
+  }
 
 private:
-  AntiWindupParams params_;
+  params::AntiWindupParams params_;
   double max_wheel_speed_;
 };
 
+}  // namespace aic
 }  // namespace jackal_aic

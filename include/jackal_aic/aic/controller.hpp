@@ -25,6 +25,8 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 /**
  * \brief Active inference controller: beliefs mu_tilde (3 x (p+1)), action a (2) [rad/s].
  *
@@ -73,16 +75,16 @@ public:
   };
 
   /// \throws std::invalid_argument listing every violation if params.validate() is not empty.
-  explicit ActiveInferenceController(const AicParams& params);
+  explicit ActiveInferenceController(const params::AicParams& params);
 
   /**
    * \brief Replace the parameters. If the embedding order changes the state is reset,
    *        otherwise beliefs and action are kept (the action clamped to the new max_wheel_speed).
    * \throws std::invalid_argument (state unchanged) if params.validate() is not empty.
    */
-  void setParams(const AicParams& params);
+  void setParams(const params::AicParams& params);
   /// The parameters in use (always valid).
-  const AicParams& params() const { return params_; }
+  const params::AicParams& params() const { return params_; }
   /// The generative model (G, R, K; eq. 3-1 ... 3-4) built from params().
   const SkidSteerModel& model() const { return model_; }
 
@@ -96,14 +98,14 @@ public:
    *        beliefs (updateBeliefs()); t_lead per channel (goal_lead, goal_lead_angular).
    * \return false (goal unchanged) for a non-finite element or one beyond runaway_limit.
    */
-  bool setGoal(const Vector3& mu_d, const Vector3& mu_d_dot = Vector3::Zero());
+  bool setGoal(const base::Vector3& mu_d, const base::Vector3& mu_d_dot = base::Vector3::Zero());
   /// The goal mu_d in use [m/s, m/s, rad/s]; zero until setGoal().
-  const Vector3& goal() const { return reference_.goal(); }
+  const base::Vector3& goal() const { return reference_.goal(); }
   /// The goal's rate mu_d' in use [m/s^2, m/s^2, rad/s^2] (zero unless params().reference.generalized_goal).
-  const Vector3& goalRate() const { return reference_.goalRate(); }
+  const base::Vector3& goalRate() const { return reference_.goalRate(); }
   /// The attractor's goal mu_r [m/s, m/s, rad/s]: the delayed reference path m(t - d_r) with a
   /// reference model, else mu_d.
-  Vector3 attractorGoal() const;
+  base::Vector3 attractorGoal() const;
   /**
    * \brief The target of the beliefs' state prior f(mu) = g' + (g - mu) / tau [m/s, m/s, rad/s]:
    *        belief_model goal: g = attractorGoal() (eq. 3-7, extended); belief_model unbiased:
@@ -111,30 +113,30 @@ public:
    *        (ActionDelayLine: zero-order hold over the action steps; the delay line holds kActionLine
    *        steps, a longer delay uses the oldest), g' = 0 (doc/active_inference.md, 'Unbiased beliefs').
    */
-  Vector3 priorGoal() const;
+  base::Vector3 priorGoal() const;
   /// The rate g' of priorGoal() [m/s^2, m/s^2, rad/s^2]: attractorRate() (goal), zero (unbiased).
-  Vector3 priorRate() const;
+  base::Vector3 priorRate() const;
   /**
    * \brief Start the reference model at the twist m0 [m/s, m/s, rad/s] (its whole delay line;
    *        e.g. the measured twist at a bumpless start) and the goal's expected response
    *        (GoalResponse) with it. No effect on anything else.
    * \return false (unchanged) if m0 is not finite.
    */
-  bool startReference(const Vector3& m0);
+  bool startReference(const base::Vector3& m0);
   /**
    * \brief The action prior a_ff [rad/s] = k_ff W (m + T_p m') with a reference model, else
    *        k_ff W (mu_d + t_lead mu_d') (W: the wheel rows of R, the inverse kinematics G^+ of
    *        eq. 3-3; k_ff = action_prior_gain, T_p = action_prior_time_constant): the wheel speeds
    *        the goal's path predicts (ActionPrior). Zero when action_prior_gain is 0.
    */
-  Vector2 actionPrior() const;
+  base::Vector2 actionPrior() const;
 
   /**
    * \brief Latest generalized measurement y_tilde (5 x (p+1)), held until the next one.
    * \return false (and ignored) if it has the wrong number of columns, a non-finite entry, or an
    *         entry beyond kMaxMeasurementMagnitude.
    */
-  bool setMeasurement(const YTilde& y_tilde);
+  bool setMeasurement(const base::YTilde& y_tilde);
   /// True once a measurement has been accepted (since construction or the last reset()).
   bool hasMeasurement() const { return has_measurement_; }
 
@@ -184,16 +186,16 @@ public:
   /// Set the action a = (omega_L, omega_R) [rad/s] (e.g. to the measured wheel speeds for a bumpless start);
   /// clamped to +-max_wheel_speed; a non-finite input is ignored (action unchanged). The free-energy
   /// part becomes a - actionPrior(), so the next step does not jump.
-  void setAction(const Vector2& a);
+  void setAction(const base::Vector2& a);
 
-  const MuTilde& mu() const { return mu_; }          ///< beliefs, 3 x (p+1)
-  const Vector2& action() const { return a_; }       ///< wheel speed commands (omega_L, omega_R) [rad/s]
-  const YTilde& yTilde() const { return y_tilde_; }  ///< held measurement, 5 x (p+1)
+  const base::MuTilde& mu() const { return mu_; }          ///< beliefs, 3 x (p+1)
+  const base::Vector2& action() const { return a_; }       ///< wheel speed commands (omega_L, omega_R) [rad/s]
+  const base::YTilde& yTilde() const { return y_tilde_; }  ///< held measurement, 5 x (p+1)
 
   /// Sensory prediction errors eps_y^(i) = y^(i) - R mu^(i), 5 x (p+1) (eq. 3-8).
-  YTilde epsY() const;
+  base::YTilde epsY() const;
   /// State prediction errors eps_mu^(i), 3 x (p+1) (eq. 3-9).
-  MuTilde epsMu() const;
+  base::MuTilde epsMu() const;
   /// Variational free energy F (eq. 3-10) at the current state [-].
   double freeEnergy() const;
   /// The sensory part of F, (1/2) sum_i eps_y^(i)T Pi_y^(i) eps_y^(i) [-] (eq. 3-10, first sum).
@@ -202,13 +204,13 @@ public:
   /// sensoryFreeEnergy() + priorFreeEnergy() = freeEnergy() up to rounding.
   double priorFreeEnergy() const;
   /// Gradient dF/dmu_tilde, 3 x (p+1) (eq. 3-13).
-  MuTilde dFdMu() const;
+  base::MuTilde dFdMu() const;
   /// Belief rate of change dmu_tilde/dt = D mu_tilde - k_mu dF/dmu_tilde, 3 x (p+1) (eq. 3-15).
-  MuTilde muDot() const;
+  base::MuTilde muDot() const;
   /// Action rate of change da/dt = -k_a sum_i K Pi_y^(i) eps_y^(i) [rad/s^2] (eq. 3-16); with
   /// belief_model unbiased eps_y is replaced by eps_g^(i) = R (mu^(i) - g^(i)), g = (mu_r, mu_r', 0, ...)
   /// the goal's path (the goal prior on the action; doc/active_inference.md, 'Unbiased beliefs').
-  Vector2 aDot() const;
+  base::Vector2 aDot() const;
 
   /**
    * \brief Use only some sensor channels: Pi_y^(i) of every order is set to zero for a channel whose
@@ -223,7 +225,7 @@ public:
   /// The channel mask in use (all kYDim bits set by default).
   std::uint8_t sensorMask() const { return sensor_mask_; }
   /// Precisions Pi_y in use, 5 x (p+1): params().precisionY() with the masked channels' rows zero.
-  const YTilde& precisionY() const { return pi_y_; }
+  const base::YTilde& precisionY() const { return pi_y_; }
 
   /**
    * \brief The learner of the effective wheel separation b_hat (params().separation_learner.enabled;
@@ -277,7 +279,7 @@ public:
    * \param mu  3 x (p+1) beliefs, finite, each |entry| <= runaway_limit
    * \return false (state unchanged) on a wrong number of columns, a non-finite entry or one beyond runaway_limit.
    */
-  bool setBeliefs(const MuTilde& mu);
+  bool setBeliefs(const base::MuTilde& mu);
 
   /// The exact integrator recomputes its matrices when |h - h0| ||M||_inf exceeds this [-];
   /// smaller changes of h use Psi(h) = Psi(h0) + Phi(h0) Psi(h - h0) with Psi(h - h0) summed to
@@ -302,26 +304,27 @@ public:
 
 private:
   /// Max size of the stacked belief vector vec(mu_tilde) = 3 (p+1).
-  static constexpr int kMaxStateDim = kMuDim * kMaxOrders;
+  static constexpr int kMaxStateDim = base::kMuDim * base::kMaxOrders;
   using StateMatrix =
       Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kMaxStateDim, kMaxStateDim>;
   using StateVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxStateDim, 1>;
 
   /// eps_y for given beliefs and measurement (eq. 3-8; plus the optional accelerometer coupling).
-  void computeEpsY(const MuTilde& mu, const YTilde& y_tilde, YTilde* eps_y) const;
+  void computeEpsY(const base::MuTilde& mu, const base::YTilde& y_tilde, base::YTilde* eps_y) const;
   /// Column i of eps_y, eps_y^(i) = y^(i) - R mu^(i) (eq. 3-8; accelerometer x also minus x_dot^(i+1)
   /// with accel_in_model), 5 x 1 per SensorIndex [sensor units]; 0 <= i <= p.
-  Vector5 epsYOrder(const MuTilde& mu, const YTilde& y_tilde, int i) const;
+  base::Vector5 epsYOrder(const base::MuTilde& mu, const base::YTilde& y_tilde, int i) const;
   /// eps_mu for given beliefs, attractor goal g and its rate g_dot (eq. 3-9, with g_dot).
-  void computeEpsMu(const MuTilde& mu, const Vector3& g, const Vector3& g_dot, MuTilde* eps_mu) const;
+  void computeEpsMu(const base::MuTilde& mu, const base::Vector3& g, const base::Vector3& g_dot,
+                    base::MuTilde* eps_mu) const;
   /// dF/dmu_tilde (eq. 3-13).
-  void computeDfDmu(const MuTilde& mu, const YTilde& y_tilde, const Vector3& g, const Vector3& g_dot,
-                    MuTilde* grad) const;
+  void computeDfDmu(const base::MuTilde& mu, const base::YTilde& y_tilde, const base::Vector3& g,
+                    const base::Vector3& g_dot, base::MuTilde* grad) const;
   /// dmu_tilde/dt (eq. 3-15).
-  void computeMuDot(const MuTilde& mu, const YTilde& y_tilde, const Vector3& g, const Vector3& g_dot,
-                    MuTilde* mu_dot) const;
+  void computeMuDot(const base::MuTilde& mu, const base::YTilde& y_tilde, const base::Vector3& g,
+                    const base::Vector3& g_dot, base::MuTilde* mu_dot) const;
   /// Cache precisions, model, the belief dynamics matrix M; invalidate the exact step.
-  void applyParams(const AicParams& params);
+  void applyParams(const params::AicParams& params);
   /// Pi_y from params_ and the sensor mask, the belief dynamics matrix M; invalidate the exact step.
   void rebuildDynamics();
   /// Compute Phi = exp(M h), Psi = int_0^h exp(M s) ds for the exact integrator (no heap).
@@ -349,10 +352,10 @@ private:
   /// belief_model robot: the action step (LatencyAction through WheelLoopModel).
   Status updateRobotAction(double h);
 
-  AicParams params_;
+  params::AicParams params_;
   SkidSteerModel model_;
-  MuTilde mu_;
-  YTilde y_tilde_;
+  base::MuTilde mu_;
+  base::YTilde y_tilde_;
   // The stages (class comment). A belief step integrates mu_ towards reference_'s attractor (or
   // action_line_'s twist), then advances reference_ and response_, then learner_ and
   // precision_learner_; an action step runs release_, action_prior_, anti_windup_, then records
@@ -373,14 +376,15 @@ private:
   double action_free_energy_ = 0.0;    ///< F_a of the last robot action step [-]
   bool action_saturated_ = false;
 
-  Vector2 a_ = Vector2::Zero();
-  Vector2 a_F_ = Vector2::Zero();  ///< the free-energy part a_F of the action (eq. 3-16); a_ = clamps(a_F_ + a_ff)
+  base::Vector2 a_ = base::Vector2::Zero();
+  base::Vector2 a_F_ =
+      base::Vector2::Zero();  ///< the free-energy part a_F of the action (eq. 3-16); a_ = clamps(a_F_ + a_ff)
   bool has_measurement_ = false;
   std::uint64_t runaway_count_ = 0;
-  std::uint8_t sensor_mask_ = (1u << kYDim) - 1u;  ///< bit j set = channel j used
+  std::uint8_t sensor_mask_ = (1u << base::kYDim) - 1u;  ///< bit j set = channel j used
 
-  MuTilde pi_mu_;         ///< Pi_mu, 3 x (p+1)
-  YTilde pi_y_;           ///< Pi_y, 5 x (p+1)
+  base::MuTilde pi_mu_;   ///< Pi_mu, 3 x (p+1)
+  base::YTilde pi_y_;     ///< Pi_y, 5 x (p+1)
   StateMatrix M_;         ///< linear part of dmu_tilde/dt on vec(mu_tilde)
   StateMatrix phi_;       ///< exp(M h_exact)
   StateMatrix psi_;       ///< int_0^h exp(M s) ds
@@ -392,4 +396,5 @@ private:
 /// Human-readable name of a status, e.g. "runaway".
 const char* toString(ActiveInferenceController::Status status);
 
+}  // namespace aic
 }  // namespace jackal_aic

@@ -11,6 +11,8 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 /**
  * \brief Turns samples y_k (n channels) into generalized measurements
  *        y_tilde_k = [y^(0)_k, ..., y^(p)_k] (n x (p+1)).
@@ -54,7 +56,7 @@ public:
   Status update(const Eigen::Ref<const Eigen::VectorXd>& y, double h);
 
   /// Current generalized signal, n x (p+1); zero before the first sample.
-  const GeneralizedSignal& yTilde() const { return y_tilde_; }
+  const base::GeneralizedSignal& yTilde() const { return y_tilde_; }
   /// True once a first sample has been accepted.
   bool initialized() const { return initialized_; }
   /// Forget everything (state to zero, not initialized); counters kept.
@@ -84,10 +86,10 @@ private:
   int p_;
   bool initialized_ = false;
   double q_h_ = 0.0;  ///< h for which q_ was built
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor, kMaxOrders, kMaxOrders> q_;
-  GeneralizedSignal y_tilde_;
-  GeneralizedSignal stacked_;  ///< scratch: [y_k, y^(0)_{k-1}, ..., y^(p-1)_{k-1}] per channel
-  GeneralizedSignal next_;     ///< scratch: candidate y_tilde_k, committed only if finite
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor, base::kMaxOrders, base::kMaxOrders> q_;
+  base::GeneralizedSignal y_tilde_;
+  base::GeneralizedSignal stacked_;  ///< scratch: [y_k, y^(0)_{k-1}, ..., y^(p-1)_{k-1}] per channel
+  base::GeneralizedSignal next_;     ///< scratch: candidate y_tilde_k, committed only if finite
   std::uint64_t accepted_ = 0;
   std::uint64_t rejected_ = 0;
 };
@@ -95,4 +97,5 @@ private:
 /// Human-readable name of a status, e.g. "non-finite value".
 const char* toString(Generalizer::Status status);
 
+}  // namespace aic
 }  // namespace jackal_aic

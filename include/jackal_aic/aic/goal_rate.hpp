@@ -11,6 +11,8 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 /**
  * \brief Estimates mu_d' [m/s^2, m/s^2, rad/s^2] of a zero-order-hold set-point stream.
  *
@@ -30,19 +32,19 @@ class GoalRateEstimator
 public:
   /// \param params  the goal stage's settings (AicParams::reference, validated): uses goal_rate_hold,
   ///                max_goal_rate_linear, max_goal_rate_angular
-  explicit GoalRateEstimator(const ReferenceModelParams& params);
+  explicit GoalRateEstimator(const params::ReferenceModelParams& params);
 
   /// New limits (goal_rate_hold, max_goal_rate_*); the state is kept.
-  void setParams(const ReferenceModelParams& params);
+  void setParams(const params::ReferenceModelParams& params);
 
   /**
    * \brief A set point mu_d [m/s, m/s, rad/s] received at time t [s].
    * \return false (state unchanged) for a non-finite mu_d or t, or t before the previous change.
    */
-  bool update(double t, const Vector3& mu_d);
+  bool update(double t, const base::Vector3& mu_d);
 
   /// mu_d' in force at time t [s] (zero once the slope's hold has passed, and before two changes).
-  Vector3 rate(double t) const;
+  base::Vector3 rate(double t) const;
 
   /// Forget the stream (no slope, no previous change).
   void reset();
@@ -53,12 +55,13 @@ public:
 
 private:
   double hold_;
-  Vector3 max_rate_;
+  base::Vector3 max_rate_;
   bool has_value_ = false;
-  Vector3 value_ = Vector3::Zero();
+  base::Vector3 value_ = base::Vector3::Zero();
   double change_time_ = 0.0;  ///< time of the last change [s]
-  Vector3 slope_ = Vector3::Zero();
+  base::Vector3 slope_ = base::Vector3::Zero();
   double slope_until_ = 0.0;  ///< the slope holds until this time [s]
 };
 
+}  // namespace aic
 }  // namespace jackal_aic

@@ -10,6 +10,8 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 /**
  * \brief g' = (mu_r - g) / T_g, integrated exactly with mu_r held over each step:
  *          g <- g + (mu_r - g)(1 - e^(-h / T_g)),   g' = (mu_r - g) / T_g
@@ -34,7 +36,7 @@ public:
   bool enabled() const { return time_constant_ > 0.0; }
 
   /// Start at g0 [m/s, m/s, rad/s] with g' = 0; ignored if not finite.
-  void start(const Vector3& g0);
+  void start(const base::Vector3& g0);
 
   /**
    * \brief Advance g by h [s] (finite and > 0; otherwise no effect) towards mu_r held over the step.
@@ -42,17 +44,18 @@ public:
    * \param mu_r_dot  its rate [m/s^2, m/s^2, rad/s^2] (ReferenceModel::attractorRate()), passed on
    *                  as g' when off
    */
-  void advance(double h, const Vector3& mu_r, const Vector3& mu_r_dot);
+  void advance(double h, const base::Vector3& mu_r, const base::Vector3& mu_r_dot);
 
   /// g [m/s, m/s, rad/s]: the expected response (mu_r when off, after advance()).
-  const Vector3& goal() const { return g_; }
+  const base::Vector3& goal() const { return g_; }
   /// g' [m/s^2, m/s^2, rad/s^2]: its rate (mu_r' when off, after advance()).
-  const Vector3& rate() const { return g_dot_; }
+  const base::Vector3& rate() const { return g_dot_; }
 
 private:
   double time_constant_;
-  Vector3 g_ = Vector3::Zero();
-  Vector3 g_dot_ = Vector3::Zero();
+  base::Vector3 g_ = base::Vector3::Zero();
+  base::Vector3 g_dot_ = base::Vector3::Zero();
 };
 
+}  // namespace aic
 }  // namespace jackal_aic

@@ -13,6 +13,8 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 /**
  * \brief Posterior mean of the gyro's offset from the readings taken while the robot stands still.
  *
@@ -56,7 +58,7 @@ public:
   };
 
   /// \throws std::invalid_argument naming every violated rule of GyroBiasEstimatorParams.
-  explicit GyroBiasEstimator(const GyroBiasEstimatorParams& params);
+  explicit GyroBiasEstimator(const params::GyroBiasEstimatorParams& params);
 
   /**
    * \brief One sensor sample.
@@ -85,13 +87,13 @@ public:
   /// Back to beta_hat = 0, n = 0, nothing learned, not at rest.
   void reset();
   /// The settings in use.
-  const GyroBiasEstimatorParams& params() const { return params_; }
+  const params::GyroBiasEstimatorParams& params() const { return params_; }
   /// Replace the settings, keeping beta_hat (clamped to the new bound) and n.
   /// \throws std::invalid_argument as the constructor (the estimator unchanged).
-  void setParams(const GyroBiasEstimatorParams& params);
+  void setParams(const params::GyroBiasEstimatorParams& params);
 
 private:
-  GyroBiasEstimatorParams params_;
+  params::GyroBiasEstimatorParams params_;
   double bias_ = 0.0;
   double rest_for_ = 0.0;      ///< time at rest so far [s]
   double learned_time_ = 0.0;  ///< rest time learned from [s]
@@ -109,4 +111,5 @@ const char* toString(GyroBiasEstimator::State state);
  */
 std::string statusText(const GyroBiasEstimator& estimator);
 
+}  // namespace aic
 }  // namespace jackal_aic

@@ -16,14 +16,16 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 /// Belief channel names, rows of mu and eps_mu: x_dot, y_dot, theta_dot.
-extern const char* const kBeliefChannelNames[kMuDim];
+extern const char* const kBeliefChannelNames[base::kMuDim];
 /// Units of order 0 of the belief channels: m/s, m/s, rad/s (order i: per s^i).
-extern const char* const kBeliefChannelUnits[kMuDim];
+extern const char* const kBeliefChannelUnits[base::kMuDim];
 /// Sensor channel names, rows of eps_y and of Pi_y (SensorIndex): gyro_z, omega_L, omega_R, accel_x, accel_y.
-extern const char* const kSensorChannelNames[kYDim];
+extern const char* const kSensorChannelNames[base::kYDim];
 /// Units of order 0 of the sensor channels: rad/s, rad/s, rad/s, m/s^2, m/s^2 (order i: per s^i).
-extern const char* const kSensorChannelUnits[kYDim];
+extern const char* const kSensorChannelUnits[base::kYDim];
 
 /**
  * \brief The unit of order `i` of a signal whose order 0 is in `unit` (one "/s" more per order):
@@ -40,18 +42,18 @@ std::string orderUnit(const std::string& unit, int i);
  */
 struct InferenceSample
 {
-  double free_energy = 0.0;                ///< F (thesis eq. 3-10) [-]
-  double sensory = 0.0;                    ///< its sensory part (1/2) sum_i eps_y^(i)T Pi_y^(i) eps_y^(i) [-]
-  double prior = 0.0;                      ///< its prior part (1/2) sum_i eps_mu^(i)T Pi_mu^(i) eps_mu^(i) [-]
-  MuTilde mu;                              ///< beliefs mu_tilde, 3 x (p+1) (kBeliefChannelNames rows)
-  YTilde eps_y;                            ///< sensory prediction errors eps_y, 5 x (p+1) (eq. 3-8; SensorIndex rows)
-  MuTilde eps_mu;                          ///< state prediction errors eps_mu, 3 x (p+1) (eq. 3-9)
-  Vector2 action = Vector2::Zero();        ///< the action a = (omega_L, omega_R) [rad/s]
-  Vector2 action_prior = Vector2::Zero();  ///< its prior part a_ff (ActionPrior; 0 when off) [rad/s]
+  double free_energy = 0.0;  ///< F (thesis eq. 3-10) [-]
+  double sensory = 0.0;      ///< its sensory part (1/2) sum_i eps_y^(i)T Pi_y^(i) eps_y^(i) [-]
+  double prior = 0.0;        ///< its prior part (1/2) sum_i eps_mu^(i)T Pi_mu^(i) eps_mu^(i) [-]
+  base::MuTilde mu;          ///< beliefs mu_tilde, 3 x (p+1) (kBeliefChannelNames rows)
+  base::YTilde eps_y;        ///< sensory prediction errors eps_y, 5 x (p+1) (eq. 3-8; SensorIndex rows)
+  base::MuTilde eps_mu;      ///< state prediction errors eps_mu, 3 x (p+1) (eq. 3-9)
+  base::Vector2 action = base::Vector2::Zero();        ///< the action a = (omega_L, omega_R) [rad/s]
+  base::Vector2 action_prior = base::Vector2::Zero();  ///< its prior part a_ff (ActionPrior; 0 when off) [rad/s]
   /// The attractor's goal mu_r (the reference model's output, else mu_d) [m/s, m/s, rad/s]
-  Vector3 goal = Vector3::Zero();
+  base::Vector3 goal = base::Vector3::Zero();
   /// The precisions Pi_y^(0) in use per sensor channel (learned with learn_precision; 0: masked) [1/unit^2]
-  Vector5 precision_y = Vector5::Zero();
+  base::Vector5 precision_y = base::Vector5::Zero();
   double wheel_separation = 0.0;  ///< b_hat of the generative model [m] (learned with learn_wheel_separation)
 };
 
@@ -65,4 +67,5 @@ InferenceSample inferenceSample(const ActiveInferenceController& controller);
 
 /// An InferenceSample of `orders` columns with every value NaN: no controller running (yet).
 InferenceSample unavailableInferenceSample(int orders);
+}  // namespace aic
 }  // namespace jackal_aic

@@ -11,14 +11,16 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 /// What one action step of LatencyAction found.
 struct LatencyActionResult
 {
-  Vector2 command = Vector2::Zero();     ///< the new action a (omega_L, omega_R) [rad/s]
-  Vector2 minimiser = Vector2::Zero();   ///< u*, the minimiser of F_a [rad/s]
-  Vector2 at_latency = Vector2::Zero();  ///< predicted wheel speeds at t + L [rad/s]
-  Vector2 predicted = Vector2::Zero();   ///< predicted wheel speeds at t + L + h_a under `command` [rad/s]
-  double free_energy = 0.0;              ///< F_a at `command` [-]
+  base::Vector2 command = base::Vector2::Zero();     ///< the new action a (omega_L, omega_R) [rad/s]
+  base::Vector2 minimiser = base::Vector2::Zero();   ///< u*, the minimiser of F_a [rad/s]
+  base::Vector2 at_latency = base::Vector2::Zero();  ///< predicted wheel speeds at t + L [rad/s]
+  base::Vector2 predicted = base::Vector2::Zero();   ///< predicted wheel speeds at t + L + h_a under `command` [rad/s]
+  double free_energy = 0.0;                          ///< F_a at `command` [-]
 };
 
 /**
@@ -58,12 +60,14 @@ public:
    * \param max_speed   the command's bound [rad/s], > 0
    * \param pi_e        the goal prior's precision [(rad/s)^-2], > 0 (only scales free_energy)
    */
-  static LatencyActionResult step(const WheelLoopModel& loop, const Vector2& omega, const Vector2& shortfall,
-                                  double now, const Vector2& goal, const Vector2& previous, double h_a, double gain,
-                                  double max_speed, double pi_e);
+  static LatencyActionResult step(const WheelLoopModel& loop, const base::Vector2& omega,
+                                  const base::Vector2& shortfall, double now, const base::Vector2& goal,
+                                  const base::Vector2& previous, double h_a, double gain, double max_speed,
+                                  double pi_e);
 
   /// One side's wheel speed after h [s] from omega0 [rad/s] under the command u less d [rad/s].
   static double response(const WheelLoopModel& loop, double omega0, double u, double d, double h);
 };
 
+}  // namespace aic
 }  // namespace jackal_aic

@@ -16,7 +16,13 @@
 
 namespace jackal_aic
 {
+namespace params
+{
 struct AicParams;
+}
+
+namespace aic
+{
 
 /// What a PrecisionLearner learns: the configured precisions it starts from and the channels it
 /// learns (the controller's: precisionChannels()).
@@ -24,9 +30,9 @@ struct PrecisionChannels
 {
   /// Configured precisions Pi_y^(0) per channel (SensorIndex) [1/(channel unit)^2], each finite and > 0;
   /// the learning starts from them and the bounds are factors of them.
-  std::array<double, kYDim> configured{ { 1.0, 1.0, 1.0, 1.0, 1.0 } };
+  std::array<double, base::kYDim> configured{ { 1.0, 1.0, 1.0, 1.0, 1.0 } };
   /// Bit j (SensorIndex) set = channel j learned; the others keep their configured precision.
-  std::uint8_t learned = (1u << kGyroZ) | (1u << kOmegaLeft) | (1u << kOmegaRight);
+  std::uint8_t learned = (1u << base::kGyroZ) | (1u << base::kOmegaLeft) | (1u << base::kOmegaRight);
 };
 
 /**
@@ -95,14 +101,14 @@ public:
    * \param channels  the configured precisions (each finite and > 0) and the learned channels
    * \throws std::invalid_argument naming every violated rule.
    */
-  PrecisionLearner(const PrecisionLearnerParams& params, const PrecisionChannels& channels);
+  PrecisionLearner(const params::PrecisionLearnerParams& params, const PrecisionChannels& channels);
 
   /**
    * \brief New settings. What was learned is kept (clamped to the new bounds) if the learned
    *        channels and the configured precisions are unchanged, else the learning restarts.
    * \throws std::invalid_argument (state unchanged) naming every violated rule.
    */
-  void setParams(const PrecisionLearnerParams& params, const PrecisionChannels& channels);
+  void setParams(const params::PrecisionLearnerParams& params, const PrecisionChannels& channels);
 
   /**
    * \brief One learning step.
@@ -115,18 +121,19 @@ public:
    * \param saturated    true while the action is clamped to max_wheel_speed
    * \return the reason the step did or did not learn; nothing changes unless kLearning.
    */
-  State update(double h, const Vector5& eps, double omega_l, double omega_r, std::uint8_t sensor_mask, bool saturated);
+  State update(double h, const base::Vector5& eps, double omega_l, double omega_r, std::uint8_t sensor_mask,
+               bool saturated);
 
   /// Learned precision Pi_j of channel j [1/(channel unit)^2] (the configured one for a channel
   /// not learned or j out of range: NaN).
   double precision(int j) const;
   /// The learned precisions of every channel, Pi_y^(0) per SensorIndex.
-  const std::array<double, kYDim>& precisions() const { return pi_; }
+  const std::array<double, base::kYDim>& precisions() const { return pi_; }
   /// Low-passed squared prediction error s_j of channel j [(channel unit)^2] (NaN out of range).
   double meanSquaredError(int j) const;
   /// Write the learned precisions of the learned channels into column 0 of pi_y (5 x (p+1)) and
   /// remember them as the ones in use (changedSince()).
-  void applyTo(YTilde* pi_y);
+  void applyTo(base::YTilde* pi_y);
   /// True if a learned precision moved by more than `tolerance` (relative) from the one applyTo() wrote.
   bool changedSince(double tolerance) const;
   /// The state of the last update() (kNearRest before any).
@@ -136,7 +143,7 @@ public:
   /// Back to the configured precisions; the step count cleared.
   void reset();
   /// The settings in use.
-  const PrecisionLearnerParams& params() const { return params_; }
+  const params::PrecisionLearnerParams& params() const { return params_; }
   /// The configured precisions and learned channels in use.
   const PrecisionChannels& channels() const { return channels_; }
 
@@ -144,12 +151,12 @@ private:
   /// True if channel j is learned.
   bool learned(int j) const { return (channels_.learned & (1u << j)) != 0; }
 
-  PrecisionLearnerParams params_;
+  params::PrecisionLearnerParams params_;
   PrecisionChannels channels_;
-  std::array<double, kYDim> lambda_{};   ///< ln Pi_j
-  std::array<double, kYDim> pi_{};       ///< exp(lambda_j)
-  std::array<double, kYDim> s_{};        ///< low-pass of eps_j^2
-  std::array<double, kYDim> applied_{};  ///< the precisions applyTo() last wrote
+  std::array<double, base::kYDim> lambda_{};   ///< ln Pi_j
+  std::array<double, base::kYDim> pi_{};       ///< exp(lambda_j)
+  std::array<double, base::kYDim> s_{};        ///< low-pass of eps_j^2
+  std::array<double, base::kYDim> applied_{};  ///< the precisions applyTo() last wrote
   State state_ = State::kNearRest;
   std::uint64_t steps_ = 0;
 };
@@ -157,9 +164,10 @@ private:
 /// The controller's precision learner's channels from AicParams: configured = 1 / var_y of
 /// order 0 (column 0 of precisionY()); learned = the gyro, both wheels, and accelerometer x with
 /// accel_in_model. Requires a valid AicParams.
-PrecisionChannels precisionChannels(const AicParams& params);
+PrecisionChannels precisionChannels(const params::AicParams& params);
 
 /// Name of a learner state, e.g. "near rest".
 const char* toString(PrecisionLearner::State state);
 
+}  // namespace aic
 }  // namespace jackal_aic

@@ -14,6 +14,8 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 /**
  * \brief Goal -> predicted goal -> reference path with its delay line.
  *
@@ -46,13 +48,14 @@ public:
   /// Goal, path and delay line at zero; the wheel separation b 0.5 m until setWheelSeparation().
   /// \param params      the settings (AicParams::reference, validated; the stage does not check them)
   /// \param goal_limit  largest accepted |element| of mu_d and mu_d' (AicParams::runaway_limit), > 0
-  explicit ReferenceModel(const ReferenceModelParams& params = ReferenceModelParams(), double goal_limit = 1.0e3);
+  explicit ReferenceModel(const params::ReferenceModelParams& params = params::ReferenceModelParams(),
+                          double goal_limit = 1.0e3);
 
   /// Replace the settings and the goal limit (as the constructor's); goal, path, delay line and
   /// wheel separation kept, the goal's rate zeroed unless generalized_goal.
-  void setParams(const ReferenceModelParams& params, double goal_limit);
+  void setParams(const params::ReferenceModelParams& params, double goal_limit);
   /// The settings in use.
-  const ReferenceModelParams& params() const { return params_; }
+  const params::ReferenceModelParams& params() const { return params_; }
   /// Set the wheel separation b [m] of the wheel bound (the model's, as it is learned); ignored
   /// unless finite and > 0. Path and line kept.
   void setWheelSeparation(double b);
@@ -77,34 +80,34 @@ public:
    *        (the rate is stored as zero unless generalized_goal).
    * \return false (goal unchanged) for a non-finite element or one beyond the goal limit.
    */
-  bool setGoal(const Vector3& mu_d, const Vector3& mu_d_dot = Vector3::Zero());
+  bool setGoal(const base::Vector3& mu_d, const base::Vector3& mu_d_dot = base::Vector3::Zero());
   /// The goal mu_d [m/s, m/s, rad/s]; zero until setGoal().
-  const Vector3& goal() const { return mu_d_; }
+  const base::Vector3& goal() const { return mu_d_; }
   /// The goal's rate mu_d' [m/s^2, m/s^2, rad/s^2] (zero unless generalized_goal).
-  const Vector3& goalRate() const { return mu_d_dot_; }
+  const base::Vector3& goalRate() const { return mu_d_dot_; }
   /// The predicted goal mu_hat_d = mu_d + t_lead mu_d' with generalized_goal (t_lead = goal_lead
   /// for x_dot and y_dot, goal_lead_angular for theta_dot), else mu_d [m/s, m/s, rad/s]: the
   /// reference model's input.
-  Vector3 target() const;
+  base::Vector3 target() const;
 
   /**
    * \brief Start the path at m0 [m/s, m/s, rad/s]: m = m0, m' = 0, the delay line one sample at
    *        time 0, mu_r = m0, mu_r' = 0. The goal is kept.
    * \return false (unchanged) if m0 is not finite.
    */
-  bool start(const Vector3& m0);
+  bool start(const base::Vector3& m0);
   /// Advance m and its delay line by h [s] (h finite and > 0) with the goal held; no effect
   /// without a reference model.
   void advance(double h);
 
   /// The undelayed path m [m/s, m/s, rad/s].
-  const Vector3& path() const { return m_; }
+  const base::Vector3& path() const { return m_; }
   /// The path's rate m' = clamp((target() - m) / T_r, lo, hi) [m/s^2, m/s^2, rad/s^2], (lo, hi) =
   /// accelerationBounds(). Requires enabled().
-  Vector3 rate() const;
+  base::Vector3 rate() const;
   /// The path's largest acceleration per channel acc = (max_acceleration_linear,
   /// max_acceleration_linear, max_acceleration_angular) [m/s^2, m/s^2, rad/s^2].
-  Vector3 accelerationLimit() const;
+  base::Vector3 accelerationLimit() const;
   /**
    * \brief The bounds lo <= m' <= hi of the path's rate at its present value m [m/s^2, m/s^2, rad/s^2].
    *
@@ -114,11 +117,11 @@ public:
    * or backward above that deceleration; doc/active_inference.md, 'Set-point dynamics'); then
    * along x_dot lo >= -tipBoundFront(), hi <= tipBoundRear() (setTipBounds()).
    */
-  void accelerationBounds(Vector3* lo, Vector3* hi) const;
+  void accelerationBounds(base::Vector3* lo, base::Vector3* hi) const;
   /// The attractor's goal [m/s, m/s, rad/s]: mu_r = m(t - d_r) with a reference model, else mu_d.
-  Vector3 attractorGoal() const { return enabled() ? mu_r_ : mu_d_; }
+  base::Vector3 attractorGoal() const { return enabled() ? mu_r_ : mu_d_; }
   /// The attractor's rate [m/s^2, m/s^2, rad/s^2]: mu_r' with a reference model, else mu_d'.
-  Vector3 attractorRate() const { return enabled() ? mu_r_dot_ : mu_d_dot_; }
+  base::Vector3 attractorRate() const { return enabled() ? mu_r_dot_ : mu_d_dot_; }
   /// The path's clock: the time advanced since start() [s].
   double time() const { return time_; }
   /// Samples in the delay line, 1 ... kLine.
@@ -127,29 +130,30 @@ public:
 private:
   /// W(d, bound): each rim speed's change d_x -+ d_theta b / 2 of the body change d [m/s or m/s^2]
   /// clamped to [-bound, bound], d_x and d_theta recomputed; no change when max_acceleration_wheel is 0.
-  void clampWheels(Vector3* d, double bound) const;
+  void clampWheels(base::Vector3* d, double bound) const;
   /// One delay-line sample: time [s], m, m'.
   struct Sample
   {
     double t;
-    Vector3 m;
-    Vector3 m_dot;
+    base::Vector3 m;
+    base::Vector3 m_dot;
   };
 
-  ReferenceModelParams params_;
+  params::ReferenceModelParams params_;
   double goal_limit_;              ///< largest accepted |element| of mu_d, mu_d'
   double wheel_separation_ = 0.5;  ///< b [m] of the wheel bound (setWheelSeparation())
-  Vector3 mu_d_ = Vector3::Zero();
-  Vector3 mu_d_dot_ = Vector3::Zero();
-  Vector3 m_ = Vector3::Zero();
+  base::Vector3 mu_d_ = base::Vector3::Zero();
+  base::Vector3 mu_d_dot_ = base::Vector3::Zero();
+  base::Vector3 m_ = base::Vector3::Zero();
   double time_ = 0.0;
   std::array<Sample, kLine> line_{};
   int head_ = 0;                                                ///< index of the newest sample
   int count_ = 1;                                               ///< samples in the line
-  Vector3 mu_r_ = Vector3::Zero();                              ///< the delayed path mu_r at time_
-  Vector3 mu_r_dot_ = Vector3::Zero();                          ///< its rate mu_r'
+  base::Vector3 mu_r_ = base::Vector3::Zero();                  ///< the delayed path mu_r at time_
+  base::Vector3 mu_r_dot_ = base::Vector3::Zero();              ///< its rate mu_r'
   double tip_front_ = std::numeric_limits<double>::infinity();  ///< setTipBounds()' front [m/s^2]
   double tip_rear_ = std::numeric_limits<double>::infinity();   ///< setTipBounds()' rear [m/s^2]
 };
 
+}  // namespace aic
 }  // namespace jackal_aic

@@ -10,6 +10,8 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 /**
  * \brief Before each action step, with c = (a_F,L + a_F,R) / 2 and d = (a_F,R - a_F,L) / 2:
  *          c <- c e^(-h / T_rel)  while the linear goal (x_dot, y_dot) is zero,
@@ -39,10 +41,11 @@ public:
    * \param h     action step [s], finite and > 0
    * \return a_F unchanged (bit for bit) when !enabled().
    */
-  Vector2 apply(const Vector2& a_F, const Vector3& goal, double h) const;
+  base::Vector2 apply(const base::Vector2& a_F, const base::Vector3& goal, double h) const;
 
 private:
   double release_time_;
 };
 
+}  // namespace aic
 }  // namespace jackal_aic

@@ -16,6 +16,8 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 /**
  * \brief Beliefs mu = (omega_L, d_L, omega_R, d_R, theta_dot, s, beta) with their covariance, under
  *        the robot model (RobotModelParams). s is the yaw slip ratio: the body turns at (1 - s) times
@@ -46,15 +48,15 @@ class RobotBelief
 {
 public:
   /// Beliefs at zero (reset()).
-  explicit RobotBelief(const RobotModelParams& params = RobotModelParams());
+  explicit RobotBelief(const params::RobotModelParams& params = params::RobotModelParams());
 
   /// Replace the settings (beliefs kept).
-  void setParams(const RobotModelParams& params);
+  void setParams(const params::RobotModelParams& params);
 
   /// Beliefs: wheel speeds omega (rad/s), yaw rate theta_dot (rad/s) with variance kInitialVariance;
   /// the shortfalls d_L, d_R, the slip ratio s and the gyro offset beta zero with variance zero
   /// (they drift from there at their noise rates).
-  void reset(const Vector2& omega, double theta_dot);
+  void reset(const base::Vector2& omega, double theta_dot);
 
   /**
    * \brief Carry the beliefs h [s] forward under the command u_at_wheels [rad/s] (the command in
@@ -64,7 +66,7 @@ public:
    * \param turn      the yaw rate [rad/s] the goal asks for: the slip ratio's variance grows by
    *                  yaw_slip_noise^2 times its change since the last predict() (a turn that changes)
    */
-  void predict(double h, const WheelLoopModel& loop, const Vector2& u_at_wheels, double yaw_gain, double turn);
+  void predict(double h, const WheelLoopModel& loop, const base::Vector2& u_at_wheels, double yaw_gain, double turn);
 
   /**
    * \brief Take a measurement: the sides' wheel speeds y_omega [rad/s] and the gyro's yaw rate
@@ -75,7 +77,8 @@ public:
    *               fault mask on one of the three channels: nothing is learned from two)
    * \return false (nothing changed) if a used value is not finite
    */
-  bool correct(const Vector2& y_omega, double y_gyro, bool use_left, bool use_right, bool use_gyro, bool learn = true);
+  bool correct(const base::Vector2& y_omega, double y_gyro, bool use_left, bool use_right, bool use_gyro,
+               bool learn = true);
 
   /**
    * \brief Re-express the slip ratio after the wheels' yaw gain changed by the factor k =
@@ -86,9 +89,9 @@ public:
   bool rescaleSlip(double k);
 
   /// Believed wheel speeds (omega_L, omega_R) [rad/s].
-  Vector2 wheelSpeeds() const { return Vector2(x_(0), x_(2)); }
+  base::Vector2 wheelSpeeds() const { return base::Vector2(x_(0), x_(2)); }
   /// Believed shortfalls (d_L, d_R) [rad/s]: the command the sides do not deliver in steady state.
-  Vector2 shortfalls() const { return Vector2(x_(1), x_(3)); }
+  base::Vector2 shortfalls() const { return base::Vector2(x_(1), x_(3)); }
   /// Believed yaw rate theta_dot [rad/s].
   double yawRate() const { return x_(4); }
   /// Believed yaw slip ratio s [-]: the body turns at (1 - s) times the wheels' yaw rate.
@@ -98,7 +101,7 @@ public:
   /// Its rate theta_dot' [rad/s^2] under the model (the last predict()).
   double yawAcceleration() const { return yaw_rate_; }
   /// Believed wheel accelerations (omega_L', omega_R') [rad/s^2] under the model (the last predict()).
-  Vector2 wheelAccelerations() const { return omega_rate_; }
+  base::Vector2 wheelAccelerations() const { return omega_rate_; }
   /// Covariance diagonal of (omega_L, d_L, omega_R, d_R, theta_dot, s, beta).
   Eigen::Matrix<double, 7, 1> variances() const;
 
@@ -107,7 +110,7 @@ public:
   /// Prior part of F at the last correct(): 1/2 eps_mu^T P_-^{-1} eps_mu [-].
   double priorFreeEnergy() const { return f_prior_; }
   /// Sensory prediction errors of the last correct() (eps_L, eps_R, eps_gyro) at the prior beliefs [rad/s].
-  const Vector3& innovation() const { return innovation_; }
+  const base::Vector3& innovation() const { return innovation_; }
 
   /// Number of gyro offset jumps taken since construction.
   std::uint64_t offsetJumps() const { return offset_jumps_; }
@@ -124,7 +127,7 @@ public:
   static constexpr int kJumpSamples = 3;
 
 private:
-  RobotModelParams params_;
+  params::RobotModelParams params_;
   Eigen::Matrix<double, 7, 1> x_ = Eigen::Matrix<double, 7, 1>::Zero();
   Eigen::Matrix2d p_left_ = Eigen::Matrix2d::Identity();
   Eigen::Matrix2d p_right_ = Eigen::Matrix2d::Identity();
@@ -134,11 +137,12 @@ private:
   int jump_samples_ = 0;     ///< gyro residuals in a row beyond kJumpThreshold
   double jump_sum_ = 0.0;    ///< their sum [rad/s]
   std::uint64_t offset_jumps_ = 0;
-  Vector2 omega_rate_ = Vector2::Zero();
+  base::Vector2 omega_rate_ = base::Vector2::Zero();
   double yaw_rate_ = 0.0;
   double f_sensory_ = 0.0;
   double f_prior_ = 0.0;
-  Vector3 innovation_ = Vector3::Zero();
+  base::Vector3 innovation_ = base::Vector3::Zero();
 };
 
+}  // namespace aic
 }  // namespace jackal_aic

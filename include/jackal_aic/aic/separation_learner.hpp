@@ -15,6 +15,8 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 /**
  * \brief Gradient descent of b_hat on the free energy of the gyro-encoder disagreement.
  *
@@ -76,7 +78,8 @@ public:
    *                      wheel_separation clamped to the bounds)
    * \throws std::invalid_argument naming every violated rule.
    */
-  SeparationLearner(const SeparationLearnerParams& params, double wheel_radius, double slip_factor, double initial);
+  SeparationLearner(const params::SeparationLearnerParams& params, double wheel_radius, double slip_factor,
+                    double initial);
 
   /**
    * \brief One learning step.
@@ -110,10 +113,10 @@ public:
   /// Back to the initial b_hat; the step count and error cleared.
   void reset();
   /// The settings in use.
-  const SeparationLearnerParams& params() const { return params_; }
+  const params::SeparationLearnerParams& params() const { return params_; }
 
 private:
-  SeparationLearnerParams params_;
+  params::SeparationLearnerParams params_;
   double wheel_radius_;
   double slip_factor_;
   double initial_;
@@ -137,4 +140,5 @@ std::string learnedSeparationOverlay(double b_hat);
 /// Name of a learner state, e.g. "near rest".
 const char* toString(SeparationLearner::State state);
 
+}  // namespace aic
 }  // namespace jackal_aic

@@ -9,6 +9,8 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 /**
  * \brief The matrices G (3x2), R (5x3) and K (2x5) of the skid-steer generative model.
  *
@@ -30,14 +32,14 @@ public:
 
   /// Kinematic map G, 3 x 2: mu = G (omega_L, omega_R) (eq. 3-1 ... 3-4); rows x_dot and y_dot in [m/rad],
   /// row theta_dot in [-] (r alpha / b_hat).
-  const KinematicMatrix& G() const { return G_; }
+  const base::KinematicMatrix& G() const { return G_; }
   /// Sensor model R, 5 x 3: g(mu) = R mu (eq. 3-1 ... 3-4): gyro row (0, 0, 1), wheel rows pinv(G), accelerometer rows zero.
-  const SensorMatrix& R() const { return R_; }
+  const base::SensorMatrix& R() const { return R_; }
   /// Forward model K = dy/da, 2 x 5, one row per action (eq. 3-4; used by the action update, eq. 3-16).
-  const ForwardMatrix& K() const { return K_; }
+  const base::ForwardMatrix& K() const { return K_; }
 
   /// Body twist (x_dot, y_dot, theta_dot) from wheel speeds (omega_L, omega_R) [rad/s] (eq. 3-1).
-  Vector3 twistFromWheels(const Vector2& omega) const { return G_ * omega; }
+  base::Vector3 twistFromWheels(const base::Vector2& omega) const { return G_ * omega; }
   /**
    * \brief Replace b_hat [m] (learning, doc/active_inference.md 'Learning the generative model'):
    *        G, K as in the constructor; the wheel rows of R by the closed form of pinv(G) for a
@@ -51,13 +53,13 @@ public:
 
   /// Wheel speeds (omega_L, omega_R) [rad/s] realizing a twist (v_x [m/s], ., omega_z [rad/s]) (pinv(G));
   /// the y_dot element is ignored (G cannot produce it). No checks: a non-finite twist gives non-finite speeds.
-  Vector2 wheelsFromTwist(const Vector3& mu) const;
+  base::Vector2 wheelsFromTwist(const base::Vector3& mu) const;
 
 private:
-  KinematicMatrix G_;
-  SensorMatrix R_;
-  ForwardMatrix K_;
-  Eigen::Matrix<double, kADim, kMuDim> G_pinv_;
+  base::KinematicMatrix G_;
+  base::SensorMatrix R_;
+  base::ForwardMatrix K_;
+  Eigen::Matrix<double, base::kADim, base::kMuDim> G_pinv_;
   double ra_;  ///< r alpha [m]
   double b_;   ///< b_hat [m]
 };
@@ -65,15 +67,16 @@ private:
 /// Wheel pair (omega_L, omega_R) [rad/s] -> its (common, differential) parts
 /// ((omega_L + omega_R) / 2, (omega_R - omega_L) / 2) [rad/s]: the parts of the wheel speeds that
 /// drive x_dot and theta_dot (eq. 3-1).
-inline Vector2 commonDifferential(const Vector2& wheels)
+inline base::Vector2 commonDifferential(const base::Vector2& wheels)
 {
-  return Vector2(0.5 * (wheels(0) + wheels(1)), 0.5 * (wheels(1) - wheels(0)));
+  return base::Vector2(0.5 * (wheels(0) + wheels(1)), 0.5 * (wheels(1) - wheels(0)));
 }
 
 /// Inverse of commonDifferential(): (c, d) [rad/s] -> the wheel pair (c - d, c + d) [rad/s].
-inline Vector2 wheelPair(const Vector2& cd)
+inline base::Vector2 wheelPair(const base::Vector2& cd)
 {
-  return Vector2(cd(0) - cd(1), cd(0) + cd(1));
+  return base::Vector2(cd(0) - cd(1), cd(0) + cd(1));
 }
 
+}  // namespace aic
 }  // namespace jackal_aic

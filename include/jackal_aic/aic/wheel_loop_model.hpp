@@ -13,6 +13,8 @@
 
 namespace jackal_aic
 {
+namespace aic
+{
 /**
  * \brief The sent wheel commands and the model of how each side's wheel speed answers them.
  *
@@ -33,20 +35,20 @@ public:
   static constexpr int kCapacity = 1024;
 
   /// \param params  the latency, T_w and A_w (validated by the caller)
-  explicit WheelLoopModel(const RobotModelParams& params = RobotModelParams());
+  explicit WheelLoopModel(const params::RobotModelParams& params = params::RobotModelParams());
 
   /// Replace L, T_w, A_w; the history is kept.
-  void setParams(const RobotModelParams& params);
+  void setParams(const params::RobotModelParams& params);
 
   /// Forget every command: the history is u at time t [s].
-  void reset(double t, const Vector2& u);
+  void reset(double t, const base::Vector2& u);
   /// Store the command u [rad/s] sent at time t [s] (t not before the newest stored; an earlier t
   /// is taken as the newest's).
-  void record(double t, const Vector2& u);
+  void record(double t, const base::Vector2& u);
   /// The command in effect at the wheels at time t [s]: the newest sent at or before t - L [rad/s].
-  Vector2 commandAt(double t) const;
+  base::Vector2 commandAt(double t) const;
   /// The newest command sent [rad/s] (zero before the first).
-  Vector2 lastCommand() const;
+  base::Vector2 lastCommand() const;
 
   /**
    * \brief One side's wheel speed after h [s] with the command u held [rad/s]: the lag integrated
@@ -59,7 +61,7 @@ public:
    * \brief The wheel speeds at time t1 > t0 from omega0 at t0 [s], under the commands in flight
    *        (commandAt()) less the shortfall d [rad/s], in substeps of at most kSubstep.
    */
-  Vector2 predict(const Vector2& omega0, const Vector2& d, double t0, double t1) const;
+  base::Vector2 predict(const base::Vector2& omega0, const base::Vector2& d, double t0, double t1) const;
 
   /// Substep of predict() [s].
   static constexpr double kSubstep = 1.0e-3;
@@ -71,12 +73,13 @@ private:
   struct Entry
   {
     double t;
-    Vector2 u;
+    base::Vector2 u;
   };
-  RobotModelParams params_;
+  params::RobotModelParams params_;
   std::array<Entry, kCapacity> line_{};
   int head_ = 0;   ///< index of the newest entry
   int count_ = 1;  ///< entries in the line
 };
 
+}  // namespace aic
 }  // namespace jackal_aic

@@ -15,6 +15,8 @@
 
 namespace jackal_aic
 {
+namespace analysis
+{
 /// The outcome of checkConfiguredStability().
 struct ConfiguredStability
 {
@@ -41,7 +43,7 @@ struct ConfiguredStability
  *         that is not a multiple of the action rate, or an action that depends on the goal, as the
  *         unbiased beliefs' goal response makes it). Never throws.
  */
-ConfiguredStability checkConfiguredStability(const AicParams& params);
+ConfiguredStability checkConfiguredStability(const params::AicParams& params);
 
 /**
  * \brief The warning of an unstable configuration, "" for a stable (or unanalysed) one:
@@ -49,5 +51,6 @@ ConfiguredStability checkConfiguredStability(const AicParams& params);
  *        spectral radius R >= 1 (aic_analyze; doc/tuning.md, 'The stability check at load')".
  * \param params  controller parameters (as checkConfiguredStability())
  */
-std::string stabilityWarning(const AicParams& params);
+std::string stabilityWarning(const params::AicParams& params);
+}  // namespace analysis
 }  // namespace jackal_aic

@@ -12,6 +12,8 @@
 
 namespace jackal_aic
 {
+namespace analysis
+{
 /// Whether a CSV file starts with a header line naming its columns.
 enum class CsvHeader
 {
@@ -60,4 +62,5 @@ bool parseCsvNumber(const std::string& cell, double* out);
  */
 CsvTable readCsv(std::istream& in, const std::string& source, CsvHeader header);
 
+}  // namespace analysis
 }  // namespace jackal_aic

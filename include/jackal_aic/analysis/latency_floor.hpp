@@ -13,6 +13,8 @@
 
 namespace jackal_aic
 {
+namespace analysis
+{
 /// The ideal servo of latencyFloor(): what it knows of the stream and what it can do.
 struct LatencyFloorSettings
 {
@@ -42,6 +44,7 @@ struct LatencyFloorSettings
  *                   goal-rate keys are used)
  * \throws std::invalid_argument on an invalid profile or settings out of range (message says which)
  */
-VelocityTrackingError latencyFloor(const TwistProfile& profile, const AicParams& goal_rate,
+VelocityTrackingError latencyFloor(const TwistProfile& profile, const params::AicParams& goal_rate,
                                    const LatencyFloorSettings& settings);
+}  // namespace analysis
 }  // namespace jackal_aic

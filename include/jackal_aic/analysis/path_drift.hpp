@@ -12,6 +12,8 @@
 
 namespace jackal_aic
 {
+namespace analysis
+{
 /// A planar pose.
 struct Pose2D
 {
@@ -66,4 +68,5 @@ PathDrift pathDrift(const TwistProfile& profile, const std::vector<double>& time
 /// One-line JSON {"final_position_error", "max_position_error", "final_heading_error",
 /// "ideal_length", "samples"} (not the ideal poses).
 std::string toJson(const PathDrift& drift);
+}  // namespace analysis
 }  // namespace jackal_aic

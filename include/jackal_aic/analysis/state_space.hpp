@@ -19,6 +19,8 @@
 
 namespace jackal_aic
 {
+namespace analysis
+{
 /// Plant in the loop: the wheel-speed response to the command a.
 struct PlantModel
 {
@@ -43,10 +45,10 @@ struct PlantModel
 /// One sample of a predicted response, at the start of an action period (just after the sensor sample).
 struct ResponseSample
 {
-  double t;       ///< time since the step [s]
-  Vector3 twist;  ///< plant body twist G omega (v_x [m/s], 0, omega_z [rad/s])
-  Vector3 mu;     ///< belief mu^(0) [m/s, m/s, rad/s]
-  Vector2 a;      ///< wheel speed command [rad/s]
+  double t;             ///< time since the step [s]
+  base::Vector3 twist;  ///< plant body twist G omega (v_x [m/s], 0, omega_z [rad/s])
+  base::Vector3 mu;     ///< belief mu^(0) [m/s, m/s, rad/s]
+  base::Vector2 a;      ///< wheel speed command [rad/s]
 };
 
 /**
@@ -79,7 +81,7 @@ public:
    *         > 0 and finite, the delay is negative, non-finite or above 50 action periods, or
    *         belief_rate / action_rate is not an integer (within 1e-9 relative)
    */
-  ClosedLoopModel(const AicParams& params, const PlantModel& plant = PlantModel());
+  ClosedLoopModel(const params::AicParams& params, const PlantModel& plant = PlantModel());
 
   /// Dimension of z: 3(p+1) + 2 + 5(p+1) + 2 + 2L.
   int stateDim() const { return static_cast<int>(phi_.rows()); }
@@ -101,14 +103,14 @@ public:
    * \return one sample per action period, from t = 0 to duration.
    * \throws std::invalid_argument if duration is not > 0 or mu_d is not finite
    */
-  std::vector<ResponseSample> stepResponse(const Vector3& mu_d, double duration) const;
+  std::vector<ResponseSample> stepResponse(const base::Vector3& mu_d, double duration) const;
 
   /// Continuous-time belief dynamics (eq. 3-15 before discretization): dmu/dt = M vec(mu) + N_y vec(y_tilde)
   /// + N_d mu_d; M is 3(p+1) x 3(p+1).
   const Eigen::MatrixXd& M() const { return m_; }
 
 private:
-  AicParams params_;
+  params::AicParams params_;
   PlantModel plant_;
   int n_belief_steps_ = 1;
   int i_w_ = 0;                    ///< index of omega in z
@@ -137,7 +139,7 @@ struct PredictedStep
  * \throws std::invalid_argument as ClosedLoopModel's constructor and stepResponse() do (invalid params or
  *         plant, non-integer rate ratio, duration <= 0, non-finite target).
  */
-PredictedStep predictStep(const AicParams& params, const PlantModel& plant, double target, double duration);
+PredictedStep predictStep(const params::AicParams& params, const PlantModel& plant, double target, double duration);
 
 /// A parameter that a stability scan varies.
 enum class ScanParameter
@@ -176,7 +178,8 @@ struct StabilityLimit
  * \param grid_points  number of log-spaced grid values, >= 2
  * \throws std::invalid_argument on invalid params, a bad range or grid_points < 2.
  */
-StabilityLimit scanStabilityLimit(const AicParams& params, const PlantModel& plant, ScanParameter parameter, double lo,
-                                  double hi, int grid_points = 61);
+StabilityLimit scanStabilityLimit(const params::AicParams& params, const PlantModel& plant, ScanParameter parameter,
+                                  double lo, double hi, int grid_points = 61);
 
+}  // namespace analysis
 }  // namespace jackal_aic

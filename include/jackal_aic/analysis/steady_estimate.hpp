@@ -12,6 +12,8 @@
 
 namespace jackal_aic
 {
+namespace analysis
+{
 /// Error of an estimate of one velocity channel against the truth over its steady segments.
 struct SteadyEstimateChannel
 {
@@ -58,4 +60,5 @@ SteadyEstimateError steadyEstimateError(const TwistProfile& profile, const std::
 /// JSON object of a SteadyEstimateError: {"vx": {"steady_mean_abs", "steady_max_abs", "samples",
 /// "segments"}, "wz": {...}, "unavailable"} (units of the channels).
 std::string toJson(const SteadyEstimateError& error);
+}  // namespace analysis
 }  // namespace jackal_aic

@@ -12,6 +12,8 @@
 
 namespace jackal_aic
 {
+namespace analysis
+{
 /// What the settling band is a percentage of.
 enum class SettlingBandBasis
 {
@@ -76,4 +78,5 @@ StepMetrics computeStepMetrics(const std::vector<double>& time, const std::vecto
 /// One-line JSON of the metrics and their options (NaN written as null), e.g. for aic_step_metrics.
 std::string toJson(const StepMetrics& metrics, const StepMetricsOptions& options);
 
+}  // namespace analysis
 }  // namespace jackal_aic

@@ -12,6 +12,8 @@
 
 namespace jackal_aic
 {
+namespace analysis
+{
 /// Error statistics of one velocity channel against its set point.
 struct ChannelError
 {
@@ -42,4 +44,5 @@ VelocityTrackingError velocityTrackingError(const TwistProfile& profile, const s
 
 /// One-line JSON {"vx": {"rms", "max"}, "wz": {"rms", "max"}, "samples"}.
 std::string toJson(const VelocityTrackingError& error);
+}  // namespace analysis
 }  // namespace jackal_aic

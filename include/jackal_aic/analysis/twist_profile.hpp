@@ -11,6 +11,8 @@
 
 namespace jackal_aic
 {
+namespace analysis
+{
 /// One breakpoint of a twist profile: from time t on, the set point is (vx, wz).
 struct TwistProfilePoint
 {
@@ -69,4 +71,5 @@ TwistProfile loadTwistProfileCsv(const std::string& path);
 /// The profile as CSV text with a header `t,vx,wz`, the end time as the last row (the inverse
 /// of parseTwistProfileCsv).
 std::string twistProfileCsv(const TwistProfile& profile);
+}  // namespace analysis
 }  // namespace jackal_aic

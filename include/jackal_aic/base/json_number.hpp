@@ -11,6 +11,8 @@
 
 namespace jackal_aic
 {
+namespace base
+{
 /**
  * \brief A number as JSON text, the tools' machine-readable output: `precision` significant
  *        digits, and `null` for NaN or +-Inf (JSON has no such numbers; a metric that is
@@ -28,4 +30,5 @@ inline std::string jsonNumber(double v, int precision = 6)
   return os.str();
 }
 
+}  // namespace base
 }  // namespace jackal_aic

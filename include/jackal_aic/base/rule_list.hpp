@@ -9,6 +9,8 @@
 
 namespace jackal_aic
 {
+namespace base
+{
 /**
  * \brief Collects the rules a settings struct violates, so that one std::invalid_argument names
  *        every violation, not only the first.
@@ -36,4 +38,5 @@ private:
   std::string violations_;
 };
 
+}  // namespace base
 }  // namespace jackal_aic

@@ -16,6 +16,8 @@
 
 namespace jackal_aic
 {
+namespace base
+{
 /// Largest embedding order p supported (orders 0..p, so at most kMaxOrders columns).
 constexpr int kMaxEmbeddingOrder = 5;
 /// Largest number of generalized orders (p + 1).
@@ -61,4 +63,5 @@ using KinematicMatrix = Eigen::Matrix<double, kMuDim, kADim>;
 /// Forward model K = dy/da (2 x 5), one row per action.
 using ForwardMatrix = Eigen::Matrix<double, kADim, kYDim>;
 
+}  // namespace base
 }  // namespace jackal_aic

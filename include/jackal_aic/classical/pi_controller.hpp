@@ -25,6 +25,8 @@
 
 namespace jackal_aic
 {
+namespace classical
+{
 /// Proportional and integral gain of one PI loop.
 struct PiGains
 {
@@ -42,14 +44,14 @@ struct PiControllerParams
 {
   /// The identified wheel loop and the body's scrub lag: latency, wheel_time_constant,
   /// wheel_acceleration, yaw_time_constant (the rest unused).
-  RobotModelParams robot;
-  double wheel_radius = AicParams().wheel_radius;          ///< r [m], > 0
-  double wheel_separation = AicParams().wheel_separation;  ///< b [m] of the skid-steer map, > 0
-  double max_wheel_speed = AicParams().max_wheel_speed;    ///< |command| clamp [rad/s], > 0
+  params::RobotModelParams robot;
+  double wheel_radius = params::AicParams().wheel_radius;          ///< r [m], > 0
+  double wheel_separation = params::AicParams().wheel_separation;  ///< b [m] of the skid-steer map, > 0
+  double max_wheel_speed = params::AicParams().max_wheel_speed;    ///< |command| clamp [rad/s], > 0
   /// The goal's rate estimator (GoalRateEstimator): hold [s] and rate bounds [m/s^2], [rad/s^2].
-  double goal_rate_hold = ReferenceModelParams().goal_rate_hold;
-  double max_goal_rate_linear = ReferenceModelParams().max_goal_rate_linear;
-  double max_goal_rate_angular = ReferenceModelParams().max_goal_rate_angular;
+  double goal_rate_hold = params::ReferenceModelParams().goal_rate_hold;
+  double max_goal_rate_linear = params::ReferenceModelParams().max_goal_rate_linear;
+  double max_goal_rate_angular = params::ReferenceModelParams().max_goal_rate_angular;
   /// The nominal update period h [s], > 0 and <= 1: the step the feed-forward's inverse of the
   /// wheel loop plans over (the joint-state period, 50 Hz on the Jackal).
   double period = 0.02;
@@ -84,11 +86,12 @@ struct PiCommand
   PiStatus status = PiStatus::kOk;
   /// The wheel command (omega_L, omega_R) [rad/s], always finite and within +-max_wheel_speed
   /// (on a rejected input: the previous command, zero before the first).
-  Vector2 wheels = Vector2::Zero();
-  Vector2 feed_forward = Vector2::Zero();  ///< its feed-forward part [rad/s]
-  Vector2 expected = Vector2::Zero();      ///< the wheels' expected speeds now (the inner loops' reference) [rad/s]
-  double yaw_trim = 0.0;                   ///< the outer loop's yaw-rate trim [rad/s]
-  bool saturated = false;                  ///< a side's command was clamped (the integrators held)
+  base::Vector2 wheels = base::Vector2::Zero();
+  base::Vector2 feed_forward = base::Vector2::Zero();  ///< its feed-forward part [rad/s]
+  base::Vector2 expected =
+      base::Vector2::Zero();  ///< the wheels' expected speeds now (the inner loops' reference) [rad/s]
+  double yaw_trim = 0.0;      ///< the outer loop's yaw-rate trim [rad/s]
+  bool saturated = false;     ///< a side's command was clamped (the integrators held)
 };
 
 /**
@@ -142,33 +145,34 @@ public:
    * \return the command; status kNotFinite or kNonPositiveStep (t not after the previous
    *         update's) leave every state unchanged and repeat the previous command
    */
-  PiCommand update(double t, const Vector2& wheels, double gyro_z);
+  PiCommand update(double t, const base::Vector2& wheels, double gyro_z);
 
   /// Back to the start: integrals, models and goal cleared, command zero.
   void reset();
 
   /// The inner loops' integrals (left, right) [rad/s].
-  const Vector2& wheelIntegral() const { return wheel_integral_; }
+  const base::Vector2& wheelIntegral() const { return wheel_integral_; }
   /// The outer loop's integral [rad/s].
   double yawIntegral() const { return yaw_integral_; }
 
 private:
   PiControllerParams params_;
-  SkidSteerModel model_;
-  GoalRateEstimator goal_rate_;
-  ReferenceModel goal_;
-  WheelLoopModel ff_loop_;   ///< the commands u_ff
-  WheelLoopModel ref_loop_;  ///< the commands u_ff + trim
+  aic::SkidSteerModel model_;
+  aic::GoalRateEstimator goal_rate_;
+  aic::ReferenceModel goal_;
+  aic::WheelLoopModel ff_loop_;   ///< the commands u_ff
+  aic::WheelLoopModel ref_loop_;  ///< the commands u_ff + trim
   bool started_ = false;
   double last_t_ = 0.0;
-  Vector2 goal_now_ = Vector2::Zero();  ///< (v_d, w_d) [m/s, rad/s]
-  Vector2 w_ff_ = Vector2::Zero();      ///< expected wheel speeds under u_ff [rad/s]
-  Vector2 w_ref_ = Vector2::Zero();     ///< expected wheel speeds under u_ff + trim [rad/s]
-  double yaw_expected_ = 0.0;           ///< psi_ff: the yaw rate expected of u_ff [rad/s]
-  Vector2 u_ff_ = Vector2::Zero();      ///< the last feed-forward [rad/s]
-  Vector2 wheel_integral_ = Vector2::Zero();
+  base::Vector2 goal_now_ = base::Vector2::Zero();  ///< (v_d, w_d) [m/s, rad/s]
+  base::Vector2 w_ff_ = base::Vector2::Zero();      ///< expected wheel speeds under u_ff [rad/s]
+  base::Vector2 w_ref_ = base::Vector2::Zero();     ///< expected wheel speeds under u_ff + trim [rad/s]
+  double yaw_expected_ = 0.0;                       ///< psi_ff: the yaw rate expected of u_ff [rad/s]
+  base::Vector2 u_ff_ = base::Vector2::Zero();      ///< the last feed-forward [rad/s]
+  base::Vector2 wheel_integral_ = base::Vector2::Zero();
   double yaw_integral_ = 0.0;
   PiCommand last_;
 };
 
+}  // namespace classical
 }  // namespace jackal_aic

@@ -7,6 +7,8 @@
 
 namespace jackal_aic
 {
+namespace loop
+{
 /// A monotonic time source [s]; the node wraps ros::Time::now(), the tests a settable value.
 class Clock
 {
@@ -15,4 +17,5 @@ public:
   /// The current time [s] (any epoch; only differences are used).
   virtual double now() const = 0;
 };
+}  // namespace loop
 }  // namespace jackal_aic

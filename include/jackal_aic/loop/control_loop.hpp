@@ -82,6 +82,8 @@
 
 namespace jackal_aic
 {
+namespace loop
+{
 /// A clock reading at most this far [s] before the latest one is not a time jump (ControlLoop).
 constexpr double kTimeJumpTolerance = 0.001;
 
@@ -98,7 +100,7 @@ struct WheelCommand
 {
   /// What the motors get (omega_L, omega_R) [rad/s]: finite, within +-max_wheel_speed; in output
   /// mode cmd_vel, after the stock controller's limits (wheelsFromTwist(twist)).
-  Vector2 wheels = Vector2::Zero();
+  base::Vector2 wheels = base::Vector2::Zero();
   /// Output mode cmd_vel: the twist to publish (linear.x [m/s], angular.z [rad/s]).
   BodyTwist twist;
   bool cmd_vel = false;  ///< output mode cmd_vel (publish twist), else cmd_drive (publish wheels)
@@ -126,7 +128,7 @@ public:
      * \brief The fault monitor changed a channel (isolated, restored, detected with isolation
      *        off); `channel` is the SensorIndex concerned. Default: ignored.
      */
-    virtual void healthEvent(FaultMonitor::Event event, int channel);
+    virtual void healthEvent(safety::FaultMonitor::Event event, int channel);
     /// A log line (prefix-free text; throttled by the loop to one per second per kind). Default: ignored.
     virtual void log(LogLevel level, const std::string& text);
   };
@@ -138,7 +140,7 @@ public:
    * \param output  receiver of commands, log lines and health events; must outlive the loop
    * \throws std::invalid_argument if params are invalid (every violation listed)
    */
-  ControlLoop(const NodeParams& params, const Clock& clock, Output& output);
+  ControlLoop(const params::NodeParams& params, const Clock& clock, Output& output);
   ~ControlLoop();
   ControlLoop(const ControlLoop&) = delete;
   ControlLoop& operator=(const ControlLoop&) = delete;
@@ -201,7 +203,7 @@ public:
    *        until it is warm). output_mode, cmd_vel_* and belief_schedule keep their start values.
    * \throws std::invalid_argument (nothing changed) if `params` are invalid
    */
-  void setParams(const NodeParams& params);
+  void setParams(const params::NodeParams& params);
   /**
    * \brief Restart a running controller from the measured state, as on activation: beliefs at the
    *        measured twist, action at the measured wheel speeds (bumpless). No effect unless running.
@@ -241,13 +243,13 @@ public:
     pipeline_.resetTipGuard();
   }
   /// The gyro's offset estimator (beta_hat [rad/s], learned with learn_gyro_bias).
-  const GyroBiasEstimator& gyroBias() const { return pipeline_.gyroBias(); }
+  const aic::GyroBiasEstimator& gyroBias() const { return pipeline_.gyroBias(); }
   /// The tip-over guard (pitch, learned bounds, trips; acts with tip_guard).
-  const TipGuard& tipGuard() const { return pipeline_.tipGuard(); }
+  const safety::TipGuard& tipGuard() const { return pipeline_.tipGuard(); }
 
   // ---- state
   /// The parameters in force.
-  const NodeParams& params() const { return params_; }
+  const params::NodeParams& params() const { return params_; }
   /// The state machine, watchdogs, counters and loop statistics.
   const Supervisor& supervisor() const { return supervisor_; }
   /// \copydoc supervisor() (the node's diagnostics reset its statistics windows).
@@ -255,11 +257,11 @@ public:
   /// The sensor pairing (accepted samples, drops per reason).
   const SensorPairing& pairing() const { return pairing_; }
   /// The controller (beliefs mu_tilde, action a, goal mu_d).
-  const ActiveInferenceController& controller() const { return pipeline_.controller(); }
+  const aic::ActiveInferenceController& controller() const { return pipeline_.controller(); }
   /// The fault monitor (channel health).
-  const FaultMonitor& faultMonitor() const { return pipeline_.faultMonitor(); }
+  const safety::FaultMonitor& faultMonitor() const { return pipeline_.faultMonitor(); }
   /// The generalizer (y_tilde of the newest accepted sample).
-  const Generalizer& generalizer() const { return pipeline_.generalizer(); }
+  const aic::Generalizer& generalizer() const { return pipeline_.generalizer(); }
   /// True while the controller runs (Supervisor state kRunning).
   bool active() const { return supervisor_.active(); }
   /// Belief integration steps run since construction (both schedules; only while running).
@@ -291,7 +293,7 @@ public:
   /// Controller starts (entries into kRunning) since construction.
   std::uint64_t starts() const { return starts_; }
   /// The frozen joint-state check (verdict, the current run of repeats, entries into frozen).
-  const FrozenJointStates& frozenJointStates() const { return frozen_; }
+  const safety::FrozenJointStates& frozenJointStates() const { return frozen_; }
   /// Joint-state samples refused because the stream was frozen.
   std::uint64_t frozenSamples() const { return frozen_samples_; }
   /// Stamp [s] of the newest accepted sensor sample (the clock's epoch); NaN before the first.
@@ -347,7 +349,7 @@ private:
   /// The command stage: guard, clamp, output mode; emit (nothing in kBlocked). `stock_limits` false:
   /// output mode cmd_vel publishes the twist of `wheels` without the stock controller's
   /// velocity and acceleration limits (the idle zero: the diff drive ramps down itself).
-  void sendCommand(const Vector2& wheels, double latency, bool stock_limits = true);
+  void sendCommand(const base::Vector2& wheels, double latency, bool stock_limits = true);
   /// The frozen-stream check of one paired sample; tells the supervisor and logs a change.
   /// \return true if the stream is frozen (the sample must not be used)
   bool checkFrozen(const SensorSample& sample);
@@ -356,16 +358,16 @@ private:
   /// warming up), or nothing; withheld in kBlocked, as every command.
   void sendIdle();
 
-  NodeParams params_;
+  params::NodeParams params_;
   const Clock& clock_;
   Output& output_;
   SensorPairing pairing_;
   SamplePipeline pipeline_;
   Supervisor supervisor_;
-  GoalRateEstimator goal_rate_;            ///< mu_d' of the set-point stream (AicParams::reference.generalized_goal)
+  aic::GoalRateEstimator goal_rate_;       ///< mu_d' of the set-point stream (AicParams::reference.generalized_goal)
   std::unique_ptr<CmdVelOutput> cmd_vel_;  ///< output mode cmd_vel only
   TimeJumpDetector time_jump_{ kTimeJumpTolerance };
-  FrozenJointStates frozen_;  ///< a frozen MCU behind jackal_node
+  safety::FrozenJointStates frozen_;  ///< a frozen MCU behind jackal_node
   std::uint64_t frozen_samples_ = 0;
   std::uint64_t starts_ = 0;
   std::string last_stop_reason_;        ///< why the controller last left kRunning (for the restart's log line)
@@ -386,4 +388,5 @@ private:
   std::string text_;  ///< scratch for log lines
 };
 
+}  // namespace loop
 }  // namespace jackal_aic

@@ -25,6 +25,8 @@
 
 namespace jackal_aic
 {
+namespace loop
+{
 /// A limit changed a twist component by more than this [m/s or rad/s]: DiffDriveLimiter's
 /// `clipped` (smaller changes are rounding of a twist computed at exactly a limit).
 constexpr double kClipTolerance = 1e-9;
@@ -40,14 +42,14 @@ struct BodyTwist
  * \brief diff_drive_controller's mapping of a twist to wheel speeds (see file comment).
  * \return (omega_L, omega_R) [rad/s]; no limits applied
  */
-Vector2 wheelsFromTwist(const DiffDriveParams& p, const BodyTwist& twist);
+base::Vector2 wheelsFromTwist(const params::DiffDriveParams& p, const BodyTwist& twist);
 
 /**
  * \brief The exact inverse of wheelsFromTwist(): the twist for which the stock controller
  *        commands `wheels` (see file comment).
  * \param wheels  (omega_L, omega_R) [rad/s]
  */
-BodyTwist twistFromWheels(const DiffDriveParams& p, const Vector2& wheels);
+BodyTwist twistFromWheels(const params::DiffDriveParams& p, const base::Vector2& wheels);
 
 /**
  * \brief diff_drive_controller's SpeedLimiter on both axes (velocity, then acceleration
@@ -57,7 +59,7 @@ class DiffDriveLimiter
 {
 public:
   /// \throws std::invalid_argument if params do not validate (the message lists every violation)
-  explicit DiffDriveLimiter(const DiffDriveParams& params = DiffDriveParams());
+  explicit DiffDriveLimiter(const params::DiffDriveParams& params = params::DiffDriveParams());
 
   /**
    * \brief Limit a target twist.
@@ -72,10 +74,10 @@ public:
   /// The previous output.
   const BodyTwist& last() const { return last_; }
   /// The parameters in force.
-  const DiffDriveParams& params() const { return params_; }
+  const params::DiffDriveParams& params() const { return params_; }
 
 private:
-  DiffDriveParams params_;
+  params::DiffDriveParams params_;
   BodyTwist last_;
 };
 
@@ -92,13 +94,13 @@ public:
   struct Result
   {
     BodyTwist twist;          ///< to publish on jackal_velocity_controller/cmd_vel
-    Vector2 wheels;           ///< what the stock controller will command, wheelsFromTwist(twist) [rad/s]
+    base::Vector2 wheels;     ///< what the stock controller will command, wheelsFromTwist(twist) [rad/s]
     bool clipped = false;     ///< a velocity or acceleration limit changed the command
     bool non_finite = false;  ///< the input had a NaN/Inf (replaced by 0)
   };
 
   /// \throws std::invalid_argument if params do not validate
-  explicit CmdVelOutput(const DiffDriveParams& params = DiffDriveParams());
+  explicit CmdVelOutput(const params::DiffDriveParams& params = params::DiffDriveParams());
 
   /**
    * \brief Convert a wheel command: twistFromWheels(), then the limits against the previous
@@ -106,9 +108,9 @@ public:
    * \param wheels  (omega_L, omega_R) [rad/s]; a non-finite element is taken as 0
    * \param dt      time since the previous command [s], >= 0
    */
-  Result convert(const Vector2& wheels, double dt);
+  Result convert(const base::Vector2& wheels, double dt);
   /// Restart the acceleration limit from a wheel state [rad/s] (control (re)starts).
-  void reset(const Vector2& wheels);
+  void reset(const base::Vector2& wheels);
   /// Commands changed by a limit since construction.
   std::uint64_t clips() const { return clips_; }
   /// The limiter (parameters, previous output).
@@ -119,4 +121,5 @@ private:
   std::uint64_t clips_ = 0;
 };
 
+}  // namespace loop
 }  // namespace jackal_aic

@@ -10,6 +10,8 @@
 
 namespace jackal_aic
 {
+namespace loop
+{
 /// The largest interval the action loop integrates over, in nominal periods (longer gaps are clamped).
 constexpr double kMaxActionIntervalFactor = 3.0;
 /// The largest interval the belief loop integrates over, in nominal periods; it is split into
@@ -94,4 +96,5 @@ private:
   bool catch_up_;
   double debt_ = 0.0;  ///< steps owed, in nominal periods, in [-1, 1] between ticks
 };
+}  // namespace loop
 }  // namespace jackal_aic

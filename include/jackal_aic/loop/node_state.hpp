@@ -7,6 +7,8 @@
 
 namespace jackal_aic
 {
+namespace loop
+{
 /// What the node is doing (reported in diagnostics as toString(state)).
 enum class NodeState
 {
@@ -20,4 +22,5 @@ enum class NodeState
 
 /// "waiting", "running", "stale", "runaway", "held", "blocked".
 const char* toString(NodeState state);
+}  // namespace loop
 }  // namespace jackal_aic

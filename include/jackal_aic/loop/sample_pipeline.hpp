@@ -18,6 +18,8 @@
 
 namespace jackal_aic
 {
+namespace loop
+{
 /**
  * \brief Owns the controller, the generalizer, the fault monitor, the gyro's offset estimators
  *        and the tip-over guard of the jackal_AIC node and carries a sample through them in the
@@ -39,7 +41,7 @@ public:
    * \param fdi  fault detection parameters (FdiParams::validate() must pass)
    * \throws std::invalid_argument  if either is invalid (message lists every violation)
    */
-  SamplePipeline(const AicParams& aic, const FdiParams& fdi);
+  SamplePipeline(const params::AicParams& aic, const params::FdiParams& fdi);
 
   /**
    * \brief Generalize one sample (thesis eqs. 3-17 ... 3-22).
@@ -56,13 +58,13 @@ public:
    * \return the generalizer's status: kOk or kFirstSample = accepted; anything else = the sample
    *         was refused and the state is unchanged
    */
-  Generalizer::Status generalize(Vector5* y, double h, bool imu_ok, bool restart, bool* restarted = nullptr);
+  aic::Generalizer::Status generalize(base::Vector5* y, double h, bool imu_ok, bool restart, bool* restarted = nullptr);
 
   /// What measure() found.
   struct Measurement
   {
-    bool accepted = false;                                   ///< the controller took y_tilde
-    FaultMonitor::Event event = FaultMonitor::Event::kNone;  ///< FDI event of this sample
+    bool accepted = false;                                                   ///< the controller took y_tilde
+    safety::FaultMonitor::Event event = safety::FaultMonitor::Event::kNone;  ///< FDI event of this sample
     int event_channel = -1;  ///< the channel of the event (restored: the one released), else -1
   };
   /**
@@ -73,7 +75,7 @@ public:
    *        learn_gyro_bias the offset estimator then takes the sample's raw gyro reading, the wheels
    *        and the controller's action (it learns only at standstill with a healthy gyro).
    */
-  Measurement measure(const Vector5& y, double h, bool imu_ok);
+  Measurement measure(const base::Vector5& y, double h, bool imu_ok);
 
   /// Forget the sensor history (sensors were lost): generalizer and fault monitor restart.
   void restartHistory();
@@ -83,25 +85,25 @@ public:
    *        rad/s] and the newest y_tilde, the action to the measured wheel speeds [rad/s], and the
    *        beliefs to the measured twist (mu^(0) = G omega, higher orders zero).
    */
-  void activate(const Vector2& wheels, const Vector3& goal);
+  void activate(const base::Vector2& wheels, const base::Vector3& goal);
 
   /**
    * \brief Apply new parameters between steps. A changed embedding order builds a new
    *        generalizer (the history restarts: returns true).
    * \throws std::invalid_argument  if either set is invalid; nothing is changed then
    */
-  bool setParams(const AicParams& aic, const FdiParams& fdi);
+  bool setParams(const params::AicParams& aic, const params::FdiParams& fdi);
 
   /// The controller (beliefs mu, action a, goal mu_d; thesis eqs. 3-15, 3-16): the node's belief
   /// and action steps run on it directly.
-  ActiveInferenceController& controller() { return *controller_; }
-  const ActiveInferenceController& controller() const { return *controller_; }
+  aic::ActiveInferenceController& controller() { return *controller_; }
+  const aic::ActiveInferenceController& controller() const { return *controller_; }
   /// The fault monitor (channel health for diagnostics; its mask is applied by measure()).
-  FaultMonitor& faultMonitor() { return *fault_monitor_; }
+  safety::FaultMonitor& faultMonitor() { return *fault_monitor_; }
   /// \copydoc faultMonitor()
-  const FaultMonitor& faultMonitor() const { return *fault_monitor_; }
+  const safety::FaultMonitor& faultMonitor() const { return *fault_monitor_; }
   /// The gyro's offset estimator (beta_hat [rad/s]; learns with learn_gyro_bias).
-  const GyroBiasEstimator& gyroBias() const { return gyro_bias_; }
+  const aic::GyroBiasEstimator& gyroBias() const { return gyro_bias_; }
   /// Forget the learned gyro offset (beta_hat = 0).
   void resetGyroBias() { gyro_bias_.reset(); }
   /**
@@ -114,23 +116,24 @@ public:
    * \param h           interval since the previous sample [s]; a first sample (h <= 0) is skipped
    * \param imu_ok      false without a valid IMU sample (the guard's pitch decays)
    */
-  void guardTip(const Vector5& y, double pitch_rate, double h, bool imu_ok);
+  void guardTip(const base::Vector5& y, double pitch_rate, double h, bool imu_ok);
   /// The tip-over guard (its pitch, learned bounds and trips).
-  const TipGuard& tipGuard() const { return tip_guard_; }
+  const safety::TipGuard& tipGuard() const { return tip_guard_; }
   /// Forget the tip-over guard's learned bounds and pitch, and the gyro y's offset.
   void resetTipGuard();
   /// The gyro y's offset estimator (learned with learn_gyro_bias; the tip-over guard's pitch rate).
-  const GyroBiasEstimator& pitchBias() const { return pitch_bias_; }
+  const aic::GyroBiasEstimator& pitchBias() const { return pitch_bias_; }
   /// The generalizer: y_tilde, 5 x (p+1), of the newest accepted sample.
-  const Generalizer& generalizer() const { return *generalizer_; }
+  const aic::Generalizer& generalizer() const { return *generalizer_; }
 
 private:
-  std::unique_ptr<ActiveInferenceController> controller_;
-  std::unique_ptr<Generalizer> generalizer_;
-  std::unique_ptr<FaultMonitor> fault_monitor_;
-  GyroBiasEstimator gyro_bias_;
-  TipGuard tip_guard_;
-  GyroBiasEstimator pitch_bias_;
+  std::unique_ptr<aic::ActiveInferenceController> controller_;
+  std::unique_ptr<aic::Generalizer> generalizer_;
+  std::unique_ptr<safety::FaultMonitor> fault_monitor_;
+  aic::GyroBiasEstimator gyro_bias_;
+  safety::TipGuard tip_guard_;
+  aic::GyroBiasEstimator pitch_bias_;
   double raw_gyro_ = 0.0;  ///< the gyro's reading of the newest generalized sample, offset not removed [rad/s]
 };
+}  // namespace loop
 }  // namespace jackal_aic

@@ -27,12 +27,14 @@
 
 namespace jackal_aic
 {
+namespace loop
+{
 /// One synchronized sensor sample.
 struct SensorSample
 {
-  Vector5 y = Vector5::Zero();  ///< (gyro z [rad/s], omega_L [rad/s], omega_R [rad/s], accel x, y [m/s^2])
-  double h = 0.0;               ///< interval since the previous accepted sample [s]; 0 if first
-  bool first = true;            ///< true: no usable previous sample (start or after a gap)
+  base::Vector5 y = base::Vector5::Zero();  ///< (gyro z [rad/s], omega_L [rad/s], omega_R [rad/s], accel x, y [m/s^2])
+  double h = 0.0;                           ///< interval since the previous accepted sample [s]; 0 if first
+  bool first = true;                        ///< true: no usable previous sample (start or after a gap)
   /// false: no valid IMU sample within imu_max_skew (missing or stale IMU); gyro and accel
   /// fields are then 0 and must not be used (the channels are masked: Pi_y = 0, degraded mode).
   bool imu_ok = true;
@@ -42,7 +44,7 @@ struct SensorSample
   double pitch_rate = 0.0;
   /// The joint state's wheel travel (mean position of left_joints, of right_joints) [rad]; zero
   /// when the message has no positions (has_travel false). Read by FrozenJointStates.
-  Vector2 travel = Vector2::Zero();
+  base::Vector2 travel = base::Vector2::Zero();
   bool has_travel = false;  ///< the message carried positions
 };
 
@@ -171,4 +173,5 @@ private:
   std::uint64_t accepted_ = 0;
 };
 
+}  // namespace loop
 }  // namespace jackal_aic

@@ -22,6 +22,8 @@
 
 namespace jackal_aic
 {
+namespace loop
+{
 /// A stop reported by jackal_msgs/Feedback (actual_mode MODE_NONE) counts for this long after
 /// the message [s]: the MCU publishes Feedback at 50 Hz, so a silent bridge does not hold forever.
 constexpr double kMcuFeedbackExpiry = 0.5;
@@ -92,16 +94,16 @@ public:
    *                loop rates; validated (NodeParams::validate())
    * \param clock   time source; must outlive the supervisor
    */
-  Supervisor(const NodeParams& params, const Clock& clock);
+  Supervisor(const params::NodeParams& params, const Clock& clock);
 
   /// Take new validated parameters (timeouts, limits, warm-up length, loop rates); the state is kept.
-  void setParams(const NodeParams& params);
+  void setParams(const params::NodeParams& params);
 
   // ---- inputs
   /// The generalizer (re)started its history (first sample after a gap): the warm-up starts over.
   void historyRestarted() { warm_samples_ = 0; }
   /// A sample reached the generalizer (fresh sensors; one more warm-up sample).
-  void sampleAccepted(const Vector2& measured_wheels);
+  void sampleAccepted(const base::Vector2& measured_wheels);
   /// A valid Imu message arrived (for diagnostics only).
   void imuAccepted();
   /**
@@ -176,9 +178,9 @@ public:
   /// True exactly in kRunning.
   bool active() const { return state_ == NodeState::kRunning; }
   /// The goal mu_d = (linear.x [m/s], 0, angular.z [rad/s]) of the last accepted set point.
-  const Vector3& goal() const { return goal_; }
+  const base::Vector3& goal() const { return goal_; }
   /// Wheel speeds (omega_L, omega_R) [rad/s] of the last accepted sample.
-  const Vector2& measuredWheels() const { return measured_wheels_; }
+  const base::Vector2& measuredWheels() const { return measured_wheels_; }
   /// Samples accepted since the last history restart (at most kMaxOrders + 1).
   int warmSamples() const { return warm_samples_; }
   /**
@@ -271,9 +273,9 @@ private:
   double first_sample_ = 0.0;  ///< receipt time of the first sample since start [s]
   bool new_timeline_ = false;  ///< resetTimeline() and no sample of the new timeline yet
   int warm_samples_ = 0;
-  Vector2 measured_wheels_ = Vector2::Zero();
+  base::Vector2 measured_wheels_ = base::Vector2::Zero();
   double last_action_ = 0.0;  ///< clock time of the last published action step [s]
-  Vector3 goal_ = Vector3::Zero();
+  base::Vector3 goal_ = base::Vector3::Zero();
   std::uint64_t runaways_ = 0, stale_events_ = 0, set_point_drops_ = 0, set_point_clamps_ = 0;
   bool mcu_drivers_active_ = true, mcu_external_stop_ = false;  ///< last Status: true / false = OK to move
   bool has_mcu_mode_ = false;
@@ -287,4 +289,5 @@ private:
   std::string frozen_why_;      ///< its reason
 };
 
+}  // namespace loop
 }  // namespace jackal_aic

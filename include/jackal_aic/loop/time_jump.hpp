@@ -13,6 +13,8 @@
 
 namespace jackal_aic
 {
+namespace loop
+{
 /**
  * \brief Watches the readings of one clock and reports each backward step larger than a
  *        tolerance. Not thread-safe; no allocation.
@@ -85,4 +87,5 @@ private:
   double last_jump_ = 0.0;
 };
 
+}  // namespace loop
 }  // namespace jackal_aic

@@ -25,6 +25,8 @@
 
 namespace jackal_aic
 {
+namespace os
+{
 /**
  * \brief Histogram of intervals with 1 us bins up to kMaxUs (longer ones in an overflow
  *        count, their maximum kept exactly), for period percentiles without storing samples.
@@ -159,4 +161,5 @@ private:
   IntervalHistogram histogram_;
 };
 
+}  // namespace os
 }  // namespace jackal_aic

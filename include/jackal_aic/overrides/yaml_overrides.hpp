@@ -14,6 +14,8 @@
 
 namespace jackal_aic
 {
+namespace overrides
+{
 /// One parsed override: a (possibly dotted) key and its value text.
 struct Override
 {
@@ -63,4 +65,5 @@ std::vector<std::string> overlayOverrides(const YAML::Node& overlay, const std::
  */
 std::vector<std::string> loadOverlayFile(const std::string& path);
 
+}  // namespace overrides
 }  // namespace jackal_aic

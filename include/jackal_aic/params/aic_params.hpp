@@ -23,6 +23,8 @@
 
 namespace jackal_aic
 {
+namespace params
+{
 /// Integration scheme for the belief (and action) updates (doc/active_inference.md, 'Integrators').
 enum class Integrator
 {
@@ -171,9 +173,9 @@ struct AicParams
   std::string summary() const;
 
   /// Precision Pi_mu^(i) per channel, 3 x (p+1) (column i = order i), 1/sigma^2. Requires a valid struct.
-  MuTilde precisionMu() const;
+  base::MuTilde precisionMu() const;
   /// Precision Pi_y^(i) per channel, 5 x (p+1), 1/sigma^2. Requires a valid struct.
-  YTilde precisionY() const;
+  base::YTilde precisionY() const;
 };
 
 /**
@@ -188,4 +190,5 @@ struct AicParams
  */
 AicParams recommendedAicParams();
 
+}  // namespace params
 }  // namespace jackal_aic

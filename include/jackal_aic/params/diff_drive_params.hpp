@@ -11,6 +11,8 @@
 
 namespace jackal_aic
 {
+namespace params
+{
 /// diff_drive_controller's kinematics and limits; defaults: the Jackal's control.yaml.
 struct DiffDriveParams
 {
@@ -27,4 +29,5 @@ struct DiffDriveParams
   /// Every violation as "key = value (allowed: > 0, finite)"; empty when valid.
   std::vector<std::string> validate() const;
 };
+}  // namespace params
 }  // namespace jackal_aic

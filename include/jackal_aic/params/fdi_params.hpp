@@ -11,6 +11,8 @@
 
 namespace jackal_aic
 {
+namespace params
+{
 /// Parameters of FaultMonitor (schema keys fdi_*; doc/jackal_aic_node.md, 'Parameters').
 struct FdiParams
 {
@@ -28,4 +30,5 @@ struct FdiParams
   /// Every violated rule (the schema's ranges), named by YAML key (fdi_threshold, ...).
   std::vector<ParamViolation> validate() const;
 };
+}  // namespace params
 }  // namespace jackal_aic

@@ -19,6 +19,8 @@
 
 namespace jackal_aic
 {
+namespace params
+{
 
 /// What starts an action step (doc/jackal_aic_node.md, 'Loops').
 enum class ActionTrigger
@@ -104,4 +106,5 @@ struct NodeParams
   std::vector<ParamViolation> validate() const;
 };
 
+}  // namespace params
 }  // namespace jackal_aic

@@ -22,6 +22,8 @@
 
 namespace jackal_aic
 {
+namespace params
+{
 /// The schema, in the order of `aic_params --yaml` (controller keys first, then node-only keys).
 const std::vector<ParamSpec>& paramSchema();
 
@@ -125,4 +127,5 @@ struct ParamLoadReport
 ParamLoadReport loadParams(const ParamSource& source, const std::vector<ParamScope>& scopes, bool with_reconfigure,
                            NodeParams* params);
 
+}  // namespace params
 }  // namespace jackal_aic

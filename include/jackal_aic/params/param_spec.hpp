@@ -18,6 +18,8 @@
 
 namespace jackal_aic
 {
+namespace params
+{
 struct NodeParams;  // include/jackal_aic/params/node_params.hpp
 
 /// Largest loop rate the node accepts for either timer [Hz] (ParamSpec::node_max of the rates;
@@ -285,4 +287,5 @@ std::string rangeText(const ParamSpec& row);
 /// A value printed for messages and docs (numbers with up to 15 significant digits, lists as [a, b]).
 std::string formatParamValue(const ParamValue& value);
 
+}  // namespace params
 }  // namespace jackal_aic

@@ -8,6 +8,8 @@
 
 namespace jackal_aic
 {
+namespace params
+{
 /// One violated rule of AicParams::validate().
 struct ParamViolation
 {
@@ -17,4 +19,5 @@ struct ParamViolation
   /// "tau = -1 (allowed: > 0 and finite)".
   std::string toString() const;
 };
+}  // namespace params
 }  // namespace jackal_aic

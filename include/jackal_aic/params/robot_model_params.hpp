@@ -8,6 +8,8 @@
 
 namespace jackal_aic
 {
+namespace params
+{
 /**
  * \brief The generative model of the robot as it is (AicParams::robot; used only with
  *        belief_model robot). Each value is identified, measured or a named gain; the source of
@@ -55,4 +57,5 @@ struct RobotModelParams
   double action_gain = 50.0;
 };
 
+}  // namespace params
 }  // namespace jackal_aic

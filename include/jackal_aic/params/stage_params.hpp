@@ -11,6 +11,8 @@
 
 namespace jackal_aic
 {
+namespace params
+{
 /**
  * \brief The goal stage (ReferenceModel, GoalRateEstimator; AicParams::reference): the goal's rate
  *        from the set-point stream, the predicted goal and the rate-limited, delayed reference
@@ -203,4 +205,5 @@ struct TipGuardParams
   double min_acceleration = 1.0;
 };
 
+}  // namespace params
 }  // namespace jackal_aic

@@ -79,11 +79,14 @@
 
 namespace jackal_aic
 {
+// The node's folder ros/ is namespace node: a jackal_aic::ros would hide ::ros inside jackal_aic.
+namespace node
+{
 /**
  * \brief ros::Time::now() (wall or simulated time, as the node runs) as a Clock: seconds since
  *        an epoch taken at start(), so stamps keep nanosecond resolution as doubles.
  */
-class RosClock : public Clock
+class RosClock : public loop::Clock
 {
 public:
   /// Take the epoch: the current ROS time (0 on simulated time before the first /clock).
@@ -107,7 +110,7 @@ private:
 /**
  * \brief The node. Construct, call init(); if it returns false, exit non-zero.
  */
-class AicNode : private ControlLoop::Output
+class AicNode : private loop::ControlLoop::Output
 {
 public:
   /**
@@ -147,21 +150,21 @@ private:
   void startOutputGate();
 
   // ControlLoop::Output: publish, report, log.
-  void command(const WheelCommand& command) override;
-  void healthEvent(FaultMonitor::Event event, int channel) override;
-  void log(LogLevel level, const std::string& text) override;
+  void command(const loop::WheelCommand& command) override;
+  void healthEvent(safety::FaultMonitor::Event event, int channel) override;
+  void log(loop::LogLevel level, const std::string& text) override;
 
   ros::NodeHandle nh_;
   ros::NodeHandle pnh_;
-  NodeParams params_;
+  params::NodeParams params_;
   RosClock clock_;
 
   std::unique_ptr<NodeOutputs> outputs_;
-  std::unique_ptr<ControlLoop> loop_;
+  std::unique_ptr<loop::ControlLoop> loop_;
   std::unique_ptr<NodeReconfigure> reconfigure_;
   std::unique_ptr<NodeDiagnostics> diagnostics_;
   /// Whether commands leave the node (~enable_output; a field trial's A/B switch). Under mutex_.
-  OutputGate gate_;
+  safety::OutputGate gate_;
   std::unique_ptr<OutputEnable> output_enable_;
   std::unique_ptr<LearnedModelService> learned_model_;  ///< ~save_learned_model, ~reset_learned_model
 
@@ -178,7 +181,7 @@ private:
   std::uint64_t published_steps_ = 0;  ///< loop_->beliefSteps() at the last debug publication
 
   /// The command topic's conflict state (guarded by mutex_).
-  std::unique_ptr<OutputConflict> conflict_;
+  std::unique_ptr<safety::OutputConflict> conflict_;
   /// Polls the master for the command topic's publishers (publisher_check_period > 0); destroyed
   /// (its thread joined) before everything its callback uses.
   std::unique_ptr<PublisherWatch> publisher_watch_;
@@ -188,4 +191,5 @@ private:
   std::unique_ptr<BeliefLoop> belief_loop_;
 };
 
+}  // namespace node
 }  // namespace jackal_aic

@@ -17,6 +17,8 @@
 
 namespace jackal_aic
 {
+namespace node
+{
 /**
  * \brief Interval [s] between a ROS timer's previous and current call (wall clock of the
  *        event), or -1 on its first call (the supervisor's schedulers then take the nominal
@@ -83,6 +85,7 @@ private:
   ros::Timer timer_;
   std::string description_;
   bool refused_ = false;
-  std::unique_ptr<PeriodicThread> thread_;
+  std::unique_ptr<os::PeriodicThread> thread_;
 };
+}  // namespace node
 }  // namespace jackal_aic

@@ -12,6 +12,8 @@
 
 namespace jackal_aic
 {
+namespace node
+{
 /**
  * \brief ros::CallbackQueueInterface that calls each callback as roscpp adds it: a subscriber
  *        given this queue runs its callback on roscpp's network thread (the one that read the
@@ -53,4 +55,5 @@ private:
   std::atomic<std::uint64_t> deferred_{ 0 };
 };
 
+}  // namespace node
 }  // namespace jackal_aic

@@ -23,7 +23,13 @@
 
 namespace jackal_aic
 {
+namespace loop
+{
 class ControlLoop;
+}
+
+namespace node
+{
 
 /// ~save_learned_model and ~reset_learned_model over the node's ControlLoop (guarded by the node's lock).
 class LearnedModelService
@@ -35,7 +41,7 @@ public:
    * \param loop   the node's control loop (its controller's separation learner)
    * \param file   the overlay's path; empty = defaultFile()
    */
-  LearnedModelService(ros::NodeHandle& pnh, std::mutex& mutex, ControlLoop& loop, const std::string& file);
+  LearnedModelService(ros::NodeHandle& pnh, std::mutex& mutex, loop::ControlLoop& loop, const std::string& file);
   LearnedModelService(const LearnedModelService&) = delete;
   LearnedModelService& operator=(const LearnedModelService&) = delete;
 
@@ -54,10 +60,11 @@ public:
 
 private:
   std::mutex& mutex_;
-  ControlLoop& loop_;
+  loop::ControlLoop& loop_;
   std::string file_;
   ros::ServiceServer save_server_;
   ros::ServiceServer reset_server_;
 };
 
+}  // namespace node
 }  // namespace jackal_aic

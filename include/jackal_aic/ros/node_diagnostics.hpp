@@ -33,22 +33,24 @@ class FrequencyStatus;
 
 namespace jackal_aic
 {
+namespace node
+{
 /// The controller's side of the diagnostics, gathered by the node when they are published.
 struct ControllerReport
 {
-  double free_energy = 0.0;                 ///< F (thesis eq. 3-10) at the diagnostics publication
-  double belief_vx = 0.0;                   ///< mu^(0) x_dot [m/s]
-  double belief_wz = 0.0;                   ///< mu^(0) theta_dot [rad/s]
-  Vector2 command = Vector2::Zero();        ///< wheel command (omega_L, omega_R) [rad/s], zero when inactive
-  std::uint64_t guarded_outputs = 0;        ///< non-finite outputs suppressed
-  std::uint64_t generalizer_drops = 0;      ///< samples the generalizer or the controller refused
-  std::string output_mode = "cmd_drive";    ///< output_mode parameter
-  std::uint64_t output_clips = 0;           ///< cmd_vel mode: commands clipped to the stock controller's limits
-  bool last_output_clipped = false;         ///< cmd_vel mode: the last command was clipped (anti-windup active)
-  std::string output_topic;                 ///< the command topic's resolved name
-  std::string other_publishers = "none";    ///< other nodes publishing on it ("unchecked" with the check off)
-  std::uint64_t output_conflicts = 0;       ///< conflicts started (another publisher appeared)
-  std::uint64_t blocked_commands = 0;       ///< commands withheld while another node published on the topic
+  double free_energy = 0.0;                       ///< F (thesis eq. 3-10) at the diagnostics publication
+  double belief_vx = 0.0;                         ///< mu^(0) x_dot [m/s]
+  double belief_wz = 0.0;                         ///< mu^(0) theta_dot [rad/s]
+  base::Vector2 command = base::Vector2::Zero();  ///< wheel command (omega_L, omega_R) [rad/s], zero when inactive
+  std::uint64_t guarded_outputs = 0;              ///< non-finite outputs suppressed
+  std::uint64_t generalizer_drops = 0;            ///< samples the generalizer or the controller refused
+  std::string output_mode = "cmd_drive";          ///< output_mode parameter
+  std::uint64_t output_clips = 0;                 ///< cmd_vel mode: commands clipped to the stock controller's limits
+  bool last_output_clipped = false;               ///< cmd_vel mode: the last command was clipped (anti-windup active)
+  std::string output_topic;                       ///< the command topic's resolved name
+  std::string other_publishers = "none";          ///< other nodes publishing on it ("unchecked" with the check off)
+  std::uint64_t output_conflicts = 0;             ///< conflicts started (another publisher appeared)
+  std::uint64_t blocked_commands = 0;             ///< commands withheld while another node published on the topic
   double wheel_separation = 0.0;            ///< b_hat the generative model uses [m] (learned if learn_wheel_separation)
   std::string separation_learning = "off";  ///< the learner's state (learning, near rest, transient, ...) or "off"
   std::uint64_t separation_learning_steps = 0;  ///< learning steps taken
@@ -64,7 +66,7 @@ struct ControllerReport
   /// The controller's part: F (0 before the first measurement), mu^(0) x_dot and theta_dot,
   /// the action as the command while `active` (zero otherwise), the model's b_hat and the state
   /// of its learning; the rest stays default.
-  static ControllerReport of(const ActiveInferenceController& controller, bool active);
+  static ControllerReport of(const aic::ActiveInferenceController& controller, bool active);
 };
 
 /**
@@ -84,7 +86,7 @@ public:
    *                     pairing's counters, the belief steps; must outlive this object
    * \param controller   called at every publication for the controller's side
    */
-  NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, ControlLoop& loop,
+  NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, loop::ControlLoop& loop,
                   std::function<ControllerReport()> controller);
   ~NodeDiagnostics();
 
@@ -116,14 +118,14 @@ public:
    * \param pnh      private node handle
    * \param monitor  the node's fault monitor; must outlive this object
    */
-  void addFaultMonitor(ros::NodeHandle& pnh, const FaultMonitor& monitor);
+  void addFaultMonitor(ros::NodeHandle& pnh, const safety::FaultMonitor& monitor);
   /**
    * \brief Publish the channel health on ~sensor_health and, for an event, log it (WARN on an
    *        isolation or a detection, INFO on a restoration). A no-op before addFaultMonitor().
    * \param event  what the last FaultMonitor::update() changed (kNone: periodic publication)
    * \param channel  the channel the event concerns (SensorIndex; -1 for none)
    */
-  void publishHealth(FaultMonitor::Event event, int channel);
+  void publishHealth(safety::FaultMonitor::Event event, int channel);
   /**
    * \brief Periodic ~sensor_health: publishes (as publishHealth(kNone)) when the channel states
    *        (IMU available, isolated channel, fault present) changed since the last publication,
@@ -143,17 +145,17 @@ private:
   void controller(diagnostic_updater::DiagnosticStatusWrapper& stat);
   void beliefRate(diagnostic_updater::DiagnosticStatusWrapper& stat);
 
-  ControlLoop& loop_;
+  loop::ControlLoop& loop_;
   std::function<ControllerReport()> report_;
   std::string belief_loop_ = "ROS timer";
-  IntervalHistogram latency_;  ///< sensor-to-command latencies of the current window
+  os::IntervalHistogram latency_;  ///< sensor-to-command latencies of the current window
   double belief_rate_ = 0.0, action_freq_min_ = 0.0, action_freq_max_ = 0.0;
   std::uint64_t rate_steps_ = 0;  ///< loop_.beliefSteps() at the last "belief step rate"
   double rate_integrated_ = 0.0;  ///< loop_.beliefTimeIntegrated() then [s]
   ros::WallTime rate_time_;       ///< its time
   std::unique_ptr<diagnostic_updater::Updater> updater_;
   std::unique_ptr<diagnostic_updater::FrequencyStatus> action_freq_;
-  const FaultMonitor* monitor_ = nullptr;
+  const safety::FaultMonitor* monitor_ = nullptr;
   ros::Publisher health_pub_;
   std::string last_event_ = "none";
   int published_state_ = -1;           ///< healthState() at the last publication
@@ -163,4 +165,5 @@ private:
   int healthState() const;
 };
 
+}  // namespace node
 }  // namespace jackal_aic

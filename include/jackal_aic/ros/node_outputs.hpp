@@ -25,6 +25,8 @@
 
 namespace jackal_aic
 {
+namespace node
+{
 /**
  * \brief The controller's state for the debug topics, copied under the node's lock by the
  *        debug timer (debug_rate) so the publishing happens outside it. Fixed-size matrices:
@@ -32,11 +34,11 @@ namespace jackal_aic
  */
 struct DebugSnapshot
 {
-  ros::Time stamp;               ///< time of the newest belief step the snapshot holds (~belief)
-  ros::Time sample_stamp;        ///< stamp of the newest accepted sensor sample (~inference); 0 before the first
-  bool has_measurement = false;  ///< the controller has accepted a measurement (else F is published as 0)
-  InferenceSample inference;     ///< F and its parts, mu, eps_y, eps_mu, the action, its prior, mu_r, Pi_y^(0), b_hat
-  double gyro_offset = 0.0;      ///< the gyro offset beta_hat removed from the gyro [rad/s] (learn_gyro_bias)
+  ros::Time stamp;                 ///< time of the newest belief step the snapshot holds (~belief)
+  ros::Time sample_stamp;          ///< stamp of the newest accepted sensor sample (~inference); 0 before the first
+  bool has_measurement = false;    ///< the controller has accepted a measurement (else F is published as 0)
+  aic::InferenceSample inference;  ///< F and its parts, mu, eps_y, eps_mu, the action, its prior, mu_r, Pi_y^(0), b_hat
+  double gyro_offset = 0.0;        ///< the gyro offset beta_hat removed from the gyro [rad/s] (learn_gyro_bias)
 };
 
 /**
@@ -90,19 +92,19 @@ public:
    *        geometry_msgs/Twist with command.twist; a non-finite value (never expected after the
    *        command stage) becomes zero (counted, ERROR logged at most once a second).
    */
-  void publish(const WheelCommand& command);
+  void publish(const loop::WheelCommand& command);
   /**
    * \brief Publish mu^(0) = (linear.x, linear.y, angular.z) of `mu` (3 x (p+1)) in frame
    *        base_link with `stamp`; a non-finite belief is published as zero (counted).
    */
-  void belief(const ros::Time& stamp, const MuTilde& mu);
+  void belief(const ros::Time& stamp, const base::MuTilde& mu);
   /**
    * \brief Fill `snapshot` from `controller` (call under the node's lock): its inference
    *        (inferenceSample(), jackal_aic/aic/inference_sample.hpp), whether it has a measurement,
    *        the gyro offset in use `gyro_offset` [rad/s] (GyroBiasEstimator::offset()), the belief
    *        time `stamp` and the newest accepted sensor sample's stamp `sample_stamp`.
    */
-  void capture(const ActiveInferenceController& controller, double gyro_offset, const ros::Time& stamp,
+  void capture(const aic::ActiveInferenceController& controller, double gyro_offset, const ros::Time& stamp,
                const ros::Time& sample_stamp, DebugSnapshot* snapshot) const;
   /**
    * \brief Publish a snapshot: ~belief (as belief()), the free energy (0 before the first
@@ -137,4 +139,5 @@ private:
   std::mutex debug_mutex_;  ///< the timer against subscriber callbacks starting / stopping it
   DebugSnapshot snapshot_;  ///< the debug timer's copy (spinner thread only)
 };
+}  // namespace node
 }  // namespace jackal_aic

@@ -28,19 +28,21 @@
 
 namespace jackal_aic
 {
+namespace node
+{
 /**
  * \brief The value of the cfg parameter `name` in `config`, as a ParamValue (double, int,
  *        bool or std::string).
  * \throws std::out_of_range if AICConfig has no parameter of that name
  */
-ParamValue configValue(const AICConfig& config, const std::string& name);
+params::ParamValue configValue(const AICConfig& config, const std::string& name);
 
 /**
  * \brief Set the cfg parameter `name` in `config`.
  * \throws std::out_of_range if AICConfig has no parameter of that name
  * \throws std::invalid_argument if `value` does not hold the parameter's type
  */
-void setConfigValue(AICConfig* config, const std::string& name, const ParamValue& value);
+void setConfigValue(AICConfig* config, const std::string& name, const params::ParamValue& value);
 
 /**
  * \brief The config that shows `params`: every reconfigure entry of the schema set from
@@ -49,14 +51,14 @@ void setConfigValue(AICConfig* config, const std::string& name, const ParamValue
  * \param params  validated parameters
  * \param base    values for what params does not determine (slots beyond p)
  */
-AICConfig configFromParams(const NodeParams& params, const AICConfig& base);
+AICConfig configFromParams(const params::NodeParams& params, const AICConfig& base);
 
 /// Outcome of paramsFromRequest().
 struct ReconfigureOutcome
 {
-  NodeParams params;                       ///< base with the changed keys applied
-  std::vector<std::string> changed;        ///< cfg names that changed, in schema order
-  std::vector<ParamViolation> violations;  ///< empty: accept `params`
+  params::NodeParams params;                       ///< base with the changed keys applied
+  std::vector<std::string> changed;                ///< cfg names that changed, in schema order
+  std::vector<params::ParamViolation> violations;  ///< empty: accept `params`
 };
 
 /**
@@ -71,7 +73,7 @@ struct ReconfigureOutcome
  * \param shown    the config the server held before the request
  * \param base     the parameters the request changes (in force, or the last accepted set)
  */
-ReconfigureOutcome paramsFromRequest(const AICConfig& request, const AICConfig& shown, const NodeParams& base);
+ReconfigureOutcome paramsFromRequest(const AICConfig& request, const AICConfig& shown, const params::NodeParams& base);
 
 /**
  * \brief The node's dynamic_reconfigure server: validates each request in its callback and
@@ -86,21 +88,22 @@ public:
    * \param pnh        private node handle (the server's namespace)
    * \param in_force   the node's parameters in force; must outlive this object (read in the callback)
    */
-  NodeReconfigure(const ros::NodeHandle& pnh, const NodeParams& in_force);
+  NodeReconfigure(const ros::NodeHandle& pnh, const params::NodeParams& in_force);
 
   /// The parameter set accepted since the last call, or null.
-  std::unique_ptr<NodeParams> takePending();
+  std::unique_ptr<params::NodeParams> takePending();
 
 private:
   void callback(AICConfig& config, std::uint32_t level);
 
-  const NodeParams& in_force_;
+  const params::NodeParams& in_force_;
   boost::recursive_mutex server_mutex_;
   dynamic_reconfigure::Server<AICConfig> server_;
   AICConfig shown_;           ///< what the server holds (the last config given to it)
   bool initialized_ = false;  ///< setCallback()'s first call carries the values already in force
   std::mutex pending_mutex_;
-  std::unique_ptr<NodeParams> pending_;
+  std::unique_ptr<params::NodeParams> pending_;
 };
 
+}  // namespace node
 }  // namespace jackal_aic

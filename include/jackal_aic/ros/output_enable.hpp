@@ -29,6 +29,8 @@ class Updater;
 
 namespace jackal_aic
 {
+namespace node
+{
 /// ~enable_output and its diagnostics; the gate itself is the node's (guarded by the node's lock).
 class OutputEnable
 {
@@ -42,7 +44,7 @@ public:
    *                 measured state; returns a line for the log (what it started from)
    * \param topic    the command topic the gate silences (for the log lines)
    */
-  OutputEnable(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::mutex& mutex, OutputGate& gate,
+  OutputEnable(ros::NodeHandle& nh, ros::NodeHandle& pnh, std::mutex& mutex, safety::OutputGate& gate,
                std::function<std::string()> restart, std::string topic);
   ~OutputEnable();
   OutputEnable(const OutputEnable&) = delete;
@@ -56,7 +58,7 @@ public:
 
 private:
   std::mutex& mutex_;
-  OutputGate& gate_;
+  safety::OutputGate& gate_;
   std::function<std::string()> restart_;
   std::string topic_;
   ros::ServiceServer server_;
@@ -64,4 +66,5 @@ private:
   ros::Timer diagnostics_timer_;
 };
 
+}  // namespace node
 }  // namespace jackal_aic

@@ -16,6 +16,8 @@
 
 namespace jackal_aic
 {
+namespace node
+{
 /**
  * \brief The parameter server under a node handle's namespace as a ParamSource.
  *
@@ -23,12 +25,12 @@ namespace jackal_aic
  * be an XML-RPC int (roscpp's getParam(int&) would round 2.5 to 3); lists through
  * getParam(std::vector<...>&).
  */
-class RosParamSource : public ParamSource
+class RosParamSource : public params::ParamSource
 {
 public:
   /// \param nh  the namespace to read (the node's private handle ~)
   explicit RosParamSource(const ros::NodeHandle& nh) : nh_(nh) {}
-  Status read(const std::string& key, ParamType type, ParamValue* out) const override;
+  Status read(const std::string& key, params::ParamType type, params::ParamValue* out) const override;
   std::string raw(const std::string& key) const override;
   /// First path component of every parameter under the namespace.
   std::vector<std::string> keys() const override;
@@ -50,14 +52,15 @@ private:
  * \param params      output; holds defaults for missing keys
  * \param violations  output; type errors found while reading (append), before validate()
  */
-void loadNodeParams(const ros::NodeHandle& pnh, NodeParams* params, std::vector<ParamViolation>* violations);
+void loadNodeParams(const ros::NodeHandle& pnh, params::NodeParams* params,
+                    std::vector<params::ParamViolation>* violations);
 
 /**
  * \brief loadNodeParams() then NodeParams::validate(); every violation is logged at FATAL as
  *        "invalid parameter ~name = value (allowed: range)", then their count and namespace.
  * \return true if the parameters are valid (the node may start); false: exit non-zero
  */
-bool loadValidNodeParams(const ros::NodeHandle& pnh, NodeParams* params);
+bool loadValidNodeParams(const ros::NodeHandle& pnh, params::NodeParams* params);
 
 /**
  * \brief Log at WARN "jackal_AIC: <what>the configuration is unstable on the linear model ...
@@ -69,6 +72,7 @@ bool loadValidNodeParams(const ros::NodeHandle& pnh, NodeParams* params);
  * \param what    prefix naming the occasion, e.g. "reconfigure: " ("" at start-up)
  * \return true if it warned
  */
-bool warnIfUnstable(const AicParams& params, const std::string& what);
+bool warnIfUnstable(const params::AicParams& params, const std::string& what);
 
+}  // namespace node
 }  // namespace jackal_aic

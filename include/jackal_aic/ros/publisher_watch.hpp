@@ -15,6 +15,8 @@
 
 namespace jackal_aic
 {
+namespace node
+{
 /**
  * \brief Asks the master every `period` (wall time) which nodes publish on a topic and hands
  *        the answer to a callback, on its own thread, so a slow master never delays the
@@ -70,4 +72,5 @@ private:
   std::thread thread_;
 };
 
+}  // namespace node
 }  // namespace jackal_aic

@@ -14,6 +14,8 @@
 
 namespace jackal_aic
 {
+namespace node
+{
 /// How long the node waits at most for a /rosout subscriber's connection at start-up [s, wall
 /// time]: rosout connects within tens of milliseconds of the node's registration; one that does
 /// not answer (a hung rosout) delays the start by this, its start-up lines then on stdout only.
@@ -30,4 +32,5 @@ constexpr double kRosoutWait = 2.0;
  *         true otherwise
  */
 bool waitForRosout(double timeout = kRosoutWait);
+}  // namespace node
 }  // namespace jackal_aic

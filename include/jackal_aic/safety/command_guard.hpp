@@ -10,12 +10,14 @@
 
 namespace jackal_aic
 {
+namespace safety
+{
 /// What guardWheelCommand() lets through, and what it changed.
 struct GuardedWheels
 {
-  Vector2 wheels = Vector2::Zero();  ///< (omega_L, omega_R) [rad/s]: finite, each within +-limit
-  bool replaced = false;             ///< the command (or the limit) was not finite: zero was sent instead
-  bool clamped = false;              ///< a finite wheel speed beyond +-limit was clamped to it
+  base::Vector2 wheels = base::Vector2::Zero();  ///< (omega_L, omega_R) [rad/s]: finite, each within +-limit
+  bool replaced = false;                         ///< the command (or the limit) was not finite: zero was sent instead
+  bool clamped = false;                          ///< a finite wheel speed beyond +-limit was clamped to it
 };
 
 /**
@@ -27,6 +29,7 @@ struct GuardedWheels
  *                and positive gives zero (replaced), never an unbounded command
  * \return the guarded command; no allocation, no exceptions (called on the action path)
  */
-GuardedWheels guardWheelCommand(const Vector2& wheels, double limit) noexcept;
+GuardedWheels guardWheelCommand(const base::Vector2& wheels, double limit) noexcept;
 
+}  // namespace safety
 }  // namespace jackal_aic

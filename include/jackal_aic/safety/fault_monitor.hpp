@@ -22,6 +22,8 @@
 
 namespace jackal_aic
 {
+namespace safety
+{
 /**
  * \brief Detects and isolates one faulty channel among gyro z, omega_L, omega_R.
  *
@@ -63,18 +65,18 @@ public:
   };
 
   /// Monitored channels, in SensorIndex order.
-  static constexpr std::array<int, 3> kChannels{ kGyroZ, kOmegaLeft, kOmegaRight };
+  static constexpr std::array<int, 3> kChannels{ base::kGyroZ, base::kOmegaLeft, base::kOmegaRight };
 
   /**
    * \param fdi  detection parameters
    * \param aic  controller parameters (r, alpha, b_hat, var_y, var_mu are used)
    * \throws std::invalid_argument listing the violations if fdi or aic are invalid.
    */
-  FaultMonitor(const FdiParams& fdi, const AicParams& aic);
+  FaultMonitor(const params::FdiParams& fdi, const params::AicParams& aic);
 
   /// Replace the parameters (state kept). \throws std::invalid_argument (state unchanged) if invalid.
-  void setParams(const FdiParams& fdi, const AicParams& aic);
-  const FdiParams& params() const { return fdi_; }
+  void setParams(const params::FdiParams& fdi, const params::AicParams& aic);
+  const params::FdiParams& params() const { return fdi_; }
 
   /**
    * \brief Test one synchronized sample.
@@ -84,7 +86,7 @@ public:
    *             is ignored: state kept, kNone, counted in ignoredSamples()
    * \return the event this sample caused.
    */
-  Event update(const Vector5& y, const Vector3& mu0, double h);
+  Event update(const base::Vector5& y, const base::Vector3& mu0, double h);
 
   /**
    * \brief Use the wheel separation b_hat [m] of the controller's generative model (learned,
@@ -126,13 +128,13 @@ public:
   double lastDetectionDelay() const { return last_delay_; }
 
   /// Twist (x_dot [m/s], 0, theta_dot [rad/s]) given by the two channels other than `excluded` (SensorIndex).
-  Vector3 twistWithout(int excluded, const Vector5& y) const;
+  base::Vector3 twistWithout(int excluded, const base::Vector5& y) const;
 
   /// "gyro_z", "omega_left", ... for a SensorIndex; "none" for -1.
   static const char* channelName(int channel);
 
 private:
-  FdiParams fdi_;
+  params::FdiParams fdi_;
   double c_ = 0.0;                    ///< r alpha / b_hat [-]
   double r_alpha_ = 0.0;              ///< r alpha [m]
   double half_b_ = 0.0;               ///< b_hat / 2 [m]
@@ -155,4 +157,5 @@ private:
 /// "none", "isolated", "restored", "detected".
 const char* toString(FaultMonitor::Event event);
 
+}  // namespace safety
 }  // namespace jackal_aic

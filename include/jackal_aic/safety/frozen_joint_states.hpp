@@ -30,6 +30,8 @@
 
 namespace jackal_aic
 {
+namespace safety
+{
 /**
  * \brief How long [s] the joint states' travel and speeds may repeat exactly, by their stamps,
  *        while a wheel reads as turning, before the stream counts as frozen: 5 periods of the
@@ -75,10 +77,10 @@ public:
   /// One joint-state sample's data.
   struct Input
   {
-    double stamp = 0.0;                ///< the sample's stamp [s], increasing between calls
-    Vector2 travel = Vector2::Zero();  ///< wheel travel (left, right) [rad] (SensorSample::travel)
-    bool has_travel = false;           ///< the message carried positions
-    Vector2 speed = Vector2::Zero();   ///< wheel speeds (omega_L, omega_R) [rad/s]
+    double stamp = 0.0;                            ///< the sample's stamp [s], increasing between calls
+    base::Vector2 travel = base::Vector2::Zero();  ///< wheel travel (left, right) [rad] (SensorSample::travel)
+    bool has_travel = false;                       ///< the message carried positions
+    base::Vector2 speed = base::Vector2::Zero();   ///< wheel speeds (omega_L, omega_R) [rad/s]
   };
 
   /// What update() found.
@@ -108,8 +110,8 @@ private:
   double hold_time_;
   double motion_speed_;
   bool have_last_ = false;
-  Vector2 last_travel_ = Vector2::Zero();
-  Vector2 last_speed_ = Vector2::Zero();
+  base::Vector2 last_travel_ = base::Vector2::Zero();
+  base::Vector2 last_speed_ = base::Vector2::Zero();
   double run_start_ = 0.0;  ///< stamp the current run counts from [s]
   double held_for_ = 0.0;
   std::uint64_t repeats_ = 0;
@@ -120,4 +122,5 @@ private:
 /// "none", "frozen" or "thawed".
 const char* toString(FrozenJointStates::Event event);
 
+}  // namespace safety
 }  // namespace jackal_aic

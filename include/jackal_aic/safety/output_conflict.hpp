@@ -18,6 +18,8 @@
 
 namespace jackal_aic
 {
+namespace safety
+{
 /**
  * \brief The conflict state machine of one output topic: clear or conflicted, changed only by
  *        the publisher lists given to update().
@@ -97,4 +99,5 @@ private:
 /// "none", "started", "changed", "ended".
 const char* toString(OutputConflict::Event event);
 
+}  // namespace safety
 }  // namespace jackal_aic

@@ -21,6 +21,8 @@
 
 namespace jackal_aic
 {
+namespace safety
+{
 /// The output gate (see the file comment). Starts enabled: a node without a field trial is unchanged.
 class OutputGate
 {
@@ -81,4 +83,5 @@ private:
   std::uint64_t switches_ = 0;
 };
 
+}  // namespace safety
 }  // namespace jackal_aic

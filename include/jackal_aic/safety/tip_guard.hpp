@@ -13,6 +13,8 @@
 
 namespace jackal_aic
 {
+namespace safety
+{
 /**
  * \brief Watches the body's pitch while the robot brakes and learns the acceleration at which it
  *        starts to tip over.
@@ -74,7 +76,7 @@ public:
   };
 
   /// \throws std::invalid_argument naming every violated rule of TipGuardParams.
-  explicit TipGuard(const TipGuardParams& params);
+  explicit TipGuard(const params::TipGuardParams& params);
 
   /**
    * \brief One sensor sample.
@@ -108,10 +110,10 @@ public:
   /// +inf, no trips.
   void reset();
   /// The settings in use.
-  const TipGuardParams& params() const { return params_; }
+  const params::TipGuardParams& params() const { return params_; }
   /// Replace the settings, keeping the learned bounds (raised to the new floor).
   /// \throws std::invalid_argument as the constructor (the guard unchanged).
-  void setParams(const TipGuardParams& params);
+  void setParams(const params::TipGuardParams& params);
 
 private:
   /// One direction's trip: active until the body is level again.
@@ -123,7 +125,7 @@ private:
   /// Trip, learn and release one direction (sign +1: nose-down, -1: tail-down).
   void follow(Trip* trip, double* bound, double sign);
 
-  TipGuardParams params_;
+  params::TipGuardParams params_;
   double theta_ = 0.0;
   double accel_ = 0.0;
   double speed_ = 0.0;      ///< the previous sample's v [m/s]
@@ -145,4 +147,5 @@ const char* toString(TipGuard::State state);
  */
 std::string statusText(const TipGuard& guard);
 
+}  // namespace safety
 }  // namespace jackal_aic

@@ -147,13 +147,13 @@ SteadyDrive runSteadyDrive(const RobotDescription& description, PlantParams para
   return out;
 }
 
-StepMetrics stepMetricsOf(const StepRecord& record, bool ground_truth)
+analysis::StepMetrics stepMetricsOf(const StepRecord& record, bool ground_truth)
 {
-  StepMetricsOptions o;
+  analysis::StepMetricsOptions o;
   o.step_time = 0.0;
   o.initial = 0.0;
   o.target = record.step;
-  return computeStepMetrics(record.time, ground_truth ? record.v_true : record.v_odom, o);
+  return analysis::computeStepMetrics(record.time, ground_truth ? record.v_true : record.v_odom, o);
 }
 
 }  // namespace harness

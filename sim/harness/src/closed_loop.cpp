@@ -100,9 +100,9 @@ void checkConfig(const ClosedLoopConfig& config)
 
 /// The node's parameters of an AIC run: config.node with config.aic and, if none are given,
 /// the plant's wheel joints (front and rear of each side).
-NodeParams aicNodeParams(const ClosedLoopConfig& config, const RobotDescription& description)
+params::NodeParams aicNodeParams(const ClosedLoopConfig& config, const RobotDescription& description)
 {
-  NodeParams p = config.node;
+  params::NodeParams p = config.node;
   p.aic = config.aic;
   if (p.left_joints.empty() && p.right_joints.empty())
   {
@@ -113,7 +113,7 @@ NodeParams aicNodeParams(const ClosedLoopConfig& config, const RobotDescription&
 }
 
 /// Throws std::invalid_argument listing every violation of the AIC run's parameters.
-void checkAicParams(const NodeParams& params)
+void checkAicParams(const params::NodeParams& params)
 {
   const auto violations = params.validate();
   if (!violations.empty())
@@ -129,7 +129,7 @@ void checkAicParams(const NodeParams& params)
 }
 
 /// The plant's time as the loop's clock.
-class SimClock : public Clock
+class SimClock : public loop::Clock
 {
 public:
   double now() const override { return t; }
@@ -138,14 +138,14 @@ public:
 
 /// The loop's commands go to the plant at once (while the driver forwards them); its health
 /// events into the record.
-class PlantOutput : public ControlLoop::Output
+class PlantOutput : public loop::ControlLoop::Output
 {
 public:
   PlantOutput(Plant* plant, const SimClock& clock, ClosedLoopRecord& record, bool keep_events)
     : plant_(plant), clock_(clock), record_(record), keep_events_(keep_events)
   {
   }
-  void command(const WheelCommand& c) override
+  void command(const loop::WheelCommand& c) override
   {
     wheels = c.wheels;
     if (connected)
@@ -153,7 +153,7 @@ public:
       plant_->setWheelSpeeds(c.wheels(0), c.wheels(1));
     }
   }
-  void healthEvent(FaultMonitor::Event event, int channel) override
+  void healthEvent(safety::FaultMonitor::Event event, int channel) override
   {
     if (keep_events_)
     {
@@ -162,8 +162,8 @@ public:
   }
   /// A restarted plant.
   void setPlant(Plant* plant) { plant_ = plant; }
-  Vector2 wheels = Vector2::Zero();  ///< the last command [rad/s]
-  bool connected = true;             ///< false: the driver is paused (commands are not forwarded)
+  base::Vector2 wheels = base::Vector2::Zero();  ///< the last command [rad/s]
+  bool connected = true;                         ///< false: the driver is paused (commands are not forwarded)
 
 private:
   Plant* plant_;
@@ -210,10 +210,10 @@ const char* toString(Operation::Kind kind)
   return "unknown";
 }
 
-std::vector<SetPointSegment> profileSegments(const TwistProfile& profile, double t0)
+std::vector<SetPointSegment> profileSegments(const analysis::TwistProfile& profile, double t0)
 {
   std::vector<SetPointSegment> out{ SetPointSegment{ 0.0, 0.0, 0.0 } };
-  for (const TwistProfilePoint& p : profile.points)
+  for (const analysis::TwistProfilePoint& p : profile.points)
   {
     out.push_back(SetPointSegment{ t0 + p.t, p.vx, p.wz });
   }
@@ -247,10 +247,10 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
   const auto total = static_cast<std::uint64_t>(std::llround(config.duration / dt));
   const bool aic = config.controller == LoopController::kAic;
   const bool classical = config.controller == LoopController::kPi;
-  std::unique_ptr<PiController> pi;
+  std::unique_ptr<classical::PiController> pi;
   if (classical)
   {
-    pi = std::make_unique<PiController>(config.pi);  // throws on invalid parameters
+    pi = std::make_unique<classical::PiController>(config.pi);  // throws on invalid parameters
   }
 
   StockController stock;
@@ -263,8 +263,8 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
   ClosedLoopRecord out;
   SimClock clock;
   PlantOutput output(plant.get(), clock, out, config.record);
-  std::unique_ptr<ControlLoop> loop;
-  NodeParams node;
+  std::unique_ptr<loop::ControlLoop> loop;
+  params::NodeParams node;
   std::uint64_t belief_period = 1;
   std::uint64_t action_period = 1;
   bool belief_timer = false;
@@ -272,10 +272,10 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
   {
     node = aicNodeParams(config, description);
     checkAicParams(node);
-    loop = std::make_unique<ControlLoop>(node, clock, output);
+    loop = std::make_unique<loop::ControlLoop>(node, clock, output);
     belief_period = periodSteps(config.aic.belief_rate, dt);
     action_period = periodSteps(config.aic.action_rate, dt);
-    belief_timer = node.belief_schedule == BeliefSchedule::kTimer;
+    belief_timer = node.belief_schedule == params::BeliefSchedule::kTimer;
   }
   const double b_hat = aic       ? config.aic.wheel_separation :
                        classical ? config.pi.wheel_separation :
@@ -306,7 +306,7 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
   bool first_action_tick = true;
   bool first_belief_tick = true;
   auto startNode = [&]() {
-    loop = std::make_unique<ControlLoop>(node, clock, output);
+    loop = std::make_unique<loop::ControlLoop>(node, clock, output);
     first_action_tick = first_belief_tick = true;
   };
 
@@ -481,7 +481,7 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
     {
       for (const ImuSample& imu : imu_samples)
       {
-        ImuInput in;
+        loop::ImuInput in;
         in.stamp = imu.stamp + clock_offset;
         in.angular_velocity = imu.angular_velocity;
         in.linear_acceleration = imu.linear_acceleration;
@@ -505,7 +505,7 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
       const double wr = 0.5 * (js.velocity[kFrontRight] + js.velocity[kRearRight]);
       if (classical)
       {
-        const PiCommand c = pi->update(run_offset + js.stamp, Vector2(wl, wr), gyro_z);
+        const classical::PiCommand c = pi->update(run_offset + js.stamp, base::Vector2(wl, wr), gyro_z);
         command_left = c.wheels(0);
         command_right = c.wheels(1);
         plant->setWheelSpeeds(command_left, command_right);
@@ -527,8 +527,8 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
       sample.x_true = pose.translation().x();
       sample.y_true = pose.translation().y();
       sample.heading_true = std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
-      sample.wheels_command = Vector2(command_left, command_right);
-      sample.wheels_measured = Vector2(wl, wr);
+      sample.wheels_command = base::Vector2(command_left, command_right);
+      sample.wheels_measured = base::Vector2(wl, wr);
       if (config.record)
       {
         out.time.push_back(sample.time);
@@ -569,8 +569,8 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
                                             static_cast<double>(plant->servo(kRight).torqueLimited())));
         if (config.record_inference && aic)
         {
-          out.inference.push_back(has_belief ? inferenceSample(loop->controller()) :
-                                               unavailableInferenceSample(config.aic.numOrders()));
+          out.inference.push_back(has_belief ? aic::inferenceSample(loop->controller()) :
+                                               aic::unavailableInferenceSample(config.aic.numOrders()));
         }
       }
 
@@ -581,15 +581,15 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
           joint_position[static_cast<std::size_t>(i)] = js.position[static_cast<std::size_t>(i)];
           joint_velocity[static_cast<std::size_t>(i)] = js.velocity[static_cast<std::size_t>(i)];
         }
-        JointStateInput in;
+        loop::JointStateInput in;
         in.stamp = js.stamp + clock_offset;
         in.name = &joint_names;
         in.position = &joint_position;
         in.velocity = &joint_velocity;
         in.effort = &no_effort;
-        const std::uint64_t no_imu = loop->pairing().drops(DropReason::kNoImu);
+        const std::uint64_t no_imu = loop->pairing().drops(loop::DropReason::kNoImu);
         loop->jointState(in);
-        if (config.record && loop->pairing().drops(DropReason::kNoImu) > no_imu)
+        if (config.record && loop->pairing().drops(loop::DropReason::kNoImu) > no_imu)
         {
           out.imu_missing.push_back(js.stamp);
         }
@@ -605,12 +605,12 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
   out.jackal_node_stats = sampler->stats();
   if (aic && loop)
   {
-    for (int i = 0; i < static_cast<int>(DropReason::kCount); ++i)
+    for (int i = 0; i < static_cast<int>(loop::DropReason::kCount); ++i)
     {
-      const auto reason = static_cast<DropReason>(i);
+      const auto reason = static_cast<loop::DropReason>(i);
       if (loop->pairing().drops(reason) > 0)
       {
-        out.drops.emplace_back(toString(reason), loop->pairing().drops(reason));
+        out.drops.emplace_back(loop::toString(reason), loop->pairing().drops(reason));
       }
     }
     out.runaways = loop->supervisor().runaways();
@@ -670,18 +670,18 @@ IdealRun runIdealController(const RobotDescription& description, const PlantPara
   ClosedLoopConfig c = config;
   c.controller = LoopController::kIdeal;
   c.record = true;
-  c.ideal_commands.assign(ticks, Vector2::Zero());
+  c.ideal_commands.assign(ticks, base::Vector2::Zero());
   {
     SegmentCursor ahead(c.profile);
     for (std::size_t k = 0; k < ticks; ++k)
     {
       const SetPointSegment* s = ahead.at(static_cast<double>(k) * tick + lead);
-      c.ideal_commands[k] = s ? Vector2(s->linear, s->angular) : Vector2::Zero();
+      c.ideal_commands[k] = s ? base::Vector2(s->linear, s->angular) : base::Vector2::Zero();
     }
   }
   IdealRun out;
   double best_cost = std::numeric_limits<double>::infinity();
-  std::vector<Vector2> error(ticks, Vector2::Zero());
+  std::vector<base::Vector2> error(ticks, base::Vector2::Zero());
   for (int j = 0; j < iterations; ++j)
   {
     ClosedLoopRecord rec = runClosedLoop(description, params, c);
@@ -709,7 +709,7 @@ IdealRun runIdealController(const RobotDescription& description, const PlantPara
       for (std::size_t k = 0; k < ticks; ++k)
       {
         const double t = static_cast<double>(k) * tick + lead;
-        error[k] = Vector2(interpolate(rec.time, ev, t), interpolate(rec.time, ew, t));
+        error[k] = base::Vector2(interpolate(rec.time, ev, t), interpolate(rec.time, ew, t));
       }
     }
     if (cost < best_cost)
@@ -725,14 +725,14 @@ IdealRun runIdealController(const RobotDescription& description, const PlantPara
     }
     for (std::size_t k = 0; k < ticks; ++k)
     {
-      Vector2 m = Vector2::Zero();
+      base::Vector2 m = base::Vector2::Zero();
       int count = 0;
       for (std::size_t i = k >= 2 ? k - 2 : 0; i <= std::min(ticks - 1, k + 2); ++i)
       {
         m += error[i];
         ++count;
       }
-      Vector2 u = c.ideal_commands[k] + gain * m / static_cast<double>(count);
+      base::Vector2 u = c.ideal_commands[k] + gain * m / static_cast<double>(count);
       // Both wheel speeds within the clamp: scale the rim speeds v -+ b_hat w / 2 down together.
       const double peak = std::abs(u(0)) + 0.5 * b_hat * std::abs(u(1));
       if (peak > rim)

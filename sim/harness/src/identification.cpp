@@ -90,7 +90,7 @@ double relativeError(double sim, double robot)
 /// angular [rad/s]) kIdentStepPhase after a 50 Hz tick, recorded for kIdentRecord; ideal sensors.
 /// *options gets the step metrics' options for a step of the given target.
 ClosedLoopRecord runIdentStep(const RobotDescription& description, const PlantParams& params, ClosedLoopConfig config,
-                              double linear, double angular, double target, StepMetricsOptions* options)
+                              double linear, double angular, double target, analysis::StepMetricsOptions* options)
 {
   const double t_step = kIdentRest + kIdentStepPhase;
   config.profile = stepProfile(t_step, linear, angular);
@@ -103,8 +103,8 @@ ClosedLoopRecord runIdentStep(const RobotDescription& description, const PlantPa
 }
 }  // namespace
 
-FitEntry runFitEntry(const RobotDescription& description, const PlantParams& params, const NodeParams& controller,
-                     const RobotStepTable& table, const RobotStepRow& row)
+FitEntry runFitEntry(const RobotDescription& description, const PlantParams& params,
+                     const params::NodeParams& controller, const RobotStepTable& table, const RobotStepRow& row)
 {
   ClosedLoopConfig config;
   config.controller = table.controller;
@@ -112,16 +112,16 @@ FitEntry runFitEntry(const RobotDescription& description, const PlantParams& par
   config.aic = controller.aic;
   config.aic.belief_rate = row.belief_rate;
   config.aic.action_rate = row.action_rate;
-  StepMetricsOptions o;
+  analysis::StepMetricsOptions o;
   const ClosedLoopRecord rec = runIdentStep(description, params, config, row.step, 0.0, row.step, &o);
   FitEntry e;
-  e.sim = computeStepMetrics(rec.time, rec.v_odom, o);
+  e.sim = analysis::computeStepMetrics(rec.time, rec.v_odom, o);
   e.runaways = rec.runaways;
   return rescoreFitEntry(e, table, row);
 }
 
 std::vector<FitEntry> runFitEntries(const RobotDescription& description, const PlantParams& params,
-                                    const NodeParams& controller, const std::vector<RobotStepTable>& tables)
+                                    const params::NodeParams& controller, const std::vector<RobotStepTable>& tables)
 {
   std::vector<FitEntry> entries;
   for (const RobotStepTable& t : tables)
@@ -237,13 +237,13 @@ SteadyChecks runSteadyChecks(const RobotDescription& description, const PlantPar
 
 TurningChecks runTurningChecks(const RobotDescription& description, const PlantParams& params)
 {
-  auto run = [&](double linear, double angular, StepMetrics* odom, StepMetrics* truth) {
+  auto run = [&](double linear, double angular, analysis::StepMetrics* odom, analysis::StepMetrics* truth) {
     ClosedLoopConfig config;
     config.controller = LoopController::kStock;
-    StepMetricsOptions o;
+    analysis::StepMetricsOptions o;
     const ClosedLoopRecord rec = runIdentStep(description, params, config, linear, angular, angular, &o);
-    *odom = computeStepMetrics(rec.time, rec.yaw_odom, o);
-    *truth = computeStepMetrics(rec.time, rec.yaw_true, o);
+    *odom = analysis::computeStepMetrics(rec.time, rec.yaw_odom, o);
+    *truth = analysis::computeStepMetrics(rec.time, rec.yaw_true, o);
   };
   TurningChecks c;
   run(0.0, kTurnStep, &c.turn, &c.turn_truth);
@@ -273,7 +273,7 @@ double fitCost(const std::vector<TableFit>& fits)
   return c;
 }
 
-FitReport runFit(const RobotDescription& description, const PlantParams& params, const NodeParams& controller,
+FitReport runFit(const RobotDescription& description, const PlantParams& params, const params::NodeParams& controller,
                  const std::vector<RobotStepTable>& tables)
 {
   FitReport r;

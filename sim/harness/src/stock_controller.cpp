@@ -24,7 +24,7 @@ void check(std::vector<std::string>* e, double v, const std::string& key, const 
 
 std::vector<std::string> StockControllerParams::validate() const
 {
-  std::vector<std::string> e = jackal_aic::DiffDriveParams::validate();
+  std::vector<std::string> e = jackal_aic::params::DiffDriveParams::validate();
   check(&e, cmd_vel_timeout, "cmd_vel_timeout", "> 0 s");
   check(&e, publish_rate, "publish_rate", "> 0 Hz");
   return e;
@@ -49,7 +49,7 @@ const StockControllerParams& validated(const StockControllerParams& params)
 }  // namespace
 
 StockController::StockController(const StockControllerParams& params)
-  : params_(validated(params)), limiter_(static_cast<const jackal_aic::DiffDriveParams&>(params))
+  : params_(validated(params)), limiter_(static_cast<const jackal_aic::params::DiffDriveParams&>(params))
 {
 }
 
@@ -87,8 +87,8 @@ WheelSpeedCommand StockController::update(double t)
   timed_out_ = (t - cmd_time_) > params_.cmd_vel_timeout;
   const double target_lin = timed_out_ ? 0.0 : cmd_linear_;
   const double target_ang = timed_out_ ? 0.0 : cmd_angular_;
-  const jackal_aic::BodyTwist out = limiter_.limit({ target_lin, target_ang }, dt);
-  const jackal_aic::Vector2 wheels = jackal_aic::wheelsFromTwist(params_, out);
+  const jackal_aic::loop::BodyTwist out = limiter_.limit({ target_lin, target_ang }, dt);
+  const jackal_aic::base::Vector2 wheels = jackal_aic::loop::wheelsFromTwist(params_, out);
   WheelSpeedCommand c;
   c.left = wheels(0);
   c.right = wheels(1);

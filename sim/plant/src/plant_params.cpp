@@ -314,7 +314,7 @@ std::vector<std::string> plantOverrides(const std::vector<std::string>& overlay_
   {
     try
     {
-      const std::vector<std::string> o = loadOverlayFile(file);
+      const std::vector<std::string> o = overrides::loadOverlayFile(file);
       out.insert(out.end(), o.begin(), o.end());
     }
     catch (const std::invalid_argument& e)
@@ -348,7 +348,8 @@ PlantParams parsePlantParams(const std::string& yaml, const std::string& source,
   }
   try
   {
-    applyOverrides(root, overrides);  // the shared KEY=VALUE parser (jackal_aic/overrides/yaml_overrides.hpp)
+    overrides::applyOverrides(root,
+                              overrides);  // the shared KEY=VALUE parser (jackal_aic/overrides/yaml_overrides.hpp)
   }
   catch (const std::invalid_argument& e)
   {

@@ -73,7 +73,7 @@ def track_metrics(profile_csv, trace_csv, ideal_csv=None, cli=None):
 
 
 def latency_floor(profile_csv, latency, accel_linear=0.0, accel_angular=0.0, cli=None):
-    """The latency floor of a profile (jackal_aic::latencyFloor through ``aic_track_metrics
+    """The latency floor of a profile (jackal_aic::analysis::latencyFloor through ``aic_track_metrics
     --floor-latency``): the RMS and maximum error of an ideal servo that moves ``latency`` [s] after
     it is commanded, with the given acceleration limits [m/s^2, rad/s^2] (0 = none), once holding
     the set point and once predicting it with the goal rate. Returns {"profile", "duration",

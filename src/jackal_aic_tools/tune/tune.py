@@ -7,7 +7,7 @@ Three stages, all reproducible from this command and the repository's plant:
    around an operating point, and a least-squares fit (scipy.optimize.least_squares) of a
    first-order-plus-dead-time model  K exp(-d s) / (T_p s + 1)  to the wheel-odometry speed.
 2. Search on the model. The dual-rate state-space model of the controller with that plant
-   (`aic_predict`, jackal_aic::ClosedLoopModel; doc/active_inference.md, "State-space model for
+   (`aic_predict`, jackal_aic::analysis::ClosedLoopModel; doc/active_inference.md, "State-space model for
    analysis") scores each candidate (tau, k_mu, k_a, the order-0 belief variance, the order-1
    sensory variance, per embedding order p) by its predicted 0.5 m/s settling time, with penalties
    for overshoot above --overshoot and for a spectral radius above --max-radius at any corner of

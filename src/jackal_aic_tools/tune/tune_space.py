@@ -10,7 +10,7 @@ import numpy as np
 
 RATES = {"belief_rate": 1000.0, "action_rate": 50.0, "integrator": "exact"}
 # The straight-step stages tune the free-energy action alone: the state-space model has no
-# set-point dynamics and no action prior (jackal_aic::ClosedLoopModel), so they are off in
+# set-point dynamics and no action prior (jackal_aic::analysis::ClosedLoopModel), so they are off in
 # every candidate of those stages (--driving tunes them).
 FREE_ENERGY_ONLY = {"generalized_goal": "false", "reference_time_constant": 0.0, "action_prior_gain": 0.0}
 # Searched parameters: name -> (lower, upper), searched on log10.

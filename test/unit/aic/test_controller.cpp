@@ -8,16 +8,16 @@
 #include "jackal_aic/aic/controller.hpp"
 
 using namespace jackal_aic;
-using Status = ActiveInferenceController::Status;
+using Status = aic::ActiveInferenceController::Status;
 
 namespace
 {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-AicParams thesisStandard()
+params::AicParams thesisStandard()
 {
-  AicParams p;
+  params::AicParams p;
   p.belief_rate = 50.0;
   p.action_rate = 50.0;
   p.tau = 0.03;
@@ -28,32 +28,32 @@ AicParams thesisStandard()
 
 /// Generalized measurement of a plant that follows the action exactly: wheel speeds = a,
 /// gyro = r alpha / b (a_R - a_L), higher orders zero (a is piecewise constant).
-YTilde perfectMeasurement(const ActiveInferenceController& c)
+base::YTilde perfectMeasurement(const aic::ActiveInferenceController& c)
 {
-  YTilde y = YTilde::Zero(kYDim, c.params().numOrders());
-  const Vector2 a = c.action();
-  const Vector3 twist = c.model().twistFromWheels(a);
-  y(kGyroZ, 0) = twist(2);
-  y(kOmegaLeft, 0) = a(0);
-  y(kOmegaRight, 0) = a(1);
+  base::YTilde y = base::YTilde::Zero(base::kYDim, c.params().numOrders());
+  const base::Vector2 a = c.action();
+  const base::Vector3 twist = c.model().twistFromWheels(a);
+  y(base::kGyroZ, 0) = twist(2);
+  y(base::kOmegaLeft, 0) = a(0);
+  y(base::kOmegaRight, 0) = a(1);
   return y;
 }
 }  // namespace
 
 TEST(Controller, RejectsInvalidParams)
 {
-  AicParams p;
+  params::AicParams p;
   p.tau = -1.0;
-  EXPECT_THROW(ActiveInferenceController c(p), std::invalid_argument);
-  ActiveInferenceController c{ AicParams() };
+  EXPECT_THROW(aic::ActiveInferenceController c(p), std::invalid_argument);
+  aic::ActiveInferenceController c{ params::AicParams() };
   EXPECT_THROW(c.setParams(p), std::invalid_argument);
-  EXPECT_EQ(c.params().tau, AicParams().tau);
+  EXPECT_EQ(c.params().tau, params::AicParams().tau);
 }
 
 TEST(Controller, DoesNotMoveBeforeFirstMeasurement)
 {
-  ActiveInferenceController c{ thesisStandard() };
-  c.setGoal(Vector3(0.5, 0.0, 0.0));
+  aic::ActiveInferenceController c{ thesisStandard() };
+  c.setGoal(base::Vector3(0.5, 0.0, 0.0));
   EXPECT_EQ(c.updateBeliefs(0.02), Status::kNoMeasurement);
   EXPECT_EQ(c.updateAction(0.02), Status::kNoMeasurement);
   EXPECT_TRUE(c.mu().isZero());
@@ -62,13 +62,13 @@ TEST(Controller, DoesNotMoveBeforeFirstMeasurement)
 
 TEST(Controller, BadIntervalKeepsState)
 {
-  ActiveInferenceController c{ thesisStandard() };
-  c.setGoal(Vector3(0.5, 0.0, 0.2));
-  ASSERT_TRUE(c.setMeasurement(YTilde::Zero(5, 4)));
+  aic::ActiveInferenceController c{ thesisStandard() };
+  c.setGoal(base::Vector3(0.5, 0.0, 0.2));
+  ASSERT_TRUE(c.setMeasurement(base::YTilde::Zero(5, 4)));
   ASSERT_EQ(c.updateBeliefs(0.02), Status::kOk);
   ASSERT_EQ(c.updateAction(0.02), Status::kOk);
-  const MuTilde mu = c.mu();
-  const Vector2 a = c.action();
+  const base::MuTilde mu = c.mu();
+  const base::Vector2 a = c.action();
   for (double bad : { 0.0, -0.02, kNaN, kInf })
   {
     EXPECT_EQ(c.updateBeliefs(bad), Status::kBadInterval);
@@ -80,27 +80,27 @@ TEST(Controller, BadIntervalKeepsState)
 
 TEST(Controller, RejectsNonFiniteInputs)
 {
-  ActiveInferenceController c{ thesisStandard() };
-  EXPECT_FALSE(c.setGoal(Vector3(kNaN, 0.0, 0.0)));
+  aic::ActiveInferenceController c{ thesisStandard() };
+  EXPECT_FALSE(c.setGoal(base::Vector3(kNaN, 0.0, 0.0)));
   EXPECT_TRUE(c.goal().isZero());
-  YTilde y = YTilde::Zero(5, 4);
+  base::YTilde y = base::YTilde::Zero(5, 4);
   y(1, 2) = kInf;
   EXPECT_FALSE(c.setMeasurement(y));
   EXPECT_FALSE(c.hasMeasurement());
-  EXPECT_FALSE(c.setMeasurement(YTilde::Zero(5, 3)));  // wrong number of orders
+  EXPECT_FALSE(c.setMeasurement(base::YTilde::Zero(5, 3)));  // wrong number of orders
   y.setZero();
-  y(3, 3) = 2.0 * ActiveInferenceController::kMaxMeasurementMagnitude;
+  y(3, 3) = 2.0 * aic::ActiveInferenceController::kMaxMeasurementMagnitude;
   EXPECT_FALSE(c.setMeasurement(y));
   EXPECT_FALSE(c.hasMeasurement());
-  EXPECT_FALSE(c.setGoal(Vector3(0.0, 0.0, 2.0 * c.params().runaway_limit)));
-  MuTilde mu = MuTilde::Zero(3, 4);
+  EXPECT_FALSE(c.setGoal(base::Vector3(0.0, 0.0, 2.0 * c.params().runaway_limit)));
+  base::MuTilde mu = base::MuTilde::Zero(3, 4);
   mu(1, 1) = kNaN;
   EXPECT_FALSE(c.setBeliefs(mu));
-  EXPECT_FALSE(c.setBeliefs(MuTilde::Zero(3, 2)));
+  EXPECT_FALSE(c.setBeliefs(base::MuTilde::Zero(3, 2)));
   EXPECT_TRUE(c.mu().isZero());
-  c.setAction(Vector2(kNaN, 1.0));
+  c.setAction(base::Vector2(kNaN, 1.0));
   EXPECT_TRUE(c.action().isZero());
-  c.setAction(Vector2(100.0, -100.0));
+  c.setAction(base::Vector2(100.0, -100.0));
   EXPECT_EQ(c.action()(0), 20.0);
   EXPECT_EQ(c.action()(1), -20.0);
 }
@@ -109,8 +109,8 @@ TEST(Controller, ConvergesWithPerfectPlantEuler)
 {
   constexpr double kVelocityTol = 0.01;  // m/s
   constexpr double kYawTol = 0.01;       // rad/s
-  ActiveInferenceController c{ thesisStandard() };
-  const Vector3 goal(0.5, 0.0, 0.3);
+  aic::ActiveInferenceController c{ thesisStandard() };
+  const base::Vector3 goal(0.5, 0.0, 0.3);
   c.setGoal(goal);
   const double h = 1.0 / 50.0;
   for (int k = 0; k < 50 * 60; ++k)
@@ -119,7 +119,7 @@ TEST(Controller, ConvergesWithPerfectPlantEuler)
     ASSERT_EQ(c.updateBeliefs(h), Status::kOk);
     ASSERT_EQ(c.updateAction(h), Status::kOk);
   }
-  const Vector3 twist = c.model().twistFromWheels(c.action());
+  const base::Vector3 twist = c.model().twistFromWheels(c.action());
   EXPECT_NEAR(twist(0), goal(0), kVelocityTol);
   EXPECT_NEAR(twist(2), goal(2), kYawTol);
   EXPECT_NEAR(c.mu()(0, 0), goal(0), kVelocityTol);
@@ -127,12 +127,12 @@ TEST(Controller, ConvergesWithPerfectPlantEuler)
 
 TEST(Controller, RunawayIsDetectedAndReset)
 {
-  AicParams p = thesisStandard();
+  params::AicParams p = thesisStandard();
   p.tau = 0.001;  // Euler-unstable at 50 Hz (doc/active_inference.md, 'Analysis notes')
   p.runaway_limit = 100.0;
-  ActiveInferenceController c{ p };
-  c.setGoal(Vector3(1.0, 0.0, 0.0));
-  ASSERT_TRUE(c.setMeasurement(YTilde::Zero(5, 4)));
+  aic::ActiveInferenceController c{ p };
+  c.setGoal(base::Vector3(1.0, 0.0, 0.0));
+  ASSERT_TRUE(c.setMeasurement(base::YTilde::Zero(5, 4)));
   bool runaway = false;
   for (int k = 0; k < 1000 && !runaway; ++k)
   {
@@ -155,12 +155,12 @@ TEST(Controller, ANonFiniteActionIsResetNotClamped)
   // The action's own guard, reached directly: with finite, valid inputs an interval as long as
   // the largest double overflows a_F + h da_F/dt to infinity. The update must reset (zero action,
   // kRunaway), not pass the overflow on to the wheel clamp, which would make it +-max_wheel_speed.
-  AicParams p = thesisStandard();
-  ActiveInferenceController c{ p };
-  ASSERT_TRUE(c.setGoal(Vector3(1.0, 0.0, 0.0)));
-  YTilde y = YTilde::Zero(5, 4);
-  y(kOmegaLeft, 0) = 3.0;
-  y(kOmegaRight, 0) = 3.0;
+  params::AicParams p = thesisStandard();
+  aic::ActiveInferenceController c{ p };
+  ASSERT_TRUE(c.setGoal(base::Vector3(1.0, 0.0, 0.0)));
+  base::YTilde y = base::YTilde::Zero(5, 4);
+  y(base::kOmegaLeft, 0) = 3.0;
+  y(base::kOmegaRight, 0) = 3.0;
   ASSERT_TRUE(c.setMeasurement(y));
   ASSERT_EQ(c.updateAction(0.02), Status::kOk);
   ASSERT_FALSE(c.action().isZero()) << "no action to overflow";
@@ -176,11 +176,11 @@ TEST(Controller, ADivergingActionIsResetNotClamped)
   // belief update's runaway check (|mu| > runaway_limit) fires at the fifth. An action step that
   // reads the fourth step's beliefs (finite, below runaway_limit, hundreds of m/s) must reset and
   // send zero, not clamp that action to +-max_wheel_speed and send it.
-  AicParams p;
-  p.integrator = Integrator::kEuler;
-  ActiveInferenceController c{ p };
-  ASSERT_TRUE(c.setGoal(Vector3(0.5, 0.0, 0.0)));
-  ASSERT_TRUE(c.setMeasurement(YTilde::Zero(5, 4)));
+  params::AicParams p;
+  p.integrator = params::Integrator::kEuler;
+  aic::ActiveInferenceController c{ p };
+  ASSERT_TRUE(c.setGoal(base::Vector3(0.5, 0.0, 0.0)));
+  ASSERT_TRUE(c.setMeasurement(base::YTilde::Zero(5, 4)));
   int k = 0;
   while (c.mu().cwiseAbs().maxCoeff() <= 10.0 * p.max_wheel_speed && k < 10)
   {
@@ -199,12 +199,12 @@ TEST(Controller, ASaturatedActionIsNotADivergence)
 {
   // The largest step the default gains take at the wheel limit: goal at the top speed, wheels
   // measured at the opposite limit. It is clamped, not reset.
-  AicParams p;
-  ActiveInferenceController c{ p };
-  ASSERT_TRUE(c.setGoal(Vector3(p.max_wheel_speed * p.wheel_radius, 0.0, 0.0)));
-  YTilde y = YTilde::Zero(5, 4);
-  y(kOmegaLeft, 0) = -p.max_wheel_speed;
-  y(kOmegaRight, 0) = -p.max_wheel_speed;
+  params::AicParams p;
+  aic::ActiveInferenceController c{ p };
+  ASSERT_TRUE(c.setGoal(base::Vector3(p.max_wheel_speed * p.wheel_radius, 0.0, 0.0)));
+  base::YTilde y = base::YTilde::Zero(5, 4);
+  y(base::kOmegaLeft, 0) = -p.max_wheel_speed;
+  y(base::kOmegaRight, 0) = -p.max_wheel_speed;
   ASSERT_TRUE(c.setMeasurement(y));
   for (int k = 0; k < 50; ++k)
   {
@@ -217,11 +217,11 @@ TEST(Controller, ASaturatedActionIsNotADivergence)
 
 TEST(Controller, ActionIsClamped)
 {
-  AicParams p = thesisStandard();
+  params::AicParams p = thesisStandard();
   p.max_wheel_speed = 1.0;
-  ActiveInferenceController c{ p };
-  c.setGoal(Vector3(2.0, 0.0, 0.0));
-  ASSERT_TRUE(c.setMeasurement(YTilde::Zero(5, 4)));
+  aic::ActiveInferenceController c{ p };
+  c.setGoal(base::Vector3(2.0, 0.0, 0.0));
+  ASSERT_TRUE(c.setMeasurement(base::YTilde::Zero(5, 4)));
   for (int k = 0; k < 500; ++k)
   {
     c.updateBeliefs(0.02);
@@ -239,15 +239,15 @@ TEST(Controller, MaxActionLeadBoundsTheActionAroundTheMeasuredWheels)
   constexpr double kTol = 1e-12;         // rad/s
   // A plant stuck at fixed wheel speeds while the goal asks for far more: without the limit
   // the action winds up to the wheel clamp; with it, it stays within kLead of the wheels.
-  YTilde y = YTilde::Zero(kYDim, 4);
-  y(kOmegaLeft, 0) = kWheelsLeft;
-  y(kOmegaRight, 0) = kWheelsRight;
+  base::YTilde y = base::YTilde::Zero(base::kYDim, 4);
+  y(base::kOmegaLeft, 0) = kWheelsLeft;
+  y(base::kOmegaRight, 0) = kWheelsRight;
   for (const double lead : { 0.0, kLead })
   {
-    AicParams p = thesisStandard();
+    params::AicParams p = thesisStandard();
     p.anti_windup.max_action_lead = lead;
-    ActiveInferenceController c{ p };
-    c.setGoal(Vector3(2.0, 0.0, 0.0));
+    aic::ActiveInferenceController c{ p };
+    c.setGoal(base::Vector3(2.0, 0.0, 0.0));
     ASSERT_TRUE(c.setMeasurement(y));
     for (int k = 0; k < 500; ++k)
     {
@@ -274,16 +274,16 @@ TEST(Controller, MaxActionLeadTurnBoundsOnlyTheDifferentialLead)
   // Wheels held still by friction while the goal asks for a turn in place (and, second, for a
   // straight run): the turn lead bounds half the leads' difference; a straight goal, whose
   // leads are equal, is not touched.
-  YTilde y = YTilde::Zero(kYDim, 4);
+  base::YTilde y = base::YTilde::Zero(base::kYDim, 4);
   for (const bool turn : { true, false })
   {
     for (const double turn_lead : { 0.0, kTurnLead })
     {
-      AicParams p = thesisStandard();
+      params::AicParams p = thesisStandard();
       p.anti_windup.max_action_lead = kLead;
       p.anti_windup.max_action_lead_turn = turn_lead;
-      ActiveInferenceController c{ p };
-      c.setGoal(turn ? Vector3(0.0, 0.0, 1.0) : Vector3(1.0, 0.0, 0.0));
+      aic::ActiveInferenceController c{ p };
+      c.setGoal(turn ? base::Vector3(0.0, 0.0, 1.0) : base::Vector3(1.0, 0.0, 0.0));
       ASSERT_TRUE(c.setMeasurement(y));
       for (int k = 0; k < 500; ++k)
       {
@@ -313,13 +313,13 @@ TEST(Controller, MaxActionLeadTurnIgnoresAnIsolatedWheel)
 {
   // The turn lead is measured against both wheel readings: with one isolated (a biased
   // encoder), it must not bound the command, or the faulty reading would steer the robot.
-  YTilde y = YTilde::Zero(kYDim, 4);
-  y(kOmegaLeft, 0) = 8.0;  // a biased left encoder
-  AicParams p = thesisStandard();
+  base::YTilde y = base::YTilde::Zero(base::kYDim, 4);
+  y(base::kOmegaLeft, 0) = 8.0;  // a biased left encoder
+  params::AicParams p = thesisStandard();
   p.anti_windup.max_action_lead_turn = 0.5;
-  ActiveInferenceController c{ p };
-  c.setSensorMask(static_cast<std::uint8_t>(0x1F & ~(1u << kOmegaLeft)));
-  c.setGoal(Vector3(0.0, 0.0, 1.0));
+  aic::ActiveInferenceController c{ p };
+  c.setSensorMask(static_cast<std::uint8_t>(0x1F & ~(1u << base::kOmegaLeft)));
+  c.setGoal(base::Vector3(0.0, 0.0, 1.0));
   ASSERT_TRUE(c.setMeasurement(y));
   for (int k = 0; k < 200; ++k)
   {
@@ -327,20 +327,21 @@ TEST(Controller, MaxActionLeadTurnIgnoresAnIsolatedWheel)
     ASSERT_EQ(c.updateAction(0.02), Status::kOk);
   }
   // Against the biased reading the differential lead would be held to 0.5 rad/s; it is not.
-  const double differential = 0.5 * ((c.action()(1) - y(kOmegaRight, 0)) - (c.action()(0) - y(kOmegaLeft, 0)));
+  const double differential =
+      0.5 * ((c.action()(1) - y(base::kOmegaRight, 0)) - (c.action()(0) - y(base::kOmegaLeft, 0)));
   EXPECT_GT(std::abs(differential), 0.5 + 1e-6);
 }
 
 TEST(Controller, MaxActionLeadNeverBreaksTheWheelClamp)
 {
-  AicParams p = thesisStandard();
+  params::AicParams p = thesisStandard();
   p.max_wheel_speed = 5.0;
   p.anti_windup.max_action_lead = 1.0;
-  ActiveInferenceController c{ p };
-  c.setGoal(Vector3(0.0, 0.0, 0.0));
-  YTilde y = YTilde::Zero(kYDim, 4);
-  y(kOmegaLeft, 0) = 50.0;  // measured far beyond the clamp (e.g. pushed downhill)
-  y(kOmegaRight, 0) = -50.0;
+  aic::ActiveInferenceController c{ p };
+  c.setGoal(base::Vector3(0.0, 0.0, 0.0));
+  base::YTilde y = base::YTilde::Zero(base::kYDim, 4);
+  y(base::kOmegaLeft, 0) = 50.0;  // measured far beyond the clamp (e.g. pushed downhill)
+  y(base::kOmegaRight, 0) = -50.0;
   ASSERT_TRUE(c.setMeasurement(y));
   for (int k = 0; k < 100; ++k)
   {
@@ -353,12 +354,12 @@ TEST(Controller, MaxActionLeadNeverBreaksTheWheelClamp)
 
 TEST(Controller, SetParamsKeepsOrResetsState)
 {
-  ActiveInferenceController c{ thesisStandard() };
-  c.setGoal(Vector3(0.5, 0.0, 0.0));
-  ASSERT_TRUE(c.setMeasurement(YTilde::Zero(5, 4)));
+  aic::ActiveInferenceController c{ thesisStandard() };
+  c.setGoal(base::Vector3(0.5, 0.0, 0.0));
+  ASSERT_TRUE(c.setMeasurement(base::YTilde::Zero(5, 4)));
   c.updateBeliefs(0.02);
-  const MuTilde mu = c.mu();
-  AicParams p = thesisStandard();
+  const base::MuTilde mu = c.mu();
+  params::AicParams p = thesisStandard();
   p.k_a = 10.0;
   c.setParams(p);
   EXPECT_EQ(c.mu(), mu);
@@ -377,60 +378,60 @@ TEST(Controller, SetParamsKeepsOrResetsState)
 
 TEST(Controller, ActionPriorIsTheGoalsWheelSpeeds)
 {
-  AicParams p = thesisStandard();
-  ActiveInferenceController off{ p };
-  off.setGoal(Vector3(1.0, 0.0, 0.5));
-  EXPECT_EQ(off.actionPrior(), Vector2::Zero());  // gain 0: the thesis controller
+  params::AicParams p = thesisStandard();
+  aic::ActiveInferenceController off{ p };
+  off.setGoal(base::Vector3(1.0, 0.0, 0.5));
+  EXPECT_EQ(off.actionPrior(), base::Vector2::Zero());  // gain 0: the thesis controller
   p.action_prior.gain = 0.8;
-  ActiveInferenceController c{ p };
-  ASSERT_TRUE(c.setGoal(Vector3(1.0, 0.0, 0.5)));
+  aic::ActiveInferenceController c{ p };
+  ASSERT_TRUE(c.setGoal(base::Vector3(1.0, 0.0, 0.5)));
   // W = the wheel rows of R: omega_L,R = (v -+ w b_hat / 2) / (r alpha).
   const double r = p.wheel_radius * p.slip_factor;
-  const Vector2 wheels((1.0 - 0.5 * p.wheel_separation / 2.0) / r, (1.0 + 0.5 * p.wheel_separation / 2.0) / r);
+  const base::Vector2 wheels((1.0 - 0.5 * p.wheel_separation / 2.0) / r, (1.0 + 0.5 * p.wheel_separation / 2.0) / r);
   EXPECT_LT((c.actionPrior() - 0.8 * wheels).cwiseAbs().maxCoeff(), 1e-12);
   // The first action step hands the prior over at once (a_F starts at zero).
-  ASSERT_TRUE(c.setMeasurement(YTilde::Zero(kYDim, 4)));
+  ASSERT_TRUE(c.setMeasurement(base::YTilde::Zero(base::kYDim, 4)));
   ASSERT_EQ(c.updateAction(1e-9), Status::kOk);
   EXPECT_LT((c.action() - 0.8 * wheels).cwiseAbs().maxCoeff(), 1e-6);
 }
 
 TEST(Controller, SetActionIsBumplessWithAPrior)
 {
-  AicParams p = thesisStandard();
+  params::AicParams p = thesisStandard();
   p.action_prior.gain = 1.0;
-  ActiveInferenceController c{ p };
-  c.setGoal(Vector3(0.5, 0.0, 0.0));
-  c.setAction(Vector2(1.0, 1.0));  // e.g. the measured wheels at a start
-  ASSERT_TRUE(c.setMeasurement(YTilde::Zero(kYDim, 4)));
+  aic::ActiveInferenceController c{ p };
+  c.setGoal(base::Vector3(0.5, 0.0, 0.0));
+  c.setAction(base::Vector2(1.0, 1.0));  // e.g. the measured wheels at a start
+  ASSERT_TRUE(c.setMeasurement(base::YTilde::Zero(base::kYDim, 4)));
   ASSERT_EQ(c.updateAction(1e-9), Status::kOk);
-  EXPECT_LT((c.action() - Vector2(1.0, 1.0)).cwiseAbs().maxCoeff(), 1e-6);  // no jump to the prior
+  EXPECT_LT((c.action() - base::Vector2(1.0, 1.0)).cwiseAbs().maxCoeff(), 1e-6);  // no jump to the prior
 }
 
 TEST(Controller, ReleaseAtRestDecaysOnlyTheChannelsWhoseGoalIsZero)
 {
   // a_F = (1, 2): common part 1.5 (the linear channel), differential part 0.5 (the yaw channel).
   // With y = 0 and mu = 0 the prediction errors are zero, so only the release changes a_F.
-  AicParams p = thesisStandard();
+  params::AicParams p = thesisStandard();
   p.action_release_time = 0.2;
   const double h = 0.02;
   const double keep = std::exp(-10 * h / p.action_release_time);  // after 10 steps: e^-1
   struct Case
   {
-    Vector3 goal;
+    base::Vector3 goal;
     double common, differential;  // expected after the 10 steps
   };
   const std::vector<Case> cases = {
-    { Vector3(0.3, 0.0, 0.0), 1.5, 0.5 * keep },         // driving straight: the turn's part is released
-    { Vector3(0.0, 0.0, 0.5), 1.5 * keep, 0.5 },         // turning in place: the linear part is released
-    { Vector3(0.0, 0.0, 0.0), 1.5 * keep, 0.5 * keep },  // a stop: both
-    { Vector3(0.3, 0.0, 0.5), 1.5, 0.5 },                // an arc: neither
+    { base::Vector3(0.3, 0.0, 0.0), 1.5, 0.5 * keep },         // driving straight: the turn's part is released
+    { base::Vector3(0.0, 0.0, 0.5), 1.5 * keep, 0.5 },         // turning in place: the linear part is released
+    { base::Vector3(0.0, 0.0, 0.0), 1.5 * keep, 0.5 * keep },  // a stop: both
+    { base::Vector3(0.3, 0.0, 0.5), 1.5, 0.5 },                // an arc: neither
   };
   for (const Case& k : cases)
   {
-    ActiveInferenceController c{ p };
-    ASSERT_TRUE(c.setMeasurement(YTilde::Zero(kYDim, 4)));
+    aic::ActiveInferenceController c{ p };
+    ASSERT_TRUE(c.setMeasurement(base::YTilde::Zero(base::kYDim, 4)));
     ASSERT_TRUE(c.setGoal(k.goal));
-    c.setAction(Vector2(1.0, 2.0));
+    c.setAction(base::Vector2(1.0, 2.0));
     for (int i = 0; i < 10; ++i)
     {
       ASSERT_EQ(c.updateAction(h), Status::kOk);
@@ -439,14 +440,14 @@ TEST(Controller, ReleaseAtRestDecaysOnlyTheChannelsWhoseGoalIsZero)
     EXPECT_NEAR(c.action()(1), k.common + k.differential, 1e-12) << k.goal.transpose();
   }
   p.action_release_time = 0.0;  // off: a_F is kept at a stop
-  ActiveInferenceController off{ p };
-  ASSERT_TRUE(off.setMeasurement(YTilde::Zero(kYDim, 4)));
-  off.setAction(Vector2(1.0, 2.0));
+  aic::ActiveInferenceController off{ p };
+  ASSERT_TRUE(off.setMeasurement(base::YTilde::Zero(base::kYDim, 4)));
+  off.setAction(base::Vector2(1.0, 2.0));
   for (int i = 0; i < 10; ++i)
   {
     ASSERT_EQ(off.updateAction(h), Status::kOk);
   }
-  EXPECT_EQ(off.action(), Vector2(1.0, 2.0));
+  EXPECT_EQ(off.action(), base::Vector2(1.0, 2.0));
 }
 
 TEST(Controller, TheLeadNeverCutsThePriorAndNoClampIsStored)
@@ -454,21 +455,21 @@ TEST(Controller, TheLeadNeverCutsThePriorAndNoClampIsStored)
   // The prior asks for 10 rad/s at once while the wheels stand: the lead (1 rad/s) does not cut
   // it (the MCU handles a stock base's step itself). The wheel clamp (6 rad/s) does; once the
   // goal is within it again the command is the prior again: the cut was not stored in a_F.
-  AicParams p = thesisStandard();
+  params::AicParams p = thesisStandard();
   p.action_prior.gain = 1.0;
   p.anti_windup.max_action_lead = 1.0;
   p.max_wheel_speed = 6.0;
   p.k_a = 1e-6;  // the free-energy part does (almost) nothing
-  ActiveInferenceController c{ p };
-  YTilde y = YTilde::Zero(kYDim, 4);
+  aic::ActiveInferenceController c{ p };
+  base::YTilde y = base::YTilde::Zero(base::kYDim, 4);
   ASSERT_TRUE(c.setMeasurement(y));
-  c.setGoal(Vector3(5.0 * p.wheel_radius, 0.0, 0.0));
+  c.setGoal(base::Vector3(5.0 * p.wheel_radius, 0.0, 0.0));
   ASSERT_EQ(c.updateAction(0.02), Status::kOk);
   EXPECT_NEAR(c.action()(0), 5.0, 1e-6);  // beyond the 1 rad/s lead: the prior alone
-  c.setGoal(Vector3(10.0 * p.wheel_radius, 0.0, 0.0));
+  c.setGoal(base::Vector3(10.0 * p.wheel_radius, 0.0, 0.0));
   ASSERT_EQ(c.updateAction(0.02), Status::kOk);
   EXPECT_NEAR(c.action()(0), 6.0, 1e-9);  // cut by the wheel clamp
-  c.setGoal(Vector3(3.0 * p.wheel_radius, 0.0, 0.0));
+  c.setGoal(base::Vector3(3.0 * p.wheel_radius, 0.0, 0.0));
   ASSERT_EQ(c.updateAction(0.02), Status::kOk);
   EXPECT_NEAR(c.action()(0), 3.0, 1e-6);
   EXPECT_NEAR(c.action()(1), 3.0, 1e-6);
@@ -478,19 +479,19 @@ TEST(Controller, TheFreeEnergyActionDoesNotWindUpBeyondTheLead)
 {
   // Wheels held still, no prior: a_F integrates up to the lead and holds there, and comes back
   // at once when the error reverses (no stored windup).
-  AicParams p = thesisStandard();
+  params::AicParams p = thesisStandard();
   p.anti_windup.max_action_lead = 1.0;
-  ActiveInferenceController c{ p };
-  YTilde y = YTilde::Zero(kYDim, 4);
+  aic::ActiveInferenceController c{ p };
+  base::YTilde y = base::YTilde::Zero(base::kYDim, 4);
   ASSERT_TRUE(c.setMeasurement(y));
-  c.setGoal(Vector3(0.5, 0.0, 0.0));
+  c.setGoal(base::Vector3(0.5, 0.0, 0.0));
   for (int k = 0; k < 200; ++k)
   {
     c.updateBeliefs(0.02);
     ASSERT_EQ(c.updateAction(0.02), Status::kOk);
   }
   EXPECT_NEAR(c.action()(0), 1.0, 1e-9);
-  c.setGoal(Vector3(-0.5, 0.0, 0.0));
+  c.setGoal(base::Vector3(-0.5, 0.0, 0.0));
   for (int k = 0; k < 10; ++k)
   {
     c.updateBeliefs(0.02);
@@ -501,39 +502,39 @@ TEST(Controller, TheFreeEnergyActionDoesNotWindUpBeyondTheLead)
 
 TEST(Controller, GeneralizedGoalAddsTheGoalsRateToTheAttractor)
 {
-  AicParams p = thesisStandard();
-  const Vector3 mu_d(0.5, 0.0, 0.2);
-  const Vector3 rate(2.0, 0.0, -1.0);
-  MuTilde mu = MuTilde::Zero(kMuDim, 4);
+  params::AicParams p = thesisStandard();
+  const base::Vector3 mu_d(0.5, 0.0, 0.2);
+  const base::Vector3 rate(2.0, 0.0, -1.0);
+  base::MuTilde mu = base::MuTilde::Zero(base::kMuDim, 4);
   mu(0, 0) = 0.3;
   mu(0, 1) = 0.7;
   for (const bool generalized : { false, true })
   {
     p.reference.generalized_goal = generalized;
-    ActiveInferenceController c{ p };
+    aic::ActiveInferenceController c{ p };
     ASSERT_TRUE(c.setGoal(mu_d, rate));
     ASSERT_TRUE(c.setBeliefs(mu));
-    const Vector3 expected_rate = generalized ? rate : Vector3::Zero();
+    const base::Vector3 expected_rate = generalized ? rate : base::Vector3::Zero();
     EXPECT_EQ(c.goalRate(), expected_rate);
     // eps_mu^(0) = mu^(1) - mu_d' - (mu_d - mu^(0)) / tau
-    const Vector3 expected = mu.col(1) - expected_rate - (mu_d - mu.col(0)) / p.tau;
+    const base::Vector3 expected = mu.col(1) - expected_rate - (mu_d - mu.col(0)) / p.tau;
     EXPECT_LT((c.epsMu().col(0) - expected).cwiseAbs().maxCoeff(), 1e-12);
   }
-  ActiveInferenceController c{ p };
-  EXPECT_FALSE(c.setGoal(mu_d, Vector3(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0)));
-  EXPECT_EQ(c.goal(), Vector3::Zero());  // refused whole
+  aic::ActiveInferenceController c{ p };
+  EXPECT_FALSE(c.setGoal(mu_d, base::Vector3(std::numeric_limits<double>::quiet_NaN(), 0.0, 0.0)));
+  EXPECT_EQ(c.goal(), base::Vector3::Zero());  // refused whole
 }
 
 TEST(Controller, ReferenceModelDelaysAndFiltersTheGoal)
 {
-  AicParams p = thesisStandard();
+  params::AicParams p = thesisStandard();
   p.belief_rate = 1000.0;
   p.reference.time_constant = 0.1;
   p.reference.delay = 0.05;
-  ActiveInferenceController c{ p };
-  ASSERT_TRUE(c.startReference(Vector3::Zero()));
-  c.setGoal(Vector3(1.0, 0.0, -1.0));
-  ASSERT_TRUE(c.setMeasurement(YTilde::Zero(kYDim, 4)));
+  aic::ActiveInferenceController c{ p };
+  ASSERT_TRUE(c.startReference(base::Vector3::Zero()));
+  c.setGoal(base::Vector3(1.0, 0.0, -1.0));
+  ASSERT_TRUE(c.setMeasurement(base::YTilde::Zero(base::kYDim, 4)));
   for (int k = 0; k < 50; ++k)
   {
     ASSERT_EQ(c.updateBeliefs(1e-3), Status::kOk);
@@ -549,20 +550,20 @@ TEST(Controller, ReferenceModelDelaysAndFiltersTheGoal)
   EXPECT_NEAR(c.attractorGoal()(2), -expected, 1e-6);
   // The beliefs follow the reference path, not the goal: still well short of it.
   EXPECT_LT(c.mu()(0, 0), 0.9);
-  EXPECT_FALSE(c.startReference(Vector3(std::numeric_limits<double>::infinity(), 0.0, 0.0)));
+  EXPECT_FALSE(c.startReference(base::Vector3(std::numeric_limits<double>::infinity(), 0.0, 0.0)));
 }
 
 TEST(Controller, ReferencePriorInvertsTheWheelLoopLag)
 {
   // a_ff = k_ff W (m + T_p m'): at the step, with m at rest, the prior leads the goal by T_p / T_r.
-  AicParams p = thesisStandard();
+  params::AicParams p = thesisStandard();
   p.reference.time_constant = 0.1;
   p.action_prior.gain = 1.0;
   p.action_prior.time_constant = 0.2;
-  ActiveInferenceController c{ p };
-  ASSERT_TRUE(c.startReference(Vector3::Zero()));
+  aic::ActiveInferenceController c{ p };
+  ASSERT_TRUE(c.startReference(base::Vector3::Zero()));
   const double v = p.wheel_radius;  // 1 rad/s of wheel speed
-  c.setGoal(Vector3(v, 0.0, 0.0));
+  c.setGoal(base::Vector3(v, 0.0, 0.0));
   EXPECT_NEAR(c.actionPrior()(0), 2.0, 1e-12);
   EXPECT_NEAR(c.actionPrior()(1), 2.0, 1e-12);
 }

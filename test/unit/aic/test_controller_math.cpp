@@ -9,16 +9,16 @@
 #include "jackal_aic/aic/controller.hpp"
 
 using namespace jackal_aic;
-using Status = ActiveInferenceController::Status;
+using Status = aic::ActiveInferenceController::Status;
 
 namespace
 {
 constexpr double kGradRelTol = 1e-6;  // relative, dF/dmu and dF/da vs central differences
 
-AicParams paramsForOrder(int p, std::mt19937* rng, bool per_channel, bool accel)
+params::AicParams paramsForOrder(int p, std::mt19937* rng, bool per_channel, bool accel)
 {
   std::uniform_real_distribution<double> var(0.5, 5.0);
-  AicParams params;
+  params::AicParams params;
   params.embedding_order = p;
   params.tau = 0.05;
   params.k_mu = 0.7;
@@ -38,12 +38,12 @@ AicParams paramsForOrder(int p, std::mt19937* rng, bool per_channel, bool accel)
 }
 
 /// Random state: beliefs, measurement, goal.
-void randomize(ActiveInferenceController* c, std::mt19937* rng)
+void randomize(aic::ActiveInferenceController* c, std::mt19937* rng)
 {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const int n = c->params().numOrders();
-  MuTilde mu(3, n);
-  YTilde y(5, n);
+  base::MuTilde mu(3, n);
+  base::YTilde y(5, n);
   for (int i = 0; i < mu.size(); ++i)
   {
     mu.data()[i] = u(*rng);
@@ -54,28 +54,28 @@ void randomize(ActiveInferenceController* c, std::mt19937* rng)
   }
   ASSERT_TRUE(c->setBeliefs(mu));
   ASSERT_TRUE(c->setMeasurement(y));
-  ASSERT_TRUE(c->setGoal(Vector3(u(*rng), u(*rng), u(*rng))));
+  ASSERT_TRUE(c->setGoal(base::Vector3(u(*rng), u(*rng), u(*rng))));
 }
 }  // namespace
 
 TEST(ControllerMath, GradientMatchesNumericalDerivativeOfF)
 {
   std::mt19937 rng(42);
-  for (int p = 1; p <= kMaxEmbeddingOrder; ++p)
+  for (int p = 1; p <= base::kMaxEmbeddingOrder; ++p)
   {
     for (int variant = 0; variant < 4; ++variant)
     {
-      ActiveInferenceController c(paramsForOrder(p, &rng, variant & 1, variant & 2));
+      aic::ActiveInferenceController c(paramsForOrder(p, &rng, variant & 1, variant & 2));
       for (int trial = 0; trial < 5; ++trial)
       {
         randomize(&c, &rng);
-        const MuTilde mu0 = c.mu();
-        const MuTilde analytic = c.dFdMu();
-        MuTilde numeric(3, p + 1);
+        const base::MuTilde mu0 = c.mu();
+        const base::MuTilde analytic = c.dFdMu();
+        base::MuTilde numeric(3, p + 1);
         constexpr double kStep = 1e-4;  // F is quadratic: central differences are exact up to rounding
         for (int j = 0; j < mu0.size(); ++j)
         {
-          MuTilde m = mu0;
+          base::MuTilde m = mu0;
           m.data()[j] += kStep;
           c.setBeliefs(m);
           const double fp = c.freeEnergy();
@@ -91,7 +91,7 @@ TEST(ControllerMath, GradientMatchesNumericalDerivativeOfF)
             << analytic << "\nnumeric\n"
             << numeric;
         // muDot = D mu - k_mu dF/dmu
-        MuTilde expected = -c.params().k_mu * analytic;
+        base::MuTilde expected = -c.params().k_mu * analytic;
         expected.leftCols(p) += mu0.rightCols(p);
         EXPECT_TRUE(c.muDot().isApprox(expected, 1e-12));
       }
@@ -104,19 +104,19 @@ TEST(ControllerMath, FreeEnergyIsItsSensoryAndPriorParts)
   // F = (1/2) sum_i eps_y^(i)T Pi_y^(i) eps_y^(i) + (1/2) sum_i eps_mu^(i)T Pi_mu^(i) eps_mu^(i) (eq. 3-10),
   // each part from its own prediction errors: the sensory part moves with y alone, not with the goal.
   std::mt19937 rng(11);
-  for (int p = 1; p <= kMaxEmbeddingOrder; ++p)
+  for (int p = 1; p <= base::kMaxEmbeddingOrder; ++p)
   {
-    ActiveInferenceController c(paramsForOrder(p, &rng, true, false));
+    aic::ActiveInferenceController c(paramsForOrder(p, &rng, true, false));
     randomize(&c, &rng);
     const double sensory = c.sensoryFreeEnergy();
     const double prior = c.priorFreeEnergy();
     EXPECT_GT(sensory, 0.0) << "p=" << p;
     EXPECT_GT(prior, 0.0) << "p=" << p;
     EXPECT_NEAR(sensory + prior, c.freeEnergy(), 1e-12 * c.freeEnergy()) << "p=" << p;
-    const YTilde ey = c.epsY();
+    const base::YTilde ey = c.epsY();
     EXPECT_NEAR(sensory, 0.5 * (ey.array().square() * c.precisionY().array()).sum(), 1e-12 * sensory);
     // A new goal moves the prior part only.
-    ASSERT_TRUE(c.setGoal(c.mu().col(0) + Vector3(0.3, 0.0, -0.2), Vector3::Zero()));
+    ASSERT_TRUE(c.setGoal(c.mu().col(0) + base::Vector3(0.3, 0.0, -0.2), base::Vector3::Zero()));
     EXPECT_DOUBLE_EQ(c.sensoryFreeEnergy(), sensory) << "p=" << p;
     EXPECT_NE(c.priorFreeEnergy(), prior) << "p=" << p;
   }
@@ -126,18 +126,18 @@ TEST(ControllerMath, ActionRateIsMinusKaTimesDfDaThroughK)
 {
   // dF/da = sum_i (dy^(i)/da)^T dF/dy^(i) with dy^(i)/da = K^T for every order (thesis eq. 3-16).
   std::mt19937 rng(7);
-  for (int p = 1; p <= kMaxEmbeddingOrder; ++p)
+  for (int p = 1; p <= base::kMaxEmbeddingOrder; ++p)
   {
-    ActiveInferenceController c(paramsForOrder(p, &rng, true, false));
+    aic::ActiveInferenceController c(paramsForOrder(p, &rng, true, false));
     randomize(&c, &rng);
-    const YTilde y0 = c.yTilde();
-    const Vector2 analytic = c.aDot();
-    Vector2 numeric;
+    const base::YTilde y0 = c.yTilde();
+    const base::Vector2 analytic = c.aDot();
+    base::Vector2 numeric;
     constexpr double kStep = 1e-4;  // rad/s
     for (int j = 0; j < 2; ++j)
     {
-      YTilde yp = y0;
-      YTilde ym = y0;
+      base::YTilde yp = y0;
+      base::YTilde ym = y0;
       for (int i = 0; i <= p; ++i)
       {
         yp.col(i) += kStep * c.model().K().row(j).transpose();
@@ -161,17 +161,17 @@ TEST(ControllerMath, ExactAndEulerAgreeAsHGoesToZero)
   // Euler converges to it at first order.
   constexpr double kHorizon = 0.2;  // s
   std::mt19937 rng(3);
-  AicParams params = paramsForOrder(3, &rng, false, false);
-  params.integrator = Integrator::kExact;
-  ActiveInferenceController exact(params);
+  params::AicParams params = paramsForOrder(3, &rng, false, false);
+  params.integrator = params::Integrator::kExact;
+  aic::ActiveInferenceController exact(params);
   randomize(&exact, &rng);
-  params.integrator = Integrator::kEuler;
-  ActiveInferenceController euler(params);
+  params.integrator = params::Integrator::kEuler;
+  aic::ActiveInferenceController euler(params);
   euler.setBeliefs(exact.mu());
   euler.setMeasurement(exact.yTilde());
   euler.setGoal(exact.goal());
 
-  ActiveInferenceController exact_fine = exact;
+  aic::ActiveInferenceController exact_fine = exact;
   for (int k = 0; k < 20; ++k)
   {
     ASSERT_EQ(exact.updateBeliefs(kHorizon / 20), Status::kOk);
@@ -186,7 +186,7 @@ TEST(ControllerMath, ExactAndEulerAgreeAsHGoesToZero)
   double previous_error = std::numeric_limits<double>::infinity();
   for (int steps : { 200, 2000, 20000 })
   {
-    ActiveInferenceController e = euler;
+    aic::ActiveInferenceController e = euler;
     for (int k = 0; k < steps; ++k)
     {
       ASSERT_EQ(e.updateBeliefs(kHorizon / steps), Status::kOk);
@@ -202,11 +202,11 @@ TEST(ControllerMath, ExactToleratesJitteredStepWithoutRecomputing)
 {
   // Steps within kExactSeriesLimit reuse the matrices through the series correction.
   std::mt19937 rng(11);
-  AicParams params = paramsForOrder(3, &rng, false, false);
-  params.integrator = Integrator::kExact;
-  ActiveInferenceController jitter(params);
+  params::AicParams params = paramsForOrder(3, &rng, false, false);
+  params.integrator = params::Integrator::kExact;
+  aic::ActiveInferenceController jitter(params);
   randomize(&jitter, &rng);
-  ActiveInferenceController reference = jitter;
+  aic::ActiveInferenceController reference = jitter;
   std::uniform_real_distribution<double> u(0.99, 1.01);
   for (int k = 0; k < 100; ++k)
   {
@@ -224,25 +224,25 @@ TEST(ControllerMath, ExactSeriesCoversLargeJitterAccurately)
   // A real loop's intervals scatter (p99 of 1.05-1.15 periods on a loaded machine: aic_timing).
   // With ||M|| dh <= kExactSeriesLimit the matrices are reused, and the result matches an
   // integration recomputed for every h (a fresh controller per step) to ~1e-7.
-  AicParams params = jackal_aic::recommendedAicParams();
+  params::AicParams params = jackal_aic::params::recommendedAicParams();
   params.reference.time_constant = 0.0;  // a fresh controller per step restarts the reference model
-  ActiveInferenceController jitter(params);
+  aic::ActiveInferenceController jitter(params);
   std::mt19937 rng(5);
-  YTilde y = YTilde::Zero(kYDim, params.numOrders());
-  y(jackal_aic::kOmegaLeft, 0) = 3.0;
-  y(jackal_aic::kOmegaRight, 0) = 4.0;
-  y(jackal_aic::kOmegaLeft, 1) = 10.0;
-  jitter.setGoal(Vector3(0.5, 0.0, 0.2));
+  base::YTilde y = base::YTilde::Zero(base::kYDim, params.numOrders());
+  y(jackal_aic::base::kOmegaLeft, 0) = 3.0;
+  y(jackal_aic::base::kOmegaRight, 0) = 4.0;
+  y(jackal_aic::base::kOmegaLeft, 1) = 10.0;
+  jitter.setGoal(base::Vector3(0.5, 0.0, 0.2));
   ASSERT_TRUE(jitter.setMeasurement(y));
-  ActiveInferenceController reference = jitter;
+  aic::ActiveInferenceController reference = jitter;
   std::uniform_real_distribution<double> u(0.9, 1.1);
   std::uint64_t reference_recomputes = 0;
   for (int k = 0; k < 200; ++k)
   {
     const double h = 1e-3 * u(rng);
     jitter.updateBeliefs(h);
-    ActiveInferenceController fresh(params);  // recomputes exp(M h) for exactly this h
-    fresh.setGoal(Vector3(0.5, 0.0, 0.2));
+    aic::ActiveInferenceController fresh(params);  // recomputes exp(M h) for exactly this h
+    fresh.setGoal(base::Vector3(0.5, 0.0, 0.2));
     ASSERT_TRUE(fresh.setMeasurement(y));
     ASSERT_TRUE(fresh.setBeliefs(reference.mu()));
     fresh.updateBeliefs(h);
@@ -258,20 +258,20 @@ namespace
 {
 /// Closed loop with a plant that follows a exactly, sampled at the action rate; belief
 /// steps at the belief rate. Returns false on a runaway.
-bool runPerfectPlant(ActiveInferenceController* c, double seconds)
+bool runPerfectPlant(aic::ActiveInferenceController* c, double seconds)
 {
-  const AicParams& p = c->params();
+  const params::AicParams& p = c->params();
   const int ratio = static_cast<int>(std::lround(p.belief_rate / p.action_rate));
   const double h_mu = 1.0 / p.belief_rate;
   const double h_a = 1.0 / p.action_rate;
   const int periods = static_cast<int>(seconds * p.action_rate);
   for (int k = 0; k < periods; ++k)
   {
-    YTilde y = YTilde::Zero(5, p.numOrders());
-    const Vector2 a = c->action();
-    y(kGyroZ, 0) = c->model().twistFromWheels(a)(2);
-    y(kOmegaLeft, 0) = a(0);
-    y(kOmegaRight, 0) = a(1);
+    base::YTilde y = base::YTilde::Zero(5, p.numOrders());
+    const base::Vector2 a = c->action();
+    y(base::kGyroZ, 0) = c->model().twistFromWheels(a)(2);
+    y(base::kOmegaLeft, 0) = a(0);
+    y(base::kOmegaRight, 0) = a(1);
     c->setMeasurement(y);
     for (int j = 0; j < ratio; ++j)
     {
@@ -292,15 +292,15 @@ bool runPerfectPlant(ActiveInferenceController* c, double seconds)
 TEST(ControllerMath, PerfectPlantConvergesWithBothIntegrators)
 {
   constexpr double kVelocityTol = 0.01;  // m/s
-  for (Integrator integ : { Integrator::kEuler, Integrator::kExact })
+  for (params::Integrator integ : { params::Integrator::kEuler, params::Integrator::kExact })
   {
-    AicParams p;  // thesis improved set: 1 kHz beliefs, tau = 0.001 ... but Euler needs tau >= ~0.003 there
+    params::AicParams p;  // thesis improved set: 1 kHz beliefs, tau = 0.001 ... but Euler needs tau >= ~0.003 there
     p.tau = 0.03;
     p.integrator = integ;
-    ActiveInferenceController c(p);
-    c.setGoal(Vector3(0.5, 0.0, 0.0));
-    ASSERT_TRUE(runPerfectPlant(&c, 60.0)) << toString(integ);
-    EXPECT_NEAR(c.model().twistFromWheels(c.action())(0), 0.5, kVelocityTol) << toString(integ);
+    aic::ActiveInferenceController c(p);
+    c.setGoal(base::Vector3(0.5, 0.0, 0.0));
+    ASSERT_TRUE(runPerfectPlant(&c, 60.0)) << params::toString(integ);
+    EXPECT_NEAR(c.model().twistFromWheels(c.action())(0), 0.5, kVelocityTol) << params::toString(integ);
   }
 }
 
@@ -308,19 +308,19 @@ TEST(ControllerMath, EulerDivergesAt50HzWhereExactIsStable)
 {
   // tau = 0.001 at 50 Hz: belief stiffness k_mu Pi_mu0 / tau^2 ~ 6.7e3 1/s, h gain ~ 133 >> 2.
   constexpr double kVelocityTol = 0.01;  // m/s
-  AicParams p;
+  params::AicParams p;
   p.belief_rate = 50.0;
   p.action_rate = 50.0;
   p.tau = 0.001;
-  p.integrator = Integrator::kEuler;
-  ActiveInferenceController euler(p);
-  euler.setGoal(Vector3(0.5, 0.0, 0.0));
+  p.integrator = params::Integrator::kEuler;
+  aic::ActiveInferenceController euler(p);
+  euler.setGoal(base::Vector3(0.5, 0.0, 0.0));
   EXPECT_FALSE(runPerfectPlant(&euler, 10.0));
   EXPECT_GE(euler.runawayCount(), 1u);
 
-  p.integrator = Integrator::kExact;
-  ActiveInferenceController exact(p);
-  exact.setGoal(Vector3(0.5, 0.0, 0.0));
+  p.integrator = params::Integrator::kExact;
+  aic::ActiveInferenceController exact(p);
+  exact.setGoal(base::Vector3(0.5, 0.0, 0.0));
   ASSERT_TRUE(runPerfectPlant(&exact, 60.0));
   EXPECT_NEAR(exact.model().twistFromWheels(exact.action())(0), 0.5, kVelocityTol);
   EXPECT_NEAR(exact.mu()(0, 0), 0.5, kVelocityTol);
@@ -339,21 +339,21 @@ TEST(ControllerMath, NonFiniteInputsNeverReachOutputs)
   std::uniform_int_distribution<int> pick(0, 6);
   std::uniform_real_distribution<double> u(-2.0, 2.0);
   std::bernoulli_distribution special(0.2);
-  for (Integrator integ : { Integrator::kEuler, Integrator::kExact })
+  for (params::Integrator integ : { params::Integrator::kEuler, params::Integrator::kExact })
   {
-    AicParams p;
+    params::AicParams p;
     p.integrator = integ;
-    ActiveInferenceController c(p);
+    aic::ActiveInferenceController c(p);
     for (int k = 0; k < 3000; ++k)
     {
       auto value = [&]() { return special(rng) ? specials[pick(rng)] : u(rng); };
-      YTilde y(5, 4);
+      base::YTilde y(5, 4);
       for (int i = 0; i < y.size(); ++i)
       {
         y.data()[i] = value();
       }
       c.setMeasurement(y);
-      c.setGoal(Vector3(value(), value(), value()));
+      c.setGoal(base::Vector3(value(), value(), value()));
       c.updateBeliefs(special(rng) ? specials[pick(rng)] : 0.001);
       if (k % 20 == 0)
       {
@@ -361,7 +361,7 @@ TEST(ControllerMath, NonFiniteInputsNeverReachOutputs)
       }
       if (k % 500 == 0)
       {
-        c.setAction(Vector2(value(), value()));
+        c.setAction(base::Vector2(value(), value()));
       }
       ASSERT_TRUE(c.mu().allFinite()) << k;
       ASSERT_TRUE(c.action().allFinite()) << k;

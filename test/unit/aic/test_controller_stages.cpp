@@ -21,9 +21,9 @@ namespace
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-ReferenceModelParams referenceOn(double t_r, double delay)
+params::ReferenceModelParams referenceOn(double t_r, double delay)
 {
-  ReferenceModelParams p;
+  params::ReferenceModelParams p;
   p.time_constant = t_r;
   p.delay = delay;
   return p;
@@ -34,68 +34,68 @@ ReferenceModelParams referenceOn(double t_r, double delay)
 
 TEST(ReferenceModel, WithoutAReferenceModelTheAttractorIsTheGoal)
 {
-  ReferenceModel r;
+  aic::ReferenceModel r;
   EXPECT_FALSE(r.enabled());
-  ASSERT_TRUE(r.setGoal(Vector3(0.5, 0.0, 1.0), Vector3(1.0, 0.0, 2.0)));
-  EXPECT_EQ(r.goal(), Vector3(0.5, 0.0, 1.0));
+  ASSERT_TRUE(r.setGoal(base::Vector3(0.5, 0.0, 1.0), base::Vector3(1.0, 0.0, 2.0)));
+  EXPECT_EQ(r.goal(), base::Vector3(0.5, 0.0, 1.0));
   EXPECT_TRUE(r.goalRate().isZero()) << "the rate is dropped unless generalized_goal";
   r.advance(0.02);  // no effect without a reference model
-  EXPECT_EQ(r.attractorGoal(), Vector3(0.5, 0.0, 1.0));
+  EXPECT_EQ(r.attractorGoal(), base::Vector3(0.5, 0.0, 1.0));
   EXPECT_TRUE(r.attractorRate().isZero());
   EXPECT_TRUE(r.path().isZero());
 }
 
 TEST(ReferenceModel, GeneralizedGoalPredictsTheGoalAlongItsRate)
 {
-  ReferenceModelParams p;
+  params::ReferenceModelParams p;
   p.generalized_goal = true;
   p.goal_lead = 0.1;
   p.goal_lead_angular = 0.1;
-  ReferenceModel r(p);
-  ASSERT_TRUE(r.setGoal(Vector3(0.5, 0.0, 1.0), Vector3(1.0, 0.0, -2.0)));
-  EXPECT_EQ(r.goalRate(), Vector3(1.0, 0.0, -2.0));
-  EXPECT_TRUE(r.target().isApprox(Vector3(0.6, 0.0, 0.8)));
-  EXPECT_EQ(r.attractorRate(), Vector3(1.0, 0.0, -2.0));
+  aic::ReferenceModel r(p);
+  ASSERT_TRUE(r.setGoal(base::Vector3(0.5, 0.0, 1.0), base::Vector3(1.0, 0.0, -2.0)));
+  EXPECT_EQ(r.goalRate(), base::Vector3(1.0, 0.0, -2.0));
+  EXPECT_TRUE(r.target().isApprox(base::Vector3(0.6, 0.0, 0.8)));
+  EXPECT_EQ(r.attractorRate(), base::Vector3(1.0, 0.0, -2.0));
   // Turning generalized_goal off drops the rate held.
   p.generalized_goal = false;
   r.setParams(p, 1.0e3);
   EXPECT_TRUE(r.goalRate().isZero());
-  EXPECT_EQ(r.target(), Vector3(0.5, 0.0, 1.0));
+  EXPECT_EQ(r.target(), base::Vector3(0.5, 0.0, 1.0));
 }
 
 TEST(ReferenceModel, TheYawRateHasItsOwnLead)
 {
   // goal_lead predicts x_dot and y_dot, goal_lead_angular theta_dot: mu_d + t_lead mu_d' per channel.
-  ReferenceModelParams p;
+  params::ReferenceModelParams p;
   p.generalized_goal = true;
   p.goal_lead = 0.1;
   p.goal_lead_angular = 0.25;
-  ReferenceModel r(p);
-  ASSERT_TRUE(r.setGoal(Vector3(0.5, 0.2, 1.0), Vector3(1.0, -1.0, -2.0)));
-  EXPECT_TRUE(r.target().isApprox(Vector3(0.6, 0.1, 0.5), 1e-15));
+  aic::ReferenceModel r(p);
+  ASSERT_TRUE(r.setGoal(base::Vector3(0.5, 0.2, 1.0), base::Vector3(1.0, -1.0, -2.0)));
+  EXPECT_TRUE(r.target().isApprox(base::Vector3(0.6, 0.1, 0.5), 1e-15));
   // No angular lead: the yaw rate's goal is not predicted, the linear one still is.
   p.goal_lead_angular = 0.0;
   r.setParams(p, 1.0e3);
-  EXPECT_TRUE(r.target().isApprox(Vector3(0.6, 0.1, 1.0), 1e-15));
+  EXPECT_TRUE(r.target().isApprox(base::Vector3(0.6, 0.1, 1.0), 1e-15));
 }
 
 TEST(ReferenceModel, RejectsNonFiniteAndRunawayGoals)
 {
-  ReferenceModel r(ReferenceModelParams(), 10.0);
-  ASSERT_TRUE(r.setGoal(Vector3(1.0, 0.0, 0.0)));
-  EXPECT_FALSE(r.setGoal(Vector3(kNaN, 0.0, 0.0)));
-  EXPECT_FALSE(r.setGoal(Vector3(11.0, 0.0, 0.0)));
-  EXPECT_FALSE(r.setGoal(Vector3(1.0, 0.0, 0.0), Vector3(0.0, 0.0, kInf)));
-  EXPECT_EQ(r.goal(), Vector3(1.0, 0.0, 0.0));
-  EXPECT_FALSE(r.start(Vector3(0.0, kInf, 0.0)));
+  aic::ReferenceModel r(params::ReferenceModelParams(), 10.0);
+  ASSERT_TRUE(r.setGoal(base::Vector3(1.0, 0.0, 0.0)));
+  EXPECT_FALSE(r.setGoal(base::Vector3(kNaN, 0.0, 0.0)));
+  EXPECT_FALSE(r.setGoal(base::Vector3(11.0, 0.0, 0.0)));
+  EXPECT_FALSE(r.setGoal(base::Vector3(1.0, 0.0, 0.0), base::Vector3(0.0, 0.0, kInf)));
+  EXPECT_EQ(r.goal(), base::Vector3(1.0, 0.0, 0.0));
+  EXPECT_FALSE(r.start(base::Vector3(0.0, kInf, 0.0)));
 }
 
 TEST(ReferenceModel, FollowsTheGoalExactlyAsAFirstOrderModel)
 {
   const double t_r = 0.1;
   const double h = 0.001;
-  ReferenceModel r(referenceOn(t_r, 0.0));
-  ASSERT_TRUE(r.setGoal(Vector3(1.0, 0.0, -2.0)));
+  aic::ReferenceModel r(referenceOn(t_r, 0.0));
+  ASSERT_TRUE(r.setGoal(base::Vector3(1.0, 0.0, -2.0)));
   for (int k = 0; k < 100; ++k)
   {
     r.advance(h);
@@ -112,12 +112,12 @@ TEST(ReferenceModel, FollowsTheGoalExactlyAsAFirstOrderModel)
 
 TEST(ReferenceModel, TheAccelerationLimitBoundsThePathsSlope)
 {
-  ReferenceModelParams p = referenceOn(0.01, 0.0);
+  params::ReferenceModelParams p = referenceOn(0.01, 0.0);
   p.max_acceleration_linear = 2.0;
   p.max_acceleration_angular = 4.0;
-  ReferenceModel r(p);
-  EXPECT_EQ(r.accelerationLimit(), Vector3(2.0, 2.0, 4.0));
-  ASSERT_TRUE(r.setGoal(Vector3(1.0, 0.0, -1.0)));
+  aic::ReferenceModel r(p);
+  EXPECT_EQ(r.accelerationLimit(), base::Vector3(2.0, 2.0, 4.0));
+  ASSERT_TRUE(r.setGoal(base::Vector3(1.0, 0.0, -1.0)));
   for (int k = 0; k < 100; ++k)
   {
     r.advance(0.001);
@@ -125,27 +125,27 @@ TEST(ReferenceModel, TheAccelerationLimitBoundsThePathsSlope)
   // A ramp of 2 m/s^2 and -4 rad/s^2 for 0.1 s; the rate at its bound.
   EXPECT_NEAR(r.path()(0), 0.2, 1e-12);
   EXPECT_NEAR(r.path()(2), -0.4, 1e-12);
-  EXPECT_EQ(r.rate(), Vector3(2.0, 0.0, -4.0));
+  EXPECT_EQ(r.rate(), base::Vector3(2.0, 0.0, -4.0));
 }
 
 TEST(ReferenceModel, TheWheelBoundMakesATurnWaitForTheInnerWheel)
 {
   // Goal 0.5 m/s + 0.5 rad/s with b = 0.5 m: rim speeds 0.375 (inner) and 0.625 m/s (outer).
-  ReferenceModelParams p = referenceOn(0.005, 0.0);
+  params::ReferenceModelParams p = referenceOn(0.005, 0.0);
   p.max_acceleration_linear = 100.0;  // the body bounds out of the way
   p.max_acceleration_angular = 100.0;
   p.max_acceleration_wheel = 2.0;
-  ReferenceModel r(p);
+  aic::ReferenceModel r(p);
   r.setWheelSeparation(0.5);
-  ReferenceModel free(referenceOn(0.005, 0.0));
-  const Vector3 goal(0.5, 0.0, 0.5);
+  aic::ReferenceModel free(referenceOn(0.005, 0.0));
+  const base::Vector3 goal(0.5, 0.0, 0.5);
   ASSERT_TRUE(r.setGoal(goal));
   ASSERT_TRUE(free.setGoal(goal));
   const double h = 0.001;
-  auto rims = [](const Vector3& v) { return Vector2(v(0) - 0.25 * v(2), v(0) + 0.25 * v(2)); };
+  auto rims = [](const base::Vector3& v) { return base::Vector2(v(0) - 0.25 * v(2), v(0) + 0.25 * v(2)); };
   for (int k = 1; k <= 600; ++k)
   {
-    const Vector2 before = rims(r.path());
+    const base::Vector2 before = rims(r.path());
     r.advance(h);
     free.advance(h);
     EXPECT_LE((rims(r.path()) - before).cwiseAbs().maxCoeff(), 2.0 * h + 1e-12) << "step " << k;
@@ -176,25 +176,25 @@ TEST(ReferenceModel, TheWheelBoundMakesATurnWaitForTheInnerWheel)
 
 TEST(ReferenceModel, TheDecelerationLimitBoundsOnlyTheSlowingOfTheLinearPath)
 {
-  ReferenceModelParams p = referenceOn(0.001, 0.0);
+  params::ReferenceModelParams p = referenceOn(0.001, 0.0);
   p.max_acceleration_linear = 4.0;
   p.max_acceleration_angular = 4.0;
   p.max_deceleration_linear = 1.0;
-  ReferenceModel r(p);
-  ASSERT_TRUE(r.start(Vector3(1.0, -1.0, 1.0)));
-  Vector3 lo, hi;
+  aic::ReferenceModel r(p);
+  ASSERT_TRUE(r.start(base::Vector3(1.0, -1.0, 1.0)));
+  base::Vector3 lo, hi;
   r.accelerationBounds(&lo, &hi);
-  EXPECT_EQ(lo, Vector3(-1.0, -4.0, -4.0));  // x_dot > 0 slows with m' < 0; theta_dot is not a linear channel
-  EXPECT_EQ(hi, Vector3(4.0, 1.0, 4.0));     // y_dot < 0 slows with m' > 0
+  EXPECT_EQ(lo, base::Vector3(-1.0, -4.0, -4.0));  // x_dot > 0 slows with m' < 0; theta_dot is not a linear channel
+  EXPECT_EQ(hi, base::Vector3(4.0, 1.0, 4.0));     // y_dot < 0 slows with m' > 0
   // Speeding up keeps the acceleration's bound: from 1 m/s toward 2 m/s at 4 m/s^2.
-  ASSERT_TRUE(r.setGoal(Vector3(2.0, -1.0, 1.0)));
+  ASSERT_TRUE(r.setGoal(base::Vector3(2.0, -1.0, 1.0)));
   for (int k = 0; k < 100; ++k)
   {
     r.advance(0.001);
   }
   EXPECT_NEAR(r.path()(0), 1.4, 1e-12);
   // Slowing down: to 0 at 1 m/s^2, then on into reverse at 4 m/s^2 (speeding up again).
-  ASSERT_TRUE(r.setGoal(Vector3(-1.0, -1.0, 1.0)));
+  ASSERT_TRUE(r.setGoal(base::Vector3(-1.0, -1.0, 1.0)));
   for (int k = 0; k < 1000; ++k)
   {
     r.advance(0.001);
@@ -224,12 +224,12 @@ TEST(ReferenceModel, TheDecelerationLimitBoundsOnlyTheSlowingOfTheLinearPath)
 TEST(ReferenceModel, TheDelayLineShiftsThePathByTheDelay)
 {
   const double delay = 0.05;
-  ReferenceModel delayed(referenceOn(0.1, delay));
-  ReferenceModel prompt(referenceOn(0.1, 0.0));
-  ASSERT_TRUE(delayed.setGoal(Vector3(1.0, 0.0, 0.0)));
-  ASSERT_TRUE(prompt.setGoal(Vector3(1.0, 0.0, 0.0)));
+  aic::ReferenceModel delayed(referenceOn(0.1, delay));
+  aic::ReferenceModel prompt(referenceOn(0.1, 0.0));
+  ASSERT_TRUE(delayed.setGoal(base::Vector3(1.0, 0.0, 0.0)));
+  ASSERT_TRUE(prompt.setGoal(base::Vector3(1.0, 0.0, 0.0)));
   const double h = 0.001;  // twice the line's spacing kMaxReferenceDelay / 800
-  Vector3 path_at_150 = Vector3::Zero();
+  base::Vector3 path_at_150 = base::Vector3::Zero();
   for (int k = 1; k <= 200; ++k)
   {
     delayed.advance(h);
@@ -250,48 +250,48 @@ TEST(ReferenceModel, TheDelayLineShiftsThePathByTheDelay)
 
 TEST(ReferenceModel, TheLineHasAFixedCapacity)
 {
-  ReferenceModel r(referenceOn(0.1, kMaxReferenceDelay));
-  ASSERT_TRUE(r.setGoal(Vector3(1.0, 0.0, 0.0)));
-  for (int k = 0; k < 3 * ReferenceModel::kLine; ++k)
+  aic::ReferenceModel r(referenceOn(0.1, params::kMaxReferenceDelay));
+  ASSERT_TRUE(r.setGoal(base::Vector3(1.0, 0.0, 0.0)));
+  for (int k = 0; k < 3 * aic::ReferenceModel::kLine; ++k)
   {
     r.advance(0.001);
   }
-  EXPECT_EQ(r.lineSize(), ReferenceModel::kLine);
+  EXPECT_EQ(r.lineSize(), aic::ReferenceModel::kLine);
   EXPECT_TRUE(r.attractorGoal().allFinite());
 }
 
 TEST(ReferenceModel, StartRestartsThePathAndItsLineButKeepsTheGoal)
 {
-  ReferenceModel r(referenceOn(0.1, 0.05));
-  ASSERT_TRUE(r.setGoal(Vector3(1.0, 0.0, 0.5)));
+  aic::ReferenceModel r(referenceOn(0.1, 0.05));
+  ASSERT_TRUE(r.setGoal(base::Vector3(1.0, 0.0, 0.5)));
   for (int k = 0; k < 100; ++k)
   {
     r.advance(0.001);
   }
-  ASSERT_TRUE(r.start(Vector3(0.3, 0.0, -0.2)));
-  EXPECT_EQ(r.path(), Vector3(0.3, 0.0, -0.2));
-  EXPECT_EQ(r.attractorGoal(), Vector3(0.3, 0.0, -0.2));
+  ASSERT_TRUE(r.start(base::Vector3(0.3, 0.0, -0.2)));
+  EXPECT_EQ(r.path(), base::Vector3(0.3, 0.0, -0.2));
+  EXPECT_EQ(r.attractorGoal(), base::Vector3(0.3, 0.0, -0.2));
   EXPECT_TRUE(r.attractorRate().isZero());
   EXPECT_EQ(r.time(), 0.0);
   EXPECT_EQ(r.lineSize(), 1);
-  EXPECT_EQ(r.goal(), Vector3(1.0, 0.0, 0.5));
+  EXPECT_EQ(r.goal(), base::Vector3(1.0, 0.0, 0.5));
 }
 
 // ---- ActionDelayLine ----
 
 TEST(ActionDelayLine, HoldsTheTwistSentTheDelayAgo)
 {
-  ActionDelayLine line(0.05);
-  line.restart(Vector3::Zero());
+  aic::ActionDelayLine line(0.05);
+  line.restart(base::Vector3::Zero());
   EXPECT_TRUE(line.delayed().isZero());
   const double h = 0.02;
   for (int k = 1; k <= 10; ++k)
   {
-    line.record(h, Vector3(k, 0.0, -k));
+    line.record(h, base::Vector3(k, 0.0, -k));
     // The newest sample sent at or before t - 0.05: sent at step k - 3 (t = 0.02 (k - 3)),
     // before the line's start the start.
     const double expected = k >= 3 ? k - 3 : 0.0;
-    EXPECT_EQ(line.delayed(), Vector3(expected, 0.0, -expected)) << "k " << k;
+    EXPECT_EQ(line.delayed(), base::Vector3(expected, 0.0, -expected)) << "k " << k;
   }
   EXPECT_NEAR(line.clock(), 0.2, 1e-12);
   EXPECT_EQ(line.size(), 11);
@@ -299,80 +299,80 @@ TEST(ActionDelayLine, HoldsTheTwistSentTheDelayAgo)
 
 TEST(ActionDelayLine, WithoutADelayTheLatestActionAndALongDelayTheOldest)
 {
-  ActionDelayLine prompt(0.0);
-  prompt.restart(Vector3::Zero());
-  prompt.record(0.02, Vector3(1.0, 0.0, 0.0));
-  EXPECT_EQ(prompt.delayed(), Vector3(1.0, 0.0, 0.0));
+  aic::ActionDelayLine prompt(0.0);
+  prompt.restart(base::Vector3::Zero());
+  prompt.record(0.02, base::Vector3(1.0, 0.0, 0.0));
+  EXPECT_EQ(prompt.delayed(), base::Vector3(1.0, 0.0, 0.0));
 
-  ActionDelayLine line(1.0e3);
-  line.restart(Vector3(7.0, 0.0, 0.0));
-  for (int k = 0; k < 2 * ActionDelayLine::kCapacity; ++k)
+  aic::ActionDelayLine line(1.0e3);
+  line.restart(base::Vector3(7.0, 0.0, 0.0));
+  for (int k = 0; k < 2 * aic::ActionDelayLine::kCapacity; ++k)
   {
-    line.record(0.02, Vector3(k, 0.0, 0.0));
+    line.record(0.02, base::Vector3(k, 0.0, 0.0));
   }
-  EXPECT_EQ(line.size(), ActionDelayLine::kCapacity);
+  EXPECT_EQ(line.size(), aic::ActionDelayLine::kCapacity);
   // The oldest sample kept: kCapacity samples back from the newest (2 kCapacity - 1).
-  EXPECT_EQ(line.delayed()(0), static_cast<double>(ActionDelayLine::kCapacity));
+  EXPECT_EQ(line.delayed()(0), static_cast<double>(aic::ActionDelayLine::kCapacity));
 }
 
 TEST(ActionDelayLine, RestartKeepsTheClockResetZeroesIt)
 {
-  ActionDelayLine line(0.1);
-  line.restart(Vector3::Zero());
-  line.record(0.02, Vector3(1.0, 0.0, 0.0));
-  line.record(0.02, Vector3(2.0, 0.0, 0.0));
-  line.restart(Vector3(5.0, 0.0, 0.0));
-  EXPECT_EQ(line.delayed(), Vector3(5.0, 0.0, 0.0));
+  aic::ActionDelayLine line(0.1);
+  line.restart(base::Vector3::Zero());
+  line.record(0.02, base::Vector3(1.0, 0.0, 0.0));
+  line.record(0.02, base::Vector3(2.0, 0.0, 0.0));
+  line.restart(base::Vector3(5.0, 0.0, 0.0));
+  EXPECT_EQ(line.delayed(), base::Vector3(5.0, 0.0, 0.0));
   EXPECT_EQ(line.size(), 1);
   EXPECT_NEAR(line.clock(), 0.04, 1e-15);
-  line.reset(Vector3(3.0, 0.0, 0.0));
+  line.reset(base::Vector3(3.0, 0.0, 0.0));
   EXPECT_EQ(line.clock(), 0.0);
-  EXPECT_EQ(line.delayed(), Vector3(3.0, 0.0, 0.0));
+  EXPECT_EQ(line.delayed(), base::Vector3(3.0, 0.0, 0.0));
 }
 
 // ---- ActionPrior ----
 
 TEST(ActionPrior, OffIsZero)
 {
-  const SkidSteerModel model(0.098, 1.0, 0.5621);
-  ReferenceModel r;
-  ASSERT_TRUE(r.setGoal(Vector3(0.5, 0.0, 1.0)));
-  const ActionPrior prior;
+  const aic::SkidSteerModel model(0.098, 1.0, 0.5621);
+  aic::ReferenceModel r;
+  ASSERT_TRUE(r.setGoal(base::Vector3(0.5, 0.0, 1.0)));
+  const aic::ActionPrior prior;
   EXPECT_FALSE(prior.enabled());
   EXPECT_TRUE(prior.wheels(model, r).isZero());
 }
 
 TEST(ActionPrior, WithoutAReferenceModelTheGoalsWheelSpeedsScaled)
 {
-  const SkidSteerModel model(0.098, 1.0, 0.5621);
-  ReferenceModelParams rp;
+  const aic::SkidSteerModel model(0.098, 1.0, 0.5621);
+  params::ReferenceModelParams rp;
   rp.generalized_goal = true;
   rp.goal_lead = 0.1;
-  ReferenceModel r(rp);
-  ASSERT_TRUE(r.setGoal(Vector3(0.5, 0.0, 1.0), Vector3(1.0, 0.0, 0.0)));
-  ActionPriorParams ap;
+  aic::ReferenceModel r(rp);
+  ASSERT_TRUE(r.setGoal(base::Vector3(0.5, 0.0, 1.0), base::Vector3(1.0, 0.0, 0.0)));
+  params::ActionPriorParams ap;
   ap.gain = 0.8;
   ap.time_constant = 1.0;  // used with a reference model only
-  const ActionPrior prior(ap);
-  const Vector2 expected = 0.8 * model.wheelsFromTwist(Vector3(0.6, 0.0, 1.0));
+  const aic::ActionPrior prior(ap);
+  const base::Vector2 expected = 0.8 * model.wheelsFromTwist(base::Vector3(0.6, 0.0, 1.0));
   EXPECT_TRUE(prior.wheels(model, r).isApprox(expected, 1e-12));
 }
 
 TEST(ActionPrior, WithAReferenceModelInvertsTheWheelLoopAlongThePath)
 {
-  const SkidSteerModel model(0.098, 1.0, 0.5621);
-  ReferenceModel r(referenceOn(0.1, 0.05));
-  ASSERT_TRUE(r.setGoal(Vector3(1.0, 0.0, -0.5)));
+  const aic::SkidSteerModel model(0.098, 1.0, 0.5621);
+  aic::ReferenceModel r(referenceOn(0.1, 0.05));
+  ASSERT_TRUE(r.setGoal(base::Vector3(1.0, 0.0, -0.5)));
   for (int k = 0; k < 30; ++k)
   {
     r.advance(0.001);
   }
-  ActionPriorParams ap;
+  params::ActionPriorParams ap;
   ap.gain = 1.0;
   ap.time_constant = 0.06;
-  const ActionPrior prior(ap);
+  const aic::ActionPrior prior(ap);
   // k_ff W (m + T_p m'): the undelayed path, not the delayed attractor.
-  const Vector2 expected = model.wheelsFromTwist(r.path() + 0.06 * r.rate());
+  const base::Vector2 expected = model.wheelsFromTwist(r.path() + 0.06 * r.rate());
   EXPECT_TRUE(prior.wheels(model, r).isApprox(expected, 1e-12));
 }
 
@@ -380,10 +380,10 @@ TEST(ActionPrior, WithAReferenceModelInvertsTheWheelLoopAlongThePath)
 
 TEST(GoalResponse, OffPassesTheReferencePathOnBitForBit)
 {
-  GoalResponse response(0.0);
+  aic::GoalResponse response(0.0);
   EXPECT_FALSE(response.enabled());
-  const Vector3 mu_r(0.3, 0.0, -0.7);
-  const Vector3 mu_r_dot(1.5, 0.0, 2.5);
+  const base::Vector3 mu_r(0.3, 0.0, -0.7);
+  const base::Vector3 mu_r_dot(1.5, 0.0, 2.5);
   response.advance(0.001, mu_r, mu_r_dot);
   for (int i = 0; i < 3; ++i)
   {
@@ -395,15 +395,15 @@ TEST(GoalResponse, OffPassesTheReferencePathOnBitForBit)
 TEST(GoalResponse, FollowsAStepExactlyAsAFirstOrderLag)
 {
   const double t_g = 0.05;
-  GoalResponse response(t_g);
-  response.start(Vector3(0.1, 0.0, 0.0));
-  const Vector3 step(0.5, 0.0, 1.0);
+  aic::GoalResponse response(t_g);
+  response.start(base::Vector3(0.1, 0.0, 0.0));
+  const base::Vector3 step(0.5, 0.0, 1.0);
   // The exact discretization: any split of the time gives the same g (up to rounding).
   double t = 0.0;
   for (int k = 0; k < 37; ++k)
   {
     const double h = k % 2 == 0 ? 0.001 : 0.0025;
-    response.advance(h, step, Vector3::Zero());
+    response.advance(h, step, base::Vector3::Zero());
     t += h;
   }
   const double decay = std::exp(-t / t_g);
@@ -415,26 +415,26 @@ TEST(GoalResponse, FollowsAStepExactlyAsAFirstOrderLag)
 
 TEST(GoalResponse, BadStepsAndInputsLeaveItUnchanged)
 {
-  GoalResponse response(0.1);
-  response.start(Vector3(0.2, 0.0, 0.3));
-  response.advance(0.0, Vector3::Ones(), Vector3::Zero());
-  response.advance(-0.01, Vector3::Ones(), Vector3::Zero());
-  response.advance(kNaN, Vector3::Ones(), Vector3::Zero());
-  response.advance(0.01, Vector3(kInf, 0.0, 0.0), Vector3::Zero());
-  response.advance(0.01, Vector3::Ones(), Vector3(0.0, kNaN, 0.0));
-  response.start(Vector3(kNaN, 0.0, 0.0));
-  EXPECT_EQ(response.goal(), Vector3(0.2, 0.0, 0.3));
-  EXPECT_EQ(response.rate(), Vector3::Zero());
+  aic::GoalResponse response(0.1);
+  response.start(base::Vector3(0.2, 0.0, 0.3));
+  response.advance(0.0, base::Vector3::Ones(), base::Vector3::Zero());
+  response.advance(-0.01, base::Vector3::Ones(), base::Vector3::Zero());
+  response.advance(kNaN, base::Vector3::Ones(), base::Vector3::Zero());
+  response.advance(0.01, base::Vector3(kInf, 0.0, 0.0), base::Vector3::Zero());
+  response.advance(0.01, base::Vector3::Ones(), base::Vector3(0.0, kNaN, 0.0));
+  response.start(base::Vector3(kNaN, 0.0, 0.0));
+  EXPECT_EQ(response.goal(), base::Vector3(0.2, 0.0, 0.3));
+  EXPECT_EQ(response.rate(), base::Vector3::Zero());
 }
 
 // ---- RestRelease ----
 
 TEST(RestRelease, OffLeavesTheActionBitForBit)
 {
-  const RestRelease release(0.0);
+  const aic::RestRelease release(0.0);
   EXPECT_FALSE(release.enabled());
-  const Vector2 a_F(0.1, 0.3);
-  const Vector2 out = release.apply(a_F, Vector3::Zero(), 0.02);
+  const base::Vector2 a_F(0.1, 0.3);
+  const base::Vector2 out = release.apply(a_F, base::Vector3::Zero(), 0.02);
   EXPECT_EQ(out(0), a_F(0));
   EXPECT_EQ(out(1), a_F(1));
 }
@@ -444,19 +444,19 @@ TEST(RestRelease, DecaysOnlyTheChannelsWhoseGoalIsZero)
   const double t_rel = 0.5;
   const double h = 0.02;
   const double keep = std::exp(-h / t_rel);
-  const RestRelease release(t_rel);
-  const Vector2 a_F(1.0, 3.0);  // common part 2, differential part 1
+  const aic::RestRelease release(t_rel);
+  const base::Vector2 a_F(1.0, 3.0);  // common part 2, differential part 1
   // Both goals zero: both parts decay.
-  Vector2 out = release.apply(a_F, Vector3::Zero(), h);
-  EXPECT_TRUE(commonDifferential(out).isApprox(Vector2(2.0 * keep, keep), 1e-15));
+  base::Vector2 out = release.apply(a_F, base::Vector3::Zero(), h);
+  EXPECT_TRUE(aic::commonDifferential(out).isApprox(base::Vector2(2.0 * keep, keep), 1e-15));
   // Moving straight: only the differential part decays.
-  out = release.apply(a_F, Vector3(0.5, 0.0, 0.0), h);
-  EXPECT_TRUE(commonDifferential(out).isApprox(Vector2(2.0, keep), 1e-15));
+  out = release.apply(a_F, base::Vector3(0.5, 0.0, 0.0), h);
+  EXPECT_TRUE(aic::commonDifferential(out).isApprox(base::Vector2(2.0, keep), 1e-15));
   // Turning in place: only the common part decays.
-  out = release.apply(a_F, Vector3(0.0, 0.0, 1.0), h);
-  EXPECT_TRUE(commonDifferential(out).isApprox(Vector2(2.0 * keep, 1.0), 1e-15));
+  out = release.apply(a_F, base::Vector3(0.0, 0.0, 1.0), h);
+  EXPECT_TRUE(aic::commonDifferential(out).isApprox(base::Vector2(2.0 * keep, 1.0), 1e-15));
   // An arc keeps both.
-  out = release.apply(a_F, Vector3(0.5, 0.0, 1.0), h);
+  out = release.apply(a_F, base::Vector3(0.5, 0.0, 1.0), h);
   EXPECT_TRUE(out.isApprox(a_F, 1e-15));
 }
 
@@ -464,11 +464,12 @@ TEST(RestRelease, DecaysOnlyTheChannelsWhoseGoalIsZero)
 
 TEST(AntiWindup, AnUnclampedStepIntegratesFreely)
 {
-  const AntiWindup aw;  // leads off, 20 rad/s
-  const Vector2 a_F(1.0, 2.0);
-  const Vector2 candidate(1.5, 2.5);
-  const Vector2 prior(0.5, -0.5);
-  const AntiWindup::Result r = aw.apply(a_F, candidate, Vector2(25.0, 25.0), prior, Vector2::Zero(), true, true);
+  const aic::AntiWindup aw;  // leads off, 20 rad/s
+  const base::Vector2 a_F(1.0, 2.0);
+  const base::Vector2 candidate(1.5, 2.5);
+  const base::Vector2 prior(0.5, -0.5);
+  const aic::AntiWindup::Result r =
+      aw.apply(a_F, candidate, base::Vector2(25.0, 25.0), prior, base::Vector2::Zero(), true, true);
   EXPECT_EQ(r.command, candidate + prior);
   EXPECT_EQ(r.free_energy_part, candidate);
   EXPECT_FALSE(r.saturated);
@@ -476,65 +477,68 @@ TEST(AntiWindup, AnUnclampedStepIntegratesFreely)
 
 TEST(AntiWindup, TheWheelClampSaturatesAndStopsTheIntegration)
 {
-  AntiWindupParams p;
-  const AntiWindup aw(p, 5.0);
-  const Vector2 a_F(4.0, -4.0);
-  const Vector2 candidate(6.0, -6.0);  // a_dot > 0 on the left, < 0 on the right
-  const Vector2 prior(0.5, -0.5);
-  const AntiWindup::Result r = aw.apply(a_F, candidate, Vector2(100.0, -100.0), prior, Vector2::Zero(), true, true);
-  EXPECT_EQ(r.command, Vector2(5.0, -5.0));
+  params::AntiWindupParams p;
+  const aic::AntiWindup aw(p, 5.0);
+  const base::Vector2 a_F(4.0, -4.0);
+  const base::Vector2 candidate(6.0, -6.0);  // a_dot > 0 on the left, < 0 on the right
+  const base::Vector2 prior(0.5, -0.5);
+  const aic::AntiWindup::Result r =
+      aw.apply(a_F, candidate, base::Vector2(100.0, -100.0), prior, base::Vector2::Zero(), true, true);
+  EXPECT_EQ(r.command, base::Vector2(5.0, -5.0));
   EXPECT_TRUE(r.saturated);
   // a_F integrates only up to the clamp minus the prior.
-  EXPECT_EQ(r.free_energy_part, Vector2(4.5, -4.5));
+  EXPECT_EQ(r.free_energy_part, base::Vector2(4.5, -4.5));
   // Already beyond the clamp: never pulled back.
-  const AntiWindup::Result r2 =
-      aw.apply(Vector2(7.0, -7.0), Vector2(8.0, -8.0), Vector2(50.0, -50.0), prior, Vector2::Zero(), true, true);
-  EXPECT_EQ(r2.free_energy_part, Vector2(7.0, -7.0));
-  EXPECT_EQ(aw.limitWheelSpeed(Vector2(9.0, -9.0)), Vector2(5.0, -5.0));
+  const aic::AntiWindup::Result r2 = aw.apply(base::Vector2(7.0, -7.0), base::Vector2(8.0, -8.0),
+                                              base::Vector2(50.0, -50.0), prior, base::Vector2::Zero(), true, true);
+  EXPECT_EQ(r2.free_energy_part, base::Vector2(7.0, -7.0));
+  EXPECT_EQ(aw.limitWheelSpeed(base::Vector2(9.0, -9.0)), base::Vector2(5.0, -5.0));
 }
 
 TEST(AntiWindup, TheLeadBoundsTheCommandButNeverThePrior)
 {
-  AntiWindupParams p;
+  params::AntiWindupParams p;
   p.max_action_lead = 1.0;
-  const AntiWindup aw(p);
-  const Vector2 omega(2.0, 2.0);
+  const aic::AntiWindup aw(p);
+  const base::Vector2 omega(2.0, 2.0);
   // Free-energy lead beyond the bound: cut to omega + 1, not saturation.
-  AntiWindup::Result r =
-      aw.apply(Vector2::Zero(), Vector2(5.0, 0.5), Vector2(10.0, 10.0), Vector2::Zero(), omega, true, true);
+  aic::AntiWindup::Result r = aw.apply(base::Vector2::Zero(), base::Vector2(5.0, 0.5), base::Vector2(10.0, 10.0),
+                                       base::Vector2::Zero(), omega, true, true);
   // Bounds [min(omega - 1, a_ff), max(omega + 1, a_ff)] = [0, 3].
-  EXPECT_EQ(r.command, Vector2(3.0, 0.5));
+  EXPECT_EQ(r.command, base::Vector2(3.0, 0.5));
   EXPECT_FALSE(r.saturated);
-  EXPECT_EQ(r.free_energy_part, Vector2(3.0, 0.5));
+  EXPECT_EQ(r.free_energy_part, base::Vector2(3.0, 0.5));
   // The prior alone beyond the lead is not cut, and its cut is not stored in a_F.
-  r = aw.apply(Vector2::Zero(), Vector2::Zero(), Vector2::Zero(), Vector2(6.0, 6.0), omega, true, true);
-  EXPECT_EQ(r.command, Vector2(6.0, 6.0));
+  r = aw.apply(base::Vector2::Zero(), base::Vector2::Zero(), base::Vector2::Zero(), base::Vector2(6.0, 6.0), omega,
+               true, true);
+  EXPECT_EQ(r.command, base::Vector2(6.0, 6.0));
   EXPECT_TRUE(r.free_energy_part.isZero());
   // An untrusted (isolated) wheel is not bounded by its reading.
-  r = aw.apply(Vector2::Zero(), Vector2(5.0, 5.0), Vector2(10.0, 10.0), Vector2::Zero(), omega, false, true);
-  EXPECT_EQ(r.command, Vector2(5.0, 3.0));
+  r = aw.apply(base::Vector2::Zero(), base::Vector2(5.0, 5.0), base::Vector2(10.0, 10.0), base::Vector2::Zero(), omega,
+               false, true);
+  EXPECT_EQ(r.command, base::Vector2(5.0, 3.0));
 }
 
 TEST(AntiWindup, TheTurningLeadBoundsOnlyTheDifferentialLead)
 {
-  AntiWindupParams p;
+  params::AntiWindupParams p;
   p.max_action_lead_turn = 0.5;
-  const AntiWindup aw(p);
-  const Vector2 omega(1.0, 1.0);
-  const AntiWindup::Result r =
-      aw.apply(Vector2::Zero(), Vector2(0.0, 4.0), Vector2(0.0, 10.0), Vector2::Zero(), omega, true, true);
+  const aic::AntiWindup aw(p);
+  const base::Vector2 omega(1.0, 1.0);
+  const aic::AntiWindup::Result r = aw.apply(base::Vector2::Zero(), base::Vector2(0.0, 4.0), base::Vector2(0.0, 10.0),
+                                             base::Vector2::Zero(), omega, true, true);
   // Lead (-1, 3): common 1, differential 2 -> 0.5: lead (0.5, 1.5).
-  EXPECT_TRUE(r.command.isApprox(Vector2(1.5, 2.5), 1e-15));
-  EXPECT_TRUE(commonDifferential(r.command - omega).isApprox(Vector2(1.0, 0.5), 1e-15));
+  EXPECT_TRUE(r.command.isApprox(base::Vector2(1.5, 2.5), 1e-15));
+  EXPECT_TRUE(aic::commonDifferential(r.command - omega).isApprox(base::Vector2(1.0, 0.5), 1e-15));
   // With a wheel untrusted the turning lead is not bounded.
-  const AntiWindup::Result u =
-      aw.apply(Vector2::Zero(), Vector2(0.0, 4.0), Vector2(0.0, 10.0), Vector2::Zero(), omega, true, false);
-  EXPECT_EQ(u.command, Vector2(0.0, 4.0));
+  const aic::AntiWindup::Result u = aw.apply(base::Vector2::Zero(), base::Vector2(0.0, 4.0), base::Vector2(0.0, 10.0),
+                                             base::Vector2::Zero(), omega, true, false);
+  EXPECT_EQ(u.command, base::Vector2(0.0, 4.0));
 }
 
 TEST(WheelPair, CommonDifferentialRoundTrips)
 {
-  const Vector2 w(1.0, 3.0);
-  EXPECT_EQ(commonDifferential(w), Vector2(2.0, 1.0));
-  EXPECT_EQ(wheelPair(commonDifferential(w)), w);
+  const base::Vector2 w(1.0, 3.0);
+  EXPECT_EQ(aic::commonDifferential(w), base::Vector2(2.0, 1.0));
+  EXPECT_EQ(aic::wheelPair(aic::commonDifferential(w)), w);
 }

@@ -6,7 +6,7 @@
 
 #include "jackal_aic/aic/generalizer.hpp"
 
-using jackal_aic::Generalizer;
+using jackal_aic::aic::Generalizer;
 
 namespace
 {

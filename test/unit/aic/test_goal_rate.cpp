@@ -9,9 +9,9 @@ using namespace jackal_aic;
 
 namespace
 {
-ReferenceModelParams limits()
+params::ReferenceModelParams limits()
 {
-  ReferenceModelParams p;
+  params::ReferenceModelParams p;
   p.goal_rate_hold = 0.15;
   p.max_goal_rate_linear = 4.0;
   p.max_goal_rate_angular = 8.0;
@@ -22,7 +22,7 @@ TEST(GoalRate, RampAtTenHertzStreamedAtFifty)
 {
   // At rest for 0.5 s, then a planner ramps 0 -> 0.8 m/s at 2 m/s^2 in 10 Hz steps (0.5 ... 0.8 s);
   // the set point is repeated at 50 Hz.
-  GoalRateEstimator g(limits());
+  aic::GoalRateEstimator g(limits());
   double value = 0.0;
   for (int k = 0; k <= 50; ++k)  // t = 0 ... 1 s
   {
@@ -31,10 +31,10 @@ TEST(GoalRate, RampAtTenHertzStreamedAtFifty)
     {
       value += 0.2;
     }
-    ASSERT_TRUE(g.update(t, Vector3(value, 0.0, 0.0)));
+    ASSERT_TRUE(g.update(t, base::Vector3(value, 0.0, 0.0)));
     if (k == 25)
     {
-      EXPECT_EQ(g.rate(t), Vector3::Zero());  // the first change after a hold is a step
+      EXPECT_EQ(g.rate(t), base::Vector3::Zero());  // the first change after a hold is a step
     }
     if (k >= 30 && k <= 40)
     {
@@ -43,39 +43,39 @@ TEST(GoalRate, RampAtTenHertzStreamedAtFifty)
   }
   // The last change was at 0.8 s; 1.25 intervals (0.125 s) later the ramp has ended.
   EXPECT_NEAR(g.rate(0.92)(0), 2.0, 1e-9);
-  EXPECT_EQ(g.rate(0.93), Vector3::Zero());
+  EXPECT_EQ(g.rate(0.93), base::Vector3::Zero());
 }
 
 TEST(GoalRate, StepAfterHoldIsNotARamp)
 {
-  GoalRateEstimator g(limits());
-  ASSERT_TRUE(g.update(0.0, Vector3::Zero()));
-  ASSERT_TRUE(g.update(2.0, Vector3(0.5, 0.0, 1.0)));
-  EXPECT_EQ(g.rate(2.0), Vector3::Zero());
+  aic::GoalRateEstimator g(limits());
+  ASSERT_TRUE(g.update(0.0, base::Vector3::Zero()));
+  ASSERT_TRUE(g.update(2.0, base::Vector3(0.5, 0.0, 1.0)));
+  EXPECT_EQ(g.rate(2.0), base::Vector3::Zero());
 }
 
 TEST(GoalRate, ClampedToTheLimits)
 {
-  GoalRateEstimator g(limits());
-  ASSERT_TRUE(g.update(0.0, Vector3::Zero()));
-  ASSERT_TRUE(g.update(0.05, Vector3(0.1, 0.0, 0.1)));
-  ASSERT_TRUE(g.update(0.10, Vector3(1.1, 0.0, -1.0)));  // 20 m/s^2, -22 rad/s^2
+  aic::GoalRateEstimator g(limits());
+  ASSERT_TRUE(g.update(0.0, base::Vector3::Zero()));
+  ASSERT_TRUE(g.update(0.05, base::Vector3(0.1, 0.0, 0.1)));
+  ASSERT_TRUE(g.update(0.10, base::Vector3(1.1, 0.0, -1.0)));  // 20 m/s^2, -22 rad/s^2
   EXPECT_NEAR(g.rate(0.1)(0), 4.0, 1e-12);
   EXPECT_NEAR(g.rate(0.1)(2), -8.0, 1e-12);
 }
 
 TEST(GoalRate, BadInputIsRefused)
 {
-  GoalRateEstimator g(limits());
+  aic::GoalRateEstimator g(limits());
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  EXPECT_FALSE(g.update(nan, Vector3::Zero()));
-  EXPECT_FALSE(g.update(0.0, Vector3(nan, 0.0, 0.0)));
-  ASSERT_TRUE(g.update(1.0, Vector3::Zero()));
-  ASSERT_TRUE(g.update(1.05, Vector3(0.1, 0.0, 0.0)));
-  ASSERT_TRUE(g.update(1.10, Vector3(0.2, 0.0, 0.0)));
-  EXPECT_FALSE(g.update(1.0, Vector3(5.0, 0.0, 0.0)));  // before the last change: out of order
-  EXPECT_NEAR(g.rate(1.1)(0), 2.0, 1e-9);               // state kept
+  EXPECT_FALSE(g.update(nan, base::Vector3::Zero()));
+  EXPECT_FALSE(g.update(0.0, base::Vector3(nan, 0.0, 0.0)));
+  ASSERT_TRUE(g.update(1.0, base::Vector3::Zero()));
+  ASSERT_TRUE(g.update(1.05, base::Vector3(0.1, 0.0, 0.0)));
+  ASSERT_TRUE(g.update(1.10, base::Vector3(0.2, 0.0, 0.0)));
+  EXPECT_FALSE(g.update(1.0, base::Vector3(5.0, 0.0, 0.0)));  // before the last change: out of order
+  EXPECT_NEAR(g.rate(1.1)(0), 2.0, 1e-9);                     // state kept
   g.reset();
-  EXPECT_EQ(g.rate(1.1), Vector3::Zero());
+  EXPECT_EQ(g.rate(1.1), base::Vector3::Zero());
 }
 }  // namespace

@@ -21,10 +21,10 @@ namespace jackal_aic
 namespace
 {
 constexpr double kH = 0.02;  // the robot's 50 Hz sensor rate [s]
-using State = GyroBiasEstimator::State;
+using State = aic::GyroBiasEstimator::State;
 
 /// Feed `seconds` of rest samples (wheels and commands 0) reading bias + N(0, sigma).
-State rest(GyroBiasEstimator* e, double seconds, double bias, double sigma, std::mt19937* rng, bool gyro_ok = true)
+State rest(aic::GyroBiasEstimator* e, double seconds, double bias, double sigma, std::mt19937* rng, bool gyro_ok = true)
 {
   std::normal_distribution<double> noise(0.0, sigma);
   State s = State::kMoving;
@@ -38,16 +38,16 @@ State rest(GyroBiasEstimator* e, double seconds, double bias, double sigma, std:
 
 TEST(GyroBiasEstimator, AveragesTheFirstRestToTheOffset)
 {
-  GyroBiasEstimatorParams p;
+  params::GyroBiasEstimatorParams p;
   p.rest_time = 0.25;
   p.min_rest = 2.0;
-  GyroBiasEstimator e{ p };
+  aic::GyroBiasEstimator e{ p };
   std::mt19937 rng(7);
   EXPECT_EQ(rest(&e, 1.0, 0.03, 0.005, &rng), State::kLearning);
   // About 0.75 s of learning at 50 Hz: 38 samples against a prior of 5 at 0 -> 88 % of the offset.
   const double n = static_cast<double>(e.learningSamples());
   EXPECT_NEAR(n, 38.0, 1.0);
-  EXPECT_NEAR(e.bias(), 0.03 * n / (n + GyroBiasEstimator::kPriorSamples), 0.002);
+  EXPECT_NEAR(e.bias(), 0.03 * n / (n + aic::GyroBiasEstimator::kPriorSamples), 0.002);
   EXPECT_EQ(e.offset(), 0.0) << "0.75 s of rest is less than min_rest: nothing removed yet";
   rest(&e, 4.0, 0.03, 0.005, &rng);
   EXPECT_NEAR(e.bias(), 0.03, 0.002);
@@ -58,9 +58,9 @@ TEST(GyroBiasEstimator, AveragesTheFirstRestToTheOffset)
 
 TEST(GyroBiasEstimator, WaitsForTheRestTimeAfterEachStop)
 {
-  GyroBiasEstimatorParams p;
+  params::GyroBiasEstimatorParams p;
   p.rest_time = 0.25;
-  GyroBiasEstimator e{ p };
+  aic::GyroBiasEstimator e{ p };
   std::mt19937 rng(1);
   EXPECT_EQ(rest(&e, 0.2, 0.05, 0.0, &rng), State::kSettling);
   EXPECT_EQ(e.bias(), 0.0);
@@ -78,7 +78,7 @@ TEST(GyroBiasEstimator, WaitsForTheRestTimeAfterEachStop)
 
 TEST(GyroBiasEstimator, FrozenWithAFlaggedGyroAndOnImplausibleReadings)
 {
-  GyroBiasEstimator e{ GyroBiasEstimatorParams{} };
+  aic::GyroBiasEstimator e{ params::GyroBiasEstimatorParams{} };
   std::mt19937 rng(3);
   EXPECT_EQ(rest(&e, 2.0, 0.05, 0.0, &rng, false), State::kSensorFault);
   EXPECT_EQ(e.bias(), 0.0);
@@ -90,10 +90,10 @@ TEST(GyroBiasEstimator, FrozenWithAFlaggedGyroAndOnImplausibleReadings)
 
 TEST(GyroBiasEstimator, BoundedByMaxBias)
 {
-  GyroBiasEstimatorParams p;
+  params::GyroBiasEstimatorParams p;
   p.max_bias = 0.02;
   p.rest_time = 0.0;
-  GyroBiasEstimator e{ p };
+  aic::GyroBiasEstimator e{ p };
   EXPECT_EQ(e.update(kH, 0.019, 0.0, 0.0, 0.0, 0.0, true), State::kLearning);
   for (int i = 0; i < 100; ++i)
   {
@@ -107,9 +107,9 @@ TEST(GyroBiasEstimator, BoundedByMaxBias)
 
 TEST(GyroBiasEstimator, FollowsADriftWithItsTimeConstant)
 {
-  GyroBiasEstimatorParams p;
+  params::GyroBiasEstimatorParams p;
   p.time_constant = 2.0;
-  GyroBiasEstimator e{ p };
+  aic::GyroBiasEstimator e{ p };
   std::mt19937 rng(5);
   rest(&e, 200.0, 0.0, 0.0, &rng);  // long averaged: the gain is h / T_beta now
   rest(&e, 2.0 + p.rest_time, 0.04, 0.0, &rng);
@@ -119,7 +119,7 @@ TEST(GyroBiasEstimator, FollowsADriftWithItsTimeConstant)
 
 TEST(GyroBiasEstimator, BadInputIsIgnored)
 {
-  GyroBiasEstimator e{ GyroBiasEstimatorParams{} };
+  aic::GyroBiasEstimator e{ params::GyroBiasEstimatorParams{} };
   std::mt19937 rng(2);
   rest(&e, 1.0, 0.02, 0.0, &rng);
   const double learned = e.bias();
@@ -134,34 +134,34 @@ TEST(GyroBiasEstimator, BadInputIsIgnored)
   e.reset();
   EXPECT_EQ(e.bias(), 0.0);
   EXPECT_EQ(e.learningSamples(), 0u);
-  EXPECT_STREQ(toString(e.state()), "moving");
+  EXPECT_STREQ(aic::toString(e.state()), "moving");
 }
 
 TEST(GyroBiasEstimator, StatusTextSaysUntilWhenTheOffsetIsNotRemoved)
 {
-  GyroBiasEstimatorParams p;
+  params::GyroBiasEstimatorParams p;
   p.rest_time = 0.0;
   p.min_rest = 1.0;
-  GyroBiasEstimator e{ p };
+  aic::GyroBiasEstimator e{ p };
   std::mt19937 rng(4);
   rest(&e, 0.5, 0.01, 0.0, &rng);
-  EXPECT_EQ(statusText(e), "learning; not removed yet (0.5 of 1.0 s of rest learned)");
+  EXPECT_EQ(aic::statusText(e), "learning; not removed yet (0.5 of 1.0 s of rest learned)");
   rest(&e, 0.6, 0.01, 0.0, &rng);
-  EXPECT_EQ(statusText(e), "learning");
+  EXPECT_EQ(aic::statusText(e), "learning");
   EXPECT_EQ(e.update(kH, 0.2, 4.0, 4.0, 4.0, 4.0, true), State::kMoving);
-  EXPECT_EQ(statusText(e), "moving");
+  EXPECT_EQ(aic::statusText(e), "moving");
 }
 
 TEST(GyroBiasEstimator, InvalidSettingsNameEveryRule)
 {
-  GyroBiasEstimatorParams p;
+  params::GyroBiasEstimatorParams p;
   p.max_bias = 0.0;
   p.rest_speed = std::numeric_limits<double>::quiet_NaN();
   p.rest_time = -1.0;
   p.time_constant = 0.0;
   try
   {
-    GyroBiasEstimator e{ p };
+    aic::GyroBiasEstimator e{ p };
     FAIL() << "accepted invalid settings";
   }
   catch (const std::invalid_argument& e)
@@ -173,30 +173,30 @@ TEST(GyroBiasEstimator, InvalidSettingsNameEveryRule)
       EXPECT_NE(what.find(key), std::string::npos) << what;
     }
   }
-  GyroBiasEstimator ok{ GyroBiasEstimatorParams{} };
+  aic::GyroBiasEstimator ok{ params::GyroBiasEstimatorParams{} };
   EXPECT_THROW(ok.setParams(p), std::invalid_argument);
-  EXPECT_EQ(ok.params().max_bias, GyroBiasEstimatorParams{}.max_bias);
+  EXPECT_EQ(ok.params().max_bias, params::GyroBiasEstimatorParams{}.max_bias);
 }
 
 /// The pipeline subtracts beta_hat from the gyro before the controller and the fault monitor see it.
 TEST(GyroBiasEstimator, ThePipelineRemovesTheOffsetBeforeTheController)
 {
-  AicParams aic = recommendedAicParams();
-  FdiParams fdi;
-  SamplePipeline pipe(aic, fdi);
-  Vector5 y = Vector5::Zero();
+  params::AicParams aic = params::recommendedAicParams();
+  params::FdiParams fdi;
+  loop::SamplePipeline pipe(aic, fdi);
+  base::Vector5 y = base::Vector5::Zero();
   bool first = true;
   auto sample = [&](double gyro) {
     y << gyro, 0.0, 0.0, 0.0, 0.0;
-    Vector5 in = y;
+    base::Vector5 in = y;
     pipe.generalize(&in, kH, true, false);
     if (first)
     {
-      pipe.activate(Vector2::Zero(), Vector3::Zero());
+      pipe.activate(base::Vector2::Zero(), base::Vector3::Zero());
       first = false;
     }
     pipe.measure(in, kH, true);
-    return in(kGyroZ);
+    return in(base::kGyroZ);
   };
   for (int i = 0; i < 250; ++i)
   {
@@ -209,7 +209,7 @@ TEST(GyroBiasEstimator, ThePipelineRemovesTheOffsetBeforeTheController)
     sample(0.04);
   }
   EXPECT_NEAR(sample(0.04), 0.0, 0.002);  // what the controller and the monitor get
-  EXPECT_NEAR(pipe.controller().yTilde()(kGyroZ, 0), 0.0, 0.002);
+  EXPECT_NEAR(pipe.controller().yTilde()(base::kGyroZ, 0), 0.0, 0.002);
   pipe.resetGyroBias();
   EXPECT_EQ(pipe.gyroBias().bias(), 0.0);
   // Off: the gyro passes as it reads, and what was learned is forgotten.

@@ -16,12 +16,12 @@ using namespace jackal_aic;
 
 TEST(InferenceSample, IsTheControllersReading)
 {
-  AicParams p;  // the schema's recommendation: p = 2, reference model and action prior on
-  ActiveInferenceController c(p);
-  ASSERT_TRUE(c.setGoal(Vector3(0.5, 0.0, 0.3)));
-  YTilde y = YTilde::Zero(kYDim, p.numOrders());
-  y(kOmegaLeft, 0) = 2.0;
-  y(kOmegaRight, 0) = 3.0;
+  params::AicParams p;  // the schema's recommendation: p = 2, reference model and action prior on
+  aic::ActiveInferenceController c(p);
+  ASSERT_TRUE(c.setGoal(base::Vector3(0.5, 0.0, 0.3)));
+  base::YTilde y = base::YTilde::Zero(base::kYDim, p.numOrders());
+  y(base::kOmegaLeft, 0) = 2.0;
+  y(base::kOmegaRight, 0) = 3.0;
   ASSERT_TRUE(c.setMeasurement(y));
   for (int k = 0; k < 40; ++k)
   {
@@ -31,7 +31,7 @@ TEST(InferenceSample, IsTheControllersReading)
       c.updateAction(0.02);
     }
   }
-  const InferenceSample s = inferenceSample(c);
+  const aic::InferenceSample s = aic::inferenceSample(c);
   EXPECT_EQ(s.free_energy, c.freeEnergy());
   EXPECT_NEAR(s.free_energy, s.sensory + s.prior, 1e-12 * std::max(1.0, s.free_energy));
   EXPECT_GT(s.sensory, 0.0);
@@ -49,7 +49,7 @@ TEST(InferenceSample, IsTheControllersReading)
 
 TEST(InferenceSample, UnavailableIsNaNOfTheOrders)
 {
-  const InferenceSample s = unavailableInferenceSample(4);
+  const aic::InferenceSample s = aic::unavailableInferenceSample(4);
   EXPECT_EQ(s.mu.cols(), 4);
   EXPECT_EQ(s.eps_y.cols(), 4);
   EXPECT_TRUE(std::isnan(s.free_energy) && std::isnan(s.sensory) && std::isnan(s.prior));
@@ -60,12 +60,12 @@ TEST(InferenceSample, UnavailableIsNaNOfTheOrders)
 
 TEST(InferenceSample, OrderUnits)
 {
-  EXPECT_EQ(orderUnit("m/s", 0), "m/s");
-  EXPECT_EQ(orderUnit("m/s", 1), "m/s^2");
-  EXPECT_EQ(orderUnit("rad/s", 2), "rad/s^3");
-  EXPECT_EQ(orderUnit("m/s^2", 1), "m/s^3");
-  EXPECT_EQ(orderUnit("m", 1), "m/s");
-  EXPECT_EQ(orderUnit("m", 2), "m/s^2");
-  EXPECT_EQ(std::string(kSensorChannelNames[kAccelX]), "accel_x");
-  EXPECT_EQ(std::string(kBeliefChannelUnits[2]), "rad/s");
+  EXPECT_EQ(aic::orderUnit("m/s", 0), "m/s");
+  EXPECT_EQ(aic::orderUnit("m/s", 1), "m/s^2");
+  EXPECT_EQ(aic::orderUnit("rad/s", 2), "rad/s^3");
+  EXPECT_EQ(aic::orderUnit("m/s^2", 1), "m/s^3");
+  EXPECT_EQ(aic::orderUnit("m", 1), "m/s");
+  EXPECT_EQ(aic::orderUnit("m", 2), "m/s^2");
+  EXPECT_EQ(std::string(aic::kSensorChannelNames[base::kAccelX]), "accel_x");
+  EXPECT_EQ(std::string(aic::kBeliefChannelUnits[2]), "rad/s");
 }

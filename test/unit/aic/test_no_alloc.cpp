@@ -84,21 +84,21 @@ TEST(NoAlloc, CounterWorks)
 
 TEST(NoAlloc, ControllerUpdatePath)
 {
-  for (int p = 1; p <= kMaxEmbeddingOrder; ++p)
+  for (int p = 1; p <= base::kMaxEmbeddingOrder; ++p)
   {
-    for (Integrator integ : { Integrator::kEuler, Integrator::kExact })
+    for (params::Integrator integ : { params::Integrator::kEuler, params::Integrator::kExact })
     {
-      AicParams params;
+      params::AicParams params;
       params.embedding_order = p;
       params.var_mu.assign(p + 1, 2.0);
       params.var_y.assign(p + 1, 2.0);
       params.integrator = integ;
-      ActiveInferenceController c(params);
-      YTilde y = YTilde::Zero(kYDim, p + 1);
+      aic::ActiveInferenceController c(params);
+      base::YTilde y = base::YTilde::Zero(base::kYDim, p + 1);
       y(1, 0) = 1.0;
       y(2, 0) = 2.0;
       AllocationCounter counter;
-      c.setGoal(Vector3(0.5, 0.0, 0.1));
+      c.setGoal(base::Vector3(0.5, 0.0, 0.1));
       c.setMeasurement(y);
       double h = 0.001;
       for (int k = 0; k < 200; ++k)
@@ -113,8 +113,8 @@ TEST(NoAlloc, ControllerUpdatePath)
       }
       volatile double sink = c.freeEnergy() + c.aDot()(0) + c.muDot()(0, 0) + c.epsY()(0, 0) + c.epsMu()(0, 0);
       (void)sink;
-      EXPECT_EQ(counter.count(), 0) << "p=" << p << " integrator=" << toString(integ);
-      if (integ == Integrator::kExact)
+      EXPECT_EQ(counter.count(), 0) << "p=" << p << " integrator=" << params::toString(integ);
+      if (integ == params::Integrator::kExact)
       {
         EXPECT_GE(c.exactRecomputeCount(), 3u);
       }
@@ -124,7 +124,7 @@ TEST(NoAlloc, ControllerUpdatePath)
 
 TEST(NoAlloc, GeneralizerUpdate)
 {
-  Generalizer g(5, 5);
+  aic::Generalizer g(5, 5);
   Eigen::Matrix<double, 5, 1> y;
   AllocationCounter counter;
   for (int k = 0; k < 100; ++k)
@@ -139,24 +139,24 @@ TEST(NoAlloc, SamplePipelinePerSample)
 {
   // The node's per-sample path: degraded-mode fill, generalization, measurement, FDI test and
   // channel mask, with and without the IMU, including an isolation (a biased gyro).
-  SamplePipeline pipeline(recommendedAicParams(), FdiParams());
-  Vector5 y = Vector5::Zero();
-  y(kOmegaLeft) = y(kOmegaRight) = 5.0;
+  loop::SamplePipeline pipeline(params::recommendedAicParams(), params::FdiParams());
+  base::Vector5 y = base::Vector5::Zero();
+  y(base::kOmegaLeft) = y(base::kOmegaRight) = 5.0;
   pipeline.generalize(&y, 0.02, true, false);
-  pipeline.activate(Vector2(5.0, 5.0), Vector3(0.49, 0.0, 0.0));
+  pipeline.activate(base::Vector2(5.0, 5.0), base::Vector3(0.49, 0.0, 0.0));
   AllocationCounter counter;
   for (int k = 0; k < 200; ++k)
   {
-    Vector5 s = Vector5::Zero();
-    s(kOmegaLeft) = s(kOmegaRight) = 5.0;
-    s(kGyroZ) = k > 50 ? 1.0 : 0.0;
+    base::Vector5 s = base::Vector5::Zero();
+    s(base::kOmegaLeft) = s(base::kOmegaRight) = 5.0;
+    s(base::kGyroZ) = k > 50 ? 1.0 : 0.0;
     const bool imu_ok = k >= 40 || k % 7 != 0;  // some IMU-less samples first
     pipeline.generalize(&s, 0.02, imu_ok, false);
     pipeline.measure(s, 0.02, imu_ok);
     pipeline.controller().updateBeliefs(0.001);
   }
   EXPECT_EQ(counter.count(), 0);
-  EXPECT_EQ(pipeline.faultMonitor().isolatedChannel(), kGyroZ);  // the path with an isolation ran
+  EXPECT_EQ(pipeline.faultMonitor().isolatedChannel(), base::kGyroZ);  // the path with an isolation ran
 }
 
 TEST(NoAlloc, UnbiasedBeliefsAndLearningUpdatePath)
@@ -164,23 +164,23 @@ TEST(NoAlloc, UnbiasedBeliefsAndLearningUpdatePath)
   // belief_model unbiased (the action delay line) and learn_wheel_separation (the learner and the
   // model's rebuild when b_hat moves, with the exact integrator's recomputation), and
   // learn_precision (the precision learner and the rebuild when a precision moves).
-  for (Integrator integ : { Integrator::kEuler, Integrator::kExact })
+  for (params::Integrator integ : { params::Integrator::kEuler, params::Integrator::kExact })
   {
-    AicParams params = recommendedAicParams();
-    params.belief_model = BeliefModel::kUnbiased;
+    params::AicParams params = params::recommendedAicParams();
+    params.belief_model = params::BeliefModel::kUnbiased;
     params.separation_learner.enabled = true;
     params.precision_learner.enabled = true;
     params.reference.delay = 0.085;
     params.goal_response_time_constant = 0.05;
     params.integrator = integ;
-    ActiveInferenceController c(params);
-    YTilde y = YTilde::Zero(kYDim, params.numOrders());
-    y(kGyroZ, 0) = 0.5;   // the wheels' turn at b_hat = wheel_separation: 0.5 / 1.4
-    y(kGyroZ, 1) = 1e-3;  // a live gyro (a rate of exactly 0 is a stuck one: no learning)
-    y(kOmegaLeft, 0) = (0.5 - 0.25 * 1.4 * params.wheel_separation) / params.wheel_radius;
-    y(kOmegaRight, 0) = (0.5 + 0.25 * 1.4 * params.wheel_separation) / params.wheel_radius;
+    aic::ActiveInferenceController c(params);
+    base::YTilde y = base::YTilde::Zero(base::kYDim, params.numOrders());
+    y(base::kGyroZ, 0) = 0.5;   // the wheels' turn at b_hat = wheel_separation: 0.5 / 1.4
+    y(base::kGyroZ, 1) = 1e-3;  // a live gyro (a rate of exactly 0 is a stuck one: no learning)
+    y(base::kOmegaLeft, 0) = (0.5 - 0.25 * 1.4 * params.wheel_separation) / params.wheel_radius;
+    y(base::kOmegaRight, 0) = (0.5 + 0.25 * 1.4 * params.wheel_separation) / params.wheel_radius;
     AllocationCounter counter;
-    c.setGoal(Vector3(0.5, 0.0, 0.5));
+    c.setGoal(base::Vector3(0.5, 0.0, 0.5));
     c.setMeasurement(y);
     for (int k = 0; k < 2000; ++k)
     {
@@ -195,10 +195,10 @@ TEST(NoAlloc, UnbiasedBeliefsAndLearningUpdatePath)
     c.resetLearning();
     volatile double sink = c.freeEnergy() + c.aDot()(0) + c.priorGoal()(0);
     (void)sink;
-    EXPECT_EQ(counter.count(), 0) << "integrator=" << toString(integ);
+    EXPECT_EQ(counter.count(), 0) << "integrator=" << params::toString(integ);
     EXPECT_GT(steps, 0u);
     EXPECT_GT(c.precisionLearner().learningSteps(), 0u);
-    EXPECT_NE(c.precisionY()(kGyroZ, 0), params.precisionY()(kGyroZ, 0));  // it learned and rebuilt
+    EXPECT_NE(c.precisionY()(base::kGyroZ, 0), params.precisionY()(base::kGyroZ, 0));  // it learned and rebuilt
   }
 }
 
@@ -207,39 +207,39 @@ TEST(NoAlloc, ControllerStagesUpdatePath)
   // Each stage on its own, every option on: the reference model's and the action's delay lines
   // (fixed capacity, run past it), the goal's expected response, the action prior, the release at
   // rest, all clamps.
-  ReferenceModelParams rp;
+  params::ReferenceModelParams rp;
   rp.generalized_goal = true;
   rp.goal_lead = 0.05;
   rp.time_constant = 0.1;
-  rp.delay = kMaxReferenceDelay;
-  ReferenceModel reference(rp);
-  ActionDelayLine line(0.085);
-  ActionPriorParams ap;
+  rp.delay = params::kMaxReferenceDelay;
+  aic::ReferenceModel reference(rp);
+  aic::ActionDelayLine line(0.085);
+  params::ActionPriorParams ap;
   ap.gain = 1.0;
   ap.time_constant = 0.06;
-  const ActionPrior prior(ap);
-  const RestRelease release(0.5);
-  GoalResponse response(0.05);
-  AntiWindupParams aw;
+  const aic::ActionPrior prior(ap);
+  const aic::RestRelease release(0.5);
+  aic::GoalResponse response(0.05);
+  params::AntiWindupParams aw;
   aw.max_action_lead = 1.0;
   aw.max_action_lead_turn = 0.5;
-  const AntiWindup anti_windup(aw, 5.0);
-  const SkidSteerModel model(0.098, 1.0, 0.5621);
-  Vector2 a_F = Vector2::Zero();
+  const aic::AntiWindup anti_windup(aw, 5.0);
+  const aic::SkidSteerModel model(0.098, 1.0, 0.5621);
+  base::Vector2 a_F = base::Vector2::Zero();
   AllocationCounter counter;
-  reference.start(Vector3(0.1, 0.0, 0.0));
-  line.restart(Vector3::Zero());
-  for (int k = 0; k < 3 * ReferenceModel::kLine; ++k)
+  reference.start(base::Vector3(0.1, 0.0, 0.0));
+  line.restart(base::Vector3::Zero());
+  for (int k = 0; k < 3 * aic::ReferenceModel::kLine; ++k)
   {
-    reference.setGoal(Vector3((k / 500) % 2 == 0 ? 1.0 : 0.0, 0.0, 0.5), Vector3(0.5, 0.0, 0.0));
+    reference.setGoal(base::Vector3((k / 500) % 2 == 0 ? 1.0 : 0.0, 0.0, 0.5), base::Vector3(0.5, 0.0, 0.0));
     reference.advance(0.001);
     response.advance(0.001, reference.attractorGoal(), reference.attractorRate());
     if (k % 2 == 0)
     {
-      const Vector2 a_ff = prior.wheels(model, reference);
+      const base::Vector2 a_ff = prior.wheels(model, reference);
       a_F = release.apply(a_F, reference.target(), 0.002);
-      const AntiWindup::Result r =
-          anti_windup.apply(a_F, a_F + Vector2(0.1, -0.1), Vector2(50.0, -50.0), a_ff, Vector2(1.0, 2.0), true, true);
+      const aic::AntiWindup::Result r = anti_windup.apply(
+          a_F, a_F + base::Vector2(0.1, -0.1), base::Vector2(50.0, -50.0), a_ff, base::Vector2(1.0, 2.0), true, true);
       a_F = r.free_energy_part;
       line.record(0.002, model.twistFromWheels(r.command));
     }

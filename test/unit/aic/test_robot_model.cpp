@@ -11,13 +11,13 @@
 #include "jackal_aic/aic/wheel_loop_model.hpp"
 
 using namespace jackal_aic;
-using Status = ActiveInferenceController::Status;
+using Status = aic::ActiveInferenceController::Status;
 
 namespace
 {
-RobotModelParams model()
+params::RobotModelParams model()
 {
-  RobotModelParams p;
+  params::RobotModelParams p;
   p.latency = 0.1;
   p.wheel_time_constant = 0.01;
   p.wheel_acceleration = 40.0;
@@ -27,9 +27,9 @@ RobotModelParams model()
 
 TEST(WheelLoopModel, CommandsTakeEffectOneLatencyLater)
 {
-  WheelLoopModel loop(model());
-  loop.record(0.0, Vector2(1.0, 2.0));
-  loop.record(0.02, Vector2(3.0, 4.0));
+  aic::WheelLoopModel loop(model());
+  loop.record(0.0, base::Vector2(1.0, 2.0));
+  loop.record(0.02, base::Vector2(3.0, 4.0));
   EXPECT_TRUE(loop.commandAt(0.05).isZero());  // before the first command reached the wheels
   EXPECT_DOUBLE_EQ(loop.commandAt(0.1)(0), 1.0);
   EXPECT_DOUBLE_EQ(loop.commandAt(0.119)(1), 2.0);
@@ -39,7 +39,7 @@ TEST(WheelLoopModel, CommandsTakeEffectOneLatencyLater)
 
 TEST(WheelLoopModel, StepIsTheExactLagThenTheRateBound)
 {
-  const WheelLoopModel loop(model());
+  const aic::WheelLoopModel loop(model());
   double gain = 0.0;
   // A small change: the lag, exactly.
   EXPECT_NEAR(loop.step(0.0, 0.01, 0.001, &gain), 0.01 * (1.0 - std::exp(-0.1)), 1e-15);
@@ -52,30 +52,30 @@ TEST(WheelLoopModel, StepIsTheExactLagThenTheRateBound)
 
 TEST(WheelLoopModel, PredictRunsTheCommandsInFlight)
 {
-  WheelLoopModel loop(model());
-  loop.record(0.0, Vector2(1.0, -1.0));
+  aic::WheelLoopModel loop(model());
+  loop.record(0.0, base::Vector2(1.0, -1.0));
   // Nothing reaches the wheels before L; 0.3 s after the command the sides sit at u - d.
-  const Vector2 early = loop.predict(Vector2::Zero(), Vector2::Zero(), 0.0, 0.1);
+  const base::Vector2 early = loop.predict(base::Vector2::Zero(), base::Vector2::Zero(), 0.0, 0.1);
   EXPECT_TRUE(early.isZero());
-  const Vector2 late = loop.predict(Vector2::Zero(), Vector2(0.1, 0.0), 0.0, 0.4);
+  const base::Vector2 late = loop.predict(base::Vector2::Zero(), base::Vector2(0.1, 0.0), 0.0, 0.4);
   EXPECT_NEAR(late(0), 0.9, 1e-9);
   EXPECT_NEAR(late(1), -1.0, 1e-9);
 }
 
 TEST(RobotBelief, FollowsTheEncodersAndTheGyroAtTheirPrecision)
 {
-  RobotModelParams p = model();
-  RobotBelief belief(p);
-  WheelLoopModel loop(p);
+  params::RobotModelParams p = model();
+  aic::RobotBelief belief(p);
+  aic::WheelLoopModel loop(p);
   // The wheels turn at 2 rad/s each way while the model thinks nothing was commanded: the
   // measurement wins (the model's noise q_w against sigma_e).
   for (int k = 0; k < 200; ++k)
   {
-    belief.predict(0.001, loop, Vector2::Zero(), 0.2, 0.0);
+    belief.predict(0.001, loop, base::Vector2::Zero(), 0.2, 0.0);
     if (k % 20 == 19)
     {
       // A transient: the slow states are held (the controller's learning gate).
-      ASSERT_TRUE(belief.correct(Vector2(-2.0, 2.0), 0.75, true, true, true, false));
+      ASSERT_TRUE(belief.correct(base::Vector2(-2.0, 2.0), 0.75, true, true, true, false));
     }
   }
   EXPECT_NEAR(belief.wheelSpeeds()(0), -2.0, 0.05);
@@ -87,17 +87,17 @@ TEST(RobotBelief, FollowsTheEncodersAndTheGyroAtTheirPrecision)
 
 TEST(RobotBelief, LearnsTheShortfallTheWheelsDoNotDeliver)
 {
-  RobotModelParams p = model();
+  params::RobotModelParams p = model();
   p.shortfall_noise = 0.05;
-  RobotBelief belief(p);
-  WheelLoopModel loop(p);
+  aic::RobotBelief belief(p);
+  aic::WheelLoopModel loop(p);
   // Commanded 5 rad/s, delivered 4.8 rad/s (a load): after a few seconds d = 0.2.
   for (int k = 0; k < 10000; ++k)
   {
-    belief.predict(0.001, loop, Vector2(5.0, 5.0), 0.0, 0.0);
+    belief.predict(0.001, loop, base::Vector2(5.0, 5.0), 0.0, 0.0);
     if (k % 20 == 19)
     {
-      ASSERT_TRUE(belief.correct(Vector2(4.8, 4.8), 0.0, true, true, true));
+      ASSERT_TRUE(belief.correct(base::Vector2(4.8, 4.8), 0.0, true, true, true));
     }
   }
   EXPECT_NEAR(belief.shortfalls()(0), 0.2, 0.01);
@@ -110,7 +110,8 @@ namespace
 /// [rad/s]), the goal's turn their yaw rate through yaw gain 0.2 m/m, and the gyro reading `gyro`
 /// [rad/s]; a sample every 20 ms. The first 0.3 s are the change's transient: the slow states are
 /// held then, as the controller's learning gate holds them.
-void hold(RobotBelief* belief, const WheelLoopModel& loop, const Vector2& wheels, double gyro, double seconds)
+void hold(aic::RobotBelief* belief, const aic::WheelLoopModel& loop, const base::Vector2& wheels, double gyro,
+          double seconds)
 {
   const int steps = static_cast<int>(std::lround(seconds / 0.001));
   for (int k = 0; k < steps; ++k)
@@ -126,15 +127,15 @@ void hold(RobotBelief* belief, const WheelLoopModel& loop, const Vector2& wheels
 
 TEST(RobotBelief, TheSlipRatioIsLearnedInATurnAndTheOffsetWhenStraight)
 {
-  const RobotModelParams p = model();
-  RobotBelief belief(p);
-  WheelLoopModel loop(p);
+  const params::RobotModelParams p = model();
+  aic::RobotBelief belief(p);
+  aic::WheelLoopModel loop(p);
   // At rest the gyro reads 0.02 rad/s: its offset.
-  hold(&belief, loop, Vector2::Zero(), 0.02, 3.0);
+  hold(&belief, loop, base::Vector2::Zero(), 0.02, 3.0);
   EXPECT_NEAR(belief.gyroOffset(), 0.02, 0.002);
   // A turn whose wheels say 0.5 rad/s (yaw gain 0.2 x 2.5 rad/s of difference) while the body
   // turns at 0.45: the slip ratio is 0.1, the offset stays.
-  hold(&belief, loop, Vector2(-1.25, 1.25), 0.47, 3.0);
+  hold(&belief, loop, base::Vector2(-1.25, 1.25), 0.47, 3.0);
   EXPECT_NEAR(belief.slipRatio(), 0.1, 0.01);
   EXPECT_NEAR(belief.gyroOffset(), 0.02, 0.003);
   EXPECT_NEAR(belief.yawRate(), 0.45, 0.003);
@@ -142,16 +143,16 @@ TEST(RobotBelief, TheSlipRatioIsLearnedInATurnAndTheOffsetWhenStraight)
 
 TEST(RobotBelief, AGyroOffsetJumpInASteadyTurnIsTheOffset)
 {
-  const RobotModelParams p = model();
-  RobotBelief belief(p);
-  WheelLoopModel loop(p);
-  hold(&belief, loop, Vector2::Zero(), 0.0, 1.0);
-  hold(&belief, loop, Vector2(-1.25, 1.25), 0.45, 5.0);  // learned: s = 0.1
+  const params::RobotModelParams p = model();
+  aic::RobotBelief belief(p);
+  aic::WheelLoopModel loop(p);
+  hold(&belief, loop, base::Vector2::Zero(), 0.0, 1.0);
+  hold(&belief, loop, base::Vector2(-1.25, 1.25), 0.45, 5.0);  // learned: s = 0.1
   const double s = belief.slipRatio();
   EXPECT_NEAR(s, 0.1, 0.01);
   // The gyro jumps by 0.1 rad/s with the wheels unchanged: the body's yaw rate is unchanged.
   const std::uint64_t jumps = belief.offsetJumps();
-  hold(&belief, loop, Vector2(-1.25, 1.25), 0.55, 2.0);
+  hold(&belief, loop, base::Vector2(-1.25, 1.25), 0.55, 2.0);
   EXPECT_EQ(belief.offsetJumps(), jumps + 1);
   EXPECT_NEAR(belief.gyroOffset(), 0.1, 0.01);
   EXPECT_NEAR(belief.slipRatio(), s, 0.01);
@@ -160,10 +161,10 @@ TEST(RobotBelief, AGyroOffsetJumpInASteadyTurnIsTheOffset)
 
 TEST(RobotBelief, RescalingTheSlipRatioKeepsTheModelsYawRate)
 {
-  RobotBelief belief(model());
-  WheelLoopModel loop(model());
-  hold(&belief, loop, Vector2::Zero(), 0.0, 1.0);
-  hold(&belief, loop, Vector2(-1.25, 1.25), 0.4, 3.0);  // s = 0.2
+  aic::RobotBelief belief(model());
+  aic::WheelLoopModel loop(model());
+  hold(&belief, loop, base::Vector2::Zero(), 0.0, 1.0);
+  hold(&belief, loop, base::Vector2(-1.25, 1.25), 0.4, 3.0);  // s = 0.2
   const double s = belief.slipRatio();
   ASSERT_TRUE(belief.rescaleSlip(0.8));  // b_hat x 0.8: the wheels' yaw gain x 1.25
   EXPECT_NEAR(1.0 - belief.slipRatio(), 0.8 * (1.0 - s), 1e-12);
@@ -173,9 +174,9 @@ TEST(RobotBelief, RescalingTheSlipRatioKeepsTheModelsYawRate)
 
 TEST(RobotBelief, RejectsANonFiniteSampleAndSkipsAnIsolatedChannel)
 {
-  RobotBelief belief(model());
-  EXPECT_FALSE(belief.correct(Vector2(std::nan(""), 0.0), 0.0, true, true, true));
-  EXPECT_TRUE(belief.correct(Vector2(std::nan(""), 1.0), 0.0, false, true, true));  // left isolated
+  aic::RobotBelief belief(model());
+  EXPECT_FALSE(belief.correct(base::Vector2(std::nan(""), 0.0), 0.0, true, true, true));
+  EXPECT_TRUE(belief.correct(base::Vector2(std::nan(""), 1.0), 0.0, false, true, true));  // left isolated
   EXPECT_TRUE(belief.wheelSpeeds().allFinite());
   EXPECT_EQ(belief.wheelSpeeds()(0), 0.0);
   EXPECT_GT(belief.wheelSpeeds()(1), 0.9);
@@ -183,11 +184,12 @@ TEST(RobotBelief, RejectsANonFiniteSampleAndSkipsAnIsolatedChannel)
 
 TEST(LatencyAction, TheMinimiserIsTheModelsInverseThroughTheLatency)
 {
-  WheelLoopModel loop(model());
-  loop.record(0.0, Vector2(1.0, 1.0));
+  aic::WheelLoopModel loop(model());
+  loop.record(0.0, base::Vector2(1.0, 1.0));
   // Everything in flight is 1 rad/s; the goal 1.2 rad/s one latency and one step ahead.
-  const LatencyActionResult r = LatencyAction::step(loop, Vector2(1.0, 1.0), Vector2::Zero(), 0.5, Vector2(1.2, 0.8),
-                                                    Vector2(1.0, 1.0), 0.02, 50.0, 20.0, 1.0);
+  const aic::LatencyActionResult r =
+      aic::LatencyAction::step(loop, base::Vector2(1.0, 1.0), base::Vector2::Zero(), 0.5, base::Vector2(1.2, 0.8),
+                               base::Vector2(1.0, 1.0), 0.02, 50.0, 20.0, 1.0);
   EXPECT_NEAR(r.predicted(0), 1.2, 1e-5);
   EXPECT_NEAR(r.predicted(1), 0.8, 1e-5);
   // The lag asks for a little more than the goal (the exact inverse: 0.2 / (1 - exp(-2))).
@@ -197,9 +199,10 @@ TEST(LatencyAction, TheMinimiserIsTheModelsInverseThroughTheLatency)
 
 TEST(LatencyAction, AGoalBeyondTheRateBoundAsksNoMoreThanTheLoopGives)
 {
-  WheelLoopModel loop(model());
-  const LatencyActionResult r = LatencyAction::step(loop, Vector2::Zero(), Vector2::Zero(), 0.5, Vector2(10.0, -10.0),
-                                                    Vector2::Zero(), 0.02, 50.0, 20.0, 1.0);
+  aic::WheelLoopModel loop(model());
+  const aic::LatencyActionResult r =
+      aic::LatencyAction::step(loop, base::Vector2::Zero(), base::Vector2::Zero(), 0.5, base::Vector2(10.0, -10.0),
+                               base::Vector2::Zero(), 0.02, 50.0, 20.0, 1.0);
   // 40 rad/s^2 for 0.02 s: 0.8 rad/s at most, reached by a command below 2 rad/s, not the bound 20.
   EXPECT_NEAR(r.predicted(0), 0.8, 1e-6);
   EXPECT_LT(r.command(0), 2.0);
@@ -209,28 +212,30 @@ TEST(LatencyAction, AGoalBeyondTheRateBoundAsksNoMoreThanTheLoopGives)
 
 TEST(LatencyAction, TheLoopGainScalesTheStep)
 {
-  WheelLoopModel loop(model());
-  const LatencyActionResult full = LatencyAction::step(loop, Vector2::Zero(), Vector2::Zero(), 0.5, Vector2(0.3, 0.3),
-                                                       Vector2::Zero(), 0.02, 50.0, 20.0, 1.0);
-  const LatencyActionResult half = LatencyAction::step(loop, Vector2::Zero(), Vector2::Zero(), 0.5, Vector2(0.3, 0.3),
-                                                       Vector2::Zero(), 0.02, 25.0, 20.0, 1.0);
+  aic::WheelLoopModel loop(model());
+  const aic::LatencyActionResult full =
+      aic::LatencyAction::step(loop, base::Vector2::Zero(), base::Vector2::Zero(), 0.5, base::Vector2(0.3, 0.3),
+                               base::Vector2::Zero(), 0.02, 50.0, 20.0, 1.0);
+  const aic::LatencyActionResult half =
+      aic::LatencyAction::step(loop, base::Vector2::Zero(), base::Vector2::Zero(), 0.5, base::Vector2(0.3, 0.3),
+                               base::Vector2::Zero(), 0.02, 25.0, 20.0, 1.0);
   EXPECT_NEAR(half.command(0), 0.5 * full.command(0), 1e-9);
   EXPECT_NEAR(full.minimiser(0), half.minimiser(0), 1e-12);
 }
 
 TEST(ControllerRobotModel, BeliefsAreTheMeasuredTwistAndTheActionTheGoalsWheels)
 {
-  AicParams p = recommendedAicParams();
-  p.belief_model = BeliefModel::kRobot;
+  params::AicParams p = params::recommendedAicParams();
+  p.belief_model = params::BeliefModel::kRobot;
   p.separation_learner.enabled = false;
-  ActiveInferenceController c(p);
-  ASSERT_TRUE(c.setGoal(Vector3(0.5, 0.0, 0.0)));
+  aic::ActiveInferenceController c(p);
+  ASSERT_TRUE(c.setGoal(base::Vector3(0.5, 0.0, 0.0)));
   // The robot drives at 0.5 m/s on both wheels; after a few seconds the belief is the measured
   // twist and the command holds the goal's wheel speeds.
-  YTilde y = YTilde::Zero(kYDim, p.numOrders());
+  base::YTilde y = base::YTilde::Zero(base::kYDim, p.numOrders());
   const double omega = 0.5 / (p.wheel_radius * p.slip_factor);
-  y(kOmegaLeft, 0) = omega;
-  y(kOmegaRight, 0) = omega;
+  y(base::kOmegaLeft, 0) = omega;
+  y(base::kOmegaRight, 0) = omega;
   for (int k = 0; k < 3000; ++k)
   {
     if (k % 20 == 0)
@@ -250,7 +255,7 @@ TEST(ControllerRobotModel, BeliefsAreTheMeasuredTwistAndTheActionTheGoalsWheels)
   EXPECT_TRUE(std::isfinite(c.freeEnergy()));
   EXPECT_NEAR(c.freeEnergy(), c.sensoryFreeEnergy() + c.priorFreeEnergy(), 1e-12);
   // A zero goal stops the wheels at once.
-  ASSERT_TRUE(c.setGoal(Vector3::Zero()));
+  ASSERT_TRUE(c.setGoal(base::Vector3::Zero()));
   for (int k = 0; k < 200; ++k)
   {
     ASSERT_EQ(c.updateBeliefs(0.001), Status::kOk);

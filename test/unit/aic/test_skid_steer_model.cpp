@@ -16,27 +16,27 @@ constexpr double kB = 0.5621;   // m
 
 TEST(SkidSteerModel, Matrices)
 {
-  const SkidSteerModel m(kR, 1.0, kB);
+  const aic::SkidSteerModel m(kR, 1.0, kB);
   EXPECT_NEAR(m.G()(0, 0), kR / 2, kTol);
   EXPECT_NEAR(m.G()(2, 1), kR / kB, kTol);
   EXPECT_NEAR(m.G()(2, 0), -kR / kB, kTol);
   // Wheel rows: omega_L = (x_dot - theta_dot b/2) / r, omega_R = (x_dot + theta_dot b/2) / r.
-  EXPECT_NEAR(m.R()(kOmegaLeft, 0), 1.0 / kR, kTol);
-  EXPECT_NEAR(m.R()(kOmegaLeft, 2), -kB / (2 * kR), kTol);
-  EXPECT_NEAR(m.R()(kOmegaRight, 2), kB / (2 * kR), kTol);
-  EXPECT_NEAR(m.R()(kOmegaRight, 1), 0.0, kTol);
-  EXPECT_EQ(m.R()(kGyroZ, 2), 1.0);
+  EXPECT_NEAR(m.R()(base::kOmegaLeft, 0), 1.0 / kR, kTol);
+  EXPECT_NEAR(m.R()(base::kOmegaLeft, 2), -kB / (2 * kR), kTol);
+  EXPECT_NEAR(m.R()(base::kOmegaRight, 2), kB / (2 * kR), kTol);
+  EXPECT_NEAR(m.R()(base::kOmegaRight, 1), 0.0, kTol);
+  EXPECT_EQ(m.R()(base::kGyroZ, 2), 1.0);
   EXPECT_TRUE(m.R().bottomRows(2).isZero());
-  EXPECT_NEAR(m.K()(0, kGyroZ), -kR / kB, kTol);
-  EXPECT_NEAR(m.K()(1, kGyroZ), kR / kB, kTol);
-  EXPECT_EQ(m.K()(0, kOmegaLeft), 1.0);
-  EXPECT_EQ(m.K()(1, kOmegaRight), 1.0);
+  EXPECT_NEAR(m.K()(0, base::kGyroZ), -kR / kB, kTol);
+  EXPECT_NEAR(m.K()(1, base::kGyroZ), kR / kB, kTol);
+  EXPECT_EQ(m.K()(0, base::kOmegaLeft), 1.0);
+  EXPECT_EQ(m.K()(1, base::kOmegaRight), 1.0);
 }
 
 TEST(SkidSteerModel, RoundTrip)
 {
-  const SkidSteerModel m(kR, 0.9, kB);
-  const Vector2 w(3.0, -1.5);
+  const aic::SkidSteerModel m(kR, 0.9, kB);
+  const base::Vector2 w(3.0, -1.5);
   EXPECT_TRUE(m.wheelsFromTwist(m.twistFromWheels(w)).isApprox(w, kTol));
   // K matches the derivative of R G a with respect to a for the gyro and wheel rows.
   const Eigen::Matrix<double, 5, 2> dyda = m.R() * m.G();
@@ -45,7 +45,7 @@ TEST(SkidSteerModel, RoundTrip)
 
 TEST(SkidSteerModel, RejectsBadGeometry)
 {
-  EXPECT_THROW(SkidSteerModel(0.0, 1.0, kB), std::invalid_argument);
-  EXPECT_THROW(SkidSteerModel(kR, -1.0, kB), std::invalid_argument);
-  EXPECT_THROW(SkidSteerModel(kR, 1.0, std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
+  EXPECT_THROW(aic::SkidSteerModel(0.0, 1.0, kB), std::invalid_argument);
+  EXPECT_THROW(aic::SkidSteerModel(kR, -1.0, kB), std::invalid_argument);
+  EXPECT_THROW(aic::SkidSteerModel(kR, 1.0, std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
 }

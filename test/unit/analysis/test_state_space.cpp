@@ -14,43 +14,43 @@ namespace
 constexpr double kMatchTol = 1e-9;  // m/s, rad/s: state space vs time domain
 
 /// Time-domain loop: Generalizer + ActiveInferenceController + plant, in the order of ClosedLoopModel.
-std::vector<ResponseSample> simulate(const AicParams& params, const PlantModel& plant, const Vector3& mu_d,
-                                     double duration)
+std::vector<analysis::ResponseSample> simulate(const params::AicParams& params, const analysis::PlantModel& plant,
+                                               const base::Vector3& mu_d, double duration)
 {
-  ActiveInferenceController c(params);
-  Generalizer gen(kYDim, params.embedding_order);
+  aic::ActiveInferenceController c(params);
+  aic::Generalizer gen(base::kYDim, params.embedding_order);
   c.setGoal(mu_d);
   const double T = 1.0 / params.action_rate;
   const double h = 1.0 / params.belief_rate;
   const int n_steps = static_cast<int>(std::lround(params.belief_rate / params.action_rate));
   const int periods = static_cast<int>(std::floor(duration / T + 1e-9));
-  Vector2 w = Vector2::Zero();
-  std::vector<ResponseSample> out;
+  base::Vector2 w = base::Vector2::Zero();
+  std::vector<analysis::ResponseSample> out;
   // The plant's input at time t: the command sent at the start of period floor((t - delay) / T),
   // zero before the first one (looked up by time, independently of the model's history slots).
-  std::vector<Vector2> sent;
-  auto input = [&](double t) -> Vector2 {
+  std::vector<base::Vector2> sent;
+  auto input = [&](double t) -> base::Vector2 {
     const double j = std::floor((t - plant.delay) / T);
     if (j < 0.0 || sent.empty())
     {
-      return Vector2::Zero();
+      return base::Vector2::Zero();
     }
     return sent[std::min(static_cast<std::size_t>(j), sent.size() - 1)];
   };
   for (int k = 0; k <= periods; ++k)
   {
     out.push_back({ k * T, c.model().twistFromWheels(w), c.mu().col(0), c.action() });
-    Vector5 y = Vector5::Zero();
-    y(kGyroZ) = c.model().G().row(2).dot(w);
-    y(kOmegaLeft) = w(0);
-    y(kOmegaRight) = w(1);
-    if (plant.type == PlantModel::Type::kFirstOrder)
+    base::Vector5 y = base::Vector5::Zero();
+    y(base::kGyroZ) = c.model().G().row(2).dot(w);
+    y(base::kOmegaLeft) = w(0);
+    y(base::kOmegaRight) = w(1);
+    if (plant.type == analysis::PlantModel::Type::kFirstOrder)
     {
       // The input in effect at the end of the last period.
-      y(kAccelX) = c.model().G().row(0).dot(plant.gain * input(k * T - 1e-6 * T) - w) / plant.time_constant;
+      y(base::kAccelX) = c.model().G().row(0).dot(plant.gain * input(k * T - 1e-6 * T) - w) / plant.time_constant;
     }
     gen.update(y, T);
-    const YTilde yt = gen.yTilde();
+    const base::YTilde yt = gen.yTilde();
     c.setMeasurement(yt);
     for (int j = 0; j < n_steps; ++j)
     {
@@ -70,8 +70,8 @@ std::vector<ResponseSample> simulate(const AicParams& params, const PlantModel& 
     cuts.push_back(t1);
     for (std::size_t i = 0; i + 1 < cuts.size(); ++i)
     {
-      const Vector2 u = plant.gain * input(0.5 * (cuts[i] + cuts[i + 1]));
-      if (plant.type == PlantModel::Type::kFirstOrder)
+      const base::Vector2 u = plant.gain * input(0.5 * (cuts[i] + cuts[i + 1]));
+      if (plant.type == analysis::PlantModel::Type::kFirstOrder)
       {
         const double e = std::exp(-(cuts[i + 1] - cuts[i]) / plant.time_constant);
         w = e * w + (1.0 - e) * u;
@@ -85,10 +85,10 @@ std::vector<ResponseSample> simulate(const AicParams& params, const PlantModel& 
   return out;
 }
 
-void expectSameResponse(const AicParams& params, const PlantModel& plant)
+void expectSameResponse(const params::AicParams& params, const analysis::PlantModel& plant)
 {
-  const Vector3 mu_d(0.5, 0.0, 0.4);
-  const ClosedLoopModel model(params, plant);
+  const base::Vector3 mu_d(0.5, 0.0, 0.4);
+  const analysis::ClosedLoopModel model(params, plant);
   const auto ss = model.stepResponse(mu_d, 3.0);
   const auto td = simulate(params, plant, mu_d, 3.0);
   ASSERT_EQ(ss.size(), td.size());
@@ -99,7 +99,7 @@ void expectSameResponse(const AicParams& params, const PlantModel& plant)
                        (ss[k].mu - td[k].mu).cwiseAbs().maxCoeff(),
                        (ss[k].a - td[k].a).cwiseAbs().maxCoeff() * params.wheel_radius });
   }
-  EXPECT_LE(worst, kMatchTol) << "integrator " << toString(params.integrator);
+  EXPECT_LE(worst, kMatchTol) << "integrator " << params::toString(params.integrator);
   // The response actually moves (the comparison is not between two zeros).
   EXPECT_GT(td.back().twist(0), 0.1);
 }
@@ -107,29 +107,29 @@ void expectSameResponse(const AicParams& params, const PlantModel& plant)
 
 TEST(StateSpace, MatchesTimeDomainPointMass)
 {
-  for (Integrator integ : { Integrator::kEuler, Integrator::kExact })
+  for (params::Integrator integ : { params::Integrator::kEuler, params::Integrator::kExact })
   {
-    AicParams p;  // improved set rates: 1 kHz / 50 Hz
+    params::AicParams p;  // improved set rates: 1 kHz / 50 Hz
     p.tau = 0.03;
     p.var_y = { 2.0, 1.0e5, 1.0e5, 1.0e5 };  // no derivative action: stable with the point mass
     p.integrator = integ;
-    expectSameResponse(p, PlantModel());
+    expectSameResponse(p, analysis::PlantModel());
     p.belief_rate = 50.0;  // single rate, thesis standard
-    expectSameResponse(p, PlantModel());
+    expectSameResponse(p, analysis::PlantModel());
   }
 }
 
 TEST(StateSpace, MatchesTimeDomainFirstOrderPlantAndAccelModel)
 {
-  for (Integrator integ : { Integrator::kEuler, Integrator::kExact })
+  for (params::Integrator integ : { params::Integrator::kEuler, params::Integrator::kExact })
   {
-    AicParams p;
+    params::AicParams p;
     p.tau = 0.03;
     p.belief_rate = 200.0;
     p.integrator = integ;
     p.accel_in_model = true;
-    PlantModel plant;
-    plant.type = PlantModel::Type::kFirstOrder;
+    analysis::PlantModel plant;
+    plant.type = analysis::PlantModel::Type::kFirstOrder;
     plant.time_constant = 0.15;
     expectSameResponse(p, plant);
   }
@@ -137,10 +137,10 @@ TEST(StateSpace, MatchesTimeDomainFirstOrderPlantAndAccelModel)
 
 namespace
 {
-PlantModel lagPlant()
+analysis::PlantModel lagPlant()
 {
-  PlantModel plant;
-  plant.type = PlantModel::Type::kFirstOrder;
+  analysis::PlantModel plant;
+  plant.type = analysis::PlantModel::Type::kFirstOrder;
   plant.time_constant = 0.15;  // s
   return plant;
 }
@@ -149,16 +149,16 @@ PlantModel lagPlant()
 TEST(StateSpace, StabilityAgreesWithBeliefStiffness)
 {
   // tau = 0.001, k_mu = 0.01, var_mu0 = 1.5: belief gain ~ 6.7e3 1/s, Euler needs h * gain < 2.
-  AicParams p;  // improved set: 1 kHz beliefs, 50 Hz action
-  p.integrator = Integrator::kEuler;
-  EXPECT_GT(ClosedLoopModel(p, lagPlant()).spectralRadius(), 1e10);  // ~ |1 - 6.7|^20 per action period
-  p.integrator = Integrator::kExact;
-  EXPECT_TRUE(ClosedLoopModel(p, lagPlant()).stable());
+  params::AicParams p;  // improved set: 1 kHz beliefs, 50 Hz action
+  p.integrator = params::Integrator::kEuler;
+  EXPECT_GT(analysis::ClosedLoopModel(p, lagPlant()).spectralRadius(), 1e10);  // ~ |1 - 6.7|^20 per action period
+  p.integrator = params::Integrator::kExact;
+  EXPECT_TRUE(analysis::ClosedLoopModel(p, lagPlant()).stable());
   // Thesis standard set at 50 Hz is stable with Euler.
-  p.integrator = Integrator::kEuler;
+  p.integrator = params::Integrator::kEuler;
   p.belief_rate = 50.0;
   p.tau = 0.03;
-  EXPECT_TRUE(ClosedLoopModel(p, lagPlant()).stable());
+  EXPECT_TRUE(analysis::ClosedLoopModel(p, lagPlant()).stable());
 }
 
 TEST(StateSpace, SampledDerivativeActionNeedsPlantLag)
@@ -166,24 +166,24 @@ TEST(StateSpace, SampledDerivativeActionNeedsPlantLag)
   // With y^(1) from finite differences at the action rate and wheels that follow a at once, the
   // order-1 term of da/dt is a discrete derivative feedback a_{k+1} - a_k = -k_a Pi_y1 (a_k - a_{k-1}) + ...:
   // unstable once k_a / var_y1 > 1 (thesis set: 8 / 2 = 4), whatever the integrator.
-  AicParams p;
+  params::AicParams p;
   p.belief_rate = 50.0;
   p.tau = 0.03;
-  for (Integrator integ : { Integrator::kEuler, Integrator::kExact })
+  for (params::Integrator integ : { params::Integrator::kEuler, params::Integrator::kExact })
   {
     p.integrator = integ;
-    EXPECT_GT(ClosedLoopModel(p).spectralRadius(), 4.0);
-    EXPECT_TRUE(ClosedLoopModel(p, lagPlant()).stable());
+    EXPECT_GT(analysis::ClosedLoopModel(p).spectralRadius(), 4.0);
+    EXPECT_TRUE(analysis::ClosedLoopModel(p, lagPlant()).stable());
   }
   p.var_y[1] = 1.0e5;  // removes the term
-  EXPECT_TRUE(ClosedLoopModel(p).stable());
+  EXPECT_TRUE(analysis::ClosedLoopModel(p).stable());
 }
 
 TEST(StateSpace, ScanFindsEulerTauLimit)
 {
-  AicParams p;
-  p.integrator = Integrator::kEuler;
-  const auto lim = scanStabilityLimit(p, lagPlant(), ScanParameter::kTau, 1e-4, 1.0);
+  params::AicParams p;
+  p.integrator = params::Integrator::kEuler;
+  const auto lim = analysis::scanStabilityLimit(p, lagPlant(), analysis::ScanParameter::kTau, 1e-4, 1.0);
   ASSERT_FALSE(std::isnan(lim.value));
   EXPECT_FALSE(lim.unbounded);
   EXPECT_TRUE(lim.stable_at_range_end);
@@ -192,19 +192,19 @@ TEST(StateSpace, ScanFindsEulerTauLimit)
   const double estimate = std::sqrt(p.k_mu / 1.5 * 1e-3 / 2.0);
   EXPECT_GT(lim.value, 0.5 * estimate);
   EXPECT_LT(lim.value, 4.0 * estimate);
-  AicParams q = p;
+  params::AicParams q = p;
   q.tau = lim.value * 1.01;
-  EXPECT_TRUE(ClosedLoopModel(q, lagPlant()).stable());
+  EXPECT_TRUE(analysis::ClosedLoopModel(q, lagPlant()).stable());
   q.tau = lim.value * 0.95;
-  EXPECT_FALSE(ClosedLoopModel(q, lagPlant()).stable());
+  EXPECT_FALSE(analysis::ClosedLoopModel(q, lagPlant()).stable());
 }
 
 TEST(StateSpace, PredictStepOfStandardSet)
 {
-  AicParams p;
+  params::AicParams p;
   p.belief_rate = 50.0;
   p.tau = 0.03;
-  const auto pred = predictStep(p, lagPlant(), 0.5, 30.0);
+  const auto pred = analysis::predictStep(p, lagPlant(), 0.5, 30.0);
   EXPECT_TRUE(pred.stable);
   ASSERT_TRUE(pred.velocity_valid);
   EXPECT_GT(pred.velocity.rise_time, 0.0);
@@ -213,36 +213,36 @@ TEST(StateSpace, PredictStepOfStandardSet)
 
 TEST(StateSpace, IndependentOfRunawayLimitAndClamp)
 {
-  AicParams p;
+  params::AicParams p;
   p.tau = 0.03;
-  const ClosedLoopModel reference(p);
+  const analysis::ClosedLoopModel reference(p);
   p.runaway_limit = 0.5;  // below the probe vectors' magnitude
   p.max_wheel_speed = 0.5;
-  EXPECT_TRUE(ClosedLoopModel(p).phi().isApprox(reference.phi(), 1e-14));
+  EXPECT_TRUE(analysis::ClosedLoopModel(p).phi().isApprox(reference.phi(), 1e-14));
 }
 
 TEST(StateSpace, MatchesTimeDomainWithGainAndDelay)
 {
   // Delays of whole action periods and in between, on both plant types and both integrators.
-  for (Integrator integ : { Integrator::kEuler, Integrator::kExact })
+  for (params::Integrator integ : { params::Integrator::kEuler, params::Integrator::kExact })
   {
     for (double delay : { 0.02, 0.047, 0.117 })
     {
-      AicParams p;
+      params::AicParams p;
       p.tau = 0.03;
       p.belief_rate = 200.0;
       p.integrator = integ;
       p.accel_in_model = true;
       p.k_a = 4.0;
       p.var_y = { 2.0, 1.0e5, 1.0e5, 1.0e5 };
-      PlantModel plant;
-      plant.type = PlantModel::Type::kFirstOrder;
+      analysis::PlantModel plant;
+      plant.type = analysis::PlantModel::Type::kFirstOrder;
       plant.time_constant = 0.08;
       plant.gain = 0.9;
       plant.delay = delay;
       SCOPED_TRACE("delay " + std::to_string(delay));
       expectSameResponse(p, plant);
-      plant.type = PlantModel::Type::kPointMass;
+      plant.type = analysis::PlantModel::Type::kPointMass;
       expectSameResponse(p, plant);
     }
   }
@@ -251,64 +251,65 @@ TEST(StateSpace, MatchesTimeDomainWithGainAndDelay)
 TEST(StateSpace, DelayDestabilizesAFastActionLoop)
 {
   // The same gains that are stable without latency oscillate with the simulated Jackal's 0.12 s.
-  AicParams p;
+  params::AicParams p;
   p.tau = 0.03;
   p.k_a = 20.0;
   p.var_y = { 2.0, 1.0e5, 1.0e5, 1.0e5 };
-  PlantModel plant;
-  plant.type = PlantModel::Type::kFirstOrder;
+  analysis::PlantModel plant;
+  plant.type = analysis::PlantModel::Type::kFirstOrder;
   plant.time_constant = 0.05;
-  EXPECT_TRUE(ClosedLoopModel(p, plant).stable());
+  EXPECT_TRUE(analysis::ClosedLoopModel(p, plant).stable());
   plant.delay = 0.12;
-  EXPECT_FALSE(ClosedLoopModel(p, plant).stable());
+  EXPECT_FALSE(analysis::ClosedLoopModel(p, plant).stable());
 }
 
 TEST(StateSpace, RejectsBadInput)
 {
-  AicParams p;
+  params::AicParams p;
   p.belief_rate = 75.0;  // 1.5 x action rate
-  EXPECT_THROW(ClosedLoopModel m(p), std::invalid_argument);
+  EXPECT_THROW(analysis::ClosedLoopModel m(p), std::invalid_argument);
   p.belief_rate = 100.0;
-  PlantModel plant;
-  plant.type = PlantModel::Type::kFirstOrder;
+  analysis::PlantModel plant;
+  plant.type = analysis::PlantModel::Type::kFirstOrder;
   plant.time_constant = 0.0;
-  EXPECT_THROW(ClosedLoopModel m(p, plant), std::invalid_argument);
+  EXPECT_THROW(analysis::ClosedLoopModel m(p, plant), std::invalid_argument);
   plant.time_constant = 0.1;
   plant.gain = 0.0;
-  EXPECT_THROW(ClosedLoopModel m(p, plant), std::invalid_argument);
+  EXPECT_THROW(analysis::ClosedLoopModel m(p, plant), std::invalid_argument);
   plant.gain = std::nan("");
-  EXPECT_THROW(ClosedLoopModel m(p, plant), std::invalid_argument);
+  EXPECT_THROW(analysis::ClosedLoopModel m(p, plant), std::invalid_argument);
   plant.gain = 1.0;
   plant.delay = -0.01;
-  EXPECT_THROW(ClosedLoopModel m(p, plant), std::invalid_argument);
+  EXPECT_THROW(analysis::ClosedLoopModel m(p, plant), std::invalid_argument);
   plant.delay = 1.01;  // 50 action periods at 50 Hz is 1 s
-  EXPECT_THROW(ClosedLoopModel m(p, plant), std::invalid_argument);
-  EXPECT_THROW(scanStabilityLimit(p, PlantModel(), ScanParameter::kKA, 1.0, 0.5), std::invalid_argument);
+  EXPECT_THROW(analysis::ClosedLoopModel m(p, plant), std::invalid_argument);
+  EXPECT_THROW(analysis::scanStabilityLimit(p, analysis::PlantModel(), analysis::ScanParameter::kKA, 1.0, 0.5),
+               std::invalid_argument);
   p.tau = -1.0;
-  EXPECT_THROW(ClosedLoopModel m(p), std::invalid_argument);
+  EXPECT_THROW(analysis::ClosedLoopModel m(p), std::invalid_argument);
 }
 
 TEST(StateSpace, ScanReportsAStableBandAwayFromTheRangeEnd)
 {
   // Thesis standard set, 50 Hz Euler, 0.05 s wheel lag: unstable at k_mu = 0.01 (spectral radius
   // ~1.019) but stable in a band of larger k_mu; the scan must say so instead of a plain limit.
-  AicParams p;
+  params::AicParams p;
   p.belief_rate = 50.0;
   p.tau = 0.03;
-  p.integrator = Integrator::kEuler;
-  PlantModel plant;
-  plant.type = PlantModel::Type::kFirstOrder;
+  p.integrator = params::Integrator::kEuler;
+  analysis::PlantModel plant;
+  plant.type = analysis::PlantModel::Type::kFirstOrder;
   plant.time_constant = 0.05;
-  EXPECT_FALSE(ClosedLoopModel(p, plant).stable());
-  const auto lim = scanStabilityLimit(p, plant, ScanParameter::kKMu, 1e-4, 1e4);
+  EXPECT_FALSE(analysis::ClosedLoopModel(p, plant).stable());
+  const auto lim = analysis::scanStabilityLimit(p, plant, analysis::ScanParameter::kKMu, 1e-4, 1e4);
   ASSERT_FALSE(std::isnan(lim.value));
   EXPECT_FALSE(lim.stable_at_range_end);
   EXPECT_LT(lim.band_start, lim.value);
-  AicParams q = p;
+  params::AicParams q = p;
   q.k_mu = std::sqrt(lim.band_start * lim.value);  // inside the band
-  EXPECT_TRUE(ClosedLoopModel(q, plant).stable());
+  EXPECT_TRUE(analysis::ClosedLoopModel(q, plant).stable());
   q.k_mu = lim.band_start * 0.98;
-  EXPECT_FALSE(ClosedLoopModel(q, plant).stable());
+  EXPECT_FALSE(analysis::ClosedLoopModel(q, plant).stable());
   q.k_mu = lim.value * 1.02;
-  EXPECT_FALSE(ClosedLoopModel(q, plant).stable());
+  EXPECT_FALSE(analysis::ClosedLoopModel(q, plant).stable());
 }

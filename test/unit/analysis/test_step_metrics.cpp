@@ -41,11 +41,11 @@ TEST(StepMetrics, FirstOrderResponse)
   {
     v.push_back(x < kStep ? kY0 : kY1 + (kY0 - kY1) * std::exp(-(x - kStep) / kT));
   }
-  StepMetricsOptions o;
+  analysis::StepMetricsOptions o;
   o.step_time = kStep;
   o.initial = kY0;
   o.target = kY1;
-  const auto m = computeStepMetrics(t, v, o);
+  const auto m = analysis::computeStepMetrics(t, v, o);
   EXPECT_NEAR(m.rise_time, kT * std::log(9.0), kTimeTol);
   EXPECT_NEAR(m.t_rise_low, -kT * std::log(0.9), kTimeTol);
   // Band = 5 % of the final value 0.5 = 0.025 = 6.25 % of the step 0.4: e^{-t/T} * 0.4 = 0.025.
@@ -56,8 +56,8 @@ TEST(StepMetrics, FirstOrderResponse)
   EXPECT_NEAR(m.steady_state_error, 0.0, kValueTol);
   EXPECT_NEAR(m.steady_state_window_used, 0.5, 2e-3);
 
-  o.band_basis = SettlingBandBasis::kStepSize;
-  const auto ms = computeStepMetrics(t, v, o);
+  o.band_basis = analysis::SettlingBandBasis::kStepSize;
+  const auto ms = analysis::computeStepMetrics(t, v, o);
   EXPECT_NEAR(ms.settling_time, kT * std::log(20.0), kTimeTol);
 }
 
@@ -75,10 +75,10 @@ TEST(StepMetrics, SecondOrderOvershootAndDownStep)
         1 - std::exp(-kZeta * kWn * x) * (std::cos(wd * x) + kZeta / std::sqrt(1 - kZeta * kZeta) * std::sin(wd * x));
     v.push_back(1.0 - 0.8 * s);
   }
-  StepMetricsOptions o;
+  analysis::StepMetricsOptions o;
   o.initial = 1.0;
   o.target = 0.2;
-  const auto m = computeStepMetrics(t, v, o);
+  const auto m = analysis::computeStepMetrics(t, v, o);
   const double expected_os = 100.0 * std::exp(-kZeta * M_PI / std::sqrt(1 - kZeta * kZeta));
   EXPECT_NEAR(m.overshoot_percent, expected_os, kPercentTol);
   EXPECT_GT(m.rise_time, 0.0);
@@ -90,20 +90,20 @@ TEST(StepMetrics, SteadyStateErrorAndNotSettled)
 {
   const auto t = jitteredTimes(0.0, 2.0, 0.01, 3);
   std::vector<double> v(t.size(), 0.45);  // jumps to 0.45 and stays: 0.05 short of 0.5
-  StepMetricsOptions o;
+  analysis::StepMetricsOptions o;
   o.initial = 0.0;
   o.target = 0.5;
   o.settling_band = 0.05;  // band 0.025 < 0.05: never inside
-  auto m = computeStepMetrics(t, v, o);
+  auto m = analysis::computeStepMetrics(t, v, o);
   EXPECT_NEAR(m.steady_state_error, 0.05, 1e-12);
   EXPECT_FALSE(m.settled);
   EXPECT_TRUE(std::isnan(m.settling_time));
   EXPECT_NEAR(m.rise_time, 0.0, 1e-12);  // both thresholds crossed at the first sample
   // Response that never reaches 90 %: rise time undefined.
   std::fill(v.begin(), v.end(), 0.3);
-  m = computeStepMetrics(t, v, o);
+  m = analysis::computeStepMetrics(t, v, o);
   EXPECT_TRUE(std::isnan(m.rise_time));
-  EXPECT_EQ(toJson(m, o).find("\"rise_time\": null"), 1u);
+  EXPECT_EQ(analysis::toJson(m, o).find("\"rise_time\": null"), 1u);
 }
 
 TEST(StepMetrics, EndTimeLimitsTheWindow)
@@ -115,11 +115,11 @@ TEST(StepMetrics, EndTimeLimitsTheWindow)
   {
     v.push_back(x < 1.0 ? 1.0 - std::exp(-x / 0.05) : std::exp(-(x - 1.0) / 0.05));
   }
-  StepMetricsOptions o;
+  analysis::StepMetricsOptions o;
   o.initial = 0.0;
   o.target = 1.0;
   o.end_time = 1.0;
-  const auto m = computeStepMetrics(t, v, o);
+  const auto m = analysis::computeStepMetrics(t, v, o);
   EXPECT_TRUE(m.settled);
   EXPECT_NEAR(m.settling_time, 0.05 * std::log(20.0), kTimeTol);
   EXPECT_NEAR(m.steady_state_error, 0.0, kValueTol);
@@ -129,32 +129,32 @@ TEST(StepMetrics, BadInputThrows)
 {
   const std::vector<double> t{ 0.0, 0.1, 0.2 };
   const std::vector<double> v{ 0.0, 0.5, 1.0 };
-  StepMetricsOptions o;
+  analysis::StepMetricsOptions o;
   o.target = 1.0;
-  EXPECT_NO_THROW(computeStepMetrics(t, v, o));
-  EXPECT_THROW(computeStepMetrics(t, { 0.0, 1.0 }, o), std::invalid_argument);                // size
-  EXPECT_THROW(computeStepMetrics({ 0.0, 0.2, 0.1 }, v, o), std::invalid_argument);           // backwards
-  EXPECT_THROW(computeStepMetrics({ 0.0, 0.1, 0.1 }, v, o), std::invalid_argument);           // repeated
-  EXPECT_THROW(computeStepMetrics(t, { 0.0, std::nan(""), 1.0 }, o), std::invalid_argument);  // NaN value
-  EXPECT_THROW(computeStepMetrics({ 0.0, INFINITY, 0.3 }, v, o), std::invalid_argument);      // Inf stamp
+  EXPECT_NO_THROW(analysis::computeStepMetrics(t, v, o));
+  EXPECT_THROW(analysis::computeStepMetrics(t, { 0.0, 1.0 }, o), std::invalid_argument);                // size
+  EXPECT_THROW(analysis::computeStepMetrics({ 0.0, 0.2, 0.1 }, v, o), std::invalid_argument);           // backwards
+  EXPECT_THROW(analysis::computeStepMetrics({ 0.0, 0.1, 0.1 }, v, o), std::invalid_argument);           // repeated
+  EXPECT_THROW(analysis::computeStepMetrics(t, { 0.0, std::nan(""), 1.0 }, o), std::invalid_argument);  // NaN value
+  EXPECT_THROW(analysis::computeStepMetrics({ 0.0, INFINITY, 0.3 }, v, o), std::invalid_argument);      // Inf stamp
   auto bad = o;
   bad.target = bad.initial;
-  EXPECT_THROW(computeStepMetrics(t, v, bad), std::invalid_argument);  // zero step
+  EXPECT_THROW(analysis::computeStepMetrics(t, v, bad), std::invalid_argument);  // zero step
   bad = o;
   bad.step_time = 0.15;  // one sample left
-  EXPECT_THROW(computeStepMetrics(t, v, bad), std::invalid_argument);
+  EXPECT_THROW(analysis::computeStepMetrics(t, v, bad), std::invalid_argument);
   bad = o;
   bad.rise_low = 0.95;
-  EXPECT_THROW(computeStepMetrics(t, v, bad), std::invalid_argument);
+  EXPECT_THROW(analysis::computeStepMetrics(t, v, bad), std::invalid_argument);
   bad = o;
   bad.settling_band = 0.0;
-  EXPECT_THROW(computeStepMetrics(t, v, bad), std::invalid_argument);
+  EXPECT_THROW(analysis::computeStepMetrics(t, v, bad), std::invalid_argument);
   bad = o;
   bad.steady_state_window = -1.0;
-  EXPECT_THROW(computeStepMetrics(t, v, bad), std::invalid_argument);
+  EXPECT_THROW(analysis::computeStepMetrics(t, v, bad), std::invalid_argument);
   try
   {
-    computeStepMetrics({ 0.0, 0.2, 0.1 }, v, o);
+    analysis::computeStepMetrics({ 0.0, 0.2, 0.1 }, v, o);
   }
   catch (const std::invalid_argument& e)
   {

@@ -19,10 +19,10 @@ namespace
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kTol = 1e-9;
 
-TwistProfile parse(const std::string& text)
+analysis::TwistProfile parse(const std::string& text)
 {
   std::istringstream in(text);
-  return parseTwistProfileCsv(in, "dir/test_profile.csv");
+  return analysis::parseTwistProfileCsv(in, "dir/test_profile.csv");
 }
 
 /// The message of the std::invalid_argument parse(text) throws ("" if none).
@@ -39,9 +39,9 @@ std::string parseError(const std::string& text)
   return "";
 }
 
-TwistProfile profileOf(std::vector<TwistProfilePoint> points, double duration)
+analysis::TwistProfile profileOf(std::vector<analysis::TwistProfilePoint> points, double duration)
 {
-  TwistProfile p;
+  analysis::TwistProfile p;
   p.points = std::move(points);
   p.duration = duration;
   return p;
@@ -59,9 +59,9 @@ std::vector<double> grid(double t0, double t_end, double dt)
 }
 
 /// Pose by Euler integration of the profile's set point with a fine step (reference for the exact arcs).
-Pose2D eulerPose(const TwistProfile& p, double t_end, double h)
+analysis::Pose2D eulerPose(const analysis::TwistProfile& p, double t_end, double h)
 {
-  Pose2D q;
+  analysis::Pose2D q;
   for (double t = 0.0; t < t_end - 1e-12; t += h)
   {
     double vx = 0.0;
@@ -78,7 +78,7 @@ Pose2D eulerPose(const TwistProfile& p, double t_end, double h)
 
 TEST(TwistProfileCsv, HeaderCommentsAndZeroOrderHold)
 {
-  const TwistProfile p = parse("# a comment\n\nt,vx,wz\n0,0,0\n1.0,0.5,0\n2.5,0.5,-0.25\n4,0,0\n");
+  const analysis::TwistProfile p = parse("# a comment\n\nt,vx,wz\n0,0,0\n1.0,0.5,0\n2.5,0.5,-0.25\n4,0,0\n");
   EXPECT_EQ(p.name, "test_profile");
   ASSERT_EQ(p.points.size(), 3u);
   EXPECT_DOUBLE_EQ(p.duration, 4.0);
@@ -93,7 +93,7 @@ TEST(TwistProfileCsv, HeaderCommentsAndZeroOrderHold)
   EXPECT_EQ(vx, 0.5);
   EXPECT_EQ(wz, -0.25);
   // Round trip through twistProfileCsv.
-  const TwistProfile q = parse(twistProfileCsv(p));
+  const analysis::TwistProfile q = parse(analysis::twistProfileCsv(p));
   ASSERT_EQ(q.points.size(), p.points.size());
   EXPECT_EQ(q.points[2].wz, -0.25);
   EXPECT_EQ(q.duration, 4.0);
@@ -101,7 +101,7 @@ TEST(TwistProfileCsv, HeaderCommentsAndZeroOrderHold)
 
 TEST(TwistProfileCsv, NoHeaderColumnOrderAndMissingWz)
 {
-  const TwistProfile a = parse("0.5,0.2,0.1\n1,0,0\n");
+  const analysis::TwistProfile a = parse("0.5,0.2,0.1\n1,0,0\n");
   ASSERT_EQ(a.points.size(), 1u);
   EXPECT_EQ(a.points[0].t, 0.5);
   EXPECT_EQ(a.points[0].wz, 0.1);
@@ -110,11 +110,11 @@ TEST(TwistProfileCsv, NoHeaderColumnOrderAndMissingWz)
   a.setPointAt(0.2, &vx, &wz);  // before the first point: rest
   EXPECT_EQ(vx, 0.0);
   EXPECT_EQ(wz, 0.0);
-  const TwistProfile b = parse("wz, vx, t\n0.3,0.2,0\n0,0,2\n");
+  const analysis::TwistProfile b = parse("wz, vx, t\n0.3,0.2,0\n0,0,2\n");
   EXPECT_EQ(b.points[0].vx, 0.2);
   EXPECT_EQ(b.points[0].wz, 0.3);
   EXPECT_EQ(b.duration, 2.0);
-  const TwistProfile c = parse("t,vx\n0,0.4\n3,0\n");
+  const analysis::TwistProfile c = parse("t,vx\n0,0.4\n3,0\n");
   EXPECT_EQ(c.points[0].wz, 0.0);
 }
 
@@ -131,7 +131,7 @@ TEST(TwistProfileCsv, BadFilesAreRefusedWithTheLine)
   EXPECT_NE(parseError("t,vx,wz\n-1,0,0\n1,0.5,0\n").find("t must be >= 0"), std::string::npos);
   EXPECT_NE(parseError("time,speed\n0,0\n1,0\n").find("must name the columns t and vx"), std::string::npos);
   EXPECT_NE(parseError("t,vx,wz\n0,0,0\n1,,0\n").find("'' is not a number"), std::string::npos);
-  EXPECT_THROW(loadTwistProfileCsv("/nonexistent/profile.csv"), std::invalid_argument);
+  EXPECT_THROW(analysis::loadTwistProfileCsv("/nonexistent/profile.csv"), std::invalid_argument);
 }
 
 TEST(TwistProfile, ValidateRefusesBadProfiles)
@@ -146,7 +146,7 @@ TEST(TwistProfile, ValidateRefusesBadProfiles)
 
 TEST(VelocityTrackingError, OffsetsAndWindow)
 {
-  const TwistProfile p = profileOf({ { 0.0, 0.5, 0.0 }, { 1.0, 0.5, 1.0 } }, 2.0);
+  const analysis::TwistProfile p = profileOf({ { 0.0, 0.5, 0.0 }, { 1.0, 0.5, 1.0 } }, 2.0);
   const std::vector<double> t = grid(-1.0, 3.0, 0.02);
   std::vector<double> vx;
   std::vector<double> wz;
@@ -161,14 +161,14 @@ TEST(VelocityTrackingError, OffsetsAndWindow)
     const int k = static_cast<int>(std::lround(x / 0.02));
     wz.push_back(in ? sw + (k % 2 == 0 ? 0.2 : -0.2) : -100.0);
   }
-  const VelocityTrackingError e = velocityTrackingError(p, t, vx, wz);
+  const analysis::VelocityTrackingError e = analysis::velocityTrackingError(p, t, vx, wz);
   EXPECT_EQ(e.samples, 101);
   EXPECT_NEAR(e.vx.rms, 0.1, kTol);
   EXPECT_NEAR(e.vx.max, 0.1, kTol);
   EXPECT_NEAR(e.wz.rms, 0.2, kTol);
   EXPECT_NEAR(e.wz.max, 0.2, kTol);
   // A first-order lag's RMS error: a 0.5 m/s step answered by 0.5 (1 - exp(-t / T)).
-  const TwistProfile step = profileOf({ { 0.0, 0.5, 0.0 } }, 10.0);
+  const analysis::TwistProfile step = profileOf({ { 0.0, 0.5, 0.0 } }, 10.0);
   const std::vector<double> tt = grid(0.0, 10.0, 1e-3);
   std::vector<double> lag;
   const std::vector<double> zero(tt.size(), 0.0);
@@ -176,7 +176,7 @@ TEST(VelocityTrackingError, OffsetsAndWindow)
   {
     lag.push_back(0.5 * (1.0 - std::exp(-x / 0.2)));
   }
-  const VelocityTrackingError l = velocityTrackingError(step, tt, lag, zero);
+  const analysis::VelocityTrackingError l = analysis::velocityTrackingError(step, tt, lag, zero);
   // mean of 0.25 exp(-2 t / T) over 10 s = 0.25 T / 2 / 10.
   EXPECT_NEAR(l.vx.rms, std::sqrt(0.25 * 0.1 / 10.0), 2e-3);
   EXPECT_NEAR(l.vx.max, 0.5, kTol);
@@ -185,20 +185,21 @@ TEST(VelocityTrackingError, OffsetsAndWindow)
 
 TEST(VelocityTrackingError, BadInput)
 {
-  const TwistProfile p = profileOf({ { 0.0, 0.5, 0.0 } }, 1.0);
-  EXPECT_THROW(velocityTrackingError(p, { 0.0, 0.5 }, { 0.0 }, { 0.0, 0.0 }), std::invalid_argument);
-  EXPECT_THROW(velocityTrackingError(p, { 0.0, 0.5 }, { 0.0, std::numeric_limits<double>::infinity() }, { 0.0, 0.0 }),
-               std::invalid_argument);
-  EXPECT_THROW(velocityTrackingError(p, { 0.5, 0.5 }, { 0.0, 0.0 }, { 0.0, 0.0 }), std::invalid_argument);
-  EXPECT_THROW(velocityTrackingError(p, { 2.0, 3.0 }, { 0.0, 0.0 }, { 0.0, 0.0 }), std::invalid_argument);
-  EXPECT_THROW(velocityTrackingError(profileOf({}, 1.0), { 0.0 }, { 0.0 }, { 0.0 }), std::invalid_argument);
+  const analysis::TwistProfile p = profileOf({ { 0.0, 0.5, 0.0 } }, 1.0);
+  EXPECT_THROW(analysis::velocityTrackingError(p, { 0.0, 0.5 }, { 0.0 }, { 0.0, 0.0 }), std::invalid_argument);
+  EXPECT_THROW(
+      analysis::velocityTrackingError(p, { 0.0, 0.5 }, { 0.0, std::numeric_limits<double>::infinity() }, { 0.0, 0.0 }),
+      std::invalid_argument);
+  EXPECT_THROW(analysis::velocityTrackingError(p, { 0.5, 0.5 }, { 0.0, 0.0 }, { 0.0, 0.0 }), std::invalid_argument);
+  EXPECT_THROW(analysis::velocityTrackingError(p, { 2.0, 3.0 }, { 0.0, 0.0 }, { 0.0, 0.0 }), std::invalid_argument);
+  EXPECT_THROW(analysis::velocityTrackingError(profileOf({}, 1.0), { 0.0 }, { 0.0 }, { 0.0 }), std::invalid_argument);
 }
 
 TEST(IdealPath, LinesArcsAndTurnsInPlace)
 {
   // A full circle: 1 m/s at 0.5 rad/s for 4 pi s returns to the start; a quarter circle ends at (R, R).
-  const TwistProfile circle = profileOf({ { 0.0, 1.0, 0.5 } }, 4.0 * kPi);
-  const auto c = idealPath(circle, Pose2D{}, 0.0, { kPi, 4.0 * kPi });
+  const analysis::TwistProfile circle = profileOf({ { 0.0, 1.0, 0.5 } }, 4.0 * kPi);
+  const auto c = analysis::idealPath(circle, analysis::Pose2D{}, 0.0, { kPi, 4.0 * kPi });
   EXPECT_NEAR(c[0].x, 2.0, kTol);
   EXPECT_NEAR(c[0].y, 2.0, kTol);
   EXPECT_NEAR(c[0].heading, 0.5 * kPi, kTol);
@@ -206,40 +207,40 @@ TEST(IdealPath, LinesArcsAndTurnsInPlace)
   EXPECT_NEAR(c[1].y, 0.0, kTol);
   EXPECT_NEAR(c[1].heading, 2.0 * kPi, kTol);  // continuous heading
   // Straight from a rotated, offset start; rest before the first point.
-  const TwistProfile line = profileOf({ { 1.0, 0.5, 0.0 } }, 5.0);
-  Pose2D start;
+  const analysis::TwistProfile line = profileOf({ { 1.0, 0.5, 0.0 } }, 5.0);
+  analysis::Pose2D start;
   start.x = 1.0;
   start.y = -1.0;
   start.heading = 0.5 * kPi;
-  const auto l = idealPath(line, start, -0.5, { -0.5, 1.0, 3.0 });
+  const auto l = analysis::idealPath(line, start, -0.5, { -0.5, 1.0, 3.0 });
   EXPECT_NEAR(l[1].y, -1.0, kTol);
   EXPECT_NEAR(l[2].x, 1.0, kTol);
   EXPECT_NEAR(l[2].y, 0.0, kTol);
   // A turn in place only turns.
-  const TwistProfile spin = profileOf({ { 0.0, 0.0, -1.5 } }, 2.0);
-  const auto s = idealPath(spin, Pose2D{}, 0.0, { 2.0 });
+  const analysis::TwistProfile spin = profileOf({ { 0.0, 0.0, -1.5 } }, 2.0);
+  const auto s = analysis::idealPath(spin, analysis::Pose2D{}, 0.0, { 2.0 });
   EXPECT_NEAR(s[0].x, 0.0, kTol);
   EXPECT_NEAR(s[0].heading, -3.0, kTol);
   // A mixed profile against fine midpoint integration.
-  const TwistProfile mix = profileOf(
+  const analysis::TwistProfile mix = profileOf(
       { { 0.0, 0.8, 0.0 }, { 0.7, 0.8, 0.5 }, { 1.9, -0.3, -1.2 }, { 2.6, 0.0, 2.0 }, { 3.1, 1.5, 0.05 } }, 5.0);
   // (The reference's error is O(h * v) at each breakpoint a step straddles.)
-  const Pose2D ref = eulerPose(mix, 4.9, 1e-6);
-  const auto m = idealPath(mix, Pose2D{}, 0.0, grid(0.0, 4.9, 0.02));
+  const analysis::Pose2D ref = eulerPose(mix, 4.9, 1e-6);
+  const auto m = analysis::idealPath(mix, analysis::Pose2D{}, 0.0, grid(0.0, 4.9, 0.02));
   EXPECT_NEAR(m.back().x, ref.x, 1e-5);
   EXPECT_NEAR(m.back().y, ref.y, 1e-5);
   EXPECT_NEAR(m.back().heading, ref.heading, 1e-5);
-  EXPECT_THROW(idealPath(mix, Pose2D{}, 1.0, { 0.5 }), std::invalid_argument);
-  EXPECT_THROW(idealPath(mix, Pose2D{}, 0.0, { 1.0, 0.5 }), std::invalid_argument);
+  EXPECT_THROW(analysis::idealPath(mix, analysis::Pose2D{}, 1.0, { 0.5 }), std::invalid_argument);
+  EXPECT_THROW(analysis::idealPath(mix, analysis::Pose2D{}, 0.0, { 1.0, 0.5 }), std::invalid_argument);
 }
 
 TEST(PathDrift, ExactOffsetAndWrappedHeading)
 {
   // Two full turns on a circle; the measurement is the ideal path shifted 0.1 m in y, heading
   // wrapped to (-pi, pi] and 0.05 rad ahead; samples from t = -0.25 (at rest), 64 Hz (exact stamps).
-  const TwistProfile p = profileOf({ { 0.0, 0.6, 1.0 } }, 4.0 * kPi);
+  const analysis::TwistProfile p = profileOf({ { 0.0, 0.6, 1.0 } }, 4.0 * kPi);
   const std::vector<double> t = grid(-0.25, 4.0 * kPi + 0.5, 1.0 / 64.0);
-  const auto ideal = idealPath(p, Pose2D{}, -0.25, t);
+  const auto ideal = analysis::idealPath(p, analysis::Pose2D{}, -0.25, t);
   std::vector<double> x;
   std::vector<double> y;
   std::vector<double> h;
@@ -250,7 +251,7 @@ TEST(PathDrift, ExactOffsetAndWrappedHeading)
     y.push_back(ideal[k].y + off);
     h.push_back(std::remainder(ideal[k].heading + (t[k] > 0.0 ? 0.05 : 0.0), 2.0 * kPi));
   }
-  const PathDrift d = pathDrift(p, t, x, y, h);
+  const analysis::PathDrift d = analysis::pathDrift(p, t, x, y, h);
   EXPECT_EQ(d.t_start, 0.0);  // the last sample at t <= 0
   EXPECT_NEAR(d.final_position_error, 0.1, 1e-9);
   EXPECT_NEAR(d.max_position_error, 0.1, 1e-9);
@@ -265,10 +266,10 @@ TEST(PathDrift, ATurnShortByARevolutionIsNotHidden)
 {
   // Commanded: 2 pi rad in place over 4 s; measured: no turn at all. The heading error is
   // -2 pi, not 0 (continuous headings).
-  const TwistProfile p = profileOf({ { 0.0, 0.0, 0.5 * kPi } }, 4.0);
+  const analysis::TwistProfile p = profileOf({ { 0.0, 0.0, 0.5 * kPi } }, 4.0);
   const std::vector<double> t = grid(0.0, 4.0, 0.02);
   const std::vector<double> zero(t.size(), 0.0);
-  const PathDrift d = pathDrift(p, t, zero, zero, zero);
+  const analysis::PathDrift d = analysis::pathDrift(p, t, zero, zero, zero);
   EXPECT_NEAR(d.final_heading_error, -2.0 * kPi, 1e-9);
   EXPECT_NEAR(d.final_position_error, 0.0, 1e-12);
   EXPECT_EQ(d.ideal_length, 0.0);
@@ -276,43 +277,44 @@ TEST(PathDrift, ATurnShortByARevolutionIsNotHidden)
 
 TEST(PathDrift, BadInput)
 {
-  const TwistProfile p = profileOf({ { 0.0, 0.5, 0.0 } }, 1.0);
+  const analysis::TwistProfile p = profileOf({ { 0.0, 0.5, 0.0 } }, 1.0);
   const std::vector<double> two{ 0.0, 0.5 };
-  EXPECT_THROW(pathDrift(p, two, { 0.0 }, two, two), std::invalid_argument);
-  EXPECT_THROW(pathDrift(p, { 0.0, 0.0 }, two, two, two), std::invalid_argument);
-  EXPECT_THROW(pathDrift(p, two, two, { 0.0, std::numeric_limits<double>::quiet_NaN() }, two), std::invalid_argument);
-  EXPECT_THROW(pathDrift(p, { 2.0, 3.0 }, two, two, two), std::invalid_argument);
-  EXPECT_THROW(pathDrift(p, {}, {}, {}, {}), std::invalid_argument);
+  EXPECT_THROW(analysis::pathDrift(p, two, { 0.0 }, two, two), std::invalid_argument);
+  EXPECT_THROW(analysis::pathDrift(p, { 0.0, 0.0 }, two, two, two), std::invalid_argument);
+  EXPECT_THROW(analysis::pathDrift(p, two, two, { 0.0, std::numeric_limits<double>::quiet_NaN() }, two),
+               std::invalid_argument);
+  EXPECT_THROW(analysis::pathDrift(p, { 2.0, 3.0 }, two, two, two), std::invalid_argument);
+  EXPECT_THROW(analysis::pathDrift(p, {}, {}, {}, {}), std::invalid_argument);
 }
 
 TEST(LatencyFloor, AStepArrivesOneLatencyLate)
 {
   // 0.5 m/s from t = 1 s: the servo holding the set point is 0.5 m/s short for L = 0.1 s of the
   // 3 s (3001 samples at 1 ms), so RMS = 0.5 sqrt(100 / 3001); no latency, no error.
-  const TwistProfile p = profileOf({ { 0.0, 0.0, 0.0 }, { 1.0, 0.5, -1.0 } }, 3.0);
-  LatencyFloorSettings s;
+  const analysis::TwistProfile p = profileOf({ { 0.0, 0.0, 0.0 }, { 1.0, 0.5, -1.0 } }, 3.0);
+  analysis::LatencyFloorSettings s;
   s.latency = 0.1;
-  const VelocityTrackingError e = latencyFloor(p, recommendedAicParams(), s);
+  const analysis::VelocityTrackingError e = analysis::latencyFloor(p, params::recommendedAicParams(), s);
   EXPECT_EQ(e.samples, 3001);
   EXPECT_NEAR(e.vx.rms, 0.5 * std::sqrt(100.0 / 3001.0), 1e-9);
   EXPECT_NEAR(e.vx.max, 0.5, 1e-12);
   EXPECT_NEAR(e.wz.rms, 1.0 * std::sqrt(100.0 / 3001.0), 1e-9);
   s.latency = 0.0;
-  EXPECT_NEAR(latencyFloor(p, recommendedAicParams(), s).vx.rms, 0.0, 1e-12);
+  EXPECT_NEAR(analysis::latencyFloor(p, params::recommendedAicParams(), s).vx.rms, 0.0, 1e-12);
   // A step has no slope to predict: the same floor.
   s.latency = 0.1;
   s.predict = true;
-  EXPECT_NEAR(latencyFloor(p, recommendedAicParams(), s).vx.rms, e.vx.rms, 1e-12);
+  EXPECT_NEAR(analysis::latencyFloor(p, params::recommendedAicParams(), s).vx.rms, e.vx.rms, 1e-12);
 }
 
 TEST(LatencyFloor, TheAccelerationLimitRampsTheStep)
 {
   // No latency, 5 m/s^2: the error falls from 0.5 to 0 over 0.1 s; RMS over 3 s ->
   // sqrt(0.5^3 / (3 * 5) / 3) = 0.0527 (0.0523 on the 1 ms grid).
-  const TwistProfile p = profileOf({ { 0.0, 0.0, 0.0 }, { 1.0, 0.5, 0.0 } }, 3.0);
-  LatencyFloorSettings s;
+  const analysis::TwistProfile p = profileOf({ { 0.0, 0.0, 0.0 }, { 1.0, 0.5, 0.0 } }, 3.0);
+  analysis::LatencyFloorSettings s;
   s.accel_linear = 5.0;
-  const VelocityTrackingError e = latencyFloor(p, recommendedAicParams(), s);
+  const analysis::VelocityTrackingError e = analysis::latencyFloor(p, params::recommendedAicParams(), s);
   EXPECT_NEAR(e.vx.rms, std::sqrt(0.125 / 15.0 / 3.0), 1e-3);
   EXPECT_LT(e.vx.rms, std::sqrt(0.125 / 15.0 / 3.0));
   EXPECT_EQ(e.wz.rms, 0.0);
@@ -322,24 +324,24 @@ TEST(LatencyFloor, PredictingARampLowersTheFloor)
 {
   // A 10 Hz planner's staircase ramp, 0.05 m/s each 0.1 s from 1 s to 3 s, then held: the
   // prediction misses only at the ramp's ends.
-  std::vector<TwistProfilePoint> pts{ { 0.0, 0.0, 0.0 } };
+  std::vector<analysis::TwistProfilePoint> pts{ { 0.0, 0.0, 0.0 } };
   for (int k = 1; k <= 20; ++k)
   {
     pts.push_back({ 0.9 + 0.1 * k, 0.05 * k, 0.0 });
   }
-  const TwistProfile p = profileOf(pts, 4.0);
-  LatencyFloorSettings s;
+  const analysis::TwistProfile p = profileOf(pts, 4.0);
+  analysis::LatencyFloorSettings s;
   s.latency = 0.12;
-  const double hold = latencyFloor(p, recommendedAicParams(), s).vx.rms;
+  const double hold = analysis::latencyFloor(p, params::recommendedAicParams(), s).vx.rms;
   s.predict = true;
-  const double predict = latencyFloor(p, recommendedAicParams(), s).vx.rms;
+  const double predict = analysis::latencyFloor(p, params::recommendedAicParams(), s).vx.rms;
   EXPECT_GT(hold, 0.01);
   EXPECT_LT(predict, 0.6 * hold);
 }
 
 TEST(LatencyFloor, BadSettingsAreRefused)
 {
-  const TwistProfile p = profileOf({ { 0.0, 0.5, 0.0 } }, 1.0);
+  const analysis::TwistProfile p = profileOf({ { 0.0, 0.5, 0.0 } }, 1.0);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const auto& [latency, accel, dt] : std::vector<std::tuple<double, double, double>>{ { -0.1, 0.0, 1e-3 },
                                                                                            { nan, 0.0, 1e-3 },
@@ -350,14 +352,16 @@ TEST(LatencyFloor, BadSettingsAreRefused)
                                                                                            { 0.1, 0.0, nan },
                                                                                            { 0.1, 0.0, 1.0 } })
   {
-    LatencyFloorSettings s;
+    analysis::LatencyFloorSettings s;
     s.latency = latency;
     s.accel_angular = accel;
     s.dt = dt;
-    EXPECT_THROW(latencyFloor(p, recommendedAicParams(), s), std::invalid_argument)
+    EXPECT_THROW(analysis::latencyFloor(p, params::recommendedAicParams(), s), std::invalid_argument)
         << latency << " " << accel << " " << dt;
   }
-  EXPECT_THROW(latencyFloor(profileOf({}, 1.0), recommendedAicParams(), LatencyFloorSettings{}), std::invalid_argument);
+  EXPECT_THROW(
+      analysis::latencyFloor(profileOf({}, 1.0), params::recommendedAicParams(), analysis::LatencyFloorSettings{}),
+      std::invalid_argument);
 }
 
 TEST(SteadyEstimateError, CountsOnlySettledSamplesPerChannel)
@@ -365,7 +369,8 @@ TEST(SteadyEstimateError, CountsOnlySettledSamplesPerChannel)
   // vx: 0 until 1 s, then 0.5 (repeated rows with the same value are no change); wz: 0 until 2 s,
   // then 0.3. Estimate = truth + 0.02 on vx and + 0.1 on wz everywhere, except a 1.0 error on both
   // channels in the 0.5 s after each channel's change (the transient the measure leaves out).
-  const TwistProfile p = profileOf({ { 0.0, 0.0, 0.0 }, { 1.0, 0.5, 0.0 }, { 1.5, 0.5, 0.0 }, { 2.0, 0.5, 0.3 } }, 4.0);
+  const analysis::TwistProfile p =
+      profileOf({ { 0.0, 0.0, 0.0 }, { 1.0, 0.5, 0.0 }, { 1.5, 0.5, 0.0 }, { 2.0, 0.5, 0.3 } }, 4.0);
   const std::vector<double> t = grid(0.005, 3.995, 0.01);  // no sample on a boundary
   std::vector<double> tv(t.size(), 0.0), tw(t.size(), 0.0), ev(t.size()), ew(t.size());
   for (std::size_t k = 0; k < t.size(); ++k)
@@ -374,7 +379,7 @@ TEST(SteadyEstimateError, CountsOnlySettledSamplesPerChannel)
     ev[k] = tv[k] + (transient ? 1.0 : 0.02);
     ew[k] = tw[k] + (transient ? 1.0 : 0.1);
   }
-  const SteadyEstimateError e = steadyEstimateError(p, t, ev, ew, tv, tw, 0.5);
+  const analysis::SteadyEstimateError e = analysis::steadyEstimateError(p, t, ev, ew, tv, tw, 0.5);
   // vx changes at 1.0 only (0 at t = 0 is no change): steady [0.5, 1.0) and [1.5, 4.0].
   // vx is steady in wz's transient [2.0, 2.5): those 50 samples carry the 1.0 error.
   EXPECT_EQ(e.vx.segments, 2);
@@ -387,7 +392,7 @@ TEST(SteadyEstimateError, CountsOnlySettledSamplesPerChannel)
   EXPECT_NEAR(e.wz.mean_abs, (250 * 0.1 + 50 * 1.0) / 300.0, 1e-12);
   EXPECT_EQ(e.unavailable, 0);
   // The control: with settle 0 every sample counts, the transients too.
-  const SteadyEstimateError all = steadyEstimateError(p, t, ev, ew, tv, tw, 0.0);
+  const analysis::SteadyEstimateError all = analysis::steadyEstimateError(p, t, ev, ew, tv, tw, 0.0);
   EXPECT_EQ(all.vx.samples, static_cast<int>(t.size()));
   EXPECT_GT(all.vx.mean_abs, 0.1);
 }
@@ -395,29 +400,30 @@ TEST(SteadyEstimateError, CountsOnlySettledSamplesPerChannel)
 TEST(SteadyEstimateError, AGoalBiasedBeliefOfAStallIsSeen)
 {
   // A 1 rad/s turn the robot cannot make (truth 0.1 rad/s) with a belief at the goal.
-  const TwistProfile p = profileOf({ { 0.0, 0.0, 1.0 } }, 3.0);
+  const analysis::TwistProfile p = profileOf({ { 0.0, 0.0, 1.0 } }, 3.0);
   const std::vector<double> t = grid(0.0, 3.0, 0.02);
   const std::vector<double> zero(t.size(), 0.0), stall(t.size(), 0.1), goal(t.size(), 1.0);
-  const SteadyEstimateError e = steadyEstimateError(p, t, zero, goal, zero, stall, 0.5);
+  const analysis::SteadyEstimateError e = analysis::steadyEstimateError(p, t, zero, goal, zero, stall, 0.5);
   EXPECT_NEAR(e.wz.mean_abs, 0.9, 1e-12);
   EXPECT_EQ(e.wz.segments, 1);
-  EXPECT_NEAR(steadyEstimateError(p, t, zero, stall, zero, stall, 0.5).wz.mean_abs, 0.0, 1e-15);
+  EXPECT_NEAR(analysis::steadyEstimateError(p, t, zero, stall, zero, stall, 0.5).wz.mean_abs, 0.0, 1e-15);
 }
 
 TEST(SteadyEstimateError, MissingEstimatesAreCountedAndBadInputRefused)
 {
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  const TwistProfile p = profileOf({ { 0.0, 0.5, 0.0 } }, 2.0);
+  const analysis::TwistProfile p = profileOf({ { 0.0, 0.5, 0.0 } }, 2.0);
   const std::vector<double> t = grid(0.0, 2.0, 0.5);  // 0, 0.5, 1, 1.5, 2
   const std::vector<double> z(t.size(), 0.0);
-  const SteadyEstimateError e = steadyEstimateError(p, t, { nan, 0.1, 0.1, nan, 0.1 }, z, z, z, 0.5);
+  const analysis::SteadyEstimateError e =
+      analysis::steadyEstimateError(p, t, { nan, 0.1, 0.1, nan, 0.1 }, z, z, z, 0.5);
   EXPECT_EQ(e.unavailable, 2);
   EXPECT_EQ(e.vx.samples, 3);  // 0.5 s after the change at 0: from t = 0.5 on, two NaN left out
   EXPECT_NEAR(e.vx.mean_abs, 0.1, 1e-12);
-  EXPECT_THROW(steadyEstimateError(p, t, z, z, z, z, -0.1), std::invalid_argument);
-  EXPECT_THROW(steadyEstimateError(p, t, z, z, z, z, nan), std::invalid_argument);
-  EXPECT_THROW(steadyEstimateError(p, t, { 0.0 }, z, z, z, 0.5), std::invalid_argument);
-  EXPECT_THROW(steadyEstimateError(p, t, z, z, { 0.0, nan, 0.0, 0.0, 0.0 }, z, 0.5), std::invalid_argument);
-  EXPECT_THROW(steadyEstimateError(p, { 0.0, 0.0, 1.0, 1.5, 2.0 }, z, z, z, z, 0.5), std::invalid_argument);
-  EXPECT_THROW(steadyEstimateError(profileOf({}, 1.0), t, z, z, z, z, 0.5), std::invalid_argument);
+  EXPECT_THROW(analysis::steadyEstimateError(p, t, z, z, z, z, -0.1), std::invalid_argument);
+  EXPECT_THROW(analysis::steadyEstimateError(p, t, z, z, z, z, nan), std::invalid_argument);
+  EXPECT_THROW(analysis::steadyEstimateError(p, t, { 0.0 }, z, z, z, 0.5), std::invalid_argument);
+  EXPECT_THROW(analysis::steadyEstimateError(p, t, z, z, { 0.0, nan, 0.0, 0.0, 0.0 }, z, 0.5), std::invalid_argument);
+  EXPECT_THROW(analysis::steadyEstimateError(p, { 0.0, 0.0, 1.0, 1.5, 2.0 }, z, z, z, z, 0.5), std::invalid_argument);
+  EXPECT_THROW(analysis::steadyEstimateError(profileOf({}, 1.0), t, z, z, z, z, 0.5), std::invalid_argument);
 }

@@ -26,22 +26,22 @@ const double kNaN = std::numeric_limits<double>::quiet_NaN();
 /// it plus `offset`.
 struct TestPlant
 {
-  explicit TestPlant(const PiControllerParams& p) : params(p), loop(p.robot) {}
-  PiControllerParams params;
-  WheelLoopModel loop;
-  Vector2 omega = Vector2::Zero();
-  Vector2 shortfall = Vector2::Zero();
+  explicit TestPlant(const classical::PiControllerParams& p) : params(p), loop(p.robot) {}
+  classical::PiControllerParams params;
+  aic::WheelLoopModel loop;
+  base::Vector2 omega = base::Vector2::Zero();
+  base::Vector2 shortfall = base::Vector2::Zero();
   double turn = 1.0;
   double offset = 0.0;
   double yaw = 0.0;
 
   void advance(double t0, double t1)
   {
-    for (double t = t0; t < t1 - 1e-12; t += WheelLoopModel::kSubstep)
+    for (double t = t0; t < t1 - 1e-12; t += aic::WheelLoopModel::kSubstep)
     {
-      omega = loop.predict(omega, shortfall, t, t + WheelLoopModel::kSubstep);
+      omega = loop.predict(omega, shortfall, t, t + aic::WheelLoopModel::kSubstep);
       const double wheels_yaw = turn * params.wheel_radius * (omega(1) - omega(0)) / params.wheel_separation;
-      yaw += (wheels_yaw - yaw) * (1.0 - std::exp(-WheelLoopModel::kSubstep / params.robot.yaw_time_constant));
+      yaw += (wheels_yaw - yaw) * (1.0 - std::exp(-aic::WheelLoopModel::kSubstep / params.robot.yaw_time_constant));
     }
   }
   double gyro() const { return yaw + offset; }
@@ -49,17 +49,18 @@ struct TestPlant
 
 /// Runs the peer against the plant for `duration` s at its period from t0 [s], the goal held.
 /// Returns the last command.
-PiCommand drive(PiController* c, TestPlant* plant, double linear, double angular, double duration, double t0 = 0.0)
+classical::PiCommand drive(classical::PiController* c, TestPlant* plant, double linear, double angular, double duration,
+                           double t0 = 0.0)
 {
   const double h = c->params().period;
-  PiCommand cmd;
+  classical::PiCommand cmd;
   const int n = static_cast<int>(std::lround(duration / h));
   for (int k = 0; k < n; ++k)
   {
     const double t = t0 + k * h;
-    EXPECT_EQ(c->setGoal(t, linear, angular), PiStatus::kOk);
+    EXPECT_EQ(c->setGoal(t, linear, angular), classical::PiStatus::kOk);
     cmd = c->update(t, plant->omega, plant->gyro());
-    EXPECT_EQ(cmd.status, PiStatus::kOk);
+    EXPECT_EQ(cmd.status, classical::PiStatus::kOk);
     EXPECT_TRUE(cmd.wheels.allFinite());
     plant->loop.record(t, cmd.wheels);
     plant->advance(t, t + h);
@@ -70,16 +71,16 @@ PiCommand drive(PiController* c, TestPlant* plant, double linear, double angular
 
 TEST(PiControllerParams, DefaultsAreValidAndShareTheRobotModel)
 {
-  const PiControllerParams p;
+  const classical::PiControllerParams p;
   EXPECT_TRUE(p.validate().empty());
-  EXPECT_EQ(p.robot.latency, RobotModelParams().latency);
-  EXPECT_EQ(p.robot.wheel_time_constant, RobotModelParams().wheel_time_constant);
-  EXPECT_EQ(p.wheel_separation, AicParams().wheel_separation);
+  EXPECT_EQ(p.robot.latency, params::RobotModelParams().latency);
+  EXPECT_EQ(p.robot.wheel_time_constant, params::RobotModelParams().wheel_time_constant);
+  EXPECT_EQ(p.wheel_separation, params::AicParams().wheel_separation);
 }
 
 TEST(PiControllerParams, EveryBadValueIsNamed)
 {
-  PiControllerParams p;
+  classical::PiControllerParams p;
   p.wheel.kp = -1.0;
   p.yaw.ki = kNaN;
   p.period = 0.0;
@@ -88,10 +89,10 @@ TEST(PiControllerParams, EveryBadValueIsNamed)
   const std::vector<std::string> v = p.validate();
   ASSERT_EQ(v.size(), 5u);
   EXPECT_NE(v[0].find("latency"), std::string::npos);
-  EXPECT_THROW(PiController{ p }, std::invalid_argument);
+  EXPECT_THROW(classical::PiController{ p }, std::invalid_argument);
   try
   {
-    PiController c(p);
+    classical::PiController c(p);
   }
   catch (const std::invalid_argument& e)
   {
@@ -102,43 +103,44 @@ TEST(PiControllerParams, EveryBadValueIsNamed)
 
 TEST(PiController, BadInputIsRefusedAndTheCommandStaysFinite)
 {
-  PiController c;
-  EXPECT_EQ(c.setGoal(0.0, kNaN, 0.0), PiStatus::kNotFinite);
-  EXPECT_EQ(c.setGoal(kNaN, 0.5, 0.0), PiStatus::kNotFinite);
-  EXPECT_EQ(c.setGoal(0.0, 0.5, 0.0), PiStatus::kOk);
-  EXPECT_EQ(c.setGoal(0.2, 0.6, 0.0), PiStatus::kOk);
-  EXPECT_EQ(c.setGoal(0.1, 0.7, 0.0), PiStatus::kGoalOutOfOrder);  // before the previous change
-  const PiCommand first = c.update(0.2, Vector2::Zero(), 0.0);
-  ASSERT_EQ(first.status, PiStatus::kOk);
+  classical::PiController c;
+  EXPECT_EQ(c.setGoal(0.0, kNaN, 0.0), classical::PiStatus::kNotFinite);
+  EXPECT_EQ(c.setGoal(kNaN, 0.5, 0.0), classical::PiStatus::kNotFinite);
+  EXPECT_EQ(c.setGoal(0.0, 0.5, 0.0), classical::PiStatus::kOk);
+  EXPECT_EQ(c.setGoal(0.2, 0.6, 0.0), classical::PiStatus::kOk);
+  EXPECT_EQ(c.setGoal(0.1, 0.7, 0.0), classical::PiStatus::kGoalOutOfOrder);  // before the previous change
+  const classical::PiCommand first = c.update(0.2, base::Vector2::Zero(), 0.0);
+  ASSERT_EQ(first.status, classical::PiStatus::kOk);
   EXPECT_GT(first.wheels(0), 0.0);
-  const Vector2 integral = c.wheelIntegral();
-  for (const PiCommand& bad : { c.update(kNaN, Vector2::Zero(), 0.0), c.update(0.22, Vector2(kNaN, 0.0), 0.0),
-                                c.update(0.22, Vector2::Zero(), std::numeric_limits<double>::infinity()) })
+  const base::Vector2 integral = c.wheelIntegral();
+  for (const classical::PiCommand& bad :
+       { c.update(kNaN, base::Vector2::Zero(), 0.0), c.update(0.22, base::Vector2(kNaN, 0.0), 0.0),
+         c.update(0.22, base::Vector2::Zero(), std::numeric_limits<double>::infinity()) })
   {
-    EXPECT_EQ(bad.status, PiStatus::kNotFinite);
+    EXPECT_EQ(bad.status, classical::PiStatus::kNotFinite);
     EXPECT_TRUE(bad.wheels.allFinite());
     EXPECT_EQ(bad.wheels, first.wheels);
   }
   for (double t : { 0.2, 0.19 })  // no step, a step back
   {
-    const PiCommand bad = c.update(t, Vector2::Zero(), 0.0);
-    EXPECT_EQ(bad.status, PiStatus::kNonPositiveStep);
+    const classical::PiCommand bad = c.update(t, base::Vector2::Zero(), 0.0);
+    EXPECT_EQ(bad.status, classical::PiStatus::kNonPositiveStep);
     EXPECT_EQ(bad.wheels, first.wheels);
   }
   EXPECT_EQ(c.wheelIntegral(), integral);  // nothing refused moved a state
-  EXPECT_EQ(c.update(0.22, Vector2::Zero(), 0.0).status, PiStatus::kOk);
-  EXPECT_STREQ(toString(PiStatus::kNonPositiveStep), "non_positive_step");
+  EXPECT_EQ(c.update(0.22, base::Vector2::Zero(), 0.0).status, classical::PiStatus::kOk);
+  EXPECT_STREQ(classical::toString(classical::PiStatus::kNonPositiveStep), "non_positive_step");
 }
 
 TEST(PiController, FeedForwardAloneTracksTheModelsOwnPlant)
 {
   // On the plant the model describes, the wheels reach the goal's speed one latency after it
   // changes and the feedback has nothing to add.
-  PiController c;
+  classical::PiController c;
   TestPlant plant(c.params());
-  const PiCommand cmd = drive(&c, &plant, 0.5, 0.4, 2.0);
-  const Vector2 goal =
-      SkidSteerModel(c.params().wheel_radius, 1.0, c.params().wheel_separation).wheelsFromTwist(Vector3(0.5, 0.0, 0.4));
+  const classical::PiCommand cmd = drive(&c, &plant, 0.5, 0.4, 2.0);
+  const base::Vector2 goal = aic::SkidSteerModel(c.params().wheel_radius, 1.0, c.params().wheel_separation)
+                                 .wheelsFromTwist(base::Vector3(0.5, 0.0, 0.4));
   // (the feedback's share: the yaw lag's reference is integrated over the 20 ms step, the test
   // plant's over 1 ms substeps)
   EXPECT_NEAR(plant.omega(0), goal(0), 1e-3);
@@ -150,10 +152,10 @@ TEST(PiController, FeedForwardAloneTracksTheModelsOwnPlant)
 
 TEST(PiController, IntegralsRemoveAShortfallAndATurnDeficit)
 {
-  PiController c;
+  classical::PiController c;
   TestPlant plant(c.params());
-  plant.shortfall = Vector2(0.4, 0.2);  // the wheels fall short [rad/s]
-  plant.turn = 0.7;                     // the skid delivers 70 % of the wheels' turn
+  plant.shortfall = base::Vector2(0.4, 0.2);  // the wheels fall short [rad/s]
+  plant.turn = 0.7;                           // the skid delivers 70 % of the wheels' turn
   drive(&c, &plant, 0.5, 0.5, 8.0);
   const double r = c.params().wheel_radius;
   const double speed = r * 0.5 * (plant.omega(0) + plant.omega(1));
@@ -167,12 +169,12 @@ TEST(PiController, AntiWindupAtTheWheelClamp)
   // Wheels that fall 1 rad/s short of a goal near the clamp: the command reaches the clamp and the
   // integrals stop there instead of growing; when the goal drops, the wheels follow it at once
   // (no integral to unwind).
-  PiControllerParams p;
+  classical::PiControllerParams p;
   p.max_wheel_speed = 5.0;
-  PiController c(p);
+  classical::PiController c(p);
   TestPlant plant(p);
-  plant.shortfall = Vector2(1.0, 1.0);
-  PiCommand cmd = drive(&c, &plant, 0.45, 0.0, 4.0);  // 0.45 m/s: 4.59 rad/s
+  plant.shortfall = base::Vector2(1.0, 1.0);
+  classical::PiCommand cmd = drive(&c, &plant, 0.45, 0.0, 4.0);  // 0.45 m/s: 4.59 rad/s
   EXPECT_DOUBLE_EQ(cmd.wheels(0), 5.0);
   EXPECT_TRUE(cmd.saturated);
   const double held = c.wheelIntegral()(0);
@@ -185,10 +187,10 @@ TEST(PiController, AntiWindupAtTheWheelClamp)
 
 TEST(PiController, AGyroOffsetAtRestTurnsNothing)
 {
-  PiController c;
+  classical::PiController c;
   TestPlant plant(c.params());
   plant.offset = 0.02;  // [rad/s]
-  const PiCommand cmd = drive(&c, &plant, 0.0, 0.0, 5.0);
-  EXPECT_EQ(cmd.wheels, Vector2::Zero());
+  const classical::PiCommand cmd = drive(&c, &plant, 0.0, 0.0, 5.0);
+  EXPECT_EQ(cmd.wheels, base::Vector2::Zero());
   EXPECT_EQ(c.yawIntegral(), 0.0);
 }

@@ -28,7 +28,7 @@ constexpr double kScheduleTol = 1e-9;  // the two schedules' beliefs and actions
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// A clock the test sets.
-class FakeClock : public Clock
+class FakeClock : public loop::Clock
 {
 public:
   double now() const override { return t; }
@@ -36,15 +36,15 @@ public:
 };
 
 /// Records what the loop emits.
-class Recorder : public ControlLoop::Output
+class Recorder : public loop::ControlLoop::Output
 {
 public:
-  void command(const WheelCommand& c) override { commands.push_back(c); }
-  void healthEvent(FaultMonitor::Event event, int channel) override { events.emplace_back(event, channel); }
-  void log(LogLevel level, const std::string& text) override { lines.emplace_back(level, text); }
-  std::vector<WheelCommand> commands;
-  std::vector<std::pair<FaultMonitor::Event, int>> events;
-  std::vector<std::pair<LogLevel, std::string>> lines;
+  void command(const loop::WheelCommand& c) override { commands.push_back(c); }
+  void healthEvent(safety::FaultMonitor::Event event, int channel) override { events.emplace_back(event, channel); }
+  void log(loop::LogLevel level, const std::string& text) override { lines.emplace_back(level, text); }
+  std::vector<loop::WheelCommand> commands;
+  std::vector<std::pair<safety::FaultMonitor::Event, int>> events;
+  std::vector<std::pair<loop::LogLevel, std::string>> lines;
   /// Log lines containing `text`.
   int linesWith(const std::string& text) const
   {
@@ -57,9 +57,9 @@ public:
   }
 };
 
-NodeParams params(BeliefSchedule schedule = BeliefSchedule::kEvent)
+params::NodeParams params(params::BeliefSchedule schedule = params::BeliefSchedule::kEvent)
 {
-  NodeParams p;  // the schema's defaults (config/default.yaml): p = 2, 3 warm-up samples
+  params::NodeParams p;  // the schema's defaults (config/default.yaml): p = 2, 3 warm-up samples
   p.left_joints = { "front_left_wheel", "rear_left_wheel" };
   p.right_joints = { "front_right_wheel", "rear_right_wheel" };
   p.belief_schedule = schedule;
@@ -77,9 +77,9 @@ struct Sensors
   bool has_last = false;
 
   /// Feed one paired sample (wheel speeds [rad/s], gyro z [rad/s]) stamped `stamp`.
-  bool feed(ControlLoop& loop, double stamp, double left, double right, double gyro)
+  bool feed(loop::ControlLoop& loop, double stamp, double left, double right, double gyro)
   {
-    ImuInput imu;
+    loop::ImuInput imu;
     imu.stamp = stamp;
     imu.angular_velocity.z() = gyro;
     loop.imu(imu);
@@ -92,7 +92,7 @@ struct Sensors
     }
     last_stamp = stamp;
     has_last = true;
-    JointStateInput j;
+    loop::JointStateInput j;
     j.stamp = stamp;
     j.name = &name;
     j.position = &position;
@@ -118,11 +118,11 @@ class ControlLoopTest : public ::testing::Test
 protected:
   FakeClock clock;
   Recorder out;
-  NodeParams p = params();
-  std::unique_ptr<ControlLoop> loop;
+  params::NodeParams p = params();
+  std::unique_ptr<loop::ControlLoop> loop;
   Sensors sensors;
 
-  void build() { loop = std::make_unique<ControlLoop>(p, clock, out); }
+  void build() { loop = std::make_unique<loop::ControlLoop>(p, clock, out); }
   void SetUp() override { build(); }
 
   /// n samples 20 ms apart at the given wheel speeds, each with a set point (v [m/s]).
@@ -141,12 +141,12 @@ protected:
 
 TEST_F(ControlLoopTest, RefusesInvalidParameters)
 {
-  NodeParams bad = params();
+  params::NodeParams bad = params();
   bad.aic.tau = -1.0;
   bad.sensor_timeout = 0.0;
   try
   {
-    ControlLoop l(bad, clock, out);
+    loop::ControlLoop l(bad, clock, out);
     FAIL() << "invalid parameters accepted";
   }
   catch (const std::invalid_argument& e)
@@ -211,7 +211,7 @@ TEST_F(ControlLoopTest, KeepAliveSendsIdleCommandsWhileWaiting)
   clock.t = 0.02;
   loop->actionTimer(0.01);
   ASSERT_EQ(out.commands.size(), 1u);
-  EXPECT_EQ(out.commands[0].wheels, Vector2::Zero());  // the measured wheels (at rest)
+  EXPECT_EQ(out.commands[0].wheels, base::Vector2::Zero());  // the measured wheels (at rest)
   EXPECT_TRUE(std::isnan(out.commands[0].latency));
   EXPECT_EQ(loop->actionSteps(), 0u);
 }
@@ -238,8 +238,8 @@ TEST_F(ControlLoopTest, StaleSensorsCommandZeroAndWarmUpAgain)
   setPointFields(0.5, 0.0, sp);
   clock.t += p.sensor_timeout + 0.01;
   loop->setPoint(sp);  // any event runs the watchdogs
-  EXPECT_EQ(loop->supervisor().state(), NodeState::kStale);
-  EXPECT_EQ(out.commands.back().wheels, Vector2::Zero());
+  EXPECT_EQ(loop->supervisor().state(), loop::NodeState::kStale);
+  EXPECT_EQ(out.commands.back().wheels, base::Vector2::Zero());
   EXPECT_EQ(out.linesWith("commanding zero"), 1);
   // Sensors back: a new history, p+1 samples of warm-up, a bumpless restart.
   feed(p.aic.numOrders() - 1, 1.0, 0.5);
@@ -278,10 +278,10 @@ TEST_F(ControlLoopTest, FrozenJointStatesAreSensorLoss)
   // The fifth is 0.1 s after the data's first (on the limit, up to rounding), the sixth 0.12 s: frozen.
   repeat();
   EXPECT_FALSE(repeat());
-  EXPECT_EQ(loop->supervisor().state(), NodeState::kStale);
+  EXPECT_EQ(loop->supervisor().state(), loop::NodeState::kStale);
   EXPECT_TRUE(loop->supervisor().jointStatesFrozen());
   EXPECT_FALSE(loop->supervisor().sensorsFresh());
-  EXPECT_EQ(out.commands.back().wheels, Vector2::Zero());
+  EXPECT_EQ(out.commands.back().wheels, base::Vector2::Zero());
   EXPECT_EQ(out.linesWith("joint states frozen"), 1);
   EXPECT_EQ(out.linesWith("commanding zero"), 1);
   EXPECT_NE(loop->supervisor().reason().find("joint states frozen"), std::string::npos) << loop->supervisor().reason();
@@ -293,9 +293,9 @@ TEST_F(ControlLoopTest, FrozenJointStatesAreSensorLoss)
   {
     EXPECT_FALSE(repeat());
     loop->actionTimer(0.02);
-    EXPECT_EQ(out.commands.back().wheels, Vector2::Zero());
+    EXPECT_EQ(out.commands.back().wheels, base::Vector2::Zero());
   }
-  EXPECT_EQ(loop->supervisor().state(), NodeState::kStale);
+  EXPECT_EQ(loop->supervisor().state(), loop::NodeState::kStale);
   EXPECT_EQ(loop->frozenSamples(), refused + 30u);
   EXPECT_EQ(out.linesWith("joint states frozen"), 1);
   // The MCU is back: new data; a new history, its warm-up, a bumpless restart.
@@ -340,15 +340,15 @@ TEST_F(ControlLoopTest, EventScheduleBoundsTheIntervalItIntegrates)
 TEST_F(ControlLoopTest, RunawayResetsAndHoldsZero)
 {
   // Forward Euler with a belief gain far beyond its stability bound at 1 kHz: the beliefs diverge.
-  p.aic.integrator = Integrator::kEuler;
+  p.aic.integrator = params::Integrator::kEuler;
   p.aic.k_mu = 1.0e3;
   build();
   feed(p.aic.numOrders() + 1, 2.0, 0.5);
   ASSERT_TRUE(loop->active() || loop->supervisor().runaways() > 0);
   feed(2, 2.5, 0.5);  // the wheels speed up: a prediction error the unstable update amplifies
   EXPECT_GE(loop->supervisor().runaways(), 1u);
-  EXPECT_EQ(loop->supervisor().state(), NodeState::kRunaway);
-  EXPECT_EQ(out.commands.back().wheels, Vector2::Zero());
+  EXPECT_EQ(loop->supervisor().state(), loop::NodeState::kRunaway);
+  EXPECT_EQ(out.commands.back().wheels, base::Vector2::Zero());
   EXPECT_EQ(out.linesWith("runaway beliefs in the"), 1);  // throttled to one a second
 }
 
@@ -360,10 +360,10 @@ TEST_F(ControlLoopTest, NoActionStepDrivesADivergingControllerAfterARunaway)
   // timer against the samples: once the first runaway is caught, every command is zero (the
   // restart is on probation for one action period, which the divergence never survives); before
   // it, at most the one action step of the first start can read a belief part-way to divergence.
-  p.aic = AicParams();  // the thesis's improved controller (thesis_improved_euler_diverges.yaml)
-  ASSERT_EQ(p.aic.integrator, Integrator::kEuler);
-  p.belief_schedule = BeliefSchedule::kTimer;
-  p.action_trigger = ActionTrigger::kTimer;
+  p.aic = params::AicParams();  // the thesis's improved controller (thesis_improved_euler_diverges.yaml)
+  ASSERT_EQ(p.aic.integrator, params::Integrator::kEuler);
+  p.belief_schedule = params::BeliefSchedule::kTimer;
+  p.action_trigger = params::ActionTrigger::kTimer;
   p.runaway_hold_time = 0.1;  // many restarts in the run
   int phases_with_an_early_step = 0;
   for (int phase = 0; phase < 20; ++phase)
@@ -407,7 +407,7 @@ TEST_F(ControlLoopTest, NoActionStepDrivesADivergingControllerAfterARunaway)
     int early = 0;
     for (std::size_t i = 0; i < out.commands.size(); ++i)
     {
-      const Vector2& w = out.commands[i].wheels;
+      const base::Vector2& w = out.commands[i].wheels;
       ASSERT_TRUE(w.allFinite());
       ASSERT_LE(w.cwiseAbs().maxCoeff(), p.aic.max_wheel_speed);
       if (i >= first_runaway_commands)
@@ -429,7 +429,7 @@ TEST_F(ControlLoopTest, McuStopHoldsTheMeasuredWheels)
   feed(p.aic.numOrders() + 1, 2.0, 0.5);
   ASSERT_TRUE(loop->active());
   loop->mcuStatus(true, true, true);  // external stop engaged
-  EXPECT_EQ(loop->supervisor().state(), NodeState::kHeld);
+  EXPECT_EQ(loop->supervisor().state(), loop::NodeState::kHeld);
   EXPECT_NEAR(out.commands.back().wheels(0), 2.0, kTol);
   EXPECT_NEAR(out.commands.back().wheels(1), 2.0, kTol);
   loop->mcuStatus(true, false, false);
@@ -446,14 +446,14 @@ TEST_F(ControlLoopTest, HeldCommandIsClampedToTheWheelLimit)
   feed(p.aic.numOrders() + 1, 2.0, 0.5);
   ASSERT_TRUE(loop->active());
   loop->mcuStatus(true, true, true);
-  ASSERT_EQ(loop->supervisor().state(), NodeState::kHeld);
+  ASSERT_EQ(loop->supervisor().state(), loop::NodeState::kHeld);
   feed(3, 15.0, 0.5);  // the wheels spin at 15 rad/s
-  ASSERT_EQ(loop->supervisor().state(), NodeState::kHeld);
+  ASSERT_EQ(loop->supervisor().state(), loop::NodeState::kHeld);
   ASSERT_DOUBLE_EQ(loop->supervisor().measuredWheels()(0), 15.0);
   loop->actionTimer(0.02);  // the keep-alive sends the held command
   EXPECT_DOUBLE_EQ(out.commands.back().wheels(0), 10.0);
   EXPECT_DOUBLE_EQ(out.commands.back().wheels(1), 10.0);
-  for (const WheelCommand& c : out.commands)
+  for (const loop::WheelCommand& c : out.commands)
   {
     EXPECT_LE(c.wheels.cwiseAbs().maxCoeff(), 10.0);
   }
@@ -465,7 +465,7 @@ TEST_F(ControlLoopTest, OutputBlockedPublishesNothingAndRestartsBumpless)
   ASSERT_TRUE(loop->active());
   const std::size_t before = out.commands.size();
   loop->outputBlocked(true, "another node publishes on /cmd_drive: /jackal_node; publishing nothing there");
-  EXPECT_EQ(loop->supervisor().state(), NodeState::kBlocked);
+  EXPECT_EQ(loop->supervisor().state(), loop::NodeState::kBlocked);
   EXPECT_FALSE(loop->active());
   // Samples, set points and the keep-alive timer go on; no command reaches the output.
   feed(20, 3.0, 0.5);
@@ -510,8 +510,8 @@ TEST_F(ControlLoopTest, SetPointTimeoutCommandsZeroAtOnce)
       sensors.feed(*loop, clock.t, 10.0, 10.0, 0.0);
       ASSERT_LE(clock.t - last_set_point, p.set_point_timeout + 0.02 + 1e-9);
     }
-    EXPECT_EQ(loop->supervisor().state(), NodeState::kStale);
-    const WheelCommand& c = out.commands.back();
+    EXPECT_EQ(loop->supervisor().state(), loop::NodeState::kStale);
+    const loop::WheelCommand& c = out.commands.back();
     EXPECT_EQ(c.wheels(0), 0.0);
     EXPECT_EQ(c.wheels(1), 0.0);
     if (mode == "cmd_vel")
@@ -531,15 +531,15 @@ TEST_F(ControlLoopTest, SetPointsAreCheckedAndBecomeTheGoal)
 {
   double sp[6];
   setPointFields(0.3, 0.2, sp);
-  EXPECT_EQ(loop->setPoint(sp), SetPointResult::kAccepted);
+  EXPECT_EQ(loop->setPoint(sp), loop::SetPointResult::kAccepted);
   EXPECT_NEAR(loop->controller().goal()(0), 0.3, kTol);
   EXPECT_NEAR(loop->controller().goal()(2), 0.2, kTol);
   setPointFields(5.0, 0.0, sp);
-  EXPECT_EQ(loop->setPoint(sp), SetPointResult::kClamped);
+  EXPECT_EQ(loop->setPoint(sp), loop::SetPointResult::kClamped);
   EXPECT_NEAR(loop->controller().goal()(0), p.max_linear_speed, kTol);
   sp[3] = kNaN;
-  EXPECT_EQ(loop->setPoint(sp), SetPointResult::kDropped);
-  EXPECT_EQ(loop->setPoint(sp), SetPointResult::kDropped);
+  EXPECT_EQ(loop->setPoint(sp), loop::SetPointResult::kDropped);
+  EXPECT_EQ(loop->setPoint(sp), loop::SetPointResult::kDropped);
   EXPECT_NEAR(loop->controller().goal()(0), p.max_linear_speed, kTol);
   EXPECT_EQ(out.linesWith("dropped a set point"), 1);  // throttled
   clock.t += 1.0;
@@ -554,7 +554,7 @@ TEST_F(ControlLoopTest, CmdVelClipsAndFeedsTheActionBack)
   build();
   feed(p.aic.numOrders() + 20, 3.0, 0.5);
   ASSERT_TRUE(loop->active());
-  const WheelCommand& c = out.commands.back();
+  const loop::WheelCommand& c = out.commands.back();
   EXPECT_TRUE(c.cmd_vel);
   EXPECT_TRUE(c.clipped);
   EXPECT_NEAR(c.twist.linear, 0.3, 1e-9);
@@ -567,7 +567,7 @@ TEST_F(ControlLoopTest, CmdVelClipsAndFeedsTheActionBack)
 
 TEST_F(ControlLoopTest, DroppedInputsAreCountedAndLoggedOnce)
 {
-  JointStateInput bad;
+  loop::JointStateInput bad;
   bad.stamp = 0.1;
   const std::vector<std::string> names{ "front_left_wheel" };
   const std::vector<double> v{ 1.0 };
@@ -575,19 +575,19 @@ TEST_F(ControlLoopTest, DroppedInputsAreCountedAndLoggedOnce)
   bad.velocity = &v;
   EXPECT_FALSE(loop->jointState(bad));
   EXPECT_FALSE(loop->jointState(bad));
-  EXPECT_EQ(loop->pairing().drops(DropReason::kJointNames), 2u);
+  EXPECT_EQ(loop->pairing().drops(loop::DropReason::kJointNames), 2u);
   EXPECT_EQ(out.linesWith("dropped input (joint_states: unknown or missing joint name)"), 1);
-  ImuInput imu;
+  loop::ImuInput imu;
   imu.stamp = kNaN;  // an unset stamp
   EXPECT_FALSE(loop->imu(imu));
-  EXPECT_EQ(loop->pairing().drops(DropReason::kImuStamp), 1u);
+  EXPECT_EQ(loop->pairing().drops(loop::DropReason::kImuStamp), 1u);
 }
 
 TEST_F(ControlLoopTest, EmbeddingOrderChangeWarmsUpAgain)
 {
   feed(p.aic.numOrders() + 1, 2.0, 0.5);
   ASSERT_TRUE(loop->active());
-  NodeParams next = p;
+  params::NodeParams next = p;
   next.aic.embedding_order = 1;
   next.aic.var_mu = { 0.5, 0.6667 };
   next.aic.var_y = { 2.0, 38.25 };
@@ -597,7 +597,7 @@ TEST_F(ControlLoopTest, EmbeddingOrderChangeWarmsUpAgain)
   feed(next.aic.numOrders(), 2.0, 0.5);
   EXPECT_TRUE(loop->active());
   EXPECT_EQ(loop->controller().mu().cols(), 2);
-  NodeParams invalid = next;
+  params::NodeParams invalid = next;
   invalid.aic.k_a = -1.0;
   EXPECT_THROW(loop->setParams(invalid), std::invalid_argument);
   EXPECT_EQ(loop->params().aic.k_a, next.aic.k_a);
@@ -610,11 +610,11 @@ TEST_F(ControlLoopTest, EmbeddingOrderChangeWarmsUpAgain)
  * schedule (beliefs advanced at each event) and the timer schedule (a belief tick every 1 ms,
  * before the events of its instant) give the same beliefs and actions.
  */
-void compareSchedules(Integrator integrator, ActionTrigger trigger, bool driving = false)
+void compareSchedules(params::Integrator integrator, params::ActionTrigger trigger, bool driving = false)
 {
   FakeClock clock_e, clock_t;
   Recorder out_e, out_t;
-  NodeParams pe = params(BeliefSchedule::kEvent);
+  params::NodeParams pe = params(params::BeliefSchedule::kEvent);
   pe.aic.integrator = integrator;
   pe.action_trigger = trigger;
   if (driving)
@@ -627,10 +627,10 @@ void compareSchedules(Integrator integrator, ActionTrigger trigger, bool driving
     pe.aic.action_prior.gain = 0.8;
     pe.aic.action_prior.time_constant = 0.15;
   }
-  NodeParams pt = pe;
-  pt.belief_schedule = BeliefSchedule::kTimer;
-  ControlLoop event(pe, clock_e, out_e);
-  ControlLoop timer(pt, clock_t, out_t);
+  params::NodeParams pt = pe;
+  pt.belief_schedule = params::BeliefSchedule::kTimer;
+  loop::ControlLoop event(pe, clock_e, out_e);
+  loop::ControlLoop timer(pt, clock_t, out_t);
   Sensors se, st;
   std::mt19937 rng(7);
   std::normal_distribution<double> noise(0.0, 0.05);
@@ -691,17 +691,17 @@ void compareSchedules(Integrator integrator, ActionTrigger trigger, bool driving
 
 TEST(ControlLoopSchedules, SameBeliefsAndActionsExactIntegratorSampleTrigger)
 {
-  compareSchedules(Integrator::kExact, ActionTrigger::kSample);
+  compareSchedules(params::Integrator::kExact, params::ActionTrigger::kSample);
 }
 
 TEST(ControlLoopSchedules, SameBeliefsAndActionsEulerTimerTrigger)
 {
-  compareSchedules(Integrator::kEuler, ActionTrigger::kTimer);
+  compareSchedules(params::Integrator::kEuler, params::ActionTrigger::kTimer);
 }
 
 TEST(ControlLoopSchedules, SameBeliefsAndActionsWithSetPointDynamicsAndPrior)
 {
-  compareSchedules(Integrator::kExact, ActionTrigger::kSample, true);
+  compareSchedules(params::Integrator::kExact, params::ActionTrigger::kSample, true);
 }
 
 }  // namespace

@@ -19,16 +19,16 @@ constexpr double kTol = 1e-12;  // s (times and steps are sums of a few doubles)
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /// A clock the test sets.
-class FakeClock : public Clock
+class FakeClock : public loop::Clock
 {
 public:
   double now() const override { return t; }
   double t = 100.0;  ///< [s], an arbitrary non-zero start
 };
 
-NodeParams params()
+params::NodeParams params()
 {
-  NodeParams p;  // p = 3 (4 warm-up samples), sensor_timeout 0.25 s, set_point_timeout 0.5 s, hold 1 s
+  params::NodeParams p;  // p = 3 (4 warm-up samples), sensor_timeout 0.25 s, set_point_timeout 0.5 s, hold 1 s
   p.left_joints = { "l" };
   p.right_joints = { "r" };
   return p;
@@ -40,8 +40,8 @@ class SupervisorTest : public ::testing::Test
 {
 protected:
   FakeClock clock;
-  NodeParams p = params();
-  Supervisor s{ p, clock };
+  params::NodeParams p = params();
+  loop::Supervisor s{ p, clock };
 
   /// Feed n samples (one every 20 ms) with a set point, as the node does.
   void feed(int n, bool with_set_point = true)
@@ -49,7 +49,7 @@ protected:
     for (int i = 0; i < n; ++i)
     {
       clock.t += 0.02;
-      s.sampleAccepted(Vector2(1.0, 2.0));
+      s.sampleAccepted(base::Vector2(1.0, 2.0));
       if (with_set_point)
       {
         s.setPoint(kZeroSetPoint);
@@ -63,13 +63,13 @@ protected:
     feed(p.aic.numOrders());
     const auto t = s.update();
     ASSERT_TRUE(t.activate());
-    ASSERT_EQ(s.state(), NodeState::kRunning);
+    ASSERT_EQ(s.state(), loop::NodeState::kRunning);
   }
 };
 
 TEST_F(SupervisorTest, StartsWaitingForSensors)
 {
-  EXPECT_EQ(s.state(), NodeState::kWaiting);
+  EXPECT_EQ(s.state(), loop::NodeState::kWaiting);
   EXPECT_EQ(s.reason(), "no sensor sample yet");
   EXPECT_FALSE(s.active());
   const auto t = s.update();
@@ -78,17 +78,17 @@ TEST_F(SupervisorTest, StartsWaitingForSensors)
   // A set point alone does not start anything.
   s.setPoint(kZeroSetPoint);
   EXPECT_FALSE(s.update().changed);
-  EXPECT_EQ(s.state(), NodeState::kWaiting);
+  EXPECT_EQ(s.state(), loop::NodeState::kWaiting);
 }
 
 TEST_F(SupervisorTest, WaitsForSetPointThenWarmsUpThenRuns)
 {
   feed(p.aic.numOrders(), /*with_set_point=*/false);
   EXPECT_FALSE(s.update().changed);  // still waiting (for the set point)
-  EXPECT_EQ(s.state(), NodeState::kWaiting);
+  EXPECT_EQ(s.state(), loop::NodeState::kWaiting);
 
   s.historyRestarted();  // e.g. a gap: the warm-up starts over
-  s.sampleAccepted(Vector2::Zero());
+  s.sampleAccepted(base::Vector2::Zero());
   s.setPoint(kZeroSetPoint);
   EXPECT_FALSE(s.update().changed);  // warming up: 1 of p+1 samples
   EXPECT_EQ(s.warmSamples(), 1);
@@ -100,16 +100,16 @@ TEST_F(SupervisorTest, WaitsForSetPointThenWarmsUpThenRuns)
   EXPECT_TRUE(t.activate());
   EXPECT_FALSE(t.deactivate());
   EXPECT_FALSE(t.warn());
-  EXPECT_EQ(s.state(), NodeState::kRunning);
+  EXPECT_EQ(s.state(), loop::NodeState::kRunning);
   EXPECT_EQ(s.reason(), "controlling");
   EXPECT_TRUE(s.active());
-  EXPECT_EQ(s.measuredWheels(), Vector2(1.0, 2.0));
+  EXPECT_EQ(s.measuredWheels(), base::Vector2(1.0, 2.0));
 }
 
 TEST_F(SupervisorTest, WarmUpCountIsBounded)
 {
   feed(100);
-  EXPECT_EQ(s.warmSamples(), kMaxOrders + 1);
+  EXPECT_EQ(s.warmSamples(), base::kMaxOrders + 1);
 }
 
 TEST_F(SupervisorTest, StaleSensorsStopAndRestartTheHistory)
@@ -125,7 +125,7 @@ TEST_F(SupervisorTest, StaleSensorsStopAndRestartTheHistory)
   EXPECT_TRUE(t.deactivate());
   EXPECT_TRUE(t.warn());
   EXPECT_TRUE(t.restart_history);
-  EXPECT_EQ(s.state(), NodeState::kStale);
+  EXPECT_EQ(s.state(), loop::NodeState::kStale);
   EXPECT_NE(s.reason().find("no sensor sample for 0.251 s (sensor_timeout 0.25 s)"), std::string::npos) << s.reason();
   EXPECT_EQ(s.staleEvents(), 1u);
   EXPECT_EQ(s.warmSamples(), 0);
@@ -143,12 +143,12 @@ TEST_F(SupervisorTest, SensorsBackWarmUpThenRun)
   run();
   clock.t += 1.0;
   s.setPoint(kZeroSetPoint);
-  ASSERT_EQ(s.update().to, NodeState::kStale);
+  ASSERT_EQ(s.update().to, loop::NodeState::kStale);
   s.historyRestarted();
   feed(1);
   auto t = s.update();
   EXPECT_TRUE(t.changed);
-  EXPECT_EQ(t.to, NodeState::kWaiting);
+  EXPECT_EQ(t.to, loop::NodeState::kWaiting);
   EXPECT_EQ(s.reason(), "warming up the generalizer");
   EXPECT_FALSE(t.activate());
   EXPECT_FALSE(t.deactivate());
@@ -162,7 +162,7 @@ TEST_F(SupervisorTest, SensorsLostWithoutSetPointIsStale)
   feed(2, /*with_set_point=*/false);
   clock.t += 1.0;
   const auto t = s.update();
-  EXPECT_EQ(t.to, NodeState::kStale);
+  EXPECT_EQ(t.to, loop::NodeState::kStale);
   EXPECT_TRUE(t.warn());
   EXPECT_FALSE(t.deactivate());  // was not running
   EXPECT_TRUE(t.restart_history);
@@ -174,13 +174,13 @@ TEST_F(SupervisorTest, StaleSetPointStopsAndResumesWithoutWarmUp)
   for (int i = 0; i < 30; ++i)  // sensors keep coming, the set point does not
   {
     clock.t += 0.02;
-    s.sampleAccepted(Vector2::Zero());
+    s.sampleAccepted(base::Vector2::Zero());
   }
   const auto t = s.update();
   EXPECT_TRUE(t.deactivate());
   EXPECT_TRUE(t.warn());
   EXPECT_FALSE(t.restart_history);
-  EXPECT_EQ(s.state(), NodeState::kStale);
+  EXPECT_EQ(s.state(), loop::NodeState::kStale);
   EXPECT_NE(s.reason().find("no set point for 0.6"), std::string::npos) << s.reason();
   EXPECT_NE(s.reason().find("(set_point_timeout 0.5 s)"), std::string::npos) << s.reason();
   s.setPoint(kZeroSetPoint);
@@ -194,7 +194,7 @@ TEST_F(SupervisorTest, RunawayHoldsThenRestarts)
   EXPECT_TRUE(t.changed);
   EXPECT_TRUE(t.deactivate());
   EXPECT_FALSE(t.warn());
-  EXPECT_EQ(s.state(), NodeState::kRunaway);
+  EXPECT_EQ(s.state(), loop::NodeState::kRunaway);
   EXPECT_EQ(s.reason(), "runaway in the belief update");
   EXPECT_EQ(s.runaways(), 1u);
   EXPECT_FALSE(s.active());
@@ -204,11 +204,11 @@ TEST_F(SupervisorTest, RunawayHoldsThenRestarts)
     feed(1);
     EXPECT_FALSE(s.update().changed) << i;
   }
-  EXPECT_EQ(s.state(), NodeState::kRunaway);
+  EXPECT_EQ(s.state(), loop::NodeState::kRunaway);
   feed(6);  // 1.02 s after the runaway: the hold is over
   const auto back = s.update();
   EXPECT_TRUE(back.activate());
-  EXPECT_EQ(back.from, NodeState::kRunaway);
+  EXPECT_EQ(back.from, loop::NodeState::kRunaway);
 }
 
 TEST_F(SupervisorTest, RunawayHoldEndsStaleWithoutInputs)
@@ -221,7 +221,7 @@ TEST_F(SupervisorTest, RunawayHoldEndsStaleWithoutInputs)
   EXPECT_TRUE(during.restart_history);
   clock.t += 0.6;
   const auto t = s.update();
-  EXPECT_EQ(t.to, NodeState::kStale);
+  EXPECT_EQ(t.to, loop::NodeState::kStale);
   EXPECT_TRUE(t.warn());
   EXPECT_FALSE(t.deactivate());
 }
@@ -240,7 +240,7 @@ TEST_F(SupervisorTest, EmbeddingOrderChangeWarmsUpAgain)
   run();
   const auto t = s.embeddingOrderChanged();
   EXPECT_TRUE(t.deactivate());
-  EXPECT_EQ(s.state(), NodeState::kWaiting);
+  EXPECT_EQ(s.state(), loop::NodeState::kWaiting);
   EXPECT_EQ(s.reason(), "embedding order changed; warming up");
   p.aic.embedding_order = 5;
   p.aic.var_mu.assign(6, 1.0);
@@ -258,7 +258,7 @@ TEST_F(SupervisorTest, EmbeddingOrderChangeWhileWaitingOnlyResetsWarmUp)
   const auto t = s.embeddingOrderChanged();
   EXPECT_FALSE(t.changed);
   EXPECT_EQ(s.warmSamples(), 0);
-  EXPECT_EQ(s.state(), NodeState::kWaiting);
+  EXPECT_EQ(s.state(), loop::NodeState::kWaiting);
 }
 
 TEST_F(SupervisorTest, NewTimeoutsApply)
@@ -276,20 +276,20 @@ TEST_F(SupervisorTest, NewTimeoutsApply)
 TEST_F(SupervisorTest, SetPointsAreCheckedAndClamped)
 {
   const double ok[6] = { 0.5, 0, 0, 0, 0, -1.0 };
-  EXPECT_EQ(s.setPoint(ok), SetPointResult::kAccepted);
-  EXPECT_EQ(s.goal(), Vector3(0.5, 0.0, -1.0));
+  EXPECT_EQ(s.setPoint(ok), loop::SetPointResult::kAccepted);
+  EXPECT_EQ(s.goal(), base::Vector3(0.5, 0.0, -1.0));
   const double fast[6] = { 3.0, 0.7, 0, 0, 0, -9.0 };
-  EXPECT_EQ(s.setPoint(fast), SetPointResult::kClamped);
-  EXPECT_EQ(s.goal(), Vector3(2.0, 0.0, -4.0));  // max_linear_speed, max_angular_speed; linear.y ignored
+  EXPECT_EQ(s.setPoint(fast), loop::SetPointResult::kClamped);
+  EXPECT_EQ(s.goal(), base::Vector3(2.0, 0.0, -4.0));  // max_linear_speed, max_angular_speed; linear.y ignored
   EXPECT_EQ(s.setPointClamps(), 1u);
   for (int field = 0; field < 6; ++field)
   {
     double bad[6] = { 0.1, 0, 0, 0, 0, 0.1 };
     bad[field] = field % 2 ? kNaN : std::numeric_limits<double>::infinity();
-    EXPECT_EQ(s.setPoint(bad), SetPointResult::kDropped) << field;
+    EXPECT_EQ(s.setPoint(bad), loop::SetPointResult::kDropped) << field;
   }
   EXPECT_EQ(s.setPointDrops(), 6u);
-  EXPECT_EQ(s.goal(), Vector3(2.0, 0.0, -4.0));  // unchanged by dropped set points
+  EXPECT_EQ(s.goal(), base::Vector3(2.0, 0.0, -4.0));  // unchanged by dropped set points
 }
 
 TEST_F(SupervisorTest, AgesAndFreshness)
@@ -299,7 +299,7 @@ TEST_F(SupervisorTest, AgesAndFreshness)
   EXPECT_EQ(s.setPointAge(), -1.0);
   EXPECT_FALSE(s.sensorsFresh());
   EXPECT_FALSE(s.setPointFresh());
-  s.sampleAccepted(Vector2::Zero());
+  s.sampleAccepted(base::Vector2::Zero());
   s.imuAccepted();
   s.setPoint(kZeroSetPoint);
   clock.t += 0.3;
@@ -320,7 +320,7 @@ TEST_F(SupervisorTest, ExternalStopHoldsThenResumesBumpless)
   const auto held = s.update();
   EXPECT_TRUE(held.deactivate());  // the node publishes the idle command (measured wheels) at once
   EXPECT_TRUE(held.warn());
-  EXPECT_EQ(s.state(), NodeState::kHeld);
+  EXPECT_EQ(s.state(), loop::NodeState::kHeld);
   EXPECT_FALSE(s.active());
   EXPECT_NE(s.reason().find("external stop"), std::string::npos) << s.reason();
   EXPECT_NE(s.reason().find("measured wheel speeds"), std::string::npos) << s.reason();
@@ -336,7 +336,7 @@ TEST_F(SupervisorTest, ExternalStopHoldsThenResumesBumpless)
   const auto resumed = s.update();
   EXPECT_TRUE(resumed.activate());  // reset + start from the measured wheels: bumpless
   EXPECT_FALSE(resumed.restart_history);
-  EXPECT_EQ(s.state(), NodeState::kRunning);
+  EXPECT_EQ(s.state(), loop::NodeState::kRunning);
 }
 
 TEST_F(SupervisorTest, DriversInactiveHold)
@@ -345,7 +345,7 @@ TEST_F(SupervisorTest, DriversInactiveHold)
   s.mcuStatus(false, false, false);
   feed(1);
   EXPECT_TRUE(s.update().deactivate());
-  EXPECT_EQ(s.state(), NodeState::kHeld);
+  EXPECT_EQ(s.state(), loop::NodeState::kHeld);
   EXPECT_NE(s.reason().find("drivers_active false"), std::string::npos) << s.reason();
   // An external stop present but not stopped is not a stop.
   s.mcuStatus(true, true, false);
@@ -356,25 +356,25 @@ TEST_F(SupervisorTest, DriversInactiveHold)
 TEST_F(SupervisorTest, FeedbackModeNoneHoldsAndExpires)
 {
   run();
-  s.mcuFeedback(kMcuModeNone);
+  s.mcuFeedback(loop::kMcuModeNone);
   feed(1);
   EXPECT_TRUE(s.update().deactivate());
-  EXPECT_EQ(s.state(), NodeState::kHeld);
+  EXPECT_EQ(s.state(), loop::NodeState::kHeld);
   EXPECT_NE(s.reason().find("MODE_NONE"), std::string::npos) << s.reason();
   // Back to MODE_VELOCITY: running again.
   s.mcuFeedback(0);
   feed(1);
   EXPECT_TRUE(s.update().activate());
   // A MODE_NONE not repeated for longer than kMcuFeedbackExpiry no longer holds.
-  s.mcuFeedback(kMcuModeNone);
+  s.mcuFeedback(loop::kMcuModeNone);
   feed(1);
-  EXPECT_EQ(s.update().to, NodeState::kHeld);
-  for (int i = 0; i * 0.02 <= kMcuFeedbackExpiry; ++i)
+  EXPECT_EQ(s.update().to, loop::NodeState::kHeld);
+  for (int i = 0; i * 0.02 <= loop::kMcuFeedbackExpiry; ++i)
   {
     feed(1);
     s.update();
   }
-  EXPECT_EQ(s.state(), NodeState::kRunning);
+  EXPECT_EQ(s.state(), loop::NodeState::kRunning);
 }
 
 TEST_F(SupervisorTest, StaleSensorsOutrankAnMcuStop)
@@ -383,12 +383,12 @@ TEST_F(SupervisorTest, StaleSensorsOutrankAnMcuStop)
   run();
   s.mcuStatus(true, true, true);
   clock.t += p.sensor_timeout + 0.01;
-  EXPECT_EQ(s.update().to, NodeState::kStale);
+  EXPECT_EQ(s.update().to, loop::NodeState::kStale);
   // Before any sample: waiting, not held.
   FakeClock c2;
-  Supervisor fresh{ p, c2 };
+  loop::Supervisor fresh{ p, c2 };
   fresh.mcuStatus(false, false, false);
-  EXPECT_EQ(fresh.update().to, NodeState::kWaiting);
+  EXPECT_EQ(fresh.update().to, loop::NodeState::kWaiting);
   EXPECT_TRUE(fresh.mcuStopped());
 }
 
@@ -413,7 +413,7 @@ TEST_F(SupervisorTest, KeepAliveOnlyWhileRunningAndActionLate)
 
 TEST(LoopScheduler, OnTimeTicksAreOneStep)
 {
-  LoopScheduler loop(1000.0, kMaxBeliefIntervalFactor, true);
+  loop::LoopScheduler loop(1000.0, loop::kMaxBeliefIntervalFactor, true);
   const auto first = loop.tick(-1.0);  // first tick: nominal period
   EXPECT_EQ(first.steps, 1);
   EXPECT_NEAR(first.h, 0.001, kTol);
@@ -430,7 +430,7 @@ TEST(LoopScheduler, OnTimeTicksAreOneStep)
 
 TEST(LoopScheduler, LateTickCatchesUp)
 {
-  LoopScheduler loop(1000.0, kMaxBeliefIntervalFactor, true);
+  loop::LoopScheduler loop(1000.0, loop::kMaxBeliefIntervalFactor, true);
   const auto t = loop.tick(0.004);  // 3 ticks missed
   EXPECT_EQ(t.steps, 4);
   EXPECT_NEAR(t.h, 0.001, kTol);
@@ -442,7 +442,7 @@ TEST(LoopScheduler, LateTickCatchesUp)
 
 TEST(LoopScheduler, LongGapIsClampedToTenPeriods)
 {
-  LoopScheduler loop(1000.0, kMaxBeliefIntervalFactor, true);
+  loop::LoopScheduler loop(1000.0, loop::kMaxBeliefIntervalFactor, true);
   const auto t = loop.tick(0.5);
   EXPECT_EQ(t.steps, 10);
   EXPECT_NEAR(t.interval, 0.010, kTol);
@@ -454,7 +454,7 @@ TEST(LoopScheduler, FastLoopsCatchUpAtLeastTenMilliseconds)
 {
   // At 10 kHz ten periods are 1 ms, less than a preemption on a loaded machine: the belief
   // loop still catches up to kMinBeliefCatchUpInterval (10 ms), in steps of one period.
-  LoopScheduler loop(10000.0, kMaxBeliefIntervalFactor, true, kMinBeliefCatchUpInterval);
+  loop::LoopScheduler loop(10000.0, loop::kMaxBeliefIntervalFactor, true, loop::kMinBeliefCatchUpInterval);
   auto t = loop.tick(0.005);
   EXPECT_EQ(t.steps, 50);
   EXPECT_NEAR(t.h, 1e-4, kTol);
@@ -465,7 +465,7 @@ TEST(LoopScheduler, FastLoopsCatchUpAtLeastTenMilliseconds)
   EXPECT_EQ(loop.stats().clamped, 1u);
   EXPECT_NEAR(loop.stats().maxInterval(), 0.010, kTol);
   // Slow loops keep ten periods (longer than the minimum).
-  LoopScheduler slow(50.0, kMaxBeliefIntervalFactor, true, kMinBeliefCatchUpInterval);
+  loop::LoopScheduler slow(50.0, loop::kMaxBeliefIntervalFactor, true, loop::kMinBeliefCatchUpInterval);
   EXPECT_NEAR(slow.tick(1.0).interval, 0.2, kTol);
   EXPECT_EQ(slow.tick(1.0).steps, 10);
 }
@@ -473,7 +473,7 @@ TEST(LoopScheduler, FastLoopsCatchUpAtLeastTenMilliseconds)
 TEST(LoopScheduler, FractionsAverageOut)
 {
   // 1.5 periods per tick: steps alternate 2, 1, 2, 1 ... so 1.5 steps per tick on average.
-  LoopScheduler loop(1000.0, kMaxBeliefIntervalFactor, true);
+  loop::LoopScheduler loop(1000.0, loop::kMaxBeliefIntervalFactor, true);
   int total = 0;
   for (int i = 0; i < 100; ++i)
   {
@@ -484,7 +484,7 @@ TEST(LoopScheduler, FractionsAverageOut)
 
 TEST(LoopScheduler, ActionLoopIsOneClampedStep)
 {
-  LoopScheduler loop(50.0, kMaxActionIntervalFactor, false);
+  loop::LoopScheduler loop(50.0, loop::kMaxActionIntervalFactor, false);
   auto t = loop.tick(0.1);  // 5 periods
   EXPECT_EQ(t.steps, 1);
   EXPECT_NEAR(t.h, 0.06, kTol);  // clamped to 3 periods
@@ -496,7 +496,7 @@ TEST(LoopScheduler, ActionLoopIsOneClampedStep)
 
 TEST(LoopScheduler, StatisticsWindowAndRate)
 {
-  LoopScheduler loop(100.0, kMaxBeliefIntervalFactor, true);
+  loop::LoopScheduler loop(100.0, loop::kMaxBeliefIntervalFactor, true);
   loop.tick(0.012);
   loop.recordDuration(0.003);
   loop.recordDuration(0.001);
@@ -513,11 +513,11 @@ TEST(LoopScheduler, StatisticsWindowAndRate)
 
 TEST(NodeStateNames, AreTheDiagnosticsStrings)
 {
-  EXPECT_STREQ(toString(NodeState::kWaiting), "waiting");
-  EXPECT_STREQ(toString(NodeState::kRunning), "running");
-  EXPECT_STREQ(toString(NodeState::kStale), "stale");
-  EXPECT_STREQ(toString(NodeState::kRunaway), "runaway");
-  EXPECT_STREQ(toString(NodeState::kHeld), "held");
+  EXPECT_STREQ(loop::toString(loop::NodeState::kWaiting), "waiting");
+  EXPECT_STREQ(loop::toString(loop::NodeState::kRunning), "running");
+  EXPECT_STREQ(loop::toString(loop::NodeState::kStale), "stale");
+  EXPECT_STREQ(loop::toString(loop::NodeState::kRunaway), "runaway");
+  EXPECT_STREQ(loop::toString(loop::NodeState::kHeld), "held");
 }
 
 }  // namespace

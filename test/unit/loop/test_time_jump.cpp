@@ -27,7 +27,7 @@ constexpr double kWheels = 5.1;         // rad/s: 0.5 m/s at r = 0.098 m
 
 TEST(TimeJumpDetector, ReportsBackwardStepsBeyondTheTolerance)
 {
-  TimeJumpDetector d(0.001);
+  loop::TimeJumpDetector d(0.001);
   EXPECT_TRUE(std::isnan(d.latest()));
   EXPECT_EQ(d.observe(10.0), 0.0);     // the first reading
   EXPECT_EQ(d.observe(12.0), 0.0);     // forward, by any amount
@@ -42,24 +42,24 @@ TEST(TimeJumpDetector, ReportsBackwardStepsBeyondTheTolerance)
   EXPECT_EQ(d.observe(0.52), 0.0);
   EXPECT_NEAR(d.observe(0.0), 0.52, kTol);
   EXPECT_EQ(d.jumps(), 2u);
-  EXPECT_EQ(TimeJumpDetector(-1.0).tolerance(), 0.0);
-  EXPECT_EQ(TimeJumpDetector(std::nan("")).tolerance(), 0.0);
+  EXPECT_EQ(loop::TimeJumpDetector(-1.0).tolerance(), 0.0);
+  EXPECT_EQ(loop::TimeJumpDetector(std::nan("")).tolerance(), 0.0);
 }
 
-class FakeClock : public Clock
+class FakeClock : public loop::Clock
 {
 public:
   double now() const override { return t; }
   double t = 0.0;  ///< [s]
 };
 
-class Recorder : public ControlLoop::Output
+class Recorder : public loop::ControlLoop::Output
 {
 public:
-  void command(const WheelCommand& c) override { commands.push_back(c); }
-  void log(LogLevel level, const std::string& text) override { lines.emplace_back(level, text); }
-  std::vector<WheelCommand> commands;
-  std::vector<std::pair<LogLevel, std::string>> lines;
+  void command(const loop::WheelCommand& c) override { commands.push_back(c); }
+  void log(loop::LogLevel level, const std::string& text) override { lines.emplace_back(level, text); }
+  std::vector<loop::WheelCommand> commands;
+  std::vector<std::pair<loop::LogLevel, std::string>> lines;
   int linesWith(const std::string& text) const
   {
     int n = 0;
@@ -77,8 +77,8 @@ class TimelineTest : public ::testing::Test
 protected:
   FakeClock clock;
   Recorder out;
-  NodeParams p;
-  std::unique_ptr<ControlLoop> loop;
+  params::NodeParams p;
+  std::unique_ptr<loop::ControlLoop> loop;
   std::vector<std::string> names{ "front_left_wheel", "front_right_wheel", "rear_left_wheel", "rear_right_wheel" };
   std::vector<double> position{ 0.0, 0.0, 0.0, 0.0 };
   std::vector<double> velocity{ 0.0, 0.0, 0.0, 0.0 };
@@ -87,11 +87,11 @@ protected:
   {
     p.left_joints = { "front_left_wheel", "rear_left_wheel" };
     p.right_joints = { "front_right_wheel", "rear_right_wheel" };
-    loop = std::make_unique<ControlLoop>(p, clock, out);
+    loop = std::make_unique<loop::ControlLoop>(p, clock, out);
   }
   bool sample(double wheels)
   {
-    ImuInput imu;
+    loop::ImuInput imu;
     imu.stamp = clock.t;
     loop->imu(imu);
     velocity.assign(4, wheels);
@@ -99,7 +99,7 @@ protected:
     {
       x += 0.02 * wheels;  // the wheels travel (constant travel while turning is a frozen stream)
     }
-    JointStateInput j;
+    loop::JointStateInput j;
     j.stamp = clock.t;
     j.name = &names;
     j.position = &position;
@@ -158,9 +158,9 @@ TEST_F(TimelineTest, ClockBackToZeroRestartsOnTheNewTimelineAtOnce)
   EXPECT_EQ(out.commands.size(), before);
   // The new timeline's samples are accepted from the first (none dropped as "backwards").
   drive(1, 0.0);
-  EXPECT_EQ(loop->pairing().drops(DropReason::kJointStamp), 0u);
+  EXPECT_EQ(loop->pairing().drops(loop::DropReason::kJointStamp), 0u);
   EXPECT_EQ(out.commands.size(), before + 1);
-  EXPECT_EQ(out.commands.back().wheels, Vector2::Zero());  // warming up: the measured wheels
+  EXPECT_EQ(out.commands.back().wheels, base::Vector2::Zero());  // warming up: the measured wheels
   drive(p.aic.numOrders() - 1, 0.0);
   EXPECT_TRUE(loop->active());  // p+1 samples of the new timeline
   EXPECT_EQ(loop->starts(), 2u);
@@ -190,7 +190,7 @@ TEST_F(TimelineTest, ClockStepBackWhileDrivingIsBumpless)
   {
     EXPECT_NEAR(out.commands[i].wheels(0), last, 0.3) << i;  // no jump: measured, then bumpless
   }
-  EXPECT_EQ(loop->pairing().drops(DropReason::kJointStamp), 0u);
+  EXPECT_EQ(loop->pairing().drops(loop::DropReason::kJointStamp), 0u);
   EXPECT_EQ(loop->timeJumps(), 1u);
 }
 
@@ -208,9 +208,9 @@ TEST_F(TimelineTest, TimeoutsKeepTheirAgesAcrossAJump)
   // No sample of the new timeline: stale after sensor_timeout of the kept age, then zero.
   clock.t += p.sensor_timeout - 0.1 + 0.01;
   loop->actionTimer(kSamplePeriod);
-  EXPECT_EQ(loop->supervisor().state(), NodeState::kStale);
+  EXPECT_EQ(loop->supervisor().state(), loop::NodeState::kStale);
   ASSERT_FALSE(out.commands.empty());
-  EXPECT_EQ(out.commands.back().wheels, Vector2::Zero());
+  EXPECT_EQ(out.commands.back().wheels, base::Vector2::Zero());
 }
 
 TEST_F(TimelineTest, GoalRateStartsAfreshOnTheNewTimeline)
@@ -258,9 +258,9 @@ TEST_F(TimelineTest, IdleCommandBeforeTheFirstSampleAndWhileWarmingUp)
   // Without a set point for set_point_timeout after the first sample: zero.
   clock.t = 0.0;
   out.commands.clear();
-  loop = std::make_unique<ControlLoop>(p, clock, out);
+  loop = std::make_unique<loop::ControlLoop>(p, clock, out);
   drive(static_cast<int>(std::ceil(p.set_point_timeout / kSamplePeriod)) + 1, kWheels, std::nan(""));
-  EXPECT_EQ(out.commands.back().wheels, Vector2::Zero());
+  EXPECT_EQ(out.commands.back().wheels, base::Vector2::Zero());
 }
 
 TEST_F(TimelineTest, SensorsBackAfterAPauseResumeFromTheMeasuredWheels)
@@ -271,8 +271,8 @@ TEST_F(TimelineTest, SensorsBackAfterAPauseResumeFromTheMeasuredWheels)
   drive(20, kWheels);
   ASSERT_TRUE(loop->active());
   drive(250, std::nan(""));
-  EXPECT_EQ(loop->supervisor().state(), NodeState::kStale);
-  EXPECT_EQ(out.commands.back().wheels, Vector2::Zero());
+  EXPECT_EQ(loop->supervisor().state(), loop::NodeState::kStale);
+  EXPECT_EQ(out.commands.back().wheels, base::Vector2::Zero());
   const std::size_t back = out.commands.size();
   drive(1, 1.0);
   EXPECT_NEAR(out.commands.back().wheels(0), 1.0, kTol);

@@ -21,9 +21,9 @@
 
 #include "jackal_aic/os/periodic_thread.hpp"
 
-using jackal_aic::IntervalHistogram;
-using jackal_aic::PeriodicStats;
-using jackal_aic::PeriodicThread;
+using jackal_aic::os::IntervalHistogram;
+using jackal_aic::os::PeriodicStats;
+using jackal_aic::os::PeriodicThread;
 
 TEST(IntervalHistogram, QuantilesOfKnownIntervals)
 {

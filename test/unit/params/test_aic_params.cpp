@@ -10,8 +10,8 @@
 
 #include "jackal_aic/params/aic_params.hpp"
 
-using jackal_aic::AicParams;
-using jackal_aic::Integrator;
+using jackal_aic::params::AicParams;
+using jackal_aic::params::Integrator;
 
 namespace
 {
@@ -22,7 +22,7 @@ constexpr double kPrecisionTol = 1e-12;  // 1/variance units
 bool hasViolation(const AicParams& p, const std::string& name)
 {
   const auto v = p.validate();
-  return std::any_of(v.begin(), v.end(), [&](const jackal_aic::ParamViolation& x) { return x.name == name; });
+  return std::any_of(v.begin(), v.end(), [&](const jackal_aic::params::ParamViolation& x) { return x.name == name; });
 }
 
 /// Every bounded scalar rule, checked for 0, negative, NaN, Inf and just above its upper bound.
@@ -48,48 +48,48 @@ TEST(Params, DefaultsAreValid)
 
 TEST(Params, BeliefRate)
 {
-  expectPositiveRule(&AicParams::belief_rate, "belief_rate", jackal_aic::kMaxRate);
+  expectPositiveRule(&AicParams::belief_rate, "belief_rate", jackal_aic::params::kMaxRate);
 }
 TEST(Params, ActionRate)
 {
-  expectPositiveRule(&AicParams::action_rate, "action_rate", jackal_aic::kMaxRate);
+  expectPositiveRule(&AicParams::action_rate, "action_rate", jackal_aic::params::kMaxRate);
 }
 TEST(Params, Tau)
 {
-  expectPositiveRule(&AicParams::tau, "tau", jackal_aic::kMaxTau);
+  expectPositiveRule(&AicParams::tau, "tau", jackal_aic::params::kMaxTau);
 }
 TEST(Params, KMu)
 {
-  expectPositiveRule(&AicParams::k_mu, "k_mu", jackal_aic::kMaxGain);
+  expectPositiveRule(&AicParams::k_mu, "k_mu", jackal_aic::params::kMaxGain);
 }
 TEST(Params, KA)
 {
-  expectPositiveRule(&AicParams::k_a, "k_a", jackal_aic::kMaxGain);
+  expectPositiveRule(&AicParams::k_a, "k_a", jackal_aic::params::kMaxGain);
 }
 TEST(Params, WheelRadius)
 {
-  expectPositiveRule(&AicParams::wheel_radius, "wheel_radius", jackal_aic::kMaxLength);
+  expectPositiveRule(&AicParams::wheel_radius, "wheel_radius", jackal_aic::params::kMaxLength);
 }
 TEST(Params, SlipFactor)
 {
-  expectPositiveRule(&AicParams::slip_factor, "slip_factor", jackal_aic::kMaxSlipFactor);
+  expectPositiveRule(&AicParams::slip_factor, "slip_factor", jackal_aic::params::kMaxSlipFactor);
 }
 TEST(Params, WheelSeparation)
 {
-  expectPositiveRule(&AicParams::wheel_separation, "wheel_separation", jackal_aic::kMaxLength);
+  expectPositiveRule(&AicParams::wheel_separation, "wheel_separation", jackal_aic::params::kMaxLength);
 }
 TEST(Params, MaxWheelSpeed)
 {
-  expectPositiveRule(&AicParams::max_wheel_speed, "max_wheel_speed", jackal_aic::kMaxWheelSpeedLimit);
+  expectPositiveRule(&AicParams::max_wheel_speed, "max_wheel_speed", jackal_aic::params::kMaxWheelSpeedLimit);
 }
 TEST(Params, RunawayLimit)
 {
-  expectPositiveRule(&AicParams::runaway_limit, "runaway_limit", jackal_aic::kMaxRunawayLimit);
+  expectPositiveRule(&AicParams::runaway_limit, "runaway_limit", jackal_aic::params::kMaxRunawayLimit);
 }
 
 TEST(Params, MaxActionLead)
 {
-  for (double bad : { -1.0, kNaN, kInf, jackal_aic::kMaxWheelSpeedLimit * 1.01 })
+  for (double bad : { -1.0, kNaN, kInf, jackal_aic::params::kMaxWheelSpeedLimit * 1.01 })
   {
     AicParams p;
     p.anti_windup.max_action_lead = bad;
@@ -103,7 +103,7 @@ TEST(Params, MaxActionLead)
 
 TEST(Params, MaxActionLeadTurn)
 {
-  for (double bad : { -1.0, kNaN, kInf, jackal_aic::kMaxWheelSpeedLimit * 1.01 })
+  for (double bad : { -1.0, kNaN, kInf, jackal_aic::params::kMaxWheelSpeedLimit * 1.01 })
   {
     AicParams p;
     p.anti_windup.max_action_lead_turn = bad;
@@ -140,7 +140,7 @@ TEST(Params, SetPointDynamicsAndActionPrior)
       0.0 },
     { "reference_delay",
       JACKAL_AIC_MEMBER(reference.delay),
-      { -0.01, jackal_aic::kMaxReferenceDelay * 1.01, kNaN },
+      { -0.01, jackal_aic::params::kMaxReferenceDelay * 1.01, kNaN },
       0.1 },
     { "action_prior_gain", JACKAL_AIC_MEMBER(action_prior.gain), { -0.1, 2.5, kNaN, kInf }, 1.0 },
     { "action_prior_time_constant", JACKAL_AIC_MEMBER(action_prior.time_constant), { -0.1, 11.0, kNaN }, 0.2 },
@@ -174,18 +174,18 @@ TEST(Params, SetPointDynamicsAndActionPrior)
 TEST(Params, LowerSanityBounds)
 {
   AicParams p;
-  p.tau = jackal_aic::kMinTau * 0.99;
-  p.wheel_radius = jackal_aic::kMinLength * 0.99;
-  p.wheel_separation = jackal_aic::kMinLength * 0.99;
-  p.slip_factor = jackal_aic::kMinSlipFactor * 0.99;
+  p.tau = jackal_aic::params::kMinTau * 0.99;
+  p.wheel_radius = jackal_aic::params::kMinLength * 0.99;
+  p.wheel_separation = jackal_aic::params::kMinLength * 0.99;
+  p.slip_factor = jackal_aic::params::kMinSlipFactor * 0.99;
   EXPECT_TRUE(hasViolation(p, "tau"));
   EXPECT_TRUE(hasViolation(p, "wheel_radius"));
   EXPECT_TRUE(hasViolation(p, "wheel_separation"));
   EXPECT_TRUE(hasViolation(p, "slip_factor"));
-  p.tau = jackal_aic::kMinTau;
-  p.wheel_radius = jackal_aic::kMinLength;
-  p.wheel_separation = jackal_aic::kMinLength;
-  p.slip_factor = jackal_aic::kMinSlipFactor;
+  p.tau = jackal_aic::params::kMinTau;
+  p.wheel_radius = jackal_aic::params::kMinLength;
+  p.wheel_separation = jackal_aic::params::kMinLength;
+  p.slip_factor = jackal_aic::params::kMinSlipFactor;
   p.belief_rate = 1000.0;  // belief_rate >= action_rate still holds
   EXPECT_TRUE(p.validate().empty());
 }
@@ -208,7 +208,7 @@ TEST(Params, EmbeddingOrderRange)
     p.embedding_order = bad;
     EXPECT_TRUE(hasViolation(p, "embedding_order")) << bad;
   }
-  for (int ok = 1; ok <= jackal_aic::kMaxEmbeddingOrder; ++ok)
+  for (int ok = 1; ok <= jackal_aic::base::kMaxEmbeddingOrder; ++ok)
   {
     AicParams p;
     p.embedding_order = ok;
@@ -235,7 +235,8 @@ TEST(Params, VarianceSizes)
 
 TEST(Params, VarianceValues)
 {
-  for (double bad : { 0.0, -2.0, kNaN, kInf, jackal_aic::kMinVariance * 0.99, jackal_aic::kMaxVariance * 1.01 })
+  for (double bad :
+       { 0.0, -2.0, kNaN, kInf, jackal_aic::params::kMinVariance * 0.99, jackal_aic::params::kMaxVariance * 1.01 })
   {
     AicParams p;
     p.var_mu[2] = bad;
@@ -292,11 +293,11 @@ TEST(Params, PrecisionsRejectMismatch)
 TEST(Params, IntegratorNames)
 {
   Integrator i = Integrator::kEuler;
-  EXPECT_TRUE(jackal_aic::integratorFromString("exact", &i));
+  EXPECT_TRUE(jackal_aic::params::integratorFromString("exact", &i));
   EXPECT_EQ(i, Integrator::kExact);
-  EXPECT_FALSE(jackal_aic::integratorFromString("Euler", &i));
+  EXPECT_FALSE(jackal_aic::params::integratorFromString("Euler", &i));
   EXPECT_EQ(i, Integrator::kExact);
-  EXPECT_TRUE(jackal_aic::integratorFromString("euler", &i));
-  EXPECT_EQ(jackal_aic::toString(i), "euler");
-  EXPECT_FALSE(jackal_aic::integratorFromString("euler", nullptr));
+  EXPECT_TRUE(jackal_aic::params::integratorFromString("euler", &i));
+  EXPECT_EQ(jackal_aic::params::toString(i), "euler");
+  EXPECT_FALSE(jackal_aic::params::integratorFromString("euler", nullptr));
 }

@@ -59,15 +59,15 @@ std::string readFile(const std::string& path)
   return ss.str();
 }
 
-NodeParams validNodeParams()
+params::NodeParams validNodeParams()
 {
-  NodeParams p;
+  params::NodeParams p;
   p.left_joints = { "front_left_wheel", "rear_left_wheel" };
   p.right_joints = { "front_right_wheel", "rear_right_wheel" };
   return p;
 }
 
-bool names(const std::vector<ParamViolation>& v, const std::string& name)
+bool names(const std::vector<params::ParamViolation>& v, const std::string& name)
 {
   for (const auto& x : v)
   {
@@ -80,9 +80,9 @@ bool names(const std::vector<ParamViolation>& v, const std::string& name)
 }
 
 /// A value of a double row, or every element of a list row, set to x.
-void setNumber(const ParamSpec& row, NodeParams* p, double x)
+void setNumber(const params::ParamSpec& row, params::NodeParams* p, double x)
 {
-  if (row.type == ParamType::kDouble)
+  if (row.type == params::ParamType::kDouble)
   {
     ASSERT_TRUE(row.set(*p, x));
   }
@@ -137,10 +137,10 @@ void expectDocumentedAsTheSchema(const std::string& path);
 TEST(ParamSchema, KeysAreUniqueAndDefaultsValid)
 {
   std::set<std::string> keys;
-  for (const ParamSpec& s : paramSchema())
+  for (const params::ParamSpec& s : params::paramSchema())
   {
     EXPECT_TRUE(keys.insert(s.key).second) << s.key;
-    EXPECT_EQ(findParam(s.key), &s);
+    EXPECT_EQ(params::findParam(s.key), &s);
     EXPECT_NE(std::string(s.description), "") << s.key;
     EXPECT_NE(std::string(s.unit), "") << s.key;
     if (s.numeric())
@@ -148,35 +148,35 @@ TEST(ParamSchema, KeysAreUniqueAndDefaultsValid)
       EXPECT_LE(s.min, s.max) << s.key;
     }
   }
-  EXPECT_EQ(findParam("no_such_key"), nullptr);
+  EXPECT_EQ(params::findParam("no_such_key"), nullptr);
   EXPECT_TRUE(validNodeParams().validate().empty());
-  EXPECT_TRUE(AicParams().validate().empty());
+  EXPECT_TRUE(params::AicParams().validate().empty());
 }
 
 TEST(ParamSchema, ControllerKeysAreTheMembersOfAicParams)
 {
   // A controller key lives in NodeParams::aic (it survives copying only `aic`); a node key does not.
-  for (const ParamSpec& s : paramSchema())
+  for (const params::ParamSpec& s : params::paramSchema())
   {
-    NodeParams p = validNodeParams();
-    ParamValue changed;
+    params::NodeParams p = validNodeParams();
+    params::ParamValue changed;
     switch (s.type)
     {
-      case ParamType::kDouble:
+      case params::ParamType::kDouble:
         changed = 0.123;
         break;
-      case ParamType::kInt:
+      case params::ParamType::kInt:
         changed = 2;
         break;
-      case ParamType::kBool:
-        changed = !std::get<bool>(s.get(NodeParams()));  // not the default (fdi_enabled defaults to true)
+      case params::ParamType::kBool:
+        changed = !std::get<bool>(s.get(params::NodeParams()));  // not the default (fdi_enabled defaults to true)
         break;
-      case ParamType::kString: {
+      case params::ParamType::kString: {
         // A choice other than the default (any text without choices).
         std::string other = "x";
         for (const auto& c : s.choices)
         {
-          if (ParamValue(c) != defaultValue(s))
+          if (params::ParamValue(c) != params::defaultValue(s))
           {
             other = c;
           }
@@ -184,69 +184,69 @@ TEST(ParamSchema, ControllerKeysAreTheMembersOfAicParams)
         changed = other;
       }
       break;
-      case ParamType::kDoubleList:
+      case params::ParamType::kDoubleList:
         changed = std::vector<double>{ 0.5, 0.5 };
         break;
-      case ParamType::kStringList:
+      case params::ParamType::kStringList:
         changed = std::vector<std::string>{ "x" };
         break;
     }
     ASSERT_TRUE(s.set(p, changed)) << s.key;
     EXPECT_EQ(s.get(p), changed) << s.key;
-    NodeParams only_aic;
+    params::NodeParams only_aic;
     only_aic.aic = p.aic;
-    EXPECT_EQ(s.get(only_aic) == changed, s.scope == ParamScope::kController) << s.key;
-    EXPECT_FALSE(s.type != ParamType::kStringList && s.set(p, std::vector<std::string>{ "x" }))
+    EXPECT_EQ(s.get(only_aic) == changed, s.scope == params::ParamScope::kController) << s.key;
+    EXPECT_FALSE(s.type != params::ParamType::kStringList && s.set(p, std::vector<std::string>{ "x" }))
         << s.key << ": took a value of the wrong type";
   }
-  NodeParams p;
-  ASSERT_TRUE(findParam("k_a")->set(p, 12.0));
+  params::NodeParams p;
+  ASSERT_TRUE(params::findParam("k_a")->set(p, 12.0));
   EXPECT_EQ(p.aic.k_a, 12.0);
-  ASSERT_TRUE(findParam("sensor_timeout")->set(p, 0.3));
+  ASSERT_TRUE(params::findParam("sensor_timeout")->set(p, 0.3));
   EXPECT_EQ(p.sensor_timeout, 0.3);
-  ASSERT_TRUE(findParam("integrator")->set(p, std::string("exact")));
-  EXPECT_EQ(p.aic.integrator, Integrator::kExact);
-  EXPECT_FALSE(findParam("integrator")->set(p, std::string("rk4")));
-  EXPECT_EQ(p.aic.integrator, Integrator::kExact);
-  ASSERT_TRUE(findParam("tau")->set(p, 2));  // an integer is a number
+  ASSERT_TRUE(params::findParam("integrator")->set(p, std::string("exact")));
+  EXPECT_EQ(p.aic.integrator, params::Integrator::kExact);
+  EXPECT_FALSE(params::findParam("integrator")->set(p, std::string("rk4")));
+  EXPECT_EQ(p.aic.integrator, params::Integrator::kExact);
+  ASSERT_TRUE(params::findParam("tau")->set(p, 2));  // an integer is a number
   EXPECT_EQ(p.aic.tau, 2.0);
 }
 
 TEST(ParamSchema, EachRowIsAMemberOfItsOwn)
 {
   // Changing one key's member leaves every other key's value as it was: no two rows share a member.
-  const NodeParams base = validNodeParams();
-  for (const ParamSpec& s : paramSchema())
+  const params::NodeParams base = validNodeParams();
+  for (const params::ParamSpec& s : params::paramSchema())
   {
-    NodeParams p = base;
-    ParamValue changed;
+    params::NodeParams p = base;
+    params::ParamValue changed;
     switch (s.type)
     {
-      case ParamType::kDouble:
+      case params::ParamType::kDouble:
         changed = std::get<double>(s.get(base)) + 0.125;
         break;
-      case ParamType::kInt:
+      case params::ParamType::kInt:
         changed = std::get<int>(s.get(base)) + 1;
         break;
-      case ParamType::kBool:
+      case params::ParamType::kBool:
         changed = !std::get<bool>(s.get(base));
         break;
-      case ParamType::kString: {
+      case params::ParamType::kString: {
         // Another choice (any text without choices).
         const std::string now = std::get<std::string>(s.get(base));
         changed = s.choices.empty() ? std::string("x") : s.choices.back() == now ? s.choices.front() : s.choices.back();
       }
       break;
-      case ParamType::kDoubleList:
+      case params::ParamType::kDoubleList:
         changed = std::vector<double>{ 0.25 };
         break;
-      case ParamType::kStringList:
+      case params::ParamType::kStringList:
         changed = std::vector<std::string>{ "x" };
         break;
     }
     ASSERT_NE(s.get(base), changed) << s.key;
     ASSERT_TRUE(s.set(p, changed)) << s.key;
-    for (const ParamSpec& other : paramSchema())
+    for (const params::ParamSpec& other : params::paramSchema())
     {
       if (std::string(other.key) != s.key)
       {
@@ -258,13 +258,13 @@ TEST(ParamSchema, EachRowIsAMemberOfItsOwn)
 
 TEST(ParamRow, NamedFieldsAndTheCommonRowAsDefaults)
 {
-  const ParamSpec row = ParamRow("active_inference", "latency")
-                            .unit("s")
-                            .atLeast(0.0)
-                            .describe("the robot model's latency")
-                            .member<&AicParams::robot, &RobotModelParams::latency>();
-  EXPECT_EQ(row.type, ParamType::kDouble);
-  EXPECT_EQ(row.scope, ParamScope::kController);
+  const params::ParamSpec row = params::ParamRow("active_inference", "latency")
+                                    .unit("s")
+                                    .atLeast(0.0)
+                                    .describe("the robot model's latency")
+                                    .member<&params::AicParams::robot, &params::RobotModelParams::latency>();
+  EXPECT_EQ(row.type, params::ParamType::kDouble);
+  EXPECT_EQ(row.scope, params::ParamScope::kController);
   EXPECT_EQ(row.min, 0.0);
   EXPECT_FALSE(row.min_exclusive);
   EXPECT_TRUE(std::isinf(row.max));
@@ -273,17 +273,17 @@ TEST(ParamRow, NamedFieldsAndTheCommonRowAsDefaults)
   EXPECT_FALSE(row.required);
   EXPECT_EQ(row.channels, 0);
   EXPECT_EQ(row.slots(), 0);
-  AicParams p;
+  params::AicParams p;
   ASSERT_TRUE(row.set_aic(p, 0.2));
   EXPECT_EQ(p.robot.latency, 0.2);
-  EXPECT_EQ(row.get_aic(p), ParamValue(0.2));
+  EXPECT_EQ(row.get_aic(p), params::ParamValue(0.2));
   EXPECT_FALSE(row.set_aic(p, std::string("x")));
 
-  const ParamSpec flag = ParamRow("active_inference", "tip_guard")
-                             .describe("the tip-over guard")
-                             .notLive()
-                             .member<&AicParams::tip_guard, &TipGuardParams::enabled>();
-  EXPECT_EQ(flag.type, ParamType::kBool);
+  const params::ParamSpec flag = params::ParamRow("active_inference", "tip_guard")
+                                     .describe("the tip-over guard")
+                                     .notLive()
+                                     .member<&params::AicParams::tip_guard, &params::TipGuardParams::enabled>();
+  EXPECT_EQ(flag.type, params::ParamType::kBool);
   EXPECT_FALSE(flag.live);
   EXPECT_TRUE(std::isnan(flag.min));
   EXPECT_TRUE(std::isnan(flag.max));
@@ -292,10 +292,10 @@ TEST(ParamRow, NamedFieldsAndTheCommonRowAsDefaults)
 
 TEST(ParamRow, AnIncompleteRowIsAnErrorNamingItsKey)
 {
-  const auto message = [](const ParamRow& row) -> std::string {
+  const auto message = [](const params::ParamRow& row) -> std::string {
     try
     {
-      const ParamSpec spec = row;
+      const params::ParamSpec spec = row;
       return "";
     }
     catch (const std::logic_error& e)
@@ -303,30 +303,33 @@ TEST(ParamRow, AnIncompleteRowIsAnErrorNamingItsKey)
       return e.what();
     }
   };
-  const std::string no_member = message(ParamRow("loops", "no_member").atLeast(0.0).describe("d"));
+  const std::string no_member = message(params::ParamRow("loops", "no_member").atLeast(0.0).describe("d"));
   EXPECT_NE(no_member.find("no_member: no member"), std::string::npos) << no_member;
-  const std::string no_text = message(ParamRow("loops", "no_text").atLeast(0.0).member<&AicParams::tau>());
+  const std::string no_text =
+      message(params::ParamRow("loops", "no_text").atLeast(0.0).member<&params::AicParams::tau>());
   EXPECT_NE(no_text.find("no_text: no description"), std::string::npos) << no_text;
-  const std::string no_bound = message(ParamRow("loops", "no_bound").describe("d").member<&AicParams::tau>());
+  const std::string no_bound =
+      message(params::ParamRow("loops", "no_bound").describe("d").member<&params::AicParams::tau>());
   EXPECT_NE(no_bound.find("no_bound: a number without a lower bound"), std::string::npos) << no_bound;
-  EXPECT_EQ(message(ParamRow("loops", "complete").above(0.0).describe("d").member<&AicParams::tau>()), "");
+  EXPECT_EQ(message(params::ParamRow("loops", "complete").above(0.0).describe("d").member<&params::AicParams::tau>()),
+            "");
 }
 
 TEST(ParamSchema, RangesDriveValidation)
 {
   // For every number: the bounds themselves are allowed (the lower one unless exclusive),
   // beyond them, NaN and Inf are violations named by the key (or the list element).
-  for (const ParamSpec& s : paramSchema())
+  for (const params::ParamSpec& s : params::paramSchema())
   {
-    if (s.type != ParamType::kDouble && s.type != ParamType::kDoubleList)
+    if (s.type != params::ParamType::kDouble && s.type != params::ParamType::kDoubleList)
     {
       continue;
     }
-    const std::string name = s.type == ParamType::kDouble ? s.key : std::string(s.key) + "[0]";
+    const std::string name = s.type == params::ParamType::kDouble ? s.key : std::string(s.key) + "[0]";
     auto violations = [&](double x) {
-      NodeParams p = validNodeParams();
+      params::NodeParams p = validNodeParams();
       setNumber(s, &p, x);
-      return checkParamRanges(p, s.scope);
+      return params::checkParamRanges(p, s.scope);
     };
     EXPECT_EQ(names(violations(s.min), name), s.min_exclusive) << s.key << " at its minimum " << s.min;
     EXPECT_TRUE(names(violations(s.min - std::max(1e-12, std::abs(s.min) * 1e-3)), name)) << s.key;
@@ -338,18 +341,18 @@ TEST(ParamSchema, RangesDriveValidation)
     EXPECT_TRUE(names(violations(std::numeric_limits<double>::quiet_NaN()), name)) << s.key;
     EXPECT_TRUE(names(violations(kInf), name)) << s.key;
   }
-  NodeParams p = validNodeParams();
+  params::NodeParams p = validNodeParams();
   p.aic.embedding_order = 6;
-  EXPECT_TRUE(names(checkParamRanges(p, ParamScope::kController), "embedding_order"));
+  EXPECT_TRUE(names(params::checkParamRanges(p, params::ParamScope::kController), "embedding_order"));
   p = validNodeParams();
   p.left_joints.clear();
-  EXPECT_TRUE(names(checkParamRanges(p, ParamScope::kNode), "left_joints"));
-  EXPECT_FALSE(names(checkParamRanges(p, ParamScope::kController), "left_joints"));
+  EXPECT_TRUE(names(params::checkParamRanges(p, params::ParamScope::kNode), "left_joints"));
+  EXPECT_FALSE(names(params::checkParamRanges(p, params::ParamScope::kController), "left_joints"));
 }
 
 TEST(ParamSchema, NodeRulesBeyondTheTable)
 {
-  NodeParams p = validNodeParams();
+  params::NodeParams p = validNodeParams();
   p.aic.belief_rate = 20000.0;  // within the core's sanity bound, beyond the node's timers
   EXPECT_TRUE(p.aic.validate().empty());
   EXPECT_TRUE(names(p.validate(), "belief_rate"));
@@ -367,17 +370,17 @@ TEST(ParamSchema, NodeRulesBeyondTheTable)
 
 TEST(ParamSchema, TextsForMessages)
 {
-  EXPECT_EQ(rangeText(*findParam("tau")), ">= 1e-06 and <= 1000, finite");
-  EXPECT_EQ(rangeText(*findParam("k_a")), "> 0 and <= 1000000, finite");
-  EXPECT_EQ(rangeText(*findParam("sensor_timeout")), "> 0 and finite");
-  EXPECT_EQ(rangeText(*findParam("runaway_hold_time")), ">= 0 and finite");
-  EXPECT_EQ(rangeText(*findParam("embedding_order")), "integer in [1, 5]");
-  EXPECT_EQ(rangeText(*findParam("integrator")), "euler | exact");
-  EXPECT_EQ(expectedText(*findParam("tau")), "a number");
-  EXPECT_EQ(expectedText(*findParam("embedding_order")), "an integer");
-  EXPECT_EQ(expectedText(*findParam("integrator")), "a string: euler or exact");
-  EXPECT_EQ(expectedText(*findParam("var_y")), "a list of numbers");
-  EXPECT_EQ(formatParamValue(std::vector<double>{ 1.5, 1e5 }), "[1.5, 100000]");
+  EXPECT_EQ(params::rangeText(*params::findParam("tau")), ">= 1e-06 and <= 1000, finite");
+  EXPECT_EQ(params::rangeText(*params::findParam("k_a")), "> 0 and <= 1000000, finite");
+  EXPECT_EQ(params::rangeText(*params::findParam("sensor_timeout")), "> 0 and finite");
+  EXPECT_EQ(params::rangeText(*params::findParam("runaway_hold_time")), ">= 0 and finite");
+  EXPECT_EQ(params::rangeText(*params::findParam("embedding_order")), "integer in [1, 5]");
+  EXPECT_EQ(params::rangeText(*params::findParam("integrator")), "euler | exact");
+  EXPECT_EQ(params::expectedText(*params::findParam("tau")), "a number");
+  EXPECT_EQ(params::expectedText(*params::findParam("embedding_order")), "an integer");
+  EXPECT_EQ(params::expectedText(*params::findParam("integrator")), "a string: euler or exact");
+  EXPECT_EQ(params::expectedText(*params::findParam("var_y")), "a list of numbers");
+  EXPECT_EQ(params::formatParamValue(std::vector<double>{ 1.5, 1e5 }), "[1.5, 100000]");
   for (double x : { 0.5621, 1e-6, 1e-9, 1e12, 1000.0, 0.025, 1.0 / 3.0, -2.5 })
   {
     EXPECT_EQ(std::strtod(shortestDecimal(x).c_str(), nullptr), x) << shortestDecimal(x);
@@ -391,37 +394,37 @@ TEST(ParamSchema, ReconfigureEntries)
 {
   std::set<std::string> names_seen;
   int slots = 0;
-  for (const ReconfigureEntry& e : reconfigureEntries())
+  for (const params::ReconfigureEntry& e : params::reconfigureEntries())
   {
     EXPECT_TRUE(names_seen.insert(e.name).second) << e.name;
     EXPECT_TRUE(e.row->live) << e.name;
-    EXPECT_TRUE(isKnownKey(e.name, true)) << e.name;
+    EXPECT_TRUE(params::isKnownKey(e.name, true)) << e.name;
     if (e.slot >= 0)
     {
       ++slots;
-      EXPECT_EQ(e.type, ParamType::kDouble);
+      EXPECT_EQ(e.type, params::ParamType::kDouble);
       EXPECT_EQ(e.name, std::string(e.row->key) + "_" + std::to_string(e.slot));
     }
     else
     {
-      EXPECT_EQ(e.default_value, defaultValue(*e.row)) << e.name;
+      EXPECT_EQ(e.default_value, params::defaultValue(*e.row)) << e.name;
     }
   }
-  EXPECT_EQ(slots, 2 * kMaxOrders);  // var_mu_0..5, var_y_0..5
-  EXPECT_FALSE(isKnownKey("var_mu_0", false));
-  EXPECT_TRUE(isKnownKey("diagnostic_period", false));
-  EXPECT_FALSE(isKnownKey("sensor_timout", true));
+  EXPECT_EQ(slots, 2 * base::kMaxOrders);  // var_mu_0..5, var_y_0..5
+  EXPECT_FALSE(params::isKnownKey("var_mu_0", false));
+  EXPECT_TRUE(params::isKnownKey("diagnostic_period", false));
+  EXPECT_FALSE(params::isKnownKey("sensor_timout", true));
   EXPECT_EQ(names_seen.count("left_joints"), 0u);          // not live
   EXPECT_EQ(names_seen.count("min_sample_interval"), 0u);  // not live
   // Slot defaults: the default list, its last element beyond it.
   for (const char* key : { "var_mu", "var_y" })
   {
-    const ParamSpec& s = *findParam(key);
-    ASSERT_EQ(s.slots(), kMaxOrders);
-    const auto list = std::get<std::vector<double>>(defaultValue(s));
-    ASSERT_LT(list.size(), static_cast<std::size_t>(kMaxOrders));
-    EXPECT_EQ(slotDefault(s, 0), list.front());
-    EXPECT_EQ(slotDefault(s, kMaxOrders - 1), list.back());
+    const params::ParamSpec& s = *params::findParam(key);
+    ASSERT_EQ(s.slots(), base::kMaxOrders);
+    const auto list = std::get<std::vector<double>>(params::defaultValue(s));
+    ASSERT_LT(list.size(), static_cast<std::size_t>(base::kMaxOrders));
+    EXPECT_EQ(params::slotDefault(s, 0), list.front());
+    EXPECT_EQ(params::slotDefault(s, base::kMaxOrders - 1), list.back());
   }
 }
 
@@ -455,7 +458,7 @@ TEST(ParamSchema, DefaultYamlHoldsOnlyWhatHasNoDefault)
   // each of its keys with the schema's unit.
   const YAML::Node root = YAML::LoadFile(kSource + "/config/default.yaml");
   ASSERT_TRUE(root.IsMap());
-  for (const ParamSpec& s : paramSchema())
+  for (const params::ParamSpec& s : params::paramSchema())
   {
     SCOPED_TRACE(s.key);
     EXPECT_EQ(bool(root[s.key]), s.required)
@@ -463,12 +466,12 @@ TEST(ParamSchema, DefaultYamlHoldsOnlyWhatHasNoDefault)
   }
   for (const auto& kv : root)
   {
-    EXPECT_NE(findParam(kv.first.as<std::string>()), nullptr) << kv.first.as<std::string>();
+    EXPECT_NE(params::findParam(kv.first.as<std::string>()), nullptr) << kv.first.as<std::string>();
   }
-  const NodeParams p = loadNodeParamsFiles({ kSource + "/config/default.yaml" });
+  const params::NodeParams p = loadNodeParamsFiles({ kSource + "/config/default.yaml" });
   EXPECT_TRUE(p.validate().empty());
   EXPECT_EQ(p.left_joints, (std::vector<std::string>{ "front_left_wheel", "rear_left_wheel" }));
-  EXPECT_EQ(p.aic.integrator, Integrator::kExact);  // forward Euler at these gains diverges
+  EXPECT_EQ(p.aic.integrator, params::Integrator::kExact);  // forward Euler at these gains diverges
   for (const std::string& file : configFiles())
   {
     expectDocumentedAsTheSchema(kSource + "/" + file);
@@ -480,26 +483,27 @@ TEST(ParamSchema, EffectiveYamlLoadsBack)
   // `aic_params --yaml --config ...`: every key with the value the files give; loading that text
   // gives the same parameters, and the defaults' text (`aic_params --yaml`) gives the defaults.
   const std::vector<std::string> files = { kSource + "/config/default.yaml", kSource + "/config/robot.yaml" };
-  const NodeParams robot = loadNodeParamsFiles(files);
+  const params::NodeParams robot = loadNodeParamsFiles(files);
   const std::string text = parameterYaml(&robot, files);
   EXPECT_NE(text.find("config/robot.yaml"), std::string::npos);
-  NodeParams back;
-  const ParamLoadReport r =
-      loadParams(YamlParamSource(YAML::Load(text)), { ParamScope::kController, ParamScope::kNode }, false, &back);
+  params::NodeParams back;
+  const params::ParamLoadReport r = params::loadParams(
+      YamlParamSource(YAML::Load(text)), { params::ParamScope::kController, params::ParamScope::kNode }, false, &back);
   EXPECT_TRUE(r.errors.empty());
   EXPECT_TRUE(r.unknown.empty());
   EXPECT_TRUE(r.defaulted.empty());
-  NodeParams defaults;
-  const ParamLoadReport d = loadParams(YamlParamSource(YAML::Load(parameterYamlTemplate())),
-                                       { ParamScope::kController, ParamScope::kNode }, false, &defaults);
+  params::NodeParams defaults;
+  const params::ParamLoadReport d =
+      params::loadParams(YamlParamSource(YAML::Load(parameterYamlTemplate())),
+                         { params::ParamScope::kController, params::ParamScope::kNode }, false, &defaults);
   EXPECT_TRUE(d.errors.empty());
-  for (const ParamSpec& s : paramSchema())
+  for (const params::ParamSpec& s : params::paramSchema())
   {
     SCOPED_TRACE(s.key);
-    EXPECT_EQ(formatParamValue(s.get(back)), formatParamValue(s.get(robot)));
-    EXPECT_TRUE(s.get(defaults) == defaultValue(s));
+    EXPECT_EQ(params::formatParamValue(s.get(back)), params::formatParamValue(s.get(robot)));
+    EXPECT_TRUE(s.get(defaults) == params::defaultValue(s));
   }
-  EXPECT_NE(robot.aic.reference.delay, NodeParams().aic.reference.delay);  // the overlay's key
+  EXPECT_NE(robot.aic.reference.delay, params::NodeParams().aic.reference.delay);  // the overlay's key
 }
 
 namespace
@@ -533,14 +537,15 @@ TEST(ParamSchema, OverlaysHoldOnlyWhatDiffers)
     {
       const std::string key = kv.first.as<std::string>();
       SCOPED_TRACE(key);
-      const ParamSpec* s = findParam(key);
+      const params::ParamSpec* s = params::findParam(key);
       ASSERT_NE(s, nullptr) << "unknown key in the overlay";
       YAML::Node one;
       one[key] = kv.second;
-      NodeParams from_yaml;
-      ASSERT_TRUE(loadParams(YamlParamSource(one), { ParamScope::kController, ParamScope::kNode }, false, &from_yaml)
+      params::NodeParams from_yaml;
+      ASSERT_TRUE(params::loadParams(YamlParamSource(one),
+                                     { params::ParamScope::kController, params::ParamScope::kNode }, false, &from_yaml)
                       .errors.empty());
-      EXPECT_FALSE(s->get(from_yaml) == defaultValue(*s)) << "a key of the overlay that repeats its default";
+      EXPECT_FALSE(s->get(from_yaml) == params::defaultValue(*s)) << "a key of the overlay that repeats its default";
     }
   }
 }
@@ -554,9 +559,10 @@ TEST(ParamSchema, RobotYamlStopsNoLaterThanTheStockDiffDrive)
   // comment. The first-run overlay keeps it.
   constexpr double kStockCmdVelTimeout = 0.25;  // s
   constexpr double kCycle = 0.02;               // s, 50 Hz
-  const NodeParams robot = loadNodeParamsFiles({ kSource + "/config/default.yaml", kSource + "/config/robot.yaml" });
+  const params::NodeParams robot = loadNodeParamsFiles({ kSource + "/config/default.yaml", kSource + "/config/"
+                                                                                                     "robot.yaml" });
   EXPECT_LE(robot.set_point_timeout + 2.0 * kCycle, kStockCmdVelTimeout);
-  const NodeParams first = loadNodeParamsFiles(
+  const params::NodeParams first = loadNodeParamsFiles(
       { kSource + "/config/default.yaml", kSource + "/config/robot.yaml", kSource + "/config/first_run.yaml" });
   EXPECT_EQ(first.set_point_timeout, robot.set_point_timeout);
   EXPECT_LT(first.max_linear_speed, robot.max_linear_speed);
@@ -574,8 +580,8 @@ void expectDocumentedAsTheSchema(const std::string& path)
   for (const auto& [key, block] : blocks)
   {
     SCOPED_TRACE(path + ": " + key);
-    EXPECT_TRUE(isKnownKey(key, false));
-    const ParamSpec* s = findParam(key);
+    EXPECT_TRUE(params::isKnownKey(key, false));
+    const params::ParamSpec* s = params::findParam(key);
     if (s == nullptr)
     {
       continue;
@@ -594,19 +600,20 @@ TEST(ParamSchema, EveryConfigFileIsValid)
   for (const std::string& file : files)
   {
     SCOPED_TRACE(file);
-    NodeParams p;
+    params::NodeParams p;
     const auto overlay = overlayBases().find(file);
     if (overlay != overlayBases().end())  // an overlay: loaded after its bases
     {
       for (const std::string& base : overlay->second)
       {
-        ASSERT_TRUE(loadParams(YamlParamSource(YAML::LoadFile(kSource + "/" + base)),
-                               { ParamScope::kController, ParamScope::kNode }, false, &p)
+        ASSERT_TRUE(params::loadParams(YamlParamSource(YAML::LoadFile(kSource + "/" + base)),
+                                       { params::ParamScope::kController, params::ParamScope::kNode }, false, &p)
                         .errors.empty());
       }
     }
-    const ParamLoadReport r = loadParams(YamlParamSource(YAML::LoadFile(kSource + "/" + file)),
-                                         { ParamScope::kController, ParamScope::kNode }, false, &p);
+    const params::ParamLoadReport r =
+        params::loadParams(YamlParamSource(YAML::LoadFile(kSource + "/" + file)),
+                           { params::ParamScope::kController, params::ParamScope::kNode }, false, &p);
     EXPECT_TRUE(r.errors.empty()) << r.errors.front().toString();
     EXPECT_TRUE(r.unknown.empty()) << r.unknown.front();
     for (const auto& v : p.validate())
@@ -620,9 +627,9 @@ TEST(ParamSchema, LoadFromYaml)
 {
   const YAML::Node root = YAML::Load("tau: 0.02\nk_a: 3\nembedding_order: 2\nvar_mu: [1, 2, 3]\n"
                                      "sensor_timeout: fast\nintegrator: rk4\nbogus: 1\ndiagnostic_period: 1\n");
-  NodeParams p;
-  const ParamLoadReport r =
-      loadParams(YamlParamSource(root), { ParamScope::kController, ParamScope::kNode }, false, &p);
+  params::NodeParams p;
+  const params::ParamLoadReport r = params::loadParams(
+      YamlParamSource(root), { params::ParamScope::kController, params::ParamScope::kNode }, false, &p);
   EXPECT_EQ(p.aic.tau, 0.02);
   EXPECT_EQ(p.aic.k_a, 3.0);
   EXPECT_EQ(p.aic.embedding_order, 2);
@@ -653,16 +660,17 @@ TEST(ParamSchema, LoadFromYaml)
 
 TEST(YamlOverrides, ParseAndApply)
 {
-  EXPECT_EQ(parseOverride("tau=0.01").key, "tau");
-  EXPECT_EQ(parseOverride("tau=0.01").value, "0.01");
-  EXPECT_EQ(parseOverride("var_y=[2, 20]").value, "[2, 20]");
-  EXPECT_EQ(parseOverride("a.b=x=y").value, "x=y");  // split at the first '='
+  EXPECT_EQ(overrides::parseOverride("tau=0.01").key, "tau");
+  EXPECT_EQ(overrides::parseOverride("tau=0.01").value, "0.01");
+  EXPECT_EQ(overrides::parseOverride("var_y=[2, 20]").value, "[2, 20]");
+  EXPECT_EQ(overrides::parseOverride("a.b=x=y").value, "x=y");  // split at the first '='
   for (const char* bad : { "tau", "=1", "a..b=1", ".a=1", "a.=1", "" })
   {
-    EXPECT_THROW(parseOverride(bad), std::invalid_argument) << bad;
+    EXPECT_THROW(overrides::parseOverride(bad), std::invalid_argument) << bad;
   }
   YAML::Node root = YAML::Load("tau: 0.1\nmotor: {delay: 0.1, gain: 2}\n");
-  applyOverrides(root, { "tau=0.01", "motor.delay=0.05", "sensors.imu.rate=100", "var_y=[1, 2]", "tau=0.02" });
+  overrides::applyOverrides(root,
+                            { "tau=0.01", "motor.delay=0.05", "sensors.imu.rate=100", "var_y=[1, 2]", "tau=0.02" });
   EXPECT_EQ(root["tau"].as<double>(), 0.02);  // later overrides win
   EXPECT_EQ(root["motor"]["delay"].as<double>(), 0.05);
   EXPECT_EQ(root["motor"]["gain"].as<double>(), 2.0);
@@ -670,36 +678,36 @@ TEST(YamlOverrides, ParseAndApply)
   EXPECT_EQ(root["var_y"].as<std::vector<double>>(), (std::vector<double>{ 1, 2 }));
   // Nothing is applied when one override is bad.
   YAML::Node untouched = YAML::Load("tau: 0.1\n");
-  EXPECT_THROW(applyOverrides(untouched, { "tau=0.5", "k_a=[1," }), std::invalid_argument);
+  EXPECT_THROW(overrides::applyOverrides(untouched, { "tau=0.5", "k_a=[1," }), std::invalid_argument);
   EXPECT_EQ(untouched["tau"].as<double>(), 0.1);
-  EXPECT_THROW(applyOverrides(untouched, { "tau" }), std::invalid_argument);
+  EXPECT_THROW(overrides::applyOverrides(untouched, { "tau" }), std::invalid_argument);
 }
 
 TEST(YamlOverrides, OverlayFlattensToOverrides)
 {
   const YAML::Node overlay = YAML::Load("motor: {speed_ki: 8, limits: {max: 4}}\ncontact: {mu1: 0.3}\nbias: [0, 0, "
                                         "0.01]\n");
-  const std::vector<std::string> o = overlayOverrides(overlay, "variant.yaml");
+  const std::vector<std::string> o = overrides::overlayOverrides(overlay, "variant.yaml");
   EXPECT_EQ(o, (std::vector<std::string>{ "motor.speed_ki=8", "motor.limits.max=4", "contact.mu1=0.3",
                                           "bias=[0, 0, 0.01]" }));
   // Applied on a base file, the overlay changes only its own keys.
   YAML::Node base = YAML::Load("motor: {speed_ki: 1, speed_kp: 15}\ncontact: {mu1: 0.5, mu2: 0.5}\n");
-  applyOverrides(base, o);
+  overrides::applyOverrides(base, o);
   EXPECT_EQ(base["motor"]["speed_ki"].as<double>(), 8.0);
   EXPECT_EQ(base["motor"]["speed_kp"].as<double>(), 15.0);
   EXPECT_EQ(base["contact"]["mu2"].as<double>(), 0.5);
   EXPECT_EQ(base["bias"].as<std::vector<double>>(), (std::vector<double>{ 0, 0, 0.01 }));
-  EXPECT_TRUE(overlayOverrides(YAML::Load(""), "empty.yaml").empty());
-  EXPECT_THROW(overlayOverrides(YAML::Load("[1, 2]"), "list.yaml"), std::invalid_argument);
-  EXPECT_THROW(overlayOverrides(YAML::Load("{a.b: 1}"), "dotted.yaml"), std::invalid_argument);
-  EXPECT_THROW(loadOverlayFile("/no/such/overlay.yaml"), std::invalid_argument);
+  EXPECT_TRUE(overrides::overlayOverrides(YAML::Load(""), "empty.yaml").empty());
+  EXPECT_THROW(overrides::overlayOverrides(YAML::Load("[1, 2]"), "list.yaml"), std::invalid_argument);
+  EXPECT_THROW(overrides::overlayOverrides(YAML::Load("{a.b: 1}"), "dotted.yaml"), std::invalid_argument);
+  EXPECT_THROW(overrides::loadOverlayFile("/no/such/overlay.yaml"), std::invalid_argument);
 }
 
 TEST(YamlOverrides, LoadAicParamsAppliesAndValidates)
 {
   const std::string file = kSource + "/config/thesis_standard.yaml";
   EXPECT_EQ(loadAicParams(file, { "tau=0.01", "integrator=exact" }).tau, 0.01);
-  EXPECT_EQ(loadAicParams(file, { "integrator=exact" }).integrator, Integrator::kExact);
+  EXPECT_EQ(loadAicParams(file, { "integrator=exact" }).integrator, params::Integrator::kExact);
   EXPECT_THROW(loadAicParams(file, { "tau=-1" }), std::runtime_error);
   EXPECT_THROW(loadAicParams(file, { "tau" }), std::runtime_error);
   EXPECT_THROW(loadAicParams(kSource + "/no/such/file.yaml"), std::runtime_error);
@@ -735,15 +743,16 @@ TEST(YamlOverrides, AnErrorAnOverrideCausesNamesTheOverride)
 TEST(YamlOverrides, LoadNodeParamsFilesReadsBothScopesInOrder)
 {
   // config/robot.yaml over config/default.yaml, as robot.launch loads them; node keys too.
-  const NodeParams robot = loadNodeParamsFiles({ kSource + "/config/default.yaml", kSource + "/config/robot.yaml" });
-  const NodeParams base = loadNodeParamsFiles({ kSource + "/config/default.yaml" });
+  const params::NodeParams robot = loadNodeParamsFiles({ kSource + "/config/default.yaml", kSource + "/config/"
+                                                                                                     "robot.yaml" });
+  const params::NodeParams base = loadNodeParamsFiles({ kSource + "/config/default.yaml" });
   EXPECT_NE(robot.aic.reference.delay, base.aic.reference.delay);
   EXPECT_EQ(robot.aic.k_a, base.aic.k_a);
   EXPECT_EQ(robot.aic.tau, base.aic.tau);
-  const NodeParams node = loadNodeParamsFiles({ kSource + "/config/default.yaml" },
-                                              { "action_trigger=timer", "belief_schedule=timer", "fdi_enabled=false" });
-  EXPECT_EQ(node.action_trigger, ActionTrigger::kTimer);
-  EXPECT_EQ(node.belief_schedule, BeliefSchedule::kTimer);
+  const params::NodeParams node = loadNodeParamsFiles(
+      { kSource + "/config/default.yaml" }, { "action_trigger=timer", "belief_schedule=timer", "fdi_enabled=false" });
+  EXPECT_EQ(node.action_trigger, params::ActionTrigger::kTimer);
+  EXPECT_EQ(node.belief_schedule, params::BeliefSchedule::kTimer);
   EXPECT_FALSE(node.fdi.enabled);
   // Errors name the file and the key; invalid values list every violation.
   try

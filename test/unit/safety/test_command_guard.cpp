@@ -19,28 +19,29 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 TEST(CommandGuard, FiniteCommandsWithinTheLimitPassUnchanged)
 {
-  const GuardedWheels g = guardWheelCommand(Vector2(3.0, -19.9), 20.0);
-  EXPECT_EQ(g.wheels, Vector2(3.0, -19.9));
+  const safety::GuardedWheels g = safety::guardWheelCommand(base::Vector2(3.0, -19.9), 20.0);
+  EXPECT_EQ(g.wheels, base::Vector2(3.0, -19.9));
   EXPECT_FALSE(g.replaced);
   EXPECT_FALSE(g.clamped);
 }
 
 TEST(CommandGuard, CommandsBeyondTheLimitAreClampedPerWheel)
 {
-  const GuardedWheels g = guardWheelCommand(Vector2(1.0e9, -25.0), 20.0);
-  EXPECT_EQ(g.wheels, Vector2(20.0, -20.0));
+  const safety::GuardedWheels g = safety::guardWheelCommand(base::Vector2(1.0e9, -25.0), 20.0);
+  EXPECT_EQ(g.wheels, base::Vector2(20.0, -20.0));
   EXPECT_TRUE(g.clamped);
   EXPECT_FALSE(g.replaced);
-  const GuardedWheels one = guardWheelCommand(Vector2(5.0, 21.0), 20.0);
-  EXPECT_EQ(one.wheels, Vector2(5.0, 20.0));  // only the wheel beyond the limit changes
+  const safety::GuardedWheels one = safety::guardWheelCommand(base::Vector2(5.0, 21.0), 20.0);
+  EXPECT_EQ(one.wheels, base::Vector2(5.0, 20.0));  // only the wheel beyond the limit changes
 }
 
 TEST(CommandGuard, NonFiniteCommandsBecomeZeroOnBothWheels)
 {
-  for (const Vector2& bad : { Vector2(kNaN, 1.0), Vector2(1.0, kNaN), Vector2(kInf, 0.0), Vector2(0.0, -kInf) })
+  for (const base::Vector2& bad :
+       { base::Vector2(kNaN, 1.0), base::Vector2(1.0, kNaN), base::Vector2(kInf, 0.0), base::Vector2(0.0, -kInf) })
   {
-    const GuardedWheels g = guardWheelCommand(bad, 20.0);
-    EXPECT_EQ(g.wheels, Vector2::Zero()) << bad.transpose();
+    const safety::GuardedWheels g = safety::guardWheelCommand(bad, 20.0);
+    EXPECT_EQ(g.wheels, base::Vector2::Zero()) << bad.transpose();
     EXPECT_TRUE(g.replaced);
   }
 }
@@ -49,8 +50,8 @@ TEST(CommandGuard, AnInvalidLimitNeverLetsACommandThrough)
 {
   for (const double limit : { kNaN, kInf, 0.0, -1.0 })
   {
-    const GuardedWheels g = guardWheelCommand(Vector2(1.0, -1.0), limit);
-    EXPECT_EQ(g.wheels, Vector2::Zero()) << limit;
+    const safety::GuardedWheels g = safety::guardWheelCommand(base::Vector2(1.0, -1.0), limit);
+    EXPECT_EQ(g.wheels, base::Vector2::Zero()) << limit;
     EXPECT_TRUE(g.replaced);
   }
 }

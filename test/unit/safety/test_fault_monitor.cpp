@@ -14,7 +14,7 @@
 #include "jackal_aic/aic/generalizer.hpp"
 
 using namespace jackal_aic;
-using Event = FaultMonitor::Event;
+using Event = safety::FaultMonitor::Event;
 
 namespace
 {
@@ -29,9 +29,9 @@ constexpr double kIsolationDeadline = 0.5;  // s: isolated within 0.5 s
 /// The recommended controller with b_hat fixed: runClosedLoop()'s plant turns by the controller's own
 /// model (G_3 omega), which must not move with what the controller learns. Learning under faults is
 /// checked on the simulated Jackal (test/sim/test_closed_loop_acceptance.cpp).
-AicParams defaultParams()
+params::AicParams defaultParams()
 {
-  AicParams p = recommendedAicParams();
+  params::AicParams p = params::recommendedAicParams();
   p.separation_learner.enabled = false;
   return p;
 }
@@ -45,7 +45,7 @@ struct Fault
     kBias,   ///< y_j += value
     kFreeze  ///< y_j held at its value at `start`
   } kind = kNone;
-  int channel = kOmegaLeft;
+  int channel = base::kOmegaLeft;
   double value = 0.0;
   double start = 0.0;  ///< [s]
   double end = 1e9;    ///< [s]
@@ -59,35 +59,35 @@ struct LoopRun
   int restorations = 0;
   int detections = 0;
   int suspected_channel = -1;
-  Vector3 twist_end = Vector3::Zero();  ///< mean true twist over the last 0.5 s
+  base::Vector3 twist_end = base::Vector3::Zero();  ///< mean true twist over the last 0.5 s
 };
 
 /// Goal as a function of time.
-using GoalFn = Vector3 (*)(double t);
+using GoalFn = base::Vector3 (*)(double t);
 
 /// Controller + FaultMonitor + first-order wheel plant; the true yaw rate is G_3 omega.
 LoopRun runClosedLoop(GoalFn goal, const Fault& fault, bool isolation, double duration, double noise = 0.0,
-                      const AicParams* controller = nullptr)
+                      const params::AicParams* controller = nullptr)
 {
-  const AicParams params = controller ? *controller : defaultParams();
-  ActiveInferenceController c(params);
-  FdiParams fdi;
+  const params::AicParams params = controller ? *controller : defaultParams();
+  aic::ActiveInferenceController c(params);
+  params::FdiParams fdi;
   fdi.enabled = isolation;
-  FaultMonitor monitor(fdi, params);
-  Generalizer gen(kYDim, params.embedding_order);
+  safety::FaultMonitor monitor(fdi, params);
+  aic::Generalizer gen(base::kYDim, params.embedding_order);
   std::mt19937 rng(7);
   std::normal_distribution<double> n01(0.0, 1.0);
-  Vector2 omega = Vector2::Zero();
-  Vector5 frozen = Vector5::Zero();
+  base::Vector2 omega = base::Vector2::Zero();
+  base::Vector5 frozen = base::Vector5::Zero();
   LoopRun run;
-  Vector3 sum = Vector3::Zero();
+  base::Vector3 sum = base::Vector3::Zero();
   int count = 0;
   const int steps = static_cast<int>(std::lround(duration / kSamplePeriod));
   for (int k = 0; k < steps; ++k)
   {
     const double t = k * kSamplePeriod;
-    const Vector3 twist = c.model().twistFromWheels(omega);
-    Vector5 y;
+    const base::Vector3 twist = c.model().twistFromWheels(omega);
+    base::Vector5 y;
     y << twist(2), omega(0), omega(1), 0.0, 0.0;
     for (int j = 0; j < 3; ++j)
     {
@@ -122,9 +122,9 @@ LoopRun runClosedLoop(GoalFn goal, const Fault& fault, bool isolation, double du
     c.setSensorMask(monitor.sensorMask());
     for (int i = 0; i < static_cast<int>(std::lround(kSamplePeriod / kBeliefPeriod)); ++i)
     {
-      EXPECT_NE(c.updateBeliefs(kBeliefPeriod), ActiveInferenceController::Status::kRunaway);
+      EXPECT_NE(c.updateBeliefs(kBeliefPeriod), aic::ActiveInferenceController::Status::kRunaway);
     }
-    EXPECT_NE(c.updateAction(kSamplePeriod), ActiveInferenceController::Status::kRunaway);
+    EXPECT_NE(c.updateAction(kSamplePeriod), aic::ActiveInferenceController::Status::kRunaway);
     // Exact first-order step of the wheel loop over one period with the command held.
     omega = c.action() + (omega - c.action()) * std::exp(-kSamplePeriod / kWheelTimeConstant);
     if (t >= duration - 0.5)
@@ -138,39 +138,39 @@ LoopRun runClosedLoop(GoalFn goal, const Fault& fault, bool isolation, double du
   return run;
 }
 
-Vector3 straight(double)
+base::Vector3 straight(double)
 {
-  return Vector3(0.5, 0.0, 0.0);
+  return base::Vector3(0.5, 0.0, 0.0);
 }
 
 /// Forward steps and arcs, all healthy: the residual must stay below the threshold.
-Vector3 manoeuvres(double t)
+base::Vector3 manoeuvres(double t)
 {
   if (t < 2.0)
   {
-    return Vector3(0.5, 0.0, 0.0);
+    return base::Vector3(0.5, 0.0, 0.0);
   }
   if (t < 4.0)
   {
-    return Vector3(0.3, 0.0, 1.0);
+    return base::Vector3(0.3, 0.0, 1.0);
   }
   if (t < 6.0)
   {
-    return Vector3(1.0, 0.0, -0.8);
+    return base::Vector3(1.0, 0.0, -0.8);
   }
-  return Vector3(0.0, 0.0, 1.5);
+  return base::Vector3(0.0, 0.0, 1.5);
 }
 
 /// A steady turn, then straight driving from 3 s (the gyro freezes at 2 s, during the turn).
-Vector3 turnThenStraight(double t)
+base::Vector3 turnThenStraight(double t)
 {
-  return t < 3.0 ? Vector3(0.4, 0.0, 0.8) : Vector3(0.4, 0.0, 0.0);
+  return t < 3.0 ? base::Vector3(0.4, 0.0, 0.8) : base::Vector3(0.4, 0.0, 0.0);
 }
 }  // namespace
 
 TEST(FdiParams, ValidateNamesEveryViolation)
 {
-  FdiParams p;
+  params::FdiParams p;
   EXPECT_TRUE(p.validate().empty());
   p.threshold = -1.0;
   p.release_ratio = 0.0;
@@ -182,28 +182,28 @@ TEST(FdiParams, ValidateNamesEveryViolation)
   EXPECT_EQ(v[1].name, "fdi_release_ratio");
   EXPECT_EQ(v[2].name, "fdi_detect_time");
   EXPECT_EQ(v[3].name, "fdi_release_time");
-  EXPECT_THROW(FaultMonitor(p, defaultParams()), std::invalid_argument);
+  EXPECT_THROW(safety::FaultMonitor(p, defaultParams()), std::invalid_argument);
 }
 
 TEST(FaultMonitor, ResidualIsTheParityOfTheThreeChannels)
 {
-  const AicParams a = defaultParams();
-  FaultMonitor m(FdiParams(), a);
+  const params::AicParams a = defaultParams();
+  safety::FaultMonitor m(params::FdiParams(), a);
   const double c = a.wheel_radius * a.slip_factor / a.wheel_separation;
   // Consistent sample: gyro = c (omega_R - omega_L).
-  Vector5 y;
+  base::Vector5 y;
   y << c * (6.0 - 4.0), 4.0, 6.0, 0.3, -0.2;
-  EXPECT_EQ(m.update(y, Vector3::Zero(), 0.0), Event::kNone);
+  EXPECT_EQ(m.update(y, base::Vector3::Zero(), 0.0), Event::kNone);
   EXPECT_NEAR(m.residual(), 0.0, 1e-12);
   // Each leave-one-out twist reproduces the same twist for consistent channels.
-  for (int j : FaultMonitor::kChannels)
+  for (int j : safety::FaultMonitor::kChannels)
   {
-    const Vector3 x = m.twistWithout(j, y);
-    EXPECT_NEAR(x(0), 0.5 * a.wheel_radius * 10.0, 1e-12) << FaultMonitor::channelName(j);
-    EXPECT_NEAR(x(2), c * 2.0, 1e-12) << FaultMonitor::channelName(j);
+    const base::Vector3 x = m.twistWithout(j, y);
+    EXPECT_NEAR(x(0), 0.5 * a.wheel_radius * 10.0, 1e-12) << safety::FaultMonitor::channelName(j);
+    EXPECT_NEAR(x(2), c * 2.0, 1e-12) << safety::FaultMonitor::channelName(j);
   }
-  y(kOmegaLeft) += 1.0;
-  m.update(y, Vector3::Zero(), kSamplePeriod);
+  y(base::kOmegaLeft) += 1.0;
+  m.update(y, base::Vector3::Zero(), kSamplePeriod);
   EXPECT_NEAR(m.residual(), c * 1.0, 1e-12);
   const double pi_r = 1.0 / (2.0 + c * c * 4.0);  // var_y order 0 = 2 for every channel
   EXPECT_NEAR(m.statistic(), pi_r * c * c, 1e-12);
@@ -211,91 +211,91 @@ TEST(FaultMonitor, ResidualIsTheParityOfTheThreeChannels)
 
 TEST(FaultMonitor, BadInputIsIgnoredAndCounted)
 {
-  FaultMonitor m(FdiParams(), defaultParams());
-  Vector5 y = Vector5::Zero();
-  EXPECT_EQ(m.update(y, Vector3::Zero(), -0.01), Event::kNone);
-  EXPECT_EQ(m.update(y, Vector3::Zero(), kNaN), Event::kNone);
-  y(kGyroZ) = kNaN;
-  EXPECT_EQ(m.update(y, Vector3::Zero(), 0.02), Event::kNone);
+  safety::FaultMonitor m(params::FdiParams(), defaultParams());
+  base::Vector5 y = base::Vector5::Zero();
+  EXPECT_EQ(m.update(y, base::Vector3::Zero(), -0.01), Event::kNone);
+  EXPECT_EQ(m.update(y, base::Vector3::Zero(), kNaN), Event::kNone);
+  y(base::kGyroZ) = kNaN;
+  EXPECT_EQ(m.update(y, base::Vector3::Zero(), 0.02), Event::kNone);
   EXPECT_EQ(m.ignoredSamples(), 3u);
   EXPECT_EQ(m.isolatedChannel(), -1);
 }
 
 TEST(FaultMonitor, HysteresisIsolatesAfterDetectTimeAndRestoresAfterReleaseTime)
 {
-  FdiParams fdi;
+  params::FdiParams fdi;
   fdi.detect_time = 0.1;
   fdi.release_time = 0.5;
-  FaultMonitor m(fdi, defaultParams());
-  Vector5 bad = Vector5::Zero();
-  bad(kGyroZ) = 1.0;  // a yaw rate the wheels do not show; the belief says "not turning"
+  safety::FaultMonitor m(fdi, defaultParams());
+  base::Vector5 bad = base::Vector5::Zero();
+  bad(base::kGyroZ) = 1.0;  // a yaw rate the wheels do not show; the belief says "not turning"
   int isolated_at = -1;
   for (int k = 0; k < 20 && isolated_at < 0; ++k)
   {
-    if (m.update(bad, Vector3::Zero(), kSamplePeriod) == Event::kIsolated)
+    if (m.update(bad, base::Vector3::Zero(), kSamplePeriod) == Event::kIsolated)
     {
       isolated_at = k;
     }
   }
   // The first sample above the threshold starts the window; 0.1 s later (5 more samples) it is confirmed.
   EXPECT_EQ(isolated_at, 5);
-  EXPECT_EQ(m.isolatedChannel(), kGyroZ);
-  EXPECT_EQ(m.sensorMask() & (1u << kGyroZ), 0u);
+  EXPECT_EQ(m.isolatedChannel(), base::kGyroZ);
+  EXPECT_EQ(m.sensorMask() & (1u << base::kGyroZ), 0u);
   EXPECT_NEAR(m.lastDetectionDelay(), 0.1, 1e-9);
   // Agreeing again: restored only after release_time below the release level.
-  const Vector5 good = Vector5::Zero();
+  const base::Vector5 good = base::Vector5::Zero();
   int restored_at = -1;
   for (int k = 0; k < 60 && restored_at < 0; ++k)
   {
-    if (m.update(good, Vector3::Zero(), kSamplePeriod) == Event::kRestored)
+    if (m.update(good, base::Vector3::Zero(), kSamplePeriod) == Event::kRestored)
     {
       restored_at = k;
     }
   }
   EXPECT_EQ(restored_at, 24);  // 25 samples of 0.02 s = 0.5 s
   EXPECT_EQ(m.isolatedChannel(), -1);
-  EXPECT_EQ(m.sensorMask(), (1u << kYDim) - 1u);
+  EXPECT_EQ(m.sensorMask(), (1u << base::kYDim) - 1u);
   EXPECT_EQ(m.isolations(), 1u);
   EXPECT_EQ(m.restorations(), 1u);
 }
 
 TEST(FaultMonitor, ImuMissingMasksTheImuChannelsAndPausesTheTest)
 {
-  FaultMonitor m(FdiParams(), defaultParams());
+  safety::FaultMonitor m(params::FdiParams(), defaultParams());
   m.setImuAvailable(false);
-  EXPECT_EQ(m.sensorMask(), (1u << kOmegaLeft) | (1u << kOmegaRight));
-  Vector5 y = Vector5::Zero();
-  y(kOmegaLeft) = 5.0;  // would be a fault with the gyro
+  EXPECT_EQ(m.sensorMask(), (1u << base::kOmegaLeft) | (1u << base::kOmegaRight));
+  base::Vector5 y = base::Vector5::Zero();
+  y(base::kOmegaLeft) = 5.0;  // would be a fault with the gyro
   for (int k = 0; k < 50; ++k)
   {
-    EXPECT_EQ(m.update(y, Vector3::Zero(), kSamplePeriod), Event::kNone);
+    EXPECT_EQ(m.update(y, base::Vector3::Zero(), kSamplePeriod), Event::kNone);
   }
   EXPECT_TRUE(std::isnan(m.statistic()));
   m.setImuAvailable(true);
-  EXPECT_EQ(m.sensorMask(), (1u << kYDim) - 1u);
+  EXPECT_EQ(m.sensorMask(), (1u << base::kYDim) - 1u);
 }
 
 TEST(SensorMask, MaskedChannelLeavesFreeEnergyBeliefsAndAction)
 {
-  for (const Integrator integrator : { Integrator::kEuler, Integrator::kExact })
+  for (const params::Integrator integrator : { params::Integrator::kEuler, params::Integrator::kExact })
   {
-    AicParams p = defaultParams();
+    params::AicParams p = defaultParams();
     p.integrator = integrator;
-    ActiveInferenceController masked(p);
-    ActiveInferenceController clean(p);
-    YTilde y = YTilde::Zero(kYDim, p.numOrders());
-    y(kGyroZ, 0) = 0.3;
-    y(kOmegaRight, 0) = 4.0;
-    YTilde y_bad = y;
-    y_bad(kOmegaLeft, 0) = 50.0;  // garbage on the masked channel
-    y_bad(kOmegaLeft, 1) = -30.0;
-    const std::uint8_t mask = static_cast<std::uint8_t>(((1u << kYDim) - 1u) & ~(1u << kOmegaLeft));
+    aic::ActiveInferenceController masked(p);
+    aic::ActiveInferenceController clean(p);
+    base::YTilde y = base::YTilde::Zero(base::kYDim, p.numOrders());
+    y(base::kGyroZ, 0) = 0.3;
+    y(base::kOmegaRight, 0) = 4.0;
+    base::YTilde y_bad = y;
+    y_bad(base::kOmegaLeft, 0) = 50.0;  // garbage on the masked channel
+    y_bad(base::kOmegaLeft, 1) = -30.0;
+    const std::uint8_t mask = static_cast<std::uint8_t>(((1u << base::kYDim) - 1u) & ~(1u << base::kOmegaLeft));
     masked.setSensorMask(mask);
     clean.setSensorMask(mask);
     EXPECT_EQ(masked.sensorMask(), mask);
-    EXPECT_EQ(masked.precisionY().row(kOmegaLeft).cwiseAbs().maxCoeff(), 0.0);
-    masked.setGoal(Vector3(0.5, 0.0, 0.2));
-    clean.setGoal(Vector3(0.5, 0.0, 0.2));
+    EXPECT_EQ(masked.precisionY().row(base::kOmegaLeft).cwiseAbs().maxCoeff(), 0.0);
+    masked.setGoal(base::Vector3(0.5, 0.0, 0.2));
+    clean.setGoal(base::Vector3(0.5, 0.0, 0.2));
     ASSERT_TRUE(masked.setMeasurement(y_bad));
     ASSERT_TRUE(clean.setMeasurement(y));
     for (int k = 0; k < 40; ++k)
@@ -312,8 +312,8 @@ TEST(SensorMask, MaskedChannelLeavesFreeEnergyBeliefsAndAction)
     masked.setParams(p);
     EXPECT_EQ(masked.sensorMask(), mask);
     masked.setSensorMask(0xFF);
-    EXPECT_EQ(masked.sensorMask(), (1u << kYDim) - 1u);
-    EXPECT_GT(masked.precisionY()(kOmegaLeft, 0), 0.0);
+    EXPECT_EQ(masked.sensorMask(), (1u << base::kYDim) - 1u);
+    EXPECT_GT(masked.precisionY()(base::kOmegaLeft, 0), 0.0);
   }
 }
 
@@ -322,20 +322,20 @@ TEST(ClosedLoopFdi, HealthyManoeuvresRaiseNoFault)
   Fault none;
   const LoopRun run = runClosedLoop(&manoeuvres, none, true, 8.0, 0.05);
   EXPECT_TRUE(std::isnan(run.isolated_at))
-      << "isolated " << FaultMonitor::channelName(run.isolated_channel) << " at " << run.isolated_at << " s";
+      << "isolated " << safety::FaultMonitor::channelName(run.isolated_channel) << " at " << run.isolated_at << " s";
 }
 
 TEST(ClosedLoopFdi, EncoderBiasIsIsolatedAndTheSpeedHeld)
 {
   Fault bias;
   bias.kind = Fault::kBias;
-  bias.channel = kOmegaLeft;
+  bias.channel = base::kOmegaLeft;
   bias.value = 2.5;  // rad/s (0.25 m/s of wheel speed) on the left encoder (below max_action_lead)
   bias.start = 3.0;
   const LoopRun isolated = runClosedLoop(&straight, bias, true, 11.0, 0.05);
   std::printf("bias: isolated after %.2f s, v_x %.4f m/s isolated, ", isolated.isolated_at - bias.start,
               isolated.twist_end(0));
-  EXPECT_EQ(isolated.isolated_channel, kOmegaLeft);
+  EXPECT_EQ(isolated.isolated_channel, base::kOmegaLeft);
   EXPECT_LE(isolated.isolated_at - bias.start, kIsolationDeadline);
   EXPECT_NEAR(isolated.twist_end(0), 0.5, kSpeedErrorTol * 0.5);
   EXPECT_EQ(isolated.restorations, 0);  // the bias persists, so the channel stays out
@@ -345,7 +345,7 @@ TEST(ClosedLoopFdi, EncoderBiasIsIsolatedAndTheSpeedHeld)
   std::printf("%.4f m/s without isolation\n", unisolated.twist_end(0));
   EXPECT_TRUE(std::isnan(unisolated.isolated_at));
   EXPECT_GE(unisolated.detections, 1);
-  EXPECT_EQ(unisolated.suspected_channel, kOmegaLeft);  // found, reported, not isolated
+  EXPECT_EQ(unisolated.suspected_channel, base::kOmegaLeft);  // found, reported, not isolated
 }
 
 TEST(ClosedLoopFdi, EncoderBiasMisleadsTheFreeEnergyActionUnlessIsolated)
@@ -356,10 +356,10 @@ TEST(ClosedLoopFdi, EncoderBiasMisleadsTheFreeEnergyActionUnlessIsolated)
   // converging at the end).
   Fault bias;
   bias.kind = Fault::kBias;
-  bias.channel = kOmegaLeft;
+  bias.channel = base::kOmegaLeft;
   bias.value = 2.5;
   bias.start = 3.0;
-  AicParams p = defaultParams();
+  params::AicParams p = defaultParams();
   p.reference.generalized_goal = false;
   p.reference.time_constant = 0.0;
   p.action_prior.gain = 0.0;
@@ -371,7 +371,7 @@ TEST(ClosedLoopFdi, EncoderBiasMisleadsTheFreeEnergyActionUnlessIsolated)
   p.anti_windup.max_action_lead = 4.367;
   const LoopRun isolated = runClosedLoop(&straight, bias, true, 11.0, 0.05, &p);
   const LoopRun unisolated = runClosedLoop(&straight, bias, false, 11.0, 0.05, &p);
-  EXPECT_EQ(isolated.isolated_channel, kOmegaLeft);
+  EXPECT_EQ(isolated.isolated_channel, base::kOmegaLeft);
   EXPECT_GT(std::abs(unisolated.twist_end(0) - 0.5), kSpeedErrorTol * 0.5);
   EXPECT_GT(std::abs(unisolated.twist_end(0) - 0.5), 2.0 * std::abs(isolated.twist_end(0) - 0.5));
 }
@@ -380,12 +380,12 @@ TEST(ClosedLoopFdi, BiasRemovedRestoresTheChannel)
 {
   Fault bias;
   bias.kind = Fault::kBias;
-  bias.channel = kOmegaRight;
+  bias.channel = base::kOmegaRight;
   bias.value = -2.5;
   bias.start = 2.0;
   bias.end = 4.0;
   const LoopRun run = runClosedLoop(&straight, bias, true, 7.0);
-  EXPECT_EQ(run.isolated_channel, kOmegaRight);
+  EXPECT_EQ(run.isolated_channel, base::kOmegaRight);
   EXPECT_EQ(run.restorations, 1);
   EXPECT_NEAR(run.twist_end(0), 0.5, kSpeedErrorTol * 0.5);
 }
@@ -394,10 +394,10 @@ TEST(ClosedLoopFdi, GyroFreezeDuringATurnIsIsolated)
 {
   Fault freeze;
   freeze.kind = Fault::kFreeze;
-  freeze.channel = kGyroZ;
+  freeze.channel = base::kGyroZ;
   freeze.start = 2.0;  // during the steady turn; the set point goes straight at 3 s
   const LoopRun isolated = runClosedLoop(&turnThenStraight, freeze, true, 6.0, 0.02);
-  EXPECT_EQ(isolated.isolated_channel, kGyroZ);
+  EXPECT_EQ(isolated.isolated_channel, base::kGyroZ);
   EXPECT_NEAR(isolated.twist_end(2), 0.0, 0.05);  // rad/s: drives straight
   EXPECT_NEAR(isolated.twist_end(0), 0.4, kSpeedErrorTol * 0.4);
   const LoopRun unisolated = runClosedLoop(&turnThenStraight, freeze, false, 6.0, 0.02);
@@ -407,9 +407,9 @@ TEST(ClosedLoopFdi, GyroFreezeDuringATurnIsIsolated)
 TEST(SensorMask, LoweringTheWheelLimitClampsTheHeldAction)
 {
   // Found by the fuzz target (test/fuzz/fuzz_core.cpp): setParams() kept an action beyond a lowered limit.
-  AicParams p = defaultParams();
-  ActiveInferenceController c(p);
-  c.setAction(Vector2(15.0, -15.0));
+  params::AicParams p = defaultParams();
+  aic::ActiveInferenceController c(p);
+  c.setAction(base::Vector2(15.0, -15.0));
   p.max_wheel_speed = 5.0;
   c.setParams(p);
   EXPECT_DOUBLE_EQ(c.action()(0), 5.0);

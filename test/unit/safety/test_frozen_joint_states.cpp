@@ -20,42 +20,42 @@ namespace jackal_aic
 {
 namespace
 {
-using Event = FrozenJointStates::Event;
+using Event = safety::FrozenJointStates::Event;
 constexpr double kPeriod = 0.02;  // jackal_node's loop [s]
 
 /// A sample stamped t of a robot driving at `speed` rad/s on both wheels, its data measured at travel_time.
-FrozenJointStates::Input driving(double t, double speed, double travel_time)
+safety::FrozenJointStates::Input driving(double t, double speed, double travel_time)
 {
-  FrozenJointStates::Input in;
+  safety::FrozenJointStates::Input in;
   in.stamp = t;
-  in.travel = Vector2(speed * travel_time, speed * travel_time);
+  in.travel = base::Vector2(speed * travel_time, speed * travel_time);
   in.has_travel = true;
-  in.speed = Vector2(speed, speed);
+  in.speed = base::Vector2(speed, speed);
   return in;
 }
 
 TEST(FrozenJointStates, RefusesBadSettings)
 {
-  EXPECT_THROW(FrozenJointStates(0.0), std::invalid_argument);
-  EXPECT_THROW(FrozenJointStates(-0.1), std::invalid_argument);
-  EXPECT_THROW(FrozenJointStates(std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
-  EXPECT_THROW(FrozenJointStates(0.1, -1.0), std::invalid_argument);
-  EXPECT_THROW(FrozenJointStates(0.1, std::numeric_limits<double>::infinity()), std::invalid_argument);
-  EXPECT_NO_THROW(FrozenJointStates(0.1, 0.0));
+  EXPECT_THROW(safety::FrozenJointStates(0.0), std::invalid_argument);
+  EXPECT_THROW(safety::FrozenJointStates(-0.1), std::invalid_argument);
+  EXPECT_THROW(safety::FrozenJointStates(std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
+  EXPECT_THROW(safety::FrozenJointStates(0.1, -1.0), std::invalid_argument);
+  EXPECT_THROW(safety::FrozenJointStates(0.1, std::numeric_limits<double>::infinity()), std::invalid_argument);
+  EXPECT_NO_THROW(safety::FrozenJointStates(0.1, 0.0));
 }
 
 TEST(FrozenJointStates, NamedTimeIsAFewMcuPeriods)
 {
-  EXPECT_DOUBLE_EQ(kFrozenJointStateTime, 0.1);
-  EXPECT_GE(kFrozenJointStateTime, 3.0 * kPeriod);
-  EXPECT_DOUBLE_EQ(FrozenJointStates().holdTime(), kFrozenJointStateTime);
+  EXPECT_DOUBLE_EQ(safety::kFrozenJointStateTime, 0.1);
+  EXPECT_GE(safety::kFrozenJointStateTime, 3.0 * kPeriod);
+  EXPECT_DOUBLE_EQ(safety::FrozenJointStates().holdTime(), safety::kFrozenJointStateTime);
 }
 
 // A healthy re-sampled stream: every fourth cycle repeats the previous one (25 %, above the
 // sampler's highest rate), for a minute of driving: never frozen.
 TEST(FrozenJointStates, SingleRepeatsWhileDrivingNeverCount)
 {
-  FrozenJointStates f;
+  safety::FrozenJointStates f;
   double source = 0.0;
   for (int k = 0; k < 3000; ++k)
   {
@@ -75,7 +75,7 @@ TEST(FrozenJointStates, SingleRepeatsWhileDrivingNeverCount)
 // Even a run of four repeats (0.08 s of the same data) stays below the limit.
 TEST(FrozenJointStates, RepeatsUpToTheLimitDoNotCount)
 {
-  FrozenJointStates f;
+  safety::FrozenJointStates f;
   f.update(driving(0.0, 5.0, 0.0));
   for (int k = 1; k <= 5; ++k)
   {
@@ -89,7 +89,7 @@ TEST(FrozenJointStates, RepeatsUpToTheLimitDoNotCount)
 // more than kFrozenJointStateTime after the data's first, and for as long as they repeat.
 TEST(FrozenJointStates, FreezeWhileDrivingIsFrozenAfterTheHoldTime)
 {
-  FrozenJointStates f;
+  safety::FrozenJointStates f;
   for (int k = 0; k < 50; ++k)
   {
     f.update(driving(k * kPeriod, 8.0, k * kPeriod));
@@ -103,8 +103,8 @@ TEST(FrozenJointStates, FreezeWhileDrivingIsFrozenAfterTheHoldTime)
   }
   EXPECT_EQ(e, Event::kFrozen);
   const double t_frozen = (k - 1) * kPeriod;
-  EXPECT_GT(t_frozen - t_last, kFrozenJointStateTime);
-  EXPECT_LE(t_frozen - t_last, kFrozenJointStateTime + kPeriod + 1e-12);
+  EXPECT_GT(t_frozen - t_last, safety::kFrozenJointStateTime);
+  EXPECT_LE(t_frozen - t_last, safety::kFrozenJointStateTime + kPeriod + 1e-12);
   EXPECT_TRUE(f.frozen());
   EXPECT_EQ(f.events(), 1u);
   for (int j = 0; j < 100; ++j, ++k)
@@ -123,11 +123,11 @@ TEST(FrozenJointStates, OneWheelTurningCounts)
 {
   for (const double speed : { 0.06, -3.0 })
   {
-    FrozenJointStates f;
-    FrozenJointStates::Input in;
+    safety::FrozenJointStates f;
+    safety::FrozenJointStates::Input in;
     in.has_travel = true;
-    in.travel = Vector2(2.0, 1.0);
-    in.speed = Vector2(0.0, speed);
+    in.travel = base::Vector2(2.0, 1.0);
+    in.speed = base::Vector2(0.0, speed);
     int k = 0;
     Event e = Event::kNone;
     for (; e == Event::kNone && k < 20; ++k)
@@ -145,14 +145,14 @@ TEST(FrozenJointStates, OneWheelTurningCounts)
 // froze at rest: not counted).
 TEST(FrozenJointStates, StandingNeverCounts)
 {
-  FrozenJointStates f;
-  FrozenJointStates::Input in;
+  safety::FrozenJointStates f;
+  safety::FrozenJointStates::Input in;
   in.has_travel = true;
-  in.travel = Vector2(3.0, -2.0);
+  in.travel = base::Vector2(3.0, -2.0);
   for (int k = 0; k < 5000; ++k)
   {
     in.stamp = k * kPeriod;
-    in.speed = k < 2500 ? Vector2(0.0, 0.0) : Vector2(0.04, -0.05);
+    in.speed = k < 2500 ? base::Vector2(0.0, 0.0) : base::Vector2(0.04, -0.05);
     const Event e = f.update(in);
     EXPECT_EQ(e, Event::kNone) << k;
   }
@@ -166,8 +166,8 @@ TEST(FrozenJointStates, AnyChangeIsNewData)
 {
   for (int which = 0; which < 4; ++which)
   {
-    FrozenJointStates f;
-    FrozenJointStates::Input in = driving(0.0, 6.0, 1.0);
+    safety::FrozenJointStates f;
+    safety::FrozenJointStates::Input in = driving(0.0, 6.0, 1.0);
     for (int k = 0; k < 100; ++k)
     {
       in.stamp = k * kPeriod;
@@ -185,10 +185,10 @@ TEST(FrozenJointStates, AnyChangeIsNewData)
 // Without positions the speeds alone cannot tell a frozen MCU from a constant speed: no verdict.
 TEST(FrozenJointStates, WithoutPositionsNoVerdict)
 {
-  FrozenJointStates f;
-  FrozenJointStates::Input in = driving(0.0, 6.0, 1.0);
+  safety::FrozenJointStates f;
+  safety::FrozenJointStates::Input in = driving(0.0, 6.0, 1.0);
   in.has_travel = false;
-  in.travel = Vector2::Zero();
+  in.travel = base::Vector2::Zero();
   for (int k = 0; k < 100; ++k)
   {
     in.stamp = k * kPeriod;
@@ -199,7 +199,7 @@ TEST(FrozenJointStates, WithoutPositionsNoVerdict)
 
 TEST(FrozenJointStates, ResetForgetsTheDataAndTheVerdict)
 {
-  FrozenJointStates f;
+  safety::FrozenJointStates f;
   for (int k = 0; k < 10; ++k)
   {
     f.update(driving(k * kPeriod, 8.0, 0.0));
@@ -215,9 +215,9 @@ TEST(FrozenJointStates, ResetForgetsTheDataAndTheVerdict)
 
 TEST(FrozenJointStates, EventNames)
 {
-  EXPECT_STREQ(toString(Event::kNone), "none");
-  EXPECT_STREQ(toString(Event::kFrozen), "frozen");
-  EXPECT_STREQ(toString(Event::kThawed), "thawed");
+  EXPECT_STREQ(safety::toString(Event::kNone), "none");
+  EXPECT_STREQ(safety::toString(Event::kFrozen), "frozen");
+  EXPECT_STREQ(safety::toString(Event::kThawed), "thawed");
 }
 
 }  // namespace

@@ -19,17 +19,17 @@ namespace jackal_aic
 {
 namespace
 {
-using Event = OutputConflict::Event;
+using Event = safety::OutputConflict::Event;
 
 TEST(OutputConflict, RefusesEmptyNames)
 {
-  EXPECT_THROW(OutputConflict("", "/jackal_AIC"), std::invalid_argument);
-  EXPECT_THROW(OutputConflict("/cmd_drive", ""), std::invalid_argument);
+  EXPECT_THROW(safety::OutputConflict("", "/jackal_AIC"), std::invalid_argument);
+  EXPECT_THROW(safety::OutputConflict("/cmd_drive", ""), std::invalid_argument);
 }
 
 TEST(OutputConflict, ItselfAloneIsNoConflict)
 {
-  OutputConflict c("/cmd_drive", "/jackal_AIC");
+  safety::OutputConflict c("/cmd_drive", "/jackal_AIC");
   EXPECT_EQ(c.update({}, 0.0), Event::kNone);
   EXPECT_EQ(c.update({ "/jackal_AIC" }, 0.1), Event::kNone);
   EXPECT_EQ(c.update({ "/jackal_AIC", "", "/jackal_AIC" }, 0.2), Event::kNone);
@@ -42,7 +42,7 @@ TEST(OutputConflict, ItselfAloneIsNoConflict)
 
 TEST(OutputConflict, StartsChangesAndEnds)
 {
-  OutputConflict c("/jackal_velocity_controller/cmd_vel", "/jackal_AIC");
+  safety::OutputConflict c("/jackal_velocity_controller/cmd_vel", "/jackal_AIC");
   // Another publisher appears: one kStarted naming it, then nothing while it stays.
   EXPECT_EQ(c.update({ "/jackal_AIC", "/twist_mux" }, 1.0), Event::kStarted);
   EXPECT_TRUE(c.conflicted());
@@ -72,7 +72,7 @@ TEST(OutputConflict, StartsChangesAndEnds)
 
 TEST(OutputConflict, AFailedQueryKeepsTheState)
 {
-  OutputConflict c("/cmd_drive", "/jackal_AIC");
+  safety::OutputConflict c("/cmd_drive", "/jackal_AIC");
   EXPECT_EQ(c.update({ "/jackal_node" }, 0.0), Event::kStarted);
   c.queryFailed();
   EXPECT_TRUE(c.conflicted());
@@ -85,13 +85,13 @@ TEST(OutputConflict, AFailedQueryKeepsTheState)
 
 TEST(OutputConflict, EventNames)
 {
-  EXPECT_STREQ(toString(Event::kNone), "none");
-  EXPECT_STREQ(toString(Event::kStarted), "started");
-  EXPECT_STREQ(toString(Event::kChanged), "changed");
-  EXPECT_STREQ(toString(Event::kEnded), "ended");
+  EXPECT_STREQ(safety::toString(Event::kNone), "none");
+  EXPECT_STREQ(safety::toString(Event::kStarted), "started");
+  EXPECT_STREQ(safety::toString(Event::kChanged), "changed");
+  EXPECT_STREQ(safety::toString(Event::kEnded), "ended");
 }
 
-class FakeClock : public Clock
+class FakeClock : public loop::Clock
 {
 public:
   double now() const override { return t; }
@@ -101,26 +101,26 @@ public:
 TEST(SupervisorBlocked, BlockedOutranksEveryOtherStateAndReleases)
 {
   FakeClock clock;
-  NodeParams p;
+  params::NodeParams p;
   p.left_joints = { "l" };
   p.right_joints = { "r" };
-  Supervisor s(p, clock);
+  loop::Supervisor s(p, clock);
   const double sp[6] = { 0.5, 0, 0, 0, 0, 0 };
   for (int i = 0; i < p.aic.numOrders(); ++i)
   {
     clock.t += 0.02;
     s.setPoint(sp);
-    s.sampleAccepted(Vector2(1.0, 1.0));
+    s.sampleAccepted(base::Vector2(1.0, 1.0));
   }
   ASSERT_TRUE(s.update().activate());
   EXPECT_TRUE(s.active());
 
   s.outputBlocked(true, "another node publishes on /cmd_drive: /jackal_node; publishing nothing there");
-  Supervisor::Transition t = s.update();
+  loop::Supervisor::Transition t = s.update();
   EXPECT_TRUE(t.deactivate());
   EXPECT_FALSE(t.warn());  // the node logs the conflict itself (one ERROR)
-  EXPECT_EQ(s.state(), NodeState::kBlocked);
-  EXPECT_STREQ(toString(s.state()), "blocked");
+  EXPECT_EQ(s.state(), loop::NodeState::kBlocked);
+  EXPECT_STREQ(loop::toString(s.state()), "blocked");
   EXPECT_NE(s.reason().find("/jackal_node"), std::string::npos);
   EXPECT_TRUE(s.blocked());
   EXPECT_EQ(s.blockedEvents(), 1u);
@@ -128,7 +128,7 @@ TEST(SupervisorBlocked, BlockedOutranksEveryOtherStateAndReleases)
   clock.t += 1.0;
   s.mcuStatus(false, false, false);
   EXPECT_FALSE(s.update().changed);
-  EXPECT_EQ(s.state(), NodeState::kBlocked);
+  EXPECT_EQ(s.state(), loop::NodeState::kBlocked);
   // A different other publisher: the reason follows, no new entry.
   s.outputBlocked(true, "another node publishes on /cmd_drive: /a, /jackal_node; publishing nothing there");
   EXPECT_FALSE(s.update().changed);
@@ -137,13 +137,13 @@ TEST(SupervisorBlocked, BlockedOutranksEveryOtherStateAndReleases)
   // Released: back to what the inputs say (stale here), then running on fresh inputs.
   s.outputBlocked(false);
   s.mcuStatus(true, false, false);
-  EXPECT_EQ(s.update().to, NodeState::kStale);
+  EXPECT_EQ(s.update().to, loop::NodeState::kStale);
   EXPECT_FALSE(s.blocked());
   for (int i = 0; i < p.aic.numOrders() + 1; ++i)
   {
     clock.t += 0.02;
     s.setPoint(sp);
-    s.sampleAccepted(Vector2(1.0, 1.0));
+    s.sampleAccepted(base::Vector2(1.0, 1.0));
     s.update();
   }
   EXPECT_TRUE(s.active());

@@ -13,7 +13,7 @@ namespace
 {
 TEST(OutputGate, StartsEnabledAndAdmitsEveryCommand)
 {
-  OutputGate gate;
+  safety::OutputGate gate;
   EXPECT_TRUE(gate.enabled());
   for (int i = 0; i < 5; ++i)
   {
@@ -25,8 +25,8 @@ TEST(OutputGate, StartsEnabledAndAdmitsEveryCommand)
 
 TEST(OutputGate, DisabledDropsAndCountsEveryCommand)
 {
-  OutputGate gate;
-  const OutputGate::Change c = gate.set(false);
+  safety::OutputGate gate;
+  const safety::OutputGate::Change c = gate.set(false);
   EXPECT_TRUE(c.changed);
   EXPECT_FALSE(c.enabled);
   EXPECT_FALSE(c.restart);  // disabling never restarts the controller
@@ -39,14 +39,14 @@ TEST(OutputGate, DisabledDropsAndCountsEveryCommand)
 
 TEST(OutputGate, ReEnablingRestartsOnceFromTheMeasuredState)
 {
-  OutputGate gate;
+  safety::OutputGate gate;
   gate.set(false);
-  const OutputGate::Change on = gate.set(true);
+  const safety::OutputGate::Change on = gate.set(true);
   EXPECT_TRUE(on.changed);
   EXPECT_TRUE(on.enabled);
   EXPECT_TRUE(on.restart);
   EXPECT_TRUE(gate.admit());
-  const OutputGate::Change again = gate.set(true);  // a repeated request: nothing to do
+  const safety::OutputGate::Change again = gate.set(true);  // a repeated request: nothing to do
   EXPECT_FALSE(again.changed);
   EXPECT_FALSE(again.restart);
   EXPECT_EQ(gate.switches(), 2u);
@@ -54,9 +54,9 @@ TEST(OutputGate, ReEnablingRestartsOnceFromTheMeasuredState)
 
 TEST(OutputGate, RepeatedDisableChangesNothing)
 {
-  OutputGate gate;
+  safety::OutputGate gate;
   gate.set(false);
-  const OutputGate::Change c = gate.set(false);
+  const safety::OutputGate::Change c = gate.set(false);
   EXPECT_FALSE(c.changed);
   EXPECT_FALSE(c.restart);
   EXPECT_FALSE(gate.enabled());

@@ -24,13 +24,13 @@ namespace jackal_aic
 namespace
 {
 constexpr double kH = 0.02;  // the robot's 50 Hz sensor rate [s]
-constexpr double kG = TipGuard::kGravity;
-using State = TipGuard::State;
+constexpr double kG = safety::TipGuard::kGravity;
+using State = safety::TipGuard::State;
 
 /// `seconds` of samples at pitch rate q [rad/s] and body acceleration a [m/s^2] (the wheels'
 /// speed `*v` changes by a h per sample). `theta` carries the true pitch, `v` the speed, between
 /// calls. Returns the last state.
-State drive(TipGuard* g, double seconds, double q, double a, double* theta, double* v, double noise = 0.0,
+State drive(safety::TipGuard* g, double seconds, double q, double a, double* theta, double* v, double noise = 0.0,
             std::mt19937* rng = nullptr)
 {
   std::normal_distribution<double> n(0.0, 1.0);
@@ -46,7 +46,7 @@ State drive(TipGuard* g, double seconds, double q, double a, double* theta, doub
 }
 /// The body noses down at 0.3 rad/s while braking at `a` [m/s^2] (a < 0) until the guard trips
 /// (or the pitch reaches 0.2 rad). Returns the state.
-State tipNoseDown(TipGuard* g, double a, double* theta, double* v)
+State tipNoseDown(safety::TipGuard* g, double a, double* theta, double* v)
 {
   State s = g->state();
   while (s != State::kTippingFront && *theta < 0.2)
@@ -59,7 +59,7 @@ State tipNoseDown(TipGuard* g, double a, double* theta, double* v)
 
 TEST(TipGuard, LevelBrakingDoesNotTrip)
 {
-  TipGuard g{ TipGuardParams() };
+  safety::TipGuard g{ params::TipGuardParams() };
   double theta = 0.0;
   double v = 1.5;
   std::mt19937 rng(3);
@@ -72,10 +72,10 @@ TEST(TipGuard, LevelBrakingDoesNotTrip)
 
 TEST(TipGuard, TripsWhileBrakingLearnsTheOnsetAndHoldsUntilLevel)
 {
-  TipGuardParams p;
+  params::TipGuardParams p;
   p.margin = 0.8;
   p.min_acceleration = 0.5;
-  TipGuard g{ p };
+  safety::TipGuard g{ p };
   double theta = 0.0;
   double v = 1.5;
   drive(&g, 0.5, 0.0, -2.0, &theta, &v);  // braking at 2 m/s^2, all wheels down
@@ -110,7 +110,7 @@ TEST(TipGuard, TripsWhileBrakingLearnsTheOnsetAndHoldsUntilLevel)
 
 TEST(TipGuard, TailDownWhileSpeedingUpLearnsTheRearBound)
 {
-  TipGuard g{ TipGuardParams() };
+  safety::TipGuard g{ params::TipGuardParams() };
   double theta = 0.0;
   double v = 1.5;
   drive(&g, 0.3, 0.0, 4.0, &theta, &v);
@@ -126,7 +126,7 @@ TEST(TipGuard, TailDownWhileSpeedingUpLearnsTheRearBound)
 
 TEST(TipGuard, ASlopeOrAPitchWithoutBrakingIsNotLearned)
 {
-  TipGuard g{ TipGuardParams() };
+  safety::TipGuard g{ params::TipGuardParams() };
   double theta = 0.0;
   double v = 1.5;
   // Onto a 5 degree downhill ramp while cruising (no acceleration): pitched, not tripped.
@@ -146,19 +146,19 @@ TEST(TipGuard, ASlopeOrAPitchWithoutBrakingIsNotLearned)
 
 TEST(TipGuard, WithoutTheImuThePitchFadesAndNothingIsLearned)
 {
-  TipGuard g{ TipGuardParams() };
+  safety::TipGuard g{ params::TipGuardParams() };
   double theta = 0.0;
   double v = 1.5;
   drive(&g, 0.05, 0.3, 0.0, &theta, &v);
   const double before = g.pitch();
   EXPECT_EQ(g.update(kH, 5.0, v, false), State::kNoImu) << "the gyro's reading is ignored";
-  EXPECT_NEAR(g.pitch(), before * std::exp(-kH / TipGuard::kPitchTimeConstant), 1e-12);
+  EXPECT_NEAR(g.pitch(), before * std::exp(-kH / safety::TipGuard::kPitchTimeConstant), 1e-12);
   EXPECT_EQ(g.trips(), 0u);
 }
 
 TEST(TipGuard, ResetForgetsTheBounds)
 {
-  TipGuard g{ TipGuardParams() };
+  safety::TipGuard g{ params::TipGuardParams() };
   double theta = 0.0;
   double v = 1.5;
   tipNoseDown(&g, -2.5, &theta, &v);
@@ -172,9 +172,9 @@ TEST(TipGuard, ResetForgetsTheBounds)
 
 TEST(TipGuard, TheFloorBoundsWhatATripTeaches)
 {
-  TipGuardParams p;
+  params::TipGuardParams p;
   p.min_acceleration = 1.5;
-  TipGuard g{ p };
+  safety::TipGuard g{ p };
   double theta = 0.0;
   double v = 1.5;
   tipNoseDown(&g, -1.0, &theta, &v);  // a lift at 1 m/s^2 (a robot much heavier in front)
@@ -186,23 +186,24 @@ TEST(TipGuard, TheFloorBoundsWhatATripTeaches)
 
 TEST(TipGuard, BadInputIsIgnoredAndBadSettingsRefused)
 {
-  TipGuard g{ TipGuardParams() };
+  safety::TipGuard g{ params::TipGuardParams() };
   EXPECT_EQ(g.update(0.0, 0.1, 0.0, true), State::kBadInput);
   EXPECT_EQ(g.update(kH, std::nan(""), 0.0, true), State::kBadInput);
   EXPECT_EQ(g.update(kH, 0.0, std::numeric_limits<double>::infinity(), true), State::kBadInput);
   EXPECT_EQ(g.update(kH, 0.0, std::nan(""), false), State::kBadInput);
   EXPECT_EQ(g.pitch(), 0.0);
   EXPECT_EQ(g.acceleration(), 0.0);
-  for (const auto& bad : { TipGuardParams{ false, 0.0, 0.8, 1.0 }, TipGuardParams{ false, 0.02, 0.0, 1.0 },
-                           TipGuardParams{ false, 0.02, 1.1, 1.0 }, TipGuardParams{ false, 0.02, 0.8, 0.0 },
-                           TipGuardParams{ false, std::nan(""), 0.8, 1.0 } })
+  for (const auto& bad :
+       { params::TipGuardParams{ false, 0.0, 0.8, 1.0 }, params::TipGuardParams{ false, 0.02, 0.0, 1.0 },
+         params::TipGuardParams{ false, 0.02, 1.1, 1.0 }, params::TipGuardParams{ false, 0.02, 0.8, 0.0 },
+         params::TipGuardParams{ false, std::nan(""), 0.8, 1.0 } })
   {
-    EXPECT_THROW(TipGuard{ bad }, std::invalid_argument);
+    EXPECT_THROW(safety::TipGuard{ bad }, std::invalid_argument);
     EXPECT_THROW(g.setParams(bad), std::invalid_argument);
   }
   try
   {
-    TipGuard{ TipGuardParams{ false, 0.0, 0.0, 0.0 } };
+    safety::TipGuard{ params::TipGuardParams{ false, 0.0, 0.0, 0.0 } };
     FAIL() << "no exception";
   }
   catch (const std::invalid_argument& e)
@@ -216,23 +217,23 @@ TEST(TipGuard, BadInputIsIgnoredAndBadSettingsRefused)
 
 TEST(TipGuard, StatusTextNamesStateBoundsAndTrips)
 {
-  TipGuard g{ TipGuardParams() };
-  EXPECT_EQ(statusText(g), "level; front none, rear none; 0 trips");
+  safety::TipGuard g{ params::TipGuardParams() };
+  EXPECT_EQ(safety::statusText(g), "level; front none, rear none; 0 trips");
   double theta = 0.0;
   double v = 1.5;
   drive(&g, 0.5, 0.0, -2.5, &theta, &v);
   tipNoseDown(&g, -2.5, &theta, &v);
-  EXPECT_EQ(statusText(g), "tipping nose-down; front 1.50 m/s^2, rear none; 1 trip");
+  EXPECT_EQ(safety::statusText(g), "tipping nose-down; front 1.50 m/s^2, rear none; 1 trip");
 }
 
 TEST(ReferenceModelTipBounds, ClampThePathsRateAlongXDot)
 {
-  ReferenceModelParams p;
+  params::ReferenceModelParams p;
   p.time_constant = 0.005;
   p.max_acceleration_linear = 4.0;
-  ReferenceModel r{ p };
-  ASSERT_TRUE(r.start(Vector3(1.5, 0.0, 0.0)));
-  ASSERT_TRUE(r.setGoal(Vector3(0.0, 0.0, 0.5)));
+  aic::ReferenceModel r{ p };
+  ASSERT_TRUE(r.start(base::Vector3(1.5, 0.0, 0.0)));
+  ASSERT_TRUE(r.setGoal(base::Vector3(0.0, 0.0, 0.5)));
   EXPECT_NEAR(r.rate()(0), -4.0, 1e-9);
   r.setTipBounds(1.6, std::numeric_limits<double>::infinity());
   EXPECT_NEAR(r.rate()(0), -1.6, 1e-9) << "braking below the front bound";
@@ -247,45 +248,45 @@ TEST(ReferenceModelTipBounds, ClampThePathsRateAlongXDot)
   r.setParams(p, 1.0e3);
   EXPECT_EQ(r.tipBoundFront(), 0.0) << "kept by setParams()";
   r.setTipBounds(std::numeric_limits<double>::infinity(), 0.5);
-  ASSERT_TRUE(r.setGoal(Vector3(3.0, 0.0, 0.0)));
+  ASSERT_TRUE(r.setGoal(base::Vector3(3.0, 0.0, 0.0)));
   EXPECT_NEAR(r.rate()(0), 0.5, 1e-9) << "speeding up below the rear bound";
 }
 
 TEST(TipGuardInThePipeline, TheGyroYOffsetIsRemovedAndTheBoundsReachThePath)
 {
-  AicParams aic = recommendedAicParams();  // tip_guard and learn_gyro_bias on
-  FdiParams fdi;
-  SamplePipeline pipe(aic, fdi);
-  pipe.activate(Vector2::Zero(), Vector3::Zero());
+  params::AicParams aic = params::recommendedAicParams();  // tip_guard and learn_gyro_bias on
+  params::FdiParams fdi;
+  loop::SamplePipeline pipe(aic, fdi);
+  pipe.activate(base::Vector2::Zero(), base::Vector3::Zero());
   // 6 s at rest with a 0.03 rad/s gyro y offset from power-on: without its removal the leaky
   // pitch would settle at offset x T_theta = 0.03 rad, above tip_guard_pitch.
   for (int i = 0; i < 300; ++i)
   {
-    pipe.guardTip(Vector5::Zero(), 0.03, kH, true);
+    pipe.guardTip(base::Vector5::Zero(), 0.03, kH, true);
   }
   EXPECT_NEAR(pipe.pitchBias().offset(), 0.03, 0.002);
   for (int i = 0; i < 250; ++i)
   {
-    pipe.guardTip(Vector5::Zero(), 0.03, kH, true);
+    pipe.guardTip(base::Vector5::Zero(), 0.03, kH, true);
   }
   EXPECT_NEAR(pipe.tipGuard().pitch(), 0.0, 0.003);
   EXPECT_TRUE(std::isinf(pipe.controller().referenceModel().tipBoundFront()));
   // Braking (the wheels slow by 2.5 m/s^2) while the body noses down at 0.3 rad/s: it trips.
   const double r = aic.wheel_radius;
   double v = 1.5;
-  for (int i = 0; i < 10 && pipe.tipGuard().state() != TipGuard::State::kTippingFront; ++i)
+  for (int i = 0; i < 10 && pipe.tipGuard().state() != safety::TipGuard::State::kTippingFront; ++i)
   {
     v -= 2.5 * kH;
-    Vector5 y;
+    base::Vector5 y;
     y << 0.0, v / r, v / r, 0.0, 0.0;
     pipe.guardTip(y, 0.03 + 0.3, kH, true);
   }
-  ASSERT_EQ(pipe.tipGuard().state(), TipGuard::State::kTippingFront);
+  ASSERT_EQ(pipe.tipGuard().state(), safety::TipGuard::State::kTippingFront);
   EXPECT_EQ(pipe.controller().referenceModel().tipBoundFront(), 0.0) << "the path holds while tipped";
   // Off: the controller's path is not bounded, whatever the guard saw.
   aic.tip_guard.enabled = false;
   pipe.setParams(aic, fdi);
-  pipe.guardTip(Vector5::Zero(), 0.03, kH, true);
+  pipe.guardTip(base::Vector5::Zero(), 0.03, kH, true);
   EXPECT_TRUE(std::isinf(pipe.controller().referenceModel().tipBoundFront()));
   pipe.resetTipGuard();
   EXPECT_EQ(pipe.pitchBias().bias(), 0.0);

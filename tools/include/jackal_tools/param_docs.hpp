@@ -49,7 +49,7 @@ std::string parameterYamlTemplate();
  * \param values  the parameters to print; nullptr: the schema's defaults
  * \param files   the YAML files \p values came from, named in the header line
  */
-std::string parameterYaml(const NodeParams* values, const std::vector<std::string>& files);
+std::string parameterYaml(const params::NodeParams* values, const std::vector<std::string>& files);
 
 /**
  * \brief A number as the shortest decimal text that reads back as the same double

@@ -24,12 +24,12 @@ namespace jackal_aic
  * \brief A parsed YAML map as a ParamSource: kDouble accepts any number (an integer too),
  *        kInt an integer, kBool true/false, lists sequences of those.
  */
-class YamlParamSource : public ParamSource
+class YamlParamSource : public params::ParamSource
 {
 public:
   /// \param root  the file's top-level map (a non-map has no keys)
   explicit YamlParamSource(YAML::Node root) : root_(std::move(root)) {}
-  Status read(const std::string& key, ParamType type, ParamValue* out) const override;
+  Status read(const std::string& key, params::ParamType type, params::ParamValue* out) const override;
   std::string raw(const std::string& key) const override;
   std::vector<std::string> keys() const override;
 
@@ -55,8 +55,8 @@ YAML::Node readYamlMap(const std::string& file, const std::vector<std::string>& 
  * \throws std::runtime_error "<file>: key '<key>' must be <type> (got <value>)" on a value of
  *         the wrong type or an unknown integrator name (the first such key)
  */
-AicParams aicParamsFromYaml(const YAML::Node& root, const std::string& file, std::vector<std::string>* defaulted,
-                            std::vector<std::string>* unknown);
+params::AicParams aicParamsFromYaml(const YAML::Node& root, const std::string& file,
+                                    std::vector<std::string>* defaulted, std::vector<std::string>* unknown);
 
 /**
  * \brief As aicParamsFromYaml() from a file, with "key=value" overrides (applyOverrides(),
@@ -64,7 +64,7 @@ AicParams aicParamsFromYaml(const YAML::Node& root, const std::string& file, std
  * \throws std::runtime_error on an unreadable file, a YAML error, a malformed override, a value of
  *         the wrong type, or invalid parameters (every violation listed)
  */
-AicParams loadAicParams(const std::string& file, const std::vector<std::string>& overrides = {});
+params::AicParams loadAicParams(const std::string& file, const std::vector<std::string>& overrides = {});
 
 /**
  * \brief Every key of the schema (controller and node) from YAML files read in order, each
@@ -81,6 +81,7 @@ AicParams loadAicParams(const std::string& file, const std::vector<std::string>&
  * \throws std::runtime_error on an unreadable file, a YAML error, a malformed override, a value
  *         of the wrong type (naming the file and key), or invalid parameters (every violation)
  */
-NodeParams loadNodeParamsFiles(const std::vector<std::string>& files, const std::vector<std::string>& overrides = {});
+params::NodeParams loadNodeParamsFiles(const std::vector<std::string>& files,
+                                       const std::vector<std::string>& overrides = {});
 
 }  // namespace jackal_aic

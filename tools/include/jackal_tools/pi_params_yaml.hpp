@@ -25,6 +25,6 @@ namespace jackal_aic
  *         override, an unknown key, a value that is not a number, or invalid parameters (every
  *         violation listed)
  */
-PiControllerParams loadPiParams(const std::string& file, const std::vector<std::string>& overrides = {});
+classical::PiControllerParams loadPiParams(const std::string& file, const std::vector<std::string>& overrides = {});
 
 }  // namespace jackal_aic

@@ -9,7 +9,7 @@
  * which rests on wheel odometry. The plant is therefore measured the same way: body speed
  * v = r (omega_L + omega_R) / 2 from the 50 Hz joint-state samples (noise, bias and dropout
  * switched off so the numbers are reproducible). Ground truth is recorded beside it.
- * Metrics: jackal_aic::computeStepMetrics (the project's one implementation): rise time
+ * Metrics: jackal_aic::analysis::computeStepMetrics (the project's one implementation): rise time
  * 10-90 % of the step, settling time into +-5 % of the set point, both from the moment the
  * set point changes.
  */
@@ -65,7 +65,7 @@ StepRecord runStockStep(const RobotDescription& description, PlantParams params,
                         double settle_before = 1.0, double record = 3.0);
 
 /// Step metrics of a record (v_odom if ground_truth is false, else v_true).
-StepMetrics stepMetricsOf(const StepRecord& record, bool ground_truth = false);
+analysis::StepMetrics stepMetricsOf(const StepRecord& record, bool ground_truth = false);
 
 // ------------------------------------------------------------------ steady-state checks
 

@@ -134,25 +134,25 @@ struct ClosedLoopSample
   double belief = 0.0;             ///< AIC belief mu^(0) x_dot [m/s] (NaN if none)
   double belief_yaw = 0.0;         ///< AIC belief mu^(0) theta_dot [rad/s] (NaN if none)
   double x_true = 0.0, y_true = 0.0, heading_true = 0.0;  ///< ground-truth pose [m, m, rad]
-  Vector2 wheels_command = Vector2::Zero();               ///< the last drive command (omega_L, omega_R) [rad/s]
-  Vector2 wheels_measured = Vector2::Zero();              ///< the sample's mean wheel speeds per side [rad/s]
+  base::Vector2 wheels_command = base::Vector2::Zero();   ///< the last drive command (omega_L, omega_R) [rad/s]
+  base::Vector2 wheels_measured = base::Vector2::Zero();  ///< the sample's mean wheel speeds per side [rad/s]
   /// AIC: the loop after it took the sample (null for the other controllers and while the
   /// node is down, Operation::kNodeRestart); valid during the call only.
-  const ControlLoop* loop = nullptr;
+  const loop::ControlLoop* loop = nullptr;
 };
 
 /// What to run.
 struct ClosedLoopConfig
 {
   LoopController controller = LoopController::kStock;
-  AicParams aic;          ///< used when controller == kAic (validated by runClosedLoop)
-  PiControllerParams pi;  ///< used when controller == kPi (validated by runClosedLoop)
+  params::AicParams aic;             ///< used when controller == kAic (validated by runClosedLoop)
+  classical::PiControllerParams pi;  ///< used when controller == kPi (validated by runClosedLoop)
   /**
    * The node's other settings for the AIC (timeouts, sensor pairing, fault detection,
    * action_trigger, belief_schedule, output_mode; the schema's defaults unless set). Its `aic`
    * member is ignored (`aic` above is used); empty joint lists are the plant's wheel joints.
    */
-  NodeParams node;
+  params::NodeParams node;
   /// Set-point profile, sorted by start; the first segment should start at 0 (before it the
   /// set point is 0). Streamed, as teleop or a planner would, so no timeout fires.
   std::vector<SetPointSegment> profile;
@@ -176,7 +176,7 @@ struct ClosedLoopConfig
   std::function<void(const ClosedLoopSample&)> observer;
   /// kIdeal: the command of every 50 Hz tick from the run's start, (body speed [m/s], yaw rate
   /// [rad/s]); ticks past its end send the set point command_delay ahead.
-  std::vector<Vector2> ideal_commands;
+  std::vector<base::Vector2> ideal_commands;
   /**
    * true: the joint states are jackal_node's (plant::JackalNodeSampler with jackal_node_sampler):
    * the sensor model's samples are the MCU's feedback, re-sampled by jackal_node's free-running
@@ -190,9 +190,9 @@ struct ClosedLoopConfig
 /// One event of the AIC's fault monitor during a run.
 struct HealthEvent
 {
-  double time = 0.0;                                       ///< plant time of the sample [s]
-  FaultMonitor::Event event = FaultMonitor::Event::kNone;  ///< isolated, restored or detected
-  int channel = -1;                                        ///< SensorIndex of the channel
+  double time = 0.0;                                                       ///< plant time of the sample [s]
+  safety::FaultMonitor::Event event = safety::FaultMonitor::Event::kNone;  ///< isolated, restored or detected
+  int channel = -1;                                                        ///< SensorIndex of the channel
 };
 
 /// Recorded run, one entry per joint-state sample (50 Hz).
@@ -233,7 +233,7 @@ struct ClosedLoopRecord
   std::vector<double> torque_limited;
   /// AIC: the inference at each sample, with time (ClosedLoopConfig::record_inference; empty
   /// otherwise, and for the other controllers). Before the controller starts a sample holds NaN.
-  std::vector<InferenceSample> inference;
+  std::vector<aic::InferenceSample> inference;
   std::uint64_t runaways = 0;  ///< AIC runaway resets during the run
   /// AIC: the tip-over guard's trips during the run and its learned bounds at the end [m/s^2]
   /// (TipGuard::learnedFront(), learnedRear(); +inf: none learned).
@@ -283,7 +283,7 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
  * \param profile  a validated profile (TwistProfile::validate())
  * \param t0       when the profile starts in the run [s], >= 0
  */
-std::vector<SetPointSegment> profileSegments(const TwistProfile& profile, double t0);
+std::vector<SetPointSegment> profileSegments(const analysis::TwistProfile& profile, double t0);
 
 /// A set-point step from rest: 0 until t_step, then `linear` [m/s] (and `angular` [rad/s]).
 std::vector<SetPointSegment> stepProfile(double t_step, double linear, double angular = 0.0);
@@ -300,11 +300,11 @@ constexpr double kIdealLearningGain = 0.7;
 /// What runIdealController() learned.
 struct IdealRun
 {
-  ClosedLoopRecord record;        ///< the best run (least mean-square wheel-rim speed error)
-  std::vector<Vector2> commands;  ///< its command sequence (ClosedLoopConfig::ideal_commands)
-  int best = 0;                   ///< its run, 0-based
-  std::vector<double> vx_rms;     ///< every run's RMS error of the ground-truth body speed [m/s]
-  std::vector<double> wz_rms;     ///< every run's RMS error of the ground-truth yaw rate [rad/s]
+  ClosedLoopRecord record;              ///< the best run (least mean-square wheel-rim speed error)
+  std::vector<base::Vector2> commands;  ///< its command sequence (ClosedLoopConfig::ideal_commands)
+  int best = 0;                         ///< its run, 0-based
+  std::vector<double> vx_rms;           ///< every run's RMS error of the ground-truth body speed [m/s]
+  std::vector<double> wz_rms;           ///< every run's RMS error of the ground-truth yaw rate [rad/s]
 };
 
 /**

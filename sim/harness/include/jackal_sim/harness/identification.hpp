@@ -63,7 +63,7 @@ struct FitEntry
   std::string table;                                         ///< table id
   LoopController table_controller = LoopController::kStock;  ///< the controller the row was run with
   RobotStepRow robot;                                        ///< the robot's row
-  StepMetrics sim;              ///< metrics of the plant's wheel-odometry speed (NaN where undefined)
+  analysis::StepMetrics sim;    ///< metrics of the plant's wheel-odometry speed (NaN where undefined)
   double settling_error = 0.0;  ///< (sim - robot) / robot [-]; kUnsettledError if sim is NaN
   double rise_error = 0.0;      ///< as above for the rise time
   std::uint64_t runaways = 0;   ///< AIC runaway resets during the run
@@ -78,8 +78,8 @@ constexpr double kUnsettledError = 2.0;
  *                    (action_trigger, ...: loadNodeParamsFiles()); the rates are the row's
  * \throws std::invalid_argument as runClosedLoop
  */
-FitEntry runFitEntry(const RobotDescription& description, const PlantParams& params, const NodeParams& controller,
-                     const RobotStepTable& table, const RobotStepRow& row);
+FitEntry runFitEntry(const RobotDescription& description, const PlantParams& params,
+                     const params::NodeParams& controller, const RobotStepTable& table, const RobotStepRow& row);
 
 /**
  * \brief Every row of `tables` on the plant, in order (runFitEntry()); a row that asks for a run
@@ -88,7 +88,7 @@ FitEntry runFitEntry(const RobotDescription& description, const PlantParams& par
  * \throws std::invalid_argument as runClosedLoop
  */
 std::vector<FitEntry> runFitEntries(const RobotDescription& description, const PlantParams& params,
-                                    const NodeParams& controller, const std::vector<RobotStepTable>& tables);
+                                    const params::NodeParams& controller, const std::vector<RobotStepTable>& tables);
 
 /// The same simulated run compared with another robot row (same controller, step and rates).
 FitEntry rescoreFitEntry(const FitEntry& run, const RobotStepTable& table, const RobotStepRow& row);
@@ -162,11 +162,11 @@ constexpr double kArcAngular = 0.5;          ///< arc: yaw-rate step [rad/s]
 /// The turning targets' runs on the plant (stock controller, from rest, ideal sensors).
 struct TurningChecks
 {
-  StepMetrics turn;        ///< turn in place, wheel-odometry yaw rate
-  StepMetrics turn_truth;  ///< turn in place, ground-truth (gyro) yaw rate
-  StepMetrics arc;         ///< arc, wheel-odometry yaw rate
-  StepMetrics arc_truth;   ///< arc, ground-truth yaw rate
-  bool ok = false;         ///< every target met (odometry)
+  analysis::StepMetrics turn;        ///< turn in place, wheel-odometry yaw rate
+  analysis::StepMetrics turn_truth;  ///< turn in place, ground-truth (gyro) yaw rate
+  analysis::StepMetrics arc;         ///< arc, wheel-odometry yaw rate
+  analysis::StepMetrics arc_truth;   ///< arc, ground-truth yaw rate
+  bool ok = false;                   ///< every target met (odometry)
   /// Added to the identification cost: kAcceptanceWeight * sum of (value / target - 1)^2 over the
   /// missed targets (an undefined metric counts as kUnsettledError); 0 when every target holds.
   double penalty = 0.0;
@@ -196,7 +196,7 @@ struct FitReport
  *        runSteadyChecks() and runTurningChecks() (about 60 s of plant time).
  * \throws std::invalid_argument as runClosedLoop
  */
-FitReport runFit(const RobotDescription& description, const PlantParams& params, const NodeParams& controller,
+FitReport runFit(const RobotDescription& description, const PlantParams& params, const params::NodeParams& controller,
                  const std::vector<RobotStepTable>& tables);
 
 }  // namespace harness

@@ -25,9 +25,9 @@ namespace jackal_aic
 namespace harness
 {
 /// Parameters of the stock controller (defaults: the Jackal's control.yaml).
-struct StockControllerParams : public jackal_aic::DiffDriveParams
+struct StockControllerParams : public jackal_aic::params::DiffDriveParams
 {
-  // Kinematics and limits: jackal_aic::DiffDriveParams (wheel_separation, wheel_separation_multiplier,
+  // Kinematics and limits: jackal_aic::params::DiffDriveParams (wheel_separation, wheel_separation_multiplier,
   // wheel_radius, max_linear_velocity, max_linear_acceleration, max_angular_velocity,
   // max_angular_acceleration), defaults from the Jackal's control.yaml.
   double cmd_vel_timeout = 0.25;  ///< command age after which the target is zero [s], > 0
@@ -85,7 +85,7 @@ public:
 
 private:
   StockControllerParams params_;
-  jackal_aic::DiffDriveLimiter limiter_;
+  jackal_aic::loop::DiffDriveLimiter limiter_;
   double cmd_linear_ = 0.0;
   double cmd_angular_ = 0.0;
   double cmd_time_ = -1e9;

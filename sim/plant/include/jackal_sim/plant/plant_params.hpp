@@ -272,7 +272,7 @@ PlantParams loadPlantParams(const std::string& path, const std::vector<std::stri
 
 /**
  * \brief The overrides of a base plant YAML, overlays first: every overlay file's keys as
- *        "dotted.key=value" (jackal_aic::loadOverlayFile(), in the order given, later ones
+ *        "dotted.key=value" (jackal_aic::overrides::loadOverlayFile(), in the order given, later ones
  *        winning), then `overrides` (command-line --set), for loadPlantParams().
  * \param overlay_files plant YAMLs with only the keys that differ (e.g. sim/config/variants/turn_deficit.yaml)
  * \param overrides     "dotted.key=value" strings applied after the overlays
