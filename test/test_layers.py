@@ -12,9 +12,13 @@ below it (LAYERS, the order of CMakeLists.txt). Above the core:
   the tools (tools/include/jackal_tools);
 - the node (ros) includes the core (analysis for the stability check of its configuration),
   never the simulator, the tools or the override parser;
-- no core folder includes a ROS header (the core is ROS-free).
+- no core folder includes a ROS header (the core is ROS-free);
+- a folder is a namespace too: each header under include/jackal_aic/<folder>/ declares its
+  names in jackal_aic::<folder> (NAMESPACE; the node's folder ros/ is jackal_aic::node, as
+  jackal_aic::ros would hide ::ros inside jackal_aic), opens no using-directive, and declares
+  nothing elsewhere but forward declarations of other namespaces' classes.
 
-Each check is shown to fail on a seeded upward include.
+Each check is shown to fail on a seeded upward include or a seeded declaration.
 
     /usr/bin/python3 test/test_layers.py
 """
@@ -39,6 +43,8 @@ LAYERS = {
     "overrides": set(),
     "ros": (set(CORE) - {"classical"}) | {"cfg", "msg"},
 }
+# The namespace of each folder's names: jackal_aic::<NAMESPACE[folder]>.
+NAMESPACE = dict({f: f for f in CORE + ("overrides",)}, ros="node")
 # The Python package under src/ (catkin_python_setup's layout) is not a C++ library.
 NOT_A_LIBRARY = {"jackal_aic_tools"}
 INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]((?:jackal_aic|jackal_sim|jackal_tools)/[^">]+)[">]', re.M)
@@ -84,6 +90,75 @@ def breaches(folder, files):
         for inc in includes(text):
             if target_of(inc) not in allowed:
                 out.append("%s: %s" % (name, inc))
+    return out
+
+
+def code_of(text):
+    """``text`` (C++) without comments, string and character literals and preprocessor lines
+    (each replaced by spaces, so braces and semicolons keep their places)."""
+    pattern = re.compile(r'//[^\n]*|/\*.*?\*/|R"([^(\s]*)\(.*?\)\1"|"(?:\\.|[^"\\\n])*"|'
+                         r"'(?:\\.|[^'\\\n])*'|^[ \t]*#[^\n]*(?:\\\n[^\n]*)*", re.S | re.M)
+    return pattern.sub(lambda m: re.sub(r"[^\n]", " ", m.group(0)), text)
+
+
+def namespace_scope_declarations(text):
+    """The declarations of a C++ text at namespace scope: [(namespace, head), ...], namespace as
+    "a::b" ("" global; anonymous namespaces as "(anonymous)"), head the declaration's text up
+    to and with its first "{" or ";", whitespace collapsed. Namespace definitions themselves are not
+    listed (their contents are)."""
+    code = code_of(text)
+    stack = []  # one entry per open brace: the namespace name it opens, or None for any other
+    out = []
+    start = 0
+    opener = re.compile(r"(?:inline\s+)?namespace\s*([\w:]*)\s*$")
+    for i, c in enumerate(code):
+        if c not in "{};":
+            continue
+        head = " ".join(code[start:i].split())
+        at_namespace_scope = all(e is not None for e in stack)
+        if c == "{":
+            m = opener.match(head) if at_namespace_scope else None
+            if m:
+                stack.extend(m.group(1).split("::") if m.group(1) else ["(anonymous)"])
+                stack.append("::")  # marks the end of one namespace-definition's names
+            else:
+                if at_namespace_scope and head:
+                    out.append((_namespace_of(stack), head + " {"))
+                stack.append(None)
+        elif c == "}":
+            if stack and stack[-1] == "::":
+                stack.pop()
+                while stack and stack[-1] not in ("::", None):
+                    stack.pop()
+            elif stack:
+                stack.pop()
+        elif at_namespace_scope and head:
+            out.append((_namespace_of(stack), head + ";"))
+        start = i + 1
+    return out
+
+
+def _namespace_of(stack):
+    return "::".join(e for e in stack if e not in ("::", None))
+
+
+FORWARD_DECLARATION = re.compile(r"^(?:class|struct)\s+\w+;$")
+
+
+def namespace_breaches(folder, files):
+    """Declarations of one folder's headers outside jackal_aic::<NAMESPACE[folder]> (or a namespace
+    inside it), and using-directives: "file: namespace: declaration" each. A forward declaration of
+    a class of another namespace (``namespace params { struct AicParams; }``) is allowed, but not
+    in jackal_aic itself, which holds only the folders' namespaces.
+    ``files`` maps a file name to its text."""
+    home = "jackal_aic::" + NAMESPACE[folder]
+    out = []
+    for name, text in sorted(files.items()):
+        for ns, head in namespace_scope_declarations(text):
+            inside = ns == home or ns.startswith(home + "::")
+            forward = FORWARD_DECLARATION.match(head) and ns != "jackal_aic"
+            if head.startswith("using namespace") or not (inside or forward):
+                out.append("%s: %s: %s" % (name, ns or "(global)", head))
     return out
 
 
@@ -147,6 +222,35 @@ class LayersTest(unittest.TestCase):
                          ["n.cpp: jackal_sim/plant/plant.hpp"])
         self.assertEqual(breaches("loop", {"y.cpp": '  #  include "jackal_aic/analysis/step_metrics.hpp"'}),
                          ["y.cpp: jackal_aic/analysis/step_metrics.hpp"])
+
+    def test_each_folder_is_a_namespace(self):
+        for folder in LAYERS:
+            headers = sources_of(os.path.join("include", "jackal_aic", folder))
+            self.assertTrue(headers, folder)
+            self.assertFalse(namespace_breaches(folder, headers),
+                             "headers of %s declare names outside jackal_aic::%s" % (folder, NAMESPACE[folder]))
+
+    def test_a_seeded_declaration_outside_the_folder_namespace_fails(self):
+        good = ("#pragma once\n#include <string>  // std::string {\nnamespace jackal_aic\n{\nnamespace params\n{\n"
+                "struct AicParams;\n}\nnamespace aic\n{\n/// a { brace; in a comment\nstruct Goal\n{\n  int n = 0;\n"
+                "  void f() { const char* s = \"}\"; }\n};\nstd::string name(const Goal& g);\nnamespace detail\n{\n"
+                "inline int twice(int x) { return 2 * x; }\n}  // namespace detail\n}  // namespace aic\n"
+                "}  // namespace jackal_aic\n")
+        self.assertEqual(namespace_breaches("aic", {"goal.hpp": good}), [])
+        self.assertEqual(namespace_scope_declarations(good)[1:4],
+                         [("jackal_aic::aic", "struct Goal {"), ("jackal_aic::aic", "std::string name(const Goal& g);"),
+                          ("jackal_aic::aic::detail", "inline int twice(int x) {")])
+        self.assertEqual(namespace_breaches("aic", {"flat.hpp": "namespace jackal_aic\n{\nstruct Goal\n{\n};\n}\n"}),
+                         ["flat.hpp: jackal_aic: struct Goal {"])
+        self.assertEqual(namespace_breaches("aic", {"side.hpp": "namespace jackal_aic::loop\n{\nint rate();\n}\n"}),
+                         ["side.hpp: jackal_aic::loop: int rate();"])
+        self.assertEqual(namespace_breaches("ros", {"n.hpp": "namespace jackal_aic::ros\n{\nclass AicNode\n{\n};\n}\n"}),
+                         ["n.hpp: jackal_aic::ros: class AicNode {"])
+        self.assertEqual(namespace_breaches("aic", {"f.hpp": "namespace jackal_aic\n{\nstruct AicParams;\n}\n"}),
+                         ["f.hpp: jackal_aic: struct AicParams;"])
+        self.assertEqual(namespace_breaches("base", {"g.hpp": "constexpr int kDim = 3;\n"}), ["g.hpp: (global): constexpr int kDim = 3;"])
+        self.assertEqual(namespace_breaches("loop", {"u.hpp": "namespace jackal_aic::loop\n{\nusing namespace jackal_aic::aic;\n}\n"}),
+                         ["u.hpp: jackal_aic::loop: using namespace jackal_aic::aic;"])
 
     def test_the_plant_knows_nothing_of_the_controller(self):
         """sim/plant includes only the override parser of this package's headers, and links no
