@@ -220,49 +220,98 @@ class TrackingTest(unittest.TestCase):
 
 
 class PlotTest(unittest.TestCase):
-    """report.plot_run: the run's PNG has one panel per channel, the drive commands, and b_hat when
-    the AIC published /jackal_AIC/wheel_separation."""
+    """report.plot_run: the run's figure has one panel per channel, belief - truth, the drive
+    commands, and b_hat when the AIC published /jackal_AIC/wheel_separation; it is written as PNG
+    and PDF; the drive command's twist is converted with the learned b_hat, sample by sample."""
 
-    def _arr(self, t0, separation):
+    def _arr(self, t0, separation, beliefs=True, w=0.0):
         t = t0 + 0.02 * np.arange(-25, 201)
         z = np.zeros_like(t)
-        arr = {"setpoint": np.column_stack([t[25:], np.full(t.size - 25, 0.5), z[25:]]),
+        arr = {"setpoint": np.column_stack([t[25:], np.full(t.size - 25, 0.5), np.full(t.size - 25, w)]),
                "odom": np.column_stack([t, np.full_like(t, 0.45), z]),
-               "belief": np.column_stack([t, np.full_like(t, 0.46), z]),
-               "drive": np.column_stack([t, np.full_like(t, 4.6), np.full_like(t, 4.6)]),
+               "belief": np.column_stack([t, np.full_like(t, 0.46), z + 0.01]),
+               "drive": np.column_stack([t, np.full_like(t, 4.0), np.full_like(t, 5.0)]),
                "pose": np.zeros((0, 4)), "wheels": np.zeros((0, 3)),
                "separation": np.zeros((0, 2))}
+        if not beliefs:
+            arr["belief"] = np.zeros((0, 3))
         if separation:
             arr["separation"] = np.column_stack([t[::5], np.linspace(0.5621, 0.53, t[::5].size)])
         return arr
 
-    def test_panels_with_and_without_the_learned_separation(self):
+    def _plot(self, tmp, name, arr, profile):
+        """plot_run into tmp/name.png; returns {y label: axes} of the figure's time axes."""
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         from jackal_aic_tools.common import report
-        p = profiles.step(v=0.5, t_step=0.0, hold=4.0)
-        result = {"name": "run", "controller": "aic", "profile": p.name, "status": "ok", "reason": "",
+        result = {"name": "run", "controller": "aic", "profile": profile.name, "status": "ok", "reason": "",
                   "segments": []}
-        panels = {}
+        axes = {}
         real_savefig = plt.Figure.savefig
 
-        def count(fig, path, **kw):
-            panels[os.path.basename(path)] = [a.get_ylabel() for a in fig.axes]
+        def keep(fig, path, **kw):
+            if path.endswith(".png"):
+                axes.update((a.get_ylabel(), a) for a in fig.axes if a.get_ylabel())
             return real_savefig(fig, path, **kw)
-        plt.Figure.savefig = count
+        plt.Figure.savefig = keep
         try:
-            with tempfile.TemporaryDirectory() as tmp:
-                for sep in (False, True):
-                    path = os.path.join(tmp, "sep%d.png" % sep)
-                    self.assertEqual(report.plot_run(path, self._arr(100.0, sep), 100.0, p, result, 0.098, 0.5621),
-                                     path)
-                    self.assertGreater(os.path.getsize(path), 1000)
+            path = os.path.join(tmp, name + ".png")
+            self.assertEqual(report.plot_run(path, arr, 100.0, profile, result, 0.098, 0.5621), path)
         finally:
             plt.Figure.savefig = real_savefig
-        self.assertEqual(len(panels["sep0.png"]) + 1, len(panels["sep1.png"]), panels)
-        self.assertEqual(panels["sep1.png"][-1], "wheel separation [m]")
-        self.assertNotIn("wheel separation [m]", panels["sep0.png"])
+        self.assertGreater(os.path.getsize(path), 1000)
+        self.assertGreater(os.path.getsize(os.path.join(tmp, name + ".pdf")), 1000)  # the vector sibling
+        return axes
+
+    def test_panels_with_and_without_the_learned_separation(self):
+        p = profiles.step(v=0.5, t_step=0.0, hold=4.0)
+        with tempfile.TemporaryDirectory() as tmp:
+            panels = {sep: list(self._plot(tmp, "sep%d" % sep, self._arr(100.0, sep), p)) for sep in (False, True)}
+            stock = list(self._plot(tmp, "stock", self._arr(100.0, False, beliefs=False), p))
+        self.assertEqual(len(panels[False]) + 1, len(panels[True]), panels)
+        self.assertEqual(panels[True][-1], "wheel separation [m]")
+        self.assertNotIn("wheel separation [m]", panels[False])
+        self.assertEqual(panels[False][1], "belief \u2212 /odom\n[m/s or rad/s]")
+        self.assertEqual(stock, ["linear velocity x [m/s]", "drive command [rad/s]"])  # no beliefs: no error panel
+
+    def test_drive_twist_uses_the_learned_separation(self):
+        # left 4, right 5 rad/s: wz = r (5 - 4) / b_hat with the b_hat in force at each command
+        arr = self._arr(100.0, True, w=0.2)
+        p = profiles.step(v=0.5, w=0.2, t_step=0.0, hold=4.0)
+        with tempfile.TemporaryDirectory() as tmp:
+            axes = self._plot(tmp, "arc", arr, p)
+        line, = [ln for ln in axes["angular velocity z [rad/s]"].get_lines()
+                 if ln.get_label().startswith("drive cmd as twist")]
+        self.assertIn("learned", line.get_label())
+        sep = arr["separation"]
+        b_hat = sep[np.searchsorted(sep[:, 0], arr["drive"][:, 0], side="right") - 1, 1]
+        np.testing.assert_allclose(line.get_xdata(), arr["drive"][:, 0] - 100.0)
+        np.testing.assert_allclose(line.get_ydata(), 0.098 * 1.0 / b_hat, rtol=1e-12)
+        self.assertGreater(np.ptp(line.get_ydata()), 0.005)  # b_hat moved, and the twist with it
+        # before the first b_hat sample, the configured separation
+        early = arr["drive"][:1].copy()
+        early[0, 0] = sep[0, 0] - 1.0
+        self.assertAlmostEqual(recording.drive_twist(early, 0.098, 0.5621, sep)[0, 2], 0.098 / 0.5621)
+
+    def test_separation_at(self):
+        sep = np.array([[1.0, 0.55], [2.0, 0.54]])
+        np.testing.assert_allclose(recording.separation_at([0.5, 1.0, 1.5, 2.0, 9.0], sep, 0.5621),
+                                   [0.5621, 0.55, 0.55, 0.54, 0.54])
+        np.testing.assert_allclose(recording.separation_at([0.5, 3.0], np.zeros((0, 2)), 0.5621), [0.5621, 0.5621])
+        with self.assertRaisesRegex(ValueError, "finite and > 0"):
+            recording.separation_at([1.0], np.array([[1.0, float("nan")]]), 0.5621)
+        with self.assertRaisesRegex(ValueError, "finite and > 0"):
+            recording.separation_at([1.0], np.array([[1.0, 0.0]]), 0.5621)
+        with self.assertRaisesRegex(ValueError, "decrease"):
+            recording.separation_at([1.0], sep[::-1], 0.5621)
+
+    def test_belief_error(self):
+        from jackal_aic_tools.common import report
+        truth = np.array([[0.0, 0.0, 0.0], [1.0, 1.0, 2.0]])
+        belief = np.array([[-0.5, 9.0, 9.0], [0.5, 0.6, 1.5], [1.5, 9.0, 9.0]])
+        np.testing.assert_allclose(report.belief_error(belief, truth), [[0.5, 0.1, 0.5]])
+        self.assertEqual(report.belief_error(np.zeros((0, 3)), truth).shape, (0, 3))
 
 
 def inference_msg(stamp, orders, f=3.0):
