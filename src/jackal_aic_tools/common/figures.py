@@ -82,8 +82,13 @@ def set_title(ax, text, fontsize=10, width_in=None):
 
 
 def suptitle(fig, text, fontsize=10):
-    """``text`` as the figure's title, wrapped to the figure's width."""
-    return fig.suptitle(wrap(text, 0.95 * fig.get_figwidth(), fontsize), fontsize=fontsize)
+    """``text`` as the figure's title, wrapped to the figure's width. Returns the top of the
+    room left for the axes as a fraction of the figure's height, for
+    ``fig.tight_layout(rect=(0, 0, 1, top))`` (which leaves a figure title out of its layout)."""
+    text = wrap(text, 0.95 * fig.get_figwidth(), fontsize)
+    fig.suptitle(text, fontsize=fontsize)
+    lines = text.count("\n") + 1
+    return 1.0 - (1.4 * fontsize * lines / 72.0 + 0.1) / fig.get_figheight()
 
 
 def legend_outside(ax, handles=None, labels=None, title=None, fontsize=8):
