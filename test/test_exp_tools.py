@@ -314,6 +314,60 @@ class PlotTest(unittest.TestCase):
         self.assertEqual(report.belief_error(np.zeros((0, 3)), truth).shape, (0, 3))
 
 
+class FiguresTest(unittest.TestCase):
+    """jackal_aic_tools.common.figures: the style cycle, the zoom rule and window, the save call."""
+
+    def test_styles_differ(self):
+        from jackal_aic_tools.common import figures
+        st = figures.styles(50)
+        self.assertEqual(len({(s["color"], repr(s["ls"])) for s in st}), 50)
+        self.assertEqual(len({s["color"] for s in st[:10]}), 10)
+        self.assertEqual(len({repr(s["ls"]) for s in st[:5]}), 5)
+        with self.assertRaises(ValueError):
+            figures.style(-1)
+
+    def test_zoom_rule_and_window(self):
+        from jackal_aic_tools.common import figures
+        self.assertEqual(figures.zoom_events([0.5, 0.5], 5.5), [0.5])  # the arc: both channels at once
+        self.assertEqual(figures.zoom_events([0.5], 2.0), [])  # the transient fills the axis anyway
+        self.assertEqual(figures.zoom_events([0.1 * k for k in range(10)], 20.0), [])  # a command stream
+        self.assertEqual(figures.zoom_events([], 20.0), [])
+        plt = figures.pyplot()
+        fig = plt.figure()
+        (ax,), ((z,),), _ = figures.grid(fig, 1, 1)
+        t = np.linspace(-1.0, 5.0, 601)
+        z.plot(t, np.where(t < 0.5, 0.0, 2.0 * (t - 0.5)))
+        figures.zoom(z, 0.5)
+        self.assertEqual(z.get_xlim(), (0.4, 1.5))
+        lo, hi = z.get_ylim()
+        self.assertLess(lo, 0.0)
+        self.assertAlmostEqual(hi, 2.0 + 0.08 * 2.0, places=6)  # the window's data, not the 9 at 5 s
+        with self.assertRaises(ValueError):
+            figures.grid(fig, 0, 1)
+        plt.close(fig)
+
+    def test_save_writes_png_and_pdf(self):
+        from jackal_aic_tools.common import figures
+        plt = figures.pyplot()
+        with tempfile.TemporaryDirectory() as tmp:
+            fig = plt.figure()
+            ax = fig.add_subplot(1, 1, 1)
+            ax.plot([0, 1], [0, 1], label="a line")
+            figures.set_title(ax, "a title far too long for one line of the axes " * 4)
+            self.assertGreater(ax.get_title().count("\n"), 1)
+            self.assertIsNotNone(figures.legend_outside(ax))
+            path = os.path.join(tmp, "f.png")
+            self.assertEqual(figures.save(fig, path), path)
+            self.assertEqual(figures.vector_path(path), os.path.join(tmp, "f.pdf"))
+            with open(path, "rb") as f:
+                self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+            with open(os.path.join(tmp, "f.pdf"), "rb") as f:
+                self.assertEqual(f.read(5), b"%PDF-")
+            with self.assertRaisesRegex(ValueError, "does not end in .png"):
+                figures.save(plt.figure(), os.path.join(tmp, "f.jpg"))
+            self.assertEqual(sorted(os.listdir(tmp)), ["f.pdf", "f.png"])
+
+
 def inference_msg(stamp, orders, f=3.0):
     """A stand-in jackal_aic/InferenceState (the fields inference.values() reads): element (c, i)
     of each matrix = 100 c + i."""
@@ -412,8 +466,9 @@ class HeadlessArcTest(unittest.TestCase):
                 self.assertEqual([s["channel"] for s in res["segments"]], ["vx", "wz"])
                 self.assertLess(res["segments"][0]["metrics"]["measured"]["rise_time"], 1.0)
                 self.assertLess(res["tracking"]["truth"]["vx"]["rms"], 0.2)
-                for k in ("csv", "png", "json", "profile_csv"):
+                for k in ("csv", "png", "pdf", "json", "profile_csv"):
                     self.assertTrue(os.path.isfile(res["files"][k]), k)
+                self.assertEqual(res["files"]["pdf"], os.path.join(tmp, "arc.pdf"))  # the PNG's vector sibling
                 arr = experiment.trace_arrays(tracking.read_columns(res["files"]["csv"]), 0.098, 0.5621)
                 inf = arr["inference"]
                 self.assertGreater(inf.shape[0], 100)
@@ -536,4 +591,4 @@ class DrivingStepTest(unittest.TestCase):
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
     pyunit.main("exp_tools", ProfileTest, StabilityTest, MetricsTest, TrackingTest, OverrideTest, DrivingStepTest,
-                PlotTest, InferenceColumnsTest, HeadlessArcTest, StabilityWarningTest)
+                PlotTest, FiguresTest, InferenceColumnsTest, HeadlessArcTest, StabilityWarningTest)
