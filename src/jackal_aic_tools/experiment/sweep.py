@@ -217,7 +217,7 @@ def run(a, dims, script_dir):
                    "runs": [dict(settings=dict(k), **{kk: v for kk, v in r.items() if kk != "params"})
                             for k, r in cache.items()]}, f, indent=1, default=str)
     png = combined_plot(os.path.join(out, "sweep.png"), dvals[rows_dim], rows_dim, col_combos, col_dims, grid,
-                        title, figures.zoom_events([s.t0 for s in prof.segments()], prof.duration))
+                        title, figures.zoom_events([s.t0 for s in prof.segments()], prof.duration + a.settle))
     print("table %s\nplot  %s\nruns  %s" % (os.path.join(out, "table.txt"), png, runs_dir))
     return 0
 
@@ -257,6 +257,8 @@ def combined_plot(path, row_vals, rows_dim, col_combos, col_dims, grid, title, e
         ax.set_ylabel("velocity [m/s or rad/s]")
         for a, t in zip(zs, events):
             figures.zoom(a, t)
+            if ax is not mains[0]:
+                a.set_title("")  # the first row's zoom names the window
         for a in axs:
             a.grid(True, alpha=0.3)
         figures.legend_outside(axs[-1], *ax.get_legend_handles_labels(), fontsize=7)
