@@ -15,7 +15,7 @@ import time
 import numpy as np
 import yaml
 
-from ..common import cli, closed_loop, inference, metrics, profiles, recording, ros_process, tracking
+from ..common import cli, closed_loop, figures, inference, metrics, profiles, recording, ros_process, tracking
 
 log = logging.getLogger("aic_experiment")
 
@@ -150,6 +150,7 @@ def run(exp):
             from ..common import report
             result["files"]["png"] = report.plot_run(base + ".png", arr, t0, exp.profile, result,
                                                      wheel_radius, wheel_sep, ideal)
+            result["files"]["pdf"] = figures.vector_path(result["files"]["png"])
     result["files"]["json"] = base + ".json"
     with open(base + ".json", "w") as f:
         json.dump(result, f, indent=1, default=_json_default)
@@ -198,6 +199,7 @@ def run_headless(exp):
             ideal = {"x": cols["x_ideal"][ok], "y": cols["y_ideal"][ok]} if np.any(ok) else None
         result["files"]["png"] = report.plot_run(base + ".png", arr, 0.0, exp.profile, result, wheel_radius,
                                                  wheel_sep, ideal)
+        result["files"]["pdf"] = figures.vector_path(result["files"]["png"])
     result["files"]["json"] = base + ".json"
     with open(base + ".json", "w") as f:
         json.dump(result, f, indent=1, default=_json_default)
