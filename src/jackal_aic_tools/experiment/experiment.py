@@ -377,8 +377,11 @@ def drive_profile(profile, rec, controller="aic", settle=1.0, ready_timeout=60.0
 
 def analyse(arr, segs, t0, wheel_radius, wheel_sep):
     """Metrics (through aic_step_metrics) of every segment for the measured velocity
-    (/odom), the belief and the drive commands (as the body twist they ask for)."""
-    drive = recording.drive_equivalent(arr["drive"], wheel_radius, wheel_sep) if arr["drive"].size \
+    (/odom), the belief and the drive commands (as the body twist they ask for in the
+    controller's model: recording.drive_twist() with the learned b_hat of arr["separation"] in
+    force at each command, the configured wheel_sep [m] before it or without it)."""
+    sep = arr.get("separation", np.zeros((0, 2)))
+    drive = recording.drive_twist(arr["drive"], wheel_radius, wheel_sep, sep) if arr["drive"].size \
         else arr["drive"]
     streams = {"measured": arr["odom"], "belief": arr["belief"], "drive": drive}
     out = []
