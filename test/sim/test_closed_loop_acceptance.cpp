@@ -393,18 +393,18 @@ TEST(StepResponse, TheSlewLimitBoundsTheWheelCommandsRate)
   const double r = config("default").aic.wheel_radius;
   const ClosedLoopRecord limited =
       run(aic(config("default", { "action_slew_limit=" + std::to_string(kSlew) }), stepProfile(1.0, 1.0), 4.0));
-  const ClosedLoopRecord free = run(aic(config("default"), stepProfile(1.0, 1.0), 4.0));
+  const ClosedLoopRecord unlimited = run(aic(config("default"), stepProfile(1.0, 1.0), 4.0));
   expectBounded(limited);
   const double rate = maxRate(limited, limited.command, 0.0, 4.0);
   const StepMetrics m = metrics(limited, 1.0, 0.0, 1.0);
-  const StepMetrics m_free = metrics(free, 1.0, 0.0, 1.0);
+  const StepMetrics m_unlimited = metrics(unlimited, 1.0, 0.0, 1.0);
   std::printf("1 m/s step, drive command's rate: %.3f m/s^2 with action_slew_limit %.0f rad/s^2 (bound %.3f), "
               "%.3f without; settling %.3f s, overshoot %.1f %% (without: %.3f s, %.1f %%)\n",
-              rate, kSlew, r * kSlew, maxRate(free, free.command, 0.0, 4.0), m.settling_time, m.overshoot_percent,
-              m_free.settling_time, m_free.overshoot_percent);
+              rate, kSlew, r * kSlew, maxRate(unlimited, unlimited.command, 0.0, 4.0), m.settling_time,
+              m.overshoot_percent, m_unlimited.settling_time, m_unlimited.overshoot_percent);
   EXPECT_LE(rate, r * kSlew * (1.0 + 1e-9));
   EXPECT_GE(rate, 0.9 * r * kSlew) << "the limit never acted: the test checks nothing";
-  EXPECT_GT(maxRate(free, free.command, 0.0, 4.0), 1.5 * r * kSlew);
+  EXPECT_GT(maxRate(unlimited, unlimited.command, 0.0, 4.0), 1.5 * r * kSlew);
   EXPECT_TRUE(m.settled);
   EXPECT_LE(m.settling_time, 1.5);
   EXPECT_LE(m.overshoot_percent, 20.0);

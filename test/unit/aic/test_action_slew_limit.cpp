@@ -194,24 +194,24 @@ void period(ActiveInferenceController& c)
 TEST(ActionSlewLimitController, TheCommandsRateIsBoundedAndTheStepStillArrives)
 {
   const double S = 5.0;  // rad/s^2: 0.1 rad/s per 20 ms step
-  ActiveInferenceController limited(withSlewLimit(S)), free(withSlewLimit(0.0));
-  for (ActiveInferenceController* c : { &limited, &free })
+  ActiveInferenceController limited(withSlewLimit(S)), unlimited(withSlewLimit(0.0));
+  for (ActiveInferenceController* c : { &limited, &unlimited })
   {
     c->setGoal(Vector3(0.5, 0.0, 0.3));
   }
-  double largest_free = 0.0;
+  double largest_unlimited = 0.0;
   for (int k = 0; k < 500; ++k)  // 10 s
   {
-    const Vector2 before = limited.action(), before_free = free.action();
+    const Vector2 before = limited.action(), before_unlimited = unlimited.action();
     period(limited);
-    period(free);
+    period(unlimited);
     EXPECT_LE((limited.action() - before).cwiseAbs().maxCoeff(), S * kH * (1.0 + 1e-12)) << k;
-    largest_free = std::max(largest_free, (free.action() - before_free).cwiseAbs().maxCoeff());
+    largest_unlimited = std::max(largest_unlimited, (unlimited.action() - before_unlimited).cwiseAbs().maxCoeff());
   }
-  EXPECT_GT(largest_free, 2.0 * S * kH) << "the limit never acted: the test checks nothing";
+  EXPECT_GT(largest_unlimited, 2.0 * S * kH) << "the limit never acted: the test checks nothing";
   // a_F did not wind up behind the limit: both arrive at the same command.
-  EXPECT_TRUE(limited.action().isApprox(free.action(), 1e-3))
-      << limited.action().transpose() << " vs " << free.action().transpose();
+  EXPECT_TRUE(limited.action().isApprox(unlimited.action(), 1e-3))
+      << limited.action().transpose() << " vs " << unlimited.action().transpose();
 }
 
 TEST(ActionSlewLimitController, ALimitThatNeverActsChangesNothing)
