@@ -211,13 +211,17 @@ TEST(StateSpace, PredictStepOfStandardSet)
   EXPECT_NEAR(pred.velocity.steady_state_error, 0.0, 0.01);
 }
 
-TEST(StateSpace, IndependentOfRunawayLimitAndClamp)
+TEST(StateSpace, IndependentOfRunawayLimitClampAndSlewLimit)
 {
   AicParams p;
   p.tau = 0.03;
   const ClosedLoopModel reference(p);
   p.runaway_limit = 0.5;  // below the probe vectors' magnitude
   p.max_wheel_speed = 0.5;
+  EXPECT_TRUE(ClosedLoopModel(p).phi().isApprox(reference.phi(), 1e-14));
+  // The slew limit is left out as well: inactive for the small signals the linear model describes
+  // (doc/extending.md, 'The stability model').
+  p.action_slew.max_rate = 1.0;
   EXPECT_TRUE(ClosedLoopModel(p).phi().isApprox(reference.phi(), 1e-14));
 }
 
@@ -286,6 +290,27 @@ TEST(StateSpace, RejectsBadInput)
   EXPECT_THROW(scanStabilityLimit(p, PlantModel(), ScanParameter::kKA, 1.0, 0.5), std::invalid_argument);
   p.tau = -1.0;
   EXPECT_THROW(ClosedLoopModel m(p), std::invalid_argument);
+}
+
+TEST(StateSpace, ABeliefModelItDoesNotRepresentIsRefused)
+{
+  // The model probes the goal model's dynamics: another belief model would be analysed as the goal
+  // model with its gains, silently (doc/extending.md, 'The stability model').
+  for (BeliefModel other : { BeliefModel::kUnbiased, BeliefModel::kRobot })
+  {
+    AicParams p;
+    p.belief_model = other;
+    try
+    {
+      ClosedLoopModel m(p);
+      ADD_FAILURE() << toString(other) << " was analysed";
+    }
+    catch (const std::invalid_argument& e)
+    {
+      EXPECT_NE(std::string(e.what()).find("belief_model " + toString(other)), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(predictStep(p, PlantModel(), 0.5, 1.0), std::invalid_argument);
+  }
 }
 
 TEST(StateSpace, ScanReportsAStableBandAwayFromTheRangeEnd)
