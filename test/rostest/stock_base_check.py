@@ -188,13 +188,14 @@ def median_or_none(values):
 def compare_table(base, controllers, results, v, sim_time, repeats, load, command):
     """Markdown lines of mode compare on `base`: per controller the median settling time [s] and
     overshoot [%] of `repeats` steps of v [m/s], and each step's; results: controller ->
-    [(settling_time, overshoot)]; load: load averages before and after; `command` (if set) is named."""
+    [(settling_time, overshoot)]; load: load averages before and after; command: the command line
+    that wrote them."""
     fmt = lambda x, f: "never" if x is None else f % x  # noqa: E731
     clock = "simulated time (the plant's /clock)" if sim_time else "real time (every node on the wall clock)"
     lines = ["## base:=%s, %.1f m/s step from rest, %s" % (base, v, clock), ""]
-    lines.append("%s(test/rostest/stock_base_check.py, mode compare): settling time (+-5 %% of the plant's "
-                 "/odom) and overshoot, median of %d; host load average (1, 5, 15 min) before %s, after %s; "
-                 "%d CPU(s)." % ("Written by `%s` " % command if command else "", repeats,
+    lines.append("Written by `%s` (test/rostest/stock_base_check.py, mode compare): settling time (+-5 %% of the "
+                 "plant's /odom) and overshoot, median of %d; host load average (1, 5, 15 min) before %s, after %s; "
+                 "%d CPU(s)." % (command, repeats,
                                  " ".join("%.2f" % x for x in load[0]), " ".join("%.2f" % x for x in load[1]),
                                  os.cpu_count() or 0))
     lines += ["", "| controller | settling [s] | overshoot [%] | each step: settling (overshoot) |",
@@ -370,13 +371,17 @@ class StockBaseCheck(unittest.TestCase):
                 results[c].append((m["settling_time"], m["overshoot"]))
         load_after = os.getloadavg()
         sim_time = rospy.get_param("/use_sim_time", False)
+        output = self.p("output", "")
+        rel, full = "doc/results/", os.path.abspath(output)
+        command = "rostest jackal_aic stock_base_compare.test base:=%s %s%s" % (
+            base, "" if sim_time else "use_sim_time:=false ",
+            "output:=" + ("$PWD/" + full[full.index(rel):] if rel in full else output) if output else "")
         lines = compare_table(base, controllers, results, v, sim_time, repeats, (load_before, load_after),
-                              self.p("command", ""))
+                              command.strip())
         print("\n".join(lines))
         for c in controllers:
             print("MEASURED %.2f m/s step, %s/%s (%s): %s" % (v, base, c, "sim time" if sim_time else "real time",
                                                             lines_of(results[c])), file=sys.stderr)
-        output = self.p("output", "")
         if output:
             key = "steps: %s %s" % (base, "sim_time" if sim_time else "real_time")
             write_section(output, "<!-- %s -->" % key, "<!-- end of %s -->" % key, lines, COMPARE_TITLE)
