@@ -373,8 +373,9 @@ class StockBaseCheck(unittest.TestCase):
         sim_time = rospy.get_param("/use_sim_time", False)
         output = self.p("output", "")
         rel, full = "doc/results/", os.path.abspath(output)
-        command = "rostest jackal_aic stock_base_compare.test base:=%s %s%s" % (
-            base, "" if sim_time else "use_sim_time:=false ",
+        command = "rostest jackal_aic stock_base_compare.test base:=%s %s%s%s%s" % (
+            base, "" if controllers == ["aic", "stock"] else "controllers:=%s " % ",".join(controllers),
+            "" if repeats == 3 else "repeats:=%d " % repeats, "" if sim_time else "use_sim_time:=false ",
             "output:=" + ("$PWD/" + full[full.index(rel):] if rel in full else output) if output else "")
         lines = compare_table(base, controllers, results, v, sim_time, repeats, (load_before, load_after),
                               command.strip())
