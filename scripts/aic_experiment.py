@@ -4,8 +4,8 @@
 Starts launch/sim.launch (the ODE plant + the AIC or the stock controller) under its own
 ROS master on a free port, drives /jackal_AIC/set_point with a profile, records the set
 point, /odom (ground-truth body twist), /jackal_AIC/belief and /cmd_drive with their
-stamps, stops early if the loop diverges, then writes <out>/<name>.csv (+ .bag), .json
-and .png and prints the metrics (rise 10-90 %, settling +-5 %, overshoot, steady-state
+stamps, stops early if the loop diverges, then writes <out>/<name>.csv (+ .bag), .json,
+.png and .pdf and prints the metrics (rise 10-90 %, settling +-5 %, overshoot, steady-state
 error, computed by the core's aic_step_metrics) and the tracking of the whole profile (RMS and
 max error of vx and wz, ground truth /odom and wheel odometry /joint_states, against the set
 point; the /odom path's drift from the set point's ideal path; aic_track_metrics), with the x-y
@@ -76,7 +76,7 @@ def main(argv=None):
         print(report.tracking_table([res]))
     if res["status"] != "ok":
         print("status: %s (%s)" % (res["status"], res["reason"]))
-    for k in ("csv", "png", "bag", "json", "track_csv", "ideal_csv"):
+    for k in ("csv", "png", "pdf", "bag", "json", "track_csv", "ideal_csv"):
         if k in res["files"]:
             print("%-9s %s" % (k, res["files"][k]))
     return {"ok": 0, "unstable": 2}.get(res["status"], 1)

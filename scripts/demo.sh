@@ -2,7 +2,7 @@
 # Demo: the AIC and the Jackal's stock controller on the simulated Jackal, headless, each with
 # a 0.5 m/s step from rest and with a 10 Hz planner's command stream with turns
 # (sim/profiles/planner_10hz.csv). Installs what is missing, builds into the git-ignored .ws/
-# (reused when run again), prints the metrics tables and the paths of the plots.
+# (reused when run again), prints the metrics tables and the paths of the plots (PNG and PDF).
 #   bash scripts/demo.sh            # results in results/demo/
 #   AIC_DEMO_V=1.0 bash scripts/demo.sh                       # another step size [m/s]
 #   AIC_DEMO_ARGS="--set k_a=10 --set var_y=[2,20,1e5,1e5]" bash scripts/demo.sh  # more runner args
@@ -53,7 +53,9 @@ if [ "${AIC_DEMO_DOC:-0}" = "1" ]; then
     echo "# A ${v} m/s step from rest and the ${track} profile, node and plant in real time."
     sed "s#$repo/##g" "$out/summary.txt"
   } > "$repo/doc/results/demo.txt"
-  cp "$out/demo_aic_step_${v}.png" "$out/demo_stock_step_${v}.png" "$out/demo_aic_${track}.png" \
-    "$out/demo_stock_${track}.png" "$repo/doc/img/"
-  echo "demo: wrote doc/results/demo.txt and doc/img/demo_{aic,stock}_{step_${v},${track}}.png"
+  for ext in png pdf; do  # each figure and its vector sibling
+    cp "$out/demo_aic_step_${v}.$ext" "$out/demo_stock_step_${v}.$ext" "$out/demo_aic_${track}.$ext" \
+      "$out/demo_stock_${track}.$ext" "$repo/doc/img/"
+  done
+  echo "demo: wrote doc/results/demo.txt and doc/img/demo_{aic,stock}_{step_${v},${track}}.{png,pdf}"
 fi

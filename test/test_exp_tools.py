@@ -220,49 +220,152 @@ class TrackingTest(unittest.TestCase):
 
 
 class PlotTest(unittest.TestCase):
-    """report.plot_run: the run's PNG has one panel per channel, the drive commands, and b_hat when
-    the AIC published /jackal_AIC/wheel_separation."""
+    """report.plot_run: the run's figure has one panel per channel, belief - truth, the drive
+    commands, and b_hat when the AIC published /jackal_AIC/wheel_separation; it is written as PNG
+    and PDF; the drive command's twist is converted with the learned b_hat, sample by sample."""
 
-    def _arr(self, t0, separation):
+    def _arr(self, t0, separation, beliefs=True, w=0.0):
         t = t0 + 0.02 * np.arange(-25, 201)
         z = np.zeros_like(t)
-        arr = {"setpoint": np.column_stack([t[25:], np.full(t.size - 25, 0.5), z[25:]]),
+        arr = {"setpoint": np.column_stack([t[25:], np.full(t.size - 25, 0.5), np.full(t.size - 25, w)]),
                "odom": np.column_stack([t, np.full_like(t, 0.45), z]),
-               "belief": np.column_stack([t, np.full_like(t, 0.46), z]),
-               "drive": np.column_stack([t, np.full_like(t, 4.6), np.full_like(t, 4.6)]),
+               "belief": np.column_stack([t, np.full_like(t, 0.46), z + 0.01]),
+               "drive": np.column_stack([t, np.full_like(t, 4.0), np.full_like(t, 5.0)]),
                "pose": np.zeros((0, 4)), "wheels": np.zeros((0, 3)),
                "separation": np.zeros((0, 2))}
+        if not beliefs:
+            arr["belief"] = np.zeros((0, 3))
         if separation:
             arr["separation"] = np.column_stack([t[::5], np.linspace(0.5621, 0.53, t[::5].size)])
         return arr
 
-    def test_panels_with_and_without_the_learned_separation(self):
+    def _plot(self, tmp, name, arr, profile):
+        """plot_run into tmp/name.png; returns {y label: axes} of the figure's time axes."""
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
         from jackal_aic_tools.common import report
-        p = profiles.step(v=0.5, t_step=0.0, hold=4.0)
-        result = {"name": "run", "controller": "aic", "profile": p.name, "status": "ok", "reason": "",
+        result = {"name": "run", "controller": "aic", "profile": profile.name, "status": "ok", "reason": "",
                   "segments": []}
-        panels = {}
+        axes = {}
         real_savefig = plt.Figure.savefig
 
-        def count(fig, path, **kw):
-            panels[os.path.basename(path)] = [a.get_ylabel() for a in fig.axes]
+        def keep(fig, path, **kw):
+            if path.endswith(".png"):
+                axes.update((a.get_ylabel(), a) for a in fig.axes if a.get_ylabel())
             return real_savefig(fig, path, **kw)
-        plt.Figure.savefig = count
+        plt.Figure.savefig = keep
         try:
-            with tempfile.TemporaryDirectory() as tmp:
-                for sep in (False, True):
-                    path = os.path.join(tmp, "sep%d.png" % sep)
-                    self.assertEqual(report.plot_run(path, self._arr(100.0, sep), 100.0, p, result, 0.098, 0.5621),
-                                     path)
-                    self.assertGreater(os.path.getsize(path), 1000)
+            path = os.path.join(tmp, name + ".png")
+            self.assertEqual(report.plot_run(path, arr, 100.0, profile, result, 0.098, 0.5621), path)
         finally:
             plt.Figure.savefig = real_savefig
-        self.assertEqual(len(panels["sep0.png"]) + 1, len(panels["sep1.png"]), panels)
-        self.assertEqual(panels["sep1.png"][-1], "wheel separation [m]")
-        self.assertNotIn("wheel separation [m]", panels["sep0.png"])
+        self.assertGreater(os.path.getsize(path), 1000)
+        self.assertGreater(os.path.getsize(os.path.join(tmp, name + ".pdf")), 1000)  # the vector sibling
+        return axes
+
+    def test_panels_with_and_without_the_learned_separation(self):
+        p = profiles.step(v=0.5, t_step=0.0, hold=4.0)
+        with tempfile.TemporaryDirectory() as tmp:
+            panels = {sep: list(self._plot(tmp, "sep%d" % sep, self._arr(100.0, sep), p)) for sep in (False, True)}
+            stock = list(self._plot(tmp, "stock", self._arr(100.0, False, beliefs=False), p))
+        self.assertEqual(len(panels[False]) + 1, len(panels[True]), panels)
+        self.assertEqual(panels[True][-1], "wheel separation [m]")
+        self.assertNotIn("wheel separation [m]", panels[False])
+        self.assertEqual(panels[False][1], "belief \u2212 /odom\n[m/s or rad/s]")
+        self.assertEqual(stock, ["linear velocity x [m/s]", "drive command [rad/s]"])  # no beliefs: no error panel
+
+    def test_drive_twist_uses_the_learned_separation(self):
+        # left 4, right 5 rad/s: wz = r (5 - 4) / b_hat with the b_hat in force at each command
+        arr = self._arr(100.0, True, w=0.2)
+        p = profiles.step(v=0.5, w=0.2, t_step=0.0, hold=4.0)
+        with tempfile.TemporaryDirectory() as tmp:
+            axes = self._plot(tmp, "arc", arr, p)
+        line, = [ln for ln in axes["angular velocity z [rad/s]"].get_lines()
+                 if ln.get_label().startswith("drive cmd as twist")]
+        self.assertIn("learned", line.get_label())
+        sep = arr["separation"]
+        b_hat = sep[np.searchsorted(sep[:, 0], arr["drive"][:, 0], side="right") - 1, 1]
+        np.testing.assert_allclose(line.get_xdata(), arr["drive"][:, 0] - 100.0)
+        np.testing.assert_allclose(line.get_ydata(), 0.098 * 1.0 / b_hat, rtol=1e-12)
+        self.assertGreater(np.ptp(line.get_ydata()), 0.005)  # b_hat moved, and the twist with it
+        # before the first b_hat sample, the configured separation
+        early = arr["drive"][:1].copy()
+        early[0, 0] = sep[0, 0] - 1.0
+        self.assertAlmostEqual(recording.drive_twist(early, 0.098, 0.5621, sep)[0, 2], 0.098 / 0.5621)
+
+    def test_separation_at(self):
+        sep = np.array([[1.0, 0.55], [2.0, 0.54]])
+        np.testing.assert_allclose(recording.separation_at([0.5, 1.0, 1.5, 2.0, 9.0], sep, 0.5621),
+                                   [0.5621, 0.55, 0.55, 0.54, 0.54])
+        np.testing.assert_allclose(recording.separation_at([0.5, 3.0], np.zeros((0, 2)), 0.5621), [0.5621, 0.5621])
+        with self.assertRaisesRegex(ValueError, "finite and > 0"):
+            recording.separation_at([1.0], np.array([[1.0, float("nan")]]), 0.5621)
+        with self.assertRaisesRegex(ValueError, "finite and > 0"):
+            recording.separation_at([1.0], np.array([[1.0, 0.0]]), 0.5621)
+        with self.assertRaisesRegex(ValueError, "decrease"):
+            recording.separation_at([1.0], sep[::-1], 0.5621)
+
+    def test_belief_error(self):
+        from jackal_aic_tools.common import report
+        truth = np.array([[0.0, 0.0, 0.0], [1.0, 1.0, 2.0]])
+        belief = np.array([[-0.5, 9.0, 9.0], [0.5, 0.6, 1.5], [1.5, 9.0, 9.0]])
+        np.testing.assert_allclose(report.belief_error(belief, truth), [[0.5, 0.1, 0.5]])
+        self.assertEqual(report.belief_error(np.zeros((0, 3)), truth).shape, (0, 3))
+
+
+class FiguresTest(unittest.TestCase):
+    """jackal_aic_tools.common.figures: the style cycle, the zoom rule and window, the save call."""
+
+    def test_styles_differ(self):
+        from jackal_aic_tools.common import figures
+        st = figures.styles(50)
+        self.assertEqual(len({(s["color"], repr(s["ls"])) for s in st}), 50)
+        self.assertEqual(len({s["color"] for s in st[:10]}), 10)
+        self.assertEqual(len({repr(s["ls"]) for s in st[:5]}), 5)
+        with self.assertRaises(ValueError):
+            figures.style(-1)
+
+    def test_zoom_rule_and_window(self):
+        from jackal_aic_tools.common import figures
+        self.assertEqual(figures.zoom_events([0.5, 0.5], 5.5), [0.5])  # the arc: both channels at once
+        self.assertEqual(figures.zoom_events([0.5], 2.0), [])  # the transient fills the axis anyway
+        self.assertEqual(figures.zoom_events([0.1 * k for k in range(10)], 20.0), [])  # a command stream
+        self.assertEqual(figures.zoom_events([], 20.0), [])
+        plt = figures.pyplot()
+        fig = plt.figure()
+        (ax,), ((z,),), _ = figures.grid(fig, 1, 1)
+        t = np.linspace(-1.0, 5.0, 601)
+        z.plot(t, np.where(t < 0.5, 0.0, 2.0 * (t - 0.5)))
+        figures.zoom(z, 0.5)
+        self.assertEqual(z.get_xlim(), (0.4, 1.5))
+        lo, hi = z.get_ylim()
+        self.assertLess(lo, 0.0)
+        self.assertAlmostEqual(hi, 2.0 + 0.08 * 2.0, places=6)  # the window's data, not the 9 at 5 s
+        with self.assertRaises(ValueError):
+            figures.grid(fig, 0, 1)
+        plt.close(fig)
+
+    def test_save_writes_png_and_pdf(self):
+        from jackal_aic_tools.common import figures
+        plt = figures.pyplot()
+        with tempfile.TemporaryDirectory() as tmp:
+            fig = plt.figure()
+            ax = fig.add_subplot(1, 1, 1)
+            ax.plot([0, 1], [0, 1], label="a line")
+            figures.set_title(ax, "a title far too long for one line of the axes " * 4)
+            self.assertGreater(ax.get_title().count("\n"), 1)
+            self.assertIsNotNone(figures.legend_outside(ax))
+            path = os.path.join(tmp, "f.png")
+            self.assertEqual(figures.save(fig, path), path)
+            self.assertEqual(figures.vector_path(path), os.path.join(tmp, "f.pdf"))
+            with open(path, "rb") as f:
+                self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+            with open(os.path.join(tmp, "f.pdf"), "rb") as f:
+                self.assertEqual(f.read(5), b"%PDF-")
+            with self.assertRaisesRegex(ValueError, "does not end in .png"):
+                figures.save(plt.figure(), os.path.join(tmp, "f.jpg"))
+            self.assertEqual(sorted(os.listdir(tmp)), ["f.pdf", "f.png"])
 
 
 def inference_msg(stamp, orders, f=3.0):
@@ -363,8 +466,9 @@ class HeadlessArcTest(unittest.TestCase):
                 self.assertEqual([s["channel"] for s in res["segments"]], ["vx", "wz"])
                 self.assertLess(res["segments"][0]["metrics"]["measured"]["rise_time"], 1.0)
                 self.assertLess(res["tracking"]["truth"]["vx"]["rms"], 0.2)
-                for k in ("csv", "png", "json", "profile_csv"):
+                for k in ("csv", "png", "pdf", "json", "profile_csv"):
                     self.assertTrue(os.path.isfile(res["files"][k]), k)
+                self.assertEqual(res["files"]["pdf"], os.path.join(tmp, "arc.pdf"))  # the PNG's vector sibling
                 arr = experiment.trace_arrays(tracking.read_columns(res["files"]["csv"]), 0.098, 0.5621)
                 inf = arr["inference"]
                 self.assertGreater(inf.shape[0], 100)
@@ -487,4 +591,4 @@ class DrivingStepTest(unittest.TestCase):
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
     pyunit.main("exp_tools", ProfileTest, StabilityTest, MetricsTest, TrackingTest, OverrideTest, DrivingStepTest,
-                PlotTest, InferenceColumnsTest, HeadlessArcTest, StabilityWarningTest)
+                PlotTest, FiguresTest, InferenceColumnsTest, HeadlessArcTest, StabilityWarningTest)

@@ -8,7 +8,7 @@ import os
 import tempfile
 import unittest
 
-from jackal_aic_tools.common import tables
+from jackal_aic_tools.common import figures, tables
 from jackal_aic_tools.reproduce import reproduce_runs, reproduce_tables
 from jackal_aic_tools.reproduce.reproduce_runs import Run
 
@@ -239,6 +239,58 @@ class FormatterTest(unittest.TestCase):
         self.assertEqual(tables.md_table(["x", "y"], [[1, ""]]), "| x | y |\n|---|---|\n| 1 |  |")
 
 
+class PlotTableTest(unittest.TestCase):
+    """reproduce.plot_table on made-up traces: twelve runs get twelve distinct (colour, dash)
+    styles, the figure is written as PNG and PDF, and the zoom sits on the step (on a square
+    wave, on its first step up and down)."""
+
+    def test_zoomed_changes(self):
+        from jackal_aic_tools.reproduce import reproduce
+        t = [0.01 * k for k in range(1000)]
+        self.assertEqual(reproduce.zoomed_changes(t, [0.0 if x < 1.0 else 0.5 for x in t]), [t[100]])
+        square = [0.0 if x < 0.5 else 0.1 if x < 2.5 or 4.5 <= x < 6.5 else 0.5 for x in t]
+        self.assertEqual(reproduce.zoomed_changes(t, square), [t[250], t[450]])
+        self.assertEqual(reproduce.zoomed_changes(t, [0.0] * len(t)), [])
+
+    def test_twelve_runs(self):
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        from jackal_aic_tools.reproduce import reproduce
+        seen = {}
+        real_savefig = plt.Figure.savefig
+
+        def keep(fig, path, **kw):
+            seen[os.path.basename(path)] = [[(ln.get_label(), ln.get_color()) for ln in a.get_lines()]
+                                            for a in fig.axes]
+            return real_savefig(fig, path, **kw)
+        plt.Figure.savefig = keep
+        try:
+            with tempfile.TemporaryDirectory() as tmp:
+                runs = []
+                for k in range(12):
+                    trace = os.path.join(tmp, "run%d.csv" % k)
+                    with open(trace, "w") as f:
+                        f.write("t,v_odom,set_point\n")
+                        for i in range(-20, 300):
+                            t = 0.01 * i
+                            f.write("%g,%g,%g\n" % (t, 0.5 * (1 - math.exp(-t / (0.1 + 0.02 * k))) if t > 0 else 0.0,
+                                                    0.5 if t >= 0 else 0.0))
+                    runs.append(("run %d" % k, {"trace": trace, "status": "ok"}))
+                table = reproduce_tables.Table("5-5", "a long title " * 12, ["a"])
+                path = reproduce.plot_table(table, runs, tmp)
+                self.assertEqual(path, os.path.join(tmp, "table_5-5.png"))
+                self.assertGreater(os.path.getsize(path), 1000)
+                self.assertGreater(os.path.getsize(os.path.join(tmp, "table_5-5.pdf")), 1000)
+        finally:
+            plt.Figure.savefig = real_savefig
+        main, zoom = seen["table_5-5.png"]
+        # run k in figures.style(k): no two of the twelve alike in both colour and dashes
+        self.assertEqual(main, [("run %d" % k, figures.style(k)["color"]) for k in range(12)])
+        self.assertEqual(len({(st["color"], repr(st["ls"])) for st in figures.styles(12)}), 12)
+        self.assertEqual(main, zoom)
+
+
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
-    pyunit.main("reproduce_tables", Table31Test, OtherTablesTest, RunsTest, FormatterTest)
+    pyunit.main("reproduce_tables", Table31Test, OtherTablesTest, RunsTest, FormatterTest, PlotTableTest)

@@ -194,6 +194,49 @@ class SweepTest(unittest.TestCase):
         self.assertEqual(sweep.run_key(a), sweep.run_key(b))
         self.assertNotEqual(sweep.run_key(dict(a, controller="aic")), sweep.run_key(dict(b, controller="aic")))
 
+    def test_combined_plot_styles_zoom_and_pdf(self):
+        # two rows x two columns of made-up runs (experiment CSV layout), a step at 0.5 s zoomed
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        from jackal_aic_tools.common import figures
+        seen = {}
+        real_savefig = plt.Figure.savefig
+
+        def keep(fig, path, **kw):
+            seen[os.path.basename(path)] = [(a.get_xlim(), [(ln.get_label(), ln.get_color()) for ln in a.get_lines()])
+                                            for a in fig.axes]
+            return real_savefig(fig, path, **kw)
+        plt.Figure.savefig = keep
+        try:
+            with tempfile.TemporaryDirectory() as tmp:
+                grid = {}
+                for r in ("0.03", "0.01"):
+                    for c in ("aic", "stock"):
+                        csvp = os.path.join(tmp, "%s_%s.csv" % (r, c))
+                        with open(csvp, "w") as f:
+                            f.write("t,stamp,source,setpoint_vx,setpoint_wz,odom_vx,odom_wz\n")
+                            for k in range(-50, 200):
+                                t = 0.02 * k
+                                f.write("%g,0,odom,,,%g,0\n" % (t, 0.5 * (t > 0.6)))
+                                if k >= 0:
+                                    f.write("%g,0,setpoint,%g,0,,\n" % (t, 0.5 * (t >= 0.5)))
+                        grid[(r, "[%s]" % c)] = {"status": "ok", "files": {"csv": csvp},
+                                                 "segments": [{"channel": "vx"}]}
+                path = os.path.join(tmp, "sweep.png")
+                self.assertEqual(sweep.combined_plot(path, [0.03, 0.01], "tau", [("aic",), ("stock",)], ["controller"],
+                                                     grid, "a sweep title " * 20, [0.5]), path)
+                self.assertGreater(os.path.getsize(os.path.join(tmp, "sweep.pdf")), 1000)
+        finally:
+            plt.Figure.savefig = real_savefig
+        axes = seen["sweep.png"]
+        self.assertEqual(len(axes), 4)  # per row the whole run and the zoom
+        main, zoom = axes[0], axes[1]
+        self.assertEqual(main[1], [("aic", figures.style(0)["color"]), ("set point", "k"),
+                                   ("stock", figures.style(1)["color"])])
+        self.assertEqual(zoom[1], main[1])
+        np.testing.assert_allclose(zoom[0], (0.5 - figures.ZOOM_LEAD, 0.5 + figures.ZOOM_WINDOW))
+
     def test_headline_is_the_worst_transition_or_none(self):
         res = {"segments": [step_result("a", rise=0.1, settle=0.3)["segments"][0],
                             step_result("b", rise=0.2, settle=0.25)["segments"][0]]}

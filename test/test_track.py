@@ -194,6 +194,7 @@ class TrackCheck(unittest.TestCase):
             for v in ("default", "slow_latency"):
                 png = os.path.join(out, "plots", "short__%s.png" % v)
                 self.assertGreater(os.path.getsize(png), 10000, png)
+                self.assertGreater(os.path.getsize(os.path.join(out, "plots", "short__%s.pdf" % v)), 5000, v)
             with open(md) as f:
                 page = f.read()
             self.assertIn("| short | slow_latency | aic |", page)

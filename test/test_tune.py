@@ -233,6 +233,19 @@ class SpaceTest(unittest.TestCase):
         self.assertNotIn("goal_response_time_constant",
                          tune_space.driving_values(tune_space.driving_unit(base), base["var_y"]))
 
+    def test_a_key_that_is_off_at_zero_enters_the_driving_space_linearly(self):
+        # doc/extending.md, 'The tuner's space': the slew limit's line of DRIVING_SPACE, on a linear
+        # scale so that 0 (off) stays reachable; never in SPACE (the linear model leaves it out).
+        space = dict(tune_space.DRIVING_SPACE, action_slew_limit=(0.0, 60.0, False))
+        base = {"var_y": [2.0, 40.0, 1e5], "action_slew_limit": 0.0}
+        v = tune_space.driving_values(tune_space.driving_unit(base, space), base["var_y"], space)
+        self.assertEqual(v["action_slew_limit"], 0.0)
+        v = tune_space.driving_values(tune_space.driving_unit(dict(base, action_slew_limit=20.0), space),
+                                      base["var_y"], space)
+        self.assertAlmostEqual(v["action_slew_limit"], 20.0)
+        self.assertIn("action_slew_limit=20", tune_space.to_args(v))
+        self.assertNotIn("action_slew_limit", tune_space.SPACE)
+
     def test_yaml_numbers(self):
         self.assertEqual(tune_space.yaml_float(1000.0), "1000.0")
         self.assertEqual(tune_space.yaml_float(0.0123456), "0.01235")

@@ -12,6 +12,19 @@ namespace jackal_aic
 {
 namespace aic
 {
+double conditionalIntegration(double a_F, double candidate, double a_dot, double cut, double at_clamp)
+{
+  if (cut > 0.0 && a_dot > 0.0)
+  {
+    return std::max(a_F, std::min(candidate, at_clamp));
+  }
+  if (cut < 0.0 && a_dot < 0.0)
+  {
+    return std::min(a_F, std::max(candidate, at_clamp));
+  }
+  return candidate;
+}
+
 AntiWindup::Result AntiWindup::apply(const base::Vector2& a_F, const base::Vector2& candidate,
                                      const base::Vector2& a_dot, const base::Vector2& prior, const base::Vector2& omega,
                                      bool left_trusted, bool right_trusted) const
@@ -53,20 +66,7 @@ AntiWindup::Result AntiWindup::apply(const base::Vector2& a_F, const base::Vecto
   Result result{ a, a_F, a != unsaturated };
   for (int i = 0; i < 2; ++i)
   {
-    const double cut = raw(i) - a(i);
-    const double at_clamp = a(i) - prior(i);
-    if (cut > 0.0 && a_dot(i) > 0.0)
-    {
-      result.free_energy_part(i) = std::max(a_F(i), std::min(candidate(i), at_clamp));
-    }
-    else if (cut < 0.0 && a_dot(i) < 0.0)
-    {
-      result.free_energy_part(i) = std::min(a_F(i), std::max(candidate(i), at_clamp));
-    }
-    else
-    {
-      result.free_energy_part(i) = candidate(i);
-    }
+    result.free_energy_part(i) = conditionalIntegration(a_F(i), candidate(i), a_dot(i), raw(i) - a(i), a(i) - prior(i));
   }
   return result;
 }

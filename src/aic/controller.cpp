@@ -138,6 +138,7 @@ void ActiveInferenceController::applyParams(const params::AicParams& params)
     response_.start(reference_.attractorGoal());
   }
   anti_windup_ = AntiWindup(params.anti_windup, params.max_wheel_speed);
+  slew_limit_ = ActionSlewLimit(params.action_slew);
   wheel_loop_.setParams(params.robot);
   robot_belief_.setParams(params.robot);
   pi_mu_ = params.precisionMu();
@@ -731,10 +732,13 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
   const AntiWindup::Result clamped =
       anti_windup_.apply(a_F_, candidate, a_dot, prior, omega, (sensor_mask_ & (1u << base::kOmegaLeft)) != 0,
                          (sensor_mask_ & (1u << base::kOmegaRight)) != 0);
-  a_F_ = clamped.free_energy_part;
+  // ActionSlewLimit: the command's change since the previous step bounded, a_F integrated behind it.
+  const ActionSlewLimit::Result slewed =
+      slew_limit_.apply(a_, clamped.command, a_F_, clamped.free_energy_part, a_dot, prior, h);
+  a_F_ = slewed.free_energy_part;
   // Saturation: the wheel-speed limit cut the command (the lead limits are anti-windup, not saturation).
   action_saturated_ = clamped.saturated;
-  a_ = clamped.command;
+  a_ = slewed.command;
   if (params_.belief_model == params::BeliefModel::kUnbiased)
   {
     action_line_.record(h, model_.twistFromWheels(a_));  // ActionDelayLine

@@ -4,6 +4,7 @@
  */
 #include "jackal_aic/aic/robot_belief.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -69,6 +70,15 @@ void RobotBelief::reset(const base::Vector2& omega, double theta_dot)
   p_yaw_(0, 0) = kInitialVariance;
   turn_ = std::numeric_limits<double>::quiet_NaN();  // no predict() yet
   jump_samples_ = 0;
+  wheel_command_.setZero();
+  steady_command_.setZero();
+  steady_time_.setZero();
+  settle_needed_.setZero();
+  shortfall_samples_[0] = shortfall_samples_[1] = 0;
+  shortfall_sum_.setZero();
+  shortfall_first_.setZero();
+  shortfall_jump_.setZero();
+  jump_turn_.setZero();
   omega_rate_.setZero();
   yaw_rate_ = 0.0;
   f_sensory_ = 0.0;
@@ -81,6 +91,34 @@ void RobotBelief::predict(double h, const WheelLoopModel& loop, const base::Vect
 {
   const base::Vector2 before = wheelSpeeds();
   const double yaw_before = x_(4);
+  // A jump in the shortfall belongs to the turn it was taken in (a stall, a turn deficit, a wheel at
+  // its limit in the turn): when the goal's turn moves on by more than kJumpTurnBand it is dropped,
+  // and the drift's part of d stays.
+  for (int i = 0; i < 2; ++i)
+  {
+    if (shortfall_jump_(i) != 0.0 && std::isfinite(turn) && !(std::abs(turn - jump_turn_(i)) <= kJumpTurnBand))
+    {
+      x_(2 * i + 1) -= shortfall_jump_(i);
+      shortfall_jump_(i) = 0.0;
+    }
+  }
+  // Each side's command at the wheels: steady while it stays within kSteadyBand of where it
+  // settled; a change beyond restarts the wait for the wheel loop to settle.
+  for (int i = 0; i < 2; ++i)
+  {
+    const double u = u_at_wheels(i);
+    if (std::abs(u - steady_command_(i)) <= kSteadyBand)
+    {
+      steady_time_(i) += h;
+    }
+    else
+    {
+      settle_needed_(i) = settleTime(u - steady_command_(i));
+      steady_command_(i) = u;
+      steady_time_(i) = 0.0;
+    }
+    wheel_command_(i) = u;
+  }
   predictSide(loop, params_, h, u_at_wheels(0), &x_(0), x_(1), &p_left_);
   predictSide(loop, params_, h, u_at_wheels(1), &x_(2), x_(3), &p_right_);
   // The yaw triple (theta_dot, s, beta): theta_dot' = ((1 - s) u - theta_dot) / T_s, u =
@@ -121,6 +159,8 @@ bool RobotBelief::correct(const base::Vector2& y_omega, double y_gyro, bool use_
   f_prior_ = 0.0;
   innovation_.setZero();
   const double r_e = params_.encoder_noise * params_.encoder_noise;
+  detectShortfallJump(0, y_omega(0), use_left, r_e, &x_(1), p_left_);
+  detectShortfallJump(1, y_omega(1), use_right, r_e, &x_(3), p_right_);
   if (use_left)
   {
     correctPair(y_omega(0), r_e, &x_(0), &x_(1), &p_left_, &f_sensory_, &f_prior_, &innovation_(0));
@@ -183,6 +223,60 @@ bool RobotBelief::correct(const base::Vector2& y_omega, double y_gyro, bool use_
     innovation_(2) = e;
   }
   return true;
+}
+
+void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e, double* d, const Eigen::Matrix2d& p)
+{
+  // The wheel against the model's steady speed u - d, once the command has held long enough for
+  // the wheel loop to have settled: kShortfallJumpSamples residuals in a row beyond kJumpThreshold
+  // standard deviations (sigma_e and d's uncertainty), all within kJumpThreshold sqrt(2) sigma_e of
+  // the first (the wheel no longer moves: a loop still converging changes them), are a step in the
+  // load; d takes their mean at once.
+  if (!used || steady_time_(side) < settle_needed_(side))
+  {
+    shortfall_samples_[side] = 0;
+    shortfall_sum_(side) = 0.0;
+    return;
+  }
+  const double r = y - (wheel_command_(side) - *d);
+  const double limit = kJumpThreshold * std::sqrt(r_e + p(1, 1));
+  const bool beyond = std::abs(r) > limit;
+  const bool still =
+      shortfall_samples_[side] == 0 || std::abs(r - shortfall_first_(side)) <= kJumpThreshold * std::sqrt(2.0 * r_e);
+  if (!beyond || !still)
+  {
+    shortfall_samples_[side] = beyond ? 1 : 0;
+    shortfall_sum_(side) = beyond ? r : 0.0;
+    shortfall_first_(side) = r;
+    return;
+  }
+  if (shortfall_samples_[side] == 0)
+  {
+    shortfall_first_(side) = r;
+  }
+  shortfall_sum_(side) += r;
+  if (++shortfall_samples_[side] >= kShortfallJumpSamples)
+  {
+    // A shortfall: the wheel delivers between nothing and the whole command (a wheel faster than
+    // its command, pushed or rolling downhill, is left to the drift).
+    const double u = wheel_command_(side);
+    const double target =
+        std::clamp(*d - shortfall_sum_(side) / shortfall_samples_[side], std::min(0.0, u), std::max(0.0, u));
+    shortfall_samples_[side] = 0;
+    shortfall_sum_(side) = 0.0;
+    if (std::abs(target - *d) > limit)
+    {
+      shortfall_jump_(side) += target - *d;
+      jump_turn_(side) = turn_;
+      *d = target;
+      ++shortfall_jumps_;
+    }
+  }
+}
+
+double RobotBelief::settleTime(double du) const
+{
+  return std::abs(du) / params_.wheel_acceleration + kSettleLags * params_.wheel_time_constant;
 }
 
 bool RobotBelief::rescaleSlip(double k)

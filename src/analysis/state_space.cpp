@@ -28,6 +28,14 @@ ClosedLoopModel::ClosedLoopModel(const params::AicParams& params, const PlantMod
   : params_(params), plant_(plant)
 {
   aic::ActiveInferenceController c(params);  // validates
+  if (params.belief_model != params::BeliefModel::kGoal)
+  {
+    // The probe below reads the goal model's belief and action dynamics whatever the setting: the
+    // unbiased prior on the delayed action and the robot model's filter and latency action are
+    // not in them, so the figures would be another model's.
+    throw std::invalid_argument("ClosedLoopModel: belief_model " + params::toString(params.belief_model) +
+                                " is not represented (the linear model is belief_model goal's, the thesis's)");
+  }
   {
     // Probe with unit vectors: the runaway limit (not modelled) must not reject them. The
     // set-point dynamics and the action prior are not modelled either (the thesis's controller).

@@ -107,6 +107,11 @@ std::vector<ParamSpec> buildControllerRows()
                   "with this time constant while the linear (yaw-rate) goal is zero, so a stop stops the wheels; 0 "
                   "= off")
         .member<&AicParams::action_release_time>(),
+    ParamRow("robot", "action_slew_limit").unit("rad/s^2").atLeast(0.0).atMost(kMaxGain)
+        .describe("Slew limit, not in the thesis: each wheel command changes by at most this times the action "
+                  "step, a larger change of the pair scaled down as a whole; no effect with belief_model robot; 0 "
+                  "= off")
+        .member<&AicParams::action_slew, &ActionSlewLimitParams::max_rate>(),
     // ---- set-point dynamics and the action prior (not in the thesis; doc/active_inference.md)
     ParamRow("active_inference", "generalized_goal")
         .describe("If true, the goal's rate mu_d' comes from the set-point stream by finite differences and the "

@@ -104,12 +104,6 @@ bool AicNode::init()
     sensor_nh.setCallbackQueue(&inline_queue_);
     sensor_pnh.setCallbackQueue(&inline_queue_);
   }
-  const auto hints = ros::TransportHints().tcpNoDelay();
-  joint_sub_ = sensor_nh.subscribe("joint_states", 10, &AicNode::jointStateCallback, this, hints);
-  imu_sub_ = sensor_nh.subscribe("imu/data", 10, &AicNode::imuCallback, this, hints);
-  set_point_sub_ = sensor_pnh.subscribe("set_point", 10, &AicNode::setPointCallback, this, hints);
-  status_sub_ = sensor_nh.subscribe("status", 10, &AicNode::statusCallback, this, hints);
-  feedback_sub_ = sensor_nh.subscribe("feedback", 10, &AicNode::feedbackCallback, this, hints);
 
   reconfigure_ = std::make_unique<NodeReconfigure>(pnh_, params_);
   diagnostics_ = std::make_unique<NodeDiagnostics>(nh_, pnh_, *loop_, [this] { return controllerReport(); });
@@ -165,6 +159,16 @@ bool AicNode::init()
     schedule = "a " + belief_loop_->description();
   }
   diagnostics_->setBeliefLoop(schedule);
+
+  // The subscriptions last: with the event schedule a message's callback runs on roscpp's network
+  // thread as soon as a publisher connects, and it uses everything built above (diagnostics, the
+  // output gate, the conflict check).
+  const auto hints = ros::TransportHints().tcpNoDelay();
+  joint_sub_ = sensor_nh.subscribe("joint_states", 10, &AicNode::jointStateCallback, this, hints);
+  imu_sub_ = sensor_nh.subscribe("imu/data", 10, &AicNode::imuCallback, this, hints);
+  set_point_sub_ = sensor_pnh.subscribe("set_point", 10, &AicNode::setPointCallback, this, hints);
+  status_sub_ = sensor_nh.subscribe("status", 10, &AicNode::statusCallback, this, hints);
+  feedback_sub_ = sensor_nh.subscribe("feedback", 10, &AicNode::feedbackCallback, this, hints);
   ROS_INFO_STREAM("jackal_AIC: " << params_.aic.summary() << "; beliefs advanced on " << schedule
                                  << "; waiting for /joint_states, /imu/data and ~set_point");
   return true;

@@ -5,6 +5,7 @@ Times are message stamps where the message has a header, otherwise the receipt t
 no stamp.
 """
 import math
+import os
 import threading
 import xmlrpc.client
 
@@ -87,3 +88,18 @@ def connections(node):
     if code != 1:
         return []
     return [(c[4], c[2], c[1]) for c in info if len(c) > 4 and (len(c) < 6 or c[5] is not False)]
+
+
+def write_section(path, begin, end, body, title):
+    """Write the lines `body` between the marker lines `begin` and `end` of the Markdown file
+    `path`, replacing what stood between them and keeping the rest of the file; a file without
+    the markers gets the section appended, a missing one is created with the line `title` first.
+    Raises OSError when the file cannot be read or written."""
+    section = "\n".join([begin] + list(body) + [end])
+    old = open(path, encoding="utf-8").read() if os.path.exists(path) else title
+    if begin in old and end in old:
+        new = old[:old.index(begin)] + section + old[old.index(end) + len(end):]
+    else:
+        new = old.rstrip("\n") + "\n\n" + section + "\n"
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(new)

@@ -46,7 +46,7 @@ from nav_msgs.msg import Odometry
 from std_msgs.msg import Bool
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from aic_test_utils import connections, live_publishers, wait_for  # noqa: E402
+from aic_test_utils import connections, live_publishers, wait_for, write_section  # noqa: E402
 from jackal_aic_tools.common import ros_process  # noqa: E402
 
 PKG = "jackal_aic"
@@ -66,19 +66,25 @@ def publishers_of(topic):
 STOP_PATHS_TITLE = "# Stop paths on the robot's path: the e-stop lock, AIC against the stock relay\n"
 
 
-def write_stop_paths(path, sim_time, engagements, threshold, speeds, runs, results, load):
-    """Write this clock's section of the stop-path results file `path` (Markdown), keeping the
-    other clock's section if the file has one. runs: (controller, v, w) -> [(from the last
+def write_stop_paths(path, sim_time, engagements, threshold, speeds, runs, results, load, base="stock_diff_drive"):
+    """Write this clock's and base's section of the stop-path results file `path` (Markdown),
+    keeping the other sections the file has. runs: (controller, v, w) -> [(from the last
     input, from the lock)] [s] per engagement; results: the same key -> the median engagement;
-    load: the host's load averages (1, 5, 15 min) before and after."""
+    load: the host's load averages (1, 5, 15 min) before and after; base: the stock base of
+    launch/stock_base.launch (stock_diff_drive, the stand-in: sections keyed by the clock alone;
+    jackal_node: keyed "jackal_node <clock>")."""
     key = "sim_time" if sim_time else "real_time"
-    rel = "doc/results/stop_paths.md"
-    where = "$PWD/" + rel if os.path.abspath(path).endswith(rel) else path
-    command = "rostest jackal_aic robot_stop_path.test %sengagements:=%d output:=%s" % (
+    if base != "stock_diff_drive":
+        key = "%s %s" % (base, key)
+    rel, full = "doc/results/", os.path.abspath(path)
+    where = "$PWD/" + full[full.index(rel):] if rel in full else path
+    command = "rostest jackal_aic robot_stop_path.test %s%sengagements:=%d output:=%s" % (
+        "" if base == "stock_diff_drive" else "base:=%s " % base,
         "" if sim_time else "use_sim_time:=false ", engagements, where)
     fmt = lambda r: "%.3f (%.3f)" % r  # noqa: E731
-    body = ["## %s" % ("Simulated time (the plant's /clock)" if sim_time else
-                       "Real time (every node on the wall clock, the plant paced at real time)"),
+    clock = ("Simulated time (the plant's /clock)" if sim_time else
+             "Real time (every node on the wall clock, the plant paced at real time)")
+    body = ["## %s" % (clock if base == "stock_diff_drive" else "%s: %s" % (base, clock)),
             "",
             "Written by `%s` (test/rostest/robot_path_check.py, mode stop_path): %d lock engagement(s) per case, "
             "the median; host load average (1, 5, 15 min) before %s, after %s; %d CPU(s)."
@@ -95,15 +101,8 @@ def write_stop_paths(path, sim_time, engagements, threshold, speeds, runs, resul
             ", ".join(fmt(r) for r in runs[("aic", v, w)]), ", ".join(fmt(r) for r in runs[("stock", v, w)])))
     body += ["", "Times from twist_mux's last output before the lock silences it to the last /cmd_drive with a "
              "wheel above %.2f rad/s; in brackets, from the lock's engagement." % threshold, ""]
-    begin, end = "<!-- stop paths: %s -->" % key, "<!-- end of stop paths: %s -->" % key
-    section = "\n".join([begin] + body + [end])
-    old = open(path, encoding="utf-8").read() if os.path.exists(path) else STOP_PATHS_TITLE
-    if begin in old and end in old:
-        new = old[:old.index(begin)] + section + old[old.index(end) + len(end):]
-    else:
-        new = old.rstrip("\n") + "\n\n" + section + "\n"
-    with open(path, "w", encoding="utf-8") as f:
-        f.write(new)
+    write_section(path, "<!-- stop paths: %s -->" % key, "<!-- end of stop paths: %s -->" % key, body,
+                  STOP_PATHS_TITLE)
 
 
 class Stream:
@@ -340,7 +339,8 @@ class RobotPath(unittest.TestCase):
         print(text)
         rospy.loginfo("robot_stop_path:\n%s", text)
         if output:
-            write_stop_paths(output, sim_time, engagements, threshold, speeds, runs, results, (load_before, load_after))
+            write_stop_paths(output, sim_time, engagements, threshold, speeds, runs, results, (load_before, load_after),
+                             rospy.get_param("~base", "stock_diff_drive"))
         for v, w in speeds:
             (a, a_lock), (s, s_lock) = results[("aic", v, w)], results[("stock", v, w)]
             print("MEASURED %.1f m/s %.1f rad/s (%s): from the last input AIC %.3f s, stock %.3f s; from the lock AIC "

@@ -19,6 +19,14 @@ fixed sleep. The set points stream at RATE Hz on a ROS-time timer.
   speeds the stock mapping gives for one of the AIC's last three cmd_vel messages before it
   or those received within 60 ms of it, within ~wheel_tol rad/s. The stock path's
   /cmd_drive has one publisher, the diff drive, and its cmd_vel one, the AIC.
+~mode compare (dev/rehearsal.sh): one plant (started by the .test for ~base: stock_diff_drive
+  or jackal_node); for each of ~repeats rounds, for each controller of ~controllers (aic,
+  stock), this node starts `sim.launch plant:=false base:=<~base> controller:=<controller>`,
+  takes one linear step from rest (~step_v m/s, ~hold_v s of /odom judged) and stops it. It
+  prints each step's settling time (+-5 % of ground-truth /odom) and overshoot, and their
+  medians per controller, and writes them as a Markdown section (keyed by base and clock) to
+  ~output (if set). It fails only when a run never comes up or a step never settles.
+  Simulated or real time (/use_sim_time).
 ~mode stop: one simulation (base:=stock_diff_drive, started by the .test): steady at ~step_v,
   the stop engaged (/stock_base/set_stop) for ~stop_time s: the AIC's command never grows
   while stopped (~growth_tol) and its diagnostics say why ("held: the MCU reports ...");
@@ -26,6 +34,7 @@ fixed sleep. The set points stream at RATE Hz on a ROS-time timer.
   the resumed step overshoots by at most ~overshoot_limit %.
 """
 import os
+import statistics
 import sys
 import threading
 import unittest
@@ -40,7 +49,7 @@ from diagnostic_msgs.msg import DiagnosticArray
 from std_msgs.msg import Bool
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from aic_test_utils import live_publishers, wait_for  # noqa: E402
+from aic_test_utils import live_publishers, wait_for, write_section  # noqa: E402
 from jackal_aic_tools.common import metrics, ros_process  # noqa: E402
 
 PKG = "jackal_aic"
@@ -48,6 +57,10 @@ R = 0.098                 # m, the stock controller's wheel radius (control.yaml
 S = 1.5 * 0.37559         # m, its effective wheel separation
 RATE = 50.0               # Hz, set-point rate
 CMD_VEL = "/jackal_velocity_controller/cmd_vel"
+WHEEL_ODOM = "/jackal_velocity_controller/odom"
+# The one /cmd_drive publisher of each base of launch/sim.launch (direct: the controller's node).
+DRIVE_PUBLISHER = {"stock_diff_drive": "/stock_base", "jackal_node": "/jackal_node"}
+DIRECT_PUBLISHER = {"aic": "/jackal_AIC", "stock": "/stock_controller"}
 
 
 def wheels(lin, ang):
@@ -158,29 +171,76 @@ def settling(tape, t_step, t_end, channel, initial, target):
     return metrics.step_metrics([r[0] for r in rows], [r[1 + channel] for r in rows], t_step, initial, target)
 
 
+COMPARE_TITLE = "# The stock base's path: Clearpath's jackal_node against the stand-in\n"
+
+
+def lines_of(rows):
+    """'settling s (overshoot %)' of each (settling_time, overshoot) row, comma-separated."""
+    fmt = lambda x, f: "never" if x is None else f % x  # noqa: E731
+    return ", ".join("%s (%s)" % (fmt(s, "%.3f s"), fmt(o, "%.1f %%")) for s, o in rows)
+
+
+def median_or_none(values):
+    """Median of the values; None if any is None (a step that never settled)."""
+    return None if any(x is None for x in values) or not values else statistics.median(values)
+
+
+def compare_table(base, controllers, results, v, sim_time, repeats, load, command):
+    """Markdown lines of mode compare on `base`: per controller the median settling time [s] and
+    overshoot [%] of `repeats` steps of v [m/s], and each step's; results: controller ->
+    [(settling_time, overshoot)]; load: load averages before and after; command: the command line
+    that wrote them."""
+    fmt = lambda x, f: "never" if x is None else f % x  # noqa: E731
+    clock = "simulated time (the plant's /clock)" if sim_time else "real time (every node on the wall clock)"
+    lines = ["## base:=%s, %.1f m/s step from rest, %s" % (base, v, clock), ""]
+    lines.append("Written by `%s` (test/rostest/stock_base_check.py, mode compare): settling time (+-5 %% of the "
+                 "plant's /odom) and overshoot, median of %d; host load average (1, 5, 15 min) before %s, after %s; "
+                 "%d CPU(s)." % (command, repeats,
+                                 " ".join("%.2f" % x for x in load[0]), " ".join("%.2f" % x for x in load[1]),
+                                 os.cpu_count() or 0))
+    lines += ["", "| controller | settling [s] | overshoot [%] | each step: settling (overshoot) |",
+              "|---|---|---|---|"]
+    for c in controllers:
+        rows = results[c]
+        lines.append("| %s | %s | %s | %s |" % (
+            c, fmt(median_or_none([st for st, _ in rows]), "%.3f"),
+            fmt(median_or_none([o for _, o in rows]), "%.1f"), lines_of(rows)))
+    return lines + [""]
+
+
 class StockBaseCheck(unittest.TestCase):
 
     def p(self, name, default):
         return rospy.get_param("~" + name, default)
 
     def test_stock_base(self):
-        self.assertTrue(rospy.get_param("/use_sim_time", False), "the check runs on simulated time")
         mode = self.p("mode", "steps")
+        if mode != "compare":
+            self.assertTrue(rospy.get_param("/use_sim_time", False), "the check runs on simulated time")
         if mode == "steps":
             self.check_steps()
         elif mode == "stop":
             self.check_stop()
+        elif mode == "compare":
+            self.check_compare()
         else:
-            self.fail("~mode must be steps or stop, not %r" % mode)
+            self.fail("~mode must be steps, stop or compare, not %r" % mode)
 
-    def wait_ready(self, path, timeout):
-        """Wait until the plant's /odom and the path's /cmd_drive stream (set point zero) and the
-        AIC's diagnostics, published after that, say "running" (not held: the stock base's
-        /status has reached it)."""
+    def wait_ready(self, path, timeout, controller="aic", base="stock_diff_drive"):
+        """Wait until the plant's /odom and the path's /cmd_drive stream (set point zero) and, for
+        the AIC, its diagnostics, published after that, say "running" (not held: the stock base's
+        /status has reached it); on a base, until its wheel odometry streams (the diff drive runs)."""
         path.set(0.0, 0.0)
         t0 = rospy.Time.now().to_sec()
         ok = wait_for(lambda: path.odom_covers(t0) and (path.drive.last_time() or -1.0) > t0, timeout)
         self.assertTrue(ok, "no /odom or /cmd_drive within %.0f s" % timeout)
+        if base != "direct":
+            try:
+                rospy.wait_for_message(WHEEL_ODOM, Odometry, timeout)
+            except rospy.ROSException:
+                self.fail("no %s within %.0f s: the diff drive does not run" % (WHEEL_ODOM, timeout))
+        if controller != "aic":
+            return
         t1 = rospy.Time.now().to_sec()
         self.assertTrue(wait_for(lambda: path.running_since(t1), timeout),
                         "jackal_AIC not running: %s" % (path.aic_state,))
@@ -191,12 +251,17 @@ class StockBaseCheck(unittest.TestCase):
         self.assertTrue(wait_for(lambda: path.at(0.0, 0.0, 0.01, 0.5), timeout), "the robot did not come to rest")
 
     # ---- mode steps -------------------------------------------------------------------
-    def start_sim(self, base):
-        proc = ros_process.roslaunch("sim.launch", ["plant:=false", "base:=" + base], package=PKG)
-        expected = "/stock_base" if base == "stock_diff_drive" else "/jackal_AIC"
-        up = wait_for(lambda: publishers_of("/cmd_drive") == [expected] and "/jackal_AIC" in (
-            publishers_of(CMD_VEL) if base == "stock_diff_drive" else publishers_of("/cmd_drive")), 60.0)
-        self.assertTrue(up, "sim.launch base:=%s did not come up (/cmd_drive: %s)" % (base, publishers_of("/cmd_drive")))
+    def start_sim(self, base, controller="aic"):
+        """Start `sim.launch plant:=false base:=<base> controller:=<controller>`; wait until
+        /cmd_drive has its one publisher (the base's, or the controller's on base direct) and,
+        with the AIC on a base, the AIC publishes the base's cmd_vel. Returns the roslaunch process."""
+        proc = ros_process.roslaunch("sim.launch", ["plant:=false", "base:=" + base, "controller:=" + controller],
+                                     package=PKG)
+        expected = DRIVE_PUBLISHER.get(base, DIRECT_PUBLISHER[controller])
+        up = wait_for(lambda: publishers_of("/cmd_drive") == [expected] and (
+            controller != "aic" or base == "direct" or "/jackal_AIC" in publishers_of(CMD_VEL)), 60.0)
+        self.assertTrue(up, "sim.launch base:=%s controller:=%s did not come up (/cmd_drive: %s)"
+                        % (base, controller, publishers_of("/cmd_drive")))
         return proc
 
     def stop_sim(self, proc):
@@ -208,7 +273,7 @@ class StockBaseCheck(unittest.TestCase):
         """One step per channel on `base`; return {channel: settling time [s] or None}."""
         proc = self.start_sim(base)
         try:
-            self.wait_ready(path, float(self.p("ready_timeout", 60.0)))
+            self.wait_ready(path, float(self.p("ready_timeout", 60.0)), base=base)
             if base == "stock_diff_drive":
                 # Only one node publishes the stock path's /cmd_drive: the diff drive (as jackal_node on the robot).
                 self.assertEqual(publishers_of("/cmd_drive"), ["/stock_base"])
@@ -268,6 +333,61 @@ class StockBaseCheck(unittest.TestCase):
                   file=sys.stderr)
             self.assertLessEqual(ms, ratios[channel] * md, "%s: stock path settles in %.3f s > %.2f x direct %.3f s"
                                  % (what, ms, ratios[channel], md))
+
+    # ---- mode compare -----------------------------------------------------------------
+    def compare_step(self, base, controller, path, v, hold):
+        """One linear step of v [m/s] from rest on sim.launch base:=<base> controller:=<controller>,
+        /odom judged for `hold` s; returns its step metrics (settling_time [s], overshoot [%])."""
+        proc = self.start_sim(base, controller)
+        try:
+            self.wait_ready(path, float(self.p("ready_timeout", 60.0)), controller, base)
+            self.rest(path)
+            t_step = path.set(v, 0.0)
+            t_end = t_step + hold
+            self.assertTrue(wait_for(lambda: path.odom_covers(t_end), hold + 30.0), "%s/%s: /odom stopped"
+                            % (base, controller))
+            self.rest(path)
+            return settling(path.odom, t_step, t_end, 0, 0.0, v)
+        finally:
+            path.set(0.0, 0.0)
+            self.stop_sim(proc)
+
+    def check_compare(self):
+        base = str(self.p("base", "stock_diff_drive"))
+        self.assertIn(base, ("stock_diff_drive", "jackal_node"), "~base must be stock_diff_drive or jackal_node")
+        controllers = [c.strip() for c in str(self.p("controllers", "aic,stock")).split(",")]
+        for c in controllers:
+            self.assertIn(c, ("aic", "stock"), "~controllers: %r is neither aic nor stock" % c)
+        repeats = int(self.p("repeats", 3))
+        self.assertGreaterEqual(repeats, 1, "~repeats must be >= 1")
+        v, hold = float(self.p("step_v", 0.5)), float(self.p("hold_v", 2.5))
+        path = Path()
+        load_before = os.getloadavg()
+        results = {c: [] for c in controllers}
+        for _ in range(repeats):
+            for c in controllers:
+                m = self.compare_step(base, c, path, v, hold)
+                rospy.loginfo("%s/%s: settling %s s, overshoot %s %%", base, c, m["settling_time"], m["overshoot"])
+                results[c].append((m["settling_time"], m["overshoot"]))
+        load_after = os.getloadavg()
+        sim_time = rospy.get_param("/use_sim_time", False)
+        output = self.p("output", "")
+        rel, full = "doc/results/", os.path.abspath(output)
+        command = "rostest jackal_aic stock_base_compare.test base:=%s %s%s%s%s" % (
+            base, "" if controllers == ["aic", "stock"] else "controllers:=%s " % ",".join(controllers),
+            "" if repeats == 3 else "repeats:=%d " % repeats, "" if sim_time else "use_sim_time:=false ",
+            "output:=" + ("$PWD/" + full[full.index(rel):] if rel in full else output) if output else "")
+        lines = compare_table(base, controllers, results, v, sim_time, repeats, (load_before, load_after),
+                              command.strip())
+        print("\n".join(lines))
+        for c in controllers:
+            print("MEASURED %.2f m/s step, %s/%s (%s): %s" % (v, base, c, "sim time" if sim_time else "real time",
+                                                            lines_of(results[c])), file=sys.stderr)
+        if output:
+            key = "steps: %s %s" % (base, "sim_time" if sim_time else "real_time")
+            write_section(output, "<!-- %s -->" % key, "<!-- end of %s -->" % key, lines, COMPARE_TITLE)
+        for c in controllers:
+            self.assertTrue(all(st is not None for st, _ in results[c]), "%s/%s: a step never settled" % (base, c))
 
     # ---- mode stop --------------------------------------------------------------------
     def check_stop(self):

@@ -370,6 +370,48 @@ TEST(StepResponse, AStopStopsTheWheelsAfterAStalledTurn)
   EXPECT_GT(maxDeviation(kept, kept.v_true, 0.0, 4.8, 5.5), 0.01);
 }
 
+/// Largest |dy/dt| between consecutive samples over [t0, t1].
+double maxRate(const ClosedLoopRecord& r, const std::vector<double>& y, double t0, double t1)
+{
+  double worst = 0.0;
+  for (std::size_t i = 1; i < r.time.size(); ++i)
+  {
+    if (r.time[i - 1] >= t0 && r.time[i] <= t1)
+    {
+      worst = std::max(worst, std::abs(y[i] - y[i - 1]) / (r.time[i] - r.time[i - 1]));
+    }
+  }
+  return worst;
+}
+
+TEST(StepResponse, TheSlewLimitBoundsTheWheelCommandsRate)
+{
+  // action_slew_limit S (doc/extending.md, the worked example) on config/default.yaml, 1.0 m/s from
+  // rest: each wheel command moves by at most S h per action step of h, so the drive command's body
+  // speed r (a_L + a_R) / 2 by at most r S per second; the step still settles within the 1 m/s
+  // step's bounds (LargeStepStaysBoundedWithTheAntiWindup): a_F does not wind up behind the limit.
+  constexpr double kSlew = 20.0;  // rad/s^2, about half the wheel loop's acceleration (42.9 rad/s^2)
+  const double r = config("default").aic.wheel_radius;
+  const ClosedLoopRecord limited =
+      run(aic(config("default", { "action_slew_limit=" + std::to_string(kSlew) }), stepProfile(1.0, 1.0), 4.0));
+  const ClosedLoopRecord unlimited = run(aic(config("default"), stepProfile(1.0, 1.0), 4.0));
+  expectBounded(limited);
+  const double rate = maxRate(limited, limited.command, 0.0, 4.0);
+  const analysis::StepMetrics m = metrics(limited, 1.0, 0.0, 1.0);
+  const analysis::StepMetrics m_unlimited = metrics(unlimited, 1.0, 0.0, 1.0);
+  std::printf("1 m/s step, drive command's rate: %.3f m/s^2 with action_slew_limit %.0f rad/s^2 (bound %.3f), "
+              "%.3f without; settling %.3f s, overshoot %.1f %% (without: %.3f s, %.1f %%)\n",
+              rate, kSlew, r * kSlew, maxRate(unlimited, unlimited.command, 0.0, 4.0), m.settling_time,
+              m.overshoot_percent, m_unlimited.settling_time, m_unlimited.overshoot_percent);
+  EXPECT_LE(rate, r * kSlew * (1.0 + 1e-9));
+  EXPECT_GE(rate, 0.9 * r * kSlew) << "the limit never acted: the test checks nothing";
+  EXPECT_GT(maxRate(unlimited, unlimited.command, 0.0, 4.0), 1.5 * r * kSlew);
+  EXPECT_TRUE(m.settled);
+  EXPECT_LE(m.settling_time, 1.5);
+  EXPECT_LE(m.overshoot_percent, 20.0);
+  EXPECT_LE(std::abs(m.steady_state_error) * 100.0, 2.0);
+}
+
 // ---------------------------------------------------------------------------
 // Sensor faults.
 

@@ -126,6 +126,15 @@ TEST(AicAnalyze, BadArgumentsAndFiles)
   }
   EXPECT_EQ(run(kAnalyze + " " + writeFile("aic_syntax.yaml", "tau: [\n")).code, 1);
   EXPECT_EQ(run(kAnalyze + " " + writeFile("aic_integ.yaml", "integrator: rk4\n")).code, 1);
+  // A belief model the linear model does not represent is an error, not the goal model's figures.
+  for (const char* model : { "robot", "unbiased" })
+  {
+    const Result other =
+        run(kAnalyze + " " + writeFile("aic_model.yaml", std::string("belief_model: ") + model + "\n") + " --no-scan");
+    EXPECT_EQ(other.code, 1) << model << other.out;
+    EXPECT_NE(other.out.find(std::string("belief_model ") + model + " is not represented"), std::string::npos)
+        << other.out;
+  }
 }
 
 TEST(AicAnalyze, NodeOnlyKeysAreNotWarnedAbout)

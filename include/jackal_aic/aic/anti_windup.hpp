@@ -13,6 +13,23 @@ namespace jackal_aic
 namespace aic
 {
 /**
+ * \brief The conditional integration of one wheel's free-energy part a_F behind a clamp of its
+ *        command (AntiWindup, ActionSlewLimit): where the clamp cut the command (cut = unclamped -
+ *        clamped command) in the direction a_F integrates, a_F integrates only up to the clamp and
+ *        is never pulled back by it:
+ *          max(a_F, min(candidate, at_clamp))   if cut > 0 and a_dot > 0,
+ *          min(a_F, max(candidate, at_clamp))   if cut < 0 and a_dot < 0,
+ *          candidate                            otherwise.
+ * \param a_F        the wheel's a_F before the step [rad/s]
+ * \param candidate  its update without the clamp [rad/s]
+ * \param a_dot      da_F/dt of the wheel [rad/s^2] (its sign is the direction a_F integrates)
+ * \param cut        the unclamped less the clamped command [rad/s]
+ * \param at_clamp   the clamped command less the action prior, a - a_ff [rad/s]
+ * \return the wheel's a_F after the step [rad/s]. No exceptions.
+ */
+double conditionalIntegration(double a_F, double candidate, double a_dot, double cut, double at_clamp);
+
+/**
  * \brief The command a = clamps(a_F + h a_F' + a_ff) and the a_F it leaves.
  *
  * The clamps, in order, on the sum raw = a_F + h a_F' + a_ff (a_F' = da_F/dt of eq. 3-16, a_ff the

@@ -10,6 +10,7 @@
 
 #include "jackal_aic/aic/action_delay_line.hpp"
 #include "jackal_aic/aic/action_prior.hpp"
+#include "jackal_aic/aic/action_slew_limit.hpp"
 #include "jackal_aic/aic/anti_windup.hpp"
 #include "jackal_aic/params/aic_params.hpp"
 #include "jackal_aic/aic/precision_learner.hpp"
@@ -36,7 +37,7 @@ namespace aic
  * Neither update moves before the first setMeasurement().
  *
  * The controller holds the thesis's beliefs mu_tilde and action a (the free-energy part a_F,
- * eq. 3-15, 3-16) and composes these eight stages, each off with its parameter at the thesis
+ * eq. 3-15, 3-16) and composes these nine stages, each off with its parameter at the thesis
  * value, each taking its settings struct nested in AicParams as it is:
  *  - ReferenceModel (AicParams::reference): goal mu_d, mu_d' -> predicted goal -> delayed
  *    reference path (the attractor);
@@ -48,6 +49,7 @@ namespace aic
  *  - RestRelease (action_release_time): a_F's part along a channel whose goal is zero decays;
  *  - AntiWindup (anti_windup, max_wheel_speed): the lead and wheel-speed clamps and the
  *    conditional integration of a_F;
+ *  - ActionSlewLimit (action_slew): each wheel command's rate of change bounded, after the clamps;
  *  - SeparationLearner (separation_learner): learning the model's effective wheel separation b_hat;
  *  - PrecisionLearner (precision_learner): learning the order-0 sensory precisions.
  * With belief_model robot, WheelLoopModel, RobotBelief and LatencyAction (AicParams::robot)
@@ -170,6 +172,9 @@ public:
    *        whose channel setSensorMask() masked), and to +-max_wheel_speed. Anti-windup:
    *        where a clamp cut a wheel's command in the direction a_F integrates, a_F integrates
    *        only up to the clamp and is never pulled back by it (a cut of the prior is not stored).
+   *        Then, if action_slew_limit S > 0 (ActionSlewLimit), the change of the command since the
+   *        previous step is scaled down so that neither wheel's exceeds S h, a_F integrating
+   *        behind it in the same way.
    *        da_F/dt does not depend on a, so this Euler step is exact for held beliefs and
    *        measurement, whatever the integrator setting.
    *        Divergence, checked before any clamp: a non-finite a, or a step h da_F/dt beyond
@@ -358,14 +363,15 @@ private:
   base::YTilde y_tilde_;
   // The stages (class comment). A belief step integrates mu_ towards reference_'s attractor (or
   // action_line_'s twist), then advances reference_ and response_, then learner_ and
-  // precision_learner_; an action step runs release_, action_prior_, anti_windup_, then records
-  // into action_line_.
+  // precision_learner_; an action step runs release_, action_prior_, anti_windup_, slew_limit_, then
+  // records into action_line_.
   ReferenceModel reference_;
   ActionDelayLine action_line_;
   ActionPrior action_prior_;
   RestRelease release_;
   GoalResponse response_;
   AntiWindup anti_windup_;
+  ActionSlewLimit slew_limit_;
   SeparationLearner learner_;
   PrecisionLearner precision_learner_;  ///< used only with params_.precision_learner.enabled
   // belief_model robot: the commands in flight and the wheel loop, the beliefs, the model's clock [s].

@@ -42,6 +42,16 @@ namespace aic
  * jumps (kJumpThreshold, kJumpSamples): in a steady turn, a gyro that leaves the wheels' prediction
  * for several samples in a row has jumped.
  *
+ * The shortfalls are random walks that drift slowly (shortfall_noise) and jump: once a side's
+ * command at the wheels has held still long enough for the wheel loop to have settled
+ * (settleTime()), kShortfallJumpSamples wheel samples in a row beyond kJumpThreshold standard
+ * deviations of the model's steady wheel speed u - d, all within kJumpThreshold sqrt(2) sigma_e of
+ * the first (the wheel has stopped moving), are a step in the load: a stall, a payload's
+ * scrub in a turn, a firmware that delivers less while turning. d takes their mean at once, bounded
+ * to a shortfall: between 0 and the command u (a wheel faster than its command is left to the drift).
+ * A jump belongs to the turn it was taken in: when the goal's turn moves on by more than
+ * kJumpTurnBand, the jumps' part of d is dropped (the drift's part stays).
+ *
  * No heap allocation, no exceptions.
  */
 class RobotBelief
@@ -114,6 +124,14 @@ public:
 
   /// Number of gyro offset jumps taken since construction.
   std::uint64_t offsetJumps() const { return offset_jumps_; }
+  /// Number of shortfall jumps taken since construction (both sides).
+  std::uint64_t shortfallJumps() const { return shortfall_jumps_; }
+
+  /**
+   * \brief The time [s] the wheel loop needs to settle after its command at the wheels changed by
+   *        du [rad/s]: the rate-bounded ramp |du| / A_w plus kSettleLags lags T_w.
+   */
+  double settleTime(double du) const;
 
   /// Variance of omega_L, omega_R and theta_dot after reset() [(rad/s)^2].
   static constexpr double kInitialVariance = 1.0;
@@ -125,8 +143,22 @@ public:
   /// gyro in a steady turn); checked only while the slow states learn (no transient).
   static constexpr double kJumpThreshold = 5.0;
   static constexpr int kJumpSamples = 3;
+  /// A shortfall jump: this many wheel samples in a row (0.1 s at the MCU's 50 Hz).
+  static constexpr int kShortfallJumpSamples = 5;
+  /// A shortfall jump is dropped when the goal's turn moves this far [rad/s] from the turn it
+  /// was taken in (the load it measured was the turn's).
+  static constexpr double kJumpTurnBand = 0.05;
+  /// A side's command at the wheels [rad/s] that stays within kSteadyBand of where it settled is
+  /// steady (the action's own jitter in a steady drive is a few 1e-3 rad/s).
+  static constexpr double kSteadyBand = 0.05;
+  /// Lags T_w after the ramp before the wheel loop counts as settled (e^-5 of the step left).
+  static constexpr double kSettleLags = 5.0;
 
 private:
+  /// One side's shortfall jump test on its sample y [rad/s] (before its correction); d and p are
+  /// that side's shortfall and (omega, d) covariance, r_e = sigma_e^2.
+  void detectShortfallJump(int side, double y, bool used, double r_e, double* d, const Eigen::Matrix2d& p);
+
   params::RobotModelParams params_;
   Eigen::Matrix<double, 7, 1> x_ = Eigen::Matrix<double, 7, 1>::Zero();
   Eigen::Matrix2d p_left_ = Eigen::Matrix2d::Identity();
@@ -137,6 +169,18 @@ private:
   int jump_samples_ = 0;     ///< gyro residuals in a row beyond kJumpThreshold
   double jump_sum_ = 0.0;    ///< their sum [rad/s]
   std::uint64_t offset_jumps_ = 0;
+  /// Per side: the command at the wheels at the last predict(), where it settled, how long it has
+  /// held there, how long the wheel loop needs to settle from the change before it [s].
+  base::Vector2 wheel_command_ = base::Vector2::Zero();
+  base::Vector2 steady_command_ = base::Vector2::Zero();
+  base::Vector2 steady_time_ = base::Vector2::Zero();
+  base::Vector2 settle_needed_ = base::Vector2::Zero();
+  int shortfall_samples_[2] = { 0, 0 };                    ///< wheel residuals in a row beyond the threshold, per side
+  base::Vector2 shortfall_sum_ = base::Vector2::Zero();    ///< their sum [rad/s]
+  base::Vector2 shortfall_first_ = base::Vector2::Zero();  ///< the first of them [rad/s]
+  base::Vector2 shortfall_jump_ = base::Vector2::Zero();   ///< the part of d the jumps made, per side [rad/s]
+  base::Vector2 jump_turn_ = base::Vector2::Zero();        ///< the goal's turn at the last jump, per side [rad/s]
+  std::uint64_t shortfall_jumps_ = 0;
   base::Vector2 omega_rate_ = base::Vector2::Zero();
   double yaw_rate_ = 0.0;
   double f_sensory_ = 0.0;

@@ -31,8 +31,8 @@ struct ConfiguredStability
  *        and integrator, the plant a point mass (the wheels follow the command: thesis ch. 4; the
  *        default plant of aic_analyze, whose rows at the file's rates give the same figure).
  *
- * The linear model leaves out the wheel-speed clamp, the anti-windup lead, the runaway reset, the
- * set-point dynamics and the action prior (ClosedLoopModel): a radius >= 1 says the thesis's
+ * The linear model leaves out the wheel-speed clamp, the anti-windup lead, the slew limit, the
+ * runaway reset, the set-point dynamics and the action prior (ClosedLoopModel): a radius >= 1 says the thesis's
  * controller with these gains diverges at these rates, or is held only by the clamps (the
  * thesis's table C-1, config/thesis_standard.yaml: 4.63, an oscillation bounded by the wheel
  * speed limit on the simulated Jackal).
@@ -40,8 +40,7 @@ struct ConfiguredStability
  * \param params  controller parameters; invalid ones give analysed = false with the violations
  *                in reason (the loaders refuse them before this check)
  * \return the radius, or analysed = false with the reason the model refused (e.g. a belief rate
- *         that is not a multiple of the action rate, or an action that depends on the goal, as the
- *         unbiased beliefs' goal response makes it). Never throws.
+ *         that is not a multiple of the action rate, or a belief_model other than goal). Never throws.
  */
 ConfiguredStability checkConfiguredStability(const params::AicParams& params);
 

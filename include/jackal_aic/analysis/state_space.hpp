@@ -67,9 +67,12 @@ struct ResponseSample
  * z_{k+1} = Phi z_k + Gamma mu_d. The continuous belief and action dynamics are taken from
  * ActiveInferenceController::muDot()/aDot() (so model and controller share one implementation
  * of the equations); the clamp, max_action_lead and the runaway reset are not modelled (linear analysis),
- * nor are the set-point dynamics and the action prior (AicParams::reference.generalized_goal,
- * reference_time_constant, action_prior_gain: the model is the thesis's controller with the
- * given gains).
+ * nor are the set-point dynamics, the action prior and the action's slew limit
+ * (AicParams::reference.generalized_goal, reference_time_constant, action_prior_gain,
+ * action_slew_limit: the model is the thesis's controller with the given gains). It represents
+ * belief_model goal only: the unbiased model's prior on the delayed action and the robot model's
+ * filter and latency action are not linear dynamics the probe of muDot()/aDot() sees, so another
+ * belief model is refused (doc/extending.md, 'The stability model').
  */
 class ClosedLoopModel
 {
@@ -77,8 +80,8 @@ public:
   /**
    * \param params  controller parameters (rates, integrator and all gains are used)
    * \param plant   plant in the loop
-   * \throws std::invalid_argument if params are invalid, the plant time constant or gain is not
-   *         > 0 and finite, the delay is negative, non-finite or above 50 action periods, or
+   * \throws std::invalid_argument if params are invalid, belief_model is not goal, the plant time
+   *         constant or gain is not > 0 and finite, the delay is negative, non-finite or above 50 action periods, or
    *         belief_rate / action_rate is not an integer (within 1e-9 relative)
    */
   ClosedLoopModel(const params::AicParams& params, const PlantModel& plant = PlantModel());

@@ -113,6 +113,8 @@ struct AicParams
    * doc/active_inference.md, 'Update rules'.
    */
   double action_release_time = 0.0;
+  /// The slew limit of the action (ActionSlewLimitParams: action_slew_limit).
+  ActionSlewLimitParams action_slew;
   /// The goal stage (ReferenceModelParams: generalized_goal, goal_rate_hold, max_goal_rate_*,
   /// goal_lead, goal_lead_angular, reference_time_constant, max_reference_*, reference_delay).
   ReferenceModelParams reference;
@@ -163,7 +165,7 @@ struct AicParams
    * [kMinVariance, kMaxVariance]; wheel_radius, wheel_separation in [kMinLength, kMaxLength];
    * slip_factor in [kMinSlipFactor, kMaxSlipFactor]; max_wheel_speed in (0, kMaxWheelSpeedLimit];
    * runaway_limit in (0, kMaxRunawayLimit]; max_action_lead and max_action_lead_turn in [0, kMaxWheelSpeedLimit];
-   * action_release_time in [0, 10];
+   * action_release_time in [0, 10]; action_slew_limit in [0, kMaxGain];
    * integrator a known enumerator. Plus the cross rule belief_rate >= action_rate.
    * Each violation names the YAML key (e.g. "var_mu[2]"), the value and the allowed range.
    */

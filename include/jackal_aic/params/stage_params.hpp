@@ -2,7 +2,7 @@
 /**
  * \file stage_params.hpp
  * \brief The settings of the controller's stages, one struct per stage, each nested in AicParams
- *        (AicParams::reference, ::action_prior, ::anti_windup, ::separation_learner,
+ *        (AicParams::reference, ::action_prior, ::anti_windup, ::action_slew, ::separation_learner,
  *        ::precision_learner, ::gyro_bias, ::tip_guard) and taken as it is by its stage's class.
  *        Each member's YAML key is its schema row's (src/params/param_spec.cpp); the ranges below
  *        are the schema's. None is in the thesis (doc/active_inference.md, 'Structure of the
@@ -111,6 +111,21 @@ struct AntiWindupParams
   /// friction a lead that suits a straight step winds the wheel loop up, and the turn overshoots
   /// when the wheels break free (doc/experiments.md, 'Tuning').
   double max_action_lead_turn = 0.0;
+};
+
+/**
+ * \brief The slew limit of the action (ActionSlewLimit; AicParams::action_slew; doc/extending.md, the
+ *        guide's worked example): after the anti-windup clamps, each wheel command moves by at most
+ *        max_rate h per action step of h seconds. The Jackal's MCU slews its wheel-speed loop itself;
+ *        a limit on the command keeps a noisy or aggressive action (an order-1 derivative term, a
+ *        large step) from asking for accelerations the wheels answer only with slip and current
+ *        peaks, as the stock diff drive's acceleration limits do for a twist.
+ */
+struct ActionSlewLimitParams
+{
+  /// action_slew_limit [rad/s^2], >= 0, <= kMaxGain; 0 = off (the thesis). The largest rate of change
+  /// of either wheel's command; a larger change of the pair is scaled down as a whole.
+  double max_rate = 0.0;
 };
 
 /**

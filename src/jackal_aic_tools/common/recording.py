@@ -144,13 +144,42 @@ class Recorder(object):
 def drive_equivalent(drive, wheel_radius, wheel_separation):
     """Wheel speeds (n,3: stamp, left, right [rad/s]; drive commands or measured wheels) as the
     body twist (n,3: stamp, vx [m/s], wz [rad/s]) with the kinematics G of thesis eq. 3-1
-    (doc/active_inference.md)."""
+    (doc/active_inference.md); ``wheel_separation`` [m]: one value or one per row (n,)."""
     out = np.empty_like(drive)
     out[:, 0] = drive[:, 0]
     out[:, 1] = wheel_radius * 0.5 * (drive[:, 1] + drive[:, 2])
     out[:, 2] = wheel_radius * (drive[:, 2] - drive[:, 1]) / wheel_separation
     return out
 
+
+
+def separation_at(stamps, separation, default):
+    """The wheel separation b_hat [m] in force at each of ``stamps`` ((n,) [s]): the last sample
+    of ``separation`` ((m,2): stamp [s], b_hat [m], stamps non-decreasing; the AIC's
+    /jackal_AIC/wheel_separation or a closed_loop_run trace's separation column) at or before it,
+    ``default`` [m] (the configured wheel_separation) before the first sample or with none.
+    Returns an (n,) array. Raises ValueError when a sample is not finite and > 0 or the stamps
+    decrease."""
+    stamps = np.asarray(stamps, dtype=float)
+    separation = np.asarray(separation, dtype=float).reshape(-1, 2) if np.size(separation) else np.zeros((0, 2))
+    if not (np.all(np.isfinite(separation[:, 1])) and np.all(separation[:, 1] > 0.0)):
+        raise ValueError("separation_at: b_hat samples must be finite and > 0 (got %s)" % separation[:, 1])
+    if np.any(np.diff(separation[:, 0]) < 0.0):
+        raise ValueError("separation_at: the b_hat stamps decrease")
+    out = np.full(stamps.shape, float(default))
+    if separation.shape[0]:
+        k = np.searchsorted(separation[:, 0], stamps, side="right") - 1
+        out[k >= 0] = separation[k[k >= 0], 1]
+    return out
+
+
+def drive_twist(drive, wheel_radius, wheel_separation, separation):
+    """The drive commands (n,3: stamp, left, right [rad/s]) as the body twist (n,3: stamp, vx
+    [m/s], wz [rad/s]) they ask for in the controller's model: drive_equivalent() with the
+    learned b_hat in force at each command (separation_at(): ``separation`` (m,2) stamp, b_hat
+    [m]; the configured ``wheel_separation`` [m] before the first sample or without any). Raises
+    ValueError as separation_at()."""
+    return drive_equivalent(drive, wheel_radius, separation_at(drive[:, 0], separation, wheel_separation))
 
 class StabilityLimits(object):
     """When a run counts as diverged.

@@ -1,139 +1,186 @@
-"""Tables and plots of experiment results (matplotlib, Agg backend: headless)."""
-import matplotlib
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+"""Tables and plots of experiment results (matplotlib, Agg backend: headless; the style and the
+files of jackal_aic_tools.common.figures)."""
+import numpy as np
 
-from . import profiles, recording  # noqa: E402
-from .tables import fmt, text_table  # noqa: E402
+from . import figures, profiles, recording
+from .tables import fmt, text_table
 
 SIGNAL_LABEL = {"measured": "measured (/odom)", "belief": "belief", "drive": "drive cmd"}
 #: Where plot_run's signals come from: a run through the nodes (topics) and a headless run
 #: (closed_loop_run's trace columns; result["backend"] == "headless").
 SOURCES = {"ros": {"odom": "measured (/odom)", "belief": "belief (/jackal_AIC/belief)", "drive": "/cmd_drive",
-                   "separation": "/jackal_AIC/wheel_separation", "pose": "measured (/odom pose)"},
+                   "separation": "/jackal_AIC/wheel_separation", "pose": "measured (/odom pose)",
+                   "truth": "/odom"},
            "headless": {"odom": "ground truth (v_true, yaw_true)", "belief": "belief mu^(0)",
-                        "drive": "drive command", "separation": "model", "pose": "ground truth"}}
+                        "drive": "drive command", "separation": "model", "pose": "ground truth",
+                        "truth": "truth"}}
+#: The series of plot_run, each its figures.style() index (one style per series in the figure).
+SERIES = {"odom": 0, "belief": 1, "drive": 2, "error_vx": 3, "error_wz": 4, "left": 5, "right": 6,
+          "F_sensory": 9, "F_prior": 8, "separation": 10, "pose": 0}
+CHANNEL_NAME = {"vx": "linear velocity x", "wz": "angular velocity z"}
+
+
+def _draw_set_point(ax, arr, t0, ci):
+    """The published set point of channel column ``ci`` as a step line (the rest level before
+    the first recorded one)."""
+    sp = arr["setpoint"]
+    if sp.size:
+        ax.step(np.r_[min(0.0, sp[0, 0] - t0), sp[:, 0] - t0, sp[-1, 0] - t0 + 0.02],
+                np.r_[0.0, sp[:, ci], sp[-1, ci]], where="post", label="set point", **figures.REFERENCE)
+
+
+def belief_error(belief, truth):
+    """belief - truth per channel at the belief's stamps: ``belief`` (n,3: stamp [s], vx [m/s],
+    wz [rad/s]), ``truth`` (m,3, the same columns, stamps increasing; interpolated linearly at the
+    belief's stamps). Returns (k,3) (stamp, vx error, wz error) over the belief rows inside the
+    truth's time span; (0,3) when either is empty."""
+    if not (belief.size and truth.size):
+        return np.zeros((0, 3))
+    b = belief[(belief[:, 0] >= truth[0, 0]) & (belief[:, 0] <= truth[-1, 0])]
+    out = np.empty((b.shape[0], 3))
+    out[:, 0] = b[:, 0]
+    for ci in (1, 2):
+        out[:, ci] = b[:, ci] - np.interp(b[:, 0], truth[:, 0], truth[:, ci])
+    return out
 
 
 def plot_run(path, arr, t0, profile, result, wheel_radius, wheel_sep, ideal=None):
-    """PNG of one run: per channel, set point, measured velocity and belief [m/s or rad/s];
-    below, the drive commands left/right [rad/s]; if ``arr`` has an "inference" stream with rows
-    (recording.Recorder: stamp, then F, F_sensory, F_prior first), the free energy F and its
-    sensory and prior parts against time, on a log scale; if ``arr`` has a "separation" stream
-    (the AIC's b_hat [m], learned with learn_wheel_separation), b_hat against time; with ``ideal``
-    ({"x", "y"} arrays [m], the profile's ideal path), last the x-y path of /odom against it.
-    The legends name the topics, or for result["backend"] "headless" the trace's signals (SOURCES).
-    Returns ``path``."""
+    """PNG and PDF (figures.save) of one run: per channel, set point, measured velocity, belief
+    and the drive command as the twist it asks for [m/s or rad/s] (recording.drive_twist: with
+    the learned b_hat of the "separation" stream per command, the configured ``wheel_sep`` [m]
+    without one; a command, not a response: no metrics of it are shown); with beliefs, belief -
+    truth per channel (belief_error, the truth being the "odom" stream); the drive commands
+    left/right [rad/s]; if ``arr`` has an "inference" stream with rows (recording.Recorder: stamp,
+    then F, F_sensory, F_prior first), the free energy F and its sensory and prior parts against
+    time, on a log scale; if ``arr`` has a "separation" stream (the AIC's b_hat [m], learned with
+    learn_wheel_separation), b_hat against time; with ``ideal`` ({"x", "y"} arrays [m], the
+    profile's ideal path), last the x-y path of /odom against it. Beside every time axis, the
+    first second after each set-point change (figures.zoom_events of the profile's segments). The
+    legends name the topics, or for result["backend"] "headless" the trace's signals (SOURCES),
+    and carry the measured step metrics. Returns ``path``."""
+    plt = figures.pyplot()
     src = SOURCES["headless" if result.get("backend") == "headless" else "ros"]
     chans = profile.channels()
     sep = arr.get("separation")
     has_sep = sep is not None and sep.size > 0
     inf = arr.get("inference")
     has_f = inf is not None and inf.ndim == 2 and inf.shape[0] > 0 and inf.shape[1] >= 4
-    timed = len(chans) + 1 + (1 if has_f else 0) + (1 if has_sep else 0)
-    rows = timed + (1 if ideal is not None else 0)
-    fig = plt.figure(figsize=(9, 3.0 * rows))
-    axes = []
-    for k in range(timed):
-        axes.append(fig.add_subplot(rows, 1, k + 1, sharex=axes[0] if axes else None))
-    for ax, ch in zip(axes, chans):
-        ci = 1 + profiles.CHANNELS.index(ch)
-        sp = arr["setpoint"]
-        if sp.size:
-            # the set point before the first recorded one is the rest level
-            ax.step(np.r_[min(0.0, sp[0, 0] - t0), sp[:, 0] - t0, sp[-1, 0] - t0 + 0.02],
-                    np.r_[0.0, sp[:, ci], sp[-1, ci]], where="post",
-                    color="k", lw=1.2, ls="--", label="set point")
-        for stream, label, color in (("odom", src["odom"], "C0"), ("belief", src["belief"], "C1")):
-            a = arr[stream]
-            if a.size:
-                ax.plot(a[:, 0] - t0, a[:, ci], color=color, lw=1.2, label=label)
-        d = arr["drive"]
-        if d.size:
-            eq = recording.drive_equivalent(d, wheel_radius, wheel_sep)
-            ax.plot(eq[:, 0] - t0, eq[:, ci], color="C2", lw=0.9, alpha=0.7,
-                    label="drive cmd as twist")
-        name = "linear velocity x" if ch == "vx" else "angular velocity z"
-        ax.set_ylabel("%s [%s]" % (name, profiles.UNITS[ch]))
-        ax.grid(True, alpha=0.3)
-        ax.legend(loc="lower right", fontsize=8)
-        txt = segment_summary(result, ch)
-        if txt:
-            ax.text(0.99, 0.5, txt, transform=ax.transAxes, va="center", ha="right", fontsize=8,
-                    family="monospace",
-                    bbox=dict(boxstyle="round", fc="white", alpha=0.8))
-    ax = axes[len(chans)]
+    err = belief_error(arr["belief"], arr["odom"])
+    kinds = ["channel"] * len(chans) + (["error"] if err.size else []) + ["drive"] + (["F"] if has_f else []) + \
+        (["separation"] if has_sep else [])
+    starts = [a[0, 0] - t0 for a in (arr["odom"], arr["drive"], arr["setpoint"]) if a.size]
+    span = profile.duration - min([0.0] + starts)
+    events = figures.zoom_events([s.t0 for s in profile.segments()], span)
+    fig = plt.figure(figsize=(9.0 + 2.4 * len(events), 2.8 * len(kinds) + (4.0 if ideal is not None else 0.0)))
+    mains, zooms, extras = figures.grid(fig, len(kinds), len(events), 1 if ideal is not None else 0,
+                                        [1.0] * len(kinds) + ([1.4] if ideal is not None else []))
     d = arr["drive"]
-    if d.size:
-        ax.step(d[:, 0] - t0, d[:, 1], where="post", color="C2", lw=1.0, label="left wheels (%s)" % src["drive"])
-        ax.step(d[:, 0] - t0, d[:, 2], where="post", color="C3", lw=1.0, ls=":", label="right wheels (%s)" % src["drive"])
-    ax.set_ylabel("drive command [rad/s]")
-    ax.grid(True, alpha=0.3)
-    ax.legend(loc="lower right", fontsize=8)
-    if has_f:
-        draw_free_energy(axes[len(chans) + 1], inf[:, 0] - t0, inf[:, 1], inf[:, 2], inf[:, 3])
-    if has_sep:
-        ax = axes[-1]
-        ax.step(sep[:, 0] - t0, sep[:, 1], where="post", color="C4", lw=1.2,
-                label="b_hat (%s)" % src["separation"])
-        ax.set_ylabel("wheel separation [m]")
-        ax.grid(True, alpha=0.3)
-        ax.legend(loc="lower right", fontsize=8)
-    axes[-1].set_xlabel("time since profile start [s]")
+    twist = recording.drive_twist(d, wheel_radius, wheel_sep, sep if has_sep else np.zeros((0, 2))) if d.size else d
+    b_label = "learned $\\hat{b}$" if has_sep else "configured $b$"
+    for row, (kind, ax) in enumerate(zip(kinds, mains)):
+        axs = [ax] + zooms[row]
+        title = None
+        if kind == "channel":
+            ch = chans[row]
+            ci = 1 + profiles.CHANNELS.index(ch)
+            for a in axs:
+                _draw_set_point(a, arr, t0, ci)
+                for stream in ("odom", "belief"):
+                    if arr[stream].size:
+                        a.plot(arr[stream][:, 0] - t0, arr[stream][:, ci], label=src[stream],
+                               **figures.style(SERIES[stream]))
+                if d.size:
+                    a.plot(twist[:, 0] - t0, twist[:, ci], label="drive cmd as twist (%s)" % b_label,
+                           **figures.style(SERIES["drive"]))
+            ax.set_ylabel("%s [%s]" % (CHANNEL_NAME[ch], profiles.UNITS[ch]))
+            title = segment_summary(result, ch) or None
+        elif kind == "error":
+            for a in axs:
+                a.axhline(0.0, **figures.REFERENCE)
+                for ch in chans:
+                    ci = 1 + profiles.CHANNELS.index(ch)
+                    a.plot(err[:, 0] - t0, err[:, ci], label="%s [%s]" % (ch, profiles.UNITS[ch]),
+                           **figures.style(SERIES["error_" + ch]))
+            ax.set_ylabel("belief \u2212 %s\n[m/s or rad/s]" % src["truth"])
+        elif kind == "drive":
+            if d.size:
+                for a in axs:
+                    a.step(d[:, 0] - t0, d[:, 1], where="post", label="left wheels (%s)" % src["drive"],
+                           **figures.style(SERIES["left"]))
+                    a.step(d[:, 0] - t0, d[:, 2], where="post", label="right wheels (%s)" % src["drive"],
+                           **figures.style(SERIES["right"]))
+            ax.set_ylabel("drive command [rad/s]")
+        elif kind == "F":
+            for a in axs:
+                draw_free_energy(a, inf[:, 0] - t0, inf[:, 1], inf[:, 2], inf[:, 3], text=a is ax)
+        else:
+            for a in axs:
+                a.step(sep[:, 0] - t0, sep[:, 1], where="post", label="$\\hat{b}$ (%s)" % src["separation"],
+                       **figures.style(SERIES["separation"]))
+            ax.set_ylabel("wheel separation [m]")
+        for a in axs:
+            a.grid(True, alpha=0.3, which="both" if kind == "F" else "major")
+        for a, t in zip(zooms[row], events):
+            figures.zoom(a, t)
+            if row:
+                a.set_title("")
+        figures.legend_outside(axs[-1], *ax.get_legend_handles_labels(), title=title)
+    mains[-1].set_xlabel("time since profile start [s]")
+    for a, t in zip(zooms[-1], events):
+        a.set_xlabel("time [s]")
+    for col in [mains] + [[z[k] for z in zooms] for k in range(len(events))]:
+        for a in col[:-1]:
+            plt.setp(a.get_xticklabels(), visible=False)
     title = "%s: %s, %s" % (result["name"], result["controller"], result["profile"])
     if result["status"] != "ok":
         title += "  [%s: %s]" % (result["status"].upper(), result["reason"])
-    axes[0].set_title(title, fontsize=10)
-    for ax in axes[:-1]:
-        plt.setp(ax.get_xticklabels(), visible=False)
+    figures.set_title(mains[0], title)
     if ideal is not None:
         pose = arr["pose"]
         pose = pose[pose[:, 0] >= t0] if pose.size else pose
-        ax = fig.add_subplot(rows, 1, rows)
-        draw_paths(ax, ideal, [(src["pose"], "C0", pose[:, 1] if pose.size else [],
-                                pose[:, 2] if pose.size else [])], path_summary(result.get("path")))
+        draw_paths(extras[0], ideal, [(src["pose"], figures.style(SERIES["pose"]), pose[:, 1] if pose.size else [],
+                                       pose[:, 2] if pose.size else [])], path_summary(result.get("path")))
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return figures.save(fig, path)
 
 
-def draw_free_energy(ax, t, f, sensory, prior):
+def draw_free_energy(ax, t, f, sensory, prior, text=True):
     """The free energy F (thesis eq. 3-10) and its sensory and prior sums [-] against ``t`` [s]
-    (arrays of one length) on ``ax``, log scale (values <= 0 or non-finite are left out), with the
-    peak and the final F in a box."""
+    (arrays of one length) on ``ax``, log scale (values <= 0 or non-finite are left out), with
+    ``text`` the peak and the final F in a box."""
     # F last and thin: it lies on its larger part, which stays visible around it.
-    for y, label, color, lw in ((sensory, "F sensory (sensor prediction errors)", "C0", 2.4),
-                                (prior, "F prior (state prediction errors)", "C3", 1.0), (f, "F", "k", 0.8)):
+    for y, label, key, lw in ((sensory, "F sensory (sensor prediction errors)", "F_sensory", 3.0),
+                              (prior, "F prior (state prediction errors)", "F_prior", None), (f, "F", "F", 0.8)):
         y = np.where(np.isfinite(y) & (y > 0), y, np.nan)
-        ax.plot(t, y, color=color, lw=lw, label=label, alpha=0.6 if lw > 2 else 1.0)
+        if key == "F":
+            kw = dict(figures.REFERENCE, ls="-", lw=lw)
+        else:
+            kw = figures.style(SERIES[key])
+        if key == "F_sensory":  # wide and solid under F, which follows it closely
+            kw.update(ls="-", lw=lw, alpha=0.6)
+        ax.plot(t, y, label=label, **kw)
     ax.set_yscale("log")
     ax.set_ylabel("free energy [-]")
-    ax.grid(True, alpha=0.3, which="both")
-    ax.legend(loc="upper right", fontsize=8)
     ok = np.isfinite(f)
-    if np.any(ok):
+    if text and np.any(ok):
         ax.text(0.01, 0.05, "F peak %.3g at %.2f s, final %.3g" % (np.max(f[ok]), t[ok][np.argmax(f[ok])], f[ok][-1]),
                 transform=ax.transAxes, fontsize=8, family="monospace", bbox=dict(boxstyle="round", fc="white", alpha=0.8))
 
 
 def draw_paths(ax, ideal, paths, text=""):
-    """x-y plot: the ideal path (``ideal``: {"x", "y"} [m], dashed black) and every measured path
-    of ``paths`` (label, colour, x, y), with a start marker, equal axes and ``text`` in a box."""
-    ax.plot(ideal["x"], ideal["y"], color="k", ls="--", lw=1.2, label="ideal (set point integrated)")
+    """x-y plot: the ideal path (``ideal``: {"x", "y"} [m], figures.REFERENCE) and every measured
+    path of ``paths`` (label, style (plot() keywords, figures.style), x, y), with a start marker,
+    equal axes, ``text`` in a box under the axes and the legend outside to the right."""
+    ax.plot(ideal["x"], ideal["y"], label="ideal (set point integrated)", **figures.REFERENCE)
     if len(ideal["x"]):
         ax.plot(ideal["x"][:1], ideal["y"][:1], "ko", ms=4)
-    for label, color, x, y in paths:
-        ax.plot(x, y, color=color, lw=1.2, label=label)
+    for label, kw, x, y in paths:
+        ax.plot(x, y, label=label, **kw)
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.grid(True, alpha=0.3)
-    ax.legend(loc="best", fontsize=8)
-    if text:
-        ax.text(0.01, 0.02, text, transform=ax.transAxes, va="bottom", ha="left", fontsize=8, family="monospace",
-                bbox=dict(boxstyle="round", fc="white", alpha=0.8))
+    figures.legend_outside(ax, title=text or None)
 
 
 def path_summary(path):

@@ -15,7 +15,7 @@ import time
 import numpy as np
 import yaml
 
-from ..common import cli, closed_loop, inference, metrics, profiles, recording, ros_process, tracking
+from ..common import cli, closed_loop, figures, inference, metrics, profiles, recording, ros_process, tracking
 
 log = logging.getLogger("aic_experiment")
 
@@ -150,6 +150,7 @@ def run(exp):
             from ..common import report
             result["files"]["png"] = report.plot_run(base + ".png", arr, t0, exp.profile, result,
                                                      wheel_radius, wheel_sep, ideal)
+            result["files"]["pdf"] = figures.vector_path(result["files"]["png"])
     result["files"]["json"] = base + ".json"
     with open(base + ".json", "w") as f:
         json.dump(result, f, indent=1, default=_json_default)
@@ -198,6 +199,7 @@ def run_headless(exp):
             ideal = {"x": cols["x_ideal"][ok], "y": cols["y_ideal"][ok]} if np.any(ok) else None
         result["files"]["png"] = report.plot_run(base + ".png", arr, 0.0, exp.profile, result, wheel_radius,
                                                  wheel_sep, ideal)
+        result["files"]["pdf"] = figures.vector_path(result["files"]["png"])
     result["files"]["json"] = base + ".json"
     with open(base + ".json", "w") as f:
         json.dump(result, f, indent=1, default=_json_default)
@@ -375,8 +377,11 @@ def drive_profile(profile, rec, controller="aic", settle=1.0, ready_timeout=60.0
 
 def analyse(arr, segs, t0, wheel_radius, wheel_sep):
     """Metrics (through aic_step_metrics) of every segment for the measured velocity
-    (/odom), the belief and the drive commands (as the body twist they ask for)."""
-    drive = recording.drive_equivalent(arr["drive"], wheel_radius, wheel_sep) if arr["drive"].size \
+    (/odom), the belief and the drive commands (as the body twist they ask for in the
+    controller's model: recording.drive_twist() with the learned b_hat of arr["separation"] in
+    force at each command, the configured wheel_sep [m] before it or without it)."""
+    sep = arr.get("separation", np.zeros((0, 2)))
+    drive = recording.drive_twist(arr["drive"], wheel_radius, wheel_sep, sep) if arr["drive"].size \
         else arr["drive"]
     streams = {"measured": arr["odom"], "belief": arr["belief"], "drive": drive}
     out = []

@@ -17,7 +17,7 @@ Examples:
   # any parameter of the YAML:
   aic_sweep.py --param var_y "[2,2,1e5,1e5]" "[2,1e5,1e5,1e5]"
 
-Output (default results/sweep_<name>/): table.txt, table.csv, summary.json, sweep.png and
+Output (default results/sweep_<name>/): table.txt, table.csv, summary.json, sweep.png, sweep.pdf and
 runs/ (each run's CSV, JSON, config).
 """
 import csv
@@ -30,7 +30,7 @@ import time
 
 import numpy as np
 
-from ..common import cli, report, ros_process
+from ..common import cli, figures, report, ros_process
 from ..common.tables import fmt, fmt_value
 from . import experiment
 
@@ -217,18 +217,22 @@ def run(a, dims, script_dir):
                    "runs": [dict(settings=dict(k), **{kk: v for kk, v in r.items() if kk != "params"})
                             for k, r in cache.items()]}, f, indent=1, default=str)
     png = combined_plot(os.path.join(out, "sweep.png"), dvals[rows_dim], rows_dim, col_combos, col_dims, grid,
-                        title)
+                        title, figures.zoom_events([s.t0 for s in prof.segments()], prof.duration + a.settle))
     print("table %s\nplot  %s\nruns  %s" % (os.path.join(out, "table.txt"), png, runs_dir))
     return 0
 
 
-def combined_plot(path, row_vals, rows_dim, col_combos, col_dims, grid, title):
-    """One subplot per row value; in each, the measured velocity of every column setting."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(len(row_vals), 1, sharex=True, figsize=(9, 2.6 * len(row_vals) + 0.6), squeeze=False)
-    for ax, rv in zip(axes[:, 0], row_vals):
+def combined_plot(path, row_vals, rows_dim, col_combos, col_dims, grid, title, events=()):
+    """sweep.png and sweep.pdf (figures.save): one time axis per row value, in each the measured
+    velocity [m/s or rad/s] of every column setting (figures.style) and the set point; beside it
+    the first second after each time of ``events`` [s] (the profile's set-point changes worth a
+    zoom, figures.zoom_events); the legends outside, ``title`` wrapped above. Returns ``path``."""
+    plt = figures.pyplot()
+    events = list(events)
+    fig = plt.figure(figsize=(9.0 + 2.4 * len(events), 2.6 * len(row_vals) + 1.0))
+    mains, zooms, _ = figures.grid(fig, len(row_vals), len(events))
+    for ax, zs, rv in zip(mains, zooms, row_vals):
+        axs = [ax] + zs
         sp_done = False
         for k, cc in enumerate(col_combos):
             res = grid[(fmt_value(rv), fmt_value(list(cc)))]
@@ -237,26 +241,33 @@ def combined_plot(path, row_vals, rows_dim, col_combos, col_dims, grid, title):
                 lab += " [%s]" % res["status"]
             csvp = res.get("files", {}).get("csv")
             if not csvp or not os.path.exists(csvp):
-                ax.plot([], [], color="C%d" % k, label=lab + " (no data)")
+                ax.plot([], [], label=lab + " (no data)", **figures.style(k))
                 continue
             d = np.genfromtxt(csvp, delimiter=",", names=True, dtype=None, encoding=None)
             ch = "vx" if any(s["channel"] == "vx" for s in res.get("segments", [])) or not res.get("segments") else "wz"
             src = d["source"]
             odom = d[src == "odom"]
-            ax.plot(odom["t"], odom["odom_" + ch], color="C%d" % k, lw=1.1, label=lab)
-            if not sp_done:
-                spr = d[src == "setpoint"]
-                if spr.size:
-                    ax.step(spr["t"], spr["setpoint_" + ch], where="post", color="k", ls="--", lw=1.0,
-                            label="set point")
-                    sp_done = True
+            spr = d[src == "setpoint"]
+            for a in axs:
+                a.plot(odom["t"], odom["odom_" + ch], label=lab, **figures.style(k))
+                if not sp_done and spr.size:
+                    a.step(spr["t"], spr["setpoint_" + ch], where="post", label="set point", **figures.REFERENCE)
+            sp_done = sp_done or bool(spr.size)
         ax.set_title(label(rows_dim, rv), fontsize=9)
         ax.set_ylabel("velocity [m/s or rad/s]")
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7, loc="lower right")
-    axes[-1, 0].set_xlabel("time since profile start [s]")
-    fig.suptitle(title, fontsize=9)
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+        for a, t in zip(zs, events):
+            figures.zoom(a, t)
+            if ax is not mains[0]:
+                a.set_title("")  # the first row's zoom names the window
+        for a in axs:
+            a.grid(True, alpha=0.3)
+        figures.legend_outside(axs[-1], *ax.get_legend_handles_labels(), fontsize=7)
+    mains[-1].set_xlabel("time since profile start [s]")
+    for a in zooms[-1]:
+        a.set_xlabel("time [s]")
+    for col in [mains] + [[z[k] for z in zooms] for k in range(len(events))]:
+        for a in col[:-1]:
+            plt.setp(a.get_xticklabels(), visible=False)
+    top = figures.suptitle(fig, title, fontsize=9)
+    fig.tight_layout(rect=(0, 0, 1, top))
+    return figures.save(fig, path, dpi=100)

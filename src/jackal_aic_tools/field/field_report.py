@@ -99,7 +99,7 @@ def analyse_arrays(name, controller, profile, arr, t0, base, wheel_radius=WHEEL_
     """The result dict of aic_experiment.run() for recorded arrays: "segments" (experiment.analyse
     of every transition of ``profile`` from the published set points), "tracking" and "path"
     (experiment.analyse_tracking, writing <base>_track.csv, _ideal.csv, _profile.csv), "files"
-    and, with ``plot``, <base>.png (report.plot_run). ``t0`` is the profile's start [s]."""
+    and, with ``plot``, <base>.png and .pdf (report.plot_run). ``t0`` is the profile's start [s]."""
     result = {"name": name, "controller": controller, "profile": profile.name, "status": "ok", "reason": "",
               "t0": t0, "segments": [], "files": {}}
     segs = recording.actual_segments(profile, arr["setpoint"], t0)

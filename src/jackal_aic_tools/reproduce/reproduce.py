@@ -4,9 +4,9 @@ Runs the step responses, sweeps, stability limits and square waves of B.D. van d
 "Control analysis of an active inference controller for a skid-steer mobile robot" (MSc
 thesis, TU Delft, 2022), chapter 3 and 5, with the thesis-equivalent controller
 (config/thesis_equivalent.yaml) and the Jackal's stock controller, and writes each table in
-the thesis's layout as Markdown + CSV and one PNG into results/reproduction/. Where the
-robot's numbers are in sim/config/robot_steps.yaml (tables 3-1, 5-1, 5-2) they are printed
-beside the simulated ones with the error of each entry.
+the thesis's layout as Markdown + CSV and one figure (PNG and PDF) into results/reproduction/.
+Where the robot's numbers are in sim/config/robot_steps.yaml (tables 3-1, 5-1, 5-2) they are
+printed beside the simulated ones with the error of each entry.
 
 Tables (--tables, default all):
   3-1   steps 0.1 / 0.5 / 1.0 m/s from rest: basic AIC (C-1 values, 50 Hz) (a), stock controller (b)
@@ -88,34 +88,53 @@ def write_doc(root, block):
         f.write(text.replace(old, block))
 
 
+def zoomed_changes(t, set_point):
+    """The set-point changes of a trace worth a zoom in a table's figure: the times [s] of ``t``
+    where ``set_point`` (arrays of one length) changes; with more than figures.MAX_ZOOMS of them
+    (a square wave), the second and the third: the first step up from the settled low level and
+    the first step down."""
+    from ..common import figures
+    changes = [t[k] for k in range(1, len(t)) if set_point[k] != set_point[k - 1]]
+    return changes if len(changes) <= figures.MAX_ZOOMS else changes[1:3]
+
+
 def plot_table(table, runs, out_dir):
-    """table_<id>.png in ``out_dir``: the measured speed of every run of ``runs`` ([(label,
-    result)]) with a closed_loop_run trace, titled by ``table``. Returns the PNG's path."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    fig, ax = plt.subplots(figsize=(10, 5.5))
+    """table_<id>.png and .pdf (figures.save) in ``out_dir``: the measured speed [m/s] of every run
+    of ``runs`` ([(label, result)]) with a closed_loop_run trace, each its own colour and dash
+    pattern (figures.style), and beside it the first second after the set-point changes of the
+    first run's trace zoomed (zoomed_changes, figures.zoom); titled by ``table`` (wrapped), the
+    legend outside. Returns the PNG's path."""
+    from ..common import figures
+    plt = figures.pyplot()
+    traces = []
     for label, res in runs:
         trace = res.get("trace")
         if not trace or not os.path.exists(trace) or res.get("ros_csv"):
             continue
-        ts, vs = [], []
+        cols = {"t": [], "v_odom": [], "set_point": []}
         with open(trace) as f:
             for row in csv.DictReader(f):
-                ts.append(float(row["t"]))
-                vs.append(float(row["v_odom"]))
-        ax.plot(ts, vs, lw=1.0, label=label + ("" if res["status"] == "ok" else " (%s)" % res["status"]))
+                for k in cols:
+                    cols[k].append(float(row[k]))
+        traces.append((label + ("" if res["status"] == "ok" else " (%s)" % res["status"]), cols))
+    events = zoomed_changes(traces[0][1]["t"], traces[0][1]["set_point"]) if traces else []
+    fig = plt.figure(figsize=(8.0 + 2.7 * len(events), 5.0))
+    (ax,), (zooms,), _ = figures.grid(fig, 1, len(events))
+    for i, (label, cols) in enumerate(traces):
+        for a in [ax] + zooms:
+            a.plot(cols["t"], cols["v_odom"], label=label, **figures.style(i))
     ax.set_xlim(-0.2, None)
+    for a, t in zip(zooms, events):
+        figures.zoom(a, t)
+        a.set_xlabel("time [s]")
     ax.set_xlabel("time from the first step [s]")
     ax.set_ylabel("body speed, wheel odometry [m/s]")
-    ax.set_title("Table %s: %s" % (table.id, table.title), fontsize=9)
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=6, ncol=3)
-    path = os.path.join(out_dir, "table_%s.png" % table.id)
+    for a in [ax] + zooms:
+        a.grid(True, alpha=0.3)
+    figures.set_title(ax, "Table %s: %s" % (table.id, table.title), fontsize=10)
+    figures.legend_outside(([ax] + zooms)[-1], *ax.get_legend_handles_labels())
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return figures.save(fig, os.path.join(out_dir, "table_%s.png" % table.id))
 
 
 def run(a, tool):

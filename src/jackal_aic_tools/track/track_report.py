@@ -1,10 +1,10 @@
 """The tables, plots and results page of the tracking benchmark (aic_track.py): per run, the
 AIC / stock ratios and their geometric mean, the AIC against the classical peer and the latency
-floor, as text, Markdown and PNG."""
+floor, as text, Markdown and figures (PNG and PDF)."""
 import os
 import shutil
 
-from ..common import tracking
+from ..common import figures, tracking
 from ..common.tables import fmt, md_table, text_table
 from . import plant_limits
 
@@ -117,33 +117,31 @@ def metric_header(names):
 
 
 def plot_pair(path, profile, traces, title, metrics):
-    """PNG: vx and wz over time (set point, ground truth of each controller), then the x-y paths
-    against the ideal one. ``profile``: aic_track_metrics' profile dict; ``traces``: controller ->
-    columns of its closed_loop_run trace; ``metrics``: controller -> flat metrics."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    """PNG and PDF (figures.save): vx and wz over time (set point, ground truth of each
+    controller, each its own colour and dash pattern), then the x-y paths against the ideal one;
+    the legends outside the data, the title wrapped. ``profile``: aic_track_metrics' profile dict;
+    ``traces``: controller -> columns of its closed_loop_run trace; ``metrics``: controller -> flat
+    metrics. Returns ``path``."""
     from ..common import report
-    colors = {"aic": "C1", "stock": "C0", "pi": "C2"}
-    fig = plt.figure(figsize=(10, 11))
-    ax_v = fig.add_subplot(3, 1, 1)
-    ax_w = fig.add_subplot(3, 1, 2, sharex=ax_v)
+    plt = figures.pyplot()
+    fig = plt.figure(figsize=(12, 11))
+    (ax_v, ax_w), _, (ax_p,) = figures.grid(fig, 2, 0, 1)
     pts = profile["points"]
     t0 = min(c["t"][0] for c in traces.values())
     ts = [t0] + [p[0] for p in pts] + [profile["duration"]]
     for ax, ci, col, unit, name in ((ax_v, 1, "v_true", "m/s", "vx"), (ax_w, 2, "yaw_true", "rad/s", "wz")):
-        ax.step(ts, [0.0] + [p[ci] for p in pts] + [pts[-1][ci]], where="post", color="k", lw=1.2, ls="--",
-                label="set point")
+        ax.step(ts, [0.0] + [p[ci] for p in pts] + [pts[-1][ci]], where="post", label="set point",
+                **figures.REFERENCE)
         for c in CONTROLLERS:
             if c in traces:
-                ax.plot(traces[c]["t"], traces[c][col], color=colors[c], lw=1.1,
-                        label="%s (RMS %s %s)" % (LABELS[c], fmt(metrics[c][name + "_rms"]), unit))
+                ax.plot(traces[c]["t"], traces[c][col], label="%s (RMS %s %s)" % (LABELS[c], fmt(metrics[c][name + "_rms"]), unit),
+                        **figures.style(CONTROLLERS.index(c)))
         ax.set_ylabel("%s [%s]" % (name, unit))
         ax.grid(True, alpha=0.3)
-        ax.legend(loc="upper right", fontsize=8)
+        figures.legend_outside(ax)
     plt.setp(ax_v.get_xticklabels(), visible=False)
     ax_w.set_xlabel("time since profile start [s]")
-    ax_v.set_title(title, fontsize=10)
+    figures.set_title(ax_v, title)
     ref = traces.get("stock") or next(iter(traces.values()))
     keep = ref["x_ideal"] == ref["x_ideal"]  # not NaN: the analysed span
     ideal = {"x": ref["x_ideal"][keep], "y": ref["y_ideal"][keep]}
@@ -152,12 +150,10 @@ def plot_pair(path, profile, traces, title, metrics):
         if c in traces:
             k = traces[c]["x_ideal"] == traces[c]["x_ideal"]
             paths.append(("%s (drift end %s m)" % (LABELS[c], fmt(metrics[c]["drift_final"])),
-                          colors[c], traces[c]["x"][k], traces[c]["y"][k]))
-    report.draw_paths(fig.add_subplot(3, 1, 3), ideal, paths)
+                          figures.style(CONTROLLERS.index(c)), traces[c]["x"][k], traces[c]["y"][k]))
+    report.draw_paths(ax_p, ideal, paths)
     fig.tight_layout()
-    fig.savefig(path, dpi=80)
-    plt.close(fig)
-    return path
+    return figures.save(fig, path, dpi=90)
 
 
 def shown(path, root):
@@ -220,7 +216,8 @@ def results_md(report_data, plots_rel, root):
 
 def write_results(data, md_path, root, img_dir=None):
     """The results page (results_md; root: the package's folder) at md_path; with img_dir, the
-    default plant's plots copied there and linked (relative paths)."""
+    default plant's plots copied there (each PNG and its vector sibling, figures.vector_path) and
+    linked (relative paths)."""
     plots_rel = {}
     if img_dir:
         os.makedirs(img_dir, exist_ok=True)
@@ -229,6 +226,8 @@ def write_results(data, md_path, root, img_dir=None):
             if variant == "default":
                 dst = os.path.join(img_dir, profile + ".png")
                 shutil.copyfile(src, dst)
+                if os.path.isfile(figures.vector_path(src)):
+                    shutil.copyfile(figures.vector_path(src), figures.vector_path(dst))
                 plots_rel[profile] = os.path.relpath(dst, os.path.dirname(os.path.abspath(md_path)))
     os.makedirs(os.path.dirname(os.path.abspath(md_path)), exist_ok=True)
     with open(md_path, "w") as f:

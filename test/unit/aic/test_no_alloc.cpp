@@ -206,7 +206,7 @@ TEST(NoAlloc, ControllerStagesUpdatePath)
 {
   // Each stage on its own, every option on: the reference model's and the action's delay lines
   // (fixed capacity, run past it), the goal's expected response, the action prior, the release at
-  // rest, all clamps.
+  // rest, all clamps, the slew limit.
   params::ReferenceModelParams rp;
   rp.generalized_goal = true;
   rp.goal_lead = 0.05;
@@ -224,8 +224,12 @@ TEST(NoAlloc, ControllerStagesUpdatePath)
   aw.max_action_lead = 1.0;
   aw.max_action_lead_turn = 0.5;
   const aic::AntiWindup anti_windup(aw, 5.0);
+  params::ActionSlewLimitParams sp;
+  sp.max_rate = 20.0;
+  const aic::ActionSlewLimit slew(sp);
   const aic::SkidSteerModel model(0.098, 1.0, 0.5621);
   base::Vector2 a_F = base::Vector2::Zero();
+  base::Vector2 a = base::Vector2::Zero();
   AllocationCounter counter;
   reference.start(base::Vector3(0.1, 0.0, 0.0));
   line.restart(base::Vector3::Zero());
@@ -240,8 +244,11 @@ TEST(NoAlloc, ControllerStagesUpdatePath)
       a_F = release.apply(a_F, reference.target(), 0.002);
       const aic::AntiWindup::Result r = anti_windup.apply(
           a_F, a_F + base::Vector2(0.1, -0.1), base::Vector2(50.0, -50.0), a_ff, base::Vector2(1.0, 2.0), true, true);
-      a_F = r.free_energy_part;
-      line.record(0.002, model.twistFromWheels(r.command));
+      const aic::ActionSlewLimit::Result s =
+          slew.apply(a, r.command, a_F, r.free_energy_part, base::Vector2(50.0, -50.0), a_ff, 0.002);
+      a_F = s.free_energy_part;
+      a = s.command;
+      line.record(0.002, model.twistFromWheels(a));
     }
   }
   volatile double sink = reference.attractorGoal()(0) + line.delayed()(0) + a_F(0) + response.goal()(0);

@@ -3,6 +3,7 @@
 /// 'The robot model').
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "jackal_aic/aic/controller.hpp"
@@ -102,6 +103,59 @@ TEST(RobotBelief, LearnsTheShortfallTheWheelsDoNotDeliver)
   }
   EXPECT_NEAR(belief.shortfalls()(0), 0.2, 0.01);
   EXPECT_NEAR(belief.shortfalls()(1), 0.2, 0.01);
+}
+
+TEST(RobotBelief, AStalledWheelIsAShortfallJump)
+{
+  const params::RobotModelParams p = model();  // the default shortfall drift: 0.002 rad/s^0.5
+  aic::RobotBelief belief(p);
+  aic::WheelLoopModel loop(p);
+  // Commanded 3 rad/s, the wheels held at 0.05 rad/s (a stall): once the wheel loop would have
+  // settled (3 / 40 + 5 x 0.01 = 0.125 s) five samples beyond the threshold make d the stall.
+  for (int k = 0; k < 1000; ++k)
+  {
+    belief.predict(0.001, loop, base::Vector2(3.0, 3.0), 0.0, 0.0);
+    if (k % 20 == 19)
+    {
+      ASSERT_TRUE(belief.correct(base::Vector2(0.05, 0.05), 0.0, true, true, true));
+    }
+  }
+  EXPECT_EQ(belief.shortfallJumps(), 2u);  // one per side
+  EXPECT_NEAR(belief.shortfalls()(0), 2.95, 0.01);
+  EXPECT_NEAR(belief.wheelSpeeds()(1), 0.05, 0.01);
+  // Released: the wheels deliver the command again; d jumps back.
+  for (int k = 0; k < 1000; ++k)
+  {
+    belief.predict(0.001, loop, base::Vector2(3.0, 3.0), 0.0, 0.0);
+    if (k % 20 == 19)
+    {
+      ASSERT_TRUE(belief.correct(base::Vector2(3.0, 3.0), 0.0, true, true, true));
+    }
+  }
+  EXPECT_EQ(belief.shortfallJumps(), 4u);
+  EXPECT_NEAR(belief.shortfalls()(0), 0.0, 0.01);
+}
+
+TEST(RobotBelief, AWheelStillRampingIsNoShortfallJump)
+{
+  const params::RobotModelParams p = model();
+  aic::RobotBelief belief(p);
+  aic::WheelLoopModel loop(p);
+  // A 3 rad/s step that the wheels follow at 10 rad/s^2 (a heavy robot, slower than A_w): the
+  // residuals exceed the threshold after the model has settled but change by 0.2 rad/s a sample,
+  // so the wheel is still moving: no jump; d stays near zero.
+  double wheel = 0.0;
+  for (int k = 0; k < 1000; ++k)
+  {
+    belief.predict(0.001, loop, base::Vector2(3.0, 3.0), 0.0, 0.0);
+    wheel = std::min(3.0, wheel + 10.0 * 0.001);
+    if (k % 20 == 19)
+    {
+      ASSERT_TRUE(belief.correct(base::Vector2(wheel, wheel), 0.0, true, true, true));
+    }
+  }
+  EXPECT_EQ(belief.shortfallJumps(), 0u);
+  EXPECT_NEAR(belief.shortfalls()(0), 0.0, 0.05);
 }
 
 namespace

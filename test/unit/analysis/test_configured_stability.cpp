@@ -87,6 +87,13 @@ TEST(ConfiguredStability, UnanalysableConfigurationIsReportedNotThrown)
   EXPECT_NE(s.reason.find("belief_rate / action_rate"), std::string::npos) << s.reason;
   EXPECT_EQ(analysis::stabilityWarning(p), "");
   p = thesisEquivalent();
+  p.belief_model = params::BeliefModel::kRobot;  // not the linear model's: reported, not another model's radius
+  EXPECT_NO_THROW(s = analysis::checkConfiguredStability(p));
+  EXPECT_FALSE(s.analysed);
+  EXPECT_TRUE(s.stable);
+  EXPECT_NE(s.reason.find("belief_model robot"), std::string::npos) << s.reason;
+  EXPECT_EQ(analysis::stabilityWarning(p), "");
+  p = thesisEquivalent();
   p.k_a = -1.0;  // invalid parameters: reported, not thrown
   EXPECT_NO_THROW(s = analysis::checkConfiguredStability(p));
   EXPECT_FALSE(s.analysed);

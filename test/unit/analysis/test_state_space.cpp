@@ -211,13 +211,17 @@ TEST(StateSpace, PredictStepOfStandardSet)
   EXPECT_NEAR(pred.velocity.steady_state_error, 0.0, 0.01);
 }
 
-TEST(StateSpace, IndependentOfRunawayLimitAndClamp)
+TEST(StateSpace, IndependentOfRunawayLimitClampAndSlewLimit)
 {
   params::AicParams p;
   p.tau = 0.03;
   const analysis::ClosedLoopModel reference(p);
   p.runaway_limit = 0.5;  // below the probe vectors' magnitude
   p.max_wheel_speed = 0.5;
+  EXPECT_TRUE(analysis::ClosedLoopModel(p).phi().isApprox(reference.phi(), 1e-14));
+  // The slew limit is left out as well: inactive for the small signals the linear model describes
+  // (doc/extending.md, 'The stability model').
+  p.action_slew.max_rate = 1.0;
   EXPECT_TRUE(analysis::ClosedLoopModel(p).phi().isApprox(reference.phi(), 1e-14));
 }
 
@@ -287,6 +291,27 @@ TEST(StateSpace, RejectsBadInput)
                std::invalid_argument);
   p.tau = -1.0;
   EXPECT_THROW(analysis::ClosedLoopModel m(p), std::invalid_argument);
+}
+
+TEST(StateSpace, ABeliefModelItDoesNotRepresentIsRefused)
+{
+  // The model probes the goal model's dynamics: another belief model would be analysed as the goal
+  // model with its gains, silently (doc/extending.md, 'The stability model').
+  for (params::BeliefModel other : { params::BeliefModel::kUnbiased, params::BeliefModel::kRobot })
+  {
+    params::AicParams p;
+    p.belief_model = other;
+    try
+    {
+      analysis::ClosedLoopModel m(p);
+      ADD_FAILURE() << params::toString(other) << " was analysed";
+    }
+    catch (const std::invalid_argument& e)
+    {
+      EXPECT_NE(std::string(e.what()).find("belief_model " + params::toString(other)), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(analysis::predictStep(p, analysis::PlantModel(), 0.5, 1.0), std::invalid_argument);
+  }
 }
 
 TEST(StateSpace, ScanReportsAStableBandAwayFromTheRangeEnd)

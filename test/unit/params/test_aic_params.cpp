@@ -145,6 +145,7 @@ TEST(Params, SetPointDynamicsAndActionPrior)
     { "action_prior_gain", JACKAL_AIC_MEMBER(action_prior.gain), { -0.1, 2.5, kNaN, kInf }, 1.0 },
     { "action_prior_time_constant", JACKAL_AIC_MEMBER(action_prior.time_constant), { -0.1, 11.0, kNaN }, 0.2 },
     { "action_release_time", JACKAL_AIC_MEMBER(action_release_time), { -0.1, 10.5, kNaN, kInf }, 0.5 },
+    { "action_slew_limit", JACKAL_AIC_MEMBER(action_slew.max_rate), { -0.1, 2.0e6, kNaN, kInf }, 20.0 },
     { "gyro_bias_max", JACKAL_AIC_MEMBER(gyro_bias.max_bias), { 0.0, -0.1, 1.5, kNaN, kInf }, 0.05 },
     { "gyro_bias_rest_speed", JACKAL_AIC_MEMBER(gyro_bias.rest_speed), { 0.0, -0.1, 10.5, kNaN, kInf }, 0.1 },
     { "gyro_bias_rest_time", JACKAL_AIC_MEMBER(gyro_bias.rest_time), { -0.1, 10.5, kNaN, kInf }, 0.0 },
