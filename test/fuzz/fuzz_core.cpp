@@ -48,7 +48,7 @@ double number(FuzzedDataProvider& in, double lo_exp, double hi_exp)
   }
 }
 
-params::AicParams params(FuzzedDataProvider& in)
+params::AicParams fuzzedParams(FuzzedDataProvider& in)
 {
   params::AicParams p;
   p.belief_rate = number(in, 0.0, 4.0);
@@ -102,7 +102,7 @@ void checkAction(const aic::ActiveInferenceController& c)
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size)
 {
   FuzzedDataProvider in(data, size);
-  const params::AicParams p = params(in);
+  const params::AicParams p = fuzzedParams(in);
   const bool valid = p.validate().empty();
   std::unique_ptr<aic::ActiveInferenceController> c;
   std::unique_ptr<safety::FaultMonitor> monitor;
@@ -167,7 +167,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         c->setSensorMask(in.ConsumeIntegral<std::uint8_t>());
         break;
       case 6: {
-        const params::AicParams q = params(in);
+        const params::AicParams q = fuzzedParams(in);
         try
         {
           c->setParams(q);
