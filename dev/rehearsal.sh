@@ -90,6 +90,7 @@ if ! grep -q "Time::MIN" /usr/include/ros/time.h /opt/ros/noetic/include/ros/tim
       "$jws/src/ros-controls+ros_controllers/joint_state_controller/src/joint_state_controller.cpp"
 fi
 
+set +u  # the ROS setup scripts read unset variables
 source_ws
 (cd "$jws" && catkin_make_isolated --merge \
     --only-pkg-with-deps jackal_base diff_drive_controller joint_state_controller jackal_control \
