@@ -9,7 +9,7 @@
 #
 #   bash dev/rehearsal.sh [--build-only] [OUTPUT.md]
 #
-# OUTPUT.md (default results/rehearsal.md) gets one Markdown section per measurement, each naming
+# OUTPUT.md (default doc/results/rehearsal.md) gets one Markdown section per measurement, each naming
 # the rostest command that wrote it. Environment:
 #   REHEARSAL_WS      the workspace (default: jackal_rehearsal_ws beside the repository)
 #   REHEARSAL_SOURCES a folder of bare git repositories named OWNER+NAME/repo to take the sources
@@ -27,7 +27,7 @@ set -euo pipefail
 build_only=0
 if [ "${1:-}" = "--build-only" ]; then build_only=1; shift; fi
 source "$(dirname "${BASH_SOURCE[0]}")/ws_env.sh"
-output="$(realpath -m "${1:-$repo/results/rehearsal.md}")"
+output="$(realpath -m "${1:-$repo/doc/results/rehearsal.md}")"
 jws="${REHEARSAL_WS:-$(dirname "$repo")/jackal_rehearsal_ws}"
 case "$(realpath -m "$jws")/" in
   "$repo"/*) echo "rehearsal: REHEARSAL_WS must be outside the repository" >&2; exit 2 ;;
@@ -90,6 +90,7 @@ if ! grep -q "Time::MIN" /usr/include/ros/time.h /opt/ros/noetic/include/ros/tim
       "$jws/src/ros-controls+ros_controllers/joint_state_controller/src/joint_state_controller.cpp"
 fi
 
+set +u  # the ROS setup scripts read unset variables
 source_ws
 (cd "$jws" && catkin_make_isolated --merge \
     --only-pkg-with-deps jackal_base diff_drive_controller joint_state_controller jackal_control \
