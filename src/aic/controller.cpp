@@ -177,6 +177,10 @@ bool ActiveInferenceController::setLearnedSeparation(double b)
 void ActiveInferenceController::resetLearning()
 {
   learner_.reset();
+  if (params_.belief_model == params::BeliefModel::kRobot)
+  {
+    robot_belief_.forgetSlowStates();
+  }
   if (params_.separation_learner.enabled)
   {
     applyLearnedSeparation(true);

@@ -86,6 +86,26 @@ void RobotBelief::reset(const base::Vector2& omega, double theta_dot)
   innovation_.setZero();
 }
 
+void RobotBelief::forgetSlowStates()
+{
+  x_(1) = 0.0;
+  x_(3) = 0.0;
+  x_(5) = 0.0;
+  x_(6) = 0.0;
+  for (Eigen::Matrix2d* p : { &p_left_, &p_right_ })
+  {
+    p->row(1).setZero();
+    p->col(1).setZero();
+  }
+  p_yaw_.bottomRows<2>().setZero();
+  p_yaw_.rightCols<2>().setZero();
+  jump_samples_ = 0;
+  jump_sum_ = 0.0;
+  shortfall_samples_[0] = shortfall_samples_[1] = 0;
+  shortfall_sum_.setZero();
+  shortfall_jump_.setZero();
+}
+
 void RobotBelief::predict(double h, const WheelLoopModel& loop, const base::Vector2& u_at_wheels, double yaw_gain,
                           double turn)
 {

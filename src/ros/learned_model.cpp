@@ -140,6 +140,10 @@ bool LearnedModelService::reset(std::string* message)
   {
     text << "; gyro offset back to 0 (learned again at the next standstill)";
   }
+  if (loop_.controller().params().belief_model == params::BeliefModel::kRobot)
+  {
+    text << "; the robot model's shortfalls, slip ratio and gyro offset back to 0";
+  }
   if (loop_.controller().params().tip_guard.enabled)
   {
     text << "; tip-over guard's learned bounds forgotten";

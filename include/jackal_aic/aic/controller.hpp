@@ -252,7 +252,9 @@ public:
   /// Set the learned b_hat [m] (e.g. from a saved overlay), clamped to [separation_min, separation_max];
   /// the model takes it at once if learning is on. \return false (unchanged) if not finite.
   bool setLearnedSeparation(double b);
-  /// Forget what was learned: b_hat back to wheel_separation (clamped to the learner's bounds).
+  /// Forget what was learned: b_hat back to wheel_separation (clamped to the learner's bounds);
+  /// with belief_model robot also the robot model's slow states (RobotBelief::forgetSlowStates():
+  /// shortfalls, slip ratio, gyro offset).
   void resetLearning();
   /// True if max_wheel_speed cut the last action step's command (the actuator saturates; the
   /// lead limits, anti-windup, do not count).

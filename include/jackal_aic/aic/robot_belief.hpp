@@ -63,6 +63,11 @@ public:
   /// Replace the settings (beliefs kept).
   void setParams(const params::RobotModelParams& params);
 
+  /// Forget the slow states (what the robot model learned): the shortfalls d_L, d_R, the slip ratio
+  /// s and the gyro offset beta back to zero with variance zero, as after reset(), their jumps'
+  /// bookkeeping cleared; the wheel speeds and the yaw rate are kept.
+  void forgetSlowStates();
+
   /// Beliefs: wheel speeds omega (rad/s), yaw rate theta_dot (rad/s) with variance kInitialVariance;
   /// the shortfalls d_L, d_R, the slip ratio s and the gyro offset beta zero with variance zero
   /// (they drift from there at their noise rates).

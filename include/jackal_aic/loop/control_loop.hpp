@@ -234,8 +234,9 @@ public:
    */
   bool setLearnedSeparation(double b) { return pipeline_.controller().setLearnedSeparation(b); }
   /// Forget what the controller learned (ActiveInferenceController::resetLearning()): b_hat back
-  /// to wheel_separation, the gyro's offset beta_hat back to 0 (it learns again at the next rest)
-  /// and the tip-over guard's learned bounds forgotten (a payload removed).
+  /// to wheel_separation, the gyro's offset beta_hat back to 0 (it learns again at the next rest),
+  /// the robot model's shortfalls, slip ratio and gyro offset back to 0 (belief_model robot) and
+  /// the tip-over guard's learned bounds forgotten (a payload removed).
   void resetLearning()
   {
     pipeline_.controller().resetLearning();

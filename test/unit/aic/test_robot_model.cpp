@@ -136,6 +136,30 @@ TEST(RobotBelief, AStalledWheelIsAShortfallJump)
   EXPECT_NEAR(belief.shortfalls()(0), 0.0, 0.01);
 }
 
+TEST(RobotBelief, ForgettingTheSlowStatesKeepsTheWheels)
+{
+  const params::RobotModelParams p = model();
+  aic::RobotBelief belief(p);
+  aic::WheelLoopModel loop(p);
+  for (int k = 0; k < 1000; ++k)  // a stall: d = 2.95 rad/s per side
+  {
+    belief.predict(0.001, loop, base::Vector2(3.0, 3.0), 0.0, 0.0);
+    if (k % 20 == 19)
+    {
+      ASSERT_TRUE(belief.correct(base::Vector2(0.05, 0.05), 0.0, true, true, true));
+    }
+  }
+  ASSERT_NEAR(belief.shortfalls()(0), 2.95, 0.01);
+  belief.forgetSlowStates();
+  EXPECT_EQ(belief.shortfalls()(0), 0.0);
+  EXPECT_EQ(belief.shortfalls()(1), 0.0);
+  EXPECT_EQ(belief.slipRatio(), 0.0);
+  EXPECT_EQ(belief.gyroOffset(), 0.0);
+  EXPECT_EQ(belief.variances()(1), 0.0);
+  EXPECT_EQ(belief.variances()(6), 0.0);
+  EXPECT_NEAR(belief.wheelSpeeds()(0), 0.05, 0.01);
+}
+
 TEST(RobotBelief, AWheelStillRampingIsNoShortfallJump)
 {
   const params::RobotModelParams p = model();
@@ -316,4 +340,36 @@ TEST(ControllerRobotModel, BeliefsAreTheMeasuredTwistAndTheActionTheGoalsWheels)
   }
   ASSERT_EQ(c.updateAction(0.02), Status::kOk);
   EXPECT_TRUE(c.action().isZero());
+}
+
+TEST(ControllerRobotModel, ResetLearningForgetsTheSlowStates)
+{
+  params::AicParams p = params::recommendedAicParams();
+  p.belief_model = params::BeliefModel::kRobot;
+  aic::ActiveInferenceController c(p);
+  ASSERT_TRUE(c.setGoal(base::Vector3(0.5, 0.0, 0.0)));
+  // The wheels deliver 80 % of the goal's speed whatever they are asked: a shortfall is learned.
+  base::YTilde y = base::YTilde::Zero(base::kYDim, p.numOrders());
+  const double omega = 0.8 * 0.5 / (p.wheel_radius * p.slip_factor);
+  y(base::kOmegaLeft, 0) = omega;
+  y(base::kOmegaRight, 0) = omega;
+  for (int k = 0; k < 3000; ++k)
+  {
+    if (k % 20 == 0)
+    {
+      ASSERT_TRUE(c.setMeasurement(y));
+    }
+    ASSERT_EQ(c.updateBeliefs(0.001), Status::kOk);
+    if (k % 20 == 19)
+    {
+      ASSERT_EQ(c.updateAction(0.02), Status::kOk);
+    }
+  }
+  ASSERT_GT(c.robotBelief().shortfalls()(0), 0.1);
+  c.resetLearning();
+  EXPECT_EQ(c.robotBelief().shortfalls()(0), 0.0);
+  EXPECT_EQ(c.robotBelief().shortfalls()(1), 0.0);
+  EXPECT_EQ(c.robotBelief().slipRatio(), 0.0);
+  EXPECT_EQ(c.robotBelief().gyroOffset(), 0.0);
+  EXPECT_NEAR(c.robotBelief().wheelSpeeds()(0), omega, 0.05);
 }
