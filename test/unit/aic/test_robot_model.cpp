@@ -160,6 +160,26 @@ TEST(RobotBelief, ForgettingTheSlowStatesKeepsTheWheels)
   EXPECT_NEAR(belief.wheelSpeeds()(0), 0.05, 0.01);
 }
 
+TEST(RobotBelief, AShortfallJumpIsDroppedWhenTheTurnMovesOn)
+{
+  const params::RobotModelParams p = model();
+  aic::RobotBelief belief(p);
+  aic::WheelLoopModel loop(p);
+  // A turn (the goal's yaw rate 0.5 rad/s) in which the right wheel delivers 2 of its 3 rad/s.
+  for (int k = 0; k < 1000; ++k)
+  {
+    belief.predict(0.001, loop, base::Vector2(-3.0, 3.0), 0.0, 0.5);
+    if (k % 20 == 19)
+    {
+      ASSERT_TRUE(belief.correct(base::Vector2(-3.0, 2.0), 0.0, true, true, true));
+    }
+  }
+  ASSERT_NEAR(belief.shortfalls()(1), 1.0, 0.01);
+  // The turn ends: the load the jump measured was the turn's; d goes back to its drift.
+  belief.predict(0.001, loop, base::Vector2(1.0, 1.0), 0.0, 0.0);
+  EXPECT_NEAR(belief.shortfalls()(1), 0.0, 0.01);
+}
+
 TEST(RobotBelief, AWheelStillRampingIsNoShortfallJump)
 {
   const params::RobotModelParams p = model();
