@@ -651,8 +651,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
   const bool at_rest = reference_.target().isZero(0.0) && reference_.path().cwiseAbs().maxCoeff() <= kRobotRestPath;
   if (!at_rest)
   {
-    const base::Vector3 path =
-        reference_.enabled() ? base::Vector3(reference_.path() + h * reference_.rate()) : reference_.target();
+    const base::Vector3 path = reference_.pathAhead(h);
     // The wheels through the learned b_hat (the slip ratio's steady part reaches the command
     // through b_hat, at the learner's rate: a transient's slip does not).
     const base::SensorMatrix& R = model_.R();

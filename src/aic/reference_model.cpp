@@ -139,19 +139,14 @@ bool ReferenceModel::start(const base::Vector3& m0)
   return true;
 }
 
-void ReferenceModel::advance(double h)
+base::Vector3 ReferenceModel::stepChange(double h) const
 {
-  const double t_r = params_.time_constant;
-  if (t_r <= 0.0)
-  {
-    return;
-  }
   // Exact step of m' = (target - m) / T_r with the target held over h, its change clamped to
   // the path's acceleration bounds at the present m (a slowing path may reach 0 and go on in the
-  // other direction within the step: it stops at 0 there); m' the same, clamped.
+  // other direction within the step: it stops at 0 there).
   base::Vector3 lo, hi;
   accelerationBounds(&lo, &hi);
-  base::Vector3 change = (target() - m_) * (1.0 - std::exp(-h / t_r));
+  base::Vector3 change = (target() - m_) * (1.0 - std::exp(-h / params_.time_constant));
   clampWheels(&change, params_.max_acceleration_wheel * h);
   change = change.cwiseMax(lo * h).cwiseMin(hi * h);
   for (int i = 0; i < 2; ++i)
@@ -161,6 +156,30 @@ void ReferenceModel::advance(double h)
       change(i) = -m_(i);
     }
   }
+  return change;
+}
+
+base::Vector3 ReferenceModel::pathAhead(double h) const
+{
+  if (!enabled())
+  {
+    return target();
+  }
+  if (!std::isfinite(h) || h <= 0.0)
+  {
+    return m_;
+  }
+  return m_ + stepChange(h);
+}
+
+void ReferenceModel::advance(double h)
+{
+  if (params_.time_constant <= 0.0)
+  {
+    return;
+  }
+  // The exact step (stepChange()); m' from rate() at the new m.
+  const base::Vector3 change = stepChange(h);
   m_ += change;
   const base::Vector3 m_dot = rate();
   time_ += h;

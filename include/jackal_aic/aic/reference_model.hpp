@@ -102,6 +102,14 @@ public:
 
   /// The undelayed path m [m/s, m/s, rad/s].
   const base::Vector3& path() const { return m_; }
+  /**
+   * \brief The undelayed path h [s] ahead with the goal held, m(t + h) [m/s, m/s, rad/s]: advance()'s
+   *        exact step, without advancing. Unlike the extrapolation m + h m', it never passes the
+   *        target: with T_r shorter than h the path is there before h.
+   *
+   * path() for h <= 0 or non-finite; target() without a reference model.
+   */
+  base::Vector3 pathAhead(double h) const;
   /// The path's rate m' = clamp((target() - m) / T_r, lo, hi) [m/s^2, m/s^2, rad/s^2], (lo, hi) =
   /// accelerationBounds(). Requires enabled().
   base::Vector3 rate() const;
@@ -131,6 +139,8 @@ private:
   /// W(d, bound): each rim speed's change d_x -+ d_theta b / 2 of the body change d [m/s or m/s^2]
   /// clamped to [-bound, bound], d_x and d_theta recomputed; no change when max_acceleration_wheel is 0.
   void clampWheels(base::Vector3* d, double bound) const;
+  /// The path's change over h [s] > 0 with the target held (advance()'s step) [m/s, m/s, rad/s].
+  base::Vector3 stepChange(double h) const;
   /// One delay-line sample: time [s], m, m'.
   struct Sample
   {

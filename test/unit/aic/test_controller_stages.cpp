@@ -128,6 +128,35 @@ TEST(ReferenceModel, TheAccelerationLimitBoundsThePathsSlope)
   EXPECT_EQ(r.rate(), base::Vector3(2.0, 0.0, -4.0));
 }
 
+TEST(ReferenceModel, ThePathAheadIsTheAdvancedPathAndNeverPassesTheTarget)
+{
+  // T_r 5 ms against a 20 ms look-ahead: m + h m' would pass the target fourfold near its end.
+  params::ReferenceModelParams p = referenceOn(0.005, 0.0);
+  p.max_acceleration_linear = 4.0;
+  aic::ReferenceModel r(p);
+  ASSERT_TRUE(r.setGoal(base::Vector3(0.1, 0.0, 0.0)));
+  for (int k = 0; k < 22; ++k)
+  {
+    r.advance(0.001);
+  }
+  const double h = 0.02;
+  const base::Vector3 ahead = r.pathAhead(h);
+  EXPECT_GT(r.path()(0) + h * r.rate()(0), 0.1 + 1e-3);  // the extrapolation passes the target
+  EXPECT_LE(ahead(0), 0.1);
+  EXPECT_GT(ahead(0), r.path()(0));
+  // It is the path advance() reaches, and it leaves the model as it was.
+  const base::Vector3 before = r.path();
+  aic::ReferenceModel copy = r;
+  copy.advance(h);
+  EXPECT_TRUE(ahead.isApprox(copy.path(), 1e-15));
+  EXPECT_EQ(r.path(), before);
+  // h <= 0 or non-finite: the path now; no reference model: the target.
+  EXPECT_EQ(r.pathAhead(0.0), before);
+  EXPECT_EQ(r.pathAhead(kNaN), before);
+  aic::ReferenceModel off;
+  ASSERT_TRUE(off.setGoal(base::Vector3(0.3, 0.0, 0.2)));
+  EXPECT_EQ(off.pathAhead(h), base::Vector3(0.3, 0.0, 0.2));
+}
 TEST(ReferenceModel, TheWheelBoundMakesATurnWaitForTheInnerWheel)
 {
   // Goal 0.5 m/s + 0.5 rad/s with b = 0.5 m: rim speeds 0.375 (inner) and 0.625 m/s (outer).
