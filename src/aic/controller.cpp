@@ -40,6 +40,10 @@ const params::AicParams& checked(const params::AicParams& params)
   return params;
 }
 
+/// The robot model's goal path's least time constant [s]: with T_w = 0 the path is the wheel
+/// loop's rate bound alone (a reference model needs T_r > 0).
+constexpr double kMinPathTimeConstant = 1.0e-4;
+
 bool finiteStep(double h)
 {
   return std::isfinite(h) && h > 0.0;
@@ -47,10 +51,12 @@ bool finiteStep(double h)
 
 /**
  * \brief The goal stage's settings: params.reference, except with belief_model robot. The robot
- *        model's goal is predicted one latency ahead (the time the command sent now acts), its path
- *        bounded per wheel by what the wheel loop gives (A_w at the rim) and not delayed: the
- *        latency is in the model (WheelLoopModel), not in the goal's path. The one place a stage's
- *        settings are derived rather than taken as they are.
+ *        model's goal is predicted one latency ahead (the time the command sent now acts), and its
+ *        path is the wheel loop's own response to it: the time constant T_w (at least
+ *        kMinPathTimeConstant, so that T_w = 0 keeps the rate bound) and per wheel the
+ *        acceleration A_w at the rim; it is not delayed: the latency is in the model
+ *        (WheelLoopModel), not in the goal's path. The one place a stage's settings are derived
+ *        rather than taken as they are.
  */
 params::ReferenceModelParams goalStageParams(const params::AicParams& params)
 {
@@ -59,6 +65,7 @@ params::ReferenceModelParams goalStageParams(const params::AicParams& params)
   {
     rp.goal_lead = params.robot.latency;
     rp.goal_lead_angular = params.robot.latency;
+    rp.time_constant = std::max(params.robot.wheel_time_constant, kMinPathTimeConstant);
     rp.max_acceleration_linear = params::ReferenceModelParams().max_acceleration_linear;
     rp.max_acceleration_angular = params::ReferenceModelParams().max_acceleration_angular;
     rp.max_acceleration_wheel = params.robot.wheel_acceleration * params.wheel_radius * params.slip_factor;

@@ -138,7 +138,7 @@ std::vector<ParamSpec> buildControllerRows()
     ParamRow("active_inference", "reference_time_constant").unit("s").atLeast(0.0).atMost(10.0)
         .describe("Reference model T_r: the beliefs are drawn to the path m' = (goal - m) / T_r delayed by "
                   "reference_delay, f(mu) = mu_r' + (mu_r - mu) / tau; 0 = off (the thesis's f(mu) = (mu_d - mu) / "
-                  "tau, eq. 3-7)")
+                  "tau, eq. 3-7); belief_model robot: no effect (its path is the wheel loop's, wheel_time_constant)")
         .member<&AicParams::reference, &ReferenceModelParams::time_constant>(),
     ParamRow("active_inference", "goal_response_time_constant").unit("s").atLeast(0.0).atMost(10.0)
         .describe("Unbiased beliefs: the action's goal prior targets the goal's path as the robot follows it, g' = "
