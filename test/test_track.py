@@ -8,7 +8,10 @@
   figures of tracking.json are closed_loop_run's, the path drift is the one aic_track_metrics
   computes from the trace, the ratios are AIC / stock, the results page has the table, the AIC's
   traces carry F and its parts);
-- bad profile CSVs and a missing overlay are refused with exit 1 and a message naming them.
+- bad profile CSVs and a missing overlay are refused with exit 1 and a message naming them;
+- the acceleration-bounded latency floor: the wheel loop's A_w and the body's accelerations from
+  the plant's motor keys (a variant's overlay over them) and the URDF, bad keys refused, and the
+  floor it gives never below the unlimited one.
 """
 import csv
 import json
@@ -186,6 +189,20 @@ class TrackCheck(unittest.TestCase):
                                      q["ideal_floor"][ch] > data["plant_limit_ratio"], (v, ch))
                 self.assertGreaterEqual(q["ideal"]["runs"], 2)
             self.assertLess(limits["default"]["ideal_floor"]["vx"], 1.0)
+            # The acceleration-bounded floor beside it: the variant's wheel-loop limits (the overlay
+            # changes only the latency), never below the floor, and the geometric means against it.
+            acc = {v["name"]: v["floor_accelerations"] for v in data["variants"]}
+            self.assertEqual(acc["default"], acc["slow_latency"])
+            self.assertAlmostEqual(acc["default"]["wheel_acceleration"], 42.87, places=2)
+            for q in data["plant_limits"]:
+                for ch in ("vx", "wz"):
+                    self.assertGreaterEqual(q["floor_accel"][ch], q["floor"][ch], (q["variant"], ch))
+            for name in ("aic_floor_accel", "pi_floor_accel", "stock_floor_accel", "floor_accel_floor"):
+                self.assertEqual(data["peer_geometric_mean"][name]["default"][1], 2, name)
+            q = limits["default"]
+            self.assertAlmostEqual(data["peer_geometric_mean"]["aic_floor_accel"]["default"][0],
+                                   math.sqrt(q["aic"]["vx"] / q["floor_accel"]["vx"] *
+                                             q["aic"]["wz"] / q["floor_accel"]["wz"]))
             self.assertEqual([q["limited"] for q in data["ratios"] if q["variant"] == "default"], [[]])
             with open(os.path.join(out, "tracking.csv")) as f:
                 self.assertEqual(len(list(csv.DictReader(f))), 6)  # 2 variants x 3 controllers
@@ -198,6 +215,8 @@ class TrackCheck(unittest.TestCase):
             with open(md) as f:
                 page = f.read()
             self.assertIn("| short | slow_latency | aic |", page)
+            self.assertIn("geometric mean, default plant, acceleration-bounded floor", page)
+            self.assertIn("(A_w 42.87 rad/s^2) on default, slow_latency", page)
             self.assertIn("geometric mean", page)
 
     def test_random_streams_are_seeded_bounded_and_new(self):
@@ -302,6 +321,99 @@ class TrackCheck(unittest.TestCase):
             self.assertIn("run(s) failed", proc.stderr)
 
 
+class FloorAccelCheck(unittest.TestCase):
+    """The acceleration-bounded latency floor's limits (plant_limits.wheel_acceleration,
+    floor_accelerations, urdf_geometry; closed_loop.plant_motor) and the floor itself."""
+
+    PLANT = os.path.join(ROOT, "sim", "config", "plant.yaml")
+
+    def limits(self, overlays=()):
+        from jackal_aic_tools.common import closed_loop
+        from jackal_aic_tools.track import plant_limits
+        radius, track = plant_limits.urdf_geometry(os.path.join(ROOT, "sim", "urdf", "jackal.urdf"))
+        return plant_limits.floor_accelerations(closed_loop.plant_motor(self.PLANT, overlays), radius, track)
+
+    def test_committed_plant(self):
+        """A_w = (3.243 + 0.7571) / 0.0933 = 42.87 rad/s^2 (the robot model's wheel_acceleration),
+        r = 0.098 m and track 0.37559 m from the URDF."""
+        from jackal_aic_tools.track import plant_limits
+        radius, track = plant_limits.urdf_geometry(os.path.join(ROOT, "sim", "urdf", "jackal.urdf"))
+        self.assertAlmostEqual(radius, 0.098)
+        self.assertAlmostEqual(track, 0.37559)
+        acc = self.limits()
+        self.assertAlmostEqual(acc["wheel_acceleration"], (3.243 + 0.7571) / 0.0933)
+        self.assertAlmostEqual(acc["wheel_acceleration"], 42.87, places=2)
+        self.assertAlmostEqual(acc["linear"], acc["wheel_acceleration"] * 0.098)
+        self.assertAlmostEqual(acc["angular"], 2.0 * acc["wheel_acceleration"] * 0.098 / 0.37559)
+
+    def test_overlay_changes_the_limits(self):
+        """A variant's overlay is read over the plant YAML: its proportional_limit changes A_w; a limit
+        of 0 (none) counts as max_torque, and the sum stays within it."""
+        from jackal_aic_tools.track import plant_limits
+        with tempfile.TemporaryDirectory(prefix="track_accel_") as tmp:
+            overlay = os.path.join(tmp, "strong.yaml")
+            with open(overlay, "w") as f:
+                f.write("motor:\n  proportional_limit: 1.5\n")
+            acc = self.limits([overlay])
+            self.assertAlmostEqual(acc["wheel_acceleration"], (3.243 + 1.5) / 0.0933)
+            self.assertAlmostEqual(acc["linear"], acc["wheel_acceleration"] * 0.098)
+            self.assertGreater(acc["angular"], self.limits()["angular"])
+            with open(overlay, "w") as f:
+                f.write("motor:\n  proportional_limit: 0\n")
+            self.assertAlmostEqual(self.limits([overlay])["wheel_acceleration"], 8.0 / 0.0933)
+        motor = {"accel_feedforward_limit": 0.0, "proportional_limit": 0.5, "load_observer_inertia": 0.1,
+                 "max_torque": 2.0}
+        self.assertAlmostEqual(plant_limits.wheel_acceleration(motor), 20.0)
+
+    def test_bad_motor_keys_are_refused(self):
+        from jackal_aic_tools.common import closed_loop
+        from jackal_aic_tools.track import plant_limits
+        good = closed_loop.plant_motor(self.PLANT)
+        for key, value in (("load_observer_inertia", 0.0), ("load_observer_inertia", None),
+                           ("proportional_limit", -1.0), ("accel_feedforward_limit", float("nan")),
+                           ("max_torque", 0.0)):
+            motor = dict(good)
+            if value is None:
+                del motor[key]
+            else:
+                motor[key] = value
+            with self.assertRaises(ValueError) as e:
+                plant_limits.wheel_acceleration(motor)
+            self.assertIn("motor." + key, str(e.exception))
+        with self.assertRaises(ValueError):
+            plant_limits.floor_accelerations(good, 0.098, 0.0)
+        with tempfile.TemporaryDirectory(prefix="track_accel_") as tmp:
+            bad = os.path.join(tmp, "bad.yaml")
+            with open(bad, "w") as f:
+                f.write("motor: [1, 2\n")
+            with self.assertRaises(ValueError) as e:
+                closed_loop.plant_motor(self.PLANT, [bad])
+            self.assertIn("bad.yaml", str(e.exception))
+            urdf = os.path.join(tmp, "robot.urdf")
+            with open(urdf, "w") as f:
+                f.write("<robot name='r'><link name='base_link'/></robot>")
+            with self.assertRaises(ValueError) as e:
+                plant_limits.urdf_geometry(urdf)
+            self.assertIn("front_left_wheel", str(e.exception))
+
+    def test_bounded_floor_is_above_the_floor(self):
+        """On a short profile (aic_track_metrics) the acceleration-bounded floor is >= the unlimited
+        one on both channels, and > on the step's vx (4.2 m/s^2: 0.12 s more to reach 0.5 m/s)."""
+        from jackal_aic_tools.track import driving
+        acc = self.limits()
+        with tempfile.TemporaryDirectory(prefix="track_accel_") as tmp:
+            profile = os.path.join(tmp, "short.csv")
+            with open(profile, "w") as f:
+                f.write(SHORT)
+            cache = {}
+            floor = driving.floor_rms(profile, 0.1187, cache)
+            bounded = driving.floor_rms(profile, 0.1187, cache, acc["linear"], acc["angular"])
+            self.assertEqual(len(cache), 2)
+            for ch in ("vx", "wz"):
+                self.assertGreaterEqual(bounded[ch], floor[ch], ch)
+            self.assertGreater(bounded["vx"], floor["vx"] * 1.01)
+
+
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
-    pyunit.main("track", TrackCheck)
+    pyunit.main("track", TrackCheck, FloorAccelCheck)

@@ -100,6 +100,28 @@ def command(exe, controller, args, aic_config=None, aic_sets=(), plant_config=No
     return cmd
 
 
+def plant_motor(plant_config, overlays=()):
+    """The motor section of a plant as ``closed_loop_run --config PLANT --overlay O...`` reads it:
+    the plant YAML ``plant_config``'s numeric motor keys, each overlay file of ``overlays`` (in
+    order) replacing the keys it gives (sim/config/plant.yaml, 'motor'; e.g. "command_delay" [s],
+    "proportional_limit" [N m]). Returns {key: float}; a key absent from every file is absent (the
+    plant's default, plant_params.hpp, applies). Raises OSError when a file cannot be read,
+    ValueError naming the file when it is not a YAML mapping."""
+    import yaml
+    motor = {}
+    for path in [plant_config] + list(overlays):
+        with open(path) as f:
+            try:
+                doc = yaml.safe_load(f) or {}
+            except yaml.YAMLError as e:
+                raise ValueError("%s: not YAML (%s)" % (path, str(e).splitlines()[0]))
+        section = doc.get("motor") if isinstance(doc, dict) else None
+        if not isinstance(doc, dict) or not isinstance(section or {}, dict):
+            raise ValueError("%s: not a plant YAML (a mapping with a motor mapping)" % path)
+        motor.update({k: float(v) for k, v in (section or {}).items() if isinstance(v, (int, float))})
+    return motor
+
+
 def execute(cmd, trace=False, timeout=600):
     """Run the argument list ``cmd`` (command()); with ``trace`` its trace is read into arrays
     (a temporary --csv file, removed after). Returns a Run. Raises Diverged on a diverged run

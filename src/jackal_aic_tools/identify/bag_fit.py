@@ -6,7 +6,6 @@ import os
 import sys
 
 import numpy as np
-import yaml
 
 from . import bag_identification, identify
 
@@ -64,10 +63,7 @@ def run(a, tool):
     except ValueError as e:
         print("plant_identify: %s" % e, file=sys.stderr)
         return 1
-    base = identify.read_motor(a.config)
-    for o in a.overlay:
-        with open(o) as f:
-            base.update({k: float(v) for k, v in ((yaml.safe_load(f) or {}).get("motor") or {}).items()})
+    base = identify.read_motor(a.config, a.overlay)
     sys.stdout.reconfigure(line_buffering=True)
     print("plant_identify: bag %s, %.1f s, %d commands (%s), %d joint states, %d IMU samples%s"
           % (a.bag, data.duration, len(data.cmd), "cmd_vel through the stock mapping" if data.cmd_is_twist else

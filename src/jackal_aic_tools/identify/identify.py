@@ -12,6 +12,8 @@ import re
 import numpy as np
 from scipy.optimize import minimize
 
+from ..common import closed_loop
+
 
 class Space(object):
     """Bounds of the searched parameters: ``bounds`` maps key -> (lower, upper, scale), scale
@@ -70,12 +72,10 @@ def nelder_mead(cost, start, max_evals, progress=None):
     return float(res.fun), np.clip(res.x, 0.0, 1.0), len(history)
 
 
-def read_motor(path):
-    """The motor section's key: value pairs of a plant YAML (numbers as floats)."""
-    import yaml
-    with open(path) as f:
-        doc = yaml.safe_load(f) or {}
-    return {k: float(v) for k, v in (doc.get("motor") or {}).items() if isinstance(v, (int, float))}
+def read_motor(path, overlays=()):
+    """The motor section's key: value pairs of a plant YAML (numbers as floats), each overlay file
+    of ``overlays`` over it (closed_loop.plant_motor)."""
+    return closed_loop.plant_motor(path, overlays)
 
 
 def write_motor(path, values, note):

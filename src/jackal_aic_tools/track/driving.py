@@ -173,15 +173,17 @@ def deficit_error(trace, command, hold_end, window=1.0):
     return float(np.mean(yaw[keep]) - command)
 
 
-def floor_rms(profile, latency, cache=None):
+def floor_rms(profile, latency, cache=None, accel_linear=0.0, accel_angular=0.0):
     """The latency floor of ``profile`` (CSV) for a plant with ``latency`` [s]: per channel the
-    smaller RMS error of the ideal servo (unlimited acceleration) holding or predicting the set
-    point (tracking.latency_floor), {"vx": m/s, "wz": rad/s}. ``cache``: a dict reused across
-    calls. Raises tracking.TrackingError."""
-    key = (profile, round(float(latency), 9))
+    smaller RMS error of the ideal servo holding or predicting the set point
+    (tracking.latency_floor), {"vx": m/s, "wz": rad/s}; its acceleration bounded by
+    ``accel_linear`` [m/s^2] and ``accel_angular`` [rad/s^2] (0: unlimited, the latency floor; the
+    wheel loop's, plant_limits.floor_accelerations: the acceleration-bounded floor). ``cache``: a
+    dict reused across calls. Raises tracking.TrackingError."""
+    key = (profile, round(float(latency), 9), round(float(accel_linear), 9), round(float(accel_angular), 9))
     if cache is not None and key in cache:
         return cache[key]
-    f = tracking.latency_floor(profile, latency)
+    f = tracking.latency_floor(profile, latency, accel_linear, accel_angular)
     out = {ch: min(f["hold"][ch]["rms"], f["predict"][ch]["rms"]) for ch in ("vx", "wz")}
     if cache is not None:
         cache[key] = out

@@ -15,9 +15,16 @@ figures over the profile's span): the wheel loop not following its set point (th
 lag; with the share of the time the motor torque sits at its limit) or the wheels slipping
 against the body (wheel speeds' twist minus the ground truth).
 
-Pure functions but run_ideal(); the benchmark's modules (driving, track_suite) use them.
+The acceleration-bounded latency floor (doc/tools.md, 'Latency floor') bounds the floor's ideal
+servo by the wheel loop's largest acceleration: wheel_acceleration() from the plant's motor keys,
+floor_accelerations() on the body with the robot's wheel radius and geometric track
+(urdf_geometry()).
+
+Pure functions but run_ideal() and urdf_geometry(); the benchmark's modules (driving,
+track_suite) use them.
 """
 import math
+import xml.etree.ElementTree as ElementTree
 
 from ..common import closed_loop
 
@@ -27,6 +34,9 @@ PLANT_LIMIT_RATIO = 1.2
 TORQUE_LIMITED_SHARE = 0.05
 CHANNELS = ("vx", "wz")
 UNITS = {"vx": "m/s", "wz": "rad/s"}
+#: The URDF wheel joints of each side (the plant's, jackal_sim/plant/robot_description.hpp).
+LEFT_WHEELS = ("front_left_wheel", "rear_left_wheel")
+RIGHT_WHEELS = ("front_right_wheel", "rear_right_wheel")
 
 
 def ideal_command(exe, plant_config, args, overlay=None, plant_sets=()):
@@ -106,3 +116,70 @@ def split(items):
     following = [v for v, lim in items if not lim]
     limited = [v for v, lim in items if lim]
     return following, limited
+
+
+def wheel_acceleration(motor):
+    """A_w [rad/s^2], the largest wheel acceleration the MCU's wheel loop gives, from a plant's motor
+    keys ``motor`` (closed_loop.plant_motor: the plant YAML and a variant's overlay):
+
+        A_w = (accel_feedforward_limit + proportional_limit) / load_observer_inertia
+
+    the clamps of the loop's acceleration feedforward and proportional path [N m] over its nominal
+    inertia J_n [kg m^2] (the source of the robot model's wheel_acceleration, 42.87 rad/s^2 on
+    sim/config/plant.yaml: doc/active_inference.md, 'The robot model'). A clamp of 0 (none) counts
+    as max_torque [N m], and the sum is at most max_torque (the loop's torque limit), so that A_w
+    stays an upper bound. Raises ValueError naming the key when a key is missing, a limit is
+    negative or not finite, or load_observer_inertia or max_torque is not > 0."""
+    values = {}
+    for key in ("accel_feedforward_limit", "proportional_limit", "load_observer_inertia", "max_torque"):
+        if key not in motor:
+            raise ValueError("wheel_acceleration: motor.%s missing from the plant's motor keys" % key)
+        v = float(motor[key])
+        low_ok = v > 0.0 if key in ("load_observer_inertia", "max_torque") else v >= 0.0
+        if not (math.isfinite(v) and low_ok):
+            raise ValueError("wheel_acceleration: motor.%s = %r, need %s" % (
+                key, v, "> 0" if key in ("load_observer_inertia", "max_torque") else ">= 0 and finite"))
+        values[key] = v
+    limit = values["max_torque"]
+    torque = sum(values[k] or limit for k in ("accel_feedforward_limit", "proportional_limit"))
+    return min(torque, limit) / values["load_observer_inertia"]
+
+
+def floor_accelerations(motor, radius, track):
+    """The acceleration limits of the acceleration-bounded latency floor: {"wheel_acceleration": A_w
+    [rad/s^2] (wheel_acceleration(motor)), "linear": A_w r [m/s^2], "angular": 2 A_w r / track
+    [rad/s^2]}, ``radius`` r and ``track`` the wheel radius and the geometric track (left-right
+    wheel distance) [m] (urdf_geometry). The geometric track, not the larger effective skid
+    separation, gives the larger yaw acceleration: the floor stays below every controller. Raises
+    ValueError as wheel_acceleration, or when radius or track is not > 0."""
+    if not (radius > 0.0 and track > 0.0 and math.isfinite(radius) and math.isfinite(track)):
+        raise ValueError("floor_accelerations: wheel radius %r m and track %r m must be > 0" % (radius, track))
+    a_w = wheel_acceleration(motor)
+    return {"wheel_acceleration": a_w, "linear": a_w * radius, "angular": 2.0 * a_w * radius / track}
+
+
+def urdf_geometry(path):
+    """(wheel radius [m], track [m]) of the robot description ``path`` (a URDF, the plant's
+    sim/urdf/jackal.urdf): the mean radius of the wheel links' collision cylinders and the lateral
+    distance between the mean left and right wheel-joint origins (LEFT_WHEELS, RIGHT_WHEELS), as
+    the plant's RobotDescription::wheelRadius() and track(). Raises OSError when the file cannot
+    be read, ValueError naming the joint or link the URDF lacks."""
+    robot = ElementTree.parse(path).getroot()
+    joints = {j.get("name"): j for j in robot.iter("joint")}
+    links = {l.get("name"): l for l in robot.iter("link")}
+    radii, lateral = [], {}
+    for name in LEFT_WHEELS + RIGHT_WHEELS:
+        joint = joints.get(name)
+        origin = joint.find("origin") if joint is not None else None
+        child = joint.find("child") if joint is not None else None
+        if origin is None or child is None:
+            raise ValueError("urdf_geometry: %s has no wheel joint %s with an origin and a child" % (path, name))
+        lateral[name] = float(origin.get("xyz", "0 0 0").split()[1])
+        cylinder = links.get(child.get("link"))
+        cylinder = cylinder.find("collision/geometry/cylinder") if cylinder is not None else None
+        if cylinder is None:
+            raise ValueError("urdf_geometry: %s: the link of %s has no collision cylinder" % (path, name))
+        radii.append(float(cylinder.get("radius")))
+    left = sum(lateral[n] for n in LEFT_WHEELS) / len(LEFT_WHEELS)
+    right = sum(lateral[n] for n in RIGHT_WHEELS) / len(RIGHT_WHEELS)
+    return sum(radii) / len(radii), abs(left - right)

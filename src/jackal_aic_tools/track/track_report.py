@@ -80,11 +80,20 @@ IDEAL_HEADER = ["profile", "variant", "vx floor [m/s]", "vx ideal [m/s]", "ideal
                 "wz ideal [rad/s]", "ideal / floor", "best run"]
 
 
+#: The geometric-mean rows of the classical peer's table: (label suffix, track_suite.peer_means
+#: names, their cells' format), against the latency floor and against the acceleration-bounded one.
+PEER_MEANS = (("", ("aic_floor", "pi_floor", "aic_pi"), "AIC / floor %s, peer / floor %s, AIC / peer %s"),
+              (", acceleration-bounded floor", ("aic_floor_accel", "pi_floor_accel", "stock_floor_accel",
+                                                "floor_accel_floor"),
+               "AIC / it %s, peer / it %s, stock / it %s, it / floor %s"))
+
+
 def peer_rows(limits, peer):
     """Rows of the classical peer's table: per pair and channel (vx, wz) the RMS error of the AIC,
     the peer and the latency floor, AIC / peer (a '*' where the channel is plant-limited), then the
-    geometric means of track_suite.peer_means ``peer`` over the plant-following channels and over
-    the default plant's."""
+    geometric means of track_suite.peer_means ``peer`` (PEER_MEANS: against the latency floor and
+    against the acceleration-bounded floor) over the plant-following channels and over the default
+    plant's."""
     rows = []
     for q in limits:
         row = [q["profile"], q["variant"]]
@@ -93,17 +102,18 @@ def peer_rows(limits, peer):
             row += [fmt(a, "%.4f"), fmt(b, "%.4f"), fmt(f, "%.4f"),
                     fmt(a / b if b else None, "%.2f") + (" *" if q["limited"][ch] else "")]
         rows.append(row)
-    for label, key in (("geometric mean, plant-following", None), ("geometric mean, default plant", "default")):
-        cells = []
-        for name in ("aic_floor", "pi_floor", "aic_pi"):
-            if key:
-                v, n = peer[name]["default"]
-                cells.append("%s (n = %d)" % (fmt(v, "%.3f"), n))
-            else:
-                cells.append("%s (vx %s, wz %s; n = %d)" % (fmt(peer[name]["all"][0], "%.3f"),
-                                                            fmt(peer[name]["vx"][0], "%.3f"),
-                                                            fmt(peer[name]["wz"][0], "%.3f"), peer[name]["all"][1]))
-        rows.append([label, "AIC / floor %s, peer / floor %s, AIC / peer %s" % tuple(cells)] + [""] * 8)
+    for suffix, names, text in PEER_MEANS:
+        for label, key in (("geometric mean, plant-following", None), ("geometric mean, default plant", "default")):
+            cells = []
+            for name in names:
+                if key:
+                    v, n = peer[name]["default"]
+                    cells.append("%s (n = %d)" % (fmt(v, "%.3f"), n))
+                else:
+                    cells.append("%s (vx %s, wz %s; n = %d)" % (fmt(peer[name]["all"][0], "%.3f"),
+                                                                fmt(peer[name]["vx"][0], "%.3f"),
+                                                                fmt(peer[name]["wz"][0], "%.3f"), peer[name]["all"][1]))
+            rows.append([label + suffix, text % tuple(cells)] + [""] * 8)
     return rows
 
 
@@ -163,6 +173,20 @@ def shown(path, root):
     return path if rel.startswith("..") else rel
 
 
+def floor_accelerations(variants):
+    """The acceleration-bounded floor's limits of ``variants`` (track_suite.suite's variants, each
+    with "floor_accelerations"), as text: variants with equal limits grouped, e.g. "4.20 m/s^2, 22.4
+    rad/s^2 (A_w 42.87 rad/s^2) on default, payload_10kg"."""
+    groups = {}
+    for v in variants:
+        acc = v.get("floor_accelerations")
+        if acc:
+            key = "%.2f m/s^2, %.1f rad/s^2 (A_w %.2f rad/s^2)" % (acc["linear"], acc["angular"],
+                                                                  acc["wheel_acceleration"])
+            groups.setdefault(key, []).append(v["name"])
+    return "; ".join("%s on %s" % (k, ", ".join(names)) for k, names in groups.items()) or "none"
+
+
 def results_md(report_data, plots_rel, root):
     """The results page (markdown) of a suite run (report_data: track_suite.suite's dict);
     plots_rel: profile -> image path relative to the page (the default plant's plots); root: the
@@ -188,7 +212,10 @@ def results_md(report_data, plots_rel, root):
            "The classical peer: PI loops on the wheel speeds and the yaw rate around the robot model's "
            "feed-forward through the latency, tuned on the AIC's driving cost (`closed_loop_run --controller pi`, "
            "`config/classical/pi.yaml`; `doc/active_inference.md`, 'A classical peer'). "
-           "AIC / peer < 1: the AIC tracks better; * plant-limited (not in the geometric means).", "",
+           "AIC / peer < 1: the AIC tracks better; * plant-limited (not in the geometric means). "
+           "The acceleration-bounded floor is the latency floor's ideal servo with the wheel loop's largest "
+           "acceleration A_w (vx: A_w r, wz: 2 A_w r / track; per variant: %s), reported beside the floor and "
+           "not judged ([tools.md](../tools.md), 'Latency floor')." % floor_accelerations(d["variants"]), "",
            md_table(PEER_HEADER, peer_rows(d.get("plant_limits", []), d["peer_geometric_mean"])),
            "", "## Plant-limited pairs", "",
            "A channel is plant-limited where the ideal controller (`closed_loop_run --controller ideal`: the "

@@ -22,6 +22,9 @@ repeated runs) against the latency floor (driving.floor_rms): a channel (vx, wz)
 exceeds plant_limits.PLANT_LIMIT_RATIO x the floor is plant-limited (jackal_aic_tools.track.plant_limits,
 with the reason measured in the ideal run); the geometric means are over the plant-following
 channels (a drift or heading metric: pairs that follow on both), the plant-limited ones apart.
+Beside the floor, reported and not judged, the acceleration-bounded floor: the same servo with the
+variant's wheel-loop acceleration (plant_limits.floor_accelerations: A_w r, 2 A_w r / track), and
+the AIC, the peer and the stock controller against it.
 
 Writes to --out: tracking.json (everything), tracking.csv (one row per run), ratios.csv,
 traces/<profile>__<variant>__<controller>.csv (closed_loop_run's traces) and
@@ -141,6 +144,17 @@ def suite(a, tool):
         variants.append({"name": "default" if v == "default" else _stem(v), "overlay": None if v == "default" else v})
     if len({v["name"] for v in variants}) != len(variants):
         raise SuiteError("two variants with the same name")
+    urdf = tool.path("sim", "urdf", "jackal.urdf")  # closed_loop_run's robot description
+    try:
+        radius, track = plant_limits.urdf_geometry(urdf)
+    except (OSError, ValueError) as e:
+        raise SuiteError("robot description %s: %s" % (urdf, e))
+    for v in variants:
+        try:
+            motor = closed_loop.plant_motor(a.plant_config, [v["overlay"]] if v["overlay"] else [])
+            v["floor_accelerations"] = plant_limits.floor_accelerations(motor, radius, track)
+        except (OSError, ValueError) as e:
+            raise SuiteError("acceleration-bounded floor of variant %s: %s" % (v["name"], e))
     for sub in ("traces", "plots"):
         os.makedirs(os.path.join(a.out, sub), exist_ok=True)
 
@@ -188,8 +202,10 @@ def suite(a, tool):
             stock = by_key[(p["name"], v["name"], "stock")]["metrics"]
             peer = by_key[(p["name"], v["name"], "pi")]["metrics"]
             best = ideal[(p["name"], v["name"])]
+            acc = v["floor_accelerations"]
             try:
                 floor = driving.floor_rms(p["path"], latency[v["name"]], floors)
+                floor_accel = driving.floor_rms(p["path"], latency[v["name"]], floors, acc["linear"], acc["angular"])
             except tracking.TrackingError as e:
                 raise SuiteError("latency floor of %s: %s" % (p["path"], e))
             limited = plant_limits.classify(best, floor)
@@ -197,6 +213,7 @@ def suite(a, tool):
                            "ratios": {m: ratio(aic[m], stock[m]) for m in TABLE_METRICS},
                            "limited": sorted(ch for ch in plant_limits.CHANNELS if limited[ch])})
             limits.append({"profile": p["name"], "variant": v["name"], "ideal": best, "floor": floor,
+                           "floor_accel": floor_accel,
                            "ideal_floor": {ch: ratio(best[ch], floor[ch]) for ch in plant_limits.CHANNELS},
                            "aic": {ch: aic[ch + "_rms"] for ch in plant_limits.CHANNELS},
                            "stock": {ch: stock[ch + "_rms"] for ch in plant_limits.CHANNELS},
@@ -254,14 +271,18 @@ def suite(a, tool):
 
 
 def peer_means(limits):
-    """The geometric means of the AIC against the classical peer and the latency floor over the
-    plant-following channels of ``limits`` (suite()'s plant_limits list, with "aic", "pi" and
-    "floor" RMS per channel): {"aic_pi", "aic_floor", "pi_floor", "aic_stock", "pi_stock": {"vx",
-    "wz", "all": [value, count]}}; a channel of a default-plant pair counts in "default" too
-    ({ratio: [value, count]}: the nominal channels)."""
+    """The geometric means of the AIC against the classical peer and the latency floors over the
+    plant-following channels of ``limits`` (suite()'s plant_limits list, with "aic", "pi",
+    "stock", "floor" and "floor_accel" RMS per channel): {"aic_pi", "aic_floor", "pi_floor",
+    "aic_stock", "pi_stock", "aic_floor_accel", "pi_floor_accel", "stock_floor_accel" (against the
+    acceleration-bounded floor), "floor_accel_floor" (it against the floor): {"vx", "wz", "all":
+    [value, count]}}; a channel of a default-plant pair counts in "default" too ({ratio: [value,
+    count]}: the nominal channels)."""
     out = {}
     pairs = {"aic_pi": ("aic", "pi"), "aic_floor": ("aic", "floor"), "pi_floor": ("pi", "floor"),
-             "aic_stock": ("aic", "stock"), "pi_stock": ("pi", "stock")}
+             "aic_stock": ("aic", "stock"), "pi_stock": ("pi", "stock"),
+             "aic_floor_accel": ("aic", "floor_accel"), "pi_floor_accel": ("pi", "floor_accel"),
+             "stock_floor_accel": ("stock", "floor_accel"), "floor_accel_floor": ("floor_accel", "floor")}
     for name, (num, den) in pairs.items():
         per = {ch: [ratio(q[num][ch], q[den][ch]) for q in limits if not q["limited"][ch]]
                for ch in plant_limits.CHANNELS}
