@@ -18,6 +18,7 @@
 #include "jackal_sim/harness/closed_loop.hpp"
 #include "jackal_sim/plant/plant_params.hpp"
 #include "jackal_sim/plant/robot_description.hpp"
+#include "jackal_test/closed_loop_runs.hpp"
 #include "jackal_tools/pi_params_yaml.hpp"
 
 namespace jackal_aic
@@ -37,32 +38,7 @@ ClosedLoopRecord arc(const std::vector<std::string>& overlays)
   c.profile = { { 0.0, 0.0, 0.0 }, { 1.0, 0.5, 0.5 } };
   c.duration = 6.0;
   c.ideal_sensors = false;
-  std::vector<std::string> overrides;
-  for (const std::string& o : overlays)
-  {
-    const std::vector<std::string> extra = overrides::loadOverlayFile(kRoot + "/" + o);
-    overrides.insert(overrides.end(), extra.begin(), extra.end());
-  }
-  return runClosedLoop(loadRobotDescription(kRoot + "/sim/urdf/jackal.urdf"),
-                       loadPlantParams(kRoot + "/sim/config/plant.yaml", overrides), c);
-}
-
-/// Mean and largest value of v over samples with time in [t0, t1].
-void stats(const ClosedLoopRecord& r, const std::vector<double>& v, double t0, double t1, double* mean, double* max)
-{
-  double sum = 0.0;
-  int n = 0;
-  *max = -INFINITY;
-  for (std::size_t k = 0; k < r.time.size(); ++k)
-  {
-    if (r.time[k] >= t0 && r.time[k] <= t1)
-    {
-      sum += v[k];
-      *max = std::max(*max, v[k]);
-      ++n;
-    }
-  }
-  *mean = n > 0 ? sum / n : NAN;
+  return jackal_test::runOnJackal(kRoot, c, overlays);
 }
 
 TEST(ClassicalPeer, ArcSettlesOnTheNominalPlantAndTheTurnDeficitFirmware)
@@ -73,15 +49,10 @@ TEST(ClassicalPeer, ArcSettlesOnTheNominalPlantAndTheTurnDeficitFirmware)
     SCOPED_TRACE(overlays.empty() ? "nominal" : overlays[0]);
     const double tolerance = overlays.empty() ? 0.01 : 0.03;  // [m/s], [rad/s]
     const ClosedLoopRecord r = arc(overlays);
-    double v_mean, v_max, w_mean, w_max;
-    stats(r, r.v_true, 5.0, 6.0, &v_mean, &v_max);
-    stats(r, r.yaw_true, 5.0, 6.0, &w_mean, &w_max);
-    EXPECT_NEAR(v_mean, 0.5, tolerance);
-    EXPECT_NEAR(w_mean, 0.5, tolerance);
-    stats(r, r.v_true, 1.0, 6.0, &v_mean, &v_max);
-    stats(r, r.yaw_true, 1.0, 6.0, &w_mean, &w_max);
-    EXPECT_LT(v_max, 0.5 * 1.1);  // overshoot below 10 %
-    EXPECT_LT(w_max, 0.5 * 1.3);  // the turn's scrub transient, ground truth
+    EXPECT_NEAR(jackal_test::windowMean(r, r.v_true, 5.0, 6.0), 0.5, tolerance);
+    EXPECT_NEAR(jackal_test::windowMean(r, r.yaw_true, 5.0, 6.0), 0.5, tolerance);
+    EXPECT_LT(jackal_test::windowPeak(r, r.v_true, 1.0, 6.0), 0.5 * 1.1);    // overshoot below 10 %
+    EXPECT_LT(jackal_test::windowPeak(r, r.yaw_true, 1.0, 6.0), 0.5 * 1.3);  // the turn's scrub transient, ground truth
   }
 }
 }  // namespace

@@ -30,6 +30,7 @@
 #include "jackal_sim/harness/closed_loop.hpp"
 #include "jackal_sim/plant/plant_params.hpp"
 #include "jackal_sim/plant/robot_description.hpp"
+#include "jackal_test/closed_loop_runs.hpp"
 
 namespace jackal_aic
 {
@@ -129,14 +130,7 @@ ClosedLoopConfig aic(const params::NodeParams& node, std::vector<SetPointSegment
 /// (paths relative to the package, e.g. "sim/config/variants/slow_breakaway.yaml").
 ClosedLoopRecord run(const ClosedLoopConfig& c, const std::vector<std::string>& overlays = {})
 {
-  std::vector<std::string> overrides;
-  for (const std::string& o : overlays)
-  {
-    const std::vector<std::string> more = overrides::loadOverlayFile(kRoot + "/" + o);
-    overrides.insert(overrides.end(), more.begin(), more.end());
-  }
-  return runClosedLoop(loadRobotDescription(kRoot + "/sim/urdf/jackal.urdf"),
-                       loadPlantParams(kRoot + "/sim/config/plant.yaml", overrides), c);
+  return jackal_test::runOnJackal(kRoot, c, overlays);
 }
 
 FaultSpec fault(const std::string& line)
@@ -158,36 +152,6 @@ analysis::StepMetrics metrics(const ClosedLoopRecord& r, double t_step, double i
   o.target = target;
   o.band_basis = analysis::SettlingBandBasis::kStepSize;
   return analysis::computeStepMetrics(r.time, signal ? *signal : r.v_true, o);
-}
-
-/// Mean of a signal over [t0, t1].
-double meanOver(const ClosedLoopRecord& r, const std::vector<double>& y, double t0, double t1)
-{
-  double sum = 0.0;
-  int n = 0;
-  for (std::size_t i = 0; i < r.time.size(); ++i)
-  {
-    if (r.time[i] >= t0 && r.time[i] <= t1)
-    {
-      sum += y[i];
-      ++n;
-    }
-  }
-  return n > 0 ? sum / n : std::nan("");
-}
-
-/// Largest |y - value| over [t0, t1].
-double maxDeviation(const ClosedLoopRecord& r, const std::vector<double>& y, double value, double t0, double t1)
-{
-  double worst = 0.0;
-  for (std::size_t i = 0; i < r.time.size(); ++i)
-  {
-    if (r.time[i] >= t0 && r.time[i] <= t1)
-    {
-      worst = std::max(worst, std::abs(y[i] - value));
-    }
-  }
-  return worst;
 }
 
 /// The first isolation event at or after t0, or nullptr.
@@ -362,12 +326,12 @@ TEST(StepResponse, AStopStopsTheWheelsAfterAStalledTurn)
   const ClosedLoopRecord r = stopAfterAStalledTurn(config("default").aic.action_release_time);
   expectBounded(r);
   ASSERT_GT(config("default").aic.action_release_time, 0.0);
-  EXPECT_LE(maxDeviation(r, r.command_yaw, 0.0, 4.8, 5.5), 0.03);
-  EXPECT_LE(maxDeviation(r, r.v_true, 0.0, 4.8, 5.5), 0.01);
+  EXPECT_LE(jackal_test::windowMaxDeviation(r, r.command_yaw, 0.0, 4.8, 5.5), 0.03);
+  EXPECT_LE(jackal_test::windowMaxDeviation(r, r.v_true, 0.0, 4.8, 5.5), 0.01);
   // Without the release the wound-up differential is still commanded and the robot creeps.
   const ClosedLoopRecord kept = stopAfterAStalledTurn(0.0);
-  EXPECT_GT(maxDeviation(kept, kept.command_yaw, 0.0, 4.8, 5.5), 0.06);
-  EXPECT_GT(maxDeviation(kept, kept.v_true, 0.0, 4.8, 5.5), 0.01);
+  EXPECT_GT(jackal_test::windowMaxDeviation(kept, kept.command_yaw, 0.0, 4.8, 5.5), 0.06);
+  EXPECT_GT(jackal_test::windowMaxDeviation(kept, kept.v_true, 0.0, 4.8, 5.5), 0.01);
 }
 
 /// Largest |dy/dt| between consecutive samples over [t0, t1].
@@ -437,7 +401,7 @@ TEST(SensorFaults, EncoderBiasIsIsolatedAndTheSpeedHolds)
     EXPECT_EQ(iso->channel, side.first == "left" ? base::kOmegaLeft : base::kOmegaRight);
     EXPECT_LE(iso->time - onset, 0.5);
     EXPECT_EQ(firstIsolation(r, 0.0), iso) << "a channel isolated before the fault";
-    const double error = std::abs(meanOver(r, r.v_true, 10.5, 11.5) - 0.5) / 0.5;
+    const double error = std::abs(jackal_test::windowMean(r, r.v_true, 10.5, 11.5) - 0.5) / 0.5;
     EXPECT_LE(error, 0.05);
     EXPECT_LT(separationMove(r, 3.5, 11.5), kFaultSeparationMove) << "b_hat learned from the faulty encoder";
     results().push_back({ side.first + " encoder bias, driving straight at 0.5 m/s",
@@ -457,7 +421,7 @@ TEST(SensorFaults, EncoderBiasWithoutIsolationIsBounded)
   const ClosedLoopRecord r = encoderBias("left", 2.5, false);
   expectBounded(r);
   EXPECT_EQ(firstIsolation(r, 0.0), nullptr);
-  const double error = std::abs(meanOver(r, r.v_true, 10.5, 11.5) - 0.5) / 0.5;
+  const double error = std::abs(jackal_test::windowMean(r, r.v_true, 10.5, 11.5) - 0.5) / 0.5;
   EXPECT_LE(error, 0.05);
   const double onset = *std::lower_bound(r.time.begin(), r.time.end(), 3.5);
   results().push_back({ "the same, `fdi_enabled: false`", "`left_encoder bias 2.5 3.5`", isolationText(r, 3.5, onset),
@@ -481,7 +445,7 @@ TEST(SensorFaults, FrozenGyroIsIsolatedWhenTheTurnEnds)
   const HealthEvent* iso = firstIsolation(r, 6.5);
   ASSERT_NE(iso, nullptr) << "the frozen gyro was never isolated";
   EXPECT_EQ(iso->channel, base::kGyroZ);
-  const double yaw = meanOver(r, r.yaw_true, 13.5, 15.5);
+  const double yaw = jackal_test::windowMean(r, r.yaw_true, 13.5, 15.5);
   EXPECT_LT(std::abs(yaw), 0.03);
   // The frozen gyro's reading repeats bit for bit: the learner takes no new information from it,
   // before and after the fault monitor isolates it.
@@ -502,9 +466,9 @@ TEST(SensorFaults, FrozenGyroWithoutIsolationKeepsTurning)
   const ClosedLoopRecord r = gyroFreeze(false);
   expectBounded(r);
   EXPECT_EQ(firstIsolation(r, 0.0), nullptr);
-  const double yaw = meanOver(r, r.yaw_true, 13.5, 15.5);
+  const double yaw = jackal_test::windowMean(r, r.yaw_true, 13.5, 15.5);
   const ClosedLoopRecord isolated = gyroFreeze(true);
-  const double yaw_isolated = meanOver(isolated, isolated.yaw_true, 13.5, 15.5);
+  const double yaw_isolated = jackal_test::windowMean(isolated, isolated.yaw_true, 13.5, 15.5);
   std::printf("gyro freeze, yaw rate over the last 2 s: %.4f rad/s without isolation, %.4f with\n", yaw, yaw_isolated);
   EXPECT_GT(std::abs(yaw), kSeparation);
   EXPECT_LT(std::abs(yaw_isolated), kSeparation);
@@ -557,7 +521,7 @@ TEST(SensorFaults, GyroOffsetFromPowerOnIsLearnedAtRest)
     const ClosedLoopRecord r = run(c);
     expectBounded(r);
     EXPECT_EQ(firstIsolation(r, 0.0), nullptr) << "an offset below the threshold is no isolated fault";
-    const double yaw = meanOver(r, r.yaw_true, 13.0, 16.0);
+    const double yaw = jackal_test::windowMean(r, r.yaw_true, 13.0, 16.0);
     const double yaw_error = std::abs(yaw / turn - 1.0);
     EXPECT_LT(yaw_error, 0.015);  // the arcs' bound of doc/active_inference.md
     const double b = r.separation.back();
@@ -566,7 +530,7 @@ TEST(SensorFaults, GyroOffsetFromPowerOnIsLearnedAtRest)
 
     c.aic.gyro_bias.enabled = false;
     const ClosedLoopRecord off = run(c);
-    const double yaw_off = meanOver(off, off.yaw_true, 13.0, 16.0);
+    const double yaw_off = jackal_test::windowMean(off, off.yaw_true, 13.0, 16.0);
     EXPECT_GT(std::abs(yaw_off / turn - 1.0), 0.04) << "without learning the offset the arc should be off";
     results().push_back(
         { std::string("gyro offset from power-on, 6 s at rest, then a (0.5 m/s, ") + fixed(turn, 1) + " rad/s) arc",
@@ -604,12 +568,12 @@ TEST(SensorFaults, GyroFaultsAtRestDoNotTeachTheOffset)
     c.faults = { fault("gyro bias " + fixed(offset, 2) + " 0"), fault(k.fault) };
     const ClosedLoopRecord r = run(c);
     expectBounded(r);
-    const double before = meanOver(r, r.gyro_offset, 6.8, 6.98);
+    const double before = jackal_test::windowMean(r, r.gyro_offset, 6.8, 6.98);
     EXPECT_NEAR(before, offset, 0.003) << "the offset was not learned in the 7 s at rest";
-    const double moved = maxDeviation(r, r.gyro_offset, before, 7.0, 12.0);
+    const double moved = jackal_test::windowMaxDeviation(r, r.gyro_offset, before, 7.0, 12.0);
     EXPECT_LT(moved, 0.001);
     EXPECT_EQ(firstIsolation(r, 7.0) != nullptr, k.isolated);
-    const double yaw_error = std::abs(meanOver(r, r.yaw_true, 17.0, 20.0) / 0.5 - 1.0);
+    const double yaw_error = std::abs(jackal_test::windowMean(r, r.yaw_true, 17.0, 20.0) / 0.5 - 1.0);
     EXPECT_LT(yaw_error, 0.015);
     results().push_back({ std::string(k.name) + " while standing, 7 s after power-on (0.03 rad/s offset learned); an "
                                                 "arc from 12 s",
@@ -653,9 +617,9 @@ TEST(SensorFaults, TransientsAreRiddenThrough)
                fault("joint_states dropout 6.0 0.15"), fault("left_encoder spikes 5 7.0 0.5 0.1") };
   const ClosedLoopRecord r = run(c);
   expectBounded(r);
-  const double dev = maxDeviation(r, r.v_true, 0.5, 3.5, 8.5);
-  const double yaw = maxDeviation(r, r.yaw_true, 0.0, 3.5, 8.5);
-  const double error = std::abs(meanOver(r, r.v_true, 10.0, 11.0) - 0.5) / 0.5;
+  const double dev = jackal_test::windowMaxDeviation(r, r.v_true, 0.5, 3.5, 8.5);
+  const double yaw = jackal_test::windowMaxDeviation(r, r.yaw_true, 0.0, 3.5, 8.5);
+  const double error = std::abs(jackal_test::windowMean(r, r.v_true, 10.0, 11.0) - 0.5) / 0.5;
   EXPECT_LE(dev, 0.15);
   EXPECT_LE(yaw, 0.3);
   EXPECT_LE(error, 0.05);
@@ -680,11 +644,11 @@ void checkPhysical(const std::string& name, const std::string& line)
   const ClosedLoopRecord r = run(c);
   expectBounded(r);
   const analysis::StepMetrics m = metrics(r, 2.0, 0.0, 0.5);
-  const double error = std::abs(meanOver(r, r.v_true, 6.0, 7.0) - 0.5) / 0.5;
+  const double error = std::abs(jackal_test::windowMean(r, r.v_true, 6.0, 7.0) - 0.5) / 0.5;
   EXPECT_TRUE(m.settled);
   EXPECT_LE(m.settling_time, 1.5);
   EXPECT_LE(error, 0.05);
-  EXPECT_LT(std::abs(meanOver(r, r.yaw_true, 6.0, 7.0)), 0.1);
+  EXPECT_LT(std::abs(jackal_test::windowMean(r, r.yaw_true, 6.0, 7.0)), 0.1);
   results().push_back(
       { name + " at rest, then a 0.5 m/s step", "`" + line + "`", isolationText(r, 1.0, 2.0, "the step"),
         "settles in " + fixed(m.settling_time) + " s (bound 1.5), speed error " + fixed(100.0 * error, 2) + " %" });
@@ -736,7 +700,7 @@ std::pair<double, double> turnDeficitErrors(double w)
   const ClosedLoopRecord a = run(aic(config("default"), profile, 4.0), { deficit });
   const ClosedLoopRecord s = run(stock(profile, 4.0), { deficit });
   expectBounded(a);
-  return { meanOver(a, a.yaw_true, 3.0, 4.0) - w, meanOver(s, s.yaw_true, 3.0, 4.0) - w };
+  return { jackal_test::windowMean(a, a.yaw_true, 3.0, 4.0) - w, jackal_test::windowMean(s, s.yaw_true, 3.0, 4.0) - w };
 }
 
 TEST(Driving, TurnDeficitIsRemoved)

@@ -19,6 +19,7 @@
 #include "jackal_sim/plant/fault_injection.hpp"
 #include "jackal_sim/plant/plant_params.hpp"
 #include "jackal_sim/plant/robot_description.hpp"
+#include "jackal_test/closed_loop_runs.hpp"
 
 namespace jackal_aic
 {
@@ -28,6 +29,9 @@ namespace
 {
 using namespace plant;
 const std::string kRoot = JACKAL_SIM_SOURCE_DIR;
+using jackal_test::windowMean;
+using jackal_test::windowMeanAbsDiff;
+using jackal_test::windowPeak;
 
 params::NodeParams robotModel(const std::vector<std::string>& more = {})
 {
@@ -57,62 +61,7 @@ ClosedLoopRecord run(const params::NodeParams& node, double linear, double angul
   c.profile = { { 0.0, 0.0, 0.0 }, { start, linear, angular } };
   c.duration = duration;
   c.ideal_sensors = false;
-  std::vector<std::string> overrides;
-  for (const std::string& o : overlays)  // an overlay file, or one "key=value" of the plant
-  {
-    const std::vector<std::string> extra =
-        o.find('=') != std::string::npos ? std::vector<std::string>{ o } : overrides::loadOverlayFile(kRoot + "/" + o);
-    overrides.insert(overrides.end(), extra.begin(), extra.end());
-  }
-  return runClosedLoop(loadRobotDescription(kRoot + "/sim/urdf/jackal.urdf"),
-                       loadPlantParams(kRoot + "/sim/config/plant.yaml", overrides), c);
-}
-
-/// Mean of v over samples with time in [t0, t1].
-double mean(const ClosedLoopRecord& r, const std::vector<double>& v, double t0, double t1)
-{
-  double sum = 0.0;
-  int n = 0;
-  for (std::size_t k = 0; k < r.time.size(); ++k)
-  {
-    if (r.time[k] >= t0 && r.time[k] <= t1)
-    {
-      sum += v[k];
-      ++n;
-    }
-  }
-  return n > 0 ? sum / n : NAN;
-}
-
-/// Mean |a - b| over samples with time in [t0, t1].
-double meanAbsDiff(const ClosedLoopRecord& r, const std::vector<double>& a, const std::vector<double>& b, double t0,
-                   double t1)
-{
-  double sum = 0.0;
-  int n = 0;
-  for (std::size_t k = 0; k < r.time.size(); ++k)
-  {
-    if (r.time[k] >= t0 && r.time[k] <= t1)
-    {
-      sum += std::abs(a[k] - b[k]);
-      ++n;
-    }
-  }
-  return n > 0 ? sum / n : NAN;
-}
-
-/// Largest value of v over samples with time in [t0, t1].
-double peak(const ClosedLoopRecord& r, const std::vector<double>& v, double t0, double t1)
-{
-  double m = -INFINITY;
-  for (std::size_t k = 0; k < r.time.size(); ++k)
-  {
-    if (r.time[k] >= t0 && r.time[k] <= t1)
-    {
-      m = std::max(m, v[k]);
-    }
-  }
-  return m;
+  return jackal_test::runOnJackal(kRoot, c, overlays);
 }
 }  // namespace
 
@@ -128,9 +77,9 @@ TEST(RobotModel, ArcsHoldTheCommandedYawRateAndAreBelieved)
     SCOPED_TRACE("arc " + std::to_string(arc[0]) + " m/s + " + std::to_string(arc[1]) + " rad/s");
     const ClosedLoopRecord r = run(node, arc[0], arc[1], 9.0);
     EXPECT_EQ(r.runaways, 0u);
-    EXPECT_NEAR(mean(r, r.yaw_true, 6.0, 9.0), arc[1], 0.015 * arc[1]);
-    EXPECT_LE(meanAbsDiff(r, r.belief_yaw, r.yaw_true, 6.0, 9.0), 0.01);
-    EXPECT_LE(meanAbsDiff(r, r.belief, r.v_true, 6.0, 9.0), 0.01);
+    EXPECT_NEAR(windowMean(r, r.yaw_true, 6.0, 9.0), arc[1], 0.015 * arc[1]);
+    EXPECT_LE(windowMeanAbsDiff(r, r.belief_yaw, r.yaw_true, 6.0, 9.0), 0.01);
+    EXPECT_LE(windowMeanAbsDiff(r, r.belief, r.v_true, 6.0, 9.0), 0.01);
   }
 }
 
@@ -141,7 +90,7 @@ TEST(RobotModel, StepsAndTheArcsOvershootRegressionGuard)
   // 0.5 rad/s arc's true yaw overshoots under 7 % (measured 5.9 %; the default 6.95 %).
   const params::NodeParams node = robotModel();
   const ClosedLoopRecord step = run(node, 0.5, 0.0, 4.0);
-  EXPECT_LE(peak(step, step.v_true, 1.0, 4.0), 0.505);
+  EXPECT_LE(windowPeak(step, step.v_true, 1.0, 4.0), 0.505);
   double settled = NAN;
   for (std::size_t k = step.time.size(); k-- > 0;)
   {
@@ -153,7 +102,7 @@ TEST(RobotModel, StepsAndTheArcsOvershootRegressionGuard)
   }
   EXPECT_LE(settled, 0.30);
   const ClosedLoopRecord arc = run(node, 0.5, 0.5, 6.0);
-  EXPECT_LE(peak(arc, arc.yaw_true, 1.2, 6.0), 0.5 * 1.07);
+  EXPECT_LE(windowPeak(arc, arc.yaw_true, 1.2, 6.0), 0.5 * 1.07);
 }
 
 TEST(RobotModel, ASmallStepIsNotOverdrivenAtAnyPhaseOfTheActionClock)
@@ -167,7 +116,7 @@ TEST(RobotModel, ASmallStepIsNotOverdrivenAtAnyPhaseOfTheActionClock)
   for (const double phase : { 0.0, 0.0075, 0.015 })
   {
     const ClosedLoopRecord r = run(node, 0.1, 0.0, 3.0, {}, {}, 1.01 + phase);
-    EXPECT_LE(peak(r, r.v_true, 1.0, 3.0), 0.101) << "step at 1.01 s + " << phase << " s";
+    EXPECT_LE(windowPeak(r, r.v_true, 1.0, 3.0), 0.101) << "step at 1.01 s + " << phase << " s";
   }
 }
 
@@ -175,7 +124,7 @@ TEST(RobotModel, TheActionDoesTheDriving)
 {
   // The action's loop gain x 0.001: the robot does not follow a 0.5 m/s step within 3 s.
   const ClosedLoopRecord cut = run(robotModel({ "action_gain=0.05" }), 0.5, 0.0, 4.0);
-  EXPECT_LT(mean(cut, cut.v_true, 3.5, 4.0), 0.4);
+  EXPECT_LT(windowMean(cut, cut.v_true, 3.5, 4.0), 0.4);
 }
 
 TEST(RobotModel, AGyroOffsetAppearingMidArcIsTheOffset)
@@ -184,7 +133,7 @@ TEST(RobotModel, AGyroOffsetAppearingMidArcIsTheOffset)
   // moves less than 2 % and the true yaw rate stays within 5 % of the command; the offset is believed.
   const ClosedLoopRecord r = run(robotModel(), 0.5, 0.5, 10.0, {}, { "gyro bias 0.1 6 4" });
   EXPECT_EQ(r.runaways, 0u);
-  const double before = mean(r, r.separation, 5.5, 6.0);
+  const double before = windowMean(r, r.separation, 5.5, 6.0);
   double worst = 0.0;
   for (std::size_t k = 0; k < r.time.size(); ++k)
   {
@@ -194,8 +143,8 @@ TEST(RobotModel, AGyroOffsetAppearingMidArcIsTheOffset)
     }
   }
   EXPECT_LT(worst, 0.02);
-  EXPECT_NEAR(mean(r, r.yaw_true, 6.5, 10.0), 0.5, 0.025);
-  EXPECT_NEAR(mean(r, r.gyro_offset, 7.0, 10.0), 0.1, 0.01);
+  EXPECT_NEAR(windowMean(r, r.yaw_true, 6.5, 10.0), 0.5, 0.025);
+  EXPECT_NEAR(windowMean(r, r.gyro_offset, 7.0, 10.0), 0.1, 0.01);
 }
 
 TEST(RobotModel, AStallIsBelieved)
@@ -207,7 +156,7 @@ TEST(RobotModel, AStallIsBelieved)
   const ClosedLoopRecord r =
       run(robotModel(), 0.0, 1.0, 5.0, { "sim/config/variants/payload_20kg.yaml", "payload.mass=100" });
   ASSERT_FALSE(r.time.empty());
-  EXPECT_LT(mean(r, r.yaw_true, 4.0, 5.0), 0.1);  // stalled
+  EXPECT_LT(windowMean(r, r.yaw_true, 4.0, 5.0), 0.1);  // stalled
   double worst = 0.0;
   for (std::size_t k = 0; k < r.time.size(); ++k)
   {
@@ -230,7 +179,7 @@ TEST(RobotModel, SeparationLearnedFromOnceAndTwiceTheTrack)
     SCOPED_TRACE("b_hat from " + std::to_string(start) + " m");
     const ClosedLoopRecord r = run(robotModel({ "wheel_separation=" + std::to_string(start) }), 0.5, 0.5, 11.0);
     EXPECT_EQ(r.runaways, 0u);
-    const double b_eff = start * mean(r, r.yaw_wheels, 8.0, 11.0) / mean(r, r.yaw_true, 8.0, 11.0);
+    const double b_eff = start * windowMean(r, r.yaw_wheels, 8.0, 11.0) / windowMean(r, r.yaw_true, 8.0, 11.0);
     EXPECT_NEAR(r.separation.back(), b_eff, 0.05 * b_eff);
   }
 }

@@ -20,6 +20,7 @@
 #include "jackal_sim/harness/closed_loop.hpp"
 #include "jackal_sim/plant/plant_params.hpp"
 #include "jackal_sim/plant/robot_description.hpp"
+#include "jackal_test/closed_loop_runs.hpp"
 
 namespace jackal_aic
 {
@@ -29,6 +30,8 @@ namespace
 {
 using namespace plant;
 const std::string kRoot = JACKAL_SIM_SOURCE_DIR;
+using jackal_test::windowMean;
+using jackal_test::windowMeanAbsDiff;
 
 /// The unbiased configuration: the motion prior a first-order lag of 0.1 s with a low precision,
 /// fast beliefs (exact integrator), and a gentler action integral than the goal model's.
@@ -52,47 +55,7 @@ ClosedLoopRecord run(const params::NodeParams& node, double linear, double angul
   c.profile = { { 0.0, 0.0, 0.0 }, { 1.0, linear, angular } };
   c.duration = duration;
   c.ideal_sensors = false;
-  std::vector<std::string> overrides;
-  for (const std::string& o : overlays)
-  {
-    const std::vector<std::string> extra = overrides::loadOverlayFile(kRoot + "/" + o);
-    overrides.insert(overrides.end(), extra.begin(), extra.end());
-  }
-  return runClosedLoop(loadRobotDescription(kRoot + "/sim/urdf/jackal.urdf"),
-                       loadPlantParams(kRoot + "/sim/config/plant.yaml", overrides), c);
-}
-
-/// Mean of v over samples with time in [t0, t1].
-double mean(const ClosedLoopRecord& r, const std::vector<double>& v, double t0, double t1)
-{
-  double sum = 0.0;
-  int n = 0;
-  for (std::size_t k = 0; k < r.time.size(); ++k)
-  {
-    if (r.time[k] >= t0 && r.time[k] <= t1)
-    {
-      sum += v[k];
-      ++n;
-    }
-  }
-  return n > 0 ? sum / n : NAN;
-}
-
-/// Mean |a - b| over samples with time in [t0, t1].
-double meanAbsDiff(const ClosedLoopRecord& r, const std::vector<double>& a, const std::vector<double>& b, double t0,
-                   double t1)
-{
-  double sum = 0.0;
-  int n = 0;
-  for (std::size_t k = 0; k < r.time.size(); ++k)
-  {
-    if (r.time[k] >= t0 && r.time[k] <= t1)
-    {
-      sum += std::abs(a[k] - b[k]);
-      ++n;
-    }
-  }
-  return n > 0 ? sum / n : NAN;
+  return jackal_test::runOnJackal(kRoot, c, overlays);
 }
 }  // namespace
 
@@ -101,9 +64,9 @@ TEST(UnbiasedBeliefs, ArcTrackedAndBelievedOnceTheSeparationIsLearned)
   // 0.5 m/s + 0.5 rad/s: the plant's effective separation is ~1.4 x track; learning from the track.
   const ClosedLoopRecord r = run(unbiasedNode(true), 0.5, 0.5, 21.0);
   EXPECT_EQ(r.runaways, 0u);
-  EXPECT_NEAR(mean(r, r.yaw_true, 16.0, 21.0), 0.5, 0.015 * 0.5);
-  EXPECT_LE(meanAbsDiff(r, r.belief_yaw, r.yaw_true, 16.0, 21.0), 0.01);
-  EXPECT_LE(meanAbsDiff(r, r.belief, r.v_true, 16.0, 21.0), 0.01);
+  EXPECT_NEAR(windowMean(r, r.yaw_true, 16.0, 21.0), 0.5, 0.015 * 0.5);
+  EXPECT_LE(windowMeanAbsDiff(r, r.belief_yaw, r.yaw_true, 16.0, 21.0), 0.01);
+  EXPECT_LE(windowMeanAbsDiff(r, r.belief, r.v_true, 16.0, 21.0), 0.01);
 }
 
 TEST(LearnedSeparation, ConvergesFromOnceAndTwiceTheTrackWithFaultIsolationOn)
@@ -125,7 +88,7 @@ TEST(LearnedSeparation, ConvergesFromOnceAndTwiceTheTrackWithFaultIsolationOn)
     ASSERT_TRUE(node.fdi.enabled);
     const ClosedLoopRecord r = run(node, 0.5, 0.5, 21.0);
     EXPECT_EQ(r.runaways, 0u);
-    const double b_eff = start * mean(r, r.yaw_wheels, 6.0, 21.0) / mean(r, r.yaw_true, 6.0, 21.0);
+    const double b_eff = start * windowMean(r, r.yaw_wheels, 6.0, 21.0) / windowMean(r, r.yaw_true, 6.0, 21.0);
     EXPECT_GT(b_eff, 1.2 * kTrack) << "no effective separation to learn";
     double worst = 0.0;
     for (std::size_t k = 0; k < r.time.size(); ++k)
@@ -147,8 +110,8 @@ TEST(UnbiasedBeliefs, BeliefHonestWhenTheWheelsSaturate)
 {
   // 2.0 m/s: the wheels saturate at max_wheel_speed below it; the belief reads the speed reached.
   const ClosedLoopRecord s = run(unbiasedNode(false), 2.0, 0.0, 11.0);
-  EXPECT_LT(mean(s, s.v_true, 6.0, 11.0), 1.99);  // the plant does not follow (the case exists)
-  EXPECT_LE(meanAbsDiff(s, s.belief, s.v_true, 6.0, 11.0), 0.01);
+  EXPECT_LT(windowMean(s, s.v_true, 6.0, 11.0), 1.99);  // the plant does not follow (the case exists)
+  EXPECT_LE(windowMeanAbsDiff(s, s.belief, s.v_true, 6.0, 11.0), 0.01);
 }
 
 TEST(UnbiasedConfig, TracksAndBelievesOnArcsDeficitsAndSaturation)
@@ -163,15 +126,15 @@ TEST(UnbiasedConfig, TracksAndBelievesOnArcsDeficitsAndSaturation)
   ASSERT_EQ(node.aic.belief_model, params::BeliefModel::kUnbiased);
   const ClosedLoopRecord arc = run(node, 0.5, 0.5, 13.0);
   EXPECT_EQ(arc.runaways, 0u);
-  EXPECT_NEAR(mean(arc, arc.yaw_true, 9.0, 13.0), 0.5, 0.015 * 0.5);
-  EXPECT_LE(meanAbsDiff(arc, arc.belief_yaw, arc.yaw_true, 9.0, 13.0), 0.01);
-  EXPECT_LE(meanAbsDiff(arc, arc.belief, arc.v_true, 9.0, 13.0), 0.01);
+  EXPECT_NEAR(windowMean(arc, arc.yaw_true, 9.0, 13.0), 0.5, 0.015 * 0.5);
+  EXPECT_LE(windowMeanAbsDiff(arc, arc.belief_yaw, arc.yaw_true, 9.0, 13.0), 0.01);
+  EXPECT_LE(windowMeanAbsDiff(arc, arc.belief, arc.v_true, 9.0, 13.0), 0.01);
   const ClosedLoopRecord deficit = run(node, 0.0, 0.5, 4.0, { "sim/config/variants/turn_deficit.yaml" });
-  EXPECT_NEAR(mean(deficit, deficit.yaw_true, 3.0, 4.0), 0.5, 0.02 * 0.5);
-  EXPECT_LE(meanAbsDiff(deficit, deficit.belief_yaw, deficit.yaw_true, 3.0, 4.0), 0.01);
+  EXPECT_NEAR(windowMean(deficit, deficit.yaw_true, 3.0, 4.0), 0.5, 0.02 * 0.5);
+  EXPECT_LE(windowMeanAbsDiff(deficit, deficit.belief_yaw, deficit.yaw_true, 3.0, 4.0), 0.01);
   const ClosedLoopRecord fast = run(node, 2.0, 0.0, 11.0);
-  EXPECT_LT(mean(fast, fast.v_true, 6.0, 11.0), 1.99);  // the plant does not follow (the case exists)
-  EXPECT_LE(meanAbsDiff(fast, fast.belief, fast.v_true, 6.0, 11.0), 0.03);
+  EXPECT_LT(windowMean(fast, fast.v_true, 6.0, 11.0), 1.99);  // the plant does not follow (the case exists)
+  EXPECT_LE(windowMeanAbsDiff(fast, fast.belief, fast.v_true, 6.0, 11.0), 0.03);
 }
 
 }  // namespace harness
