@@ -24,6 +24,22 @@ params::RobotModelParams model()
   p.wheel_acceleration = 40.0;
   return p;
 }
+
+/// Drive `belief` for `samples` gyro-free samples 20 ms apart: each 20 ms of 1 ms predictions with
+/// the wheels commanded `command` [rad/s] (left, right) and the goal's yaw rate `turn` [rad/s], then
+/// a correction by the measured wheel speeds `measured` [rad/s] (gyro reading 0, every channel used).
+void drive(aic::RobotBelief* belief, const aic::WheelLoopModel& loop, const base::Vector2& command,
+           const base::Vector2& measured, int samples, double turn = 0.0)
+{
+  for (int k = 0; k < 20 * samples; ++k)
+  {
+    belief->predict(0.001, loop, command, 0.0, turn);
+    if (k % 20 == 19)
+    {
+      ASSERT_TRUE(belief->correct(measured, 0.0, true, true, true));
+    }
+  }
+}
 }  // namespace
 
 TEST(WheelLoopModel, CommandsTakeEffectOneLatencyLater)
@@ -93,14 +109,7 @@ TEST(RobotBelief, LearnsTheShortfallTheWheelsDoNotDeliver)
   aic::RobotBelief belief(p);
   aic::WheelLoopModel loop(p);
   // Commanded 5 rad/s, delivered 4.8 rad/s (a load): after a few seconds d = 0.2.
-  for (int k = 0; k < 10000; ++k)
-  {
-    belief.predict(0.001, loop, base::Vector2(5.0, 5.0), 0.0, 0.0);
-    if (k % 20 == 19)
-    {
-      ASSERT_TRUE(belief.correct(base::Vector2(4.8, 4.8), 0.0, true, true, true));
-    }
-  }
+  drive(&belief, loop, base::Vector2(5.0, 5.0), base::Vector2(4.8, 4.8), 500);
   EXPECT_NEAR(belief.shortfalls()(0), 0.2, 0.01);
   EXPECT_NEAR(belief.shortfalls()(1), 0.2, 0.01);
 }
@@ -112,26 +121,12 @@ TEST(RobotBelief, AStalledWheelIsAShortfallJump)
   aic::WheelLoopModel loop(p);
   // Commanded 3 rad/s, the wheels held at 0.05 rad/s (a stall): once the wheel loop would have
   // settled (3 / 40 + 5 x 0.01 = 0.125 s) five samples beyond the threshold make d the stall.
-  for (int k = 0; k < 1000; ++k)
-  {
-    belief.predict(0.001, loop, base::Vector2(3.0, 3.0), 0.0, 0.0);
-    if (k % 20 == 19)
-    {
-      ASSERT_TRUE(belief.correct(base::Vector2(0.05, 0.05), 0.0, true, true, true));
-    }
-  }
+  drive(&belief, loop, base::Vector2(3.0, 3.0), base::Vector2(0.05, 0.05), 50);
   EXPECT_EQ(belief.shortfallJumps(), 2u);  // one per side
   EXPECT_NEAR(belief.shortfalls()(0), 2.95, 0.01);
   EXPECT_NEAR(belief.wheelSpeeds()(1), 0.05, 0.01);
   // Released: the wheels deliver the command again; d jumps back.
-  for (int k = 0; k < 1000; ++k)
-  {
-    belief.predict(0.001, loop, base::Vector2(3.0, 3.0), 0.0, 0.0);
-    if (k % 20 == 19)
-    {
-      ASSERT_TRUE(belief.correct(base::Vector2(3.0, 3.0), 0.0, true, true, true));
-    }
-  }
+  drive(&belief, loop, base::Vector2(3.0, 3.0), base::Vector2(3.0, 3.0), 50);
   EXPECT_EQ(belief.shortfallJumps(), 4u);
   EXPECT_NEAR(belief.shortfalls()(0), 0.0, 0.01);
 }
@@ -141,14 +136,7 @@ TEST(RobotBelief, ForgettingTheSlowStatesKeepsTheWheels)
   const params::RobotModelParams p = model();
   aic::RobotBelief belief(p);
   aic::WheelLoopModel loop(p);
-  for (int k = 0; k < 1000; ++k)  // a stall: d = 2.95 rad/s per side
-  {
-    belief.predict(0.001, loop, base::Vector2(3.0, 3.0), 0.0, 0.0);
-    if (k % 20 == 19)
-    {
-      ASSERT_TRUE(belief.correct(base::Vector2(0.05, 0.05), 0.0, true, true, true));
-    }
-  }
+  drive(&belief, loop, base::Vector2(3.0, 3.0), base::Vector2(0.05, 0.05), 50);  // a stall: d = 2.95 rad/s per side
   ASSERT_NEAR(belief.shortfalls()(0), 2.95, 0.01);
   belief.forgetSlowStates();
   EXPECT_EQ(belief.shortfalls()(0), 0.0);
@@ -166,14 +154,7 @@ TEST(RobotBelief, AShortfallJumpIsDroppedWhenTheTurnMovesOn)
   aic::RobotBelief belief(p);
   aic::WheelLoopModel loop(p);
   // A turn (the goal's yaw rate 0.5 rad/s) in which the right wheel delivers 2 of its 3 rad/s.
-  for (int k = 0; k < 1000; ++k)
-  {
-    belief.predict(0.001, loop, base::Vector2(-3.0, 3.0), 0.0, 0.5);
-    if (k % 20 == 19)
-    {
-      ASSERT_TRUE(belief.correct(base::Vector2(-3.0, 2.0), 0.0, true, true, true));
-    }
-  }
+  drive(&belief, loop, base::Vector2(-3.0, 3.0), base::Vector2(-3.0, 2.0), 50, 0.5);
   ASSERT_NEAR(belief.shortfalls()(1), 1.0, 0.01);
   // The turn ends: the load the jump measured was the turn's; d goes back to its drift.
   belief.predict(0.001, loop, base::Vector2(1.0, 1.0), 0.0, 0.0);
