@@ -69,14 +69,13 @@ void RobotBelief::reset(const base::Vector2& omega, double theta_dot)
   p_yaw_.setZero();
   p_yaw_(0, 0) = kInitialVariance;
   turn_ = std::numeric_limits<double>::quiet_NaN();  // no predict() yet
-  jump_samples_ = 0;
+  offset_run_.clear();
   wheel_command_.setZero();
   steady_command_.setZero();
   steady_time_.setZero();
   settle_needed_.setZero();
-  shortfall_samples_[0] = shortfall_samples_[1] = 0;
-  shortfall_sum_.setZero();
-  shortfall_first_.setZero();
+  shortfall_runs_[0].clear();
+  shortfall_runs_[1].clear();
   shortfall_jump_.setZero();
   jump_turn_.setZero();
   omega_rate_.setZero();
@@ -99,10 +98,9 @@ void RobotBelief::forgetSlowStates()
   }
   p_yaw_.bottomRows<2>().setZero();
   p_yaw_.rightCols<2>().setZero();
-  jump_samples_ = 0;
-  jump_sum_ = 0.0;
-  shortfall_samples_[0] = shortfall_samples_[1] = 0;
-  shortfall_sum_.setZero();
+  offset_run_.clear();
+  shortfall_runs_[0].clear();
+  shortfall_runs_[1].clear();
   shortfall_jump_.setZero();
 }
 
@@ -201,8 +199,7 @@ bool RobotBelief::correct(const base::Vector2& y_omega, double y_gyro, bool use_
     {
       k(1) = 0.0;
       k(2) = 0.0;
-      jump_samples_ = 0;
-      jump_sum_ = 0.0;
+      offset_run_.clear();
     }
     else
     {
@@ -211,23 +208,13 @@ bool RobotBelief::correct(const base::Vector2& y_omega, double y_gyro, bool use_
       // are an offset jump, taken up at once: beta moves by their mean, theta_dot back by it.
       const double r = y_gyro - ((1.0 - x_(5)) * wheels_yaw_ + x_(6));
       const double var_r = r_g + wheels_yaw_ * wheels_yaw_ * p_yaw_(1, 1) + p_yaw_(2, 2);
-      if (std::isfinite(r) && r * r > kJumpThreshold * kJumpThreshold * var_r)
+      const bool beyond = std::isfinite(r) && r * r > kJumpThreshold * kJumpThreshold * var_r;
+      if (offset_run_.add(r, beyond, std::numeric_limits<double>::infinity(), kJumpSamples))
       {
-        jump_sum_ += r;
-        if (++jump_samples_ >= kJumpSamples)
-        {
-          const double jump = jump_sum_ / jump_samples_;
-          x_(6) += jump;
-          x_(4) -= jump;
-          jump_samples_ = 0;
-          jump_sum_ = 0.0;
-          ++offset_jumps_;
-        }
-      }
-      else
-      {
-        jump_samples_ = 0;
-        jump_sum_ = 0.0;
+        const double jump = offset_run_.mean();
+        x_(6) += jump;
+        x_(4) -= jump;
+        ++offset_jumps_;
       }
     }
     const double e = y_gyro - (x_(4) + x_(6));
@@ -252,38 +239,20 @@ void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e,
   // standard deviations (sigma_e and d's uncertainty), all within kJumpThreshold sqrt(2) sigma_e of
   // the first (the wheel no longer moves: a loop still converging changes them), are a step in the
   // load; d takes their mean at once.
+  ResidualRun& run = shortfall_runs_[side];
   if (!used || steady_time_(side) < settle_needed_(side))
   {
-    shortfall_samples_[side] = 0;
-    shortfall_sum_(side) = 0.0;
+    run.clear();
     return;
   }
   const double r = y - (wheel_command_(side) - *d);
   const double limit = kJumpThreshold * std::sqrt(r_e + p(1, 1));
-  const bool beyond = std::abs(r) > limit;
-  const bool still =
-      shortfall_samples_[side] == 0 || std::abs(r - shortfall_first_(side)) <= kJumpThreshold * std::sqrt(2.0 * r_e);
-  if (!beyond || !still)
-  {
-    shortfall_samples_[side] = beyond ? 1 : 0;
-    shortfall_sum_(side) = beyond ? r : 0.0;
-    shortfall_first_(side) = r;
-    return;
-  }
-  if (shortfall_samples_[side] == 0)
-  {
-    shortfall_first_(side) = r;
-  }
-  shortfall_sum_(side) += r;
-  if (++shortfall_samples_[side] >= kShortfallJumpSamples)
+  if (run.add(r, std::abs(r) > limit, kJumpThreshold * std::sqrt(2.0 * r_e), kShortfallJumpSamples))
   {
     // A shortfall: the wheel delivers between nothing and the whole command (a wheel faster than
     // its command, pushed or rolling downhill, is left to the drift).
     const double u = wheel_command_(side);
-    const double target =
-        std::clamp(*d - shortfall_sum_(side) / shortfall_samples_[side], std::min(0.0, u), std::max(0.0, u));
-    shortfall_samples_[side] = 0;
-    shortfall_sum_(side) = 0.0;
+    const double target = std::clamp(*d - run.mean(), std::min(0.0, u), std::max(0.0, u));
     if (std::abs(target - *d) > limit)
     {
       shortfall_jump_(side) += target - *d;

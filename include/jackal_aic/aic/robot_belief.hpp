@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "jackal_aic/aic/residual_run.hpp"
 #include "jackal_aic/aic/wheel_loop_model.hpp"
 #include "jackal_aic/base/types.hpp"
 #include "jackal_aic/params/robot_model_params.hpp"
@@ -171,8 +172,7 @@ private:
   Eigen::Matrix3d p_yaw_ = Eigen::Matrix3d::Identity();
   double turn_ = 0.0;        ///< the goal's yaw rate at the last predict() [rad/s] (NaN: none yet)
   double wheels_yaw_ = 0.0;  ///< u at the last predict() [rad/s]
-  int jump_samples_ = 0;     ///< gyro residuals in a row beyond kJumpThreshold
-  double jump_sum_ = 0.0;    ///< their sum [rad/s]
+  ResidualRun offset_run_;   ///< gyro residuals in a row beyond kJumpThreshold
   std::uint64_t offset_jumps_ = 0;
   /// Per side: the command at the wheels at the last predict(), where it settled, how long it has
   /// held there, how long the wheel loop needs to settle from the change before it [s].
@@ -180,11 +180,9 @@ private:
   base::Vector2 steady_command_ = base::Vector2::Zero();
   base::Vector2 steady_time_ = base::Vector2::Zero();
   base::Vector2 settle_needed_ = base::Vector2::Zero();
-  int shortfall_samples_[2] = { 0, 0 };                    ///< wheel residuals in a row beyond the threshold, per side
-  base::Vector2 shortfall_sum_ = base::Vector2::Zero();    ///< their sum [rad/s]
-  base::Vector2 shortfall_first_ = base::Vector2::Zero();  ///< the first of them [rad/s]
-  base::Vector2 shortfall_jump_ = base::Vector2::Zero();   ///< the part of d the jumps made, per side [rad/s]
-  base::Vector2 jump_turn_ = base::Vector2::Zero();        ///< the goal's turn at the last jump, per side [rad/s]
+  ResidualRun shortfall_runs_[2];                         ///< wheel residuals in a row beyond the threshold, per side
+  base::Vector2 shortfall_jump_ = base::Vector2::Zero();  ///< the part of d the jumps made, per side [rad/s]
+  base::Vector2 jump_turn_ = base::Vector2::Zero();       ///< the goal's turn at the last jump, per side [rad/s]
   std::uint64_t shortfall_jumps_ = 0;
   base::Vector2 omega_rate_ = base::Vector2::Zero();
   double yaw_rate_ = 0.0;

@@ -8,6 +8,7 @@
 
 #include "jackal_aic/aic/controller.hpp"
 #include "jackal_aic/aic/latency_action.hpp"
+#include "jackal_aic/aic/residual_run.hpp"
 #include "jackal_aic/aic/robot_belief.hpp"
 #include "jackal_aic/aic/wheel_loop_model.hpp"
 
@@ -77,6 +78,35 @@ TEST(WheelLoopModel, PredictRunsTheCommandsInFlight)
   const base::Vector2 late = loop.predict(base::Vector2::Zero(), base::Vector2(0.1, 0.0), 0.0, 0.4);
   EXPECT_NEAR(late(0), 0.9, 1e-9);
   EXPECT_NEAR(late(1), -1.0, 1e-9);
+}
+
+TEST(ResidualRun, NResidualsInARowBeyondTheirLimitCompleteARun)
+{
+  aic::ResidualRun run;
+  EXPECT_FALSE(run.add(1.0, true, INFINITY, 3));
+  EXPECT_FALSE(run.add(2.0, true, INFINITY, 3));
+  EXPECT_TRUE(run.add(3.0, true, INFINITY, 3));
+  EXPECT_DOUBLE_EQ(run.mean(), 2.0);
+  EXPECT_EQ(run.count(), 0);  // the next run starts afresh
+  // A residual within its limit ends the run; clear() ends it too.
+  EXPECT_FALSE(run.add(1.0, true, INFINITY, 3));
+  EXPECT_FALSE(run.add(0.1, false, INFINITY, 3));
+  EXPECT_EQ(run.count(), 0);
+  EXPECT_FALSE(run.add(1.0, true, INFINITY, 3));
+  run.clear();
+  EXPECT_EQ(run.count(), 0);
+  EXPECT_FALSE(run.add(NAN, true, INFINITY, 3));  // a non-finite residual ends it
+  EXPECT_EQ(run.count(), 0);
+}
+
+TEST(ResidualRun, AResidualOutsideTheBandOfTheFirstStartsANewRun)
+{
+  aic::ResidualRun run;
+  EXPECT_FALSE(run.add(1.0, true, 0.1, 2));
+  EXPECT_FALSE(run.add(1.5, true, 0.1, 2));  // still moving: a new run from 1.5
+  EXPECT_EQ(run.count(), 1);
+  EXPECT_TRUE(run.add(1.55, true, 0.1, 2));
+  EXPECT_DOUBLE_EQ(run.mean(), 1.525);
 }
 
 TEST(RobotBelief, FollowsTheEncodersAndTheGyroAtTheirPrecision)
