@@ -19,6 +19,8 @@ def main():
     ap = argparse.ArgumentParser(description=scorecard.__doc__.splitlines()[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter, epilog=scorecard.__doc__)
     ap.add_argument("--aic-config", default=os.path.join(ROOT, "config", "default.yaml"), help="controller YAML")
+    ap.add_argument("--pi-config", default=os.path.join(ROOT, "config", "classical", "pi.yaml"),
+                    help="the classical peer's YAML, beside the stock controller in the driving set (--driving)")
     ap.add_argument("--plant-config", default=os.path.join(ROOT, "sim", "config", "plant.yaml"), help="plant YAML")
     ap.add_argument("--plant-overlay", action="append", default=[], metavar="FILE",
                     help="plant overlay YAML applied after --plant-config (repeatable), e.g. "
@@ -35,6 +37,7 @@ def main():
                          "with --driving the ideal controller's runs to doc/results/ideal_runs.json")
     a = ap.parse_args()
     a.aic_config = os.path.abspath(a.aic_config)
+    a.pi_config = os.path.abspath(a.pi_config)
     a.plant_config = os.path.abspath(a.plant_config)
     a.plant_overlay = [os.path.abspath(o) for o in a.plant_overlay]
     try:

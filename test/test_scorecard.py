@@ -18,7 +18,7 @@ scorecard's verdicts, whose bounds are jackal_aic_tools.track.driving's and scor
   stability on every varied plant, the turn-deficit holds (0.3, 0.5, 1.0 rad/s) within 2 % of the
   command;
   the tracking benchmark holds every profile x variant pair, each with the ideal controller's
-  figures, and every plant-limited channel (ideal controller above
+  and the classical peer's figures, and every plant-limited channel (ideal controller above
   plant_limits.PLANT_LIMIT_RATIO x the latency floor) carries its reason.
 
 Regression guards (ScorecardRegressionGuards): the documented driving bounds config/default.yaml
@@ -157,12 +157,14 @@ class ScorecardAcceptance(unittest.TestCase):
                                   for v in sorted(glob.glob(os.path.join(ROOT, "sim", "config", "variants", "*.yaml")))]
         self.assertEqual(pairs, {(p, v) for p in profiles for v in variants})
         self.assertEqual(len(crit["driving_tracking"]), len(pairs))
-        # The ideal controller beside every pair; the plant-limited channels carry their reason,
-        # the others are judged (the verdict holds them all).
+        # The ideal controller and the classical peer (table 6j) beside every pair; the plant-limited
+        # channels carry their reason, the others are judged (the verdict holds them all).
+        self.assertIn("driving_aic_peer_gmean", crit)
         limited = 0
         for r in crit["driving_tracking"]:
             for ch in ("vx", "wz"):
                 self.assertIsNotNone(r["ideal_" + ch], r)
+                self.assertGreater(r["peer_" + ch], 0.0, r)
                 is_limited = r["ideal_%s_ratio" % ch] > plant_limits.PLANT_LIMIT_RATIO
                 self.assertEqual(r["limited_" + ch] is not None, is_limited, r)
                 if is_limited:

@@ -5,7 +5,8 @@
 ROS processes (jackal_aic_tools.common.ros_process), of the report and summary printers
 (jackal_aic_tools.common.report, .summary), of dev/failure_summary.py and dev/mutants.py's list, and the
 plant-limited pairs of the tracking benchmark (jackal_aic_tools.track.plant_limits, driving.judge_tracking,
-track_suite.metric_limited), on inputs made up here.
+track_suite.metric_limited) and the classical peer beside them (driving.evaluate's peer, the scorecard's
+table 6j), on inputs made up here.
 """
 import argparse
 import contextlib
@@ -20,6 +21,7 @@ import tempfile
 import threading
 import time
 import unittest
+from unittest import mock
 
 import numpy as np
 
@@ -463,6 +465,132 @@ class PlantLimitsTest(unittest.TestCase):
         self.assertIsNone(out["limited_gmean"]["aic_stock"])
 
 
+class PeerTest(unittest.TestCase):
+    """The classical peer in the driving set: driving.evaluate(peer=True) runs it on every tracking
+    pair (job controller "pi", the runner's peer_config), judge_tracking reports its errors and
+    geometric means without judging them, and the scorecard prints them as table 6j."""
+
+    FLOOR = staticmethod(lambda p, latency, cache: {"vx": 0.1, "wz": 0.1})
+
+    @staticmethod
+    def res(peer_wz_b=0.25):
+        """Two pairs as PlantLimitsTest.judge's (b's wz plant-limited: ideal 2.5 x the floor), with the
+        peer's runs: on a vx 0.04, wz 0.1; on b vx 0.05, wz ``peer_wz_b``."""
+        return {("track", "a.csv", "default", "aic"): (track_result(0.05, 0.05), None),
+                ("track", "a.csv", "default", "stock"): (track_result(0.1, 0.1), None),
+                ("track", "a.csv", "default", "ideal"): (track_result(0.01, 0.01, ideal=True), None),
+                ("track", "a.csv", "default", "pi"): (track_result(0.04, 0.1), None),
+                ("track", "b.csv", "default", "aic"): (track_result(0.05, 0.3), None),
+                ("track", "b.csv", "default", "stock"): (track_result(0.1, 0.2), None),
+                ("track", "b.csv", "default", "ideal"): (track_result(0.01, 0.25, ideal=True), None),
+                ("track", "b.csv", "default", "pi"): (track_result(0.05, peer_wz_b), None)}
+
+    def judge(self, res):
+        out = {"tracking": []}
+        ok = driving.judge_tracking(res, ["a.csv", "b.csv"], ["default"], True, out, floor_of=self.FLOOR)
+        return ok, out
+
+    def test_peer_ratios_over_the_plant_following_channels(self):
+        ok, out = self.judge(self.res())
+        a, b = out["tracking"]
+        self.assertEqual((a["peer_vx"], a["peer_wz"], b["peer_vx"], b["peer_wz"]), (0.04, 0.1, 0.05, 0.25))
+        # Plant-following: a's vx, a's wz, b's vx (b's wz is plant-limited and left out).
+        self.assertAlmostEqual(out["aic_peer_gmean"]["vx"], math.sqrt(0.05 / 0.04 * 0.05 / 0.05))
+        self.assertAlmostEqual(out["aic_peer_gmean"]["wz"], 0.5)
+        self.assertAlmostEqual(out["aic_peer_gmean"]["all"], (0.05 / 0.04 * 1.0 * 0.5) ** (1.0 / 3.0))
+        self.assertAlmostEqual(out["peer_floor_gmean"]["vx"], math.sqrt(0.4 * 0.5))
+        self.assertAlmostEqual(out["peer_floor_gmean"]["wz"], 1.0)
+        self.assertAlmostEqual(out["peer_stock_gmean"]["all"], (0.4 * 1.0 * 0.5) ** (1.0 / 3.0))
+        self.assertTrue(ok)
+        # The control: without the peer's runs no peer figure, and the rest is the same.
+        bare = {k: v for k, v in self.res().items() if k[3] != "pi"}
+        ok_bare, out_bare = self.judge(bare)
+        self.assertNotIn("aic_peer_gmean", out_bare)
+        self.assertNotIn("peer_vx", out_bare["tracking"][0])
+        self.assertEqual(ok_bare, ok)
+        self.assertEqual(out_bare["gmean"], out["gmean"])
+        self.assertEqual([dict((k, v) for k, v in r.items() if not k.startswith("peer_")) for r in out["tracking"]],
+                         out_bare["tracking"])
+
+    def test_a_bad_peer_is_not_judged(self):
+        good_ok, good = self.judge(self.res())
+        res = self.res(peer_wz_b=50.0)
+        res[("track", "a.csv", "default", "pi")] = (track_result(10.0, 10.0), None)
+        ok, out = self.judge(res)
+        self.assertEqual(ok, good_ok)
+        self.assertTrue(ok)
+        self.assertEqual([r["pass"] for r in out["tracking"]], [r["pass"] for r in good["tracking"]])
+        self.assertLess(out["aic_peer_gmean"]["all"], 0.05)
+        self.assertEqual(driving.cost(out), driving.cost(good))
+
+    def test_evaluate_runs_the_peer_only_when_asked(self):
+        class Runner:
+            def __init__(self):
+                self.jobs = []
+
+            def run_all(self, jobs):
+                self.jobs += jobs
+                rms = {"aic": 0.05, "stock": 0.1, "pi": 0.04}
+                return {j[0]: (track_result(rms[j[1]], rms[j[1]]), None) for j in jobs}
+
+        for peer in (False, True):
+            runner = Runner()
+            with mock.patch.object(driving, "floor_rms", self.FLOOR):
+                ev = driving.evaluate(runner, ROOT, profiles=["a.csv"], variants=["default", "v.yaml"],
+                                      steps=False, ideal=False, peer=peer)
+            peer_jobs = [j for j in runner.jobs if j[1] == "pi"]
+            self.assertEqual(len(peer_jobs), 2 if peer else 0)
+            self.assertEqual(len(runner.jobs), 6 if peer else 4)
+            self.assertEqual("aic_peer_gmean" in ev, peer)
+            self.assertTrue(ev["pass"])
+        self.assertEqual(sorted(j[3] or "" for j in peer_jobs), ["", "v.yaml"])
+        self.assertAlmostEqual(ev["aic_peer_gmean"]["all"], 0.05 / 0.04)
+
+    def test_the_runner_runs_the_peer_with_its_own_yaml(self):
+        runner = driving.Runner("closed_loop_run", "aic.yaml", "plant.yaml", aic_sets=["k=1"],
+                                peer_config="pi.yaml")
+        cmd = runner.command("pi", ["--profile", "a.csv"])
+        self.assertEqual(cmd[cmd.index("--controller") + 1], "pi")
+        self.assertEqual(cmd[cmd.index("--pi-config") + 1], "pi.yaml")
+        self.assertNotIn("aic.yaml", cmd)
+        self.assertNotIn("--pi-set", cmd)
+        # The tuned peer in the AIC's part keeps the runner's settings.
+        tuned = driving.Runner("closed_loop_run", "tuned_pi.yaml", "plant.yaml", aic_sets=["k=1"], tuned="pi",
+                               peer_config="pi.yaml")
+        cmd = tuned.command("aic", ["--profile", "a.csv"])
+        self.assertEqual(cmd[cmd.index("--pi-config") + 1], "tuned_pi.yaml")
+        self.assertEqual(cmd[cmd.index("--pi-set") + 1], "k=1")
+        self.assertNotIn("--pi-config", driving.Runner("closed_loop_run", "aic.yaml", "plant.yaml").command(
+            "pi", ["--profile", "a.csv"]))
+
+    def test_table_6j_prints(self):
+        from jackal_aic_tools.tune import scorecard, scorecard_print
+        ok, out = self.judge(self.res())
+        out.update({"steps": [], "deficit": [], "robust": []})
+        crit = {}
+        scorecard.judge_driving(out, crit)
+        self.assertIn("driving_aic_peer_gmean", crit)
+        buf = io.StringIO()
+        with contextlib.redirect_stdout(buf):
+            scorecard_print.print_peer(crit, "config/classical/pi.yaml")
+        text = buf.getvalue()
+        self.assertIn("6j. The classical peer (reported, not judged)", text)
+        self.assertIn("config/classical/pi.yaml", text)
+        self.assertIn("over the 3 plant-following channels: AIC / peer %.3f" % out["aic_peer_gmean"]["all"], text)
+        self.assertRegex(text, r"a\s+default\s+0\.0400\s+1\.25\s+0\.40\s+0\.1000\s+0\.50\s+1\.00\n")
+        self.assertRegex(text, r"b\s+default\s+0\.0500\s+1\.00\s+0\.50\s+0\.2500\s+1\.20 \*\s+2\.50 \*\n")
+        # After 6i in the driving tables, and not there without the peer's runs.
+        buf = io.StringIO()
+        with contextlib.redirect_stdout(buf):
+            scorecard_print.print_driving(crit, "config/classical/pi.yaml")
+        self.assertIn("\n6j. ", buf.getvalue())
+        bare = {k: v for k, v in crit.items() if "peer" not in k}
+        buf = io.StringIO()
+        with contextlib.redirect_stdout(buf):
+            scorecard_print.print_driving(bare, "config/classical/pi.yaml")
+        self.assertNotIn("6j.", buf.getvalue())
+
+
 class EndHeadingTest(unittest.TestCase):
     """driving.judge_heading and its part in judge_tracking: the AIC's end-of-profile |heading error|
     within the stock controller's + HEADING_MARGIN, judged where the plant follows both channels."""
@@ -833,5 +961,5 @@ class ArcPriorTest(unittest.TestCase):
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
     pyunit.main("tool_logic", NodeWatchTest, RosProcessTest, SweepTest, ExperimentTest, SoakTest, ReportAndSummaryTest,
-                FailureSummaryTest, PlantLimitsTest, EndHeadingTest, PyunitTest, HonestBeliefTest, ArcPriorTest,
+                FailureSummaryTest, PlantLimitsTest, PeerTest, EndHeadingTest, PyunitTest, HonestBeliefTest, ArcPriorTest,
                 IdealCacheTest, MutantsListTest)

@@ -21,11 +21,14 @@ Three parts, each AIC and stock in the same run (doc/experiments.md, 'Driving ac
   predictor of the stream can go (doc/tools.md, 'Latency floor'); and the ideal controller's
   error (jackal_aic_tools.track.plant_limits): a channel of a pair whose ideal error exceeds
   plant_limits.PLANT_LIMIT_RATIO x the floor is plant-limited, reported apart with its reason;
-  the per-pair verdicts and the geometric means judge the plant-following channels only.
+  the per-pair verdicts and the geometric means judge the plant-following channels only;
+  with ``peer`` the classical peer (closed_loop_run --controller pi, its own YAML) on every pair
+  too, its errors and geometric means against the AIC, the floor and the stock controller
+  reported, not judged.
 
 `evaluate()` runs them all and returns the figures with verdicts; `cost()` turns the figures
-into the tuner's scalar (scripts/aic_tune.py --driving). Stock runs do not depend on the AIC's
-settings and are cached per process.
+into the tuner's scalar (scripts/aic_tune.py --driving). Stock (and peer) runs do not depend on the
+AIC's settings and are cached per process.
 """
 import glob
 import math
@@ -104,35 +107,43 @@ def default_variants(root):
 
 class Runner:
     """Runs closed_loop_run for one AIC configuration (a YAML and KEY=VALUE overrides), the stock
-    controller and the ideal controller, on one plant YAML; caches the stock and ideal controllers'
-    results (they do not depend on the AIC's settings) for its lifetime, and takes the ideal
-    controller's results from ``ideal_cache`` (ideal_cache.IdealCache, or None) where it keeps them
-    for the same sources, plant, overlay and profile. ``tuned``: the controller that plays the
-    AIC's part ("aic", or "pi": the classical peer, its YAML and overrides in aic_config and
-    aic_sets), so that the acceptance set and its cost judge either against the stock controller."""
+    controller, the ideal controller and the classical peer, on one plant YAML; caches the stock and
+    ideal controllers' and the peer's results (they do not depend on the AIC's settings) for its
+    lifetime, and takes the ideal controller's results from ``ideal_cache`` (ideal_cache.IdealCache,
+    or None) where it keeps them for the same sources, plant, overlay and profile. ``tuned``: the
+    controller that plays the AIC's part, job controller "aic" ("aic", or "pi": the classical peer,
+    its YAML and overrides in aic_config and aic_sets), so that the acceptance set and its cost
+    judge either against the stock controller. ``peer_config``: the YAML of the classical peer
+    beside it, job controller "pi" (None: closed_loop_run's default, config/classical/pi.yaml)."""
 
-    def __init__(self, exe, aic_config, plant_config, aic_sets=(), jobs=2, ideal_cache=None, tuned="aic"):
+    def __init__(self, exe, aic_config, plant_config, aic_sets=(), jobs=2, ideal_cache=None, tuned="aic",
+                 peer_config=None):
         self.exe, self.aic_config, self.plant_config = exe, aic_config, plant_config
-        self.tuned = tuned
+        self.tuned, self.peer_config = tuned, peer_config
         self.aic_sets = list(aic_sets)
         self.jobs = max(1, jobs)
         self.ideal_cache = ideal_cache
         self._stock = {}
 
     def command(self, controller, args, overlay=None, plant_sets=()):
-        """The argument list of one run (closed_loop.command: noisy sensors, a diverged run reported
-        and judged here, not an error; the ideal controller uses the ground truth and ideal sensors:
-        plant_limits.ideal_command)."""
+        """The argument list of one run of ``controller`` ("aic": the tuned controller with the
+        runner's settings; "pi": the classical peer with peer_config; "stock"; "ideal")
+        (closed_loop.command: noisy sensors, a diverged run reported and judged here, not an error;
+        the ideal controller uses the ground truth and ideal sensors: plant_limits.ideal_command)."""
         if controller == "ideal":
             return plant_limits.ideal_command(self.exe, self.plant_config, args, overlay, plant_sets)
+        config, sets = self.aic_config, self.aic_sets
         if controller == "aic":
             controller = self.tuned
-        return closed_loop.command(self.exe, controller, args, self.aic_config, self.aic_sets, self.plant_config,
+        elif controller == "pi":
+            config, sets = self.peer_config, ()
+        return closed_loop.command(self.exe, controller, args, config, sets, self.plant_config,
                                    [overlay] if overlay else [], plant_sets, noise=True, keep_going=True)
 
     def run_all(self, jobs):
         """jobs: list of (key, controller, args, overlay, plant_sets, want_trace). Returns key ->
-        (result dict, trace columns or None); stock and ideal results come from the cache when there."""
+        (result dict, trace columns or None); stock, peer and ideal results come from the cache when
+        there."""
         def one(job):
             key, controller, args, overlay, plant_sets, want_trace = job
             cache_key = (controller, tuple(args), overlay, tuple(plant_sets), want_trace)
@@ -276,9 +287,10 @@ def judge_step(name, runs):
 
 
 def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, steps=True, ideal=True,
-             arc_prior_table=True):
+             arc_prior_table=True, peer=False):
     """Run the driving acceptance set with ``runner`` (Runner); with ``ideal`` the tracking pairs'
-    ideal controller too (else every channel counts as plant-following). Returns a dict:
+    ideal controller too (else every channel counts as plant-following); with ``peer`` the classical
+    peer too (runner's job controller "pi", its own YAML; reported, not judged). Returns a dict:
     steps: list of judge_step() rows, {case, aic_settling, stock_settling, ratio, ratios,
     aic_overshoot, stock_overshoot, bound, pass};
     robust: list of {plant, case, runaways, settled, overshoot, pass};
@@ -292,9 +304,12 @@ def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, st
     the reason, or None where the plant follows), pass (the plant-following channels' AIC / stock
     within TRACK_PAIR_BOUND), belief_vx, belief_wz, belief_max_vx, belief_max_wz, belief_bound_vx,
     belief_bound_wz, belief_pass (judge_belief), heading_aic, heading_stock, heading_bound,
-    heading_judged, heading_pass (judge_heading)};
+    heading_judged, heading_pass (judge_heading); with ``peer`` peer_vx, peer_wz (the peer's RMS
+    error)};
     over the plant-following channels: gmean {vx, wz, all} of AIC / stock (judged),
-    floor_gmean of floor / stock, aic_floor_gmean of AIC / floor, stock_floor_gmean of stock / floor;
+    floor_gmean of floor / stock, aic_floor_gmean of AIC / floor, stock_floor_gmean of stock / floor,
+    with ``peer`` aic_peer_gmean of AIC / peer, peer_floor_gmean of peer / floor and peer_stock_gmean
+    of peer / stock;
     over the plant-limited ones: limited_gmean {aic_stock, aic_floor, stock_floor, aic_ideal,
     stock_ideal, n}; pass: every verdict."""
     profiles = profiles if profiles is not None else default_profiles(root)
@@ -324,7 +339,7 @@ def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, st
     if tracking_suite:
         for p in profiles:
             for v in variants:
-                for c in ("aic", "stock", "ideal") if ideal else ("aic", "stock"):
+                for c in ("aic", "stock") + (("ideal",) if ideal else ()) + (("pi",) if peer else ()):
                     jobs.append((("track", p, v, c), c, ["--profile", p], None if v == "default" else v, (), False))
     res = runner.run_all(jobs)
     out = {"steps": [], "robust": [], "deficit": [], "tracking": []}
@@ -371,12 +386,14 @@ def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, st
 def judge_tracking(res, profiles, variants, ideal, out, floor_of=None):
     """The tracking part of evaluate(): rows, verdicts and geometric means of the runs ``res``
     (key ("track", profile, variant, controller) -> (closed_loop_run's JSON result, trace); the
-    ideal controller's only with ``ideal``) into ``out`` (tracking, gmean, floor_gmean,
-    aic_floor_gmean, stock_floor_gmean, limited_gmean; see evaluate()). ``floor_of(profile,
+    ideal controller's only with ``ideal``; the classical peer's, controller "pi", where present)
+    into ``out`` (tracking, gmean, floor_gmean, aic_floor_gmean, stock_floor_gmean, limited_gmean,
+    and with any peer run aic_peer_gmean, peer_floor_gmean, peer_stock_gmean over the
+    plant-following channels of the pairs the peer ran; see evaluate()). ``floor_of(profile,
     latency, cache)``: the latency floor {vx, wz} (default floor_rms). Returns True when every
     judged figure passes: each pair's plant-following channels within TRACK_PAIR_BOUND, their
     geometric mean within TRACK_GMEAN_BOUND, each pair's honest belief (judge_belief) and
-    end-of-profile heading (judge_heading)."""
+    end-of-profile heading (judge_heading); the peer's figures are reported, not judged."""
     floor_of = floor_of or floor_rms
     ok = True
     ratios = []  # (name, channel, plant-limited, value)
@@ -385,6 +402,8 @@ def judge_tracking(res, profiles, variants, ideal, out, floor_of=None):
         for v in variants:
             a = res[("track", p, v, "aic")][0]["tracking"]["truth"]
             s = res[("track", p, v, "stock")][0]["tracking"]["truth"]
+            peer = res.get(("track", p, v, "pi"))
+            q = peer[0]["tracking"]["truth"] if peer else None
             row = {"profile": os.path.splitext(os.path.basename(p))[0],
                    "variant": "default" if v == "default" else os.path.splitext(os.path.basename(v))[0]}
             floor = floor_of(p, res[("track", p, v, "stock")][0]["command_delay"], floors)
@@ -407,6 +426,13 @@ def judge_tracking(res, profiles, variants, ideal, out, floor_of=None):
                 if ideal and best[ch] > 0:
                     ratios += [("aic_ideal", ch, lim, a[ch]["rms"] / best[ch]),
                                ("stock_ideal", ch, lim, s[ch]["rms"] / best[ch])]
+                if q:
+                    row["peer_" + ch] = q[ch]["rms"]
+                    for name, num, den in (("aic_peer", a[ch]["rms"], q[ch]["rms"]),
+                                           ("peer_floor", q[ch]["rms"], floor[ch]),
+                                           ("peer_stock", q[ch]["rms"], s[ch]["rms"])):
+                        if den > 0:
+                            ratios.append((name, ch, lim, num / den))
                 if not lim:
                     passed = passed and ra <= TRACK_PAIR_BOUND
             row["pass"] = passed
@@ -423,6 +449,9 @@ def judge_tracking(res, profiles, variants, ideal, out, floor_of=None):
     out["floor_gmean"] = following("floor_stock")
     out["aic_floor_gmean"] = following("aic_floor")
     out["stock_floor_gmean"] = following("stock_floor")
+    if any("peer_vx" in r for r in out["tracking"]):
+        for name in ("aic_peer", "peer_floor", "peer_stock"):
+            out[name + "_gmean"] = following(name)
     lg = {name: plant_limits.gmean([x for n, _, lim, x in ratios if n == name and lim])[0]
           for name in ("aic_stock", "aic_floor", "stock_floor", "aic_ideal", "stock_ideal")}
     lg["n"] = sum(1 for n, _, lim, _ in ratios if n == "aic_stock" and lim)

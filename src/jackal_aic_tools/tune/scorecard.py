@@ -27,11 +27,13 @@ Criteria (doc/experiments.md, 'Tuning'):
      plant_limits.PLANT_LIMIT_RATIO x the floor) apart, with their reasons: the per-pair bound and
      the geometric mean judge the plant-following channels; and the honest belief of every
      tracking run (the AIC's steady mean |belief - truth| per channel within
-     driving.BELIEF_BOUND, BELIEF_LIMITED_BOUND on a plant-limited channel). Judged with the rest.
+     driving.BELIEF_BOUND, BELIEF_LIMITED_BOUND on a plant-limited channel). Judged with the rest;
+     beside stock and the floor the classical peer (closed_loop_run --controller pi, --pi-config)
+     on every tracking pair, reported, not judged.
 
 Usage:
-  aic_scorecard.py [--aic-config FILE] [--plant-config FILE] [--seeds S ...] [--jobs N]
-                   [--driving] [--json FILE]
+  aic_scorecard.py [--aic-config FILE] [--pi-config FILE] [--plant-config FILE] [--seeds S ...]
+                   [--jobs N] [--driving] [--json FILE]
 
   e.g.  scripts/aic_scorecard.py --aic-config config/default.yaml --jobs 2 --json /tmp/score.json
 
@@ -188,9 +190,11 @@ def judge_driving(ev, crit):
     """Criterion 6: the driving set's evaluation ``ev`` (jackal_aic_tools.track.driving.evaluate) added
     to ``crit`` as driving_steps, driving_deficit, driving_robust, driving_tracking, driving_gmean
     (over the plant-following channels, judged against driving.TRACK_GMEAN_BOUND),
-    driving_floor_gmean, driving_aic_floor_gmean, driving_stock_floor_gmean (over the same) and
-    driving_limited_gmean (over the plant-limited channels; reported) and driving_arc_prior (the
-    arc's yaw overshoot against the model's initial separation; reported). Returns True when every
+    driving_floor_gmean, driving_aic_floor_gmean, driving_stock_floor_gmean (over the same),
+    driving_limited_gmean (over the plant-limited channels; reported), driving_arc_prior (the
+    arc's yaw overshoot against the model's initial separation; reported) and, where the classical
+    peer ran, driving_aic_peer_gmean, driving_peer_floor_gmean, driving_peer_stock_gmean (over the
+    plant-following channels; reported). Returns True when every
     judged row passes (the tracking rows' honest belief, belief_pass, and end-of-profile heading,
     heading_pass, included)."""
     for part in ("steps", "deficit", "robust", "tracking"):
@@ -198,7 +202,8 @@ def judge_driving(ev, crit):
     gm = dict(ev["gmean"], bound=driving.TRACK_GMEAN_BOUND)
     gm["pass"] = gm["all"] <= driving.TRACK_GMEAN_BOUND
     crit["driving_gmean"] = gm
-    for name in ("floor_gmean", "aic_floor_gmean", "stock_floor_gmean", "limited_gmean", "arc_prior"):
+    for name in ("floor_gmean", "aic_floor_gmean", "stock_floor_gmean", "limited_gmean", "arc_prior",
+                 "aic_peer_gmean", "peer_floor_gmean", "peer_stock_gmean"):
         if name in ev:
             crit["driving_" + name] = ev[name]
     verdicts = [gm["pass"]] + [r["pass"] for part in ("steps", "deficit", "robust", "tracking") for r in ev[part]]
@@ -210,7 +215,8 @@ def judge_driving(ev, crit):
 def scorecard(a, tool):
     """Run every profile (a: parsed arguments of aic_scorecard.py, tool: cli.Tool) and return
     (criteria, ok): criteria is a dict of criterion name -> list of row dicts (figures in s, %,
-    and verdicts), ok True when every judged row passes. Raises RuntimeError when a run fails."""
+    and verdicts), ok True when every judged row passes; with a.driving the classical peer runs
+    beside the stock controller with a.pi_config (its YAML). Raises RuntimeError when a run fails."""
     seeds = list(dict.fromkeys(a.seeds))
     exe = tool.exe("closed_loop_run")
     job_list = jobs(seeds)
@@ -221,8 +227,9 @@ def scorecard(a, tool):
     crit, ok = judge(results, seeds)
     if a.driving:
         kept = ideal_cache.IdealCache(tool.root)
-        runner = driving.Runner(exe, a.aic_config, a.plant_config, jobs=a.jobs, ideal_cache=kept)
-        ok = judge_driving(driving.evaluate(runner, tool.root), crit) and ok
+        runner = driving.Runner(exe, a.aic_config, a.plant_config, jobs=a.jobs, ideal_cache=kept,
+                                peer_config=a.pi_config)
+        ok = judge_driving(driving.evaluate(runner, tool.root, peer=True), crit) and ok
         print("aic_scorecard: ideal controller: %s (%s): %d kept, %d run"
               % (os.path.relpath(kept.path, tool.root), kept.status, kept.hits, kept.misses), file=sys.stderr)
         if getattr(a, "doc", False):

@@ -21,10 +21,12 @@ def table(title, header, rows):
 def print_scorecard(crit, a, root):
     """Print the tables of scorecard()'s criteria (a: parsed arguments of aic_scorecard.py; root:
     the package's folder, which the printed paths are relative to)."""
+    def shown(path):
+        return os.path.relpath(path, root) if path.startswith(root) else path
+
     print("aic_scorecard: %s against the stock controller, plant %s, noisy sensors (closed_loop_run)"
-          % (os.path.relpath(a.aic_config, root) if a.aic_config.startswith(root) else a.aic_config,
-             " + ".join(os.path.relpath(f, root) if f.startswith(root) else f
-                        for f in [a.plant_config] + a.plant_overlay)))
+          % (shown(a.aic_config),
+             " + ".join(shown(f) for f in [a.plant_config] + a.plant_overlay)))
     hdr = ["step", "seed", "AIC rise/settle/os/sse", "stock rise/settle/os", "rise x", "settle x", "verdict"]
 
     def step_cells(r):
@@ -58,11 +60,12 @@ def print_scorecard(crit, a, root):
                                                 fmt(r["aic_overshoot"], "%.1f")),
             "%s s" % fmt(r["stock_settling"]), verdict(r["pass"])] for r in crit["robustness"]])
     if "driving_steps" in crit:
-        print_driving(crit)
+        print_driving(crit, shown(a.pi_config))
 
 
-def print_driving(crit):
-    """Print the driving tables (criterion 6) of scorecard()'s criteria."""
+def print_driving(crit, peer_config):
+    """Print the driving tables (criterion 6) of scorecard()'s criteria; ``peer_config``: the
+    classical peer's YAML as table 6j names it (printed where the peer ran)."""
     table("6a. Driving steps at %d phases of the 50 Hz clocks (step %s ms after the rest; the worst phase "
           "judged: settling AIC / stock <= bound, overshoot <= %g %%)"
           % (len(driving.STEP_PHASES), ", ".join("%g" % (1e3 * p) for p in driving.STEP_PHASES),
@@ -151,6 +154,34 @@ def print_driving(crit):
             verdict(r["heading_pass"]) if r.get("heading_judged") else "reported"] for r in rows])
     if crit.get("driving_arc_prior"):
         print_arc_prior(crit["driving_arc_prior"])
+    if "driving_aic_peer_gmean" in crit:
+        print_peer(crit, peer_config)
+
+
+def print_peer(crit, peer_config):
+    """Print table 6j: the classical peer (``peer_config``: its YAML as shown) on every tracking pair of
+    scorecard()'s criteria ``crit`` that it ran (rows with peer_vx, peer_wz): its RMS error, AIC / peer
+    and peer / floor per channel ('*': a plant-limited channel, left out of the geometric means), and
+    the geometric means driving_aic_peer_gmean, driving_peer_floor_gmean and driving_peer_stock_gmean
+    over the plant-following channels. Reported, not judged."""
+    rows = [r for r in crit["driving_tracking"] if "peer_vx" in r]
+    n_follow = sum(1 for r in rows for ch in ("vx", "wz") if not r.get("limited_" + ch))
+    ap, pf, ps = (crit["driving_%s_gmean" % n] for n in ("aic_peer", "peer_floor", "peer_stock"))
+
+    def cells(r, ch):
+        mark = " *" if r.get("limited_" + ch) else ""
+        return ["%.4f" % r["peer_" + ch], fmt(ratio(r["aic_" + ch], r["peer_" + ch]), "%.2f") + mark,
+                fmt(ratio(r["peer_" + ch], r["floor_" + ch]), "%.2f") + mark]
+    table("6j. The classical peer (reported, not judged): PI loops on the wheel speeds and the yaw rate around the "
+          "robot model's feed-forward through the latency (closed_loop_run --controller pi, %s; "
+          "doc/active_inference.md, 'A classical peer'), on every tracking pair of 6d; '*': a plant-limited "
+          "channel (6f), left out of the means. Geometric means over the %d plant-following channels: AIC / peer "
+          "%.3f (vx %.3f, wz %.3f), peer / floor %.3f (vx %.3f, wz %.3f), peer / stock %.3f (vx %.3f, wz %.3f)"
+          % (peer_config, n_follow, ap["all"], ap["vx"], ap["wz"], pf["all"], pf["vx"], pf["wz"], ps["all"],
+             ps["vx"], ps["wz"]),
+          ["profile", "variant", "vx peer [m/s]", "AIC / peer", "peer / floor", "wz peer [rad/s]", "AIC / peer",
+           "peer / floor"],
+          [[r["profile"], r["variant"]] + cells(r, "vx") + cells(r, "wz") for r in rows])
 
 
 def print_arc_prior(arc):
