@@ -41,6 +41,24 @@ void drive(aic::RobotBelief* belief, const aic::WheelLoopModel& loop, const base
     }
   }
 }
+
+/// Run controller `c` for `steps` belief steps of 1 ms with the measurement `y` set every 20 ms
+/// and an action step of 20 ms after every 20th belief step (the node's 1 kHz / 50 Hz schedule).
+void runController(aic::ActiveInferenceController* c, const base::YTilde& y, int steps)
+{
+  for (int k = 0; k < steps; ++k)
+  {
+    if (k % 20 == 0)
+    {
+      ASSERT_TRUE(c->setMeasurement(y));
+    }
+    ASSERT_EQ(c->updateBeliefs(0.001), Status::kOk);
+    if (k % 20 == 19)
+    {
+      ASSERT_EQ(c->updateAction(0.02), Status::kOk);
+    }
+  }
+}
 }  // namespace
 
 TEST(WheelLoopModel, CommandsTakeEffectOneLatencyLater)
@@ -345,18 +363,7 @@ TEST(ControllerRobotModel, BeliefsAreTheMeasuredTwistAndTheActionTheGoalsWheels)
   const double omega = 0.5 / (p.wheel_radius * p.slip_factor);
   y(base::kOmegaLeft, 0) = omega;
   y(base::kOmegaRight, 0) = omega;
-  for (int k = 0; k < 3000; ++k)
-  {
-    if (k % 20 == 0)
-    {
-      ASSERT_TRUE(c.setMeasurement(y));
-    }
-    ASSERT_EQ(c.updateBeliefs(0.001), Status::kOk);
-    if (k % 20 == 19)
-    {
-      ASSERT_EQ(c.updateAction(0.02), Status::kOk);
-    }
-  }
+  runController(&c, y, 3000);
   EXPECT_NEAR(c.mu()(0, 0), 0.5, 1e-3);
   EXPECT_NEAR(c.mu()(2, 0), 0.0, 1e-3);
   EXPECT_NEAR(c.action()(0), omega, 0.05);
@@ -384,18 +391,7 @@ TEST(ControllerRobotModel, ResetLearningForgetsTheSlowStates)
   const double omega = 0.8 * 0.5 / (p.wheel_radius * p.slip_factor);
   y(base::kOmegaLeft, 0) = omega;
   y(base::kOmegaRight, 0) = omega;
-  for (int k = 0; k < 3000; ++k)
-  {
-    if (k % 20 == 0)
-    {
-      ASSERT_TRUE(c.setMeasurement(y));
-    }
-    ASSERT_EQ(c.updateBeliefs(0.001), Status::kOk);
-    if (k % 20 == 19)
-    {
-      ASSERT_EQ(c.updateAction(0.02), Status::kOk);
-    }
-  }
+  runController(&c, y, 3000);
   ASSERT_GT(c.robotBelief().shortfalls()(0), 0.1);
   c.resetLearning();
   EXPECT_EQ(c.robotBelief().shortfalls()(0), 0.0);
