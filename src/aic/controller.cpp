@@ -582,7 +582,8 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(
   // minimiser of the free energy (RobotBelief::correct()).
   robot_clock_ += h;
   const double yaw_gain = model_.G()(2, 1);  // r alpha / b_hat
-  robot_belief_.predict(h, wheel_loop_, wheel_loop_.commandAt(robot_clock_), yaw_gain, reference_.path()(2));
+  robot_belief_.predict(h, wheel_loop_, wheel_loop_.commandAt(robot_clock_), wheel_loop_.commandRateAt(robot_clock_),
+                        yaw_gain, reference_.path()(2));
   if (robot_sample_pending_)
   {
     robot_sample_pending_ = false;

@@ -14,14 +14,18 @@ namespace aic
 namespace
 {
 /// The command within [-max_speed, max_speed] nearest `previous` whose response from omega0 over h
-/// is g (or, g out of reach, the most the loop gives toward it), by bisection.
-double minimiser(const WheelLoopModel& loop, double omega0, double d, double h, double g, double previous,
-                 double max_speed)
+/// is g (or, g out of reach, the most the loop gives toward it), by bisection; side s's command
+/// sent at time now, its rate after the newest recorded (WheelLoopModel::rateOf()).
+double minimiser(const WheelLoopModel& loop, int s, double now, double omega0, double d, double h, double g,
+                 double previous, double max_speed)
 {
-  const double lo_response = LatencyAction::response(loop, omega0, -max_speed, d, h);
-  const double hi_response = LatencyAction::response(loop, omega0, max_speed, d, h);
+  const auto response = [&](double u) {
+    return LatencyAction::response(loop, omega0, u, loop.rateOf(now, u, s), d, h);
+  };
+  const double lo_response = response(-max_speed);
+  const double hi_response = response(max_speed);
   const double target = std::clamp(g, lo_response, hi_response);
-  const double at_previous = LatencyAction::response(loop, omega0, std::clamp(previous, -max_speed, max_speed), d, h);
+  const double at_previous = response(std::clamp(previous, -max_speed, max_speed));
   double lo = -max_speed;
   double hi = max_speed;
   // Upward: the smallest command reaching the target; downward: the largest. Either way the
@@ -31,7 +35,7 @@ double minimiser(const WheelLoopModel& loop, double omega0, double d, double h, 
   while (hi - lo > LatencyAction::kTolerance)
   {
     const double mid = 0.5 * (lo + hi);
-    const double r = LatencyAction::response(loop, omega0, mid, d, h);
+    const double r = response(mid);
     const bool below = upward ? r < target - slack : r <= target + slack;
     if (below)
     {
@@ -46,14 +50,14 @@ double minimiser(const WheelLoopModel& loop, double omega0, double d, double h, 
 }
 }  // namespace
 
-double LatencyAction::response(const WheelLoopModel& loop, double omega0, double u, double d, double h)
+double LatencyAction::response(const WheelLoopModel& loop, double omega0, double u, double rate, double d, double h)
 {
   double omega = omega0;
   double t = 0.0;
   while (t < h - 1.0e-12)
   {
     const double dt = std::min(WheelLoopModel::kSubstep, h - t);
-    omega = loop.step(omega, u - d, dt);
+    omega = loop.step(omega, u - d, rate, dt);
     t += dt;
   }
   return omega;
@@ -69,9 +73,10 @@ LatencyActionResult LatencyAction::step(const WheelLoopModel& loop, const base::
   const double fraction = std::min(1.0, gain * h_a);
   for (int s = 0; s < 2; ++s)
   {
-    r.minimiser(s) = minimiser(loop, r.at_latency(s), shortfall(s), h_a, goal(s), previous(s), max_speed);
+    r.minimiser(s) = minimiser(loop, s, now, r.at_latency(s), shortfall(s), h_a, goal(s), previous(s), max_speed);
     r.command(s) = std::clamp(previous(s) + fraction * (r.minimiser(s) - previous(s)), -max_speed, max_speed);
-    r.predicted(s) = response(loop, r.at_latency(s), r.command(s), shortfall(s), h_a);
+    r.predicted(s) =
+        response(loop, r.at_latency(s), r.command(s), loop.rateOf(now, r.command(s), s), shortfall(s), h_a);
   }
   r.free_energy = 0.5 * pi_e * (r.predicted - goal).squaredNorm();
   return r;

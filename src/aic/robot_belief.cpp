@@ -15,11 +15,11 @@ namespace aic
 namespace
 {
 /// One side's belief (omega, d) with covariance p carried h [s] under the command u [rad/s].
-void predictSide(const WheelLoopModel& loop, const params::RobotModelParams& params, double h, double u, double* omega,
-                 double d, Eigen::Matrix2d* p)
+void predictSide(const WheelLoopModel& loop, const params::RobotModelParams& params, double h, double u, double rate,
+                 double* omega, double d, Eigen::Matrix2d* p)
 {
   double gain = 0.0;
-  const double next = loop.step(*omega, u - d, h, &gain);
+  const double next = loop.step(*omega, u - d, rate, h, &gain);
   const bool bounded = params.wheel_time_constant > 0.0 && gain == 1.0;
   Eigen::Matrix2d f;
   f << gain, bounded ? 0.0 : -(1.0 - gain), 0.0, 1.0;
@@ -104,8 +104,8 @@ void RobotBelief::forgetSlowStates()
   shortfall_jump_.setZero();
 }
 
-void RobotBelief::predict(double h, const WheelLoopModel& loop, const base::Vector2& u_at_wheels, double yaw_gain,
-                          double turn)
+void RobotBelief::predict(double h, const WheelLoopModel& loop, const base::Vector2& u_at_wheels,
+                          const base::Vector2& rate_at_wheels, double yaw_gain, double turn)
 {
   const base::Vector2 before = wheelSpeeds();
   const double yaw_before = x_(4);
@@ -137,8 +137,8 @@ void RobotBelief::predict(double h, const WheelLoopModel& loop, const base::Vect
     }
     wheel_command_(i) = u;
   }
-  predictSide(loop, params_, h, u_at_wheels(0), &x_(0), x_(1), &p_left_);
-  predictSide(loop, params_, h, u_at_wheels(1), &x_(2), x_(3), &p_right_);
+  predictSide(loop, params_, h, u_at_wheels(0), rate_at_wheels(0), &x_(0), x_(1), &p_left_);
+  predictSide(loop, params_, h, u_at_wheels(1), rate_at_wheels(1), &x_(2), x_(3), &p_right_);
   // The yaw triple (theta_dot, s, beta): theta_dot' = ((1 - s) u - theta_dot) / T_s, u =
   // yaw_gain (omega_R - omega_L), integrated exactly with u held; s moves with the goal's turn
   // (variance sigma_s^2 |dw|), beta with time.

@@ -25,18 +25,30 @@ void WheelLoopModel::reset(double t, const base::Vector2& u)
 {
   head_ = 0;
   count_ = 1;
-  line_[0] = Entry{ t, u };
+  line_[0] = Entry{ t, u, base::Vector2::Zero() };
+}
+
+base::Vector2 WheelLoopModel::rateOf(double t, const base::Vector2& u) const
+{
+  return base::Vector2(rateOf(t, u(0), 0), rateOf(t, u(1), 1));
+}
+
+double WheelLoopModel::rateOf(double t, double u, int s) const
+{
+  const Entry& newest = line_[head_];
+  return (u - newest.u(s)) / std::max(t - newest.t, kSubstep);
 }
 
 void WheelLoopModel::record(double t, const base::Vector2& u)
 {
   const double newest = line_[head_].t;
+  const base::Vector2 rate = rateOf(t, u);
   head_ = (head_ + 1) % kCapacity;
-  line_[head_] = Entry{ std::max(t, newest), u };
+  line_[head_] = Entry{ std::max(t, newest), u, rate };
   count_ = std::min(count_ + 1, kCapacity);
 }
 
-base::Vector2 WheelLoopModel::commandAt(double t) const
+const WheelLoopModel::Entry& WheelLoopModel::entryAt(double t) const
 {
   const double sent_by = t - params_.latency;
   for (int k = 0; k < count_; ++k)
@@ -44,10 +56,26 @@ base::Vector2 WheelLoopModel::commandAt(double t) const
     const Entry& e = line_[(head_ - k + kCapacity) % kCapacity];
     if (e.t <= sent_by + 1.0e-12)
     {
-      return e.u;
+      return e;
     }
   }
-  return line_[(head_ - count_ + 1 + kCapacity) % kCapacity].u;  // older than the line: its oldest
+  return line_[(head_ - count_ + 1 + kCapacity) % kCapacity];  // older than the line: its oldest
+}
+
+base::Vector2 WheelLoopModel::commandAt(double t) const
+{
+  return entryAt(t).u;
+}
+
+base::Vector2 WheelLoopModel::commandRateAt(double t) const
+{
+  return rateIn(entryAt(t), t);
+}
+
+base::Vector2 WheelLoopModel::rateIn(const Entry& e, double t) const
+{
+  // Before the oldest remembered command (which stands in for the older ones) the stream is held.
+  return e.t <= t - params_.latency + 1.0e-12 ? e.rate : base::Vector2::Zero();
 }
 
 base::Vector2 WheelLoopModel::lastCommand() const
@@ -55,24 +83,31 @@ base::Vector2 WheelLoopModel::lastCommand() const
   return line_[head_].u;
 }
 
-double WheelLoopModel::step(double omega, double u, double h, double* gain) const
+double WheelLoopModel::lastTime() const
+{
+  return line_[head_].t;
+}
+
+double WheelLoopModel::step(double omega, double u, double rate, double h, double* gain) const
 {
   const double decay = params_.wheel_time_constant > 0.0 ? std::exp(-h / params_.wheel_time_constant) : 0.0;
   const double change = (u - omega) * (1.0 - decay);
-  const double bound = params_.wheel_acceleration * h;
+  const double a_ff = params_.wheel_feedforward_acceleration;
+  const double feedforward = std::clamp(params_.wheel_feedforward * rate, -a_ff, a_ff) * h;
+  const double bound = std::max(params_.wheel_acceleration - a_ff, 0.0) * h;
   if (std::abs(change) > bound)
   {
     if (gain != nullptr)
     {
       *gain = 1.0;
     }
-    return omega + std::copysign(bound, change);
+    return omega + std::copysign(bound, change) + feedforward;
   }
   if (gain != nullptr)
   {
     *gain = decay;
   }
-  return omega + change;
+  return omega + change + feedforward;
 }
 
 base::Vector2 WheelLoopModel::predict(const base::Vector2& omega0, const base::Vector2& d, double t0, double t1) const
@@ -82,9 +117,11 @@ base::Vector2 WheelLoopModel::predict(const base::Vector2& omega0, const base::V
   while (t < t1 - 1.0e-12)
   {
     const double h = std::min(kSubstep, t1 - t);
-    const base::Vector2 u = commandAt(t) - d;
-    omega(0) = step(omega(0), u(0), h);
-    omega(1) = step(omega(1), u(1), h);
+    const Entry& e = entryAt(t);
+    const base::Vector2 u = e.u - d;
+    const base::Vector2 rate = rateIn(e, t);
+    omega(0) = step(omega(0), u(0), rate(0), h);
+    omega(1) = step(omega(1), u(1), rate(1), h);
     t += h;
   }
   return omega;

@@ -126,13 +126,19 @@ std::string AicParams::summary() const
 
 std::vector<ParamViolation> AicParams::validate() const
 {
-  // The ranges are the controller's rows (include/jackal_aic/params/param_spec.hpp); the cross rule is here.
+  // The ranges are the controller's rows (include/jackal_aic/params/param_spec.hpp); the cross rules are here.
   std::vector<ParamViolation> v = checkParamRanges(*this);
   if (std::isfinite(belief_rate) && std::isfinite(action_rate) && belief_rate > 0.0 && action_rate > 0.0 &&
       belief_rate < action_rate)
   {
     v.push_back(
         { "belief_rate", formatParamValue(belief_rate), ">= action_rate (" + formatParamValue(action_rate) + ")" });
+  }
+  const double a_ff = robot.wheel_feedforward_acceleration;
+  if (std::isfinite(a_ff) && std::isfinite(robot.wheel_acceleration) && a_ff >= robot.wheel_acceleration)
+  {
+    v.push_back({ "wheel_feedforward_acceleration", formatParamValue(a_ff),
+                  "< wheel_acceleration (" + formatParamValue(robot.wheel_acceleration) + ")" });
   }
   const SeparationLearnerParams& learner = separation_learner;
   if (std::isfinite(learner.min) && std::isfinite(learner.max) && learner.min > learner.max)

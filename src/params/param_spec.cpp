@@ -184,12 +184,21 @@ std::vector<ParamSpec> buildControllerRows()
         .describe("Robot model: L, /cmd_drive to the wheels' response (identified: plant_identify's command_delay)")
         .member<&AicParams::robot, &RobotModelParams::latency>(),
     ParamRow("active_inference", "wheel_time_constant").unit("s").atLeast(0.0).atMost(1.0)
-        .describe("Robot model: T_w, the MCU wheel loop's lag to a ramped command (identified motor keys)")
+        .describe("Robot model: T_w, the MCU wheel loop's lag (identified motor keys): to a ramped command with "
+                  "wheel_feedforward 0; with the feed-forward, its proportional path's (set-point lag + J_n / K_p)")
         .member<&AicParams::robot, &RobotModelParams::wheel_time_constant>(),
     ParamRow("active_inference", "wheel_acceleration").unit("rad/s^2").above(0.0).atMost(kMaxGain)
         .describe("Robot model: A_w, the largest wheel acceleration the MCU's wheel loop gives (identified motor "
                   "keys)")
         .member<&AicParams::robot, &RobotModelParams::wheel_acceleration>(),
+    ParamRow("active_inference", "wheel_feedforward").unit("-").atLeast(0.0).atMost(2.0)
+        .describe("Robot model: c, the share of the command stream's rate the MCU's acceleration feed-forward gives "
+                  "the wheel (identified motor keys: J_ff / J_n); 0 = none")
+        .member<&AicParams::robot, &RobotModelParams::wheel_feedforward>(),
+    ParamRow("active_inference", "wheel_feedforward_acceleration").unit("rad/s^2").atLeast(0.0).atMost(kMaxGain)
+        .describe("Robot model: A_ff, the bound of that feed-forward's wheel acceleration, < wheel_acceleration "
+                  "(identified motor keys: accel_feedforward_limit / J_n); the lag's bound is the rest")
+        .member<&AicParams::robot, &RobotModelParams::wheel_feedforward_acceleration>(),
     ParamRow("active_inference", "yaw_time_constant").unit("s").above(0.0).atMost(10.0)
         .describe("Robot model: T_s, the scrub lag of the body's yaw rate behind the wheels'")
         .member<&AicParams::robot, &RobotModelParams::yaw_time_constant>(),

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -117,6 +118,38 @@ TEST(RobotModel, ASmallStepIsNotOverdrivenAtAnyPhaseOfTheActionClock)
   {
     const ClosedLoopRecord r = run(node, 0.1, 0.0, 3.0, {}, {}, 1.01 + phase);
     EXPECT_LE(windowPeak(r, r.v_true, 1.0, 3.0), 0.101) << "step at 1.01 s + " << phase << " s";
+  }
+}
+
+TEST(RobotModel, WithTheMcusFeedForwardInTheModelASmallStepIsNotSentAboveTheSetPoint)
+{
+  // The identified MCU feeds the command's rate forward (plant motor.accel_feedforward). Without
+  // that term in the model the first command of a 0.1 m/s step is above the set point (the most a
+  // first-order loop gives in one action step) and the next comes back, which the MCU turns into a
+  // brake; with it (c = J_ff / J_n, A_ff = accel_feedforward_limit / J_n, T_w = set-point lag +
+  // J_n / K_p: doc/active_inference.md, 'The MCU's acceleration feed-forward') the command rises to
+  // the set point and stays, and the wheels reach 95 % no later. At three phases of the action clock.
+  const params::NodeParams off = robotModel();
+  const params::NodeParams on =
+      robotModel({ "wheel_feedforward=0.787", "wheel_feedforward_acceleration=34.76", "wheel_time_constant=0.01365" });
+  const auto reached = [](const ClosedLoopRecord& r) -> double {
+    for (std::size_t k = 0; k < r.time.size(); ++k)
+    {
+      if (r.time[k] >= 1.0 && r.v_true[k] >= 0.095)
+      {
+        return r.time[k];
+      }
+    }
+    return std::numeric_limits<double>::infinity();
+  };
+  for (const double phase : { 0.0, 0.0075, 0.015 })
+  {
+    SCOPED_TRACE("step at 1.01 s + " + std::to_string(phase) + " s");
+    const ClosedLoopRecord with = run(on, 0.1, 0.0, 2.0, {}, {}, 1.01 + phase);
+    const ClosedLoopRecord without = run(off, 0.1, 0.0, 2.0, {}, {}, 1.01 + phase);
+    EXPECT_LE(windowPeak(with, with.command, 1.0, 2.0), 0.1005);
+    EXPECT_GT(windowPeak(without, without.command, 1.0, 2.0), 0.105);
+    EXPECT_LE(reached(with), reached(without));
   }
 }
 

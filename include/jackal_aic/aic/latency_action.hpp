@@ -29,7 +29,8 @@ struct LatencyActionResult
  * The command a sent now reaches the wheels at t + L and is held there for the action step h_a, so
  * the sensation it causes is the wheel speed at t + L + h_a, omega_s(t + L + h_a | a): the belief
  * omega_s(t) carried through the commands in flight (WheelLoopModel::predict()) to t + L, then
- * through the wheel loop under a_s - d_s for h_a. The goal, predicted to that time, is its prior:
+ * through the wheel loop under a_s - d_s for h_a, with the feed-forward of a's rate after the
+ * newest command (WheelLoopModel::rateOf()). The goal, predicted to that time, is its prior:
  *   F_a(a) = 1/2 sum_s pi_e (omega_s(t + L + h_a | a) - g_s)^2,   pi_e = 1 / sigma_e^2.
  * Each side's prediction is monotone in a_s, so the minimiser u* is found per side by bisection (to
  * kTolerance): where g_s is beyond what the wheel loop can give within h_a (its rate bound), the
@@ -65,8 +66,9 @@ public:
                                   const base::Vector2& previous, double h_a, double gain, double max_speed,
                                   double pi_e);
 
-  /// One side's wheel speed after h [s] from omega0 [rad/s] under the command u less d [rad/s].
-  static double response(const WheelLoopModel& loop, double omega0, double u, double d, double h);
+  /// One side's wheel speed after h [s] from omega0 [rad/s] under the command u less d [rad/s], the
+  /// command stream's rate being `rate` [rad/s^2] (WheelLoopModel::step()).
+  static double response(const WheelLoopModel& loop, double omega0, double u, double rate, double d, double h);
 };
 
 }  // namespace aic

@@ -76,13 +76,15 @@ public:
 
   /**
    * \brief Carry the beliefs h [s] forward under the command u_at_wheels [rad/s] (the command in
-   *        effect at the wheels, WheelLoopModel::commandAt()) through the wheel loop, and the yaw
+   *        effect at the wheels, WheelLoopModel::commandAt()) and its stream's rate rate_at_wheels
+   *        [rad/s^2] (WheelLoopModel::commandRateAt()) through the wheel loop, and the yaw
    *        rate toward (1 - s) u, u = yaw_gain (omega_R - omega_L), with the scrub lag T_s.
    * \param yaw_gain  r alpha / b_hat [m/m]: the wheels' yaw rate per unit of their speed difference
    * \param turn      the yaw rate [rad/s] the goal asks for: the slip ratio's variance grows by
    *                  yaw_slip_noise^2 times its change since the last predict() (a turn that changes)
    */
-  void predict(double h, const WheelLoopModel& loop, const base::Vector2& u_at_wheels, double yaw_gain, double turn);
+  void predict(double h, const WheelLoopModel& loop, const base::Vector2& u_at_wheels,
+               const base::Vector2& rate_at_wheels, double yaw_gain, double turn);
 
   /**
    * \brief Take a measurement: the sides' wheel speeds y_omega [rad/s] and the gyro's yaw rate

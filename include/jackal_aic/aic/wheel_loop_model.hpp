@@ -20,11 +20,13 @@ namespace aic
  *
  * record(t, u) stores the command u = (omega_L, omega_R) [rad/s] sent at time t [s] (the model's
  * clock, advanced by the caller); the command in effect at the wheels at time t is the newest one
- * sent at or before t - L (commandAt()), zero before the first. step() advances one side's wheel
- * speed by the MCU's response,
- *   omega <- omega + clamp((u - omega) (1 - exp(-h / T_w)), -A_w h, A_w h)
- * (the lag integrated exactly with u held, then its rate bound), and predict() runs it over the
- * commands in flight.
+ * sent at or before t - L (commandAt()), zero before the first, and its rate the difference to the
+ * command before it over their interval (commandRateAt(): what the MCU's acceleration feed-forward
+ * differentiates). step() advances one side's wheel speed by the MCU's response,
+ *   omega <- omega + clamp((u - omega) (1 - exp(-h / T_w)), -(A_w - A_ff) h, (A_w - A_ff) h)
+ *                  + clamp(c u', -A_ff, A_ff) h
+ * (the lag integrated exactly with u held, then its rate bound; plus the feed-forward of the rate
+ * u'), and predict() runs it over the commands in flight.
  *
  * No heap allocation (fixed capacity kCapacity), no exceptions.
  */
@@ -47,19 +49,30 @@ public:
   void record(double t, const base::Vector2& u);
   /// The command in effect at the wheels at time t [s]: the newest sent at or before t - L [rad/s].
   base::Vector2 commandAt(double t) const;
+  /// The rate of the command in effect at time t [rad/s^2]: its difference to the command sent before
+  /// it over their interval (at least kSubstep); zero for the oldest remembered.
+  base::Vector2 commandRateAt(double t) const;
   /// The newest command sent [rad/s] (zero before the first).
   base::Vector2 lastCommand() const;
+  /// The time the newest command was sent [s].
+  double lastTime() const;
+  /// The rate [rad/s^2] a command u sent at time t [s] would have after the newest one (as
+  /// commandRateAt() will give once it is recorded).
+  base::Vector2 rateOf(double t, const base::Vector2& u) const;
+  /// Scalar form of rateOf() for one side s (0 left, 1 right).
+  double rateOf(double t, double u, int s) const;
 
   /**
-   * \brief One side's wheel speed after h [s] with the command u held [rad/s]: the lag integrated
-   *        exactly, then its change bounded by A_w h.
-   * \param[out] gain  d(result)/d(omega) (exp(-h / T_w), or 1 when the rate bound is active); may be null
+   * \brief One side's wheel speed after h [s] with the command u held [rad/s] and the command
+   *        stream's rate `rate` [rad/s^2]: the lag integrated exactly, its change bounded by
+   *        (A_w - A_ff) h, plus the feed-forward clamp(c rate, -A_ff, A_ff) h.
+   * \param[out] gain  d(result)/d(omega) (exp(-h / T_w), or 1 when the lag's bound is active); may be null
    */
-  double step(double omega, double u, double h, double* gain = nullptr) const;
+  double step(double omega, double u, double rate, double h, double* gain = nullptr) const;
 
   /**
    * \brief The wheel speeds at time t1 > t0 from omega0 at t0 [s], under the commands in flight
-   *        (commandAt()) less the shortfall d [rad/s], in substeps of at most kSubstep.
+   *        (commandAt(), commandRateAt()) less the shortfall d [rad/s], in substeps of at most kSubstep.
    */
   base::Vector2 predict(const base::Vector2& omega0, const base::Vector2& d, double t0, double t1) const;
 
@@ -74,7 +87,12 @@ private:
   {
     double t;
     base::Vector2 u;
+    base::Vector2 rate;  ///< (u - the previous entry's u) / the interval
   };
+  /// The entry in effect at the wheels at time t (the oldest if all are newer).
+  const Entry& entryAt(double t) const;
+  /// Its rate at time t: zero if it is the oldest standing in for older commands.
+  base::Vector2 rateIn(const Entry& e, double t) const;
   params::RobotModelParams params_;
   std::array<Entry, kCapacity> line_{};
   int head_ = 0;   ///< index of the newest entry

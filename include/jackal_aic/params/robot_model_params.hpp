@@ -16,9 +16,13 @@ namespace params
  *        each default is in doc/active_inference.md, 'The robot model', table 'Parameters'.
  *
  * Per side s in {L, R} the wheel speed omega_s follows the commanded wheel speed u_s through the
- * latency L and the MCU's wheel loop, a first-order lag T_w whose rate is bounded by A_w, less
- * the side's actuation shortfall d_s (a slowly varying state):
- *   omega_s' = clamp((u_s(t - L) - d_s - omega_s) / T_w, -A_w, A_w),   d_s' = w_d (white).
+ * latency L and the MCU's wheel loop: a first-order lag T_w whose rate is bounded by A_w - A_ff,
+ * less the side's actuation shortfall d_s (a slowly varying state), plus the MCU's acceleration
+ * feed-forward of the command's rate, the share c of it bounded by A_ff:
+ *   omega_s' = clamp((u_s(t - L) - d_s - omega_s) / T_w, -(A_w - A_ff), A_w - A_ff)
+ *              + clamp(c u_s'(t - L), -A_ff, A_ff),                        d_s' = w_d (white),
+ * u_s' the rate of the command stream (consecutive commands' difference over their interval, held
+ * while the newer is in effect: what the MCU differentiates). c = 0 and A_ff = 0: no feed-forward.
  * The body's yaw rate follows the wheels' yaw rate u = r alpha (omega_R - omega_L) / b through the
  * effective separation b (learned), a yaw slip ratio s (a state that moves with the turn) and the
  * scrub lag T_s: theta_dot' = ((1 - s) u - theta_dot) / T_s + w_theta. The encoders read
@@ -28,12 +32,20 @@ struct RobotModelParams
 {
   /// L [s]: /cmd_drive to the wheels' response (plant_identify: the plant's motor.command_delay).
   double latency = 0.1187;
-  /// T_w [s], >= 0: the wheel loop's lag to a ramped command (identified motor keys: the set-point
-  /// lag plus the part (1 - J_ff / J_n) J_n / K_p the acceleration feedforward leaves to the P path).
+  /// T_w [s], >= 0: the wheel loop's lag (identified motor keys). With c = 0 (below), its lag to a
+  /// ramped command: the set-point lag plus the part (1 - J_ff / J_n) J_n / K_p the acceleration
+  /// feedforward leaves to the P path. With the feed-forward in the model, the P path's own: the
+  /// set-point lag plus J_n / K_p (0.01365 s).
   double wheel_time_constant = 0.00657;
   /// A_w [rad/s^2], > 0: the largest wheel acceleration the wheel loop gives (identified motor keys:
   /// (accel_feedforward_limit + proportional_limit) / J_n).
   double wheel_acceleration = 42.87;
+  /// c [-], in [0, 2]: the share of the command stream's rate the MCU's acceleration feed-forward
+  /// gives the wheel (identified motor keys: J_ff / J_n); 0 = none.
+  double wheel_feedforward = 0.0;
+  /// A_ff [rad/s^2], in [0, A_w): the bound of that feed-forward's acceleration (identified motor
+  /// keys: accel_feedforward_limit / J_n); the lag's bound is the rest, A_w - A_ff.
+  double wheel_feedforward_acceleration = 0.0;
   /// T_s [s], > 0: the scrub lag of the body's yaw rate behind the wheels' (a turn's transient).
   double yaw_time_constant = 0.03;
   /// sigma_e [rad/s], > 0: the noise of one side's measured wheel speed (a rest segment).

@@ -34,7 +34,7 @@ void drive(aic::RobotBelief* belief, const aic::WheelLoopModel& loop, const base
 {
   for (int k = 0; k < 20 * samples; ++k)
   {
-    belief->predict(0.001, loop, command, 0.0, turn);
+    belief->predict(0.001, loop, command, base::Vector2::Zero(), 0.0, turn);
     if (k % 20 == 19)
     {
       ASSERT_TRUE(belief->correct(measured, 0.0, true, true, true));
@@ -78,12 +78,88 @@ TEST(WheelLoopModel, StepIsTheExactLagThenTheRateBound)
   const aic::WheelLoopModel loop(model());
   double gain = 0.0;
   // A small change: the lag, exactly.
-  EXPECT_NEAR(loop.step(0.0, 0.01, 0.001, &gain), 0.01 * (1.0 - std::exp(-0.1)), 1e-15);
+  EXPECT_NEAR(loop.step(0.0, 0.01, 0.0, 0.001, &gain), 0.01 * (1.0 - std::exp(-0.1)), 1e-15);
   EXPECT_NEAR(gain, std::exp(-0.1), 1e-15);
   // A large one: A_w h.
-  EXPECT_NEAR(loop.step(0.0, 10.0, 0.001, &gain), 0.04, 1e-15);
+  EXPECT_NEAR(loop.step(0.0, 10.0, 0.0, 0.001, &gain), 0.04, 1e-15);
   EXPECT_EQ(gain, 1.0);
-  EXPECT_NEAR(loop.step(0.0, -10.0, 0.001), -0.04, 1e-15);
+  EXPECT_NEAR(loop.step(0.0, -10.0, 0.0, 0.001), -0.04, 1e-15);
+}
+
+TEST(WheelLoopModel, TheCommandStreamsRateIsFedForward)
+{
+  params::RobotModelParams p = model();
+  p.wheel_feedforward = 0.8;
+  p.wheel_feedforward_acceleration = 30.0;
+  aic::WheelLoopModel loop(p);
+  loop.record(0.02, base::Vector2(1.0, -0.2));
+  // The rate is the difference to the command before over their interval, from L on.
+  EXPECT_TRUE(loop.commandRateAt(0.11).isZero());
+  EXPECT_NEAR(loop.commandRateAt(0.12)(0), 50.0, 1e-12);
+  EXPECT_NEAR(loop.commandRateAt(0.12)(1), -10.0, 1e-12);
+  const base::Vector2 next = loop.rateOf(0.04, base::Vector2(1.5, 0.0));
+  EXPECT_NEAR(next(0), 25.0, 1e-12);
+  EXPECT_NEAR(next(1), 10.0, 1e-12);
+  // The feed-forward c u' within +-A_ff, on top of the lag; the lag's bound is A_w - A_ff.
+  EXPECT_NEAR(loop.step(0.0, 0.0, 50.0, 0.001), 0.030, 1e-15);
+  EXPECT_NEAR(loop.step(0.0, 0.0, -10.0, 0.001), -0.008, 1e-15);
+  double gain = 0.0;
+  EXPECT_NEAR(loop.step(0.0, 10.0, 0.0, 0.001, &gain), 0.010, 1e-15);
+  EXPECT_EQ(gain, 1.0);
+  EXPECT_NEAR(loop.step(0.0, 10.0, 50.0, 0.001), 0.040, 1e-15);
+  // predict() applies it while the command is in effect at the wheels: over 20 ms the left side gets
+  // c u' = 40 rad/s^2 capped at 30, plus the lag at its bound of 10 (1 - omega stays above the
+  // 0.105 rad/s where the lag's 1 ms change would drop below the bound).
+  const base::Vector2 w = loop.predict(base::Vector2::Zero(), base::Vector2::Zero(), 0.12, 0.14);
+  EXPECT_NEAR(w(0), 0.02 * (30.0 + 10.0), 1e-9);
+}
+
+TEST(LatencyAction, WithTheFeedForwardInTheModelASmallStepIsNotSentAboveAndBack)
+{
+  // A plant whose wheel loop feeds the command's rate forward (c 0.8 within A_ff 30 rad/s^2), a
+  // goal step of 1 rad/s, more than the loop gives in one 20 ms action step: the action that knows
+  // the feed-forward raises its command to the goal and holds it there; the one that does not sends
+  // a first command above the goal and brings it back, which the feed-forward turns into a brake.
+  params::RobotModelParams plant = model();
+  plant.wheel_feedforward = 0.8;
+  plant.wheel_feedforward_acceleration = 30.0;
+  const double h = 0.02;
+  // The largest command, and the wheel speed 40 ms after the first command reached the wheels.
+  const auto run = [&](const params::RobotModelParams& assumed, double* peak_command, double* at_40ms) {
+    aic::WheelLoopModel truth(plant);
+    aic::WheelLoopModel believed(assumed);
+    base::Vector2 omega = base::Vector2::Zero();
+    base::Vector2 a = base::Vector2::Zero();
+    *peak_command = 0.0;
+    for (int k = 0; k < 30; ++k)
+    {
+      const double now = k * h;
+      // The wheels as the plant moves them to now (the belief is the truth here).
+      if (k > 0)
+      {
+        omega = truth.predict(omega, base::Vector2::Zero(), now - h, now);
+      }
+      const aic::LatencyActionResult r = aic::LatencyAction::step(believed, omega, base::Vector2::Zero(), now,
+                                                                  base::Vector2(1.0, 1.0), a, h, 1.0 / h, 20.0, 1.0);
+      a = r.command;
+      truth.record(now, a);
+      believed.record(now, a);
+      *peak_command = std::max(*peak_command, a(0));
+      if (k == 7)  // now = L + 40 ms
+      {
+        *at_40ms = omega(0);
+      }
+    }
+  };
+  double peak = 0.0;
+  double rise = 0.0;
+  run(plant, &peak, &rise);
+  EXPECT_LE(peak, 1.0 + 1e-6);
+  double peak_without = 0.0;
+  double rise_without = 0.0;
+  run(model(), &peak_without, &rise_without);
+  EXPECT_GT(peak_without, 1.05);
+  EXPECT_GT(rise, rise_without);
 }
 
 TEST(WheelLoopModel, PredictRunsTheCommandsInFlight)
@@ -136,7 +212,7 @@ TEST(RobotBelief, FollowsTheEncodersAndTheGyroAtTheirPrecision)
   // measurement wins (the model's noise q_w against sigma_e).
   for (int k = 0; k < 200; ++k)
   {
-    belief.predict(0.001, loop, base::Vector2::Zero(), 0.2, 0.0);
+    belief.predict(0.001, loop, base::Vector2::Zero(), base::Vector2::Zero(), 0.2, 0.0);
     if (k % 20 == 19)
     {
       // A transient: the slow states are held (the controller's learning gate).
@@ -205,7 +281,7 @@ TEST(RobotBelief, AShortfallJumpIsDroppedWhenTheTurnMovesOn)
   drive(&belief, loop, base::Vector2(-3.0, 3.0), base::Vector2(-3.0, 2.0), 50, 0.5);
   ASSERT_NEAR(belief.shortfalls()(1), 1.0, 0.01);
   // The turn ends: the load the jump measured was the turn's; d goes back to its drift.
-  belief.predict(0.001, loop, base::Vector2(1.0, 1.0), 0.0, 0.0);
+  belief.predict(0.001, loop, base::Vector2(1.0, 1.0), base::Vector2::Zero(), 0.0, 0.0);
   EXPECT_NEAR(belief.shortfalls()(1), 0.0, 0.01);
 }
 
@@ -220,7 +296,7 @@ TEST(RobotBelief, AWheelStillRampingIsNoShortfallJump)
   double wheel = 0.0;
   for (int k = 0; k < 1000; ++k)
   {
-    belief.predict(0.001, loop, base::Vector2(3.0, 3.0), 0.0, 0.0);
+    belief.predict(0.001, loop, base::Vector2(3.0, 3.0), base::Vector2::Zero(), 0.0, 0.0);
     wheel = std::min(3.0, wheel + 10.0 * 0.001);
     if (k % 20 == 19)
     {
@@ -243,7 +319,7 @@ void hold(aic::RobotBelief* belief, const aic::WheelLoopModel& loop, const base:
   const int steps = static_cast<int>(std::lround(seconds / 0.001));
   for (int k = 0; k < steps; ++k)
   {
-    belief->predict(0.001, loop, wheels, 0.2, 0.2 * (wheels(1) - wheels(0)));
+    belief->predict(0.001, loop, wheels, base::Vector2::Zero(), 0.2, 0.2 * (wheels(1) - wheels(0)));
     if (k % 20 == 19)
     {
       ASSERT_TRUE(belief->correct(wheels, gyro, true, true, true, k >= 300));

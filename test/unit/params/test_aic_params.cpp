@@ -201,6 +201,20 @@ TEST(Params, BeliefRateNotBelowActionRate)
   EXPECT_TRUE(p.validate().empty());
 }
 
+TEST(Params, TheWheelFeedForwardsBoundIsWithinTheWheelLoops)
+{
+  // A_ff is part of A_w and the lag's bound is the rest: all of it would leave the lag no bound to
+  // move the wheel by, so A_ff must be below A_w.
+  AicParams p;
+  p.robot.wheel_feedforward = 0.787;
+  p.robot.wheel_feedforward_acceleration = p.robot.wheel_acceleration;
+  EXPECT_TRUE(hasViolation(p, "wheel_feedforward_acceleration"));
+  p.robot.wheel_feedforward_acceleration = 34.76;
+  EXPECT_TRUE(p.validate().empty());
+  p.robot.wheel_feedforward = 2.5;
+  EXPECT_TRUE(hasViolation(p, "wheel_feedforward"));
+}
+
 TEST(Params, EmbeddingOrderRange)
 {
   for (int bad : { 0, -1, 6, 100 })
