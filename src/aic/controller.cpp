@@ -205,6 +205,20 @@ void ActiveInferenceController::setSensorMask(std::uint8_t mask)
   rebuildDynamics();
 }
 
+void ActiveInferenceController::setFaultState(bool suspected, bool present)
+{
+  fault_suspected_ = suspected;
+  fault_present_ = present;
+}
+
+void ActiveInferenceController::gyroOffsetRemoved(double change)
+{
+  if (params_.belief_model == params::BeliefModel::kRobot)
+  {
+    robot_belief_.shiftGyroOffset(-change);
+  }
+}
+
 void ActiveInferenceController::rebuildDynamics()
 {
   const params::AicParams& params = params_;
@@ -584,6 +598,12 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(
   const double yaw_gain = model_.G()(2, 1);  // r alpha / b_hat
   robot_belief_.predict(h, wheel_loop_, wheel_loop_.commandAt(robot_clock_), wheel_loop_.commandRateAt(robot_clock_),
                         yaw_gain, reference_.path()(2));
+  if (robot_sample_pending_ && fault_suspected_)
+  {
+    // A fault is being tested: the sample's channels disagree beyond their noise and which one is
+    // wrong is not known yet, so the beliefs follow the model until a channel is isolated.
+    robot_sample_pending_ = false;
+  }
   if (robot_sample_pending_)
   {
     robot_sample_pending_ = false;
@@ -594,7 +614,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(
     const std::uint8_t needed = (1u << base::kGyroZ) | (1u << base::kOmegaLeft) | (1u << base::kOmegaRight);
     const base::Vector2 wheel_rates = robot_belief_.wheelAccelerations();
     const double wheels_yaw_rate = model_.G()(2, 1) * (wheel_rates(1) - wheel_rates(0));
-    const bool learn = (sensor_mask_ & needed) == needed &&
+    const bool learn = (sensor_mask_ & needed) == needed && !fault_present_ &&
                        std::abs(y_tilde_(base::kGyroZ, 1)) <= params_.separation_learner.max_yaw_acceleration &&
                        std::abs(wheels_yaw_rate) <= params_.separation_learner.max_yaw_acceleration;
     robot_belief_.correct(base::Vector2(y_tilde_(base::kOmegaLeft, 0), y_tilde_(base::kOmegaRight, 0)),

@@ -268,6 +268,16 @@ double RobotBelief::settleTime(double du) const
   return std::abs(du) / params_.wheel_acceleration + kSettleLags * params_.wheel_time_constant;
 }
 
+bool RobotBelief::shiftGyroOffset(double delta)
+{
+  if (!std::isfinite(delta))
+  {
+    return false;
+  }
+  x_(6) += delta;
+  return true;
+}
+
 bool RobotBelief::rescaleSlip(double k)
 {
   if (!std::isfinite(k) || !(k > 0.0))

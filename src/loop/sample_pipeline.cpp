@@ -56,9 +56,18 @@ aic::Generalizer::Status SamplePipeline::generalize(base::Vector5* y, double h, 
                                                     bool* restarted)
 {
   raw_gyro_ = (*y)(base::kGyroZ);
-  if (imu_ok && controller_->params().gyro_bias.enabled)
+  if (imu_ok)
   {
-    (*y)(base::kGyroZ) -= gyro_bias_.offset();  // the generative model's sensor row y_gyro = theta_dot + beta
+    // The generative model's sensor row y_gyro = theta_dot + beta, with the offset learned at rest
+    // removed first; when that removal changes, the controller's own offset belief (the robot
+    // model's beta: what remains) takes the change back, so the two are not counted twice.
+    const double removed = controller_->params().gyro_bias.enabled ? gyro_bias_.offset() : 0.0;
+    (*y)(base::kGyroZ) -= removed;
+    if (removed != removed_offset_)
+    {
+      controller_->gyroOffsetRemoved(removed - removed_offset_);
+      removed_offset_ = removed;
+    }
   }
   if (!imu_ok)
   {
@@ -94,6 +103,7 @@ SamplePipeline::Measurement SamplePipeline::measure(const base::Vector5& y, doub
   const int isolated_before = fault_monitor_->isolatedChannel();
   m.event = fault_monitor_->update(y, controller_->mu().col(0), h);
   controller_->setSensorMask(fault_monitor_->sensorMask());
+  controller_->setFaultState(fault_monitor_->awaitingConfirmation(), fault_monitor_->faultPresent());
   if (controller_->params().gyro_bias.enabled)
   {
     const bool gyro_ok =

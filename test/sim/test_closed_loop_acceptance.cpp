@@ -154,38 +154,8 @@ analysis::StepMetrics metrics(const ClosedLoopRecord& r, double t_step, double i
   return analysis::computeStepMetrics(r.time, signal ? *signal : r.v_true, o);
 }
 
-/// The first isolation event at or after t0, or nullptr.
-const HealthEvent* firstIsolation(const ClosedLoopRecord& r, double t0)
-{
-  for (const HealthEvent& e : r.health_events)
-  {
-    if (e.time >= t0 && e.event == safety::FaultMonitor::Event::kIsolated)
-    {
-      return &e;
-    }
-  }
-  return nullptr;
-}
-
-/// Largest change of the learned b_hat over [t0, t1] relative to its value at t0 (0 if not learning).
-double separationMove(const ClosedLoopRecord& r, double t0, double t1)
-{
-  double start = std::numeric_limits<double>::quiet_NaN();
-  double worst = 0.0;
-  for (std::size_t i = 0; i < r.time.size(); ++i)
-  {
-    if (r.time[i] < t0 || r.time[i] > t1 || !std::isfinite(r.separation[i]))
-    {
-      continue;
-    }
-    if (!std::isfinite(start))
-    {
-      start = r.separation[i];
-    }
-    worst = std::max(worst, std::abs(r.separation[i] - start) / start);
-  }
-  return worst;
-}
+using jackal_test::firstIsolation;
+using jackal_test::separationMove;
 
 /// "; b_hat moved 0.12 %" over the fault [t0, t1] (the learned wheel separation).
 std::string separationText(const ClosedLoopRecord& r, double t0, double t1)

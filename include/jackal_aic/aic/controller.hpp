@@ -229,6 +229,26 @@ public:
   void setSensorMask(std::uint8_t mask);
   /// The channel mask in use (all kYDim bits set by default).
   std::uint8_t sensorMask() const { return sensor_mask_; }
+  /**
+   * \brief The fault monitor's state for the robot model's beliefs (belief_model robot; no effect on
+   *        the others, whose monitor tests against their goal-pulled beliefs as before).
+   * \param suspected  a fault is suspected and not yet confirmed (FaultMonitor::awaitingConfirmation()):
+   *                   a sample does not correct the beliefs, which follow the model, so the test that
+   *                   isolates a channel (agreement with the beliefs) compares with the model's
+   *                   prediction, not with beliefs already pulled toward the faulty channel
+   * \param present    a fault is present, confirmed or not (FaultMonitor::faultPresent()): the slow
+   *                   states (shortfalls' jumps, slip ratio, gyro offset) learn nothing, as under a mask
+   * Kept across setParams() and reset(); cleared by passing false.
+   */
+  void setFaultState(bool suspected, bool present);
+  /**
+   * \brief The offset removed from the gyro before setMeasurement() (the offset learned at rest,
+   *        GyroBiasEstimator) changed by `change` [rad/s]: the robot model's gyro offset beta, the
+   *        offset that remains, moves by -change, so the model's reading theta_dot + beta of the
+   *        same gyro stays what it was (RobotBelief::shiftGyroOffset()). No effect on the other
+   *        belief models or for a non-finite change.
+   */
+  void gyroOffsetRemoved(double change);
   /// Precisions Pi_y in use, 5 x (p+1): params().precisionY() with the masked channels' rows zero.
   const base::YTilde& precisionY() const { return pi_y_; }
 
@@ -390,6 +410,8 @@ private:
   bool has_measurement_ = false;
   std::uint64_t runaway_count_ = 0;
   std::uint8_t sensor_mask_ = (1u << base::kYDim) - 1u;  ///< bit j set = channel j used
+  bool fault_suspected_ = false;                         ///< setFaultState(): hold the robot model's corrections
+  bool fault_present_ = false;                           ///< setFaultState(): hold the robot model's learning
 
   base::MuTilde pi_mu_;   ///< Pi_mu, 3 x (p+1)
   base::YTilde pi_y_;     ///< Pi_y, 5 x (p+1)

@@ -106,6 +106,13 @@ public:
    */
   bool rescaleSlip(double k);
 
+  /**
+   * \brief Move the gyro offset beta by delta [rad/s] (its variance kept): the offset removed from
+   *        the gyro before correct() changed by -delta, and beta is what remains.
+   * \return false (unchanged) unless delta is finite
+   */
+  bool shiftGyroOffset(double delta);
+
   /// Believed wheel speeds (omega_L, omega_R) [rad/s].
   base::Vector2 wheelSpeeds() const { return base::Vector2(x_(0), x_(2)); }
   /// Believed shortfalls (d_L, d_R) [rad/s]: the command the sides do not deliver in steady state.

@@ -133,7 +133,8 @@ private:
   aic::GyroBiasEstimator gyro_bias_;
   safety::TipGuard tip_guard_;
   aic::GyroBiasEstimator pitch_bias_;
-  double raw_gyro_ = 0.0;  ///< the gyro's reading of the newest generalized sample, offset not removed [rad/s]
+  double raw_gyro_ = 0.0;        ///< the gyro's reading of the newest generalized sample, offset not removed [rad/s]
+  double removed_offset_ = 0.0;  ///< the offset removed from the gyro's newest reading the controller got [rad/s]
 };
 }  // namespace loop
 }  // namespace jackal_aic

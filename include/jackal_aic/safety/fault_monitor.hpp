@@ -119,6 +119,10 @@ public:
   double statistic() const { return statistic_; }
   /// True while s is above the threshold (a fault is suspected or confirmed).
   bool faultPresent() const { return above_for_ >= 0.0; }
+  /// True while s is above the threshold but the fault is not yet confirmed (no channel isolated,
+  /// none detected for this excursion): the samples' channels disagree and which one is wrong is
+  /// still being tested.
+  bool awaitingConfirmation() const { return above_for_ >= 0.0 && !confirmed_ && isolated_ < 0; }
   /// Number of isolations, restorations and detections (with isolation off) since construction.
   std::uint64_t isolations() const { return isolations_; }
   std::uint64_t restorations() const { return restorations_; }

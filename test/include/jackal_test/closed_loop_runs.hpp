@@ -106,4 +106,37 @@ inline double windowMaxDeviation(const jackal_aic::harness::ClosedLoopRecord& r,
   }
   return worst;
 }
+/// The first fault-isolation event of r at or after t0 [s], or nullptr.
+inline const jackal_aic::harness::HealthEvent* firstIsolation(const jackal_aic::harness::ClosedLoopRecord& r, double t0)
+{
+  for (const jackal_aic::harness::HealthEvent& e : r.health_events)
+  {
+    if (e.time >= t0 && e.event == jackal_aic::safety::FaultMonitor::Event::kIsolated)
+    {
+      return &e;
+    }
+  }
+  return nullptr;
+}
+
+/// Largest change of the learned b_hat over [t0, t1] [s] relative to its value at t0 (0 if not learning).
+inline double separationMove(const jackal_aic::harness::ClosedLoopRecord& r, double t0, double t1)
+{
+  double start = NAN;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < r.time.size(); ++i)
+  {
+    if (r.time[i] < t0 || r.time[i] > t1 || !std::isfinite(r.separation[i]))
+    {
+      continue;
+    }
+    if (!std::isfinite(start))
+    {
+      start = r.separation[i];
+    }
+    worst = std::max(worst, std::abs(r.separation[i] - start) / start);
+  }
+  return worst;
+}
+
 }  // namespace jackal_test

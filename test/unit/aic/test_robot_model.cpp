@@ -476,3 +476,59 @@ TEST(ControllerRobotModel, ResetLearningForgetsTheSlowStates)
   EXPECT_EQ(c.robotBelief().gyroOffset(), 0.0);
   EXPECT_NEAR(c.robotBelief().wheelSpeeds()(0), omega, 0.05);
 }
+
+TEST(ControllerRobotModel, WhileAFaultIsTestedTheBeliefsFollowTheModel)
+{
+  // The wheels read 0.5 m/s while nothing was commanded (the goal is zero): normally the beliefs
+  // take the reading; while a fault is suspected and not yet confirmed they follow the model
+  // (wheels at rest), so the fault monitor's test compares with the model's prediction.
+  params::AicParams p = params::recommendedAicParams();
+  p.belief_model = params::BeliefModel::kRobot;
+  p.separation_learner.enabled = false;
+  base::YTilde y = base::YTilde::Zero(base::kYDim, p.numOrders());
+  const double omega = 0.5 / (p.wheel_radius * p.slip_factor);
+  y(base::kOmegaLeft, 0) = omega;
+  y(base::kOmegaRight, 0) = omega;
+  aic::ActiveInferenceController held(p);
+  held.setFaultState(true, true);
+  runController(&held, y, 200);
+  EXPECT_NEAR(held.robotBelief().wheelSpeeds()(0), 0.0, 1e-9);
+  // Released, the readings pull the belief toward them (the model, commanding nothing, pulls back).
+  held.setFaultState(false, false);
+  runController(&held, y, 200);
+  EXPECT_GT(held.robotBelief().wheelSpeeds()(0), 0.5 * omega);
+}
+
+TEST(ControllerRobotModel, AFaultPresentHoldsTheGyroOffset)
+{
+  // The gyro reads 0.03 rad/s at rest: the offset beta learns it, unless a fault is present.
+  params::AicParams p = params::recommendedAicParams();
+  p.belief_model = params::BeliefModel::kRobot;
+  base::YTilde y = base::YTilde::Zero(base::kYDim, p.numOrders());
+  y(base::kGyroZ, 0) = 0.03;
+  aic::ActiveInferenceController learning(p);
+  runController(&learning, y, 5000);
+  EXPECT_NEAR(learning.robotBelief().gyroOffset(), 0.03, 0.005);
+  aic::ActiveInferenceController held(p);
+  held.setFaultState(false, true);
+  runController(&held, y, 5000);
+  EXPECT_EQ(held.robotBelief().gyroOffset(), 0.0);
+}
+
+TEST(ControllerRobotModel, AChangeOfTheOffsetRemovedBeforeIsTakenBackByBeta)
+{
+  // beta is what remains of the gyro's offset after the one removed before the controller: when
+  // that removal grows by 0.02 rad/s, beta drops by as much, and the model's reading of the same
+  // gyro, theta_dot + beta, is unchanged. Other belief models: no effect.
+  params::AicParams p = params::recommendedAicParams();
+  p.belief_model = params::BeliefModel::kRobot;
+  base::YTilde y = base::YTilde::Zero(base::kYDim, p.numOrders());
+  y(base::kGyroZ, 0) = 0.03;
+  aic::ActiveInferenceController c(p);
+  runController(&c, y, 5000);
+  const double beta = c.robotBelief().gyroOffset();
+  c.gyroOffsetRemoved(0.02);
+  EXPECT_NEAR(c.robotBelief().gyroOffset(), beta - 0.02, 1e-12);
+  c.gyroOffsetRemoved(std::nan(""));
+  EXPECT_NEAR(c.robotBelief().gyroOffset(), beta - 0.02, 1e-12);
+}

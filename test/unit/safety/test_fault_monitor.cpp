@@ -259,6 +259,35 @@ TEST(FaultMonitor, HysteresisIsolatesAfterDetectTimeAndRestoresAfterReleaseTime)
   EXPECT_EQ(m.restorations(), 1u);
 }
 
+TEST(FaultMonitor, AFaultAwaitsConfirmationFromItsFirstSampleToItsIsolationOrDetection)
+{
+  // awaitingConfirmation(): above the threshold and not yet isolated or detected (the robot model
+  // holds its corrections then); faultPresent() stays true after the confirmation.
+  for (const bool isolation : { true, false })
+  {
+    SCOPED_TRACE(isolation ? "isolation on" : "isolation off");
+    params::FdiParams fdi;
+    fdi.detect_time = 0.1;
+    fdi.enabled = isolation;
+    safety::FaultMonitor m(fdi, defaultParams());
+    base::Vector5 bad = base::Vector5::Zero();
+    bad(base::kGyroZ) = 1.0;
+    EXPECT_FALSE(m.awaitingConfirmation());
+    EXPECT_EQ(m.update(bad, base::Vector3::Zero(), kSamplePeriod), Event::kNone);
+    EXPECT_TRUE(m.awaitingConfirmation());
+    for (int k = 0; k < 4; ++k)
+    {
+      EXPECT_EQ(m.update(bad, base::Vector3::Zero(), kSamplePeriod), Event::kNone);
+      EXPECT_TRUE(m.awaitingConfirmation());
+    }
+    EXPECT_EQ(m.update(bad, base::Vector3::Zero(), kSamplePeriod), isolation ? Event::kIsolated : Event::kDetected);
+    EXPECT_FALSE(m.awaitingConfirmation());
+    EXPECT_TRUE(m.faultPresent());
+    m.update(bad, base::Vector3::Zero(), kSamplePeriod);
+    EXPECT_FALSE(m.awaitingConfirmation());
+  }
+}
+
 TEST(FaultMonitor, ImuMissingMasksTheImuChannelsAndPausesTheTest)
 {
   safety::FaultMonitor m(params::FdiParams(), defaultParams());
