@@ -123,6 +123,10 @@ void ActiveInferenceController::applyParams(const params::AicParams& params)
                             params.wheel_separation == params_.wheel_separation &&
                             params.wheel_radius == params_.wheel_radius && params.slip_factor == params_.slip_factor;
   const double learned = learner_.separation();
+  // And the learned latency, while its settings stay.
+  const bool keep_latency = latency_learner_configured_ && params.robot.latency == params_.robot.latency &&
+                            params.robot.encoder_noise == params_.robot.encoder_noise &&
+                            params.robot.learn_latency == params_.robot.learn_latency;
   params_ = params;
   model_ = SkidSteerModel(params.wheel_radius, params.slip_factor, params.wheel_separation);
   learner_ = makeSeparationLearner(params);
@@ -148,6 +152,16 @@ void ActiveInferenceController::applyParams(const params::AicParams& params)
   slew_limit_ = ActionSlewLimit(params.action_slew);
   wheel_loop_.setParams(params.robot);
   robot_belief_.setParams(params.robot);
+  if (!keep_latency)
+  {
+    latency_learner_ = LatencyLearner(params.robot.latency, params::kLatencyMinFactor * params.robot.latency,
+                                      params::kLatencyMaxFactor * params.robot.latency, params.robot.encoder_noise);
+    latency_learner_configured_ = true;
+  }
+  if (params.robot.learn_latency)
+  {
+    wheel_loop_.setLatency(latency_learner_.latency());
+  }
   pi_mu_ = params.precisionMu();
   precision_learner_.setParams(params.precision_learner, precisionChannels(params));
   rebuildDynamics();
@@ -184,6 +198,8 @@ bool ActiveInferenceController::setLearnedSeparation(double b)
 void ActiveInferenceController::resetLearning()
 {
   learner_.reset();
+  latency_learner_.reset();
+  wheel_loop_.setLatency(params_.robot.learn_latency ? latency_learner_.latency() : params_.robot.latency);
   if (params_.belief_model == params::BeliefModel::kRobot)
   {
     robot_belief_.forgetSlowStates();
@@ -617,6 +633,8 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(
     const bool learn = (sensor_mask_ & needed) == needed && !fault_present_ &&
                        std::abs(y_tilde_(base::kGyroZ, 1)) <= params_.separation_learner.max_yaw_acceleration &&
                        std::abs(wheels_yaw_rate) <= params_.separation_learner.max_yaw_acceleration;
+    const base::Vector2 wheels(y_tilde_(base::kOmegaLeft, 0), y_tilde_(base::kOmegaRight, 0));
+    learnLatency(wheels);
     robot_belief_.correct(base::Vector2(y_tilde_(base::kOmegaLeft, 0), y_tilde_(base::kOmegaRight, 0)),
                           y_tilde_(base::kGyroZ, 0), (sensor_mask_ & (1u << base::kOmegaLeft)) != 0,
                           (sensor_mask_ & (1u << base::kOmegaRight)) != 0, (sensor_mask_ & (1u << base::kGyroZ)) != 0,
@@ -643,6 +661,24 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(
   mu_ = next;
   reference_.advance(h);
   return Status::kOk;
+}
+
+void ActiveInferenceController::learnLatency(const base::Vector2& wheels)
+{
+  if (!params_.robot.learn_latency)
+  {
+    return;
+  }
+  const std::uint8_t needed = (1u << base::kOmegaLeft) | (1u << base::kOmegaRight);
+  if ((sensor_mask_ & needed) != needed || fault_present_)
+  {
+    latency_learner_.disarm();  // a masked or faulty wheel's reading is not the wheels' motion
+    return;
+  }
+  if (latency_learner_.sample(robot_clock_, wheels, wheel_loop_))
+  {
+    wheel_loop_.setLatency(latency_learner_.latency());
+  }
 }
 
 void ActiveInferenceController::learnRobotSeparation(double h)
@@ -696,11 +732,17 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
     runawayReset();
     return Status::kRunaway;
   }
+  const base::Vector2 previous = a_;
   a_ = at_rest ? base::Vector2::Zero() : r.command;
   a_F_ = a_;
   action_free_energy_ = r.free_energy;
   action_saturated_ = r.minimiser.cwiseAbs().maxCoeff() >= params_.max_wheel_speed;
   wheel_loop_.record(robot_clock_, a_);
+  if (params_.robot.learn_latency)
+  {
+    const double rest = LatencyLearner::kOnsetSigmas * params_.robot.encoder_noise;
+    latency_learner_.commandSent(robot_clock_, a_, previous, robot_belief_.wheelSpeeds().cwiseAbs().maxCoeff() <= rest);
+  }
   return Status::kOk;
 }
 

@@ -48,9 +48,9 @@ void WheelLoopModel::record(double t, const base::Vector2& u)
   count_ = std::min(count_ + 1, kCapacity);
 }
 
-const WheelLoopModel::Entry& WheelLoopModel::entryAt(double t) const
+const WheelLoopModel::Entry& WheelLoopModel::entryAt(double t, double latency) const
 {
-  const double sent_by = t - params_.latency;
+  const double sent_by = t - latency;
   for (int k = 0; k < count_; ++k)
   {
     const Entry& e = line_[(head_ - k + kCapacity) % kCapacity];
@@ -64,18 +64,18 @@ const WheelLoopModel::Entry& WheelLoopModel::entryAt(double t) const
 
 base::Vector2 WheelLoopModel::commandAt(double t) const
 {
-  return entryAt(t).u;
+  return entryAt(t, params_.latency).u;
 }
 
 base::Vector2 WheelLoopModel::commandRateAt(double t) const
 {
-  return rateIn(entryAt(t), t);
+  return rateIn(entryAt(t, params_.latency), t, params_.latency);
 }
 
-base::Vector2 WheelLoopModel::rateIn(const Entry& e, double t) const
+base::Vector2 WheelLoopModel::rateIn(const Entry& e, double t, double latency)
 {
   // Before the oldest remembered command (which stands in for the older ones) the stream is held.
-  return e.t <= t - params_.latency + 1.0e-12 ? e.rate : base::Vector2::Zero();
+  return e.t <= t - latency + 1.0e-12 ? e.rate : base::Vector2::Zero();
 }
 
 base::Vector2 WheelLoopModel::lastCommand() const
@@ -112,14 +112,20 @@ double WheelLoopModel::step(double omega, double u, double rate, double h, doubl
 
 base::Vector2 WheelLoopModel::predict(const base::Vector2& omega0, const base::Vector2& d, double t0, double t1) const
 {
+  return predictWithLatency(omega0, d, t0, t1, params_.latency);
+}
+
+base::Vector2 WheelLoopModel::predictWithLatency(const base::Vector2& omega0, const base::Vector2& d, double t0,
+                                                 double t1, double latency) const
+{
   base::Vector2 omega = omega0;
   double t = t0;
   while (t < t1 - 1.0e-12)
   {
     const double h = std::min(kSubstep, t1 - t);
-    const Entry& e = entryAt(t);
+    const Entry& e = entryAt(t, latency);
     const base::Vector2 u = e.u - d;
-    const base::Vector2 rate = rateIn(e, t);
+    const base::Vector2 rate = rateIn(e, t, latency);
     omega(0) = step(omega(0), u(0), rate(0), h);
     omega(1) = step(omega(1), u(1), rate(1), h);
     t += h;

@@ -231,6 +231,10 @@ std::vector<ParamSpec> buildControllerRows()
         .describe("Robot model: k_a, the action's loop gain (the rate of its Gauss-Newton descent of F; k_a >= "
                   "action_rate reaches the minimiser each action step)")
         .member<&AicParams::robot, &RobotModelParams::action_gain>(),
+    ParamRow("active_inference", "learn_latency")
+        .describe("Robot model: learn L from the wheels' first motion after rest (within 0.5-2 x latency); false = "
+                  "L as configured")
+        .member<&AicParams::robot, &RobotModelParams::learn_latency>(),
     ParamRow("active_inference", "learn_wheel_separation")
         .describe("If true, the model's wheel separation b_hat descends the free energy of the gyro-encoder "
                   "disagreement (frozen near rest, while the action saturates and while a sensor is isolated); "

@@ -46,6 +46,7 @@
  *        {"trips", "front", "rear"} (the tip-over guard's trips and learned bounds [m/s^2], null: none),
  *        "command_delay" (the plant's motor.command_delay [s]),
  *        with learn_precision "sensory_precisions" (the AIC's Pi_y^(0) per sensor channel at the end),
+ *        with the robot model's learn_latency "learned_latency" (its wheel loop's L at the end [s]),
  *        "plant": what the plant did over the profile's span, any controller: {"torque_limited" (share
  *        of the samples x sides with the motor torque clamped to its limit), "wheel_loop": {"vx", "wz"}
  *        (RMS of the wheel loops' set point in effect minus the true wheel speeds, as body twist
@@ -641,6 +642,11 @@ int main(int argc, char** argv)
     const auto bound = [](double b) { return std::isfinite(b) ? base::jsonNumber(b) : std::string("null"); };
     std::cout << ", \"tip_guard\": {\"trips\": " << rec.tip_trips << ", \"front\": " << bound(rec.tip_front)
               << ", \"rear\": " << bound(rec.tip_rear) << "}";
+  }
+  if (c.controller == LoopController::kAic && c.aic.belief_model == params::BeliefModel::kRobot &&
+      c.aic.robot.learn_latency)
+  {
+    std::cout << ", \"learned_latency\": " << base::jsonNumber(rec.latency);
   }
   if (c.controller == LoopController::kAic && c.aic.precision_learner.enabled)
   {

@@ -17,6 +17,7 @@
 #include "jackal_aic/aic/goal_response.hpp"
 #include "jackal_aic/aic/latency_action.hpp"
 #include "jackal_aic/aic/robot_belief.hpp"
+#include "jackal_aic/aic/latency_learner.hpp"
 #include "jackal_aic/aic/wheel_loop_model.hpp"
 #include "jackal_aic/aic/reference_model.hpp"
 #include "jackal_aic/aic/rest_release.hpp"
@@ -295,6 +296,8 @@ public:
   const RobotBelief& robotBelief() const { return robot_belief_; }
   /// belief_model robot: the sent commands and the wheel loop's model (WheelLoopModel).
   const WheelLoopModel& wheelLoop() const { return wheel_loop_; }
+  /// The robot model's latency learner (learn_latency; its latency() is the wheel loop's L when on).
+  const LatencyLearner& latencyLearner() const { return latency_learner_; }
   /// belief_model robot: F_a of the last action step, the goal prior on the predicted wheel speeds [-].
   double actionFreeEnergy() const { return action_free_energy_; }
 
@@ -372,6 +375,10 @@ private:
   /// per second and within the learner's bounds, and the slip ratio is re-expressed on the b_hat
   /// reached (RobotBelief::rescaleSlip()); held under a fault mask (s is).
   void learnRobotSeparation(double h);
+  /// The robot model's wheel sample `wheels` [rad/s] into the latency learner (learn_latency; both
+  /// wheels unmasked and no fault present, else an armed start is dropped); a new L goes to the
+  /// wheel loop.
+  void learnLatency(const base::Vector2& wheels);
   /// Give the model the learner's b_hat if it moved beyond kSeparationApplyTolerance.
   void applyLearnedSeparation(bool force);
   /// belief_model robot: the belief step (RobotBelief: the model's prediction, then the sample).
@@ -399,6 +406,7 @@ private:
   // belief_model robot: the commands in flight and the wheel loop, the beliefs, the model's clock [s].
   WheelLoopModel wheel_loop_;
   RobotBelief robot_belief_;
+  LatencyLearner latency_learner_{ 0.1187, 0.0, 1.0, 1.0 };  ///< robot model with learn_latency (applyParams())
   double robot_clock_ = 0.0;
   bool robot_sample_pending_ = false;  ///< a sample arrived since the last robot belief step
   double action_free_energy_ = 0.0;    ///< F_a of the last robot action step [-]
@@ -410,6 +418,7 @@ private:
   bool has_measurement_ = false;
   std::uint64_t runaway_count_ = 0;
   std::uint8_t sensor_mask_ = (1u << base::kYDim) - 1u;  ///< bit j set = channel j used
+  bool latency_learner_configured_ = false;              ///< latency_learner_ built from params_ (applyParams())
   bool fault_suspected_ = false;                         ///< setFaultState(): hold the robot model's corrections
   bool fault_present_ = false;                           ///< setFaultState(): hold the robot model's learning
 

@@ -75,12 +75,17 @@ public:
    *        (commandAt(), commandRateAt()) less the shortfall d [rad/s], in substeps of at most kSubstep.
    */
   base::Vector2 predict(const base::Vector2& omega0, const base::Vector2& d, double t0, double t1) const;
+  /// predict() with the commands taking effect a latency `latency` [s] after they were sent instead of L.
+  base::Vector2 predictWithLatency(const base::Vector2& omega0, const base::Vector2& d, double t0, double t1,
+                                   double latency) const;
 
   /// Substep of predict() [s].
   static constexpr double kSubstep = 1.0e-3;
 
   /// L [s].
   double latency() const { return params_.latency; }
+  /// Replace L [s] (a learned latency; the history is kept).
+  void setLatency(double latency) { params_.latency = latency; }
 
 private:
   struct Entry
@@ -89,10 +94,10 @@ private:
     base::Vector2 u;
     base::Vector2 rate;  ///< (u - the previous entry's u) / the interval
   };
-  /// The entry in effect at the wheels at time t (the oldest if all are newer).
-  const Entry& entryAt(double t) const;
-  /// Its rate at time t: zero if it is the oldest standing in for older commands.
-  base::Vector2 rateIn(const Entry& e, double t) const;
+  /// The entry in effect at the wheels at time t under the latency L (the oldest if all are newer).
+  const Entry& entryAt(double t, double latency) const;
+  /// Its rate at time t under L: zero if it is the oldest standing in for older commands.
+  static base::Vector2 rateIn(const Entry& e, double t, double latency);
   params::RobotModelParams params_;
   std::array<Entry, kCapacity> line_{};
   int head_ = 0;   ///< index of the newest entry

@@ -10,6 +10,10 @@ namespace jackal_aic
 {
 namespace params
 {
+/// Bounds of the learned latency, as factors of the configured one.
+constexpr double kLatencyMinFactor = 0.5;
+constexpr double kLatencyMaxFactor = 2.0;
+
 /**
  * \brief The generative model of the robot as it is (AicParams::robot; used only with
  *        belief_model robot). Each value is identified, measured or a named gain; the source of
@@ -67,6 +71,9 @@ struct RobotModelParams
   /// k_a [1/s], > 0: the action's loop gain, the rate of its Gauss-Newton descent of the action's
   /// free energy; k_a h_a >= 1 (h_a the action step) reaches the minimiser in one step.
   double action_gain = 50.0;
+  /// Learn L from the wheels' first motion after rest (LatencyLearner), within [kLatencyMinFactor,
+  /// kLatencyMaxFactor] x `latency`; false: L as configured.
+  bool learn_latency = false;
 };
 
 }  // namespace params

@@ -614,6 +614,10 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
       }
     }
     out.runaways = loop->supervisor().runaways();
+    if (loop->controller().params().belief_model == params::BeliefModel::kRobot)
+    {
+      out.latency = loop->controller().wheelLoop().latency();
+    }
     out.tip_trips = loop->tipGuard().trips();
     out.tip_front = loop->tipGuard().learnedFront();
     out.tip_rear = loop->tipGuard().learnedRear();

@@ -8,6 +8,7 @@
 
 #include "jackal_aic/aic/controller.hpp"
 #include "jackal_aic/aic/latency_action.hpp"
+#include "jackal_aic/aic/latency_learner.hpp"
 #include "jackal_aic/aic/residual_run.hpp"
 #include "jackal_aic/aic/robot_belief.hpp"
 #include "jackal_aic/aic/wheel_loop_model.hpp"
@@ -531,4 +532,141 @@ TEST(ControllerRobotModel, AChangeOfTheOffsetRemovedBeforeIsTakenBackByBeta)
   EXPECT_NEAR(c.robotBelief().gyroOffset(), beta - 0.02, 1e-12);
   c.gyroOffsetRemoved(std::nan(""));
   EXPECT_NEAR(c.robotBelief().gyroOffset(), beta - 0.02, 1e-12);
+}
+
+namespace
+{
+/// A start from rest: the wheels' commands ramp by 0.9 rad/s every 20 ms from t = 0.02 s to 4.5 rad/s,
+/// sent to `plant` (the truth, its own latency) and `believed` (the controller's record); the
+/// noise-free wheel samples every 20 ms go to `learner` until it completes the start or 0.4 s pass.
+/// \return the number of samples that completed a start (0 or 1)
+int rampFromRest(aic::LatencyLearner* learner, aic::WheelLoopModel* plant, aic::WheelLoopModel* believed,
+                 bool wheels_at_rest = true)
+{
+  base::Vector2 previous = base::Vector2::Zero();
+  int completed = 0;
+  for (int k = 1; k <= 20; ++k)
+  {
+    const double t = 0.02 * k;
+    const base::Vector2 y = plant->predict(base::Vector2::Zero(), base::Vector2::Zero(), 0.0, t);
+    completed += learner->sample(t, y, *believed) ? 1 : 0;
+    const base::Vector2 u = base::Vector2::Constant(std::min(0.9 * k, 4.5));
+    plant->record(t, u);
+    believed->record(t, u);
+    learner->commandSent(t, u, previous, wheels_at_rest);
+    previous = u;
+  }
+  return completed;
+}
+
+params::RobotModelParams mcu(double latency)
+{
+  params::RobotModelParams p;
+  p.latency = latency;
+  p.wheel_feedforward = 0.787;
+  p.wheel_feedforward_acceleration = 34.76;
+  p.wheel_time_constant = 0.01365;
+  return p;
+}
+}  // namespace
+
+TEST(LatencyLearner, TheWheelsFirstMotionAfterRestGivesTheLatency)
+{
+  // The model believes L = 0.1187 s; plants 20 % slower and faster: one start gives their latency
+  // to the wheel loop model's 1 ms substep (noise-free samples: the prediction's time grid is what
+  // limits it).
+  for (const double truth : { 0.1424, 0.0950, 0.1187 })
+  {
+    SCOPED_TRACE(truth);
+    aic::WheelLoopModel plant(mcu(truth));
+    aic::WheelLoopModel believed(mcu(0.1187));
+    aic::LatencyLearner learner(0.1187, 0.5 * 0.1187, 2.0 * 0.1187, 0.0071);
+    EXPECT_EQ(rampFromRest(&learner, &plant, &believed), 1);
+    EXPECT_EQ(learner.starts(), 1);
+    EXPECT_NEAR(learner.latency(), truth, 1.5e-3);
+  }
+}
+
+TEST(LatencyLearner, OnlyACommandLeavingZeroWithTheWheelsAtRestIsAStart)
+{
+  aic::WheelLoopModel plant(mcu(0.1424));
+  aic::WheelLoopModel believed(mcu(0.1187));
+  aic::LatencyLearner learner(0.1187, 0.5 * 0.1187, 2.0 * 0.1187, 0.0071);
+  EXPECT_EQ(rampFromRest(&learner, &plant, &believed, false), 0);
+  EXPECT_EQ(learner.latency(), 0.1187);
+  // A command that changes while moving is no start.
+  learner.commandSent(1.0, base::Vector2(2.0, 2.0), base::Vector2(1.0, 1.0), true);
+  EXPECT_FALSE(learner.sample(1.2, base::Vector2(1.5, 1.5), believed));
+  EXPECT_EQ(learner.starts(), 0);
+}
+
+TEST(LatencyLearner, AStartWithoutMotionIsDroppedAndTheEstimateIsBoundedAndAveraged)
+{
+  // Armed, but the wheels have not moved by max + kWindow: dropped, a later reading is no start.
+  aic::WheelLoopModel believed(mcu(0.1));
+  aic::LatencyLearner learner(0.1, 0.05, 0.2, 0.0071);
+  believed.record(0.0, base::Vector2(1.0, 1.0));
+  learner.commandSent(0.0, base::Vector2(1.0, 1.0), base::Vector2::Zero(), true);
+  EXPECT_FALSE(learner.sample(0.2 + aic::LatencyLearner::kWindow + 0.01, base::Vector2::Zero(), believed));
+  EXPECT_FALSE(learner.sample(0.35, base::Vector2(1.0, 1.0), believed));
+  EXPECT_EQ(learner.starts(), 0);
+  // Two starts, 0.19 and 0.15 s: their mean; a plant beyond max reads as max; reset() forgets.
+  const auto start = [&](double truth) {
+    aic::WheelLoopModel plant(mcu(truth));
+    aic::WheelLoopModel record(mcu(0.1));
+    return rampFromRest(&learner, &plant, &record);
+  };
+  ASSERT_EQ(start(0.19), 1);
+  EXPECT_NEAR(learner.latency(), 0.19, 1.5e-3);
+  ASSERT_EQ(start(0.15), 1);
+  EXPECT_NEAR(learner.latency(), 0.17, 1.5e-3);
+  ASSERT_EQ(start(0.25), 1);
+  EXPECT_NEAR(learner.lastStart(), 0.2, 1e-9);
+  learner.reset();
+  EXPECT_EQ(learner.latency(), 0.1);
+  EXPECT_EQ(learner.starts(), 0);
+}
+
+TEST(ControllerRobotModel, LearnsTheLatencyOfAPlantAtItsFirstStart)
+{
+  // The controller (L = 0.1187 s, learn_latency) against a wheel-loop plant whose commands act
+  // 0.1424 s later: after the first start from rest its wheel loop's L is the plant's within 2 ms;
+  // with learn_latency off it stays as configured; resetLearning() forgets it.
+  for (const bool learn : { true, false })
+  {
+    SCOPED_TRACE(learn);
+    params::AicParams p = params::recommendedAicParams();
+    p.belief_model = params::BeliefModel::kRobot;
+    p.robot.learn_latency = learn;
+    aic::ActiveInferenceController c(p);
+    params::RobotModelParams truth = p.robot;
+    truth.latency = 0.1424;
+    aic::WheelLoopModel plant(truth);
+    base::Vector2 omega = base::Vector2::Zero();
+    base::YTilde y = base::YTilde::Zero(base::kYDim, p.numOrders());
+    ASSERT_TRUE(c.setGoal(base::Vector3(0.5, 0.0, 0.0)));
+    for (int k = 0; k < 1000; ++k)
+    {
+      const double t = 0.001 * k;
+      if (k % 20 == 0)
+      {
+        if (k > 0)
+        {
+          omega = plant.predict(omega, base::Vector2::Zero(), t - 0.02, t);
+        }
+        y(base::kOmegaLeft, 0) = omega(0);
+        y(base::kOmegaRight, 0) = omega(1);
+        ASSERT_TRUE(c.setMeasurement(y));
+      }
+      ASSERT_EQ(c.updateBeliefs(0.001), Status::kOk);
+      if (k % 20 == 19)
+      {
+        ASSERT_EQ(c.updateAction(0.02), Status::kOk);
+        plant.record(t + 0.001, c.action());
+      }
+    }
+    EXPECT_NEAR(c.wheelLoop().latency(), learn ? 0.1424 : 0.1187, learn ? 2e-3 : 1e-12);
+    c.resetLearning();
+    EXPECT_EQ(c.wheelLoop().latency(), 0.1187);
+  }
 }

@@ -235,6 +235,8 @@ struct ClosedLoopRecord
   /// otherwise, and for the other controllers). Before the controller starts a sample holds NaN.
   std::vector<aic::InferenceSample> inference;
   std::uint64_t runaways = 0;  ///< AIC runaway resets during the run
+  /// AIC, robot model: the wheel loop's latency L at the end [s] (learned with learn_latency; NaN otherwise).
+  double latency = std::numeric_limits<double>::quiet_NaN();
   /// AIC: the tip-over guard's trips during the run and its learned bounds at the end [m/s^2]
   /// (TipGuard::learnedFront(), learnedRear(); +inf: none learned).
   std::uint64_t tip_trips = 0;
