@@ -105,6 +105,8 @@ class RosProcessTest(unittest.TestCase):
     CHILD = ("import signal, subprocess, sys, time\n"
              "if sys.argv[1] == 'ignore':\n"
              "    signal.signal(signal.SIGINT, signal.SIG_IGN)\n"
+             "else:  # a shell's background job inherits SIGINT ignored: Python then raises nothing\n"
+             "    signal.signal(signal.SIGINT, signal.default_int_handler)\n"
              "grandchild = subprocess.Popen([sys.executable, '-c', 'import time; time.sleep(60)', '__name:=probe'])\n"
              "try:\n"
              "    print(grandchild.pid, flush=True)\n"
