@@ -83,11 +83,6 @@ base::Vector2 WheelLoopModel::lastCommand() const
   return line_[head_].u;
 }
 
-double WheelLoopModel::lastTime() const
-{
-  return line_[head_].t;
-}
-
 double WheelLoopModel::step(double omega, double u, double rate, double h, double* gain) const
 {
   const double decay = params_.wheel_time_constant > 0.0 ? std::exp(-h / params_.wheel_time_constant) : 0.0;

@@ -54,8 +54,6 @@ public:
   base::Vector2 commandRateAt(double t) const;
   /// The newest command sent [rad/s] (zero before the first).
   base::Vector2 lastCommand() const;
-  /// The time the newest command was sent [s].
-  double lastTime() const;
   /// The rate [rad/s^2] a command u sent at time t [s] would have after the newest one (as
   /// commandRateAt() will give once it is recorded).
   base::Vector2 rateOf(double t, const base::Vector2& u) const;

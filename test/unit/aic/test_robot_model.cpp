@@ -18,6 +18,14 @@ using Status = aic::ActiveInferenceController::Status;
 
 namespace
 {
+/// The recommended controller with the robot model.
+params::AicParams robotParams()
+{
+  params::AicParams p = params::recommendedAicParams();
+  p.belief_model = params::BeliefModel::kRobot;
+  return p;
+}
+
 params::RobotModelParams model()
 {
   params::RobotModelParams p;
@@ -483,8 +491,7 @@ TEST(ControllerRobotModel, WhileAFaultIsTestedTheBeliefsFollowTheModel)
   // The wheels read 0.5 m/s while nothing was commanded (the goal is zero): normally the beliefs
   // take the reading; while a fault is suspected and not yet confirmed they follow the model
   // (wheels at rest), so the fault monitor's test compares with the model's prediction.
-  params::AicParams p = params::recommendedAicParams();
-  p.belief_model = params::BeliefModel::kRobot;
+  params::AicParams p = robotParams();
   p.separation_learner.enabled = false;
   base::YTilde y = base::YTilde::Zero(base::kYDim, p.numOrders());
   const double omega = 0.5 / (p.wheel_radius * p.slip_factor);
@@ -503,8 +510,7 @@ TEST(ControllerRobotModel, WhileAFaultIsTestedTheBeliefsFollowTheModel)
 TEST(ControllerRobotModel, AFaultPresentHoldsTheGyroOffset)
 {
   // The gyro reads 0.03 rad/s at rest: the offset beta learns it, unless a fault is present.
-  params::AicParams p = params::recommendedAicParams();
-  p.belief_model = params::BeliefModel::kRobot;
+  params::AicParams p = robotParams();
   base::YTilde y = base::YTilde::Zero(base::kYDim, p.numOrders());
   y(base::kGyroZ, 0) = 0.03;
   aic::ActiveInferenceController learning(p);
@@ -521,8 +527,7 @@ TEST(ControllerRobotModel, AChangeOfTheOffsetRemovedBeforeIsTakenBackByBeta)
   // beta is what remains of the gyro's offset after the one removed before the controller: when
   // that removal grows by 0.02 rad/s, beta drops by as much, and the model's reading of the same
   // gyro, theta_dot + beta, is unchanged. Other belief models: no effect.
-  params::AicParams p = params::recommendedAicParams();
-  p.belief_model = params::BeliefModel::kRobot;
+  params::AicParams p = robotParams();
   base::YTilde y = base::YTilde::Zero(base::kYDim, p.numOrders());
   y(base::kGyroZ, 0) = 0.03;
   aic::ActiveInferenceController c(p);
@@ -532,6 +537,11 @@ TEST(ControllerRobotModel, AChangeOfTheOffsetRemovedBeforeIsTakenBackByBeta)
   EXPECT_NEAR(c.robotBelief().gyroOffset(), beta - 0.02, 1e-12);
   c.gyroOffsetRemoved(std::nan(""));
   EXPECT_NEAR(c.robotBelief().gyroOffset(), beta - 0.02, 1e-12);
+  params::AicParams goal_model = p;
+  goal_model.belief_model = params::BeliefModel::kGoal;
+  aic::ActiveInferenceController g(goal_model);
+  g.gyroOffsetRemoved(0.02);
+  EXPECT_EQ(g.robotBelief().gyroOffset(), 0.0);
 }
 
 namespace
@@ -610,6 +620,12 @@ TEST(LatencyLearner, AStartWithoutMotionIsDroppedAndTheEstimateIsBoundedAndAvera
   EXPECT_FALSE(learner.sample(0.2 + aic::LatencyLearner::kWindow + 0.01, base::Vector2::Zero(), believed));
   EXPECT_FALSE(learner.sample(0.35, base::Vector2(1.0, 1.0), believed));
   EXPECT_EQ(learner.starts(), 0);
+  // A non-finite sample or time is no reading: the armed start waits for a finite one.
+  learner.commandSent(1.0, base::Vector2(1.0, 1.0), base::Vector2::Zero(), true);
+  EXPECT_FALSE(learner.sample(1.15, base::Vector2(1.0, std::nan("")), believed));
+  EXPECT_FALSE(learner.sample(std::nan(""), base::Vector2(1.0, 1.0), believed));
+  EXPECT_EQ(learner.starts(), 0);
+  learner.reset();
   // Two starts, 0.19 and 0.15 s: their mean; a plant beyond max reads as max; reset() forgets.
   const auto start = [&](double truth) {
     aic::WheelLoopModel plant(mcu(truth));
