@@ -51,20 +51,21 @@ bool finiteStep(double h)
 
 /**
  * \brief The goal stage's settings: params.reference, except with belief_model robot. The robot
- *        model's goal is predicted one latency ahead (the time the command sent now acts), and its
+ *        model's goal is predicted one latency ahead, `latency` [s] (the time the command sent now
+ *        acts: the wheel loop's L, configured or learned), and its
  *        path is the wheel loop's own response to it: the time constant T_w (at least
  *        kMinPathTimeConstant, so that T_w = 0 keeps the rate bound) and per wheel the
  *        acceleration A_w at the rim; it is not delayed: the latency is in the model
  *        (WheelLoopModel), not in the goal's path. The one place a stage's settings are derived
  *        rather than taken as they are.
  */
-params::ReferenceModelParams goalStageParams(const params::AicParams& params)
+params::ReferenceModelParams goalStageParams(const params::AicParams& params, double latency)
 {
   params::ReferenceModelParams rp = params.reference;
   if (params.belief_model == params::BeliefModel::kRobot)
   {
-    rp.goal_lead = params.robot.latency;
-    rp.goal_lead_angular = params.robot.latency;
+    rp.goal_lead = latency;
+    rp.goal_lead_angular = latency;
     rp.time_constant = std::max(params.robot.wheel_time_constant, kMinPathTimeConstant);
     rp.max_acceleration_linear = params::ReferenceModelParams().max_acceleration_linear;
     rp.max_acceleration_angular = params::ReferenceModelParams().max_acceleration_angular;
@@ -138,8 +139,9 @@ void ActiveInferenceController::applyParams(const params::AicParams& params)
   {
     model_.setWheelSeparation(learner_.separation());
   }
-  reference_.setParams(goalStageParams(params), params.runaway_limit);  // zeroes the goal's rate unless generalized
-  reference_.setWheelSeparation(model_.wheelSeparation());              // the learned b_hat when learning
+  reference_.setParams(goalStageParams(params, params.robot.latency),
+                       params.runaway_limit);               // zeroes the goal's rate unless generalized
+  reference_.setWheelSeparation(model_.wheelSeparation());  // the learned b_hat when learning
   action_line_.setDelay(params.reference.delay);
   action_prior_ = ActionPrior(params.action_prior);
   release_ = RestRelease(params.action_release_time);
@@ -158,10 +160,7 @@ void ActiveInferenceController::applyParams(const params::AicParams& params)
                                       params::kLatencyMaxFactor * params.robot.latency, params.robot.encoder_noise);
     latency_learner_configured_ = true;
   }
-  if (params.robot.learn_latency)
-  {
-    wheel_loop_.setLatency(latency_learner_.latency());
-  }
+  useLatency(params.robot.learn_latency ? latency_learner_.latency() : params.robot.latency);
   pi_mu_ = params.precisionMu();
   precision_learner_.setParams(params.precision_learner, precisionChannels(params));
   rebuildDynamics();
@@ -199,7 +198,7 @@ void ActiveInferenceController::resetLearning()
 {
   learner_.reset();
   latency_learner_.reset();
-  wheel_loop_.setLatency(params_.robot.learn_latency ? latency_learner_.latency() : params_.robot.latency);
+  useLatency(params_.robot.learn_latency ? latency_learner_.latency() : params_.robot.latency);
   if (params_.belief_model == params::BeliefModel::kRobot)
   {
     robot_belief_.forgetSlowStates();
@@ -677,7 +676,16 @@ void ActiveInferenceController::learnLatency(const base::Vector2& wheels)
   }
   if (latency_learner_.sample(robot_clock_, wheels, wheel_loop_))
   {
-    wheel_loop_.setLatency(latency_learner_.latency());
+    useLatency(latency_learner_.latency());
+  }
+}
+
+void ActiveInferenceController::useLatency(double latency)
+{
+  wheel_loop_.setLatency(latency);
+  if (params_.belief_model == params::BeliefModel::kRobot)
+  {
+    reference_.setParams(goalStageParams(params_, latency), params_.runaway_limit);
   }
 }
 

@@ -376,9 +376,13 @@ private:
   /// reached (RobotBelief::rescaleSlip()); held under a fault mask (s is).
   void learnRobotSeparation(double h);
   /// The robot model's wheel sample `wheels` [rad/s] into the latency learner (learn_latency; both
-  /// wheels unmasked and no fault present, else an armed start is dropped); a new L goes to the
-  /// wheel loop.
+  /// wheels unmasked and no fault present, else an armed start is dropped); a new L is used
+  /// (useLatency()).
   void learnLatency(const base::Vector2& wheels);
+  /// Use the latency L [s] (configured, or learned with learn_latency): the wheel loop's, and with
+  /// belief_model robot the goal's lead, so that the action's inverse and the goal it aims at are
+  /// one latency ahead by the same L (doc/active_inference.md, 'Learning the latency').
+  void useLatency(double latency);
   /// Give the model the learner's b_hat if it moved beyond kSeparationApplyTolerance.
   void applyLearnedSeparation(bool force);
   /// belief_model robot: the belief step (RobotBelief: the model's prediction, then the sample).

@@ -646,8 +646,9 @@ TEST(LatencyLearner, AStartWithoutMotionIsDroppedAndTheEstimateIsBoundedAndAvera
 TEST(ControllerRobotModel, LearnsTheLatencyOfAPlantAtItsFirstStart)
 {
   // The controller (L = 0.1187 s, learn_latency) against a wheel-loop plant whose commands act
-  // 0.1424 s later: after the first start from rest its wheel loop's L is the plant's within 2 ms;
-  // with learn_latency off it stays as configured; resetLearning() forgets it.
+  // 0.1424 s later: after the first start from rest its wheel loop's L is the plant's within 2 ms,
+  // and the goal is predicted ahead by that L too; with learn_latency off it stays as configured;
+  // resetLearning() forgets it.
   for (const bool learn : { true, false })
   {
     SCOPED_TRACE(learn);
@@ -682,7 +683,10 @@ TEST(ControllerRobotModel, LearnsTheLatencyOfAPlantAtItsFirstStart)
       }
     }
     EXPECT_NEAR(c.wheelLoop().latency(), learn ? 0.1424 : 0.1187, learn ? 2e-3 : 1e-12);
+    EXPECT_EQ(c.referenceModel().params().goal_lead, c.wheelLoop().latency());
+    EXPECT_EQ(c.referenceModel().params().goal_lead_angular, c.wheelLoop().latency());
     c.resetLearning();
     EXPECT_EQ(c.wheelLoop().latency(), 0.1187);
+    EXPECT_EQ(c.referenceModel().params().goal_lead, 0.1187);
   }
 }
