@@ -9,7 +9,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -123,23 +122,6 @@ void SeparationLearner::reset()
   eps_ = 0.0;
   steps_ = 0;
   state_ = State::kNearRest;
-}
-
-std::string learnedSeparationOverlay(double b_hat)
-{
-  if (!(finite(b_hat) && b_hat > 0.0))
-  {
-    throw std::invalid_argument("learnedSeparationOverlay: b_hat = " + std::to_string(b_hat) +
-                                " (allowed: > 0 and finite)");
-  }
-  char value[32];
-  std::snprintf(value, sizeof value, "%.6g", b_hat);
-  return std::string("# The generative model's wheel separation learned on the robot from the gyro-encoder\n"
-                     "# disagreement (learn_wheel_separation; doc/active_inference.md, 'Learning the\n"
-                     "# generative model'). Load it as an overlay after config/robot.yaml.\n"
-                     "# [m] Wheel separation b_hat of the skid-steer model (thesis eq. 3-1 to 3-4).\n"
-                     "wheel_separation: ") +
-         value + "\n";
 }
 
 const char* toString(SeparationLearner::State state)

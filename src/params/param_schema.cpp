@@ -124,8 +124,8 @@ std::vector<ParamSpec> buildNodeRows()
         .notLive().choices({ "cmd_drive", "cmd_vel" }).node<&NodeParams::output_mode>(),
     ParamRow("node", "learned_model_file")
         .describe("YAML overlay that ~save_learned_model writes the learned generative model to "
-                  "(wheel_separation); empty = $ROS_HOME/jackal_aic/learned_model.yaml. Load it next time as the "
-                  "launch files' learned_model")
+                  "(wheel_separation; latency with the robot model's learn_latency); empty = "
+                  "$ROS_HOME/jackal_aic/learned_model.yaml. Load it next time as the launch files' learned_model")
         .notLive().node<&NodeParams::learned_model_file>(),
     ParamRow("output", "cmd_vel_wheel_radius").unit("m").above(0.0)
         .describe("cmd_vel mode: the stock controller's wheel radius (jackal_control control.yaml)")

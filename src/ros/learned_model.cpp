@@ -17,8 +17,8 @@
 
 #include <std_srvs/Trigger.h>
 
+#include "jackal_aic/aic/learned_model_overlay.hpp"
 #include "jackal_aic/loop/control_loop.hpp"
-#include "jackal_aic/aic/separation_learner.hpp"
 
 namespace jackal_aic
 {
@@ -58,6 +58,12 @@ void writeAtomically(const std::string& path, const std::string& text)
     throw std::runtime_error("cannot rename " + tmp + " to " + path + ": " + reason);
   }
 }
+
+/// True if the controller learns the latency: learn_latency with belief_model robot.
+bool latencyLearning(const params::AicParams& params)
+{
+  return params.belief_model == params::BeliefModel::kRobot && params.robot.learn_latency;
+}
 }  // namespace
 
 LearnedModelService::LearnedModelService(ros::NodeHandle& pnh, std::mutex& mutex, loop::ControlLoop& loop,
@@ -94,20 +100,30 @@ std::string LearnedModelService::defaultFile()
 
 bool LearnedModelService::save(std::string* message)
 {
-  double b_hat = 0.0;
+  aic::LearnedModel learned;
+  bool latency_on = false;
   {
     const std::lock_guard<std::mutex> lock(mutex_);
-    if (!loop_.controller().params().separation_learner.enabled)
+    const aic::ActiveInferenceController& controller = loop_.controller();
+    learned = aic::learnedModel(controller);
+    latency_on = latencyLearning(controller.params());
+    if (!controller.params().separation_learner.enabled && !latency_on)
     {
-      *message = "learn_wheel_separation is off: nothing learned to save";
+      *message = "learn_wheel_separation and learn_latency (belief_model: robot) are off: nothing learned to save";
       ROS_WARN_STREAM("jackal_AIC: ~save_learned_model: " << *message);
       return false;
     }
-    b_hat = loop_.controller().separationLearner().separation();
+  }
+  const char* const no_start = "latency not learned yet (no start from rest seen)";
+  if (!learned.wheel_separation && !learned.latency)
+  {
+    *message = std::string(no_start) + " and learn_wheel_separation is off: nothing learned to save";
+    ROS_WARN_STREAM("jackal_AIC: ~save_learned_model: " << *message);
+    return false;
   }
   try
   {
-    writeAtomically(file_, aic::learnedSeparationOverlay(b_hat));
+    writeAtomically(file_, aic::learnedModelOverlay(learned));
   }
   catch (const std::exception& e)
   {
@@ -116,7 +132,20 @@ bool LearnedModelService::save(std::string* message)
     return false;
   }
   std::ostringstream text;
-  text << "wheel_separation " << b_hat << " m written to " << file_ << " (load it with learned_model:=" << file_ << ")";
+  if (learned.wheel_separation)
+  {
+    text << "wheel_separation " << *learned.wheel_separation << " m";
+  }
+  if (learned.latency)
+  {
+    text << (learned.wheel_separation ? ", " : "") << "latency " << *learned.latency << " s (" << learned.latency_starts
+         << (learned.latency_starts == 1 ? " start)" : " starts)");
+  }
+  text << " written to " << file_ << " (load it with learned_model:=" << file_ << ")";
+  if (latency_on && !learned.latency)
+  {
+    text << "; " << no_start << ": not written";
+  }
   *message = text.str();
   ROS_INFO_STREAM("jackal_AIC: ~save_learned_model: " << *message);
   return true;
@@ -125,26 +154,48 @@ bool LearnedModelService::save(std::string* message)
 bool LearnedModelService::reset(std::string* message)
 {
   const std::lock_guard<std::mutex> lock(mutex_);
-  if (!loop_.controller().params().separation_learner.enabled)
+  const params::AicParams& params = loop_.controller().params();
+  const bool separation_on = params.separation_learner.enabled;
+  const bool latency_on = latencyLearning(params);
+  if (!separation_on && !latency_on)
   {
-    *message = "learn_wheel_separation is off: nothing learned to reset";
+    *message = "learn_wheel_separation and learn_latency (belief_model: robot) are off: nothing learned to reset";
     ROS_WARN_STREAM("jackal_AIC: ~reset_learned_model: " << *message);
     return false;
   }
-  const double before = loop_.controller().separationLearner().separation();
+  const double separation_before = loop_.controller().separationLearner().separation();
+  const double latency_before = loop_.controller().latencyLearner().latency();
+  const bool latency_learned = loop_.controller().latencyLearner().starts() > 0;
   loop_.resetLearning();
   std::ostringstream text;
-  text << "learned wheel separation " << before << " m forgotten; b_hat "
-       << loop_.controller().separationLearner().separation() << " m (wheel_separation)";
-  if (loop_.controller().params().gyro_bias.enabled)
+  const char* separator = "";
+  if (separation_on)
+  {
+    text << "learned wheel separation " << separation_before << " m forgotten; b_hat "
+         << loop_.controller().separationLearner().separation() << " m (wheel_separation)";
+    separator = "; ";
+  }
+  if (latency_on)
+  {
+    if (latency_learned)
+    {
+      text << separator << "learned latency " << latency_before << " s forgotten; L ";
+    }
+    else
+    {
+      text << separator << "no latency learned yet; L ";
+    }
+    text << loop_.controller().wheelLoop().latency() << " s (latency)";
+  }
+  if (params.gyro_bias.enabled)
   {
     text << "; gyro offset back to 0 (learned again at the next standstill)";
   }
-  if (loop_.controller().params().belief_model == params::BeliefModel::kRobot)
+  if (params.belief_model == params::BeliefModel::kRobot)
   {
     text << "; the robot model's shortfalls, slip ratio and gyro offset back to 0";
   }
-  if (loop_.controller().params().tip_guard.enabled)
+  if (params.tip_guard.enabled)
   {
     text << "; tip-over guard's learned bounds forgotten";
   }

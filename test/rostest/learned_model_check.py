@@ -11,6 +11,16 @@ time (node_learned_model.test; doc/jackal_aic_node.md, 'Learned model').
 4. ~reset_learned_model answers success, ~wheel_separation reads ~start_separation again and
    ~gyro_offset (the gyro offset learned at standstill, published finite and within
    gyro_bias_max) reads 0.
+
+With ~start_latency (node_learned_model_robot.test: the robot model with learn_latency, started
+from an overlay with `latency:` ~start_latency) also:
+
+0. Before the first start from rest ~save_learned_model writes `wheel_separation:` only and says
+   the latency is not learned yet.
+3. The saved file holds `latency:` too, the value the answer names, within [0.5, 2] x
+   ~start_latency and more than ~min_latency_change [s] from it (the plant's latency differs).
+4. The reset's answer names the learned latency forgotten and L back to ~start_latency (the
+   loaded overlay's latency is the configured one); a save after it writes no `latency:` again.
 """
 import math
 import os
@@ -56,12 +66,27 @@ class LearnedModelTest(unittest.TestCase):
         with self.lock:
             return self.beta
 
+    def save(self):
+        """Call ~save_learned_model; assert success; return (answer, the file's YAML)."""
+        rospy.wait_for_service("/jackal_AIC/save_learned_model", 10.0)
+        res = rospy.ServiceProxy("/jackal_AIC/save_learned_model", Trigger)()
+        self.assertTrue(res.success, res.message)
+        path = re.search(r"written to (\S+)", res.message).group(1)
+        self.assertEqual(path, rospy.get_param("/jackal_AIC/learned_model_file"))
+        with open(path) as f:
+            return res.message, yaml.safe_load(f)
+
     def test_save_and_reset(self):
         start = float(rospy.get_param("~start_separation"))
+        start_latency = rospy.get_param("~start_latency", None)
         drive_time = float(rospy.get_param("~drive_time", 8.0))
         min_change = float(rospy.get_param("~min_change", 0.01))
         self.assertTrue(wait_for(lambda: self.b() is not None, 30.0), "no ~wheel_separation")
         self.assertAlmostEqual(self.b(), start, delta=1e-6, msg="the node did not start from the saved overlay")
+        if start_latency is not None:
+            message, saved = self.save()
+            self.assertEqual(set(saved), {"wheel_separation"}, message)
+            self.assertIn("latency not learned yet", message)
 
         self.twist.linear.x, self.twist.angular.z = 0.5, 0.5
         rospy.sleep(drive_time)
@@ -77,20 +102,31 @@ class LearnedModelTest(unittest.TestCase):
                         "~gyro_offset %r" % beta)
         self.assertNotEqual(beta, 0.0, "gyro_bias_min_rest 0: the noisy gyro's offset is learned at the first rest")
 
-        rospy.wait_for_service("/jackal_AIC/save_learned_model", 10.0)
-        res = rospy.ServiceProxy("/jackal_AIC/save_learned_model", Trigger)()
-        self.assertTrue(res.success, res.message)
-        path = re.search(r"written to (\S+)", res.message).group(1)
-        self.assertEqual(path, rospy.get_param("/jackal_AIC/learned_model_file"))
-        with open(path) as f:
-            saved = yaml.safe_load(f)
-        self.assertEqual(set(saved), {"wheel_separation"})
+        message, saved = self.save()
+        path = rospy.get_param("/jackal_AIC/learned_model_file")
         # ~wheel_separation is the model's b_hat, which takes the learner's value whenever it moved by
         # more than ActiveInferenceController::kSeparationApplyTolerance (1e-3 relative); the file holds the learner's.
         self.assertAlmostEqual(saved["wheel_separation"], steady, delta=1e-3 * steady)
+        if start_latency is None:
+            self.assertEqual(set(saved), {"wheel_separation"}, message)
+        else:
+            self.assertEqual(set(saved), {"wheel_separation", "latency"}, message)
+            latency = saved["latency"]
+            rospy.loginfo("learned_model_check: latency %.4f s learned (start %.4f s)", latency, start_latency)
+            self.assertAlmostEqual(latency, float(re.search(r"latency (\S+) s", message).group(1)), delta=1e-9)
+            self.assertTrue(0.5 * start_latency <= latency <= 2.0 * start_latency, "latency %r" % latency)
+            self.assertGreater(abs(latency - start_latency), float(rospy.get_param("~min_latency_change", 0.005)),
+                               "the latency did not learn at the start from rest")
 
         res = rospy.ServiceProxy("/jackal_AIC/reset_learned_model", Trigger)()
         self.assertTrue(res.success, res.message)
+        if start_latency is not None:
+            self.assertIn("learned latency %g s forgotten" % latency, res.message)
+            back = float(re.search(r"; L (\S+) s \(latency\)", res.message).group(1))
+            self.assertAlmostEqual(back, start_latency, delta=1e-9, msg=res.message)
+            message, saved = self.save()
+            self.assertEqual(set(saved), {"wheel_separation"}, message)
+            self.assertIn("latency not learned yet", message)
         self.assertTrue(wait_for(lambda: abs(self.b() - start) < 1e-6, 5.0),
                         "b_hat %.4f after the reset, expected %.4f" % (self.b(), start))
         self.assertTrue(wait_for(lambda: self.gyro_offset() == 0.0, 5.0),

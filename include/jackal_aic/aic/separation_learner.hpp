@@ -126,17 +126,6 @@ private:
   std::uint64_t steps_ = 0;
 };
 
-/**
- * \brief The YAML overlay that makes a learned b_hat the model's wheel_separation the next time
- *        the node starts (loaded after config/default.yaml and config/robot.yaml, like any overlay;
- *        with learn_wheel_separation the learning then starts from it).
- * \param b_hat  learned separation [m], finite and > 0
- * \return the text: a comment naming the key's unit and source, then `wheel_separation: <b_hat>`
- *         with 6 significant digits.
- * \throws std::invalid_argument if b_hat is not finite and > 0.
- */
-std::string learnedSeparationOverlay(double b_hat);
-
 /// Name of a learner state, e.g. "near rest".
 const char* toString(SeparationLearner::State state);
 

@@ -75,7 +75,7 @@ struct NodeParams
   /// "cmd_drive" (jackal_msgs/Drive on /cmd_drive) or "cmd_vel" (geometry_msgs/Twist on
   /// jackal_velocity_controller/cmd_vel, inverted through the stock diff drive); read at start.
   std::string output_mode = "cmd_drive";
-  /// Where ~save_learned_model writes the learned model as a YAML overlay (learnedSeparationOverlay());
+  /// Where ~save_learned_model writes the learned model as a YAML overlay (aic::learnedModelOverlay());
   /// empty = $ROS_HOME/jackal_aic/learned_model.yaml (resolved by the node); read at start.
   std::string learned_model_file;
   /// cmd_vel mode: the stock diff_drive_controller's kinematics and limits (keys cmd_vel_<member>;

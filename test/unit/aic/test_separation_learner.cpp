@@ -6,7 +6,6 @@
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
-#include <string>
 
 #include "jackal_aic/aic/separation_learner.hpp"
 
@@ -187,13 +186,4 @@ TEST(SeparationLearner, RejectsBadParams)
   EXPECT_STREQ(aic::toString(aic::SeparationLearner::State::kSaturated), "saturated");
   EXPECT_STREQ(aic::toString(aic::SeparationLearner::State::kImplausible), "implausible disagreement");
   EXPECT_STREQ(aic::toString(aic::SeparationLearner::State::kStuckGyro), "stuck gyro");
-}
-
-TEST(SeparationLearner, OverlayYaml)
-{
-  const std::string text = aic::learnedSeparationOverlay(0.786940123);
-  EXPECT_NE(text.find("\nwheel_separation: 0.78694\n"), std::string::npos) << text;
-  EXPECT_NE(text.find("# [m]"), std::string::npos);
-  EXPECT_THROW(aic::learnedSeparationOverlay(0.0), std::invalid_argument);
-  EXPECT_THROW(aic::learnedSeparationOverlay(std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
 }
