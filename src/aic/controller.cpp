@@ -634,10 +634,14 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(
                        std::abs(wheels_yaw_rate) <= params_.separation_learner.max_yaw_acceleration;
     const base::Vector2 wheels(y_tilde_(base::kOmegaLeft, 0), y_tilde_(base::kOmegaRight, 0));
     learnLatency(wheels);
+    // With the latency learned, a start from rest whose wheels have not shown it yet is read as the
+    // latency not yet elapsed, not as the wheels' speed: their readings wait until the start is
+    // seen or dropped (LatencyLearner's window), so the action does not push against a late plant.
+    const bool wheels_unmoved = params_.robot.learn_latency && latency_learner_.armed();
     robot_belief_.correct(base::Vector2(y_tilde_(base::kOmegaLeft, 0), y_tilde_(base::kOmegaRight, 0)),
-                          y_tilde_(base::kGyroZ, 0), (sensor_mask_ & (1u << base::kOmegaLeft)) != 0,
-                          (sensor_mask_ & (1u << base::kOmegaRight)) != 0, (sensor_mask_ & (1u << base::kGyroZ)) != 0,
-                          learn);
+                          y_tilde_(base::kGyroZ, 0), !wheels_unmoved && (sensor_mask_ & (1u << base::kOmegaLeft)) != 0,
+                          !wheels_unmoved && (sensor_mask_ & (1u << base::kOmegaRight)) != 0,
+                          (sensor_mask_ & (1u << base::kGyroZ)) != 0, learn);
   }
   if (params_.separation_learner.enabled)
   {

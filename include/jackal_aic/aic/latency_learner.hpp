@@ -68,6 +68,8 @@ public:
 
   /// Drop an armed start (a fault, a masked wheel: its samples are not the wheels' motion).
   void disarm() { armed_ = false; }
+  /// A start from rest is armed: the command left zero and no wheel sample has shown its motion yet.
+  bool armed() const { return armed_; }
 
   /// The learned L [s].
   double latency() const { return latency_; }

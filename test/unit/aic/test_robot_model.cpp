@@ -643,6 +643,58 @@ TEST(LatencyLearner, AStartWithoutMotionIsDroppedAndTheEstimateIsBoundedAndAvera
   EXPECT_EQ(learner.starts(), 0);
 }
 
+TEST(ControllerRobotModel, AtItsFirstStartALatePlantIsWaitedForNotPushed)
+{
+  // The MCU's feed-forward in the model (c 0.787, A_ff 34.76 rad/s^2), L = 0.1187 s, a 0.5 m/s
+  // step from rest (5.10 rad/s per wheel). Against a plant whose commands act 0.1424 s later, with
+  // learn_latency the wheels' readings at rest wait for the start to show, and the command goes
+  // no higher than against a plant of the model's own L. Without, the model has the wheels moving
+  // 24 ms before they do, the belief falls behind and the action pushes the command 10 % higher.
+  const auto highestCommand = [](double plant_latency, bool learn) {
+    params::AicParams p = params::recommendedAicParams();
+    p.belief_model = params::BeliefModel::kRobot;
+    p.robot.wheel_feedforward = 0.787;
+    p.robot.wheel_feedforward_acceleration = 34.76;
+    p.robot.wheel_time_constant = 0.01365;
+    p.robot.learn_latency = learn;
+    aic::ActiveInferenceController c(p);
+    params::RobotModelParams truth = p.robot;
+    truth.latency = plant_latency;
+    aic::WheelLoopModel plant(truth);
+    base::Vector2 omega = base::Vector2::Zero();
+    base::YTilde y = base::YTilde::Zero(base::kYDim, p.numOrders());
+    EXPECT_TRUE(c.setGoal(base::Vector3(0.5, 0.0, 0.0)));
+    double highest = 0.0;
+    for (int k = 0; k < 1000; ++k)
+    {
+      const double t = 0.001 * k;
+      if (k % 20 == 0)
+      {
+        if (k > 0)
+        {
+          omega = plant.predict(omega, base::Vector2::Zero(), t - 0.02, t);
+        }
+        y(base::kOmegaLeft, 0) = omega(0);
+        y(base::kOmegaRight, 0) = omega(1);
+        EXPECT_TRUE(c.setMeasurement(y));
+      }
+      EXPECT_EQ(c.updateBeliefs(0.001), Status::kOk);
+      if (k % 20 == 19)
+      {
+        EXPECT_EQ(c.updateAction(0.02), Status::kOk);
+        plant.record(t + 0.001, c.action());
+        highest = std::max(highest, c.action().maxCoeff());
+      }
+    }
+    return highest;
+  };
+  const double wheel_goal = 0.5 / params::recommendedAicParams().wheel_radius;
+  const double own_latency = highestCommand(0.1187, false);
+  EXPECT_LT(own_latency, 1.05 * wheel_goal);
+  EXPECT_NEAR(highestCommand(0.1424, true), own_latency, 0.005 * wheel_goal);
+  EXPECT_GT(highestCommand(0.1424, false), own_latency + 0.1 * wheel_goal);
+}
+
 TEST(ControllerRobotModel, LearnsTheLatencyOfAPlantAtItsFirstStart)
 {
   // The controller (L = 0.1187 s, learn_latency) against a wheel-loop plant whose commands act
