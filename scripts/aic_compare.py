@@ -21,7 +21,7 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=compare.__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog=compare.__doc__.split("\n\n", 1)[1] + "\n" + variants.__doc__)
-    ap.add_argument("--variant", action="append", default=[], metavar="NAME=BASE[:K=V,...]",
+    ap.add_argument("--variant", action="append", default=[], metavar="NAME=BASE[+OVERLAY][:K=V,...]",
                     help="a variant (repeatable; after those of --variants)")
     ap.add_argument("--variants", metavar="FILE", help="a file of variant lines, e.g. config/compare/ablation.txt")
     ap.add_argument("--profiles", nargs="+", metavar="CSV", help="twist profiles (default: sim/profiles/*.csv)")

@@ -127,6 +127,22 @@ class VariantLines(unittest.TestCase):
         with self.assertRaises(variants.VariantError):
             variants.check_names([variants.parse("stock=default", ROOT)])
 
+    def test_an_overlay_stacks_its_keys_after_the_base(self):
+        # config/robot_model.yaml over config/default.yaml, as the node loads them: its keys in the
+        # file's order, then the overrides; KEY*= scales the overlay's value where it sets one.
+        effective = lambda path: {"action_gain": 50.0, "wheel_time_constant": 0.00657}
+        v = variants.parse("rm=default+robot_model:action_gain*=0.001,wheel_time_constant*=2", ROOT, effective)
+        self.assertEqual(v.config, DEFAULT)
+        with open(os.path.join(ROOT, "config", "robot_model.yaml")) as f:
+            keys = [line.split(":")[0] for line in f if line[:1].isalpha()]
+        self.assertEqual([s.split("=")[0] for s in v.sets], keys + ["action_gain", "wheel_time_constant"])
+        self.assertIn("belief_model=robot", v.sets)
+        self.assertIn("learn_latency=true", v.sets)
+        self.assertEqual(v.sets[-2:], ["action_gain=0.05", "wheel_time_constant=0.0273"])
+        for bad in ("x=default+no_such_overlay", "x=default+"):
+            with self.assertRaises(variants.VariantError):
+                variants.parse(bad, ROOT)
+
     def test_floored_ratios(self):
         self.assertEqual(compare.floored_ratio(0.0, 0.0, "m/s"), 1.0)
         self.assertEqual(compare.floored_ratio(0.0001, 0.004, "m/s"), 0.5)

@@ -1,8 +1,8 @@
 """aic_compare.py: named controller variants side by side, against the stock controller and the
 latency floor, judged on the same runs and seeds, in one command.
 
-Every variant (NAME=BASE[:KEY=VALUE,...], jackal_aic_tools.compare.variants) and the stock
-controller run on the simulated Jackal's plant core (closed_loop_run: headless, simulated time,
+Every variant (NAME=BASE[+OVERLAY][:KEY=VALUE,...], jackal_aic_tools.compare.variants) and the
+stock controller run on the simulated Jackal's plant core (closed_loop_run: headless, simulated time,
 the plant YAML's seeded sensor noise), the same runs for each:
 
   steps     the steps of the scorecard (aic_scorecard.py, criteria 1 and 3: 0.1, 0.3, 0.5, 1.0 m/s

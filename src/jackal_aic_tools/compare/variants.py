@@ -2,14 +2,17 @@
 
 One variant is one line:
 
-    NAME=BASE[:KEY=VALUE,KEY=VALUE,...]
+    NAME=BASE[+OVERLAY...][:KEY=VALUE,KEY=VALUE,...]
 
 NAME a column title (letters, digits, '_', '-', '.', '+'); BASE a controller YAML: a path (absolute,
 or relative to the current directory or to the package's folder) or a bare name, config/NAME.yaml
-of the package (e.g. "default", "thesis_equivalent"); the overrides as closed_loop_run's
---aic-set takes them, applied in order after BASE, commas inside [...] kept (var_mu=[1.5,2,4,8,16]).
-KEY*=FACTOR scales the key's value in BASE (its effective value: BASE over the schema's defaults,
-`aic_params --yaml --config BASE`) by FACTOR: k_a*=0.001.
+of the package (e.g. "default", "thesis_equivalent"); each OVERLAY a YAML found the same way whose
+keys apply after BASE, in the file's order, as the node stacks an overlay on its configuration
+(default+robot_model: config/robot_model.yaml over config/default.yaml); the overrides as
+closed_loop_run's --aic-set takes them, applied in order after BASE and the overlays, commas inside
+[...] kept (var_mu=[1.5,2,4,8,16]). KEY*=FACTOR scales the key's value in BASE and the overlays
+(BASE's effective value: BASE over the schema's defaults, `aic_params --yaml --config BASE`, unless
+an overlay sets it) by FACTOR: k_a*=0.001.
 
 A variants file holds one such line per variant; blank lines and lines starting with '#' are
 skipped.
@@ -62,6 +65,29 @@ def resolve_config(base, root):
     raise VariantError("no configuration %r (neither a file nor config/%s.yaml of %s)" % (base, base, root))
 
 
+def overlay_sets(path):
+    """The keys of the overlay YAML ``path`` as KEY=VALUE overrides, in the file's order, and as a
+    dict key -> value: booleans as true / false, numbers and lists as fmt_value(). Raises
+    VariantError when the file cannot be read or is not a mapping of keys."""
+    import yaml
+    try:
+        with open(path) as f:
+            values = yaml.safe_load(f)
+    except (OSError, yaml.YAMLError) as e:
+        raise VariantError("overlay %s: %s" % (path, e))
+    if values is None:
+        values = {}
+    if not isinstance(values, dict):
+        raise VariantError("overlay %s: not a mapping of keys to values" % path)
+
+    def text(v):
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        return fmt_value(v)
+
+    return ["%s=%s" % (k, text(v)) for k, v in values.items()], values
+
+
 def parse(line, root, effective=None):
     """One variant line (module docstring) as a Variant. ``root``: the package's folder;
     ``effective(config_path)``: the base's every key -> value (cli.Tool.config), needed only for
@@ -72,8 +98,14 @@ def parse(line, root, effective=None):
     if not eq or not _NAME.match(name) or not rest.strip():
         raise VariantError("variant %r: expected NAME=BASE[:KEY=VALUE,...]" % line)
     base, _, sets_text = rest.partition(":")
-    config = resolve_config(base.strip(), root)
+    stack = [b.strip() for b in base.split("+")]
+    config = resolve_config(stack[0], root)
     sets = []
+    overlaid = {}
+    for overlay in stack[1:]:
+        more, values = overlay_sets(resolve_config(overlay, root))
+        sets += more
+        overlaid.update(values)
     values = None
     for item in split_sets(sets_text):
         key, eq, value = item.partition("=")
@@ -84,7 +116,7 @@ def parse(line, root, effective=None):
             key = key[:-1].strip()
             if effective is None:
                 raise VariantError("variant %r: %s*= needs the base's values" % (line, key))
-            values = values if values is not None else effective(config)
+            values = values if values is not None else dict(effective(config), **overlaid)
             if key not in values or isinstance(values[key], (bool, str, list)):
                 raise VariantError("variant %r: %s is not a numeric key of %s" % (line, key, config))
             try:
