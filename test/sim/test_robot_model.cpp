@@ -138,11 +138,12 @@ TEST(RobotModel, WithTheMcusFeedForwardInTheModelASmallStepIsNotSentAboveTheSetP
   // that term in the model the first command of a 0.1 m/s step is above the set point (the most a
   // first-order loop gives in one action step) and the next comes back, which the MCU turns into a
   // brake; with it (c = J_ff / J_n, A_ff = accel_feedforward_limit / J_n, T_w = set-point lag +
-  // J_n / K_p: doc/active_inference.md, 'The MCU's acceleration feed-forward') the command rises to
-  // the set point and stays, and the wheels reach 95 % no later. At three phases of the action clock.
-  const params::NodeParams off = robotModel();
-  const params::NodeParams on =
-      robotModel({ "wheel_feedforward=0.787", "wheel_feedforward_acceleration=34.76", "wheel_time_constant=0.01365" });
+  // J_n / K_p: doc/active_inference.md, 'The MCU's acceleration feed-forward'; the overlay's) the
+  // command rises to the set point and stays, and the wheels reach 95 % no later. At three phases
+  // of the action clock.
+  const params::NodeParams on = robotModel();
+  const params::NodeParams off =
+      robotModel({ "wheel_feedforward=0", "wheel_feedforward_acceleration=0", "wheel_time_constant=0.00657" });
   const auto reached = [](const ClosedLoopRecord& r) -> double {
     for (std::size_t k = 0; k < r.time.size(); ++k)
     {
