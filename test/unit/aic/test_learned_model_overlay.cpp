@@ -13,9 +13,10 @@
 
 #include "jackal_aic/aic/controller.hpp"
 #include "jackal_aic/aic/learned_model_overlay.hpp"
-#include "jackal_aic/aic/wheel_loop_model.hpp"
 #include "jackal_aic/params/node_params.hpp"
 #include "jackal_aic/params/param_schema.hpp"
+
+#include "wheel_loop_drive.hpp"
 
 using namespace jackal_aic;
 using Status = aic::ActiveInferenceController::Status;
@@ -103,30 +104,7 @@ void driveOneStart(aic::ActiveInferenceController* c)
 {
   params::RobotModelParams truth = c->params().robot;
   truth.latency = 0.1424;
-  aic::WheelLoopModel plant(truth);
-  base::Vector2 omega = base::Vector2::Zero();
-  base::YTilde y = base::YTilde::Zero(base::kYDim, c->params().numOrders());
-  ASSERT_TRUE(c->setGoal(base::Vector3(0.5, 0.0, 0.0)));
-  for (int k = 0; k < 1000; ++k)
-  {
-    const double t = 0.001 * k;
-    if (k % 20 == 0)
-    {
-      if (k > 0)
-      {
-        omega = plant.predict(omega, base::Vector2::Zero(), t - 0.02, t);
-      }
-      y(base::kOmegaLeft, 0) = omega(0);
-      y(base::kOmegaRight, 0) = omega(1);
-      ASSERT_TRUE(c->setMeasurement(y));
-    }
-    ASSERT_EQ(c->updateBeliefs(0.001), Status::kOk);
-    if (k % 20 == 19)
-    {
-      ASSERT_EQ(c->updateAction(0.02), Status::kOk);
-      plant.record(t + 0.001, c->action());
-    }
-  }
+  jackal_test::driveAgainstWheelLoop(c, truth, base::Vector3(0.5, 0.0, 0.0));
 }
 }  // namespace
 

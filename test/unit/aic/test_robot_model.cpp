@@ -12,6 +12,7 @@
 #include "jackal_aic/aic/residual_run.hpp"
 #include "jackal_aic/aic/robot_belief.hpp"
 #include "jackal_aic/aic/wheel_loop_model.hpp"
+#include "wheel_loop_drive.hpp"
 
 using namespace jackal_aic;
 using Status = aic::ActiveInferenceController::Status;
@@ -660,33 +661,7 @@ TEST(ControllerRobotModel, AtItsFirstStartALatePlantIsWaitedForNotPushed)
     aic::ActiveInferenceController c(p);
     params::RobotModelParams truth = p.robot;
     truth.latency = plant_latency;
-    aic::WheelLoopModel plant(truth);
-    base::Vector2 omega = base::Vector2::Zero();
-    base::YTilde y = base::YTilde::Zero(base::kYDim, p.numOrders());
-    EXPECT_TRUE(c.setGoal(base::Vector3(0.5, 0.0, 0.0)));
-    double highest = 0.0;
-    for (int k = 0; k < 1000; ++k)
-    {
-      const double t = 0.001 * k;
-      if (k % 20 == 0)
-      {
-        if (k > 0)
-        {
-          omega = plant.predict(omega, base::Vector2::Zero(), t - 0.02, t);
-        }
-        y(base::kOmegaLeft, 0) = omega(0);
-        y(base::kOmegaRight, 0) = omega(1);
-        EXPECT_TRUE(c.setMeasurement(y));
-      }
-      EXPECT_EQ(c.updateBeliefs(0.001), Status::kOk);
-      if (k % 20 == 19)
-      {
-        EXPECT_EQ(c.updateAction(0.02), Status::kOk);
-        plant.record(t + 0.001, c.action());
-        highest = std::max(highest, c.action().maxCoeff());
-      }
-    }
-    return highest;
+    return jackal_test::driveAgainstWheelLoop(&c, truth, base::Vector3(0.5, 0.0, 0.0));
   };
   const double wheel_goal = 0.5 / params::recommendedAicParams().wheel_radius;
   const double own_latency = highestCommand(0.1187, false);
@@ -710,30 +685,7 @@ TEST(ControllerRobotModel, LearnsTheLatencyOfAPlantAtItsFirstStart)
     aic::ActiveInferenceController c(p);
     params::RobotModelParams truth = p.robot;
     truth.latency = 0.1424;
-    aic::WheelLoopModel plant(truth);
-    base::Vector2 omega = base::Vector2::Zero();
-    base::YTilde y = base::YTilde::Zero(base::kYDim, p.numOrders());
-    ASSERT_TRUE(c.setGoal(base::Vector3(0.5, 0.0, 0.0)));
-    for (int k = 0; k < 1000; ++k)
-    {
-      const double t = 0.001 * k;
-      if (k % 20 == 0)
-      {
-        if (k > 0)
-        {
-          omega = plant.predict(omega, base::Vector2::Zero(), t - 0.02, t);
-        }
-        y(base::kOmegaLeft, 0) = omega(0);
-        y(base::kOmegaRight, 0) = omega(1);
-        ASSERT_TRUE(c.setMeasurement(y));
-      }
-      ASSERT_EQ(c.updateBeliefs(0.001), Status::kOk);
-      if (k % 20 == 19)
-      {
-        ASSERT_EQ(c.updateAction(0.02), Status::kOk);
-        plant.record(t + 0.001, c.action());
-      }
-    }
+    jackal_test::driveAgainstWheelLoop(&c, truth, base::Vector3(0.5, 0.0, 0.0));
     EXPECT_NEAR(c.wheelLoop().latency(), learn ? 0.1424 : 0.1187, learn ? 2e-3 : 1e-12);
     EXPECT_EQ(c.referenceModel().params().goal_lead, c.wheelLoop().latency());
     EXPECT_EQ(c.referenceModel().params().goal_lead_angular, c.wheelLoop().latency());
