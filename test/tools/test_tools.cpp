@@ -490,6 +490,55 @@ TEST(ClosedLoopRun, CsvTraceHoldsTheInference)
   EXPECT_EQ(std::find(header.begin(), header.end(), "F[-]"), header.end());
 }
 
+TEST(ClosedLoopRun, CsvTraceHoldsTheFaultMonitorsTest)
+{
+  // The default configuration on the 0.5 m/s + 0.5 rad/s arc, a 0.5 rad/s gyro bias from 3 s
+  // (profile time 2 s): fdi_statistic stays below fdi_threshold (0.06) before the fault and goes
+  // above it after; the residual is the gyro's disagreement, about the bias. The stock controller
+  // has no fault monitor: the columns are empty.
+  const std::string bin = CLOSED_LOOP_RUN_BIN;
+  const std::string trace = std::string(::testing::TempDir()) + "fdi_trace.csv";
+  Result r =
+      run(bin + " --controller aic --aic-config " + SOURCE_DIR +
+          "/config/default.yaml --step 0.5 --turn 0.5 --hold 3 --noise --fault 'gyro bias 0.5 3' --csv " + trace);
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::vector<std::string> header;
+  const auto rows = readCsv(trace, &header);
+  ASSERT_GT(rows.size(), 100u);
+  double before = 0.0, after = 0.0, residual_after = 0.0;
+  int tested = 0;
+  for (const auto& row : rows)
+  {
+    if (row.at("fdi_statistic").empty())
+    {
+      continue;
+    }
+    ++tested;
+    const double t = std::stod(row.at("t"));
+    const double s = std::stod(row.at("fdi_statistic"));
+    ASSERT_TRUE(std::isfinite(s) && s >= 0.0) << t;
+    if (t > 0.5 && t < 1.9)
+    {
+      before = std::max(before, s);
+    }
+    if (t > 2.1)
+    {
+      after = std::max(after, s);
+      residual_after = std::max(residual_after, std::stod(row.at("fdi_residual")));
+    }
+  }
+  EXPECT_GT(tested, 100);
+  EXPECT_LT(before, 0.06);
+  EXPECT_GT(after, 0.06);
+  EXPECT_NEAR(residual_after, 0.5, 0.1);
+  r = run(bin + " --controller stock --step 0.5 --hold 1 --csv " + trace);
+  ASSERT_EQ(r.code, 0) << r.out;
+  for (const auto& row : readCsv(trace, &header))
+  {
+    EXPECT_TRUE(row.at("fdi_statistic").empty() && row.at("fdi_residual").empty()) << row.at("t");
+  }
+}
+
 TEST(AicTrackMetrics, SignalsPoseAndBadInput)
 {
   const std::string bin = AIC_TRACK_METRICS_BIN;

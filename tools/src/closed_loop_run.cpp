@@ -67,7 +67,9 @@
  *        ground-truth pose x, y, heading, the ideal pose x_ideal, y_ideal, heading_ideal (empty
  *        outside the analysed span) and the AIC's wheel separation b_hat [m] (learned with
  *        learn_wheel_separation; empty for the other controllers and before the AIC starts), its gyro
- *        offset gyro_offset [rad/s], and the ground-truth pitch [rad] (> 0 nose down); with the AIC
+ *        offset gyro_offset [rad/s], the ground-truth pitch [rad] (> 0 nose down), and the AIC's
+ *        fault monitor's residual fdi_residual [rad/s] and statistic fdi_statistic [-] (empty for
+ *        the other controllers, before the first test and while the IMU is missing); with the AIC
  *        then its inference, units in brackets: the free energy F and its sensory and prior parts
  *        F_sensory, F_prior (thesis eq. 3-10), the action a_L, a_R, its prior a_ff_L, a_ff_R, the
  *        attractor goal mu_r as goal_{x_dot,y_dot,theta_dot} (the reference model's output), the sensory
@@ -583,7 +585,7 @@ int main(int argc, char** argv)
     std::ofstream f(csv);
     const int orders = rec.inference.empty() ? 0 : static_cast<int>(rec.inference.front().mu.cols());
     f << "t,set_point,v_odom,v_true,yaw_odom,yaw_true,command,belief,angular_set_point,command_yaw,belief_yaw,"
-         "x,y,heading,x_ideal,y_ideal,heading_ideal,separation,gyro_offset,pitch"
+         "x,y,heading,x_ideal,y_ideal,heading_ideal,separation,gyro_offset,pitch,fdi_residual,fdi_statistic"
       << inferenceCsvHeader(orders) << "\n";
     std::size_t ideal = 0;  // next analysed sample of the path drift
     for (std::size_t k = 0; k < rec.time.size(); ++k)
@@ -607,7 +609,9 @@ int main(int argc, char** argv)
       }
       f << "," << (std::isfinite(rec.separation[k]) ? base::jsonNumber(rec.separation[k]) : "") << ","
         << (std::isfinite(rec.gyro_offset[k]) ? base::jsonNumber(rec.gyro_offset[k]) : "") << ","
-        << base::jsonNumber(rec.pitch_true[k], 6);
+        << base::jsonNumber(rec.pitch_true[k], 6) << ","
+        << (std::isfinite(rec.fdi_residual[k]) ? base::jsonNumber(rec.fdi_residual[k]) : "") << ","
+        << (std::isfinite(rec.fdi_statistic[k]) ? base::jsonNumber(rec.fdi_statistic[k]) : "");
       if (k < rec.inference.size())
       {
         f << inferenceCsvRow(rec.inference[k], orders);

@@ -549,6 +549,8 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
         // model's beta on top of it.
         out.gyro_offset.push_back(loop ? loop->gyroBias().offset() + loop->controller().robotBelief().gyroOffset() :
                                          std::numeric_limits<double>::quiet_NaN());
+        out.fdi_residual.push_back(loop ? loop->faultMonitor().residual() : std::numeric_limits<double>::quiet_NaN());
+        out.fdi_statistic.push_back(loop ? loop->faultMonitor().statistic() : std::numeric_limits<double>::quiet_NaN());
         out.x_true.push_back(sample.x_true);
         out.y_true.push_back(sample.y_true);
         out.heading_true.push_back(sample.heading_true);

@@ -216,6 +216,11 @@ struct ClosedLoopRecord
   /// AIC: the gyro offset removed from the gyro [rad/s] (GyroBiasEstimator::offset(), learned at
   /// standstill with learn_gyro_bias; 0 until enough rest is learned; NaN for the others).
   std::vector<double> gyro_offset;
+  /// AIC: the fault monitor's last residual r [rad/s] and its precision-weighted square s [-]
+  /// (FaultMonitor::residual(), statistic(); NaN for the others, before its first test and while
+  /// the IMU is missing).
+  std::vector<double> fdi_residual;
+  std::vector<double> fdi_statistic;
   std::vector<double> x_true;        ///< ground-truth position x of base_link in the world [m]
   std::vector<double> y_true;        ///< ground-truth position y of base_link in the world [m]
   std::vector<double> heading_true;  ///< ground-truth yaw of base_link in the world [rad], wrapped to (-pi, pi]
