@@ -142,6 +142,12 @@ class VariantLines(unittest.TestCase):
         for bad in ("x=default+no_such_overlay", "x=default+"):
             with self.assertRaises(variants.VariantError):
                 variants.parse(bad, ROOT)
+        with tempfile.TemporaryDirectory() as tmp:  # an overlay that is not a mapping of keys
+            path = os.path.join(tmp, "list.yaml")
+            with open(path, "w") as f:
+                f.write("- belief_model\n- robot\n")
+            with self.assertRaises(variants.VariantError):
+                variants.parse("x=default+" + path, ROOT)
 
     def test_floored_ratios(self):
         self.assertEqual(compare.floored_ratio(0.0, 0.0, "m/s"), 1.0)
