@@ -68,7 +68,7 @@ ControlLoop::ControlLoop(const params::NodeParams& params, const Clock& clock, O
   , pairing_(pairingConfig(params))
   , pipeline_(params.aic, params.fdi)
   , supervisor_(params, clock)
-  , goal_rate_(params.aic.reference)
+  , goal_rate_(params::goalRateParams(params.aic))
   , newest_sample_stamp_(kNaN)
 {
   if (params.output_mode == "cmd_vel")
@@ -327,7 +327,7 @@ void ControlLoop::setParams(const params::NodeParams& next)
     carryOut(supervisor_.embeddingOrderChanged());
   }
   supervisor_.setParams(next);
-  goal_rate_.setParams(next.aic.reference);
+  goal_rate_.setParams(params::goalRateParams(next.aic));
   // Read at start only: the output stage and the belief schedule.
   const std::string output_mode = params_.output_mode;
   const params::DiffDriveParams cmd_vel = params_.cmd_vel;

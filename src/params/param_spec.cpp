@@ -123,10 +123,12 @@ std::vector<ParamSpec> buildControllerRows()
                   "long")
         .member<&AicParams::reference, &ReferenceModelParams::goal_rate_hold>(),
     ParamRow("active_inference", "max_goal_rate_linear").unit("m/s^2").above(0.0).atMost(kMaxGain)
-        .describe("Generalized goal: |mu_d'| of x_dot is clamped to this")
+        .describe("Generalized goal: |mu_d'| of x_dot is clamped to this (belief_model robot: to A_w r, what the "
+                  "wheels can follow)")
         .member<&AicParams::reference, &ReferenceModelParams::max_goal_rate_linear>(),
     ParamRow("active_inference", "max_goal_rate_angular").unit("rad/s^2").above(0.0).atMost(kMaxGain)
-        .describe("Generalized goal: |mu_d'| of theta_dot is clamped to this")
+        .describe("Generalized goal: |mu_d'| of theta_dot is clamped to this (belief_model robot: to 2 A_w r / "
+                  "wheel_separation, what the wheels can follow)")
         .member<&AicParams::reference, &ReferenceModelParams::max_goal_rate_angular>(),
     ParamRow("active_inference", "goal_lead").unit("s").atLeast(0.0).atMost(1.0)
         .describe("Generalized goal: the linear goal (x_dot, y_dot) is predicted this far ahead, mu_d + goal_lead "

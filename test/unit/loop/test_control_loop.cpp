@@ -547,6 +547,28 @@ TEST_F(ControlLoopTest, SetPointsAreCheckedAndBecomeTheGoal)
   EXPECT_EQ(out.linesWith("dropped a set point"), 2);
 }
 
+TEST_F(ControlLoopTest, TheRobotModelsGoalRateIsWhatItsWheelsCanFollow)
+{
+  // A set point that jumps 1 m/s and 2 rad/s within 0.1 s: the goal model's rate is bounded by
+  // max_goal_rate_linear / _angular, the robot model's by its wheel loop's A_w.
+  for (const bool robot : { false, true })
+  {
+    p.aic.belief_model = robot ? params::BeliefModel::kRobot : params::BeliefModel::kGoal;
+    build();
+    double sp[6];
+    setPointFields(0.0, 0.0, sp);
+    loop->setPoint(sp);
+    clock.t += 0.1;
+    setPointFields(1.0, 2.0, sp);
+    loop->setPoint(sp);
+    const double wheel = p.aic.robot.wheel_acceleration * p.aic.wheel_radius * p.aic.slip_factor;
+    const double linear = robot ? wheel : p.aic.reference.max_goal_rate_linear;
+    const double angular = robot ? 2.0 * wheel / p.aic.wheel_separation : p.aic.reference.max_goal_rate_angular;
+    EXPECT_NEAR(loop->controller().goalRate()(0), linear, 1e-9) << robot;
+    EXPECT_NEAR(loop->controller().goalRate()(2), angular, 1e-9) << robot;
+  }
+}
+
 TEST_F(ControlLoopTest, CmdVelClipsAndFeedsTheActionBack)
 {
   p.output_mode = "cmd_vel";

@@ -316,3 +316,23 @@ TEST(Params, IntegratorNames)
   EXPECT_EQ(jackal_aic::params::toString(i), "euler");
   EXPECT_FALSE(jackal_aic::params::integratorFromString("euler", nullptr));
 }
+
+TEST(Params, TheRobotModelsGoalRateBoundsAreItsWheelLoops)
+{
+  AicParams p = jackal_aic::params::recommendedAicParams();
+  p.reference.max_goal_rate_linear = 1.0;
+  p.reference.max_goal_rate_angular = 2.0;
+  const jackal_aic::params::ReferenceModelParams goal = jackal_aic::params::goalRateParams(p);
+  EXPECT_EQ(goal.max_goal_rate_linear, 1.0);
+  EXPECT_EQ(goal.max_goal_rate_angular, 2.0);
+  EXPECT_EQ(goal.goal_rate_hold, p.reference.goal_rate_hold);
+  p.belief_model = jackal_aic::params::BeliefModel::kRobot;
+  p.robot.wheel_acceleration = 40.0;
+  p.wheel_radius = 0.1;
+  p.slip_factor = 1.0;
+  p.wheel_separation = 0.5;
+  const jackal_aic::params::ReferenceModelParams robot = jackal_aic::params::goalRateParams(p);
+  EXPECT_DOUBLE_EQ(robot.max_goal_rate_linear, 4.0);    // A_w r alpha
+  EXPECT_DOUBLE_EQ(robot.max_goal_rate_angular, 16.0);  // 2 A_w r alpha / b_0
+  EXPECT_EQ(robot.goal_rate_hold, p.reference.goal_rate_hold);
+}
