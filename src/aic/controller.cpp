@@ -40,8 +40,8 @@ const params::AicParams& checked(const params::AicParams& params)
   return params;
 }
 
-/// The robot model's goal path's least time constant [s]: with T_w = 0 the path is the wheel
-/// loop's rate bound alone (a reference model needs T_r > 0).
+/// The robot model's goal path's least time constant [s]: with (1 - c) T_w = 0 the path is the
+/// wheel loop's rate bound alone (a reference model needs T_r > 0).
 constexpr double kMinPathTimeConstant = 1.0e-4;
 
 bool finiteStep(double h)
@@ -53,11 +53,12 @@ bool finiteStep(double h)
  * \brief The goal stage's settings: params.reference, except with belief_model robot. The robot
  *        model's goal is predicted one latency ahead, `latency` [s] (the time the command sent now
  *        acts: the wheel loop's L, configured or learned), and its
- *        path is the wheel loop's own response to it: the time constant T_w (at least
+ *        path is the wheel loop's own response to it: the time constant (1 - c) T_w, the model's
+ *        steady lag to a ramped command (T_w without the MCU's feed-forward, c = 0; at least
  *        kMinPathTimeConstant, so that T_w = 0 keeps the rate bound) and per wheel the
  *        acceleration A_w at the rim; it is not delayed: the latency is in the model
- *        (WheelLoopModel), not in the goal's path. The one place a stage's settings are derived
- *        rather than taken as they are.
+ *        (WheelLoopModel), not in the goal's path. With params::goalRateParams() (the bounds of
+ *        the goal's rate), the places a stage's settings are derived rather than taken as they are.
  */
 params::ReferenceModelParams goalStageParams(const params::AicParams& params, double latency)
 {
@@ -66,7 +67,8 @@ params::ReferenceModelParams goalStageParams(const params::AicParams& params, do
   {
     rp.goal_lead = latency;
     rp.goal_lead_angular = latency;
-    rp.time_constant = std::max(params.robot.wheel_time_constant, kMinPathTimeConstant);
+    rp.time_constant =
+        std::max((1.0 - params.robot.wheel_feedforward) * params.robot.wheel_time_constant, kMinPathTimeConstant);
     rp.max_acceleration_linear = params::ReferenceModelParams().max_acceleration_linear;
     rp.max_acceleration_angular = params::ReferenceModelParams().max_acceleration_angular;
     rp.max_acceleration_wheel = params.robot.wheel_acceleration * params.wheel_radius * params.slip_factor;

@@ -644,6 +644,26 @@ TEST(LatencyLearner, AStartWithoutMotionIsDroppedAndTheEstimateIsBoundedAndAvera
   EXPECT_EQ(learner.starts(), 0);
 }
 
+TEST(ControllerRobotModel, TheGoalsPathIsTheWheelLoopsLagToARamp)
+{
+  // With the MCU's feed-forward in the model (c 0.787, T_w 0.01365 s) the wheels follow a ramped
+  // command (1 - c) T_w behind, and the goal's path lags by that much: a 0.1 m/s step from rest is
+  // sent whole by the second action step (two feed-forward kicks) and never more than 1 % above.
+  // On the proportional path's lag T_w the path lagged what the wheels can do and the command crept
+  // up over five action steps (99.1 % of the step at the second).
+  params::AicParams p = params::recommendedAicParams();
+  p.belief_model = params::BeliefModel::kRobot;
+  p.robot.wheel_feedforward = 0.787;
+  p.robot.wheel_feedforward_acceleration = 34.76;
+  p.robot.wheel_time_constant = 0.01365;
+  const double wheel_goal = 0.1 / p.wheel_radius;
+  aic::ActiveInferenceController two_steps(p);
+  EXPECT_GT(jackal_test::driveAgainstWheelLoop(&two_steps, p.robot, base::Vector3(0.1, 0.0, 0.0), 0.04),
+            0.999 * wheel_goal);
+  aic::ActiveInferenceController whole(p);
+  EXPECT_LT(jackal_test::driveAgainstWheelLoop(&whole, p.robot, base::Vector3(0.1, 0.0, 0.0), 1.0), 1.01 * wheel_goal);
+}
+
 TEST(ControllerRobotModel, AtItsFirstStartALatePlantIsWaitedForNotPushed)
 {
   // The MCU's feed-forward in the model (c 0.787, A_ff 34.76 rad/s^2), L = 0.1187 s, a 0.5 m/s
