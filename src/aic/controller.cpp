@@ -71,7 +71,7 @@ params::ReferenceModelParams goalStageParams(const params::AicParams& params, do
         std::max((1.0 - params.robot.wheel_feedforward) * params.robot.wheel_time_constant, kMinPathTimeConstant);
     rp.max_acceleration_linear = params::ReferenceModelParams().max_acceleration_linear;
     rp.max_acceleration_angular = params::ReferenceModelParams().max_acceleration_angular;
-    rp.max_acceleration_wheel = params.robot.wheel_acceleration * params.wheel_radius * params.slip_factor;
+    rp.max_acceleration_wheel = params::robotWheelAcceleration(params);
     rp.delay = 0.0;
   }
   return rp;

@@ -186,12 +186,17 @@ base::YTilde AicParams::precisionY() const
   return precisionFrom<base::kYDim>(var_y, numOrders());
 }
 
+double robotWheelAcceleration(const AicParams& params)
+{
+  return params.robot.wheel_acceleration * params.wheel_radius * params.slip_factor;
+}
+
 ReferenceModelParams goalRateParams(const AicParams& params)
 {
   ReferenceModelParams rp = params.reference;
   if (params.belief_model == BeliefModel::kRobot)
   {
-    const double wheel = params.robot.wheel_acceleration * params.wheel_radius * params.slip_factor;
+    const double wheel = robotWheelAcceleration(params);
     rp.max_goal_rate_linear = wheel;
     rp.max_goal_rate_angular = 2.0 * wheel / params.wheel_separation;
   }

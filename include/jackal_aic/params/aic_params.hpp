@@ -193,6 +193,14 @@ struct AicParams
 AicParams recommendedAicParams();
 
 /**
+ * \brief The robot model's largest wheel acceleration at the rim, A_w r alpha [m/s^2]
+ *        (robot.wheel_acceleration [rad/s^2], wheel_radius [m], slip_factor [-]): the bound of its
+ *        goal's path per wheel and, over the separation, of the goal's rate
+ *        (doc/active_inference.md, 'The robot model').
+ */
+double robotWheelAcceleration(const AicParams& params);
+
+/**
  * \brief The goal stage's settings for the set-point stream's rate estimator (GoalRateEstimator):
  *        params.reference, but with belief_model robot the bounds of the goal's predicted rate are
  *        the wheel loop's, what its wheels can follow: |x_dot'| <= A_w r alpha and

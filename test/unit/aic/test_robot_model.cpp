@@ -649,7 +649,7 @@ TEST(ControllerRobotModel, TheGoalsPathIsTheWheelLoopsLagToARamp)
   // With the MCU's feed-forward in the model (c 0.787, T_w 0.01365 s) the wheels follow a ramped
   // command (1 - c) T_w behind, and the goal's path lags by that much: a 0.1 m/s step from rest is
   // sent whole by the second action step (two feed-forward kicks) and never more than 1 % above.
-  // On the proportional path's lag T_w the path lagged what the wheels can do and the command crept
+  // On the proportional path's lag T_w the path lags what the wheels can do and the command creeps
   // up over five action steps (99.1 % of the step at the second).
   params::AicParams p = params::recommendedAicParams();
   p.belief_model = params::BeliefModel::kRobot;
