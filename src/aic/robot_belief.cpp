@@ -144,6 +144,7 @@ void RobotBelief::predict(double h, const WheelLoopModel& loop, const base::Vect
   // (variance sigma_s^2 |dw|), beta with time.
   const double u = yaw_gain * (x_(2) - x_(0));
   wheels_yaw_ = u;
+  yaw_gain_ = yaw_gain;
   const double dw = std::isfinite(turn_) && std::isfinite(turn) ? std::abs(turn - turn_) : 0.0;
   turn_ = turn;
   const double target = (1.0 - x_(5)) * u;
@@ -230,6 +231,24 @@ bool RobotBelief::correct(const base::Vector2& y_omega, double y_gyro, bool use_
     innovation_(2) = e;
   }
   return true;
+}
+
+base::SampleInnovation RobotBelief::sampleInnovation(const base::Vector2& y_omega, double y_gyro) const
+{
+  const double r_e = params_.encoder_noise * params_.encoder_noise;
+  base::SampleInnovation in;
+  in.error(base::kGyroZ) = y_gyro - (x_(4) + x_(6));
+  in.error(base::kOmegaLeft) = y_omega(0) - x_(0);
+  in.error(base::kOmegaRight) = y_omega(1) - x_(2);
+  in.variance(base::kGyroZ) =
+      p_yaw_(0, 0) + 2.0 * p_yaw_(0, 2) + p_yaw_(2, 2) + params_.gyro_noise * params_.gyro_noise;
+  in.variance(base::kOmegaLeft) = p_left_(0, 0) + r_e;
+  in.variance(base::kOmegaRight) = p_right_(0, 0) + r_e;
+  const double k = (1.0 - x_(5)) * yaw_gain_;
+  in.parity = in.error(base::kGyroZ) - k * (in.error(base::kOmegaRight) - in.error(base::kOmegaLeft));
+  in.parity_variance =
+      in.variance(base::kGyroZ) + k * k * (in.variance(base::kOmegaLeft) + in.variance(base::kOmegaRight));
+  return in;
 }
 
 void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e, double* d, const Eigen::Matrix2d& p)

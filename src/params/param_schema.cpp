@@ -76,13 +76,14 @@ std::vector<ParamSpec> buildNodeRows()
         .node<&NodeParams::fdi, &FdiParams::enabled>(),
     ParamRow("safety", "fdi_threshold").above(0.0)
         .describe("Fault threshold on the precision-weighted residual s = Pi_r r^2, r = gyro - (r alpha / b_hat) "
-                  "(omega_R - omega_L)")
+                  "(omega_R - omega_L) (goal and unbiased models; the robot model tests its innovations' parity "
+                  "at 5 standard deviations, from its noises: no effect)")
         .node<&NodeParams::fdi, &FdiParams::threshold>(),
     ParamRow("safety", "fdi_release_ratio").above(0.0).atMost(1.0)
-        .describe("Hysteresis: an isolated channel is restored only while s < fdi_release_ratio * fdi_threshold")
+        .describe("Hysteresis: an isolated channel is restored only while s < fdi_release_ratio * the threshold")
         .node<&NodeParams::fdi, &FdiParams::release_ratio>(),
     ParamRow("safety", "fdi_detect_time").unit("s").atLeast(0.0)
-        .describe("s must exceed fdi_threshold this long before a channel is isolated")
+        .describe("s must exceed the threshold this long before a channel is isolated")
         .node<&NodeParams::fdi, &FdiParams::detect_time>(),
     ParamRow("safety", "fdi_release_time").unit("s").atLeast(0.0)
         .describe("s must stay below the release level this long before the isolated channel is restored")

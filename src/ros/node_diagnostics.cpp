@@ -315,8 +315,8 @@ void NodeDiagnostics::fillHealth(diagnostic_updater::DiagnosticStatusWrapper& st
   }
   stat.add("isolation enabled", m.params().enabled ? "true" : "false");
   stat.addf("residual r [rad/s]", "%.4f", m.residual());
-  stat.addf("statistic s = Pi_r r^2 [-]", "%.4g", m.statistic());
-  stat.addf("threshold [-]", "%.4g", m.params().threshold);
+  stat.addf("statistic s = r^2 / Var(r) [-]", "%.4g", m.statistic());
+  stat.addf("threshold [-]", "%.4g", m.threshold());
   stat.add("isolations", m.isolations());
   stat.add("restorations", m.restorations());
   stat.add("detections (isolation off)", m.detections());
@@ -359,7 +359,7 @@ void NodeDiagnostics::publishHealth(safety::FaultMonitor::Event event, int chann
     else
     {
       ROS_WARN_STREAM("jackal_AIC: sensor fault: residual s = "
-                      << monitor_->statistic() << " above fdi_threshold " << monitor_->params().threshold << " for "
+                      << monitor_->statistic() << " above the threshold " << monitor_->threshold() << " for "
                       << monitor_->lastDetectionDelay() << " s; channel " << safety::FaultMonitor::channelName(channel)
                       << (event == safety::FaultMonitor::Event::kIsolated ? " isolated (Pi_y = 0)" :
                                                                             " suspected (fdi_enabled false: not "

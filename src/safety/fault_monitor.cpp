@@ -45,6 +45,10 @@ void FaultMonitor::setParams(const params::FdiParams& fdi, const params::AicPara
     throw std::invalid_argument(msg);
   }
   fdi_ = fdi;
+  if (std::isnan(statistic_))
+  {
+    threshold_ = fdi.threshold;  // no test yet
+  }
   r_alpha_ = aic.wheel_radius * aic.slip_factor;
   half_b_ = 0.5 * aic.wheel_separation;
   c_ = r_alpha_ / aic.wheel_separation;
@@ -100,6 +104,47 @@ FaultMonitor::Event FaultMonitor::update(const base::Vector5& y, const base::Vec
     ++ignored_;
     return Event::kNone;
   }
+  const double residual = y(base::kGyroZ) - c_ * (y(base::kOmegaRight) - y(base::kOmegaLeft));
+  // Which exclusion makes the remaining channels agree with the beliefs.
+  std::array<double, 3> cost{};
+  for (std::size_t k = 0; k < kChannels.size(); ++k)
+  {
+    const base::Vector3 x = twistWithout(kChannels[k], y);
+    const double dvx = x(0) - mu0(0);
+    const double dwz = x(2) - mu0(2);
+    cost[k] = pi_vx_ * dvx * dvx + pi_wz_ * dwz * dwz;
+  }
+  return test(residual, pi_r_ * residual * residual, fdi_.threshold, cost, h);
+}
+
+FaultMonitor::Event FaultMonitor::update(const base::SampleInnovation& model, double h)
+{
+  if (!(std::isfinite(h) && h >= 0.0) || !model.error.allFinite() || !std::isfinite(model.parity) ||
+      !(model.variance.minCoeff() > 0.0) || !(model.parity_variance > 0.0) || !model.variance.allFinite() ||
+      !std::isfinite(model.parity_variance))
+  {
+    ++ignored_;
+    return Event::kNone;
+  }
+  // Which exclusion leaves the other two channels closest to the model's prediction.
+  std::array<double, 3> cost{};
+  for (std::size_t k = 0; k < kChannels.size(); ++k)
+  {
+    for (std::size_t i = 0; i < kChannels.size(); ++i)
+    {
+      if (i != k)
+      {
+        const double e = model.error(kChannels[i]);
+        cost[k] += e * e / model.variance(kChannels[i]);
+      }
+    }
+  }
+  return test(model.parity, model.parity * model.parity / model.parity_variance, kInnovationThreshold, cost, h);
+}
+
+FaultMonitor::Event FaultMonitor::test(double residual, double statistic, double threshold,
+                                       const std::array<double, 3>& cost, double h)
+{
   if (!imu_available_)
   {
     residual_ = kNaN;
@@ -107,9 +152,10 @@ FaultMonitor::Event FaultMonitor::update(const base::Vector5& y, const base::Vec
     above_for_ = -1.0;
     return Event::kNone;
   }
-  residual_ = y(base::kGyroZ) - c_ * (y(base::kOmegaRight) - y(base::kOmegaLeft));
-  statistic_ = pi_r_ * residual_ * residual_;
-  const double release_level = fdi_.release_ratio * fdi_.threshold;
+  residual_ = residual;
+  statistic_ = statistic;
+  threshold_ = threshold;
+  const double release_level = fdi_.release_ratio * threshold;
 
   if (isolated_ >= 0)
   {
@@ -127,7 +173,7 @@ FaultMonitor::Event FaultMonitor::update(const base::Vector5& y, const base::Vec
     return Event::kNone;
   }
 
-  if (statistic_ <= fdi_.threshold)
+  if (statistic_ <= threshold)
   {
     // Below the threshold; with isolation off, a confirmed detection ends at the release level.
     if (statistic_ < release_level || !confirmed_)
@@ -147,13 +193,10 @@ FaultMonitor::Event FaultMonitor::update(const base::Vector5& y, const base::Vec
   {
     above_for_ += h;
   }
-  // Which exclusion makes the remaining channels agree with the beliefs (accumulated over the window).
+  // The hypotheses' costs, accumulated over the window.
   for (std::size_t k = 0; k < kChannels.size(); ++k)
   {
-    const base::Vector3 x = twistWithout(kChannels[k], y);
-    const double dvx = x(0) - mu0(0);
-    const double dwz = x(2) - mu0(2);
-    hypothesis_cost_[k] += pi_vx_ * dvx * dvx + pi_wz_ * dwz * dwz;
+    hypothesis_cost_[k] += cost[k];
   }
   if (confirmed_ || above_for_ < fdi_.detect_time)
   {

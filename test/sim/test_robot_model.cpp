@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "jackal_aic/analysis/twist_profile.hpp"
 #include "jackal_tools/params_yaml.hpp"
 #include "jackal_aic/overrides/yaml_overrides.hpp"
 #include "jackal_sim/harness/closed_loop.hpp"
@@ -316,6 +317,57 @@ TEST(RobotModelFaults, GyroFaultsAtRestDoNotTeachTheOffset)
     EXPECT_LT(windowMaxDeviation(r, r.gyro_offset, before, 7.0, 12.0), clean_moved + 0.001);
     EXPECT_EQ(firstIsolation(r, 7.0) != nullptr, k.second);
     EXPECT_NEAR(windowMean(r, r.yaw_true, 17.0, 20.0), 0.5, 0.015 * 0.5);
+  }
+}
+
+TEST(RobotModelFaults, TheInnovationTestIsolatesFaultsTheThesissThresholdMisses)
+{
+  // The robot model tests each sample against its own prediction (FaultMonitor's innovation test:
+  // 5 standard deviations of the innovations' parity, about 0.19 rad/s of yaw, from sigma_g,
+  // sigma_e and the yaw model's q_theta), where the goal model's parity threshold comes from its
+  // var_y (about 0.36 rad/s). A 1.5 rad/s left encoder bias in a (0.5 m/s, 0.5 rad/s) arc and a
+  // 0.25 rad/s gyro bias at 0.5 m/s straight, each from 4 s: the robot model isolates each, the
+  // goal model (config/default.yaml) neither.
+  const params::NodeParams goal = loadNodeParamsFiles({ kRoot + "/config/default.yaml" }, {});
+  const struct
+  {
+    std::string fault;
+    double turn;
+    int channel;
+  } cases[] = { { "left_encoder bias 1.5 4", 0.5, base::kOmegaLeft }, { "gyro bias 0.25 4", 0.0, base::kGyroZ } };
+  for (const auto& k : cases)
+  {
+    SCOPED_TRACE(k.fault);
+    const ClosedLoopRecord r = run(robotModel(), 0.5, k.turn, 12.0, {}, { k.fault });
+    EXPECT_EQ(r.runaways, 0u);
+    const HealthEvent* iso = firstIsolation(r, 4.0);
+    ASSERT_NE(iso, nullptr) << "not isolated";
+    EXPECT_EQ(iso->channel, k.channel);
+    EXPECT_LE(iso->time - 4.0, 0.5);
+    EXPECT_EQ(firstIsolation(r, 0.0), iso) << "a channel isolated before the fault";
+    const ClosedLoopRecord thesis = run(goal, 0.5, k.turn, 12.0, {}, { k.fault });
+    EXPECT_EQ(firstIsolation(thesis, 0.0), nullptr) << "the goal model's threshold caught it too";
+  }
+}
+
+TEST(RobotModelFaults, HealthyDrivingRaisesNoFault)
+{
+  // The innovation test on every profile of the tracking benchmark, on the nominal plant, the
+  // turn-deficit firmware and the 20 kg payload, noisy sensors: no event. A fast set-point change
+  // lifts single samples above the threshold (the parity takes the wheels' yaw at once, the body
+  // follows them through its scrub lag), never fdi_detect_time of them in a row.
+  for (const std::string name : { "creep", "fast", "planner_10hz", "s_curves", "stop_and_go", "teleop_joystick" })
+  {
+    const analysis::TwistProfile profile = analysis::loadTwistProfileCsv(kRoot + "/sim/profiles/" + name + ".csv");
+    for (const std::string overlay :
+         { "", "sim/config/variants/turn_deficit.yaml", "sim/config/variants/payload_20kg.yaml" })
+    {
+      SCOPED_TRACE(name + " " + overlay);
+      const ClosedLoopRecord r =
+          runProfile(robotModel(), profileSegments(profile, 1.0), 1.0 + profile.duration, {},
+                     overlay.empty() ? std::vector<std::string>{} : std::vector<std::string>{ overlay });
+      EXPECT_TRUE(r.health_events.empty()) << r.health_events.size() << " fault monitor events";
+    }
   }
 }
 

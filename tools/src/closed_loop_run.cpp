@@ -43,7 +43,9 @@
  *   --fault LINE      inject a fault from START s after the run's start (sim/README.md)
  * JSON: {"runaways", "max_abs_speed", "max_abs_pitch" (the largest |ground-truth pitch| [rad]: a
  *        pair of wheels off the ground, pi / 2 a robot tipped over), with the AIC "tip_guard":
- *        {"trips", "front", "rear"} (the tip-over guard's trips and learned bounds [m/s^2], null: none),
+ *        {"trips", "front", "rear"} (the tip-over guard's trips and learned bounds [m/s^2], null: none)
+ *        and "fault_monitor": {"isolated", "restored", "detected"} (its events' counts: on a healthy
+ *        run each is a false alarm),
  *        "command_delay" (the plant's motor.command_delay [s]),
  *        with learn_precision "sensory_precisions" (the AIC's Pi_y^(0) per sensor channel at the end),
  *        with the robot model's learn_latency "learned_latency" (its wheel loop's L at the end [s]),
@@ -646,6 +648,16 @@ int main(int argc, char** argv)
     const auto bound = [](double b) { return std::isfinite(b) ? base::jsonNumber(b) : std::string("null"); };
     std::cout << ", \"tip_guard\": {\"trips\": " << rec.tip_trips << ", \"front\": " << bound(rec.tip_front)
               << ", \"rear\": " << bound(rec.tip_rear) << "}";
+    // The fault monitor's events: on a healthy run, each is a false alarm.
+    int isolated = 0, restored = 0, detected = 0;
+    for (const HealthEvent& e : rec.health_events)
+    {
+      isolated += e.event == safety::FaultMonitor::Event::kIsolated;
+      restored += e.event == safety::FaultMonitor::Event::kRestored;
+      detected += e.event == safety::FaultMonitor::Event::kDetected;
+    }
+    std::cout << ", \"fault_monitor\": {\"isolated\": " << isolated << ", \"restored\": " << restored
+              << ", \"detected\": " << detected << "}";
   }
   if (c.controller == LoopController::kAic && c.aic.belief_model == params::BeliefModel::kRobot &&
       c.aic.robot.learn_latency)

@@ -99,6 +99,18 @@ public:
                bool learn = true);
 
   /**
+   * \brief The sample's innovations at the beliefs as they are (the model's prediction, before
+   *        correct() takes the sample), with their variances: eps_L = y_L - omega_L, eps_R = y_R -
+   *        omega_R (variance P_omega + sigma_e^2), eps_gyro = y_gyro - (theta_dot + beta) (variance
+   *        H P_yaw H^T + sigma_g^2, H = (1, 0, 1): the yaw model's noise q_theta and the slow states'
+   *        uncertainty included), and their parity eps_gyro - k (eps_R - eps_L), k = (1 - s) yaw_gain
+   *        of the last predict(): the residual of the fault monitor's innovation test. The three
+   *        filters are not coupled, so the parity's variance is the sum.
+   * \param y_omega  the sides' wheel speeds [rad/s]; y_gyro the gyro's yaw rate [rad/s]
+   */
+  base::SampleInnovation sampleInnovation(const base::Vector2& y_omega, double y_gyro) const;
+
+  /**
    * \brief Re-express the slip ratio after the wheels' yaw gain changed by the factor k =
    *        yaw_gain_old / yaw_gain_new (b_hat_new / b_hat_old): (1 - s_new) = k (1 - s), so the
    *        model's yaw rate (1 - s) u is unchanged; the covariance follows (ds_new = k ds).
@@ -180,6 +192,7 @@ private:
   Eigen::Matrix2d p_right_ = Eigen::Matrix2d::Identity();
   Eigen::Matrix3d p_yaw_ = Eigen::Matrix3d::Identity();
   double turn_ = 0.0;        ///< the goal's yaw rate at the last predict() [rad/s] (NaN: none yet)
+  double yaw_gain_ = 0.0;    ///< r alpha / b_hat at the last predict() [m/m]
   double wheels_yaw_ = 0.0;  ///< u at the last predict() [rad/s]
   ResidualRun offset_run_;   ///< gyro residuals in a row beyond kJumpThreshold
   std::uint64_t offset_jumps_ = 0;

@@ -63,5 +63,25 @@ using KinematicMatrix = Eigen::Matrix<double, kMuDim, kADim>;
 /// Forward model K = dy/da (2 x 5), one row per action.
 using ForwardMatrix = Eigen::Matrix<double, kADim, kYDim>;
 
+/**
+ * \brief One sample's sensory prediction errors under a generative model, before the beliefs take
+ *        it (the innovations of the model's filter form), with their variances under the model: the
+ *        input of the fault monitor's innovation test (safety::FaultMonitor, doc/active_inference.md,
+ *        'Fault detection and isolation').
+ */
+struct SampleInnovation
+{
+  /// eps_y = y - H mu_- of gyro z, omega_L, omega_R, in SensorIndex order [rad/s].
+  Vector3 error = Vector3::Zero();
+  /// Their variances H P_- H^T + sigma^2 [(rad/s)^2].
+  Vector3 variance = Vector3::Ones();
+  /// The parity of the three: the gyro's error less the yaw the wheels' errors imply,
+  /// eps_gyro - k (eps_R - eps_L), k the wheels' yaw rate per unit speed difference [rad/s];
+  /// zero in expectation whatever the wheels and the body do, as long as the sensors are healthy.
+  double parity = 0.0;
+  /// Its variance, variance(gyro) + k^2 (variance(L) + variance(R)) [(rad/s)^2].
+  double parity_variance = 1.0;
+};
+
 }  // namespace base
 }  // namespace jackal_aic

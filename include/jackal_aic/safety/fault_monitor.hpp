@@ -89,6 +89,32 @@ public:
   Event update(const base::Vector5& y, const base::Vector3& mu0, double h);
 
   /**
+   * \brief Test one synchronized sample against a generative model's prediction of it: the
+   *        innovation test of the robot model (doc/active_inference.md, 'Fault detection and
+   *        isolation'). The residual r is the innovations' parity (base::SampleInnovation: the
+   *        gyro's prediction error less the yaw the wheels' prediction errors imply, which a change
+   *        of the body's motion or of the wheels' load moves on all three channels alike), and the
+   *        statistic s = r^2 / Var(r), Var(r) from the sensors' noise and the model's own
+   *        uncertainty: chi^2 with one degree of freedom for healthy sensors, tested against
+   *        kInnovationThreshold (fdi_threshold is the thesis's models' threshold on their
+   *        precision-weighted parity residual, Pi_r from var_y). The isolated channel is the one
+   *        whose exclusion leaves the other two closest to the model's prediction, argmin_j of
+   *        sum_{i != j} eps_i^2 / Var(eps_i), accumulated over the detection window; detection time,
+   *        release and hysteresis as update(y, mu0, h), the release level fdi_release_ratio x
+   *        kInnovationThreshold.
+   * \param model  the sample's innovations (aic::RobotBelief::sampleInnovation())
+   * \param h      time since the previous sample [s]; a non-finite or negative h, a non-finite error
+   *               or a variance that is not finite and > 0 is ignored as in update(y, mu0, h)
+   * \return the event this sample caused.
+   */
+  Event update(const base::SampleInnovation& model, double h);
+
+  /// The innovation test's threshold on s = r^2 / Var(r): 5 standard deviations of the model's
+  /// parity (a healthy sample beyond it about once in 1.7e6; fdi_detect_time of them in a row
+  /// declare a fault).
+  static constexpr double kInnovationThreshold = 25.0;
+
+  /**
    * \brief Use the wheel separation b_hat [m] of the controller's generative model (learned,
    *        ActiveInferenceController::separationLearner()) in the residual r = y_gyro - r alpha
    *        (omega_R - omega_L) / b_hat, its precision and the channel reconstructions, so that a
@@ -117,6 +143,9 @@ public:
   /// The last residual r [rad/s] and its precision-weighted square s [-] (NaN before the first test).
   double residual() const { return residual_; }
   double statistic() const { return statistic_; }
+  /// The threshold the last test used [-]: fdi_threshold (update(y, mu0, h)) or kInnovationThreshold
+  /// (update(model, h)); fdi_threshold before the first test.
+  double threshold() const { return threshold_; }
   /// True while s is above the threshold (a fault is suspected or confirmed).
   bool faultPresent() const { return above_for_ >= 0.0; }
   /// True while s is above the threshold but the fault is not yet confirmed (no channel isolated,
@@ -138,6 +167,10 @@ public:
   static const char* channelName(int channel);
 
 private:
+  /// The detection, isolation and restoration logic on one sample's residual [rad/s], its
+  /// statistic s and threshold [-] and the hypotheses' costs (per kChannels entry) over h [s].
+  Event test(double residual, double statistic, double threshold, const std::array<double, 3>& cost, double h);
+
   params::FdiParams fdi_;
   double c_ = 0.0;                    ///< r alpha / b_hat [-]
   double r_alpha_ = 0.0;              ///< r alpha [m]
@@ -154,6 +187,7 @@ private:
   std::array<double, 3> hypothesis_cost_{};  ///< accumulated cost per channel over the detection window
   bool confirmed_ = false;                   ///< a detection was confirmed for the current excursion
   double residual_, statistic_;
+  double threshold_ = 0.0;  ///< the last test's threshold [-]
   double last_delay_;
   std::uint64_t isolations_ = 0, restorations_ = 0, detections_ = 0, ignored_ = 0;
 };

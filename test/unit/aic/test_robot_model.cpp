@@ -372,6 +372,40 @@ TEST(RobotBelief, AGyroOffsetJumpInASteadyTurnIsTheOffset)
   EXPECT_NEAR(belief.yawRate(), 0.45, 0.005);
 }
 
+TEST(RobotBelief, TheSampleInnovationIsThePredictionErrorAndItsParityCancelsACommonChange)
+{
+  const params::RobotModelParams p = model();
+  aic::RobotBelief belief(p);
+  aic::WheelLoopModel loop(p);
+  hold(&belief, loop, base::Vector2::Zero(), 0.0, 1.0);
+  hold(&belief, loop, base::Vector2(-1.25, 1.25), 0.45, 5.0);  // learned: s = 0.1
+  const double s = belief.slipRatio();
+  const double k = (1.0 - s) * 0.2;  // the wheels' yaw per unit speed difference, with hold()'s yaw gain
+  // The sample the model predicts: every error near zero.
+  const base::Vector2 w = belief.wheelSpeeds();
+  const double g = belief.yawRate() + belief.gyroOffset();
+  base::SampleInnovation in = belief.sampleInnovation(w, g);
+  EXPECT_NEAR(in.error.cwiseAbs().maxCoeff(), 0.0, 1e-12);
+  EXPECT_NEAR(in.parity, 0.0, 1e-12);
+  // Variances: the model's uncertainty plus the sensors' noise; the parity's the sum.
+  const Eigen::Matrix<double, 7, 1> v = belief.variances();
+  EXPECT_NEAR(in.variance(base::kOmegaLeft), v(0) + p.encoder_noise * p.encoder_noise, 1e-15);
+  EXPECT_NEAR(in.variance(base::kOmegaRight), v(2) + p.encoder_noise * p.encoder_noise, 1e-15);
+  EXPECT_GT(in.variance(base::kGyroZ), p.gyro_noise * p.gyro_noise);
+  EXPECT_NEAR(in.parity_variance,
+              in.variance(base::kGyroZ) + k * k * (in.variance(base::kOmegaLeft) + in.variance(base::kOmegaRight)),
+              1e-15);
+  // The body turns faster and the wheels show it: every channel errs, the parity does not.
+  in = belief.sampleInnovation(w + base::Vector2(-0.5, 0.5), g + k * 1.0);
+  EXPECT_NEAR(in.error(base::kOmegaLeft), -0.5, 1e-12);
+  EXPECT_NEAR(in.error(base::kOmegaRight), 0.5, 1e-12);
+  EXPECT_NEAR(in.error(base::kGyroZ), k, 1e-12);
+  EXPECT_NEAR(in.parity, 0.0, 1e-12);
+  // One wheel reads 0.5 rad/s high alone: the parity is the yaw it implies; the gyro alone: its error.
+  EXPECT_NEAR(belief.sampleInnovation(w + base::Vector2(0.5, 0.0), g).parity, k * 0.5, 1e-12);
+  EXPECT_NEAR(belief.sampleInnovation(w, g + 0.1).parity, 0.1, 1e-12);
+}
+
 TEST(RobotBelief, RescalingTheSlipRatioKeepsTheModelsYawRate)
 {
   aic::RobotBelief belief(model());

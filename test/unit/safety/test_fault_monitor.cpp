@@ -288,6 +288,92 @@ TEST(FaultMonitor, AFaultAwaitsConfirmationFromItsFirstSampleToItsIsolationOrDet
   }
 }
 
+/// A model innovation: errors `e` (gyro, omega_L, omega_R) [rad/s] with variance `var` each, and
+/// their parity e_gyro - k (e_R - e_L) with its variance.
+base::SampleInnovation innovation(const base::Vector3& e, double var, double k = 0.2)
+{
+  base::SampleInnovation in;
+  in.error = e;
+  in.variance = base::Vector3::Constant(var);
+  in.parity = e(base::kGyroZ) - k * (e(base::kOmegaRight) - e(base::kOmegaLeft));
+  in.parity_variance = var + k * k * 2.0 * var;
+  return in;
+}
+
+TEST(FaultMonitor, TheModelsInnovationTestHasItsOwnThresholdAndIsolatesTheOddChannel)
+{
+  params::FdiParams fdi;
+  fdi.detect_time = 0.1;
+  fdi.threshold = 1e6;  // the thesis's models' threshold: not the innovation test's
+  const double var = 0.01 * 0.01;
+  const double sigma = std::sqrt(var * (1.0 + 2.0 * 0.2 * 0.2));  // the parity's standard deviation
+  {
+    // 4.9 standard deviations of the parity, for ever: no fault.
+    safety::FaultMonitor m(fdi, defaultParams());
+    for (int k = 0; k < 100; ++k)
+    {
+      EXPECT_EQ(m.update(innovation(base::Vector3(4.9 * sigma, 0.0, 0.0), var), kSamplePeriod), Event::kNone);
+    }
+    EXPECT_NEAR(m.statistic(), 4.9 * 4.9, 1e-9);
+    EXPECT_EQ(m.threshold(), safety::FaultMonitor::kInnovationThreshold);
+    EXPECT_FALSE(m.faultPresent());
+    // The thesis's models' test on the same monitor uses fdi_threshold.
+    m.update(base::Vector5::Zero(), base::Vector3::Zero(), kSamplePeriod);
+    EXPECT_EQ(m.threshold(), fdi.threshold);
+  }
+  // 5.1 standard deviations: the channel whose exclusion leaves the other two at the model's
+  // prediction is isolated after detect_time (5 more samples), whichever it is.
+  for (const int channel : safety::FaultMonitor::kChannels)
+  {
+    SCOPED_TRACE(safety::FaultMonitor::channelName(channel));
+    safety::FaultMonitor m(fdi, defaultParams());
+    base::Vector3 e = base::Vector3::Zero();
+    e(channel) = 1.0;
+    const base::SampleInnovation one = innovation(e, var);
+    base::SampleInnovation in = one;
+    in.error *= 5.1 * sigma / std::abs(one.parity);
+    in.parity *= 5.1 * sigma / std::abs(one.parity);
+    int isolated_at = -1;
+    for (int k = 0; k < 10 && isolated_at < 0; ++k)
+    {
+      if (m.update(in, kSamplePeriod) == Event::kIsolated)
+      {
+        isolated_at = k;
+      }
+    }
+    EXPECT_EQ(isolated_at, 5);
+    EXPECT_EQ(m.isolatedChannel(), channel);
+    EXPECT_NEAR(m.residual(), in.parity, 1e-15);
+    // Restored once the parity is back below fdi_release_ratio x the threshold for release_time.
+    int restored_at = -1;
+    for (int k = 0; k < 100 && restored_at < 0; ++k)
+    {
+      if (m.update(innovation(base::Vector3::Zero(), var), kSamplePeriod) == Event::kRestored)
+      {
+        restored_at = k;
+      }
+    }
+    EXPECT_GE(restored_at, 0);
+  }
+}
+
+TEST(FaultMonitor, ABadModelInnovationIsIgnoredAndCounted)
+{
+  safety::FaultMonitor m(params::FdiParams(), defaultParams());
+  const double var = 1e-4;
+  base::SampleInnovation in = innovation(base::Vector3(1.0, 0.0, 0.0), var);
+  EXPECT_EQ(m.update(in, -0.02), Event::kNone);
+  in.variance(base::kOmegaLeft) = 0.0;
+  EXPECT_EQ(m.update(in, kSamplePeriod), Event::kNone);
+  in = innovation(base::Vector3(1.0, 0.0, 0.0), var);
+  in.parity_variance = kNaN;
+  EXPECT_EQ(m.update(in, kSamplePeriod), Event::kNone);
+  in = innovation(base::Vector3(kNaN, 0.0, 0.0), var);
+  EXPECT_EQ(m.update(in, kSamplePeriod), Event::kNone);
+  EXPECT_EQ(m.ignoredSamples(), 4u);
+  EXPECT_FALSE(m.faultPresent());
+}
+
 TEST(FaultMonitor, ImuMissingMasksTheImuChannelsAndPausesTheTest)
 {
   safety::FaultMonitor m(params::FdiParams(), defaultParams());
