@@ -141,7 +141,18 @@ void ActiveInferenceController::applyParams(const params::AicParams& params)
   {
     model_.setWheelSeparation(learner_.separation());
   }
-  reference_.setParams(goalStageParams(params, params.robot.latency),
+  wheel_loop_.setParams(params.robot);
+  robot_belief_.setParams(params.robot);
+  if (!keep_latency)
+  {
+    latency_learner_ = LatencyLearner(params.robot.latency, params::kLatencyMinFactor * params.robot.latency,
+                                      params::kLatencyMaxFactor * params.robot.latency, params.robot.encoder_noise);
+    latency_learner_configured_ = true;
+  }
+  // The latency in use, configured or learned: the wheel loop's, and the robot model's goal lead.
+  const double latency = params::learnsLatency(params) ? latency_learner_.latency() : params.robot.latency;
+  wheel_loop_.setLatency(latency);
+  reference_.setParams(goalStageParams(params, latency),
                        params.runaway_limit);               // zeroes the goal's rate unless generalized
   reference_.setWheelSeparation(model_.wheelSeparation());  // the learned b_hat when learning
   action_line_.setDelay(params.reference.delay);
@@ -154,15 +165,6 @@ void ActiveInferenceController::applyParams(const params::AicParams& params)
   }
   anti_windup_ = AntiWindup(params.anti_windup, params.max_wheel_speed);
   slew_limit_ = ActionSlewLimit(params.action_slew);
-  wheel_loop_.setParams(params.robot);
-  robot_belief_.setParams(params.robot);
-  if (!keep_latency)
-  {
-    latency_learner_ = LatencyLearner(params.robot.latency, params::kLatencyMinFactor * params.robot.latency,
-                                      params::kLatencyMaxFactor * params.robot.latency, params.robot.encoder_noise);
-    latency_learner_configured_ = true;
-  }
-  useLatency(params.robot.learn_latency ? latency_learner_.latency() : params.robot.latency);
   pi_mu_ = params.precisionMu();
   precision_learner_.setParams(params.precision_learner, precisionChannels(params));
   rebuildDynamics();
@@ -200,7 +202,7 @@ void ActiveInferenceController::resetLearning()
 {
   learner_.reset();
   latency_learner_.reset();
-  useLatency(params_.robot.learn_latency ? latency_learner_.latency() : params_.robot.latency);
+  useLatency(params::learnsLatency(params_) ? latency_learner_.latency() : params_.robot.latency);
   if (params_.belief_model == params::BeliefModel::kRobot)
   {
     robot_belief_.forgetSlowStates();

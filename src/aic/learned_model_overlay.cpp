@@ -38,7 +38,7 @@ LearnedModel learnedModel(const ActiveInferenceController& controller)
     learned.wheel_separation = controller.separationLearner().separation();
   }
   const LatencyLearner& latency = controller.latencyLearner();
-  if (p.belief_model == params::BeliefModel::kRobot && p.robot.learn_latency && latency.starts() > 0)
+  if (params::learnsLatency(p) && latency.starts() > 0)
   {
     learned.latency = latency.latency();
     learned.latency_starts = latency.starts();

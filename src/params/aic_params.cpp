@@ -186,6 +186,11 @@ base::YTilde AicParams::precisionY() const
   return precisionFrom<base::kYDim>(var_y, numOrders());
 }
 
+bool learnsLatency(const AicParams& params)
+{
+  return params.belief_model == BeliefModel::kRobot && params.robot.learn_latency;
+}
+
 double robotWheelAcceleration(const AicParams& params)
 {
   return params.robot.wheel_acceleration * params.wheel_radius * params.slip_factor;

@@ -19,6 +19,7 @@
 
 #include "jackal_aic/aic/learned_model_overlay.hpp"
 #include "jackal_aic/loop/control_loop.hpp"
+#include "jackal_aic/params/aic_params.hpp"
 
 namespace jackal_aic
 {
@@ -57,12 +58,6 @@ void writeAtomically(const std::string& path, const std::string& text)
     std::remove(tmp.c_str());
     throw std::runtime_error("cannot rename " + tmp + " to " + path + ": " + reason);
   }
-}
-
-/// True if the controller learns the latency: learn_latency with belief_model robot.
-bool latencyLearning(const params::AicParams& params)
-{
-  return params.belief_model == params::BeliefModel::kRobot && params.robot.learn_latency;
 }
 }  // namespace
 
@@ -106,7 +101,7 @@ bool LearnedModelService::save(std::string* message)
     const std::lock_guard<std::mutex> lock(mutex_);
     const aic::ActiveInferenceController& controller = loop_.controller();
     learned = aic::learnedModel(controller);
-    latency_on = latencyLearning(controller.params());
+    latency_on = params::learnsLatency(controller.params());
     if (!controller.params().separation_learner.enabled && !latency_on)
     {
       *message = "learn_wheel_separation and learn_latency (belief_model: robot) are off: nothing learned to save";
@@ -156,7 +151,7 @@ bool LearnedModelService::reset(std::string* message)
   const std::lock_guard<std::mutex> lock(mutex_);
   const params::AicParams& params = loop_.controller().params();
   const bool separation_on = params.separation_learner.enabled;
-  const bool latency_on = latencyLearning(params);
+  const bool latency_on = params::learnsLatency(params);
   if (!separation_on && !latency_on)
   {
     *message = "learn_wheel_separation and learn_latency (belief_model: robot) are off: nothing learned to reset";

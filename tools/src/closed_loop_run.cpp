@@ -659,8 +659,7 @@ int main(int argc, char** argv)
     std::cout << ", \"fault_monitor\": {\"isolated\": " << isolated << ", \"restored\": " << restored
               << ", \"detected\": " << detected << "}";
   }
-  if (c.controller == LoopController::kAic && c.aic.belief_model == params::BeliefModel::kRobot &&
-      c.aic.robot.learn_latency)
+  if (c.controller == LoopController::kAic && params::learnsLatency(c.aic))
   {
     std::cout << ", \"learned_latency\": " << base::jsonNumber(rec.latency);
   }

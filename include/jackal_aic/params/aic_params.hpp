@@ -193,6 +193,13 @@ struct AicParams
 AicParams recommendedAicParams();
 
 /**
+ * \brief True if the controller learns the latency L: belief_model robot with robot.learn_latency
+ *        (doc/active_inference.md, 'Learning the latency'); the other belief models keep the
+ *        configured L.
+ */
+bool learnsLatency(const AicParams& params);
+
+/**
  * \brief The robot model's largest wheel acceleration at the rim, A_w r alpha [m/s^2]
  *        (robot.wheel_acceleration [rad/s^2], wheel_radius [m], slip_factor [-]): the bound of its
  *        goal's path per wheel and, over the separation, of the goal's rate

@@ -743,6 +743,15 @@ TEST(ControllerRobotModel, LearnsTheLatencyOfAPlantAtItsFirstStart)
     EXPECT_NEAR(c.wheelLoop().latency(), learn ? 0.1424 : 0.1187, learn ? 2e-3 : 1e-12);
     EXPECT_EQ(c.referenceModel().params().goal_lead, c.wheelLoop().latency());
     EXPECT_EQ(c.referenceModel().params().goal_lead_angular, c.wheelLoop().latency());
+    // A parameter change that keeps the latency's settings keeps the learned L, in the wheel loop
+    // and in the goal's lead alike.
+    const double latency = c.wheelLoop().latency();
+    params::AicParams changed = p;
+    changed.robot.action_gain *= 0.5;
+    c.setParams(changed);
+    EXPECT_EQ(c.wheelLoop().latency(), latency);
+    EXPECT_EQ(c.referenceModel().params().goal_lead, latency);
+    c.setParams(p);
     c.resetLearning();
     EXPECT_EQ(c.wheelLoop().latency(), 0.1187);
     EXPECT_EQ(c.referenceModel().params().goal_lead, 0.1187);

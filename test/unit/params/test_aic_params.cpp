@@ -317,6 +317,21 @@ TEST(Params, IntegratorNames)
   EXPECT_FALSE(jackal_aic::params::integratorFromString("euler", nullptr));
 }
 
+TEST(Params, OnlyTheRobotModelLearnsTheLatency)
+{
+  AicParams p = jackal_aic::params::recommendedAicParams();
+  using jackal_aic::params::BeliefModel;
+  for (const auto model : { BeliefModel::kGoal, BeliefModel::kUnbiased, BeliefModel::kRobot })
+  {
+    for (const bool learn : { true, false })
+    {
+      p.belief_model = model;
+      p.robot.learn_latency = learn;
+      EXPECT_EQ(jackal_aic::params::learnsLatency(p), learn && model == BeliefModel::kRobot);
+    }
+  }
+}
+
 TEST(Params, TheRobotModelsGoalRateBoundsAreItsWheelLoops)
 {
   AicParams p = jackal_aic::params::recommendedAicParams();
