@@ -336,6 +336,14 @@ void hold(aic::RobotBelief* belief, const aic::WheelLoopModel& loop, const base:
     }
   }
 }
+
+/// `belief` after 1 s at rest and 5 s of a steady turn (wheels (-1.25, 1.25) rad/s, gyro 0.45 rad/s,
+/// hold()'s yaw gain 0.2): it has learned the slip ratio s = 0.1.
+void learnASteadyTurn(aic::RobotBelief* belief, const aic::WheelLoopModel& loop)
+{
+  hold(belief, loop, base::Vector2::Zero(), 0.0, 1.0);
+  hold(belief, loop, base::Vector2(-1.25, 1.25), 0.45, 5.0);
+}
 }  // namespace
 
 TEST(RobotBelief, TheSlipRatioIsLearnedInATurnAndTheOffsetWhenStraight)
@@ -359,8 +367,7 @@ TEST(RobotBelief, AGyroOffsetJumpInASteadyTurnIsTheOffset)
   const params::RobotModelParams p = model();
   aic::RobotBelief belief(p);
   aic::WheelLoopModel loop(p);
-  hold(&belief, loop, base::Vector2::Zero(), 0.0, 1.0);
-  hold(&belief, loop, base::Vector2(-1.25, 1.25), 0.45, 5.0);  // learned: s = 0.1
+  learnASteadyTurn(&belief, loop);  // learned: s = 0.1
   const double s = belief.slipRatio();
   EXPECT_NEAR(s, 0.1, 0.01);
   // The gyro jumps by 0.1 rad/s with the wheels unchanged: the body's yaw rate is unchanged.
@@ -377,8 +384,7 @@ TEST(RobotBelief, TheSampleInnovationIsThePredictionErrorAndItsParityCancelsACom
   const params::RobotModelParams p = model();
   aic::RobotBelief belief(p);
   aic::WheelLoopModel loop(p);
-  hold(&belief, loop, base::Vector2::Zero(), 0.0, 1.0);
-  hold(&belief, loop, base::Vector2(-1.25, 1.25), 0.45, 5.0);  // learned: s = 0.1
+  learnASteadyTurn(&belief, loop);  // learned: s = 0.1
   const double s = belief.slipRatio();
   const double k = (1.0 - s) * 0.2;  // the wheels' yaw per unit speed difference, with hold()'s yaw gain
   // The sample the model predicts: every error near zero.
