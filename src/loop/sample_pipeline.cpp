@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "jackal_aic/loop/fault_test.hpp"
+
 namespace jackal_aic
 {
 namespace loop
@@ -101,17 +103,7 @@ SamplePipeline::Measurement SamplePipeline::measure(const base::Vector5& y, doub
     fault_monitor_->setWheelSeparation(controller_->model().wheelSeparation());  // the learned model
   }
   const int isolated_before = fault_monitor_->isolatedChannel();
-  if (controller_->params().belief_model == params::BeliefModel::kRobot)
-  {
-    // The robot model's innovation test: the sample against the model's prediction of it.
-    m.event = fault_monitor_->update(controller_->robotBelief().sampleInnovation(
-                                         base::Vector2(y(base::kOmegaLeft), y(base::kOmegaRight)), y(base::kGyroZ)),
-                                     h);
-  }
-  else
-  {
-    m.event = fault_monitor_->update(y, controller_->mu().col(0), h);
-  }
+  m.event = testSample(fault_monitor_.get(), *controller_, y, h);
   controller_->setSensorMask(fault_monitor_->sensorMask());
   controller_->setFaultState(fault_monitor_->awaitingConfirmation(), fault_monitor_->faultPresent());
   if (controller_->params().gyro_bias.enabled)

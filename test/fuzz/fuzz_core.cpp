@@ -21,6 +21,7 @@
 #include "jackal_aic/aic/controller.hpp"
 #include "jackal_aic/safety/fault_monitor.hpp"
 #include "jackal_aic/aic/generalizer.hpp"
+#include "jackal_aic/loop/fault_test.hpp"
 
 using namespace jackal_aic;
 
@@ -141,7 +142,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
           c->setMeasurement(gen.yTilde());
         }
         monitor->setImuAvailable(in.ConsumeBool() || in.ConsumeBool());
-        monitor->update(y, c->mu().col(0), h);
+        loop::testSample(monitor.get(), *c, y, h);
         c->setSensorMask(monitor->sensorMask());
         break;
       }
