@@ -47,6 +47,9 @@ namespace safety
  * hypothesis "channel j is faulty", thesis eq. 3-10 with Pi_y,j = 0), accumulated over the detection
  * window. A set-point step moves all channels together (r stays ~0) and so is no fault.
  *
+ * With the robot model the residual and its variance are the model's own (update(SampleInnovation,
+ * h): the innovation test, kInnovationThreshold).
+ *
  * Hysteresis: an isolated channel is restored once s < release_ratio * threshold for release_time
  * (it agrees with the others again). At most one channel is isolated at a time (with two channels
  * left there is no redundancy to test). While the IMU is missing (setImuAvailable(false)) the test
@@ -110,8 +113,9 @@ public:
   Event update(const base::SampleInnovation& model, double h);
 
   /// The innovation test's threshold on s = r^2 / Var(r): 5 standard deviations of the model's
-  /// parity (a healthy sample beyond it about once in 1.7e6; fdi_detect_time of them in a row
-  /// declare a fault).
+  /// parity (for chi^2 with one degree of freedom a sample beyond it about once in 1.7e6; where the
+  /// model is approximate, a brisk set-point change, single healthy samples exceed it, so a fault
+  /// is samples beyond it for fdi_detect_time).
   static constexpr double kInnovationThreshold = 25.0;
 
   /**
