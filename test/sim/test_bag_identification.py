@@ -4,7 +4,8 @@ with the turn-deficit firmware (sim/config/variants/turn_deficit.yaml), written 
 scripts/record_identification.py --headless (plant_replay: the stock controller's /cmd_drive
 stream on the plant with its seeded sensor noise), is identified by scripts/plant_identify.py --bag
 starting from the default plant; the turning parameters come back within 20 % and the identified
-plant reproduces the bag's responses. Also the bag reader's errors. No roscore needed (rosbag's
+plant reproduces the bag's responses, and the robot model's sensor noises measured on its rests are
+the plant's. Also the bag reader's errors and the noise measurement on synthetic streams. No roscore needed (rosbag's
 Python API); deterministic (seeded noise, seeded candidates); ~30 s.
 
 Run: python3 test/sim/test_bag_identification.py (in the sourced workspace, plant_replay built).
@@ -18,6 +19,7 @@ import sys
 import tempfile
 import unittest
 
+import numpy as np
 import yaml
 
 HERE = os.path.dirname(os.path.realpath(__file__))
@@ -27,6 +29,7 @@ sys.path.insert(0, os.path.join(ROOT, "src"))
 from jackal_aic_tools.identify import bag_identification as bi  # noqa: E402
 from jackal_aic_tools.common import cli  # noqa: E402
 from jackal_aic_tools.identify import identify  # noqa: E402
+from jackal_aic_tools.identify import sensor_noise as sn  # noqa: E402
 
 VARIANT = os.path.join(ROOT, "sim", "config", "variants", "turn_deficit.yaml")
 PLANT = os.path.join(ROOT, "sim", "config", "plant.yaml")
@@ -89,6 +92,25 @@ class BagRoundTrip(unittest.TestCase):
         for (w, d_bag), (_, d_id) in zip(bag, identified):
             self.assertAlmostEqual(d_bag, 0.5, delta=0.1)  # the variant's deficit, in the bag
             self.assertLess(abs(d_id - d_bag), TOLERANCE * d_bag, "command %g rad/s" % w)
+
+    def test_the_sensor_noises_are_the_plants(self):
+        # The plant's joint noise 0.01 rad/s over a side's two joints (0.0071) and its gyro noise
+        # 0.005 rad/s, measured on the short sequence's rests (72 samples): within 20 %.
+        noise = self.fit["sensor_noise"]
+        self.assertEqual(noise["encoder_source"], "rest")
+        self.assertAlmostEqual(noise["encoder_noise"], 0.01 / 2 ** 0.5, delta=0.2 * 0.01 / 2 ** 0.5)
+        self.assertAlmostEqual(noise["gyro_noise"], 0.005, delta=0.2 * 0.005)
+        with open(self.fit["noise_overlay"]) as f:
+            doc = yaml.safe_load(f)
+        self.assertEqual(sorted(doc), ["encoder_noise", "gyro_noise"])
+        self.assertAlmostEqual(doc["encoder_noise"], noise["encoder_noise"], delta=1e-3 * noise["encoder_noise"])
+        # It loads as a controller overlay after the robot model's.
+        aic_params = cli.find_executable("aic_params", os.path.join(ROOT, "scripts", "plant_identify.py"), "test")
+        out = subprocess.run([aic_params, "--yaml", "--config", os.path.join(ROOT, "config", "default.yaml"), "--config",
+                              os.path.join(ROOT, "config", "robot_model.yaml"), "--config", self.fit["noise_overlay"]],
+                             capture_output=True, text=True, check=False)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        self.assertAlmostEqual(yaml.safe_load(out.stdout)["gyro_noise"], doc["gyro_noise"], delta=1e-9)
 
     def test_the_overlay_loads_and_holds_the_identified_keys(self):
         with open(self.overlay) as f:
@@ -195,13 +217,63 @@ class BadBags(unittest.TestCase):
             bi.sequence_profile("nonexistent")
 
 
+class SensorNoise(unittest.TestCase):
+    """sensor_noise on synthetic streams (no bag): rest segments with a settling tail and a gyro
+    offset, quantized wheel speeds, too little rest."""
+
+    @staticmethod
+    def data(cmd_rows, wheel_fn, gyro_fn, duration, twist=False, seed=3):
+        rng = np.random.default_rng(seed)
+        t = np.arange(0.0, duration, 0.02)
+        cmd = np.array(cmd_rows, dtype=float)
+        wheels = np.column_stack([t] + [wheel_fn(t, rng) for _ in range(2)])
+        gyro = np.column_stack([t, gyro_fn(t, rng)])
+        return bi.BagData(cmd, twist, wheels, gyro, None, 0.0, "synthetic.bag")
+
+    def test_rest_segments_give_the_noise_about_their_trend(self):
+        # Rest 0-3 s, 4 rad/s 3-5 s, rest 5-9 s (the wheels decay from 4 rad/s with 0.1 s), then
+        # mode none 9-12 s, the same rest: two windows; wheel noise 0.01, gyro 0.005 on a 0.03 rad/s
+        # offset drifting 0.001 rad/s/s.
+        cmd = [(0, 0, 0, 0), (3, 0, 4, 4), (5, 0, 0, 0), (9, -1, 0, 0), (11.99, -1, 0, 0)]
+
+        def wheel(t, rng):
+            w = np.where((t >= 3) & (t < 5), 4.0, 0.0) + np.where(t >= 5, 4.0 * np.exp(-(t - 5) / 0.1), 0.0)
+            return w + rng.normal(0, 0.01, t.size)
+        d = self.data(cmd, wheel, lambda t, rng: 0.03 + 0.001 * t + rng.normal(0, 0.005, t.size), 12.0)
+        noise = sn.sensor_noise(d)
+        self.assertEqual((noise["encoder_source"], noise["encoder_windows"]), ("rest", 2))
+        self.assertAlmostEqual(noise["encoder_noise"], 0.01, delta=0.001)
+        self.assertAlmostEqual(noise["gyro_noise"], 0.005, delta=0.0005)
+
+    def test_quantized_wheels_are_measured_on_straight_segments(self):
+        # The wheels read exactly 0 at rest; on the straight segments (twist: 0.5 m/s, 0 rad/s)
+        # they carry noise 0.02 on a slow ramp.
+        cmd = [(0, 0, 0), (2, 0.5, 0), (6, 0, 0), (8, 0.5, 0), (11.99, 0.5, 0)]
+
+        def wheel(t, rng):
+            moving = ((t >= 2) & (t < 6)) | (t >= 8)
+            return np.where(moving, 5.0 + 0.1 * t + rng.normal(0, 0.02, t.size), 0.0)
+        d = self.data(cmd, wheel, lambda t, rng: rng.normal(0, 0.005, t.size), 12.0, twist=True)
+        noise = sn.sensor_noise(d)
+        self.assertEqual(noise["encoder_source"], "straight")
+        self.assertAlmostEqual(noise["encoder_noise"], 0.02, delta=0.002)
+
+    def test_a_bag_without_rest_is_an_error_naming_it(self):
+        cmd = [(0, 0, 4, 4), (5.99, 0, 4, 4)]
+        d = self.data(cmd, lambda t, rng: 4.0 + rng.normal(0, 0.01, t.size),
+                      lambda t, rng: rng.normal(0, 0.005, t.size), 6.0)
+        with self.assertRaisesRegex(ValueError, "synthetic.bag: 0 gyro samples at rest"):
+            sn.sensor_noise(d)
+
+
 def suite():
     """Both test cases (one JUnit result through rosunit)."""
     loader = unittest.TestLoader()
-    return unittest.TestSuite([loader.loadTestsFromTestCase(BagRoundTrip), loader.loadTestsFromTestCase(BadBags)])
+    return unittest.TestSuite([loader.loadTestsFromTestCase(BagRoundTrip), loader.loadTestsFromTestCase(BadBags),
+                               loader.loadTestsFromTestCase(SensorNoise)])
 
 
 if __name__ == "__main__":
     sys.path.insert(0, os.path.dirname(HERE))  # test/pyunit.py
     import pyunit  # noqa: E402  (the test folder is not a package)
-    pyunit.main("bag_identification", BagRoundTrip, BadBags)
+    pyunit.main("bag_identification", BagRoundTrip, BadBags, SensorNoise)

@@ -1,13 +1,14 @@
 """plant_identify.py --bag: identify a robot's wheel loop from its bag (the fit:
 jackal_aic_tools.identify.bag_identification), print the fit and write the overlay YAML of the keys that
-differ from the plant's."""
+differ from the plant's; and measure the robot model's sensor noises on the bag's rest segments
+(jackal_aic_tools.identify.sensor_noise) and write them as a controller overlay."""
 import json
 import os
 import sys
 
 import numpy as np
 
-from . import bag_identification, identify
+from . import bag_identification, identify, sensor_noise
 
 # Comments of the overlay keys --bag writes (unit, meaning).
 OVERLAY_COMMENTS = {
@@ -50,7 +51,8 @@ def write_overlay(path, values, base, bag, cost):
 def run(a, tool):
     """The --bag mode of plant_identify.py (a: its parsed arguments, tool: cli.Tool): read the bag,
     fit BAG_PARAMETERS by replaying it on the plant, print the fit table and the turn deficits,
-    write the overlay (and a.json). Returns the exit status."""
+    write the overlay, the sensor noises' controller overlay (a.noise_out; skipped, with the reason
+    printed, when the bag has too little rest) and a.json. Returns the exit status."""
     keys = list(a.fit) if a.fit else list(bag_identification.BAG_PARAMETERS)
     unknown = [k for k in keys if k not in bag_identification.BAG_PARAMETERS]
     if unknown:
@@ -76,6 +78,14 @@ def run(a, tool):
         fb_r = np.interp(data.wheels[:, 0], data.feedback[:, 0], data.feedback[:, 2])
         diff = np.sqrt(np.mean(np.concatenate([fb_l - data.wheels[:, 1], fb_r - data.wheels[:, 2]]) ** 2))
         print("  /feedback measured_velocity vs /joint_states: RMS difference %.3f rad/s" % diff)
+    try:
+        noise = sensor_noise.sensor_noise(data)
+        print("  the robot model's sensor noises: encoder_noise %.4g rad/s (%d samples, %s), gyro_noise %.4g rad/s "
+              "(%d samples, rest)" % (noise["encoder_noise"], noise["encoder_samples"], noise["encoder_source"],
+                                      noise["gyro_noise"], noise["gyro_samples"]))
+    except ValueError as e:
+        noise = None
+        print("  the robot model's sensor noises: not measured: %s" % e)
     print("  fitting %s on the plant %s%s" % (", ".join(keys), a.config,
                                               "".join(" + " + o for o in a.overlay)))
     try:
@@ -108,10 +118,16 @@ def run(a, tool):
     out = a.overlay_out or os.path.splitext(a.bag)[0] + "_wheel_loop.yaml"
     written = write_overlay(out, overlay_values(r["values"]), base, a.bag, r["cost"])
     print("\noverlay written: %s (%s)" % (out, ", ".join("motor." + k for k in written) or "no key differs"))
+    noise_out = None
+    if noise is not None:
+        noise_out = a.noise_out or os.path.splitext(a.bag)[0] + "_sensor_noise.yaml"
+        sensor_noise.write_overlay(noise_out, noise, os.path.basename(a.bag))
+        print("sensor noises written: %s (controller overlay: encoder_noise, gyro_noise)" % noise_out)
     if a.json:
         with open(a.json, "w") as f:
             json.dump({"bag": a.bag, "duration": data.duration, "keys": keys, "start": r["start"],
                        "values": r["values"], "start_cost": r["start_cost"], "cost": r["cost"],
                        "start_errors": r["start_errors"], "errors": r["errors"], "evaluations": r["evaluations"],
-                       "deficits": deficits, "overlay": out}, f, indent=1)
+                       "deficits": deficits, "overlay": out, "sensor_noise": noise, "noise_overlay": noise_out},
+                      f, indent=1)
     return 0
