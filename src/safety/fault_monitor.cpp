@@ -106,14 +106,12 @@ FaultMonitor::Event FaultMonitor::update(const base::Vector5& y, const base::Vec
   }
   const double residual = y(base::kGyroZ) - c_ * (y(base::kOmegaRight) - y(base::kOmegaLeft));
   // Which exclusion makes the remaining channels agree with the beliefs.
-  std::array<double, 3> cost{};
-  for (std::size_t k = 0; k < kChannels.size(); ++k)
-  {
+  const auto cost = [&](std::size_t k) {
     const base::Vector3 x = twistWithout(kChannels[k], y);
     const double dvx = x(0) - mu0(0);
     const double dwz = x(2) - mu0(2);
-    cost[k] = pi_vx_ * dvx * dvx + pi_wz_ * dwz * dwz;
-  }
+    return pi_vx_ * dvx * dvx + pi_wz_ * dwz * dwz;
+  };
   return test(residual, pi_r_ * residual * residual, fdi_.threshold, cost, h);
 }
 
@@ -127,23 +125,23 @@ FaultMonitor::Event FaultMonitor::update(const base::SampleInnovation& model, do
     return Event::kNone;
   }
   // Which exclusion leaves the other two channels closest to the model's prediction.
-  std::array<double, 3> cost{};
-  for (std::size_t k = 0; k < kChannels.size(); ++k)
-  {
+  const auto cost = [&](std::size_t k) {
+    double c = 0.0;
     for (std::size_t i = 0; i < kChannels.size(); ++i)
     {
       if (i != k)
       {
         const double e = model.error(kChannels[i]);
-        cost[k] += e * e / model.variance(kChannels[i]);
+        c += e * e / model.variance(kChannels[i]);
       }
     }
-  }
+    return c;
+  };
   return test(model.parity, model.parity * model.parity / model.parity_variance, kInnovationThreshold, cost, h);
 }
 
-FaultMonitor::Event FaultMonitor::test(double residual, double statistic, double threshold,
-                                       const std::array<double, 3>& cost, double h)
+template <class Cost>
+FaultMonitor::Event FaultMonitor::test(double residual, double statistic, double threshold, const Cost& cost, double h)
 {
   if (!imu_available_)
   {
@@ -193,10 +191,10 @@ FaultMonitor::Event FaultMonitor::test(double residual, double statistic, double
   {
     above_for_ += h;
   }
-  // The hypotheses' costs, accumulated over the window.
+  // The hypotheses' costs, accumulated over the window (computed only above the threshold).
   for (std::size_t k = 0; k < kChannels.size(); ++k)
   {
-    hypothesis_cost_[k] += cost[k];
+    hypothesis_cost_[k] += cost(k);
   }
   if (confirmed_ || above_for_ < fdi_.detect_time)
   {

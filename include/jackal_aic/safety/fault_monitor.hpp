@@ -172,8 +172,11 @@ public:
 
 private:
   /// The detection, isolation and restoration logic on one sample's residual [rad/s], its
-  /// statistic s and threshold [-] and the hypotheses' costs (per kChannels entry) over h [s].
-  Event test(double residual, double statistic, double threshold, const std::array<double, 3>& cost, double h);
+  /// statistic s and threshold [-] over h [s]; cost(k) [-] is hypothesis k's (kChannels index)
+  /// cost for this sample, called only while s is above the threshold (defined and used in
+  /// fault_monitor.cpp only).
+  template <class Cost>
+  Event test(double residual, double statistic, double threshold, const Cost& cost, double h);
 
   params::FdiParams fdi_;
   double c_ = 0.0;                    ///< r alpha / b_hat [-]
