@@ -74,6 +74,19 @@ class ApiRun(unittest.TestCase):
         self.assertIsNone(r.diverged)
 
 
+class FaultMonitorEvents(unittest.TestCase):
+    def test_the_json_counts_the_fault_monitors_events(self):
+        # closed_loop_run's "fault_monitor": none on the healthy arc; a 0.5 rad/s gyro bias from 3 s
+        # for 2 s is isolated once and restored once.
+        def events(*fault):
+            out = subprocess.run([exe(), "--controller", "aic", "--aic-config", DEFAULT, "--config", PLANT, "--noise",
+                                  "--step", "0.5", "--turn", "0.5", "--hold", "8"] + list(fault),
+                                 stdout=subprocess.PIPE, universal_newlines=True, check=True)
+            return json.loads(out.stdout)["fault_monitor"]
+        self.assertEqual(events(), {"isolated": 0, "restored": 0, "detected": 0})
+        self.assertEqual(events("--fault", "gyro bias 0.5 3 2"), {"isolated": 1, "restored": 1, "detected": 0})
+
+
 class Divergence(unittest.TestCase):
     def run_tool(self, sets, keep_going=False):
         cmd = closed_loop.command(exe(), "aic", ["--step", "0.5"], EQUIVALENT, sets, PLANT, noise=False,
@@ -193,4 +206,4 @@ class CompareTool(unittest.TestCase):
 
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
-    pyunit.main("compare", ApiRun, Divergence, VariantLines, CompareTool)
+    pyunit.main("compare", ApiRun, FaultMonitorEvents, Divergence, VariantLines, CompareTool)

@@ -231,15 +231,16 @@ class SensorNoise(unittest.TestCase):
         return bi.BagData(cmd, twist, wheels, gyro, None, 0.0, "synthetic.bag")
 
     def test_rest_segments_give_the_noise_about_their_trend(self):
-        # Rest 0-3 s, 4 rad/s 3-5 s, rest 5-9 s (the wheels decay from 4 rad/s with 0.1 s), then
-        # mode none 9-12 s, the same rest: two windows; wheel noise 0.01, gyro 0.005 on a 0.03 rad/s
-        # offset drifting 0.001 rad/s/s.
+        # Rest 0-3 s, 4 rad/s 3-5 s, rest 5-9 s (the wheels decay from 4 rad/s with 0.15 s: still
+        # 0.14 rad/s 0.5 s after the stop), then mode none 9-12 s, the same rest: two windows; wheel
+        # noise 0.01, gyro 0.005 on a 0.03 rad/s offset drifting 0.01 rad/s/s (about each window's
+        # mean alone the drift would read as 0.01 rad/s of noise).
         cmd = [(0, 0, 0, 0), (3, 0, 4, 4), (5, 0, 0, 0), (9, -1, 0, 0), (11.99, -1, 0, 0)]
 
         def wheel(t, rng):
-            w = np.where((t >= 3) & (t < 5), 4.0, 0.0) + np.where(t >= 5, 4.0 * np.exp(-(t - 5) / 0.1), 0.0)
+            w = np.where((t >= 3) & (t < 5), 4.0, 0.0) + np.where(t >= 5, 4.0 * np.exp(-(t - 5) / 0.15), 0.0)
             return w + rng.normal(0, 0.01, t.size)
-        d = self.data(cmd, wheel, lambda t, rng: 0.03 + 0.001 * t + rng.normal(0, 0.005, t.size), 12.0)
+        d = self.data(cmd, wheel, lambda t, rng: 0.03 + 0.01 * t + rng.normal(0, 0.005, t.size), 12.0)
         noise = sn.sensor_noise(d)
         self.assertEqual((noise["encoder_source"], noise["encoder_windows"]), ("rest", 2))
         self.assertAlmostEqual(noise["encoder_noise"], 0.01, delta=0.001)
