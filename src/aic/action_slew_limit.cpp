@@ -12,25 +12,42 @@ namespace jackal_aic
 {
 namespace aic
 {
-ActionSlewLimit::Result ActionSlewLimit::apply(const base::Vector2& previous, const base::Vector2& command,
-                                               const base::Vector2& a_F, const base::Vector2& candidate,
-                                               const base::Vector2& a_dot, const base::Vector2& prior, double h) const
+base::Vector2 ActionSlewLimit::limit(const base::Vector2& previous, const base::Vector2& command, double h,
+                                     bool* limited) const
 {
-  Result result{ command, candidate, false };
+  if (limited != nullptr)
+  {
+    *limited = false;
+  }
   const base::Vector2 change = command - previous;
   if (!enabled() || !(h > 0.0 && std::isfinite(h)) || !change.allFinite())
   {
-    return result;
+    return command;
   }
   const double largest = change.cwiseAbs().maxCoeff();
   const double bound = params_.max_rate * h;
   if (!(largest > bound))
   {
-    return result;
+    return command;
+  }
+  if (limited != nullptr)
+  {
+    *limited = true;
   }
   // The pair's change scaled as a whole: the wheel that changes most moves by the bound.
-  result.command = previous + (bound / largest) * change;
-  result.limited = true;
+  return previous + (bound / largest) * change;
+}
+
+ActionSlewLimit::Result ActionSlewLimit::apply(const base::Vector2& previous, const base::Vector2& command,
+                                               const base::Vector2& a_F, const base::Vector2& candidate,
+                                               const base::Vector2& a_dot, const base::Vector2& prior, double h) const
+{
+  Result result{ command, candidate, false };
+  result.command = limit(previous, command, h, &result.limited);
+  if (!result.limited)
+  {
+    return result;
+  }
   for (int i = 0; i < 2; ++i)
   {
     result.free_energy_part(i) = conditionalIntegration(a_F(i), candidate(i), a_dot(i), command(i) - result.command(i),

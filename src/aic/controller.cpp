@@ -731,6 +731,9 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
   const bool at_rest = reference_.target().isZero(0.0) && reference_.path().cwiseAbs().maxCoeff() <= kRobotRestPath;
   if (!at_rest)
   {
+    // The tip guard's trip stops the wheels' braking (or acceleration) where they are now, not at
+    // the path's value one latency ahead (ReferenceModel::holdTipSpeed()).
+    reference_.holdTipSpeed(model_.twistFromWheels(robot_belief_.wheelSpeeds())(0));  // x_dot
     const base::Vector3 path = reference_.pathAhead(h);
     // The wheels through the learned b_hat (the slip ratio's steady part reaches the command
     // through b_hat, at the learner's rate: a transient's slip does not).
@@ -749,7 +752,9 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
     return Status::kRunaway;
   }
   const base::Vector2 previous = a_;
-  a_ = at_rest ? base::Vector2::Zero() : r.command;
+  // The slew limit (action_slew_limit, a bound the user sets) acts on what is sent; the wheel loop
+  // model records the limited command, so the next step's prediction knows it.
+  a_ = slew_limit_.limit(previous, at_rest ? base::Vector2::Zero() : r.command, h);
   a_F_ = a_;
   action_free_energy_ = r.free_energy;
   action_saturated_ = r.minimiser.cwiseAbs().maxCoeff() >= params_.max_wheel_speed;

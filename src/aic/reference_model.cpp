@@ -93,6 +93,25 @@ void ReferenceModel::setTipBounds(double front, double rear)
   }
 }
 
+bool ReferenceModel::holdTipSpeed(double x_dot)
+{
+  if (!std::isfinite(x_dot))
+  {
+    return false;
+  }
+  if (tip_front_ == 0.0 && m_(0) < x_dot)
+  {
+    m_(0) = x_dot;
+    return true;
+  }
+  if (tip_rear_ == 0.0 && m_(0) > x_dot)
+  {
+    m_(0) = x_dot;
+    return true;
+  }
+  return false;
+}
+
 base::Vector3 ReferenceModel::rate() const
 {
   base::Vector3 lo, hi;

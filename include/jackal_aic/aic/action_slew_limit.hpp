@@ -52,6 +52,15 @@ public:
   bool enabled() const { return params_.max_rate > 0.0; }
 
   /**
+   * \brief The command after the limit: previous + s (command - previous), s = min(1, S h / max_i
+   *        |command_i - previous_i|) [rad/s] (both wheels scaled alike). command unchanged, bit for
+   *        bit, when !enabled(), when h is not finite and > 0, or when the change is not finite.
+   * \param[out] limited  true when the limit cut the command; may be null
+   */
+  base::Vector2 limit(const base::Vector2& previous, const base::Vector2& command, double h,
+                      bool* limited = nullptr) const;
+
+  /**
    * \brief Limit one action step's command and integrate a_F conditionally behind the limit.
    * \param previous   the command of the previous action step a_prev [rad/s]
    * \param command    this step's command after the AntiWindup's clamps [rad/s]

@@ -68,6 +68,20 @@ public:
    *        that is NaN or < 0 is ignored. Kept by setParams() and start().
    */
   void setTipBounds(double front, double rear);
+  /**
+   * \brief While a tip bound is tripped (0: the TipGuard stops the path's braking or its
+   *        acceleration along x_dot), move the path's x_dot to `x_dot` [m/s] where the tripped
+   *        bound would have kept it had the path not been ahead of the robot: a front trip raises
+   *        it to at least x_dot, a rear trip lowers it to at most x_dot. The robot model's path
+   *        leads the wheels by the latency (its goal is predicted that far ahead), so its value is
+   *        what the wheels reach one latency later; with x_dot the body's believed speed now, the
+   *        wheels stop braking (or accelerating) one latency after the trip instead of going on
+   *        to the path's value. The delay line is not touched (the robot model's path is not
+   *        delayed).
+   * \return true if the path moved; false (unchanged) when no bound is tripped, when x_dot is
+   *         not finite or when the path is already on the allowed side of it.
+   */
+  bool holdTipSpeed(double x_dot);
   /// The tip bounds in force (front, rear) [m/s^2] (+inf: none).
   double tipBoundFront() const { return tip_front_; }
   /// See tipBoundFront().

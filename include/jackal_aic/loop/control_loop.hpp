@@ -52,8 +52,10 @@
  *       Supervisor's action loop tick (idle or the runaway hold's zero instead) -> RestRelease ->
  *       da_F/dt (eq. 3-16; unbiased: the goal prior on GoalResponse's g) -> ActionPrior -> the
  *       divergence check -> AntiWindup (lead, turning lead, wheel-speed clamps) -> ActionSlewLimit
- *       (action_slew_limit) -> ActionDelayLine records the command. belief_model robot instead: ReferenceModel's path -> LatencyAction
- *       through WheelLoopModel. Then the command stage: the final guard, and in output mode
+ *       (action_slew_limit) -> ActionDelayLine records the command. belief_model robot instead:
+ *       ReferenceModel's path (held at the believed speed while the tip guard is tripped) ->
+ *       LatencyAction through WheelLoopModel -> ActionSlewLimit::limit -> WheelLoopModel records
+ *       the command. Then the command stage: the final guard, and in output mode
  *       cmd_vel the stock diff drive's limits (a clipped command becomes the action)
  *
  * Time moving backwards (a simulator's /clock restarting at 0, a `rosbag play --loop --clock`

@@ -92,6 +92,23 @@ TEST(ActionSlewLimit, TheLargerChangeMovesByTheLimitAndTheDirectionIsKept)
   EXPECT_NEAR(down.command(0), 4.5, 1e-12);
 }
 
+TEST(ActionSlewLimit, LimitGivesTheCommandApplyGives)
+{
+  const base::Vector2 previous(1.0, 2.0), command(2.0, 1.5);
+  bool limited = false;
+  const base::Vector2 a = limit(10.0).limit(previous, command, kH, &limited);
+  EXPECT_TRUE(limited);
+  EXPECT_TRUE(a.isApprox(base::Vector2(1.2, 1.9), 1e-12)) << a.transpose();
+  const aic::ActionSlewLimit::Result r =
+      limit(10.0).apply(previous, command, previous, command, base::Vector2::Zero(), base::Vector2::Zero(), kH);
+  EXPECT_EQ(r.command, a);
+  EXPECT_EQ(limit(0.0).limit(previous, command, kH, &limited), command);
+  EXPECT_FALSE(limited);
+  const base::Vector2 bad = limit(10.0).limit(previous, base::Vector2(kNaN, 1.0), kH, &limited);
+  EXPECT_TRUE(std::isnan(bad(0)) && bad(1) == 1.0) << "a non-finite command passes (the divergence check runs before)";
+  EXPECT_FALSE(limited);
+}
+
 TEST(ActionSlewLimit, TheFreeEnergyPartDoesNotWindUpBehindTheLimit)
 {
   const aic::ActionSlewLimit s = limit(50.0);
@@ -211,6 +228,34 @@ TEST(ActionSlewLimitController, TheCommandsRateIsBoundedAndTheStepStillArrives)
   }
   EXPECT_GT(largest_unlimited, 2.0 * S * kH) << "the limit never acted: the test checks nothing";
   // a_F did not wind up behind the limit: both arrive at the same command.
+  EXPECT_TRUE(limited.action().isApprox(unlimited.action(), 1e-3))
+      << limited.action().transpose() << " vs " << unlimited.action().transpose();
+}
+
+TEST(ActionSlewLimitController, TheRobotModelsCommandIsBoundedTooAndItsModelKnowsIt)
+{
+  // belief_model robot: the command LatencyAction finds is limited as it is sent, and the wheel
+  // loop model records the limited one, so the step still arrives.
+  const double S = 5.0;
+  params::AicParams p = withSlewLimit(S);
+  p.belief_model = params::BeliefModel::kRobot;
+  params::AicParams q = p;
+  q.action_slew.max_rate = 0.0;
+  aic::ActiveInferenceController limited(p), unlimited(q);
+  for (aic::ActiveInferenceController* c : { &limited, &unlimited })
+  {
+    c->setGoal(base::Vector3(0.5, 0.0, 0.3));
+  }
+  double largest_unlimited = 0.0;
+  for (int k = 0; k < 500; ++k)  // 10 s
+  {
+    const base::Vector2 before = limited.action(), before_unlimited = unlimited.action();
+    period(limited);
+    period(unlimited);
+    EXPECT_LE((limited.action() - before).cwiseAbs().maxCoeff(), S * kH * (1.0 + 1e-12)) << k;
+    largest_unlimited = std::max(largest_unlimited, (unlimited.action() - before_unlimited).cwiseAbs().maxCoeff());
+  }
+  EXPECT_GT(largest_unlimited, 2.0 * S * kH) << "the limit never acted: the test checks nothing";
   EXPECT_TRUE(limited.action().isApprox(unlimited.action(), 1e-3))
       << limited.action().transpose() << " vs " << unlimited.action().transpose();
 }

@@ -252,6 +252,33 @@ TEST(ReferenceModelTipBounds, ClampThePathsRateAlongXDot)
   EXPECT_NEAR(r.rate()(0), 0.5, 1e-9) << "speeding up below the rear bound";
 }
 
+TEST(ReferenceModelTipBounds, ATrippedBoundHoldsThePathAtTheSpeedGivenNotAhead)
+{
+  const double inf = std::numeric_limits<double>::infinity();
+  params::ReferenceModelParams p;
+  p.time_constant = 0.005;
+  p.max_acceleration_linear = 4.0;
+  aic::ReferenceModel r{ p };
+  ASSERT_TRUE(r.start(base::Vector3(0.5, 0.0, 0.2)));
+  EXPECT_FALSE(r.holdTipSpeed(0.9)) << "no trip: the path is left alone";
+  EXPECT_EQ(r.path()(0), 0.5);
+  r.setTipBounds(1.6, inf);
+  EXPECT_FALSE(r.holdTipSpeed(0.9)) << "a bound that is not tripped holds nothing";
+  r.setTipBounds(0.0, inf);  // tipping nose-down: no more braking
+  EXPECT_FALSE(r.holdTipSpeed(0.3)) << "the path is above the speed: it stays";
+  EXPECT_FALSE(r.holdTipSpeed(std::nan("")));
+  EXPECT_EQ(r.path()(0), 0.5);
+  EXPECT_TRUE(r.holdTipSpeed(0.9)) << "the path below the robot's speed is raised to it";
+  EXPECT_EQ(r.path(), base::Vector3(0.9, 0.0, 0.2)) << "only x_dot moves";
+  ASSERT_TRUE(r.setGoal(base::Vector3(0.0, 0.0, 0.2)));
+  r.advance(0.1);
+  EXPECT_NEAR(r.path()(0), 0.9, 1e-12) << "and held there: the trip still stops the braking";
+  r.setTipBounds(inf, 0.0);  // tipping nose-up: no more acceleration
+  EXPECT_TRUE(r.holdTipSpeed(0.4)) << "a rear trip lowers the path to the speed";
+  EXPECT_EQ(r.path()(0), 0.4);
+  EXPECT_FALSE(r.holdTipSpeed(0.7));
+}
+
 TEST(TipGuardInThePipeline, TheGyroYOffsetIsRemovedAndTheBoundsReachThePath)
 {
   params::AicParams aic = params::recommendedAicParams();  // tip_guard and learn_gyro_bias on
