@@ -311,7 +311,7 @@ bool ActiveInferenceController::startReference(const base::Vector3& m0)
   return true;
 }
 
-bool ActiveInferenceController::setMeasurement(const base::YTilde& y_tilde)
+bool ActiveInferenceController::setMeasurement(const base::YTilde& y_tilde, bool wheels_repeated)
 {
   if (y_tilde.cols() != params_.numOrders() || !y_tilde.allFinite() ||
       y_tilde.cwiseAbs().maxCoeff() > kMaxMeasurementMagnitude)
@@ -321,6 +321,7 @@ bool ActiveInferenceController::setMeasurement(const base::YTilde& y_tilde)
   y_tilde_ = y_tilde;
   has_measurement_ = true;
   robot_sample_pending_ = true;
+  robot_wheels_repeated_ = wheels_repeated;
   return true;
 }
 
@@ -637,14 +638,19 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(
                        std::abs(y_tilde_(base::kGyroZ, 1)) <= params_.separation_learner.max_yaw_acceleration &&
                        std::abs(wheels_yaw_rate) <= params_.separation_learner.max_yaw_acceleration;
     const base::Vector2 wheels(y_tilde_(base::kOmegaLeft, 0), y_tilde_(base::kOmegaRight, 0));
-    learnLatency(wheels);
+    // A repeated joint state is the MCU's previous reading again, one period late: read as now, in
+    // a ramp it says the wheels stood still for a period, and the action would push against it.
+    if (!robot_wheels_repeated_)
+    {
+      learnLatency(wheels);
+    }
     // With the latency learned, a start from rest whose wheels have not shown it yet is read as the
     // latency not yet elapsed, not as the wheels' speed: their readings wait until the start is
     // seen or dropped (LatencyLearner's window), so the action does not push against a late plant.
-    const bool wheels_unmoved = params_.robot.learn_latency && latency_learner_.armed();
-    robot_belief_.correct(base::Vector2(y_tilde_(base::kOmegaLeft, 0), y_tilde_(base::kOmegaRight, 0)),
-                          y_tilde_(base::kGyroZ, 0), !wheels_unmoved && (sensor_mask_ & (1u << base::kOmegaLeft)) != 0,
-                          !wheels_unmoved && (sensor_mask_ & (1u << base::kOmegaRight)) != 0,
+    const bool wheels_unused = robot_wheels_repeated_ || (params_.robot.learn_latency && latency_learner_.armed());
+    robot_belief_.correct(wheels, y_tilde_(base::kGyroZ, 0),
+                          !wheels_unused && (sensor_mask_ & (1u << base::kOmegaLeft)) != 0,
+                          !wheels_unused && (sensor_mask_ & (1u << base::kOmegaRight)) != 0,
                           (sensor_mask_ & (1u << base::kGyroZ)) != 0, learn);
   }
   if (params_.separation_learner.enabled)
@@ -863,6 +869,7 @@ void ActiveInferenceController::reset()
   y_tilde_.setZero();
   has_measurement_ = false;
   robot_sample_pending_ = false;
+  robot_wheels_repeated_ = false;
   startReference(base::Vector3::Zero());
 }
 

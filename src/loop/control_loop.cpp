@@ -157,7 +157,8 @@ bool ControlLoop::jointState(const JointStateInput& joints)
   {
     return true;
   }
-  const SamplePipeline::Measurement m = pipeline_.measure(sample.y, sample.h, sample.imu_ok);
+  // FrozenJointStates compares travel and speeds exactly: a repeat is jackal_node's re-publication.
+  const SamplePipeline::Measurement m = pipeline_.measure(sample.y, sample.h, sample.imu_ok, frozen_.repeats() > 0);
   if (!m.accepted)
   {
     ++refused_samples_;

@@ -89,10 +89,10 @@ aic::Generalizer::Status SamplePipeline::generalize(base::Vector5* y, double h, 
   return generalizer_->update(*y, h);
 }
 
-SamplePipeline::Measurement SamplePipeline::measure(const base::Vector5& y, double h, bool imu_ok)
+SamplePipeline::Measurement SamplePipeline::measure(const base::Vector5& y, double h, bool imu_ok, bool wheels_repeated)
 {
   Measurement m;
-  m.accepted = controller_->setMeasurement(generalizer_->yTilde());
+  m.accepted = controller_->setMeasurement(generalizer_->yTilde(), wheels_repeated);
   if (!m.accepted)
   {
     return m;

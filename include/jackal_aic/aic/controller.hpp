@@ -136,10 +136,14 @@ public:
 
   /**
    * \brief Latest generalized measurement y_tilde (5 x (p+1)), held until the next one.
+   * \param wheels_repeated  the joint state repeats the previous one exactly, travel and speeds
+   *        (jackal_node re-published the MCU's last reading: a reading one MCU period late, no new
+   *        information): the robot model takes no wheel reading from this sample (its gyro reading
+   *        is new); the goal and unbiased models, which low-pass the wheels, ignore the flag
    * \return false (and ignored) if it has the wrong number of columns, a non-finite entry, or an
    *         entry beyond kMaxMeasurementMagnitude.
    */
-  bool setMeasurement(const base::YTilde& y_tilde);
+  bool setMeasurement(const base::YTilde& y_tilde, bool wheels_repeated = false);
   /// True once a measurement has been accepted (since construction or the last reset()).
   bool hasMeasurement() const { return has_measurement_; }
 
@@ -412,8 +416,9 @@ private:
   RobotBelief robot_belief_;
   LatencyLearner latency_learner_{ 0.1187, 0.0, 1.0, 1.0 };  ///< robot model with learn_latency (applyParams())
   double robot_clock_ = 0.0;
-  bool robot_sample_pending_ = false;  ///< a sample arrived since the last robot belief step
-  double action_free_energy_ = 0.0;    ///< F_a of the last robot action step [-]
+  bool robot_sample_pending_ = false;   ///< a sample arrived since the last robot belief step
+  bool robot_wheels_repeated_ = false;  ///< the pending sample's joint state repeated the previous one
+  double action_free_energy_ = 0.0;     ///< F_a of the last robot action step [-]
   bool action_saturated_ = false;
 
   base::Vector2 a_ = base::Vector2::Zero();

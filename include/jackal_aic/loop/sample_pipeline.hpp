@@ -74,8 +74,10 @@ public:
    *        missing channels), so a channel isolated now is out of the next action step. With
    *        learn_gyro_bias the offset estimator then takes the sample's raw gyro reading, the wheels
    *        and the controller's action (it learns only at standstill with a healthy gyro).
+   *        wheels_repeated: the joint state repeated the previous one exactly
+   *        (ActiveInferenceController::setMeasurement()).
    */
-  Measurement measure(const base::Vector5& y, double h, bool imu_ok);
+  Measurement measure(const base::Vector5& y, double h, bool imu_ok, bool wheels_repeated = false);
 
   /// Forget the sensor history (sensors were lost): generalizer and fault monitor restart.
   void restartHistory();

@@ -548,6 +548,36 @@ TEST(ControllerRobotModel, WhileAFaultIsTestedTheBeliefsFollowTheModel)
   EXPECT_GT(held.robotBelief().wheelSpeeds()(0), 0.5 * omega);
 }
 
+TEST(ControllerRobotModel, ARepeatedJointStateGivesNoWheelReading)
+{
+  // The wheels read 0.5 m/s while nothing was commanded. Flagged as repeats of the previous joint
+  // state (the MCU's last reading re-published), the readings are not taken: the beliefs follow the
+  // model (wheels at rest), while the gyro's reading is still taken.
+  params::AicParams p = robotParams();
+  p.separation_learner.enabled = false;
+  p.robot.learn_latency = false;
+  base::YTilde y = base::YTilde::Zero(base::kYDim, p.numOrders());
+  const double omega = 0.5 / (p.wheel_radius * p.slip_factor);
+  y(base::kOmegaLeft, 0) = omega;
+  y(base::kOmegaRight, 0) = omega;
+  y(base::kGyroZ, 0) = 0.2;
+  aic::ActiveInferenceController repeated(p), fresh(p);
+  for (int k = 0; k < 200; ++k)
+  {
+    if (k % 20 == 0)
+    {
+      ASSERT_TRUE(repeated.setMeasurement(y, true));
+      ASSERT_TRUE(fresh.setMeasurement(y, false));
+    }
+    ASSERT_EQ(repeated.updateBeliefs(0.001), Status::kOk);
+    ASSERT_EQ(fresh.updateBeliefs(0.001), Status::kOk);
+  }
+  EXPECT_NEAR(repeated.robotBelief().wheelSpeeds()(0), 0.0, 1e-9);
+  // The gyro's reading is new: it is taken (at rest the offset beta takes most of it).
+  EXPECT_GT(repeated.robotBelief().yawRate() + repeated.robotBelief().gyroOffset(), 0.1);
+  EXPECT_GT(fresh.robotBelief().wheelSpeeds()(0), 0.5 * omega) << "a new reading is taken";
+}
+
 TEST(ControllerRobotModel, AFaultPresentHoldsTheGyroOffset)
 {
   // The gyro reads 0.03 rad/s at rest: the offset beta learns it, unless a fault is present.
