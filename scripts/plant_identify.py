@@ -32,13 +32,15 @@ def main():
     g.add_argument("--overlay-out", help="the identified overlay (default: <bag>_wheel_loop.yaml)")
     g.add_argument("--noise-out", help="the robot model's sensor noises measured on the bag's rest segments, as a "
                                        "controller overlay (default: <bag>_sensor_noise.yaml)")
+    g.add_argument("--yaw-out", help="the robot model's yaw response (T_s, b_hat_0) fitted on the bag's turns in "
+                                     "place, as a controller overlay (default: <bag>_yaw_response.yaml)")
     g.add_argument("--json", help="also write the results as JSON")
     g.add_argument("--plant-replay", default=None, help="path of the plant_replay executable")
     a = ap.parse_args()
     if a.bag:
         return bag_fit.run(a, tool)
-    if a.overlay or a.overlay_out or a.noise_out or a.json:
-        ap.error("--overlay, --overlay-out, --noise-out and --json go with --bag")
+    if a.overlay or a.overlay_out or a.noise_out or a.yaw_out or a.json:
+        ap.error("--overlay, --overlay-out, --noise-out, --yaw-out and --json go with --bag")
     if a.fit and any(k not in plant_identification.PARAMETERS for k in a.fit):
         ap.error("without --bag --fit takes %s" % ", ".join(sorted(plant_identification.PARAMETERS)))
     return plant_identification.run(a, a.plant_fit or tool.exe("plant_fit"))

@@ -5,7 +5,8 @@ scripts/record_identification.py --headless (plant_replay: the stock controller'
 stream on the plant with its seeded sensor noise), is identified by scripts/plant_identify.py --bag
 starting from the default plant; the turning parameters come back within 20 % and the identified
 plant reproduces the bag's responses, and the robot model's sensor noises measured on its rests are
-the plant's. Also the bag reader's errors and the noise measurement on synthetic streams. No roscore needed (rosbag's
+the plant's, and its yaw response (T_s, b_eff) fitted on its turns in place is the plant's. Also the bag
+reader's errors, and the noise measurement and the yaw response's fit on synthetic streams. No roscore needed (rosbag's
 Python API); deterministic (seeded noise, seeded candidates); ~30 s.
 
 Run: python3 test/sim/test_bag_identification.py (in the sourced workspace, plant_replay built).
@@ -30,6 +31,7 @@ from jackal_aic_tools.identify import bag_identification as bi  # noqa: E402
 from jackal_aic_tools.common import cli  # noqa: E402
 from jackal_aic_tools.identify import identify  # noqa: E402
 from jackal_aic_tools.identify import sensor_noise as sn  # noqa: E402
+from jackal_aic_tools.identify import yaw_response as yr  # noqa: E402
 
 VARIANT = os.path.join(ROOT, "sim", "config", "variants", "turn_deficit.yaml")
 PLANT = os.path.join(ROOT, "sim", "config", "plant.yaml")
@@ -111,6 +113,27 @@ class BagRoundTrip(unittest.TestCase):
                              capture_output=True, text=True, check=False)
         self.assertEqual(out.returncode, 0, out.stderr)
         self.assertAlmostEqual(yaml.safe_load(out.stdout)["gyro_noise"], doc["gyro_noise"], delta=1e-9)
+
+    def test_the_yaw_response_is_the_plants(self):
+        # The wheels' yaw rate to the gyro on the short sequence's two turns in place: the plant's
+        # effective separation in a 1 rad/s turn in place is 0.541 m (doc/active_inference.md, 'The
+        # robot model'; b_hat_0 x wheel-odometry yaw / true yaw); its scrub lag is a few ms (a
+        # standard-sequence bag gives 0.0091 s, this one 0.0100 s on the nominal plant).
+        yaw = self.fit["yaw_response"]
+        self.assertEqual(yaw["turns"], 2)
+        self.assertAlmostEqual(yaw["wheel_separation"], 0.541, delta=0.02 * 0.541)
+        self.assertGreater(yaw["yaw_time_constant"], 0.003)
+        self.assertLess(yaw["yaw_time_constant"], 0.03)
+        self.assertLess(yaw["residual_rms"], 0.03)
+        with open(self.fit["yaw_overlay"]) as f:
+            doc = yaml.safe_load(f)
+        self.assertEqual(sorted(doc), ["wheel_separation", "yaw_time_constant"])
+        aic_params = cli.find_executable("aic_params", os.path.join(ROOT, "scripts", "plant_identify.py"), "test")
+        out = subprocess.run([aic_params, "--yaml", "--config", os.path.join(ROOT, "config", "default.yaml"), "--config",
+                              os.path.join(ROOT, "config", "robot_model.yaml"), "--config", self.fit["yaw_overlay"]],
+                             capture_output=True, text=True, check=False)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        self.assertAlmostEqual(yaml.safe_load(out.stdout)["yaw_time_constant"], doc["yaw_time_constant"], delta=1e-9)
 
     def test_the_overlay_loads_and_holds_the_identified_keys(self):
         with open(self.overlay) as f:
@@ -267,14 +290,58 @@ class SensorNoise(unittest.TestCase):
             sn.sensor_noise(d)
 
 
+class YawResponse(unittest.TestCase):
+    """yaw_response on synthetic streams (no bag): a known lag, separation and offset come back;
+    a bag without a turn in place is an error naming it."""
+
+    @staticmethod
+    def data(cmd_rows, difference_fn, time_constant, separation, offset, seed=5):
+        rng = np.random.default_rng(seed)
+        t = np.arange(0.0, 12.0, 0.02)
+        difference = difference_fn(t)  # omega_R - omega_L [rad/s]
+        grid, x = yr.lag(t, difference, time_constant)
+        gyro = 0.098 / separation * np.interp(t, grid, x) + offset + rng.normal(0, 0.005, t.size)
+        wheels = np.column_stack([t, -0.5 * difference + rng.normal(0, 0.007, t.size),
+                                  0.5 * difference + rng.normal(0, 0.007, t.size)])
+        return bi.BagData(np.array(cmd_rows, dtype=float), False, wheels, np.column_stack([t, gyro]), None, 0.0,
+                          "synthetic.bag")
+
+    def test_a_known_lag_separation_and_offset_come_back(self):
+        # Two turns in place, the wheels ramping at 40 rad/s^2 to +-2.9 rad/s per side, the body
+        # 0.02 s behind through 0.55 m, the gyro 0.01 rad/s off.
+        cmd = [(0, 0, 0, 0), (1, 0, -2.9, 2.9), (3.5, 0, 0, 0), (5, 0, 2.9, -2.9), (7.5, 0, 0, 0), (11.99, 0, 0, 0)]
+
+        def difference(t):
+            up = np.clip((t - 1.1) * 80.0, 0, 5.8) - np.clip((t - 3.6) * 80.0, 0, 5.8)
+            down = np.clip((t - 5.1) * 80.0, 0, 5.8) - np.clip((t - 7.6) * 80.0, 0, 5.8)
+            return up - down
+        r = yr.yaw_response(self.data(cmd, difference, 0.02, 0.55, 0.01))
+        self.assertEqual(r["turns"], 2)
+        self.assertAlmostEqual(r["yaw_time_constant"], 0.02, delta=0.002)
+        self.assertAlmostEqual(r["wheel_separation"], 0.55, delta=0.002)
+        self.assertAlmostEqual(r["gyro_offset"], 0.01, delta=0.001)
+
+    def test_a_bag_without_a_turn_in_place_is_an_error_naming_it(self):
+        cmd = [(0, 0, 0, 0), (1, 0, 4, 4), (5, 0, 0, 0), (11.99, 0, 0, 0)]
+        with self.assertRaisesRegex(ValueError, "synthetic.bag: 0 gyro samples in 0 turns in place"):
+            yr.yaw_response(self.data(cmd, lambda t: 0.0 * t, 0.02, 0.55, 0.0))
+
+    def test_a_gyro_that_turns_against_the_wheels_is_an_error(self):
+        cmd = [(0, 0, 0, 0), (1, 0, -2.9, 2.9), (3.5, 0, 0, 0), (11.99, 0, 0, 0)]
+        d = self.data(cmd, lambda t: np.where((t > 1.1) & (t < 3.6), 5.8, 0.0), 0.02, 0.55, 0.0)
+        d.gyro[:, 1] *= -1.0  # the IMU mounted upside down
+        with self.assertRaisesRegex(ValueError, "does not turn with the wheels"):
+            yr.yaw_response(d)
+
+
 def suite():
-    """Both test cases (one JUnit result through rosunit)."""
+    """The test cases (one JUnit result through rosunit)."""
     loader = unittest.TestLoader()
     return unittest.TestSuite([loader.loadTestsFromTestCase(BagRoundTrip), loader.loadTestsFromTestCase(BadBags),
-                               loader.loadTestsFromTestCase(SensorNoise)])
+                               loader.loadTestsFromTestCase(SensorNoise), loader.loadTestsFromTestCase(YawResponse)])
 
 
 if __name__ == "__main__":
     sys.path.insert(0, os.path.dirname(HERE))  # test/pyunit.py
     import pyunit  # noqa: E402  (the test folder is not a package)
-    pyunit.main("bag_identification", BagRoundTrip, BadBags, SensorNoise)
+    pyunit.main("bag_identification", BagRoundTrip, BadBags, SensorNoise, YawResponse)

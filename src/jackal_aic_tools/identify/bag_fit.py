@@ -1,14 +1,15 @@
 """plant_identify.py --bag: identify a robot's wheel loop from its bag (the fit:
 jackal_aic_tools.identify.bag_identification), print the fit and write the overlay YAML of the keys that
 differ from the plant's; and measure the robot model's sensor noises on the bag's rest segments
-(jackal_aic_tools.identify.sensor_noise) and write them as a controller overlay."""
+(jackal_aic_tools.identify.sensor_noise) and fit its yaw response on the bag's turns in place
+(jackal_aic_tools.identify.yaw_response), and write each as a controller overlay."""
 import json
 import os
 import sys
 
 import numpy as np
 
-from . import bag_identification, identify, sensor_noise
+from . import bag_identification, identify, sensor_noise, yaw_response
 
 # Comments of the overlay keys --bag writes (unit, meaning).
 OVERLAY_COMMENTS = {
@@ -52,7 +53,8 @@ def run(a, tool):
     """The --bag mode of plant_identify.py (a: its parsed arguments, tool: cli.Tool): read the bag,
     fit BAG_PARAMETERS by replaying it on the plant, print the fit table and the turn deficits,
     write the overlay, the sensor noises' controller overlay (a.noise_out; skipped, with the reason
-    printed, when the bag has too little rest) and a.json. Returns the exit status."""
+    printed, when the bag has too little rest), the yaw response's (a.yaw_out; skipped when the bag
+    has no turn in place) and a.json. Returns the exit status."""
     keys = list(a.fit) if a.fit else list(bag_identification.BAG_PARAMETERS)
     unknown = [k for k in keys if k not in bag_identification.BAG_PARAMETERS]
     if unknown:
@@ -86,6 +88,14 @@ def run(a, tool):
     except ValueError as e:
         noise = None
         print("  the robot model's sensor noises: not measured: %s" % e)
+    try:
+        yaw = yaw_response.yaw_response(data)
+        print("  the robot model's yaw response: yaw_time_constant %.4g s, wheel_separation %.4g m (%d turns in place, "
+              "%d gyro samples, residual %.4f rad/s)" % (yaw["yaw_time_constant"], yaw["wheel_separation"], yaw["turns"],
+                                                       yaw["samples"], yaw["residual_rms"]))
+    except ValueError as e:
+        yaw = None
+        print("  the robot model's yaw response: not fitted: %s" % e)
     print("  fitting %s on the plant %s%s" % (", ".join(keys), a.config,
                                               "".join(" + " + o for o in a.overlay)))
     try:
@@ -123,11 +133,17 @@ def run(a, tool):
         noise_out = a.noise_out or os.path.splitext(a.bag)[0] + "_sensor_noise.yaml"
         sensor_noise.write_overlay(noise_out, noise, os.path.basename(a.bag))
         print("sensor noises written: %s (controller overlay: encoder_noise, gyro_noise)" % noise_out)
+    yaw_out = None
+    if yaw is not None:
+        yaw_out = a.yaw_out or os.path.splitext(a.bag)[0] + "_yaw_response.yaml"
+        yaw_response.write_overlay(yaw_out, yaw, os.path.basename(a.bag))
+        print("yaw response written: %s (controller overlay: yaw_time_constant, wheel_separation)" % yaw_out)
     if a.json:
         with open(a.json, "w") as f:
             json.dump({"bag": a.bag, "duration": data.duration, "keys": keys, "start": r["start"],
                        "values": r["values"], "start_cost": r["start_cost"], "cost": r["cost"],
                        "start_errors": r["start_errors"], "errors": r["errors"], "evaluations": r["evaluations"],
-                       "deficits": deficits, "overlay": out, "sensor_noise": noise, "noise_overlay": noise_out},
+                       "deficits": deficits, "overlay": out, "sensor_noise": noise, "noise_overlay": noise_out,
+                       "yaw_response": yaw, "yaw_overlay": yaw_out},
                       f, indent=1)
     return 0
