@@ -65,6 +65,16 @@ class BagRoundTrip(unittest.TestCase):
     def tearDownClass(cls):
         cls.tmp.cleanup()
 
+    def loaded(self, overlay):
+        """The controller's parameters (aic_params --yaml) with the controller overlay ``overlay``
+        loaded after config/default.yaml and config/robot_model.yaml (it must load)."""
+        aic_params = cli.find_executable("aic_params", os.path.join(ROOT, "scripts", "plant_identify.py"), "test")
+        out = subprocess.run([aic_params, "--yaml", "--config", os.path.join(ROOT, "config", "default.yaml"), "--config",
+                              os.path.join(ROOT, "config", "robot_model.yaml"), "--config", overlay],
+                             capture_output=True, text=True, check=False)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        return yaml.safe_load(out.stdout)
+
     def test_the_bag_has_the_robot_topics(self):
         data = bi.read_bag(self.bag)
         self.assertFalse(data.cmd_is_twist)
@@ -107,12 +117,7 @@ class BagRoundTrip(unittest.TestCase):
         self.assertEqual(sorted(doc), ["encoder_noise", "gyro_noise"])
         self.assertAlmostEqual(doc["encoder_noise"], noise["encoder_noise"], delta=1e-3 * noise["encoder_noise"])
         # It loads as a controller overlay after the robot model's.
-        aic_params = cli.find_executable("aic_params", os.path.join(ROOT, "scripts", "plant_identify.py"), "test")
-        out = subprocess.run([aic_params, "--yaml", "--config", os.path.join(ROOT, "config", "default.yaml"), "--config",
-                              os.path.join(ROOT, "config", "robot_model.yaml"), "--config", self.fit["noise_overlay"]],
-                             capture_output=True, text=True, check=False)
-        self.assertEqual(out.returncode, 0, out.stderr)
-        self.assertAlmostEqual(yaml.safe_load(out.stdout)["gyro_noise"], doc["gyro_noise"], delta=1e-9)
+        self.assertAlmostEqual(self.loaded(self.fit["noise_overlay"])["gyro_noise"], doc["gyro_noise"], delta=1e-9)
 
     def test_the_yaw_response_is_the_plants(self):
         # The wheels' yaw rate to the gyro on the short sequence's two turns in place: the plant's
@@ -128,12 +133,8 @@ class BagRoundTrip(unittest.TestCase):
         with open(self.fit["yaw_overlay"]) as f:
             doc = yaml.safe_load(f)
         self.assertEqual(sorted(doc), ["wheel_separation", "yaw_time_constant"])
-        aic_params = cli.find_executable("aic_params", os.path.join(ROOT, "scripts", "plant_identify.py"), "test")
-        out = subprocess.run([aic_params, "--yaml", "--config", os.path.join(ROOT, "config", "default.yaml"), "--config",
-                              os.path.join(ROOT, "config", "robot_model.yaml"), "--config", self.fit["yaw_overlay"]],
-                             capture_output=True, text=True, check=False)
-        self.assertEqual(out.returncode, 0, out.stderr)
-        self.assertAlmostEqual(yaml.safe_load(out.stdout)["yaw_time_constant"], doc["yaw_time_constant"], delta=1e-9)
+        self.assertAlmostEqual(self.loaded(self.fit["yaw_overlay"])["yaw_time_constant"], doc["yaw_time_constant"],
+                               delta=1e-9)
 
     def test_the_overlay_loads_and_holds_the_identified_keys(self):
         with open(self.overlay) as f:

@@ -49,6 +49,19 @@ def write_overlay(path, values, base, bag, cost):
     return keys
 
 
+def robot_model_part(name, verb, measure, describe):
+    """Print and return one part of the robot model measured on the bag: measure() (its result) and
+    describe(result) (a line); a ValueError from measure() is printed as "not <verb>: <reason>" and
+    the part is None."""
+    try:
+        result = measure()
+    except ValueError as e:
+        print("  the robot model's %s: not %s: %s" % (name, verb, e))
+        return None
+    print("  the robot model's %s: %s" % (name, describe(result)))
+    return result
+
+
 def run(a, tool):
     """The --bag mode of plant_identify.py (a: its parsed arguments, tool: cli.Tool): read the bag,
     fit BAG_PARAMETERS by replaying it on the plant, print the fit table and the turn deficits,
@@ -80,22 +93,14 @@ def run(a, tool):
         fb_r = np.interp(data.wheels[:, 0], data.feedback[:, 0], data.feedback[:, 2])
         diff = np.sqrt(np.mean(np.concatenate([fb_l - data.wheels[:, 1], fb_r - data.wheels[:, 2]]) ** 2))
         print("  /feedback measured_velocity vs /joint_states: RMS difference %.3f rad/s" % diff)
-    try:
-        noise = sensor_noise.sensor_noise(data)
-        print("  the robot model's sensor noises: encoder_noise %.4g rad/s (%d samples, %s), gyro_noise %.4g rad/s "
-              "(%d samples, rest)" % (noise["encoder_noise"], noise["encoder_samples"], noise["encoder_source"],
-                                      noise["gyro_noise"], noise["gyro_samples"]))
-    except ValueError as e:
-        noise = None
-        print("  the robot model's sensor noises: not measured: %s" % e)
-    try:
-        yaw = yaw_response.yaw_response(data)
-        print("  the robot model's yaw response: yaw_time_constant %.4g s, wheel_separation %.4g m (%d turns in place, "
-              "%d gyro samples, residual %.4f rad/s)" % (yaw["yaw_time_constant"], yaw["wheel_separation"], yaw["turns"],
-                                                       yaw["samples"], yaw["residual_rms"]))
-    except ValueError as e:
-        yaw = None
-        print("  the robot model's yaw response: not fitted: %s" % e)
+    noise = robot_model_part("sensor noises", "measured", lambda: sensor_noise.sensor_noise(data),
+                             lambda n: "encoder_noise %.4g rad/s (%d samples, %s), gyro_noise %.4g rad/s (%d samples, "
+                                       "rest)" % (n["encoder_noise"], n["encoder_samples"], n["encoder_source"],
+                                                  n["gyro_noise"], n["gyro_samples"]))
+    yaw = robot_model_part("yaw response", "fitted", lambda: yaw_response.yaw_response(data),
+                           lambda y: "yaw_time_constant %.4g s, wheel_separation %.4g m (%d turns in place, %d gyro "
+                                     "samples, residual %.4f rad/s)" % (y["yaw_time_constant"], y["wheel_separation"],
+                                                                        y["turns"], y["samples"], y["residual_rms"]))
     print("  fitting %s on the plant %s%s" % (", ".join(keys), a.config,
                                               "".join(" + " + o for o in a.overlay)))
     try:

@@ -209,36 +209,16 @@ void period(aic::ActiveInferenceController& c)
 }
 }  // namespace
 
-TEST(ActionSlewLimitController, TheCommandsRateIsBoundedAndTheStepStillArrives)
+namespace
 {
-  const double S = 5.0;  // rad/s^2: 0.1 rad/s per 20 ms step
-  aic::ActiveInferenceController limited(withSlewLimit(S)), unlimited(withSlewLimit(0.0));
-  for (aic::ActiveInferenceController* c : { &limited, &unlimited })
-  {
-    c->setGoal(base::Vector3(0.5, 0.0, 0.3));
-  }
-  double largest_unlimited = 0.0;
-  for (int k = 0; k < 500; ++k)  // 10 s
-  {
-    const base::Vector2 before = limited.action(), before_unlimited = unlimited.action();
-    period(limited);
-    period(unlimited);
-    EXPECT_LE((limited.action() - before).cwiseAbs().maxCoeff(), S * kH * (1.0 + 1e-12)) << k;
-    largest_unlimited = std::max(largest_unlimited, (unlimited.action() - before_unlimited).cwiseAbs().maxCoeff());
-  }
-  EXPECT_GT(largest_unlimited, 2.0 * S * kH) << "the limit never acted: the test checks nothing";
-  // a_F did not wind up behind the limit: both arrive at the same command.
-  EXPECT_TRUE(limited.action().isApprox(unlimited.action(), 1e-3))
-      << limited.action().transpose() << " vs " << unlimited.action().transpose();
-}
-
-TEST(ActionSlewLimitController, TheRobotModelsCommandIsBoundedTooAndItsModelKnowsIt)
+/// The controller of `model` with the slew limit S against the same without it, both driven to
+/// (0.5 m/s, 0.3 rad/s) for 10 s: every action step of the limited one moves a wheel by at most
+/// S h, the unlimited one's moves more (the limit acted), and both arrive at the same command (the
+/// limited one neither wound up nor lost the step).
+void expectTheRateBoundedAndTheStepArriving(params::BeliefModel model, double S)
 {
-  // belief_model robot: the command LatencyAction finds is limited as it is sent, and the wheel
-  // loop model records the limited one, so the step still arrives.
-  const double S = 5.0;
   params::AicParams p = withSlewLimit(S);
-  p.belief_model = params::BeliefModel::kRobot;
+  p.belief_model = model;
   params::AicParams q = p;
   q.action_slew.max_rate = 0.0;
   aic::ActiveInferenceController limited(p), unlimited(q);
@@ -258,6 +238,20 @@ TEST(ActionSlewLimitController, TheRobotModelsCommandIsBoundedTooAndItsModelKnow
   EXPECT_GT(largest_unlimited, 2.0 * S * kH) << "the limit never acted: the test checks nothing";
   EXPECT_TRUE(limited.action().isApprox(unlimited.action(), 1e-3))
       << limited.action().transpose() << " vs " << unlimited.action().transpose();
+}
+}  // namespace
+
+TEST(ActionSlewLimitController, TheCommandsRateIsBoundedAndTheStepStillArrives)
+{
+  // 5 rad/s^2: 0.1 rad/s per 20 ms step. a_F does not wind up behind the limit.
+  expectTheRateBoundedAndTheStepArriving(params::BeliefModel::kGoal, 5.0);
+}
+
+TEST(ActionSlewLimitController, TheRobotModelsCommandIsBoundedTooAndItsModelKnowsIt)
+{
+  // belief_model robot: the command LatencyAction finds is limited as it is sent, and the wheel
+  // loop model records the limited one, so the step still arrives.
+  expectTheRateBoundedAndTheStepArriving(params::BeliefModel::kRobot, 5.0);
 }
 
 TEST(ActionSlewLimitController, ALimitThatNeverActsChangesNothing)
