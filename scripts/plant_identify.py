@@ -30,17 +30,16 @@ def main():
     g.add_argument("--overlay", action="append", default=[],
                    help="plant overlay the fit starts from and keeps (e.g. the floor's), repeatable")
     g.add_argument("--overlay-out", help="the identified overlay (default: <bag>_wheel_loop.yaml)")
-    g.add_argument("--noise-out", help="the robot model's sensor noises measured on the bag's rest segments, as a "
-                                       "controller overlay (default: <bag>_sensor_noise.yaml)")
-    g.add_argument("--yaw-out", help="the robot model's yaw response (T_s, b_hat_0) fitted on the bag's turns in "
-                                     "place, as a controller overlay (default: <bag>_yaw_response.yaml)")
+    g.add_argument("--model-out", help="the robot model as one controller overlay: config/robot_model.yaml with the "
+                                       "sensor noises measured on the bag's rest segments and the yaw response fitted "
+                                       "on its turns in place (default: <bag>_robot_model.yaml)")
     g.add_argument("--json", help="also write the results as JSON")
     g.add_argument("--plant-replay", default=None, help="path of the plant_replay executable")
     a = ap.parse_args()
     if a.bag:
         return bag_fit.run(a, tool)
-    if a.overlay or a.overlay_out or a.noise_out or a.yaw_out or a.json:
-        ap.error("--overlay, --overlay-out, --noise-out, --yaw-out and --json go with --bag")
+    if a.overlay or a.overlay_out or a.model_out or a.json:
+        ap.error("--overlay, --overlay-out, --model-out and --json go with --bag")
     if a.fit and any(k not in plant_identification.PARAMETERS for k in a.fit):
         ap.error("without --bag --fit takes %s" % ", ".join(sorted(plant_identification.PARAMETERS)))
     return plant_identification.run(a, a.plant_fit or tool.exe("plant_fit"))

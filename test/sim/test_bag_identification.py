@@ -67,11 +67,10 @@ class BagRoundTrip(unittest.TestCase):
 
     def loaded(self, overlay):
         """The controller's parameters (aic_params --yaml) with the controller overlay ``overlay``
-        loaded after config/default.yaml and config/robot_model.yaml (it must load)."""
+        loaded after config/default.yaml (it must load)."""
         aic_params = cli.find_executable("aic_params", os.path.join(ROOT, "scripts", "plant_identify.py"), "test")
         out = subprocess.run([aic_params, "--yaml", "--config", os.path.join(ROOT, "config", "default.yaml"), "--config",
-                              os.path.join(ROOT, "config", "robot_model.yaml"), "--config", overlay],
-                             capture_output=True, text=True, check=False)
+                              overlay], capture_output=True, text=True, check=False)
         self.assertEqual(out.returncode, 0, out.stderr)
         return yaml.safe_load(out.stdout)
 
@@ -112,12 +111,11 @@ class BagRoundTrip(unittest.TestCase):
         self.assertEqual(noise["encoder_source"], "rest")
         self.assertAlmostEqual(noise["encoder_noise"], 0.01 / 2 ** 0.5, delta=0.2 * 0.01 / 2 ** 0.5)
         self.assertAlmostEqual(noise["gyro_noise"], 0.005, delta=0.2 * 0.005)
-        with open(self.fit["noise_overlay"]) as f:
-            doc = yaml.safe_load(f)
-        self.assertEqual(sorted(doc), ["encoder_noise", "gyro_noise"])
-        self.assertAlmostEqual(doc["encoder_noise"], noise["encoder_noise"], delta=1e-3 * noise["encoder_noise"])
-        # It loads as a controller overlay after the robot model's.
-        self.assertAlmostEqual(self.loaded(self.fit["noise_overlay"])["gyro_noise"], doc["gyro_noise"], delta=1e-9)
+        # Written into the robot model's overlay, which loads alone after config/default.yaml.
+        model = self.loaded(self.fit["robot_model"])
+        self.assertEqual(model["belief_model"], "robot")
+        self.assertAlmostEqual(model["encoder_noise"], noise["encoder_noise"], delta=1e-3 * noise["encoder_noise"])
+        self.assertAlmostEqual(model["gyro_noise"], noise["gyro_noise"], delta=1e-3 * noise["gyro_noise"])
 
     def test_the_yaw_response_is_the_plants(self):
         # The wheels' yaw rate to the gyro on the short sequence's two turns in place: the plant's
@@ -130,11 +128,12 @@ class BagRoundTrip(unittest.TestCase):
         self.assertGreater(yaw["yaw_time_constant"], 0.003)
         self.assertLess(yaw["yaw_time_constant"], 0.03)
         self.assertLess(yaw["residual_rms"], 0.03)
-        with open(self.fit["yaw_overlay"]) as f:
-            doc = yaml.safe_load(f)
-        self.assertEqual(sorted(doc), ["wheel_separation", "yaw_time_constant"])
-        self.assertAlmostEqual(self.loaded(self.fit["yaw_overlay"])["yaw_time_constant"], doc["yaw_time_constant"],
-                               delta=1e-9)
+        model = self.loaded(self.fit["robot_model"])
+        self.assertAlmostEqual(model["yaw_time_constant"], yaw["yaw_time_constant"], delta=1e-3 * yaw["yaw_time_constant"])
+        self.assertAlmostEqual(model["wheel_separation"], yaw["wheel_separation"], delta=1e-3)
+        with open(os.path.join(ROOT, "config", "robot_model.yaml")) as f:
+            for key, value in yaml.safe_load(f).items():
+                self.assertEqual(model[key], value, key)
 
     def test_the_overlay_loads_and_holds_the_identified_keys(self):
         with open(self.overlay) as f:
@@ -326,6 +325,18 @@ class YawResponse(unittest.TestCase):
         cmd = [(0, 0, 0, 0), (1, 0, 4, 4), (5, 0, 0, 0), (11.99, 0, 0, 0)]
         with self.assertRaisesRegex(ValueError, "synthetic.bag: 0 gyro samples in 0 turns in place"):
             yr.yaw_response(self.data(cmd, lambda t: 0.0 * t, 0.02, 0.55, 0.0))
+
+    def test_the_robot_models_overlay_refuses_to_hold_a_key_twice(self):
+        from jackal_aic_tools.identify import bag_fit
+        with tempfile.TemporaryDirectory() as tmp:
+            base = os.path.join(tmp, "robot_model.yaml")
+            with open(base, "w") as f:
+                f.write("belief_model: robot\nwheel_separation: 0.56\n")
+            response = {"yaw_time_constant": 0.01, "wheel_separation": 0.545, "turns": 2, "samples": 300,
+                        "residual_rms": 0.016}
+            with self.assertRaisesRegex(RuntimeError, "robot_model.yaml already sets wheel_separation"):
+                bag_fit.write_robot_model(os.path.join(tmp, "out.yaml"), base, None, response, "x.bag")
+            self.assertEqual(bag_fit.write_robot_model(os.path.join(tmp, "out.yaml"), base, None, None, "x.bag"), [])
 
     def test_a_gyro_that_turns_against_the_wheels_is_an_error(self):
         cmd = [(0, 0, 0, 0), (1, 0, -2.9, 2.9), (3.5, 0, 0, 0), (11.99, 0, 0, 0)]

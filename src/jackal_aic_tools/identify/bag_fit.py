@@ -49,6 +49,31 @@ def write_overlay(path, values, base, bag, cost):
     return keys
 
 
+def write_robot_model(path, robot_model, noise, yaw, bag):
+    """Write the robot model identified on ``bag`` as one controller overlay at ``path``: the text of
+    ``robot_model`` (config/robot_model.yaml: belief_model robot and its identified wheel loop), then
+    the bag's sensor noises (``noise``, sensor_noise(); None: not measured) and yaw response
+    (``yaw``, yaw_response(); None: not fitted), each commented with its source. Load it alone
+    after config/default.yaml (the launch files' one overlay). Returns the keys the bag gave.
+    Raises RuntimeError if robot_model already sets one of them (the file would hold it twice)."""
+    import yaml
+    with open(robot_model) as f:
+        base = f.read()
+    lines = (sensor_noise.overlay_lines(noise) if noise is not None else []) + (
+        yaw_response.overlay_lines(yaw) if yaw is not None else [])
+    keys = [line.split(":", 1)[0] for line in lines if not line.startswith("#")]
+    twice = sorted(set(keys) & set(yaml.safe_load(base) or {}))
+    if twice:
+        raise RuntimeError("%s already sets %s" % (robot_model, ", ".join(twice)))
+    with open(path, "w") as f:
+        f.write("# The robot model identified on %s by plant_identify.py --bag: config/robot_model.yaml,\n"
+                "# then what the bag measured. Load it as the one controller overlay, e.g.\n"
+                "#   roslaunch jackal_aic robot.launch overlay:=%s\n\n" % (bag, os.path.abspath(path)))
+        f.write(base.rstrip("\n") + "\n\n# ---- measured on %s\n" % bag)
+        f.write("\n".join(lines) + "\n")
+    return keys
+
+
 def robot_model_part(name, verb, measure, describe):
     """Print and return one part of the robot model measured on the bag: measure() (its result) and
     describe(result) (a line); a ValueError from measure() is printed as "not <verb>: <reason>" and
@@ -65,9 +90,9 @@ def robot_model_part(name, verb, measure, describe):
 def run(a, tool):
     """The --bag mode of plant_identify.py (a: its parsed arguments, tool: cli.Tool): read the bag,
     fit BAG_PARAMETERS by replaying it on the plant, print the fit table and the turn deficits,
-    write the overlay, the sensor noises' controller overlay (a.noise_out; skipped, with the reason
-    printed, when the bag has too little rest), the yaw response's (a.yaw_out; skipped when the bag
-    has no turn in place) and a.json. Returns the exit status."""
+    write the overlay, the robot model's controller overlay with the bag's sensor noises and yaw
+    response (a.model_out; a part the bag cannot give is left out, with the reason printed) and
+    a.json. Returns the exit status."""
     keys = list(a.fit) if a.fit else list(bag_identification.BAG_PARAMETERS)
     unknown = [k for k in keys if k not in bag_identification.BAG_PARAMETERS]
     if unknown:
@@ -133,22 +158,19 @@ def run(a, tool):
     out = a.overlay_out or os.path.splitext(a.bag)[0] + "_wheel_loop.yaml"
     written = write_overlay(out, overlay_values(r["values"]), base, a.bag, r["cost"])
     print("\noverlay written: %s (%s)" % (out, ", ".join("motor." + k for k in written) or "no key differs"))
-    noise_out = None
-    if noise is not None:
-        noise_out = a.noise_out or os.path.splitext(a.bag)[0] + "_sensor_noise.yaml"
-        sensor_noise.write_overlay(noise_out, noise, os.path.basename(a.bag))
-        print("sensor noises written: %s (controller overlay: encoder_noise, gyro_noise)" % noise_out)
-    yaw_out = None
-    if yaw is not None:
-        yaw_out = a.yaw_out or os.path.splitext(a.bag)[0] + "_yaw_response.yaml"
-        yaw_response.write_overlay(yaw_out, yaw, os.path.basename(a.bag))
-        print("yaw response written: %s (controller overlay: yaw_time_constant, wheel_separation)" % yaw_out)
+    model_out = None
+    if noise is not None or yaw is not None:
+        model_out = a.model_out or os.path.splitext(a.bag)[0] + "_robot_model.yaml"
+        measured = write_robot_model(model_out, tool.path("config", "robot_model.yaml"), noise, yaw,
+                                     os.path.basename(a.bag))
+        print("robot model written: %s (controller overlay: config/robot_model.yaml's keys and %s)"
+              % (model_out, ", ".join(measured)))
     if a.json:
         with open(a.json, "w") as f:
             json.dump({"bag": a.bag, "duration": data.duration, "keys": keys, "start": r["start"],
                        "values": r["values"], "start_cost": r["start_cost"], "cost": r["cost"],
                        "start_errors": r["start_errors"], "errors": r["errors"], "evaluations": r["evaluations"],
-                       "deficits": deficits, "overlay": out, "sensor_noise": noise, "noise_overlay": noise_out,
-                       "yaw_response": yaw, "yaw_overlay": yaw_out},
+                       "deficits": deficits, "overlay": out, "sensor_noise": noise, "yaw_response": yaw,
+                       "robot_model": model_out},
                       f, indent=1)
     return 0

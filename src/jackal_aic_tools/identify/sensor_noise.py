@@ -1,4 +1,5 @@
-"""The robot model's sensor noises from a robot's bag (plant_identify.py --bag).
+"""The robot model's sensor noises from a robot's bag (plant_identify.py --bag; written into the
+robot model's overlay by jackal_aic_tools.identify.bag_fit.write_robot_model).
 
 The robot model weighs each sensor by its measured noise in its own units (doc/active_inference.md,
 'The robot model', the parameter table): ``encoder_noise`` sigma_e, the standard deviation of one
@@ -108,16 +109,12 @@ def sensor_noise(data, settle=SETTLE):
             "encoder_samples": n_e, "gyro_samples": n_g, "encoder_windows": len(windows), "gyro_windows": len(rest)}
 
 
-def write_overlay(path, noise, bag):
-    """Write ``noise`` (sensor_noise()) as a controller overlay YAML (the keys encoder_noise,
-    gyro_noise, commented with their source), to load after config/robot_model.yaml."""
-    with open(path, "w") as f:
-        f.write("# The robot model's sensor noises, measured by plant_identify.py --bag on %s\n"
-                "# (jackal_aic_tools.identify.sensor_noise). Controller overlay: load it after\n"
-                "# config/robot_model.yaml (roslaunch jackal_aic jackal_aic.launch overlay:=...).\n" % bag)
-        f.write("# [rad/s] sigma_e, one side's wheel-speed noise: %d samples, %d %s segments.\n"
-                % (noise["encoder_samples"], noise["encoder_windows"], noise["encoder_source"]))
-        f.write("encoder_noise: %.4g\n" % noise["encoder_noise"])
-        f.write("# [rad/s] sigma_g, the gyro's noise: %d samples, %d rest segments.\n"
-                % (noise["gyro_samples"], noise["gyro_windows"]))
-        f.write("gyro_noise: %.4g\n" % noise["gyro_noise"])
+def overlay_lines(noise):
+    """``noise`` (sensor_noise()) as commented controller-overlay YAML lines (encoder_noise,
+    gyro_noise) with their source."""
+    return ["# [rad/s] sigma_e, one side's wheel-speed noise: %d samples, %d %s segments."
+            % (noise["encoder_samples"], noise["encoder_windows"], noise["encoder_source"]),
+            "encoder_noise: %.4g" % noise["encoder_noise"],
+            "# [rad/s] sigma_g, the gyro's noise: %d samples, %d rest segments." % (noise["gyro_samples"],
+                                                                                    noise["gyro_windows"]),
+            "gyro_noise: %.4g" % noise["gyro_noise"]]

@@ -12,7 +12,8 @@ and its output plus a constant gyro offset beta is compared with /imu/data's yaw
 sample times, by scipy.optimize.least_squares over (r alpha / b_eff, T_s, beta). Only the span of
 the bag's turns in place counts (TURN_SETTLE seconds past each turn's end, so the stop's transient
 is in): there the yaw rate follows the wheels alone. The fit gives ``yaw_time_constant`` T_s and
-``wheel_separation`` (the learned separation's start b_hat_0 = b_eff) for a controller overlay.
+``wheel_separation`` (the learned separation's start b_hat_0 = b_eff) for the robot model's overlay
+(jackal_aic_tools.identify.bag_fit.write_robot_model).
 
 What it cannot see: a constant offset between the two streams' stamps is read as part of T_s (a
 pure delay and a short lag look alike at 50 Hz), and a turn in place's b_eff is not an arc's (the
@@ -102,15 +103,12 @@ def yaw_response(data, wheel_radius=0.098, slip_factor=1.0):
             "turns": len(windows)}
 
 
-def write_overlay(path, response, bag):
-    """Write ``response`` (yaw_response()) as a controller overlay YAML (yaw_time_constant,
-    wheel_separation, commented with their source), to load after config/robot_model.yaml."""
-    with open(path, "w") as f:
-        f.write("# The robot model's yaw response, fitted by plant_identify.py --bag on %s\n"
-                "# (jackal_aic_tools.identify.yaw_response; %d turns in place, %d gyro samples, residual %.4f\n"
-                "# rad/s). Controller overlay: load it after config/robot_model.yaml.\n"
-                % (bag, response["turns"], response["samples"], response["residual_rms"]))
-        f.write("# [s] T_s, the scrub lag of the body's yaw rate behind the wheels' (in a turn in place).\n")
-        f.write("yaw_time_constant: %.4g\n" % response["yaw_time_constant"])
-        f.write("# [m] b_hat_0, the effective separation of a turn in place: the learned separation starts here.\n")
-        f.write("wheel_separation: %.4g\n" % response["wheel_separation"])
+def overlay_lines(response):
+    """``response`` (yaw_response()) as commented controller-overlay YAML lines (yaw_time_constant,
+    wheel_separation) with their source."""
+    return ["# [s] T_s, the scrub lag of the body's yaw rate behind the wheels' (turns in place: %d, %d gyro"
+            % (response["turns"], response["samples"]),
+            "# samples, residual %.4f rad/s)." % response["residual_rms"],
+            "yaw_time_constant: %.4g" % response["yaw_time_constant"],
+            "# [m] b_hat_0, the effective separation of a turn in place: the learned separation starts here.",
+            "wheel_separation: %.4g" % response["wheel_separation"]]
