@@ -27,8 +27,6 @@ fixed sleep. The set points stream at RATE Hz on a ROS-time timer.
   medians per controller, and writes them as a Markdown section (keyed by base and clock) to
   ~output (if set). It fails only when a run never comes up or a step never settles.
   Simulated or real time (/use_sim_time).
-~overlay: a controller overlay YAML (sim.launch's overlay argument) on both paths of ~mode
-  steps and compare ("": none); for ~mode stop the .test passes it to sim.launch itself.
 ~mode stop: one simulation (base:=stock_diff_drive, started by the .test): steady at ~step_v,
   the stop engaged (/stock_base/set_stop) for ~stop_time s: the AIC's command never grows
   while stopped (~growth_tol) and its diagnostics say why ("held: the MCU reports ...");
@@ -257,10 +255,8 @@ class StockBaseCheck(unittest.TestCase):
         """Start `sim.launch plant:=false base:=<base> controller:=<controller>`; wait until
         /cmd_drive has its one publisher (the base's, or the controller's on base direct) and,
         with the AIC on a base, the AIC publishes the base's cmd_vel. Returns the roslaunch process."""
-        args = ["plant:=false", "base:=" + base, "controller:=" + controller]
-        if self.p("overlay", ""):
-            args.append("overlay:=" + self.p("overlay", ""))
-        proc = ros_process.roslaunch("sim.launch", args, package=PKG)
+        proc = ros_process.roslaunch("sim.launch", ["plant:=false", "base:=" + base, "controller:=" + controller],
+                                     package=PKG)
         expected = DRIVE_PUBLISHER.get(base, DIRECT_PUBLISHER[controller])
         up = wait_for(lambda: publishers_of("/cmd_drive") == [expected] and (
             controller != "aic" or base == "direct" or "/jackal_AIC" in publishers_of(CMD_VEL)), 60.0)
