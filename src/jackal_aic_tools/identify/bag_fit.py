@@ -2,7 +2,8 @@
 jackal_aic_tools.identify.bag_identification), print the fit and write the overlay YAML of the keys that
 differ from the plant's; and measure the robot model's sensor noises on the bag's rest segments
 (jackal_aic_tools.identify.sensor_noise) and fit its yaw response on the bag's turns in place
-(jackal_aic_tools.identify.yaw_response), and write each as a controller overlay."""
+(jackal_aic_tools.identify.yaw_response), and write them with config/robot_model.yaml as the robot
+model's controller overlay."""
 import json
 import os
 import sys
@@ -161,8 +162,12 @@ def run(a, tool):
     model_out = None
     if noise is not None or yaw is not None:
         model_out = a.model_out or os.path.splitext(a.bag)[0] + "_robot_model.yaml"
-        measured = write_robot_model(model_out, tool.path("config", "robot_model.yaml"), noise, yaw,
-                                     os.path.basename(a.bag))
+        try:
+            measured = write_robot_model(model_out, tool.path("config", "robot_model.yaml"), noise, yaw,
+                                         os.path.basename(a.bag))
+        except (OSError, RuntimeError) as e:
+            print("plant_identify: the robot model's overlay: %s" % e, file=sys.stderr)
+            return 1
         print("robot model written: %s (controller overlay: config/robot_model.yaml's keys and %s)"
               % (model_out, ", ".join(measured)))
     if a.json:
