@@ -356,7 +356,11 @@ def write_simulated_bag(out_path, plant_replay, profile, config=None, overlays=(
 
 
 # ------------------------------------------------------------------ the fit
-def turn_deficits(gyro_t, gyro, cmd, separation=1.5 * 0.37559, radius=0.098):
+#: [m] The Jackal's wheel radius (published; the controller's wheel_radius, doc/jackal.md).
+WHEEL_RADIUS = 0.098
+
+
+def turn_deficits(gyro_t, gyro, cmd, separation=1.5 * 0.37559, radius=WHEEL_RADIUS):
     """Steady turn-in-place deficits of a run: for every stretch of >= 1.5 s in which the commanded
     wheel speeds are opposite (|left + right| < 0.05 |right - left|, |right - left| > 1 rad/s), the
     commanded yaw rate r (right - left) / separation minus the mean measured yaw rate (gyro) over the

@@ -21,6 +21,7 @@ simulated Jackal: 0.541 m in place, 0.5355 m on a 0.5 m/s + 0.5 rad/s arc).
 """
 import numpy as np
 
+from .bag_identification import WHEEL_RADIUS
 from .sensor_noise import command_segments
 
 #: [s] grid of the lag's exact integration.
@@ -64,7 +65,7 @@ def lag(t, u, time_constant, step=TIME_STEP):
     return grid, x
 
 
-def yaw_response(data, wheel_radius=0.098, slip_factor=1.0):
+def yaw_response(data, wheel_radius=WHEEL_RADIUS, slip_factor=1.0):
     """T_s and b_eff of the bag ``data`` (bag_identification.BagData): a dict with
     yaw_time_constant [s], wheel_separation b_eff [m] (at ``wheel_radius`` [m] and ``slip_factor``
     alpha [-], the controller's: by default the schema's, the Jackal's published wheel, doc/jackal.md), gyro_offset beta [rad/s], the fit's residual RMS [rad/s], the
