@@ -148,6 +148,9 @@ class MetricsTest(unittest.TestCase):
         self.assertAlmostEqual(m["settling_time"], tc * math.log(0.5 / 0.03), delta=kTimeTol)
         self.assertAlmostEqual(m["overshoot"], 0.0, delta=kPctTol)
         self.assertAlmostEqual(m["steady_state_error"], 0.0, delta=1e-3)
+        # IAE = step * tc over 2.5 s = 12.5 tc, less the error before the first sample (within
+        # one 1 ms period of the step)
+        self.assertAlmostEqual(m["iae"], 0.5 * tc, delta=0.5 * 1e-3)
 
     def test_never_settles_is_none(self):
         t = np.arange(0.0, 2.0, 0.01)

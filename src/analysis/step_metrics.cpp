@@ -155,6 +155,17 @@ StepMetrics computeStepMetrics(const std::vector<double>& time, const std::vecto
   }
   m.steady_state_window_used = t_end - t_start;
   m.steady_state_error = integral / m.steady_state_window_used;
+
+  // IAE: |e| with e linear between samples; where e changes sign, the two triangles.
+  m.iae = 0.0;
+  for (std::size_t k = 1; k < t.size(); ++k)
+  {
+    const double e0 = o.target - v[k - 1];
+    const double e1 = o.target - v[k];
+    const double dt = t[k] - t[k - 1];
+    m.iae += (e0 * e1 >= 0.0) ? 0.5 * (std::abs(e0) + std::abs(e1)) * dt :
+                                0.5 * (e0 * e0 + e1 * e1) / (std::abs(e0) + std::abs(e1)) * dt;
+  }
   return m;
 }
 
@@ -167,8 +178,8 @@ std::string toJson(const StepMetrics& m, const StepMetricsOptions& o)
      << ", \"settled\": " << (m.settled ? "true" : "false") << ", \"settling_band\": " << num(m.band)
      << ", \"overshoot_percent\": " << num(m.overshoot_percent)
      << ", \"steady_state_error\": " << num(m.steady_state_error)
-     << ", \"steady_state_window\": " << num(m.steady_state_window_used) << ", \"samples\": " << m.samples
-     << ", \"step_time\": " << num(o.step_time) << ", \"initial\": " << num(o.initial)
+     << ", \"steady_state_window\": " << num(m.steady_state_window_used) << ", \"iae\": " << num(m.iae)
+     << ", \"samples\": " << m.samples << ", \"step_time\": " << num(o.step_time) << ", \"initial\": " << num(o.initial)
      << ", \"target\": " << num(o.target) << ", \"band_basis\": \""
      << (o.band_basis == SettlingBandBasis::kFinalValue ? "final" : "step") << "\"}";
   return os.str();

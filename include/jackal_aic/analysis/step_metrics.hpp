@@ -3,7 +3,7 @@
  * \file step_metrics.hpp
  * \brief Step-response metrics from a sampled time series with uneven stamps (thesis ch. 5;
  *        doc/active_inference.md): rise time 10-90 %, settling time +-5 %, overshoot,
- *        steady-state error. ROS-free. The one implementation used by the tests, the CLI
+ *        steady-state error; and the integral of the absolute error (IAE). ROS-free. The one implementation used by the tests, the CLI
  *        `aic_step_metrics` and (through that CLI) the experiment scripts.
  */
 
@@ -57,7 +57,13 @@ struct StepMetrics
   /// last steady_state_window seconds of the analysed samples (all of them if they span less).
   double steady_state_error;
   double steady_state_window_used;  ///< span actually averaged [s]
-  int samples;                      ///< samples analysed (step_time <= t <= end_time)
+  /// Integral of the absolute error [signal units * s]: integral of |target - value| over the
+  /// analysed samples (step_time to the last sample or end_time), the error linear between samples
+  /// and integrated exactly where it changes sign. Unlike the settling time it is continuous in the
+  /// response: a response that lingers at the band's edge moves it by the lingering's area, not by
+  /// the lingering's duration.
+  double iae;
+  int samples;  ///< samples analysed (step_time <= t <= end_time)
 };
 
 /**

@@ -1,6 +1,6 @@
 """Step metrics through the core's ``aic_step_metrics`` CLI (the one implementation of the
 metric definitions of thesis ch. 5, doc/active_inference.md: rise 10-90 %, settling +-5 %,
-overshoot % of the step, steady-state error over the last 0.5 s). This module only prepares
+overshoot % of the step, steady-state error over the last 0.5 s, integral of the absolute error). This module only prepares
 its input and parses its JSON output; it computes nothing itself.
 """
 import json
@@ -13,8 +13,8 @@ import tempfile
 _cli_paths = {}
 
 #: Keys of the dict returned by :func:`step_metrics` (units in brackets).
-METRIC_KEYS = ("rise_time", "settling_time", "overshoot", "steady_state_error")
-METRIC_UNITS = {"rise_time": "s", "settling_time": "s", "overshoot": "%", "steady_state_error": ""}
+METRIC_KEYS = ("rise_time", "settling_time", "overshoot", "steady_state_error", "iae")
+METRIC_UNITS = {"rise_time": "s", "settling_time": "s", "overshoot": "%", "steady_state_error": "", "iae": "s"}
 
 
 class MetricsError(RuntimeError):
@@ -60,7 +60,8 @@ def step_metrics(t, y, t_step, initial, target):
     \\param target   set point after the step
     \\return dict with METRIC_KEYS: rise_time [s], settling_time [s], overshoot [% of the
             step], steady_state_error [same unit as y; target - value, mean over the
-            last 0.5 s]; a value is None (NaN from the
+            last 0.5 s], iae [unit of y * s; integral of |target - value| from the
+            step]; a value is None (NaN from the
             CLI) when undefined, e.g. never settled.
     Raises MetricsError when the CLI fails.
     """

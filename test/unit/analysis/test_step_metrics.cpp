@@ -55,10 +55,29 @@ TEST(StepMetrics, FirstOrderResponse)
   EXPECT_NEAR(m.overshoot_percent, 0.0, 1e-12);
   EXPECT_NEAR(m.steady_state_error, 0.0, kValueTol);
   EXPECT_NEAR(m.steady_state_window_used, 0.5, 2e-3);
+  // IAE of a first-order rise over 3 s = 15 T: step * T (1 - e^-15), less the error before the
+  // first sample (the first stamp is within 1.7 ms of the step: at most 0.4 * 1.7e-3).
+  EXPECT_NEAR(m.iae, 0.4 * kT, 0.4 * 1.7e-3);
 
   o.band_basis = analysis::SettlingBandBasis::kStepSize;
   const auto ms = analysis::computeStepMetrics(t, v, o);
   EXPECT_NEAR(ms.settling_time, kT * std::log(20.0), kTimeTol);
+}
+
+TEST(StepMetrics, IaeIntegratesTheAbsoluteErrorAcrossItsSignChanges)
+{
+  // Error 1 at t = 0, -1 at t = 1 (a crossing at 0.5: two triangles of 0.25), 0 from t = 2.
+  analysis::StepMetricsOptions o;
+  o.target = 1.0;
+  const auto m = analysis::computeStepMetrics({ 0.0, 1.0, 2.0, 3.0 }, { 0.0, 2.0, 1.0, 1.0 }, o);
+  EXPECT_NEAR(m.iae, 0.25 + 0.25 + 0.5, 1e-12);
+  // A response lingering at the band's edge: the settling time jumps by the lingering's length,
+  // the IAE by its area only.
+  const std::vector<double> t{ 0.0, 0.1, 0.2, 0.3, 0.4, 0.5 };
+  const auto inside = analysis::computeStepMetrics(t, { 0.0, 0.9, 0.951, 0.951, 0.951, 1.0 }, o);
+  const auto edge = analysis::computeStepMetrics(t, { 0.0, 0.9, 0.949, 0.949, 0.949, 1.0 }, o);
+  EXPECT_GT(edge.settling_time - inside.settling_time, 0.2);
+  EXPECT_NEAR(edge.iae - inside.iae, 0.002 * 0.3, 1e-9);
 }
 
 TEST(StepMetrics, SecondOrderOvershootAndDownStep)
