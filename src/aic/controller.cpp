@@ -630,13 +630,18 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(
     // The slow states (slip ratio, gyro offset) learn from the three channels together only (under
     // a fault mask they are held), and only while the gyro's and the believed wheels' yaw
     // accelerations are within the separation learner's gate: a turn's scrub transient, which the
-    // first-order yaw model does not describe, is left to theta_dot.
+    // first-order yaw model does not describe, is left to theta_dot. The wheels' common acceleration
+    // is held to the same gate, counted as the yaw acceleration it would give were it one side's
+    // alone (2 |x_dot'| / b_hat): while the tyres' grip goes to a speed change, the body's yaw does
+    // not follow the wheels as in a steady turn.
     const std::uint8_t needed = (1u << base::kGyroZ) | (1u << base::kOmegaLeft) | (1u << base::kOmegaRight);
     const base::Vector2 wheel_rates = robot_belief_.wheelAccelerations();
     const double wheels_yaw_rate = model_.G()(2, 1) * (wheel_rates(1) - wheel_rates(0));
+    const double wheels_common_rate = model_.G()(2, 1) * (wheel_rates(1) + wheel_rates(0));
+    const double gate = params_.separation_learner.max_yaw_acceleration;
     const bool learn = (sensor_mask_ & needed) == needed && !fault_present_ &&
-                       std::abs(y_tilde_(base::kGyroZ, 1)) <= params_.separation_learner.max_yaw_acceleration &&
-                       std::abs(wheels_yaw_rate) <= params_.separation_learner.max_yaw_acceleration;
+                       std::abs(y_tilde_(base::kGyroZ, 1)) <= gate && std::abs(wheels_yaw_rate) <= gate &&
+                       std::abs(wheels_common_rate) <= gate;
     const base::Vector2 wheels(y_tilde_(base::kOmegaLeft, 0), y_tilde_(base::kOmegaRight, 0));
     // A repeated joint state is the MCU's previous reading again, one period late: read as now, in
     // a ramp it says the wheels stood still for a period, and the action would push against it.

@@ -256,7 +256,8 @@ std::vector<ParamSpec> buildControllerRows()
         .member<&AicParams::separation_learner, &SeparationLearnerParams::min_yaw_rate>(),
     ParamRow("active_inference", "separation_max_yaw_acceleration").unit("rad/s^2").above(0.0).atMost(kMaxGain)
         .describe("b_hat is frozen while the gyro's |yaw acceleration| (its generalized order 1) is above this (a "
-                  "transient)")
+                  "transient); with belief_model robot also while the believed wheels' yaw acceleration or their "
+                  "common acceleration counted as one side's, 2 |x_dot'| / b_hat, is")
         .member<&AicParams::separation_learner, &SeparationLearnerParams::max_yaw_acceleration>(),
     ParamRow("active_inference", "separation_max_rate").unit("1/s").atLeast(0.0).atMost(10.0)
         .describe("b_hat moves by at most this share of itself per second (slower than the fault monitor detects a "

@@ -50,8 +50,10 @@ struct RobotModelParams
   /// A_ff [rad/s^2], in [0, A_w): the bound of that feed-forward's acceleration (identified motor
   /// keys: accel_feedforward_limit / J_n); the lag's bound is the rest, A_w - A_ff.
   double wheel_feedforward_acceleration = 0.0;
-  /// T_s [s], > 0: the scrub lag of the body's yaw rate behind the wheels' (a turn's transient).
-  double yaw_time_constant = 0.03;
+  /// T_s [s], > 0: the scrub lag of the body's yaw rate behind the wheels' (a turn's transient);
+  /// identified by plant_identify.py --bag on a bag's turns in place (the simulated Jackal's bags:
+  /// 0.0091 / 0.0100 s).
+  double yaw_time_constant = 0.01;
   /// sigma_e [rad/s], > 0: the noise of one side's measured wheel speed (a rest segment).
   double encoder_noise = 0.0071;
   /// sigma_g [rad/s], > 0: the gyro's noise (a rest segment).

@@ -147,7 +147,9 @@ struct SeparationLearnerParams
   /// separation_min_yaw_rate [rad/s], >= 0, <= 10: b_hat is frozen while |gyro| is below this.
   double min_yaw_rate = 0.1;
   /// separation_max_yaw_acceleration [rad/s^2], > 0, <= kMaxGain: b_hat is frozen while |d gyro/dt|
-  /// (y^(1) of the gyro) is above this.
+  /// (y^(1) of the gyro) is above this; with belief_model robot, b_hat, the slip ratio and the gyro
+  /// offset also while the believed wheels' yaw acceleration or their common acceleration counted as
+  /// one side's (2 |x_dot'| / b_hat) is (ActiveInferenceController::updateRobotBeliefs()).
   double max_yaw_acceleration = 0.5;
   /// separation_max_rate [1/s], >= 0, <= 10; 0 = unlimited: |db_hat/dt| <= max_rate b_hat.
   double max_rate = 0.1;
