@@ -126,7 +126,10 @@ step rostest "source /ws/devel/setup.bash && rostest jackal_aic $rostest_name --
 # The tools that need scipy, a few evaluations each (scipy 1.6 API).
 tools="source /ws/devel/setup.bash && cd /ws/src/jackal_aic"
 step plant_identify "$tools && python3 scripts/plant_identify.py --samples 2 --starts 1 --jobs 1 --max-evals 4"
-step aic_tune "$tools && python3 scripts/aic_tune.py --driving --refine-evals 2 --driving-variants default --jobs 1"
+# The tuner tunes the goal model's gains: its base is that model's effective file.
+step aic_tune "$tools && /ws/devel/lib/jackal_aic/aic_params --yaml --config config/default.yaml \
+  --config config/goal_model.yaml > /tmp/goal_model.yaml && python3 scripts/aic_tune.py --driving \
+  --base /tmp/goal_model.yaml --refine-evals 2 --driving-variants default --jobs 1"
 gtest_summary="$(in_root 'catkin_test_results /ws/build/test_results' 2>&1 | grep -E '^Summary:' || true)"
 echo "check_bullseye: gtests: ${gtest_summary:-no results}"
 rostest_summary="$(sed 's/\x1b\[[0-9;]*m//g' "$root.rostest.log" | grep -E '^ \* (RESULT|TESTS|ERRORS|FAILURES):' | head -4 |

@@ -18,7 +18,8 @@ def main():
     ap = argparse.ArgumentParser(description=tune.__doc__.splitlines()[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter, epilog=tune.__doc__)
     ap.add_argument("--base", default=tool.path("config", "default.yaml"),
-                    help="controller YAML whose node keys the result keeps")
+                    help="controller YAML whose node keys the result keeps: the goal or unbiased model's effective file "
+                         "(aic_params --yaml; the robot model of config/default.yaml is identified, not tuned)")
     ap.add_argument("--write", help="write the winner as YAML here")
     ap.add_argument("--orders", type=int, nargs="+", default=[2, 3])
     ap.add_argument("--popsize", type=int, default=12)
@@ -51,6 +52,11 @@ def main():
                     help="--driving: the controller tuned, aic or pi (the classical peer, config/classical/pi.yaml as "
                          "--base: its gains, jackal_aic_tools.tune.tune_pi)")
     a = ap.parse_args()
+    if a.controller == "aic" and tool.config([a.base]).get("belief_model") == "robot":
+        ap.error("--base %s drives with the robot model, whose parameters are identified, not tuned "
+                 "(doc/active_inference.md, 'The robot model'); the tuner tunes the goal and unbiased models' "
+                 "gains: give it that model's effective file, e.g. aic_params --yaml --config config/default.yaml "
+                 "--config config/goal_model.yaml > base.yaml, then --base base.yaml" % a.base)
     if a.controller == "pi":
         if not a.driving:
             ap.error("--controller pi goes with --driving")

@@ -30,7 +30,7 @@ def main():
     g.add_argument("--overlay", action="append", default=[],
                    help="plant overlay the fit starts from and keeps (e.g. the floor's), repeatable")
     g.add_argument("--overlay-out", help="the identified overlay (default: <bag>_wheel_loop.yaml)")
-    g.add_argument("--model-out", help="the robot model as one controller overlay: config/robot_model.yaml with the "
+    g.add_argument("--model-out", help="the robot model's identified keys as one controller overlay: the "
                                        "sensor noises measured on the bag's rest segments and the yaw response fitted "
                                        "on its turns in place (default: <bag>_robot_model.yaml)")
     g.add_argument("--json", help="also write the results as JSON")

@@ -141,17 +141,18 @@ class VariantLines(unittest.TestCase):
             variants.check_names([variants.parse("stock=default", ROOT)])
 
     def test_an_overlay_stacks_its_keys_after_the_base(self):
-        # config/robot_model.yaml over config/default.yaml, as the node loads them: its keys in the
-        # file's order, then the overrides; KEY*= scales the overlay's value where it sets one.
-        effective = lambda path: {"action_gain": 50.0, "wheel_time_constant": 0.00657}
-        v = variants.parse("rm=default+robot_model:action_gain*=0.001,wheel_time_constant*=2", ROOT, effective)
+        # config/goal_model.yaml over config/default.yaml, as the node loads them: its keys in the
+        # file's order, then the overrides; KEY*= scales the overlay's value where it sets one, the
+        # effective file's otherwise.
+        effective = lambda path: {"k_a": 3.0, "tau": 0.01}
+        v = variants.parse("gm=default+goal_model:k_a*=0.001,tau*=2", ROOT, effective)
         self.assertEqual(v.config, DEFAULT)
-        with open(os.path.join(ROOT, "config", "robot_model.yaml")) as f:
+        with open(os.path.join(ROOT, "config", "goal_model.yaml")) as f:
             keys = [line.split(":")[0] for line in f if line[:1].isalpha()]
-        self.assertEqual([s.split("=")[0] for s in v.sets], keys + ["action_gain", "wheel_time_constant"])
-        self.assertIn("belief_model=robot", v.sets)
-        self.assertIn("learn_latency=true", v.sets)
-        self.assertEqual(v.sets[-2:], ["action_gain=0.05", "wheel_time_constant=0.0273"])
+        self.assertEqual(keys, ["belief_model"])
+        self.assertEqual([s.split("=")[0] for s in v.sets], keys + ["k_a", "tau"])
+        self.assertEqual(v.sets[0], "belief_model=goal")
+        self.assertEqual(v.sets[-2:], ["k_a=0.003", "tau=0.02"])
         for bad in ("x=default+no_such_overlay", "x=default+"):
             with self.assertRaises(variants.VariantError):
                 variants.parse(bad, ROOT)

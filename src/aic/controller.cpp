@@ -656,7 +656,11 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(
     robot_belief_.correct(wheels, y_tilde_(base::kGyroZ, 0),
                           !wheels_unused && (sensor_mask_ & (1u << base::kOmegaLeft)) != 0,
                           !wheels_unused && (sensor_mask_ & (1u << base::kOmegaRight)) != 0,
-                          (sensor_mask_ & (1u << base::kGyroZ)) != 0, learn);
+                          (sensor_mask_ & (1u << base::kGyroZ)) != 0, learn,
+                          // A gyro reading that repeats bit for bit is a frozen gyro (or an ideal
+                          // one at rest): no turn's slip is in it (the goal model's learner refuses
+                          // it alike, SeparationLearner::State::kStuckGyro).
+                          y_tilde_(base::kGyroZ, 1) != 0.0);
   }
   if (params_.separation_learner.enabled)
   {
@@ -712,9 +716,16 @@ void ActiveInferenceController::learnRobotSeparation(double h)
 {
   // The slip ratio's steady part is the separation's error: b_hat / (1 - s) turns (1 - s) u into
   // the new b_hat's u. b_hat moves there at most separation_max_rate b_hat per second (the
-  // learner's bound), and the slip ratio is re-expressed on the b_hat it reached.
+  // learner's bound), and the slip ratio is re-expressed on the b_hat it reached. Only in a turn
+  // (the believed wheels' |yaw rate| at least separation_min_yaw_rate, as the goal model's learner
+  // is frozen near rest): in straight driving the slip ratio has nothing to act on, and a ratio
+  // taken at a turn's end would otherwise move b_hat on until the next turn.
+  // Nor while a channel is masked, a fault is present or suspected: the slip ratio is held then
+  // (updateRobotBeliefs()), and what it took in before the isolation is the fault's.
+  const std::uint8_t needed = (1u << base::kGyroZ) | (1u << base::kOmegaLeft) | (1u << base::kOmegaRight);
   const double s = robot_belief_.slipRatio();
-  if (!(std::abs(s) > kSeparationApplyTolerance) || !(s < 1.0))
+  if (!(std::abs(s) > kSeparationApplyTolerance) || !(s < 1.0) || (sensor_mask_ & needed) != needed || fault_present_ ||
+      fault_suspected_ || !(std::abs(robot_belief_.wheelsYawRate()) >= params_.separation_learner.min_yaw_rate))
   {
     return;
   }

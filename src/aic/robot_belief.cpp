@@ -167,7 +167,7 @@ void RobotBelief::predict(double h, const WheelLoopModel& loop, const base::Vect
 }
 
 bool RobotBelief::correct(const base::Vector2& y_omega, double y_gyro, bool use_left, bool use_right, bool use_gyro,
-                          bool learn)
+                          bool learn, bool learn_slip)
 {
   if ((use_left && !std::isfinite(y_omega(0))) || (use_right && !std::isfinite(y_omega(1))) ||
       (use_gyro && !std::isfinite(y_gyro)))
@@ -196,6 +196,10 @@ bool RobotBelief::correct(const base::Vector2& y_omega, double y_gyro, bool use_
     const Eigen::Vector3d ph = p_yaw_ * hrow.transpose();
     const double sv = hrow.dot(ph) + r_g;
     Eigen::Vector3d k = ph / sv;
+    if (!learn_slip)
+    {
+      k(1) = 0.0;
+    }
     if (!learn)
     {
       k(1) = 0.0;

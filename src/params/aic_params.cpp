@@ -119,8 +119,16 @@ AicParams recommendedAicParams()
 std::string AicParams::summary() const
 {
   std::ostringstream out;
-  out << "belief " << belief_rate << " Hz, action " << action_rate << " Hz, tau " << tau << " s, k_mu " << k_mu
-      << ", k_a " << k_a << ", p " << embedding_order << ", integrator " << toString(integrator);
+  out << "belief " << belief_rate << " Hz, action " << action_rate << " Hz, belief model " << toString(belief_model)
+      << ", ";
+  if (belief_model == BeliefModel::kRobot)
+  {
+    out << "latency " << robot.latency << " s (" << (robot.learn_latency ? "learned" : "fixed") << "), action_gain "
+        << robot.action_gain << " 1/s, b_hat_0 " << wheel_separation << " m";
+    return out.str();
+  }
+  out << "tau " << tau << " s, k_mu " << k_mu << ", k_a " << k_a << ", p " << embedding_order << ", integrator "
+      << toString(integrator);
   return out.str();
 }
 

@@ -252,7 +252,8 @@ std::vector<ParamSpec> buildControllerRows()
         .describe("Upper bound of the learned wheel separation b_hat")
         .member<&AicParams::separation_learner, &SeparationLearnerParams::max>(),
     ParamRow("active_inference", "separation_min_yaw_rate").unit("rad/s").atLeast(0.0).atMost(10.0)
-        .describe("b_hat is frozen while the gyro's |yaw rate| is below this (near rest)")
+        .describe("b_hat is frozen while the gyro's |yaw rate| is below this (near rest); with belief_model robot "
+                  "while the believed wheels' |yaw rate| is (rest and straight driving)")
         .member<&AicParams::separation_learner, &SeparationLearnerParams::min_yaw_rate>(),
     ParamRow("active_inference", "separation_max_yaw_acceleration").unit("rad/s^2").above(0.0).atMost(kMaxGain)
         .describe("b_hat is frozen while the gyro's |yaw acceleration| (its generalized order 1) is above this (a "

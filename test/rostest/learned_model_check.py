@@ -12,7 +12,7 @@ time (node_learned_model.test; doc/jackal_aic_node.md, 'Learned model').
    ~gyro_offset (the gyro offset learned at standstill, published finite and within
    gyro_bias_max) reads 0.
 
-With ~start_latency (node_learned_model_robot.test: the robot model with learn_latency, started
+With ~start_latency (node_learned_model.test: the robot model with learn_latency, started
 from an overlay with `latency:` ~start_latency) also:
 
 0. Before the first start from rest ~save_learned_model writes `wheel_separation:` only and says

@@ -12,7 +12,7 @@ fixed sleep. The set points stream at RATE Hz on a ROS-time timer.
   on it twice, one after the other: base:=direct (the AIC publishing /cmd_drive, config
   default.yaml) and base:=stock_diff_drive (the stock path, default.yaml + robot.yaml), both
   with the AIC's overlay ~overlay (a path relative to the package, e.g.
-  config/robot_model.yaml; none if empty). On
+  config/goal_model.yaml; none if empty). On
   each, from rest, one linear step (~step_v m/s, ~hold_v s of /odom judged) and one angular
   step (~step_w rad/s, ~hold_w s), back to rest between them. Every step settles (+-5 % of
   ground-truth /odom), and the stock path's integral of the absolute error (IAE, over the judged

@@ -131,9 +131,10 @@ class BagRoundTrip(unittest.TestCase):
         model = self.loaded(self.fit["robot_model"])
         self.assertAlmostEqual(model["yaw_time_constant"], yaw["yaw_time_constant"], delta=1e-3 * yaw["yaw_time_constant"])
         self.assertAlmostEqual(model["wheel_separation"], yaw["wheel_separation"], delta=1e-3)
-        with open(os.path.join(ROOT, "config", "robot_model.yaml")) as f:
-            for key, value in yaml.safe_load(f).items():
-                self.assertEqual(model[key], value, key)
+        self.assertEqual(model["belief_model"], "robot")  # config/default.yaml's, under the overlay
+        with open(self.fit["robot_model"]) as f:
+            self.assertEqual(set(yaml.safe_load(f)),
+                             {"encoder_noise", "gyro_noise", "yaw_time_constant", "wheel_separation"})
 
     def test_the_overlay_loads_and_holds_the_identified_keys(self):
         with open(self.overlay) as f:
@@ -326,17 +327,21 @@ class YawResponse(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "synthetic.bag: 0 gyro samples in 0 turns in place"):
             yr.yaw_response(self.data(cmd, lambda t: 0.0 * t, 0.02, 0.55, 0.0))
 
-    def test_the_robot_models_overlay_refuses_to_hold_a_key_twice(self):
+    def test_the_robot_models_overlay_holds_what_the_bag_gave(self):
         from jackal_aic_tools.identify import bag_fit
         with tempfile.TemporaryDirectory() as tmp:
-            base = os.path.join(tmp, "robot_model.yaml")
-            with open(base, "w") as f:
-                f.write("belief_model: robot\nwheel_separation: 0.56\n")
             response = {"yaw_time_constant": 0.01, "wheel_separation": 0.545, "turns": 2, "samples": 300,
                         "residual_rms": 0.016}
-            with self.assertRaisesRegex(RuntimeError, "robot_model.yaml already sets wheel_separation"):
-                bag_fit.write_robot_model(os.path.join(tmp, "out.yaml"), base, None, response, "x.bag")
-            self.assertEqual(bag_fit.write_robot_model(os.path.join(tmp, "out.yaml"), base, None, None, "x.bag"), [])
+            out = os.path.join(tmp, "out.yaml")
+            self.assertEqual(bag_fit.write_robot_model(out, None, response, "x.bag"),
+                             ["yaw_time_constant", "wheel_separation"])
+            with open(out) as f:
+                self.assertEqual(yaml.safe_load(f), {"yaw_time_constant": 0.01, "wheel_separation": 0.545})
+            self.assertEqual(bag_fit.write_robot_model(out, None, None, "x.bag"), [])
+            with open(out) as f:
+                self.assertIsNone(yaml.safe_load(f))  # comments only
+            with self.assertRaises(OSError):
+                bag_fit.write_robot_model(os.path.join(tmp, "no_dir", "out.yaml"), None, response, "x.bag")
 
     def test_a_gyro_that_turns_against_the_wheels_is_an_error(self):
         cmd = [(0, 0, 0, 0), (1, 0, -2.9, 2.9), (3.5, 0, 0, 0), (11.99, 0, 0, 0)]

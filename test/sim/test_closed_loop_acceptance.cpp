@@ -113,6 +113,13 @@ params::NodeParams config(const std::string& name, const std::vector<std::string
   return loadNodeParamsFiles({ kRoot + "/config/" + name + ".yaml" }, overrides);
 }
 
+/// The goal model's parameters, with overrides: config/default.yaml with config/goal_model.yaml over
+/// it (the thesis's goal prior and its tuned stages; the checks of what those stages do).
+params::NodeParams goalModel(const std::vector<std::string>& overrides = {})
+{
+  return loadNodeParamsFiles({ kRoot + "/config/default.yaml", kRoot + "/config/goal_model.yaml" }, overrides);
+}
+
 /// An AIC run of `node`'s configuration; noisy (seeded) sensors unless told otherwise.
 ClosedLoopConfig aic(const params::NodeParams& node, std::vector<SetPointSegment> profile, double duration)
 {
@@ -281,21 +288,23 @@ TEST(StepResponse, SquareWaveSettlesEveryHalfPeriod)
 ClosedLoopRecord stopAfterAStalledTurn(double release)
 {
   const std::vector<SetPointSegment> profile{ { 0.0, 0.0, 0.0 }, { 1.0, 0.1, -0.2 }, { 4.0, 0.0, 0.0 } };
-  return run(aic(config("default", { "action_release_time=" + std::to_string(release) }), profile, 6.5), { "sim/config/"
-                                                                                                           "variants/"
-                                                                                                           "slow_"
-                                                                                                           "breakaway."
-                                                                                                           "yaml" });
+  return run(aic(goalModel({ "action_release_time=" + std::to_string(release) }), profile, 6.5), { "sim/config/"
+                                                                                                   "variants/"
+                                                                                                   "slow_"
+                                                                                                   "breakaway."
+                                                                                                   "yaml" });
 }
 
 TEST(StepResponse, AStopStopsTheWheelsAfterAStalledTurn)
 {
-  // While the turn stalls the free-energy action winds up the wheel differential; at the stop
-  // the release at rest (action_release_time) hands the wheels back a zero command, as the stock
-  // base sends. 0.8 to 1.5 s after the stop (beyond the 0.12 s latency):
-  const ClosedLoopRecord r = stopAfterAStalledTurn(config("default").aic.action_release_time);
+  // The goal model (config/goal_model.yaml): while the turn stalls its free-energy action winds up
+  // the wheel differential; at the stop the release at rest (action_release_time) hands the wheels
+  // back a zero command, as the stock base sends. 0.8 to 1.5 s after the stop (beyond the 0.12 s
+  // latency). The robot model has no release: with a zero goal its command is zero
+  // (RobotModel.* in test/sim/test_robot_model.cpp).
+  const ClosedLoopRecord r = stopAfterAStalledTurn(goalModel().aic.action_release_time);
   expectBounded(r);
-  ASSERT_GT(config("default").aic.action_release_time, 0.0);
+  ASSERT_GT(goalModel().aic.action_release_time, 0.0);
   EXPECT_LE(jackal_test::windowMaxDeviation(r, r.command_yaw, 0.0, 4.8, 5.5), 0.03);
   EXPECT_LE(jackal_test::windowMaxDeviation(r, r.v_true, 0.0, 4.8, 5.5), 0.01);
   // Without the release the wound-up differential is still commanded and the robot creeps.
@@ -350,9 +359,10 @@ TEST(StepResponse, TheSlewLimitBoundsTheWheelCommandsRate)
 // Sensor faults.
 
 /// A bias of `bias` rad/s on one encoder at 0.5 m/s straight, from t = 3.5 s for good.
-ClosedLoopRecord encoderBias(const std::string& side, double bias, bool isolation)
+ClosedLoopRecord encoderBias(const std::string& side, double bias, bool isolation, bool goal_model = false)
 {
-  params::NodeParams node = config("default", { std::string("fdi_enabled=") + (isolation ? "true" : "false") });
+  const std::vector<std::string> fdi{ std::string("fdi_enabled=") + (isolation ? "true" : "false") };
+  params::NodeParams node = goal_model ? goalModel(fdi) : config("default", fdi);
   ClosedLoopConfig c = aic(node, stepProfile(0.5, 0.5), 11.5);
   c.faults = { fault(side + "_encoder bias " + std::to_string(bias) + " 3.5") };
   return run(c);
@@ -384,25 +394,29 @@ TEST(SensorFaults, EncoderBiasIsIsolatedAndTheSpeedHolds)
 
 TEST(SensorFaults, EncoderBiasWithoutIsolationIsBounded)
 {
-  // With fdi_enabled false the biased encoder stays in the loop; the action prior carries the
-  // speed, so the error stays within the 5 % bound all the same (the thesis's free-energy action
-  // alone follows the bias: test/unit/safety/test_fault_monitor.cpp,
-  // ClosedLoopFdi.EncoderBiasMisleadsTheFreeEnergyActionUnlessIsolated).
-  const ClosedLoopRecord r = encoderBias("left", 2.5, false);
+  // The goal model: with fdi_enabled false the biased encoder stays in the loop; its action prior
+  // carries the speed, so the error stays within the 5 % bound all the same (the thesis's
+  // free-energy action alone follows the bias: test/unit/safety/test_fault_monitor.cpp,
+  // ClosedLoopFdi.EncoderBiasMisleadsTheFreeEnergyActionUnlessIsolated). The robot model's
+  // feedback acts on the biased wheel (doc/active_inference.md, 'The robot model'); its checks:
+  // RobotModelFaults.* in test/sim/test_robot_model.cpp.
+  const ClosedLoopRecord r = encoderBias("left", 2.5, false, true);
   expectBounded(r);
   EXPECT_EQ(firstIsolation(r, 0.0), nullptr);
   const double error = std::abs(jackal_test::windowMean(r, r.v_true, 10.5, 11.5) - 0.5) / 0.5;
   EXPECT_LE(error, 0.05);
   const double onset = *std::lower_bound(r.time.begin(), r.time.end(), 3.5);
-  results().push_back({ "the same, `fdi_enabled: false`", "`left_encoder bias 2.5 3.5`", isolationText(r, 3.5, onset),
+  results().push_back({ "the same, `fdi_enabled: false`, goal model", "`left_encoder bias 2.5 3.5`",
+                        isolationText(r, 3.5, onset),
                         "speed error " + fixed(100.0 * error, 2) + " %" + separationText(r, 3.5, 11.5) });
 }
 
 /// A turn at (0.4 m/s, 0.8 rad/s) from 0.5 s; the gyro freezes at 6.5 s (the plant's turn has
 /// broken away by then, so it freezes at about 0.8 rad/s); the set point goes straight at 7.5 s.
-ClosedLoopRecord gyroFreeze(bool isolation)
+ClosedLoopRecord gyroFreeze(bool isolation, bool goal_model = false)
 {
-  params::NodeParams node = config("default", { std::string("fdi_enabled=") + (isolation ? "true" : "false") });
+  const std::vector<std::string> fdi{ std::string("fdi_enabled=") + (isolation ? "true" : "false") };
+  params::NodeParams node = goal_model ? goalModel(fdi) : config("default", fdi);
   ClosedLoopConfig c = aic(node, { { 0.0, 0.0, 0.0 }, { 0.5, 0.4, 0.8 }, { 7.5, 0.4, 0.0 } }, 15.5);
   c.faults = { fault("gyro freeze 6.5") };
   return run(c);
@@ -428,22 +442,24 @@ TEST(SensorFaults, FrozenGyroIsIsolatedWhenTheTurnEnds)
 
 TEST(SensorFaults, FrozenGyroWithoutIsolationKeepsTurning)
 {
-  // The frozen gyro keeps reporting the turn; without isolation the beliefs keep part of it and
-  // the action turns the robot the other way (the release at rest makes it smaller, not zero).
-  // The isolated run of the same scenario is the control: the two runs' yaw rates fall on either
-  // side of one threshold, so the check tells isolation from none.
+  // The goal model: the frozen gyro keeps reporting the turn; without isolation its beliefs keep
+  // part of it and the action turns the robot the other way (the release at rest makes it
+  // smaller, not zero). The isolated run of the same scenario is the control: the two runs' yaw
+  // rates fall on either side of one threshold, so the check tells isolation from none. The
+  // robot model's action is on the wheels, so it goes straight with or without isolation
+  // (RobotModelFaults.AFrozenGyroIsIsolatedAndTheRobotGoesStraightWithOrWithoutIt).
   constexpr double kSeparation = 0.01;  // [rad/s]
-  const ClosedLoopRecord r = gyroFreeze(false);
+  const ClosedLoopRecord r = gyroFreeze(false, true);
   expectBounded(r);
   EXPECT_EQ(firstIsolation(r, 0.0), nullptr);
   const double yaw = jackal_test::windowMean(r, r.yaw_true, 13.5, 15.5);
-  const ClosedLoopRecord isolated = gyroFreeze(true);
+  const ClosedLoopRecord isolated = gyroFreeze(true, true);
   const double yaw_isolated = jackal_test::windowMean(isolated, isolated.yaw_true, 13.5, 15.5);
   std::printf("gyro freeze, yaw rate over the last 2 s: %.4f rad/s without isolation, %.4f with\n", yaw, yaw_isolated);
   EXPECT_GT(std::abs(yaw), kSeparation);
   EXPECT_LT(std::abs(yaw_isolated), kSeparation);
   EXPECT_GT(std::abs(yaw), 2.0 * std::abs(yaw_isolated));
-  results().push_back({ "the same, `fdi_enabled: false`", "`gyro freeze 6.5`",
+  results().push_back({ "the same, `fdi_enabled: false`, goal model", "`gyro freeze 6.5`",
                         isolationText(r, 6.5, 7.5, "the set point went straight"),
                         "yaw rate " + fixed(yaw) + " rad/s" + separationText(r, 6.5, 15.5) });
 }
@@ -479,14 +495,15 @@ TEST(SensorFaults, GyroOffsetFromPowerOnIsLearnedAtRest)
   // offset is learned at rest (learn_gyro_bias) and removed, so the separation learner does not
   // fold it into b_hat: the arc's true yaw rate and the learned b_hat stay those of a run without
   // it. With learn_gyro_bias off, b_hat absorbs the offset and the arc is 6 % off, of opposite sign
-  // left and right.
+  // left and right. The goal model (config/goal_model.yaml): the robot model's beta learns the
+  // offset without the learner (RobotModelFaults.TheOffsetLearnedAtRestIsNotCountedTwice).
   const double offset = 0.03;
   for (const double turn : { 0.5, -0.5 })
   {
     SCOPED_TRACE(turn);
     const std::vector<SetPointSegment> arc = { { 0.0, 0.0, 0.0 }, { 6.0, 0.5, turn } };
-    const ClosedLoopRecord clean = run(aic(config("default"), arc, 16.0));
-    ClosedLoopConfig c = aic(config("default"), arc, 16.0);
+    const ClosedLoopRecord clean = run(aic(goalModel(), arc, 16.0));
+    ClosedLoopConfig c = aic(goalModel(), arc, 16.0);
     c.faults = { fault("gyro bias " + fixed(offset, 2) + " 0") };
     const ClosedLoopRecord r = run(c);
     expectBounded(r);
@@ -502,15 +519,16 @@ TEST(SensorFaults, GyroOffsetFromPowerOnIsLearnedAtRest)
     const ClosedLoopRecord off = run(c);
     const double yaw_off = jackal_test::windowMean(off, off.yaw_true, 13.0, 16.0);
     EXPECT_GT(std::abs(yaw_off / turn - 1.0), 0.04) << "without learning the offset the arc should be off";
-    results().push_back(
-        { std::string("gyro offset from power-on, 6 s at rest, then a (0.5 m/s, ") + fixed(turn, 1) + " rad/s) arc",
-          "`gyro bias " + fixed(offset, 2) + " 0`", isolationText(r, 0.0, 0.0),
-          "yaw rate error " + fixed(100.0 * yaw_error, 2) + " % (bound 1.5 %); learned b_hat " +
-              fixed(100.0 * b_error, 2) +
-              " % from the run without the offset (bound 2 %); with "
-              "`learn_gyro_bias: false` " +
-              fixed(100.0 * std::abs(yaw_off / turn - 1.0), 2) + " % and " +
-              fixed(100.0 * std::abs(off.separation.back() / clean.separation.back() - 1.0), 2) + " %" });
+    results().push_back({ std::string("goal model: gyro offset from power-on, 6 s at rest, then a (0.5 m/s, ") +
+                              fixed(turn, 1) + " rad/s) arc",
+                          "`gyro bias " + fixed(offset, 2) + " 0`", isolationText(r, 0.0, 0.0),
+                          "yaw rate error " + fixed(100.0 * yaw_error, 2) + " % (bound 1.5 %); learned b_hat " +
+                              fixed(100.0 * b_error, 2) +
+                              " % from the run without the offset (bound 2 %); with "
+                              "`learn_gyro_bias: false` " +
+                              fixed(100.0 * std::abs(yaw_off / turn - 1.0), 2) + " % and " +
+                              fixed(100.0 * std::abs(off.separation.back() / clean.separation.back() - 1.0), 2) +
+                              " %" });
   }
 }
 
@@ -521,7 +539,9 @@ TEST(SensorFaults, GyroFaultsAtRestDoNotTeachTheOffset)
   // for 3 s (above the fault monitor's threshold: isolated), or 1 s of 3 rad/s spikes every
   // 0.1 s (single samples: not isolated). Neither is an offset (|reading| > gyro_bias_max, or the
   // fault statistic above its threshold), so beta_hat stays where it was and the arc driven
-  // afterwards, (0.5 m/s, 0.5 rad/s) from 12 s, keeps its yaw rate.
+  // afterwards, (0.5 m/s, 0.5 rad/s) from 12 s, keeps its yaw rate. The goal model
+  // (config/goal_model.yaml); the robot model's beta moves with its own noise at rest, so its
+  // bound is relative to a run without the fault (RobotModelFaults.GyroFaultsAtRestDoNotTeachTheOffset).
   const double offset = 0.03;
   const std::vector<SetPointSegment> profile = { { 0.0, 0.0, 0.0 }, { 12.0, 0.5, 0.5 } };
   struct Case
@@ -534,7 +554,7 @@ TEST(SensorFaults, GyroFaultsAtRestDoNotTeachTheOffset)
                          Case{ "gyro spikes (3 rad/s every 0.1 s)", "gyro spikes 3 7 1 0.1", false } })
   {
     SCOPED_TRACE(k.name);
-    ClosedLoopConfig c = aic(config("default"), profile, 20.0);
+    ClosedLoopConfig c = aic(goalModel(), profile, 20.0);
     c.faults = { fault("gyro bias " + fixed(offset, 2) + " 0"), fault(k.fault) };
     const ClosedLoopRecord r = run(c);
     expectBounded(r);
@@ -545,8 +565,9 @@ TEST(SensorFaults, GyroFaultsAtRestDoNotTeachTheOffset)
     EXPECT_EQ(firstIsolation(r, 7.0) != nullptr, k.isolated);
     const double yaw_error = std::abs(jackal_test::windowMean(r, r.yaw_true, 17.0, 20.0) / 0.5 - 1.0);
     EXPECT_LT(yaw_error, 0.015);
-    results().push_back({ std::string(k.name) + " while standing, 7 s after power-on (0.03 rad/s offset learned); an "
-                                                "arc from 12 s",
+    results().push_back({ "goal model: " + std::string(k.name) +
+                              " while standing, 7 s after power-on (0.03 rad/s offset learned); an "
+                              "arc from 12 s",
                           "`gyro bias 0.03 0`, `" + k.fault + "`", isolationText(r, 7.0, 7.0),
                           "learned gyro offset " + fixed(before, 4) + " rad/s, moved " + fixed(moved, 4) +
                               " rad/s during the fault (bound 0.001); the arc's yaw rate error " +

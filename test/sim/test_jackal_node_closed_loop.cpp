@@ -62,13 +62,20 @@ protected:
     description_ = plant::loadRobotDescription(kRoot + "/sim/urdf/jackal.urdf");
     params_ = plant::loadPlantParams(kRoot + "/sim/config/plant.yaml");
   }
-  ClosedLoopConfig step(LoopController controller, double v) const
+  /// A `v` [m/s] step from rest; the AIC on config/default.yaml (the robot model), or with
+  /// config/goal_model.yaml over it when `goal_model`.
+  ClosedLoopConfig step(LoopController controller, double v, bool goal_model = false) const
   {
     ClosedLoopConfig c;
     c.controller = controller;
     if (controller == LoopController::kAic)
     {
-      c.node = loadNodeParamsFiles({ kRoot + "/config/default.yaml" });
+      std::vector<std::string> files{ kRoot + "/config/default.yaml" };
+      if (goal_model)
+      {
+        files.push_back(kRoot + "/config/goal_model.yaml");
+      }
+      c.node = loadNodeParamsFiles(files);
       c.aic = c.node.aic;
     }
     c.profile = stepProfile(kRest, v);
@@ -115,17 +122,17 @@ TEST_F(JackalNodeClosedLoop, PhaseSweepReproducesTheRobotsJointStatesAndOdometry
   EXPECT_LE(worst_overshoot, 20.0);
 }
 
-// Regression guard of today's figure: the AIC's 0.5 m/s step settles (ground truth) within 5 % of
-// its clean-sample time at every phase, with no runaway, no fault-monitor event, no dropped input and
-// no joint state paired without an IMU.
-TEST_F(JackalNodeClosedLoop, AicStepOverThePhaseSweepWithinFivePercentOfClean)
+// Regression guard of today's figure: the goal model's 0.5 m/s step (config/goal_model.yaml) settles
+// (ground truth) within 5 % of its clean-sample time at every phase, with no runaway, no fault-monitor
+// event, no dropped input and no joint state paired without an IMU.
+TEST_F(JackalNodeClosedLoop, GoalModelsStepOverThePhaseSweepWithinFivePercentOfClean)
 {
-  const ClosedLoopRecord clean = runClosedLoop(description_, params_, step(LoopController::kAic, 0.5));
+  const ClosedLoopRecord clean = runClosedLoop(description_, params_, step(LoopController::kAic, 0.5, true));
   const double t_clean = settling(clean, clean.v_true, 0.5);
   ASSERT_GT(t_clean, 0.0);
   for (int p = 0; p < kPhases; p += 2)
   {
-    ClosedLoopConfig c = step(LoopController::kAic, 0.5);
+    ClosedLoopConfig c = step(LoopController::kAic, 0.5, true);
     resample(&c, p + 1);  // the odd phases: 1, 3, ..., 19 ms (19 ms repeats the most)
     const ClosedLoopRecord r = runClosedLoop(description_, params_, c);
     EXPECT_LE(settling(r, r.v_true, 0.5), kRatioBound * t_clean) << "phase " << p + 1 << " ms";
@@ -136,19 +143,14 @@ TEST_F(JackalNodeClosedLoop, AicStepOverThePhaseSweepWithinFivePercentOfClean)
   }
 }
 
-// The robot model on the same sweep: it weighs each wheel reading by the encoders' noise alone, so
+// The robot model (config/default.yaml) on the same sweep: it weighs each wheel reading by the encoders' noise alone, so
 // a repeated joint state (the MCU's previous reading again, one period late) read as new says the
 // wheels stood still for a period in the middle of the ramp, and the action pushes against it: at
 // the 19 ms phase (23 % repeats) the step overshot 5.2 % and settled in 0.382 s against 0.278 s
 // clean. The model takes no wheel reading from a repeat (ActiveInferenceController::setMeasurement()).
 TEST_F(JackalNodeClosedLoop, TheRobotModelsStepOverThePhaseSweepWithinFivePercentOfClean)
 {
-  const auto robot = [this]() {
-    ClosedLoopConfig c = step(LoopController::kAic, 0.5);
-    c.node = loadNodeParamsFiles({ kRoot + "/config/default.yaml", kRoot + "/config/robot_model.yaml" });
-    c.aic = c.node.aic;
-    return c;
-  };
+  const auto robot = [this]() { return step(LoopController::kAic, 0.5); };
   const ClosedLoopRecord clean = runClosedLoop(description_, params_, robot());
   const double t_clean = settling(clean, clean.v_true, 0.5);
   ASSERT_GT(t_clean, 0.0);
@@ -171,7 +173,7 @@ TEST_F(JackalNodeClosedLoop, TheRobotModelsStepOverThePhaseSweepWithinFivePercen
 TEST_F(JackalNodeClosedLoop, TheRobotModelsInnovationTestTakesRepeatedSamplesForNoFault)
 {
   const std::string config = kRoot + "/config/";
-  const params::NodeParams robot = loadNodeParamsFiles({ config + "default.yaml", config + "robot_model.yaml" });
+  const params::NodeParams robot = loadNodeParamsFiles({ config + "default.yaml" });
   for (const auto& twist : { std::make_pair(0.0, 1.0), std::make_pair(0.5, 0.5) })
   {
     std::uint64_t repeats = 0;

@@ -138,9 +138,10 @@ TEST(PayloadStop, WithoutTheTipGuardTheStopTipsTheForwardPayloadOverItsFrontWhee
 
 TEST(PayloadStop, TheTipGuardKeepsItOnItsWheelsAndLearnsABoundBelowTheLimit)
 {
-  // Two stops: the first lifts the rear wheels and trips the guard (the path stops braking until
-  // the body is level), the second is planned below the learned bound and does not lift them.
-  const StopResult r = stopWithThePayload({}, 2);
+  // The goal model (config/goal_model.yaml). Two stops: the first lifts the rear wheels and trips
+  // the guard (the path stops braking until the body is level), the second is planned below the
+  // learned bound and does not lift them.
+  const StopResult r = stopWithThePayload({}, 2, { "config/default.yaml", "config/goal_model.yaml" });
   EXPECT_LT(r.heading, 0.1);
   EXPECT_LT(r.pitch, 0.18) << "the rear wheels came down before the tip-over angle (0.21 rad)";
   EXPECT_EQ(r.record.tip_trips, 1u) << "the second stop stays below the learned bound";
@@ -156,7 +157,7 @@ TEST(PayloadStop, WithTheRobotModelTheTipGuardKeepsItOnItsWheelsToo)
   // braking toward the path's value, and without holding the path at the speed the robot has
   // (ReferenceModel::holdTipSpeed()) they brake on for a latency: the pitch passes the
   // tip-over angle (0.51 rad measured). With it, as with the goal model.
-  const std::vector<std::string> robot = { "config/default.yaml", "config/robot_model.yaml" };
+  const std::vector<std::string> robot = { "config/default.yaml" };
   const StopResult r = stopWithThePayload({}, 2, robot);
   EXPECT_LT(r.heading, 0.1);
   EXPECT_LT(r.pitch, 0.18) << "the rear wheels came down before the tip-over angle (0.21 rad)";

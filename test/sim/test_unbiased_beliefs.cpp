@@ -71,7 +71,8 @@ TEST(UnbiasedBeliefs, ArcTrackedAndBelievedOnceTheSeparationIsLearned)
 
 TEST(LearnedSeparation, ConvergesFromOnceAndTwiceTheTrackWithFaultIsolationOn)
 {
-  // config/default.yaml (learning and fault isolation on), 0.5 m/s + 0.5 rad/s from t = 1 s, b_hat
+  // The goal model (config/goal_model.yaml over config/default.yaml: learning and fault isolation
+  // on; the robot model's: RobotModel.SeparationLearnedFromOnceAndTwiceTheTrack), 0.5 m/s + 0.5 rad/s from t = 1 s, b_hat
   // started at the track (0.3756 m) and at twice it. The plant's effective separation is measured
   // on the ground truth: the configured b_hat times the true wheels' yaw rate over the true yaw
   // rate, over the steady arc. b_hat must be within 5 % of it 10 s into the arc and stay there (to
@@ -82,8 +83,9 @@ TEST(LearnedSeparation, ConvergesFromOnceAndTwiceTheTrackWithFaultIsolationOn)
   {
     const double start = (i + 1) * kTrack;
     SCOPED_TRACE("b_hat from " + std::to_string(start) + " m");
-    const params::NodeParams node =
-        loadNodeParamsFiles({ kRoot + "/config/default.yaml" }, { "wheel_separation=" + std::to_string(start) });
+    const params::NodeParams node = loadNodeParamsFiles({ kRoot + "/config/default.yaml", kRoot + "/config/"
+                                                                                                  "goal_model.yaml" },
+                                                        { "wheel_separation=" + std::to_string(start) });
     ASSERT_TRUE(node.aic.separation_learner.enabled);
     ASSERT_TRUE(node.fdi.enabled);
     const ClosedLoopRecord r = run(node, 0.5, 0.5, 21.0);

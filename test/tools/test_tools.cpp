@@ -259,7 +259,7 @@ TEST(AicParams, GeneratesAndChecks)
             std::string::npos)
       << overlay.out;
   const Result over_bases =
-      run(bin + " --check " + src + "/config/robot_model.yaml --config " + src + "/config/default.yaml");
+      run(bin + " --check " + src + "/config/goal_model.yaml --config " + src + "/config/default.yaml");
   EXPECT_EQ(over_bases.code, 0) << over_bases.out;
   EXPECT_EQ(over_bases.out.find("an overlay"), std::string::npos) << over_bases.out;
   const Result comments = run(bin + " --check " + writeFile("params_comments.yaml", "# only a comment\n"));
@@ -492,15 +492,18 @@ TEST(ClosedLoopRun, CsvTraceHoldsTheInference)
 
 TEST(ClosedLoopRun, CsvTraceHoldsTheFaultMonitorsTest)
 {
-  // The default configuration on the 0.5 m/s + 0.5 rad/s arc, a 0.5 rad/s gyro bias from 3 s
+  // The goal model (belief_model goal over the default configuration: its fault monitor tests the
+  // parity residual against fdi_threshold; the robot model's innovation test has no threshold key)
+  // on the 0.5 m/s + 0.5 rad/s arc, a 0.5 rad/s gyro bias from 3 s
   // (profile time 2 s): fdi_statistic stays below fdi_threshold (0.06) before the fault and goes
   // above it after; the residual is the gyro's disagreement, about the bias. The stock controller
   // has no fault monitor: the columns are empty.
   const std::string bin = CLOSED_LOOP_RUN_BIN;
   const std::string trace = std::string(::testing::TempDir()) + "fdi_trace.csv";
-  Result r =
-      run(bin + " --controller aic --aic-config " + SOURCE_DIR +
-          "/config/default.yaml --step 0.5 --turn 0.5 --hold 3 --noise --fault 'gyro bias 0.5 3' --csv " + trace);
+  Result r = run(bin + " --controller aic --aic-config " + SOURCE_DIR +
+                 "/config/default.yaml --aic-set belief_model=goal --step 0.5 --turn 0.5 --hold 3 --noise --fault "
+                 "'gyro bias 0.5 3' --csv " +
+                 trace);
   ASSERT_EQ(r.code, 0) << r.out;
   std::vector<std::string> header;
   const auto rows = readCsv(trace, &header);

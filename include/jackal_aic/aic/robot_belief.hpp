@@ -93,10 +93,12 @@ public:
    *        (sensoryFreeEnergy(), priorFreeEnergy()).
    * \param learn  false: the slow states (s, beta) are held, the gyro corrects theta_dot only (a
    *               fault mask on one of the three channels: nothing is learned from two)
+   * \param learn_slip  false: the slip ratio s is held, beta learns as `learn` says (a gyro whose
+   *                    reading repeats exactly: frozen, or ideal at rest)
    * \return false (nothing changed) if a used value is not finite
    */
   bool correct(const base::Vector2& y_omega, double y_gyro, bool use_left, bool use_right, bool use_gyro,
-               bool learn = true);
+               bool learn = true, bool learn_slip = true);
 
   /**
    * \brief The sample's innovations at the beliefs as they are (the model's prediction, before
@@ -133,6 +135,8 @@ public:
   double yawRate() const { return x_(4); }
   /// Believed yaw slip ratio s [-]: the body turns at (1 - s) times the wheels' yaw rate.
   double slipRatio() const { return x_(5); }
+  /// The believed wheels' yaw rate u = r alpha (omega_R - omega_L) / b_hat at the last predict() [rad/s].
+  double wheelsYawRate() const { return wheels_yaw_; }
   /// Believed gyro offset beta [rad/s] (on top of any offset removed before correct()).
   double gyroOffset() const { return x_(6); }
   /// Its rate theta_dot' [rad/s^2] under the model (the last predict()).

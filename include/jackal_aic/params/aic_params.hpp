@@ -171,7 +171,9 @@ struct AicParams
    */
   std::vector<ParamViolation> validate() const;
 
-  /// One line for logs: "belief B Hz, action A Hz, tau T s, k_mu K, k_a K, p P, integrator I".
+  /// One line for logs: "belief B Hz, action A Hz, belief model M, " then, for the goal and unbiased
+  /// models, "tau T s, k_mu K, k_a K, p P, integrator I", for the robot model "latency L s (learned |
+  /// fixed), action_gain K 1/s, b_hat_0 B m" (its keys; the others have no effect).
   std::string summary() const;
 
   /// Precision Pi_mu^(i) per channel, 3 x (p+1) (column i = order i), 1/sigma^2. Requires a valid struct.

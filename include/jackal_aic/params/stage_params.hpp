@@ -144,7 +144,8 @@ struct SeparationLearnerParams
   double min = 0.3;
   /// separation_max [m], in [kMinLength, kMaxLength]: upper bound of b_hat.
   double max = 1.5;
-  /// separation_min_yaw_rate [rad/s], >= 0, <= 10: b_hat is frozen while |gyro| is below this.
+  /// separation_min_yaw_rate [rad/s], >= 0, <= 10: b_hat is frozen while |gyro| is below this (the
+  /// robot model: while the believed wheels' |yaw rate| is).
   double min_yaw_rate = 0.1;
   /// separation_max_yaw_acceleration [rad/s^2], > 0, <= kMaxGain: b_hat is frozen while |d gyro/dt|
   /// (y^(1) of the gyro) is above this; with belief_model robot, b_hat, the slip ratio and the gyro

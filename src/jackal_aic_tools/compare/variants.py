@@ -8,7 +8,7 @@ NAME a column title (letters, digits, '_', '-', '.', '+'); BASE a controller YAM
 or relative to the current directory or to the package's folder) or a bare name, config/NAME.yaml
 of the package (e.g. "default", "thesis_equivalent"); each OVERLAY a YAML found the same way whose
 keys apply after BASE, in the file's order, as the node stacks an overlay on its configuration
-(default+robot_model: config/robot_model.yaml over config/default.yaml); the overrides as
+(default+goal_model: config/goal_model.yaml over config/default.yaml); the overrides as
 closed_loop_run's --aic-set takes them, applied in order after BASE and the overlays, commas inside
 [...] kept (var_mu=[1.5,2,4,8,16]). KEY*=FACTOR scales the key's value in BASE and the overlays
 (BASE's effective value: BASE over the schema's defaults, `aic_params --yaml --config BASE`, unless

@@ -2,8 +2,8 @@
 jackal_aic_tools.identify.bag_identification), print the fit and write the overlay YAML of the keys that
 differ from the plant's; and measure the robot model's sensor noises on the bag's rest segments
 (jackal_aic_tools.identify.sensor_noise) and fit its yaw response on the bag's turns in place
-(jackal_aic_tools.identify.yaw_response), and write them with config/robot_model.yaml as the robot
-model's controller overlay."""
+(jackal_aic_tools.identify.yaw_response), and write them as the robot model's controller overlay
+(over config/default.yaml, whose belief model is the robot model)."""
 import json
 import os
 import sys
@@ -50,27 +50,21 @@ def write_overlay(path, values, base, bag, cost):
     return keys
 
 
-def write_robot_model(path, robot_model, noise, yaw, bag):
-    """Write the robot model identified on ``bag`` as one controller overlay at ``path``: the text of
-    ``robot_model`` (config/robot_model.yaml: belief_model robot and its identified wheel loop), then
-    the bag's sensor noises (``noise``, sensor_noise(); None: not measured) and yaw response
-    (``yaw``, yaw_response(); None: not fitted), each commented with its source. Load it alone
-    after config/default.yaml (the launch files' one overlay). Returns the keys the bag gave.
-    Raises RuntimeError if robot_model already sets one of them (the file would hold it twice)."""
-    import yaml
-    with open(robot_model) as f:
-        base = f.read()
+def write_robot_model(path, noise, yaw, bag):
+    """Write what ``bag`` identified of the robot model as one controller overlay at ``path``: the
+    bag's sensor noises (``noise``, sensor_noise(); None: not measured) and yaw response (``yaw``,
+    yaw_response(); None: not fitted), each commented with its source. Load it alone after
+    config/default.yaml, whose belief model is the robot model (the launch files' one overlay).
+    Returns the keys the bag gave (an empty list writes a file of comments only). Raises OSError
+    if ``path`` cannot be written."""
     lines = (sensor_noise.overlay_lines(noise) if noise is not None else []) + (
         yaw_response.overlay_lines(yaw) if yaw is not None else [])
     keys = [line.split(":", 1)[0] for line in lines if not line.startswith("#")]
-    twice = sorted(set(keys) & set(yaml.safe_load(base) or {}))
-    if twice:
-        raise RuntimeError("%s already sets %s" % (robot_model, ", ".join(twice)))
     with open(path, "w") as f:
-        f.write("# The robot model identified on %s by plant_identify.py --bag: config/robot_model.yaml,\n"
-                "# then what the bag measured. Load it as the one controller overlay, e.g.\n"
-                "#   roslaunch jackal_aic robot.launch overlay:=%s\n\n" % (bag, os.path.abspath(path)))
-        f.write(base.rstrip("\n") + "\n\n# ---- measured on %s\n" % bag)
+        f.write("# The robot model's keys identified on %s by plant_identify.py --bag, over\n"
+                "# config/default.yaml. Load it as the one controller overlay, e.g.\n"
+                "#   roslaunch jackal_aic robot.launch overlay:=%s\n\n# ---- measured on %s\n"
+                % (bag, os.path.abspath(path), bag))
         f.write("\n".join(lines) + "\n")
     return keys
 
@@ -163,12 +157,11 @@ def run(a, tool):
     if noise is not None or yaw is not None:
         model_out = a.model_out or os.path.splitext(a.bag)[0] + "_robot_model.yaml"
         try:
-            measured = write_robot_model(model_out, tool.path("config", "robot_model.yaml"), noise, yaw,
-                                         os.path.basename(a.bag))
-        except (OSError, RuntimeError) as e:
+            measured = write_robot_model(model_out, noise, yaw, os.path.basename(a.bag))
+        except OSError as e:
             print("plant_identify: the robot model's overlay: %s" % e, file=sys.stderr)
             return 1
-        print("robot model written: %s (controller overlay: config/robot_model.yaml's keys and %s)"
+        print("robot model written: %s (controller overlay over config/default.yaml: %s)"
               % (model_out, ", ".join(measured)))
     if a.json:
         with open(a.json, "w") as f:

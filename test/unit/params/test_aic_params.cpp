@@ -46,6 +46,20 @@ TEST(Params, DefaultsAreValid)
   EXPECT_TRUE(AicParams().validate().empty());
 }
 
+TEST(Params, SummaryNamesTheBeliefModelAndTheKeysThatShapeItsCommand)
+{
+  AicParams p = jackal_aic::params::recommendedAicParams();
+  p.belief_model = jackal_aic::params::BeliefModel::kGoal;
+  EXPECT_NE(p.summary().find("belief model goal, tau "), std::string::npos) << p.summary();
+  p.belief_model = jackal_aic::params::BeliefModel::kRobot;
+  p.robot.learn_latency = true;
+  const std::string robot = p.summary();
+  EXPECT_NE(robot.find("belief model robot, latency 0.1187 s (learned), action_gain 50 1/s, b_hat_0 0.5621 m"),
+            std::string::npos)
+      << robot;
+  EXPECT_EQ(robot.find("tau"), std::string::npos) << "a key without effect in the robot model: " << robot;
+}
+
 TEST(Params, BeliefRate)
 {
   expectPositiveRule(&AicParams::belief_rate, "belief_rate", jackal_aic::params::kMaxRate);

@@ -453,14 +453,28 @@ TEST(ParamSchema, DocTableIsGenerated)
 TEST(ParamSchema, DefaultYamlHoldsOnlyWhatHasNoDefault)
 {
   // The defaults are written once, in the code (NodeParams, recommendedAicParams()):
-  // config/default.yaml sets exactly the keys that have none (the Jackal's joints), and the
-  // defaults alone are a valid, not the diverging, controller. Every config/*.yaml documents
-  // each of its keys with the schema's unit.
+  // config/default.yaml sets the keys that have none (the Jackal's joints) and the belief model it
+  // drives with, the robot model, with the keys of its identified wheel loop that differ from the
+  // schema's; it repeats no default. The defaults alone are a valid, not the diverging, controller.
+  // Every config/*.yaml documents each of its keys with the schema's unit.
+  const std::set<std::string> model_keys{ "belief_model", "wheel_feedforward", "wheel_feedforward_acceleration",
+                                          "wheel_time_constant", "learn_latency" };
   const YAML::Node root = YAML::LoadFile(kSource + "/config/default.yaml");
   ASSERT_TRUE(root.IsMap());
+  const params::NodeParams defaults;
+  const params::NodeParams loaded = loadNodeParamsFiles({ kSource + "/config/default.yaml" });
   for (const params::ParamSpec& s : params::paramSchema())
   {
     SCOPED_TRACE(s.key);
+    if (model_keys.count(s.key) != 0)
+    {
+      ASSERT_TRUE(bool(root[s.key])) << "the robot model's key missing from config/default.yaml";
+      EXPECT_NE(params::formatParamValue(s.get(loaded)), params::formatParamValue(s.get(defaults))) << "config/"
+                                                                                                       "default.yaml "
+                                                                                                       "repeats a "
+                                                                                                       "default";
+      continue;
+    }
     EXPECT_EQ(bool(root[s.key]), s.required)
         << (s.required ? "a required key missing from config/default.yaml" : "config/default.yaml repeats a default");
   }
@@ -472,6 +486,7 @@ TEST(ParamSchema, DefaultYamlHoldsOnlyWhatHasNoDefault)
   EXPECT_TRUE(p.validate().empty());
   EXPECT_EQ(p.left_joints, (std::vector<std::string>{ "front_left_wheel", "rear_left_wheel" }));
   EXPECT_EQ(p.aic.integrator, params::Integrator::kExact);  // forward Euler at these gains diverges
+  EXPECT_EQ(p.aic.belief_model, params::BeliefModel::kRobot);
   for (const std::string& file : configFiles())
   {
     expectDocumentedAsTheSchema(kSource + "/" + file);
@@ -516,7 +531,7 @@ const std::map<std::string, std::vector<std::string>>& overlayBases()
     { "config/robot.yaml", { "config/default.yaml" } },
     { "config/first_run.yaml", { "config/default.yaml", "config/robot.yaml" } },
     { "config/unbiased.yaml", { "config/default.yaml", "config/robot.yaml" } },
-    { "config/robot_model.yaml", { "config/default.yaml", "config/robot.yaml" } },
+    { "config/goal_model.yaml", { "config/default.yaml", "config/robot.yaml" } },
   };
   return bases;
 }
@@ -525,11 +540,17 @@ const std::map<std::string, std::vector<std::string>>& overlayBases()
 TEST(ParamSchema, OverlaysHoldOnlyWhatDiffers)
 {
   // config/robot.yaml and config/first_run.yaml are loaded after config/default.yaml
-  // (launch/robot.launch): each holds only keys that differ from the defaults (each with its
-  // bases is checked in EveryConfigFileIsValid).
+  // (launch/robot.launch): each holds only keys that differ from what its bases give (each with
+  // its bases is checked in EveryConfigFileIsValid).
   for (const auto& [file, bases] : overlayBases())
   {
     SCOPED_TRACE(file);
+    std::vector<std::string> base_files;
+    for (const std::string& b : bases)
+    {
+      base_files.push_back(kSource + "/" + b);
+    }
+    const params::NodeParams base = loadNodeParamsFiles(base_files);
     const YAML::Node overlay = YAML::LoadFile(kSource + "/" + file);
     ASSERT_TRUE(overlay.IsMap());
     ASSERT_GT(overlay.size(), 0u);
@@ -545,7 +566,7 @@ TEST(ParamSchema, OverlaysHoldOnlyWhatDiffers)
       ASSERT_TRUE(params::loadParams(YamlParamSource(one),
                                      { params::ParamScope::kController, params::ParamScope::kNode }, false, &from_yaml)
                       .errors.empty());
-      EXPECT_FALSE(s->get(from_yaml) == params::defaultValue(*s)) << "a key of the overlay that repeats its default";
+      EXPECT_FALSE(s->get(from_yaml) == s->get(base)) << "a key of the overlay that repeats what its bases give";
     }
   }
 }
