@@ -660,7 +660,10 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(
                           // A gyro reading that repeats bit for bit is a frozen gyro (or an ideal
                           // one at rest): no turn's slip is in it (the goal model's learner refuses
                           // it alike, SeparationLearner::State::kStuckGyro).
-                          y_tilde_(base::kGyroZ, 1) != 0.0);
+                          y_tilde_(base::kGyroZ, 1) != 0.0,
+                          // The turn shortfalls learn from the three channels together, without a
+                          // fault: a biased or frozen encoder's reading is not its side's load.
+                          (sensor_mask_ & needed) == needed && !fault_present_);
   }
   if (params_.separation_learner.enabled)
   {
@@ -750,6 +753,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
   // the wheel loop (ReferenceModel), at the end of the step the command will be held for, in
   // the wheels' coordinates of the learned model; then LatencyAction's descent of F_a.
   base::Vector2 goal = base::Vector2::Zero();
+  double goal_turn = 0.0;  // the goal's yaw rate at t + L + h_a [rad/s]
   const bool at_rest = reference_.target().isZero(0.0) && reference_.path().cwiseAbs().maxCoeff() <= kRobotRestPath;
   if (!at_rest)
   {
@@ -757,6 +761,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
     // the path's value one latency ahead (ReferenceModel::holdTipSpeed()).
     reference_.holdTipSpeed(model_.twistFromWheels(robot_belief_.wheelSpeeds())(0));  // x_dot
     const base::Vector3 path = reference_.pathAhead(h);
+    goal_turn = path(2);
     // The wheels through the learned b_hat (the slip ratio's steady part reaches the command
     // through b_hat, at the learner's rate: a transient's slip does not).
     const base::SensorMatrix& R = model_.R();
@@ -764,7 +769,8 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
   }
   const double pi_e = 1.0 / (params_.robot.encoder_noise * params_.robot.encoder_noise);
   // At rest the command is zero: the MCU holds the wheels, there is no shortfall to make up.
-  const base::Vector2 shortfall = at_rest ? base::Vector2::Zero() : robot_belief_.shortfalls();
+  // The shortfall at the goal's turn the command is for (the turn's part: RobotBelief::shortfallsAt()).
+  const base::Vector2 shortfall = at_rest ? base::Vector2::Zero() : robot_belief_.shortfallsAt(goal_turn);
   const LatencyActionResult r =
       LatencyAction::step(wheel_loop_, robot_belief_.wheelSpeeds(), shortfall, robot_clock_, goal, a_, h,
                           params_.robot.action_gain, params_.max_wheel_speed, pi_e);

@@ -14,37 +14,50 @@ namespace aic
 {
 namespace
 {
-/// One side's belief (omega, d) with covariance p carried h [s] under the command u [rad/s].
+/// One side's belief x = (omega, d, e) with covariance p carried h [s] under the command u [rad/s]:
+/// the wheel loop under u - d - sigma e (sigma the side's RobotBelief::turnSigns() at the goal's
+/// turn); d drifts in time (q_d), e only while the robot turns (q_e |sigma|: where it is observed).
 void predictSide(const WheelLoopModel& loop, const params::RobotModelParams& params, double h, double u, double rate,
-                 double* omega, double d, Eigen::Matrix2d* p)
+                 double sigma, Eigen::Vector3d* x, Eigen::Matrix3d* p)
 {
   double gain = 0.0;
-  const double next = loop.step(*omega, u - d, rate, h, &gain);
+  const double shortfall = (*x)(1) + sigma * (*x)(2);
+  const double next = loop.step((*x)(0), u - shortfall, rate, h, &gain);
   const bool bounded = params.wheel_time_constant > 0.0 && gain == 1.0;
-  Eigen::Matrix2d f;
-  f << gain, bounded ? 0.0 : -(1.0 - gain), 0.0, 1.0;
+  const double pull = bounded ? 0.0 : -(1.0 - gain);
+  Eigen::Matrix3d f = Eigen::Matrix3d::Identity();
+  f(0, 0) = gain;
+  f(0, 1) = pull;
+  f(0, 2) = pull * sigma;
   *p = f * (*p) * f.transpose();
+  const double q_e = params.turn_shortfall_noise * params.turn_shortfall_noise * h;
   (*p)(0, 0) += params.wheel_model_noise * params.wheel_model_noise * h;
   (*p)(1, 1) += params.shortfall_noise * params.shortfall_noise * h;
-  *omega = next;
+  (*p)(2, 2) += q_e * std::abs(sigma);
+  (*x)(0) = next;
 }
 
-/// Scalar measurement y of the first state of (x0, x1) with covariance p and noise variance r;
-/// adds the free energy's parts at the corrected belief: sensory 1/2 (e r / s)^2 / r, prior
-/// 1/2 (K e)^T P_-^{-1} (K e) = 1/2 e^2 p00 / s^2 (e the innovation, s = p00 + r, K = P_- col 0 / s).
-void correctPair(double y, double r, double* x0, double* x1, Eigen::Matrix2d* p, double* f_sensory, double* f_prior,
-                 double* innovation)
+/// Scalar measurement y of the first state of x = (omega, d, e) with covariance p and noise variance
+/// r; with hold_turn, e takes no gain (held: the Joseph form keeps p its covariance under the gain
+/// used). Adds the free energy's parts at the corrected belief: sensory 1/2 (y - omega)^2 / r, prior
+/// 1/2 (K e)^T P_-^{-1} (K e) = 1/2 e^2 k0 / s (e the innovation, s = p00 + r, k0 = K's omega part).
+void correctSide(double y, double r, bool hold_turn, Eigen::Vector3d* x, Eigen::Matrix3d* p, double* f_sensory,
+                 double* f_prior, double* innovation)
 {
-  const double e = y - *x0;
-  const double p00 = (*p)(0, 0);
-  const double s = p00 + r;
-  const Eigen::Vector2d k = p->col(0) / s;
-  *x0 += k(0) * e;
-  *x1 += k(1) * e;
-  const Eigen::RowVector2d row = p->row(0);
-  *p -= k * row;
-  *f_sensory += 0.5 * e * e * r / (s * s);
-  *f_prior += 0.5 * e * e * p00 / (s * s);
+  const double e = y - (*x)(0);
+  const double s = (*p)(0, 0) + r;
+  Eigen::Vector3d k = p->col(0) / s;
+  if (hold_turn)
+  {
+    k(2) = 0.0;
+  }
+  *x += k * e;
+  Eigen::Matrix3d a = Eigen::Matrix3d::Identity();
+  a.col(0) -= k;
+  *p = a * (*p) * a.transpose() + r * k * k.transpose();
+  const double corrected = (1.0 - k(0)) * e;
+  *f_sensory += 0.5 * corrected * corrected / r;
+  *f_prior += 0.5 * e * e * k(0) / s;
   *innovation = e;
 }
 }  // namespace
@@ -61,11 +74,18 @@ void RobotBelief::setParams(const params::RobotModelParams& params)
 
 void RobotBelief::reset(const base::Vector2& omega, double theta_dot)
 {
-  x_ << omega(0), 0.0, omega(1), 0.0, theta_dot, 0.0, 0.0;
+  side_[0] << omega(0), 0.0, 0.0;
+  side_[1] << omega(1), 0.0, 0.0;
+  yaw_ << theta_dot, 0.0, 0.0;
   // The fast states start uncertain, the slow ones at zero and certain: they drift from there at
   // their own rate (shortfall_noise, yaw_slip_noise, gyro_offset_noise), not on the first transient.
-  p_left_ << kInitialVariance, 0.0, 0.0, 0.0;
-  p_right_ = p_left_;
+  p_side_[0].setZero();
+  p_side_[0](0, 0) = kInitialVariance;
+  p_side_[1] = p_side_[0];
+  turn_signs_.setZero();
+  last_reading_.setConstant(std::numeric_limits<double>::quiet_NaN());
+  frozen_ = Eigen::Matrix<bool, 2, 1>::Constant(false);
+  sample_command_.setZero();
   p_yaw_.setZero();
   p_yaw_(0, 0) = kInitialVariance;
   turn_ = std::numeric_limits<double>::quiet_NaN();  // no predict() yet
@@ -87,14 +107,15 @@ void RobotBelief::reset(const base::Vector2& omega, double theta_dot)
 
 void RobotBelief::forgetSlowStates()
 {
-  x_(1) = 0.0;
-  x_(3) = 0.0;
-  x_(5) = 0.0;
-  x_(6) = 0.0;
-  for (Eigen::Matrix2d* p : { &p_left_, &p_right_ })
+  side_[0](1) = 0.0;
+  side_[1](1) = 0.0;
+  yaw_(1) = 0.0;
+  yaw_(2) = 0.0;
+  for (int i = 0; i < 2; ++i)
   {
-    p->row(1).setZero();
-    p->col(1).setZero();
+    side_[i].tail<2>().setZero();
+    p_side_[i].bottomRows<2>().setZero();
+    p_side_[i].rightCols<2>().setZero();
   }
   p_yaw_.bottomRows<2>().setZero();
   p_yaw_.rightCols<2>().setZero();
@@ -108,7 +129,7 @@ void RobotBelief::predict(double h, const WheelLoopModel& loop, const base::Vect
                           const base::Vector2& rate_at_wheels, double yaw_gain, double turn)
 {
   const base::Vector2 before = wheelSpeeds();
-  const double yaw_before = x_(4);
+  const double yaw_before = yaw_(0);
   // A jump in the shortfall belongs to the turn it was taken in (a stall, a turn deficit, a wheel at
   // its limit in the turn): when the goal's turn moves on by more than kJumpTurnBand it is dropped,
   // and the drift's part of d stays.
@@ -116,7 +137,7 @@ void RobotBelief::predict(double h, const WheelLoopModel& loop, const base::Vect
   {
     if (shortfall_jump_(i) != 0.0 && std::isfinite(turn) && !(std::abs(turn - jump_turn_(i)) <= kJumpTurnBand))
     {
-      x_(2 * i + 1) -= shortfall_jump_(i);
+      side_[i](1) -= shortfall_jump_(i);
       shortfall_jump_(i) = 0.0;
     }
   }
@@ -137,19 +158,22 @@ void RobotBelief::predict(double h, const WheelLoopModel& loop, const base::Vect
     }
     wheel_command_(i) = u;
   }
-  predictSide(loop, params_, h, u_at_wheels(0), rate_at_wheels(0), &x_(0), x_(1), &p_left_);
-  predictSide(loop, params_, h, u_at_wheels(1), rate_at_wheels(1), &x_(2), x_(3), &p_right_);
+  // A turn's load (its scrub torque) acts against the turn: it holds the right side back in a left
+  // turn and pushes the left side on, and the other way in a right turn (turnSigns()).
+  turn_signs_ = turnSigns(turn);
+  predictSide(loop, params_, h, u_at_wheels(0), rate_at_wheels(0), turn_signs_(0), &side_[0], &p_side_[0]);
+  predictSide(loop, params_, h, u_at_wheels(1), rate_at_wheels(1), turn_signs_(1), &side_[1], &p_side_[1]);
   // The yaw triple (theta_dot, s, beta): theta_dot' = ((1 - s) u - theta_dot) / T_s, u =
   // yaw_gain (omega_R - omega_L), integrated exactly with u held; s moves with the goal's turn
   // (variance sigma_s^2 |dw|), beta with time.
-  const double u = yaw_gain * (x_(2) - x_(0));
+  const double u = yaw_gain * (side_[1](0) - side_[0](0));
   wheels_yaw_ = u;
   yaw_gain_ = yaw_gain;
   const double dw = std::isfinite(turn_) && std::isfinite(turn) ? std::abs(turn - turn_) : 0.0;
   turn_ = turn;
-  const double target = (1.0 - x_(5)) * u;
+  const double target = (1.0 - yaw_(1)) * u;
   const double decay = std::exp(-h / params_.yaw_time_constant);
-  x_(4) = target + (x_(4) - target) * decay;
+  yaw_(0) = target + (yaw_(0) - target) * decay;
   Eigen::Matrix3d f = Eigen::Matrix3d::Identity();
   f(0, 0) = decay;
   f(0, 1) = -u * (1.0 - decay);
@@ -163,11 +187,11 @@ void RobotBelief::predict(double h, const WheelLoopModel& loop, const base::Vect
     p_yaw_(2, 2) += params_.gyro_offset_noise * params_.gyro_offset_noise * h;
   }
   omega_rate_ = (wheelSpeeds() - before) / h;
-  yaw_rate_ = (x_(4) - yaw_before) / h;
+  yaw_rate_ = (yaw_(0) - yaw_before) / h;
 }
 
 bool RobotBelief::correct(const base::Vector2& y_omega, double y_gyro, bool use_left, bool use_right, bool use_gyro,
-                          bool learn, bool learn_slip)
+                          bool learn, bool learn_slip, bool learn_turn)
 {
   if ((use_left && !std::isfinite(y_omega(0))) || (use_right && !std::isfinite(y_omega(1))) ||
       (use_gyro && !std::isfinite(y_gyro)))
@@ -178,15 +202,25 @@ bool RobotBelief::correct(const base::Vector2& y_omega, double y_gyro, bool use_
   f_prior_ = 0.0;
   innovation_.setZero();
   const double r_e = params_.encoder_noise * params_.encoder_noise;
-  detectShortfallJump(0, y_omega(0), use_left, r_e, &x_(1), p_left_);
-  detectShortfallJump(1, y_omega(1), use_right, r_e, &x_(3), p_right_);
+  // A frozen encoder: a nonzero reading that repeats bit for bit while the side's command at the
+  // wheels moves is not the wheel (a noisy encoder's reading of a moving wheel does not repeat, a
+  // stalled wheel reads zero). The side is skipped, so the belief is not pulled to the frozen value
+  // and the fault monitor's innovation test sees the wheel's prediction error
+  // (frozenEncoderSamples()).
+  const bool frozen_left = frozenReading(0, y_omega(0));
+  const bool frozen_right = frozenReading(1, y_omega(1));
+  frozen_samples_ += (use_left && frozen_left ? 1u : 0u) + (use_right && frozen_right ? 1u : 0u);
+  use_left = use_left && !frozen_left;
+  use_right = use_right && !frozen_right;
+  detectShortfallJump(0, y_omega(0), use_left, r_e, &side_[0](1), p_side_[0]);
+  detectShortfallJump(1, y_omega(1), use_right, r_e, &side_[1](1), p_side_[1]);
   if (use_left)
   {
-    correctPair(y_omega(0), r_e, &x_(0), &x_(1), &p_left_, &f_sensory_, &f_prior_, &innovation_(0));
+    correctSide(y_omega(0), r_e, !learn_turn, &side_[0], &p_side_[0], &f_sensory_, &f_prior_, &innovation_(0));
   }
   if (use_right)
   {
-    correctPair(y_omega(1), r_e, &x_(2), &x_(3), &p_right_, &f_sensory_, &f_prior_, &innovation_(1));
+    correctSide(y_omega(1), r_e, !learn_turn, &side_[1], &p_side_[1], &f_sensory_, &f_prior_, &innovation_(1));
   }
   if (use_gyro)
   {
@@ -211,21 +245,21 @@ bool RobotBelief::correct(const base::Vector2& y_omega, double y_gyro, bool use_
       // The gyro against the model's steady yaw rate (1 - s) u + beta: kJumpSamples residuals in a
       // row beyond kJumpThreshold standard deviations (sigma_g and the slow states' uncertainty)
       // are an offset jump, taken up at once: beta moves by their mean, theta_dot back by it.
-      const double r = y_gyro - ((1.0 - x_(5)) * wheels_yaw_ + x_(6));
+      const double r = y_gyro - ((1.0 - yaw_(1)) * wheels_yaw_ + yaw_(2));
       const double var_r = r_g + wheels_yaw_ * wheels_yaw_ * p_yaw_(1, 1) + p_yaw_(2, 2);
       const bool beyond = std::isfinite(r) && r * r > kJumpThreshold * kJumpThreshold * var_r;
       if (offset_run_.add(r, beyond, std::numeric_limits<double>::infinity(), kJumpSamples))
       {
         const double jump = offset_run_.mean();
-        x_(6) += jump;
-        x_(4) -= jump;
+        yaw_(2) += jump;
+        yaw_(0) -= jump;
         ++offset_jumps_;
       }
     }
-    const double e = y_gyro - (x_(4) + x_(6));
-    x_(4) += k(0) * e;
-    x_(5) += k(1) * e;
-    x_(6) += k(2) * e;
+    const double e = y_gyro - (yaw_(0) + yaw_(2));
+    yaw_(0) += k(0) * e;
+    yaw_(1) += k(1) * e;
+    yaw_(2) += k(2) * e;
     // Joseph form: valid for the gain used, optimal or held.
     const Eigen::Matrix3d a = Eigen::Matrix3d::Identity() - k * hrow;
     p_yaw_ = a * p_yaw_ * a.transpose() + r_g * k * k.transpose();
@@ -241,21 +275,21 @@ base::SampleInnovation RobotBelief::sampleInnovation(const base::Vector2& y_omeg
 {
   const double r_e = params_.encoder_noise * params_.encoder_noise;
   base::SampleInnovation in;
-  in.error(base::kGyroZ) = y_gyro - (x_(4) + x_(6));
-  in.error(base::kOmegaLeft) = y_omega(0) - x_(0);
-  in.error(base::kOmegaRight) = y_omega(1) - x_(2);
+  in.error(base::kGyroZ) = y_gyro - (yaw_(0) + yaw_(2));
+  in.error(base::kOmegaLeft) = y_omega(0) - side_[0](0);
+  in.error(base::kOmegaRight) = y_omega(1) - side_[1](0);
   in.variance(base::kGyroZ) =
       p_yaw_(0, 0) + 2.0 * p_yaw_(0, 2) + p_yaw_(2, 2) + params_.gyro_noise * params_.gyro_noise;
-  in.variance(base::kOmegaLeft) = p_left_(0, 0) + r_e;
-  in.variance(base::kOmegaRight) = p_right_(0, 0) + r_e;
-  const double k = (1.0 - x_(5)) * yaw_gain_;
+  in.variance(base::kOmegaLeft) = p_side_[0](0, 0) + r_e;
+  in.variance(base::kOmegaRight) = p_side_[1](0, 0) + r_e;
+  const double k = (1.0 - yaw_(1)) * yaw_gain_;
   in.parity = in.error(base::kGyroZ) - k * (in.error(base::kOmegaRight) - in.error(base::kOmegaLeft));
   in.parity_variance =
       in.variance(base::kGyroZ) + k * k * (in.variance(base::kOmegaLeft) + in.variance(base::kOmegaRight));
   return in;
 }
 
-void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e, double* d, const Eigen::Matrix2d& p)
+void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e, double* d, const Eigen::Matrix3d& p)
 {
   // The wheel against the model's steady speed u - d, once the command has held long enough for
   // the wheel loop to have settled: kShortfallJumpSamples residuals in a row beyond kJumpThreshold
@@ -268,14 +302,15 @@ void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e,
     run.clear();
     return;
   }
-  const double r = y - (wheel_command_(side) - *d);
+  const double turn_part = turn_signs_(side) * side_[side](2);
+  const double r = y - (wheel_command_(side) - *d - turn_part);
   const double limit = kJumpThreshold * std::sqrt(r_e + p(1, 1));
   if (run.add(r, std::abs(r) > limit, kJumpThreshold * std::sqrt(2.0 * r_e), kShortfallJumpSamples))
   {
     // A shortfall: the wheel delivers between nothing and the whole command (a wheel faster than
     // its command, pushed or rolling downhill, is left to the drift).
     const double u = wheel_command_(side);
-    const double target = std::clamp(*d - run.mean(), std::min(0.0, u), std::max(0.0, u));
+    const double target = std::clamp(*d + turn_part - run.mean(), std::min(0.0, u), std::max(0.0, u)) - turn_part;
     if (std::abs(target - *d) > limit)
     {
       shortfall_jump_(side) += target - *d;
@@ -284,6 +319,38 @@ void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e,
       ++shortfall_jumps_;
     }
   }
+}
+
+base::Vector2 RobotBelief::turnSigns(double turn)
+{
+  if (!std::isfinite(turn))
+  {
+    return base::Vector2::Zero();
+  }
+  const double c = std::clamp(turn / kStraightTurn, -1.0, 1.0);
+  return base::Vector2(-c, c);
+}
+
+base::Vector2 RobotBelief::shortfallsAt(double turn) const
+{
+  const base::Vector2 sigma = turnSigns(turn);
+  return base::Vector2(side_[0](1) + sigma(0) * side_[0](2), side_[1](1) + sigma(1) * side_[1](2));
+}
+
+bool RobotBelief::frozenReading(int side, double y)
+{
+  if (!std::isfinite(y))
+  {
+    return false;
+  }
+  const bool repeated = y == last_reading_(side) && y != 0.0;
+  const bool command_moved = std::abs(wheel_command_(side) - sample_command_(side)) > kSteadyBand;
+  last_reading_(side) = y;
+  sample_command_(side) = wheel_command_(side);
+  // Frozen from the first repeat across a change of the side's command at the wheels, for as long
+  // as the reading keeps repeating.
+  frozen_(side) = repeated && (frozen_(side) || command_moved);
+  return frozen_(side);
 }
 
 double RobotBelief::settleTime(double du) const
@@ -297,7 +364,7 @@ bool RobotBelief::shiftGyroOffset(double delta)
   {
     return false;
   }
-  x_(6) += delta;
+  yaw_(2) += delta;
   return true;
 }
 
@@ -307,7 +374,7 @@ bool RobotBelief::rescaleSlip(double k)
   {
     return false;
   }
-  x_(5) = 1.0 - k * (1.0 - x_(5));
+  yaw_(1) = 1.0 - k * (1.0 - yaw_(1));
   p_yaw_.row(1) *= k;
   p_yaw_.col(1) *= k;
   return true;
@@ -316,7 +383,7 @@ bool RobotBelief::rescaleSlip(double k)
 Eigen::Matrix<double, 7, 1> RobotBelief::variances() const
 {
   Eigen::Matrix<double, 7, 1> v;
-  v << p_left_(0, 0), p_left_(1, 1), p_right_(0, 0), p_right_(1, 1), p_yaw_(0, 0), p_yaw_(1, 1), p_yaw_(2, 2);
+  v << p_side_[0](0, 0), p_side_[0](1, 1), p_side_[1](0, 0), p_side_[1](1, 1), p_yaw_(0, 0), p_yaw_(1, 1), p_yaw_(2, 2);
   return v;
 }
 

@@ -218,6 +218,11 @@ std::vector<ParamSpec> buildControllerRows()
         .describe("Robot model: q_d, the drift of each side's actuation shortfall d (its random walk); 0 = d fixed "
                   "at 0")
         .member<&AicParams::robot, &RobotModelParams::shortfall_noise>(),
+    ParamRow("active_inference", "turn_shortfall_noise").unit("rad/s^0.5").atLeast(0.0).atMost(kMaxGain)
+        .describe("Robot model: q_e, the drift of each side's turn shortfall e (what the side does not deliver on "
+                  "top of d in a turn that loads it against its motion: the scrub load; a random walk while the "
+                  "robot turns); 0 = e fixed at 0")
+        .member<&AicParams::robot, &RobotModelParams::turn_shortfall_noise>(),
     ParamRow("active_inference", "yaw_model_noise").unit("rad/s^1.5").above(0.0).atMost(kMaxGain)
         .describe("Robot model: q_theta, the yaw model's error on theta_dot'")
         .member<&AicParams::robot, &RobotModelParams::yaw_model_noise>(),

@@ -133,8 +133,15 @@ class BagRoundTrip(unittest.TestCase):
         self.assertAlmostEqual(model["wheel_separation"], yaw["wheel_separation"], delta=1e-3)
         self.assertEqual(model["belief_model"], "robot")  # config/default.yaml's, under the overlay
         with open(self.fit["robot_model"]) as f:
-            self.assertEqual(set(yaml.safe_load(f)),
-                             {"encoder_noise", "gyro_noise", "yaw_time_constant", "wheel_separation"})
+            self.assertEqual(set(yaml.safe_load(f)), {"encoder_noise", "gyro_noise", "yaw_time_constant",
+                                                      "wheel_separation", "turn_shortfall_noise"})
+
+    def test_a_wheel_loop_without_load_observer_switches_the_turn_shortfalls_on(self):
+        # The variant's loop, identified without observer, leaves a turn's load as a speed error:
+        # the robot model's overlay turns the turn shortfalls on.
+        model = self.loaded(self.fit["robot_model"])
+        self.assertEqual(model["turn_shortfall_noise"], 0.3)
+        self.assertLess(self.fit["values"]["load_observer_bandwidth"], bi.OBSERVER_OFF_BANDWIDTH)
 
     def test_the_overlay_loads_and_holds_the_identified_keys(self):
         with open(self.overlay) as f:
@@ -342,6 +349,23 @@ class YawResponse(unittest.TestCase):
                 self.assertIsNone(yaml.safe_load(f))  # comments only
             with self.assertRaises(OSError):
                 bag_fit.write_robot_model(os.path.join(tmp, "no_dir", "out.yaml"), None, response, "x.bag")
+
+    def test_the_turn_shortfalls_follow_the_identified_load_observer(self):
+        from jackal_aic_tools.identify import bag_fit
+        # The default firmware's observer (24.4 1/s) holds a turn's load: nothing to write; none
+        # (the fit's 0) or one below OBSERVER_OFF_BANDWIDTH does not; not fitted: nothing known.
+        self.assertEqual(bag_fit.turn_load_lines({"load_observer_bandwidth": 24.36}), [])
+        self.assertEqual(bag_fit.turn_load_lines({"speed_kp": 2.0}), [])
+        for bandwidth in (0.0, 0.1):
+            lines = bag_fit.turn_load_lines({"load_observer_bandwidth": bandwidth})
+            self.assertEqual(yaml.safe_load("\n".join(lines)), {"turn_shortfall_noise": 0.3})
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "out.yaml")
+            keys = bag_fit.write_robot_model(out, None, None, "x.bag",
+                                             bag_fit.turn_load_lines({"load_observer_bandwidth": 0.0}))
+            self.assertEqual(keys, ["turn_shortfall_noise"])
+            with open(out) as f:
+                self.assertEqual(yaml.safe_load(f), {"turn_shortfall_noise": 0.3})
 
     def test_a_gyro_that_turns_against_the_wheels_is_an_error(self):
         cmd = [(0, 0, 0, 0), (1, 0, -2.9, 2.9), (3.5, 0, 0, 0), (11.99, 0, 0, 0)]

@@ -20,8 +20,9 @@ namespace jackal_aic
 namespace aic
 {
 /**
- * \brief Beliefs mu = (omega_L, d_L, omega_R, d_R, theta_dot, s, beta) with their covariance, under
- *        the robot model (RobotModelParams). s is the yaw slip ratio: the body turns at (1 - s) times
+ * \brief Beliefs mu = (omega_L, d_L, e_L, omega_R, d_R, e_R, theta_dot, s, beta) with their
+ *        covariance, under the robot model (RobotModelParams). e_s is side s's turn shortfall: its
+ *        shortfall on top of d_s in a turn that loads it against its motion (sign turnSigns()). s is the yaw slip ratio: the body turns at (1 - s) times
  *        the wheels' yaw rate u = r alpha (omega_R - omega_L) / b_hat in steady state; beta is the
  *        gyro's offset (the gyro reads theta_dot + beta).
  *
@@ -33,7 +34,7 @@ namespace aic
  * the curvature P^{-1} = P_-^{-1} + H^T Pi_y H is its covariance update. correct() takes that
  * minimiser directly (the descent run to convergence); predict() carries the belief through the
  * model's dynamics with its process noise (the prior's precision between samples).
- * Each side's pair (omega_s, d_s) and the yaw triple (theta_dot, s, beta) are filtered on their own
+ * Each side's triple (omega_s, d_s, e_s) and the yaw triple (theta_dot, s, beta) are filtered on their own
  * (their covariances are not coupled: the yaw triple takes the believed wheel speeds as its input).
  *
  * The slip ratio moves with the turn, not with time: its variance grows by sigma_s^2 |dw| over a
@@ -52,6 +53,10 @@ namespace aic
  * to a shortfall: between 0 and the command u (a wheel faster than its command is left to the drift).
  * A jump belongs to the turn it was taken in: when the goal's turn moves on by more than
  * kJumpTurnBand, the jumps' part of d is dropped (the drift's part stays).
+ *
+ * The turn shortfalls are random walks while the robot turns (turn_shortfall_noise |sigma|), zero
+ * with q_e = 0. A side's nonzero reading that repeats bit for bit across a change of its command at
+ * the wheels is a frozen encoder's and is skipped (frozenEncoderSamples()).
  *
  * No heap allocation, no exceptions.
  */
@@ -95,10 +100,12 @@ public:
    *               fault mask on one of the three channels: nothing is learned from two)
    * \param learn_slip  false: the slip ratio s is held, beta learns as `learn` says (a gyro whose
    *                    reading repeats exactly: frozen, or ideal at rest)
+   * \param learn_turn  false: the turn shortfalls e are held (a fault present or a channel
+   *                    isolated: what a faulty encoder reads is not the side's load)
    * \return false (nothing changed) if a used value is not finite
    */
   bool correct(const base::Vector2& y_omega, double y_gyro, bool use_left, bool use_right, bool use_gyro,
-               bool learn = true, bool learn_slip = true);
+               bool learn = true, bool learn_slip = true, bool learn_turn = true);
 
   /**
    * \brief The sample's innovations at the beliefs as they are (the model's prediction, before
@@ -128,17 +135,38 @@ public:
   bool shiftGyroOffset(double delta);
 
   /// Believed wheel speeds (omega_L, omega_R) [rad/s].
-  base::Vector2 wheelSpeeds() const { return base::Vector2(x_(0), x_(2)); }
-  /// Believed shortfalls (d_L, d_R) [rad/s]: the command the sides do not deliver in steady state.
-  base::Vector2 shortfalls() const { return base::Vector2(x_(1), x_(3)); }
+  base::Vector2 wheelSpeeds() const { return base::Vector2(side_[0](0), side_[1](0)); }
+  /// Believed shortfalls (d_L, d_R) [rad/s]: the command the sides do not deliver in steady state
+  /// whatever the turn (a payload, a slope, friction).
+  base::Vector2 shortfalls() const { return base::Vector2(side_[0](1), side_[1](1)); }
+  /**
+   * \brief Believed turn shortfalls (e_L, e_R) [rad/s]: what each side does not deliver on top of d
+   *        in a turn that loads it against its motion (the turn's scrub load over the MCU's wheel
+   *        loop; a P-only wheel servo leaves it as a steady speed error): shortfallsAt().
+   */
+  base::Vector2 turnShortfalls() const { return base::Vector2(side_[0](2), side_[1](2)); }
+  /// Their variances (P_eL, P_eR) [(rad/s)^2].
+  base::Vector2 turnShortfallVariances() const { return base::Vector2(p_side_[0](2, 2), p_side_[1](2, 2)); }
+  /**
+   * \brief The believed shortfall of each side [rad/s] when the goal turns at `turn` [rad/s]:
+   *        d_s + sigma_s e_s, (sigma_L, sigma_R) = turnSigns(turn).
+   */
+  base::Vector2 shortfallsAt(double turn) const;
+  /**
+   * \brief The sides' signs (sigma_L, sigma_R) = (-c, c), c = clamp(turn / kStraightTurn, -1, 1), of
+   *        the turn shortfalls at the goal's yaw rate `turn` [rad/s]: a left turn's scrub load holds
+   *        the right side back and pushes the left side on; toward straight driving (|turn| below
+   *        kStraightTurn) it fades to zero. (0, 0) unless turn is finite.
+   */
+  static base::Vector2 turnSigns(double turn);
   /// Believed yaw rate theta_dot [rad/s].
-  double yawRate() const { return x_(4); }
+  double yawRate() const { return yaw_(0); }
   /// Believed yaw slip ratio s [-]: the body turns at (1 - s) times the wheels' yaw rate.
-  double slipRatio() const { return x_(5); }
+  double slipRatio() const { return yaw_(1); }
   /// The believed wheels' yaw rate u = r alpha (omega_R - omega_L) / b_hat at the last predict() [rad/s].
   double wheelsYawRate() const { return wheels_yaw_; }
   /// Believed gyro offset beta [rad/s] (on top of any offset removed before correct()).
-  double gyroOffset() const { return x_(6); }
+  double gyroOffset() const { return yaw_(2); }
   /// Its rate theta_dot' [rad/s^2] under the model (the last predict()).
   double yawAcceleration() const { return yaw_rate_; }
   /// Believed wheel accelerations (omega_L', omega_R') [rad/s^2] under the model (the last predict()).
@@ -157,6 +185,10 @@ public:
   std::uint64_t offsetJumps() const { return offset_jumps_; }
   /// Number of shortfall jumps taken since construction (both sides).
   std::uint64_t shortfallJumps() const { return shortfall_jumps_; }
+  /// Number of wheel samples skipped as a frozen encoder's since construction (both sides): a
+  /// nonzero reading that repeats bit for bit, from the first repeat across a change of the side's
+  /// command at the wheels beyond kSteadyBand, for as long as it repeats.
+  std::uint64_t frozenEncoderSamples() const { return frozen_samples_; }
 
   /**
    * \brief The time [s] the wheel loop needs to settle after its command at the wheels changed by
@@ -187,13 +219,22 @@ public:
 
 private:
   /// One side's shortfall jump test on its sample y [rad/s] (before its correction); d and p are
-  /// that side's shortfall and (omega, d) covariance, r_e = sigma_e^2.
-  void detectShortfallJump(int side, double y, bool used, double r_e, double* d, const Eigen::Matrix2d& p);
+  /// that side's shortfall and (omega, d, e) covariance, r_e = sigma_e^2.
+  void detectShortfallJump(int side, double y, bool used, double r_e, double* d, const Eigen::Matrix3d& p);
+  /// Whether side's reading y [rad/s] is a frozen encoder's (frozenEncoderSamples()).
+  bool frozenReading(int side, double y);
 
   params::RobotModelParams params_;
-  Eigen::Matrix<double, 7, 1> x_ = Eigen::Matrix<double, 7, 1>::Zero();
-  Eigen::Matrix2d p_left_ = Eigen::Matrix2d::Identity();
-  Eigen::Matrix2d p_right_ = Eigen::Matrix2d::Identity();
+  /// Per side (L, R): the belief (omega_s, d_s, e_s) and its covariance.
+  Eigen::Vector3d side_[2] = { Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero() };
+  Eigen::Matrix3d p_side_[2] = { Eigen::Matrix3d::Identity(), Eigen::Matrix3d::Identity() };
+  Eigen::Vector3d yaw_ = Eigen::Vector3d::Zero();       ///< (theta_dot, s, beta)
+  base::Vector2 turn_signs_ = base::Vector2::Zero();    ///< turnSigns() at the last predict()
+  base::Vector2 last_reading_ = base::Vector2::Zero();  ///< each side's previous reading [rad/s] (NaN: none)
+  std::uint64_t frozen_samples_ = 0;
+  Eigen::Matrix<bool, 2, 1> frozen_ = Eigen::Matrix<bool, 2, 1>::Constant(false);  ///< each side's reading frozen
+  /// Each side's command at the wheels at the last sample [rad/s].
+  base::Vector2 sample_command_ = base::Vector2::Zero();
   Eigen::Matrix3d p_yaw_ = Eigen::Matrix3d::Identity();
   double turn_ = 0.0;        ///< the goal's yaw rate at the last predict() [rad/s] (NaN: none yet)
   double yaw_gain_ = 0.0;    ///< r alpha / b_hat at the last predict() [m/m]

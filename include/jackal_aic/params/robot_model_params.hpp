@@ -62,6 +62,10 @@ struct RobotModelParams
   double wheel_model_noise = 1.0;
   /// q_d [rad/s^0.5], >= 0: the drift of the actuation shortfall d_s (its random walk).
   double shortfall_noise = 0.002;
+  /// q_e [rad/s^0.5], >= 0: the drift of each side's turn shortfall e (the side's shortfall on top
+  /// of d in a turn that loads it against its motion: the turn's scrub load over the MCU's wheel
+  /// loop, RobotBelief::turnSigns()), a random walk while the robot turns; 0 = e fixed at 0.
+  double turn_shortfall_noise = 0.0;
   /// q_theta [rad/s^1.5], > 0: the yaw model's error on theta_dot'.
   double yaw_model_noise = 0.3;
   /// sigma_s [(rad/s)^-0.5], >= 0: how far the yaw slip ratio s may move with the turn: its

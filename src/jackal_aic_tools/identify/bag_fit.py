@@ -50,15 +50,38 @@ def write_overlay(path, values, base, bag, cost):
     return keys
 
 
-def write_robot_model(path, noise, yaw, bag):
+#: [rad/s^0.5] The robot model's turn-shortfall drift (turn_shortfall_noise, a named filter gain;
+#: doc/active_inference.md, 'The robot model') for a wheel loop that leaves a turn's load as a speed
+#: error: the value the turn-deficit firmware's tracking was measured with.
+TURN_SHORTFALL_NOISE = 0.3
+
+
+def turn_load_lines(values):
+    """Controller-overlay lines that switch the robot model's turn shortfalls on (turn_shortfall_noise
+    TURN_SHORTFALL_NOISE) when the identified wheel loop ``values`` (fit_bag()'s fitted values) has no
+    load observer: load_observer_bandwidth below bag_identification.OBSERVER_OFF_BANDWIDTH. Such a
+    loop leaves a turn's scrub load as a steady speed error for the turn (its integral path, if any,
+    is far slower: the default firmware's speed_kp / speed_ki is 21 s), as the turn-deficit firmware
+    does (doc/robot_data.md). Returns [] when the loop has an observer or its bandwidth was not fitted."""
+    bandwidth = values.get("load_observer_bandwidth")
+    if bandwidth is None or bandwidth >= bag_identification.OBSERVER_OFF_BANDWIDTH:
+        return []
+    return ["# [rad/s^0.5] q_e: the identified wheel loop has no load observer (bandwidth %.3g 1/s), so a"
+            % bandwidth,
+            "# turn's scrub load stays a speed error: the turn shortfalls learn it.",
+            "turn_shortfall_noise: %.4g" % TURN_SHORTFALL_NOISE]
+
+
+def write_robot_model(path, noise, yaw, bag, turn_load=()):
     """Write what ``bag`` identified of the robot model as one controller overlay at ``path``: the
-    bag's sensor noises (``noise``, sensor_noise(); None: not measured) and yaw response (``yaw``,
-    yaw_response(); None: not fitted), each commented with its source. Load it alone after
-    config/default.yaml, whose belief model is the robot model (the launch files' one overlay).
-    Returns the keys the bag gave (an empty list writes a file of comments only). Raises OSError
-    if ``path`` cannot be written."""
+    bag's sensor noises (``noise``, sensor_noise(); None: not measured), yaw response (``yaw``,
+    yaw_response(); None: not fitted) and the turn shortfalls' switch (``turn_load``,
+    turn_load_lines()), each commented with its source. Load it alone after config/default.yaml,
+    whose belief model is the robot model (the launch files' one overlay). Returns the keys the bag
+    gave (an empty list writes a file of comments only). Raises OSError if ``path`` cannot be
+    written."""
     lines = (sensor_noise.overlay_lines(noise) if noise is not None else []) + (
-        yaw_response.overlay_lines(yaw) if yaw is not None else [])
+        yaw_response.overlay_lines(yaw) if yaw is not None else []) + list(turn_load)
     keys = [line.split(":", 1)[0] for line in lines if not line.startswith("#")]
     with open(path, "w") as f:
         f.write("# The robot model's keys identified on %s by plant_identify.py --bag, over\n"
@@ -154,10 +177,11 @@ def run(a, tool):
     written = write_overlay(out, overlay_values(r["values"]), base, a.bag, r["cost"])
     print("\noverlay written: %s (%s)" % (out, ", ".join("motor." + k for k in written) or "no key differs"))
     model_out = None
-    if noise is not None or yaw is not None:
+    turn_load = turn_load_lines(r["values"])
+    if noise is not None or yaw is not None or turn_load:
         model_out = a.model_out or os.path.splitext(a.bag)[0] + "_robot_model.yaml"
         try:
-            measured = write_robot_model(model_out, noise, yaw, os.path.basename(a.bag))
+            measured = write_robot_model(model_out, noise, yaw, os.path.basename(a.bag), turn_load)
         except OSError as e:
             print("plant_identify: the robot model's overlay: %s" % e, file=sys.stderr)
             return 1

@@ -38,7 +38,9 @@ params::RobotModelParams model()
 
 /// Drive `belief` for `samples` gyro-free samples 20 ms apart: each 20 ms of 1 ms predictions with
 /// the wheels commanded `command` [rad/s] (left, right) and the goal's yaw rate `turn` [rad/s], then
-/// a correction by the measured wheel speeds `measured` [rad/s] (gyro reading 0, every channel used).
+/// a correction by the measured wheel speeds `measured` [rad/s] (gyro reading 0, every channel used)
+/// with +-1e-4 rad/s of alternating noise (a real encoder's reading of a moving wheel never repeats
+/// bit for bit; one that does is frozen: RobotBelief::frozenEncoderSamples()).
 void drive(aic::RobotBelief* belief, const aic::WheelLoopModel& loop, const base::Vector2& command,
            const base::Vector2& measured, int samples, double turn = 0.0)
 {
@@ -47,20 +49,27 @@ void drive(aic::RobotBelief* belief, const aic::WheelLoopModel& loop, const base
     belief->predict(0.001, loop, command, base::Vector2::Zero(), 0.0, turn);
     if (k % 20 == 19)
     {
-      ASSERT_TRUE(belief->correct(measured, 0.0, true, true, true));
+      const double noise = (k / 20) % 2 == 0 ? 1e-4 : -1e-4;
+      ASSERT_TRUE(belief->correct(measured + base::Vector2::Constant(noise), 0.0, true, true, true));
     }
   }
 }
 
 /// Run controller `c` for `steps` belief steps of 1 ms with the measurement `y` set every 20 ms
 /// and an action step of 20 ms after every 20th belief step (the node's 1 kHz / 50 Hz schedule).
-void runController(aic::ActiveInferenceController* c, const base::YTilde& y, int steps)
+/// `jitter` [rad/s]: alternating +-jitter on the wheel readings (an encoder's noise: a reading
+/// that repeats bit for bit while the command moves is a frozen encoder's).
+void runController(aic::ActiveInferenceController* c, const base::YTilde& y, int steps, double jitter = 0.0)
 {
   for (int k = 0; k < steps; ++k)
   {
     if (k % 20 == 0)
     {
-      ASSERT_TRUE(c->setMeasurement(y));
+      base::YTilde sample = y;
+      const double noise = (k / 20) % 2 == 0 ? jitter : -jitter;
+      sample(base::kOmegaLeft, 0) += noise;
+      sample(base::kOmegaRight, 0) += noise;
+      ASSERT_TRUE(c->setMeasurement(sample));
     }
     ASSERT_EQ(c->updateBeliefs(0.001), Status::kOk);
     if (k % 20 == 19)
@@ -295,6 +304,137 @@ TEST(RobotBelief, AShortfallJumpIsDroppedWhenTheTurnMovesOn)
   EXPECT_NEAR(belief.shortfalls()(1), 0.0, 0.01);
 }
 
+TEST(RobotBelief, AFrozenEncoderIsNotTheWheel)
+{
+  // The left encoder repeats 2.0 rad/s bit for bit while the wheels' command ramps 2 -> 4 rad/s:
+  // from the first repeat across the command's change its samples are skipped (the belief follows
+  // the model), for as long as the reading repeats; the right side, noisy, is used throughout.
+  const params::RobotModelParams p = model();
+  aic::RobotBelief belief(p);
+  aic::WheelLoopModel loop(p);
+  double u = 2.0;
+  for (int k = 0; k < 20 * 50; ++k)
+  {
+    u = std::min(4.0, u + 0.004);  // 4 rad/s^2: 0.08 rad/s a sample
+    belief.predict(0.001, loop, base::Vector2(u, u), base::Vector2::Zero(), 0.0, 0.0);
+    if (k % 20 == 19)
+    {
+      const double noise = (k / 20) % 2 == 0 ? 1e-4 : -1e-4;
+      ASSERT_TRUE(belief.correct(base::Vector2(2.0, u + noise), 0.0, true, true, true));
+    }
+  }
+  EXPECT_EQ(belief.frozenEncoderSamples(), 49u);  // every sample but the first (no repeat yet)
+  EXPECT_NEAR(belief.wheelSpeeds()(0), 4.0, 0.01);
+  EXPECT_EQ(belief.shortfallJumps(), 0u);  // nor a stall
+  // Unfrozen: a reading that moves again is used at once.
+  belief.predict(0.001, loop, base::Vector2(4.0, 4.0), base::Vector2::Zero(), 0.0, 0.0);
+  ASSERT_TRUE(belief.correct(base::Vector2(3.9, 4.0), 0.0, true, true, true));
+  EXPECT_EQ(belief.frozenEncoderSamples(), 49u);
+  EXPECT_LT(belief.wheelSpeeds()(0), 3.95);
+  // A repeating reading under a steady command (an ideal sensor, a wheel held) is used.
+  aic::RobotBelief steady(p);
+  for (int k = 0; k < 20 * 20; ++k)
+  {
+    steady.predict(0.001, loop, base::Vector2(4.0, 4.0), base::Vector2::Zero(), 0.0, 0.0);
+    if (k % 20 == 19)
+    {
+      ASSERT_TRUE(steady.correct(base::Vector2(3.0, 4.0), 0.0, true, true, true));
+    }
+  }
+  EXPECT_EQ(steady.frozenEncoderSamples(), 0u);
+  EXPECT_NEAR(steady.wheelSpeeds()(0), 3.0, 0.01);
+}
+
+TEST(RobotBelief, TurnSignsFadeToZeroTowardStraightDriving)
+{
+  // sigma_R = clamp(turn / kStraightTurn, -1, 1), sigma_L = -sigma_R.
+  EXPECT_EQ(aic::RobotBelief::turnSigns(0.0), base::Vector2(-0.0, 0.0));
+  EXPECT_EQ(aic::RobotBelief::turnSigns(0.5), base::Vector2(-1.0, 1.0));
+  EXPECT_EQ(aic::RobotBelief::turnSigns(-2.0), base::Vector2(1.0, -1.0));
+  const base::Vector2 half = aic::RobotBelief::turnSigns(0.5 * aic::RobotBelief::kStraightTurn);
+  EXPECT_DOUBLE_EQ(half(1), 0.5);
+  EXPECT_DOUBLE_EQ(half(0), -0.5);
+  EXPECT_TRUE(aic::RobotBelief::turnSigns(std::nan("")).isZero(0.0));
+}
+
+namespace
+{
+/// Drive `belief` through a turn whose wheel commands ramp (no steady command, so no shortfall
+/// jump): `seconds` of the sides' commands (-c, c), c rising by 0.5 rad/s per second from
+/// `start` [rad/s] (sign of `turn`), the wheels delivering each side's command less `deficit`
+/// [rad/s] against the turn (a P-only wheel servo under the turn's scrub load).
+void rampTurn(aic::RobotBelief* belief, const aic::WheelLoopModel& loop, double turn, double start, double deficit,
+              double seconds)
+{
+  const double sign = turn > 0.0 ? 1.0 : -1.0;
+  const int steps = static_cast<int>(std::lround(seconds / 0.001));
+  for (int k = 0; k < steps; ++k)
+  {
+    const double c = sign * (start + 0.5 * 0.001 * k);
+    const base::Vector2 command(-c, c);
+    belief->predict(0.001, loop, command, base::Vector2(-0.5 * sign, 0.5 * sign), 0.0, turn);
+    if (k % 20 == 19)
+    {
+      ASSERT_TRUE(belief->correct(command - sign * base::Vector2(-deficit, deficit), 0.0, true, true, true));
+    }
+  }
+}
+
+/// model() with the turn shortfalls on (q_e 0.3 rad/s^0.5, what plant_identify.py --bag writes).
+params::RobotModelParams turnModel()
+{
+  params::RobotModelParams p = model();
+  p.turn_shortfall_noise = 0.3;
+  return p;
+}
+}  // namespace
+
+TEST(RobotBelief, TheTurnShortfallIsLearnedInOneTurnAndKeptForTheNext)
+{
+  // A wheel loop without load compensation: each side delivers 0.8 rad/s less than its command
+  // against the turn (the right side less in a left turn, the left side more). With q_e > 0 the
+  // turn shortfalls learn it in the left turn; the right turn's shortfalls are then predicted
+  // before its first sample: d + sigma e flips with the turn's direction.
+  aic::RobotBelief belief(turnModel());
+  aic::WheelLoopModel loop(turnModel());
+  rampTurn(&belief, loop, 0.5, 2.0, 0.8, 3.0);
+  EXPECT_EQ(belief.shortfallJumps(), 0u);
+  EXPECT_NEAR(belief.shortfallsAt(0.5)(1), 0.8, 0.05);   // right, held back
+  EXPECT_NEAR(belief.shortfallsAt(0.5)(0), -0.8, 0.05);  // left, pushed on
+  EXPECT_NEAR(belief.turnShortfalls()(0), 0.8, 0.05);
+  EXPECT_NEAR(belief.turnShortfalls()(1), 0.8, 0.05);
+  EXPECT_NEAR(belief.shortfallsAt(-0.5)(0), 0.8, 0.05);  // the right turn, before it starts
+  EXPECT_NEAR(belief.shortfallsAt(-0.5)(1), -0.8, 0.05);
+  EXPECT_NEAR(belief.shortfallsAt(0.0)(0), belief.shortfalls()(0), 1e-12);  // straight: d alone
+  // The right turn is delivered as the model predicts: the turn shortfalls stay.
+  rampTurn(&belief, loop, -0.5, 2.0, 0.8, 1.0);
+  EXPECT_NEAR(belief.turnShortfalls()(0), 0.8, 0.05);
+  EXPECT_NEAR(belief.turnShortfalls()(1), 0.8, 0.05);
+  EXPECT_GT(belief.turnShortfallVariances()(0), 0.0);
+}
+
+TEST(RobotBelief, WithoutTheTurnShortfallsDriftTheyStayZero)
+{
+  // q_e = 0 (the schema's default): the same turns leave e at zero and the shortfalls d alone.
+  aic::RobotBelief belief(model());
+  aic::WheelLoopModel loop(model());
+  rampTurn(&belief, loop, 0.5, 2.0, 0.8, 3.0);
+  EXPECT_EQ(belief.turnShortfalls(), base::Vector2::Zero());
+  EXPECT_EQ(belief.turnShortfallVariances(), base::Vector2::Zero());
+  EXPECT_EQ(belief.shortfallsAt(0.5), belief.shortfalls());
+}
+
+TEST(RobotBelief, ForgettingTheSlowStatesForgetsTheTurnShortfalls)
+{
+  aic::RobotBelief belief(turnModel());
+  aic::WheelLoopModel loop(turnModel());
+  rampTurn(&belief, loop, 0.5, 2.0, 0.8, 3.0);
+  ASSERT_GT(belief.turnShortfalls()(1), 0.5);
+  belief.forgetSlowStates();
+  EXPECT_EQ(belief.turnShortfalls(), base::Vector2::Zero());
+  EXPECT_EQ(belief.turnShortfallVariances(), base::Vector2::Zero());
+}
+
 TEST(RobotBelief, AWheelStillRampingIsNoShortfallJump)
 {
   const params::RobotModelParams p = model();
@@ -517,7 +657,7 @@ TEST(ControllerRobotModel, ResetLearningForgetsTheSlowStates)
   const double omega = 0.8 * 0.5 / (p.wheel_radius * p.slip_factor);
   y(base::kOmegaLeft, 0) = omega;
   y(base::kOmegaRight, 0) = omega;
-  runController(&c, y, 3000);
+  runController(&c, y, 3000, 1e-4);
   ASSERT_GT(c.robotBelief().shortfalls()(0), 0.1);
   c.resetLearning();
   EXPECT_EQ(c.robotBelief().shortfalls()(0), 0.0);
