@@ -44,6 +44,12 @@ const params::AicParams& checked(const params::AicParams& params)
 /// wheel loop's rate bound alone (a reference model needs T_r > 0).
 constexpr double kMinPathTimeConstant = 1.0e-4;
 
+/// The sensor mask's bits of the three channels that observe the twist twice (gyro, both wheels):
+/// the robot model's slow states learn only from all three.
+constexpr std::uint8_t kTwistChannels = (1u << base::kGyroZ) | (1u << base::kOmegaLeft) | (1u << base::kOmegaRight);
+/// The sensor mask's bits of the two wheels.
+constexpr std::uint8_t kWheelChannels = (1u << base::kOmegaLeft) | (1u << base::kOmegaRight);
+
 bool finiteStep(double h)
 {
   return std::isfinite(h) && h > 0.0;
@@ -634,14 +640,12 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(
     // is held to the same gate, counted as the yaw acceleration it would give were it one side's
     // alone (2 |x_dot'| / b_hat): while the tyres' grip goes to a speed change, the body's yaw does
     // not follow the wheels as in a steady turn.
-    const std::uint8_t needed = (1u << base::kGyroZ) | (1u << base::kOmegaLeft) | (1u << base::kOmegaRight);
     const base::Vector2 wheel_rates = robot_belief_.wheelAccelerations();
     const double wheels_yaw_rate = model_.G()(2, 1) * (wheel_rates(1) - wheel_rates(0));
     const double wheels_common_rate = model_.G()(2, 1) * (wheel_rates(1) + wheel_rates(0));
     const double gate = params_.separation_learner.max_yaw_acceleration;
-    const bool learn = (sensor_mask_ & needed) == needed && !fault_present_ &&
-                       std::abs(y_tilde_(base::kGyroZ, 1)) <= gate && std::abs(wheels_yaw_rate) <= gate &&
-                       std::abs(wheels_common_rate) <= gate;
+    const bool learn = slowStatesMayLearn() && std::abs(y_tilde_(base::kGyroZ, 1)) <= gate &&
+                       std::abs(wheels_yaw_rate) <= gate && std::abs(wheels_common_rate) <= gate;
     const base::Vector2 wheels(y_tilde_(base::kOmegaLeft, 0), y_tilde_(base::kOmegaRight, 0));
     // A repeated joint state is the MCU's previous reading again, one period late: read as now, in
     // a ramp it says the wheels stood still for a period, and the action would push against it.
@@ -663,7 +667,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(
                           y_tilde_(base::kGyroZ, 1) != 0.0,
                           // The turn shortfalls learn from the three channels together, without a
                           // fault: a biased or frozen encoder's reading is not its side's load.
-                          (sensor_mask_ & needed) == needed && !fault_present_);
+                          slowStatesMayLearn());
   }
   if (params_.separation_learner.enabled)
   {
@@ -694,8 +698,7 @@ void ActiveInferenceController::learnLatency(const base::Vector2& wheels)
   {
     return;
   }
-  const std::uint8_t needed = (1u << base::kOmegaLeft) | (1u << base::kOmegaRight);
-  if ((sensor_mask_ & needed) != needed || fault_present_)
+  if ((sensor_mask_ & kWheelChannels) != kWheelChannels || fault_present_)
   {
     latency_learner_.disarm();  // a masked or faulty wheel's reading is not the wheels' motion
     return;
@@ -715,6 +718,11 @@ void ActiveInferenceController::useLatency(double latency)
   }
 }
 
+bool ActiveInferenceController::slowStatesMayLearn() const
+{
+  return (sensor_mask_ & kTwistChannels) == kTwistChannels && !fault_present_;
+}
+
 void ActiveInferenceController::learnRobotSeparation(double h)
 {
   // The slip ratio's steady part is the separation's error: b_hat / (1 - s) turns (1 - s) u into
@@ -725,10 +733,9 @@ void ActiveInferenceController::learnRobotSeparation(double h)
   // taken at a turn's end would otherwise move b_hat on until the next turn.
   // Nor while a channel is masked, a fault is present or suspected: the slip ratio is held then
   // (updateRobotBeliefs()), and what it took in before the isolation is the fault's.
-  const std::uint8_t needed = (1u << base::kGyroZ) | (1u << base::kOmegaLeft) | (1u << base::kOmegaRight);
   const double s = robot_belief_.slipRatio();
-  if (!(std::abs(s) > kSeparationApplyTolerance) || !(s < 1.0) || (sensor_mask_ & needed) != needed || fault_present_ ||
-      fault_suspected_ || !(std::abs(robot_belief_.wheelsYawRate()) >= params_.separation_learner.min_yaw_rate))
+  if (!(std::abs(s) > kSeparationApplyTolerance) || !(s < 1.0) || !slowStatesMayLearn() || fault_suspected_ ||
+      !(std::abs(robot_belief_.wheelsYawRate()) >= params_.separation_learner.min_yaw_rate))
   {
     return;
   }
@@ -807,10 +814,9 @@ void ActiveInferenceController::learnPrecision(double h)
 
 void ActiveInferenceController::learn(double h)
 {
-  const std::uint8_t needed = (1u << base::kGyroZ) | (1u << base::kOmegaLeft) | (1u << base::kOmegaRight);
   learner_.update(h, y_tilde_(base::kGyroZ, 0), y_tilde_(base::kGyroZ, 1), y_tilde_(base::kOmegaLeft, 0),
                   y_tilde_(base::kOmegaRight, 0), y_tilde_(base::kOmegaLeft, 1), y_tilde_(base::kOmegaRight, 1),
-                  pi_y_(base::kGyroZ, 0), (sensor_mask_ & needed) == needed, action_saturated_);
+                  pi_y_(base::kGyroZ, 0), (sensor_mask_ & kTwistChannels) == kTwistChannels, action_saturated_);
   applyLearnedSeparation(false);
 }
 

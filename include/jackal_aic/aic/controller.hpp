@@ -343,6 +343,9 @@ private:
       Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kMaxStateDim, kMaxStateDim>;
   using StateVector = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMaxStateDim, 1>;
 
+  /// Whether the robot model's slow states (slip ratio, gyro offset, turn shortfalls, b_hat's
+  /// transfer) may learn from the sample: gyro and both wheels in the sensor mask, no fault present.
+  bool slowStatesMayLearn() const;
   /// eps_y for given beliefs and measurement (eq. 3-8; plus the optional accelerometer coupling).
   void computeEpsY(const base::MuTilde& mu, const base::YTilde& y_tilde, base::YTilde* eps_y) const;
   /// Column i of eps_y, eps_y^(i) = y^(i) - R mu^(i) (eq. 3-8; accelerometer x also minus x_dot^(i+1)
