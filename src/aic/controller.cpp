@@ -623,7 +623,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(
   robot_clock_ += h;
   const double yaw_gain = model_.G()(2, 1);  // r alpha / b_hat
   robot_belief_.predict(h, wheel_loop_, wheel_loop_.commandAt(robot_clock_), wheel_loop_.commandRateAt(robot_clock_),
-                        yaw_gain, reference_.path()(2));
+                        yaw_gain, reference_.path()(2), slowStatesMayLearn());
   if (robot_sample_pending_ && fault_suspected_)
   {
     // A fault is being tested: the sample's channels disagree beyond their noise and which one is

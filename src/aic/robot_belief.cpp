@@ -126,7 +126,7 @@ void RobotBelief::forgetSlowStates()
 }
 
 void RobotBelief::predict(double h, const WheelLoopModel& loop, const base::Vector2& u_at_wheels,
-                          const base::Vector2& rate_at_wheels, double yaw_gain, double turn)
+                          const base::Vector2& rate_at_wheels, double yaw_gain, double turn, bool slip_observed)
 {
   const base::Vector2 before = wheelSpeeds();
   const double yaw_before = yaw_(0);
@@ -179,7 +179,10 @@ void RobotBelief::predict(double h, const WheelLoopModel& loop, const base::Vect
   f(0, 1) = -u * (1.0 - decay);
   p_yaw_ = f * p_yaw_ * f.transpose();
   p_yaw_(0, 0) += params_.yaw_model_noise * params_.yaw_model_noise * h;
-  p_yaw_(1, 1) += params_.yaw_slip_noise * params_.yaw_slip_noise * dw;
+  if (slip_observed)
+  {
+    p_yaw_(1, 1) += params_.yaw_slip_noise * params_.yaw_slip_noise * dw;
+  }
   // The offset drifts where it is observed: at rest and in straight driving (the goal's turn
   // below kStraightTurn). In a turn it changes by a jump only (correct()).
   if (std::abs(turn) < kStraightTurn)

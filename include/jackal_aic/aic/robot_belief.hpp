@@ -87,9 +87,12 @@ public:
    * \param yaw_gain  r alpha / b_hat [m/m]: the wheels' yaw rate per unit of their speed difference
    * \param turn      the yaw rate [rad/s] the goal asks for: the slip ratio's variance grows by
    *                  yaw_slip_noise^2 times its change since the last predict() (a turn that changes)
+   * \param slip_observed  false: the slip ratio cannot be learned (a channel isolated, a fault
+   *                  present), so its variance does not grow with the turn: an isolated gyro's
+   *                  disagreement is not read as slip the model may learn, and is not re-admitted on it
    */
   void predict(double h, const WheelLoopModel& loop, const base::Vector2& u_at_wheels,
-               const base::Vector2& rate_at_wheels, double yaw_gain, double turn);
+               const base::Vector2& rate_at_wheels, double yaw_gain, double turn, bool slip_observed = true);
 
   /**
    * \brief Take a measurement: the sides' wheel speeds y_omega [rad/s] and the gyro's yaw rate
