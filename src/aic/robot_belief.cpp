@@ -289,6 +289,11 @@ base::SampleInnovation RobotBelief::sampleInnovation(const base::Vector2& y_omeg
   in.parity = in.error(base::kGyroZ) - k * (in.error(base::kOmegaRight) - in.error(base::kOmegaLeft));
   in.parity_variance =
       in.variance(base::kGyroZ) + k * k * (in.variance(base::kOmegaLeft) + in.variance(base::kOmegaRight));
+  // In a turn the slip ratio's uncertainty (the yaw rate's share u^2 P_s) lets the parity take a
+  // sensor's disagreement as slip; it is no evidence that an isolated channel agrees again. At
+  // least what the sensors' own noise gives.
+  const double sensors = params_.gyro_noise * params_.gyro_noise + 2.0 * k * k * r_e;
+  in.release_variance = std::max(in.parity_variance - wheels_yaw_ * wheels_yaw_ * p_yaw_(1, 1), sensors);
   return in;
 }
 

@@ -137,11 +137,16 @@ FaultMonitor::Event FaultMonitor::update(const base::SampleInnovation& model, do
     }
     return c;
   };
-  return test(model.parity, model.parity * model.parity / model.parity_variance, kInnovationThreshold, cost, h);
+  const double release = std::isfinite(model.release_variance) && model.release_variance > 0.0 ?
+                             model.parity * model.parity / model.release_variance :
+                             model.parity * model.parity / model.parity_variance;
+  return test(model.parity, model.parity * model.parity / model.parity_variance, kInnovationThreshold, cost, h,
+              release);
 }
 
 template <class Cost>
-FaultMonitor::Event FaultMonitor::test(double residual, double statistic, double threshold, const Cost& cost, double h)
+FaultMonitor::Event FaultMonitor::test(double residual, double statistic, double threshold, const Cost& cost, double h,
+                                       double release_statistic)
 {
   if (!imu_available_)
   {
@@ -158,8 +163,9 @@ FaultMonitor::Event FaultMonitor::test(double residual, double statistic, double
   if (isolated_ >= 0)
   {
     // Restoration: the isolated channel agrees with the other two again.
-    below_for_ = statistic_ < release_level ? below_for_ + h : 0.0;
-    if (below_for_ >= fdi_.release_time && statistic_ < release_level)
+    const double agreement = std::isnan(release_statistic) ? statistic_ : release_statistic;
+    below_for_ = agreement < release_level ? below_for_ + h : 0.0;
+    if (below_for_ >= fdi_.release_time && agreement < release_level)
     {
       isolated_ = -1;
       below_for_ = 0.0;

@@ -12,6 +12,8 @@
  * ROS-free: this header depends on Eigen only.
  */
 
+#include <limits>
+
 #include <Eigen/Core>
 
 namespace jackal_aic
@@ -81,6 +83,11 @@ struct SampleInnovation
   double parity = 0.0;
   /// Its variance, variance(gyro) + k^2 (variance(L) + variance(R)) [(rad/s)^2].
   double parity_variance = 1.0;
+  /// The part of parity_variance that does not come from the model's unknown slow states (the slip
+  /// ratio's uncertainty in a turn) [(rad/s)^2]: the variance against which an isolated channel's
+  /// agreement is evidence that it is healthy again; <= parity_variance. NaN (or not > 0): none,
+  /// parity_variance is used.
+  double release_variance = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace base

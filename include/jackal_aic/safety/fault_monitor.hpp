@@ -13,6 +13,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -173,10 +174,12 @@ public:
 private:
   /// The detection, isolation and restoration logic on one sample's residual [rad/s], its
   /// statistic s and threshold [-] over h [s]; cost(k) [-] is hypothesis k's (kChannels index)
-  /// cost for this sample, called only while s is above the threshold (defined and used in
-  /// fault_monitor.cpp only).
+  /// cost for this sample, called only while s is above the threshold; an isolated channel is
+  /// restored on release_statistic [-] (NaN: s itself) below the release level (defined and used
+  /// in fault_monitor.cpp only).
   template <class Cost>
-  Event test(double residual, double statistic, double threshold, const Cost& cost, double h);
+  Event test(double residual, double statistic, double threshold, const Cost& cost, double h,
+             double release_statistic = std::numeric_limits<double>::quiet_NaN());
 
   params::FdiParams fdi_;
   double c_ = 0.0;                    ///< r alpha / b_hat [-]

@@ -357,6 +357,43 @@ TEST(FaultMonitor, TheModelsInnovationTestHasItsOwnThresholdAndIsolatesTheOddCha
   }
 }
 
+TEST(FaultMonitor, AnIsolatedChannelIsRestoredOnlyOnEvidenceTheSensorsGive)
+{
+  // The robot model's parity variance carries the slip ratio's uncertainty in a turn; an isolated
+  // channel whose disagreement that uncertainty could explain (statistic 1 against parity_variance)
+  // is not restored while it is 10 standard deviations of release_variance (the sensors' own):
+  // restored once it agrees against that too.
+  params::FdiParams fdi;
+  fdi.detect_time = 0.1;
+  const double var = 0.01 * 0.01;
+  safety::FaultMonitor m(fdi, defaultParams());
+  const base::SampleInnovation bad = innovation(base::Vector3(1.0, 0.0, 0.0), var);
+  for (int k = 0; k < 10; ++k)
+  {
+    m.update(bad, kSamplePeriod);
+  }
+  ASSERT_EQ(m.isolatedChannel(), base::kGyroZ);
+  base::SampleInnovation turn = innovation(base::Vector3(0.05, 0.0, 0.0), var);
+  turn.parity_variance = turn.parity * turn.parity;           // statistic 1
+  turn.release_variance = turn.parity * turn.parity / 100.0;  // 10 sigma of the sensors
+  for (int k = 0; k < 200; ++k)
+  {
+    EXPECT_EQ(m.update(turn, kSamplePeriod), Event::kNone);
+  }
+  EXPECT_EQ(m.isolatedChannel(), base::kGyroZ);
+  EXPECT_NEAR(m.statistic(), 1.0, 1e-12);                            // the detection statistic, as reported
+  turn.release_variance = std::numeric_limits<double>::quiet_NaN();  // none: parity_variance's
+  int restored_at = -1;
+  for (int k = 0; k < 200 && restored_at < 0; ++k)
+  {
+    if (m.update(turn, kSamplePeriod) == Event::kRestored)
+    {
+      restored_at = k;
+    }
+  }
+  EXPECT_GE(restored_at, 0);
+}
+
 TEST(FaultMonitor, ABadModelInnovationIsIgnoredAndCounted)
 {
   safety::FaultMonitor m(params::FdiParams(), defaultParams());
