@@ -657,17 +657,18 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotBeliefs(
     // latency not yet elapsed, not as the wheels' speed: their readings wait until the start is
     // seen or dropped (LatencyLearner's window), so the action does not push against a late plant.
     const bool wheels_unused = robot_wheels_repeated_ || (params_.robot.learn_latency && latency_learner_.armed());
-    robot_belief_.correct(wheels, y_tilde_(base::kGyroZ, 0),
-                          !wheels_unused && (sensor_mask_ & (1u << base::kOmegaLeft)) != 0,
-                          !wheels_unused && (sensor_mask_ & (1u << base::kOmegaRight)) != 0,
-                          (sensor_mask_ & (1u << base::kGyroZ)) != 0, learn,
-                          // A gyro reading that repeats bit for bit is a frozen gyro (or an ideal
-                          // one at rest): no turn's slip is in it (the goal model's learner refuses
-                          // it alike, SeparationLearner::State::kStuckGyro).
-                          y_tilde_(base::kGyroZ, 1) != 0.0,
-                          // The turn shortfalls learn from the three channels together, without a
-                          // fault: a biased or frozen encoder's reading is not its side's load.
-                          slowStatesMayLearn());
+    RobotBelief::SampleUse use;
+    use.left = !wheels_unused && (sensor_mask_ & (1u << base::kOmegaLeft)) != 0;
+    use.right = !wheels_unused && (sensor_mask_ & (1u << base::kOmegaRight)) != 0;
+    use.gyro = (sensor_mask_ & (1u << base::kGyroZ)) != 0;
+    use.learn = learn;
+    // A gyro reading that repeats bit for bit is a frozen gyro (or an ideal one at rest): no turn's
+    // slip is in it (the goal model's learner refuses it alike, SeparationLearner::State::kStuckGyro).
+    use.learn_slip = y_tilde_(base::kGyroZ, 1) != 0.0;
+    // The turn shortfalls learn from the three channels together, without a fault: a biased or
+    // frozen encoder's reading is not its side's load.
+    use.learn_turn = slowStatesMayLearn();
+    robot_belief_.correct(wheels, y_tilde_(base::kGyroZ, 0), use);
   }
   if (params_.separation_learner.enabled)
   {

@@ -193,9 +193,11 @@ void RobotBelief::predict(double h, const WheelLoopModel& loop, const base::Vect
   yaw_rate_ = (yaw_(0) - yaw_before) / h;
 }
 
-bool RobotBelief::correct(const base::Vector2& y_omega, double y_gyro, bool use_left, bool use_right, bool use_gyro,
-                          bool learn, bool learn_slip, bool learn_turn)
+bool RobotBelief::correct(const base::Vector2& y_omega, double y_gyro, const SampleUse& use)
 {
+  bool use_left = use.left;
+  bool use_right = use.right;
+  const bool use_gyro = use.gyro;
   if ((use_left && !std::isfinite(y_omega(0))) || (use_right && !std::isfinite(y_omega(1))) ||
       (use_gyro && !std::isfinite(y_gyro)))
   {
@@ -219,11 +221,11 @@ bool RobotBelief::correct(const base::Vector2& y_omega, double y_gyro, bool use_
   detectShortfallJump(1, y_omega(1), use_right, r_e, &side_[1](1), p_side_[1]);
   if (use_left)
   {
-    correctSide(y_omega(0), r_e, !learn_turn, &side_[0], &p_side_[0], &f_sensory_, &f_prior_, &innovation_(0));
+    correctSide(y_omega(0), r_e, !use.learn_turn, &side_[0], &p_side_[0], &f_sensory_, &f_prior_, &innovation_(0));
   }
   if (use_right)
   {
-    correctSide(y_omega(1), r_e, !learn_turn, &side_[1], &p_side_[1], &f_sensory_, &f_prior_, &innovation_(1));
+    correctSide(y_omega(1), r_e, !use.learn_turn, &side_[1], &p_side_[1], &f_sensory_, &f_prior_, &innovation_(1));
   }
   if (use_gyro)
   {
@@ -233,11 +235,11 @@ bool RobotBelief::correct(const base::Vector2& y_omega, double y_gyro, bool use_
     const Eigen::Vector3d ph = p_yaw_ * hrow.transpose();
     const double sv = hrow.dot(ph) + r_g;
     Eigen::Vector3d k = ph / sv;
-    if (!learn_slip)
+    if (!use.learn_slip)
     {
       k(1) = 0.0;
     }
-    if (!learn)
+    if (!use.learn)
     {
       k(1) = 0.0;
       k(2) = 0.0;

@@ -188,7 +188,7 @@ bool LearnedModelService::reset(std::string* message)
   }
   if (params.belief_model == params::BeliefModel::kRobot)
   {
-    text << "; the robot model's shortfalls, slip ratio and gyro offset back to 0";
+    text << "; the robot model's shortfalls (d and the turn shortfalls e), slip ratio and gyro offset back to 0";
   }
   if (params.tip_guard.enabled)
   {

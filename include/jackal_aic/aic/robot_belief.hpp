@@ -95,20 +95,37 @@ public:
                const base::Vector2& rate_at_wheels, double yaw_gain, double turn, bool slip_observed = true);
 
   /**
-   * \brief Take a measurement: the sides' wheel speeds y_omega [rad/s] and the gyro's yaw rate
-   *        y_gyro [rad/s] (theta_dot + beta + noise); a channel whose flag is false is skipped
-   *        (isolated or absent). Sets the free energy's parts at the new beliefs
-   *        (sensoryFreeEnergy(), priorFreeEnergy()).
-   * \param learn  false: the slow states (s, beta) are held, the gyro corrects theta_dot only (a
-   *               fault mask on one of the three channels: nothing is learned from two)
-   * \param learn_slip  false: the slip ratio s is held, beta learns as `learn` says (a gyro whose
-   *                    reading repeats exactly: frozen, or ideal at rest)
-   * \param learn_turn  false: the turn shortfalls e are held (a fault present or a channel
-   *                    isolated: what a faulty encoder reads is not the side's load)
-   * \return false (nothing changed) if a used value is not finite
+   * \brief What one sample may do in correct(): the channels it reads and the slow states it may
+   *        move. Every field true by default: all three channels read, every state learns.
    */
-  bool correct(const base::Vector2& y_omega, double y_gyro, bool use_left, bool use_right, bool use_gyro,
-               bool learn = true, bool learn_slip = true, bool learn_turn = true);
+  struct SampleUse
+  {
+    bool left = true;   ///< the left encoder is read (false: isolated or absent)
+    bool right = true;  ///< the right encoder is read
+    bool gyro = true;   ///< the gyro is read
+    /// false: the slow states (s, beta) are held, the gyro corrects theta_dot only (a fault mask on
+    /// one of the three channels: nothing is learned from two)
+    bool learn = true;
+    /// false: the slip ratio s is held, beta learns as `learn` says (a gyro whose reading repeats
+    /// exactly: frozen, or ideal at rest)
+    bool learn_slip = true;
+    /// false: the turn shortfalls e are held (a fault present or a channel isolated: what a faulty
+    /// encoder reads is not the side's load)
+    bool learn_turn = true;
+  };
+
+  /**
+   * \brief Take a measurement: the sides' wheel speeds y_omega [rad/s] and the gyro's yaw rate
+   *        y_gyro [rad/s] (theta_dot + beta + noise); a channel `use` does not read is skipped.
+   *        Sets the free energy's parts at the new beliefs (sensoryFreeEnergy(),
+   *        priorFreeEnergy()).
+   * \param use  the channels read and the slow states that may learn (SampleUse)
+   * \return false (nothing changed) if a read value is not finite
+   */
+  bool correct(const base::Vector2& y_omega, double y_gyro, const SampleUse& use);
+
+  /// correct() with every channel read and every slow state learning (SampleUse's defaults).
+  bool correct(const base::Vector2& y_omega, double y_gyro) { return correct(y_omega, y_gyro, SampleUse()); }
 
   /**
    * \brief The sample's innovations at the beliefs as they are (the model's prediction, before

@@ -50,7 +50,7 @@ void drive(aic::RobotBelief* belief, const aic::WheelLoopModel& loop, const base
     if (k % 20 == 19)
     {
       const double noise = (k / 20) % 2 == 0 ? 1e-4 : -1e-4;
-      ASSERT_TRUE(belief->correct(measured + base::Vector2::Constant(noise), 0.0, true, true, true));
+      ASSERT_TRUE(belief->correct(measured + base::Vector2::Constant(noise), 0.0));
     }
   }
 }
@@ -235,7 +235,9 @@ TEST(RobotBelief, FollowsTheEncodersAndTheGyroAtTheirPrecision)
     if (k % 20 == 19)
     {
       // A transient: the slow states are held (the controller's learning gate).
-      ASSERT_TRUE(belief.correct(base::Vector2(-2.0, 2.0), 0.75, true, true, true, false));
+      aic::RobotBelief::SampleUse held;
+      held.learn = false;
+      ASSERT_TRUE(belief.correct(base::Vector2(-2.0, 2.0), 0.75, held));
     }
   }
   EXPECT_NEAR(belief.wheelSpeeds()(0), -2.0, 0.05);
@@ -320,7 +322,7 @@ TEST(RobotBelief, AFrozenEncoderIsNotTheWheel)
     if (k % 20 == 19)
     {
       const double noise = (k / 20) % 2 == 0 ? 1e-4 : -1e-4;
-      ASSERT_TRUE(belief.correct(base::Vector2(2.0, u + noise), 0.0, true, true, true));
+      ASSERT_TRUE(belief.correct(base::Vector2(2.0, u + noise), 0.0));
     }
   }
   EXPECT_EQ(belief.frozenEncoderSamples(), 49u);  // every sample but the first (no repeat yet)
@@ -328,7 +330,7 @@ TEST(RobotBelief, AFrozenEncoderIsNotTheWheel)
   EXPECT_EQ(belief.shortfallJumps(), 0u);  // nor a stall
   // Unfrozen: a reading that moves again is used at once.
   belief.predict(0.001, loop, base::Vector2(4.0, 4.0), base::Vector2::Zero(), 0.0, 0.0);
-  ASSERT_TRUE(belief.correct(base::Vector2(3.9, 4.0), 0.0, true, true, true));
+  ASSERT_TRUE(belief.correct(base::Vector2(3.9, 4.0), 0.0));
   EXPECT_EQ(belief.frozenEncoderSamples(), 49u);
   EXPECT_LT(belief.wheelSpeeds()(0), 3.95);
   // A repeating reading under a steady command (an ideal sensor, a wheel held) is used.
@@ -338,7 +340,7 @@ TEST(RobotBelief, AFrozenEncoderIsNotTheWheel)
     steady.predict(0.001, loop, base::Vector2(4.0, 4.0), base::Vector2::Zero(), 0.0, 0.0);
     if (k % 20 == 19)
     {
-      ASSERT_TRUE(steady.correct(base::Vector2(3.0, 4.0), 0.0, true, true, true));
+      ASSERT_TRUE(steady.correct(base::Vector2(3.0, 4.0), 0.0));
     }
   }
   EXPECT_EQ(steady.frozenEncoderSamples(), 0u);
@@ -375,7 +377,7 @@ void rampTurn(aic::RobotBelief* belief, const aic::WheelLoopModel& loop, double 
     belief->predict(0.001, loop, command, base::Vector2(-0.5 * sign, 0.5 * sign), 0.0, turn);
     if (k % 20 == 19)
     {
-      ASSERT_TRUE(belief->correct(command - sign * base::Vector2(-deficit, deficit), 0.0, true, true, true));
+      ASSERT_TRUE(belief->correct(command - sign * base::Vector2(-deficit, deficit), 0.0));
     }
   }
 }
@@ -450,7 +452,7 @@ TEST(RobotBelief, AWheelStillRampingIsNoShortfallJump)
     wheel = std::min(3.0, wheel + 10.0 * 0.001);
     if (k % 20 == 19)
     {
-      ASSERT_TRUE(belief.correct(base::Vector2(wheel, wheel), 0.0, true, true, true));
+      ASSERT_TRUE(belief.correct(base::Vector2(wheel, wheel), 0.0));
     }
   }
   EXPECT_EQ(belief.shortfallJumps(), 0u);
@@ -472,7 +474,9 @@ void hold(aic::RobotBelief* belief, const aic::WheelLoopModel& loop, const base:
     belief->predict(0.001, loop, wheels, base::Vector2::Zero(), 0.2, 0.2 * (wheels(1) - wheels(0)));
     if (k % 20 == 19)
     {
-      ASSERT_TRUE(belief->correct(wheels, gyro, true, true, true, k >= 300));
+      aic::RobotBelief::SampleUse use;
+      use.learn = k >= 300;
+      ASSERT_TRUE(belief->correct(wheels, gyro, use));
     }
   }
 }
@@ -568,8 +572,10 @@ TEST(RobotBelief, RescalingTheSlipRatioKeepsTheModelsYawRate)
 TEST(RobotBelief, RejectsANonFiniteSampleAndSkipsAnIsolatedChannel)
 {
   aic::RobotBelief belief(model());
-  EXPECT_FALSE(belief.correct(base::Vector2(std::nan(""), 0.0), 0.0, true, true, true));
-  EXPECT_TRUE(belief.correct(base::Vector2(std::nan(""), 1.0), 0.0, false, true, true));  // left isolated
+  EXPECT_FALSE(belief.correct(base::Vector2(std::nan(""), 0.0), 0.0));
+  aic::RobotBelief::SampleUse left_isolated;
+  left_isolated.left = false;
+  EXPECT_TRUE(belief.correct(base::Vector2(std::nan(""), 1.0), 0.0, left_isolated));
   EXPECT_TRUE(belief.wheelSpeeds().allFinite());
   EXPECT_EQ(belief.wheelSpeeds()(0), 0.0);
   EXPECT_GT(belief.wheelSpeeds()(1), 0.9);
