@@ -194,6 +194,7 @@ class TrackCheck(unittest.TestCase):
             acc = {v["name"]: v["floor_accelerations"] for v in data["variants"]}
             self.assertEqual(acc["default"], acc["slow_latency"])
             self.assertAlmostEqual(acc["default"]["wheel_acceleration"], 42.87, places=2)
+            self.assertEqual(data["floor_period"], 0.02)  # the AIC's 50 Hz action period
             for q in data["plant_limits"]:
                 for ch in ("vx", "wz"):
                     self.assertGreaterEqual(q["floor_accel"][ch], q["floor"][ch], (q["variant"], ch))
@@ -284,9 +285,24 @@ class TrackCheck(unittest.TestCase):
             slow = tracking.latency_floor(path, 0.1, accel_linear=2.0)  # 0.25 s more to reach 0.5 m/s
             self.assertGreater(slow["hold"]["vx"]["rms"], f["hold"]["vx"]["rms"] * 1.2)
             self.assertEqual(slow["hold"]["wz"], f["hold"]["wz"])
+            # The wheel bound (A_w 10 rad/s^2, r 0.1 m, track 0.4 m) and a 20 ms hold reach the CLI:
+            # the turn waits for the speed change, and a held aim costs nothing on a step at 1 s.
+            both = os.path.join(tmp, "both.csv")
+            with open(both, "w") as f:
+                f.write("t,vx,wz\n0,0,0\n1,1,1\n3,1,1\n")
+            wheels = tracking.latency_floor(both, 0.0, period=0.02, wheels=(10.0, 0.1, 0.4))
+            self.assertEqual(wheels["period"], 0.02)
+            self.assertAlmostEqual(wheels["hold"]["wz"]["rms"], math.sqrt((800.0 + 400.0 / 3.0) / 3001.0), places=2)
+            self.assertEqual(driving.floor_rms(both, 0.0, cache, period=0.02, wheels=(10.0, 0.1, 0.4)),
+                             {ch: min(wheels["hold"][ch]["rms"], wheels["predict"][ch]["rms"]) for ch in ("vx", "wz")})
+            self.assertEqual(len(cache), 2)
             for bad in ((-0.1, 0.0), (0.1, -1.0), (float("nan"), 0.0)):
                 with self.assertRaises(tracking.TrackingError):
                     tracking.latency_floor(path, bad[0], accel_linear=bad[1])
+            with self.assertRaises(tracking.TrackingError):
+                tracking.latency_floor(path, 0.1, period=-0.02)
+            with self.assertRaises(tracking.TrackingError):
+                tracking.latency_floor(path, 0.1, wheels=(10.0, 0.0, 0.4))
             with self.assertRaises(tracking.TrackingError):
                 tracking.latency_floor(os.path.join(tmp, "missing.csv"), 0.1)
 
@@ -408,10 +424,15 @@ class FloorAccelCheck(unittest.TestCase):
             cache = {}
             floor = driving.floor_rms(profile, 0.1187, cache)
             bounded = driving.floor_rms(profile, 0.1187, cache, acc["linear"], acc["angular"])
-            self.assertEqual(len(cache), 2)
+            # As aic_track.py takes it: each wheel bounded, the aim held for the 50 Hz action period.
+            wheels = driving.floor_rms(profile, 0.1187, cache, period=0.02,
+                                       wheels=(acc["wheel_acceleration"], 0.098, 0.37559))
+            self.assertEqual(len(cache), 3)
             for ch in ("vx", "wz"):
                 self.assertGreaterEqual(bounded[ch], floor[ch], ch)
+                self.assertGreaterEqual(wheels[ch], floor[ch], ch)
             self.assertGreater(bounded["vx"], floor["vx"] * 1.01)
+            self.assertGreater(wheels["vx"], floor["vx"] * 1.01)
 
 
 if __name__ == "__main__":

@@ -7,6 +7,7 @@
 
 #include "jackal_aic/analysis/csv_table.hpp"
 #include "jackal_aic/aic/goal_rate.hpp"
+#include "jackal_aic/aic/skid_steer_model.hpp"
 #include "jackal_aic/base/json_number.hpp"
 
 #include <algorithm>
@@ -307,9 +308,24 @@ VelocityTrackingError latencyFloor(const TwistProfile& profile, const params::Ai
               fmt(s.accel_angular));
   require(std::isfinite(s.dt) && s.dt >= 1e-5 && s.dt <= 0.1,
           "latency floor: dt must be finite and in [1e-5, 0.1] s, got " + fmt(s.dt));
+  require(std::isfinite(s.period) && s.period >= 0.0 && s.period <= 1.0,
+          "latency floor: the hold period must be finite and in [0, 1] s, got " + fmt(s.period));
+  require(std::isfinite(s.wheel_acceleration) && s.wheel_acceleration >= 0.0, "latency floor: the wheel acceleration "
+                                                                              "must be finite and >= 0 (0 = "
+                                                                              "unbounded), got " +
+                                                                                  fmt(s.wheel_acceleration));
+  const bool wheel_bound = s.wheel_acceleration > 0.0;
+  require(!wheel_bound || (std::isfinite(s.wheel_radius) && s.wheel_radius > 0.0 && std::isfinite(s.track) &&
+                           s.track > 0.0 && s.accel_linear == 0.0 && s.accel_angular == 0.0),
+          "latency floor: a wheel acceleration needs a finite wheel radius and track > 0 and no body accelerations, "
+          "got radius " +
+              fmt(s.wheel_radius) + ", track " + fmt(s.track));
   aic::GoalRateEstimator estimator(goal_rate.reference);
   const std::size_t n = static_cast<std::size_t>(std::floor(profile.duration / s.dt)) + 1;
   const std::size_t lag = static_cast<std::size_t>(std::llround(s.latency / s.dt));
+  // A new aim every `hold` samples (T_h / dt, at least 1), held between.
+  const std::size_t hold = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(s.period / s.dt)));
+  const double lead = s.latency + 0.5 * s.period;
   // u[k]: what the servo aims at, from the stream as received up to time k dt.
   std::vector<double> time(n), u_vx(n), u_wz(n);
   std::size_t next = 0;
@@ -322,29 +338,50 @@ VelocityTrackingError latencyFloor(const TwistProfile& profile, const params::Ai
       const TwistProfilePoint& p = profile.points[next];
       estimator.update(p.t, base::Vector3(p.vx, 0.0, p.wz));
     }
+    if (k % hold != 0)
+    {
+      u_vx[k] = u_vx[k - 1];
+      u_wz[k] = u_wz[k - 1];
+      continue;
+    }
     double vx = 0.0;
     double wz = 0.0;
     profile.setPointAt(t, &vx, &wz);
     if (s.predict)
     {
       const base::Vector3 rate = estimator.rate(t);
-      vx += s.latency * rate.x();
-      wz += s.latency * rate.z();
+      vx += lead * rate.x();
+      wz += lead * rate.z();
     }
     u_vx[k] = vx;
     u_wz[k] = wz;
   }
-  // y[k] = rate-limited u[k - lag], zero before the latency has passed.
+  // y[k] = rate-limited u[k - lag], zero before the latency has passed: the body's twist, or
+  // each wheel's speed of it.
   auto follow = [](double y, double target, double limit) {
     return limit > 0.0 ? y + std::clamp(target - y, -limit, limit) : target;
   };
   std::vector<double> y_vx(n), y_wz(n);
   double prev_vx = 0.0;
   double prev_wz = 0.0;
+  const aic::SkidSteerModel wheels(wheel_bound ? s.wheel_radius : 1.0, 1.0, wheel_bound ? s.track : 1.0);
+  base::Vector2 omega = base::Vector2::Zero();
   for (std::size_t k = 0; k < n; ++k)
   {
-    prev_vx = y_vx[k] = follow(prev_vx, k >= lag ? u_vx[k - lag] : 0.0, s.accel_linear * s.dt);
-    prev_wz = y_wz[k] = follow(prev_wz, k >= lag ? u_wz[k - lag] : 0.0, s.accel_angular * s.dt);
+    const double vx = k >= lag ? u_vx[k - lag] : 0.0;
+    const double wz = k >= lag ? u_wz[k - lag] : 0.0;
+    if (wheel_bound)
+    {
+      const base::Vector2 target = wheels.wheelsFromTwist(base::Vector3(vx, 0.0, wz));
+      omega(0) = follow(omega(0), target(0), s.wheel_acceleration * s.dt);
+      omega(1) = follow(omega(1), target(1), s.wheel_acceleration * s.dt);
+      const base::Vector3 twist = wheels.twistFromWheels(omega);
+      y_vx[k] = twist(0);
+      y_wz[k] = twist(2);
+      continue;
+    }
+    prev_vx = y_vx[k] = follow(prev_vx, vx, s.accel_linear * s.dt);
+    prev_wz = y_wz[k] = follow(prev_wz, wz, s.accel_angular * s.dt);
   }
   return velocityTrackingError(profile, time, y_vx, y_wz);
 }

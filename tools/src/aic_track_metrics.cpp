@@ -9,9 +9,11 @@
  *        aic_track_metrics --profile PROFILE.csv --trace TRACE.csv [--time-column t]
  *            [--ideal-csv FILE]
  *        aic_track_metrics --profile PROFILE.csv --floor-latency L [--floor-accel-linear A]
- *            [--floor-accel-angular B]
- * The latency floor (latencyFloor): the error of an ideal servo with latency L [s] and the given
- * acceleration limits (0 = none), once holding the set point and once predicting it with the
+ *            [--floor-accel-angular B] [--floor-period T]
+ *            [--floor-wheel-acceleration A_w --floor-wheel-radius r --floor-track b]
+ * The latency floor (latencyFloor): the error of an ideal servo with latency L [s], the given
+ * acceleration limits of the body (0 = none) or of each of its two wheels (radius r, b apart), and
+ * its aim held for T [s] (0 = none), once holding the set point and once predicting it with the
  * goal rate (the AIC's recommended goal-rate settings): {"profile", "duration", "latency",
  * "hold": {"vx", "wz", "samples"}, "predict": {...}}.
  * PROFILE: t,vx,wz rows, zero-order hold, the last row's t ends it (header optional).
@@ -96,6 +98,10 @@ int main(int argc, char** argv)
   double floor_latency = 0.0;
   double floor_accel_linear = 0.0;
   double floor_accel_angular = 0.0;
+  double floor_period = 0.0;
+  double floor_wheel_acceleration = 0.0;
+  double floor_wheel_radius = 0.0;
+  double floor_track = 0.0;
   CommandLine cl("aic_track_metrics", "Tracking metrics of a recorded run against a twist profile (t, vx, wz; "
                                       "zero-order hold), one JSON "
                                       "line: per measured twist S (columns S_vx, S_wz) the RMS and max error of vx "
@@ -113,6 +119,12 @@ int main(int argc, char** argv)
             "predicting the set point");
   cl.option("floor-accel-linear", &floor_accel_linear, "the floor servo's largest |dvx/dt| [m/s^2], 0 = unlimited");
   cl.option("floor-accel-angular", &floor_accel_angular, "the floor servo's largest |dwz/dt| [rad/s^2], 0 = unlimited");
+  cl.option("floor-period", &floor_period,
+            "the floor servo holds its aim this long [s] (a controller's action period), 0 = none");
+  cl.option("floor-wheel-acceleration", &floor_wheel_acceleration,
+            "the floor servo's largest |d omega/dt| of each wheel [rad/s^2], 0 = unlimited (excludes --floor-accel-*)");
+  cl.option("floor-wheel-radius", &floor_wheel_radius, "the wheel radius of --floor-wheel-acceleration [m]");
+  cl.option("floor-track", &floor_track, "the wheels' left-right distance of --floor-wheel-acceleration [m]");
   cl.footer("Exit 0 on success, 1 on bad files or data, 2 on bad arguments.");
   if (const int code = cl.parse(argc, argv); code >= 0)
   {
@@ -123,9 +135,9 @@ int main(int argc, char** argv)
   {
     return cl.bad("give exactly one of --trace, --print-profile and --floor-latency");
   }
-  if (floor && (floor_latency < 0.0 || floor_accel_linear < 0.0 || floor_accel_angular < 0.0))
+  if (floor && (floor_latency < 0.0 || floor_accel_linear < 0.0 || floor_accel_angular < 0.0 || floor_period < 0.0))
   {
-    return cl.bad("--floor-latency and --floor-accel-* must be >= 0");
+    return cl.bad("--floor-latency, --floor-accel-* and --floor-period must be >= 0");
   }
   try
   {
@@ -141,12 +153,17 @@ int main(int argc, char** argv)
       settings.latency = floor_latency;
       settings.accel_linear = floor_accel_linear;
       settings.accel_angular = floor_accel_angular;
+      settings.period = floor_period;
+      settings.wheel_acceleration = floor_wheel_acceleration;
+      settings.wheel_radius = floor_wheel_radius;
+      settings.track = floor_track;
       const params::AicParams goal_rate = params::recommendedAicParams();
       const analysis::VelocityTrackingError hold = analysis::latencyFloor(profile, goal_rate, settings);
       settings.predict = true;
       const analysis::VelocityTrackingError predict = analysis::latencyFloor(profile, goal_rate, settings);
       std::cout << "{\"profile\": \"" << profile.name << "\", \"duration\": " << base::jsonNumber(profile.duration)
-                << ", \"latency\": " << base::jsonNumber(floor_latency) << ", \"hold\": " << analysis::toJson(hold)
+                << ", \"latency\": " << base::jsonNumber(floor_latency)
+                << ", \"period\": " << base::jsonNumber(floor_period) << ", \"hold\": " << analysis::toJson(hold)
                 << ", \"predict\": " << analysis::toJson(predict) << "}\n";
       return 0;
     }

@@ -72,15 +72,22 @@ def track_metrics(profile_csv, trace_csv, ideal_csv=None, cli=None):
     return _run(cmd)
 
 
-def latency_floor(profile_csv, latency, accel_linear=0.0, accel_angular=0.0, cli=None):
+def latency_floor(profile_csv, latency, accel_linear=0.0, accel_angular=0.0, cli=None, period=0.0, wheels=None):
     """The latency floor of a profile (jackal_aic::analysis::latencyFloor through ``aic_track_metrics
     --floor-latency``): the RMS and maximum error of an ideal servo that moves ``latency`` [s] after
-    it is commanded, with the given acceleration limits [m/s^2, rad/s^2] (0 = none), once holding
-    the set point and once predicting it with the goal rate. Returns {"profile", "duration",
-    "latency", "hold": {"vx": {"rms", "max"}, "wz": {...}, "samples"}, "predict": {...}}. Raises
-    TrackingError (the CLI's message) on a bad profile, or a negative or non-finite latency or limit."""
-    return _run([cli or find_cli(), "--profile", profile_csv, "--floor-latency", repr(float(latency)),
-                 "--floor-accel-linear", repr(float(accel_linear)), "--floor-accel-angular", repr(float(accel_angular))])
+    it is commanded, with the given acceleration limits of the body [m/s^2, rad/s^2] (0 = none) or,
+    ``wheels`` = (A_w [rad/s^2], radius [m], track [m]), of each of its two wheels instead, and its aim
+    held for ``period`` [s] (a controller's action period; 0 = none), once holding the set point and
+    once predicting it with the goal rate. Returns {"profile", "duration", "latency", "period",
+    "hold": {"vx": {"rms", "max"}, "wz": {...}, "samples"}, "predict": {...}}. Raises TrackingError
+    (the CLI's message) on a bad profile, or a negative or non-finite latency, limit or period."""
+    cmd = [cli or find_cli(), "--profile", profile_csv, "--floor-latency", repr(float(latency)),
+           "--floor-accel-linear", repr(float(accel_linear)), "--floor-accel-angular", repr(float(accel_angular)),
+           "--floor-period", repr(float(period))]
+    if wheels is not None:
+        cmd += ["--floor-wheel-acceleration", repr(float(wheels[0])), "--floor-wheel-radius", repr(float(wheels[1])),
+                "--floor-track", repr(float(wheels[2]))]
+    return _run(cmd)
 
 
 def flat(result):

@@ -184,17 +184,19 @@ def deficit_error(trace, command, hold_end, window=1.0):
     return float(np.mean(yaw[keep]) - command)
 
 
-def floor_rms(profile, latency, cache=None, accel_linear=0.0, accel_angular=0.0):
+def floor_rms(profile, latency, cache=None, accel_linear=0.0, accel_angular=0.0, period=0.0, wheels=None):
     """The latency floor of ``profile`` (CSV) for a plant with ``latency`` [s]: per channel the
     smaller RMS error of the ideal servo holding or predicting the set point
     (tracking.latency_floor), {"vx": m/s, "wz": rad/s}; its acceleration bounded by
-    ``accel_linear`` [m/s^2] and ``accel_angular`` [rad/s^2] (0: unlimited, the latency floor; the
-    wheel loop's, plant_limits.floor_accelerations: the acceleration-bounded floor). ``cache``: a
-    dict reused across calls. Raises tracking.TrackingError."""
-    key = (profile, round(float(latency), 9), round(float(accel_linear), 9), round(float(accel_angular), 9))
+    ``accel_linear`` [m/s^2] and ``accel_angular`` [rad/s^2], or by ``wheels`` = (A_w [rad/s^2],
+    radius [m], track [m]) on each wheel, and its aim held for ``period`` [s] (all 0 and None: the
+    latency floor; the wheel loop's A_w on the geometric track and the AIC's action period: the
+    acceleration-bounded floor). ``cache``: a dict reused across calls. Raises tracking.TrackingError."""
+    key = (profile, round(float(latency), 9), round(float(accel_linear), 9), round(float(accel_angular), 9),
+           round(float(period), 9), None if wheels is None else tuple(round(float(w), 9) for w in wheels))
     if cache is not None and key in cache:
         return cache[key]
-    f = tracking.latency_floor(profile, latency, accel_linear, accel_angular)
+    f = tracking.latency_floor(profile, latency, accel_linear, accel_angular, period=period, wheels=wheels)
     out = {ch: min(f["hold"][ch]["rms"], f["predict"][ch]["rms"]) for ch in ("vx", "wz")}
     if cache is not None:
         cache[key] = out

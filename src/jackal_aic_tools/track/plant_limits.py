@@ -15,10 +15,10 @@ figures over the profile's span): the wheel loop not following its set point (th
 lag; with the share of the time the motor torque sits at its limit) or the wheels slipping
 against the body (wheel speeds' twist minus the ground truth).
 
-The acceleration-bounded latency floor (doc/tools.md, 'Latency floor') bounds the floor's ideal
-servo by the wheel loop's largest acceleration: wheel_acceleration() from the plant's motor keys,
-floor_accelerations() on the body with the robot's wheel radius and geometric track
-(urdf_geometry()).
+The acceleration-bounded latency floor (doc/tools.md, 'Latency floor') bounds each wheel of the
+floor's ideal servo by the wheel loop's largest acceleration: wheel_acceleration() from the
+plant's motor keys, on the robot's wheel radius and geometric track (urdf_geometry());
+floor_accelerations() also gives what it is on the body alone.
 
 Pure functions but run_ideal() and urdf_geometry(); the benchmark's modules (driving,
 track_suite) use them.

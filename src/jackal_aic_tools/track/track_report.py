@@ -213,9 +213,13 @@ def results_md(report_data, plots_rel, root):
            "feed-forward through the latency, tuned on the AIC's driving cost (`closed_loop_run --controller pi`, "
            "`config/classical/pi.yaml`; `doc/active_inference.md`, 'A classical peer'). "
            "AIC / peer < 1: the AIC tracks better; * plant-limited (not in the geometric means). "
-           "The acceleration-bounded floor is the latency floor's ideal servo with the wheel loop's largest "
-           "acceleration A_w (vx: A_w r, wz: 2 A_w r / track; per variant: %s), reported beside the floor and "
-           "not judged ([tools.md](../tools.md), 'Latency floor')." % floor_accelerations(d["variants"]), "",
+           "The acceleration-bounded floor is the latency floor's ideal servo on two wheels, each accelerating "
+           "at most the wheel loop's A_w (a speed change and a turn share it; alone, vx: A_w r, wz: 2 A_w r / "
+           "track; per variant: %s), taking its aim every %s (the AIC's action period) and holding it, "
+           "reported beside the floor and not judged "
+           "([tools.md](../tools.md), 'Latency floor')." % (
+               floor_accelerations(d["variants"]),
+               "%g s" % d["floor_period"] if d.get("floor_period") else "sample"), "",
            md_table(PEER_HEADER, peer_rows(d.get("plant_limits", []), d["peer_geometric_mean"])),
            "", "## Plant-limited pairs", "",
            "A channel is plant-limited where the ideal controller (`closed_loop_run --controller ideal`: the "

@@ -22,9 +22,11 @@ repeated runs) against the latency floor (driving.floor_rms): a channel (vx, wz)
 exceeds plant_limits.PLANT_LIMIT_RATIO x the floor is plant-limited (jackal_aic_tools.track.plant_limits,
 with the reason measured in the ideal run); the geometric means are over the plant-following
 channels (a drift or heading metric: pairs that follow on both), the plant-limited ones apart.
-Beside the floor, reported and not judged, the acceleration-bounded floor: the same servo with the
-variant's wheel-loop acceleration (plant_limits.floor_accelerations: A_w r, 2 A_w r / track), and
-the AIC, the peer and the stock controller against it.
+Beside the floor, reported and not judged, the acceleration-bounded floor: the same servo on two
+wheels of the robot's radius, the geometric track apart, each accelerating at most the variant's
+wheel-loop A_w (plant_limits.floor_accelerations), its aim taken at the AIC's action rate and held
+between (tracking.json's floor_period, 1 / action_rate of the AIC's configuration), and the AIC,
+the peer and the stock controller against it.
 
 Writes to --out: tracking.json (everything), tracking.csv (one row per run), ratios.csv,
 traces/<profile>__<variant>__<controller>.csv (closed_loop_run's traces) and
@@ -155,6 +157,8 @@ def suite(a, tool):
             v["floor_accelerations"] = plant_limits.floor_accelerations(motor, radius, track)
         except (OSError, ValueError) as e:
             raise SuiteError("acceleration-bounded floor of variant %s: %s" % (v["name"], e))
+    # The acceleration-bounded floor's servo takes its aim at the AIC's action rate and holds it.
+    action_period = 1.0 / float(cli.effective_config([a.aic_config], tool.script, tool.name, warn=False)["action_rate"])
     for sub in ("traces", "plots"):
         os.makedirs(os.path.join(a.out, sub), exist_ok=True)
 
@@ -205,7 +209,8 @@ def suite(a, tool):
             acc = v["floor_accelerations"]
             try:
                 floor = driving.floor_rms(p["path"], latency[v["name"]], floors)
-                floor_accel = driving.floor_rms(p["path"], latency[v["name"]], floors, acc["linear"], acc["angular"])
+                floor_accel = driving.floor_rms(p["path"], latency[v["name"]], floors, period=action_period,
+                                                wheels=(acc["wheel_acceleration"], radius, track))
             except tracking.TrackingError as e:
                 raise SuiteError("latency floor of %s: %s" % (p["path"], e))
             limited = plant_limits.classify(best, floor)
@@ -247,6 +252,7 @@ def suite(a, tool):
             "geometric_mean": {m: list(g) for m, g in gmean.items()},
             "geometric_mean_limited": {m: list(g) for m, g in gmean_limited.items()},
             "plant_limit_ratio": plant_limits.PLANT_LIMIT_RATIO, "plant_limits": limits,
+            "floor_period": action_period,
             "plots": {"%s__%s" % k: v for k, v in plots.items()}}
     with open(os.path.join(a.out, "tracking.json"), "w") as f:
         json.dump(data, f, indent=1)

@@ -307,6 +307,30 @@ TEST(LatencyFloor, AStepArrivesOneLatencyLate)
   EXPECT_NEAR(analysis::latencyFloor(p, params::recommendedAicParams(), s).vx.rms, e.vx.rms, 1e-12);
 }
 
+TEST(LatencyFloor, AHeldAimWaitsForTheNextTick)
+{
+  // The step at 1.005 s, aims taken every 20 ms: the servo sees it at the 1.02 s tick, 15 ms late,
+  // so it is 0.5 m/s short for L + 15 ms = 115 of the 3001 samples; with the step on a tick
+  // (1.0 s) the hold costs nothing.
+  analysis::LatencyFloorSettings s;
+  s.latency = 0.1;
+  s.period = 0.02;
+  const analysis::TwistProfile off_tick = profileOf({ { 0.0, 0.0, 0.0 }, { 1.005, 0.5, 0.0 } }, 3.0);
+  EXPECT_NEAR(analysis::latencyFloor(off_tick, params::recommendedAicParams(), s).vx.rms,
+              0.5 * std::sqrt(115.0 / 3001.0), 1e-9);
+  const analysis::TwistProfile on_tick = profileOf({ { 0.0, 0.0, 0.0 }, { 1.0, 0.5, 0.0 } }, 3.0);
+  EXPECT_NEAR(analysis::latencyFloor(on_tick, params::recommendedAicParams(), s).vx.rms,
+              0.5 * std::sqrt(100.0 / 3001.0), 1e-9);
+  s.period = 0.0;
+  EXPECT_NEAR(analysis::latencyFloor(off_tick, params::recommendedAicParams(), s).vx.rms,
+              0.5 * std::sqrt(100.0 / 3001.0), 1e-9);
+  for (const double bad : { -0.01, 1.5, std::numeric_limits<double>::quiet_NaN() })
+  {
+    s.period = bad;
+    EXPECT_THROW(analysis::latencyFloor(on_tick, params::recommendedAicParams(), s), std::invalid_argument) << bad;
+  }
+}
+
 TEST(LatencyFloor, TheAccelerationLimitRampsTheStep)
 {
   // No latency, 5 m/s^2: the error falls from 0.5 to 0 over 0.1 s; RMS over 3 s ->
@@ -318,6 +342,38 @@ TEST(LatencyFloor, TheAccelerationLimitRampsTheStep)
   EXPECT_NEAR(e.vx.rms, std::sqrt(0.125 / 15.0 / 3.0), 1e-3);
   EXPECT_LT(e.vx.rms, std::sqrt(0.125 / 15.0 / 3.0));
   EXPECT_EQ(e.wz.rms, 0.0);
+}
+
+TEST(LatencyFloor, ATurnAndASpeedChangeShareTheWheels)
+{
+  // 1 m/s and 1 rad/s from t = 1 s on wheels of r = 0.1 m, 0.4 m apart, each at most 10 rad/s^2:
+  // the wheels go to 8 and 12 rad/s side by side, so the turn starts only when the left wheel is
+  // there (0.8 s) and is reached at 1.2 s. Error 1 rad/s for 800 samples, then falling to 0 over
+  // 400: RMS sqrt((800 + 400 / 3) / 3001). The same bound on the body (A_w r, 2 A_w r / track)
+  // takes the turn in 0.2 s.
+  const analysis::TwistProfile p = profileOf({ { 0.0, 0.0, 0.0 }, { 1.0, 1.0, 1.0 } }, 3.0);
+  analysis::LatencyFloorSettings s;
+  s.wheel_acceleration = 10.0;
+  s.wheel_radius = 0.1;
+  s.track = 0.4;
+  const analysis::VelocityTrackingError wheels = analysis::latencyFloor(p, params::recommendedAicParams(), s);
+  EXPECT_NEAR(wheels.wz.rms, std::sqrt((800.0 + 400.0 / 3.0) / 3001.0), 2e-3);
+  EXPECT_NEAR(wheels.wz.max, 1.0, 1e-12);
+  analysis::LatencyFloorSettings body;
+  body.accel_linear = 1.0;
+  body.accel_angular = 5.0;
+  const analysis::VelocityTrackingError shared = analysis::latencyFloor(p, params::recommendedAicParams(), body);
+  EXPECT_NEAR(shared.wz.rms, std::sqrt(200.0 / 3.0 / 3001.0), 2e-3);
+  EXPECT_NEAR(wheels.vx.rms, shared.vx.rms, 0.05);  // the speed change is near the same
+  // The wheel bound needs its geometry and stands alone.
+  s.track = 0.0;
+  EXPECT_THROW(analysis::latencyFloor(p, params::recommendedAicParams(), s), std::invalid_argument);
+  s.track = 0.4;
+  s.accel_linear = 1.0;
+  EXPECT_THROW(analysis::latencyFloor(p, params::recommendedAicParams(), s), std::invalid_argument);
+  s.accel_linear = 0.0;
+  s.wheel_acceleration = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(analysis::latencyFloor(p, params::recommendedAicParams(), s), std::invalid_argument);
 }
 
 TEST(LatencyFloor, PredictingARampLowersTheFloor)
