@@ -459,6 +459,81 @@ TEST(RobotBelief, AWheelStillRampingIsNoShortfallJump)
   EXPECT_NEAR(belief.shortfalls()(0), 0.0, 0.05);
 }
 
+TEST(RobotBelief, TheSlipRatioIsNotMadeUncertainWhileItCannotLearn)
+{
+  // The goal's turn moves on while the slip ratio cannot learn (a channel isolated, a fault): its
+  // variance P_s stays where it was, so a channel's re-admission is not judged against a slip
+  // uncertainty that no sample could have reduced. With slip_observed it grows with |dw|.
+  aic::RobotBelief held(model());
+  aic::RobotBelief observed(model());
+  aic::WheelLoopModel loop(model());
+  for (int k = 0; k < 1000; ++k)
+  {
+    const double turn = 0.5 * std::sin(0.01 * k);
+    held.predict(0.001, loop, base::Vector2(2.0, 3.0), base::Vector2::Zero(), 0.2, turn, false);
+    observed.predict(0.001, loop, base::Vector2(2.0, 3.0), base::Vector2::Zero(), 0.2, turn, true);
+  }
+  EXPECT_EQ(held.variances()(5), 0.0);
+  EXPECT_GT(observed.variances()(5), 1e-6);
+}
+
+TEST(RobotBelief, AChannelIsReleasedOnTheSensorsVarianceNotTheSlipRatios)
+{
+  // In a turn the parity's variance holds the slip ratio's share u^2 P_s; the release variance
+  // leaves it out (at least the sensors' own), so an isolated channel's agreement within an
+  // uncertain slip ratio does not restore it. Straight, u = 0: the two are the same.
+  const params::RobotModelParams p = model();
+  aic::RobotBelief belief(p);
+  aic::WheelLoopModel loop(p);
+  for (int k = 0; k < 2000; ++k)
+  {
+    belief.predict(0.001, loop, base::Vector2(2.0, 4.0), base::Vector2::Zero(), 0.2, 0.5 * std::sin(0.01 * k));
+  }
+  const double u = belief.wheelsYawRate();
+  const double p_s = belief.variances()(5);
+  ASSERT_GT(u * u * p_s, 1e-4);
+  const base::SampleInnovation in = belief.sampleInnovation(belief.wheelSpeeds(), belief.yawRate());
+  const double k = (1.0 - belief.slipRatio()) * 0.2;
+  const double sensors = p.gyro_noise * p.gyro_noise + 2.0 * k * k * p.encoder_noise * p.encoder_noise;
+  EXPECT_NEAR(in.release_variance, std::max(in.parity_variance - u * u * p_s, sensors), 1e-12);
+  EXPECT_LT(in.release_variance, in.parity_variance - 0.5 * u * u * p_s);
+  aic::RobotBelief straight(p);
+  for (int k = 0; k < 500; ++k)
+  {
+    straight.predict(0.001, loop, base::Vector2(3.0, 3.0), base::Vector2::Zero(), 0.2, 0.0);
+  }
+  const base::SampleInnovation s = straight.sampleInnovation(straight.wheelSpeeds(), straight.yawRate());
+  EXPECT_DOUBLE_EQ(s.release_variance, s.parity_variance);
+}
+
+TEST(RobotBelief, AWheelThatStartsLateIsNoShortfallJump)
+{
+  const params::RobotModelParams p = model();
+  aic::RobotBelief belief(p);
+  aic::WheelLoopModel loop(p);
+  // A 5 rad/s step at the wheels that the wheels start 0.1 s late (a latency longer than the
+  // model's) and then follow at A_w: for five samples they read their old speed, steady, far
+  // below u - d. That is the loop not yet settled (RobotBelief::settleTime(): 5 / A_w plus its
+  // lags), not a stall: no jump, d stays near zero.
+  double wheel = 0.0;
+  for (int k = 0; k < 1000; ++k)
+  {
+    belief.predict(0.001, loop, base::Vector2(5.0, 5.0), base::Vector2::Zero(), 0.0, 0.0);
+    if (k >= 100)
+    {
+      wheel = std::min(5.0, wheel + p.wheel_acceleration * 0.001);
+    }
+    if (k % 20 == 19)
+    {
+      const double noise = (k / 20) % 2 == 0 ? 1e-4 : -1e-4;
+      ASSERT_TRUE(belief.correct(base::Vector2(wheel + noise, wheel + noise), 0.0));
+    }
+  }
+  EXPECT_EQ(belief.shortfallJumps(), 0u);
+  EXPECT_NEAR(belief.shortfalls()(0), 0.0, 0.05);
+  EXPECT_NEAR(belief.wheelSpeeds()(0), 5.0, 0.05);
+}
+
 namespace
 {
 /// Drive `belief` for `seconds` with both sides' command and measurement held (left, right
@@ -650,6 +725,22 @@ TEST(ControllerRobotModel, BeliefsAreTheMeasuredTwistAndTheActionTheGoalsWheels)
   }
   ASSERT_EQ(c.updateAction(0.02), Status::kOk);
   EXPECT_TRUE(c.action().isZero());
+}
+
+TEST(ControllerRobotModel, TheCommandMakesUpAShortfall)
+{
+  params::AicParams p = params::recommendedAicParams();
+  p.belief_model = params::BeliefModel::kRobot;
+  p.separation_learner.enabled = false;
+  aic::ActiveInferenceController c(p);
+  // Each wheel delivers 0.6 rad/s less than it is sent: once d has learned it (a jump, then the
+  // drift), the command is the goal's wheel speed plus d, and the wheels reach the goal's.
+  const double omega = 0.5 / (p.wheel_radius * p.slip_factor);
+  jackal_test::driveAgainstWheelLoop(&c, p.robot, base::Vector3(0.5, 0.0, 0.0), 3.0, base::Vector2(0.6, 0.6));
+  EXPECT_NEAR(c.robotBelief().shortfalls()(0), 0.6, 0.05);
+  EXPECT_NEAR(c.action()(0), omega + 0.6, 0.05);
+  EXPECT_NEAR(c.action()(1), omega + 0.6, 0.05);
+  EXPECT_NEAR(c.mu()(0, 0), 0.5, 0.005);
 }
 
 TEST(ControllerRobotModel, ResetLearningForgetsTheSlowStates)

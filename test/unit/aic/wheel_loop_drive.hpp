@@ -21,13 +21,15 @@ namespace jackal_test
  * \brief Drive `c` from rest toward the goal `goal` (x_dot [m/s], y_dot, theta_dot [rad/s]) for
  *        `seconds` [s] against a wheel-loop plant with the parameters `plant`: belief steps of 1 ms,
  *        a wheel sample every 20 ms (the plant's wheel speeds, no noise), an action step every
- *        20 ms whose command the plant records.
+ *        20 ms whose command the plant records. `shortfall` [rad/s]: what each of the plant's wheels
+ *        does not deliver of its command (WheelLoopModel::predict()'s d; a payload, a worn drive).
  * \return the largest wheel command sent [rad/s]; a goal, sample or step the controller refuses
  *         fails the test (gtest) and ends the drive.
  */
 inline double driveAgainstWheelLoop(jackal_aic::aic::ActiveInferenceController* c,
                                     const jackal_aic::params::RobotModelParams& plant,
-                                    const jackal_aic::base::Vector3& goal, double seconds = 1.0)
+                                    const jackal_aic::base::Vector3& goal, double seconds = 1.0,
+                                    const jackal_aic::base::Vector2& shortfall = jackal_aic::base::Vector2::Zero())
 {
   using jackal_aic::base::Vector2;
   using Status = jackal_aic::aic::ActiveInferenceController::Status;
@@ -48,7 +50,7 @@ inline double driveAgainstWheelLoop(jackal_aic::aic::ActiveInferenceController* 
     {
       if (k > 0)
       {
-        omega = wheels.predict(omega, Vector2::Zero(), t - 0.02, t);
+        omega = wheels.predict(omega, shortfall, t - 0.02, t);
       }
       y(jackal_aic::base::kOmegaLeft, 0) = omega(0);
       y(jackal_aic::base::kOmegaRight, 0) = omega(1);
