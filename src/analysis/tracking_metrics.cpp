@@ -15,6 +15,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <istream>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -323,8 +324,8 @@ VelocityTrackingError latencyFloor(const TwistProfile& profile, const params::Ai
   aic::GoalRateEstimator estimator(goal_rate.reference);
   const std::size_t n = static_cast<std::size_t>(std::floor(profile.duration / s.dt)) + 1;
   const std::size_t lag = static_cast<std::size_t>(std::llround(s.latency / s.dt));
-  // A new aim every `hold` samples (T_h / dt, at least 1), held between.
-  const std::size_t hold = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(s.period / s.dt)));
+  // A new aim every `aim_every` samples (T_h / dt, at least 1), held between.
+  const std::size_t aim_every = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(s.period / s.dt)));
   const double lead = s.latency + 0.5 * s.period;
   // u[k]: what the servo aims at, from the stream as received up to time k dt.
   std::vector<double> time(n), u_vx(n), u_wz(n);
@@ -338,7 +339,7 @@ VelocityTrackingError latencyFloor(const TwistProfile& profile, const params::Ai
       const TwistProfilePoint& p = profile.points[next];
       estimator.update(p.t, base::Vector3(p.vx, 0.0, p.wz));
     }
-    if (k % hold != 0)
+    if (k % aim_every != 0)
     {
       u_vx[k] = u_vx[k - 1];
       u_wz[k] = u_wz[k - 1];
@@ -364,18 +365,22 @@ VelocityTrackingError latencyFloor(const TwistProfile& profile, const params::Ai
   std::vector<double> y_vx(n), y_wz(n);
   double prev_vx = 0.0;
   double prev_wz = 0.0;
-  const aic::SkidSteerModel wheels(wheel_bound ? s.wheel_radius : 1.0, 1.0, wheel_bound ? s.track : 1.0);
+  std::optional<aic::SkidSteerModel> wheels;
+  if (wheel_bound)
+  {
+    wheels.emplace(s.wheel_radius, 1.0, s.track);
+  }
   base::Vector2 omega = base::Vector2::Zero();
   for (std::size_t k = 0; k < n; ++k)
   {
     const double vx = k >= lag ? u_vx[k - lag] : 0.0;
     const double wz = k >= lag ? u_wz[k - lag] : 0.0;
-    if (wheel_bound)
+    if (wheels)
     {
-      const base::Vector2 target = wheels.wheelsFromTwist(base::Vector3(vx, 0.0, wz));
+      const base::Vector2 target = wheels->wheelsFromTwist(base::Vector3(vx, 0.0, wz));
       omega(0) = follow(omega(0), target(0), s.wheel_acceleration * s.dt);
       omega(1) = follow(omega(1), target(1), s.wheel_acceleration * s.dt);
-      const base::Vector3 twist = wheels.twistFromWheels(omega);
+      const base::Vector3 twist = wheels->twistFromWheels(omega);
       y_vx[k] = twist(0);
       y_wz[k] = twist(2);
       continue;
