@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "jackal_aic/aic/controller.hpp"
 #include "jackal_aic/aic/latency_action.hpp"
@@ -437,6 +438,25 @@ TEST(RobotBelief, ForgettingTheSlowStatesForgetsTheTurnShortfalls)
   EXPECT_EQ(belief.turnShortfallVariances(), base::Vector2::Zero());
 }
 
+namespace
+{
+/// Step `belief` from rest to the command `u` [rad/s] on both sides at the wheels for 1 s (belief
+/// steps of 1 ms, a sample every 20 ms) while both wheels read wheel_at(k) [rad/s] at step k.
+void stepAgainstWheels(aic::RobotBelief* belief, const aic::WheelLoopModel& loop, double u,
+                       const std::function<double(int)>& wheel_at)
+{
+  for (int k = 0; k < 1000; ++k)
+  {
+    belief->predict(0.001, loop, base::Vector2(u, u), base::Vector2::Zero(), 0.0, 0.0);
+    if (k % 20 == 19)
+    {
+      const double wheel = wheel_at(k);
+      ASSERT_TRUE(belief->correct(base::Vector2(wheel, wheel), 0.0));
+    }
+  }
+}
+}  // namespace
+
 TEST(RobotBelief, AWheelStillRampingIsNoShortfallJump)
 {
   const params::RobotModelParams p = model();
@@ -445,16 +465,7 @@ TEST(RobotBelief, AWheelStillRampingIsNoShortfallJump)
   // A 3 rad/s step that the wheels follow at 10 rad/s^2 (a heavy robot, slower than A_w): the
   // residuals exceed the threshold after the model has settled but change by 0.2 rad/s a sample,
   // so the wheel is still moving: no jump; d stays near zero.
-  double wheel = 0.0;
-  for (int k = 0; k < 1000; ++k)
-  {
-    belief.predict(0.001, loop, base::Vector2(3.0, 3.0), base::Vector2::Zero(), 0.0, 0.0);
-    wheel = std::min(3.0, wheel + 10.0 * 0.001);
-    if (k % 20 == 19)
-    {
-      ASSERT_TRUE(belief.correct(base::Vector2(wheel, wheel), 0.0));
-    }
-  }
+  stepAgainstWheels(&belief, loop, 3.0, [](int k) { return std::min(3.0, 10.0 * 0.001 * (k + 1)); });
   EXPECT_EQ(belief.shortfallJumps(), 0u);
   EXPECT_NEAR(belief.shortfalls()(0), 0.0, 0.05);
 }
@@ -515,20 +526,8 @@ TEST(RobotBelief, AWheelThatStartsLateIsNoShortfallJump)
   // model's) and then follow at A_w: for five samples they read their old speed, steady, far
   // below u - d. That is the loop not yet settled (RobotBelief::settleTime(): 5 / A_w plus its
   // lags), not a stall: no jump, d stays near zero.
-  double wheel = 0.0;
-  for (int k = 0; k < 1000; ++k)
-  {
-    belief.predict(0.001, loop, base::Vector2(5.0, 5.0), base::Vector2::Zero(), 0.0, 0.0);
-    if (k >= 100)
-    {
-      wheel = std::min(5.0, wheel + p.wheel_acceleration * 0.001);
-    }
-    if (k % 20 == 19)
-    {
-      const double noise = (k / 20) % 2 == 0 ? 1e-4 : -1e-4;
-      ASSERT_TRUE(belief.correct(base::Vector2(wheel + noise, wheel + noise), 0.0));
-    }
-  }
+  const double a_w = p.wheel_acceleration;
+  stepAgainstWheels(&belief, loop, 5.0, [a_w](int k) { return std::clamp(a_w * 0.001 * (k - 99), 0.0, 5.0); });
   EXPECT_EQ(belief.shortfallJumps(), 0u);
   EXPECT_NEAR(belief.shortfalls()(0), 0.0, 0.05);
   EXPECT_NEAR(belief.wheelSpeeds()(0), 5.0, 0.05);
