@@ -137,9 +137,10 @@ FaultMonitor::Event FaultMonitor::update(const base::SampleInnovation& model, do
     }
     return c;
   };
+  // Restoration is judged on the release variance where the model gives one (test(): NaN = s).
   const double release = std::isfinite(model.release_variance) && model.release_variance > 0.0 ?
                              model.parity * model.parity / model.release_variance :
-                             model.parity * model.parity / model.parity_variance;
+                             kNaN;
   return test(model.parity, model.parity * model.parity / model.parity_variance, kInnovationThreshold, cost, h,
               release);
 }
