@@ -50,9 +50,10 @@ constexpr std::uint8_t kTwistChannels = (1u << base::kGyroZ) | (1u << base::kOme
 /// The sensor mask's bits of the two wheels.
 constexpr std::uint8_t kWheelChannels = (1u << base::kOmegaLeft) | (1u << base::kOmegaRight);
 
-bool finiteStep(double h)
+/// A step the controller takes: finite, > 0 and at most params::kMaxStep [s].
+bool validStep(double h)
 {
-  return std::isfinite(h) && h > 0.0;
+  return std::isfinite(h) && h > 0.0 && h <= params::kMaxStep;
 }
 
 /**
@@ -539,7 +540,7 @@ void ActiveInferenceController::computeExactStep(double h)
 
 ActiveInferenceController::Status ActiveInferenceController::updateBeliefs(double h)
 {
-  if (!finiteStep(h))
+  if (!validStep(h))
   {
     return Status::kBadInterval;
   }
@@ -823,7 +824,7 @@ void ActiveInferenceController::learn(double h)
 
 ActiveInferenceController::Status ActiveInferenceController::updateAction(double h)
 {
-  if (!finiteStep(h))
+  if (!validStep(h))
   {
     return Status::kBadInterval;
   }

@@ -8,13 +8,15 @@
 #include <algorithm>
 #include <cmath>
 
+#include "jackal_aic/params/aic_params.hpp"
+
 namespace jackal_aic
 {
 namespace loop
 {
 double LoopStats::maxInterval() const
 {
-  return std::max(max_factor * nominal_period, min_max_interval);
+  return std::min(std::max(max_factor * nominal_period, min_max_interval), params::kMaxStep);
 }
 
 double LoopStats::record(double interval)

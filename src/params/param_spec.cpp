@@ -51,10 +51,10 @@ std::vector<ParamSpec> buildControllerRows()
   // clang-format off
   return {
     // ---- loops
-    ParamRow("loops", "belief_rate").unit("Hz").above(0.0).atMost(kMaxRate).nodeMax(kMaxLoopRate)
+    ParamRow("loops", "belief_rate").unit("Hz").atLeast(kMinRate).atMost(kMaxRate).nodeMax(kMaxLoopRate)
         .describe("Belief update rate (timer); >= action_rate; the node runs at most 10000 Hz")
         .level(1).member<&AicParams::belief_rate>(),
-    ParamRow("loops", "action_rate").unit("Hz").above(0.0).atMost(kMaxRate).nodeMax(kMaxLoopRate)
+    ParamRow("loops", "action_rate").unit("Hz").atLeast(kMinRate).atMost(kMaxRate).nodeMax(kMaxLoopRate)
         .describe("Action update rate; /cmd_drive is published at this rate; the node runs at most 10000 Hz")
         .level(1).member<&AicParams::action_rate>(),
     ParamRow("loops", "integrator")

@@ -75,6 +75,47 @@ params::AicParams fuzzedParams(FuzzedDataProvider& in)
   p.anti_windup.max_action_lead = in.ConsumeBool() ? 0.0 : number(in, -1.0, 1.0);
   p.accel_in_model = in.ConsumeBool();
   p.integrator = in.ConsumeBool() ? params::Integrator::kExact : params::Integrator::kEuler;
+  // The belief model; with the robot model (the default's, doc/active_inference.md, 'The robot
+  // model') its identified keys, noises, loop gain and learning switches.
+  switch (in.ConsumeIntegralInRange<int>(0, 2))
+  {
+    case 0:
+      p.belief_model = params::BeliefModel::kGoal;
+      break;
+    case 1:
+      p.belief_model = params::BeliefModel::kUnbiased;
+      break;
+    default: {
+      p.belief_model = params::BeliefModel::kRobot;
+      // Half the draws keep every robot key in its range (log-uniform), so that the controller is
+      // built and driven; the other half may draw anything (number()).
+      const bool plausible = in.ConsumeBool();
+      const auto draw = [&](double lo_exp, double hi_exp) {
+        return plausible ? std::pow(10.0, in.ConsumeFloatingPointInRange<double>(lo_exp, hi_exp)) :
+                           number(in, lo_exp, hi_exp);
+      };
+      params::RobotModelParams& r = p.robot;
+      r.latency = draw(-3.0, -0.4);
+      r.wheel_time_constant = in.ConsumeBool() ? 0.0 : draw(-4.0, 0.0);
+      r.wheel_acceleration = draw(0.0, 3.0);
+      r.wheel_feedforward = in.ConsumeBool() ? 0.0 : draw(-2.0, 0.3);
+      r.wheel_feedforward_acceleration =
+          in.ConsumeBool() ? 0.0 : r.wheel_acceleration * in.ConsumeFloatingPointInRange<double>(0.0, 0.99);
+      r.yaw_time_constant = draw(-3.0, 1.0);
+      r.encoder_noise = draw(-4.0, 0.0);
+      r.gyro_noise = draw(-4.0, 0.0);
+      r.wheel_model_noise = draw(-3.0, 1.0);
+      r.shortfall_noise = in.ConsumeBool() ? 0.0 : draw(-4.0, 0.0);
+      r.turn_shortfall_noise = in.ConsumeBool() ? 0.0 : draw(-3.0, 0.0);
+      r.yaw_model_noise = draw(-3.0, 1.0);
+      r.yaw_slip_noise = draw(-3.0, 0.0);
+      r.gyro_offset_noise = draw(-4.0, 0.0);
+      r.action_gain = draw(0.0, 3.0);
+      r.learn_latency = in.ConsumeBool();
+      p.separation_learner.enabled = in.ConsumeBool();
+      break;
+    }
+  }
   return p;
 }
 

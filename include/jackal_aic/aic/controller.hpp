@@ -70,7 +70,7 @@ public:
   {
     kOk,             ///< state advanced
     kNoMeasurement,  ///< no measurement yet: state not moved
-    kBadInterval,    ///< h <= 0 or non-finite: state not moved
+    kBadInterval,    ///< h <= 0, non-finite or > params::kMaxStep: state not moved
     kRunaway         ///< beliefs or action became non-finite, a belief exceeded runaway_limit, or one action
                      ///< step moved a wheel's command by more than 2 max_wheel_speed (a diverging action):
                      ///< beliefs and action reset to zero (goal and held measurement kept), runawayCount()
@@ -158,7 +158,7 @@ public:
    * Psi(h) = Psi(h0) + exp(M h0) Psi(h - h0), Psi(dh) by its series to the dh^3 term (a
    * jittery loop interval then costs three matrix-vector products, not an exponential).
    * Stable for any h > 0 when the continuous dynamics are.
-   * \param h  belief step [s], finite and > 0
+   * \param h  belief step [s], finite, > 0 and <= params::kMaxStep
    * \return kOk; kBadInterval (state kept); kNoMeasurement (state kept); kRunaway (see Status).
    */
   Status updateBeliefs(double h);
@@ -186,7 +186,7 @@ public:
    *        2 max_wheel_speed on a wheel (more than the wheels' whole speed range in one step),
    *        resets beliefs and action to zero (kRunaway) instead of clamping it to
    *        +-max_wheel_speed.
-   * \param h  action step [s], finite and > 0
+   * \param h  action step [s], finite, > 0 and <= params::kMaxStep
    * \return kOk; kBadInterval (state kept); kNoMeasurement (state kept); kRunaway (see Status).
    */
   Status updateAction(double h);

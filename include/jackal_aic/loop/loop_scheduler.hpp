@@ -36,7 +36,8 @@ struct LoopStats
   std::uint64_t window_ticks = 0;      ///< callbacks in the window
   double window_max_duration = 0.0;    ///< longest callback execution in the window [s]
 
-  /// The longest interval integrated [s]: max(max_factor * nominal_period, min_max_interval).
+  /// The longest interval integrated [s]: max(max_factor * nominal_period, min_max_interval),
+  /// at most params::kMaxStep (the longest step the controller takes).
   double maxInterval() const;
   /// Record one measured interval [s]; a non-finite or non-positive one (first tick) counts as
   /// nominal_period. \return the interval to integrate with [s], clamped to maxInterval().

@@ -53,9 +53,16 @@ bool beliefModelFromString(const std::string& name, BeliefModel* out);
 /// "goal", "unbiased" or "robot".
 std::string toString(BeliefModel model);
 
+/// The longest belief or action step the controller takes [s] (ActiveInferenceController rejects
+/// longer ones as kBadInterval; the node's loops clamp to it). A step predicts the robot over its
+/// whole interval (the robot model in 1 ms substeps, WheelLoopModel::kSubstep), and a loop that
+/// stalled for longer than this has no state worth continuing from.
+constexpr double kMaxStep = 1.0;
+
 /// \name Sanity bounds of AicParams::validate(), used by the parameter schema (guards against
 /// absurd values that would overflow the free energy or its gradient; far outside any useful setting).
 ///@{
+constexpr double kMinRate = 1.0 / kMaxStep;    ///< smallest belief/action rate [Hz] (a period of at most kMaxStep)
 constexpr double kMaxRate = 1.0e6;             ///< largest belief/action rate [Hz]
 constexpr double kMinTau = 1.0e-6;             ///< smallest tau [s]
 constexpr double kMaxTau = 1.0e3;              ///< largest tau [s]
@@ -159,7 +166,7 @@ struct AicParams
    * \brief Check every rule; report every violation (empty vector = valid).
    *
    * The ranges are those of the parameter schema (include/jackal_aic/params/param_spec.hpp,
-   * the controller keys): rates finite, > 0 and <= kMaxRate; tau in [kMinTau, kMaxTau];
+   * the controller keys): rates finite, >= kMinRate and <= kMaxRate; tau in [kMinTau, kMaxTau];
    * k_mu, k_a finite, > 0 and <= kMaxGain; 1 <= embedding_order <= kMaxEmbeddingOrder;
    * var_mu of size p+1 or 3(p+1), var_y of size p+1 or 5(p+1), every variance in
    * [kMinVariance, kMaxVariance]; wheel_radius, wheel_separation in [kMinLength, kMaxLength];

@@ -69,7 +69,7 @@ TEST(Controller, BadIntervalKeepsState)
   ASSERT_EQ(c.updateAction(0.02), Status::kOk);
   const base::MuTilde mu = c.mu();
   const base::Vector2 a = c.action();
-  for (double bad : { 0.0, -0.02, kNaN, kInf })
+  for (double bad : { 0.0, -0.02, kNaN, kInf, 2.0 * params::kMaxStep })
   {
     EXPECT_EQ(c.updateBeliefs(bad), Status::kBadInterval);
     EXPECT_EQ(c.updateAction(bad), Status::kBadInterval);
@@ -150,21 +150,23 @@ TEST(Controller, RunawayIsDetectedAndReset)
   EXPECT_FALSE(c.hasMeasurement());
 }
 
-TEST(Controller, ANonFiniteActionIsResetNotClamped)
+TEST(Controller, AnActionStepBeyondTheWheelsRangeIsResetNotClamped)
 {
-  // The action's own guard, reached directly: with finite, valid inputs an interval as long as
-  // the largest double overflows a_F + h da_F/dt to infinity. The update must reset (zero action,
-  // kRunaway), not pass the overflow on to the wheel clamp, which would make it +-max_wheel_speed.
+  // The action's own guard, reached directly: with the largest action gain the schema allows and
+  // the longest step the controller takes, one step of a_F moves a wheel's command by far more
+  // than 2 max_wheel_speed. The update must reset (zero action, kRunaway), not pass it on to the
+  // wheel clamp, which would make it +-max_wheel_speed.
   params::AicParams p = thesisStandard();
+  p.k_a = params::kMaxGain;
   aic::ActiveInferenceController c{ p };
   ASSERT_TRUE(c.setGoal(base::Vector3(1.0, 0.0, 0.0)));
   base::YTilde y = base::YTilde::Zero(5, 4);
   y(base::kOmegaLeft, 0) = 3.0;
   y(base::kOmegaRight, 0) = 3.0;
   ASSERT_TRUE(c.setMeasurement(y));
-  ASSERT_EQ(c.updateAction(0.02), Status::kOk);
-  ASSERT_FALSE(c.action().isZero()) << "no action to overflow";
-  EXPECT_EQ(c.updateAction(std::numeric_limits<double>::max()), Status::kRunaway);
+  ASSERT_EQ(c.updateAction(1.0e-9), Status::kOk);
+  ASSERT_FALSE(c.action().isZero()) << "no action to reset";
+  EXPECT_EQ(c.updateAction(params::kMaxStep), Status::kRunaway);
   EXPECT_TRUE(c.action().isZero()) << c.action().transpose();
   EXPECT_EQ(c.runawayCount(), 1u);
 }

@@ -742,6 +742,32 @@ TEST(ControllerRobotModel, TheCommandMakesUpAShortfall)
   EXPECT_NEAR(c.mu()(0, 0), 0.5, 0.005);
 }
 
+TEST(ControllerRobotModel, AStepLongerThanTheLongestIsRefusedNotSimulated)
+{
+  // The robot model predicts a step in 1 ms substeps: a step of 1e300 s would never end. Every
+  // step beyond params::kMaxStep is refused and the state kept; the longest one is taken.
+  params::AicParams p = params::recommendedAicParams();
+  p.belief_model = params::BeliefModel::kRobot;
+  aic::ActiveInferenceController c(p);
+  ASSERT_TRUE(c.setGoal(base::Vector3(0.5, 0.0, 0.3)));
+  ASSERT_TRUE(c.setMeasurement(base::YTilde::Zero(base::kYDim, p.numOrders())));
+  ASSERT_EQ(c.updateBeliefs(0.001), Status::kOk);
+  ASSERT_EQ(c.updateAction(0.02), Status::kOk);
+  const base::MuTilde mu = c.mu();
+  const base::Vector2 a = c.action();
+  for (double too_long : { std::nextafter(params::kMaxStep, 2.0), 1.0e3, 1.0e300, 1.7976931348623157e308 })
+  {
+    EXPECT_EQ(c.updateBeliefs(too_long), Status::kBadInterval) << too_long;
+    EXPECT_EQ(c.updateAction(too_long), Status::kBadInterval) << too_long;
+    EXPECT_EQ(c.mu(), mu);
+    EXPECT_EQ(c.action(), a);
+  }
+  EXPECT_EQ(c.updateBeliefs(params::kMaxStep), Status::kOk);
+  EXPECT_EQ(c.updateAction(params::kMaxStep), Status::kOk);
+  EXPECT_TRUE(c.action().allFinite());
+  EXPECT_LE(c.action().cwiseAbs().maxCoeff(), p.max_wheel_speed);
+}
+
 TEST(ControllerRobotModel, ResetLearningForgetsTheSlowStates)
 {
   params::AicParams p = params::recommendedAicParams();

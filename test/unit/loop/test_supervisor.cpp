@@ -470,6 +470,18 @@ TEST(LoopScheduler, FastLoopsCatchUpAtLeastTenMilliseconds)
   EXPECT_EQ(slow.tick(1.0).steps, 10);
 }
 
+TEST(LoopScheduler, NoIntervalIsLongerThanTheControllersLongestStep)
+{
+  // At 0.5 Hz three periods are 6 s; the controller takes steps of at most params::kMaxStep.
+  loop::LoopScheduler action(0.5, loop::kMaxActionIntervalFactor, false);
+  EXPECT_DOUBLE_EQ(action.stats().maxInterval(), params::kMaxStep);
+  EXPECT_DOUBLE_EQ(action.tick(4.0).h, params::kMaxStep);
+  loop::LoopScheduler belief(0.2, loop::kMaxBeliefIntervalFactor, true, loop::kMinBeliefCatchUpInterval);
+  const auto t = belief.tick(100.0);
+  EXPECT_EQ(t.steps, 1);
+  EXPECT_DOUBLE_EQ(t.h, params::kMaxStep);
+}
+
 TEST(LoopScheduler, FractionsAverageOut)
 {
   // 1.5 periods per tick: steps alternate 2, 1, 2, 1 ... so 1.5 steps per tick on average.

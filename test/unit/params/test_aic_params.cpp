@@ -60,13 +60,29 @@ TEST(Params, SummaryNamesTheBeliefModelAndTheKeysThatShapeItsCommand)
   EXPECT_EQ(robot.find("tau"), std::string::npos) << "a key without effect in the robot model: " << robot;
 }
 
+namespace
+{
+/// A loop rate: positive, at most kMaxRate, and at least kMinRate, so that no period is longer
+/// than the longest step the controller takes (kMaxStep).
+void expectRateRule(double AicParams::*member, const std::string& name)
+{
+  expectPositiveRule(member, name, jackal_aic::params::kMaxRate);
+  AicParams p;
+  p.belief_rate = p.action_rate = jackal_aic::params::kMinRate;
+  EXPECT_FALSE(hasViolation(p, name)) << name << " = kMinRate must be allowed";
+  p.*member = 0.5 * jackal_aic::params::kMinRate;
+  EXPECT_TRUE(hasViolation(p, name)) << name << " = " << p.*member;
+  EXPECT_LE(1.0 / jackal_aic::params::kMinRate, jackal_aic::params::kMaxStep);
+}
+}  // namespace
+
 TEST(Params, BeliefRate)
 {
-  expectPositiveRule(&AicParams::belief_rate, "belief_rate", jackal_aic::params::kMaxRate);
+  expectRateRule(&AicParams::belief_rate, "belief_rate");
 }
 TEST(Params, ActionRate)
 {
-  expectPositiveRule(&AicParams::action_rate, "action_rate", jackal_aic::params::kMaxRate);
+  expectRateRule(&AicParams::action_rate, "action_rate");
 }
 TEST(Params, Tau)
 {
