@@ -133,6 +133,8 @@ const char* toString(PiStatus status)
       return "non_positive_step";
     case PiStatus::kGoalOutOfOrder:
       return "goal_out_of_order";
+    case PiStatus::kRestarted:
+      return "restarted";
   }
   return "unknown";
 }
@@ -197,7 +199,10 @@ PiCommand PiController::update(double t, const base::Vector2& wheels, double gyr
   }
   const double h = params_.period;
   double dt = h;
-  if (!started_)
+  // A gap longer than the longest step restarts the expected responses as the first update starts
+  // them: the commands in flight are long done, and the models would simulate the gap in 1 ms steps.
+  const bool restart = started_ && t - last_t_ > params::kMaxStep;
+  if (!started_ || restart)
   {
     // The models start from the wheels as measured with no command in flight: what was sent
     // before the first update is unknown, the wheels' speeds are not.
@@ -249,7 +254,7 @@ PiCommand PiController::update(double t, const base::Vector2& wheels, double gyr
   const base::Vector2 wheel_error = w_ref_ - wheels;
   const base::Vector2 unclamped = u_ff_ + trim_wheels + params_.wheel.kp * wheel_error + wheel_integral_;
   PiCommand out;
-  out.status = PiStatus::kOk;
+  out.status = restart ? PiStatus::kRestarted : PiStatus::kOk;
   for (int s = 0; s < 2; ++s)
   {
     out.wheels(s) = std::clamp(unclamped(s), -max_speed, max_speed);

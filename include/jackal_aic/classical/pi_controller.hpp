@@ -74,10 +74,12 @@ enum class PiStatus
   kOk,               ///< accepted
   kNotFinite,        ///< a time, goal or measurement is NaN or infinite: ignored
   kNonPositiveStep,  ///< the time did not advance past the previous update's: ignored
-  kGoalOutOfOrder    ///< a goal older than the previous change: ignored
+  kGoalOutOfOrder,   ///< a goal older than the previous change: ignored
+  kRestarted         ///< more than params::kMaxStep since the previous update: the expected responses
+                     ///< restart from the measured wheels (as at the first update); the command is computed
 };
 
-/// "ok", "not_finite", "non_positive_step", "goal_out_of_order".
+/// "ok", "not_finite", "non_positive_step", "goal_out_of_order", "restarted".
 const char* toString(PiStatus status);
 
 /// One update's output.
@@ -121,7 +123,8 @@ struct PiCommand
  *
  * No heap allocation after construction, no exceptions after construction. Bad input (a non-finite
  * time, goal or measurement, a time that does not advance) is refused with its PiStatus and leaves
- * the state and the command unchanged, so the command is never non-finite.
+ * the state and the command unchanged, so the command is never non-finite; a gap longer than
+ * params::kMaxStep restarts the expected responses (kRestarted).
  */
 class PiController
 {
@@ -143,7 +146,10 @@ public:
    * \brief One update at time t [s] with the measured wheel speeds (omega_L, omega_R) [rad/s]
    *        (the encoders' side means) and the gyro's yaw rate [rad/s].
    * \return the command; status kNotFinite or kNonPositiveStep (t not after the previous
-   *         update's) leave every state unchanged and repeat the previous command
+   *         update's) leave every state unchanged and repeat the previous command; kRestarted
+   *         (t more than params::kMaxStep after the previous update: nothing predicted over such a
+   *         gap holds, and simulating it would take without bound) restarts the expected responses
+   *         from the measured wheels, as the first update does, and integrates one period
    */
   PiCommand update(double t, const base::Vector2& wheels, double gyro_z);
 

@@ -132,6 +132,34 @@ TEST(PiController, BadInputIsRefusedAndTheCommandStaysFinite)
   EXPECT_STREQ(classical::toString(classical::PiStatus::kNonPositiveStep), "non_positive_step");
 }
 
+TEST(PiController, AGapLongerThanTheLongestStepRestartsTheModelsNotSimulatesThem)
+{
+  // The expected responses advance in 1 ms steps: a gap of 1e300 s would never end. A gap beyond
+  // params::kMaxStep restarts them from the measured wheels, and the loop goes on from there.
+  classical::PiController c;
+  ASSERT_EQ(c.setGoal(0.0, 0.5, 0.2), classical::PiStatus::kOk);
+  ASSERT_EQ(c.update(0.02, base::Vector2::Zero(), 0.0).status, classical::PiStatus::kOk);
+  double t = 0.02 + 0.5 * params::kMaxStep;  // within the longest step: integrated
+  ASSERT_EQ(c.update(t, base::Vector2::Zero(), 0.0).status, classical::PiStatus::kOk);
+  const base::Vector2 wheels(4.0, 6.0);
+  for (double gap : { 1.5 * params::kMaxStep, 1.0e300 })
+  {
+    t += gap;
+    const classical::PiCommand cmd = c.update(t, wheels, 0.0);
+    EXPECT_EQ(cmd.status, classical::PiStatus::kRestarted) << gap;
+    EXPECT_EQ(cmd.expected, wheels) << "the expected response restarts from the measured wheels";
+    EXPECT_TRUE(cmd.wheels.allFinite());
+    EXPECT_LE(cmd.wheels.cwiseAbs().maxCoeff(), c.params().max_wheel_speed);
+    EXPECT_TRUE(c.wheelIntegral().allFinite());
+    if (gap < 1.0e3)
+    {
+      t += 0.02;
+      EXPECT_EQ(c.update(t, wheels, 0.0).status, classical::PiStatus::kOk) << "the loop goes on after a restart";
+    }
+  }
+  EXPECT_STREQ(classical::toString(classical::PiStatus::kRestarted), "restarted");
+}
+
 TEST(PiController, FeedForwardAloneTracksTheModelsOwnPlant)
 {
   // On the plant the model describes, the wheels reach the goal's speed one latency after it
