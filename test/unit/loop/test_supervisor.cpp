@@ -472,11 +472,12 @@ TEST(LoopScheduler, FastLoopsCatchUpAtLeastTenMilliseconds)
 
 TEST(LoopScheduler, NoIntervalIsLongerThanTheControllersLongestStep)
 {
-  // At 0.5 Hz three periods are 6 s; the controller takes steps of at most params::kMaxStep.
-  loop::LoopScheduler action(0.5, loop::kMaxActionIntervalFactor, false);
+  // At the slowest rate the parameters allow, three action periods and ten belief periods are
+  // longer than the controller's longest step, params::kMaxStep.
+  loop::LoopScheduler action(params::kMinRate, loop::kMaxActionIntervalFactor, false);
   EXPECT_DOUBLE_EQ(action.stats().maxInterval(), params::kMaxStep);
   EXPECT_DOUBLE_EQ(action.tick(4.0).h, params::kMaxStep);
-  loop::LoopScheduler belief(0.2, loop::kMaxBeliefIntervalFactor, true, loop::kMinBeliefCatchUpInterval);
+  loop::LoopScheduler belief(params::kMinRate, loop::kMaxBeliefIntervalFactor, true, loop::kMinBeliefCatchUpInterval);
   const auto t = belief.tick(100.0);
   EXPECT_EQ(t.steps, 1);
   EXPECT_DOUBLE_EQ(t.h, params::kMaxStep);
