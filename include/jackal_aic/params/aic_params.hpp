@@ -53,10 +53,11 @@ bool beliefModelFromString(const std::string& name, BeliefModel* out);
 /// "goal", "unbiased" or "robot".
 std::string toString(BeliefModel model);
 
-/// The longest belief or action step the controller takes [s] (ActiveInferenceController rejects
-/// longer ones as kBadInterval; the node's loops clamp to it). A step predicts the robot over its
-/// whole interval (the robot model in 1 ms substeps, WheelLoopModel::kSubstep), and a loop that
-/// stalled for longer than this has no state worth continuing from.
+/// The longest belief or action step the controller takes [s]: ActiveInferenceController refuses a
+/// longer one (kBadInterval), and the node's loops clamp their intervals to it (a loop stalled for
+/// longer has stale sensors; the stall is integrated as this long). A step predicts the robot over
+/// its whole interval, the robot model in 1 ms substeps (WheelLoopModel::kSubstep), so its cost is
+/// bounded by this.
 constexpr double kMaxStep = 1.0;
 
 /// \name Sanity bounds of AicParams::validate(), used by the parameter schema (guards against
