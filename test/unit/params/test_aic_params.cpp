@@ -70,7 +70,8 @@ void expectRateRule(double AicParams::*member, const std::string& name)
   AicParams p;
   p.belief_rate = p.action_rate = jackal_aic::params::kMinRate;
   EXPECT_FALSE(hasViolation(p, name)) << name << " = kMinRate must be allowed";
-  p.*member = 0.5 * jackal_aic::params::kMinRate;
+  // Both below, equal: belief_rate >= action_rate holds, so only the range rule can name the key.
+  p.belief_rate = p.action_rate = 0.5 * jackal_aic::params::kMinRate;
   EXPECT_TRUE(hasViolation(p, name)) << name << " = " << p.*member;
   EXPECT_LE(1.0 / jackal_aic::params::kMinRate, jackal_aic::params::kMaxStep);
 }
