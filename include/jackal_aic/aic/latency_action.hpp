@@ -56,7 +56,8 @@ public:
    * \param now         the model's clock [s]
    * \param goal        the wheels' goal g at t + L + h_a [rad/s]
    * \param previous    the action held now [rad/s]
-   * \param h_a         the action step [s], > 0
+   * \param h_a         the action step [s], > 0; the cost grows as h_a / WheelLoopModel::kSubstep
+   *                    per bisection step (the controller's steps are at most params::kMaxStep)
    * \param gain        k_a [1/s], > 0
    * \param max_speed   the command's bound [rad/s], > 0
    * \param pi_e        the goal prior's precision [(rad/s)^-2], > 0 (only scales free_energy)
@@ -67,7 +68,8 @@ public:
                                   double pi_e);
 
   /// One side's wheel speed after h [s] from omega0 [rad/s] under the command u less d [rad/s], the
-  /// command stream's rate being `rate` [rad/s^2] (WheelLoopModel::step()).
+  /// command stream's rate being `rate` [rad/s^2] (WheelLoopModel::step()), in substeps of at most
+  /// WheelLoopModel::kSubstep: h / kSubstep steps, so the caller bounds h.
   static double response(const WheelLoopModel& loop, double omega0, double u, double rate, double d, double h);
 };
 

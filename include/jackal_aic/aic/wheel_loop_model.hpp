@@ -71,6 +71,8 @@ public:
   /**
    * \brief The wheel speeds at time t1 > t0 from omega0 at t0 [s], under the commands in flight
    *        (commandAt(), commandRateAt()) less the shortfall d [rad/s], in substeps of at most kSubstep.
+   *        Its cost is (t1 - t0) / kSubstep steps, without bound: the caller bounds the span (the
+   *        controller's steps are at most params::kMaxStep, the latency at most its range).
    */
   base::Vector2 predict(const base::Vector2& omega0, const base::Vector2& d, double t0, double t1) const;
   /// predict() with the commands taking effect a latency `latency` [s] after they were sent instead of L.
