@@ -97,6 +97,23 @@ TEST(RobotModel, ArcsHoldTheCommandedYawRateAndAreBelieved)
   }
 }
 
+TEST(RobotModel, TheBelievedSlipRatioTurnsTheCommandWithoutTheLearnedSeparation)
+{
+  // The action inverts the model's yaw map (1 - s) r alpha (omega_R - omega_L) / b_hat with the slip
+  // ratio s it believes: with b_hat fixed (no learning) at 0.9 and 1.1 x the plant's effective
+  // separation (0.5355 m on this arc), the 0.5 m/s + 0.5 rad/s arc's steady true yaw rate is still
+  // within 1.5 % of the command (through b_hat alone it would be off by b_hat's error).
+  for (const double b0 : { 0.482, 0.589 })
+  {
+    SCOPED_TRACE("b_hat fixed at " + std::to_string(b0) + " m");
+    const ClosedLoopRecord r =
+        run(robotModel({ "learn_wheel_separation=false", "wheel_separation=" + std::to_string(b0) }), 0.5, 0.5, 7.0);
+    EXPECT_EQ(r.runaways, 0u);
+    EXPECT_DOUBLE_EQ(r.separation.back(), b0);
+    EXPECT_NEAR(windowMean(r, r.yaw_true, 4.0, 7.0), 0.5, 0.015 * 0.5);
+  }
+}
+
 TEST(RobotModel, StepsAndTheArcsOvershootRegressionGuard)
 {
   // Regression guard of the measured figures (doc/active_inference.md, 'The robot model'):

@@ -396,6 +396,15 @@ private:
   Status updateRobotBeliefs(double h);
   /// belief_model robot: the action step (LatencyAction through WheelLoopModel).
   Status updateRobotAction(double h);
+  /**
+   * \brief belief_model robot: the factor [-] on the goal's differential wheel speed (omega_R -
+   *        omega_L) / 2 of the inverse through b_hat (eq. 3-3) that the model's yaw map
+   *        theta_dot = (1 - s) r alpha (omega_R - omega_L) / b_hat needs: 1 / (1 - s), s the believed
+   *        slip ratio (doc/active_inference.md, 'The robot model'). The separation it turns with,
+   *        b_hat / (1 - s), is held to the learner's bounds [separation_min, separation_max] (widened
+   *        to include b_hat); s >= 1 (no yaw from the wheels) gives the upper bound, a non-finite s 1.
+   */
+  double slipTurnFactor() const;
 
   params::AicParams params_;
   SkidSteerModel model_;
