@@ -760,8 +760,8 @@ double ActiveInferenceController::slipTurnFactor() const
 {
   const double s = robot_belief_.slipRatio();
   const double b = model_.wheelSeparation();
-  const double lo = std::min(params_.separation_learner.min / b, 1.0);
-  const double hi = std::max(params_.separation_learner.max / b, 1.0);
+  const double lo = std::max(std::min(params_.separation_learner.min / b, 1.0), 1.0 / (1.0 + kMaxSlipTurn));
+  const double hi = std::min(std::max(params_.separation_learner.max / b, 1.0), 1.0 + kMaxSlipTurn);
   if (std::isnan(s))
   {
     return 1.0;
