@@ -790,8 +790,9 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
     goal_turn = path(2);
     // The wheels through the model's yaw map (1 - s) r alpha (omega_R - omega_L) / b_hat: the
     // inverse through the learned b_hat, its turn scaled by 1 / (1 - s). The slip ratio s believed
-    // now reaches the command at once; b_hat takes its steady part in at the learner's rate, and
-    // their ratio, the separation the command turns with, is unchanged by that transfer.
+    // now reaches the command at once, within kMaxSlipTurn (slipTurnFactor()); b_hat takes its
+    // steady part in at the learner's rate, and that transfer leaves b_hat / (1 - s), the
+    // separation the command turns with, where it was.
     const base::SensorMatrix& R = model_.R();
     goal << R.row(base::kOmegaLeft).dot(path), R.row(base::kOmegaRight).dot(path);
     base::Vector2 cd = commonDifferential(goal);
