@@ -756,23 +756,6 @@ void ActiveInferenceController::learnRobotSeparation(double h)
   applyLearnedSeparation(false);
 }
 
-double ActiveInferenceController::slipTurnFactor() const
-{
-  const double s = robot_belief_.slipRatio();
-  const double b = model_.wheelSeparation();
-  const double lo = std::max(std::min(params_.separation_learner.min / b, 1.0), 1.0 / (1.0 + kMaxSlipTurn));
-  const double hi = std::min(std::max(params_.separation_learner.max / b, 1.0), 1.0 + kMaxSlipTurn);
-  if (std::isnan(s))
-  {
-    return 1.0;
-  }
-  if (!(s < 1.0))
-  {
-    return hi;
-  }
-  return std::clamp(1.0 / (1.0 - s), lo, hi);
-}
-
 ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(double h)
 {
   // The robot model's action step: the goal's path, predicted one latency ahead and bounded by
@@ -788,16 +771,10 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
     reference_.holdTipSpeed(model_.twistFromWheels(robot_belief_.wheelSpeeds())(0));  // x_dot
     const base::Vector3 path = reference_.pathAhead(h);
     goal_turn = path(2);
-    // The wheels through the model's yaw map (1 - s) r alpha (omega_R - omega_L) / b_hat: the
-    // inverse through the learned b_hat, its turn scaled by 1 / (1 - s). The slip ratio s believed
-    // now reaches the command at once, within kMaxSlipTurn (slipTurnFactor()); b_hat takes its
-    // steady part in at the learner's rate, and that transfer leaves b_hat / (1 - s), the
-    // separation the command turns with, where it was.
+    // The wheels through the learned b_hat (the slip ratio's steady part reaches the command
+    // through b_hat, at the learner's rate: a transient's slip does not).
     const base::SensorMatrix& R = model_.R();
     goal << R.row(base::kOmegaLeft).dot(path), R.row(base::kOmegaRight).dot(path);
-    base::Vector2 cd = commonDifferential(goal);
-    cd(1) *= slipTurnFactor();
-    goal = wheelPair(cd);
   }
   const double pi_e = 1.0 / (params_.robot.encoder_noise * params_.robot.encoder_noise);
   // At rest the command is zero: the MCU holds the wheels, there is no shortfall to make up.

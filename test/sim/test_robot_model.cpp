@@ -97,23 +97,6 @@ TEST(RobotModel, ArcsHoldTheCommandedYawRateAndAreBelieved)
   }
 }
 
-TEST(RobotModel, TheBelievedSlipRatioTurnsTheCommandWithoutTheLearnedSeparation)
-{
-  // The action inverts the model's yaw map (1 - s) r alpha (omega_R - omega_L) / b_hat with the slip
-  // ratio s it believes: with b_hat fixed (no learning) at 0.9 and 1.1 x the plant's effective
-  // separation (0.5355 m on this arc), the 0.5 m/s + 0.5 rad/s arc's steady true yaw rate is still
-  // within 1.5 % of the command (through b_hat alone it would be off by b_hat's error).
-  for (const double b0 : { 0.482, 0.589 })
-  {
-    SCOPED_TRACE("b_hat fixed at " + std::to_string(b0) + " m");
-    const ClosedLoopRecord r =
-        run(robotModel({ "learn_wheel_separation=false", "wheel_separation=" + std::to_string(b0) }), 0.5, 0.5, 7.0);
-    EXPECT_EQ(r.runaways, 0u);
-    EXPECT_DOUBLE_EQ(r.separation.back(), b0);
-    EXPECT_NEAR(windowMean(r, r.yaw_true, 4.0, 7.0), 0.5, 0.015 * 0.5);
-  }
-}
-
 TEST(RobotModel, StepsAndTheArcsOvershootRegressionGuard)
 {
   // Regression guard of the measured figures (doc/active_inference.md, 'The robot model'):
@@ -461,29 +444,6 @@ double finiteMax(const std::vector<double>& b)
     m = std::isfinite(x) ? std::max(m, x) : m;
   }
   return m;
-}
-
-TEST(RobotModel, ASlipRatioLearnedInAnotherTurnTurnsTheCommandAtMostTwentyPerCent)
-{
-  // The turn-deficit firmware on teleop_joystick, with the model's wheel loop without the MCU's
-  // feed-forward and L fixed: a slip ratio of more than 0.6 learned in the turns before is still
-  // believed when a 1.4 rad/s turn in place starts (9 s). Unbounded, 1 / (1 - s) turned the command
-  // 2.7 x the goal's and the robot at 3.2 rad/s for 2.5 s (RMS yaw-rate error 0.64 rad/s); the
-  // separation the command turns with stays within kMaxSlipTurn = 20 % of b_hat (RMS 0.21 rad/s,
-  // the same run with the command through b_hat alone 0.21).
-  const analysis::TwistProfile profile = analysis::loadTwistProfileCsv(kRoot + "/sim/profiles/teleop_joystick.csv");
-  const ClosedLoopRecord r = runProfile(robotModel({ "wheel_feedforward=0", "wheel_feedforward_acceleration=0",
-                                                     "wheel_time_constant=0.00657", "learn_latency=false" }),
-                                        profileSegments(profile, 1.0), 1.0 + profile.duration, {},
-                                        { "sim/config/variants/turn_deficit.yaml" });
-  EXPECT_EQ(r.runaways, 0u);
-  EXPECT_LE(rmsYawError(r), 0.3);
-  double largest = 0.0;
-  for (const double w : r.yaw_true)
-  {
-    largest = std::max(largest, std::abs(w));
-  }
-  EXPECT_LE(largest, 2.0);  // the set point's largest 1.4 rad/s (unbounded: 3.3)
 }
 
 TEST(RobotModel, TheSlipRatioMovesTheSeparationOnlyInATurn)

@@ -286,12 +286,6 @@ public:
   bool actionSaturated() const { return action_saturated_; }
   /// Relative change of the learned b_hat that rebuilds the model (and the exact integrator) [-].
   static constexpr double kSeparationApplyTolerance = 1.0e-3;
-  /// The slip ratio turns the robot model's command by at most this share at once (slipTurnFactor()):
-  /// a Jackal's effective separation lies between about 1.0 and 1.5 x its track by floor and load
-  /// (doc/active_inference.md, 'Learning the generative model'), +-20 % about the middle; a slip
-  /// ratio asking for more is not this turn's (learned in another turn, or a sensor's fault), and
-  /// b_hat takes it at the learner's rate if it holds.
-  static constexpr double kMaxSlipTurn = 0.2;
 
   /**
    * \brief The learner of the order-0 sensory precisions (params().precision_learner.enabled;
@@ -402,17 +396,6 @@ private:
   Status updateRobotBeliefs(double h);
   /// belief_model robot: the action step (LatencyAction through WheelLoopModel).
   Status updateRobotAction(double h);
-  /**
-   * \brief belief_model robot: the factor [-] on the goal's differential wheel speed (omega_R -
-   *        omega_L) / 2 of the inverse through b_hat (eq. 3-3) that the model's yaw map
-   *        theta_dot = (1 - s) r alpha (omega_R - omega_L) / b_hat needs: 1 / (1 - s), s the believed
-   *        slip ratio (doc/active_inference.md, 'The robot model'). The separation it turns with,
-   *        b_hat / (1 - s), is held to the learner's bounds [separation_min, separation_max] (widened
-   *        to include b_hat) and within kMaxSlipTurn of b_hat: the factor is in [1 / (1 +
-   *        kMaxSlipTurn), 1 + kMaxSlipTurn]. s >= 1 (no yaw from the wheels) gives the upper bound, a
-   *        non-finite s 1.
-   */
-  double slipTurnFactor() const;
 
   params::AicParams params_;
   SkidSteerModel model_;
