@@ -44,7 +44,7 @@ sys.path.insert(0, os.path.join(ROOT, "src"))
 from jackal_aic_tools.track import driving, plant_limits  # noqa: E402
 
 #: Regression guards: (what, today's figure, the guard, the documented bound). Today's figures are
-#: doc/results/scorecard.txt's (6a, 6b, 6d, 6e, 6g).
+#: doc/results/scorecard.txt's (6a, 6b, 6d, 6e, 6g, 6h).
 GUARD_GMEAN = ("tracking, geometric mean AIC / stock (plant-following channels)", 0.741, 0.77,
                driving.TRACK_GMEAN_BOUND)
 #: AIC / latency floor (table 6e) over the plant-following channels; the bound 1.20 removes three
@@ -58,9 +58,9 @@ GUARD_ARC_OVERSHOOT = ("arc, yaw overshoot [%]", 6.3, 7.0, driving.STEP_OVERSHOO
 #: firmware's turns (`planner_10hz`).
 GUARD_BELIEF = ("honest belief, tracking runs above their bound", 3, 4, 0)
 #: Judged tracking runs whose end-of-profile |heading error| is above the stock controller's + 0.02 rad
-#: (table 6h; pairs whose plant follows both channels): the heading drifts where the yaw-rate belief
-#: follows the wheels' separation (s-curves, low friction), and the robot with its rated payload 0.15 m
-#: forward tips over its front wheels on the fast profile's stop.
+#: (table 6h; pairs whose plant follows both channels): `s_curves` on low friction, with the rated
+#: payload forward and on the turn-deficit firmware, `stop_and_go` on low friction, and
+#: `teleop_joystick` on `front_heavy` and at +20 % latency.
 GUARD_HEADING = ("end-of-profile heading, judged runs above their bound", 6, 8, 0)
 #: The arc's yaw overshoot is acceptance with the model's initial wheel separation at the plant's
 #: effective one (table 6i): what remains of GUARD_ARC_OVERSHOOT is the prior b_hat_0 (the thesis's
