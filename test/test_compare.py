@@ -149,7 +149,7 @@ class VariantLines(unittest.TestCase):
         self.assertEqual(v.config, DEFAULT)
         with open(os.path.join(ROOT, "config", "goal_model.yaml")) as f:
             keys = [line.split(":")[0] for line in f if line[:1].isalpha()]
-        self.assertEqual(keys, ["belief_model"])
+        self.assertEqual(keys, ["belief_model", "max_goal_rate_angular"])
         self.assertEqual([s.split("=")[0] for s in v.sets], keys + ["k_a", "tau"])
         self.assertEqual(v.sets[0], "belief_model=goal")
         self.assertEqual(v.sets[-2:], ["k_a=0.003", "tau=0.02"])

@@ -7,6 +7,7 @@
 
 #include "jackal_aic/params/param_spec.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -209,9 +210,10 @@ ReferenceModelParams goalRateParams(const AicParams& params)
   ReferenceModelParams rp = params.reference;
   if (params.belief_model == BeliefModel::kRobot)
   {
+    // The configured bound (the set-point stream's), within what the wheels can follow.
     const double wheel = robotWheelAcceleration(params);
-    rp.max_goal_rate_linear = wheel;
-    rp.max_goal_rate_angular = 2.0 * wheel / params.wheel_separation;
+    rp.max_goal_rate_linear = std::min(params.reference.max_goal_rate_linear, wheel);
+    rp.max_goal_rate_angular = std::min(params.reference.max_goal_rate_angular, 2.0 * wheel / params.wheel_separation);
   }
   return rp;
 }

@@ -123,11 +123,12 @@ std::vector<ParamSpec> buildControllerRows()
                   "long")
         .member<&AicParams::reference, &ReferenceModelParams::goal_rate_hold>(),
     ParamRow("active_inference", "max_goal_rate_linear").unit("m/s^2").above(0.0).atMost(kMaxGain)
-        .describe("Generalized goal: |mu_d'| of x_dot is clamped to this (belief_model robot: to A_w r, what the "
-                  "wheels can follow)")
+        .describe("Generalized goal: |mu_d'| of x_dot is clamped to this: a faster set-point change is followed, "
+                  "not extrapolated (belief_model robot: also to A_w r, what the wheels can follow)")
         .member<&AicParams::reference, &ReferenceModelParams::max_goal_rate_linear>(),
     ParamRow("active_inference", "max_goal_rate_angular").unit("rad/s^2").above(0.0).atMost(kMaxGain)
-        .describe("Generalized goal: |mu_d'| of theta_dot is clamped to this (belief_model robot: to 2 A_w r / "
+        .describe("Generalized goal: |mu_d'| of theta_dot is clamped to this: a faster set-point change (a "
+                  "joystick flick) is followed, not extrapolated (belief_model robot: also to 2 A_w r / "
                   "wheel_separation, what the wheels can follow)")
         .member<&AicParams::reference, &ReferenceModelParams::max_goal_rate_angular>(),
     ParamRow("active_inference", "goal_lead").unit("s").atLeast(0.0).atMost(1.0)

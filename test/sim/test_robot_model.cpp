@@ -207,6 +207,28 @@ TEST(RobotModel, ASpeedRampInATurnDoesNotTeachTheSeparation)
   EXPECT_LT(separationMove(r, 0.0, 3.0), 0.015);
 }
 
+TEST(RobotModel, AJoystickFlickIsFollowedNotExtrapolated)
+{
+  // A turn in place from rest with the stick pushed to its stop at a quickening pace: the field
+  // trial's mirror of sim/profiles/teleop_joystick.csv's turn (aic_field_trial.py drives every run
+  // back time-reversed), 20 Hz, 0 -> 1.4 rad/s in 0.35 s in steps growing to 0.37 rad/s. The goal
+  // is predicted one latency ahead along the stream's slope, and the ramp's end is seen only after
+  // it. The standard field plan (config/field_trials/standard.yaml) stops the session when the
+  // robot turns faster than 1.3 x its 1.5 rad/s limit. With max_goal_rate_angular at the stock
+  // controller's 4 rad/s^2 the true yaw peaks at 1.79 rad/s; bounded only by what the wheels follow
+  // (14.95 rad/s^2) at 2.08, and the session stops.
+  constexpr double kOverspeed = 1.3 * 1.5;
+  const std::vector<SetPointSegment> flick = { { 0.0, 0.0, 0.0 },     { 1.0, 0.0, 0.0558 },  { 1.05, 0.0, 0.0748 },
+                                               { 1.1, 0.0, 0.1609 },  { 1.15, 0.0, 0.3333 }, { 1.2, 0.0, 0.506 },
+                                               { 1.25, 0.0, 0.7358 }, { 1.3, 0.0, 1.0319 },  { 1.35, 0.0, 1.4 } };
+  const ClosedLoopRecord r = runProfile(robotModel(), flick, 3.5);
+  EXPECT_EQ(r.runaways, 0u);
+  EXPECT_LE(windowPeak(r, r.yaw_true, 1.0, 3.5), kOverspeed);
+  EXPECT_NEAR(windowMean(r, r.yaw_true, 2.5, 3.5), 1.4, 0.03);
+  const ClosedLoopRecord wheels = runProfile(robotModel({ "max_goal_rate_angular=15" }), flick, 3.5);
+  EXPECT_GT(windowPeak(wheels, wheels.yaw_true, 1.0, 3.5), kOverspeed);  // the ablation: the bound does the work
+}
+
 TEST(RobotModel, AStallIsBelieved)
 {
   // A turn in place at 1 rad/s with a 100 kg payload: the wheels cannot turn the robot (it turns

@@ -219,11 +219,12 @@ double robotWheelAcceleration(const AicParams& params);
 
 /**
  * \brief The goal stage's settings for the set-point stream's rate estimator (GoalRateEstimator):
- *        params.reference, but with belief_model robot the bounds of the goal's predicted rate are
- *        the wheel loop's, what its wheels can follow: |x_dot'| <= A_w r alpha and
- *        |theta_dot'| <= 2 A_w r alpha / b_0 [m/s^2, rad/s^2] (A_w = robot.wheel_acceleration,
- *        r = wheel_radius, alpha = slip_factor, b_0 = wheel_separation; doc/active_inference.md,
- *        'The robot model'), and max_goal_rate_linear / max_goal_rate_angular have no effect.
+ *        params.reference, but with belief_model robot the bounds of the goal's predicted rate,
+ *        max_goal_rate_linear and max_goal_rate_angular, are held within what the wheel loop's
+ *        wheels can follow: |x_dot'| <= min(max_goal_rate_linear, A_w r alpha) and
+ *        |theta_dot'| <= min(max_goal_rate_angular, 2 A_w r alpha / b_0) [m/s^2, rad/s^2]
+ *        (A_w = robot.wheel_acceleration, r = wheel_radius, alpha = slip_factor,
+ *        b_0 = wheel_separation; doc/active_inference.md, 'Set-point dynamics' and 'The robot model').
  * \param params  validated (b_0 > 0)
  */
 ReferenceModelParams goalRateParams(const AicParams& params);

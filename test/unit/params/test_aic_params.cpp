@@ -363,7 +363,7 @@ TEST(Params, OnlyTheRobotModelLearnsTheLatency)
   }
 }
 
-TEST(Params, TheRobotModelsGoalRateBoundsAreItsWheelLoops)
+TEST(Params, TheRobotModelsGoalRateBoundsAreTheConfiguredOnesWithinItsWheelLoops)
 {
   AicParams p = jackal_aic::params::recommendedAicParams();
   p.reference.max_goal_rate_linear = 1.0;
@@ -378,7 +378,12 @@ TEST(Params, TheRobotModelsGoalRateBoundsAreItsWheelLoops)
   p.slip_factor = 1.0;
   p.wheel_separation = 0.5;
   const jackal_aic::params::ReferenceModelParams robot = jackal_aic::params::goalRateParams(p);
-  EXPECT_DOUBLE_EQ(robot.max_goal_rate_linear, 4.0);    // A_w r alpha
-  EXPECT_DOUBLE_EQ(robot.max_goal_rate_angular, 16.0);  // 2 A_w r alpha / b_0
+  EXPECT_DOUBLE_EQ(robot.max_goal_rate_linear, 1.0);  // the configured bounds, below the wheels'
+  EXPECT_DOUBLE_EQ(robot.max_goal_rate_angular, 2.0);
   EXPECT_EQ(robot.goal_rate_hold, p.reference.goal_rate_hold);
+  p.reference.max_goal_rate_linear = 10.0;
+  p.reference.max_goal_rate_angular = 30.0;
+  const jackal_aic::params::ReferenceModelParams wheels = jackal_aic::params::goalRateParams(p);
+  EXPECT_DOUBLE_EQ(wheels.max_goal_rate_linear, 4.0);    // A_w r alpha
+  EXPECT_DOUBLE_EQ(wheels.max_goal_rate_angular, 16.0);  // 2 A_w r alpha / b_0
 }

@@ -454,11 +454,11 @@ TEST(ParamSchema, DefaultYamlHoldsOnlyWhatHasNoDefault)
 {
   // The defaults are written once, in the code (NodeParams, recommendedAicParams()):
   // config/default.yaml sets the keys that have none (the Jackal's joints) and the belief model it
-  // drives with, the robot model, with the keys of its identified wheel loop that differ from the
-  // schema's; it repeats no default. The defaults alone are a valid, not the diverging, controller.
+  // drives with, the robot model, with the keys of its identified wheel loop and its goal's yaw
+  // rate bound that differ from the schema's; it repeats no default. The defaults alone are a valid, not the diverging, controller.
   // Every config/*.yaml documents each of its keys with the schema's unit.
-  const std::set<std::string> model_keys{ "belief_model", "wheel_feedforward", "wheel_feedforward_acceleration",
-                                          "wheel_time_constant", "learn_latency" };
+  const std::set<std::string> model_keys{ "belief_model",        "wheel_feedforward", "wheel_feedforward_acceleration",
+                                          "wheel_time_constant", "learn_latency",     "max_goal_rate_angular" };
   const YAML::Node root = YAML::LoadFile(kSource + "/config/default.yaml");
   ASSERT_TRUE(root.IsMap());
   const params::NodeParams defaults;
