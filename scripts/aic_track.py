@@ -3,9 +3,10 @@
 line of jackal_aic_tools.track.track_suite (the runs) and track_report (tables, plots, results page).
 """
 import argparse
+import os
 import sys
 
-from jackal_aic_tools.common import cli
+from jackal_aic_tools.common import cli, profiles
 from jackal_aic_tools.track import track_profiles, track_report, track_suite
 
 
@@ -13,6 +14,21 @@ def fail(message):
     """Print 'aic_track: message'; returns the exit status 1."""
     print("aic_track: %s" % message, file=sys.stderr)
     return 1
+
+
+def write_mirrors(paths, directory):
+    """Write profiles.mirror() of each profile CSV of ``paths`` to ``directory`` (created) as
+    <stem>_mirror.csv and print each path. Returns the exit status (1, with the reason, for a
+    profile that does not load)."""
+    os.makedirs(directory, exist_ok=True)
+    for path in paths:
+        try:
+            prof = profiles.from_csv(path)
+        except ValueError as e:
+            return fail(e)
+        stem = os.path.splitext(os.path.basename(path))[0]
+        print(profiles.mirror(prof).write_csv(os.path.join(directory, stem + "_mirror.csv")))
+    return 0
 
 
 def main(argv=None):
@@ -41,6 +57,10 @@ def main(argv=None):
     p.add_argument("--write-random-profiles", metavar="DIR",
                    help="write --count seeded planner and joystick streams that are not the benchmark's to DIR "
                         "and exit (then: --profiles DIR/*.csv)")
+    p.add_argument("--write-mirrored-profiles", metavar="DIR",
+                   help="write the mirror of each profile of --profiles (time-reversed and negated, as "
+                        "aic_field_trial.py drives every run back) to DIR as <name>_mirror.csv and exit "
+                        "(then: --profiles DIR/*.csv)")
     p.add_argument("--count", type=int, default=4, help="--write-random-profiles: streams of each kind (default 4)")
     p.add_argument("--seed", type=int, default=1000, help="--write-random-profiles: first seed (default 1000)")
     a = p.parse_args(argv)
@@ -59,6 +79,8 @@ def main(argv=None):
     track_suite.complete_args(a, sys.argv[1:] if argv is None else list(argv), ROOT)
     if not a.profiles:
         return fail("no profiles (sim/profiles/*.csv is empty; write them with --write-profiles sim/profiles)")
+    if a.write_mirrored_profiles:
+        return write_mirrors(a.profiles, a.write_mirrored_profiles)
     if a.no_plots and a.doc:
         p.error("--doc needs the plots")
     try:

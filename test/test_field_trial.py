@@ -84,14 +84,14 @@ class PlanTest(unittest.TestCase):
             np.testing.assert_allclose(p2[-1, 1:], [0.0, 0.0, 0.0], atol=1e-9)
 
     def test_mirror_of_a_step_is_the_step_backwards(self):
-        m = field_plan.mirror(profiles.step(v=0.5, t_step=0.5, hold=3.0))
+        m = profiles.mirror(profiles.step(v=0.5, t_step=0.5, hold=3.0))
         self.assertEqual(m.points, [(0.0, 0.0, 0.0), (0.5, -0.5, 0.0)])
         self.assertAlmostEqual(m.duration, 3.5)
 
     def test_mirror_retraces_a_turning_profile(self):
         prof = profiles.Profile([(0.0, 0.0, 0.0), (0.3, 0.4, 0.0), (1.0, 0.4, 0.8), (2.0, 0.0, -1.0)], 3.0, "p")
         p1 = field_plan.ideal_path(prof, 0.5, 0.5)
-        p2 = field_plan.ideal_path(field_plan.mirror(prof), 0.5, 0.5, tuple(p1[-1, 1:]))
+        p2 = field_plan.ideal_path(profiles.mirror(prof), 0.5, 0.5, tuple(p1[-1, 1:]))
         np.testing.assert_allclose(p2[-1, 1:], [0.0, 0.0, 0.0], atol=1e-9)
 
     def test_ideal_path_of_an_arc_is_exact(self):

@@ -265,6 +265,31 @@ class TrackCheck(unittest.TestCase):
             self.assertEqual(proc.returncode, 0, proc.stdout + proc.stderr)
             self.assertEqual(sorted(os.listdir(tmp)), ["random_planner_5.csv", "random_teleop_5.csv"])
 
+    def test_mirrored_profiles_are_the_field_trials_drive_back(self):
+        """--write-mirrored-profiles: one <stem>_mirror.csv per profile, each profiles.mirror() of
+        its source (the run aic_field_trial.py drives back); the teleop turn's stick eased off
+        becomes a stick pushed to its stop, its largest step at the ramp's end; a profile that
+        does not load is refused with its reason."""
+        with tempfile.TemporaryDirectory(prefix="track_mirror_") as tmp:
+            src = os.path.join(ROOT, "sim", "profiles", "teleop_joystick.csv")
+            proc = run_suite(["--write-mirrored-profiles", tmp, "--profiles", src])
+            self.assertEqual(proc.returncode, 0, proc.stdout + proc.stderr)
+            self.assertEqual(os.listdir(tmp), ["teleop_joystick_mirror.csv"])
+            out = profiles.from_csv(os.path.join(tmp, "teleop_joystick_mirror.csv"))
+            want = profiles.mirror(profiles.from_csv(src))
+            self.assertAlmostEqual(out.duration, want.duration)
+            np.testing.assert_allclose(np.array(out.points), np.array(want.points), atol=1e-9)
+            wz = np.array([p[2] for p in out.points])
+            rise = np.flatnonzero(wz >= 1.4 - 1e-9)[0]  # the first time the stick is at its stop
+            steps = np.diff(wz[rise - 4:rise + 1])
+            self.assertTrue(np.all(steps > 0.0) and steps[-1] == steps.max(), steps)
+            bad = os.path.join(tmp, "bad.csv")
+            with open(bad, "w") as f:
+                f.write("t,vx,wz\n0,nan,0\n1,0,0\n")
+            proc = run_suite(["--write-mirrored-profiles", os.path.join(tmp, "out"), "--profiles", bad])
+            self.assertEqual(proc.returncode, 1, proc.stdout + proc.stderr)
+            self.assertIn("bad.csv", proc.stderr)
+
     def test_latency_floor(self):
         """tracking.latency_floor through aic_track_metrics and driving.floor_rms: a step held 0.1 s
         late, the lower of holding and predicting per channel, bad settings refused."""

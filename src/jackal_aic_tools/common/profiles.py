@@ -117,6 +117,38 @@ def square(low=0.1, high=0.5, period=4.0, cycles=2, t_lead=2.0, channel="vx"):
     return Profile(pts, t, "square_%g_%g_T%g" % (low, high, period))
 
 
+def mirror(profile, lead=0.5):
+    """The profile that drives the ideal path of ``profile`` back to its start: time-reversed and
+    negated (a twist held over [t_i, t_i+1) is played negated over [T - t_i+1, T - t_i)), after
+    ``lead`` [s] of rest so that its first transition is a step from rest; the rest the out profile
+    starts with is left out (the run's rest phase follows the mirror). A step's mirror is the same
+    step backwards. aic_field_trial.py drives every run back with it; a ramp's end becomes its
+    start, so a stick eased off becomes a stick pushed to its stop. Returns a Profile named '<name>_mirror'."""
+    pts = [tuple(map(float, p)) for p in profile.points]
+    if pts[0][0] > 0.0:
+        pts.insert(0, (0.0, 0.0, 0.0))
+    T = profile.duration
+    spans = []
+    for k, (t, vx, wz) in enumerate(pts):
+        t_next = pts[k + 1][0] if k + 1 < len(pts) else T
+        if t_next > t:
+            spans.append((t, t_next, vx, wz))
+    while len(spans) > 1 and spans[0][2] == 0.0 and spans[0][3] == 0.0:
+        spans.pop(0)  # the out run's rest at its start: the mirror ends at its last motion (the run's rest follows)
+    T = spans[-1][1] - spans[0][0]
+    t_first = spans[0][0]
+    spans = [(a - t_first, b - t_first, vx, wz) for a, b, vx, wz in spans]
+    out = [(0.0, 0.0, 0.0)]
+    for t, t_next, vx, wz in reversed(spans):
+        out.append((lead + T - t_next, -vx if vx else 0.0, -wz if wz else 0.0))
+    # merge equal neighbours (a profile ending at rest starts its mirror with more rest)
+    merged = [out[0]]
+    for p in out[1:]:
+        if (p[1], p[2]) != (merged[-1][1], merged[-1][2]):
+            merged.append(p)
+    return Profile(merged, lead + T, profile.name + "_mirror")
+
+
 def from_csv(path):
     """Profile from a CSV file of rows t,vx,wz (t [s] >= 0 and increasing, vx [m/s], wz [rad/s];
     header optional, a header without wz means 0; the last row's t ends the profile), read and

@@ -21,6 +21,7 @@ import numpy as np
 import yaml
 
 from ..common import profiles
+from ..common.profiles import mirror
 
 #: Controllers a plan may name.
 CONTROLLERS = ("aic", "stock")
@@ -228,37 +229,6 @@ def _experiment(path, k, e, profile_root, limits=(TOP_LINEAR, TOP_ANGULAR)):
     except ValueError as ex:  # the profile constructors' and the CSV reader's messages
         raise _err(path, sub, str(ex))
     return name, kind, prof
-
-
-def mirror(profile, lead=0.5):
-    """The profile that drives the ideal path of ``profile`` back to its start: time-reversed and
-    negated (a twist held over [t_i, t_i+1) is played negated over [T - t_i+1, T - t_i)), after
-    ``lead`` [s] of rest so that its first transition is a step from rest; the rest the out profile
-    starts with is left out (the run's rest phase follows the mirror). A step's mirror is the same
-    step backwards. Returns a profiles.Profile named '<name>_mirror'."""
-    pts = [tuple(map(float, p)) for p in profile.points]
-    if pts[0][0] > 0.0:
-        pts.insert(0, (0.0, 0.0, 0.0))
-    T = profile.duration
-    spans = []
-    for k, (t, vx, wz) in enumerate(pts):
-        t_next = pts[k + 1][0] if k + 1 < len(pts) else T
-        if t_next > t:
-            spans.append((t, t_next, vx, wz))
-    while len(spans) > 1 and spans[0][2] == 0.0 and spans[0][3] == 0.0:
-        spans.pop(0)  # the out run's rest at its start: the mirror ends at its last motion (the run's rest follows)
-    T = spans[-1][1] - spans[0][0]
-    t_first = spans[0][0]
-    spans = [(a - t_first, b - t_first, vx, wz) for a, b, vx, wz in spans]
-    out = [(0.0, 0.0, 0.0)]
-    for t, t_next, vx, wz in reversed(spans):
-        out.append((lead + T - t_next, -vx if vx else 0.0, -wz if wz else 0.0))
-    # merge equal neighbours (a profile ending at rest starts its mirror with more rest)
-    merged = [out[0]]
-    for p in out[1:]:
-        if (p[1], p[2]) != (merged[-1][1], merged[-1][2]):
-            merged.append(p)
-    return profiles.Profile(merged, lead + T, profile.name + "_mirror")
 
 
 def ideal_path(profile, settle=0.0, rest=0.0, start=(0.0, 0.0, 0.0), dt=PATH_DT):
