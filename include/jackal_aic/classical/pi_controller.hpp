@@ -38,7 +38,8 @@ struct PiGains
  * \brief Settings of a PiController. The wheel loop's model (latency L, T_w, A_w) is the robot
  *        model's RobotModelParams (its defaults are the identified values); the geometry, the goal
  *        estimator's limits and the wheel clamp default to AicParams' defaults, so that the peer
- *        and the AIC see the same robot.
+ *        and the AIC see the same robot (config/classical/pi.yaml sets the yaw-rate goal's rate
+ *        bound that config/default.yaml gives the AIC).
  */
 struct PiControllerParams
 {
