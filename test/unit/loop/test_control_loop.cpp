@@ -547,25 +547,41 @@ TEST_F(ControlLoopTest, SetPointsAreCheckedAndBecomeTheGoal)
   EXPECT_EQ(out.linesWith("dropped a set point"), 2);
 }
 
-TEST_F(ControlLoopTest, TheRobotModelsGoalRateIsWhatItsWheelsCanFollow)
+TEST_F(ControlLoopTest, TheRobotModelsGoalRateIsBoundedWithinWhatItsWheelsCanFollow)
 {
-  // A set point that jumps 1 m/s and 2 rad/s within 0.1 s: the goal model's rate is bounded by
-  // max_goal_rate_linear / _angular, the robot model's by its wheel loop's A_w.
-  for (const bool robot : { false, true })
+  // A set point that jumps 1 m/s and 2 rad/s within 0.1 s (10 m/s^2, 20 rad/s^2): the goal model's
+  // rate is bounded by max_goal_rate_linear / _angular, the robot model's by them too but within its
+  // wheel loop's A_w (params::goalRateParams()): with bounds of 100 the goal model takes the jump's
+  // rate and the robot model the wheels' bound.
+  for (const double bound : { 0.0, 100.0 })
   {
-    p.aic.belief_model = robot ? params::BeliefModel::kRobot : params::BeliefModel::kGoal;
-    build();
-    double sp[6];
-    setPointFields(0.0, 0.0, sp);
-    loop->setPoint(sp);
-    clock.t += 0.1;
-    setPointFields(1.0, 2.0, sp);
-    loop->setPoint(sp);
-    const double wheel = p.aic.robot.wheel_acceleration * p.aic.wheel_radius * p.aic.slip_factor;
-    const double linear = robot ? wheel : p.aic.reference.max_goal_rate_linear;
-    const double angular = robot ? 2.0 * wheel / p.aic.wheel_separation : p.aic.reference.max_goal_rate_angular;
-    EXPECT_NEAR(loop->controller().goalRate()(0), linear, 1e-9) << robot;
-    EXPECT_NEAR(loop->controller().goalRate()(2), angular, 1e-9) << robot;
+    for (const bool robot : { false, true })
+    {
+      p.aic.belief_model = robot ? params::BeliefModel::kRobot : params::BeliefModel::kGoal;
+      if (bound > 0.0)
+      {
+        p.aic.reference.max_goal_rate_linear = bound;
+        p.aic.reference.max_goal_rate_angular = bound;
+      }
+      build();
+      double sp[6];
+      setPointFields(0.0, 0.0, sp);
+      loop->setPoint(sp);
+      clock.t += 0.1;
+      setPointFields(1.0, 2.0, sp);
+      loop->setPoint(sp);
+      const double wheel = p.aic.robot.wheel_acceleration * p.aic.wheel_radius * p.aic.slip_factor;
+      const double linear =
+          robot ? std::min(p.aic.reference.max_goal_rate_linear, wheel) : p.aic.reference.max_goal_rate_linear;
+      const double angular = robot ?
+                                 std::min(p.aic.reference.max_goal_rate_angular, 2.0 * wheel / p.aic.wheel_separation) :
+                                 p.aic.reference.max_goal_rate_angular;
+      SCOPED_TRACE("robot " + std::to_string(robot) + ", configured bounds " +
+                   std::to_string(p.aic.reference.max_goal_rate_linear) + ", " +
+                   std::to_string(p.aic.reference.max_goal_rate_angular));
+      EXPECT_NEAR(loop->controller().goalRate()(0), std::min(linear, 10.0), 1e-9);
+      EXPECT_NEAR(loop->controller().goalRate()(2), std::min(angular, 20.0), 1e-9);
+    }
   }
 }
 
