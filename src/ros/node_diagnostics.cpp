@@ -37,6 +37,21 @@ ControllerReport ControllerReport::of(const aic::ActiveInferenceController& cont
     r.separation_learning = aic::toString(controller.separationLearner().state());
     r.separation_learning_steps = controller.separationLearner().learningSteps();
   }
+  if (controller.params().belief_model == params::BeliefModel::kRobot)
+  {
+    r.latency = controller.latencyLearner().latency();
+    if (!params::learnsLatency(controller.params()))
+    {
+      r.latency = controller.params().robot.latency;
+    }
+    else
+    {
+      char text[96];
+      std::snprintf(text, sizeof text, "%d starts, newest %.4f s", controller.latencyLearner().starts(),
+                    controller.latencyLearner().lastStart());
+      r.latency_learning = text;
+    }
+  }
   if (controller.params().precision_learner.enabled)
   {
     r.precision_learning = aic::toString(controller.precisionLearner().state());
@@ -239,6 +254,8 @@ void NodeDiagnostics::controller(diagnostic_updater::DiagnosticStatusWrapper& st
   stat.add("wheel separation learning steps", report.separation_learning_steps);
   stat.addf("gyro offset beta_hat [rad/s]", "%.4f", report.gyro_bias);
   stat.add("gyro offset learning", report.gyro_bias_learning);
+  stat.addf("model latency L [s]", "%.4f", report.latency);
+  stat.add("latency learning", report.latency_learning);
   stat.add("tip-over guard", report.tip_guard);
   stat.add("sensory precisions Pi_y^(0) [1/(rad/s)^2]", report.sensory_precisions);
   stat.add("sensory precision learning", report.precision_learning);

@@ -21,6 +21,9 @@ from an overlay with `latency:` ~start_latency) also:
    ~start_latency and more than ~min_latency_change [s] from it (the plant's latency differs).
 4. The reset's answer names the learned latency forgotten and L back to ~start_latency (the
    loaded overlay's latency is the configured one); a save after it writes no `latency:` again.
+5. Diagnostics "controller" shows the L in use (`model latency L [s]`, 4 decimals): ~start_latency
+   with "0 starts" in `latency learning` before the first start, the saved L after it, and
+   ~start_latency again after the reset.
 """
 import math
 import os
@@ -32,6 +35,7 @@ import unittest
 import rospy
 import rostest
 import yaml
+from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import Twist
 from std_msgs.msg import Float64
 from std_srvs.srv import Trigger
@@ -46,6 +50,8 @@ class LearnedModelTest(unittest.TestCase):
         self.beta = None
         rospy.Subscriber("/jackal_AIC/wheel_separation", Float64, self.on_b, queue_size=10)
         rospy.Subscriber("/jackal_AIC/gyro_offset", Float64, self.on_beta, queue_size=10)
+        self.diagnostics = (None, {})  # (stamp, key -> value) of jackal_AIC's controller task
+        rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diagnostics, queue_size=20)
         self.pub = rospy.Publisher("/jackal_AIC/set_point", Twist, queue_size=10)
         self.twist = Twist()
         rospy.Timer(rospy.Duration(0.02), lambda _: self.pub.publish(self.twist))
@@ -65,6 +71,22 @@ class LearnedModelTest(unittest.TestCase):
     def gyro_offset(self):
         with self.lock:
             return self.beta
+
+    def on_diagnostics(self, msg):
+        for st in msg.status:
+            if "jackal_AIC" in st.name and st.name.endswith("controller"):
+                with self.lock:
+                    self.diagnostics = (msg.header.stamp.to_sec(), {kv.key: kv.value for kv in st.values})
+
+    def latency_shown(self, after):
+        """(L, its learning) from the first controller diagnostics stamped after ROS time `after`."""
+        def fresh():
+            with self.lock:
+                return self.diagnostics[0] is not None and self.diagnostics[0] > after
+        self.assertTrue(wait_for(fresh, 10.0), "no controller diagnostics after %.3f s" % after)
+        with self.lock:
+            kv = self.diagnostics[1]
+        return float(kv["model latency L [s]"]), kv["latency learning"]
 
     def save(self):
         """Call ~save_learned_model; assert success; return (answer, the file's YAML)."""
@@ -87,6 +109,9 @@ class LearnedModelTest(unittest.TestCase):
             message, saved = self.save()
             self.assertEqual(set(saved), {"wheel_separation"}, message)
             self.assertIn("latency not learned yet", message)
+            shown, learning = self.latency_shown(rospy.Time.now().to_sec())
+            self.assertAlmostEqual(shown, start_latency, delta=5e-5)
+            self.assertTrue(learning.startswith("0 starts"), learning)
 
         self.twist.linear.x, self.twist.angular.z = 0.5, 0.5
         rospy.sleep(drive_time)
@@ -117,6 +142,8 @@ class LearnedModelTest(unittest.TestCase):
             self.assertTrue(0.5 * start_latency <= latency <= 2.0 * start_latency, "latency %r" % latency)
             self.assertGreater(abs(latency - start_latency), float(rospy.get_param("~min_latency_change", 0.005)),
                                "the latency did not learn at the start from rest")
+            shown, learning = self.latency_shown(rospy.Time.now().to_sec())
+            self.assertAlmostEqual(shown, latency, delta=5e-5, msg=learning)
 
         res = rospy.ServiceProxy("/jackal_AIC/reset_learned_model", Trigger)()
         self.assertTrue(res.success, res.message)
@@ -131,6 +158,10 @@ class LearnedModelTest(unittest.TestCase):
                         "b_hat %.4f after the reset, expected %.4f" % (self.b(), start))
         self.assertTrue(wait_for(lambda: self.gyro_offset() == 0.0, 5.0),
                         "~gyro_offset %r after the reset, expected 0" % self.gyro_offset())
+        if start_latency is not None:
+            # Read after the offset's check: the offset is learned again at rest meanwhile.
+            shown, _ = self.latency_shown(rospy.Time.now().to_sec())
+            self.assertAlmostEqual(shown, start_latency, delta=5e-5)
         os.remove(path)
 
 

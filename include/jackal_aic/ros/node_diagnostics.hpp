@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -56,6 +57,11 @@ struct ControllerReport
   std::uint64_t separation_learning_steps = 0;  ///< learning steps taken
   double gyro_bias = 0.0;                  ///< the gyro's learned offset beta_hat [rad/s] (0 without learn_gyro_bias)
   std::string gyro_bias_learning = "off";  ///< the offset estimator's state (learning, moving, settling, ...) or "off"
+  /// The robot model's latency L in use [s] (NaN for the other belief models): the configured
+  /// `latency`, or the learned one with learn_latency (LatencyLearner::latency()).
+  double latency = std::numeric_limits<double>::quiet_NaN();
+  /// With learn_latency: "<n> starts, newest <L> s" (LatencyLearner::starts(), lastStart()); "off" otherwise.
+  std::string latency_learning = "off";
   /// The tip-over guard's state, learned bounds and trips (statusText(const TipGuard&)) or "off".
   std::string tip_guard = "off";
   std::string precision_learning = "off";  ///< the precision learner's state (learning, near rest, ...) or "off"
@@ -64,8 +70,8 @@ struct ControllerReport
   std::string sensory_precisions;
 
   /// The controller's part: F (0 before the first measurement), mu^(0) x_dot and theta_dot,
-  /// the action as the command while `active` (zero otherwise), the model's b_hat and the state
-  /// of its learning; the rest stays default.
+  /// the action as the command while `active` (zero otherwise), the model's b_hat, its latency and the state
+  /// of their learning; the rest stays default.
   static ControllerReport of(const aic::ActiveInferenceController& controller, bool active);
 };
 
