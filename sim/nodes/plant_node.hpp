@@ -21,8 +21,9 @@
  * The physics steps in fixed increments (physics.step, 1 ms). Pacing: each wake-up runs
  * every step due by the wall clock (so the plant catches up after a late wake-up), then
  * sleeps until the next step is due; node.real_time_factor scales plant time per wall
- * time (0 = as fast as possible). A lag of more than 0.5 s is dropped (logged) instead of
- * being caught up.
+ * time (0 = as fast as possible). A lag of more than kWallClockCatchUp (0.5 s) on the wall
+ * clock, kSimTimeCatchUp (one 50 Hz period) on simulated time, is dropped (logged) instead of
+ * being caught up: on simulated time a host stall then pauses the whole system.
  *
  * ~joint_states_source: who publishes /joint_states. "direct" (default): the sensor model's
  * samples as they are (fresh, distinct, stamped when taken). "jackal_node": as a Jackal's
@@ -141,6 +142,13 @@ private:
    */
   void waitForSubscribers();
   static constexpr double kSubscriberWait = 2.0;  ///< [s] of wall time
+  /// Plant time [s] run() catches up in a burst when it falls behind the wall clock on the wall
+  /// clock; beyond it the lag is dropped (the stamps stay within it of the wall clock).
+  static constexpr double kWallClockCatchUp = 0.5;
+  /// The same on simulated time: one 50 Hz control period. Beyond it the lag is dropped and
+  /// simulated time pauses with the host (every node waits for /clock), so a stall of the host
+  /// never runs the plant open loop for longer than a control period.
+  static constexpr double kSimTimeCatchUp = 0.02;
 
   ros::NodeHandle nh_;
   ros::NodeHandle pnh_;

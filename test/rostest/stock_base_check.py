@@ -36,12 +36,18 @@ fixed sleep. The set points stream at RATE Hz on a ROS-time timer.
   the stop engaged (/stock_base/set_stop) for ~stop_time s: the AIC's command never grows
   while stopped (~growth_tol) and its diagnostics say why ("held: the MCU reports ...");
   released: the first command is within ~bumpless_tol of the measured speed (bumpless) and
-  the resumed step overshoots by at most ~overshoot_limit %.
+  the resumed step overshoots by at most ~overshoot_limit %. With ~plant_stall > 0 the plant
+  node is stopped (SIGSTOP) for that many wall seconds, ~plant_stall_delay wall seconds after
+  the release, in the resumed step's rise: a host stalling the simulator. On simulated time the
+  whole system pauses with it (the plant drops the lag rather than catching it up in a burst),
+  so the same bounds hold.
 """
 import os
+import signal
 import statistics
 import sys
 import threading
+import time
 import unittest
 
 import rosgraph
@@ -409,10 +415,17 @@ class StockBaseCheck(unittest.TestCase):
         lock = threading.Lock()
         held = []  # diagnostics summaries of jackal_AIC's controller task saying why it holds
 
+        latency = []  # (stamp, the robot model's L, its learning) from the controller's diagnostics
+
         def on_diagnostics(m):
             with lock:
                 held.extend(st.message for st in m.status
                             if "controller" in st.name and st.message.startswith("held:"))
+                for st in m.status:
+                    if "jackal_AIC" in st.name and st.name.endswith("controller"):
+                        kv = {x.key: x.value for x in st.values}
+                        latency.append((m.header.stamp.to_sec(), kv.get("model latency L [s]"),
+                                        kv.get("latency learning")))
         rospy.Subscriber("/diagnostics", DiagnosticArray, on_diagnostics)
         self.wait_ready(path, float(self.p("ready_timeout", 60.0)))
         v = float(self.p("step_v", 0.5))
@@ -429,8 +442,19 @@ class StockBaseCheck(unittest.TestCase):
         # Stopped for stop_time s of plant time, and a diagnostics message saying why.
         ok = wait_for(lambda: rospy.Time.now().to_sec() >= t_stop + stop_time and bool(held), stop_time + 30.0)
         self.assertTrue(ok, "no diagnostics 'held: ...' from jackal_AIC while stopped")
+        stall = float(self.p("plant_stall", 0.0))  # s of wall time
+        plant = ros_process.node_pid("/jackal_plant", rospy.get_name()) if stall > 0 else None
+        self.assertTrue(stall <= 0 or plant, "~plant_stall: no PID for /jackal_plant")
         stop_pub.publish(Bool(data=False))
         t_release = rospy.Time.now().to_sec()
+        if plant:
+            time.sleep(float(self.p("plant_stall_delay", 0.1)))
+            os.kill(plant, signal.SIGSTOP)
+            try:
+                time.sleep(stall)
+            finally:
+                os.kill(plant, signal.SIGCONT)
+            rospy.loginfo("the plant stopped for %.3f s of wall time in the resumed step", stall)
         t_end = t_release + resume_hold
         self.assertTrue(wait_for(lambda: path.odom_covers(t_end), resume_hold + 30.0), "/odom stopped")
         path.set(0.0, 0.0)
@@ -460,6 +484,13 @@ class StockBaseCheck(unittest.TestCase):
         m = settling(path.odom, t_release, t_end, 0, v_meas, v)
         rospy.loginfo("resumed: settling %s s, overshoot %s %%", m["settling_time"], m["overshoot"])
         print("MEASURED stop: resumed overshoot %s %%" % m["overshoot"], file=sys.stderr)
+        with lock:
+            before = [x for x in latency if x[0] <= t_release]
+            after_release = [x for x in latency if x[0] > t_release]
+        for name, rows in (("at the release", before), ("after it", after_release)):
+            if rows:
+                print("MEASURED stop: model latency %s: L %s s (%s)" % (name, rows[-1][1], rows[-1][2]),
+                      file=sys.stderr)
         self.assertIsNotNone(m["overshoot"])
         self.assertLessEqual(m["overshoot"], overshoot_limit)
 

@@ -20,7 +20,8 @@ terminal sends: roslaunch shuts its nodes and, if it started one, its master dow
 ``timeout`` seconds for the process to end, then SIGKILL to the group; the process is reaped
 either way, and a group that has ended already is no error.
 
-``find_node()`` / ``wait_for_nodes()`` find the PIDs of the nodes a started roslaunch runs (psutil).
+``find_node()`` / ``wait_for_nodes()`` find the PIDs of the nodes a started roslaunch runs (psutil);
+``node_pid()`` the PID of any running node, from its XML-RPC API.
 """
 import contextlib
 import logging
@@ -131,6 +132,23 @@ def find_node(name, root):
         except (psutil.NoSuchProcess, psutil.AccessDenied):
             continue
     return min(found) if found else None
+
+
+def node_pid(name, caller="/jackal_aic_tools"):
+    """PID of the running ROS node ``name`` (e.g. "/jackal_plant"), asked through its own XML-RPC
+    API (getPid) on the master of this process's ROS_MASTER_URI; None when the master does not
+    know the node or it does not answer. ``caller`` is the caller ID the requests carry."""
+    import rosgraph
+    import rosnode
+    from xmlrpc.client import ServerProxy, Error
+    try:
+        uri = rosnode.get_api_uri(rosgraph.Master(caller), name)
+        if not uri:
+            return None
+        code, _, pid = ServerProxy(uri).getPid(caller)
+    except (rosnode.ROSNodeIOException, OSError, Error):
+        return None
+    return pid if code == 1 else None
 
 
 def wait_for_nodes(names, launch, timeout=60.0):

@@ -33,18 +33,6 @@ from ..experiment import experiment
 from .node_watch import cpu_seconds, loadavg, thread_times
 
 
-def node_pid(name):
-    """The PID of the ROS node ``name`` (asked through its XML-RPC API), or None."""
-    import rosnode
-    import rosgraph
-    from xmlrpc.client import ServerProxy
-    uri = rosnode.get_api_uri(rosgraph.Master("/aic_node_load"), name)
-    if not uri:
-        return None
-    code, _, pid = ServerProxy(uri).getPid("/aic_node_load")
-    return pid if code == 1 else None
-
-
 def measure_one(rate, config, duration, warmup, overrides, base="direct"):
     """Child process: one rate under its own master, sim.launch with ``base`` (direct |
     stock_diff_drive: the stock controller node stock_base maps the node's twist to the wheels,
@@ -92,9 +80,9 @@ def measure_one(rate, config, duration, warmup, overrides, base="direct"):
             pid = plant = stock = None
             want_stock = base == "stock_diff_drive"
             while time.time() < deadline and (pid is None or plant is None or (want_stock and stock is None)):
-                pid = pid or node_pid("/jackal_AIC")
-                plant = plant or node_pid("/jackal_plant")
-                stock = stock or (node_pid("/stock_base") if want_stock else None)
+                pid = pid or ros_process.node_pid("/jackal_AIC", "/aic_node_load")
+                plant = plant or ros_process.node_pid("/jackal_plant", "/aic_node_load")
+                stock = stock or (ros_process.node_pid("/stock_base", "/aic_node_load") if want_stock else None)
                 time.sleep(0.5)
             if pid is None or (want_stock and stock is None):
                 raise RuntimeError("no /jackal_AIC or /stock_base node: %s" % sim.deaths())
