@@ -533,7 +533,10 @@ int PlantNode::run()
   // system: a burst would instead run the plant open loop for the stall's length while the nodes
   // catch up (a 0.15 s stall overshoots a 0.5 m/s step by 19 %). Up to one 50 Hz period is
   // caught up (ordinary scheduling jitter), no more.
-  const double catch_up = use_sim_time_ ? kSimTimeCatchUp : kWallClockCatchUp;
+  // In steps, at least one: a slow-motion plant (rtf < h / catch_up) would otherwise find every
+  // due step a lag to drop and never step.
+  const std::uint64_t max_lag_steps = std::max<std::uint64_t>(
+      1, static_cast<std::uint64_t>((use_sim_time_ ? kSimTimeCatchUp : kWallClockCatchUp) * rtf / h));
   const auto start = Clock::now();
   std::uint64_t base_steps = 0;  // steps before the last resynchronisation
   auto sync = start;
@@ -548,7 +551,7 @@ int PlantNode::run()
     // Steps due by now at the requested rate.
     const double wall = std::chrono::duration<double>(Clock::now() - sync).count();
     const auto due = base_steps + static_cast<std::uint64_t>(wall * rtf / h);
-    if (due > plant_->stepCount() + static_cast<std::uint64_t>(catch_up * rtf / h))
+    if (due > plant_->stepCount() + max_lag_steps)
     {
       ++lag_events;
       ROS_WARN_THROTTLE(5.0, "jackal_plant: %.3f s behind real time; dropping the lag (%lu times so far)%s",

@@ -22,8 +22,9 @@
  * every step due by the wall clock (so the plant catches up after a late wake-up), then
  * sleeps until the next step is due; node.real_time_factor scales plant time per wall
  * time (0 = as fast as possible). A lag of more than kWallClockCatchUp (0.5 s) on the wall
- * clock, kSimTimeCatchUp (one 50 Hz period) on simulated time, is dropped (logged) instead of
- * being caught up: on simulated time a host stall then pauses the whole system.
+ * clock, kSimTimeCatchUp (one 50 Hz period) on simulated time, and never less than one step, is
+ * dropped (logged) instead of being caught up: on simulated time a host stall then pauses the
+ * whole system.
  *
  * ~joint_states_source: who publishes /joint_states. "direct" (default): the sensor model's
  * samples as they are (fresh, distinct, stamped when taken). "jackal_node": as a Jackal's

@@ -245,8 +245,13 @@ TEST_F(PlantRosTest, SensorRates)
 {
   const double rate = param("expected_rate");  // Hz
   const double tol = param("relative_tolerance");
-  const double duration = param("measure_time");  // s
-  ASSERT_TRUE(waitFor([&] { return js_stamps_.size() > 5 && imu_.size() > 5; }, kStartupWall));
+  const double duration = param("measure_time");  // s of plant time
+  // The plant's node.real_time_factor (plant seconds per wall second): arrivals on the wall clock
+  // come at rate x rtf, and plant time advances rtf per wall second.
+  double rtf = 1.0;
+  pnh_.param("real_time_factor", rtf, rtf);
+  ASSERT_GT(rtf, 0.0);
+  ASSERT_TRUE(waitFor([&] { return js_stamps_.size() > 5 && imu_.size() > 5; }, kStartupWall + 6.0 / (rate * rtf)));
   std::size_t js0, imu0;
   double js_wall0, imu_wall0;
   {
@@ -256,12 +261,12 @@ TEST_F(PlantRosTest, SensorRates)
     js_wall0 = js_wall_.back();
     imu_wall0 = imu_wall_.back();
   }
-  ASSERT_TRUE(waitFor([&] { return js_stamps_.back() - js_stamps_[js0] >= duration; }, 3.0 * duration + 10.0));
+  ASSERT_TRUE(waitFor([&] { return js_stamps_.back() - js_stamps_[js0] >= duration; }, 3.0 * duration / rtf + 10.0));
   std::lock_guard<std::mutex> lock(mutex_);
   const std::size_t js_n = js_stamps_.size() - 1 - js0;
   const double js_span = js_stamps_.back() - js_stamps_[js0];
   EXPECT_NEAR(js_n / js_span, rate, tol * rate) << "joint_states rate from stamps";
-  EXPECT_NEAR(js_n / (js_wall_.back() - js_wall0), rate, tol * rate) << "joint_states arrival rate (wall)";
+  EXPECT_NEAR(js_n / (js_wall_.back() - js_wall0), rate * rtf, tol * rate * rtf) << "joint_states arrival rate (wall)";
   for (std::size_t k = js0 + 1; k < js_stamps_.size(); ++k)
   {
     ASSERT_GT(js_stamps_[k], js_stamps_[k - 1]) << "joint_states stamps must increase";
@@ -269,9 +274,9 @@ TEST_F(PlantRosTest, SensorRates)
   const std::size_t imu_n = imu_.size() - 1 - imu0;
   const double imu_span = imu_.back().header.stamp.toSec() - imu_[imu0].header.stamp.toSec();
   EXPECT_NEAR(imu_n / imu_span, rate, tol * rate) << "imu rate from stamps";
-  EXPECT_NEAR(imu_n / (imu_wall_.back() - imu_wall0), rate, tol * rate) << "imu arrival rate (wall)";
-  // Plant time keeps pace with wall time (real-time mode).
-  EXPECT_NEAR(js_span / (js_wall_.back() - js_wall0), 1.0, tol) << "plant time vs wall time";
+  EXPECT_NEAR(imu_n / (imu_wall_.back() - imu_wall0), rate * rtf, tol * rate * rtf) << "imu arrival rate (wall)";
+  // Plant time keeps pace with wall time, scaled by the real-time factor.
+  EXPECT_NEAR(js_span / (js_wall_.back() - js_wall0), rtf, tol * rtf) << "plant time vs wall time";
   ASSERT_EQ(js_names_.size(), 4u);
   EXPECT_EQ(js_names_[0], "front_left_wheel");
   EXPECT_EQ(js_names_[1], "front_right_wheel");
