@@ -39,12 +39,8 @@ ControllerReport ControllerReport::of(const aic::ActiveInferenceController& cont
   }
   if (controller.params().belief_model == params::BeliefModel::kRobot)
   {
-    r.latency = controller.latencyLearner().latency();
-    if (!params::learnsLatency(controller.params()))
-    {
-      r.latency = controller.params().robot.latency;
-    }
-    else
+    r.latency = controller.wheelLoop().latency();  // the L in use, configured or learned (useLatency())
+    if (params::learnsLatency(controller.params()))
     {
       char text[96];
       std::snprintf(text, sizeof text, "%d starts, newest %.4f s", controller.latencyLearner().starts(),
