@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "jackal_aic/analysis/steady_estimate.hpp"
 #include "jackal_aic/analysis/twist_profile.hpp"
 #include "jackal_tools/params_yaml.hpp"
 #include "jackal_aic/overrides/yaml_overrides.hpp"
@@ -447,6 +448,40 @@ TEST(RobotModel, AWheelLoopWithoutLoadCompensationIsLearnedThroughTheTurnShortfa
   EXPECT_GE(rmsYawError(off), 0.15);
   EXPECT_TRUE(on.health_events.empty()) << on.health_events.size() << " fault monitor events";
   EXPECT_EQ(on.runaways, 0u);
+}
+
+TEST(RobotModel, TheTurnShortfallsKeepTheBeliefHonestOnAWheelLoopThatHoldsNoTurnLoad)
+{
+  // planner_10hz on the turn-deficit firmware (scorecard 6g's run, as closed_loop_run plays it:
+  // the profile from 1.01 s, the steady mean |belief - truth| from 0.5 s after each change). With
+  // the schema's turn_shortfall_noise 0 the inner wheel runs over its command in a turn, which a
+  // shortfall's jump does not take; between joint states the model's wheels move toward speeds
+  // the robot does not have and carry the belief's yaw rate above the truth (0.0107 rad/s
+  // measured, over 6g's 0.01). With the turn shortfalls on (0.3, what plant_identify.py --bag
+  // writes for such a wheel loop) the belief is within the bound (0.0033 measured); the ablation
+  // is the same run with them off (regression guard of the measured pair: on at most half of off).
+  const analysis::TwistProfile profile = analysis::loadTwistProfileCsv(kRoot + "/sim/profiles/planner_10hz.csv");
+  const double t0 = 1.01;
+  const std::vector<std::string> firmware{ "sim/config/variants/turn_deficit.yaml" };
+  auto steady = [&](const ClosedLoopRecord& r) {
+    std::vector<double> t;
+    for (const double x : r.time)
+    {
+      t.push_back(x - t0);
+    }
+    return analysis::steadyEstimateError(profile, t, r.belief, r.belief_yaw, r.v_true, r.yaw_true, 0.5);
+  };
+  const analysis::SteadyEstimateError off =
+      steady(runProfile(robotModel(), profileSegments(profile, t0), t0 + profile.duration, {}, firmware));
+  const analysis::SteadyEstimateError on = steady(runProfile(
+      robotModel({ "turn_shortfall_noise=0.3" }), profileSegments(profile, t0), t0 + profile.duration, {}, firmware));
+  std::printf("planner_10hz on the turn-deficit firmware: steady mean |belief - truth| of the yaw rate %.4f rad/s "
+              "with the turn shortfalls, %.4f without (speed %.4f / %.4f m/s)\n",
+              on.wz.mean_abs, off.wz.mean_abs, on.vx.mean_abs, off.vx.mean_abs);
+  ASSERT_GT(on.wz.samples, 0);
+  EXPECT_LE(on.wz.mean_abs, 0.01);
+  EXPECT_LE(on.vx.mean_abs, 0.01);
+  EXPECT_LE(on.wz.mean_abs, 0.5 * off.wz.mean_abs);
 }
 
 /// The robot model on sim/profiles/planner_10hz.csv from 1 s of rest, noisy sensors, with the
