@@ -296,6 +296,50 @@ SteadyEstimateError steadyEstimateError(const TwistProfile& profile, const std::
   return e;
 }
 
+StopReversal stopReversal(const TwistProfile& profile, const std::vector<double>& time,
+                          const std::vector<double>& true_vx, double window)
+{
+  profile.validate();
+  require(std::isfinite(window) && window > 0.0, "stop reversal: window must be finite and > 0 s, got " + fmt(window));
+  checkSeries("stop reversal", time, { &true_vx });
+  StopReversal r;
+  r.window = window;
+  double before = 0.0;  // the linear set point before the point
+  for (std::size_t i = 0; i < profile.points.size(); ++i)
+  {
+    const TwistProfilePoint& p = profile.points[i];
+    if (p.vx == 0.0 && before != 0.0)
+    {
+      ++r.stops;
+      double end = std::min(p.t + window, profile.duration);
+      for (std::size_t j = i + 1; j < profile.points.size(); ++j)
+      {
+        if (profile.points[j].vx != 0.0)
+        {
+          end = std::min(end, profile.points[j].t);
+          break;
+        }
+      }
+      const double direction = before > 0.0 ? 1.0 : -1.0;
+      double travel = 0.0;
+      for (std::size_t k = 0; k < time.size(); ++k)
+      {
+        if (time[k] < p.t || time[k] >= end)
+        {
+          continue;
+        }
+        const double back = std::max(0.0, -direction * true_vx[k]);
+        const double dt = k + 1 < time.size() ? time[k + 1] - time[k] : (k > 0 ? time[k] - time[k - 1] : 0.0);
+        r.reverse_speed = std::max(r.reverse_speed, back);
+        travel += back * dt;
+      }
+      r.reverse_travel = std::max(r.reverse_travel, travel);
+    }
+    before = p.vx;
+  }
+  return r;
+}
+
 VelocityTrackingError latencyFloor(const TwistProfile& profile, const params::AicParams& goal_rate,
                                    const LatencyFloorSettings& settings)
 {
@@ -504,6 +548,14 @@ std::string toJson(const SteadyEstimateError& e)
        << ", \"samples\": " << c.samples << ", \"segments\": " << c.segments << "}, ";
   }
   os << "\"unavailable\": " << e.unavailable << "}";
+  return os.str();
+}
+
+std::string toJson(const StopReversal& r)
+{
+  std::ostringstream os;
+  os << "{\"stops\": " << r.stops << ", \"reverse_speed_max\": " << fmt(r.reverse_speed)
+     << ", \"reverse_travel_max\": " << fmt(r.reverse_travel) << ", \"window\": " << fmt(r.window) << "}";
   return os.str();
 }
 

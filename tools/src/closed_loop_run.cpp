@@ -59,6 +59,9 @@
  *        "drive": {...}}] [, "angular_segments": [...]] ("measured": wheel odometry in "segments", the
  *        gyro in "angular_segments"), "profile",
  *        "duration", "tracking": {"truth": {"vx": {"rms", "max"}, "wz": {...}, "samples"}, "odometry": {...},
+ *        "stops": {"stops", "reverse_speed_max" [m/s], "reverse_travel_max" [m], "window" [s]} (the true
+ *        speed against the direction before each stop of the profile, within "window" of it:
+ *        jackal_aic/analysis/stop_reversal.hpp, stopReversal),
  *        with the AIC "belief": {"vx": {"steady_mean_abs", "steady_max_abs", "samples", "segments"}, "wz":
  *        {...}, "unavailable"} (belief mu^(0) against the truth from "belief_settle" [s] after each change
  *        of the channel's set point to the next: jackal_aic/analysis/tracking_metrics.hpp, steadyEstimateError)},
@@ -120,6 +123,8 @@ namespace
 /// Steady segments of the honest-belief measure start this long after a set-point change [s]
 /// (doc/experiments.md, 'Driving acceptance').
 constexpr double kBeliefSettle = 0.5;
+/// How long after each stop of a profile tracking.stops looks for the robot moving back [s].
+constexpr double kStopWindow = 1.0;
 /// A robot "moved" when a commanded channel's ground-truth speed reached this share of the
 /// channel's largest |set point| [-].
 constexpr double kMovedShare = 0.1;
@@ -561,10 +566,12 @@ int main(int argc, char** argv)
   analysis::PathDrift drift;
   try
   {
-    tracking_json = "{\"truth\": " +
-                    analysis::toJson(analysis::velocityTrackingError(tracked, t_profile, rec.v_true, rec.yaw_true)) +
-                    ", \"odometry\": " +
-                    analysis::toJson(analysis::velocityTrackingError(tracked, t_profile, rec.v_odom, rec.yaw_odom));
+    tracking_json =
+        "{\"truth\": " +
+        analysis::toJson(analysis::velocityTrackingError(tracked, t_profile, rec.v_true, rec.yaw_true)) +
+        ", \"odometry\": " +
+        analysis::toJson(analysis::velocityTrackingError(tracked, t_profile, rec.v_odom, rec.yaw_odom)) +
+        ", \"stops\": " + analysis::toJson(analysis::stopReversal(tracked, t_profile, rec.v_true, kStopWindow));
     if (c.controller == LoopController::kAic)
     {
       // The honest-belief measure: belief mu^(0) against the truth where the set point holds.

@@ -14,5 +14,6 @@
 #include "jackal_aic/analysis/latency_floor.hpp"
 #include "jackal_aic/analysis/path_drift.hpp"
 #include "jackal_aic/analysis/steady_estimate.hpp"
+#include "jackal_aic/analysis/stop_reversal.hpp"
 #include "jackal_aic/analysis/tracking_error.hpp"
 #include "jackal_aic/analysis/twist_profile.hpp"

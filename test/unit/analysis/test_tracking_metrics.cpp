@@ -2,6 +2,7 @@
 /// against closed-form paths (include/jackal_aic/analysis/tracking_metrics.hpp).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -482,4 +483,64 @@ TEST(SteadyEstimateError, MissingEstimatesAreCountedAndBadInputRefused)
   EXPECT_THROW(analysis::steadyEstimateError(p, t, z, z, { 0.0, nan, 0.0, 0.0, 0.0 }, z, 0.5), std::invalid_argument);
   EXPECT_THROW(analysis::steadyEstimateError(p, { 0.0, 0.0, 1.0, 1.5, 2.0 }, z, z, z, z, 0.5), std::invalid_argument);
   EXPECT_THROW(analysis::steadyEstimateError(profileOf({}, 1.0), t, z, z, z, z, 0.5), std::invalid_argument);
+}
+
+TEST(StopReversal, TheSpeedAgainstTheDirectionBeforeEachStopIsMeasured)
+{
+  // Forward at 0.5 until 1 s, stop; reverse at -0.3 from 3 s, stop at 4 s; 0 until 6 s. The truth
+  // backs up after the first stop (-0.2 m/s over [1.1, 1.3): 0.04 m), runs on after the second
+  // (-0.3 over [4.0, 4.3): the direction before that stop, no reversal) and then moves forward
+  // (+0.05 over [4.5, 4.6): a reversal of 0.05 m/s and 0.005 m, less than the first).
+  const analysis::TwistProfile p = profileOf(
+      { { 0.0, 0.5, 0.0 }, { 1.0, 0.0, 0.0 }, { 2.0, 0.0, 0.0 }, { 3.0, -0.3, 0.0 }, { 4.0, 0.0, 0.0 } }, 6.0);
+  const std::vector<double> t = grid(0.005, 5.995, 0.01);  // no sample on a boundary
+  std::vector<double> v(t.size(), 0.0);
+  for (std::size_t k = 0; k < t.size(); ++k)
+  {
+    if (t[k] >= 1.1 && t[k] < 1.3)
+    {
+      v[k] = -0.2;
+    }
+    if (t[k] >= 4.0 && t[k] < 4.3)
+    {
+      v[k] = -0.3;
+    }
+    if (t[k] >= 4.5 && t[k] < 4.6)
+    {
+      v[k] = 0.05;
+    }
+  }
+  const analysis::StopReversal r = analysis::stopReversal(p, t, v, 1.0);
+  EXPECT_EQ(r.stops, 2);  // 0 repeated at 2 s is no stop
+  EXPECT_NEAR(r.reverse_speed, 0.2, 1e-12);
+  EXPECT_NEAR(r.reverse_travel, 0.2 * 0.2, 1e-9);
+  EXPECT_EQ(r.window, 1.0);
+  // Within 0.1 s of the stops the first reversal has not begun, and the second stop's +0.05 at
+  // 4.5 s is past its window.
+  const analysis::StopReversal early = analysis::stopReversal(p, t, v, 0.1);
+  EXPECT_EQ(early.stops, 2);
+  EXPECT_EQ(early.reverse_speed, 0.0);
+  // After the reverse drive's stop, moving forward is the reversal (the first stop's left out).
+  std::vector<double> second = v;
+  std::fill(second.begin(), second.begin() + 200, 0.0);  // t < 2 s
+  const analysis::StopReversal after_reverse = analysis::stopReversal(p, t, second, 1.0);
+  EXPECT_NEAR(after_reverse.reverse_speed, 0.05, 1e-12);
+  EXPECT_NEAR(after_reverse.reverse_travel, 0.05 * 0.1, 1e-9);
+  // A robot that stops where it is told scores 0; a profile without a stop has none.
+  EXPECT_EQ(analysis::stopReversal(p, t, std::vector<double>(t.size(), 0.0), 1.0).reverse_speed, 0.0);
+  EXPECT_EQ(analysis::stopReversal(profileOf({ { 0.0, 0.5, 0.0 } }, 6.0), t, v, 1.0).stops, 0);
+}
+
+TEST(StopReversal, BadInputIsRefused)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const analysis::TwistProfile p = profileOf({ { 0.0, 0.5, 0.0 }, { 1.0, 0.0, 0.0 } }, 2.0);
+  const std::vector<double> t = grid(0.0, 2.0, 0.5);
+  const std::vector<double> z(t.size(), 0.0);
+  EXPECT_THROW(analysis::stopReversal(p, t, z, 0.0), std::invalid_argument);
+  EXPECT_THROW(analysis::stopReversal(p, t, z, nan), std::invalid_argument);
+  EXPECT_THROW(analysis::stopReversal(p, t, { 0.0 }, 1.0), std::invalid_argument);
+  EXPECT_THROW(analysis::stopReversal(p, t, { 0.0, nan, 0.0, 0.0, 0.0 }, 1.0), std::invalid_argument);
+  EXPECT_THROW(analysis::stopReversal(p, { 0.0, 0.0, 1.0, 1.5, 2.0 }, z, 1.0), std::invalid_argument);
+  EXPECT_THROW(analysis::stopReversal(profileOf({}, 1.0), t, z, 1.0), std::invalid_argument);
 }
