@@ -377,6 +377,17 @@ def track_result(vx, wz, command_delay=0.12, ideal=None, plant_figures=None):
     return r
 
 
+def judge_one_pair(aic, stock):
+    """driving.judge_tracking on one pair (profile a.csv, the default plant, no ideal run, a floor of
+    0.1 on both channels) whose AIC and stock results are ``aic``, ``stock``: (its verdict, its rows)."""
+    res = {("track", "a.csv", "default", "aic"): (aic, None),
+           ("track", "a.csv", "default", "stock"): (stock, None)}
+    out = {"tracking": []}
+    ok = driving.judge_tracking(res, ["a.csv"], ["default"], False, out,
+                                floor_of=lambda p, latency, cache: {"vx": 0.1, "wz": 0.1})
+    return ok, out["tracking"]
+
+
 class PlantLimitsTest(unittest.TestCase):
     """plant_limits.classify / reason, and the judged set of driving.judge_tracking: plant-limited
     channels are reported apart, the others judged."""
@@ -628,17 +639,66 @@ class EndHeadingTest(unittest.TestCase):
             aic.update(self.result(heading))
             stock = track_result(0.1, 0.1)
             stock.update(self.result(0.05))
-            res = {("track", "a.csv", "default", "aic"): (aic, None),
-                   ("track", "a.csv", "default", "stock"): (stock, None)}
-            out = {"tracking": []}
-            ok = driving.judge_tracking(res, ["a.csv"], ["default"], False, out,
-                                        floor_of=lambda p, latency, cache: {"vx": 0.1, "wz": 0.1})
-            return ok, out["tracking"][0]
-        ok, row = judge(0.06)
+            return judge_one_pair(aic, stock)
+        ok, rows = judge(0.06)
         self.assertTrue(ok)
-        ok, row = judge(0.08)
+        ok, rows = judge(0.08)
         self.assertFalse(ok)
-        self.assertFalse(row["heading_pass"])
+        self.assertFalse(rows[0]["heading_pass"])
+
+
+class StopReversalTest(unittest.TestCase):
+    """driving.judge_stop and its part in judge_tracking and the printout: the AIC's largest speed
+    against the direction before a stop within the stock controller's + STOP_MARGIN, judged where the
+    profile has a stop and the plant follows the speed."""
+
+    @staticmethod
+    def stops(reverse, n=2):
+        return {"tracking": {"stops": {"stops": n, "reverse_speed_max": reverse, "reverse_travel_max": 0.0,
+                                       "window": 1.0}}}
+
+    def test_bound_is_the_stock_reversal_plus_the_margin(self):
+        row = {"limited_vx": None, "limited_wz": None}
+        self.assertTrue(driving.judge_stop(row, self.stops(0.021), self.stops(0.001)))
+        self.assertTrue(row["stop_judged"])
+        self.assertEqual((row["stops"], row["stop_aic"], row["stop_stock"]), (2, 0.021, 0.001))
+        self.assertAlmostEqual(row["stop_bound"], 0.001 + driving.STOP_MARGIN, places=12)
+        # The robot backing up 0.24 m/s after a stop, the stock controller not at all: a fail.
+        self.assertFalse(driving.judge_stop(row, self.stops(0.237), self.stops(0.001)))
+        self.assertFalse(row["stop_pass"])
+
+    def test_no_stop_a_limited_speed_or_no_figure_is_not_judged(self):
+        row = {"limited_vx": None, "limited_wz": None}
+        self.assertTrue(driving.judge_stop(row, self.stops(0.5, n=0), self.stops(0.0, n=0)))
+        self.assertFalse(row["stop_judged"])
+        row = {"limited_vx": "ideal 5.0 x floor on vx", "limited_wz": None}
+        self.assertTrue(driving.judge_stop(row, self.stops(0.5), self.stops(0.0)))
+        self.assertFalse(row["stop_judged"])
+        row = {"limited_vx": None, "limited_wz": None}
+        self.assertTrue(driving.judge_stop(row, {"tracking": {}}, self.stops(0.0)))
+        self.assertIsNone(row["stop_aic"])
+        self.assertTrue(driving.judge_stop(row, self.stops(float("nan")), self.stops(0.0)))
+        self.assertFalse(row["stop_judged"])
+
+    def test_judge_tracking_fails_on_a_stop_and_table_6k_shows_it(self):
+        def judge(reverse):
+            aic = track_result(0.05, 0.05)
+            aic["tracking"].update(self.stops(reverse)["tracking"])
+            stock = track_result(0.1, 0.1)
+            stock["tracking"].update(self.stops(0.001)["tracking"])
+            return judge_one_pair(aic, stock)
+        ok, rows = judge(0.01)
+        self.assertTrue(ok)
+        ok, rows = judge(0.2)
+        self.assertFalse(ok)
+        from jackal_aic_tools.tune import scorecard_print
+        buf = io.StringIO()
+        with contextlib.redirect_stdout(buf):
+            scorecard_print.print_stops(rows)
+        text = buf.getvalue()
+        self.assertIn("6k. Stops", text)
+        self.assertIn("0 of 1 judged runs pass", text)
+        self.assertIn("0.200", text)
 
 
 class PyunitTest(unittest.TestCase):

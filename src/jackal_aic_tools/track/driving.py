@@ -93,6 +93,10 @@ BELIEF_WEIGHT = 0.5
 #: path.final_heading_error, ground truth against the set point's ideal path) within the stock
 #: controller's + this [rad], judged on the pairs whose plant follows both channels.
 HEADING_MARGIN = 0.02
+#: Stops: the largest true speed against the direction before a stop of the profile, within 1 s of
+#: it (closed_loop_run's tracking.stops.reverse_speed_max), within the stock controller's + this
+#: [m/s] (a robot told to stop does not move back), judged where the plant follows the speed.
+STOP_MARGIN = 0.02
 
 
 def default_profiles(root):
@@ -306,8 +310,8 @@ def evaluate(runner, root, profiles=None, variants=None, tracking_suite=True, st
     the reason, or None where the plant follows), pass (the plant-following channels' AIC / stock
     within TRACK_PAIR_BOUND), belief_vx, belief_wz, belief_max_vx, belief_max_wz, belief_bound_vx,
     belief_bound_wz, belief_pass (judge_belief), heading_aic, heading_stock, heading_bound,
-    heading_judged, heading_pass (judge_heading); with ``peer`` peer_vx, peer_wz (the peer's RMS
-    error)};
+    heading_judged, heading_pass (judge_heading), stops, stop_aic, stop_stock, stop_bound,
+    stop_judged, stop_pass (judge_stop); with ``peer`` peer_vx, peer_wz (the peer's RMS error)};
     over the plant-following channels: gmean {vx, wz, all} of AIC / stock (judged),
     floor_gmean of floor / stock, aic_floor_gmean of AIC / floor, stock_floor_gmean of stock / floor,
     with ``peer`` aic_peer_gmean of AIC / peer, peer_floor_gmean of peer / floor and peer_stock_gmean
@@ -394,8 +398,9 @@ def judge_tracking(res, profiles, variants, ideal, out, floor_of=None):
     plant-following channels of the pairs the peer ran; see evaluate()). ``floor_of(profile,
     latency, cache)``: the latency floor {vx, wz} (default floor_rms). Returns True when every
     judged figure passes: each pair's plant-following channels within TRACK_PAIR_BOUND, their
-    geometric mean within TRACK_GMEAN_BOUND, each pair's honest belief (judge_belief) and
-    end-of-profile heading (judge_heading); the peer's figures are reported, not judged."""
+    geometric mean within TRACK_GMEAN_BOUND, each pair's honest belief (judge_belief),
+    end-of-profile heading (judge_heading) and stops (judge_stop); the peer's figures are reported,
+    not judged."""
     floor_of = floor_of or floor_rms
     ok = True
     ratios = []  # (name, channel, plant-limited, value)
@@ -441,6 +446,7 @@ def judge_tracking(res, profiles, variants, ideal, out, floor_of=None):
             ok = ok and passed
             ok = judge_belief(row, res[("track", p, v, "aic")][0]["tracking"]) and ok
             ok = judge_heading(row, res[("track", p, v, "aic")][0], res[("track", p, v, "stock")][0]) and ok
+            ok = judge_stop(row, res[("track", p, v, "aic")][0], res[("track", p, v, "stock")][0]) and ok
             out["tracking"].append(row)
 
     def following(name):
@@ -503,6 +509,29 @@ def judge_heading(row, aic, stock):
     row["heading_judged"] = a is not None and s is not None and not row.get("limited_vx") and not row.get("limited_wz")
     row["heading_pass"] = not row["heading_judged"] or abs(a) <= row["heading_bound"]
     return row["heading_pass"]
+
+
+def judge_stop(row, aic, stock):
+    """The stops' verdict of one tracking row (judge_tracking's, with its limited_vx): adds stops (the
+    profile's stops: changes of the linear set point from nonzero to 0), stop_aic, stop_stock
+    (closed_loop_run's tracking.stops.reverse_speed_max of the AIC's and the stock controller's run:
+    the largest true speed against the direction before a stop, within its window [m/s]; None where
+    the result has none), stop_bound (stop_stock + STOP_MARGIN [m/s]), stop_judged (True where the
+    profile has a stop, both runs measured it and the plant follows the speed) and stop_pass
+    (stop_aic <= stop_bound where judged, else True). ``aic``, ``stock``: the runs' JSON results.
+    Returns stop_pass."""
+    def reverse(result):
+        stops = (result.get("tracking") or {}).get("stops") or {}
+        value = stops.get("reverse_speed_max")
+        return (stops.get("stops", 0), value if value is not None and math.isfinite(value) else None)
+
+    n, a = reverse(aic)
+    _, s = reverse(stock)
+    row["stops"], row["stop_aic"], row["stop_stock"] = n, a, s
+    row["stop_bound"] = s + STOP_MARGIN if s is not None else None
+    row["stop_judged"] = n > 0 and a is not None and s is not None and not row.get("limited_vx")
+    row["stop_pass"] = not row["stop_judged"] or a <= row["stop_bound"]
+    return row["stop_pass"]
 
 
 def _gmean(logs):

@@ -195,8 +195,8 @@ def judge_driving(ev, crit):
     arc's yaw overshoot against the model's initial separation; reported) and, where the classical
     peer ran, driving_aic_peer_gmean, driving_peer_floor_gmean, driving_peer_stock_gmean (over the
     plant-following channels; reported). Returns True when every
-    judged row passes (the tracking rows' honest belief, belief_pass, and end-of-profile heading,
-    heading_pass, included)."""
+    judged row passes (the tracking rows' honest belief, belief_pass, end-of-profile heading,
+    heading_pass, and stops, stop_pass, included)."""
     for part in ("steps", "deficit", "robust", "tracking"):
         crit["driving_" + part] = ev[part]
     gm = dict(ev["gmean"], bound=driving.TRACK_GMEAN_BOUND)
@@ -208,6 +208,7 @@ def judge_driving(ev, crit):
             crit["driving_" + name] = ev[name]
     verdicts = [gm["pass"]] + [r["pass"] for part in ("steps", "deficit", "robust", "tracking") for r in ev[part]]
     verdicts += [r.get("belief_pass") for r in ev["tracking"]] + [r.get("heading_pass") for r in ev["tracking"]]
+    verdicts += [r.get("stop_pass") for r in ev["tracking"]]
     all_ok = not any(ok is False for ok in verdicts)
     return all_ok
 

@@ -142,20 +142,46 @@ def print_driving(crit, peer_config):
           [[r["profile"], r["variant"], fmt(r.get("belief_vx"), "%.4f"), fmt(r.get("belief_max_vx"), "%.4f"),
             "%g" % r["belief_bound_vx"], fmt(r.get("belief_wz"), "%.4f"), fmt(r.get("belief_max_wz"), "%.4f"),
             "%g" % r["belief_bound_wz"], verdict(r["belief_pass"])] for r in rows])
-    judged = [r for r in rows if r.get("heading_judged")]
-    table("6h. End-of-profile heading: the AIC's |heading error| at the end of each tracking run (ground truth "
-          "against the set point's ideal path, closed_loop_run's path.final_heading_error) <= the stock "
-          "controller's + %g rad, judged where the plant follows both channels (others reported); an error near "
-          "pi is a robot that ended facing the other way (spun, or tipped over). %d of %d judged runs pass"
-          % (driving.HEADING_MARGIN, sum(1 for r in judged if r["heading_pass"]), len(judged)),
-          ["profile", "variant", "AIC [rad]", "stock [rad]", "bound [rad]", "verdict"],
-          [[r["profile"], r["variant"], fmt(r.get("heading_aic"), "%+.3f"), fmt(r.get("heading_stock"), "%+.3f"),
-            fmt(r.get("heading_bound"), "%.3f"),
-            verdict(r["heading_pass"]) if r.get("heading_judged") else "reported"] for r in rows])
+    print_against_stock("6h. End-of-profile heading: the AIC's |heading error| at the end of each tracking run "
+                        "(ground truth against the set point's ideal path, closed_loop_run's "
+                        "path.final_heading_error) <= the stock controller's + %g rad, judged where the plant "
+                        "follows both channels (others reported); an error near pi is a robot that ended facing "
+                        "the other way (spun, or tipped over)." % driving.HEADING_MARGIN,
+                        rows, "heading", "rad", "%+.3f")
     if crit.get("driving_arc_prior"):
         print_arc_prior(crit["driving_arc_prior"])
     if "driving_aic_peer_gmean" in crit:
         print_peer(crit, peer_config)
+    print_stops(rows)
+
+
+def print_stops(rows):
+    """Print table 6k from the tracking rows ``rows`` (driving.judge_stop's figures): per pair with a
+    stop, the largest true speed against the direction before a stop, within closed_loop_run's window
+    of it, of the AIC and of the stock controller, the bound and the verdict."""
+    print_against_stock("6k. Stops: the AIC's largest true speed against the direction before a stop of the "
+                        "profile, within 1 s of it (closed_loop_run's tracking.stops.reverse_speed_max), <= the "
+                        "stock controller's + %g m/s: a robot told to stop does not move back; judged where the "
+                        "plant follows the speed (others reported)." % driving.STOP_MARGIN,
+                        [r for r in rows if r.get("stops")], "stop", "m/s", "%.3f",
+                        lead=("stops", lambda r: "%d" % r["stops"]))
+
+
+def print_against_stock(title, rows, prefix, unit, value_fmt, lead=None):
+    """Print one table of tracking rows judged against the stock controller's figure plus a margin
+    (driving.judge_heading, judge_stop): per row PREFIX_aic, PREFIX_stock (in ``value_fmt``, ``unit``),
+    PREFIX_bound and the verdict of PREFIX_pass where PREFIX_judged, else 'reported'; ``title`` is
+    followed by the count of judged rows that pass. ``lead``: an optional (header, value of a row)
+    column after the variant."""
+    judged = [r for r in rows if r.get(prefix + "_judged")]
+    extra = [lead[0]] if lead else []
+    table("%s %d of %d judged runs pass" % (title, sum(1 for r in judged if r[prefix + "_pass"]), len(judged)),
+          ["profile", "variant"] + extra + ["AIC [%s]" % unit, "stock [%s]" % unit, "bound [%s]" % unit, "verdict"],
+          [[r["profile"], r["variant"]] + ([lead[1](r)] if lead else []) +
+           [fmt(r.get(prefix + "_aic"), value_fmt), fmt(r.get(prefix + "_stock"), value_fmt),
+            fmt(r.get(prefix + "_bound"), "%.3f"),
+            verdict(r[prefix + "_pass"]) if r.get(prefix + "_judged") else "reported"] for r in rows]
+          or [["(none)"] + [""] * (5 + len(extra))])
 
 
 def print_peer(crit, peer_config):
