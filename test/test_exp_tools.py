@@ -220,6 +220,29 @@ class TrackingTest(unittest.TestCase):
             self.assertEqual(tracking.flat(result)["drift_final"], path["final_position_error"])
             for k in ("track_csv", "ideal_csv", "profile_csv"):
                 self.assertTrue(os.path.isfile(result["files"][k]), k)
+            # The step has no stop: nothing to move back from.
+            self.assertEqual(result["stops"]["truth"]["stops"], 0)
+
+    def test_analyse_tracking_measures_a_reversal_after_a_stop(self):
+        # 0.5 m/s for 2 s, then stop; the robot backs up at 0.1 m/s for 0.2 s after the stop (the
+        # ground truth) while its wheel odometry reads 0.
+        p = profiles.Profile([(0.0, 0.5, 0.0), (2.0, 0.0, 0.0)], 4.0, "stop")
+        t0 = 100.0
+        k = np.arange(-25, 201)
+        t = t0 + 0.02 * k
+        vx = np.where((k >= 0) & (k < 100), 0.5, np.where((k >= 100) & (k < 110), -0.1, 0.0))
+        arr = {"odom": np.column_stack([t, vx, np.zeros_like(t)]),
+               "pose": np.column_stack([t, np.zeros_like(t), np.zeros_like(t), np.zeros_like(t)]),
+               "wheels": np.column_stack([t + 0.01, np.zeros_like(t), np.zeros_like(t)])}
+        with tempfile.TemporaryDirectory() as tmp:
+            result = {"files": {}}
+            experiment.analyse_tracking(p, arr, t0, os.path.join(tmp, "run"), 0.098, 0.5621, result)
+            truth = result["stops"]["truth"]
+            self.assertEqual(truth["stops"], 1)
+            self.assertAlmostEqual(truth["reverse_speed_max"], 0.1, places=6)
+            self.assertAlmostEqual(truth["reverse_travel_max"], 0.02, places=6)
+            self.assertEqual(truth["window"], 1.0)
+            self.assertEqual(result["stops"]["odometry"]["reverse_speed_max"], 0.0)
 
 
 class PlotTest(unittest.TestCase):

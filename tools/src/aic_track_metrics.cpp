@@ -19,8 +19,9 @@
  * PROFILE: t,vx,wz rows, zero-order hold, the last row's t ends it (header optional).
  * TRACE: a header naming the columns; time in profile time [s] (0 = the profile's start). Every
  * pair of columns S_vx, S_wz is a measured body twist S [m/s, rad/s] (velocity tracking error
- * "tracking": {"S": ...}); columns x, y, heading [m, m, rad] are a measured pose (path drift
- * "path"). An empty cell leaves the sample out of that signal; a signal without any sample is
+ * "tracking": {"S": ...}; and how far S_vx moves back after each stop of the profile, "stops":
+ * {"S": {"stops", "reverse_speed_max", "reverse_travel_max", "window"}}, stopReversal()); columns x, y,
+ * heading [m, m, rad] are a measured pose (path drift "path"). An empty cell leaves the sample out of that signal; a signal without any sample is
  * null. '#' lines and empty lines are skipped.
  * Exit 0 on success, 1 on bad files or data, 2 on bad arguments.
  */
@@ -180,6 +181,7 @@ int main(int argc, char** argv)
     }
     // Signals: every S with columns S_vx and S_wz, in header order.
     std::ostringstream tracking;
+    std::ostringstream stops;
     int signals = 0;
     for (const std::string& h : csv.header)
     {
@@ -200,6 +202,10 @@ int main(int argc, char** argv)
                << (s.time.empty() ?
                        std::string("null") :
                        analysis::toJson(analysis::velocityTrackingError(profile, s.time, s.values[0], s.values[1])));
+      stops << (signals ? ", " : "") << "\"" << name << "\": "
+            << (s.time.empty() ?
+                    std::string("null") :
+                    analysis::toJson(analysis::stopReversal(profile, s.time, s.values[0], analysis::kStopWindow)));
       ++signals;
     }
     const int xcol = csv.column("x");
@@ -232,7 +238,8 @@ int main(int argc, char** argv)
       }
     }
     std::cout << "{\"profile\": \"" << profile.name << "\", \"duration\": " << base::jsonNumber(profile.duration)
-              << ", \"tracking\": {" << tracking.str() << "}, \"path\": " << path << "}\n";
+              << ", \"tracking\": {" << tracking.str() << "}, \"stops\": {" << stops.str() << "}, \"path\": " << path
+              << "}\n";
   }
   catch (const std::exception& e)
   {

@@ -123,8 +123,6 @@ namespace
 /// Steady segments of the honest-belief measure start this long after a set-point change [s]
 /// (doc/experiments.md, 'Driving acceptance').
 constexpr double kBeliefSettle = 0.5;
-/// How long after each stop of a profile tracking.stops looks for the robot moving back [s].
-constexpr double kStopWindow = 1.0;
 /// A robot "moved" when a commanded channel's ground-truth speed reached this share of the
 /// channel's largest |set point| [-].
 constexpr double kMovedShare = 0.1;
@@ -566,12 +564,12 @@ int main(int argc, char** argv)
   analysis::PathDrift drift;
   try
   {
-    tracking_json =
-        "{\"truth\": " +
-        analysis::toJson(analysis::velocityTrackingError(tracked, t_profile, rec.v_true, rec.yaw_true)) +
-        ", \"odometry\": " +
-        analysis::toJson(analysis::velocityTrackingError(tracked, t_profile, rec.v_odom, rec.yaw_odom)) +
-        ", \"stops\": " + analysis::toJson(analysis::stopReversal(tracked, t_profile, rec.v_true, kStopWindow));
+    tracking_json = "{\"truth\": " +
+                    analysis::toJson(analysis::velocityTrackingError(tracked, t_profile, rec.v_true, rec.yaw_true)) +
+                    ", \"odometry\": " +
+                    analysis::toJson(analysis::velocityTrackingError(tracked, t_profile, rec.v_odom, rec.yaw_odom)) +
+                    ", \"stops\": " +
+                    analysis::toJson(analysis::stopReversal(tracked, t_profile, rec.v_true, analysis::kStopWindow));
     if (c.controller == LoopController::kAic)
     {
       // The honest-belief measure: belief mu^(0) against the truth where the set point holds.

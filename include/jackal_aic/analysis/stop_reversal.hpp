@@ -16,6 +16,10 @@ namespace jackal_aic
 {
 namespace analysis
 {
+/// The window after each stop the tools search for a reversal (closed_loop_run's tracking.stops,
+/// aic_track_metrics' stops) [s]: longer than a latency and a held slope's 1.25 change intervals.
+constexpr double kStopWindow = 1.0;
+
 /// stopReversal(): the profile's stops and the worst reversal after them.
 struct StopReversal
 {

@@ -411,7 +411,8 @@ def analyse_tracking(profile, arr, t0, base, wheel_radius, wheel_sep, result):
     G with the configuration's wheel_radius and wheel_separation) against the set point, and the
     /odom pose against the ideal path. Writes <base>_track.csv (the trace the CLI reads),
     <base>_ideal.csv (the ideal path) and, for a profile not read from a file, <base>_profile.csv;
-    sets result["tracking"], result["path"] (result["tracking_error"] if the CLI refuses).
+    sets result["tracking"], result["stops"] (per signal: how far it moved back after each stop of
+    the profile) and result["path"] (result["tracking_error"] if the CLI refuses).
     Returns the ideal path as {"x", "y"} arrays for the plot, or None."""
     profile_csv = getattr(profile, "csv_path", None) or profile.write_csv(base + "_profile.csv")
     wheels = recording.drive_equivalent(arr["wheels"], wheel_radius, wheel_sep) if arr["wheels"].size \
@@ -434,6 +435,7 @@ def analyse_tracking(profile, arr, t0, base, wheel_radius, wheel_sep, result):
         result["tracking_error"] = str(e)
         return None
     result["tracking"] = m["tracking"]
+    result["stops"] = m.get("stops")
     result["path"] = m["path"]
     if m["path"] is None:
         return None
