@@ -20,9 +20,10 @@
  * TRACE: a header naming the columns; time in profile time [s] (0 = the profile's start). Every
  * pair of columns S_vx, S_wz is a measured body twist S [m/s, rad/s] (velocity tracking error
  * "tracking": {"S": ...}; and how far S_vx moves back after each stop of the profile, "stops":
- * {"S": {"stops", "reverse_speed_max", "reverse_travel_max", "window"}}, stopReversal()); columns x, y,
- * heading [m, m, rad] are a measured pose (path drift "path"). An empty cell leaves the sample out of that signal; a signal without any sample is
- * null. '#' lines and empty lines are skipped.
+ * {"S": {"stops", "reverse_speed_max", "reverse_travel_max", "window"}}, stopReversal()); columns
+ * x, y, heading [m, m, rad] are a measured pose (path drift "path"). An empty cell leaves the
+ * sample out of that signal; a signal without any sample is null. '#' lines and empty lines are
+ * skipped.
  * Exit 0 on success, 1 on bad files or data, 2 on bad arguments.
  */
 #include <cmath>

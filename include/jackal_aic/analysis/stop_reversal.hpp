@@ -34,8 +34,7 @@ struct StopReversal
  *        a nonzero value v to 0 at time t_s, the true forward speed's component against sign(v)
  *        over [t_s, min(t_s + window, the set point's next change)]; its largest value and the
  *        largest integral of it (rectangle rule over the samples' spacing). A robot that stops
- *        without moving back scores 0; the stock controller, which predicts nothing, scores about
- *        its sensors' noise.
+ *        without moving back scores 0.
  * \param profile  the set point (TwistProfile), valid
  * \param time     sample times in profile time [s], finite, strictly increasing
  * \param true_vx  true forward speed [m/s], same size, finite
