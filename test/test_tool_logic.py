@@ -1024,4 +1024,4 @@ if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
     pyunit.main("tool_logic", NodeWatchTest, RosProcessTest, SweepTest, ExperimentTest, SoakTest, ReportAndSummaryTest,
                 FailureSummaryTest, PlantLimitsTest, PeerTest, EndHeadingTest, PyunitTest, HonestBeliefTest, ArcPriorTest,
-                IdealCacheTest, MutantsListTest)
+                IdealCacheTest, MutantsListTest, StopReversalTest)
