@@ -12,6 +12,19 @@ namespace jackal_aic
 {
 namespace aic
 {
+base::Vector3 predictGoal(const base::Vector3& mu_d, const base::Vector3& mu_d_dot, const base::Vector3& t_lead)
+{
+  base::Vector3 ahead = mu_d + t_lead.cwiseProduct(mu_d_dot);
+  for (int i = 0; i < 2; ++i)  // x_dot, y_dot: not through a stop
+  {
+    if (mu_d(i) == 0.0 || ahead(i) * mu_d(i) < 0.0)
+    {
+      ahead(i) = 0.0;
+    }
+  }
+  return ahead;
+}
+
 GoalRateEstimator::GoalRateEstimator(const params::ReferenceModelParams& params)
 {
   setParams(params);

@@ -5,6 +5,8 @@
  */
 #include "jackal_aic/aic/reference_model.hpp"
 
+#include "jackal_aic/aic/goal_rate.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -47,8 +49,7 @@ base::Vector3 ReferenceModel::target() const
   {
     return mu_d_;
   }
-  const base::Vector3 lead(params_.goal_lead, params_.goal_lead, params_.goal_lead_angular);
-  return mu_d_ + lead.cwiseProduct(mu_d_dot_);
+  return predictGoal(mu_d_, mu_d_dot_, base::Vector3(params_.goal_lead, params_.goal_lead, params_.goal_lead_angular));
 }
 
 base::Vector3 ReferenceModel::accelerationLimit() const

@@ -394,9 +394,10 @@ VelocityTrackingError latencyFloor(const TwistProfile& profile, const params::Ai
     profile.setPointAt(t, &vx, &wz);
     if (s.predict)
     {
-      const base::Vector3 rate = estimator.rate(t);
-      vx += lead * rate.x();
-      wz += lead * rate.z();
+      const base::Vector3 ahead =
+          aic::predictGoal(base::Vector3(vx, 0.0, wz), estimator.rate(t), base::Vector3::Constant(lead));
+      vx = ahead.x();
+      wz = ahead.z();
     }
     u_vx[k] = vx;
     u_wz[k] = wz;

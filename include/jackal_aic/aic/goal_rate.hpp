@@ -14,6 +14,26 @@ namespace jackal_aic
 namespace aic
 {
 /**
+ * \brief The goal predicted t_lead ahead: mu_hat_d = mu_d + t_lead mu_d' per channel, except that
+ *        a linear channel (x_dot, y_dot) is not predicted through a stop: where mu_d is 0, or where
+ *        mu_d + t_lead mu_d' has the sign opposite to mu_d, its prediction is 0.
+ *
+ * A stream's ramp into a stop ends at the stop, but the estimator holds its slope for
+ * GoalRateEstimator::kRampHoldIntervals after the last change; extrapolated, it would ask for
+ * reverse for that long, and the robot would back up. A change of travel direction is made from
+ * rest, not through a ramp's extrapolation. The yaw rate is predicted through 0: a turn's rate
+ * sweeps through 0 inside one manoeuvre (an S-curve), and its prediction there is what the
+ * latency needs (doc/active_inference.md, 'Set-point dynamics', 'A ramp's end').
+ *
+ * \param mu_d      the goal [m/s, m/s, rad/s]
+ * \param mu_d_dot  its rate [m/s^2, m/s^2, rad/s^2] (GoalRateEstimator::rate())
+ * \param t_lead    the prediction horizon per channel [s]
+ * \return mu_hat_d [m/s, m/s, rad/s]; elementwise arithmetic, so a non-finite input gives a
+ *         non-finite output (callers validate their inputs).
+ */
+base::Vector3 predictGoal(const base::Vector3& mu_d, const base::Vector3& mu_d_dot, const base::Vector3& t_lead);
+
+/**
  * \brief Estimates mu_d' [m/s^2, m/s^2, rad/s^2] of a zero-order-hold set-point stream.
  *
  * A planner or a joystick publishes a ramp as a staircase: the same value repeated, then a

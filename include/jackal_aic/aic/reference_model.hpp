@@ -20,7 +20,7 @@ namespace aic
  * \brief Goal -> predicted goal -> reference path with its delay line.
  *
  * The goal mu_d = (x_dot [m/s], y_dot [m/s], theta_dot [rad/s]) and its rate mu_d' (zero unless
- * generalized_goal) give the predicted goal mu_hat_d = mu_d + t_lead mu_d' (target(); t_lead per
+ * generalized_goal) give the predicted goal mu_hat_d = mu_d + t_lead mu_d' (target(), predictGoal(); t_lead per
  * channel: goal_lead for x_dot and y_dot, goal_lead_angular for theta_dot). With
  * T_r > 0 a first-order model m follows it,
  *   m' = clamp(W((mu_hat_d - m) / T_r, A_w), lo, hi),   (lo, hi) = accelerationBounds(),
@@ -99,9 +99,9 @@ public:
   const base::Vector3& goal() const { return mu_d_; }
   /// The goal's rate mu_d' [m/s^2, m/s^2, rad/s^2] (zero unless generalized_goal).
   const base::Vector3& goalRate() const { return mu_d_dot_; }
-  /// The predicted goal mu_hat_d = mu_d + t_lead mu_d' with generalized_goal (t_lead = goal_lead
-  /// for x_dot and y_dot, goal_lead_angular for theta_dot), else mu_d [m/s, m/s, rad/s]: the
-  /// reference model's input.
+  /// The predicted goal mu_hat_d = predictGoal(mu_d, mu_d', t_lead) with generalized_goal (t_lead =
+  /// goal_lead for x_dot and y_dot, goal_lead_angular for theta_dot; the linear channels are not
+  /// predicted through a stop), else mu_d [m/s, m/s, rad/s]: the reference model's input.
   base::Vector3 target() const;
 
   /**

@@ -21,8 +21,9 @@ struct LatencyFloorSettings
   double latency = 0.0;        ///< L: command-to-motion latency of the plant [s], finite, in [0, 10]
   double accel_linear = 0.0;   ///< largest |dvx/dt| [m/s^2]; 0 = unlimited; finite, >= 0
   double accel_angular = 0.0;  ///< largest |dwz/dt| [rad/s^2]; 0 = unlimited; finite, >= 0
-  /// true: the servo aims at the set point predicted L ahead, mu_d + L mu_d' (mu_d' by the
-  /// GoalRateEstimator, as the AIC's generalized goal); false: at the set point it has (hold)
+  /// true: the servo aims at the set point predicted L ahead, mu_d + L mu_d' (aic::predictGoal(),
+  /// mu_d' by the GoalRateEstimator, as the AIC's generalized goal: v_x not predicted through a
+  /// stop); false: at the set point it has (hold)
   bool predict = false;
   /// T_h: the servo takes a new aim every T_h [s] and holds it between, as a controller holds its
   /// command for its action period (the node's 1 / action_rate); a prediction then aims
@@ -47,7 +48,7 @@ struct LatencyFloorSettings
  *
  * The servo receives each profile point at its time, as the controller receives the stream, and
  * its body twist is y(t) = clamp_a(u(t - L)) with u the held set point mu_d(t) (predict false) or
- * its prediction mu_d(t) + L mu_d'(t) (predict true, mu_d' from a GoalRateEstimator with
+ * its prediction mu_d(t) + L mu_d'(t) (predict true, aic::predictGoal(), mu_d' from a GoalRateEstimator with
  * goal_rate's goal_rate_hold and max_goal_rate_*); with a hold period T_h > 0, u is taken at the
  * multiples of T_h only and held between (the prediction's lead L + T_h / 2); clamp_a a rate limit of
  * accel_linear / accel_angular (none where 0), or with wheel_acceleration A_w > 0 of each wheel

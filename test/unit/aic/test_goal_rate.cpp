@@ -78,4 +78,44 @@ TEST(GoalRate, BadInputIsRefused)
   g.reset();
   EXPECT_EQ(g.rate(1.1), base::Vector3::Zero());
 }
+
+TEST(PredictGoal, ARampIntoAStopIsNotPredictedThroughIt)
+{
+  // A 10 Hz ramp 0.4 -> 0 m/s at -2 m/s^2, predicted 0.12 s ahead: 0.4 - 0.24 = 0.16 while the
+  // goal is well ahead of the stop; from 0.2 m/s the extrapolation would cross 0 (0.2 - 0.24 < 0)
+  // and at the stop (goal 0, slope still held) it would ask for -0.24 m/s: both give 0.
+  const base::Vector3 lead = base::Vector3::Constant(0.12);
+  const base::Vector3 slope(-2.0, 0.0, 0.0);
+  EXPECT_NEAR(aic::predictGoal(base::Vector3(0.4, 0.0, 0.0), slope, lead)(0), 0.16, 1e-12);
+  EXPECT_EQ(aic::predictGoal(base::Vector3(0.2, 0.0, 0.0), slope, lead)(0), 0.0);
+  EXPECT_EQ(aic::predictGoal(base::Vector3(0.0, 0.0, 0.0), slope, lead)(0), 0.0);
+  // The same in reverse, and on y_dot.
+  EXPECT_EQ(aic::predictGoal(base::Vector3(-0.2, 0.0, 0.0), -slope, lead)(0), 0.0);
+  EXPECT_EQ(aic::predictGoal(base::Vector3(0.0, 0.1, 0.0), base::Vector3(0.0, -2.0, 0.0), lead)(1), 0.0);
+}
+
+TEST(PredictGoal, ARampAwayFromAStopOrAYawRateIsPredicted)
+{
+  const base::Vector3 lead(0.12, 0.12, 0.1);
+  // Speeding up and slowing down short of 0: mu_d + t_lead mu_d' on each channel.
+  const base::Vector3 up = aic::predictGoal(base::Vector3(0.2, -0.3, 0.5), base::Vector3(2.0, -1.0, 1.0), lead);
+  EXPECT_NEAR(up(0), 0.44, 1e-12);
+  EXPECT_NEAR(up(1), -0.42, 1e-12);
+  EXPECT_NEAR(up(2), 0.6, 1e-12);
+  EXPECT_NEAR(aic::predictGoal(base::Vector3(-0.5, 0.0, 0.0), base::Vector3(2.0, 0.0, 0.0), lead)(0), -0.26, 1e-12);
+  // The yaw rate sweeps through 0 inside an S-curve: predicted through it, and from 0.
+  EXPECT_NEAR(aic::predictGoal(base::Vector3(0.0, 0.0, 0.05), base::Vector3(0.0, 0.0, -1.0), lead)(2), -0.05, 1e-12);
+  EXPECT_NEAR(aic::predictGoal(base::Vector3::Zero(), base::Vector3(0.0, 0.0, 1.0), lead)(2), 0.1, 1e-12);
+  // No rate: the goal itself.
+  EXPECT_EQ(aic::predictGoal(base::Vector3(0.3, 0.0, -0.2), base::Vector3::Zero(), lead),
+            base::Vector3(0.3, 0.0, -0.2));
+}
+
+TEST(PredictGoal, NonFiniteInGivesNonFiniteOut)
+{
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const base::Vector3 out =
+      aic::predictGoal(base::Vector3(0.5, 0.0, nan), base::Vector3(1.0, 0.0, 0.0), base::Vector3::Constant(0.1));
+  EXPECT_FALSE(out.allFinite());
+}
 }  // namespace
