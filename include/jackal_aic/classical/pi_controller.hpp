@@ -102,7 +102,8 @@ struct PiCommand
  *        differential, around a feed-forward through the latency (a two-degree-of-freedom loop).
  *
  * Feed-forward: the goal (v_d, w_d) and its rate (GoalRateEstimator, from the set-point stream)
- * predicted one latency ahead, g = mu_d + L mu_d' (ReferenceModel::target() with the goal lead L),
+ * predicted one latency ahead, g = mu_d + L mu_d' (ReferenceModel::target() with the goal lead L: aic::predictGoal(),
+ * the speed not predicted through a stop),
  * mapped to the wheels by the skid-steer model (SkidSteerModel::wheelsFromTwist()), and through the
  * wheel loop's inverse over the period h (LatencyAction::step() with k_a h = 1: the command whose
  * response, after the commands in flight, reaches g at t + L + h): u_ff.

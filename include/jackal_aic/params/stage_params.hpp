@@ -20,7 +20,8 @@ namespace params
  *
  * Generalized goal (generalized_goal true): the goal's rate mu_d' is estimated from the set-point
  * stream by finite differences (GoalRateEstimator) and the goal is predicted t_lead ahead,
- * mu_d + t_lead mu_d' (t_lead = goal_lead for x_dot and y_dot, goal_lead_angular for theta_dot).
+ * mu_d + t_lead mu_d' (t_lead = goal_lead for x_dot and y_dot, goal_lead_angular for theta_dot; the speed not
+ * predicted through a stop, aic::predictGoal()).
  * Without a reference model the attractor becomes f(mu) = mu_d' + (mu_d - mu) / tau. The thesis's
  * section 6-1 names such a generative model "that predicts the path towards the desired state".
  *
