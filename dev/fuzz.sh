@@ -61,7 +61,7 @@ flags=(-std=c++17 -g -O2 -fsanitize=fuzzer,address,undefined -fno-sanitize-recov
        -fsanitize-ignorelist="$repo/test/fuzz/ubsan_ignorelist.txt"
        -I"$repo/include" -I/usr/include/eigen3)
 sources=("$repo"/src/params/{aic_params,param_violation,param_spec,param_schema,node_params,fdi_params,diff_drive_params}.cpp
-         "$repo"/src/aic/{generalizer,skid_steer_model,reference_model,action_delay_line,action_prior,rest_release,goal_response,anti_windup,action_slew_limit,wheel_loop_model,robot_belief,latency_action,latency_learner,controller,separation_learner,precision_learner}.cpp
+         "$repo"/src/aic/{generalizer,skid_steer_model,goal_rate,reference_model,action_delay_line,action_prior,rest_release,goal_response,anti_windup,action_slew_limit,wheel_loop_model,robot_belief,latency_action,latency_learner,controller,separation_learner,precision_learner}.cpp
          "$repo"/src/safety/fault_monitor.cpp "$repo"/src/loop/{diff_drive,fault_test}.cpp
          "$repo/test/fuzz/fuzz_core.cpp")
 # The binary is rebuilt only when its inputs change: a stamp holds the SHA-256 of the compiler's
