@@ -61,12 +61,19 @@ TEST_TIMEOUT = 600
 
 
 class ListError(ValueError):
-    """A malformed mutants list."""
+    """A malformed list of edits (mutants or ablations)."""
 
 
-def parse_list(text, name="mutants list"):
-    """The mutants of a list file's text: a list of dicts with KEYS ('tests' a list, default the core
-    gtests). Raises ListError naming the line on an unknown key, a missing key or a repeated id."""
+def mutant_defaults(block):
+    """A mutant's 'tests' as a list (default: the core gtests)."""
+    block["tests"] = block["tests"].split() if "tests" in block else core_tests()
+
+
+def parse_list(text, name="mutants list", keys=KEYS, finish=mutant_defaults):
+    """The edits of a list file's text (the format of the module docstring; dev/ablations.py's list
+    has the same, with its own ``keys``): a list of dicts, each completed by ``finish(block)`` (for
+    mutants: mutant_defaults). Raises ListError naming the line on an unknown key, a missing key
+    (id, what, file, find, replace) or a repeated id."""
     mutants, block, start, last = [], {}, 0, None
 
     def close():
@@ -74,10 +81,10 @@ def parse_list(text, name="mutants list"):
             return
         for key in ("id", "what", "file", "find", "replace"):
             if key not in block:
-                raise ListError("%s line %d: mutant without '%s:'" % (name, start, key))
+                raise ListError("%s line %d: entry without '%s:'" % (name, start, key))
         if any(m["id"] == block["id"] for m in mutants):
             raise ListError("%s line %d: repeated id '%s'" % (name, start, block["id"]))
-        block["tests"] = block["tests"].split() if "tests" in block else core_tests()
+        finish(block)
         mutants.append(dict(block))
         block.clear()
 
@@ -93,9 +100,9 @@ def parse_list(text, name="mutants list"):
             block[last] += "\n" + line[1:]
             continue
         key, sep, value = line.partition(":")
-        if not sep or key.strip() not in KEYS:
+        if not sep or key.strip() not in keys:
             raise ListError("%s line %d: expected 'KEY: value' with KEY one of %s, got %r"
-                            % (name, number, ", ".join(KEYS), line))
+                            % (name, number, ", ".join(keys), line))
         if not block:
             start = number
         last = key.strip()
@@ -108,7 +115,7 @@ def apply(text, mutant):
     """`text` with the mutant's edit applied. Raises ListError unless 'find' occurs exactly once."""
     count = text.count(mutant["find"])
     if count != 1:
-        raise ListError("mutant %s: 'find' occurs %d times in %s (must be once)" % (mutant["id"], count, mutant["file"]))
+        raise ListError("%s: 'find' occurs %d times in %s (must be once)" % (mutant["id"], count, mutant["file"]))
     return text.replace(mutant["find"], mutant["replace"])
 
 

@@ -205,6 +205,27 @@ class CompareTool(unittest.TestCase):
                                          max(stock, 0.002)))
 
 
+class MarkdownPage(unittest.TestCase):
+    """compare.markdown_page names the plants the runs were on and counts their channels."""
+
+    def test_the_page_names_its_plants(self):
+        class V:
+            name, config, sets = "d", DEFAULT, ["k=1"]
+        rows = []
+        for label in ("p vx RMS", "p wz RMS", "p (td) vx RMS", "p (td) wz RMS"):
+            unit = "m/s" if " vx " in label else "rad/s"
+            rows.append({"section": "tracking", "label": label, "unit": unit, "ref": "stock",
+                         "values": {"d": 0.1, "stock": 0.2, "floor": 0.05}, "ratios": {"d": 0.5, "floor": 0.25},
+                         "diverged": {}})
+        summ = compare.summary(rows, [V])
+        one = compare.markdown_page(rows, summ, [V], "cmd", ROOT, "T")
+        self.assertIn("on the default plant, noisy sensors", one)
+        two = compare.markdown_page(rows, summ, [V], "cmd", ROOT, "T", plants=["default", "/x/td.yaml"])
+        self.assertIn("on each of 2 plants (the default plant, `td`)", two)
+        self.assertIn("over the 4 tracking channels", two)
+        self.assertIn("| d | `config/default.yaml` `k=1` | 0.500 | 2.000 |", two)
+
+
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
-    pyunit.main("compare", ApiRun, FaultMonitorEvents, Divergence, VariantLines, CompareTool)
+    pyunit.main("compare", ApiRun, FaultMonitorEvents, Divergence, VariantLines, CompareTool, MarkdownPage)

@@ -3,7 +3,8 @@
 (aic_sweep.py, aic_node_load.py, aic_ros_soak.py, aic_experiment.py: jackal_aic_tools.experiment.sweep,
 .experiment, jackal_aic_tools.robustness.node_watch, .soak), the launcher and stop routine of
 ROS processes (jackal_aic_tools.common.ros_process), of the report and summary printers
-(jackal_aic_tools.common.report, .summary), of dev/failure_summary.py and dev/mutants.py's list, and the
+(jackal_aic_tools.common.report, .summary), of dev/failure_summary.py, dev/mutants.py's list and
+dev/ablations.py's list and page, and the
 plant-limited pairs of the tracking benchmark (jackal_aic_tools.track.plant_limits, driving.judge_tracking,
 track_suite.metric_limited) and the classical peer beside them (driving.evaluate's peer, the scorecard's
 table 6j), on inputs made up here.
@@ -932,6 +933,85 @@ class MutantsListTest(unittest.TestCase):
                 self.m.core_tests(d)
 
 
+class AblationsListTest(unittest.TestCase):
+    """dev/ablations.py: its list (dev/ablations.txt) applies to the tree and names existing plants,
+    and its per-plant figures and page, on a compare.json made up here."""
+
+    @classmethod
+    def setUpClass(cls):
+        sys.path.insert(0, os.path.join(ROOT, "dev"))
+        import ablations  # noqa: E402 (dev/ablations.py)
+        import mutants  # noqa: E402 (dev/mutants.py)
+        cls.a, cls.m = ablations, mutants
+        with open(os.path.join(ROOT, "dev", "ablations.txt")) as f:
+            cls.entries = ablations.parse_list(f.read(), "dev/ablations.txt")
+
+    def test_every_ablation_applies_to_the_tree(self):
+        self.assertGreater(len(self.entries), 2)
+        for e in self.entries:
+            with open(os.path.join(ROOT, e["file"])) as f:
+                text = f.read()
+            self.assertNotEqual(self.m.apply(text, e), text, e["id"])
+            for p in e["plants"]:
+                self.assertTrue(p == "default" or os.path.isfile(os.path.join(ROOT, p)), "%s: %s" % (e["id"], p))
+
+    def test_defaults_and_a_malformed_entry(self):
+        e = self.a.parse_list("id: x\nwhat: w\nfile: f\nfind: a\nreplace: b\n")[0]
+        self.assertEqual(e["variant"], "default")
+        self.assertEqual(e["plants"], self.a.PLANTS)
+        e = self.a.parse_list("id: x\nwhat: w\nfile: f\nfind: a\nreplace: b\nvariant: default:k=1\nplants: default\n")[0]
+        self.assertEqual((e["variant"], e["plants"]), ("default:k=1", ["default"]))
+        with self.assertRaisesRegex(self.m.ListError, "KEY one of"):
+            self.a.parse_list("id: x\ntests: t\n")  # a mutant's key is not an ablation's
+        with self.assertRaisesRegex(self.m.ListError, "without 'replace:'"):
+            self.a.parse_list("id: x\nwhat: w\nfile: f\nfind: a\n")
+
+    @staticmethod
+    def result(name, rms, floor=0.1, stock=0.2, belief=0.01):
+        """A compare.json of variant ``name``: two profiles on the default plant and on 'td', RMS
+        ``rms`` (or rms(label)) against the floor and the stock controller; one step row."""
+        rows = [{"section": "steps", "label": "0.5 m/s rise", "unit": "s", "values": {name: 0.2, "stock": 0.4},
+                 "ratios": {name: 0.5}}]
+        for tag in ("", " (td)"):
+            for prof in ("a", "b"):
+                for ch, unit in (("vx", "m/s"), ("wz", "rad/s")):
+                    label = "%s%s %s" % (prof, tag, ch)
+                    value = rms(label) if callable(rms) else rms
+                    rows.append({"section": "tracking", "label": label + " RMS", "unit": unit,
+                                 "values": {name: value, "stock": stock, "floor": floor},
+                                 "ratios": {name: value / stock}})
+                    rows.append({"section": "belief", "label": "%s%s %s belief-truth RMS" % (prof, tag, ch),
+                                 "unit": unit, "values": {name: belief}, "ratios": {}})
+        rows.append({"section": "belief", "label": "arc vx belief-truth RMS", "unit": "m/s", "values": {name: 9.0},
+                     "ratios": {}})
+        return {"variants": [{"name": name}], "rows": rows}
+
+    def test_figures_per_plant_and_the_page(self):
+        plants = ["default", "sim/config/variants/td.yaml"]
+        w = self.a.per_plant(self.result("with", 0.12), plants)
+        self.assertAlmostEqual(w["default"]["floor"], 1.2)
+        self.assertAlmostEqual(w["default"]["stock"], 0.6)
+        self.assertAlmostEqual(w["default"]["belief_vx"], 0.01)  # the arc's belief is not a profile's
+        self.assertAlmostEqual(w["steps"], 0.5)
+        self.assertAlmostEqual(w["default"]["floor_stock"], 0.5)
+        self.assertEqual(sorted(w["default"]["channels"]), ["a vx", "a wz", "b vx", "b wz"])
+        self.assertEqual(w["default"]["channels"]["a wz"], (0.12, "rad/s"))
+        self.assertEqual(sorted(w[plants[1]]["channels"]), ["a (td) vx", "a (td) wz", "b (td) vx", "b (td) wz"])
+        # Without the rule, one channel of the second plant doubles: only that plant and channel move.
+        wo = self.a.per_plant(self.result("x", lambda label: 0.24 if label == "b (td) wz" else 0.12), plants)
+        self.assertAlmostEqual(wo["default"]["floor"], 1.2)
+        self.assertAlmostEqual(wo[plants[1]]["floor"], 1.2 * 2 ** 0.25)
+        entry = {"id": "x", "what": "a rule is out", "variant": "default", "file": "src/f.cpp", "plants": plants,
+                 "with": w, "without": wo, "verdict": "ran"}
+        page = self.a.markdown([entry, dict(entry, id="y", without=None, verdict="the edit does not build")],
+                               "dev/ablations.py", 0.05)
+        self.assertIn("| `td` | 1.200 → 1.427 | 0.600 → 0.714 | 0.500 |", page)
+        self.assertIn("Channels whose RMS moved: b (td) wz 0.1200 → 0.2400 rad/s.", page)
+        self.assertIn("**the edit does not build**", page)
+        with self.assertRaisesRegex(ValueError, "no tracking rows"):
+            self.a.per_plant(self.result("with", 0.12), ["sim/config/variants/none.yaml"])
+
+
 class ArcPriorTest(unittest.TestCase):
     """driving.arc_effective_separation and driving.arc_prior (the scorecard's table 6i), on made-up
     arc traces and a runner that returns made-up runs."""
@@ -1024,4 +1104,4 @@ if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
     pyunit.main("tool_logic", NodeWatchTest, RosProcessTest, SweepTest, ExperimentTest, SoakTest, ReportAndSummaryTest,
                 FailureSummaryTest, PlantLimitsTest, PeerTest, EndHeadingTest, PyunitTest, HonestBeliefTest, ArcPriorTest,
-                IdealCacheTest, MutantsListTest, StopReversalTest)
+                IdealCacheTest, MutantsListTest, AblationsListTest, StopReversalTest)
