@@ -196,24 +196,12 @@ class Runner:
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--list", default=os.path.join(HERE, "ablations.txt"))
-    ap.add_argument("--work", default=os.path.join(REPO, ".ws", "ablations"))
-    ap.add_argument("--only", nargs="*", default=None, help="run only these ablation ids")
-    ap.add_argument("--markdown", default=None, help="write the results page there (Markdown)")
-    ap.add_argument("--jobs", type=int, default=int(os.environ.get("JOBS", "2")))
+    mutants.add_list_args(ap, "ablation", "ablations.txt", "ablations")
     ap.add_argument("--threshold", type=float, default=0.05, help="a channel's move to list (fraction)")
     a = ap.parse_args(argv)
     try:
-        with open(a.list) as f:
-            entries = parse_list(f.read(), a.list)
-        if a.only:
-            unknown = set(a.only) - {e["id"] for e in entries}
-            if unknown:
-                raise mutants.ListError("unknown ablation id(s): %s" % ", ".join(sorted(unknown)))
-            entries = [e for e in entries if e["id"] in a.only]
+        entries = mutants.load_list(a.list, a.only, parse_list, "ablation")
         for e in entries:
-            with open(os.path.join(REPO, e["file"])) as f:
-                mutants.apply(f.read(), e)
             for p in e["plants"]:
                 if p != "default" and not os.path.isfile(os.path.join(REPO, p)):
                     raise mutants.ListError("%s: no such plant: %s" % (e["id"], p))
@@ -222,16 +210,9 @@ def main(argv=None):
         return 2
 
     ws = mutants.Workspace(a.work)
-    ws.sync()
-    conf = ws.configure()
-    if conf.returncode != 0:
-        print(conf.stdout[-3000:])
-        print("ablations: configuring the scratch workspace failed", file=sys.stderr)
-        return 2
-    base = ws.make(TARGETS, a.jobs)
-    if base.returncode != 0:
-        print(base.stdout[-3000:])
-        print("ablations: the tree does not build", file=sys.stderr)
+    failure = ws.prepare(TARGETS, a.jobs)
+    if failure:
+        print("ablations: %s" % failure, file=sys.stderr)
         return 2
     results = os.path.join(ws.root, "results")
     shutil.rmtree(results, ignore_errors=True)

@@ -29,7 +29,6 @@ import argparse
 import json
 import os
 import re
-import shutil
 import subprocess
 import sys
 import time
@@ -142,6 +141,33 @@ def markdown(rows):
     return "\n".join(out) + "\n"
 
 
+def add_list_args(ap, kind, list_name, work_name):
+    """The options of a tool over a list of edits (this one and dev/ablations.py): --list (default
+    dev/<list_name>), --work (default .ws/<work_name>), --only, --markdown, --jobs."""
+    ap.add_argument("--list", default=os.path.join(HERE, list_name))
+    ap.add_argument("--work", default=os.path.join(REPO, ".ws", work_name))
+    ap.add_argument("--only", nargs="*", default=None, help="run only these %s ids" % kind)
+    ap.add_argument("--markdown", default=None, help="write the results page there (Markdown)")
+    ap.add_argument("--jobs", type=int, default=int(os.environ.get("JOBS", "2")))
+
+
+def load_list(path, only, parse, kind):
+    """The entries of the list file ``path`` as ``parse(text, path)`` reads them, only those whose id
+    is in ``only`` when it is given; each checked to apply to the tree (apply). Raises OSError, or
+    ListError on a malformed list, an unknown id in ``only`` or an edit that does not apply."""
+    with open(path) as f:
+        entries = parse(f.read(), path)
+    if only:
+        unknown = set(only) - {e["id"] for e in entries}
+        if unknown:
+            raise ListError("unknown %s id(s): %s" % (kind, ", ".join(sorted(unknown))))
+        entries = [e for e in entries if e["id"] in only]
+    for e in entries:
+        with open(os.path.join(REPO, e["file"])) as f:
+            apply(f.read(), e)
+    return entries
+
+
 class Workspace:
     """The scratch catkin workspace holding a copy of the repository's files."""
 
@@ -180,6 +206,17 @@ class Workspace:
         return subprocess.run(["bash", "-c", cmd], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                               universal_newlines=True)
 
+    def prepare(self, targets, jobs):
+        """sync(), configure() and make(targets): None when the targets built, else what failed (str,
+        with the end of its output)."""
+        self.sync()
+        for what, proc in (("configuring the scratch workspace", self.configure),
+                           ("building the tree", lambda: self.make(targets, jobs))):
+            done = proc()
+            if done.returncode != 0:
+                return "%s failed:\n%s" % (what, done.stdout[-3000:])
+        return None
+
     def make(self, targets, jobs):
         """Builds `targets` in the scratch workspace; the completed process."""
         return subprocess.run(["make", "-C", self.build, "-j%d" % jobs] + targets, stdout=subprocess.PIPE,
@@ -206,39 +243,19 @@ class Workspace:
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--list", default=os.path.join(HERE, "mutants.txt"))
-    ap.add_argument("--work", default=os.path.join(REPO, ".ws", "mutants"))
-    ap.add_argument("--only", nargs="*", default=None, help="run only these mutant ids")
-    ap.add_argument("--markdown", default=None, help="write the results table there (Markdown)")
-    ap.add_argument("--jobs", type=int, default=int(os.environ.get("JOBS", "2")))
+    add_list_args(ap, "mutant", "mutants.txt", "mutants")
     a = ap.parse_args(argv)
     try:
-        with open(a.list) as f:
-            mutants = parse_list(f.read(), a.list)
-        if a.only:
-            unknown = set(a.only) - {m["id"] for m in mutants}
-            if unknown:
-                raise ListError("unknown mutant id(s): %s" % ", ".join(sorted(unknown)))
-            mutants = [m for m in mutants if m["id"] in a.only]
-        for m in mutants:
-            with open(os.path.join(REPO, m["file"])) as f:
-                apply(f.read(), m)
+        mutants = load_list(a.list, a.only, parse_list, "mutant")
     except (OSError, ListError) as e:
         print("mutants: %s" % e, file=sys.stderr)
         return 2
 
     ws = Workspace(a.work)
-    ws.sync()
-    conf = ws.configure()
-    if conf.returncode != 0:
-        print(conf.stdout[-3000:])
-        print("mutants: configuring the scratch workspace failed", file=sys.stderr)
-        return 2
     targets = sorted({t for m in mutants for t in m["tests"]})
-    base = ws.make(targets, a.jobs)
-    if base.returncode != 0:
-        print(base.stdout[-3000:])
-        print("mutants: the unmutated tree does not build", file=sys.stderr)
+    failure = ws.prepare(targets, a.jobs)
+    if failure:
+        print("mutants: %s" % failure, file=sys.stderr)
         return 2
     report = os.path.join(ws.root, "gtest_report.json")
     for t in targets:  # the unmutated tree must pass, or a 'caught' means nothing
