@@ -996,6 +996,7 @@ class AblationsListTest(unittest.TestCase):
         self.assertAlmostEqual(w["default"]["floor_stock"], 0.5)
         self.assertEqual(sorted(w["default"]["channels"]), ["a vx", "a wz", "b vx", "b wz"])
         self.assertEqual(w["default"]["channels"]["a wz"], (0.12, "rad/s"))
+        self.assertAlmostEqual(w["default"]["worst_belief"][0], 0.01 / 0.12)  # the arc's 9.0 is no channel
         self.assertEqual(sorted(w[plants[1]]["channels"]), ["a (td) vx", "a (td) wz", "b (td) vx", "b (td) wz"])
         # Without the rule, one channel of the second plant doubles: only that plant and channel move.
         wo = self.a.per_plant(self.result("x", lambda label: 0.24 if label == "b (td) wz" else 0.12), plants)
@@ -1006,6 +1007,7 @@ class AblationsListTest(unittest.TestCase):
         page = self.a.markdown([entry, dict(entry, id="y", without=None, verdict="the edit does not build")],
                                "dev/ablations.py", 0.05)
         self.assertIn("| `td` | 1.200 → 1.427 | 0.600 → 0.714 | 0.500 |", page)
+        self.assertIn("| 0.083 (b wz) → 0.083 (b vx) |", page)  # b (td) wz: its error doubled
         self.assertIn("Channels whose RMS moved: b (td) wz 0.1200 → 0.2400 rad/s.", page)
         self.assertIn("**the edit does not build**", page)
         with self.assertRaisesRegex(ValueError, "no tracking rows"):
