@@ -7,7 +7,8 @@ noise, simulated time: deterministic). Checks:
 - closed_loop_run's divergence check: the order-4 extension of the thesis's variances (doc/tuning.md,
   'Embedding order and the variance lists') exits 3 with one line naming the cause, and reports it
   and exits 0 with --keep-going; the variance rule's order-4 lists run;
-- variant lines (brackets, KEY*=FACTOR, bad lines) and the floored ratios near zero;
+- variant lines (brackets, KEY*=FACTOR, bad lines) and the floored ratios near zero; the shipped
+  variant files parse, and each line of the default's ablation changes the default's run;
 - aic_compare.py on two variants and one profile: the table, CSV, JSON and figures are written, the
   default's step figures are the scorecard's (aic_scorecard.py's run of the same step), the
   tracking ones closed_loop_run's, the floor the driving set's.
@@ -226,6 +227,40 @@ class MarkdownPage(unittest.TestCase):
         self.assertIn("| d | `config/default.yaml` `k=1` | 0.500 | 2.000 |", two)
 
 
+class ShippedVariantFiles(unittest.TestCase):
+    """The variant files of config/compare parse, and every line of the default's ablation acts on
+    the default: a switch the robot model does not read (the goal model's action_prior_gain, k_a,
+    reference_time_constant) would leave its run bit-identical to the default's."""
+
+    def effective(self, path):
+        return cli.effective_config([path], SCRIPT, "test_compare")
+
+    def test_every_variant_file_parses(self):
+        files = sorted(f for f in os.listdir(os.path.join(ROOT, "config", "compare")) if f.endswith(".txt"))
+        self.assertIn("default_ablation.txt", files)
+        for name in files:
+            found = variants.read_file(os.path.join(ROOT, "config", "compare", name), ROOT, self.effective)
+            self.assertGreater(len(found), 1, name)
+            variants.check_names(found)
+
+    def test_each_part_of_the_default_ablation_acts(self):
+        found = variants.read_file(os.path.join(ROOT, "config", "compare", "default_ablation.txt"), ROOT,
+                                   self.effective)
+        self.assertEqual(found[0].name, "default")
+        deficit = os.path.join(ROOT, "sim", "config", "variants", "turn_deficit.yaml")
+        profile = os.path.join(ROOT, "sim", "profiles", "s_curves.csv")
+
+        def rms(v):
+            r = closed_loop.run(exe(), "aic", ["--profile", profile], v.config, v.sets, PLANT, [deficit],
+                                keep_going=True)
+            return [r.result["tracking"]["truth"][ch]["rms"] for ch in ("vx", "wz")]
+
+        base = rms(found[0])
+        for v in found[1:]:
+            if v.config == DEFAULT:
+                self.assertNotEqual(rms(v), base, "%s leaves the default's run unchanged" % v.name)
+
+
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
-    pyunit.main("compare", ApiRun, FaultMonitorEvents, Divergence, VariantLines, CompareTool, MarkdownPage)
+    pyunit.main("compare", ApiRun, FaultMonitorEvents, Divergence, VariantLines, CompareTool, MarkdownPage, ShippedVariantFiles)
