@@ -53,6 +53,7 @@ REPO = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(REPO, "src"))
 import mutants  # noqa: E402 (dev/mutants.py: the list format, the edit, the scratch workspace)
+from jackal_aic_tools.common.tables import fmt  # noqa: E402
 from jackal_aic_tools.compare.compare import floored_ratio  # noqa: E402
 from jackal_aic_tools.track import plant_limits  # noqa: E402
 
@@ -121,10 +122,6 @@ def per_plant(result, plants):
 def gmean(ratios):
     """plant_limits.gmean of the ratios that exist (None left out); None when none does."""
     return plant_limits.gmean([x for x in ratios if x is not None])[0]
-
-
-def fmt(v, spec="%.3f"):
-    return "-" if v is None else spec % v
 
 
 def markdown(entries, command, threshold):
