@@ -17,6 +17,7 @@ import csv
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -261,6 +262,86 @@ class ShippedVariantFiles(unittest.TestCase):
                 self.assertNotEqual(rms(v), base, "%s leaves the default's run unchanged" % v.name)
 
 
+class KeysWithoutEffect(unittest.TestCase):
+    """The parameter table's "belief models" column (ParamSpec::models; the node and the tools warn
+    of a key set for another model): every key it gives to other models leaves a closed-loop run of
+    this model bit-identical, commands, beliefs and the robot's motion (a step into an arc with a
+    gyro offset appearing mid-arc, noisy sensors), and a key the model reads does change it."""
+
+    COLUMNS = ("command", "command_yaw", "belief", "belief_yaw", "v_true", "yaw_true", "separation",
+               "gyro_offset", "fdi_statistic")
+    MODELS = {"robot": [], "goal": ["goal_model.yaml"], "unbiased": ["unbiased.yaml"]}
+    READ = {"robot": "action_gain", "goal": "tau", "unbiased": "tau"}
+
+    @classmethod
+    def setUpClass(cls):
+        table = subprocess.run([cli.find_executable("aic_params", SCRIPT, "test_compare"), "--markdown"],
+                               capture_output=True, text=True, check=True).stdout
+        cls.models = {}
+        for line in table.splitlines():
+            cells = [c.strip() for c in re.split(r"(?<!\\)\|", line.strip())[1:-1]]
+            if len(cells) == 8 and cells[0].startswith("`"):
+                cls.models[cells[0].split("`")[1]] = cells[6]
+
+    def run_loop(self, config, sets):
+        with tempfile.TemporaryDirectory() as tmp:
+            trace = os.path.join(tmp, "trace.csv")
+            cmd = [exe(), "--controller", "aic", "--aic-config", config, "--noise", "--step", "0.5", "--turn",
+                   "0.5", "--hold", "2.5", "--fault", "gyro bias 0.1 2 1", "--csv", trace]
+            for s in sets:
+                cmd += ["--aic-set", s]
+            out = subprocess.run(cmd, capture_output=True, text=True)
+            if out.returncode != 0:
+                return None
+            with open(trace) as f:
+                rows = list(csv.reader(f))
+            keep = [rows[0].index(c) for c in self.COLUMNS]
+            return [[r[i] for i in keep] for r in rows[1:]]
+
+    @staticmethod
+    def changed(value):
+        """Values to set instead of `value` (from aic_params --yaml), the first valid one is used."""
+        if isinstance(value, bool):
+            return [str(not value).lower()]
+        if isinstance(value, list):
+            return ["[%s]" % ",".join(repr(2.0 * x) for x in value)]
+        if isinstance(value, str):
+            return [{"euler": "exact", "exact": "euler"}[value]]
+        return [repr(x) for x in ((0.5 * value, 1.5 * value) if value else (0.05, 0.5))]
+
+    def test_the_column_is_complete(self):
+        self.assertGreater(len(self.models), 90)
+        self.assertEqual(self.models["tau"], "goal and unbiased")
+        self.assertEqual(self.models["latency"], "robot")
+        self.assertEqual(self.models["goal_response_time_constant"], "unbiased")
+        self.assertEqual(self.models["max_wheel_speed"], "all")
+
+    def test_a_key_of_another_model_leaves_the_run_unchanged(self):
+        for model, overlays in sorted(self.MODELS.items()):
+            with tempfile.TemporaryDirectory() as tmp:
+                config = os.path.join(tmp, "config.yaml")
+                cmd = [cli.find_executable("aic_params", SCRIPT, "test_compare"), "--yaml", "--config", DEFAULT]
+                for o in overlays:
+                    cmd += ["--config", os.path.join(ROOT, "config", o)]
+                with open(config, "w") as f:
+                    f.write(subprocess.run(cmd, capture_output=True, text=True, check=True).stdout)
+                import yaml
+                with open(config) as f:
+                    values = yaml.safe_load(f)
+                base = self.run_loop(config, [])
+                self.assertIsNotNone(base, model)
+                self.assertNotEqual(self.run_loop(config, ["%s=%s" % (self.READ[model], self.changed(
+                    values[self.READ[model]])[0])]), base, "%s: a key it reads changes nothing" % model)
+                others = sorted(k for k, m in self.models.items() if m != "all" and model not in m.split(" "))
+                self.assertGreater(len(others), 10, model)
+                for key in others:
+                    runs = [self.run_loop(config, ["%s=%s" % (key, v)]) for v in self.changed(values[key])]
+                    runs = [r for r in runs if r is not None]
+                    self.assertTrue(runs, "%s: no valid value of %s to try" % (model, key))
+                    self.assertEqual(runs[0], base, "%s: %s changes the run" % (model, key))
+
+
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
-    pyunit.main("compare", ApiRun, FaultMonitorEvents, Divergence, VariantLines, CompareTool, MarkdownPage, ShippedVariantFiles)
+    pyunit.main("compare", ApiRun, FaultMonitorEvents, Divergence, VariantLines, CompareTool, MarkdownPage, ShippedVariantFiles,
+                KeysWithoutEffect)

@@ -78,7 +78,7 @@ std::vector<ParamSpec> buildNodeRows()
         .describe("Fault threshold on the precision-weighted residual s = Pi_r r^2, r = gyro - (r alpha / b_hat) "
                   "(omega_R - omega_L) (goal and unbiased models; the robot model tests its innovations' parity "
                   "at 5 standard deviations, from its noises: no effect)")
-        .node<&NodeParams::fdi, &FdiParams::threshold>(),
+        .readBy(kLinearBeliefModels).node<&NodeParams::fdi, &FdiParams::threshold>(),
     ParamRow("safety", "fdi_release_ratio").above(0.0).atMost(1.0)
         .describe("Hysteresis: an isolated channel is restored only while s < fdi_release_ratio * the threshold")
         .node<&NodeParams::fdi, &FdiParams::release_ratio>(),
@@ -277,6 +277,29 @@ std::vector<ParamViolation> checkParamRanges(const NodeParams& params, ParamScop
     }
   }
   return out;
+}
+
+std::vector<const ParamSpec*> keysWithoutEffect(const NodeParams& params, const std::vector<std::string>& set_keys)
+{
+  std::vector<const ParamSpec*> out;
+  for (const ParamSpec& row : paramSchema())
+  {
+    if (!row.readBy(params.aic.belief_model) &&
+        std::find(set_keys.begin(), set_keys.end(), std::string(row.key)) != set_keys.end() &&
+        !(row.get(params) == defaultValue(row)))
+    {
+      out.push_back(&row);
+    }
+  }
+  return out;
+}
+
+std::string withoutEffectText(const ParamSpec& row, const NodeParams& params)
+{
+  const bool one = (row.models & (row.models - 1u)) == 0u;
+  return std::string(row.key) + " = " + formatParamValue(row.get(params)) + " has no effect with belief_model " +
+         toString(params.aic.belief_model) + " (read by the " + beliefModelsText(row.models) +
+         (one ? " model only)" : " models only)");
 }
 
 ParamLoadReport loadParams(const ParamSource& source, const std::vector<ParamScope>& scopes, bool with_reconfigure,

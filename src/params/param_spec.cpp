@@ -60,17 +60,17 @@ std::vector<ParamSpec> buildControllerRows()
     ParamRow("loops", "integrator")
         .describe("Belief integrator: euler (thesis eq. 3-15, forward Euler) or exact (zero-order-hold exact step "
                   "of the linear belief dynamics)")
-        .choices({ "euler", "exact" }).accessors(&getIntegrator, &setIntegrator),
+        .choices({ "euler", "exact" }).readBy(kLinearBeliefModels).accessors(&getIntegrator, &setIntegrator),
     // ---- active inference (thesis tables C-1 / 5-8)
     ParamRow("active_inference", "tau").unit("s").atLeast(kMinTau).atMost(kMaxTau)
         .describe("Attractor time constant tau of f(mu) = (mu_d - mu) / tau (thesis eq. 3-7)")
-        .member<&AicParams::tau>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::tau>(),
     ParamRow("active_inference", "k_mu").above(0.0).atMost(kMaxGain)
         .describe("Belief learning rate k_mu (thesis eq. 3-15)")
-        .member<&AicParams::k_mu>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::k_mu>(),
     ParamRow("active_inference", "k_a").above(0.0).atMost(kMaxGain)
         .describe("Action learning rate k_a (thesis eq. 3-16)")
-        .member<&AicParams::k_a>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::k_a>(),
     ParamRow("active_inference", "embedding_order").atLeast(1.0).atMost(static_cast<double>(base::kMaxEmbeddingOrder))
         .describe("Embedding order p: generalized orders 0..p are used (thesis eq. 3-17); var_mu and var_y need "
                   "p + 1 entries: extend them by the rule of doc/tuning.md, 'Embedding order and the variance lists'")
@@ -79,17 +79,17 @@ std::vector<ParamSpec> buildControllerRows()
         .describe("Belief variances sigma^2_mu, one per order 0..p or one per order and channel (x_dot, y_dot, "
                   "theta_dot; order-major); precision Pi_mu = 1/sigma^2 (thesis table C-1); order i weighs the "
                   "belief's i-th rate (doc/tuning.md, 'Embedding order and the variance lists')")
-        .perOrder(base::kMuDim, base::kMaxOrders).member<&AicParams::var_mu>(),
+        .perOrder(base::kMuDim, base::kMaxOrders).readBy(kLinearBeliefModels).member<&AicParams::var_mu>(),
     ParamRow("active_inference", "var_y").unit("SI^2 of each order").atLeast(kMinVariance).atMost(kMaxVariance)
         .describe("Sensor variances sigma^2_y, one per order 0..p or one per order and channel (gyro z, omega_L, "
                   "omega_R, accel x, accel y; order-major); precision Pi_y = 1/sigma^2 (thesis table C-1); order i "
                   "weighs the sensors' i-th finite difference (doc/tuning.md, 'Embedding order and the variance "
                   "lists')")
-        .perOrder(base::kYDim, base::kMaxOrders).member<&AicParams::var_y>(),
+        .perOrder(base::kYDim, base::kMaxOrders).readBy(kLinearBeliefModels).member<&AicParams::var_y>(),
     ParamRow("active_inference", "accel_in_model")
         .describe("If true, the accelerometer-x row of the sensor model maps onto mu^(1); false is the thesis "
                   "model (accelerometer rows zero)")
-        .member<&AicParams::accel_in_model>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::accel_in_model>(),
     ParamRow("active_inference", "runaway_limit").unit("SI").above(0.0).atMost(kMaxRunawayLimit)
         .describe("Any belief element beyond this magnitude (or non-finite) is a runaway: reset, zero command, "
                   "diagnostics ERROR")
@@ -97,20 +97,19 @@ std::vector<ParamSpec> buildControllerRows()
     ParamRow("robot", "max_action_lead").unit("rad/s").atLeast(0.0).atMost(kMaxWheelSpeedLimit)
         .describe("Anti-windup, not in the thesis: each wheel command is kept within +-this of the measured wheel "
                   "speed; 0 = off")
-        .member<&AicParams::anti_windup, &AntiWindupParams::max_action_lead>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::anti_windup, &AntiWindupParams::max_action_lead>(),
     ParamRow("robot", "max_action_lead_turn").unit("rad/s").atLeast(0.0).atMost(kMaxWheelSpeedLimit)
         .describe("Anti-windup of turning, not in the thesis: half the difference of the two wheels' leads is kept "
                   "within +-this (a turn in place winds the wheel loop up while friction holds the wheels); 0 = off")
-        .member<&AicParams::anti_windup, &AntiWindupParams::max_action_lead_turn>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::anti_windup, &AntiWindupParams::max_action_lead_turn>(),
     ParamRow("robot", "action_release_time").unit("s").atLeast(0.0).atMost(10.0)
         .describe("Release at rest, not in the thesis: the free-energy action's common (differential) part decays "
                   "with this time constant while the linear (yaw-rate) goal is zero, so a stop stops the wheels; 0 "
                   "= off")
-        .member<&AicParams::action_release_time>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::action_release_time>(),
     ParamRow("robot", "action_slew_limit").unit("rad/s^2").atLeast(0.0).atMost(kMaxGain)
         .describe("Slew limit, not in the thesis: each wheel command changes by at most this times the action "
-                  "step, a larger change of the pair scaled down as a whole; no effect with belief_model robot; 0 "
-                  "= off")
+                  "step, a larger change of the pair scaled down as a whole; 0 = off")
         .member<&AicParams::action_slew, &ActionSlewLimitParams::max_rate>(),
     // ---- set-point dynamics and the action prior (not in the thesis; doc/active_inference.md)
     ParamRow("active_inference", "generalized_goal")
@@ -134,31 +133,31 @@ std::vector<ParamSpec> buildControllerRows()
     ParamRow("active_inference", "goal_lead").unit("s").atLeast(0.0).atMost(1.0)
         .describe("Generalized goal: the linear goal (x_dot, y_dot) is predicted this far ahead, mu_d + goal_lead "
                   "mu_d'")
-        .member<&AicParams::reference, &ReferenceModelParams::goal_lead>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::reference, &ReferenceModelParams::goal_lead>(),
     ParamRow("active_inference", "goal_lead_angular").unit("s").atLeast(0.0).atMost(1.0)
         .describe("Generalized goal: the yaw-rate goal is predicted this far ahead, mu_d + goal_lead_angular mu_d'")
-        .member<&AicParams::reference, &ReferenceModelParams::goal_lead_angular>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::reference, &ReferenceModelParams::goal_lead_angular>(),
     ParamRow("active_inference", "reference_time_constant").unit("s").atLeast(0.0).atMost(10.0)
         .describe("Reference model T_r: the beliefs are drawn to the path m' = (goal - m) / T_r delayed by "
                   "reference_delay, f(mu) = mu_r' + (mu_r - mu) / tau; 0 = off (the thesis's f(mu) = (mu_d - mu) / "
                   "tau, eq. 3-7); belief_model robot: no effect (its path is the wheel loop's, wheel_time_constant)")
-        .member<&AicParams::reference, &ReferenceModelParams::time_constant>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::reference, &ReferenceModelParams::time_constant>(),
     ParamRow("active_inference", "goal_response_time_constant").unit("s").atLeast(0.0).atMost(10.0)
         .describe("Unbiased beliefs: the action's goal prior targets the goal's path as the robot follows it, g' = "
                   "(mu_r - g) / T_g; 0 = off (the reference path mu_r itself); no effect with belief_model goal")
-        .member<&AicParams::goal_response_time_constant>(),
+        .readBy(beliefModelBit(BeliefModel::kUnbiased)).member<&AicParams::goal_response_time_constant>(),
     ParamRow("active_inference", "max_reference_acceleration_linear").unit("m/s^2").above(0.0).atMost(kMaxGain)
         .describe("Reference model: the path's acceleration along x_dot is clamped to this (what the wheels' "
                   "torque allows)")
-        .member<&AicParams::reference, &ReferenceModelParams::max_acceleration_linear>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::reference, &ReferenceModelParams::max_acceleration_linear>(),
     ParamRow("active_inference", "max_reference_acceleration_angular").unit("rad/s^2").above(0.0).atMost(kMaxGain)
         .describe("Reference model: the path's acceleration along theta_dot is clamped to this")
-        .member<&AicParams::reference, &ReferenceModelParams::max_acceleration_angular>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::reference, &ReferenceModelParams::max_acceleration_angular>(),
     ParamRow("active_inference", "max_reference_acceleration_wheel").unit("m/s^2").atLeast(0.0).atMost(kMaxGain)
         .describe("Reference model: each wheel's rim-speed rate along the path, |m'_x -+ m'_theta b_hat / 2|, is "
                   "clamped to this before the body channels' bounds (the wheel loops saturate per wheel: a turn "
                   "started with the forward speed waits for the inner wheel); 0 = none")
-        .member<&AicParams::reference, &ReferenceModelParams::max_acceleration_wheel>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::reference, &ReferenceModelParams::max_acceleration_wheel>(),
     ParamRow("active_inference", "max_reference_deceleration_linear").unit("m/s^2").atLeast(0.0).atMost(kMaxGain)
         .describe("Reference model: the path's deceleration along x_dot (slowing toward 0) is clamped to this: "
                   "below the deceleration at which the robot with its payload tips over (g d / h; doc/usage.md, "
@@ -166,15 +165,15 @@ std::vector<ParamSpec> buildControllerRows()
         .member<&AicParams::reference, &ReferenceModelParams::max_deceleration_linear>(),
     ParamRow("active_inference", "reference_delay").unit("s").atLeast(0.0).atMost(kMaxReferenceDelay)
         .describe("Reference model: the latency from command to wheel response that the beliefs expect")
-        .member<&AicParams::reference, &ReferenceModelParams::delay>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::reference, &ReferenceModelParams::delay>(),
     ParamRow("active_inference", "action_prior_gain").atLeast(0.0).atMost(2.0)
         .describe("Action prior k_ff: a = a_F + k_ff W (m + T_p m'), the reference path's wheel speeds (inverse "
                   "model, eq. 3-3) handed to the MCU's wheel loop, a_F the free-energy action (eq. 3-16); 0 = off "
                   "(the thesis)")
-        .member<&AicParams::action_prior, &ActionPriorParams::gain>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::action_prior, &ActionPriorParams::gain>(),
     ParamRow("active_inference", "action_prior_time_constant").unit("s").atLeast(0.0).atMost(10.0)
         .describe("Action prior: the wheel loop's time constant T_p that the prior inverts (with a reference model)")
-        .member<&AicParams::action_prior, &ActionPriorParams::time_constant>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::action_prior, &ActionPriorParams::time_constant>(),
     // ---- unbiased beliefs and learning the generative model (not in the thesis; doc/active_inference.md)
     ParamRow("active_inference", "belief_model")
         .describe("State prior of the beliefs: goal (the thesis, f(mu) = (mu_d - mu) / tau, eq. 3-7) or unbiased "
@@ -185,64 +184,64 @@ std::vector<ParamSpec> buildControllerRows()
     // ---- the robot model (belief_model robot; doc/active_inference.md, 'The robot model')
     ParamRow("active_inference", "latency").unit("s").atLeast(0.0).atMost(kMaxReferenceDelay)
         .describe("Robot model: L, /cmd_drive to the wheels' response (identified: plant_identify's command_delay)")
-        .member<&AicParams::robot, &RobotModelParams::latency>(),
+        .readBy(kRobotBeliefModel).member<&AicParams::robot, &RobotModelParams::latency>(),
     ParamRow("active_inference", "wheel_time_constant").unit("s").atLeast(0.0).atMost(1.0)
         .describe("Robot model: T_w, the MCU wheel loop's lag (identified motor keys): to a ramped command with "
                   "wheel_feedforward 0; with the feed-forward, its proportional path's (set-point lag + J_n / K_p)")
-        .member<&AicParams::robot, &RobotModelParams::wheel_time_constant>(),
+        .readBy(kRobotBeliefModel).member<&AicParams::robot, &RobotModelParams::wheel_time_constant>(),
     ParamRow("active_inference", "wheel_acceleration").unit("rad/s^2").above(0.0).atMost(kMaxGain)
         .describe("Robot model: A_w, the largest wheel acceleration the MCU's wheel loop gives (identified motor "
                   "keys)")
-        .member<&AicParams::robot, &RobotModelParams::wheel_acceleration>(),
+        .readBy(kRobotBeliefModel).member<&AicParams::robot, &RobotModelParams::wheel_acceleration>(),
     ParamRow("active_inference", "wheel_feedforward").unit("-").atLeast(0.0).atMost(2.0)
         .describe("Robot model: c, the share of the command stream's rate the MCU's acceleration feed-forward gives "
                   "the wheel (identified motor keys: J_ff / J_n); 0 = none")
-        .member<&AicParams::robot, &RobotModelParams::wheel_feedforward>(),
+        .readBy(kRobotBeliefModel).member<&AicParams::robot, &RobotModelParams::wheel_feedforward>(),
     ParamRow("active_inference", "wheel_feedforward_acceleration").unit("rad/s^2").atLeast(0.0).atMost(kMaxGain)
         .describe("Robot model: A_ff, the bound of that feed-forward's wheel acceleration, < wheel_acceleration "
                   "(identified motor keys: accel_feedforward_limit / J_n); the lag's bound is the rest")
-        .member<&AicParams::robot, &RobotModelParams::wheel_feedforward_acceleration>(),
+        .readBy(kRobotBeliefModel).member<&AicParams::robot, &RobotModelParams::wheel_feedforward_acceleration>(),
     ParamRow("active_inference", "yaw_time_constant").unit("s").above(0.0).atMost(10.0)
         .describe("Robot model: T_s, the scrub lag of the body's yaw rate behind the wheels'")
-        .member<&AicParams::robot, &RobotModelParams::yaw_time_constant>(),
+        .readBy(kRobotBeliefModel).member<&AicParams::robot, &RobotModelParams::yaw_time_constant>(),
     ParamRow("active_inference", "encoder_noise").unit("rad/s").above(0.0).atMost(kMaxGain)
         .describe("Robot model: sigma_e, one side's wheel-speed noise (measured on a rest segment); Pi = 1 / "
                   "sigma_e^2")
-        .member<&AicParams::robot, &RobotModelParams::encoder_noise>(),
+        .readBy(kRobotBeliefModel).member<&AicParams::robot, &RobotModelParams::encoder_noise>(),
     ParamRow("active_inference", "gyro_noise").unit("rad/s").above(0.0).atMost(kMaxGain)
         .describe("Robot model: sigma_g, the gyro's noise (measured on a rest segment); Pi = 1 / sigma_g^2")
-        .member<&AicParams::robot, &RobotModelParams::gyro_noise>(),
+        .readBy(kRobotBeliefModel).member<&AicParams::robot, &RobotModelParams::gyro_noise>(),
     ParamRow("active_inference", "wheel_model_noise").unit("rad/s^1.5").above(0.0).atMost(kMaxGain)
         .describe("Robot model: q_w, the wheel model's error (spectral density on omega'): the prior's precision")
-        .member<&AicParams::robot, &RobotModelParams::wheel_model_noise>(),
+        .readBy(kRobotBeliefModel).member<&AicParams::robot, &RobotModelParams::wheel_model_noise>(),
     ParamRow("active_inference", "shortfall_noise").unit("rad/s^0.5").atLeast(0.0).atMost(kMaxGain)
         .describe("Robot model: q_d, the drift of each side's actuation shortfall d (its random walk); 0 = d fixed "
                   "at 0")
-        .member<&AicParams::robot, &RobotModelParams::shortfall_noise>(),
+        .readBy(kRobotBeliefModel).member<&AicParams::robot, &RobotModelParams::shortfall_noise>(),
     ParamRow("active_inference", "turn_shortfall_noise").unit("rad/s^0.5").atLeast(0.0).atMost(kMaxGain)
         .describe("Robot model: q_e, the drift of each side's turn shortfall e (what the side does not deliver on "
                   "top of d in a turn that loads it against its motion: the scrub load; a random walk while the "
                   "robot turns); 0 = e fixed at 0")
-        .member<&AicParams::robot, &RobotModelParams::turn_shortfall_noise>(),
+        .readBy(kRobotBeliefModel).member<&AicParams::robot, &RobotModelParams::turn_shortfall_noise>(),
     ParamRow("active_inference", "yaw_model_noise").unit("rad/s^1.5").above(0.0).atMost(kMaxGain)
         .describe("Robot model: q_theta, the yaw model's error on theta_dot'")
-        .member<&AicParams::robot, &RobotModelParams::yaw_model_noise>(),
+        .readBy(kRobotBeliefModel).member<&AicParams::robot, &RobotModelParams::yaw_model_noise>(),
     ParamRow("active_inference", "yaw_slip_noise").unit("(rad/s)^-0.5").atLeast(0.0).atMost(kMaxGain)
         .describe("Robot model: sigma_s, how far the yaw slip ratio s may move with the turn (its variance grows "
                   "by sigma_s^2 |dw| as the goal's yaw rate changes by dw); 0 = s fixed at 0")
-        .member<&AicParams::robot, &RobotModelParams::yaw_slip_noise>(),
+        .readBy(kRobotBeliefModel).member<&AicParams::robot, &RobotModelParams::yaw_slip_noise>(),
     ParamRow("active_inference", "gyro_offset_noise").unit("rad/s^0.5").atLeast(0.0).atMost(kMaxGain)
         .describe("Robot model: q_beta, the drift of the gyro's offset beta at rest and in straight driving (a "
                   "random walk; in a turn it changes by a jump only); 0 = beta fixed there")
-        .member<&AicParams::robot, &RobotModelParams::gyro_offset_noise>(),
+        .readBy(kRobotBeliefModel).member<&AicParams::robot, &RobotModelParams::gyro_offset_noise>(),
     ParamRow("active_inference", "action_gain").unit("1/s").above(0.0).atMost(kMaxGain)
         .describe("Robot model: k_a, the action's loop gain (the rate of its Gauss-Newton descent of F; k_a >= "
                   "action_rate reaches the minimiser each action step)")
-        .member<&AicParams::robot, &RobotModelParams::action_gain>(),
+        .readBy(kRobotBeliefModel).member<&AicParams::robot, &RobotModelParams::action_gain>(),
     ParamRow("active_inference", "learn_latency")
         .describe("Robot model: learn L from the wheels' first motion after rest (within 0.5-2 x latency); false = "
                   "L as configured")
-        .member<&AicParams::robot, &RobotModelParams::learn_latency>(),
+        .readBy(kRobotBeliefModel).member<&AicParams::robot, &RobotModelParams::learn_latency>(),
     ParamRow("active_inference", "learn_wheel_separation")
         .describe("If true, the model's wheel separation b_hat descends the free energy of the gyro-encoder "
                   "disagreement (frozen near rest, while the action saturates and while a sensor is isolated); "
@@ -250,7 +249,7 @@ std::vector<ParamSpec> buildControllerRows()
         .member<&AicParams::separation_learner, &SeparationLearnerParams::enabled>(),
     ParamRow("active_inference", "separation_learning_rate").unit("m^2 s/rad^2").atLeast(0.0).atMost(kMaxGain)
         .describe("Learning rate kappa_b of b_hat: db_hat/dt = -kappa_b dF_b/db_hat")
-        .member<&AicParams::separation_learner, &SeparationLearnerParams::rate>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::separation_learner, &SeparationLearnerParams::rate>(),
     ParamRow("active_inference", "separation_min").unit("m").atLeast(kMinLength).atMost(kMaxLength)
         .describe("Lower bound of the learned wheel separation b_hat (<= separation_max)")
         .member<&AicParams::separation_learner, &SeparationLearnerParams::min>(),
@@ -274,22 +273,22 @@ std::vector<ParamSpec> buildControllerRows()
         .describe("If true, the order-0 sensory precisions of the gyro and the wheels descend the free energy, "
                   "Pi_j -> 1 / E[eps_j^2] (frozen near rest, while the action saturates and while a sensor is "
                   "isolated); false: Pi_y = 1 / var_y fixed")
-        .member<&AicParams::precision_learner, &PrecisionLearnerParams::enabled>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::precision_learner, &PrecisionLearnerParams::enabled>(),
     ParamRow("active_inference", "precision_learning_rate").unit("1/s").atLeast(0.0).atMost(kMaxGain)
         .describe("Learning rate kappa_pi of the log-precisions: d ln Pi_j/dt = -kappa_pi (Pi_j s_j - 1) / 2")
-        .member<&AicParams::precision_learner, &PrecisionLearnerParams::rate>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::precision_learner, &PrecisionLearnerParams::rate>(),
     ParamRow("active_inference", "precision_min_factor").above(0.0).atMost(1.0)
         .describe("Lower bound of a learned precision, as a factor of the configured 1 / var_y")
-        .member<&AicParams::precision_learner, &PrecisionLearnerParams::min_factor>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::precision_learner, &PrecisionLearnerParams::min_factor>(),
     ParamRow("active_inference", "precision_max_factor").atLeast(1.0).atMost(kMaxGain)
         .describe("Upper bound of a learned precision, as a factor of the configured 1 / var_y")
-        .member<&AicParams::precision_learner, &PrecisionLearnerParams::max_factor>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::precision_learner, &PrecisionLearnerParams::max_factor>(),
     ParamRow("active_inference", "precision_time_constant").unit("s").above(0.0).atMost(1000.0)
         .describe("Time constant of the low-pass of the squared prediction errors s_j the precisions learn from")
-        .member<&AicParams::precision_learner, &PrecisionLearnerParams::time_constant>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::precision_learner, &PrecisionLearnerParams::time_constant>(),
     ParamRow("active_inference", "precision_min_wheel_speed").unit("rad/s").atLeast(0.0).atMost(100.0)
         .describe("The precisions are frozen while both wheels' |speed| is below this (near rest)")
-        .member<&AicParams::precision_learner, &PrecisionLearnerParams::min_wheel_speed>(),
+        .readBy(kLinearBeliefModels).member<&AicParams::precision_learner, &PrecisionLearnerParams::min_wheel_speed>(),
     ParamRow("active_inference", "learn_gyro_bias")
         .describe("If true, the gyro's offset beta_hat is learned while the wheels and their commands stand still "
                   "and subtracted from every gyro sample (frozen while moving and while the gyro is flagged); "
@@ -502,6 +501,30 @@ ParamRow& ParamRow::choices(std::vector<std::string> names)
 {
   spec_.choices = std::move(names);
   return *this;
+}
+
+ParamRow& ParamRow::readBy(BeliefModelSet models)
+{
+  spec_.models = models;
+  return *this;
+}
+
+std::string beliefModelsText(BeliefModelSet models)
+{
+  std::vector<std::string> names;
+  for (const BeliefModel m : { BeliefModel::kGoal, BeliefModel::kUnbiased, BeliefModel::kRobot })
+  {
+    if ((models & beliefModelBit(m)) != 0u)
+    {
+      names.push_back(toString(m));
+    }
+  }
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i)
+  {
+    out += (i == 0 ? "" : (i + 1 == names.size() ? " and " : ", ")) + names[i];
+  }
+  return out;
 }
 
 ParamRow& ParamRow::accessors(ParamValue (*get)(const AicParams&), bool (*set)(AicParams&, const ParamValue&))

@@ -5,6 +5,7 @@
  */
 #include "jackal_aic/ros/node_reconfigure.hpp"
 
+#include <algorithm>
 #include <map>
 #include <stdexcept>
 #include <utility>
@@ -226,6 +227,17 @@ void NodeReconfigure::callback(AICConfig& config, std::uint32_t /*level*/)
   ROS_INFO_STREAM("jackal_AIC: reconfigure accepted (" << (changed.empty() ? "no change" : changed)
                                                        << "); applied at the next tick");
   warnIfUnstable(outcome.params.aic, "reconfigure: ");
+  std::vector<const params::ParamSpec*> without_effect;  // changed rows the belief model does not read, each once
+  for (const auto& e : params::reconfigureEntries())
+  {
+    if (std::find(outcome.changed.begin(), outcome.changed.end(), e.name) != outcome.changed.end() &&
+        !e.row->readBy(outcome.params.aic.belief_model) &&
+        std::find(without_effect.begin(), without_effect.end(), e.row) == without_effect.end())
+    {
+      without_effect.push_back(e.row);
+      ROS_WARN_STREAM("jackal_AIC: reconfigure: ~" << params::withoutEffectText(*e.row, outcome.params));
+    }
+  }
   config = configFromParams(outcome.params, config);
   shown_ = config;
   std::lock_guard<std::mutex> lock(pending_mutex_);

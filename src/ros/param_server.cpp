@@ -122,6 +122,17 @@ void loadNodeParams(const ros::NodeHandle& pnh, params::NodeParams* params,
   {
     ROS_WARN_STREAM("jackal_AIC: unknown parameter ~" << key << " ignored (typo?)");
   }
+  // One line, at INFO: the namespace holds every file's keys (a base's too, config/default.yaml's
+  // robot-model keys under the goal model's overlay), so a listed key may be a base's, not a mistake.
+  std::string without_effect;
+  for (const params::ParamSpec* row : params::keysWithoutEffect(*params, source.keys()))
+  {
+    without_effect += (without_effect.empty() ? "" : "; ") + params::withoutEffectText(*row, *params);
+  }
+  if (!without_effect.empty())
+  {
+    ROS_INFO_STREAM("jackal_AIC: parameters set without effect: " << without_effect);
+  }
 }
 
 bool loadValidNodeParams(const ros::NodeHandle& pnh, params::NodeParams* params)

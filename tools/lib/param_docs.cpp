@@ -237,11 +237,39 @@ std::string reconfigureCfgScript()
   return os.str();
 }
 
+namespace
+{
+/// The table's "belief models" cell: "all", or the models that read the key (ParamSpec::models).
+std::string modelsCell(const params::ParamSpec& s)
+{
+  return s.models == params::kAllBeliefModels ? std::string("all") : params::beliefModelsText(s.models);
+}
+
+/**
+ * \brief The YAML comment's note on who reads a key that not every belief model reads: " Read by
+ *        belief_model goal and unbiased only." and, where \p values selects another model, " No
+ *        effect with belief_model robot."; "" for a key every model reads.
+ */
+std::string modelsNote(const params::ParamSpec& s, const params::NodeParams* values)
+{
+  if (s.models == params::kAllBeliefModels)
+  {
+    return "";
+  }
+  std::string note = " Read by belief_model " + params::beliefModelsText(s.models) + " only.";
+  if (values != nullptr && !s.readBy(values->aic.belief_model))
+  {
+    note += " No effect with belief_model " + params::toString(values->aic.belief_model) + ".";
+  }
+  return note;
+}
+}  // namespace
+
 std::string parameterTableMarkdown()
 {
   std::ostringstream os;
-  os << "| key | type | default | allowed | unit | live | meaning |\n"
-        "|---|---|---|---|---|---|---|\n";
+  os << "| key | type | default | allowed | unit | live | belief models | meaning |\n"
+        "|---|---|---|---|---|---|---|---|\n";
   for (const params::ParamSpec& s : params::paramSchema())
   {
     std::string live = s.live ? "yes" : "no";
@@ -256,7 +284,8 @@ std::string parameterTableMarkdown()
     }
     const std::string range = cell(rangeDoc(s));
     os << "| " << key << " | " << typeText(s) << " | " << (s.required ? "required" : docValue(params::defaultValue(s)))
-       << " | " << range << " | " << s.unit << " | " << live << " | " << cell(s.description) << " |\n";
+       << " | " << range << " | " << s.unit << " | " << live << " | " << modelsCell(s) << " | " << cell(s.description)
+       << " |\n";
   }
   return os.str();
 }
@@ -301,7 +330,8 @@ std::string parameterYaml(const params::NodeParams* values, const std::vector<st
     }
     os << "\n# [" << s.unit << "] " << s.description << (s.scope == params::ParamScope::kNode ? " (node)" : "")
        << ".\n# Allowed: " << rangeDoc(s) << ". "
-       << (s.required ? std::string("Required: no default.") : "Default: " + docValue(params::defaultValue(s))) << "\n";
+       << (s.required ? std::string("Required: no default.") : "Default: " + docValue(params::defaultValue(s)))
+       << modelsNote(s, values) << "\n";
     const params::ParamValue v = values != nullptr ? s.get(*values) : params::defaultValue(s);
     const auto* list = std::get_if<std::vector<std::string>>(&v);
     if (s.required && (list == nullptr || list->empty()))

@@ -177,14 +177,19 @@ params::NodeParams loadNodeParamsFiles(const std::vector<std::string>& files, co
 {
   params::NodeParams params;
   std::string names;
+  std::vector<std::string> set_keys;  // the keys the last file and the overrides set: the user's layer
   for (std::size_t i = 0; i < files.size(); ++i)
   {
     const std::string& file = files[i];
     const std::vector<std::string>& applied = i + 1 == files.size() ? overrides : std::vector<std::string>();
     const YAML::Node root = readYamlMap(file, applied);
-    const params::ParamLoadReport report =
-        params::loadParams(YamlParamSource(root), { params::ParamScope::kController, params::ParamScope::kNode },
-                           /*with_reconfigure=*/false, &params);
+    const YamlParamSource source(root);
+    if (i + 1 == files.size())
+    {
+      set_keys = source.keys();
+    }
+    const params::ParamLoadReport report = params::loadParams(
+        source, { params::ParamScope::kController, params::ParamScope::kNode }, /*with_reconfigure=*/false, &params);
     if (!report.errors.empty())
     {
       const params::ParamViolation& e = report.errors.front();
@@ -205,6 +210,12 @@ params::NodeParams loadNodeParamsFiles(const std::vector<std::string>& files, co
   if (!unstable.empty())
   {
     std::cerr << sourceName(names, overrides) << ": warning: the configuration is " << unstable << "\n";
+  }
+  // The last file's keys only: a base (config/default.yaml's robot-model keys under the goal model's
+  // overlay) is not the layer being written.
+  for (const params::ParamSpec* row : params::keysWithoutEffect(params, set_keys))
+  {
+    std::cerr << sourceName(names, overrides) << ": warning: " << params::withoutEffectText(*row, params) << "\n";
   }
   return params;
 }

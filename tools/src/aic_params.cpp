@@ -114,6 +114,10 @@ int checkFile(const std::string& given, std::vector<std::string> bases)
     {
       std::cerr << "aic_params: " << given << ": warning: the configuration is " << unstable << "\n";
     }
+    for (const params::ParamSpec* row : params::keysWithoutEffect(params, YamlParamSource(root).keys()))
+    {
+      std::cerr << "aic_params: " << given << ": warning: " << params::withoutEffectText(*row, params) << "\n";
+    }
     std::cout << given << ": ok\n";
   }
   return problems == 0 ? 0 : 1;

@@ -71,6 +71,23 @@ const std::vector<ReconfigureEntry>& reconfigureEntries();
 bool isKnownKey(const std::string& key, bool with_reconfigure);
 
 /**
+ * \brief The keys among `set_keys` (those a source sets: a YAML file's, the node's namespace's)
+ *        whose value in `params` has no effect: the loaded belief model (params.aic.belief_model)
+ *        does not read them (ParamSpec::models) and the value differs from the schema's default.
+ *        A key at its default is left out (dynamic_reconfigure writes every live key back into
+ *        the node's namespace, so a restarted node sees them all set), as are keys the schema
+ *        does not have (reported as unknown by loadParams()).
+ * \return the rows, in schema order, each once
+ */
+std::vector<const ParamSpec*> keysWithoutEffect(const NodeParams& params, const std::vector<std::string>& set_keys);
+
+/**
+ * \brief One line naming a key of keysWithoutEffect() for a log: "tau = 0.02 has no effect with
+ *        belief_model robot (read by the goal and unbiased models only)".
+ */
+std::string withoutEffectText(const ParamSpec& row, const NodeParams& params);
+
+/**
  * \brief Range violations of every row of `scope` in `params`, in schema order.
  *
  * Checks the table's rules only (see ParamSpec); cross-parameter rules (belief_rate >=

@@ -47,6 +47,33 @@ enum class ParamScope
   kNode         ///< a node-only member of NodeParams (ignored by the tools)
 };
 
+/// A set of belief models (AicParams::belief_model): bit beliefModelBit(m) for each model m in it.
+using BeliefModelSet = unsigned;
+
+/// The bit of one belief model in a BeliefModelSet.
+constexpr BeliefModelSet beliefModelBit(BeliefModel model)
+{
+  return 1u << static_cast<unsigned>(model);
+}
+
+/// Every belief model: the set of a key every controller reads (the default of a row).
+constexpr BeliefModelSet kAllBeliefModels =
+    beliefModelBit(BeliefModel::kGoal) | beliefModelBit(BeliefModel::kUnbiased) | beliefModelBit(BeliefModel::kRobot);
+
+/// The two models with the thesis's linear belief dynamics (eq. 3-15) and its stages around the
+/// action (goal, unbiased): the keys of those dynamics and stages, which the robot model does not read.
+constexpr BeliefModelSet kLinearBeliefModels =
+    beliefModelBit(BeliefModel::kGoal) | beliefModelBit(BeliefModel::kUnbiased);
+
+/// The robot model alone: the keys of its generative model (RobotModelParams), which the other two do not read.
+constexpr BeliefModelSet kRobotBeliefModel = beliefModelBit(BeliefModel::kRobot);
+
+/**
+ * \brief The models of a set by name, in enum order, joined with ", " and a final " and ":
+ *        "goal and unbiased", "robot", "goal, unbiased and robot"; "" for the empty set.
+ */
+std::string beliefModelsText(BeliefModelSet models);
+
 /**
  * \brief One row of the schema.
  *
@@ -72,6 +99,9 @@ struct ParamSpec
   int level;                ///< dynamic_reconfigure level bits (1: loop rate, 2: embedding order)
   bool required;            ///< no default: the node refuses to start without it
   int channels;             ///< kDoubleList per generalized order: channels of the per-channel form (3 or 5), else 0
+  /// The belief models whose controller reads the value (kAllBeliefModels unless the key belongs to
+  /// one model's stages); with another model it has no effect on the command or the beliefs.
+  BeliefModelSet models = kAllBeliefModels;
   std::vector<std::string> choices;  ///< kString: allowed values (empty = any)
   /// Live kDoubleList per order: the number of reconfigure slots "<key>_<i>" (kMaxOrders), else 0.
   /// Their defaults are the default list's elements (slotDefault()).
@@ -93,6 +123,8 @@ struct ParamSpec
 
   /// Upper bound in the node (NodeParams::validate(), cfg/AIC.cfg): min(max, node_max).
   double nodeMax() const { return node_max < max ? node_max : max; }
+  /// True if the controller of belief model `model` reads the value (`models` holds it).
+  bool readBy(BeliefModel model) const { return (models & beliefModelBit(model)) != 0u; }
   /// Number of reconfigure slots (0 unless a live per-order list).
   int slots() const { return reconfigure_slots; }
   /// True for kDouble, kInt, kDoubleList (the range applies).
@@ -222,6 +254,8 @@ public:
   ParamRow& perOrder(int channels, int slots);
   /// A string that must be one of `names`.
   ParamRow& choices(std::vector<std::string> names);
+  /// Read only by the controllers of these belief models (ParamSpec::models; default: all).
+  ParamRow& readBy(BeliefModelSet models);
 
   /// The AicParams member at the end of the member-pointer path (controller scope).
   template <auto... Path>

@@ -390,6 +390,44 @@ TEST(ParamSchema, TextsForMessages)
   EXPECT_EQ(shortestDecimal(1e12), "1e12");
 }
 
+TEST(ParamSchema, KeysWithoutEffect)
+{
+  EXPECT_EQ(params::beliefModelsText(params::kAllBeliefModels), "goal, unbiased and robot");
+  EXPECT_EQ(params::beliefModelsText(params::kLinearBeliefModels), "goal and unbiased");
+  EXPECT_EQ(params::beliefModelsText(params::kRobotBeliefModel), "robot");
+  EXPECT_EQ(params::beliefModelsText(0u), "");
+  for (const params::ParamSpec& row : params::paramSchema())
+  {
+    SCOPED_TRACE(row.key);
+    EXPECT_NE(row.models, 0u) << "a key no model reads";
+    EXPECT_EQ(row.models & ~params::kAllBeliefModels, 0u);
+  }
+  // The robot model: a goal-model key away from its default is listed, one at its default is not
+  // (dynamic_reconfigure writes every live key back), nor a key it reads or one the schema lacks.
+  params::NodeParams p;
+  p.aic.belief_model = params::BeliefModel::kRobot;
+  p.aic.tau = 0.02;
+  p.aic.robot.latency = 0.2;
+  const std::vector<std::string> set{ "k_mu", "latency", "tau", "no_such_key", "fdi_threshold" };
+  std::vector<const params::ParamSpec*> listed = params::keysWithoutEffect(p, set);
+  ASSERT_EQ(listed.size(), 1u);
+  EXPECT_STREQ(listed[0]->key, "tau");
+  EXPECT_EQ(params::withoutEffectText(*listed[0], p), "tau = 0.02 has no effect with belief_model robot (read by the "
+                                                      "goal and unbiased models only)");
+  p.fdi.threshold = 1.0;  // the robot model tests its innovations at 5 standard deviations
+  EXPECT_EQ(params::keysWithoutEffect(p, set).size(), 2u);
+  // The goal model: the robot model's keys, and the unbiased model's goal response.
+  p.aic.belief_model = params::BeliefModel::kGoal;
+  p.aic.goal_response_time_constant = 0.05;
+  listed = params::keysWithoutEffect(p, { "tau", "latency", "goal_response_time_constant", "fdi_threshold" });
+  ASSERT_EQ(listed.size(), 2u);
+  EXPECT_EQ(params::withoutEffectText(*listed[0], p), "goal_response_time_constant = 0.05 has no effect with "
+                                                      "belief_model goal (read by the unbiased model "
+                                                      "only)");
+  EXPECT_EQ(params::withoutEffectText(*listed[1], p), "latency = 0.2 has no effect with belief_model goal (read by the "
+                                                      "robot model only)");
+}
+
 TEST(ParamSchema, ReconfigureEntries)
 {
   std::set<std::string> names_seen;
