@@ -528,9 +528,11 @@ class StabilityWarningTest(unittest.TestCase):
             out = self.check(os.path.join(ROOT, "config", name))
             self.assertEqual(out.returncode, 0, name + ": " + out.stderr)
             if "warning:" in out.stderr:
-                self.assertIn("spectral radius", out.stderr)
-                warned.append(name)
-        self.assertEqual(warned, ["thesis_improved_euler_diverges.yaml", "thesis_standard.yaml"])
+                warned.append((name, "spectral radius" in out.stderr, "has no effect" in out.stderr))
+        # Two thesis tables are unstable at their rates; config/robot.yaml's reference_delay is the
+        # goal model's (the stock base's extra cycle), which the robot model of its base does not read.
+        self.assertEqual(warned, [("robot.yaml", False, True), ("thesis_improved_euler_diverges.yaml", True, False),
+                                  ("thesis_standard.yaml", True, False)])
 
     def test_order_four(self):
         with tempfile.TemporaryDirectory() as tmp:

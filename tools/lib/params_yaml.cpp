@@ -173,7 +173,8 @@ params::AicParams loadAicParams(const std::string& file, const std::vector<std::
   return p;
 }
 
-params::NodeParams loadNodeParamsFiles(const std::vector<std::string>& files, const std::vector<std::string>& overrides)
+params::NodeParams loadNodeParamsFiles(const std::vector<std::string>& files, const std::vector<std::string>& overrides,
+                                       bool warn)
 {
   params::NodeParams params;
   std::string names;
@@ -206,6 +207,10 @@ params::NodeParams loadNodeParamsFiles(const std::vector<std::string>& files, co
     check.right_joints = { "right" };
   }
   requireValid(check.validate(), sourceName(names, overrides));
+  if (!warn)
+  {
+    return params;
+  }
   const std::string unstable = analysis::stabilityWarning(params.aic);
   if (!unstable.empty())
   {

@@ -76,7 +76,7 @@ int checkFile(const std::string& given, std::vector<std::string> bases)
   {
     if (!bases.empty())
     {
-      params = loadNodeParamsFiles(bases);
+      params = loadNodeParamsFiles(bases, {}, /*warn=*/false);  // the checked file is judged, not its bases
     }
   }
   catch (const std::exception& e)

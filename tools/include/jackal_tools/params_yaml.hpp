@@ -75,13 +75,17 @@ params::AicParams loadAicParams(const std::string& file, const std::vector<std::
  *        jackal_aic/analysis/configured_stability.hpp) is loaded all the same, with one line
  *        "<files>: warning: the configuration is unstable on the linear model ... spectral radius
  *        R >= 1 ..." on stderr, as the node warns (doc/tuning.md, 'The stability check at load').
+ *        A key of the last file or of the overrides that the loaded belief model does not read
+ *        (params::keysWithoutEffect()) gives one line "<files>: warning: KEY = VALUE has no effect
+ *        with belief_model M (...)" each.
  * \param files      at least one YAML file
  * \param overrides  applied on top of the last file
+ * \param warn       false: neither warning (the files are the bases of another, which is judged on its own)
  * \return the parameters, validated except that both joint lists may be empty (for the caller to fill)
  * \throws std::runtime_error on an unreadable file, a YAML error, a malformed override, a value
  *         of the wrong type (naming the file and key), or invalid parameters (every violation)
  */
 params::NodeParams loadNodeParamsFiles(const std::vector<std::string>& files,
-                                       const std::vector<std::string>& overrides = {});
+                                       const std::vector<std::string>& overrides = {}, bool warn = true);
 
 }  // namespace jackal_aic
