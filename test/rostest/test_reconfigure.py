@@ -6,7 +6,8 @@
 2. belief_rate below action_rate: refused; the server reports the old value.
 3. Only the changed key is applied: a reconfigure of tau leaves k_a as the launch file set it
    (`yaml_k_a`, 2000: beyond the old cfg range of k_a, within the schema's), in the server's
-   config and on the parameter server.
+   config and on the parameter server; and since the belief model (config/default.yaml's robot
+   model) does not read tau, the node says so: a WARN on /rosout naming tau's new value.
 
 Parameters (~): new_action_rate [Hz], rate_tolerance [-], duration [s], yaml_k_a [-].
 """
@@ -17,6 +18,7 @@ import dynamic_reconfigure.client
 import rospy
 import rostest
 from jackal_msgs.msg import Drive
+from rosgraph_msgs.msg import Log
 
 from aic_test_utils import Recorder, rate_of, wait_for
 
@@ -48,11 +50,19 @@ class ReconfigureTest(unittest.TestCase):
         client = dynamic_reconfigure.client.Client("/jackal_AIC", timeout=30)
         self.assertAlmostEqual(client.get_configuration(timeout=10)["k_a"], yaml_k_a)
         tau = client.get_configuration(timeout=10)["tau"] * 2.0
+        log = Recorder("/rosout", Log)
+        self.assertTrue(wait_for(lambda: log.sub.get_num_connections() > 0, 10.0), "no connection to /rosout")
+        rospy.sleep(1.0)  # every publisher of /rosout connected, the AIC's among them
         result = client.update_configuration({"tau": tau})
         self.assertAlmostEqual(result["tau"], tau)
         self.assertAlmostEqual(result["k_a"], yaml_k_a, msg="a reconfigure of tau changed k_a")
         self.assertAlmostEqual(rospy.get_param("/jackal_AIC/k_a"), yaml_k_a)
         self.assertAlmostEqual(rospy.get_param("/jackal_AIC/tau"), tau)
+
+        def without_effect():
+            return [m.msg for _, m in log.snapshot() if m.name == "/jackal_AIC" and m.level == Log.WARN and
+                    "reconfigure: ~tau = " in m.msg and "has no effect with belief_model robot" in m.msg]
+        self.assertTrue(wait_for(lambda: without_effect(), 10.0), "no WARN that tau has no effect with the robot model")
         print("MEASURED after tau -> %g: k_a %g (set %g)" % (tau, result["k_a"], yaml_k_a), file=sys.stderr)
 
 
