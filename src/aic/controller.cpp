@@ -249,7 +249,7 @@ void ActiveInferenceController::rebuildDynamics()
 {
   const params::AicParams& params = params_;
   pi_y_ = params.precisionY();
-  if (params.precision_learner.enabled)
+  if (params::learnsPrecision(params))
   {
     precision_learner_.applyTo(&pi_y_);
   }

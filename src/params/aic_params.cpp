@@ -200,6 +200,11 @@ bool learnsLatency(const AicParams& params)
   return params.belief_model == BeliefModel::kRobot && params.robot.learn_latency;
 }
 
+bool learnsPrecision(const AicParams& params)
+{
+  return params.belief_model != BeliefModel::kRobot && params.precision_learner.enabled;
+}
+
 double robotWheelAcceleration(const AicParams& params)
 {
   return params.robot.wheel_acceleration * params.wheel_radius * params.slip_factor;

@@ -281,12 +281,13 @@ std::vector<ParamViolation> checkParamRanges(const NodeParams& params, ParamScop
 
 std::vector<const ParamSpec*> keysWithoutEffect(const NodeParams& params, const std::vector<std::string>& set_keys)
 {
+  static const NodeParams defaults;
   std::vector<const ParamSpec*> out;
   for (const ParamSpec& row : paramSchema())
   {
     if (!row.readBy(params.aic.belief_model) &&
         std::find(set_keys.begin(), set_keys.end(), std::string(row.key)) != set_keys.end() &&
-        !(row.get(params) == defaultValue(row)))
+        !(row.get(params) == row.get(defaults)))
     {
       out.push_back(&row);
     }

@@ -227,16 +227,19 @@ void NodeReconfigure::callback(AICConfig& config, std::uint32_t /*level*/)
   ROS_INFO_STREAM("jackal_AIC: reconfigure accepted (" << (changed.empty() ? "no change" : changed)
                                                        << "); applied at the next tick");
   warnIfUnstable(outcome.params.aic, "reconfigure: ");
-  std::vector<const params::ParamSpec*> without_effect;  // changed rows the belief model does not read, each once
+  // The changed entries' keys (a list's slots name their row's key), judged by the same rule as
+  // at start (params::keysWithoutEffect(): not read by the model and not at the schema's default).
+  std::vector<std::string> changed_keys;
   for (const auto& e : params::reconfigureEntries())
   {
-    if (std::find(outcome.changed.begin(), outcome.changed.end(), e.name) != outcome.changed.end() &&
-        !e.row->readBy(outcome.params.aic.belief_model) &&
-        std::find(without_effect.begin(), without_effect.end(), e.row) == without_effect.end())
+    if (std::find(outcome.changed.begin(), outcome.changed.end(), e.name) != outcome.changed.end())
     {
-      without_effect.push_back(e.row);
-      ROS_WARN_STREAM("jackal_AIC: reconfigure: ~" << params::withoutEffectText(*e.row, outcome.params));
+      changed_keys.emplace_back(e.row->key);
     }
+  }
+  for (const params::ParamSpec* row : params::keysWithoutEffect(outcome.params, changed_keys))
+  {
+    ROS_WARN_STREAM("jackal_AIC: reconfigure: ~" << params::withoutEffectText(*row, outcome.params));
   }
   config = configFromParams(outcome.params, config);
   shown_ = config;

@@ -8,6 +8,9 @@
    (`yaml_k_a`, 2000: beyond the old cfg range of k_a, within the schema's), in the server's
    config and on the parameter server; and since the belief model (config/default.yaml's robot
    model) does not read tau, the node says so: a WARN on /rosout naming tau's new value.
+4. The controller's diagnostics report the robot model's sensory precisions, 1 / gyro_noise^2 and
+   1 / encoder_noise^2, and no precision learning, though the launch file sets learn_precision
+   (a key only the goal and unbiased models read).
 
 Parameters (~): new_action_rate [Hz], rate_tolerance [-], duration [s], yaml_k_a [-].
 """
@@ -18,6 +21,7 @@ import dynamic_reconfigure.client
 import rospy
 import rostest
 from jackal_msgs.msg import Drive
+from diagnostic_msgs.msg import DiagnosticArray
 from rosgraph_msgs.msg import Log
 
 from aic_test_utils import Recorder, rate_of, wait_for
@@ -64,6 +68,25 @@ class ReconfigureTest(unittest.TestCase):
                     "reconfigure: ~tau = " in m.msg and "has no effect with belief_model robot" in m.msg]
         self.assertTrue(wait_for(lambda: without_effect(), 10.0), "no WARN that tau has no effect with the robot model")
         print("MEASURED after tau -> %g: k_a %g (set %g)" % (tau, result["k_a"], yaml_k_a), file=sys.stderr)
+
+    def test_diagnostics_report_the_robot_models_precisions(self):
+        self.assertTrue(rospy.get_param("/jackal_AIC/learn_precision"), "the launch file sets learn_precision")
+        diagnostics = Recorder("/diagnostics", DiagnosticArray)
+
+        def controller_values():
+            for _, msg in reversed(diagnostics.snapshot()):
+                for st in msg.status:
+                    if "jackal_AIC" in st.name and st.name.endswith("controller"):
+                        return {kv.key: kv.value for kv in st.values}
+            return None
+        self.assertTrue(wait_for(lambda: controller_values() is not None, 20.0), "no controller diagnostics")
+        values = controller_values()
+        pi_g = 1.0 / rospy.get_param("/jackal_AIC/gyro_noise") ** 2
+        pi_e = 1.0 / rospy.get_param("/jackal_AIC/encoder_noise") ** 2
+        expected = "gyro_z %.4g, omega_left %.4g, omega_right %.4g" % (pi_g, pi_e, pi_e)
+        print("MEASURED sensory precisions: %s" % values["sensory precisions Pi_y^(0) [1/(rad/s)^2]"], file=sys.stderr)
+        self.assertEqual(values["sensory precisions Pi_y^(0) [1/(rad/s)^2]"], expected)
+        self.assertEqual(values["sensory precision learning"], "off")
 
 
 if __name__ == "__main__":

@@ -47,7 +47,8 @@
  *        and "fault_monitor": {"isolated", "restored", "detected"} (its events' counts: on a healthy
  *        run each is a false alarm),
  *        "command_delay" (the plant's motor.command_delay [s]),
- *        with learn_precision "sensory_precisions" (the AIC's Pi_y^(0) per sensor channel at the end),
+ *        with learn_precision (goal and unbiased models) "sensory_precisions" (the AIC's Pi_y^(0)
+ *        per sensor channel at the end),
  *        with the robot model's learn_latency "learned_latency" (its wheel loop's L at the end [s]),
  *        "plant": what the plant did over the profile's span, any controller: {"torque_limited" (share
  *        of the samples x sides with the motor torque clamped to its limit), "wheel_loop": {"vx", "wz"}
@@ -668,7 +669,7 @@ int main(int argc, char** argv)
   {
     std::cout << ", \"learned_latency\": " << base::jsonNumber(rec.latency);
   }
-  if (c.controller == LoopController::kAic && c.aic.precision_learner.enabled)
+  if (c.controller == LoopController::kAic && params::learnsPrecision(c.aic))
   {
     // The sensory precisions Pi_y^(0) at the end (learn_precision), per SensorIndex.
     std::cout << ", \"sensory_precisions\": [";

@@ -210,6 +210,13 @@ AicParams recommendedAicParams();
 bool learnsLatency(const AicParams& params);
 
 /**
+ * \brief True if the controller learns its sensory precisions Pi_y^(0): belief_model goal or
+ *        unbiased with precision_learner.enabled (doc/active_inference.md, 'Learning the sensory
+ *        precisions'); the robot model weighs its sensors by their measured noises instead.
+ */
+bool learnsPrecision(const AicParams& params);
+
+/**
  * \brief The robot model's largest wheel acceleration at the rim, A_w r alpha [m/s^2]
  *        (robot.wheel_acceleration [rad/s^2], wheel_radius [m], slip_factor [-]): the bound of its
  *        goal's path per wheel and, over the separation, of the goal's rate

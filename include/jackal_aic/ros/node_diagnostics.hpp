@@ -66,7 +66,8 @@ struct ControllerReport
   std::string tip_guard = "off";
   std::string precision_learning = "off";  ///< the precision learner's state (learning, near rest, ...) or "off"
   /// The sensory precisions Pi_y^(0) in use, "gyro_z <Pi>, omega_left <Pi>, omega_right <Pi>"
-  /// [1/(rad/s)^2] (learned if learn_precision).
+  /// [1/(rad/s)^2] (learned if learn_precision); the robot model's: 1 / gyro_noise^2 and
+  /// 1 / encoder_noise^2.
   std::string sensory_precisions;
 
   /// The controller's part: F (0 before the first measurement), mu^(0) x_dot and theta_dot,

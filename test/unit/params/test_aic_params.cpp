@@ -348,7 +348,7 @@ TEST(Params, IntegratorNames)
   EXPECT_FALSE(jackal_aic::params::integratorFromString("euler", nullptr));
 }
 
-TEST(Params, OnlyTheRobotModelLearnsTheLatency)
+TEST(Params, OnlyTheRobotModelLearnsTheLatencyAndOnlyTheOthersThePrecisions)
 {
   AicParams p = jackal_aic::params::recommendedAicParams();
   using jackal_aic::params::BeliefModel;
@@ -358,7 +358,9 @@ TEST(Params, OnlyTheRobotModelLearnsTheLatency)
     {
       p.belief_model = model;
       p.robot.learn_latency = learn;
+      p.precision_learner.enabled = learn;
       EXPECT_EQ(jackal_aic::params::learnsLatency(p), learn && model == BeliefModel::kRobot);
+      EXPECT_EQ(jackal_aic::params::learnsPrecision(p), learn && model != BeliefModel::kRobot);
     }
   }
 }
