@@ -248,7 +248,7 @@ void ActiveInferenceController::gyroOffsetRemoved(double change)
 void ActiveInferenceController::rebuildDynamics()
 {
   const params::AicParams& params = params_;
-  pi_y_ = params.precisionY();
+  pi_y_ = params.modelPrecisionY();
   if (params::learnsPrecision(params))
   {
     precision_learner_.applyTo(&pi_y_);

@@ -195,6 +195,19 @@ base::YTilde AicParams::precisionY() const
   return precisionFrom<base::kYDim>(var_y, numOrders());
 }
 
+base::YTilde AicParams::modelPrecisionY() const
+{
+  if (belief_model != BeliefModel::kRobot)
+  {
+    return precisionY();
+  }
+  base::YTilde pi = base::YTilde::Zero(base::kYDim, numOrders());
+  pi(base::kGyroZ, 0) = 1.0 / (robot.gyro_noise * robot.gyro_noise);
+  pi(base::kOmegaLeft, 0) = 1.0 / (robot.encoder_noise * robot.encoder_noise);
+  pi(base::kOmegaRight, 0) = pi(base::kOmegaLeft, 0);
+  return pi;
+}
+
 bool learnsLatency(const AicParams& params)
 {
   return params.belief_model == BeliefModel::kRobot && params.robot.learn_latency;

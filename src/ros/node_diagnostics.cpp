@@ -53,20 +53,9 @@ ControllerReport ControllerReport::of(const aic::ActiveInferenceController& cont
     r.precision_learning = aic::toString(controller.precisionLearner().state());
   }
   char pi[128];
-  if (controller.params().belief_model == params::BeliefModel::kRobot)
-  {
-    // The robot model weighs its sensors by their measured noises (1 / sigma^2).
-    const params::RobotModelParams& robot = controller.params().robot;
-    const double pi_e = 1.0 / (robot.encoder_noise * robot.encoder_noise);
-    std::snprintf(pi, sizeof pi, "gyro_z %.4g, omega_left %.4g, omega_right %.4g",
-                  1.0 / (robot.gyro_noise * robot.gyro_noise), pi_e, pi_e);
-  }
-  else
-  {
-    std::snprintf(pi, sizeof pi, "gyro_z %.4g, omega_left %.4g, omega_right %.4g",
-                  controller.precisionY()(base::kGyroZ, 0), controller.precisionY()(base::kOmegaLeft, 0),
-                  controller.precisionY()(base::kOmegaRight, 0));
-  }
+  std::snprintf(pi, sizeof pi, "gyro_z %.4g, omega_left %.4g, omega_right %.4g",
+                controller.precisionY()(base::kGyroZ, 0), controller.precisionY()(base::kOmegaLeft, 0),
+                controller.precisionY()(base::kOmegaRight, 0));
   r.sensory_precisions = pi;
   return r;
 }

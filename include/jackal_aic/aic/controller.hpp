@@ -254,7 +254,8 @@ public:
    *        belief models or for a non-finite change.
    */
   void gyroOffsetRemoved(double change);
-  /// Precisions Pi_y in use, 5 x (p+1): params().precisionY() with the masked channels' rows zero.
+  /// Precisions Pi_y in use, 5 x (p+1): params().modelPrecisionY() (learned with learnsPrecision())
+  /// with the masked channels' rows zero.
   const base::YTilde& precisionY() const { return pi_y_; }
 
   /**

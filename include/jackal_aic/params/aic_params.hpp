@@ -188,6 +188,12 @@ struct AicParams
   base::MuTilde precisionMu() const;
   /// Precision Pi_y^(i) per channel, 5 x (p+1), 1/sigma^2. Requires a valid struct.
   base::YTilde precisionY() const;
+  /// The precisions the belief model weighs the sensors by, 5 x (p+1) [1/(channel unit)^2]: the
+  /// goal and unbiased models' precisionY(); the robot model's measured noises at order 0,
+  /// 1 / robot.gyro_noise^2 and 1 / robot.encoder_noise^2 (doc/active_inference.md, 'The robot
+  /// model'), zero for the accelerometers and the higher orders, which it does not read.
+  /// Requires a valid struct.
+  base::YTilde modelPrecisionY() const;
 };
 
 /**

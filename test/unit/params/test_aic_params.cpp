@@ -365,6 +365,23 @@ TEST(Params, OnlyTheRobotModelLearnsTheLatencyAndOnlyTheOthersThePrecisions)
   }
 }
 
+TEST(Params, TheRobotModelWeighsItsSensorsByTheirMeasuredNoises)
+{
+  AicParams p = jackal_aic::params::recommendedAicParams();
+  p.belief_model = jackal_aic::params::BeliefModel::kGoal;
+  EXPECT_EQ(p.modelPrecisionY(), p.precisionY());
+  p.belief_model = jackal_aic::params::BeliefModel::kRobot;
+  p.robot.gyro_noise = 0.005;
+  p.robot.encoder_noise = 0.01;
+  const jackal_aic::base::YTilde pi = p.modelPrecisionY();
+  ASSERT_EQ(pi.cols(), p.numOrders());
+  EXPECT_DOUBLE_EQ(pi(jackal_aic::base::kGyroZ, 0), 40000.0);
+  EXPECT_DOUBLE_EQ(pi(jackal_aic::base::kOmegaLeft, 0), 10000.0);
+  EXPECT_DOUBLE_EQ(pi(jackal_aic::base::kOmegaRight, 0), 10000.0);
+  // The accelerometers and the higher orders: not read by the robot model.
+  EXPECT_DOUBLE_EQ(pi.bottomRows(2).cwiseAbs().sum() + pi.rightCols(pi.cols() - 1).cwiseAbs().sum(), 0.0);
+}
+
 TEST(Params, TheRobotModelsGoalRateBoundsAreTheConfiguredOnesWithinItsWheelLoops)
 {
   AicParams p = jackal_aic::params::recommendedAicParams();
