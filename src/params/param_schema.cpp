@@ -295,6 +295,19 @@ std::vector<const ParamSpec*> keysWithoutEffect(const NodeParams& params, const 
   return out;
 }
 
+std::vector<const ParamSpec*> keysWithoutEffect(const NodeParams& params)
+{
+  static const std::vector<std::string> all = [] {
+    std::vector<std::string> keys;
+    for (const ParamSpec& row : paramSchema())
+    {
+      keys.emplace_back(row.key);
+    }
+    return keys;
+  }();
+  return keysWithoutEffect(params, all);
+}
+
 std::string withoutEffectText(const ParamSpec& row, const NodeParams& params)
 {
   const bool one = (row.models & (row.models - 1u)) == 0u;

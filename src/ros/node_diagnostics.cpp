@@ -4,6 +4,8 @@
  */
 #include "jackal_aic/ros/node_diagnostics.hpp"
 
+#include "jackal_aic/params/param_schema.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -255,6 +257,13 @@ void NodeDiagnostics::controller(diagnostic_updater::DiagnosticStatusWrapper& st
   stat.add("tip-over guard", report.tip_guard);
   stat.add("sensory precisions Pi_y^(0) [1/(rad/s)^2]", report.sensory_precisions);
   stat.add("sensory precision learning", report.precision_learning);
+  std::string without_effect;
+  for (const params::ParamSpec* row : params::keysWithoutEffect(loop_.params()))
+  {
+    without_effect += (without_effect.empty() ? "" : ", ") + std::string(row->key);
+  }
+  stat.add("parameters without effect (not read by the belief model)",
+           without_effect.empty() ? "none" : without_effect);
   stat.add("output mode", report.output_mode);
   stat.add("commands clipped to the stock controller's limits (cmd_vel)", report.output_clips);
   stat.add("MCU stops", loop_.supervisor().mcuStops());

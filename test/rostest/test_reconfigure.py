@@ -10,7 +10,8 @@
    model) does not read tau, the node says so: a WARN on /rosout naming tau's new value.
 4. The controller's diagnostics report the robot model's sensory precisions, 1 / gyro_noise^2 and
    1 / encoder_noise^2, and no precision learning, though the launch file sets learn_precision
-   (a key only the goal and unbiased models read).
+   (a key only the goal and unbiased models read), and list k_a and learn_precision as
+   parameters without effect.
 
 Parameters (~): new_action_rate [Hz], rate_tolerance [-], duration [s], yaml_k_a [-].
 """
@@ -87,6 +88,12 @@ class ReconfigureTest(unittest.TestCase):
         print("MEASURED sensory precisions: %s" % values["sensory precisions Pi_y^(0) [1/(rad/s)^2]"], file=sys.stderr)
         self.assertEqual(values["sensory precisions Pi_y^(0) [1/(rad/s)^2]"], expected)
         self.assertEqual(values["sensory precision learning"], "off")
+        # The keys set away from their defaults that the robot model does not read: the launch
+        # file's k_a and learn_precision (a reconfigure of tau, in another test, may add tau).
+        listed = values["parameters without effect (not read by the belief model)"].split(", ")
+        print("MEASURED parameters without effect: %s" % listed, file=sys.stderr)
+        self.assertIn("k_a", listed)
+        self.assertIn("learn_precision", listed)
 
 
 if __name__ == "__main__":

@@ -82,6 +82,14 @@ bool isKnownKey(const std::string& key, bool with_reconfigure);
 std::vector<const ParamSpec*> keysWithoutEffect(const NodeParams& params, const std::vector<std::string>& set_keys);
 
 /**
+ * \brief keysWithoutEffect() over every key of the schema: the keys whose value in `params` (the
+ *        values in force, however they were set) differs from the schema's default while the
+ *        loaded belief model does not read them.
+ * \return the rows, in schema order, each once
+ */
+std::vector<const ParamSpec*> keysWithoutEffect(const NodeParams& params);
+
+/**
  * \brief One line naming a key of keysWithoutEffect() for a log: "tau = 0.02 has no effect with
  *        belief_model robot (read by the goal and unbiased models only)".
  */

@@ -416,6 +416,11 @@ TEST(ParamSchema, KeysWithoutEffect)
                                                       "goal and unbiased models only)");
   p.fdi.threshold = 1.0;  // the robot model tests its innovations at 5 standard deviations
   EXPECT_EQ(params::keysWithoutEffect(p, set).size(), 2u);
+  // Over every key (the values in force, as the node's diagnostics list them): the same two.
+  listed = params::keysWithoutEffect(p);
+  ASSERT_EQ(listed.size(), 2u);
+  EXPECT_STREQ(listed[0]->key, "tau");
+  EXPECT_STREQ(listed[1]->key, "fdi_threshold");
   // The goal model: the robot model's keys, and the unbiased model's goal response.
   p.aic.belief_model = params::BeliefModel::kGoal;
   p.aic.goal_response_time_constant = 0.05;
