@@ -315,7 +315,7 @@ void AicNode::applyPendingParams()
     ROS_ERROR_STREAM("jackal_AIC: reconfigure not applied: " << e.what());
     return;
   }
-  diagnostics_->setRates(next->aic.belief_rate, next->aic.action_rate);
+  diagnostics_->paramsApplied(*next);
   if (belief_loop_ && next->aic.belief_rate != params_.aic.belief_rate)
   {
     belief_loop_->setRate(next->aic.belief_rate);

@@ -90,7 +90,7 @@ NodeDiagnostics::NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandl
                                  std::function<ControllerReport()> controller)
   : loop_(loop), report_(std::move(controller))
 {
-  setRates(loop.params().aic.belief_rate, loop.params().aic.action_rate);
+  paramsApplied(loop.params());
   rate_time_ = ros::WallTime::now();
   updater_ = std::make_unique<diagnostic_updater::Updater>(nh, pnh);
   updater_->setHardwareID("jackal_aic");
@@ -105,10 +105,16 @@ NodeDiagnostics::NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandl
   updater_->add("controller", this, &NodeDiagnostics::controller);
 }
 
-void NodeDiagnostics::setRates(double belief_rate, double action_rate)
+void NodeDiagnostics::paramsApplied(const params::NodeParams& params)
 {
-  belief_rate_ = belief_rate;
-  action_freq_min_ = action_freq_max_ = action_rate;
+  belief_rate_ = params.aic.belief_rate;
+  action_freq_min_ = action_freq_max_ = params.aic.action_rate;
+  std::string keys;
+  for (const params::ParamSpec* row : params::keysWithoutEffect(params))
+  {
+    keys += (keys.empty() ? "" : ", ") + std::string(row->key);
+  }
+  without_effect_ = keys.empty() ? "none" : keys;
 }
 
 void NodeDiagnostics::commandPublished(double latency)
@@ -257,13 +263,7 @@ void NodeDiagnostics::controller(diagnostic_updater::DiagnosticStatusWrapper& st
   stat.add("tip-over guard", report.tip_guard);
   stat.add("sensory precisions Pi_y^(0) [1/(rad/s)^2]", report.sensory_precisions);
   stat.add("sensory precision learning", report.precision_learning);
-  std::string without_effect;
-  for (const params::ParamSpec* row : params::keysWithoutEffect(loop_.params()))
-  {
-    without_effect += (without_effect.empty() ? "" : ", ") + std::string(row->key);
-  }
-  stat.add("parameters without effect (not read by the belief model)",
-           without_effect.empty() ? "none" : without_effect);
+  stat.add("parameters without effect (not read by the belief model)", without_effect_);
   stat.add("output mode", report.output_mode);
   stat.add("commands clipped to the stock controller's limits (cmd_vel)", report.output_clips);
   stat.add("MCU stops", loop_.supervisor().mcuStops());

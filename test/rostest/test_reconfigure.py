@@ -11,7 +11,7 @@
 4. The controller's diagnostics report the robot model's sensory precisions, 1 / gyro_noise^2 and
    1 / encoder_noise^2, and no precision learning, though the launch file sets learn_precision
    (a key only the goal and unbiased models read), and list k_a and learn_precision as
-   parameters without effect.
+   parameters without effect; after the reconfigure of tau (3.) the list holds tau too.
 
 Parameters (~): new_action_rate [Hz], rate_tolerance [-], duration [s], yaml_k_a [-].
 """
@@ -26,6 +26,19 @@ from diagnostic_msgs.msg import DiagnosticArray
 from rosgraph_msgs.msg import Log
 
 from aic_test_utils import Recorder, rate_of, wait_for
+
+
+WITHOUT_EFFECT = "parameters without effect (not read by the belief model)"
+
+
+def controller_values(diagnostics):
+    """The newest key -> value of jackal_AIC's controller task among a /diagnostics Recorder's
+    messages, or None."""
+    for _, msg in reversed(diagnostics.snapshot()):
+        for st in msg.status:
+            if "jackal_AIC" in st.name and st.name.endswith("controller"):
+                return {kv.key: kv.value for kv in st.values}
+    return None
 
 
 class ReconfigureTest(unittest.TestCase):
@@ -56,6 +69,7 @@ class ReconfigureTest(unittest.TestCase):
         self.assertAlmostEqual(client.get_configuration(timeout=10)["k_a"], yaml_k_a)
         tau = client.get_configuration(timeout=10)["tau"] * 2.0
         log = Recorder("/rosout", Log)
+        diagnostics = Recorder("/diagnostics", DiagnosticArray)
         self.assertTrue(wait_for(lambda: log.sub.get_num_connections() > 0, 10.0), "no connection to /rosout")
         rospy.sleep(1.0)  # every publisher of /rosout connected, the AIC's among them
         result = client.update_configuration({"tau": tau})
@@ -68,20 +82,19 @@ class ReconfigureTest(unittest.TestCase):
             return [m.msg for _, m in log.snapshot() if m.name == "/jackal_AIC" and m.level == Log.WARN and
                     "reconfigure: ~tau = " in m.msg and "has no effect with belief_model robot" in m.msg]
         self.assertTrue(wait_for(lambda: without_effect(), 10.0), "no WARN that tau has no effect with the robot model")
+
+        def tau_listed():
+            values = controller_values(diagnostics)
+            return values is not None and "tau" in values[WITHOUT_EFFECT].split(", ")
+        # The diagnostics' list follows the parameters applied at the next tick.
+        self.assertTrue(wait_for(tau_listed, 10.0), "the diagnostics do not list the reconfigured tau")
         print("MEASURED after tau -> %g: k_a %g (set %g)" % (tau, result["k_a"], yaml_k_a), file=sys.stderr)
 
     def test_diagnostics_report_the_robot_models_precisions(self):
         self.assertTrue(rospy.get_param("/jackal_AIC/learn_precision"), "the launch file sets learn_precision")
         diagnostics = Recorder("/diagnostics", DiagnosticArray)
-
-        def controller_values():
-            for _, msg in reversed(diagnostics.snapshot()):
-                for st in msg.status:
-                    if "jackal_AIC" in st.name and st.name.endswith("controller"):
-                        return {kv.key: kv.value for kv in st.values}
-            return None
-        self.assertTrue(wait_for(lambda: controller_values() is not None, 20.0), "no controller diagnostics")
-        values = controller_values()
+        self.assertTrue(wait_for(lambda: controller_values(diagnostics) is not None, 20.0), "no controller diagnostics")
+        values = controller_values(diagnostics)
         pi_g = 1.0 / rospy.get_param("/jackal_AIC/gyro_noise") ** 2
         pi_e = 1.0 / rospy.get_param("/jackal_AIC/encoder_noise") ** 2
         expected = "gyro_z %.4g, omega_left %.4g, omega_right %.4g" % (pi_g, pi_e, pi_e)
@@ -90,7 +103,7 @@ class ReconfigureTest(unittest.TestCase):
         self.assertEqual(values["sensory precision learning"], "off")
         # The keys set away from their defaults that the robot model does not read: the launch
         # file's k_a and learn_precision (a reconfigure of tau, in another test, may add tau).
-        listed = values["parameters without effect (not read by the belief model)"].split(", ")
+        listed = values[WITHOUT_EFFECT].split(", ")
         print("MEASURED parameters without effect: %s" % listed, file=sys.stderr)
         self.assertIn("k_a", listed)
         self.assertIn("learn_precision", listed)

@@ -97,8 +97,9 @@ public:
                   std::function<ControllerReport()> controller);
   ~NodeDiagnostics();
 
-  /// The expected loop rates [Hz] (after a reconfigure).
-  void setRates(double belief_rate, double action_rate);
+  /// The parameters now in force (at construction and after a reconfigure): the expected loop
+  /// rates [Hz] and the keys the belief model does not read (params::keysWithoutEffect()).
+  void paramsApplied(const params::NodeParams& params);
   /// How the beliefs are advanced, e.g. "each event (belief_schedule event)".
   void setBeliefLoop(std::string description) { belief_loop_ = std::move(description); }
   /**
@@ -157,9 +158,10 @@ private:
   std::string belief_loop_ = "ROS timer";
   os::IntervalHistogram latency_;  ///< sensor-to-command latencies of the current window
   double belief_rate_ = 0.0, action_freq_min_ = 0.0, action_freq_max_ = 0.0;
-  std::uint64_t rate_steps_ = 0;  ///< loop_.beliefSteps() at the last "belief step rate"
-  double rate_integrated_ = 0.0;  ///< loop_.beliefTimeIntegrated() then [s]
-  ros::WallTime rate_time_;       ///< its time
+  std::string without_effect_ = "none";  ///< the keys in force the belief model does not read, or "none"
+  std::uint64_t rate_steps_ = 0;         ///< loop_.beliefSteps() at the last "belief step rate"
+  double rate_integrated_ = 0.0;         ///< loop_.beliefTimeIntegrated() then [s]
+  ros::WallTime rate_time_;              ///< its time
   std::unique_ptr<diagnostic_updater::Updater> updater_;
   std::unique_ptr<diagnostic_updater::FrequencyStatus> action_freq_;
   const safety::FaultMonitor* monitor_ = nullptr;
