@@ -13,7 +13,7 @@ import unittest
 
 import numpy as np
 
-from jackal_aic_tools.common import cli, inference, metrics, profiles, recording, tracking
+from jackal_aic_tools.common import cli, inference, metrics, profiles, recording, report, tracking
 from jackal_aic_tools.experiment import experiment
 from jackal_aic_tools.track import driving
 
@@ -270,7 +270,6 @@ class PlotTest(unittest.TestCase):
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        from jackal_aic_tools.common import report
         result = {"name": "run", "controller": "aic", "profile": profile.name, "status": "ok", "reason": "",
                   "segments": []}
         axes = {}
@@ -333,7 +332,6 @@ class PlotTest(unittest.TestCase):
             recording.separation_at([1.0], sep[::-1], 0.5621)
 
     def test_belief_error(self):
-        from jackal_aic_tools.common import report
         truth = np.array([[0.0, 0.0, 0.0], [1.0, 1.0, 2.0]])
         belief = np.array([[-0.5, 9.0, 9.0], [0.5, 0.6, 1.5], [1.5, 9.0, 9.0]])
         np.testing.assert_allclose(report.belief_error(belief, truth), [[0.5, 0.1, 0.5]])
@@ -403,7 +401,9 @@ def inference_msg(stamp, orders, f=3.0):
     return types.SimpleNamespace(header=hdr, orders=orders, free_energy=f, free_energy_sensory=1.0,
                                  free_energy_prior=f - 1.0, mu=mat(3), eps_y=mat(5), eps_mu=mat(3),
                                  action=[4.0, 5.0], action_prior=[0.5, 0.6], goal=[0.5, 0.0, 0.1],
-                                 precision_y=[0.5, 0.5, 0.5, 1e-5, 1e-5], wheel_separation=0.56, gyro_offset=0.001)
+                                 precision_y=[0.5, 0.5, 0.5, 1e-5, 1e-5], wheel_separation=0.56, gyro_offset=0.001,
+                                 shortfall=[0.01, 0.02], turn_shortfall=[0.03, 0.04], slip_ratio=0.05,
+                                 gyro_offset_belief=0.002)
 
 
 class InferenceColumnsTest(unittest.TestCase):
@@ -432,6 +432,10 @@ class InferenceColumnsTest(unittest.TestCase):
         self.assertEqual(row["eps_mu1_x_dot[m/s^3]"], 1.0)
         self.assertEqual(row["Pi_y0_accel_x[1/(m/s^2)^2]"], 1e-5)
         self.assertEqual(row["a_ff_R[rad/s]"], 0.6)
+        self.assertEqual(row["shortfall_R[rad/s]"], 0.02)
+        self.assertEqual(row["turn_shortfall_L[rad/s]"], 0.03)
+        self.assertEqual(row["slip_ratio[-]"], 0.05)
+        self.assertEqual(row["gyro_offset_belief[rad/s]"], 0.002)
         self.assertEqual(row["gyro_offset[rad/s]"], 0.001)
         self.assertEqual(inference.order_unit("m/s", 2), "m/s^3")
         self.assertEqual(inference.order_unit("m/s^2", 1), "m/s^3")
@@ -448,7 +452,10 @@ class InferenceColumnsTest(unittest.TestCase):
         rec = recording.Recorder()
         rec._stamp = lambda msg: (msg.header.stamp.to_sec(), None)  # no ROS clock here
         for k in range(3):
-            rec.on_inference(inference_msg(100.0 + 0.02 * k, 2, f=3.0 + k))
+            msg = inference_msg(100.0 + 0.02 * k, 2, f=3.0 + k)
+            if k == 2:
+                msg.slip_ratio = float("nan")  # the goal model's: no slip ratio
+            rec.on_inference(msg)
         rec.on_inference(inference_msg(100.1, 3))  # another embedding order: dropped
         rec._add("odom", 100.01, 0.4, 0.0)
         arr = rec.arrays()
@@ -463,13 +470,15 @@ class InferenceColumnsTest(unittest.TestCase):
         self.assertEqual(rows[1]["F[-]"], "3")  # the latest inference holds in the odom row
         self.assertEqual(rows[3]["F[-]"], "5")
         self.assertEqual(rows[3]["wheel_separation[m]"], "0.56")
+        self.assertEqual(rows[1]["slip_ratio[-]"], "0.05")
+        self.assertEqual(rows[3]["slip_ratio[-]"], "")  # NaN: an empty cell, as closed_loop_run writes it
         with self.assertRaises(ValueError):
             experiment.write_csv(os.path.join(ROOT, "never.csv"), arr, 100.0, ["F[-]"])
 
 
 class HeadlessArcTest(unittest.TestCase):
     """aic_experiment --headless on the arc (0.5 m/s + 0.5 rad/s; closed_loop_run, seeded noise):
-    the result, the trace with F, and the figure with the F(t) panel."""
+    the result, the trace with F and the robot model's slow states, and the figure with their panels."""
 
     def test_arc(self):
         import matplotlib
@@ -501,6 +510,14 @@ class HeadlessArcTest(unittest.TestCase):
                 self.assertEqual(inf.shape[1], 1 + len(inference.columns(3)) + len(inference.LEARNED))
                 np.testing.assert_allclose(inf[:, 1], inf[:, 2] + inf[:, 3], rtol=1e-5, atol=1e-9)
                 self.assertGreater(np.max(inf[:, 1]), 10.0 * inf[-1, 1])  # the transient's F, then descended
+                # the robot model's slow states (config/default.yaml): in the trace, and their panel
+                states = report.robot_states(inf)
+                self.assertEqual(set(states), set(inference.ROBOT_STATES))
+                self.assertTrue(all(np.all(np.isfinite(v)) for v in states.values()))
+                nan_states = inf.copy()
+                first = 1 + inference.columns(1).index(inference.ROBOT_STATES[0])
+                nan_states[:, first:first + len(inference.ROBOT_STATES)] = np.nan  # the goal model's
+                self.assertEqual(report.robot_states(nan_states), {})
                 # the drive command's twist survives the trip through wheel speeds
                 eq = recording.drive_equivalent(arr["drive"], 0.098, 0.5621)
                 cols = tracking.read_columns(res["files"]["csv"])
@@ -508,6 +525,7 @@ class HeadlessArcTest(unittest.TestCase):
         finally:
             plt.Figure.savefig = real_savefig
         self.assertIn("free energy [-]", labels)
+        self.assertIn("robot model's\nslow states", labels)
 
 
 class StabilityWarningTest(unittest.TestCase):

@@ -4,6 +4,8 @@
  */
 #include "jackal_aic/aic/inference_sample.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 #include <string>
 
@@ -32,9 +34,45 @@ std::string orderUnit(const std::string& unit, int i)
   return base + "/s" + (power == 1 ? std::string() : "^" + std::to_string(power));
 }
 
+namespace
+{
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// The robot model's part of the sample: its slow states, and NaN where it has no such quantity
+/// (InferenceSample). eps_y order 0 of the sensors it reads, at the beliefs as they are.
+void fillRobotModel(const ActiveInferenceController& controller, InferenceSample* s)
+{
+  const RobotBelief& belief = controller.robotBelief();
+  const base::YTilde& y = controller.yTilde();
+  const base::Vector2 omega = belief.wheelSpeeds();
+  s->eps_y.setConstant(kNaN);
+  s->eps_y(base::kGyroZ, 0) = y(base::kGyroZ, 0) - (belief.yawRate() + belief.gyroOffset());
+  s->eps_y(base::kOmegaLeft, 0) = y(base::kOmegaLeft, 0) - omega(0);
+  s->eps_y(base::kOmegaRight, 0) = y(base::kOmegaRight, 0) - omega(1);
+  s->eps_mu.setConstant(kNaN);
+  if (s->mu.cols() > 2)
+  {
+    s->mu.rightCols(s->mu.cols() - 2).setConstant(kNaN);
+  }
+  s->action_prior.setConstant(kNaN);
+  s->shortfall = belief.shortfalls();
+  s->turn_shortfall = belief.turnShortfalls();
+  s->slip_ratio = belief.slipRatio();
+  s->gyro_offset_belief = belief.gyroOffset();
+}
+
+/// Whether every element of m is finite, rows [row0, row0 + rows) and columns [0, cols) only.
+template <typename M>
+bool blockFinite(const M& m, int row0, int rows, int cols)
+{
+  return m.rows() >= row0 + rows && m.cols() >= cols && m.block(row0, 0, rows, cols).allFinite();
+}
+}  // namespace
+
 InferenceSample inferenceSample(const ActiveInferenceController& controller)
 {
   InferenceSample s;
+  s.belief_model = controller.params().belief_model;
   s.free_energy = controller.freeEnergy();
   s.sensory = controller.sensoryFreeEnergy();
   s.prior = controller.priorFreeEnergy();
@@ -46,12 +84,41 @@ InferenceSample inferenceSample(const ActiveInferenceController& controller)
   s.goal = controller.attractorGoal();
   s.precision_y = controller.precisionY().col(0);
   s.wheel_separation = controller.model().wheelSeparation();
+  if (s.belief_model == params::BeliefModel::kRobot)
+  {
+    fillRobotModel(controller, &s);
+  }
+  else
+  {
+    s.shortfall.setConstant(kNaN);
+    s.turn_shortfall.setConstant(kNaN);
+    s.slip_ratio = kNaN;
+    s.gyro_offset_belief = kNaN;
+  }
   return s;
+}
+
+bool modelledValuesFinite(const InferenceSample& s)
+{
+  const bool common = std::isfinite(s.free_energy) && std::isfinite(s.sensory) && std::isfinite(s.prior) &&
+                      s.action.allFinite() && s.goal.allFinite() && s.precision_y.allFinite() &&
+                      std::isfinite(s.wheel_separation);
+  if (!common)
+  {
+    return false;
+  }
+  if (s.belief_model != params::BeliefModel::kRobot)
+  {
+    return s.mu.allFinite() && s.eps_y.allFinite() && s.eps_mu.allFinite() && s.action_prior.allFinite();
+  }
+  const int orders = static_cast<int>(std::min<Eigen::Index>(s.mu.cols(), 2));
+  return blockFinite(s.mu, 0, base::kMuDim, orders) && blockFinite(s.eps_y, 0, base::kOmegaRight + 1, 1) &&
+         s.shortfall.allFinite() && s.turn_shortfall.allFinite() && std::isfinite(s.slip_ratio) &&
+         std::isfinite(s.gyro_offset_belief);
 }
 
 InferenceSample unavailableInferenceSample(int orders)
 {
-  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   InferenceSample s;
   s.free_energy = s.sensory = s.prior = kNaN;
   s.mu = base::MuTilde::Constant(base::kMuDim, orders, kNaN);
@@ -62,6 +129,10 @@ InferenceSample unavailableInferenceSample(int orders)
   s.goal = base::Vector3::Constant(kNaN);
   s.precision_y = base::Vector5::Constant(kNaN);
   s.wheel_separation = kNaN;
+  s.shortfall.setConstant(kNaN);
+  s.turn_shortfall.setConstant(kNaN);
+  s.slip_ratio = kNaN;
+  s.gyro_offset_belief = kNaN;
   return s;
 }
 }  // namespace aic

@@ -205,9 +205,10 @@ void NodeOutputs::debug(const DebugSnapshot& snapshot)
     g.data = snapshot.gyro_offset;
     gyro_offset_pub_.publish(g);
   }
-  // eps_y, eps_mu: only for a subscriber, never published non-finite.
-  auto publishErrors = [this](const ros::Publisher& pub, const auto& errors) {
-    if (errors.cols() == 0 || pub.getNumSubscribers() == 0)
+  // eps_y, eps_mu: only for a subscriber, never published non-finite; the goal and unbiased
+  // models' (the robot model's errors are in ~inference, with NaN where it has none).
+  auto publishErrors = [this, &inf](const ros::Publisher& pub, const auto& errors) {
+    if (errors.cols() == 0 || pub.getNumSubscribers() == 0 || inf.belief_model == params::BeliefModel::kRobot)
     {
       return;
     }
@@ -233,11 +234,8 @@ bool NodeOutputs::inference(const DebugSnapshot& snapshot)
     return false;
   }
   const aic::InferenceSample& inf = snapshot.inference;
-  const bool finite = std::isfinite(inf.free_energy) && std::isfinite(inf.sensory) && std::isfinite(inf.prior) &&
-                      inf.mu.allFinite() && inf.eps_y.allFinite() && inf.eps_mu.allFinite() && inf.action.allFinite() &&
-                      inf.action_prior.allFinite() && inf.goal.allFinite() && inf.precision_y.allFinite() &&
-                      std::isfinite(inf.wheel_separation) && std::isfinite(snapshot.gyro_offset);
-  if (!finite)
+  // NaN only where the belief model has no such quantity (msg/InferenceState.msg).
+  if (!aic::modelledValuesFinite(inf) || !std::isfinite(snapshot.gyro_offset))
   {
     ++guarded_outputs_;
     return false;
@@ -246,6 +244,7 @@ bool NodeOutputs::inference(const DebugSnapshot& snapshot)
   msg.header.stamp = snapshot.sample_stamp;
   msg.header.frame_id = "base_link";
   const int orders = static_cast<int>(inf.mu.cols());
+  msg.belief_model = params::toString(inf.belief_model);
   msg.orders = static_cast<std::uint8_t>(orders);
   msg.free_energy = inf.free_energy;
   msg.free_energy_sensory = inf.sensory;
@@ -279,6 +278,13 @@ bool NodeOutputs::inference(const DebugSnapshot& snapshot)
   }
   msg.wheel_separation = inf.wheel_separation;
   msg.gyro_offset = snapshot.gyro_offset;
+  for (int k = 0; k < 2; ++k)
+  {
+    msg.shortfall[static_cast<std::size_t>(k)] = inf.shortfall(k);
+    msg.turn_shortfall[static_cast<std::size_t>(k)] = inf.turn_shortfall(k);
+  }
+  msg.slip_ratio = inf.slip_ratio;
+  msg.gyro_offset_belief = inf.gyro_offset_belief;
   inference_pub_.publish(msg);
   last_inference_stamp_ = snapshot.sample_stamp;
   return true;

@@ -3,13 +3,17 @@
 'Topics'), recorded beside the unstamped ~free_energy (std_msgs/Float64):
 
 - header stamps strictly increase (one message per sensor sample), frame base_link;
-- every value is finite, the attractor goal settles on the set point, the arrays hold 3 x orders, 5 x orders and 3 x orders values, orders as
-  configured (~expected_orders), F = F_sensory + F_prior (to 1e-9 relative);
+- the belief model is the configured one (~expected_belief_model, the default's robot model);
+- every value the model has is finite and every other is NaN (msg/InferenceState.msg: the robot
+  model has mu's orders 0 and 1, eps_y's order 0 of gyro_z, omega_L, omega_R, and its slow states;
+  no eps_mu, no action prior), the attractor goal settles on the set point, the arrays hold
+  3 x orders, 5 x orders and 3 x orders values, orders as configured (~expected_orders),
+  F = F_sensory + F_prior (to 1e-9 relative);
 - F is what ~free_energy carries: the node publishes both from one snapshot, so every F of
   ~inference after both subscriptions are up is among the ~free_energy values (at least 90 % of
   them, the first ones may come before the second subscription connects).
 
-Parameters (~): expected_orders [-], messages (how many ~inference messages to record).
+Parameters (~): expected_orders [-], expected_belief_model, messages (how many ~inference messages to record).
 """
 import math
 import sys
@@ -27,9 +31,25 @@ from aic_test_utils import Recorder, wait_for
 class InferenceTest(unittest.TestCase):
     def setUp(self):
         self.orders = int(rospy.get_param("~expected_orders"))
+        self.belief_model = rospy.get_param("~expected_belief_model")
         self.count = int(rospy.get_param("~messages", 150))
         self.free_energy = Recorder("/jackal_AIC/free_energy", Float64)
         self.inference = Recorder("/jackal_AIC/inference", InferenceState, use_stamp=True)
+
+    def split(self, m):
+        """The message's values the belief model has, and those it does not (NaN)."""
+        n = self.orders
+        finite = [m.free_energy, m.free_energy_sensory, m.free_energy_prior, m.wheel_separation, m.gyro_offset] + \
+            list(m.action) + list(m.goal) + list(m.precision_y)
+        robot_states = list(m.shortfall) + list(m.turn_shortfall) + [m.slip_ratio, m.gyro_offset_belief]
+        if m.belief_model != "robot":
+            return finite + list(m.mu) + list(m.eps_y) + list(m.eps_mu) + list(m.action_prior), robot_states
+        mu = [m.mu[c * n + i] for c in range(3) for i in range(n) if i < 2]
+        eps_y = [m.eps_y[c * n] for c in range(3)]
+        absent = [m.mu[c * n + i] for c in range(3) for i in range(2, n)] + \
+            [m.eps_y[c * n + i] for c in range(5) for i in range(n) if c >= 3 or i > 0] + list(m.eps_mu) + \
+            list(m.action_prior)
+        return finite + mu + eps_y + robot_states, absent
 
     def test_stamped_finite_and_equal_to_free_energy(self):
         self.assertTrue(wait_for(lambda: len(self.inference.snapshot()) >= self.count, 60.0),
@@ -44,10 +64,11 @@ class InferenceTest(unittest.TestCase):
             self.assertEqual(m.orders, self.orders)
             self.assertEqual((len(m.mu), len(m.eps_y), len(m.eps_mu)), (3 * self.orders, 5 * self.orders,
                                                                         3 * self.orders))
-            values = [m.free_energy, m.free_energy_sensory, m.free_energy_prior, m.wheel_separation,
-                      m.gyro_offset] + list(m.mu) + list(m.eps_y) + list(m.eps_mu) + list(m.action) + \
-                list(m.action_prior) + list(m.goal) + list(m.precision_y)
-            self.assertTrue(all(math.isfinite(v) for v in values), "non-finite value at %.6f" % m.header.stamp.to_sec())
+            self.assertEqual(m.belief_model, self.belief_model)
+            finite, absent = self.split(m)
+            self.assertTrue(all(math.isfinite(v) for v in finite), "non-finite value at %.6f" % m.header.stamp.to_sec())
+            self.assertTrue(all(math.isnan(v) for v in absent),
+                            "a value the %s model does not have at %.6f" % (m.belief_model, m.header.stamp.to_sec()))
             self.assertGreaterEqual(m.free_energy, 0.0)
             self.assertAlmostEqual(m.free_energy, m.free_energy_sensory + m.free_energy_prior,
                                    delta=1e-9 * max(1.0, m.free_energy))

@@ -79,10 +79,14 @@
  *        then its inference, units in brackets: the free energy F and its sensory and prior parts
  *        F_sensory, F_prior (thesis eq. 3-10), the action a_L, a_R, its prior a_ff_L, a_ff_R, the
  *        attractor goal mu_r as goal_{x_dot,y_dot,theta_dot} (the reference model's output), the sensory
- *        precisions in use Pi_y0_<channel> (learned with learn_precision), and per order i = 0..p the beliefs
+ *        precisions in use Pi_y0_<channel> (learned with learn_precision), the robot model's slow
+ *        states shortfall_{L,R}, turn_shortfall_{L,R} [rad/s], slip_ratio [-] and gyro_offset_belief
+ *        [rad/s] (beta, on top of the offset removed at rest), and per order i = 0..p the beliefs
  *        mu<i>_{x_dot,y_dot,theta_dot}, the sensory prediction errors eps_y<i>_{gyro_z,omega_L,omega_R,
  *        accel_x,accel_y} (eq. 3-8) and the state prediction errors eps_mu<i>_* (eq. 3-9), empty
- *        before the controller starts.
+ *        before the controller starts and where the belief model in use has no such quantity
+ *        (jackal_aic/aic/inference_sample.hpp: the robot model's states under the goal and unbiased
+ *        models; a_ff, eps_mu, mu and eps_y beyond its own under the robot model).
  * Divergence: a run whose controller had a runaway reset, whose ground truth or drive command
  *        went non-finite, or whose robot never moved (no commanded channel's ground-truth speed
  *        reached kMovedShare of its largest set point) has diverged: the JSON's "diverged" holds
@@ -165,7 +169,8 @@ std::string metricsJson(const std::vector<double>& t, const std::vector<double>&
 namespace
 {
 /// The inference columns of the trace (AIC, --csv), units in brackets: F and its parts, the
-/// action, its prior, the attractor goal, the sensory precisions Pi_y^(0), then per order i the
+/// action, its prior, the attractor goal, the sensory precisions Pi_y^(0), the robot model's slow
+/// states (shortfalls d, turn shortfalls e, slip ratio s, gyro offset beta), then per order i the
 /// beliefs mu<i>_*, the sensory errors eps_y<i>_* and the state errors eps_mu<i>_*
 /// (jackal_aic/aic/inference_sample.hpp). Empty for orders = 0 (no AIC).
 std::string inferenceCsvHeader(int orders)
@@ -184,6 +189,8 @@ std::string inferenceCsvHeader(int orders)
   {
     h << ",Pi_y0_" << aic::kSensorChannelNames[c] << "[1/(" << aic::kSensorChannelUnits[c] << ")^2]";
   }
+  h << ",shortfall_L[rad/s],shortfall_R[rad/s],turn_shortfall_L[rad/s],turn_shortfall_R[rad/s],slip_ratio[-],"
+       "gyro_offset_belief[rad/s]";
   for (int i = 0; i < orders; ++i)
   {
     for (int c = 0; c < base::kMuDim; ++c)
@@ -221,6 +228,8 @@ std::string inferenceCsvRow(const aic::InferenceSample& s, int orders)
   {
     r << "," << cell(s.precision_y(c));
   }
+  r << "," << cell(s.shortfall(0)) << "," << cell(s.shortfall(1)) << "," << cell(s.turn_shortfall(0)) << ","
+    << cell(s.turn_shortfall(1)) << "," << cell(s.slip_ratio) << "," << cell(s.gyro_offset_belief);
   const double kNaN = std::numeric_limits<double>::quiet_NaN();
   for (int i = 0; i < orders; ++i)
   {

@@ -17,6 +17,10 @@ SENSOR_CHANNELS = (("gyro_z", "rad/s"), ("omega_L", "rad/s"), ("omega_R", "rad/s
                    ("accel_y", "m/s^2"))
 #: The free energy's columns: F and its sensory and prior sums (thesis eq. 3-10).
 FREE_ENERGY = ("F[-]", "F_sensory[-]", "F_prior[-]")
+#: The robot model's slow states (closed_loop_run's order): shortfalls d, turn shortfalls e, slip
+#: ratio s, gyro offset beta; NaN (an empty cell) under the goal and unbiased models.
+ROBOT_STATES = ("shortfall_L[rad/s]", "shortfall_R[rad/s]", "turn_shortfall_L[rad/s]", "turn_shortfall_R[rad/s]",
+                "slip_ratio[-]", "gyro_offset_belief[rad/s]")
 #: Columns the experiment adds after the inference columns (closed_loop_run has them as
 #: "separation" and "gyro_offset" among its first columns).
 LEARNED = ("wheel_separation[m]", "gyro_offset[rad/s]")
@@ -38,13 +42,14 @@ def order_unit(unit, i):
 def columns(orders):
     """The inference column names for ``orders`` (= p + 1 >= 1) generalized orders, in
     closed_loop_run's order: F and its parts, the action a_L, a_R, its prior a_ff_L, a_ff_R, the
-    attractor goal goal_*, the precisions Pi_y0_*, then per order i mu<i>_*, eps_y<i>_*,
-    eps_mu<i>_*. Raises ValueError for orders < 1."""
+    attractor goal goal_*, the precisions Pi_y0_*, ROBOT_STATES, then per order i mu<i>_*,
+    eps_y<i>_*, eps_mu<i>_*. Raises ValueError for orders < 1."""
     if orders < 1:
         raise ValueError("orders must be >= 1, not %r" % (orders,))
     out = list(FREE_ENERGY) + ["a_L[rad/s]", "a_R[rad/s]", "a_ff_L[rad/s]", "a_ff_R[rad/s]"]
     out += ["goal_%s[%s]" % (n, u) for n, u in BELIEF_CHANNELS]
     out += ["Pi_y0_%s[1/(%s)^2]" % (n, u) for n, u in SENSOR_CHANNELS]
+    out += list(ROBOT_STATES)
     for i in range(orders):
         out += ["mu%d_%s[%s]" % (i, n, order_unit(u, i)) for n, u in BELIEF_CHANNELS]
         out += ["eps_y%d_%s[%s]" % (i, n, order_unit(u, i)) for n, u in SENSOR_CHANNELS]
@@ -63,6 +68,7 @@ def values(msg):
             raise ValueError("InferenceState.%s has %d values, not %d x %d" % (name, len(getattr(msg, name)), rows, n))
     out = [msg.free_energy, msg.free_energy_sensory, msg.free_energy_prior]
     out += list(msg.action) + list(msg.action_prior) + list(msg.goal) + list(msg.precision_y)
+    out += list(msg.shortfall) + list(msg.turn_shortfall) + [msg.slip_ratio, msg.gyro_offset_belief]
     for i in range(n):
         out += [msg.mu[c * n + i] for c in range(3)]
         out += [msg.eps_y[c * n + i] for c in range(5)]

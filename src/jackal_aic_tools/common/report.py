@@ -2,7 +2,7 @@
 files of jackal_aic_tools.common.figures)."""
 import numpy as np
 
-from . import figures, profiles, recording
+from . import figures, inference, profiles, recording
 from .tables import fmt, text_table
 
 SIGNAL_LABEL = {"measured": "measured (/odom)", "belief": "belief", "drive": "drive cmd"}
@@ -17,6 +17,13 @@ SOURCES = {"ros": {"odom": "measured (/odom)", "belief": "belief (/jackal_AIC/be
 #: The series of plot_run, each its figures.style() index (one style per series in the figure).
 SERIES = {"odom": 0, "belief": 1, "drive": 2, "error_vx": 3, "error_wz": 4, "left": 5, "right": 6,
           "F_sensory": 9, "F_prior": 8, "separation": 10, "pose": 0}
+#: The robot model's slow states in plot_run's panel: (inference column, label, series index).
+ROBOT_STATE_SERIES = (("shortfall_L[rad/s]", "$d_L$ [rad/s]", 5),
+                      ("shortfall_R[rad/s]", "$d_R$ [rad/s]", 6),
+                      ("turn_shortfall_L[rad/s]", "$e_L$ [rad/s]", 15),
+                      ("turn_shortfall_R[rad/s]", "$e_R$ [rad/s]", 16),
+                      ("slip_ratio[-]", "slip ratio $s$ [-]", 3),
+                      ("gyro_offset_belief[rad/s]", "gyro offset $\\beta$ [rad/s]", 4))
 CHANNEL_NAME = {"vx": "linear velocity x", "wz": "angular velocity z"}
 
 
@@ -44,6 +51,20 @@ def belief_error(belief, truth):
     return out
 
 
+def robot_states(inf):
+    """The robot model's slow states of an "inference" stream (recording.Recorder: stamp, then
+    inference.columns() and inference.LEARNED): {column: (n,) array} of ROBOT_STATE_SERIES's
+    columns, or {} when the stream has none or the belief model had none (all NaN: the goal and
+    unbiased models)."""
+    if inf is None or inf.ndim != 2 or inf.shape[0] == 0:
+        return {}
+    first = 1 + inference.columns(1).index(inference.ROBOT_STATES[0])  # before the orders' columns
+    if inf.shape[1] < first + len(inference.ROBOT_STATES):
+        return {}
+    out = {c: inf[:, first + k] for k, c in enumerate(inference.ROBOT_STATES)}
+    return out if any(np.any(np.isfinite(v)) for v in out.values()) else {}
+
+
 def plot_run(path, arr, t0, profile, result, wheel_radius, wheel_sep, ideal=None):
     """PNG and PDF (figures.save) of one run: per channel, set point, measured velocity, belief
     and the drive command as the twist it asks for [m/s or rad/s] (recording.drive_twist: with
@@ -52,7 +73,9 @@ def plot_run(path, arr, t0, profile, result, wheel_radius, wheel_sep, ideal=None
     truth per channel (belief_error, the truth being the "odom" stream); the drive commands
     left/right [rad/s]; if ``arr`` has an "inference" stream with rows (recording.Recorder: stamp,
     then F, F_sensory, F_prior first), the free energy F and its sensory and prior parts against
-    time, on a log scale; if ``arr`` has a "separation" stream (the AIC's b_hat [m], learned with
+    time, on a log scale; with the robot model's slow states in that stream (robot_states()),
+    the shortfalls d, the turn shortfalls e, the slip ratio s and the gyro offset beta against
+    time; if ``arr`` has a "separation" stream (the AIC's b_hat [m], learned with
     learn_wheel_separation), b_hat against time; with ``ideal`` ({"x", "y"} arrays [m], the
     profile's ideal path), last the x-y path of /odom against it. Beside every time axis, the
     first second after each set-point change (figures.zoom_events of the profile's segments). The
@@ -65,9 +88,10 @@ def plot_run(path, arr, t0, profile, result, wheel_radius, wheel_sep, ideal=None
     has_sep = sep is not None and sep.size > 0
     inf = arr.get("inference")
     has_f = inf is not None and inf.ndim == 2 and inf.shape[0] > 0 and inf.shape[1] >= 4
+    states = robot_states(inf) if has_f else {}
     err = belief_error(arr["belief"], arr["odom"])
     kinds = ["channel"] * len(chans) + (["error"] if err.size else []) + ["drive"] + (["F"] if has_f else []) + \
-        (["separation"] if has_sep else [])
+        (["states"] if states else []) + (["separation"] if has_sep else [])
     starts = [a[0, 0] - t0 for a in (arr["odom"], arr["drive"], arr["setpoint"]) if a.size]
     span = profile.duration - min([0.0] + starts)
     events = figures.zoom_events([s.t0 for s in profile.segments()], span)
@@ -113,6 +137,12 @@ def plot_run(path, arr, t0, profile, result, wheel_radius, wheel_sep, ideal=None
         elif kind == "F":
             for a in axs:
                 draw_free_energy(a, inf[:, 0] - t0, inf[:, 1], inf[:, 2], inf[:, 3], text=a is ax)
+        elif kind == "states":
+            for a in axs:
+                a.axhline(0.0, **figures.REFERENCE)
+                for col, label, k in ROBOT_STATE_SERIES:
+                    a.plot(inf[:, 0] - t0, states[col], label=label, **figures.style(k))
+            ax.set_ylabel("robot model's\nslow states")
         else:
             for a in axs:
                 a.step(sep[:, 0] - t0, sep[:, 1], where="post", label="$\\hat{b}$ (%s)" % src["separation"],

@@ -450,7 +450,8 @@ def write_csv(path, arr, t0, inference_columns=()):
     belief_vx, belief_wz [m/s, rad/s], drive_left, drive_right [rad/s]; with the AIC's
     ``inference_columns`` (recording.Recorder.inference_columns(): units in brackets, as
     closed_loop_run --csv names them) the rows of arr["inference"] too (source "inference", stamped
-    with the sensor sample the beliefs were updated on)."""
+    with the sensor sample the beliefs were updated on; empty where the belief model has no such
+    quantity)."""
     cols = {"setpoint": ("setpoint_vx", "setpoint_wz"), "odom": ("odom_vx", "odom_wz"),
             "belief": ("belief_vx", "belief_wz"), "drive": ("drive_left", "drive_right")}
     names = [c for s in recording.STREAMS for c in cols[s]]
@@ -464,7 +465,8 @@ def write_csv(path, arr, t0, inference_columns=()):
         if inf.shape[1] != 1 + len(inference_columns):
             raise ValueError("inference rows have %d values, not %d columns" % (inf.shape[1] - 1, len(inference_columns)))
         for row in inf:
-            events.append((row[0], "inference", tuple("%.9g" % v for v in row[1:])))
+            # NaN: a quantity the belief model does not have, an empty cell as in closed_loop_run's trace.
+            events.append((row[0], "inference", tuple("%.9g" % v if np.isfinite(v) else "" for v in row[1:])))
     events.sort(key=lambda e: e[0])
     state = {c: "" for c in names + inference_columns}
     with open(path, "w") as f:
