@@ -81,7 +81,8 @@ struct InferenceSample
  *        sensoryFreeEnergy(), priorFreeEnergy(), mu(), epsY(), epsMu(), action(), actionPrior(),
  *        attractorGoal(), precisionY().col(0), model().wheelSeparation(); under the robot model
  *        its RobotBelief's states and errors, NaN where the model has none: InferenceSample).
- *        Before the first measurement the errors and F are those of a zero measurement.
+ *        Before the first measurement the errors and F are those of a zero measurement. No heap
+ *        allocation.
  */
 InferenceSample inferenceSample(const ActiveInferenceController& controller);
 

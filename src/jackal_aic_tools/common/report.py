@@ -17,13 +17,10 @@ SOURCES = {"ros": {"odom": "measured (/odom)", "belief": "belief (/jackal_AIC/be
 #: The series of plot_run, each its figures.style() index (one style per series in the figure).
 SERIES = {"odom": 0, "belief": 1, "drive": 2, "error_vx": 3, "error_wz": 4, "left": 5, "right": 6,
           "F_sensory": 9, "F_prior": 8, "separation": 10, "pose": 0}
-#: The robot model's slow states in plot_run's panel: (inference column, label, series index).
-ROBOT_STATE_SERIES = (("shortfall_L[rad/s]", "$d_L$ [rad/s]", 5),
-                      ("shortfall_R[rad/s]", "$d_R$ [rad/s]", 6),
-                      ("turn_shortfall_L[rad/s]", "$e_L$ [rad/s]", 15),
-                      ("turn_shortfall_R[rad/s]", "$e_R$ [rad/s]", 16),
-                      ("slip_ratio[-]", "slip ratio $s$ [-]", 3),
-                      ("gyro_offset_belief[rad/s]", "gyro offset $\\beta$ [rad/s]", 4))
+#: The robot model's slow states in plot_run's panel, in inference.ROBOT_STATES's order: label and
+#: series index (figures.style) of each.
+ROBOT_STATE_SERIES = (("$d_L$ [rad/s]", 5), ("$d_R$ [rad/s]", 6), ("$e_L$ [rad/s]", 15), ("$e_R$ [rad/s]", 16),
+                      ("slip ratio $s$ [-]", 3), ("gyro offset $\\beta$ [rad/s]", 4))
 CHANNEL_NAME = {"vx": "linear velocity x", "wz": "angular velocity z"}
 
 
@@ -53,8 +50,8 @@ def belief_error(belief, truth):
 
 def robot_states(inf):
     """The robot model's slow states of an "inference" stream (recording.Recorder: stamp, then
-    inference.columns() and inference.LEARNED): {column: (n,) array} of ROBOT_STATE_SERIES's
-    columns, or {} when the stream has none or the belief model had none (all NaN: the goal and
+    inference.columns() and inference.LEARNED): {column: (n,) array} of inference.ROBOT_STATES,
+    or {} when the stream has none or the belief model had none (all NaN: the goal and
     unbiased models)."""
     if inf is None or inf.ndim != 2 or inf.shape[0] == 0:
         return {}
@@ -140,7 +137,7 @@ def plot_run(path, arr, t0, profile, result, wheel_radius, wheel_sep, ideal=None
         elif kind == "states":
             for a in axs:
                 a.axhline(0.0, **figures.REFERENCE)
-                for col, label, k in ROBOT_STATE_SERIES:
+                for col, (label, k) in zip(inference.ROBOT_STATES, ROBOT_STATE_SERIES):
                     a.plot(inf[:, 0] - t0, states[col], label=label, **figures.style(k))
             ax.set_ylabel("robot model's\nslow states")
         else:
