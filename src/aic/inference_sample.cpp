@@ -45,14 +45,15 @@ void fillRobotModel(const ActiveInferenceController& controller, InferenceSample
   const RobotBelief& belief = controller.robotBelief();
   const base::YTilde& y = controller.yTilde();
   const base::Vector2 omega = belief.wheelSpeeds();
-  s->eps_y.setConstant(kNaN);
+  const Eigen::Index orders = s->mu.cols();
+  s->eps_y = base::YTilde::Constant(base::kYDim, orders, kNaN);
   s->eps_y(base::kGyroZ, 0) = y(base::kGyroZ, 0) - (belief.yawRate() + belief.gyroOffset());
   s->eps_y(base::kOmegaLeft, 0) = y(base::kOmegaLeft, 0) - omega(0);
   s->eps_y(base::kOmegaRight, 0) = y(base::kOmegaRight, 0) - omega(1);
-  s->eps_mu.setConstant(kNaN);
-  if (s->mu.cols() > 2)
+  s->eps_mu = base::MuTilde::Constant(base::kMuDim, orders, kNaN);
+  if (orders > 2)
   {
-    s->mu.rightCols(s->mu.cols() - 2).setConstant(kNaN);
+    s->mu.rightCols(orders - 2).setConstant(kNaN);
   }
   s->action_prior.setConstant(kNaN);
   s->shortfall = belief.shortfalls();
@@ -77,10 +78,7 @@ InferenceSample inferenceSample(const ActiveInferenceController& controller)
   s.sensory = controller.sensoryFreeEnergy();
   s.prior = controller.priorFreeEnergy();
   s.mu = controller.mu();
-  s.eps_y = controller.epsY();
-  s.eps_mu = controller.epsMu();
   s.action = controller.action();
-  s.action_prior = controller.actionPrior();
   s.goal = controller.attractorGoal();
   s.precision_y = controller.precisionY().col(0);
   s.wheel_separation = controller.model().wheelSeparation();
@@ -90,6 +88,9 @@ InferenceSample inferenceSample(const ActiveInferenceController& controller)
   }
   else
   {
+    s.eps_y = controller.epsY();
+    s.eps_mu = controller.epsMu();
+    s.action_prior = controller.actionPrior();
     s.shortfall.setConstant(kNaN);
     s.turn_shortfall.setConstant(kNaN);
     s.slip_ratio = kNaN;
