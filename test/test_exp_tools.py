@@ -445,6 +445,14 @@ class InferenceColumnsTest(unittest.TestCase):
         with self.assertRaises(ValueError) as ctx:
             inference.values(bad)
         self.assertIn("InferenceState.mu has 5 values, not 3 x 2", str(ctx.exception))
+        # A message of an older definition (a bag's: rosbag builds its class from the bag's own
+        # definition) is refused by name, not with an AttributeError.
+        old = inference_msg(10.0, 2)
+        del old.shortfall, old.slip_ratio
+        old._md5sum = "0123abcd"
+        with self.assertRaises(ValueError) as ctx:
+            inference.values(old)
+        self.assertIn("md5sum 0123abcd): no shortfall, slip_ratio", str(ctx.exception))
         with self.assertRaises(ValueError):
             inference.columns(0)
 

@@ -57,11 +57,23 @@ def columns(orders):
     return out
 
 
+#: The fields of jackal_aic/InferenceState that values() reads (msg/InferenceState.msg).
+FIELDS = ("orders", "free_energy", "free_energy_sensory", "free_energy_prior", "action", "action_prior", "goal",
+          "precision_y", "shortfall", "turn_shortfall", "slip_ratio", "gyro_offset_belief", "mu", "eps_y", "eps_mu",
+          "wheel_separation", "gyro_offset")
+
+
 def values(msg):
     """The values of one jackal_aic/InferenceState message in the order of columns(msg.orders)
     (its matrices are channel-major: element (c, i) at c * orders + i), then LEARNED's
-    (b_hat [m], gyro offset [rad/s]). Raises ValueError if an array's length does not match
+    (b_hat [m], gyro offset [rad/s]). Raises ValueError if the message lacks one of FIELDS (a
+    message of another definition, e.g. read from a bag an older jackal_aic recorded: rosbag
+    builds it from the definition stored in the bag) or if an array's length does not match
     msg.orders."""
+    missing = [f for f in FIELDS if not hasattr(msg, f)]
+    if missing:
+        raise ValueError("InferenceState of another definition than msg/InferenceState.msg (md5sum %s): no %s"
+                         % (getattr(msg, "_md5sum", "unknown"), ", ".join(missing)))
     n = int(msg.orders)
     for name, rows in (("mu", 3), ("eps_y", 5), ("eps_mu", 3)):
         if len(getattr(msg, name)) != rows * n:
