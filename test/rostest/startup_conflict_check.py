@@ -13,7 +13,10 @@ Checks: an ERROR of /jackal_AIC naming this node and /cmd_drive arrives on /roso
 rosout node's aggregate: what it received on /rosout, what rqt_console and the log files show)
 within ~limit s of rosout going on (wall time: the start-up itself); the same line is on the node's
 stdout; the AIC publishes nothing on /cmd_drive (each message's publisher is its connection
-header's callerid); its diagnostics report the state "blocked" naming this node. Waits are on
+header's callerid); its diagnostics report the state "blocked" naming this node. The start-up INFO
+line (src/ros/aic_node.cpp: AicParams::summary() and the belief loop's schedule) reaches
+/rosout_agg too (roslaunch keeps a node's INFO off the screen unless output="screen") and names
+what config/default.yaml runs: the robot model, its latency learned, b_hat_0. Waits are on
 conditions with deadlines.
 """
 import os
@@ -67,6 +70,7 @@ class StartupConflict(unittest.TestCase):
         self.me = rospy.get_name()
         self.lock = threading.Lock()
         self.errors = []     # texts of the AIC's ERROR lines on /rosout_agg
+        self.infos = []      # texts of its INFO lines there
         self.aic_drive = 0   # /cmd_drive messages from /jackal_AIC
         self.state = ""
         rospy.Subscriber("/rosout_agg", Log, self.on_log, queue_size=500)
@@ -77,6 +81,9 @@ class StartupConflict(unittest.TestCase):
         if msg.name == "/jackal_AIC" and msg.level >= Log.ERROR:
             with self.lock:
                 self.errors.append(msg.msg)
+        elif msg.name == "/jackal_AIC" and msg.level == Log.INFO:
+            with self.lock:
+                self.infos.append(msg.msg)
 
     def on_drive(self, msg):
         if msg._connection_header.get("callerid") == "/jackal_AIC":
@@ -132,12 +139,31 @@ class StartupConflict(unittest.TestCase):
                 with self.lock:
                     self.assertEqual(self.aic_drive, 0, "the AIC published beside this node")
                 self.assertEqual(len(self.conflict_errors()), 1, "more than one ERROR: %s" % self.conflict_errors())
+                self.check_startup_line()
             finally:
                 timer.shutdown()
                 os.killpg(rosout.pid, signal.SIGCONT)
                 if proc is not None:
                     ros_process.stop(proc, timeout=20.0)
                 ros_process.stop(rosout, timeout=10.0)
+
+
+    def startup_lines(self):
+        with self.lock:
+            return [i for i in self.infos if i.startswith("jackal_AIC: belief ") and "waiting for" in i]
+
+    def check_startup_line(self):
+        """The start-up INFO line is on /rosout_agg, once, and names config/default.yaml's model:
+        belief and action rates, the robot model with its latency learned, b_hat_0."""
+        self.assertTrue(wait_wall(lambda: self.startup_lines() != [], 10.0),
+                        "no start-up INFO line on /rosout_agg; the AIC's INFO lines there: %s" % self.infos)
+        lines = self.startup_lines()
+        self.assertEqual(len(lines), 1, "start-up lines: %s" % lines)
+        line = lines[0]
+        rospy.loginfo("startup line: %s", line)
+        for part in ("belief 1000 Hz, action 50 Hz, belief model robot, latency ", " s (learned), action_gain ",
+                     "b_hat_0 0.5621 m; beliefs advanced on ", "; waiting for /joint_states, /imu/data and ~set_point"):
+            self.assertIn(part, line)
 
 
 if __name__ == "__main__":
