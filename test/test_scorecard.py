@@ -49,7 +49,7 @@ GUARD_GMEAN = ("tracking, geometric mean AIC / stock (plant-following channels)"
                driving.TRACK_GMEAN_BOUND)
 #: AIC / latency floor (table 6e) over the plant-following channels; the bound 1.20 removes three
 #: quarters of the error a controller acting through the plant's latency could avoid.
-GUARD_FLOOR = ("tracking, geometric mean AIC / latency floor (plant-following channels)", 1.377, 1.41, 1.20)
+GUARD_FLOOR = ("tracking, geometric mean AIC / latency floor (plant-following channels)", 1.376, 1.41, 1.20)
 GUARD_WORST_PAIR = ("tracking, worst plant-following channel AIC / stock", 1.476, 1.55, driving.TRACK_PAIR_BOUND)
 GUARD_ARC_OVERSHOOT = ("arc, yaw overshoot [%]", 6.3, 7.0, driving.STEP_OVERSHOOT)
 #: Tracking runs whose steady |belief - truth| is above its bound (table 6g; driving.BELIEF_BOUND where the

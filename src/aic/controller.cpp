@@ -763,7 +763,12 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
   // the wheels' coordinates of the learned model; then LatencyAction's descent of F_a.
   base::Vector2 goal = base::Vector2::Zero();
   double goal_turn = 0.0;  // the goal's yaw rate at t + L + h_a [rad/s]
-  const bool at_rest = reference_.target().isZero(0.0) && reference_.path().cwiseAbs().maxCoeff() <= kRobotRestPath;
+  // Not while a tip bound is tripped: a stop whose path has already reached zero when the body
+  // lifts (a set point dropped to zero at once, the path down at the wheel loop's rate one latency
+  // ahead of the wheels) would otherwise go on braking at the MCU's full deceleration through the
+  // lift; the held path below asks for the speed the body has instead.
+  const bool at_rest = !reference_.tipTripped() && reference_.target().isZero(0.0) &&
+                       reference_.path().cwiseAbs().maxCoeff() <= kRobotRestPath;
   if (!at_rest)
   {
     // The tip guard's trip stops the wheels' braking (or acceleration) where they are now, not at

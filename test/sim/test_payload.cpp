@@ -81,8 +81,8 @@ TEST(PlantPayload, RefusesBadArguments)
   EXPECT_EQ(runTool("--urdf /nonexistent.urdf").code, 1);
 }
 
-/// What a planner's stop does on the forward payload's plant with the AIC (config/default.yaml
-/// with `overrides`) driving 1.5 m/s straight then stopping at 0.2 m/s every 0.1 s (2 m/s^2).
+/// What a stop does on the forward payload's plant with the AIC (config/default.yaml, or
+/// `configs`, with `overrides`).
 struct StopResult
 {
   double heading = 0.0;  ///< the largest |heading| after the stop begins [rad] (~pi: turned over)
@@ -90,8 +90,10 @@ struct StopResult
   ClosedLoopRecord record;
 };
 
-StopResult stopWithThePayload(const std::vector<std::string>& overrides, int stops = 1,
-                              const std::vector<std::string>& configs = { "config/default.yaml" })
+/// The run of `profile` (t [s], vx [m/s], wz [rad/s] rows, zero-order hold) for `duration` [s] on
+/// the forward payload's plant, noisy sensors; the heading counted from `stop_start` [s].
+StopResult runWithThePayload(const std::vector<SetPointSegment>& profile, double duration, double stop_start,
+                             const std::vector<std::string>& overrides, const std::vector<std::string>& configs)
 {
   ClosedLoopConfig c;
   c.controller = LoopController::kAic;
@@ -102,17 +104,8 @@ StopResult stopWithThePayload(const std::vector<std::string>& overrides, int sto
   }
   c.node = loadNodeParamsFiles(files, overrides);
   c.aic = c.node.aic;
-  c.profile = { { 0.0, 0.0, 0.0 } };
-  for (int s = 0; s < stops; ++s)
-  {
-    const double t0 = 4.0 * s;
-    c.profile.push_back({ t0 + 0.5, 1.5, 0.0 });
-    for (int k = 1; k <= 8; ++k)
-    {
-      c.profile.push_back({ t0 + 3.0 + 0.1 * k, 1.5 - 0.2 * k < 0.05 ? 0.0 : 1.5 - 0.2 * k, 0.0 });
-    }
-  }
-  c.duration = 4.0 * stops + 2.0;
+  c.profile = profile;
+  c.duration = duration;
   c.ideal_sensors = false;
   const std::vector<std::string> plant = overrides::loadOverlayFile(kRoot + "/" + kForward);
   StopResult out;
@@ -121,10 +114,34 @@ StopResult stopWithThePayload(const std::vector<std::string>& overrides, int sto
   const ClosedLoopRecord& r = out.record;
   for (std::size_t k = 0; k < r.time.size(); ++k)
   {
-    out.heading = std::max(out.heading, r.time[k] >= 3.0 ? std::abs(r.heading_true[k]) : 0.0);
+    out.heading = std::max(out.heading, r.time[k] >= stop_start ? std::abs(r.heading_true[k]) : 0.0);
     out.pitch = std::max(out.pitch, std::abs(r.pitch_true[k]));
   }
   return out;
+}
+
+/// A planner's stop, `stops` times: 1.5 m/s straight, then down by 0.2 m/s every 0.1 s (2 m/s^2).
+StopResult stopWithThePayload(const std::vector<std::string>& overrides, int stops = 1,
+                              const std::vector<std::string>& configs = { "config/default.yaml" })
+{
+  std::vector<SetPointSegment> profile = { { 0.0, 0.0, 0.0 } };
+  for (int s = 0; s < stops; ++s)
+  {
+    const double t0 = 4.0 * s;
+    profile.push_back({ t0 + 0.5, 1.5, 0.0 });
+    for (int k = 1; k <= 8; ++k)
+    {
+      profile.push_back({ t0 + 3.0 + 0.1 * k, 1.5 - 0.2 * k < 0.05 ? 0.0 : 1.5 - 0.2 * k, 0.0 });
+    }
+  }
+  return runWithThePayload(profile, 4.0 * stops + 2.0, 3.0, overrides, configs);
+}
+
+/// A set point dropped from 1 m/s to zero at once (a joystick let go, ~set_point_timeout's zero).
+StopResult dropToZeroWithThePayload(const std::vector<std::string>& overrides)
+{
+  return runWithThePayload({ { 0.0, 0.0, 0.0 }, { 0.5, 1.0, 0.0 }, { 3.0, 0.0, 0.0 } }, 5.0, 3.0, overrides,
+                           { "config/default.yaml" });
 }
 
 TEST(PayloadStop, WithoutTheTipGuardTheStopTipsTheForwardPayloadOverItsFrontWheels)
@@ -169,6 +186,21 @@ TEST(PayloadStop, WithTheRobotModelTheTipGuardKeepsItOnItsWheelsToo)
   EXPECT_LT(r.record.tip_front, 2.09);
   const StopResult off = stopWithThePayload({ "tip_guard=false" }, 1, robot);
   EXPECT_GT(off.pitch, 1.0) << "without the guard the robot model's stop tips it over: the test checks something";
+}
+
+TEST(PayloadStop, WithTheRobotModelATripAfterThePathReachedZeroStillStopsTheBraking)
+{
+  // A set point dropped to zero: the robot model's path (one latency ahead of the wheels) is down
+  // at the wheel loop's rate and at zero before the rear wheels lift, and the MCU brakes on at
+  // about 4 m/s^2 through the lift. At the trip the held path asks for the speed the body has
+  // (ReferenceModel::holdTipSpeed()); were the zero path taken as rest (zero command) instead, the
+  // robot would turn over (1.53 rad measured).
+  const StopResult r = dropToZeroWithThePayload({});
+  EXPECT_EQ(r.record.tip_trips, 1u);
+  EXPECT_LT(r.heading, 0.1);
+  EXPECT_LT(r.pitch, 0.18) << "the rear wheels came down before the tip-over angle (0.21 rad)";
+  const StopResult off = dropToZeroWithThePayload({ "tip_guard=false" });
+  EXPECT_GT(off.pitch, 1.0) << "without the guard this stop tips it over: the test checks something";
 }
 
 TEST(PayloadStop, PlantPayloadsDecelerationBoundKeepsItOnItsWheelsWithoutATrip)

@@ -331,7 +331,8 @@ public:
   static constexpr int kActionLine = ActionDelayLine::kCapacity;
 
   /// belief_model robot: with a zero goal, the goal's path below this on every channel [m/s, rad/s]
-  /// is rest: the action is zero (the MCU holds the wheels; no shortfall to make up).
+  /// is rest: the action is zero (the MCU holds the wheels; no shortfall to make up). Not while a
+  /// tip bound is tripped (ReferenceModel::tipTripped()): the held path asks for the body's speed.
   static constexpr double kRobotRestPath = 1.0e-3;
 
   /// Number of times the exact integrator computed its matrix exponential (for tests and diagnostics).

@@ -82,6 +82,9 @@ public:
    *         not finite or when the path is already on the allowed side of it.
    */
   bool holdTipSpeed(double x_dot);
+  /// True while a tip bound is tripped (front or rear at 0: the TipGuard holds the path's braking
+  /// or its acceleration along x_dot until the body is level again).
+  bool tipTripped() const { return tip_front_ == 0.0 || tip_rear_ == 0.0; }
   /// The tip bounds in force (front, rear) [m/s^2] (+inf: none).
   double tipBoundFront() const { return tip_front_; }
   /// See tipBoundFront().
