@@ -445,7 +445,7 @@ class InferenceColumnsTest(unittest.TestCase):
         with self.assertRaises(ValueError) as ctx:
             inference.values(bad)
         self.assertIn("InferenceState.mu has 5 values, not 3 x 2", str(ctx.exception))
-        # A message of an older definition (a bag's: rosbag builds its class from the bag's own
+        # A message of another definition (a bag's: rosbag builds its class from the bag's own
         # definition) is refused by name, not with an AttributeError.
         old = inference_msg(10.0, 2)
         del old.shortfall, old.slip_ratio

@@ -67,8 +67,8 @@ def values(msg):
     """The values of one jackal_aic/InferenceState message in the order of columns(msg.orders)
     (its matrices are channel-major: element (c, i) at c * orders + i), then LEARNED's
     (b_hat [m], gyro offset [rad/s]). Raises ValueError if the message lacks one of FIELDS (a
-    message of another definition, e.g. read from a bag an older jackal_aic recorded: rosbag
-    builds it from the definition stored in the bag) or if an array's length does not match
+    message of another definition, e.g. read from a bag another version of jackal_aic recorded:
+    rosbag builds it from the definition stored in the bag) or if an array's length does not match
     msg.orders."""
     missing = [f for f in FIELDS if not hasattr(msg, f)]
     if missing:

@@ -261,10 +261,13 @@ TEST(ReferenceModelTipBounds, ATrippedBoundHoldsThePathAtTheSpeedGivenNotAhead)
   aic::ReferenceModel r{ p };
   ASSERT_TRUE(r.start(base::Vector3(0.5, 0.0, 0.2)));
   EXPECT_FALSE(r.holdTipSpeed(0.9)) << "no trip: the path is left alone";
+  EXPECT_FALSE(r.tipTripped());
   EXPECT_EQ(r.path()(0), 0.5);
   r.setTipBounds(1.6, inf);
   EXPECT_FALSE(r.holdTipSpeed(0.9)) << "a bound that is not tripped holds nothing";
+  EXPECT_FALSE(r.tipTripped()) << "a learned bound is no trip";
   r.setTipBounds(0.0, inf);  // tipping nose-down: no more braking
+  EXPECT_TRUE(r.tipTripped());
   EXPECT_FALSE(r.holdTipSpeed(0.3)) << "the path is above the speed: it stays";
   EXPECT_FALSE(r.holdTipSpeed(std::nan("")));
   EXPECT_EQ(r.path()(0), 0.5);
@@ -274,6 +277,7 @@ TEST(ReferenceModelTipBounds, ATrippedBoundHoldsThePathAtTheSpeedGivenNotAhead)
   r.advance(0.1);
   EXPECT_NEAR(r.path()(0), 0.9, 1e-12) << "and held there: the trip still stops the braking";
   r.setTipBounds(inf, 0.0);  // tipping nose-up: no more acceleration
+  EXPECT_TRUE(r.tipTripped());
   EXPECT_TRUE(r.holdTipSpeed(0.4)) << "a rear trip lowers the path to the speed";
   EXPECT_EQ(r.path()(0), 0.4);
   EXPECT_FALSE(r.holdTipSpeed(0.7));
