@@ -264,12 +264,17 @@ class ShippedVariantFiles(unittest.TestCase):
 
 class KeysWithoutEffect(unittest.TestCase):
     """The parameter table's "belief models" column (ParamSpec::models; the node and the tools warn
-    of a key set for another model): every key it gives to other models leaves a closed-loop run of
-    this model bit-identical, commands, beliefs and the robot's motion (a step into an arc with a
-    gyro offset appearing mid-arc, noisy sensors), and a key the model reads does change it."""
+    of a key set for another model): every key it gives to other models leaves closed-loop runs of
+    this model bit-identical, commands, beliefs and the robot's motion, and a key the model reads
+    does change them. Two runs, noisy sensors: a step into an arc with a gyro offset appearing
+    mid-arc; a set point dropped from 1.1 m/s to zero with the rated payload forward, which lifts
+    the rear wheels and trips the tip guard (its hold of the path is a branch of its own)."""
 
     COLUMNS = ("command", "command_yaw", "belief", "belief_yaw", "v_true", "yaw_true", "separation",
                "gyro_offset", "fdi_statistic")
+    SCENARIOS = (["--step", "0.5", "--turn", "0.5", "--hold", "2.5", "--fault", "gyro bias 0.1 2 1"],
+                 ["--square", "0", "1.1", "--rest", "0.5", "--period", "3", "--cycles", "1", "--overlay",
+                  os.path.join(ROOT, "sim", "config", "variants", "payload_20kg_forward.yaml")])
     MODELS = {"robot": [], "goal": ["goal_model.yaml"], "unbiased": ["unbiased.yaml"]}
     READ = {"robot": "action_gain", "goal": "tau", "unbiased": "tau"}
 
@@ -283,20 +288,29 @@ class KeysWithoutEffect(unittest.TestCase):
             if len(cells) == 8 and cells[0].startswith("`"):
                 cls.models[cells[0].split("`")[1]] = cells[6]
 
-    def run_loop(self, config, sets):
-        with tempfile.TemporaryDirectory() as tmp:
-            trace = os.path.join(tmp, "trace.csv")
-            cmd = [exe(), "--controller", "aic", "--aic-config", config, "--noise", "--step", "0.5", "--turn",
-                   "0.5", "--hold", "2.5", "--fault", "gyro bias 0.1 2 1", "--csv", trace]
-            for s in sets:
-                cmd += ["--aic-set", s]
-            out = subprocess.run(cmd, capture_output=True, text=True)
-            if out.returncode != 0:
-                return None
-            with open(trace) as f:
-                rows = list(csv.reader(f))
-            keep = [rows[0].index(c) for c in self.COLUMNS]
-            return [[r[i] for i in keep] for r in rows[1:]]
+    def run_loop(self, config, sets, scenarios=None):
+        """The COLUMNS of each scenario's trace (a list per scenario), or None if a run fails."""
+        runs = []
+        for scenario in self.SCENARIOS if scenarios is None else scenarios:
+            with tempfile.TemporaryDirectory() as tmp:
+                trace = os.path.join(tmp, "trace.csv")
+                cmd = [exe(), "--controller", "aic", "--aic-config", config, "--noise", "--csv", trace] + scenario
+                for s in sets:
+                    cmd += ["--aic-set", s]
+                out = subprocess.run(cmd, capture_output=True, text=True)
+                if out.returncode != 0:
+                    return None
+                with open(trace) as f:
+                    rows = list(csv.reader(f))
+                keep = [rows[0].index(c) for c in self.COLUMNS]
+                runs.append([[r[i] for i in keep] for r in rows[1:]])
+        return runs
+
+    def trips(self, config):
+        """The tip guard's trips in the second scenario's run."""
+        out = subprocess.run([exe(), "--controller", "aic", "--aic-config", config, "--noise"] + self.SCENARIOS[1],
+                             capture_output=True, text=True, check=True)
+        return json.loads(out.stdout)["tip_guard"]["trips"]
 
     @staticmethod
     def changed(value):
@@ -330,6 +344,7 @@ class KeysWithoutEffect(unittest.TestCase):
                     values = yaml.safe_load(f)
                 base = self.run_loop(config, [])
                 self.assertIsNotNone(base, model)
+                self.assertGreaterEqual(self.trips(config), 1, "%s: the payload's drop trips no tip guard" % model)
                 self.assertNotEqual(self.run_loop(config, ["%s=%s" % (self.READ[model], self.changed(
                     values[self.READ[model]])[0])]), base, "%s: a key it reads changes nothing" % model)
                 others = sorted(k for k, m in self.models.items() if m != "all" and model not in m.split(" "))
