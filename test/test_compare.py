@@ -288,10 +288,11 @@ class KeysWithoutEffect(unittest.TestCase):
             if len(cells) == 8 and cells[0].startswith("`"):
                 cls.models[cells[0].split("`")[1]] = cells[6]
 
-    def run_loop(self, config, sets, scenarios=None):
-        """The COLUMNS of each scenario's trace (a list per scenario), or None if a run fails."""
+    def run_loop(self, config, sets, results=None):
+        """The COLUMNS of each scenario's trace (a list per scenario), or None if a run fails; each
+        run's JSON appended to `results` when it is a list."""
         runs = []
-        for scenario in self.SCENARIOS if scenarios is None else scenarios:
+        for scenario in self.SCENARIOS:
             with tempfile.TemporaryDirectory() as tmp:
                 trace = os.path.join(tmp, "trace.csv")
                 cmd = [exe(), "--controller", "aic", "--aic-config", config, "--noise", "--csv", trace] + scenario
@@ -304,13 +305,9 @@ class KeysWithoutEffect(unittest.TestCase):
                     rows = list(csv.reader(f))
                 keep = [rows[0].index(c) for c in self.COLUMNS]
                 runs.append([[r[i] for i in keep] for r in rows[1:]])
+                if results is not None:
+                    results.append(json.loads(out.stdout))
         return runs
-
-    def trips(self, config):
-        """The tip guard's trips in the second scenario's run."""
-        out = subprocess.run([exe(), "--controller", "aic", "--aic-config", config, "--noise"] + self.SCENARIOS[1],
-                             capture_output=True, text=True, check=True)
-        return json.loads(out.stdout)["tip_guard"]["trips"]
 
     @staticmethod
     def changed(value):
@@ -342,9 +339,11 @@ class KeysWithoutEffect(unittest.TestCase):
                 import yaml
                 with open(config) as f:
                     values = yaml.safe_load(f)
-                base = self.run_loop(config, [])
+                results = []
+                base = self.run_loop(config, [], results)
                 self.assertIsNotNone(base, model)
-                self.assertGreaterEqual(self.trips(config), 1, "%s: the payload's drop trips no tip guard" % model)
+                self.assertGreaterEqual(results[1]["tip_guard"]["trips"], 1,
+                                        "%s: the payload's drop trips no tip guard" % model)
                 self.assertNotEqual(self.run_loop(config, ["%s=%s" % (self.READ[model], self.changed(
                     values[self.READ[model]])[0])]), base, "%s: a key it reads changes nothing" % model)
                 others = sorted(k for k, m in self.models.items() if m != "all" and model not in m.split(" "))
