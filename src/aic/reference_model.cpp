@@ -63,19 +63,16 @@ void ReferenceModel::accelerationBounds(base::Vector3* lo, base::Vector3* hi) co
   const base::Vector3 acc = accelerationLimit();
   *lo = -acc;
   *hi = acc;
+  // A payload's tip-over bound along x_dot: braking, forward or in reverse, and speeding up in
+  // reverse, which pitches the robot nose-down over its front wheels as braking forward does.
+  // Speeding up forward keeps the acceleration's bound.
   const double dec = params_.max_deceleration_linear;
   if (dec > 0.0)
   {
-    for (int i = 0; i < 2; ++i)  // x_dot, y_dot
+    (*lo)(0) = -dec;
+    if (m_(0) < 0.0)
     {
-      if (m_(i) > 0.0)
-      {
-        (*lo)(i) = -dec;
-      }
-      else if (m_(i) < 0.0)
-      {
-        (*hi)(i) = dec;
-      }
+      (*hi)(0) = dec;
     }
   }
   (*lo)(0) = std::max((*lo)(0), -tip_front_);

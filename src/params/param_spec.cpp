@@ -159,9 +159,11 @@ std::vector<ParamSpec> buildControllerRows()
                   "started with the forward speed waits for the inner wheel); 0 = none")
         .readBy(kLinearBeliefModels).member<&AicParams::reference, &ReferenceModelParams::max_acceleration_wheel>(),
     ParamRow("active_inference", "max_reference_deceleration_linear").unit("m/s^2").atLeast(0.0).atMost(kMaxGain)
-        .describe("Reference model: the path's deceleration along x_dot (slowing toward 0) is clamped to this: "
-                  "below the deceleration at which the robot with its payload tips over (g d / h; doc/usage.md, "
-                  "'Payloads'); 0 = max_reference_acceleration_linear")
+        .describe("Reference model: a payload's tip-over bound along x_dot: the path's braking, forward or in "
+                  "reverse, and its speeding up in reverse (which tips the robot over its front wheels as braking "
+                  "forward does) are clamped to this, below the lower of the accelerations at which the robot "
+                  "with its payload tips over its front or rear wheels (g d / h, plant_payload; doc/usage.md, "
+                  "'Payloads'); 0 = none (the path's other bounds)")
         .member<&AicParams::reference, &ReferenceModelParams::max_deceleration_linear>(),
     ParamRow("active_inference", "reference_delay").unit("s").atLeast(0.0).atMost(kMaxReferenceDelay)
         .describe("Reference model: the latency from command to wheel response that the beliefs expect")

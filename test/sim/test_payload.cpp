@@ -56,8 +56,14 @@ TEST(PlantPayload, TheForwardPayloadTipsOverTheFrontWheelsAboveTwoMetresPerSecon
   EXPECT_NEAR(after(r.out, "deceleration of "), 2.091, 0.002) << r.out;
   EXPECT_NEAR(after(r.out, "acceleration of "), 9.373, 0.002) << r.out;
   EXPECT_NEAR(after(r.out, "max_reference_deceleration_linear: "), 0.8 * 2.091, 0.002) << r.out;
-  // The default's 3.689 m/s^2 in reverse would tip it too: the acceleration bound follows.
-  EXPECT_NEAR(after(r.out, "max_reference_acceleration_linear: "), 0.8 * 2.091, 0.002) << r.out;
+  // The robot model (config/default.yaml) does not read the acceleration key: no line for it, and
+  // its wheels' 4.2 m/s^2 forward is below the rear limit's bound.
+  EXPECT_EQ(r.out.find("max_reference_acceleration_linear"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("belief_model robot"), std::string::npos) << r.out;
+  // The goal model reads it; the schema's 3.689 m/s^2 is above the bound, which follows.
+  const Result goal = runTool("--overlay " + kRoot + "/" + kForward + " --aic-set belief_model=goal");
+  ASSERT_EQ(goal.code, 0) << goal.out;
+  EXPECT_NEAR(after(goal.out, "max_reference_acceleration_linear: "), 0.8 * 2.091, 0.002) << goal.out;
 }
 
 TEST(PlantPayload, WithoutAPayloadTheDefaultsAccelerationKeepsTheRobotOnItsWheels)
@@ -67,6 +73,27 @@ TEST(PlantPayload, WithoutAPayloadTheDefaultsAccelerationKeepsTheRobotOnItsWheel
   EXPECT_NEAR(after(r.out, "deceleration of "), 9.275, 0.002) << r.out;
   EXPECT_NEAR(after(r.out, "max_reference_deceleration_linear: "), 0.5 * 9.275, 0.002) << r.out;
   EXPECT_EQ(r.out.find("max_reference_acceleration_linear:"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("belief_model robot"), std::string::npos) << r.out;
+}
+
+TEST(PlantPayload, ARearPayloadsLimitSetsTheBoundAndTheRobotModelsForwardStartIsNamed)
+{
+  // 20 kg 0.2 m behind base_link and 0.3 m up: over the rear wheels above 1.258 m/s^2 (speeding
+  // up forward, braking in reverse), over the front ones above 9.0.
+  const Result r = runTool("--mass 20 --position -0.2,0,0.3");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NEAR(after(r.out, "max_reference_deceleration_linear: "), 0.8 * 1.258, 0.002) << r.out;
+  // The robot model's path speeds up forward at its wheels' 4.2 m/s^2: only the guard bounds that.
+  EXPECT_NE(r.out.find("# belief_model robot:"), std::string::npos) << r.out;
+}
+
+TEST(PlantPayload, ARobotThatTipsOverAtRestIsAnError)
+{
+  // The centre of mass behind the rear axle: no acceleration bound keeps it on its wheels (a bound
+  // of 0 would read as none).
+  const Result r = runTool("--mass 20 --position -0.3,0,0.3");
+  EXPECT_EQ(r.code, 1) << r.out;
+  EXPECT_EQ(r.out.find("max_reference_deceleration_linear"), std::string::npos) << r.out;
 }
 
 TEST(PlantPayload, RefusesBadArguments)
@@ -208,6 +235,24 @@ TEST(PayloadStop, PlantPayloadsDecelerationBoundKeepsItOnItsWheelsWithoutATrip)
   const StopResult r = stopWithThePayload({ "tip_guard=false", "max_reference_deceleration_linear=1.672" });
   EXPECT_LT(r.heading, 0.1);
   EXPECT_LT(r.pitch, 0.02) << "below the limit the rear wheels stay down";
+}
+
+TEST(PayloadStop, PlantPayloadsDecelerationBoundAlsoHoldsAStartInReverse)
+{
+  // Speeding up in reverse pitches the robot nose-down as braking forward does. The robot model
+  // (config/default.yaml) starts from rest to -1.5 m/s at once: its path speeds up at the wheel
+  // loop's 4.2 m/s^2, twice this payload's limit (2.09 m/s^2), and without the guard the robot
+  // turns over its front wheels (1.54 rad). plant_payload's bound holds the path's deceleration
+  // along x_dot in either direction of travel.
+  const std::vector<SetPointSegment> reverse = { { 0.0, 0.0, 0.0 }, { 0.5, -1.5, 0.0 } };
+  const std::vector<std::string> robot = { "config/default.yaml" };
+  const StopResult r =
+      runWithThePayload(reverse, 3.0, 0.0, { "tip_guard=false", "max_reference_deceleration_linear=1.672" }, robot);
+  EXPECT_LT(r.heading, 0.1);
+  EXPECT_LT(r.pitch, 0.02) << "below the limit the rear wheels stay down";
+  EXPECT_LT(r.record.v_true.back(), -1.4) << "it reached the set point";
+  const StopResult off = runWithThePayload(reverse, 3.0, 0.0, { "tip_guard=false" }, robot);
+  EXPECT_GT(off.pitch, 1.0) << "without the bound this start tips it over: the test checks something";
 }
 }  // namespace
 }  // namespace harness

@@ -1,7 +1,7 @@
 /**
  * \file plant_payload.cpp
  * \brief plant_payload: where a payload puts the Jackal's centre of mass, at which acceleration
- *        the robot then tips over its wheels, and the AIC's deceleration bound that keeps it on
+ *        the robot then tips over its wheels, and the AIC's tip-over bound that keeps it on
  *        them (doc/usage.md, 'Payloads').
  *
  * Usage: plant_payload [--mass KG --position X,Y,Z] [--overlay PLANT.yaml]... [--set key=value]...
@@ -12,13 +12,18 @@
  * and payload (URDF inertials), the wheels' contact lines, the quasi-static tip-over limits of a
  * rigid robot (a_tip = g d / h: d the horizontal distance of the centre of mass from the contact
  * line it tips over, h its height above the ground) over the front wheels, the rear wheels and
- * sideways, and the YAML overlay of the AIC's reference-path bounds at --margin (0.8) of the
- * limits: max_reference_deceleration_linear always, max_reference_acceleration_linear when the
- * configuration's (--aic-config, default config/default.yaml) is above the margin (the bound is
- * the same forwards and in reverse, and speeding up in reverse tips the robot as braking forward
- * does). Suspension, tyre compliance and the wheels' spin-up are left out: a lower bound on
- * stability is what the margin is for.
- * Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.
+ * sideways, and the YAML overlay of the AIC's reference-path bounds at --margin (0.8) of the lower
+ * of the front and rear limits: max_reference_deceleration_linear always (every belief model reads
+ * it: the path's braking, forward or in reverse, and its speeding up in reverse, which tips the
+ * robot over its front wheels as braking forward does), and max_reference_acceleration_linear
+ * (speeding up forward) when the configuration (--aic-config, default config/default.yaml) reads it
+ * (the goal and unbiased models) and it is above the bound. With the robot model, whose path speeds
+ * up per wheel at the wheel loop's acceleration instead, a comment line says so when that is above
+ * the rear limit's bound. Suspension, tyre compliance and the wheels' spin-up are left out: a lower
+ * bound on stability is what the margin is for. A centre of mass outside the wheels' contact box
+ * (the robot tips over at rest) is an error.
+ * Exit 0 on success, 1 on bad files or parameters or a layout that tips over at rest, 2 on bad
+ * arguments.
  */
 
 #include <algorithm>
@@ -30,6 +35,7 @@
 
 #include <Eigen/Dense>
 
+#include "jackal_aic/params/aic_params.hpp"
 #include "jackal_tools/cli.hpp"
 #include "jackal_tools/params_yaml.hpp"
 #include "jackal_tools/plant_cli.hpp"
@@ -131,16 +137,18 @@ int main(int argc, char** argv)
   double margin = 0.8;
   CommandLine cl("plant_payload", "Where a payload puts the Jackal's centre of mass, the acceleration at which the "
                                   "robot then tips "
-                                  "over its wheels (quasi-static, rigid: g d / h), and the AIC's reference-path bounds "
-                                  "that keep it on "
+                                  "over its wheels (quasi-static, rigid: g d / h), and the AIC's reference-path bound "
+                                  "that keeps it on "
                                   "them, as a YAML overlay.");
   plant.addTo(&cl);
   cl.option("mass", &mass, "payload mass [kg], in [0, 100] (instead of the plant YAML's payload.mass)");
   cl.option("position", &position_text, "payload position X,Y,Z in base_link [m] (with --mass)");
-  cl.option("aic-config", &aic_config, "controller YAML whose max_reference_acceleration_linear is checked");
+  cl.option("aic-config", &aic_config,
+            "controller YAML whose belief model and max_reference_acceleration_linear are checked");
   cl.overrides("aic-set", &aic_overrides, "override a controller key");
-  cl.option("margin", &margin, "the bounds' fraction of the tip-over limits, in (0, 1]");
-  cl.footer("Exit 0 on success, 1 on bad files or parameters, 2 on bad arguments.");
+  cl.option("margin", &margin, "the bounds' fraction of the lower tip-over limit, in (0, 1]");
+  cl.footer("Exit 0 on success, 1 on bad files or parameters or a robot that tips over at rest, 2 on bad "
+            "arguments.");
   if (const int code = cl.parse(argc, argv); code >= 0)
   {
     return code;
@@ -157,7 +165,9 @@ int main(int argc, char** argv)
     return cl.bad("--mass (in [0, 100] kg) and --position X,Y,Z (each in [-1, 1] m) go together");
   }
   plant::RobotDescription description;
-  double accel = 0.0;
+  double accel = 0.0;        // the configuration's max_reference_acceleration_linear [m/s^2]
+  bool robot_model = false;  // belief_model robot: that key is not read, the wheel loop's bound is
+  double wheel_accel = 0.0;  // the robot model's path bound per wheel at the rim [m/s^2]
   try
   {
     description = plant.description();
@@ -167,7 +177,10 @@ int main(int argc, char** argv)
       mass = params.payload.mass;
       position = Eigen::Vector3d(params.payload.position[0], params.payload.position[1], params.payload.position[2]);
     }
-    accel = loadNodeParamsFiles({ aic_config }, aic_overrides).aic.reference.max_acceleration_linear;
+    const auto node = loadNodeParamsFiles({ aic_config }, aic_overrides);
+    accel = node.aic.reference.max_acceleration_linear;
+    robot_model = node.aic.belief_model == params::BeliefModel::kRobot;
+    wheel_accel = params::robotWheelAcceleration(node.aic);
   }
   catch (const std::exception& e)
   {
@@ -192,14 +205,26 @@ int main(int argc, char** argv)
               "reverse): %.4f m behind over %.4f m up\n",
               rear, m.com.x() - m.rear, h);
   std::printf("tips sideways above a centripetal acceleration (speed x yaw rate) of %.3f m/s^2\n", side);
+  if (!(front > 0.0 && rear > 0.0 && side > 0.0))
+  {
+    std::fprintf(stderr, "plant_payload: the centre of mass is outside the wheels' contact box: the robot tips over at "
+                         "rest; no bound keeps it on its wheels\n");
+    return 1;
+  }
   const double bound = margin * std::min(front, rear);
-  std::printf("\n# YAML overlay for the AIC (plant_payload, margin %.2f of the tip-over limits; doc/usage.md, "
+  std::printf("\n# YAML overlay for the AIC (plant_payload, margin %.2f of the lower tip-over limit; doc/usage.md, "
               "'Payloads')\n",
               margin);
   std::printf("max_reference_deceleration_linear: %.3f\n", bound);
-  if (accel > bound)
+  if (!robot_model && accel > bound)
   {
-    std::printf("max_reference_acceleration_linear: %.3f  # was %.3f: the same bound holds in reverse\n", bound, accel);
+    std::printf("max_reference_acceleration_linear: %.3f  # was %.3f: speeding up forward\n", bound, accel);
+  }
+  if (robot_model && margin * rear < wheel_accel)
+  {
+    std::printf("# belief_model robot: its path speeds up forward at up to %.3f m/s^2 (the wheel loop's); above "
+                "%.3f m/s^2 this robot tips over its rear wheels: only the tip-over guard bounds that\n",
+                wheel_accel, rear);
   }
   return 0;
 }

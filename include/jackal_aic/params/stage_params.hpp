@@ -62,11 +62,14 @@ struct ReferenceModelParams
   /// path, |m'_x -+ m'_theta b_hat / 2|, is clamped to this before the body channels' bounds; a turn
   /// started with the forward speed then waits for the inner wheel, as the wheel loops do.
   double max_acceleration_wheel = 0.0;
-  /// max_reference_deceleration_linear [m/s^2], >= 0; 0 = max_acceleration_linear: the path's rate
-  /// along x_dot and y_dot that slows it toward 0. Below the deceleration g d / h at which the robot
-  /// tips over its front (rear) wheels, d the horizontal distance of the centre of mass (with the
-  /// payload) behind the front (ahead of the rear) axle, h its height above the ground
-  /// (ReferenceModel::accelerationBounds; doc/usage.md, 'Payloads').
+  /// max_reference_deceleration_linear [m/s^2], >= 0; 0 = none (the path's other bounds): a payload's
+  /// tip-over bound along x_dot, read by every belief model: m'_x >= -max_deceleration_linear
+  /// (braking forward, and speeding up in reverse, which tips the robot over its front wheels as
+  /// braking forward does) and, in reverse, m'_x <= max_deceleration_linear (braking); speeding up
+  /// forward keeps max_acceleration_linear. Below the lower of the accelerations g d / h at which the
+  /// robot tips over its front or rear wheels, d the horizontal distance of the centre of mass (with
+  /// the payload) from that axle, h its height above the ground (ReferenceModel::accelerationBounds;
+  /// plant_payload; doc/usage.md, 'Payloads').
   double max_deceleration_linear = 0.0;
   /// reference_delay d_r [s], >= 0, <= kMaxReferenceDelay: the latency between a command and the
   /// wheels' response that the beliefs expect (also the delay of belief_model unbiased's prior).

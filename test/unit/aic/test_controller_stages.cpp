@@ -203,26 +203,36 @@ TEST(ReferenceModel, TheWheelBoundMakesATurnWaitForTheInnerWheel)
   EXPECT_EQ(r.wheelSeparation(), 0.6);
 }
 
-TEST(ReferenceModel, TheDecelerationLimitBoundsOnlyTheSlowingOfTheLinearPath)
+TEST(ReferenceModel, ThePayloadsTipBoundHoldsBrakingAndTheStartInReverse)
 {
   params::ReferenceModelParams p = referenceOn(0.001, 0.0);
   p.max_acceleration_linear = 4.0;
   p.max_acceleration_angular = 4.0;
   p.max_deceleration_linear = 1.0;
   aic::ReferenceModel r(p);
-  ASSERT_TRUE(r.start(base::Vector3(1.0, -1.0, 1.0)));
   base::Vector3 lo, hi;
+  // Forward and at rest: braking (and a start into reverse) at 1, speeding up forward at 4.
+  for (const double x_dot : { 1.0, 0.0 })
+  {
+    ASSERT_TRUE(r.start(base::Vector3(x_dot, -1.0, 1.0)));
+    r.accelerationBounds(&lo, &hi);
+    EXPECT_EQ(lo, base::Vector3(-1.0, -4.0, -4.0)) << x_dot;  // x_dot only: y_dot and theta_dot keep theirs
+    EXPECT_EQ(hi, base::Vector3(4.0, 4.0, 4.0)) << x_dot;
+  }
+  // In reverse: speeding up (nose-down, as braking forward) and braking, both at 1.
+  ASSERT_TRUE(r.start(base::Vector3(-1.0, 1.0, 1.0)));
   r.accelerationBounds(&lo, &hi);
-  EXPECT_EQ(lo, base::Vector3(-1.0, -4.0, -4.0));  // x_dot > 0 slows with m' < 0; theta_dot is not a linear channel
-  EXPECT_EQ(hi, base::Vector3(4.0, 1.0, 4.0));     // y_dot < 0 slows with m' > 0
-  // Speeding up keeps the acceleration's bound: from 1 m/s toward 2 m/s at 4 m/s^2.
+  EXPECT_EQ(lo, base::Vector3(-1.0, -4.0, -4.0));
+  EXPECT_EQ(hi, base::Vector3(1.0, 4.0, 4.0));
+  // Speeding up forward keeps the acceleration's bound: from 1 m/s toward 2 m/s at 4 m/s^2.
+  ASSERT_TRUE(r.start(base::Vector3(1.0, -1.0, 1.0)));
   ASSERT_TRUE(r.setGoal(base::Vector3(2.0, -1.0, 1.0)));
   for (int k = 0; k < 100; ++k)
   {
     r.advance(0.001);
   }
   EXPECT_NEAR(r.path()(0), 1.4, 1e-12);
-  // Slowing down: to 0 at 1 m/s^2, then on into reverse at 4 m/s^2 (speeding up again).
+  // Braking: to 0 at 1 m/s^2, then on into reverse at 1 m/s^2 as well.
   ASSERT_TRUE(r.setGoal(base::Vector3(-1.0, -1.0, 1.0)));
   for (int k = 0; k < 1000; ++k)
   {
@@ -241,7 +251,15 @@ TEST(ReferenceModel, TheDecelerationLimitBoundsOnlyTheSlowingOfTheLinearPath)
   {
     r.advance(0.001);
   }
-  EXPECT_NEAR(r.path()(0), -0.4, 1e-9);
+  EXPECT_NEAR(r.path()(0), -0.1, 1e-9) << "a start into reverse pitches the robot nose-down too";
+  // Braking in reverse: from -1 m/s toward 0 at 1 m/s^2.
+  ASSERT_TRUE(r.start(base::Vector3(-1.0, 0.0, 0.0)));
+  ASSERT_TRUE(r.setGoal(base::Vector3::Zero()));
+  for (int k = 0; k < 100; ++k)
+  {
+    r.advance(0.001);
+  }
+  EXPECT_NEAR(r.path()(0), -0.9, 1e-9);
   // 0 = the acceleration's bound both ways (the default, the thesis configurations unchanged).
   p.max_deceleration_linear = 0.0;
   r.setParams(p, 1.0e3);
