@@ -96,6 +96,20 @@ TEST(PlantPayload, ARobotThatTipsOverAtRestIsAnError)
   EXPECT_EQ(r.out.find("max_reference_deceleration_linear"), std::string::npos) << r.out;
 }
 
+TEST(PlantPayload, AFrontHeavyLoadBoundsTheTurnInPlace)
+{
+  // sim/config/variants/front_heavy.yaml: the centre of mass 0.1125 m ahead of base_link and 0.02 m
+  // behind the front axle (0.942 m/s^2). Turning in place at w it is pulled back at w^2 x: over the
+  // front wheels above sqrt(0.942 / 0.1125) = 2.894 rad/s, within the node's 4 rad/s.
+  const Result r = runTool("--overlay " + kRoot + "/sim/config/variants/front_heavy.yaml");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NEAR(after(r.out, "above a yaw rate of "), 2.894, 0.002) << r.out;
+  EXPECT_NEAR(after(r.out, "max_angular_speed: "), std::sqrt(0.8) * 2.894, 0.002) << r.out;
+  // The forward payload's 5.0 rad/s is above it: no line.
+  const Result fwd = runTool("--overlay " + kRoot + "/" + kForward);
+  EXPECT_EQ(fwd.out.find("max_angular_speed"), std::string::npos) << fwd.out;
+}
+
 TEST(PlantPayload, RefusesBadArguments)
 {
   EXPECT_EQ(runTool("--margin 0").code, 2);
@@ -118,9 +132,11 @@ struct StopResult
 };
 
 /// The run of `profile` (t [s], vx [m/s], wz [rad/s] rows, zero-order hold) for `duration` [s] on
-/// the forward payload's plant, noisy sensors; the heading counted from `stop_start` [s].
+/// the forward payload's plant (or `plant_overlay`'s), noisy sensors; the heading counted from
+/// `stop_start` [s].
 StopResult runWithThePayload(const std::vector<SetPointSegment>& profile, double duration, double stop_start,
-                             const std::vector<std::string>& overrides, const std::vector<std::string>& configs)
+                             const std::vector<std::string>& overrides, const std::vector<std::string>& configs,
+                             const std::string& plant_overlay = kForward)
 {
   ClosedLoopConfig c;
   c.controller = LoopController::kAic;
@@ -134,7 +150,7 @@ StopResult runWithThePayload(const std::vector<SetPointSegment>& profile, double
   c.profile = profile;
   c.duration = duration;
   c.ideal_sensors = false;
-  const std::vector<std::string> plant = overrides::loadOverlayFile(kRoot + "/" + kForward);
+  const std::vector<std::string> plant = overrides::loadOverlayFile(kRoot + "/" + plant_overlay);
   StopResult out;
   out.record = runClosedLoop(plant::loadRobotDescription(kRoot + "/sim/urdf/jackal.urdf"),
                              plant::loadPlantParams(kRoot + "/sim/config/plant.yaml", plant), c);
@@ -253,6 +269,20 @@ TEST(PayloadStop, PlantPayloadsDecelerationBoundAlsoHoldsAStartInReverse)
   EXPECT_LT(r.record.v_true.back(), -1.4) << "it reached the set point";
   const StopResult off = runWithThePayload(reverse, 3.0, 0.0, { "tip_guard=false" }, robot);
   EXPECT_GT(off.pitch, 1.0) << "without the bound this start tips it over: the test checks something";
+}
+TEST(PayloadStop, PlantPayloadsYawRateBoundKeepsAFrontHeavyRobotOnItsWheelsInATurnInPlace)
+{
+  // A turn in place at 4 rad/s, the node's default bound, turns front_heavy over its front wheels
+  // with either controller (stock: 1.53 rad, `closed_loop_run --controller stock`); clamped to
+  // plant_payload's 2.588 rad/s (0.8 of the limit's w^2 x) it stays on its wheels.
+  const std::string heavy = "sim/config/variants/front_heavy.yaml";
+  const std::vector<SetPointSegment> spin = { { 0.0, 0.0, 0.0 }, { 0.5, 0.0, 4.0 } };
+  const std::vector<std::string> robot = { "config/default.yaml" };
+  const StopResult r = runWithThePayload(spin, 3.0, 0.0, { "max_angular_speed=2.588" }, robot, heavy);
+  EXPECT_LT(r.pitch, 0.02) << "below the limit the rear wheels stay down";
+  EXPECT_GT(r.record.yaw_true.back(), 2.4) << "it turns at the bound";
+  const StopResult off = runWithThePayload(spin, 3.0, 0.0, {}, robot, heavy);
+  EXPECT_GT(off.pitch, 1.0) << "at 4 rad/s it turns over: the test checks something";
 }
 }  // namespace
 }  // namespace harness

@@ -12,14 +12,17 @@
  * and payload (URDF inertials), the wheels' contact lines, the quasi-static tip-over limits of a
  * rigid robot (a_tip = g d / h: d the horizontal distance of the centre of mass from the contact
  * line it tips over, h its height above the ground) over the front wheels, the rear wheels and
- * sideways, and the YAML overlay of the AIC's reference-path bounds at --margin (0.8) of the lower
+ * sideways, and turning in place about base_link (the centre of mass's w^2 |x| against the front or
+ * rear limit), and the YAML overlay of the AIC's bounds at --margin (0.8) of the lower
  * of the front and rear limits: max_reference_deceleration_linear always (every belief model reads
  * it: the path's braking, forward or in reverse, and its speeding up in reverse, which tips the
  * robot over its front wheels as braking forward does), and max_reference_acceleration_linear
  * (speeding up forward) when the configuration (--aic-config, default config/default.yaml) reads it
  * (the goal and unbiased models) and it is above the bound. With the robot model, whose path speeds
  * up per wheel at the wheel loop's acceleration instead, a comment line says so when that is above
- * the rear limit's bound. Suspension, tyre compliance and the wheels' spin-up are left out: a lower
+ * the rear limit's bound; and max_angular_speed (the node's set-point clamp, node key of the same
+ * configuration) when a turn in place at it would pass margin x the limit. Suspension, tyre
+ * compliance, the wheels' spin-up and a turn's axis away from base_link are left out: a lower
  * bound on stability is what the margin is for. A centre of mass outside the wheels' contact box
  * (the robot tips over at rest) is an error.
  * Exit 0 on success, 1 on bad files or parameters or a layout that tips over at rest, 2 on bad
@@ -165,9 +168,10 @@ int main(int argc, char** argv)
     return cl.bad("--mass (in [0, 100] kg) and --position X,Y,Z (each in [-1, 1] m) go together");
   }
   plant::RobotDescription description;
-  double accel = 0.0;        // the configuration's max_reference_acceleration_linear [m/s^2]
-  bool robot_model = false;  // belief_model robot: that key is not read, the wheel loop's bound is
-  double wheel_accel = 0.0;  // the robot model's path bound per wheel at the rim [m/s^2]
+  double accel = 0.0;         // the configuration's max_reference_acceleration_linear [m/s^2]
+  bool robot_model = false;   // belief_model robot: that key is not read, the wheel loop's bound is
+  double wheel_accel = 0.0;   // the robot model's path bound per wheel at the rim [m/s^2]
+  double max_yaw_rate = 0.0;  // the configuration's max_angular_speed [rad/s]
   try
   {
     description = plant.description();
@@ -181,6 +185,7 @@ int main(int argc, char** argv)
     accel = node.aic.reference.max_acceleration_linear;
     robot_model = node.aic.belief_model == params::BeliefModel::kRobot;
     wheel_accel = params::robotWheelAcceleration(node.aic);
+    max_yaw_rate = node.max_angular_speed;
   }
   catch (const std::exception& e)
   {
@@ -205,6 +210,17 @@ int main(int argc, char** argv)
               "reverse): %.4f m behind over %.4f m up\n",
               rear, m.com.x() - m.rear, h);
   std::printf("tips sideways above a centripetal acceleration (speed x yaw rate) of %.3f m/s^2\n", side);
+  // Turning in place about base_link, the centre of mass |x| off the turn's axis is accelerated
+  // toward it at w^2 |x|: toward the rear for a load ahead (the front wheels' limit), and so on.
+  const double x_com = m.com.x();
+  const double spin_limit = x_com > 0.0 ? front : rear;
+  const double spin = std::abs(x_com) > 1e-9 ? std::sqrt(spin_limit / std::abs(x_com)) : INFINITY;
+  if (std::isfinite(spin))
+  {
+    std::printf("turning in place about base_link, tips over its %s wheels above a yaw rate of %.3f rad/s (w^2 |x|: "
+                "the centre of mass %.4f m %s of the turn's axis)\n",
+                x_com > 0.0 ? "front" : "rear", spin, std::abs(x_com), x_com > 0.0 ? "ahead" : "behind");
+  }
   if (!(front > 0.0 && rear > 0.0 && side > 0.0))
   {
     std::fprintf(stderr, "plant_payload: the centre of mass is outside the wheels' contact box: the robot tips over at "
@@ -219,6 +235,11 @@ int main(int argc, char** argv)
   if (!robot_model && accel > bound)
   {
     std::printf("max_reference_acceleration_linear: %.3f  # was %.3f: speeding up forward\n", bound, accel);
+  }
+  const double spin_bound = std::sqrt(margin) * spin;  // w^2 |x| at margin x the limit
+  if (spin_bound < max_yaw_rate)
+  {
+    std::printf("max_angular_speed: %.3f  # was %.3f: a turn in place\n", spin_bound, max_yaw_rate);
   }
   if (robot_model && margin * rear < wheel_accel)
   {
