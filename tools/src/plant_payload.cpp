@@ -32,6 +32,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -210,22 +211,23 @@ int main(int argc, char** argv)
               "reverse): %.4f m behind over %.4f m up\n",
               rear, m.com.x() - m.rear, h);
   std::printf("tips sideways above a centripetal acceleration (speed x yaw rate) of %.3f m/s^2\n", side);
-  // Turning in place about base_link, the centre of mass |x| off the turn's axis is accelerated
-  // toward it at w^2 |x|: toward the rear for a load ahead (the front wheels' limit), and so on.
-  const double x_com = m.com.x();
-  const double spin_limit = x_com > 0.0 ? front : rear;
-  const double spin = std::abs(x_com) > 1e-9 ? std::sqrt(spin_limit / std::abs(x_com)) : INFINITY;
-  if (std::isfinite(spin))
-  {
-    std::printf("turning in place about base_link, tips over its %s wheels above a yaw rate of %.3f rad/s (w^2 |x|: "
-                "the centre of mass %.4f m %s of the turn's axis)\n",
-                x_com > 0.0 ? "front" : "rear", spin, std::abs(x_com), x_com > 0.0 ? "ahead" : "behind");
-  }
   if (!(front > 0.0 && rear > 0.0 && side > 0.0))
   {
     std::fprintf(stderr, "plant_payload: the centre of mass is outside the wheels' contact box: the robot tips over at "
                          "rest; no bound keeps it on its wheels\n");
     return 1;
+  }
+  // Turning in place about base_link, the centre of mass |x| off the turn's axis is accelerated
+  // toward it at w^2 |x|: toward the rear for a load ahead (the front wheels' limit), and so on.
+  const double x_com = m.com.x();
+  const double spin_limit = x_com > 0.0 ? front : rear;
+  const double spin =
+      std::abs(x_com) > 1e-9 ? std::sqrt(spin_limit / std::abs(x_com)) : std::numeric_limits<double>::infinity();
+  if (std::isfinite(spin))
+  {
+    std::printf("turning in place about base_link, tips over its %s wheels above a yaw rate of %.3f rad/s (w^2 |x|: "
+                "the centre of mass %.4f m %s of the turn's axis)\n",
+                x_com > 0.0 ? "front" : "rear", spin, std::abs(x_com), x_com > 0.0 ? "ahead" : "behind");
   }
   const double bound = margin * std::min(front, rear);
   std::printf("\n# YAML overlay for the AIC (plant_payload, margin %.2f of the lower tip-over limit; doc/usage.md, "

@@ -32,8 +32,8 @@ namespace aic
  * with a forward start waits for the inner wheel, and the path waits with it instead of asking the
  * action for a yaw rate the wheels cannot give yet (doc/active_inference.md, 'Set-point dynamics').
  * The body bounds only shrink a channel toward 0 (a max_deceleration_linear above
- * max_acceleration_linear excepted), so |m'_x| + |m'_theta| b / 2 <= A_w still holds after them. Then the delay: mu_r(t) = m(t - d_r), mu_r' = m'(t - d_r), from a delay line
- * of kLine samples at least kMaxReferenceDelay / 800 apart (linear interpolation; a delay beyond
+ * max_acceleration_linear excepted), so |m'_x| + |m'_theta| b / 2 <= A_w still holds after them.
+ * Then the delay: mu_r(t) = m(t - d_r), mu_r' = m'(t - d_r), from a delay line of kLine samples at least kMaxReferenceDelay / 800 apart (linear interpolation; a delay beyond
  * the line uses its oldest sample). The beliefs' attractor is then f(mu) = mu_r' + (mu_r - mu) / tau;
  * with T_r = 0 it is f(mu) = mu_d' + (mu_d - mu) / tau (attractorGoal(), attractorRate()).
  *
