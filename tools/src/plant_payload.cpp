@@ -40,6 +40,7 @@
 #include <Eigen/Dense>
 
 #include "jackal_aic/params/aic_params.hpp"
+#include "jackal_aic/params/param_schema.hpp"
 #include "jackal_tools/cli.hpp"
 #include "jackal_tools/params_yaml.hpp"
 #include "jackal_tools/plant_cli.hpp"
@@ -170,7 +171,8 @@ int main(int argc, char** argv)
   }
   plant::RobotDescription description;
   double accel = 0.0;         // the configuration's max_reference_acceleration_linear [m/s^2]
-  bool robot_model = false;   // belief_model robot: that key is not read, the wheel loop's bound is
+  bool reads_accel = false;   // the configuration's belief model reads that key (the schema's tag)
+  bool robot_model = false;   // belief_model robot: its path's bound is the wheel loop's
   double wheel_accel = 0.0;   // the robot model's path bound per wheel at the rim [m/s^2]
   double max_yaw_rate = 0.0;  // the configuration's max_angular_speed [rad/s]
   try
@@ -184,6 +186,8 @@ int main(int argc, char** argv)
     }
     const auto node = loadNodeParamsFiles({ aic_config }, aic_overrides);
     accel = node.aic.reference.max_acceleration_linear;
+    const params::ParamSpec* accel_row = params::findParam("max_reference_acceleration_linear");
+    reads_accel = accel_row != nullptr && accel_row->readBy(node.aic.belief_model);
     robot_model = node.aic.belief_model == params::BeliefModel::kRobot;
     wheel_accel = params::robotWheelAcceleration(node.aic);
     max_yaw_rate = node.max_angular_speed;
@@ -234,7 +238,7 @@ int main(int argc, char** argv)
               "'Payloads')\n",
               margin);
   std::printf("max_reference_deceleration_linear: %.3f\n", bound);
-  if (!robot_model && accel > bound)
+  if (reads_accel && accel > bound)
   {
     std::printf("max_reference_acceleration_linear: %.3f  # was %.3f: speeding up forward\n", bound, accel);
   }
