@@ -64,12 +64,13 @@ void ReferenceModel::accelerationBounds(base::Vector3* lo, base::Vector3* hi) co
   *lo = -acc;
   *hi = acc;
   // A payload's tip-over bound along x_dot: braking, forward or in reverse, and speeding up in
-  // reverse, which pitches the robot nose-down over its front wheels as braking forward does.
-  // Speeding up forward keeps the acceleration's bound.
+  // reverse, which pitches the robot nose-down over its front wheels as braking forward does; a
+  // start into reverse is never looser than the acceleration's bound. Speeding up forward keeps
+  // the acceleration's bound.
   const double dec = params_.max_deceleration_linear;
   if (dec > 0.0)
   {
-    (*lo)(0) = -dec;
+    (*lo)(0) = m_(0) > 0.0 ? -dec : std::max(-dec, -acc(0));
     if (m_(0) < 0.0)
     {
       (*hi)(0) = dec;

@@ -32,10 +32,11 @@ namespace aic
  * with a forward start waits for the inner wheel, and the path waits with it instead of asking the
  * action for a yaw rate the wheels cannot give yet (doc/active_inference.md, 'Set-point dynamics').
  * The body bounds only shrink a channel toward 0 (a max_deceleration_linear above
- * max_acceleration_linear excepted), so |m'_x| + |m'_theta| b / 2 <= A_w still holds after them.
- * Then the delay: mu_r(t) = m(t - d_r), mu_r' = m'(t - d_r), from a delay line of kLine samples at least kMaxReferenceDelay / 800 apart (linear interpolation; a delay beyond
- * the line uses its oldest sample). The beliefs' attractor is then f(mu) = mu_r' + (mu_r - mu) / tau;
- * with T_r = 0 it is f(mu) = mu_d' + (mu_d - mu) / tau (attractorGoal(), attractorRate()).
+ * max_acceleration_linear excepted, for braking), so |m'_x| + |m'_theta| b / 2 <= A_w still holds
+ * after them. Then the delay: mu_r(t) = m(t - d_r), mu_r' = m'(t - d_r), from a delay line of kLine
+ * samples at least kMaxReferenceDelay / 800 apart (linear interpolation; a delay beyond the line uses
+ * its oldest sample). The beliefs' attractor is then f(mu) = mu_r' + (mu_r - mu) / tau; with T_r = 0
+ * it is f(mu) = mu_d' + (mu_d - mu) / tau (attractorGoal(), attractorRate()).
  *
  * No heap allocation (the delay line has a fixed capacity), no exceptions.
  */
@@ -137,11 +138,12 @@ public:
    * \brief The bounds lo <= m' <= hi of the path's rate at its present value m [m/s^2, m/s^2, rad/s^2].
    *
    * acc = accelerationLimit() both ways, except along x_dot when max_deceleration_linear > 0 (a
-   * payload's tip-over bound; doc/usage.md, 'Payloads'): lo_x = -max_deceleration_linear (braking
-   * forward, and speeding up in reverse, which tips the robot over its front wheels as braking
-   * forward does) and, while m_x < 0, hi_x = max_deceleration_linear (braking in reverse); speeding
-   * up forward keeps acc. Then along x_dot lo >= -tipBoundFront(), hi <= tipBoundRear()
-   * (setTipBounds()).
+   * payload's tip-over bound; doc/usage.md, 'Payloads'): while m_x > 0, lo_x =
+   * -max_deceleration_linear (braking forward); at rest and in reverse, lo_x = -min(acc,
+   * max_deceleration_linear) (speeding up in reverse, which tips the robot over its front wheels as
+   * braking forward does, and never looser than acc); while m_x < 0, hi_x = max_deceleration_linear
+   * (braking in reverse); speeding up forward keeps acc. Then along x_dot lo >= -tipBoundFront(),
+   * hi <= tipBoundRear() (setTipBounds()).
    */
   void accelerationBounds(base::Vector3* lo, base::Vector3* hi) const;
   /// The attractor's goal [m/s, m/s, rad/s]: mu_r = m(t - d_r) with a reference model, else mu_d.

@@ -65,8 +65,8 @@ struct ReferenceModelParams
   /// max_reference_deceleration_linear [m/s^2], >= 0; 0 = none (the path's other bounds): a payload's
   /// tip-over bound along x_dot, read by every belief model: m'_x >= -max_deceleration_linear
   /// (braking forward, and speeding up in reverse, which tips the robot over its front wheels as
-  /// braking forward does) and, in reverse, m'_x <= max_deceleration_linear (braking); speeding up
-  /// forward keeps max_acceleration_linear. Below the lower of the accelerations g d / h at which the
+  /// braking forward does; that start never looser than max_acceleration_linear) and, in reverse,
+  /// m'_x <= max_deceleration_linear (braking); speeding up forward keeps max_acceleration_linear. Below the lower of the accelerations g d / h at which the
   /// robot tips over its front or rear wheels, d the horizontal distance of the centre of mass (with
   /// the payload) from that axle, h its height above the ground (ReferenceModel::accelerationBounds;
   /// plant_payload; doc/usage.md, 'Payloads').

@@ -203,6 +203,37 @@ TEST(ReferenceModel, TheWheelBoundMakesATurnWaitForTheInnerWheel)
   EXPECT_EQ(r.wheelSeparation(), 0.6);
 }
 
+TEST(ReferenceModel, AStartIntoReverseIsNeverLooserThanTheAccelerationsBound)
+{
+  // A deceleration bound above the acceleration's (a braking bound set looser than the start's):
+  // braking forward and in reverse take it, a start into reverse keeps the acceleration's 1 m/s^2.
+  params::ReferenceModelParams p = referenceOn(0.001, 0.0);
+  p.max_acceleration_linear = 1.0;
+  p.max_acceleration_angular = 4.0;
+  p.max_deceleration_linear = 3.0;
+  aic::ReferenceModel r(p);
+  base::Vector3 lo, hi;
+  ASSERT_TRUE(r.start(base::Vector3(1.0, 0.0, 0.0)));
+  r.accelerationBounds(&lo, &hi);
+  EXPECT_EQ(lo(0), -3.0);  // braking forward
+  EXPECT_EQ(hi(0), 1.0);   // speeding up forward
+  for (const double x_dot : { 0.0, -1.0 })
+  {
+    ASSERT_TRUE(r.start(base::Vector3(x_dot, 0.0, 0.0)));
+    r.accelerationBounds(&lo, &hi);
+    EXPECT_EQ(lo(0), -1.0) << x_dot;                     // speeding up in reverse
+    EXPECT_EQ(hi(0), x_dot < 0.0 ? 3.0 : 1.0) << x_dot;  // braking in reverse; at rest a forward start
+  }
+  // From rest toward -1 m/s: 0.1 s at 1 m/s^2.
+  ASSERT_TRUE(r.start(base::Vector3::Zero()));
+  ASSERT_TRUE(r.setGoal(base::Vector3(-1.0, 0.0, 0.0)));
+  for (int k = 0; k < 100; ++k)
+  {
+    r.advance(0.001);
+  }
+  EXPECT_NEAR(r.path()(0), -0.1, 1e-9);
+}
+
 TEST(ReferenceModel, ThePayloadsTipBoundHoldsBrakingAndTheStartInReverse)
 {
   params::ReferenceModelParams p = referenceOn(0.001, 0.0);
