@@ -16,10 +16,19 @@ fixed sleep. The set points stream at RATE Hz on a ROS-time timer.
   each, from rest, one linear step (~step_v m/s, ~hold_v s of /odom judged) and one angular
   step (~step_w rad/s, ~hold_w s), back to rest between them. Every step settles (+-5 % of
   ground-truth /odom), and the stock path's integral of the absolute error (IAE, over the judged
-  hold) is within ~iae_ratio_v (linear) / ~iae_ratio_w (angular) x the direct path's. The
-  settling times and their ratios are printed, not bounded: a response entering the band slowly
-  moves the settling time by the time it lingers at the band's edge, the IAE only by the
-  lingering's area. In the last
+  hold) exceeds the direct path's by at most |step| x ~excess_delay_max s: a dead time d added
+  to the loop shifts the response by d once the robot model has learned it (learn_latency), so
+  it adds d x |step| to the IAE (closed_loop_run --set motor.command_delay=0.1187 + d, d up to
+  0.08 s: the settling time moves by d, the overshoot by under 0.4 points). The stock path adds
+  one 50 Hz cycle by construction (the diff drive runs on the next /joint_states); simulated
+  time paces the plant alone, so the four processes' scheduling on a loaded host adds the rest
+  (on an idle host the excess is 10-35 ms, on a loaded one 40-70 ms). The
+  bound catches a path that loses commands (the diff drive's cmd_vel_timeout, a stalled
+  cycle), not the host's timing: this path's deterministic figures are
+  sim_jackal_node_closed_loop_test's. The settling times, the IAE's excess as a dead time and
+  the model latency L each path's AIC reports (its diagnostics) are printed, not bounded: a
+  response entering the band slowly moves the settling time by the time it lingers at the
+  band's edge, the IAE only by the lingering's area. In the last
   ~steady_window s of each stock step every wheel command on /cmd_drive equals the wheel
   speeds the stock mapping gives for one of the AIC's last three cmd_vel messages before it
   or those received within 60 ms of it, within ~wheel_tol rad/s. The stock path's
@@ -127,6 +136,7 @@ class Path:
         self.pub = rospy.Publisher("/jackal_AIC/set_point", Twist, queue_size=10)
         self.lock = threading.Lock()
         self.aic_state = (None, "")  # (stamp, message) of jackal_AIC's controller diagnostics
+        self.aic_latency = (None, "")  # its "model latency L [s]" and "latency learning" values
         self.subs.append(rospy.Subscriber("/diagnostics", DiagnosticArray, self.on_diagnostics, queue_size=20))
         self.value = (0.0, 0.0)
         self.timer = rospy.Timer(rospy.Duration(1.0 / RATE), lambda _e: self.publish())
@@ -134,8 +144,10 @@ class Path:
     def on_diagnostics(self, m):
         for st in m.status:
             if "jackal_AIC" in st.name and st.name.endswith("controller"):
+                values = {kv.key: kv.value for kv in st.values}
                 with self.lock:
                     self.aic_state = (m.header.stamp.to_sec(), st.message)
+                    self.aic_latency = (values.get("model latency L [s]"), values.get("latency learning", ""))
 
     def running_since(self, t):
         """True once jackal_AIC's controller diagnostics stamped after t say "running"."""
@@ -287,7 +299,8 @@ class StockBaseCheck(unittest.TestCase):
 
     def run_steps(self, base, path, steps):
         """One step per channel on `base`; return {channel: its step metrics (settling_time [s]
-        or None, iae [unit * s] or None)}."""
+        or None, iae [unit * s] or None)} and {"latency": (L [s] as text or None, the latency
+        learning's state)} from the AIC's last controller diagnostics."""
         proc = self.start_sim(base)
         try:
             self.wait_ready(path, float(self.p("ready_timeout", 60.0)), base=base)
@@ -328,6 +341,8 @@ class StockBaseCheck(unittest.TestCase):
                               what, len(drives), worst)
                 self.assertLessEqual(worst, wheel_tol, "%s: /cmd_drive differs from the AIC's action by %.2e rad/s"
                                      % (what, worst))
+            with path.lock:
+                result["latency"] = path.aic_latency
             return result
         finally:
             path.set(0.0, 0.0)
@@ -335,23 +350,30 @@ class StockBaseCheck(unittest.TestCase):
 
     def check_steps(self):
         path = Path()
-        ratios = (float(self.p("iae_ratio_v", 1.3)), float(self.p("iae_ratio_w", 1.3)))
+        excess_max = float(self.p("excess_delay_max", 0.1))
         steps = ((0, float(self.p("step_v", 0.5)), float(self.p("hold_v", 2.5))),
                  (1, float(self.p("step_w", 1.0)), float(self.p("hold_w", 3.0))))
         direct = self.run_steps("direct", path, steps)
         stock = self.run_steps("stock_diff_drive", path, steps)
+        latency = "model latency L: direct %s s, stock %s s (%s)" % (
+            direct["latency"][0], stock["latency"][0], stock["latency"][1])
+        rospy.loginfo(latency)
+        print("MEASURED " + latency, file=sys.stderr)
         for channel, target, _ in steps:
             what = "%s step %g" % ("linear" if channel == 0 else "angular", target)
             md, ms = direct[channel], stock[channel]
             self.assertIsNotNone(md["settling_time"], "%s: the direct path never settled" % what)
             self.assertIsNotNone(ms["settling_time"], "%s: the stock path never settled" % what)
-            line = "%s: settling direct %.3f s, stock %.3f s (ratio %.2f); IAE direct %.4f, stock %.4f (ratio %.3f)" % (
-                what, md["settling_time"], ms["settling_time"], ms["settling_time"] / md["settling_time"],
-                md["iae"], ms["iae"], ms["iae"] / md["iae"])
+            excess = (ms["iae"] - md["iae"]) / abs(target)  # s: the dead time that explains the excess
+            line = ("%s: settling direct %.3f s, stock %.3f s (ratio %.2f); IAE direct %.4f, stock %.4f "
+                    "(ratio %.3f, excess %.1f ms x |step|)" % (
+                        what, md["settling_time"], ms["settling_time"], ms["settling_time"] / md["settling_time"],
+                        md["iae"], ms["iae"], ms["iae"] / md["iae"], 1e3 * excess))
             rospy.loginfo(line)
             print("MEASURED " + line, file=sys.stderr)
-            self.assertLessEqual(ms["iae"], ratios[channel] * md["iae"], "%s: the stock path's IAE %.4f > %.2f x "
-                                 "the direct path's %.4f" % (what, ms["iae"], ratios[channel], md["iae"]))
+            self.assertLessEqual(excess, excess_max, "%s: the stock path's IAE %.4f exceeds the direct path's %.4f "
+                                 "by %.1f ms x |step| (bound %.0f ms: one diff drive cycle and the host's scheduling)"
+                                 % (what, ms["iae"], md["iae"], 1e3 * excess, 1e3 * excess_max))
 
     # ---- mode compare -----------------------------------------------------------------
     def compare_step(self, base, controller, path, v, hold):
