@@ -138,6 +138,7 @@ class LearnedModelTest(unittest.TestCase):
             self.assertEqual(set(saved), {"wheel_separation", "latency"}, message)
             latency = saved["latency"]
             rospy.loginfo("learned_model_check: latency %.4f s learned (start %.4f s)", latency, start_latency)
+            print("MEASURED latency %.4f s learned (start %.4f s)" % (latency, start_latency), file=sys.stderr)
             self.assertAlmostEqual(latency, float(re.search(r"latency (\S+) s", message).group(1)), delta=1e-9)
             self.assertTrue(0.5 * start_latency <= latency <= 2.0 * start_latency, "latency %r" % latency)
             self.assertGreater(abs(latency - start_latency), float(rospy.get_param("~min_latency_change", 0.005)),

@@ -25,9 +25,14 @@ Private parameters (all optional):
                                  zero and backwards stamps, absurd set points) with the valid ones
   clock_rate [Hz] 0              > 0 (with /use_sim_time true): this fixture is the simulation
                                  and publishes /clock, from 0, in steps of 1 / clock_rate s paced
-                                 at real time, as the plant node does (sim/nodes/plant_node.cpp):
+                                 at real time (or real_time_factor of it), as the plant node does
+                                 (sim/nodes/plant_node.cpp):
                                  a stalled fixture stalls the clock, and a lag above 0.5 s is
                                  dropped, not caught up; every time of the run is then this clock's
+  real_time_factor [-] 1.0       with clock_rate: the clock advances at this fraction of the
+                                 wall clock's pace (0.25: 4 ms of wall time per simulated ms),
+                                 so the node and the test, which this clock does not wait for,
+                                 have that much more time for each step on a loaded host
 Joint names are published in a non-standard order (rear first) with an extra joint, so
 that the node must look them up by name.
 """
@@ -60,6 +65,9 @@ class SyntheticSensors:
         self.set_point_window = (float(p("set_point_stop_at", -1.0)), float(p("set_point_resume_at", -1.0)))
         self.faults = bool(p("faults", False))
         self.clock_rate = float(p("clock_rate", 0.0))
+        self.real_time_factor = float(p("real_time_factor", 1.0))
+        if not (math.isfinite(self.real_time_factor) and 0.0 < self.real_time_factor <= 1.0):
+            raise ValueError("~real_time_factor must be in (0, 1], not %r" % self.real_time_factor)
 
         self.joint_pub = rospy.Publisher("/joint_states", JointState, queue_size=50)
         self.imu_pub = rospy.Publisher("/imu/data", Imu, queue_size=50)
@@ -192,19 +200,21 @@ class SyntheticSensors:
 
     # ---- loops ----------------------------------------------------------------------
     def clock_loop(self, pub):
-        """Publish /clock from 0 in steps of 1 / clock_rate s at real-time pace (wall clock);
-        a lag above 0.5 s is dropped (the clock stalls with the fixture), as the plant node does."""
-        step = 1.0 / self.clock_rate
+        """Publish /clock from 0 in steps of 1 / clock_rate s at real_time_factor x the wall
+        clock's pace; a lag above 0.5 s of this clock is dropped (the clock stalls with the
+        fixture), as the plant node does."""
+        step = 1.0 / self.clock_rate  # simulated s per step
+        wall_step = step / self.real_time_factor  # wall s per step
         n, base, sync = 0, 0, time.monotonic()
         while not rospy.core.is_shutdown_requested():
-            due = base + int((time.monotonic() - sync) / step)
+            due = base + int((time.monotonic() - sync) / wall_step)
             if due > n + int(0.5 / step):
-                base, sync = n, time.monotonic()  # behind real time: drop the lag
+                base, sync = n, time.monotonic()  # behind: drop the lag
                 continue
             while n < due:
                 n += 1
                 pub.publish(Clock(clock=rospy.Time.from_sec(n * step)))
-            time.sleep(max(0.0, sync + (n + 1 - base) * step - time.monotonic()))
+            time.sleep(max(0.0, sync + (n + 1 - base) * wall_step - time.monotonic()))
 
     def active(self, window, t):
         stop, resume = window
