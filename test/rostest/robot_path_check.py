@@ -66,13 +66,28 @@ def publishers_of(topic):
 STOP_PATHS_TITLE = "# Stop paths on the robot's path: the e-stop lock, AIC against the stock relay\n"
 
 
-def write_stop_paths(path, sim_time, engagements, threshold, speeds, runs, results, load, base="stock_diff_drive"):
+def plant_real_time_factor():
+    """The plant node's node.real_time_factor as its ~overrides set it (launch/plant.launch), or
+    None where they do not (the plant YAML's own value)."""
+    for item in rospy.get_param("/jackal_plant/overrides", []) or []:
+        key, _, value = str(item).partition("=")
+        if key.strip() == "node.real_time_factor":
+            try:
+                return float(value)
+            except ValueError:
+                return None
+    return None
+
+
+def write_stop_paths(path, sim_time, engagements, threshold, speeds, runs, results, load, base="stock_diff_drive",
+                     real_time_factor=None):
     """Write this clock's and base's section of the stop-path results file `path` (Markdown),
     keeping the other sections the file has. runs: (controller, v, w) -> [(from the last
     input, from the lock)] [s] per engagement; results: the same key -> the median engagement;
     load: the host's load averages (1, 5, 15 min) before and after; base: the stock base of
     launch/stock_base.launch (stock_diff_drive, the stand-in: sections keyed by the clock alone;
-    jackal_node: keyed "jackal_node <clock>")."""
+    jackal_node: keyed "jackal_node <clock>"); real_time_factor: on simulated time, the plant's
+    pace against the wall clock where it is known (named in the heading)."""
     key = "sim_time" if sim_time else "real_time"
     if base != "stock_diff_drive":
         key = "%s %s" % (base, key)
@@ -82,7 +97,8 @@ def write_stop_paths(path, sim_time, engagements, threshold, speeds, runs, resul
         "" if base == "stock_diff_drive" else "base:=%s " % base,
         "" if sim_time else "use_sim_time:=false ", engagements, where)
     fmt = lambda r: "%.3f (%.3f)" % r  # noqa: E731
-    clock = ("Simulated time (the plant's /clock)" if sim_time else
+    pace = "" if real_time_factor is None else ", %g x real time" % real_time_factor
+    clock = ("Simulated time (the plant's /clock%s)" % pace if sim_time else
              "Real time (every node on the wall clock, the plant paced at real time)")
     body = ["## %s" % (clock if base == "stock_diff_drive" else "%s: %s" % (base, clock)),
             "",
@@ -340,7 +356,7 @@ class RobotPath(unittest.TestCase):
         rospy.loginfo("robot_stop_path:\n%s", text)
         if output:
             write_stop_paths(output, sim_time, engagements, threshold, speeds, runs, results, (load_before, load_after),
-                             rospy.get_param("~base", "stock_diff_drive"))
+                             rospy.get_param("~base", "stock_diff_drive"), plant_real_time_factor())
         for v, w in speeds:
             (a, a_lock), (s, s_lock) = results[("aic", v, w)], results[("stock", v, w)]
             print("MEASURED %.1f m/s %.1f rad/s (%s): from the last input AIC %.3f s, stock %.3f s; from the lock AIC "
