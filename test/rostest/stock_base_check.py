@@ -20,7 +20,9 @@ fixed sleep. The set points stream at RATE Hz on a ROS-time timer.
   to the loop shifts the response by d once the robot model has learned it (learn_latency), so
   it adds d x |step| to the IAE (closed_loop_run --set motor.command_delay=0.1187 + d, d up to
   0.08 s: the settling time moves by d, the overshoot by under 0.4 points). The stock path adds
-  one 50 Hz cycle by construction (the diff drive runs on the next /joint_states); simulated
+  one 50 Hz cycle by construction (the diff drive runs on the next /joint_states; the L the
+  AIC learns there from its first start comes out 0.118-0.138 s across runs, the direct
+  path's 0.118 s); simulated
   time paces the plant alone, so the four processes' scheduling on a loaded host adds the rest
   (on an idle host the excess is 10-35 ms, on a loaded one 40-70 ms). The
   bound catches a path that loses commands (the diff drive's cmd_vel_timeout, a stalled
