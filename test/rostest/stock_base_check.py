@@ -12,29 +12,27 @@ fixed sleep. The set points stream at RATE Hz on a ROS-time timer.
   on it twice, one after the other: base:=direct (the AIC publishing /cmd_drive, config
   default.yaml) and base:=stock_diff_drive (the stock path, default.yaml + robot.yaml), both
   with the AIC's overlay ~overlay (a path relative to the package, e.g.
-  config/goal_model.yaml; none if empty). On
-  each, from rest, one linear step (~step_v m/s, ~hold_v s of /odom judged) and one angular
-  step (~step_w rad/s, ~hold_w s), back to rest between them. Every step settles (+-5 % of
-  ground-truth /odom), and the stock path's integral of the absolute error (IAE, over the judged
-  hold) exceeds the direct path's by at most |step| x ~excess_delay_max s: a dead time d added
-  to the loop shifts the response by d once the robot model has learned it (learn_latency), so
-  it adds d x |step| to the IAE (closed_loop_run --set motor.command_delay=0.1187 + d, d up to
-  0.08 s: the settling time moves by d, the overshoot by under 0.4 points). The stock path adds
-  one 50 Hz cycle by construction (the diff drive runs on the next /joint_states; the L the
-  AIC learns there from its first start comes out 0.118-0.138 s across runs, the direct
-  path's 0.118 s); simulated
-  time paces the plant alone, so the four processes' scheduling on a loaded host adds the rest
-  (on an idle host the excess is 10-35 ms, on a loaded one 40-70 ms). The
-  bound catches a path that loses commands (the diff drive's cmd_vel_timeout, a stalled
-  cycle), not the host's timing: this path's deterministic figures are
-  sim_jackal_node_closed_loop_test's. The settling times, the IAE's excess as a dead time and
-  the model latency L each path's AIC reports (its diagnostics) are printed, not bounded: a
-  response entering the band slowly moves the settling time by the time it lingers at the
-  band's edge, the IAE only by the lingering's area. In the last
-  ~steady_window s of each stock step every wheel command on /cmd_drive equals the wheel
-  speeds the stock mapping gives for one of the AIC's last three cmd_vel messages before it
-  or those received within 60 ms of it, within ~wheel_tol rad/s. The stock path's
-  /cmd_drive has one publisher, the diff drive, and its cmd_vel one, the AIC.
+  config/goal_model.yaml; none if empty). On each, from rest, one linear step (~step_v m/s,
+  ~hold_v s of /odom judged) and one angular step (~step_w rad/s, ~hold_w s), back to rest
+  between them. Every step settles (+-5 % of ground-truth /odom), and the stock path's integral
+  of the absolute error (IAE, over the judged hold) exceeds the direct path's by at most |step|
+  x ~excess_delay_max s: a dead time d added to the loop shifts the response by d once the robot
+  model has learned it (learn_latency), so it adds d x |step| to the IAE (closed_loop_run --set
+  motor.command_delay=0.1187 + d, d up to 0.08 s: the settling time moves by d, the overshoot by
+  under 0.4 points). The stock path adds one 50 Hz cycle by construction (the diff drive runs on
+  the next /joint_states; the L the AIC learns there from its first start comes out 0.118-0.138
+  s across runs, the direct path's 0.118 s); simulated time paces the plant alone, so the four
+  processes' scheduling on a loaded host adds the rest (on an idle host the excess is 10-35 ms,
+  on a loaded one 40-70 ms). The bound catches a path that loses commands (the diff drive's
+  cmd_vel_timeout, a stalled cycle), not the host's timing: this path's deterministic figures
+  are sim_jackal_node_closed_loop_test's. The settling times, the IAE's excess as a dead time
+  and the model latency L each path's AIC reports (its diagnostics) are printed, not bounded: a
+  response entering the band slowly moves the settling time by the time it lingers at the band's
+  edge, the IAE only by the lingering's area. In the last ~steady_window s of each stock step
+  every wheel command on /cmd_drive equals the wheel speeds the stock mapping gives for one of
+  the AIC's last three cmd_vel messages before it or those received within 60 ms of it, within
+  ~wheel_tol rad/s. The stock path's /cmd_drive has one publisher, the diff drive, and its
+  cmd_vel one, the AIC.
 ~mode compare (dev/rehearsal.sh): one plant (started by the .test for ~base: stock_diff_drive
   or jackal_node); for each of ~repeats rounds, for each controller of ~controllers (aic,
   stock), this node starts `sim.launch plant:=false base:=<~base> controller:=<controller>`,
