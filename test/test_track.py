@@ -198,12 +198,23 @@ class TrackCheck(unittest.TestCase):
             for q in data["plant_limits"]:
                 for ch in ("vx", "wz"):
                     self.assertGreaterEqual(q["floor_accel"][ch], q["floor"][ch], (q["variant"], ch))
-            for name in ("aic_floor_accel", "pi_floor_accel", "stock_floor_accel", "floor_accel_floor"):
+            for name in ("aic_floor_accel", "pi_floor_accel", "stock_floor_accel", "floor_accel_floor",
+                         "wheels_floor_accel", "truth_wheels"):
                 self.assertEqual(data["peer_geometric_mean"][name]["default"][1], 2, name)
+                self.assertEqual(data["peer_geometric_mean"][name]["default_vx"][1], 1, name)
             q = limits["default"]
             self.assertAlmostEqual(data["peer_geometric_mean"]["aic_floor_accel"]["default"][0],
                                    math.sqrt(q["aic"]["vx"] / q["floor_accel"]["vx"] *
                                              q["aic"]["wz"] / q["floor_accel"]["wz"]))
+            # The AIC's error taken apart: its wheels against the floor, its body against its wheels;
+            # the two multiply to the AIC against the floor, per channel.
+            run = [r for r in data["runs"] if (r["variant"], r["controller"]) == ("default", "aic")][0]
+            mean = data["peer_geometric_mean"]
+            for ch in ("vx", "wz"):
+                self.assertEqual(q["aic_wheels"][ch], run["metrics"]["odom_%s_rms" % ch])
+                self.assertAlmostEqual(mean["wheels_floor_accel"]["default_" + ch][0] *
+                                       mean["truth_wheels"]["default_" + ch][0],
+                                       mean["aic_floor_accel"]["default_" + ch][0])
             self.assertEqual([q["limited"] for q in data["ratios"] if q["variant"] == "default"], [[]])
             with open(os.path.join(out, "tracking.csv")) as f:
                 self.assertEqual(len(list(csv.DictReader(f))), 6)  # 2 variants x 3 controllers

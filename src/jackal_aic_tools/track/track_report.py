@@ -81,19 +81,23 @@ IDEAL_HEADER = ["profile", "variant", "vx floor [m/s]", "vx ideal [m/s]", "ideal
 
 
 #: The geometric-mean rows of the classical peer's table: (label suffix, track_suite.peer_means
-#: names, their cells' format), against the latency floor and against the acceleration-bounded one.
+#: names, their cells' format), against the latency floor, against the acceleration-bounded one, and
+#: the AIC's error taken apart there: its wheels (the wheel odometry) against that floor, and its
+#: body (the ground truth) against its wheels.
 PEER_MEANS = (("", ("aic_floor", "pi_floor", "aic_pi"), "AIC / floor %s, peer / floor %s, AIC / peer %s"),
               (", acceleration-bounded floor", ("aic_floor_accel", "pi_floor_accel", "stock_floor_accel",
                                                 "floor_accel_floor"),
-               "AIC / it %s, peer / it %s, stock / it %s, it / floor %s"))
+               "AIC / it %s, peer / it %s, stock / it %s, it / floor %s"),
+              (", the AIC's wheels and body", ("wheels_floor_accel", "truth_wheels"),
+               "wheel odometry / acceleration-bounded floor %s, ground truth / wheel odometry %s"))
 
 
 def peer_rows(limits, peer):
     """Rows of the classical peer's table: per pair and channel (vx, wz) the RMS error of the AIC,
     the peer and the latency floor, AIC / peer (a '*' where the channel is plant-limited), then the
-    geometric means of track_suite.peer_means ``peer`` (PEER_MEANS: against the latency floor and
-    against the acceleration-bounded floor) over the plant-following channels and over the default
-    plant's."""
+    geometric means of track_suite.peer_means ``peer`` (PEER_MEANS: against the latency floor,
+    against the acceleration-bounded floor, and the AIC's wheels and body apart) over the
+    plant-following channels and over the default plant's, each whole and per channel."""
     rows = []
     for q in limits:
         row = [q["profile"], q["variant"]]
@@ -106,13 +110,11 @@ def peer_rows(limits, peer):
         for label, key in (("geometric mean, plant-following", None), ("geometric mean, default plant", "default")):
             cells = []
             for name in names:
-                if key:
-                    v, n = peer[name]["default"]
-                    cells.append("%s (n = %d)" % (fmt(v, "%.3f"), n))
-                else:
-                    cells.append("%s (vx %s, wz %s; n = %d)" % (fmt(peer[name]["all"][0], "%.3f"),
-                                                                fmt(peer[name]["vx"][0], "%.3f"),
-                                                                fmt(peer[name]["wz"][0], "%.3f"), peer[name]["all"][1]))
+                mean = peer[name]
+                whole, vx, wz = ((mean["default"], mean["default_vx"], mean["default_wz"]) if key
+                                 else (mean["all"], mean["vx"], mean["wz"]))
+                cells.append("%s (vx %s, wz %s; n = %d)" % (fmt(whole[0], "%.3f"), fmt(vx[0], "%.3f"),
+                                                            fmt(wz[0], "%.3f"), whole[1]))
             rows.append([label + suffix, text % tuple(cells)] + [""] * 8)
     return rows
 
@@ -217,7 +219,9 @@ def results_md(report_data, plots_rel, root):
            "at most the wheel loop's A_w (a speed change and a turn share it; alone, vx: A_w r, wz: 2 A_w r / "
            "track; per variant: %s), taking its aim every %s (the AIC's action period) and holding it, "
            "reported beside the floor and not judged "
-           "([tools.md](../tools.md), 'Latency floor')." % (
+           "([tools.md](../tools.md), 'Latency floor'). The AIC's wheels and body take its error apart: its "
+           "wheel odometry (the stock diff drive's, on its calibrated separation) against that floor, and its "
+           "ground truth against its wheel odometry, the body's lag and slip behind the wheels." % (
                floor_accelerations(d["variants"]),
                "%g s" % d["floor_period"] if d.get("floor_period") else "sample"), "",
            md_table(PEER_HEADER, peer_rows(d.get("plant_limits", []), d["peer_geometric_mean"])),

@@ -223,6 +223,7 @@ def suite(a, tool):
                            "aic": {ch: aic[ch + "_rms"] for ch in plant_limits.CHANNELS},
                            "stock": {ch: stock[ch + "_rms"] for ch in plant_limits.CHANNELS},
                            "pi": {ch: peer[ch + "_rms"] for ch in plant_limits.CHANNELS},
+                           "aic_wheels": {ch: aic["odom_" + ch + "_rms"] for ch in plant_limits.CHANNELS},
                            "limited": limited})
     gmean, gmean_limited = {}, {}
     for m in TABLE_METRICS:
@@ -279,24 +280,30 @@ def suite(a, tool):
 def peer_means(limits):
     """The geometric means of the AIC against the classical peer and the latency floors over the
     plant-following channels of ``limits`` (suite()'s plant_limits list, with "aic", "pi",
-    "stock", "floor" and "floor_accel" RMS per channel): {"aic_pi", "aic_floor", "pi_floor",
-    "aic_stock", "pi_stock", "aic_floor_accel", "pi_floor_accel", "stock_floor_accel" (against the
-    acceleration-bounded floor), "floor_accel_floor" (it against the floor): {"vx", "wz", "all":
-    [value, count]}}; a channel of a default-plant pair counts in "default" too ({ratio: [value,
-    count]}: the nominal channels)."""
+    "stock", "floor", "floor_accel" and "aic_wheels" RMS per channel): {"aic_pi", "aic_floor",
+    "pi_floor", "aic_stock", "pi_stock", "aic_floor_accel", "pi_floor_accel", "stock_floor_accel"
+    (against the acceleration-bounded floor), "floor_accel_floor" (it against the floor),
+    "wheels_floor_accel" (the AIC's wheel odometry against the acceleration-bounded floor),
+    "truth_wheels" (the AIC's ground truth against its wheel odometry: what the body adds to the
+    wheels): {"vx", "wz", "all": [value, count]}}; a channel of a default-plant pair counts in
+    "default" too ([value, count]: the nominal channels), and per channel in "default_vx" and
+    "default_wz"."""
     out = {}
     pairs = {"aic_pi": ("aic", "pi"), "aic_floor": ("aic", "floor"), "pi_floor": ("pi", "floor"),
              "aic_stock": ("aic", "stock"), "pi_stock": ("pi", "stock"),
              "aic_floor_accel": ("aic", "floor_accel"), "pi_floor_accel": ("pi", "floor_accel"),
-             "stock_floor_accel": ("stock", "floor_accel"), "floor_accel_floor": ("floor_accel", "floor")}
+             "stock_floor_accel": ("stock", "floor_accel"), "floor_accel_floor": ("floor_accel", "floor"),
+             "wheels_floor_accel": ("aic_wheels", "floor_accel"), "truth_wheels": ("aic", "aic_wheels")}
     for name, (num, den) in pairs.items():
         per = {ch: [ratio(q[num][ch], q[den][ch]) for q in limits if not q["limited"][ch]]
                for ch in plant_limits.CHANNELS}
         out[name] = {ch: list(plant_limits.gmean(v)) for ch, v in per.items()}
         out[name]["all"] = list(plant_limits.gmean(per["vx"] + per["wz"]))
-        out[name]["default"] = list(plant_limits.gmean([ratio(q[num][ch], q[den][ch]) for q in limits
-                                                        if q["variant"] == "default"
-                                                        for ch in plant_limits.CHANNELS]))
+        nominal = {ch: [ratio(q[num][ch], q[den][ch]) for q in limits if q["variant"] == "default"]
+                   for ch in plant_limits.CHANNELS}
+        out[name]["default"] = list(plant_limits.gmean(nominal["vx"] + nominal["wz"]))
+        for ch in plant_limits.CHANNELS:
+            out[name]["default_" + ch] = list(plant_limits.gmean(nominal[ch]))
     return out
 
 
