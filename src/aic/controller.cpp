@@ -837,6 +837,11 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
   {
     return Status::kNoMeasurement;
   }
+  if (turned_over_)
+  {
+    stopTurnedOver(h);
+    return Status::kOk;
+  }
   if (params_.belief_model == params::BeliefModel::kRobot)
   {
     return updateRobotAction(h);
@@ -879,6 +884,26 @@ ActiveInferenceController::Status ActiveInferenceController::updateAction(double
     action_line_.record(h, model_.twistFromWheels(a_));  // ActionDelayLine
   }
   return Status::kOk;
+}
+
+void ActiveInferenceController::stopTurnedOver(double h)
+{
+  // No wheel command rolls a turned-over body back, and the wheels of a robot on its back spin
+  // free: a path held at the speed they report (ReferenceModel::holdTipSpeed()) would hold them
+  // spinning. Nothing of the path held before is sent once the body is level again.
+  a_.setZero();
+  a_F_.setZero();
+  action_saturated_ = false;
+  action_free_energy_ = 0.0;
+  startReference(base::Vector3::Zero());
+  if (params_.belief_model == params::BeliefModel::kRobot)
+  {
+    wheel_loop_.record(robot_clock_, a_);
+  }
+  else if (params_.belief_model == params::BeliefModel::kUnbiased)
+  {
+    action_line_.record(h, model_.twistFromWheels(a_));
+  }
 }
 
 void ActiveInferenceController::runawayReset()

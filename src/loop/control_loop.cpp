@@ -151,6 +151,7 @@ bool ControlLoop::jointState(const JointStateInput& joints)
   }
   supervisor_.sampleAccepted(base::Vector2(sample.y(base::kOmegaLeft), sample.y(base::kOmegaRight)));
   pipeline_.guardTip(sample.y, sample.pitch_rate, sample.first ? 0.0 : sample.h, sample.imu_ok);
+  noticeTurnover();
   newest_sample_stamp_ = sample.stamp;
   watch();  // a warm history and a set point: the controller starts here, from this sample
   if (!supervisor_.active())
@@ -532,6 +533,23 @@ bool ControlLoop::restartFromMeasured()
   }
   activate();
   return true;
+}
+
+void ControlLoop::noticeTurnover()
+{
+  const bool turned_over = pipeline_.controller().turnedOver();
+  if (turned_over == turned_over_)
+  {
+    return;
+  }
+  turned_over_ = turned_over;
+  const safety::TipGuard& guard = pipeline_.tipGuard();
+  std::ostringstream os;
+  os << "the body's pitch estimate " << guard.pitch() << " rad is " << (turned_over ? "beyond" : "back within")
+     << " tip_guard_turnover_pitch " << guard.params().turnover_pitch << " rad: "
+     << (turned_over ? "the robot has turned over; zero command until the pitch is back within it" :
+                       "the command resumes");
+  output_.log(turned_over ? LogLevel::kError : LogLevel::kWarn, os.str());
 }
 
 void ControlLoop::handleRunaway(const char* where)

@@ -137,6 +137,7 @@ void SamplePipeline::guardTip(const base::Vector5& y, double pitch_rate, double 
   }
   controller_->setTipBounds(p.tip_guard.enabled ? tip_guard_.frontBound() : kNone,
                             p.tip_guard.enabled ? tip_guard_.rearBound() : kNone);
+  controller_->setTurnedOver(p.tip_guard.enabled && tip_guard_.turnedOver());
 }
 
 void SamplePipeline::resetTipGuard()
@@ -144,6 +145,7 @@ void SamplePipeline::resetTipGuard()
   tip_guard_.reset();
   pitch_bias_.reset();
   controller_->setTipBounds(kNone, kNone);
+  controller_->setTurnedOver(false);
 }
 
 void SamplePipeline::restartHistory()

@@ -149,6 +149,12 @@ std::vector<ParamViolation> AicParams::validate() const
     v.push_back({ "wheel_feedforward_acceleration", formatParamValue(a_ff),
                   "< wheel_acceleration (" + formatParamValue(robot.wheel_acceleration) + ")" });
   }
+  if (std::isfinite(tip_guard.turnover_pitch) && std::isfinite(tip_guard.trip_pitch) &&
+      tip_guard.turnover_pitch <= tip_guard.trip_pitch)
+  {
+    v.push_back({ "tip_guard_turnover_pitch", formatParamValue(tip_guard.turnover_pitch),
+                  "> tip_guard_pitch (" + formatParamValue(tip_guard.trip_pitch) + ")" });
+  }
   const SeparationLearnerParams& learner = separation_learner;
   if (std::isfinite(learner.min) && std::isfinite(learner.max) && learner.min > learner.max)
   {

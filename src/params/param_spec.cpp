@@ -330,6 +330,11 @@ std::vector<ParamSpec> buildControllerRows()
     ParamRow("active_inference", "tip_guard_min_acceleration").unit("m/s^2").above(0.0).atMost(100.0)
         .describe("Floor of the tip-over guard's learned deceleration and acceleration bounds")
         .member<&AicParams::tip_guard, &TipGuardParams::min_acceleration>(),
+    ParamRow("active_inference", "tip_guard_turnover_pitch").unit("rad").above(0.0).atMost(1.5)
+        .describe("|pitch| past which the body has turned over and the tip-over guard stops the wheels (zero "
+                  "command until the pitch is below it again); > tip_guard_pitch. 0.4: past the tipping point of "
+                  "any robot that braking at the wheels' 4.2 m/s^2 can tip")
+        .member<&AicParams::tip_guard, &TipGuardParams::turnover_pitch>(),
     // ---- robot (Clearpath Jackal; doc/jackal.md)
     ParamRow("robot", "wheel_radius").unit("m").atLeast(kMinLength).atMost(kMaxLength)
         .describe("Wheel radius r (thesis eq. 3-1 to 3-4)")

@@ -29,6 +29,9 @@ void check(const params::TipGuardParams& p)
   rules.require(std::isfinite(p.margin) && p.margin > 0.0 && p.margin <= 1.0, "tip_guard_margin in (0, 1]");
   rules.require(std::isfinite(p.min_acceleration) && p.min_acceleration > 0.0, "tip_guard_min_acceleration finite and "
                                                                                "> 0");
+  const bool turnover_ok =
+      std::isfinite(p.turnover_pitch) && p.turnover_pitch > p.trip_pitch && p.turnover_pitch <= 1.5;
+  rules.require(turnover_ok, "tip_guard_turnover_pitch finite, > tip_guard_pitch and <= 1.5");
   if (!rules.ok())
   {
     throw std::invalid_argument("invalid TipGuardParams:" + rules.violations());
@@ -86,7 +89,11 @@ TipGuard::State TipGuard::update(double h, double pitch_rate, double speed, bool
   follow(&front_trip_, &front_, +1.0);
   follow(&rear_trip_, &rear_, -1.0);
 
-  if (front_trip_.active)
+  if (turnedOver())
+  {
+    state_ = State::kTurnedOver;
+  }
+  else if (front_trip_.active)
   {
     state_ = State::kTippingFront;
   }
@@ -121,6 +128,11 @@ void TipGuard::follow(Trip* trip, double* bound, double sign)
     *bound = std::min(*bound, std::max(params_.min_acceleration, params_.margin * at_onset));
   }
   trip->active = trip->active && pitch >= 0.5 * params_.trip_pitch;
+}
+
+bool TipGuard::turnedOver() const
+{
+  return std::abs(theta_) > params_.turnover_pitch;
 }
 
 double TipGuard::frontBound() const
@@ -159,6 +171,8 @@ const char* toString(TipGuard::State state)
       return "tipping tail-down";
     case TipGuard::State::kPitched:
       return "pitched (slope)";
+    case TipGuard::State::kTurnedOver:
+      return "turned over (wheels stopped)";
     case TipGuard::State::kNoImu:
       return "no IMU";
     case TipGuard::State::kBadInput:

@@ -246,6 +246,43 @@ TEST(PayloadStop, WithTheRobotModelATripAfterThePathReachedZeroStillStopsTheBrak
   EXPECT_GT(off.pitch, 1.0) << "without the guard this stop tips it over: the test checks something";
 }
 
+TEST(PayloadStop, ARobotThatTurnedOverGetsAZeroCommand)
+{
+  // sim/config/variants/front_heavy.yaml tips at 0.94 m/s^2: a set point dropped from 1.5 m/s to
+  // zero turns it over its front wheels with the guard or without it (the stock controller too).
+  // Turned over, its wheels spin free and report the speed they are commanded: held at the speed
+  // its wheels believe (ReferenceModel::holdTipSpeed()), the robot model commanded 1.84 m/s to a
+  // robot on its back, for as long as the guard's pitch took to fade (about 6 s). Past
+  // tip_guard_turnover_pitch the command is zero.
+  const std::vector<SetPointSegment> drop = { { 0.0, 0.0, 0.0 }, { 0.5, 1.5, 0.0 }, { 3.0, 0.0, 0.0 } };
+  const std::string heavy = "sim/config/variants/front_heavy.yaml";
+  for (const std::vector<std::string>& configs : std::vector<std::vector<std::string>>{
+           { "config/default.yaml" }, { "config/default.yaml", "config/goal_model.yaml" } })
+  {
+    const StopResult r = runWithThePayload(drop, 6.0, 3.0, {}, configs, heavy);
+    ASSERT_GT(r.pitch, 1.0) << configs.back() << ": the stop turns it over: the test checks something";
+    const ClosedLoopRecord& rec = r.record;
+    // The guard integrates the gyro's pitch rate; its estimate passes 0.4 rad within a sample or two
+    // of the body's.
+    double past = std::nan("");
+    double largest = 0.0;
+    for (std::size_t k = 0; k < rec.time.size(); ++k)
+    {
+      if (std::isnan(past) && std::abs(rec.pitch_true[k]) > 0.45)
+      {
+        past = rec.time[k];
+      }
+      if (!std::isnan(past) && rec.time[k] > past + 0.05)
+      {
+        largest = std::max(largest, std::abs(rec.command[k]));
+      }
+    }
+    ASSERT_FALSE(std::isnan(past));
+    EXPECT_EQ(largest, 0.0) << configs.back() << ": a command after the turnover at " << past << " s";
+    EXPECT_LT(std::abs(rec.v_wheels.back()), 0.3) << configs.back() << ": the wheels run down";
+  }
+}
+
 TEST(PayloadStop, PlantPayloadsDecelerationBoundKeepsItOnItsWheelsWithoutATrip)
 {
   const StopResult r = stopWithThePayload({ "tip_guard=false", "max_reference_deceleration_linear=1.672" });

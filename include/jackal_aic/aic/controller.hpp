@@ -272,6 +272,12 @@ public:
   /// Bound the reference path's rate along x_dot to [-front, rear] [m/s^2] (the TipGuard's
   /// bounds; +inf = none; ReferenceModel::setTipBounds). No effect without a reference model.
   void setTipBounds(double front, double rear) { reference_.setTipBounds(front, rear); }
+  /// The TipGuard's turned-over state (TipGuard::turnedOver()): while true every action step
+  /// commands zero and restarts the reference path from rest (stopTurnedOver()), in every belief
+  /// model.
+  void setTurnedOver(bool turned_over) { turned_over_ = turned_over; }
+  /// True while setTurnedOver(true) holds the command at zero.
+  bool turnedOver() const { return turned_over_; }
   /// The delay line of the sent action's twist (belief_model unbiased's state prior).
   const ActionDelayLine& actionLine() const { return action_line_; }
 
@@ -373,6 +379,10 @@ private:
   bool integrateBeliefs(double h);
   /// Zero beliefs and action after a runaway.
   void runawayReset();
+  /// The action step while the body has turned over (setTurnedOver()): a zero command, the
+  /// reference path restarted from rest, the command recorded as sent (the robot model's commands
+  /// in flight, the unbiased model's action line) over the step of h [s]; the beliefs go on.
+  void stopTurnedOver(double h);
   /// Learning, the last stage: one SeparationLearner step on y^(0), y^(1) of the gyro and wheels
   /// (frozen while the mask isolates one of them or actionSaturated()), then applyLearnedSeparation().
   void learn(double h);
@@ -425,6 +435,7 @@ private:
   bool robot_wheels_repeated_ = false;  ///< the pending sample's joint state repeated the previous one
   double action_free_energy_ = 0.0;     ///< F_a of the last robot action step [-]
   bool action_saturated_ = false;
+  bool turned_over_ = false;  ///< setTurnedOver(): the command is zero
 
   base::Vector2 a_ = base::Vector2::Zero();
   base::Vector2 a_F_ =

@@ -344,6 +344,9 @@ private:
   void activate();
   /// A runaway: the supervisor's hold (zero command), and probation for the restart after it.
   void handleRunaway(const char* where);
+  /// Log a change of the tip-over guard's turned-over state (TipGuard::turnedOver(): ERROR when
+  /// the robot has turned over and the command is zero, WARN when it resumes).
+  void noticeTurnover();
   /// True while a restart after a runaway is on probation: the command stays zero until the
   /// restarted beliefs have integrated one action period (1 / action_rate) without a runaway.
   bool onProbation() const { return probation_left_ > kProbationTolerance; }
@@ -385,6 +388,7 @@ private:
   std::uint64_t guarded_commands_ = 0;
   std::uint64_t blocked_commands_ = 0;
   bool last_clipped_ = false;
+  bool turned_over_ = false;  ///< the tip-over guard's turned-over state at the last sample (logged on change)
   double belief_time_ = 0.0;
   double newest_sample_stamp_;
   std::array<double, kNoticeCount> last_notice_;

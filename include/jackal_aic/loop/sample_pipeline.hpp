@@ -110,8 +110,9 @@ public:
   void resetGyroBias() { gyro_bias_.reset(); }
   /**
    * \brief One sample into the tip-over guard (TipGuard) and, with tip_guard, its bounds into the
-   *        controller's reference path (ActiveInferenceController::setTipBounds; none without).
-   *        With learn_gyro_bias the gyro y's offset is learned at rest as the gyro z's is (a second
+   *        controller's reference path (ActiveInferenceController::setTipBounds; none without) and
+   *        its turned-over state into the controller's command (setTurnedOver: zero while the body
+   *        has turned over). With learn_gyro_bias the gyro y's offset is learned at rest as the gyro z's is (a second
    *        GyroBiasEstimator) and removed from the pitch rate first.
    * \param y           the sample (its wheel speeds; SensorSample::y)
    * \param pitch_rate  the IMU's gyro y [rad/s] (SensorSample::pitch_rate)

@@ -42,6 +42,12 @@ namespace safety
  * reference path's rate along x_dot to [-frontBound(), rearBound()] (ReferenceModel::setTipBounds),
  * so every later stop is planned below the learned limit.
  *
+ * Past turnover_pitch (|theta_hat| > turnover_pitch, whatever the acceleration) the body has turned
+ * over: its centre of mass has passed over the axle it rotates about, and no wheel command rolls it
+ * back. turnedOver() then asks the controller for a zero command (the wheels of a robot on its back
+ * spin free, and a path held at the speed its wheels believe would hold them spinning) until the
+ * pitch estimate is below turnover_pitch again.
+ *
  * Frozen (theta_hat decays, nothing learned) without a valid IMU sample. The bounds are +inf until
  * a trip; reset() forgets them (a payload removed). No heap allocation, no exceptions after
  * construction.
@@ -71,6 +77,7 @@ public:
     kTippingFront,  ///< tripped nose-down: braking bound 0 until theta_hat < trip_pitch / 2
     kTippingRear,   ///< tripped tail-down: accelerating bound 0 until theta_hat > -trip_pitch / 2
     kPitched,       ///< |theta_hat| > trip_pitch without the acceleration that tips (a slope, a bump): not learned
+    kTurnedOver,    ///< |theta_hat| > turnover_pitch: turned over, the wheels are stopped (turnedOver())
     kNoImu,         ///< no valid IMU sample: theta_hat decays, nothing learned
     kBadInput       ///< ignored: non-finite input or h <= 0
   };
@@ -88,6 +95,9 @@ public:
    */
   State update(double h, double pitch_rate, double speed, bool imu_ok);
 
+  /// True while |theta_hat| > turnover_pitch: the body has turned over and the command is zero
+  /// (ActiveInferenceController::setTurnedOver()).
+  bool turnedOver() const;
   /// The bound of the path's deceleration along x_dot (m' >= -frontBound()) [m/s^2], >= 0: 0 while
   /// tipping nose-down, else the learned A_front (+inf before a trip).
   double frontBound() const;

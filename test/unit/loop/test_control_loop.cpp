@@ -76,12 +76,14 @@ struct Sensors
   double last_stamp = 0.0;
   bool has_last = false;
 
-  /// Feed one paired sample (wheel speeds [rad/s], gyro z [rad/s]) stamped `stamp`.
-  bool feed(loop::ControlLoop& loop, double stamp, double left, double right, double gyro)
+  /// Feed one paired sample (wheel speeds [rad/s], gyro z [rad/s], gyro y `pitch_rate` [rad/s],
+  /// > 0 nose down) stamped `stamp`.
+  bool feed(loop::ControlLoop& loop, double stamp, double left, double right, double gyro, double pitch_rate = 0.0)
   {
     loop::ImuInput imu;
     imu.stamp = stamp;
     imu.angular_velocity.z() = gyro;
+    imu.angular_velocity.y() = pitch_rate;
     loop.imu(imu);
     velocity = { left, right, left, right };
     // The wheels travel at their speeds (constant travel with a turning wheel is a frozen stream).
@@ -525,6 +527,52 @@ TEST_F(ControlLoopTest, SetPointTimeoutCommandsZeroAtOnce)
     loop->actionTimer(0.02);  // the keep-alive repeats the zero
     EXPECT_EQ(out.commands.back().wheels(0), 0.0);
   }
+}
+
+TEST_F(ControlLoopTest, ARobotThatHasTurnedOverIsCommandedZeroUntilLevelAndTheLogSaysSo)
+{
+  ASSERT_TRUE(p.aic.tip_guard.enabled);
+  feed(p.aic.numOrders() + 50, 10.0, 1.0);  // ~1 m/s
+  ASSERT_TRUE(loop->active());
+  ASSERT_GT(out.commands.back().wheels.minCoeff(), 5.0);
+  // The body goes over its front axle at 3 rad/s, its wheels spinning on at the speed they had:
+  // past tip_guard_turnover_pitch (0.4 rad) within 0.14 s.
+  double sp[6];
+  setPointFields(1.0, 0.0, sp);
+  int turned = -1;
+  for (int i = 0; i < 15; ++i)
+  {
+    clock.t += 0.02;
+    loop->setPoint(sp);
+    sensors.feed(*loop, clock.t, 10.0, 10.0, 0.0, 3.0);
+    if (turned < 0 && loop->tipGuard().turnedOver())
+    {
+      turned = static_cast<int>(out.commands.size());
+      EXPECT_EQ(out.commands.back().wheels, base::Vector2::Zero()) << "this sample's command already";
+    }
+  }
+  ASSERT_GE(turned, 0) << "pitch estimate " << loop->tipGuard().pitch();
+  EXPECT_EQ(out.linesWith("the robot has turned over; zero command"), 1);
+  // On its back: no rotation, the estimate (0.9 rad) fades with T_theta = 1 s; the set point and
+  // the free wheels' 10 rad/s go on, and every command is zero while it is past 0.4 rad.
+  int zeros = 0;
+  for (;;)
+  {
+    clock.t += 0.02;
+    loop->setPoint(sp);
+    sensors.feed(*loop, clock.t, 10.0, 10.0, 0.0, 0.0);
+    if (!loop->tipGuard().turnedOver())
+    {
+      break;
+    }
+    EXPECT_EQ(out.commands.back().wheels, base::Vector2::Zero()) << "at " << clock.t;
+    ++zeros;
+    ASSERT_LT(clock.t, 10.0);
+  }
+  EXPECT_GT(zeros, 25) << "about ln(0.9 / 0.4) s of fade";
+  EXPECT_EQ(out.linesWith("the command resumes"), 1);
+  EXPECT_NE(out.commands.back().wheels, base::Vector2::Zero()) << "back within it, the command resumes";
+  EXPECT_TRUE(loop->active()) << "a stop of the command, not of the node";
 }
 
 TEST_F(ControlLoopTest, SetPointsAreCheckedAndBecomeTheGoal)

@@ -188,6 +188,11 @@ TEST(Params, SetPointDynamicsAndActionPrior)
       JACKAL_AIC_MEMBER(tip_guard.min_acceleration),
       { 0.0, -1.0, 101.0, kNaN, kInf },
       0.5 },
+    // 0.02: not above tip_guard_pitch's 0.02 (the cross rule).
+    { "tip_guard_turnover_pitch",
+      JACKAL_AIC_MEMBER(tip_guard.turnover_pitch),
+      { 0.0, -0.1, 0.02, 1.51, kNaN, kInf },
+      1.0 },
   };
   for (const Case& c : cases)
   {

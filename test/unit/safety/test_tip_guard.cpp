@@ -2,7 +2,8 @@
  * \file test_tip_guard.cpp
  * \brief TipGuard: trips on a pitch while braking, learns the deceleration at the lift's onset,
  *        holds the braking bound at 0 until the body is level; a slope, a pitch without braking
- *        and a missing IMU do not trip it; reset, settings and bad input
+ *        and a missing IMU do not trip it; past the turnover pitch the body has turned over
+ *        (a zero command); reset, settings and bad input
  *        (include/jackal_aic/safety/tip_guard.hpp); the reference path's tip bounds
  *        (ReferenceModel::setTipBounds); in SamplePipeline, the gyro y's offset learned at rest
  *        and removed before the guard, and the guard's bounds in the controller's path.
@@ -184,6 +185,43 @@ TEST(TipGuard, TheFloorBoundsWhatATripTeaches)
   EXPECT_EQ(g.learnedFront(), 2.0) << "a new floor raises the learned bound";
 }
 
+TEST(TipGuard, PastTheTurnoverPitchTheBodyHasTurnedOverUntilThePitchFadesBelowIt)
+{
+  const params::TipGuardParams p;  // turnover_pitch 0.4 rad
+  safety::TipGuard g{ p };
+  double theta = 0.0;
+  double v = 1.5;
+  drive(&g, 0.5, 0.0, -2.0, &theta, &v);
+  ASSERT_EQ(tipNoseDown(&g, -2.0, &theta, &v), State::kTippingFront);
+  // The body goes on over its front axle at 2 rad/s, the wheels at the speed they had.
+  while (g.pitch() < 0.38)
+  {
+    EXPECT_FALSE(g.turnedOver()) << "pitch " << g.pitch();
+    drive(&g, kH, 2.0, 0.0, &theta, &v);
+  }
+  EXPECT_EQ(drive(&g, 0.1, 2.0, 0.0, &theta, &v), State::kTurnedOver);
+  EXPECT_TRUE(g.turnedOver());
+  EXPECT_EQ(g.frontBound(), 0.0) << "the trip stays under it";
+  EXPECT_EQ(safety::statusText(g).rfind("turned over (wheels stopped); front ", 0), 0u) << safety::statusText(g);
+  // On its back, at rest: the estimate fades with T_theta; turned over until it is below 0.4 rad.
+  drive(&g, 0.5, 2.0, 0.0, &theta, &v);  // to 1.2 rad or so
+  const double top = g.pitch();
+  ASSERT_GT(top, 1.0);
+  const double fade = std::log(top / p.turnover_pitch) * safety::TipGuard::kPitchTimeConstant;
+  drive(&g, fade - 0.1, 0.0, 0.0, &theta, &v);
+  EXPECT_TRUE(g.turnedOver()) << g.pitch();
+  EXPECT_NE(drive(&g, 0.2, 0.0, 0.0, &theta, &v), State::kTurnedOver);
+  EXPECT_FALSE(g.turnedOver()) << g.pitch();
+  EXPECT_EQ(g.frontBound(), 0.0) << "tipped still: the trip ends at trip_pitch / 2";
+  // Whatever turned it over: a tail-down tumble without braking (a bump) counts alike.
+  safety::TipGuard tumble{ p };
+  theta = 0.0;
+  v = 0.5;
+  EXPECT_EQ(drive(&tumble, 0.25, -2.0, 0.0, &theta, &v), State::kTurnedOver);
+  EXPECT_EQ(tumble.trips(), 0u);
+  EXPECT_TRUE(std::isinf(tumble.rearBound())) << "nothing learned: no acceleration tipped it";
+}
+
 TEST(TipGuard, BadInputIsIgnoredAndBadSettingsRefused)
 {
   safety::TipGuard g{ params::TipGuardParams() };
@@ -196,14 +234,16 @@ TEST(TipGuard, BadInputIsIgnoredAndBadSettingsRefused)
   for (const auto& bad :
        { params::TipGuardParams{ false, 0.0, 0.8, 1.0 }, params::TipGuardParams{ false, 0.02, 0.0, 1.0 },
          params::TipGuardParams{ false, 0.02, 1.1, 1.0 }, params::TipGuardParams{ false, 0.02, 0.8, 0.0 },
-         params::TipGuardParams{ false, std::nan(""), 0.8, 1.0 } })
+         params::TipGuardParams{ false, std::nan(""), 0.8, 1.0 }, params::TipGuardParams{ false, 0.02, 0.8, 1.0, 0.02 },
+         params::TipGuardParams{ false, 0.3, 0.8, 1.0, 0.2 }, params::TipGuardParams{ false, 0.02, 0.8, 1.0, 1.6 },
+         params::TipGuardParams{ false, 0.02, 0.8, 1.0, std::nan("") } })
   {
     EXPECT_THROW(safety::TipGuard{ bad }, std::invalid_argument);
     EXPECT_THROW(g.setParams(bad), std::invalid_argument);
   }
   try
   {
-    safety::TipGuard{ params::TipGuardParams{ false, 0.0, 0.0, 0.0 } };
+    safety::TipGuard{ params::TipGuardParams{ false, 0.0, 0.0, 0.0, 0.0 } };
     FAIL() << "no exception";
   }
   catch (const std::invalid_argument& e)
@@ -212,6 +252,7 @@ TEST(TipGuard, BadInputIsIgnoredAndBadSettingsRefused)
     EXPECT_NE(what.find("tip_guard_pitch"), std::string::npos) << what;
     EXPECT_NE(what.find("tip_guard_margin"), std::string::npos) << what;
     EXPECT_NE(what.find("tip_guard_min_acceleration"), std::string::npos) << what;
+    EXPECT_NE(what.find("tip_guard_turnover_pitch"), std::string::npos) << what;
   }
 }
 
@@ -314,11 +355,20 @@ TEST(TipGuardInThePipeline, TheGyroYOffsetIsRemovedAndTheBoundsReachThePath)
   }
   ASSERT_EQ(pipe.tipGuard().state(), safety::TipGuard::State::kTippingFront);
   EXPECT_EQ(pipe.controller().referenceModel().tipBoundFront(), 0.0) << "the path holds while tipped";
+  EXPECT_FALSE(pipe.controller().turnedOver());
+  // On over its front axle at 2 rad/s: past the turnover pitch the controller's command is zero.
+  for (int i = 0; i < 25 && !pipe.tipGuard().turnedOver(); ++i)
+  {
+    pipe.guardTip(base::Vector5::Zero(), 0.03 + 2.0, kH, true);
+  }
+  ASSERT_TRUE(pipe.tipGuard().turnedOver());
+  EXPECT_TRUE(pipe.controller().turnedOver());
   // Off: the controller's path is not bounded, whatever the guard saw.
   aic.tip_guard.enabled = false;
   pipe.setParams(aic, fdi);
   pipe.guardTip(base::Vector5::Zero(), 0.03, kH, true);
   EXPECT_TRUE(std::isinf(pipe.controller().referenceModel().tipBoundFront()));
+  EXPECT_FALSE(pipe.controller().turnedOver());
   pipe.resetTipGuard();
   EXPECT_EQ(pipe.pitchBias().bias(), 0.0);
   EXPECT_EQ(pipe.tipGuard().trips(), 0u);
