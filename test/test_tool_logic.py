@@ -757,6 +757,22 @@ class HonestBeliefTest(unittest.TestCase):
         self.assertTrue(driving.judge_belief(row, self.belief(0.5, 0.5, samples=0)))
         self.assertIsNone(row["belief_wz"])
 
+    def test_a_run_that_turned_the_robot_over_is_judged_up_to_the_turnover(self):
+        # The whole run carries the tumble (0.04 m/s, above the plant-limited bound); up to the
+        # turnover the belief is honest. The judged figures are the upright ones, the whole run's
+        # reported beside them.
+        tracking = self.belief(0.04, 0.003)
+        tracking["turned_over_at"] = 14.23
+        tracking["belief_upright"] = self.belief(0.002, 0.0025)["belief"]
+        row = {"limited_vx": "ideal 2.9 x floor on vx", "limited_wz": None}
+        self.assertTrue(driving.judge_belief(row, tracking))
+        self.assertEqual((row["belief_vx"], row["belief_whole_vx"], row["turned_over_at"]), (0.002, 0.04, 14.23))
+        # The control: without the turnover the whole run is judged, and fails.
+        del tracking["belief_upright"], tracking["turned_over_at"]
+        row = {"limited_vx": "ideal 2.9 x floor on vx", "limited_wz": None}
+        self.assertFalse(driving.judge_belief(row, tracking))
+        self.assertEqual((row["belief_vx"], row["belief_whole_vx"], row["turned_over_at"]), (0.04, 0.04, None))
+
     def test_judge_tracking_fails_on_a_dishonest_belief_and_the_cost_rises(self):
         def judge(wz_belief):
             aic = track_result(0.05, 0.05)

@@ -260,11 +260,12 @@ void accumulateSteady(SteadyEstimateChannel* c, int* last_segment, const std::ve
 SteadyEstimateError steadyEstimateError(const TwistProfile& profile, const std::vector<double>& time,
                                         const std::vector<double>& est_vx, const std::vector<double>& est_wz,
                                         const std::vector<double>& true_vx, const std::vector<double>& true_wz,
-                                        double settle)
+                                        double settle, double until)
 {
   profile.validate();
   require(std::isfinite(settle) && settle >= 0.0,
           "steady estimate error: settle must be finite and >= 0 s, got " + fmt(settle));
+  require(!std::isnan(until), "steady estimate error: until must not be NaN");
   require(est_vx.size() == time.size() && est_wz.size() == time.size(),
           "steady estimate error: time has " + std::to_string(time.size()) + " samples but an estimate series has " +
               std::to_string(est_vx.size() != time.size() ? est_vx.size() : est_wz.size()));
@@ -277,7 +278,7 @@ SteadyEstimateError steadyEstimateError(const TwistProfile& profile, const std::
   for (std::size_t k = 0; k < time.size(); ++k)
   {
     const double t = time[k];
-    if (t < 0.0 || t > profile.duration)
+    if (t < 0.0 || t > profile.duration || t >= until)
     {
       continue;
     }
@@ -294,6 +295,19 @@ SteadyEstimateError steadyEstimateError(const TwistProfile& profile, const std::
     c->mean_abs = c->samples > 0 ? c->mean_abs / c->samples : 0.0;
   }
   return e;
+}
+
+double turnoverTime(const std::vector<double>& time, const std::vector<double>& up)
+{
+  checkSeries("turnover time", time, { &up });
+  for (std::size_t k = 0; k < time.size(); ++k)
+  {
+    if (up[k] < 0.0)
+    {
+      return time[k];
+    }
+  }
+  return std::numeric_limits<double>::infinity();
 }
 
 StopReversal stopReversal(const TwistProfile& profile, const std::vector<double>& time,

@@ -63,9 +63,12 @@
  *        "stops": {"stops", "reverse_speed_max" [m/s], "reverse_travel_max" [m], "window" [s]} (the true
  *        speed against the direction before each stop of the profile, within "window" of it:
  *        jackal_aic/analysis/stop_reversal.hpp, stopReversal),
+ *        "turned_over_at" (the profile time the body first tilted past 90 degrees, on its side or back
+ *        [s]: jackal_aic/analysis/steady_estimate.hpp, turnoverTime; null: it stayed upright),
  *        with the AIC "belief": {"vx": {"steady_mean_abs", "steady_max_abs", "samples", "segments"}, "wz":
  *        {...}, "unavailable"} (belief mu^(0) against the truth from "belief_settle" [s] after each change
- *        of the channel's set point to the next: jackal_aic/analysis/tracking_metrics.hpp, steadyEstimateError)},
+ *        of the channel's set point to the next: jackal_aic/analysis/tracking_metrics.hpp, steadyEstimateError)
+ *        and, on a run that turned the robot over, "belief_upright" (the same up to "turned_over_at")},
  *        "path": {"final_position_error", "max_position_error", "final_heading_error", "ideal_length",
  *        "samples"}} with rise, settling, overshoot, sse, settled; times from the profile's start
  *        (--rest + 10 ms into the run); tracking over the profile's span.
@@ -580,13 +583,24 @@ int main(int argc, char** argv)
                     analysis::toJson(analysis::velocityTrackingError(tracked, t_profile, rec.v_odom, rec.yaw_odom)) +
                     ", \"stops\": " +
                     analysis::toJson(analysis::stopReversal(tracked, t_profile, rec.v_true, analysis::kStopWindow));
+    // A body turned over (on its side or its back) no longer drives: the time, or null.
+    const double t_over = analysis::turnoverTime(t_profile, rec.up_true);
+    tracking_json += ", \"turned_over_at\": " + (std::isfinite(t_over) ? base::jsonNumber(t_over) : "null");
     if (c.controller == LoopController::kAic)
     {
-      // The honest-belief measure: belief mu^(0) against the truth where the set point holds.
+      // The honest-belief measure: belief mu^(0) against the truth where the set point holds; on a
+      // run that turns the robot over also up to the turnover alone.
       tracking_json += ", \"belief\": " +
                        analysis::toJson(analysis::steadyEstimateError(tracked, t_profile, rec.belief, rec.belief_yaw,
                                                                       rec.v_true, rec.yaw_true, kBeliefSettle)) +
                        ", \"belief_settle\": " + base::jsonNumber(kBeliefSettle);
+      if (std::isfinite(t_over))
+      {
+        tracking_json +=
+            ", \"belief_upright\": " +
+            analysis::toJson(analysis::steadyEstimateError(tracked, t_profile, rec.belief, rec.belief_yaw, rec.v_true,
+                                                           rec.yaw_true, kBeliefSettle, t_over));
+      }
     }
     tracking_json += "}";
     drift = analysis::pathDrift(tracked, t_profile, rec.x_true, rec.y_true, rec.heading_true);

@@ -5,6 +5,7 @@
  *        profile's steady segments (doc/tools.md, 'Tracking benchmark'). ROS-free.
  */
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -48,14 +49,30 @@ struct SteadyEstimateError
  * \param true_wz    true yaw rate [rad/s], same size, finite
  * \param settle     time after a set-point change before the channel counts as steady [s],
  *                   finite and >= 0
+ * \param until      samples at or after this profile time [s] are left out (not counted as
+ *                   unavailable): the body's turnover (turnoverTime()), after which its twist is
+ *                   a tumble no wheel-based belief describes; +infinity (default): none left out
  * \return per channel the figures (all 0 for a channel without a steady sample)
  * \throws std::invalid_argument on an invalid profile, mismatched sizes, non-finite or
- *         non-increasing times, a non-finite truth or an invalid settle
+ *         non-increasing times, a non-finite truth, an invalid settle or a NaN until
  */
 SteadyEstimateError steadyEstimateError(const TwistProfile& profile, const std::vector<double>& time,
                                         const std::vector<double>& est_vx, const std::vector<double>& est_wz,
                                         const std::vector<double>& true_vx, const std::vector<double>& true_wz,
-                                        double settle);
+                                        double settle, double until = std::numeric_limits<double>::infinity());
+
+/**
+ * \brief When the body turned over: the time of the first sample whose `up` (the world z
+ *        component of the body's z axis, the cosine of its tilt) is below 0, the body past 90
+ *        degrees of tilt, on its side or its back. A robot on its wheels never gets there, on
+ *        any slope it can drive.
+ * \param time  sample times [s], finite, strictly increasing
+ * \param up    the body's up component [-], same size, finite
+ * \return that time [s], or +infinity when the body stays upright
+ * \throws std::invalid_argument on mismatched sizes, non-finite or non-increasing times, or a
+ *         non-finite up
+ */
+double turnoverTime(const std::vector<double>& time, const std::vector<double>& up);
 
 /// JSON object of a SteadyEstimateError: {"vx": {"steady_mean_abs", "steady_max_abs", "samples",
 /// "segments"}, "wz": {...}, "unavailable"} (units of the channels).

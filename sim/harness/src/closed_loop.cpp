@@ -555,6 +555,7 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
         out.y_true.push_back(sample.y_true);
         out.heading_true.push_back(sample.heading_true);
         out.pitch_true.push_back(std::asin(std::clamp(-pose.linear()(2, 0), -1.0, 1.0)));
+        out.up_true.push_back(pose.linear()(2, 2));
         const double sl = plant->servo(kLeft).effectiveSetpoint();
         const double sr = plant->servo(kRight).effectiveSetpoint();
         out.wheel_setpoint.push_back(r * 0.5 * (sl + sr));

@@ -472,17 +472,25 @@ def judge_belief(row, tracking):
     adds belief_vx, belief_wz (the AIC's steady mean |belief - truth| [m/s, rad/s], closed_loop_run's
     tracking.belief), belief_max_vx, belief_max_wz (the steady maxima, reported), belief_bound_vx,
     belief_bound_wz (BELIEF_BOUND, or BELIEF_LIMITED_BOUND on a plant-limited channel), belief_settle
-    (closed_loop_run's tracking.belief_settle [s]) and belief_pass. ``tracking``: the run's JSON
-    tracking object (without a belief, e.g. not the AIC: the row's belief figures are None and it
-    passes). Returns belief_pass."""
-    belief = tracking.get("belief")
+    (closed_loop_run's tracking.belief_settle [s]), turned_over_at (tracking.turned_over_at [s]: the
+    body past 90 degrees of tilt; None: it stayed upright), belief_whole_vx, belief_whole_wz and
+    belief_pass. On a run that turned the robot over the judged figures are those up to the turnover
+    (tracking.belief_upright: a tumbling body's twist is no state of a wheeled robot's belief) and
+    belief_whole_* the whole run's (reported); otherwise belief_whole_* equal the judged ones.
+    ``tracking``: the run's JSON tracking object (without a belief, e.g. not the AIC: the row's
+    belief figures are None and it passes). Returns belief_pass."""
+    whole = tracking.get("belief")
+    belief = tracking.get("belief_upright") or whole
     row["belief_settle"] = tracking.get("belief_settle")
+    row["turned_over_at"] = tracking.get("turned_over_at")
     ok = True
     for ch in ("vx", "wz"):
         bound = BELIEF_LIMITED_BOUND if row.get("limited_" + ch) else BELIEF_BOUND
         value = belief[ch]["steady_mean_abs"] if belief and belief[ch]["samples"] > 0 else None
         row["belief_" + ch] = value
         row["belief_max_" + ch] = belief[ch]["steady_max_abs"] if value is not None else None
+        row["belief_whole_" + ch] = (whole[ch]["steady_mean_abs"] if whole and whole[ch]["samples"] > 0 else
+                                     None)
         row["belief_bound_" + ch] = bound
         ok = ok and (value is None or value <= bound)
     row["belief_pass"] = ok

@@ -134,14 +134,19 @@ def print_driving(crit, peer_config):
     table("6g. Honest belief: the AIC's steady mean |belief - truth| on every tracking run (from %s s after each "
           "change of a channel's set point to the next; closed_loop_run's tracking.belief), <= %g m/s and %g rad/s "
           "where the plant follows the channel, <= %g where it cannot (plant-limited, 6f); max: the largest steady "
-          "|belief - truth| (reported). %d of %d runs pass"
+          "|belief - truth| (reported). A run that turns the robot over (the body past 90 degrees of tilt, "
+          "tracking.turned_over_at) is judged up to the turnover (tracking.belief_upright): a tumbling body's twist "
+          "is no state of the robot's belief; 'whole run' gives the means over the whole run (reported). %d of %d "
+          "runs pass"
           % (fmt(settle, "%g"), driving.BELIEF_BOUND, driving.BELIEF_BOUND, driving.BELIEF_LIMITED_BOUND, n_belief,
              len(rows)),
           ["profile", "variant", "vx mean [m/s]", "vx max [m/s]", "vx bound", "wz mean [rad/s]", "wz max [rad/s]",
-           "wz bound", "verdict"],
+           "wz bound", "turned over [s]", "whole run vx / wz", "verdict"],
           [[r["profile"], r["variant"], fmt(r.get("belief_vx"), "%.4f"), fmt(r.get("belief_max_vx"), "%.4f"),
             "%g" % r["belief_bound_vx"], fmt(r.get("belief_wz"), "%.4f"), fmt(r.get("belief_max_wz"), "%.4f"),
-            "%g" % r["belief_bound_wz"], verdict(r["belief_pass"])] for r in rows])
+            "%g" % r["belief_bound_wz"], fmt(r.get("turned_over_at"), "%.2f"),
+            "%s / %s" % (fmt(r.get("belief_whole_vx"), "%.4f"), fmt(r.get("belief_whole_wz"), "%.4f"))
+            if r.get("turned_over_at") is not None else "-", verdict(r["belief_pass"])] for r in rows])
     print_against_stock("6h. End-of-profile heading: the AIC's |heading error| at the end of each tracking run "
                         "(ground truth against the set point's ideal path, closed_loop_run's "
                         "path.final_heading_error) <= the stock controller's + %g rad, judged where the plant "

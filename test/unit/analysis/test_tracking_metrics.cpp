@@ -485,6 +485,42 @@ TEST(SteadyEstimateError, MissingEstimatesAreCountedAndBadInputRefused)
   EXPECT_THROW(analysis::steadyEstimateError(profileOf({}, 1.0), t, z, z, z, z, 0.5), std::invalid_argument);
 }
 
+TEST(SteadyEstimateError, ABodyThatTurnedOverIsJudgedUpToTheTurnover)
+{
+  // A 0.5 m/s hold; the belief is right while the robot is on its wheels. At 2 s the body tips
+  // past 90 degrees (up < 0) and tumbles (truth -1 m/s) while the belief reads the free wheels.
+  const analysis::TwistProfile p = profileOf({ { 0.0, 0.5, 0.0 } }, 4.0);
+  const std::vector<double> t = grid(0.005, 3.995, 0.01);
+  std::vector<double> up(t.size(), 1.0), tv(t.size(), 0.5), ev(t.size(), 0.5);
+  const std::vector<double> z(t.size(), 0.0);
+  for (std::size_t k = 0; k < t.size(); ++k)
+  {
+    if (t[k] >= 1.6)
+    {
+      up[k] = std::cos(0.5 * M_PI * (t[k] - 1.6) / 0.4 + 0.05);  // past 90 degrees at 1.995 s
+    }
+    if (t[k] >= 2.0)
+    {
+      tv[k] = -1.0;
+    }
+  }
+  const double t_over = analysis::turnoverTime(t, up);
+  EXPECT_GT(t_over, 1.98);
+  EXPECT_LT(t_over, 2.0);
+  const analysis::SteadyEstimateError upright = analysis::steadyEstimateError(p, t, ev, z, tv, z, 0.5, t_over);
+  EXPECT_NEAR(upright.vx.mean_abs, 0.0, 1e-12);
+  EXPECT_EQ(upright.unavailable, 0);  // the samples after the turnover are left out, not missing
+  // The control: the whole run carries the tumble's 1.5 m/s error.
+  EXPECT_GT(analysis::steadyEstimateError(p, t, ev, z, tv, z, 0.5).vx.mean_abs, 0.7);
+  // A robot that stays on its wheels has no turnover time, and bad input is refused.
+  EXPECT_EQ(analysis::turnoverTime(t, std::vector<double>(t.size(), 0.2)), std::numeric_limits<double>::infinity());
+  EXPECT_THROW(analysis::turnoverTime(t, { 1.0 }), std::invalid_argument);
+  up[3] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(analysis::turnoverTime(t, up), std::invalid_argument);
+  EXPECT_THROW(analysis::steadyEstimateError(p, t, ev, z, tv, z, 0.5, std::numeric_limits<double>::quiet_NaN()),
+               std::invalid_argument);
+}
+
 TEST(StopReversal, TheSpeedAgainstTheDirectionBeforeEachStopIsMeasured)
 {
   // Forward at 0.5 until 1 s, stop; reverse at -0.3 from 3 s, stop at 4 s; 0 until 6 s. The truth

@@ -227,6 +227,9 @@ struct ClosedLoopRecord
   /// Ground-truth pitch of base_link against the world's horizontal [rad] (REP 103: > 0 nose down):
   /// a rigid robot on flat ground pitches only when a pair of wheels leaves it.
   std::vector<double> pitch_true;
+  /// Ground-truth z component in the world of base_link's z axis [-] (the cosine of its tilt): 1
+  /// level, below 0 with the body past 90 degrees of tilt (on its side or its back: turned over).
+  std::vector<double> up_true;
   /// Body speed r (s_L + s_R) / 2 [m/s] of the wheel loops' set points in effect (after the
   /// MCU's delay and lag: WheelSpeedServo::effectiveSetpoint()); what the wheels are driven to.
   std::vector<double> wheel_setpoint;
