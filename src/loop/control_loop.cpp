@@ -150,7 +150,7 @@ bool ControlLoop::jointState(const JointStateInput& joints)
     return false;
   }
   supervisor_.sampleAccepted(base::Vector2(sample.y(base::kOmegaLeft), sample.y(base::kOmegaRight)));
-  pipeline_.guardTip(sample.y, sample.pitch_rate, sample.first ? 0.0 : sample.h, sample.imu_ok);
+  pipeline_.guardTip(sample.y, sample.pitch_rate, sample.first ? 0.0 : sample.h, sample.imu_ok, sample.up_force);
   noticeTurnover();
   newest_sample_stamp_ = sample.stamp;
   watch();  // a warm history and a set point: the controller starts here, from this sample

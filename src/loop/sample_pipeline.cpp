@@ -121,7 +121,7 @@ SamplePipeline::Measurement SamplePipeline::measure(const base::Vector5& y, doub
   return m;
 }
 
-void SamplePipeline::guardTip(const base::Vector5& y, double pitch_rate, double h, bool imu_ok)
+void SamplePipeline::guardTip(const base::Vector5& y, double pitch_rate, double h, bool imu_ok, double up_force)
 {
   const params::AicParams& p = controller_->params();
   if (h > 0.0)
@@ -133,7 +133,7 @@ void SamplePipeline::guardTip(const base::Vector5& y, double pitch_rate, double 
     }
     const double speed =
         controller_->model().twistFromWheels(base::Vector2(y(base::kOmegaLeft), y(base::kOmegaRight)))(0);
-    tip_guard_.update(h, pitch_rate - (p.gyro_bias.enabled ? pitch_bias_.offset() : 0.0), speed, imu_ok);
+    tip_guard_.update(h, pitch_rate - (p.gyro_bias.enabled ? pitch_bias_.offset() : 0.0), speed, imu_ok, up_force);
   }
   controller_->setTipBounds(p.tip_guard.enabled ? tip_guard_.frontBound() : kNone,
                             p.tip_guard.enabled ? tip_guard_.rearBound() : kNone);

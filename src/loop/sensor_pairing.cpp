@@ -102,8 +102,12 @@ bool SensorPairing::addImu(const ImuInput& imu, std::string* why)
   }
   last_imu_stamp_ = imu.stamp;
   has_imu_stamp_ = true;
-  imu_[imu_next_] = { imu.stamp, imu.angular_velocity.z(), imu.angular_velocity.y(), imu.linear_acceleration.x(),
-                      imu.linear_acceleration.y() };
+  imu_[imu_next_] = { imu.stamp,
+                      imu.angular_velocity.z(),
+                      imu.angular_velocity.y(),
+                      imu.linear_acceleration.x(),
+                      imu.linear_acceleration.y(),
+                      imu.linear_acceleration.z() };
   imu_next_ = (imu_next_ + 1) % kImuHistory;
   imu_count_ = imu_count_ < kImuHistory ? imu_count_ + 1 : kImuHistory;
   return true;
@@ -203,6 +207,7 @@ bool SensorPairing::addJointState(const JointStateInput& joints, SensorSample* o
   out->y(base::kAccelX) = imu ? imu->accel_x : 0.0;
   out->y(base::kAccelY) = imu ? imu->accel_y : 0.0;
   out->pitch_rate = imu ? imu->gyro_y : 0.0;
+  out->up_force = imu ? imu->accel_z : 0.0;
   out->h = h;
   out->first = first;
   out->stamp = stamp;

@@ -332,8 +332,9 @@ std::vector<ParamSpec> buildControllerRows()
         .member<&AicParams::tip_guard, &TipGuardParams::min_acceleration>(),
     ParamRow("active_inference", "tip_guard_turnover_pitch").unit("rad").above(0.0).atMost(1.5)
         .describe("|pitch| past which the body has turned over and the tip-over guard stops the wheels (zero "
-                  "command until the pitch is below it again); > tip_guard_pitch. 0.4: past the tipping point of "
-                  "any robot that braking at the wheels' 4.2 m/s^2 can tip")
+                  "command until the pitch is below it again and, after the IMU's z specific force read the body "
+                  "on its back, it is upright within this angle); > tip_guard_pitch. 0.4: past the tipping point "
+                  "of any robot that braking at the wheels' 4.2 m/s^2 can tip")
         .member<&AicParams::tip_guard, &TipGuardParams::turnover_pitch>(),
     // ---- robot (Clearpath Jackal; doc/jackal.md)
     ParamRow("robot", "wheel_radius").unit("m").atLeast(kMinLength).atMost(kMaxLength)

@@ -64,9 +64,10 @@ void TipGuard::setParams(const params::TipGuardParams& params)
   rear_ = std::max(rear_, params_.min_acceleration);
 }
 
-TipGuard::State TipGuard::update(double h, double pitch_rate, double speed, bool imu_ok)
+TipGuard::State TipGuard::update(double h, double pitch_rate, double speed, bool imu_ok, double up_force)
 {
-  if (!(std::isfinite(h) && h > 0.0) || !std::isfinite(speed) || (imu_ok && !std::isfinite(pitch_rate)))
+  if (!(std::isfinite(h) && h > 0.0) || !std::isfinite(speed) ||
+      (imu_ok && !(std::isfinite(pitch_rate) && std::isfinite(up_force))))
   {
     state_ = State::kBadInput;
     return state_;
@@ -86,6 +87,8 @@ TipGuard::State TipGuard::update(double h, double pitch_rate, double speed, bool
     theta_ *= std::exp(-h / kPitchTimeConstant);  // not rotating: fade toward the ground's plane
   }
   theta_ += pitch_rate * h;
+  up_ += std::min(1.0, h / kUpForceTimeConstant) * (up_force - up_);
+  upside_down_ = upside_down_ ? up_ <= kGravity * std::cos(params_.turnover_pitch) : up_ < 0.0;
   follow(&front_trip_, &front_, +1.0);
   follow(&rear_trip_, &rear_, -1.0);
 
@@ -132,7 +135,7 @@ void TipGuard::follow(Trip* trip, double* bound, double sign)
 
 bool TipGuard::turnedOver() const
 {
-  return std::abs(theta_) > params_.turnover_pitch;
+  return upside_down_ || std::abs(theta_) > params_.turnover_pitch;
 }
 
 double TipGuard::frontBound() const

@@ -118,8 +118,11 @@ public:
    * \param pitch_rate  the IMU's gyro y [rad/s] (SensorSample::pitch_rate)
    * \param h           interval since the previous sample [s]; a first sample (h <= 0) is skipped
    * \param imu_ok      false without a valid IMU sample (the guard's pitch decays)
+   * \param up_force    the IMU's specific force along the body's z [m/s^2] (SensorSample::up_force;
+   *                    default: level), which tells the guard a robot lies on its back
    */
-  void guardTip(const base::Vector5& y, double pitch_rate, double h, bool imu_ok);
+  void guardTip(const base::Vector5& y, double pitch_rate, double h, bool imu_ok,
+                double up_force = safety::TipGuard::kGravity);
   /// The tip-over guard (its pitch, learned bounds and trips).
   const safety::TipGuard& tipGuard() const { return tip_guard_; }
   /// Forget the tip-over guard's learned bounds and pitch, and the gyro y's offset.

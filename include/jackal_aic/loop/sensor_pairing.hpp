@@ -42,6 +42,9 @@ struct SensorSample
   /// The paired IMU's gyro y [rad/s]: the body's pitch rate q (REP 103, base_link: > 0 noses
   /// down), read by the TipGuard, not by the beliefs; 0 when imu_ok is false.
   double pitch_rate = 0.0;
+  /// The paired IMU's specific force along the body's z axis (linear_acceleration.z) [m/s^2]: +g
+  /// level at rest, -g on its back; read by the TipGuard (turnedOver()); 0 when imu_ok is false.
+  double up_force = 0.0;
   /// The joint state's wheel travel (mean position of left_joints, of right_joints) [rad]; zero
   /// when the message has no positions (has_travel false). Read by FrozenJointStates.
   base::Vector2 travel = base::Vector2::Zero();
@@ -158,6 +161,7 @@ private:
     double gyro_y;
     double accel_x;
     double accel_y;
+    double accel_z;
   };
   bool drop(DropReason reason, DropReason* out, std::string* why, const std::string& detail);
 

@@ -226,7 +226,8 @@ struct TipGuardParams
   /// tip_guard_min_acceleration [m/s^2], > 0, <= 100: the floor of the learned bounds.
   double min_acceleration = 1.0;
   /// tip_guard_turnover_pitch [rad], > trip_pitch, <= 1.5: the |pitch| past which the body has
-  /// turned over (no wheel command rolls it back) and the wheels are stopped. 0.4 = atan(4.20 /
+  /// turned over (no wheel command rolls it back) and the wheels are stopped; a body read on its
+  /// back by the accelerometer is released within this tilt of upright. 0.4 = atan(4.20 /
   /// 9.81): braking tips a robot only when g d / h is below the wheels' deceleration A_w r (4.20
   /// m/s^2 on the Jackal), so its centre of mass is over the front axle by the pitch atan(d / h)
   /// < 0.405 rad (doc/active_inference.md, 'The tip-over guard').

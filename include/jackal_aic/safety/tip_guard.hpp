@@ -46,7 +46,15 @@ namespace safety
  * over: its centre of mass has passed over the axle it rotates about, and no wheel command rolls it
  * back. turnedOver() then asks the controller for a zero command (the wheels of a robot on its back
  * spin free, and a path held at the speed its wheels believe would hold them spinning) until the
- * pitch estimate is below turnover_pitch again.
+ * pitch estimate is below turnover_pitch again. The pitch estimate alone forgets a robot lying on
+ * its back (after a flip theta_hat leaks away at rest), so the guard also watches the IMU's
+ * specific force along the body's z axis, f_z (+g level at rest, -g on its back), low-passed
+ *   f_hat <- f_hat + (h / T_f)(f_z - f_hat),   T_f = kUpForceTimeConstant
+ * (lying on its back is a lasting state: a bump's or a landing's spike of a few g for a sample
+ * moves f_hat by a fraction of g);
+ * the body is upside down from f_hat < 0 (its z axis below the horizon) until f_hat > g
+ * cos(turnover_pitch) (upright within the turnover pitch again), and turnedOver() holds while it
+ * is. A slope or a braking robot never reads f_z < 0.
  *
  * Frozen (theta_hat decays, nothing learned) without a valid IMU sample. The bounds are +inf until
  * a trip; reset() forgets them (a payload removed). No heap allocation, no exceptions after
@@ -67,6 +75,8 @@ public:
   /// is margin x the tipping acceleration there; a noisy gyro crosses it earlier, at a lower
   /// acceleration: the error is on the safe side).
   static constexpr double kOnsetFraction = 0.1;
+  /// Time constant T_f of the low-pass of the body's z specific force f_z [s].
+  static constexpr double kUpForceTimeConstant = 0.5;
   /// Standard gravity [m/s^2].
   static constexpr double kGravity = 9.80665;
 
@@ -77,7 +87,7 @@ public:
     kTippingFront,  ///< tripped nose-down: braking bound 0 until theta_hat < trip_pitch / 2
     kTippingRear,   ///< tripped tail-down: accelerating bound 0 until theta_hat > -trip_pitch / 2
     kPitched,       ///< |theta_hat| > trip_pitch without the acceleration that tips (a slope, a bump): not learned
-    kTurnedOver,    ///< |theta_hat| > turnover_pitch: turned over, the wheels are stopped (turnedOver())
+    kTurnedOver,    ///< turnedOver(): turned over (pitch or upside down), the wheels are stopped
     kNoImu,         ///< no valid IMU sample: theta_hat decays, nothing learned
     kBadInput       ///< ignored: non-finite input or h <= 0
   };
@@ -90,14 +100,22 @@ public:
    * \param h           time since the previous sample [s], finite and > 0
    * \param pitch_rate  the IMU's gyro y, q [rad/s] (> 0 noses down)
    * \param speed       the wheels' forward speed v = r (omega_L + omega_R) / 2 [m/s]
-   * \param imu_ok      false without a valid IMU sample (pitch_rate is then ignored)
+   * \param imu_ok      false without a valid IMU sample (pitch_rate and up_force are then ignored)
+   * \param up_force    the IMU's specific force along the body's z axis, f_z (linear_acceleration.z)
+   *                    [m/s^2]: +g level at rest, -g on its back; finite when imu_ok (default: level)
    * \return the state after the sample.
    */
-  State update(double h, double pitch_rate, double speed, bool imu_ok);
+  State update(double h, double pitch_rate, double speed, bool imu_ok, double up_force = kGravity);
 
-  /// True while |theta_hat| > turnover_pitch: the body has turned over and the command is zero
-  /// (ActiveInferenceController::setTurnedOver()).
+  /// True while |theta_hat| > turnover_pitch or the body is upside down (upsideDown()): it has
+  /// turned over and the command is zero (ActiveInferenceController::setTurnedOver()).
   bool turnedOver() const;
+
+  /// True from the low-passed f_z below 0 (on its back) until it is above g cos(turnover_pitch).
+  bool upsideDown() const { return upside_down_; }
+
+  /// The low-passed specific force along the body's z axis, f_hat [m/s^2] (g before any IMU sample).
+  double upForce() const { return up_; }
   /// The bound of the path's deceleration along x_dot (m' >= -frontBound()) [m/s^2], >= 0: 0 while
   /// tipping nose-down, else the learned A_front (+inf before a trip).
   double frontBound() const;
@@ -117,7 +135,7 @@ public:
   /// The state of the last update() (kLevel before any).
   State state() const { return state_; }
   /// Forget the learned bounds and the pitch: theta_hat = a_hat = 0, no speed history, bounds
-  /// +inf, no trips.
+  /// +inf, no trips. f_hat and the upside-down state are observations and are kept.
   void reset();
   /// The settings in use.
   const params::TipGuardParams& params() const { return params_; }
@@ -146,6 +164,8 @@ private:
   Trip rear_trip_;
   State state_ = State::kLevel;
   std::uint64_t trips_ = 0;
+  double up_ = kGravity;      ///< f_hat [m/s^2]
+  bool upside_down_ = false;  ///< upsideDown()
 };
 
 /// Name of a guard state, e.g. "tipping nose-down".

@@ -222,6 +222,49 @@ TEST(TipGuard, PastTheTurnoverPitchTheBodyHasTurnedOverUntilThePitchFadesBelowIt
   EXPECT_TRUE(std::isinf(tumble.rearBound())) << "nothing learned: no acceleration tipped it";
 }
 
+TEST(TipGuard, ARobotOnItsBackStaysTurnedOverUntilItIsUprightAgain)
+{
+  // After a flip the pitch estimate reads about 0 (a half turn integrated, or leaked away at rest),
+  // and a robot on its back would get its command back. The accelerometer's f_z = -g keeps it
+  // turned over until the body is upright again.
+  const params::TipGuardParams p;  // turnover_pitch 0.4 rad
+  const double g0 = safety::TipGuard::kGravity;
+  const auto hold = [](safety::TipGuard* g, double seconds, double f_z, bool imu_ok = true) {
+    for (double t = 0.0; t < seconds; t += kH)
+    {
+      g->update(kH, 0.0, 0.0, imu_ok, f_z);
+    }
+  };
+  safety::TipGuard g{ p };
+  EXPECT_EQ(g.upForce(), g0);
+  hold(&g, 5.0, -g0);  // five seconds on its back, at rest
+  EXPECT_EQ(g.pitch(), 0.0);
+  EXPECT_TRUE(g.upsideDown());
+  EXPECT_TRUE(g.turnedOver());
+  EXPECT_EQ(g.state(), State::kTurnedOver);
+  EXPECT_LT(g.upForce(), -0.99 * g0);
+  // No IMU: nothing new of the body, the state holds; reset() (a payload removed) keeps it too.
+  hold(&g, 1.0, g0, false);
+  g.reset();
+  EXPECT_TRUE(g.turnedOver());
+  // Lifted onto its side and on to 60 degrees of tilt: still turned over (the release needs the
+  // body within turnover_pitch of upright).
+  hold(&g, 1.0, 0.0);
+  hold(&g, 1.0, g0 * std::cos(1.0));
+  EXPECT_TRUE(g.turnedOver());
+  hold(&g, 2.0, g0 * std::cos(0.3));
+  EXPECT_FALSE(g.upsideDown());
+  EXPECT_FALSE(g.turnedOver());
+  EXPECT_EQ(g.state(), State::kLevel);
+  // A 40 degree slope and a sample of -2 g (a bump) never read as upside down.
+  safety::TipGuard slope{ p };
+  hold(&slope, 2.0, g0 * std::cos(0.7));
+  slope.update(kH, 0.0, 0.0, true, -2.0 * g0);
+  hold(&slope, 0.1, g0 * std::cos(0.7));
+  EXPECT_FALSE(slope.upsideDown());
+  EXPECT_FALSE(slope.turnedOver());
+}
+
 TEST(TipGuard, BadInputIsIgnoredAndBadSettingsRefused)
 {
   safety::TipGuard g{ params::TipGuardParams() };
@@ -229,6 +272,9 @@ TEST(TipGuard, BadInputIsIgnoredAndBadSettingsRefused)
   EXPECT_EQ(g.update(kH, std::nan(""), 0.0, true), State::kBadInput);
   EXPECT_EQ(g.update(kH, 0.0, std::numeric_limits<double>::infinity(), true), State::kBadInput);
   EXPECT_EQ(g.update(kH, 0.0, std::nan(""), false), State::kBadInput);
+  EXPECT_EQ(g.update(kH, 0.0, 0.0, true, -std::numeric_limits<double>::infinity()), State::kBadInput);
+  EXPECT_FALSE(g.upsideDown());
+  EXPECT_EQ(g.update(kH, 0.0, 0.0, false, std::nan("")), State::kNoImu) << "without an IMU f_z is not read";
   EXPECT_EQ(g.pitch(), 0.0);
   EXPECT_EQ(g.acceleration(), 0.0);
   for (const auto& bad :
