@@ -545,10 +545,11 @@ void ControlLoop::noticeTurnover()
   turned_over_ = turned_over;
   const safety::TipGuard& guard = pipeline_.tipGuard();
   std::ostringstream os;
-  os << "the body's pitch estimate " << guard.pitch() << " rad is " << (turned_over ? "beyond" : "back within")
-     << " tip_guard_turnover_pitch " << guard.params().turnover_pitch << " rad: "
-     << (turned_over ? "the robot has turned over; zero command until the pitch is back within it" :
-                       "the command resumes");
+  os << (turned_over ? "the robot has turned over; zero command until it is upright" :
+                       "the body is upright again: the command resumes")
+     << " (the tip-over guard's pitch estimate " << guard.pitch() << " rad, tip_guard_turnover_pitch "
+     << guard.params().turnover_pitch << " rad; the IMU's z specific force " << guard.upForce()
+     << " m/s^2, below 0 on its back" << (guard.upsideDown() ? ": upside down)" : ")");
   output_.log(turned_over ? LogLevel::kError : LogLevel::kWarn, os.str());
 }
 

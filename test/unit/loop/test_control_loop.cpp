@@ -77,13 +77,15 @@ struct Sensors
   bool has_last = false;
 
   /// Feed one paired sample (wheel speeds [rad/s], gyro z [rad/s], gyro y `pitch_rate` [rad/s],
-  /// > 0 nose down) stamped `stamp`.
-  bool feed(loop::ControlLoop& loop, double stamp, double left, double right, double gyro, double pitch_rate = 0.0)
+  /// > 0 nose down, accel z `up_force` [m/s^2], -g on its back) stamped `stamp`.
+  bool feed(loop::ControlLoop& loop, double stamp, double left, double right, double gyro, double pitch_rate = 0.0,
+            double up_force = safety::TipGuard::kGravity)
   {
     loop::ImuInput imu;
     imu.stamp = stamp;
     imu.angular_velocity.z() = gyro;
     imu.angular_velocity.y() = pitch_rate;
+    imu.linear_acceleration.z() = up_force;
     loop.imu(imu);
     velocity = { left, right, left, right };
     // The wheels travel at their speeds (constant travel with a turning wheel is a frozen stream).
@@ -570,9 +572,45 @@ TEST_F(ControlLoopTest, ARobotThatHasTurnedOverIsCommandedZeroUntilLevelAndTheLo
     ASSERT_LT(clock.t, 10.0);
   }
   EXPECT_GT(zeros, 25) << "about ln(0.9 / 0.4) s of fade";
-  EXPECT_EQ(out.linesWith("the command resumes"), 1);
+  EXPECT_EQ(out.linesWith("the body is upright again: the command resumes"), 1);
   EXPECT_NE(out.commands.back().wheels, base::Vector2::Zero()) << "back within it, the command resumes";
   EXPECT_TRUE(loop->active()) << "a stop of the command, not of the node";
+}
+
+TEST_F(ControlLoopTest, ARobotOnItsBackIsCommandedZeroUntilUprightAndTheLogSaysSo)
+{
+  // Rolled onto its back without a pitch the guard integrates (a roll, or a flip whose half turn
+  // has faded): the IMU's z specific force reads -g. The wheels spin free at the speed they had.
+  feed(p.aic.numOrders() + 50, 10.0, 1.0);  // ~1 m/s
+  ASSERT_TRUE(loop->active());
+  double sp[6];
+  setPointFields(1.0, 0.0, sp);
+  int zeros = 0;
+  for (double t_end = clock.t + 10.0; clock.t < t_end;)  // ten seconds on its back
+  {
+    clock.t += 0.02;
+    loop->setPoint(sp);
+    sensors.feed(*loop, clock.t, 10.0, 10.0, 0.0, 0.0, -safety::TipGuard::kGravity);
+    if (loop->tipGuard().turnedOver())
+    {
+      EXPECT_EQ(out.commands.back().wheels, base::Vector2::Zero()) << "at " << clock.t;
+      ++zeros;
+    }
+  }
+  EXPECT_GT(zeros, 470) << "turned over within 0.6 s of lying on its back (T_f = 0.5 s), and for good";
+  EXPECT_EQ(out.linesWith("the robot has turned over; zero command until it is upright"), 1);
+  EXPECT_EQ(out.linesWith("upside down)"), 1);
+  // Righted: the low-passed force passes g cos(0.4 rad) within 1.7 s (T_f = 0.5 s), the command
+  // resumes, and the log says so.
+  for (double t_end = clock.t + 2.0; clock.t < t_end;)
+  {
+    clock.t += 0.02;
+    loop->setPoint(sp);
+    sensors.feed(*loop, clock.t, 10.0, 10.0, 0.0);
+  }
+  EXPECT_FALSE(loop->tipGuard().turnedOver());
+  EXPECT_EQ(out.linesWith("the body is upright again: the command resumes"), 1);
+  EXPECT_NE(out.commands.back().wheels, base::Vector2::Zero());
 }
 
 TEST_F(ControlLoopTest, SetPointsAreCheckedAndBecomeTheGoal)

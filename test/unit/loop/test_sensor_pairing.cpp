@@ -89,6 +89,7 @@ TEST(SensorPairing, PairsByNameAndAverages)
   EXPECT_NEAR(s.y(base::kAccelX), 0.4, kValueTol);
   EXPECT_NEAR(s.y(base::kAccelY), -0.1, kValueTol);
   EXPECT_NEAR(s.pitch_rate, -0.2, kValueTol) << "gyro y, for the tip-over guard";
+  EXPECT_NEAR(s.up_force, 9.81, kValueTol) << "accel z, for the tip-over guard";
 
   ASSERT_TRUE(sync.addImu(imu(kT0 + 0.025, 0.7)));
   ASSERT_TRUE(sync.addJointState(in(joints(kT0 + 0.02)), &s));
