@@ -31,8 +31,9 @@ def main():
                    help="plant overlay the fit starts from and keeps (e.g. the floor's), repeatable")
     g.add_argument("--overlay-out", help="the identified overlay (default: <bag>_wheel_loop.yaml)")
     g.add_argument("--model-out", help="the robot model's identified keys as one controller overlay: the "
-                                       "sensor noises measured on the bag's rest segments and the yaw response fitted "
-                                       "on its turns in place (default: <bag>_robot_model.yaml)")
+                                       "sensor noises measured on the bag's rest segments, the yaw response fitted "
+                                       "on its turns in place and the wheel loop's keys the fit moved "
+                                       "(default: <bag>_robot_model.yaml)")
     g.add_argument("--json", help="also write the results as JSON")
     g.add_argument("--plant-replay", default=None, help="path of the plant_replay executable")
     a = ap.parse_args()

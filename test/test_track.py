@@ -472,6 +472,54 @@ class FloorAccelCheck(unittest.TestCase):
             self.assertGreater(wheels["vx"], floor["vx"] * 1.01)
 
 
+class RobotModelWheelLoopCheck(unittest.TestCase):
+    """The robot model's wheel loop from the MCU's motor keys (common.wheel_loop_model): its
+    equations, its refusals, and config/default.yaml holding sim/config/plant.yaml's."""
+
+    PLANT = os.path.join(ROOT, "sim", "config", "plant.yaml")
+    KEYS = ("latency", "wheel_time_constant", "wheel_acceleration", "wheel_feedforward",
+            "wheel_feedforward_acceleration")
+
+    def test_the_default_configuration_holds_the_plants_wheel_loop(self):
+        """aic_params' effective values of config/default.yaml (its own keys and the schema's
+        defaults) are the model of the plant's identified loop, to their 4 written digits."""
+        from jackal_aic_tools.common import closed_loop, wheel_loop_model
+        keys = wheel_loop_model.robot_model_keys(closed_loop.plant_motor(self.PLANT))
+        aic_params = cli.find_executable("aic_params", SCRIPT, "test")
+        out = subprocess.run([aic_params, "--yaml", "--config", os.path.join(ROOT, "config", "default.yaml")],
+                             capture_output=True, text=True, check=False)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        effective = yaml.safe_load(out.stdout)
+        self.assertEqual(sorted(keys), sorted(self.KEYS))
+        for key in self.KEYS:
+            self.assertAlmostEqual(effective[key], keys[key], delta=5e-4 * keys[key], msg=key)
+
+    def test_the_equations(self):
+        from jackal_aic_tools.common import wheel_loop_model
+        motor = {"command_delay": 0.1, "setpoint_time_constant": 0.01, "speed_kp": 2.0, "proportional_limit": 0.0,
+                 "accel_feedforward": 0.05, "accel_feedforward_limit": 1.0, "load_observer_inertia": 0.1,
+                 "max_torque": 4.0}
+        keys = wheel_loop_model.robot_model_keys(motor)
+        self.assertAlmostEqual(keys["latency"], 0.1)
+        self.assertAlmostEqual(keys["wheel_time_constant"], 0.01 + 0.1 / 2.0)
+        self.assertAlmostEqual(keys["wheel_acceleration"], 4.0 / 0.1)  # no clamp: the current limit
+        self.assertAlmostEqual(keys["wheel_feedforward"], 0.5)
+        self.assertAlmostEqual(keys["wheel_feedforward_acceleration"], 10.0)
+        # A feed-forward without its own clamp reaches the current limit: no proportional path
+        # beyond it, no model.
+        with self.assertRaisesRegex(ValueError, "no proportional path"):
+            wheel_loop_model.robot_model_keys(dict(motor, accel_feedforward_limit=0.0))
+        for key, value in (("speed_kp", 0.0), ("command_delay", -0.1), ("accel_feedforward", float("inf")),
+                           ("setpoint_time_constant", "fast"), ("load_observer_inertia", None)):
+            bad = dict(motor)
+            if value is None:
+                del bad[key]
+            else:
+                bad[key] = value
+            with self.assertRaisesRegex(ValueError, "motor." + key):
+                wheel_loop_model.robot_model_keys(bad)
+
+
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
     pyunit.main("track", TrackCheck, FloorAccelCheck)

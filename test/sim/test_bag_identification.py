@@ -5,7 +5,8 @@ scripts/record_identification.py --headless (plant_replay: the stock controller'
 stream on the plant with its seeded sensor noise), is identified by scripts/plant_identify.py --bag
 starting from the default plant; the turning parameters come back within 20 % and the identified
 plant reproduces the bag's responses, and the robot model's sensor noises measured on its rests are
-the plant's, and its yaw response (T_s, b_eff) fitted on its turns in place is the plant's. Also the bag
+the plant's, its yaw response (T_s, b_eff) fitted on its turns in place is the plant's, and its
+wheel loop (T_w, A_w) is the identified loop's. Also the bag
 reader's errors, and the noise measurement and the yaw response's fit on synthetic streams. No roscore needed (rosbag's
 Python API); deterministic (seeded noise, seeded candidates); ~30 s.
 
@@ -134,7 +135,8 @@ class BagRoundTrip(unittest.TestCase):
         self.assertEqual(model["belief_model"], "robot")  # config/default.yaml's, under the overlay
         with open(self.fit["robot_model"]) as f:
             self.assertEqual(set(yaml.safe_load(f)), {"encoder_noise", "gyro_noise", "yaw_time_constant",
-                                                      "wheel_separation", "turn_shortfall_noise"})
+                                                      "wheel_separation", "turn_shortfall_noise",
+                                                      "wheel_time_constant", "wheel_acceleration"})
 
     def test_a_wheel_loop_without_load_observer_switches_the_turn_shortfalls_on(self):
         # The variant's loop, identified without observer, leaves a turn's load as a speed error:
@@ -142,6 +144,20 @@ class BagRoundTrip(unittest.TestCase):
         model = self.loaded(self.fit["robot_model"])
         self.assertEqual(model["turn_shortfall_noise"], 0.3)
         self.assertLess(self.fit["values"]["load_observer_bandwidth"], bi.OBSERVER_OFF_BANDWIDTH)
+
+    def test_the_robot_models_wheel_loop_is_the_identified_one(self):
+        # The variant's proportional-only loop: T_w = setpoint_time_constant + J_n / speed_kp =
+        # 0.004661 + 0.0933 / 2.0 = 0.0513 s against the default firmware's 0.01365 s, from the
+        # identified speed_kp (within 20 %, as the turning parameters); A_w from the identified
+        # proportional clamp. The latency is the plant's (within 1 %): not written.
+        model = self.loaded(self.fit["robot_model"])
+        truth = 0.004661 + 0.0933 / self.truth["speed_kp"]
+        self.assertAlmostEqual(model["wheel_time_constant"], truth, delta=TOLERANCE * truth)
+        self.assertAlmostEqual(model["wheel_acceleration"],
+                               (3.243 + self.fit["values"]["proportional_limit"]) / 0.0933, delta=0.01)
+        self.assertEqual(model["latency"], 0.1187)  # config/default.yaml's: the bag's is within 1 %
+        self.assertAlmostEqual(self.fit["values"]["command_delay"], 0.1187, delta=0.01 * 0.1187)
+        self.assertIn("the robot model's wheel loop: wheel_time_constant", self.out.stdout)
 
     def test_the_overlay_loads_and_holds_the_identified_keys(self):
         with open(self.overlay) as f:
@@ -366,6 +382,29 @@ class YawResponse(unittest.TestCase):
             self.assertEqual(keys, ["turn_shortfall_noise"])
             with open(out) as f:
                 self.assertEqual(yaml.safe_load(f), {"turn_shortfall_noise": 0.3})
+
+    def test_the_wheel_loop_lines_hold_what_the_fit_moved(self):
+        from jackal_aic_tools.identify import bag_fit
+        base = identify.read_motor(PLANT)
+        # The default firmware's own loop: nothing differs from config/default.yaml's.
+        self.assertEqual(bag_fit.wheel_loop_lines(dict(base), list(bi.BAG_PARAMETERS), base), [])
+        # A gain a fifth of it: T_w; the latency moved 10 %: L; the feed-forward's keys are not
+        # fitted, so not written even where they differ.
+        moved = dict(base, speed_kp=2.0, command_delay=0.13, accel_feedforward=0.1)
+        lines = bag_fit.wheel_loop_lines(moved, ["speed_kp", "command_delay"], base)
+        self.assertEqual(yaml.safe_load("\n".join(lines)),
+                         {"latency": 0.13, "wheel_time_constant": float("%.4g" % (0.004661 + 0.0933 / 2.0))})
+        self.assertIn("identified on the bag: speed_kp", "\n".join(lines))
+        # Within WHEEL_LOOP_UNCHANGED of the default: left out.
+        near = dict(base, command_delay=base["command_delay"] * (1.0 + 0.5 * bag_fit.WHEEL_LOOP_UNCHANGED))
+        self.assertEqual(bag_fit.wheel_loop_lines(near, ["command_delay"], base), [])
+        # A loop the model cannot describe is an error naming the key.
+        with self.assertRaisesRegex(ValueError, "motor.speed_kp"):
+            bag_fit.wheel_loop_lines(dict(base, speed_kp=0.0), ["speed_kp"], base)
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "out.yaml")
+            self.assertEqual(bag_fit.write_robot_model(out, None, None, "x.bag", (), lines),
+                             ["latency", "wheel_time_constant"])
 
     def test_a_gyro_that_turns_against_the_wheels_is_an_error(self):
         cmd = [(0, 0, 0, 0), (1, 0, -2.9, 2.9), (3.5, 0, 0, 0), (11.99, 0, 0, 0)]

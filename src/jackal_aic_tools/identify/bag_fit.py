@@ -2,14 +2,16 @@
 jackal_aic_tools.identify.bag_identification), print the fit and write the overlay YAML of the keys that
 differ from the plant's; and measure the robot model's sensor noises on the bag's rest segments
 (jackal_aic_tools.identify.sensor_noise) and fit its yaw response on the bag's turns in place
-(jackal_aic_tools.identify.yaw_response), and write them as the robot model's controller overlay
-(over config/default.yaml, whose belief model is the robot model)."""
+(jackal_aic_tools.identify.yaw_response), and write them, with the robot model's wheel loop of the
+identified motor keys (jackal_aic_tools.common.wheel_loop_model), as the robot model's controller
+overlay (over config/default.yaml, whose belief model is the robot model)."""
 import json
 import os
 import sys
 
 import numpy as np
 
+from ..common import wheel_loop_model
 from . import bag_identification, identify, sensor_noise, yaw_response
 
 # Comments of the overlay keys --bag writes (unit, meaning).
@@ -72,16 +74,58 @@ def turn_load_lines(values):
             "turn_shortfall_noise: %.4g" % TURN_SHORTFALL_NOISE]
 
 
-def write_robot_model(path, noise, yaw, bag, turn_load=()):
+#: [-] A robot-model key the bag's fit moved by less than this share of config/default.yaml's value
+#: (the plant's identified loop) is left out of the overlay: the default already holds it.
+WHEEL_LOOP_UNCHANGED = 0.01
+#: The equation of each wheel-loop key, for its comment (common.wheel_loop_model).
+WHEEL_LOOP_EQUATIONS = {
+    "latency": ("[s] L, the command's latency to the wheels", "command_delay"),
+    "wheel_time_constant": ("[s] T_w, the wheel loop's proportional lag",
+                            "setpoint_time_constant + load_observer_inertia / speed_kp"),
+    "wheel_acceleration": ("[rad/s^2] A_w, the wheel loop's largest acceleration",
+                           "min(accel_feedforward_limit + proportional_limit, max_torque) / load_observer_inertia"),
+    "wheel_feedforward": ("[-] K_ff, the share of the command's rate fed forward",
+                          "accel_feedforward / load_observer_inertia"),
+    "wheel_feedforward_acceleration": ("[rad/s^2] A_ff, that feed-forward's bound",
+                                       "min(accel_feedforward_limit, max_torque) / load_observer_inertia"),
+}
+
+
+def wheel_loop_lines(motor, fitted, base):
+    """Controller-overlay lines of the robot model's wheel loop (common.wheel_loop_model.robot_model_keys)
+    on the identified wheel loop ``motor`` (the plant's motor keys with the bag's fitted values,
+    overlay_values()), for the keys that depend on a fitted motor key (``fitted``, their names) and
+    differ by more than WHEEL_LOOP_UNCHANGED from those of ``base`` (the plant's motor keys the fit
+    started from: sim/config/plant.yaml's model is config/default.yaml's); each commented with its
+    equation and the motor values. Returns [] when none differs. Raises ValueError
+    (robot_model_keys) when either loop has no model."""
+    keys = wheel_loop_model.robot_model_keys(motor)
+    ref = wheel_loop_model.robot_model_keys(base)
+    lines = []
+    for key, value in keys.items():
+        sources = wheel_loop_model.DEPENDS_ON[key]
+        moved = [k for k in sources if k in fitted]
+        if not moved or abs(value - ref[key]) <= WHEEL_LOOP_UNCHANGED * abs(ref[key]):
+            continue
+        meaning, equation = WHEEL_LOOP_EQUATIONS[key]
+        lines += ["# %s: %s" % (meaning, equation),
+                  "#   = f(%s); identified on the bag: %s" % (
+                      ", ".join("%s %.4g" % (k, float(motor[k])) for k in sources), ", ".join(moved)),
+                  "%s: %.4g" % (key, value)]
+    return lines
+
+
+def write_robot_model(path, noise, yaw, bag, turn_load=(), wheel_loop=()):
     """Write what ``bag`` identified of the robot model as one controller overlay at ``path``: the
     bag's sensor noises (``noise``, sensor_noise(); None: not measured), yaw response (``yaw``,
-    yaw_response(); None: not fitted) and the turn shortfalls' switch (``turn_load``,
-    turn_load_lines()), each commented with its source. Load it alone after config/default.yaml,
+    yaw_response(); None: not fitted), the turn shortfalls' switch (``turn_load``,
+    turn_load_lines()) and the wheel loop's keys (``wheel_loop``, wheel_loop_lines()), each
+    commented with its source. Load it alone after config/default.yaml,
     whose belief model is the robot model (the launch files' one overlay). Returns the keys the bag
     gave (an empty list writes a file of comments only). Raises OSError if ``path`` cannot be
     written."""
     lines = (sensor_noise.overlay_lines(noise) if noise is not None else []) + (
-        yaw_response.overlay_lines(yaw) if yaw is not None else []) + list(turn_load)
+        yaw_response.overlay_lines(yaw) if yaw is not None else []) + list(turn_load) + list(wheel_loop)
     keys = [line.split(":", 1)[0] for line in lines if not line.startswith("#")]
     with open(path, "w") as f:
         f.write("# The robot model's keys identified on %s by plant_identify.py --bag, over\n"
@@ -178,10 +222,15 @@ def run(a, tool):
     print("\noverlay written: %s (%s)" % (out, ", ".join("motor." + k for k in written) or "no key differs"))
     model_out = None
     turn_load = turn_load_lines(r["values"])
-    if noise is not None or yaw is not None or turn_load:
+    identified = dict(base, **overlay_values(r["values"]))
+    wheel_loop = robot_model_part("wheel loop", "derived", lambda: wheel_loop_lines(identified, keys, base),
+                                  lambda lines: ", ".join(line for line in lines if not line.startswith("#"))
+                                  or "that of config/default.yaml (within %g %%)" % (100 * WHEEL_LOOP_UNCHANGED))
+    wheel_loop = wheel_loop or []
+    if noise is not None or yaw is not None or turn_load or wheel_loop:
         model_out = a.model_out or os.path.splitext(a.bag)[0] + "_robot_model.yaml"
         try:
-            measured = write_robot_model(model_out, noise, yaw, os.path.basename(a.bag), turn_load)
+            measured = write_robot_model(model_out, noise, yaw, os.path.basename(a.bag), turn_load, wheel_loop)
         except OSError as e:
             print("plant_identify: the robot model's overlay: %s" % e, file=sys.stderr)
             return 1

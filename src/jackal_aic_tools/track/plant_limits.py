@@ -17,7 +17,7 @@ against the body (wheel speeds' twist minus the ground truth).
 
 The acceleration-bounded latency floor (doc/tools.md, 'Latency floor') bounds each wheel of the
 floor's ideal servo by the wheel loop's largest acceleration: wheel_acceleration() from the
-plant's motor keys, on the robot's wheel radius and geometric track (urdf_geometry());
+plant's motor keys (common.wheel_loop_model, the robot model's A_w), on the robot's wheel radius and geometric track (urdf_geometry());
 floor_accelerations() also gives what it is on the body alone.
 
 Pure functions but run_ideal() and urdf_geometry(); the benchmark's modules (driving,
@@ -27,6 +27,7 @@ import math
 import xml.etree.ElementTree as ElementTree
 
 from ..common import closed_loop
+from ..common.wheel_loop_model import wheel_acceleration
 
 #: A channel is plant-limited when the ideal controller's RMS error > this x the latency floor.
 PLANT_LIMIT_RATIO = 1.2
@@ -116,33 +117,6 @@ def split(items):
     following = [v for v, lim in items if not lim]
     limited = [v for v, lim in items if lim]
     return following, limited
-
-
-def wheel_acceleration(motor):
-    """A_w [rad/s^2], the largest wheel acceleration the MCU's wheel loop gives, from a plant's motor
-    keys ``motor`` (closed_loop.plant_motor: the plant YAML and a variant's overlay):
-
-        A_w = (accel_feedforward_limit + proportional_limit) / load_observer_inertia
-
-    the clamps of the loop's acceleration feedforward and proportional path [N m] over its nominal
-    inertia J_n [kg m^2] (the source of the robot model's wheel_acceleration, 42.87 rad/s^2 on
-    sim/config/plant.yaml: doc/active_inference.md, 'The robot model'). A clamp of 0 (none) counts
-    as max_torque [N m], and the sum is at most max_torque (the loop's torque limit), so that A_w
-    stays an upper bound. Raises ValueError naming the key when a key is missing, a limit is
-    negative or not finite, or load_observer_inertia or max_torque is not > 0."""
-    values = {}
-    for key in ("accel_feedforward_limit", "proportional_limit", "load_observer_inertia", "max_torque"):
-        if key not in motor:
-            raise ValueError("wheel_acceleration: motor.%s missing from the plant's motor keys" % key)
-        v = float(motor[key])
-        low_ok = v > 0.0 if key in ("load_observer_inertia", "max_torque") else v >= 0.0
-        if not (math.isfinite(v) and low_ok):
-            raise ValueError("wheel_acceleration: motor.%s = %r, need %s" % (
-                key, v, "> 0" if key in ("load_observer_inertia", "max_torque") else ">= 0 and finite"))
-        values[key] = v
-    limit = values["max_torque"]
-    torque = sum(values[k] or limit for k in ("accel_feedforward_limit", "proportional_limit"))
-    return min(torque, limit) / values["load_observer_inertia"]
 
 
 def floor_accelerations(motor, radius, track):

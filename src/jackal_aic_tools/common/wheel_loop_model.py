@@ -1,0 +1,98 @@
+"""The robot model's wheel loop from the MCU's identified motor keys (doc/active_inference.md, 'The
+robot model'; the plant's wheel loop: doc/robot_data.md).
+
+The robot model's wheel (its side's mean wheel speed omega) follows the command u sent one latency
+L earlier through a first-order lag T_w, the MCU's acceleration feed-forward K_ff of the command's
+rate bounded by A_ff, and the bound A_w on the whole acceleration:
+
+    d omega / dt = clamp((u - d - omega) / T_w, +-(A_w - A_ff)) + clamp(K_ff du/dt, +-A_ff)
+
+Each of its five keys follows from the plant's motor keys (the MCU's wheel loop that plant_identify
+fits, on the simulator's steps or on a robot's bag), J_n the loop's nominal inertia
+(load_observer_inertia):
+
+    latency                         L    = command_delay
+    wheel_time_constant             T_w  = setpoint_time_constant + J_n / speed_kp
+    wheel_acceleration              A_w  = min(accel_feedforward_limit + proportional_limit, max_torque) / J_n
+    wheel_feedforward               K_ff = accel_feedforward / J_n
+    wheel_feedforward_acceleration  A_ff = min(accel_feedforward_limit, max_torque) / J_n
+
+T_w is the proportional path's own lag: the set point's filter plus the inertia over the gain (the
+feed-forward, in the model, does the rest). A clamp of 0 (none) counts as max_torque, the loop's
+current limit, and A_w stays within it. config/default.yaml holds these of sim/config/plant.yaml
+(test/test_track.py checks that they agree); plant_identify.py --bag writes those its fit moves into
+the robot model's overlay (jackal_aic_tools.identify.bag_fit).
+"""
+import math
+
+#: The motor keys the robot model's wheel loop is computed from.
+MOTOR_KEYS = ("command_delay", "setpoint_time_constant", "speed_kp", "proportional_limit", "accel_feedforward",
+              "accel_feedforward_limit", "load_observer_inertia", "max_torque")
+#: Motor key(s) -> the robot model's keys that depend on them.
+DEPENDS_ON = {
+    "latency": ("command_delay",),
+    "wheel_time_constant": ("setpoint_time_constant", "load_observer_inertia", "speed_kp"),
+    "wheel_acceleration": ("accel_feedforward_limit", "proportional_limit", "max_torque", "load_observer_inertia"),
+    "wheel_feedforward": ("accel_feedforward", "load_observer_inertia"),
+    "wheel_feedforward_acceleration": ("accel_feedforward_limit", "max_torque", "load_observer_inertia"),
+}
+_POSITIVE = ("load_observer_inertia", "max_torque", "speed_kp")
+
+
+def _values(motor, keys):
+    """{key: float} of ``keys`` of ``motor``; raises ValueError naming the first key missing, not
+    finite, negative, or (load_observer_inertia, max_torque, speed_kp) not > 0."""
+    out = {}
+    for key in keys:
+        if key not in motor:
+            raise ValueError("wheel loop model: motor.%s missing from the plant's motor keys" % key)
+        try:
+            v = float(motor[key])
+        except (TypeError, ValueError):
+            raise ValueError("wheel loop model: motor.%s = %r is not a number" % (key, motor[key]))
+        ok = v > 0.0 if key in _POSITIVE else v >= 0.0
+        if not (math.isfinite(v) and ok):
+            raise ValueError("wheel loop model: motor.%s = %r, need %s" % (
+                key, v, "> 0 and finite" if key in _POSITIVE else ">= 0 and finite"))
+        out[key] = v
+    return out
+
+
+def wheel_acceleration(motor):
+    """A_w [rad/s^2], the largest wheel acceleration the MCU's wheel loop gives, from a plant's motor
+    keys ``motor`` (closed_loop.plant_motor: the plant YAML and a variant's overlay):
+
+        A_w = min(accel_feedforward_limit + proportional_limit, max_torque) / load_observer_inertia
+
+    the clamps of the loop's acceleration feed-forward and proportional path [N m] over its nominal
+    inertia J_n [kg m^2] (42.87 rad/s^2 on sim/config/plant.yaml). A clamp of 0 (none) counts as
+    max_torque [N m], and the sum is at most max_torque (the loop's torque limit), so that A_w stays
+    an upper bound. Raises ValueError naming the key when a key is missing, a limit is negative or
+    not finite, or load_observer_inertia or max_torque is not > 0."""
+    v = _values(motor, DEPENDS_ON["wheel_acceleration"])
+    limit = v["max_torque"]
+    torque = sum(v[k] or limit for k in ("accel_feedforward_limit", "proportional_limit"))
+    return min(torque, limit) / v["load_observer_inertia"]
+
+
+def robot_model_keys(motor):
+    """The robot model's wheel-loop keys {latency [s], wheel_time_constant [s], wheel_acceleration
+    [rad/s^2], wheel_feedforward [-], wheel_feedforward_acceleration [rad/s^2]} of the MCU's motor
+    keys ``motor`` (MOTOR_KEYS; the module's equations). Raises ValueError naming the key when one
+    is missing, negative or not finite, when load_observer_inertia, max_torque or speed_kp is not
+    > 0 (a loop without a proportional path has no lag of its own to model), or when the
+    feed-forward's bound reaches A_w (the model needs a proportional path beyond it)."""
+    v = _values(motor, MOTOR_KEYS)
+    j_n = v["load_observer_inertia"]
+    keys = {
+        "latency": v["command_delay"],
+        "wheel_time_constant": v["setpoint_time_constant"] + j_n / v["speed_kp"],
+        "wheel_acceleration": wheel_acceleration(motor),
+        "wheel_feedforward": v["accel_feedforward"] / j_n,
+        "wheel_feedforward_acceleration": min(v["accel_feedforward_limit"] or v["max_torque"], v["max_torque"]) / j_n,
+    }
+    if keys["wheel_feedforward_acceleration"] >= keys["wheel_acceleration"]:
+        raise ValueError("wheel loop model: the feed-forward's bound %.4g rad/s^2 (motor.accel_feedforward_limit) "
+                         "reaches the loop's A_w %.4g rad/s^2: no proportional path beyond it (motor.proportional_limit, "
+                         "motor.max_torque)" % (keys["wheel_feedforward_acceleration"], keys["wheel_acceleration"]))
+    return keys
