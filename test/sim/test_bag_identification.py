@@ -6,7 +6,7 @@ stream on the plant with its seeded sensor noise), is identified by scripts/plan
 starting from the default plant; the turning parameters come back within 20 % and the identified
 plant reproduces the bag's responses, and the robot model's sensor noises measured on its rests are
 the plant's, its yaw response (T_s, b_eff) fitted on its turns in place is the plant's, and its
-wheel loop (T_w, A_w) is the identified loop's. Also the bag
+wheel loop's lag T_w is the identified loop's. Also the bag
 reader's errors, and the noise measurement and the yaw response's fit on synthetic streams. No roscore needed (rosbag's
 Python API); deterministic (seeded noise, seeded candidates); ~30 s.
 
@@ -136,26 +136,27 @@ class BagRoundTrip(unittest.TestCase):
         with open(self.fit["robot_model"]) as f:
             self.assertEqual(set(yaml.safe_load(f)), {"encoder_noise", "gyro_noise", "yaw_time_constant",
                                                       "wheel_separation", "turn_shortfall_noise",
-                                                      "wheel_time_constant", "wheel_acceleration"})
+                                                      "wheel_time_constant"})
 
-    def test_a_wheel_loop_without_load_observer_switches_the_turn_shortfalls_on(self):
-        # The variant's loop, identified without observer, leaves a turn's load as a speed error:
-        # the robot model's overlay turns the turn shortfalls on.
+    def test_a_proportional_only_wheel_loop_switches_the_turn_shortfalls_on(self):
+        # The variant's loop, identified without observer or integral path, leaves a turn's load as a
+        # speed error: the robot model's overlay turns the turn shortfalls on.
         model = self.loaded(self.fit["robot_model"])
         self.assertEqual(model["turn_shortfall_noise"], 0.3)
         self.assertLess(self.fit["values"]["load_observer_bandwidth"], bi.OBSERVER_OFF_BANDWIDTH)
+        self.assertLess(self.fit["values"]["speed_ki"], bi.INTEGRAL_OFF_GAIN)
 
     def test_the_robot_models_wheel_loop_is_the_identified_one(self):
         # The variant's proportional-only loop: T_w = setpoint_time_constant + J_n / speed_kp =
         # 0.004661 + 0.0933 / 2.0 = 0.0513 s against the default firmware's 0.01365 s, from the
-        # identified speed_kp (within 20 %, as the turning parameters); A_w from the identified
-        # proportional clamp. The latency is the plant's (within 1 %): not written.
+        # identified speed_kp (within 20 %, as the turning parameters). A_w is not written (the
+        # fit's proportional clamp is unconstrained on this loop), and the latency is the plant's
+        # (within 1 %): both stay config/default.yaml's.
         model = self.loaded(self.fit["robot_model"])
         truth = 0.004661 + 0.0933 / self.truth["speed_kp"]
         self.assertAlmostEqual(model["wheel_time_constant"], truth, delta=TOLERANCE * truth)
-        self.assertAlmostEqual(model["wheel_acceleration"],
-                               (3.243 + self.fit["values"]["proportional_limit"]) / 0.0933, delta=0.01)
-        self.assertEqual(model["latency"], 0.1187)  # config/default.yaml's: the bag's is within 1 %
+        self.assertEqual(model["wheel_acceleration"], 42.87)
+        self.assertEqual(model["latency"], 0.1187)
         self.assertAlmostEqual(self.fit["values"]["command_delay"], 0.1187, delta=0.01 * 0.1187)
         self.assertIn("the robot model's wheel loop: wheel_time_constant", self.out.stdout)
 
@@ -366,19 +367,23 @@ class YawResponse(unittest.TestCase):
             with self.assertRaises(OSError):
                 bag_fit.write_robot_model(os.path.join(tmp, "no_dir", "out.yaml"), None, response, "x.bag")
 
-    def test_the_turn_shortfalls_follow_the_identified_load_observer(self):
+    def test_the_turn_shortfalls_follow_the_identified_load_compensation(self):
         from jackal_aic_tools.identify import bag_fit
-        # The default firmware's observer (24.4 1/s) holds a turn's load: nothing to write; none
-        # (the fit's 0) or one below OBSERVER_OFF_BANDWIDTH does not; not fitted: nothing known.
-        self.assertEqual(bag_fit.turn_load_lines({"load_observer_bandwidth": 24.36}), [])
+        # The default firmware's observer (24.4 1/s) holds a turn's load: nothing to write; a loop
+        # with neither observer (the fit's 0, or below OBSERVER_OFF_BANDWIDTH) nor integral path
+        # (below INTEGRAL_OFF_GAIN) does not; an integral path without observer (the slow
+        # break-away's) winds it up within the turn: nothing; not fitted: nothing known.
+        self.assertEqual(bag_fit.turn_load_lines({"load_observer_bandwidth": 24.36, "speed_ki": 0.0}), [])
+        self.assertEqual(bag_fit.turn_load_lines({"load_observer_bandwidth": 0.0, "speed_ki": 0.4026}), [])
         self.assertEqual(bag_fit.turn_load_lines({"speed_kp": 2.0}), [])
-        for bandwidth in (0.0, 0.1):
-            lines = bag_fit.turn_load_lines({"load_observer_bandwidth": bandwidth})
+        self.assertEqual(bag_fit.turn_load_lines({"load_observer_bandwidth": 0.0}), [])
+        for bandwidth, ki in ((0.0, 0.0), (0.1, 0.005)):
+            lines = bag_fit.turn_load_lines({"load_observer_bandwidth": bandwidth, "speed_ki": ki})
             self.assertEqual(yaml.safe_load("\n".join(lines)), {"turn_shortfall_noise": 0.3})
         with tempfile.TemporaryDirectory() as tmp:
             out = os.path.join(tmp, "out.yaml")
-            keys = bag_fit.write_robot_model(out, None, None, "x.bag",
-                                             bag_fit.turn_load_lines({"load_observer_bandwidth": 0.0}))
+            keys = bag_fit.write_robot_model(out, None, None, "x.bag", bag_fit.turn_load_lines(
+                {"load_observer_bandwidth": 0.0, "speed_ki": 0.0}))
             self.assertEqual(keys, ["turn_shortfall_noise"])
             with open(out) as f:
                 self.assertEqual(yaml.safe_load(f), {"turn_shortfall_noise": 0.3})
@@ -387,20 +392,27 @@ class YawResponse(unittest.TestCase):
         from jackal_aic_tools.identify import bag_fit
         base = identify.read_motor(PLANT)
         # The default firmware's own loop: nothing differs from config/default.yaml's.
-        self.assertEqual(bag_fit.wheel_loop_lines(dict(base), list(bi.BAG_PARAMETERS), base), [])
-        # A gain a fifth of it: T_w; the latency moved 10 %: L; the feed-forward's keys are not
-        # fitted, so not written even where they differ.
-        moved = dict(base, speed_kp=2.0, command_delay=0.13, accel_feedforward=0.1)
-        lines = bag_fit.wheel_loop_lines(moved, ["speed_kp", "command_delay"], base)
+        own = bi.motor_values(base)
+        self.assertEqual(bag_fit.wheel_loop_lines(dict(base), own, base), [])
+        # A gain a fifth of it without observer: T_w; the latency moved 10 %: L; A_w and the
+        # feed-forward's keys are not written even where they differ (the clamp fitted, the
+        # feed-forward not).
+        moved = dict(base, speed_kp=2.0, command_delay=0.13, accel_feedforward=0.1, proportional_limit=3.0,
+                     load_observer_time_constant=0.0)
+        fitted = {"speed_kp": 2.0, "command_delay": 0.13, "proportional_limit": 3.0, "load_observer_bandwidth": 0.0}
+        lines = bag_fit.wheel_loop_lines(moved, fitted, base)
         self.assertEqual(yaml.safe_load("\n".join(lines)),
                          {"latency": 0.13, "wheel_time_constant": float("%.4g" % (0.004661 + 0.0933 / 2.0))})
         self.assertIn("identified on the bag: speed_kp", "\n".join(lines))
+        # With a load observer the gain is not identified: T_w is not written.
+        observed = dict(fitted, load_observer_bandwidth=24.36)
+        self.assertEqual(yaml.safe_load("\n".join(bag_fit.wheel_loop_lines(moved, observed, base))), {"latency": 0.13})
         # Within WHEEL_LOOP_UNCHANGED of the default: left out.
         near = dict(base, command_delay=base["command_delay"] * (1.0 + 0.5 * bag_fit.WHEEL_LOOP_UNCHANGED))
-        self.assertEqual(bag_fit.wheel_loop_lines(near, ["command_delay"], base), [])
+        self.assertEqual(bag_fit.wheel_loop_lines(near, {"command_delay": near["command_delay"]}, base), [])
         # A loop the model cannot describe is an error naming the key.
         with self.assertRaisesRegex(ValueError, "motor.speed_kp"):
-            bag_fit.wheel_loop_lines(dict(base, speed_kp=0.0), ["speed_kp"], base)
+            bag_fit.wheel_loop_lines(dict(base, speed_kp=0.0), fitted, base)
         with tempfile.TemporaryDirectory() as tmp:
             out = os.path.join(tmp, "out.yaml")
             self.assertEqual(bag_fit.write_robot_model(out, None, None, "x.bag", (), lines),

@@ -75,22 +75,31 @@ def wheel_acceleration(motor):
     return min(torque, limit) / v["load_observer_inertia"]
 
 
+def model_key(motor, key):
+    """One robot-model key (DEPENDS_ON's names) of the motor keys ``motor``, by the module's
+    equations, read from the motor keys it depends on only. Raises ValueError naming the motor key
+    when one it needs is missing, negative or not finite, or load_observer_inertia, max_torque or
+    speed_kp is not > 0; KeyError for a name not in DEPENDS_ON."""
+    v = _values(motor, DEPENDS_ON[key])
+    if key == "latency":
+        return v["command_delay"]
+    if key == "wheel_time_constant":
+        return v["setpoint_time_constant"] + v["load_observer_inertia"] / v["speed_kp"]
+    if key == "wheel_acceleration":
+        return wheel_acceleration(motor)
+    if key == "wheel_feedforward":
+        return v["accel_feedforward"] / v["load_observer_inertia"]
+    return min(v["accel_feedforward_limit"] or v["max_torque"], v["max_torque"]) / v["load_observer_inertia"]
+
+
 def robot_model_keys(motor):
     """The robot model's wheel-loop keys {latency [s], wheel_time_constant [s], wheel_acceleration
     [rad/s^2], wheel_feedforward [-], wheel_feedforward_acceleration [rad/s^2]} of the MCU's motor
-    keys ``motor`` (MOTOR_KEYS; the module's equations). Raises ValueError naming the key when one
-    is missing, negative or not finite, when load_observer_inertia, max_torque or speed_kp is not
-    > 0 (a loop without a proportional path has no lag of its own to model), or when the
-    feed-forward's bound reaches A_w (the model needs a proportional path beyond it)."""
-    v = _values(motor, MOTOR_KEYS)
-    j_n = v["load_observer_inertia"]
-    keys = {
-        "latency": v["command_delay"],
-        "wheel_time_constant": v["setpoint_time_constant"] + j_n / v["speed_kp"],
-        "wheel_acceleration": wheel_acceleration(motor),
-        "wheel_feedforward": v["accel_feedforward"] / j_n,
-        "wheel_feedforward_acceleration": min(v["accel_feedforward_limit"] or v["max_torque"], v["max_torque"]) / j_n,
-    }
+    keys ``motor`` (MOTOR_KEYS; the module's equations, model_key()). Raises ValueError naming the
+    key when one is missing, negative or not finite, when load_observer_inertia, max_torque or
+    speed_kp is not > 0 (a loop without a proportional path has no lag of its own to model), or when
+    the feed-forward's bound reaches A_w (the model needs a proportional path beyond it)."""
+    keys = {key: model_key(motor, key) for key in DEPENDS_ON}
     if keys["wheel_feedforward_acceleration"] >= keys["wheel_acceleration"]:
         raise ValueError("wheel loop model: the feed-forward's bound %.4g rad/s^2 (motor.accel_feedforward_limit) "
                          "reaches the loop's A_w %.4g rad/s^2: no proportional path beyond it (motor.proportional_limit, "

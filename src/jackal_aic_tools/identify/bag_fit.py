@@ -60,54 +60,68 @@ TURN_SHORTFALL_NOISE = 0.3
 
 def turn_load_lines(values):
     """Controller-overlay lines that switch the robot model's turn shortfalls on (turn_shortfall_noise
-    TURN_SHORTFALL_NOISE) when the identified wheel loop ``values`` (fit_bag()'s fitted values) has no
-    load observer: load_observer_bandwidth below bag_identification.OBSERVER_OFF_BANDWIDTH. Such a
-    loop leaves a turn's scrub load as a steady speed error for the turn (its integral path, if any,
-    is far slower: the default firmware's speed_kp / speed_ki is 21 s), as the turn-deficit firmware
-    does (doc/robot_data.md). Returns [] when the loop has an observer or its bandwidth was not fitted."""
+    TURN_SHORTFALL_NOISE) when the identified wheel loop ``values`` (fit_bag()'s fitted values) is
+    proportional only: no load observer (load_observer_bandwidth below
+    bag_identification.OBSERVER_OFF_BANDWIDTH) and no integral path (speed_ki below
+    bag_identification.INTEGRAL_OFF_GAIN). Such a loop leaves a turn's scrub load as a steady speed
+    error for the turn, the same at each turn, as the turn-deficit firmware does; the turn shortfalls
+    learn it and carry it, with the turn's sign, into the next (doc/active_inference.md, 'The robot
+    model'). An integral path winds a turn's load up within the turn, so the error is a transient
+    that the carried shortfall mistakes for a deficit (on the slow break-away firmware they cost its
+    tracking 14 %: doc/robot_data.md). Returns [] otherwise, or when either was not fitted."""
     bandwidth = values.get("load_observer_bandwidth")
-    if bandwidth is None or bandwidth >= bag_identification.OBSERVER_OFF_BANDWIDTH:
+    ki = values.get("speed_ki")
+    if bandwidth is None or ki is None or bandwidth >= bag_identification.OBSERVER_OFF_BANDWIDTH or \
+            ki >= bag_identification.INTEGRAL_OFF_GAIN:
         return []
-    return ["# [rad/s^0.5] q_e: the identified wheel loop has no load observer (bandwidth %.3g 1/s), so a"
-            % bandwidth,
-            "# turn's scrub load stays a speed error: the turn shortfalls learn it.",
+    return ["# [rad/s^0.5] q_e: the identified wheel loop is proportional only (no load observer: bandwidth",
+            "# %.3g 1/s; no integral path: speed_ki %.3g N m/rad), so a turn's scrub load stays a speed error:"
+            % (bandwidth, ki),
+            "# the turn shortfalls learn it.",
             "turn_shortfall_noise: %.4g" % TURN_SHORTFALL_NOISE]
 
 
 #: [-] A robot-model key the bag's fit moved by less than this share of config/default.yaml's value
 #: (the plant's identified loop) is left out of the overlay: the default already holds it.
 WHEEL_LOOP_UNCHANGED = 0.01
-#: The equation of each wheel-loop key, for its comment (common.wheel_loop_model).
-WHEEL_LOOP_EQUATIONS = {
+#: The robot model's wheel-loop keys a bag identifies (common.wheel_loop_model), with their meaning
+#: and equation for the comment: the latency, and T_w, the fitted proportional gain's lag, where the
+#: identified loop has no load observer. With an observer the proportional gain acts on small errors
+#: only and a bag hardly constrains it (a bag of the default plant identified from slow_breakaway.yaml:
+#: speed_kp 1.952 against 10.38; its T_w took the 0.5 m/s step's overshoot from 0.4 to 2.0 %), so
+#: T_w stays the default's. A_w is not among them: of its three torques the fit searches only the
+#: proportional clamp, which a proportional-only loop's bag hardly constrains, and the feed-forward's
+#: bound and the current limit stay the plant's (on the slow break-away's bag, A_w 45.87 against its
+#: 42.87 cost its tracking 6.5 %). doc/robot_data.md has the measurements.
+WHEEL_LOOP_KEYS = {
     "latency": ("[s] L, the command's latency to the wheels", "command_delay"),
     "wheel_time_constant": ("[s] T_w, the wheel loop's proportional lag",
                             "setpoint_time_constant + load_observer_inertia / speed_kp"),
-    "wheel_acceleration": ("[rad/s^2] A_w, the wheel loop's largest acceleration",
-                           "min(accel_feedforward_limit + proportional_limit, max_torque) / load_observer_inertia"),
-    "wheel_feedforward": ("[-] K_ff, the share of the command's rate fed forward",
-                          "accel_feedforward / load_observer_inertia"),
-    "wheel_feedforward_acceleration": ("[rad/s^2] A_ff, that feed-forward's bound",
-                                       "min(accel_feedforward_limit, max_torque) / load_observer_inertia"),
 }
 
 
 def wheel_loop_lines(motor, fitted, base):
-    """Controller-overlay lines of the robot model's wheel loop (common.wheel_loop_model.robot_model_keys)
-    on the identified wheel loop ``motor`` (the plant's motor keys with the bag's fitted values,
-    overlay_values()), for the keys that depend on a fitted motor key (``fitted``, their names) and
-    differ by more than WHEEL_LOOP_UNCHANGED from those of ``base`` (the plant's motor keys the fit
-    started from: sim/config/plant.yaml's model is config/default.yaml's); each commented with its
-    equation and the motor values. Returns [] when none differs. Raises ValueError
-    (robot_model_keys) when either loop has no model."""
-    keys = wheel_loop_model.robot_model_keys(motor)
-    ref = wheel_loop_model.robot_model_keys(base)
+    """Controller-overlay lines of the robot model's wheel loop (WHEEL_LOOP_KEYS, by
+    common.wheel_loop_model.model_key) on the identified wheel loop ``motor`` (the plant's motor keys
+    with the bag's fitted values, overlay_values()), for the keys that depend on a fitted motor key
+    (``fitted``: fit_bag()'s fitted values by name) and differ by more than WHEEL_LOOP_UNCHANGED from
+    those of ``base`` (the plant's motor keys the fit started from: sim/config/plant.yaml's model is
+    config/default.yaml's); T_w only where the fitted loop has no load observer (its
+    load_observer_bandwidth fitted and below bag_identification.OBSERVER_OFF_BANDWIDTH). Each is
+    commented with its equation and the motor values. Returns [] when none is written. Raises
+    ValueError (model_key) when a motor key it needs is missing or invalid."""
+    bandwidth = fitted.get("load_observer_bandwidth")
     lines = []
-    for key, value in keys.items():
+    for key, (meaning, equation) in WHEEL_LOOP_KEYS.items():
+        if key == "wheel_time_constant" and (bandwidth is None or
+                                             bandwidth >= bag_identification.OBSERVER_OFF_BANDWIDTH):
+            continue
+        value = wheel_loop_model.model_key(motor, key)
+        ref = wheel_loop_model.model_key(base, key)
         sources = wheel_loop_model.DEPENDS_ON[key]
         moved = [k for k in sources if k in fitted]
-        if not moved or abs(value - ref[key]) <= WHEEL_LOOP_UNCHANGED * abs(ref[key]):
+        if not moved or abs(value - ref) <= WHEEL_LOOP_UNCHANGED * abs(ref):
             continue
-        meaning, equation = WHEEL_LOOP_EQUATIONS[key]
         lines += ["# %s: %s" % (meaning, equation),
                   "#   = f(%s); identified on the bag: %s" % (
                       ", ".join("%s %.4g" % (k, float(motor[k])) for k in sources), ", ".join(moved)),
@@ -223,9 +237,12 @@ def run(a, tool):
     model_out = None
     turn_load = turn_load_lines(r["values"])
     identified = dict(base, **overlay_values(r["values"]))
-    wheel_loop = robot_model_part("wheel loop", "derived", lambda: wheel_loop_lines(identified, keys, base),
+    wheel_loop = robot_model_part("wheel loop", "derived", lambda: wheel_loop_lines(identified, r["values"], base),
                                   lambda lines: ", ".join(line for line in lines if not line.startswith("#"))
-                                  or "that of config/default.yaml (within %g %%)" % (100 * WHEEL_LOOP_UNCHANGED))
+                                  or "that of config/default.yaml (L within %g %%%s)" % (
+                                      100 * WHEEL_LOOP_UNCHANGED, "" if r["values"].get("load_observer_bandwidth", 1.0)
+                                      < bag_identification.OBSERVER_OFF_BANDWIDTH else "; T_w is not identified with a "
+                                      "load observer"))
     wheel_loop = wheel_loop or []
     if noise is not None or yaw is not None or turn_load or wheel_loop:
         model_out = a.model_out or os.path.splitext(a.bag)[0] + "_robot_model.yaml"

@@ -248,6 +248,9 @@ BAG_PARAMETERS = {
 #: The turning parameters: what decides how a turn's load is held.
 TURNING = ("speed_kp", "speed_ki", "load_observer_bandwidth")
 OBSERVER_OFF_BANDWIDTH = 0.2  # 1/s
+#: [N m/rad] An integral gain below this is the fit's "none" (its range starts at 0): about a fiftieth
+#: of the default firmware's 0.4892, a fortieth of the slow break-away firmware's identified 0.40.
+INTEGRAL_OFF_GAIN = 0.01
 
 
 def motor_sets(values):
