@@ -6,7 +6,8 @@ stream on the plant with its seeded sensor noise), is identified by scripts/plan
 starting from the default plant; the turning parameters come back within 20 % and the identified
 plant reproduces the bag's responses, and the robot model's sensor noises measured on its rests are
 the plant's, its yaw response (T_s, b_eff) fitted on its turns in place is the plant's, and its
-wheel loop's lag T_w is the identified loop's. Also the bag
+wheel loop's lag T_w is the identified loop's, and that robot model drives the variant better than
+the default configuration. Also the bag
 reader's errors, and the noise measurement and the yaw response's fit on synthetic streams. No roscore needed (rosbag's
 Python API); deterministic (seeded noise, seeded candidates); ~30 s.
 
@@ -159,6 +160,30 @@ class BagRoundTrip(unittest.TestCase):
         self.assertEqual(model["latency"], 0.1187)
         self.assertAlmostEqual(self.fit["values"]["command_delay"], 0.1187, delta=0.01 * 0.1187)
         self.assertIn("the robot model's wheel loop: wheel_time_constant", self.out.stdout)
+
+    def drive(self, sets):
+        """closed_loop_run's JSON: the AIC (config/default.yaml, ``sets`` as --aic-set) on the
+        variant's plant over sim/profiles/s_curves.csv, seeded noise."""
+        exe = cli.find_executable("closed_loop_run", os.path.join(ROOT, "scripts", "plant_identify.py"), "test")
+        cmd = [exe, "--controller", "aic", "--aic-config", os.path.join(ROOT, "config", "default.yaml"), "--noise",
+               "--overlay", VARIANT, "--profile", os.path.join(ROOT, "sim", "profiles", "s_curves.csv")]
+        for key, value in sets.items():
+            cmd += ["--aic-set", "%s=%s" % (key, value)]
+        out = subprocess.run(cmd, capture_output=True, text=True, check=False)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        return json.loads(out.stdout)
+
+    def test_the_robot_model_identified_on_the_bag_drives_the_firmware_better(self):
+        # What the bag is for: the robot model's overlay it gives, loaded over config/default.yaml,
+        # follows the firmware's S-curves' turns where the default configuration (the Jackal MCU's
+        # loop, no turn shortfalls) is left behind by the firmware's deficit: yaw-rate RMS error
+        # 0.068 against 0.186 rad/s (doc/robot_data.md, the round trip), asked here to halve it.
+        with open(self.fit["robot_model"]) as f:
+            overlay = yaml.safe_load(f)
+        default = self.drive({})["tracking"]["truth"]
+        identified = self.drive(overlay)["tracking"]["truth"]
+        self.assertLess(identified["wz"]["rms"], 0.5 * default["wz"]["rms"])
+        self.assertLess(identified["vx"]["rms"], default["vx"]["rms"])
 
     def test_the_overlay_loads_and_holds_the_identified_keys(self):
         with open(self.overlay) as f:
