@@ -435,6 +435,9 @@ class YawResponse(unittest.TestCase):
         # Within WHEEL_LOOP_UNCHANGED of the default: left out.
         near = dict(base, command_delay=base["command_delay"] * (1.0 + 0.5 * bag_fit.WHEEL_LOOP_UNCHANGED))
         self.assertEqual(bag_fit.wheel_loop_lines(near, {"command_delay": near["command_delay"]}, base), [])
+        self.assertIn("T_w is identified only on a loop without load observer",
+                      bag_fit.describe_wheel_loop([], observed))
+        self.assertEqual(bag_fit.describe_wheel_loop(lines, fitted), "latency: 0.13, wheel_time_constant: 0.05131")
         # A loop the model cannot describe is an error naming the key.
         with self.assertRaisesRegex(ValueError, "motor.speed_kp"):
             bag_fit.wheel_loop_lines(dict(base, speed_kp=0.0), fitted, base)

@@ -129,6 +129,18 @@ def wheel_loop_lines(motor, fitted, base):
     return lines
 
 
+def describe_wheel_loop(lines, fitted):
+    """One line for the log: the keys of wheel_loop_lines()'s ``lines`` with their values, or why
+    none is written (``fitted``: fit_bag()'s fitted values by name)."""
+    written = [line for line in lines if not line.startswith("#")]
+    if written:
+        return ", ".join(written)
+    bandwidth = fitted.get("load_observer_bandwidth")
+    observer = bandwidth is None or bandwidth >= bag_identification.OBSERVER_OFF_BANDWIDTH
+    return "config/default.yaml's (L within %g %%%s)" % (
+        100 * WHEEL_LOOP_UNCHANGED, "; T_w is identified only on a loop without load observer" if observer else "")
+
+
 def write_robot_model(path, noise, yaw, bag, turn_load=(), wheel_loop=()):
     """Write what ``bag`` identified of the robot model as one controller overlay at ``path``: the
     bag's sensor noises (``noise``, sensor_noise(); None: not measured), yaw response (``yaw``,
@@ -238,12 +250,7 @@ def run(a, tool):
     turn_load = turn_load_lines(r["values"])
     identified = dict(base, **overlay_values(r["values"]))
     wheel_loop = robot_model_part("wheel loop", "derived", lambda: wheel_loop_lines(identified, r["values"], base),
-                                  lambda lines: ", ".join(line for line in lines if not line.startswith("#"))
-                                  or "that of config/default.yaml (L within %g %%%s)" % (
-                                      100 * WHEEL_LOOP_UNCHANGED, "" if r["values"].get("load_observer_bandwidth", 1.0)
-                                      < bag_identification.OBSERVER_OFF_BANDWIDTH else "; T_w is not identified with a "
-                                      "load observer"))
-    wheel_loop = wheel_loop or []
+                                  lambda lines: describe_wheel_loop(lines, r["values"])) or []
     if noise is not None or yaw is not None or turn_load or wheel_loop:
         model_out = a.model_out or os.path.splitext(a.bag)[0] + "_robot_model.yaml"
         try:
