@@ -522,4 +522,4 @@ class RobotModelWheelLoopCheck(unittest.TestCase):
 
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
-    pyunit.main("track", TrackCheck, FloorAccelCheck)
+    pyunit.main("track", TrackCheck, FloorAccelCheck, RobotModelWheelLoopCheck)
