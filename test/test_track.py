@@ -505,6 +505,11 @@ class RobotModelWheelLoopCheck(unittest.TestCase):
         self.assertAlmostEqual(keys["wheel_acceleration"], 4.0 / 0.1)  # no clamp: the current limit
         self.assertAlmostEqual(keys["wheel_feedforward"], 0.5)
         self.assertAlmostEqual(keys["wheel_feedforward_acceleration"], 10.0)
+        # The equations written into YAML comments name the keys each is computed from.
+        self.assertEqual(sorted(wheel_loop_model.EQUATIONS), sorted(wheel_loop_model.DEPENDS_ON))
+        for key, depends_on in wheel_loop_model.DEPENDS_ON.items():
+            for motor_key in depends_on:
+                self.assertIn(motor_key, wheel_loop_model.EQUATIONS[key], key)
         # A feed-forward without its own clamp reaches the current limit: no proportional path
         # beyond it, no model.
         with self.assertRaisesRegex(ValueError, "no proportional path"):

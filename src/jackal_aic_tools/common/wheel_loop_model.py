@@ -25,10 +25,16 @@ the robot model's overlay (jackal_aic_tools.identify.bag_fit).
 """
 import math
 
-#: The motor keys the robot model's wheel loop is computed from.
-MOTOR_KEYS = ("command_delay", "setpoint_time_constant", "speed_kp", "proportional_limit", "accel_feedforward",
-              "accel_feedforward_limit", "load_observer_inertia", "max_torque")
-#: Motor key(s) -> the robot model's keys that depend on them.
+#: Each robot-model key's equation in the motor keys (the module's equations, as text for the
+#: comments of the YAML a tool writes; model_key() computes them).
+EQUATIONS = {
+    "latency": "command_delay",
+    "wheel_time_constant": "setpoint_time_constant + load_observer_inertia / speed_kp",
+    "wheel_acceleration": "min(accel_feedforward_limit + proportional_limit, max_torque) / load_observer_inertia",
+    "wheel_feedforward": "accel_feedforward / load_observer_inertia",
+    "wheel_feedforward_acceleration": "min(accel_feedforward_limit, max_torque) / load_observer_inertia",
+}
+#: Each robot-model key -> the motor keys it depends on.
 DEPENDS_ON = {
     "latency": ("command_delay",),
     "wheel_time_constant": ("setpoint_time_constant", "load_observer_inertia", "speed_kp"),
@@ -95,7 +101,7 @@ def model_key(motor, key):
 def robot_model_keys(motor):
     """The robot model's wheel-loop keys {latency [s], wheel_time_constant [s], wheel_acceleration
     [rad/s^2], wheel_feedforward [-], wheel_feedforward_acceleration [rad/s^2]} of the MCU's motor
-    keys ``motor`` (MOTOR_KEYS; the module's equations, model_key()). Raises ValueError naming the
+    keys ``motor`` (those of DEPENDS_ON; the module's equations, model_key()). Raises ValueError naming the
     key when one is missing, negative or not finite, when load_observer_inertia, max_torque or
     speed_kp is not > 0 (a loop without a proportional path has no lag of its own to model), or when
     the feed-forward's bound reaches A_w (the model needs a proportional path beyond it)."""

@@ -85,7 +85,7 @@ def turn_load_lines(values):
 #: (the plant's identified loop) is left out of the overlay: the default already holds it.
 WHEEL_LOOP_UNCHANGED = 0.01
 #: The robot model's wheel-loop keys a bag identifies (common.wheel_loop_model), with their meaning
-#: and equation for the comment: the latency, and T_w, the fitted proportional gain's lag, where the
+#: for the comment: the latency, and T_w, the fitted proportional gain's lag, where the
 #: identified loop has no load observer. With an observer the proportional gain acts on small errors
 #: only and a bag hardly constrains it (a bag of the default plant identified from slow_breakaway.yaml:
 #: speed_kp 1.952 against 10.38; its T_w took the 0.5 m/s step's overshoot from 0.4 to 2.0 %), so
@@ -94,9 +94,8 @@ WHEEL_LOOP_UNCHANGED = 0.01
 #: bound and the current limit stay the plant's (on the slow break-away's bag, A_w 45.87 against its
 #: 42.87 cost its tracking 6.5 %). doc/robot_data.md has the measurements.
 WHEEL_LOOP_KEYS = {
-    "latency": ("[s] L, the command's latency to the wheels", "command_delay"),
-    "wheel_time_constant": ("[s] T_w, the wheel loop's proportional lag",
-                            "setpoint_time_constant + load_observer_inertia / speed_kp"),
+    "latency": "[s] L, the command's latency to the wheels",
+    "wheel_time_constant": "[s] T_w, the wheel loop's proportional lag",
 }
 
 
@@ -112,7 +111,7 @@ def wheel_loop_lines(motor, fitted, base):
     ValueError (model_key) when a motor key it needs is missing or invalid."""
     bandwidth = fitted.get("load_observer_bandwidth")
     lines = []
-    for key, (meaning, equation) in WHEEL_LOOP_KEYS.items():
+    for key, meaning in WHEEL_LOOP_KEYS.items():
         if key == "wheel_time_constant" and (bandwidth is None or
                                              bandwidth >= bag_identification.OBSERVER_OFF_BANDWIDTH):
             continue
@@ -122,7 +121,7 @@ def wheel_loop_lines(motor, fitted, base):
         moved = [k for k in sources if k in fitted]
         if not moved or abs(value - ref) <= WHEEL_LOOP_UNCHANGED * abs(ref):
             continue
-        lines += ["# %s: %s" % (meaning, equation),
+        lines += ["# %s: %s" % (meaning, wheel_loop_model.EQUATIONS[key]),
                   "#   = f(%s); identified on the bag: %s" % (
                       ", ".join("%s %.4g" % (k, float(motor[k])) for k in sources), ", ".join(moved)),
                   "%s: %.4g" % (key, value)]
