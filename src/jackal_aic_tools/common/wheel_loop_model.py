@@ -75,7 +75,11 @@ def wheel_acceleration(motor):
     max_torque [N m], and the sum is at most max_torque (the loop's torque limit), so that A_w stays
     an upper bound. Raises ValueError naming the key when a key is missing, a limit is negative or
     not finite, or load_observer_inertia or max_torque is not > 0."""
-    v = _values(motor, DEPENDS_ON["wheel_acceleration"])
+    return _wheel_acceleration(_values(motor, DEPENDS_ON["wheel_acceleration"]))
+
+
+def _wheel_acceleration(v):
+    """A_w [rad/s^2] of the validated motor values ``v`` (_values() of its DEPENDS_ON keys)."""
     limit = v["max_torque"]
     torque = sum(v[k] or limit for k in ("accel_feedforward_limit", "proportional_limit"))
     return min(torque, limit) / v["load_observer_inertia"]
@@ -92,7 +96,7 @@ def model_key(motor, key):
     if key == "wheel_time_constant":
         return v["setpoint_time_constant"] + v["load_observer_inertia"] / v["speed_kp"]
     if key == "wheel_acceleration":
-        return wheel_acceleration(motor)
+        return _wheel_acceleration(v)
     if key == "wheel_feedforward":
         return v["accel_feedforward"] / v["load_observer_inertia"]
     return min(v["accel_feedforward_limit"] or v["max_torque"], v["max_torque"]) / v["load_observer_inertia"]
