@@ -8,7 +8,8 @@ plant reproduces the bag's responses, and the robot model's sensor noises measur
 the plant's, its yaw response (T_s, b_eff) fitted on its turns in place is the plant's, and its
 wheel loop's lag T_w is the identified loop's, and that robot model drives the variant better than
 the default configuration. Also the bag
-reader's errors, and the noise measurement and the yaw response's fit on synthetic streams. No roscore needed (rosbag's
+reader's errors, the noise measurement and the yaw response's fit on synthetic streams, and what is
+written of a fit (the overlays, the warning for a bag the fit does not reproduce). No roscore needed (rosbag's
 Python API); deterministic (seeded noise, seeded candidates); ~30 s.
 
 Run: python3 test/sim/test_bag_identification.py (in the sourced workspace, plant_replay built).
@@ -100,6 +101,10 @@ class BagRoundTrip(unittest.TestCase):
             err, rms = self.fit["errors"][stream], self.fit["errors"][stream + "_rms"]
             self.assertLess(err, 0.05 * rms, stream)
             self.assertLess(err, 0.2 * self.fit["start_errors"][stream], stream)
+        # Reproduced: no warning, and the default plant where the fit starts would have drawn one.
+        self.assertEqual(self.fit["poorly_reproduced"], {})
+        self.assertNotIn("poorly", self.out.stderr)
+        self.assertTrue(bi.poorly_reproduced(self.fit["start_errors"]))
         bag, identified = self.fit["deficits"]["bag"], self.fit["deficits"]["replay"]
         self.assertEqual(len(bag), 2)  # the short sequence's two turns in place
         for (w, d_bag), (_, d_id) in zip(bag, identified):
@@ -377,6 +382,19 @@ class YawResponse(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "synthetic.bag: 0 gyro samples in 0 turns in place"):
             yr.yaw_response(self.data(cmd, lambda t: 0.0 * t, 0.02, 0.55, 0.0))
 
+    def test_a_gyro_that_turns_against_the_wheels_is_an_error(self):
+        cmd = [(0, 0, 0, 0), (1, 0, -2.9, 2.9), (3.5, 0, 0, 0), (11.99, 0, 0, 0)]
+        d = self.data(cmd, lambda t: np.where((t > 1.1) & (t < 3.6), 5.8, 0.0), 0.02, 0.55, 0.0)
+        d.gyro[:, 1] *= -1.0  # the IMU mounted upside down
+        with self.assertRaisesRegex(ValueError, "does not turn with the wheels"):
+            yr.yaw_response(d)
+
+
+class RobotModelOverlay(unittest.TestCase):
+    """What plant_identify.py --bag writes of a fit (jackal_aic_tools.identify.bag_fit, no bag): the
+    robot model's overlay, the turn shortfalls' switch, the wheel loop's keys, and the warning when
+    the identified plant does not reproduce the bag."""
+
     def test_the_robot_models_overlay_holds_what_the_bag_gave(self):
         from jackal_aic_tools.identify import bag_fit
         with tempfile.TemporaryDirectory() as tmp:
@@ -447,22 +465,52 @@ class YawResponse(unittest.TestCase):
             self.assertEqual(bag_fit.write_robot_model(out, None, None, "x.bag", (), lines),
                              ["latency", "wheel_time_constant"])
 
-    def test_a_gyro_that_turns_against_the_wheels_is_an_error(self):
-        cmd = [(0, 0, 0, 0), (1, 0, -2.9, 2.9), (3.5, 0, 0, 0), (11.99, 0, 0, 0)]
-        d = self.data(cmd, lambda t: np.where((t > 1.1) & (t < 3.6), 5.8, 0.0), 0.02, 0.55, 0.0)
-        d.gyro[:, 1] *= -1.0  # the IMU mounted upside down
-        with self.assertRaisesRegex(ValueError, "does not turn with the wheels"):
-            yr.yaw_response(d)
+    def test_a_stream_the_fit_does_not_reproduce_is_named(self):
+        from jackal_aic_tools.identify import bag_fit
+        # The shares are fit_cost()'s terms: RMS error over max(the stream's RMS, 0.1).
+        errors = {"left": 0.02, "left_rms": 2.0, "right": 0.3, "right_rms": 2.0, "yaw": 0.03, "yaw_rms": 0.05}
+        shares = bi.stream_shares(errors)
+        self.assertEqual(shares, {"left": 0.01, "right": 0.15, "yaw": 0.3})
+        self.assertAlmostEqual(bi.fit_cost(errors), (0.01 ** 2 + 0.15 ** 2 + 0.3 ** 2) / 3.0)
+        poor = bi.poorly_reproduced(errors)
+        self.assertEqual(poor, {"right": 0.15, "yaw": 0.3})
+        self.assertEqual(bi.poorly_reproduced(errors, share=0.5), {})
+        self.assertEqual(bi.poorly_reproduced(dict(errors, left=float("nan"))).keys(), {"left", "right", "yaw"})
+        for bad in (0.0, -0.1, float("nan"), float("inf")):
+            with self.assertRaisesRegex(ValueError, "share"):
+                bi.poorly_reproduced(errors, share=bad)
+        warning = bag_fit.describe_poor_fit(poor)
+        self.assertIn("right wheels (15.0 %), gyro yaw (30.0 %) poorly", warning)
+        self.assertIn("--overlay", warning)
+        self.assertIsNone(bag_fit.poor_fit_comment({}))
+        # Both overlays carry it as a comment; nothing else changes.
+        with tempfile.TemporaryDirectory() as tmp:
+            base = identify.read_motor(PLANT)
+            for given in (None, poor):
+                loop = os.path.join(tmp, "loop.yaml")
+                model = os.path.join(tmp, "model.yaml")
+                self.assertEqual(bag_fit.write_overlay(loop, {"speed_kp": 2.0}, base, "x.bag", 0.01, given),
+                                 ["speed_kp"])
+                bag_fit.write_robot_model(model, None, None, "x.bag", bag_fit.turn_load_lines(
+                    {"load_observer_bandwidth": 0.0, "speed_ki": 0.0}), (), given)
+                for path, expected in ((loop, {"motor": {"speed_kp": 2.0}}), (model, {"turn_shortfall_noise": 0.3})):
+                    with open(path) as f:
+                        text = f.read()
+                    self.assertEqual(yaml.safe_load(text), expected)
+                    self.assertEqual("Poorly reproduced by the fit" in text, given is not None, path)
+                    if given:
+                        self.assertIn("right wheels 15.0 %, gyro yaw 30.0 %", text)
 
 
 def suite():
     """The test cases (one JUnit result through rosunit)."""
     loader = unittest.TestLoader()
     return unittest.TestSuite([loader.loadTestsFromTestCase(BagRoundTrip), loader.loadTestsFromTestCase(BadBags),
-                               loader.loadTestsFromTestCase(SensorNoise), loader.loadTestsFromTestCase(YawResponse)])
+                               loader.loadTestsFromTestCase(SensorNoise), loader.loadTestsFromTestCase(YawResponse),
+                               loader.loadTestsFromTestCase(RobotModelOverlay)])
 
 
 if __name__ == "__main__":
     sys.path.insert(0, os.path.dirname(HERE))  # test/pyunit.py
     import pyunit  # noqa: E402  (the test folder is not a package)
-    pyunit.main("bag_identification", BagRoundTrip, BadBags, SensorNoise, YawResponse)
+    pyunit.main("bag_identification", BagRoundTrip, BadBags, SensorNoise, YawResponse, RobotModelOverlay)

@@ -33,9 +33,33 @@ def overlay_values(values):
     return out
 
 
-def write_overlay(path, values, base, bag, cost):
+def poor_fit_comment(poor):
+    """The overlays' comment line naming the streams ``poor`` ({stream: share},
+    bag_identification.poorly_reproduced()) the identified plant reproduces poorly; None when empty."""
+    if not poor:
+        return None
+    return "# Poorly reproduced by the fit (RMS error / the stream's RMS above %g %%): %s." % (
+        100.0 * bag_identification.POOR_FIT_SHARE,
+        ", ".join("%s %.1f %%" % (bag_identification.STREAMS[k], 100.0 * v) for k, v in poor.items()))
+
+
+def describe_poor_fit(poor):
+    """The warning for the streams ``poor`` ({stream: share}, bag_identification.poorly_reproduced(),
+    not empty) the identified plant does not reproduce: what differs and what to do."""
+    return ("plant_identify: warning: the identified plant reproduces the bag's %s poorly (RMS error above "
+            "%g %% of the stream's RMS): something the fit does not search differs (the floor's friction, a "
+            "payload's mass or position, the MCU's feed-forwards or the integral's error clamp; give those known "
+            "with --overlay and identify again). The overlays written from this fit are doubtful: compare the "
+            "robot model's with config/default.yaml in simulation (aic_compare.py, doc/tuning.md) before the robot."
+            % (", ".join("%s (%.1f %%)" % (bag_identification.STREAMS[k], 100.0 * v) for k, v in poor.items()),
+               100.0 * bag_identification.POOR_FIT_SHARE))
+
+
+def write_overlay(path, values, base, bag, cost, poor=None):
     """Write the identified motor values that differ from ``base`` (the plant YAML's motor section)
-    as an overlay YAML, commented key by key; returns the keys written."""
+    as an overlay YAML, commented key by key, with a comment naming the streams the fit reproduces
+    poorly (``poor``, bag_identification.poorly_reproduced(); None or empty: none); returns the keys
+    written. Raises OSError if ``path`` cannot be written."""
     keys = [k for k, v in values.items()
             if k not in base or abs(v - base[k]) > 1e-3 * max(abs(base[k]), 1e-6)]
     with open(path, "w") as f:
@@ -43,6 +67,8 @@ def write_overlay(path, values, base, bag, cost):
                 "# Overlay of sim/config/plant.yaml: only the keys that differ. Use it with --overlay FILE\n"
                 "# (closed_loop_run, plant_fit, plant_calibrate, plant_replay) or the launch argument\n"
                 "# plant_overlay (sim.launch, plant.launch).\n" % (os.path.basename(bag), cost))
+        if poor:
+            f.write(poor_fit_comment(poor) + "\n")
         if keys:
             f.write("motor:\n")
             for k in keys:
@@ -140,12 +166,13 @@ def describe_wheel_loop(lines, fitted):
         100 * WHEEL_LOOP_UNCHANGED, "; T_w is identified only on a loop without load observer" if observer else "")
 
 
-def write_robot_model(path, noise, yaw, bag, turn_load=(), wheel_loop=()):
+def write_robot_model(path, noise, yaw, bag, turn_load=(), wheel_loop=(), poor=None):
     """Write what ``bag`` identified of the robot model as one controller overlay at ``path``: the
     bag's sensor noises (``noise``, sensor_noise(); None: not measured), yaw response (``yaw``,
     yaw_response(); None: not fitted), the turn shortfalls' switch (``turn_load``,
     turn_load_lines()) and the wheel loop's keys (``wheel_loop``, wheel_loop_lines()), each
-    commented with its source. Load it alone after config/default.yaml,
+    commented with its source, and the streams the wheel loop's fit reproduces poorly (``poor``,
+    poor_fit_comment()). Load it alone after config/default.yaml,
     whose belief model is the robot model (the launch files' one overlay). Returns the keys the bag
     gave (an empty list writes a file of comments only). Raises OSError if ``path`` cannot be
     written."""
@@ -157,6 +184,8 @@ def write_robot_model(path, noise, yaw, bag, turn_load=(), wheel_loop=()):
                 "# config/default.yaml. Load it as the one controller overlay, e.g.\n"
                 "#   roslaunch jackal_aic robot.launch overlay:=%s\n\n# ---- measured on %s\n"
                 % (bag, os.path.abspath(path), bag))
+        if poor:
+            f.write(poor_fit_comment(poor) + "\n")
         f.write("\n".join(lines) + "\n")
     return keys
 
@@ -225,11 +254,17 @@ def run(a, tool):
     for k in keys:
         print("%-24s | %10.4g | %10.4g%s" % (k, r["start"][k], r["values"][k],
                                              "  (turning)" if k in bag_identification.TURNING else ""))
-    print("\n%-24s | %10s | %10s | %10s" % ("stream (RMS error)", "plant", "identified", "bag's RMS"))
-    for name, label in (("left", "left wheels [rad/s]"), ("right", "right wheels [rad/s]"), ("yaw", "gyro yaw [rad/s]")):
-        print("%-24s | %10.4f | %10.4f | %10.4f" % (label, r["start_errors"][name], r["errors"][name],
-                                                   r["errors"][name + "_rms"]))
+    print("\n%-24s | %10s | %10s | %10s | %16s" % ("stream (RMS error)", "plant", "identified", "bag's RMS",
+                                                   "identified / RMS"))
+    shares = bag_identification.stream_shares(r["errors"])
+    for name, label in bag_identification.STREAMS.items():
+        print("%-24s | %10.4f | %10.4f | %10.4f | %14.1f %%" % (label + " [rad/s]", r["start_errors"][name],
+                                                              r["errors"][name], r["errors"][name + "_rms"],
+                                                              100.0 * shares[name]))
     print("%-24s | %10.4f | %10.4f |" % ("cost", r["start_cost"], r["cost"]))
+    poor = bag_identification.poorly_reproduced(r["errors"])
+    if poor:
+        print(describe_poor_fit(poor), file=sys.stderr)
     cmd = data.cmd if not data.cmd_is_twist else None
     deficits = {}
     if cmd is not None:
@@ -243,7 +278,7 @@ def run(a, tool):
             for i, (w, d) in enumerate(deficits["bag"]):
                 print("%-10.2f | %8.3f | %8.3f | %10.3f" % (w, d, deficits["start_replay"][i][1], deficits["replay"][i][1]))
     out = a.overlay_out or os.path.splitext(a.bag)[0] + "_wheel_loop.yaml"
-    written = write_overlay(out, overlay_values(r["values"]), base, a.bag, r["cost"])
+    written = write_overlay(out, overlay_values(r["values"]), base, a.bag, r["cost"], poor)
     print("\noverlay written: %s (%s)" % (out, ", ".join("motor." + k for k in written) or "no key differs"))
     model_out = None
     turn_load = turn_load_lines(r["values"])
@@ -253,7 +288,7 @@ def run(a, tool):
     if noise is not None or yaw is not None or turn_load or wheel_loop:
         model_out = a.model_out or os.path.splitext(a.bag)[0] + "_robot_model.yaml"
         try:
-            measured = write_robot_model(model_out, noise, yaw, os.path.basename(a.bag), turn_load, wheel_loop)
+            measured = write_robot_model(model_out, noise, yaw, os.path.basename(a.bag), turn_load, wheel_loop, poor)
         except OSError as e:
             print("plant_identify: the robot model's overlay: %s" % e, file=sys.stderr)
             return 1
@@ -264,6 +299,7 @@ def run(a, tool):
             json.dump({"bag": a.bag, "duration": data.duration, "keys": keys, "start": r["start"],
                        "values": r["values"], "start_cost": r["start_cost"], "cost": r["cost"],
                        "start_errors": r["start_errors"], "errors": r["errors"], "evaluations": r["evaluations"],
+                       "stream_shares": shares, "poorly_reproduced": poor,
                        "deficits": deficits, "overlay": out, "sensor_noise": noise, "yaw_response": yaw,
                        "robot_model": model_out},
                       f, indent=1)
