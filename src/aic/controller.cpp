@@ -785,9 +785,11 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
   // At rest the command is zero: the MCU holds the wheels, there is no shortfall to make up.
   // The shortfall at the goal's turn the command is for (the turn's part: RobotBelief::shortfallsAt()).
   const base::Vector2 shortfall = at_rest ? base::Vector2::Zero() : robot_belief_.shortfallsAt(goal_turn);
+  // Made up only as far as the MCU's proportional path answers (shortfall_compensation_limit).
   const LatencyActionResult r =
-      LatencyAction::step(wheel_loop_, robot_belief_.wheelSpeeds(), shortfall, robot_clock_, goal, a_, h,
-                          params_.robot.action_gain, params_.max_wheel_speed, pi_e);
+      LatencyAction::step(wheel_loop_, robot_belief_.wheelSpeeds(),
+                          LatencyAction::compensated(shortfall, params_.robot.shortfall_compensation_limit),
+                          robot_clock_, goal, a_, h, params_.robot.action_gain, params_.max_wheel_speed, pi_e);
   if (!r.command.allFinite())
   {
     runawayReset();

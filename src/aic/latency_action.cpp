@@ -63,6 +63,23 @@ double LatencyAction::response(const WheelLoopModel& loop, double omega0, double
   return omega;
 }
 
+base::Vector2 LatencyAction::compensated(const base::Vector2& shortfall, double limit)
+{
+  if (!(limit > 0.0))
+  {
+    return shortfall;
+  }
+  base::Vector2 d = shortfall;
+  for (int s = 0; s < 2; ++s)
+  {
+    if (std::abs(d(s)) > limit)
+    {
+      d(s) = std::copysign(limit, d(s));
+    }
+  }
+  return d;
+}
+
 LatencyActionResult LatencyAction::step(const WheelLoopModel& loop, const base::Vector2& omega,
                                         const base::Vector2& shortfall, double now, const base::Vector2& goal,
                                         const base::Vector2& previous, double h_a, double gain, double max_speed,

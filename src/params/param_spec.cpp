@@ -225,6 +225,11 @@ std::vector<ParamSpec> buildControllerRows()
                   "top of d in a turn that loads it against its motion: the scrub load; a random walk while the "
                   "robot turns); 0 = e fixed at 0")
         .readBy(kRobotBeliefModel).member<&AicParams::robot, &RobotModelParams::turn_shortfall_noise>(),
+    ParamRow("active_inference", "shortfall_compensation_limit").unit("rad/s").atLeast(0.0).atMost(kMaxGain)
+        .describe("Robot model: e_c, the largest shortfall per side the action makes up by raising the command "
+                  "(the error at which the MCU's proportional path saturates, on a wheel loop whose integral path "
+                  "takes the rest up: plant_identify.py --bag writes proportional_limit / speed_kp); 0 = no bound")
+        .readBy(kRobotBeliefModel).member<&AicParams::robot, &RobotModelParams::shortfall_compensation_limit>(),
     ParamRow("active_inference", "yaw_model_noise").unit("rad/s^1.5").above(0.0).atMost(kMaxGain)
         .describe("Robot model: q_theta, the yaw model's error on theta_dot'")
         .readBy(kRobotBeliefModel).member<&AicParams::robot, &RobotModelParams::yaw_model_noise>(),

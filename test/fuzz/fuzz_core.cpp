@@ -107,6 +107,7 @@ params::AicParams fuzzedParams(FuzzedDataProvider& in)
       r.wheel_model_noise = draw(-3.0, 1.0);
       r.shortfall_noise = in.ConsumeBool() ? 0.0 : draw(-4.0, 0.0);
       r.turn_shortfall_noise = in.ConsumeBool() ? 0.0 : draw(-3.0, 0.0);
+      r.shortfall_compensation_limit = in.ConsumeBool() ? 0.0 : draw(-3.0, 1.0);
       r.yaw_model_noise = draw(-3.0, 1.0);
       r.yaw_slip_noise = draw(-3.0, 0.0);
       r.gyro_offset_noise = draw(-4.0, 0.0);

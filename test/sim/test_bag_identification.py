@@ -465,6 +465,32 @@ class RobotModelOverlay(unittest.TestCase):
             self.assertEqual(bag_fit.write_robot_model(out, None, None, "x.bag", (), lines),
                              ["latency", "wheel_time_constant"])
 
+    def test_an_integral_path_without_observer_bounds_the_compensation(self):
+        from jackal_aic_tools.common import wheel_loop_model
+        from jackal_aic_tools.identify import bag_fit
+        base = identify.read_motor(PLANT)
+        # The slow break-away's bag: an integral path, no observer; e_c = proportional_limit / speed_kp.
+        motor = dict(base, speed_kp=6.987, proportional_limit=1.036, speed_ki=0.4026, load_observer_time_constant=0.0)
+        values = {"speed_kp": 6.987, "proportional_limit": 1.036, "speed_ki": 0.4026, "load_observer_bandwidth": 0.0}
+        lines = bag_fit.compensation_lines(motor, values)
+        self.assertEqual(yaml.safe_load("\n".join(lines)), {"shortfall_compensation_limit": float("%.4g" % (1.036 / 6.987))})
+        self.assertIn("proportional_limit / speed_kp = 1.036 / 6.987", "\n".join(lines))
+        # A load observer takes loads up, a proportional-only loop has no integral to wind up, and an
+        # unfitted structure tells nothing: no bound.
+        self.assertEqual(bag_fit.compensation_lines(motor, dict(values, load_observer_bandwidth=24.36)), [])
+        self.assertEqual(bag_fit.compensation_lines(motor, dict(values, speed_ki=0.005)), [])
+        self.assertEqual(bag_fit.compensation_lines(motor, {"speed_kp": 6.987}), [])
+        # A proportional path without clamp (0) saturates at the current limit.
+        self.assertAlmostEqual(wheel_loop_model.compensation_limit(dict(motor, proportional_limit=0.0)),
+                               float(base["max_torque"]) / 6.987)
+        for key, bad in (("speed_kp", 0.0), ("proportional_limit", -1.0), ("max_torque", float("nan"))):
+            with self.assertRaisesRegex(ValueError, "motor.%s" % key):
+                bag_fit.compensation_lines(dict(motor, **{key: bad}), values)
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "out.yaml")
+            self.assertEqual(bag_fit.write_robot_model(out, None, None, "x.bag", compensation=lines),
+                             ["shortfall_compensation_limit"])
+
     def test_a_stream_the_fit_does_not_reproduce_is_named(self):
         from jackal_aic_tools.identify import bag_fit
         # The shares are fit_cost()'s terms: RMS error over max(the stream's RMS, 0.1).

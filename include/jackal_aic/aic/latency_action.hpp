@@ -71,6 +71,14 @@ public:
   /// command stream's rate being `rate` [rad/s^2] (WheelLoopModel::step()), in substeps of at most
   /// WheelLoopModel::kSubstep: h / kSubstep steps, so the caller bounds h.
   static double response(const WheelLoopModel& loop, double omega0, double u, double rate, double d, double h);
+
+  /// The shortfall the action makes up (step()'s `shortfall`): each side's believed shortfall d
+  /// [rad/s] bounded to +-limit [rad/s], limit = shortfall_compensation_limit e_c (0: unbounded).
+  /// Beyond e_c the MCU's proportional path is saturated: the wheel answers a raised command only
+  /// through the integral path, over seconds, and overshoots when that has caught up
+  /// (doc/active_inference.md, 'The robot model', 'Ending a chase of jumps'). The belief keeps the
+  /// whole d. A NaN d passes unchanged (the caller's runaway check sees it); limit must be >= 0.
+  static base::Vector2 compensated(const base::Vector2& shortfall, double limit);
 };
 
 }  // namespace aic

@@ -66,6 +66,12 @@ struct RobotModelParams
   /// of d in a turn that loads it against its motion: the turn's scrub load over the MCU's wheel
   /// loop, RobotBelief::turnSigns()), a random walk while the robot turns; 0 = e fixed at 0.
   double turn_shortfall_noise = 0.0;
+  /// e_c [rad/s], >= 0: the largest shortfall the action makes up by raising the command, per side;
+  /// 0 = no bound. On a wheel loop whose proportional path saturates and whose integral path, without
+  /// a load observer, takes the rest up over seconds (identified by plant_identify.py --bag:
+  /// proportional_limit / speed_kp), a command raised further delivers nothing at once and winds the
+  /// integral up for an overshoot (LatencyAction::compensated()).
+  double shortfall_compensation_limit = 0.0;
   /// q_theta [rad/s^1.5], > 0: the yaw model's error on theta_dot'.
   double yaw_model_noise = 0.3;
   /// sigma_s [(rad/s)^-0.5], >= 0: how far the yaw slip ratio s may move with the turn: its

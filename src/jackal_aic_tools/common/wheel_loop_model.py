@@ -85,6 +85,25 @@ def _wheel_acceleration(v):
     return min(torque, limit) / v["load_observer_inertia"]
 
 
+#: The compensation limit's equation (compensation_limit()), as text for the YAML a tool writes.
+COMPENSATION_EQUATION = "proportional_limit / speed_kp"
+
+
+def compensation_limit(motor):
+    """e_c [rad/s], the robot model's shortfall_compensation_limit of the motor keys ``motor``: the
+    speed error at which the MCU's proportional path saturates,
+
+        e_c = proportional_limit / speed_kp
+
+    (a proportional_limit of 0, none, counts as max_torque [N m]). Beyond it a raised command adds
+    no torque at once; on a loop whose integral path takes the rest up (no load observer) it only
+    winds that integral up (doc/active_inference.md, 'The robot model'). Raises ValueError naming the
+    key when proportional_limit, max_torque or speed_kp is missing, negative or not finite, or
+    speed_kp or max_torque is not > 0."""
+    v = _values(motor, ("proportional_limit", "max_torque", "speed_kp"))
+    return (v["proportional_limit"] or v["max_torque"]) / v["speed_kp"]
+
+
 def model_key(motor, key):
     """One robot-model key (DEPENDS_ON's names) of the motor keys ``motor``, by the module's
     equations, read from the motor keys it depends on only. Raises ValueError naming the motor key

@@ -107,6 +107,31 @@ def turn_load_lines(values):
             "turn_shortfall_noise: %.4g" % TURN_SHORTFALL_NOISE]
 
 
+def compensation_lines(motor, values):
+    """Controller-overlay lines of the robot model's shortfall_compensation_limit e_c
+    (common.wheel_loop_model.compensation_limit() of the identified wheel loop ``motor``: the plant's
+    motor keys with the bag's fitted values, overlay_values()) when that loop (``values``: fit_bag()'s
+    fitted values) has an integral path (speed_ki at least bag_identification.INTEGRAL_OFF_GAIN) and
+    no load observer (load_observer_bandwidth below bag_identification.OBSERVER_OFF_BANDWIDTH): its
+    proportional path saturates at e_c of speed error and the integral path takes a larger load up
+    over seconds, so a command raised beyond e_c winds that integral up for an overshoot (the slow
+    break-away firmware, doc/active_inference.md, 'The robot model'). Returns [] otherwise, or when
+    either was not fitted. Raises ValueError (compensation_limit()) when a motor key it needs is
+    missing or invalid."""
+    bandwidth = values.get("load_observer_bandwidth")
+    ki = values.get("speed_ki")
+    if bandwidth is None or ki is None or bandwidth >= bag_identification.OBSERVER_OFF_BANDWIDTH or \
+            ki < bag_identification.INTEGRAL_OFF_GAIN:
+        return []
+    limit = wheel_loop_model.compensation_limit(motor)
+    return ["# [rad/s] e_c: the identified wheel loop has an integral path (speed_ki %.3g N m/rad) and no load"
+            % ki,
+            "# observer (bandwidth %.3g 1/s): the action makes a shortfall up only to where its proportional" % bandwidth,
+            "# path saturates, %s = %.4g / %.4g." % (wheel_loop_model.COMPENSATION_EQUATION,
+                                                     float(motor["proportional_limit"]), float(motor["speed_kp"])),
+            "shortfall_compensation_limit: %.4g" % limit]
+
+
 #: [-] A robot-model key the bag's fit moved by less than this share of config/default.yaml's value
 #: (the plant's identified loop) is left out of the overlay: the default already holds it.
 WHEEL_LOOP_UNCHANGED = 0.01
@@ -166,18 +191,20 @@ def describe_wheel_loop(lines, fitted):
         100 * WHEEL_LOOP_UNCHANGED, "; T_w is identified only on a loop without load observer" if observer else "")
 
 
-def write_robot_model(path, noise, yaw, bag, turn_load=(), wheel_loop=(), poor=None):
+def write_robot_model(path, noise, yaw, bag, turn_load=(), wheel_loop=(), poor=None, compensation=()):
     """Write what ``bag`` identified of the robot model as one controller overlay at ``path``: the
     bag's sensor noises (``noise``, sensor_noise(); None: not measured), yaw response (``yaw``,
     yaw_response(); None: not fitted), the turn shortfalls' switch (``turn_load``,
     turn_load_lines()) and the wheel loop's keys (``wheel_loop``, wheel_loop_lines()), each
-    commented with its source, and the streams the wheel loop's fit reproduces poorly (``poor``,
+    commented with its source, the shortfall compensation's bound (``compensation``,
+    compensation_lines()), and the streams the wheel loop's fit reproduces poorly (``poor``,
     poor_fit_comment()). Load it alone after config/default.yaml,
     whose belief model is the robot model (the launch files' one overlay). Returns the keys the bag
     gave (an empty list writes a file of comments only). Raises OSError if ``path`` cannot be
     written."""
     lines = (sensor_noise.overlay_lines(noise) if noise is not None else []) + (
-        yaw_response.overlay_lines(yaw) if yaw is not None else []) + list(turn_load) + list(wheel_loop)
+        yaw_response.overlay_lines(yaw) if yaw is not None else []) + list(turn_load) + list(compensation) + \
+        list(wheel_loop)
     keys = [line.split(":", 1)[0] for line in lines if not line.startswith("#")]
     with open(path, "w") as f:
         f.write("# The robot model's keys identified on %s by plant_identify.py --bag, over\n"
@@ -283,12 +310,17 @@ def run(a, tool):
     model_out = None
     turn_load = turn_load_lines(r["values"])
     identified = dict(base, **overlay_values(r["values"]))
+    compensation = robot_model_part(
+        "shortfall compensation", "derived", lambda: compensation_lines(identified, r["values"]),
+        lambda lines: ", ".join(line for line in lines if not line.startswith("#")) or
+        "unbounded (a load observer, or no integral path)") or []
     wheel_loop = robot_model_part("wheel loop", "derived", lambda: wheel_loop_lines(identified, r["values"], base),
                                   lambda lines: describe_wheel_loop(lines, r["values"])) or []
-    if noise is not None or yaw is not None or turn_load or wheel_loop:
+    if noise is not None or yaw is not None or turn_load or wheel_loop or compensation:
         model_out = a.model_out or os.path.splitext(a.bag)[0] + "_robot_model.yaml"
         try:
-            measured = write_robot_model(model_out, noise, yaw, os.path.basename(a.bag), turn_load, wheel_loop, poor)
+            measured = write_robot_model(model_out, noise, yaw, os.path.basename(a.bag), turn_load, wheel_loop, poor,
+                                         compensation)
         except OSError as e:
             print("plant_identify: the robot model's overlay: %s" % e, file=sys.stderr)
             return 1

@@ -742,6 +742,36 @@ TEST(ControllerRobotModel, TheCommandMakesUpAShortfall)
   EXPECT_NEAR(c.mu()(0, 0), 0.5, 0.005);
 }
 
+TEST(LatencyAction, TheShortfallMadeUpIsBoundedByTheCompensationLimit)
+{
+  const base::Vector2 d(0.6, -0.05);
+  EXPECT_EQ(aic::LatencyAction::compensated(d, 0.0), d);  // 0: no bound
+  EXPECT_EQ(aic::LatencyAction::compensated(d, 0.2), base::Vector2(0.2, -0.05));
+  EXPECT_EQ(aic::LatencyAction::compensated(base::Vector2(-0.6, 0.3), 0.2), base::Vector2(-0.2, 0.2));
+  const base::Vector2 nan(std::nan(""), 0.6);
+  const base::Vector2 out = aic::LatencyAction::compensated(nan, 0.2);
+  EXPECT_TRUE(std::isnan(out(0)));  // left to the caller's runaway check
+  EXPECT_EQ(out(1), 0.2);
+}
+
+TEST(ControllerRobotModel, TheCommandMakesUpAShortfallOnlyToTheCompensationLimit)
+{
+  params::AicParams p = params::recommendedAicParams();
+  p.belief_model = params::BeliefModel::kRobot;
+  p.separation_learner.enabled = false;
+  p.robot.shortfall_compensation_limit = 0.2;
+  aic::ActiveInferenceController c(p);
+  // As above, each wheel 0.6 rad/s short; with e_c = 0.2 rad/s (a wheel loop whose proportional
+  // path saturates there) the command makes up 0.2 of it, and the belief keeps the whole 0.6.
+  const double omega = 0.5 / (p.wheel_radius * p.slip_factor);
+  jackal_test::driveAgainstWheelLoop(&c, p.robot, base::Vector3(0.5, 0.0, 0.0), 3.0, base::Vector2(0.6, 0.6));
+  EXPECT_NEAR(c.robotBelief().shortfalls()(0), 0.6, 0.05);
+  EXPECT_NEAR(c.robotBelief().shortfalls()(1), 0.6, 0.05);
+  EXPECT_NEAR(c.action()(0), omega + 0.2, 0.05);
+  EXPECT_NEAR(c.action()(1), omega + 0.2, 0.05);
+  EXPECT_NEAR(c.mu()(0, 0), (omega - 0.4) * p.wheel_radius * p.slip_factor, 0.005);
+}
+
 TEST(ControllerRobotModel, AStepLongerThanTheLongestIsRefusedNotSimulated)
 {
   // The robot model predicts a step in 1 ms substeps: a step of 1e300 s would never end. Every
