@@ -95,6 +95,8 @@ void RobotBelief::reset(const base::Vector2& omega, double theta_dot)
   steady_time_.setZero();
   settle_needed_.setZero();
   shortfall_runs_[0].clear();
+  release_runs_[0].clear();
+  release_runs_[1].clear();
   shortfall_runs_[1].clear();
   shortfall_jump_.setZero();
   jump_turn_.setZero();
@@ -121,6 +123,8 @@ void RobotBelief::forgetSlowStates()
   p_yaw_.rightCols<2>().setZero();
   offset_run_.clear();
   shortfall_runs_[0].clear();
+  release_runs_[0].clear();
+  release_runs_[1].clear();
   shortfall_runs_[1].clear();
   shortfall_jump_.setZero();
 }
@@ -310,11 +314,26 @@ void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e,
   if (!used || steady_time_(side) < settle_needed_(side))
   {
     run.clear();
+    release_runs_[side].clear();
     return;
   }
   const double turn_part = turn_signs_(side) * side_[side](2);
   const double r = y - (wheel_command_(side) - *d - turn_part);
   const double limit = kJumpThreshold * std::sqrt(r_e + p(1, 1));
+  // The load the jumps took is gone (a stall that frees): the wheel runs faster than the model's
+  // steady speed, toward its command, kShortfallJumpSamples samples in a row beyond the same limit,
+  // still moving or not. The jumps are dropped, as at a turn's change; a shortfall that remains is
+  // taken again once the wheel has stopped moving.
+  const bool releases =
+      shortfall_jump_(side) * wheel_command_(side) > 0.0 && r * wheel_command_(side) > 0.0 && std::abs(r) > limit;
+  if (release_runs_[side].add(r, releases, std::numeric_limits<double>::infinity(), kShortfallJumpSamples))
+  {
+    *d -= shortfall_jump_(side);
+    shortfall_jump_(side) = 0.0;
+    ++shortfall_releases_;
+    run.clear();
+    return;
+  }
   if (run.add(r, std::abs(r) > limit, kJumpThreshold * std::sqrt(2.0 * r_e), kShortfallJumpSamples))
   {
     // A shortfall: the wheel delivers between nothing and the whole command (a wheel faster than

@@ -52,7 +52,11 @@ namespace aic
  * scrub in a turn, a firmware that delivers less while turning. d takes their mean at once, bounded
  * to a shortfall: between 0 and the command u (a wheel faster than its command is left to the drift).
  * A jump belongs to the turn it was taken in: when the goal's turn moves on by more than
- * kJumpTurnBand, the jumps' part of d is dropped (the drift's part stays).
+ * kJumpTurnBand, the jumps' part of d is dropped (the drift's part stays). And to the load it took:
+ * when the wheel, at a command held as for a jump, runs faster than u - d toward its command for
+ * kShortfallJumpSamples samples in a row beyond the same threshold, moving or not (a stall that has
+ * freed), the jumps' part is dropped too (shortfallReleases()); a shortfall that remains is taken
+ * again once the wheel has stopped moving.
  *
  * The turn shortfalls are random walks while the robot turns (turn_shortfall_noise |sigma|), zero
  * with q_e = 0. A side's nonzero reading that repeats bit for bit across a change of its command at
@@ -205,6 +209,9 @@ public:
   std::uint64_t offsetJumps() const { return offset_jumps_; }
   /// Number of shortfall jumps taken since construction (both sides).
   std::uint64_t shortfallJumps() const { return shortfall_jumps_; }
+  /// Number of times a side's jumps were dropped because its wheel ran ahead of them (a stall that
+  /// freed) since construction (both sides).
+  std::uint64_t shortfallReleases() const { return shortfall_releases_; }
   /// Number of wheel samples skipped as a frozen encoder's since construction (both sides): a
   /// nonzero reading that repeats bit for bit, from the first repeat across a change of the side's
   /// command at the wheels beyond kSteadyBand, for as long as it repeats.
@@ -267,10 +274,12 @@ private:
   base::Vector2 steady_command_ = base::Vector2::Zero();
   base::Vector2 steady_time_ = base::Vector2::Zero();
   base::Vector2 settle_needed_ = base::Vector2::Zero();
-  ResidualRun shortfall_runs_[2];                         ///< wheel residuals in a row beyond the threshold, per side
+  ResidualRun shortfall_runs_[2];  ///< wheel residuals in a row beyond the threshold, per side
+  ResidualRun release_runs_[2];    ///< wheel residuals in a row beyond the threshold toward the command, per side
   base::Vector2 shortfall_jump_ = base::Vector2::Zero();  ///< the part of d the jumps made, per side [rad/s]
   base::Vector2 jump_turn_ = base::Vector2::Zero();       ///< the goal's turn at the last jump, per side [rad/s]
   std::uint64_t shortfall_jumps_ = 0;
+  std::uint64_t shortfall_releases_ = 0;
   base::Vector2 omega_rate_ = base::Vector2::Zero();
   double yaw_rate_ = 0.0;
   double f_sensory_ = 0.0;
