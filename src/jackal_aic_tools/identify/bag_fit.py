@@ -94,7 +94,7 @@ def turn_load_lines(values):
     learn it and carry it, with the turn's sign, into the next (doc/active_inference.md, 'The robot
     model'). An integral path winds a turn's load up within the turn, so the error is a transient
     that the carried shortfall mistakes for a deficit (on the slow break-away firmware they cost its
-    tracking 14 %: doc/robot_data.md). Returns [] otherwise, or when either was not fitted."""
+    tracking 13 %: doc/robot_data.md). Returns [] otherwise, or when either was not fitted."""
     bandwidth = values.get("load_observer_bandwidth")
     ki = values.get("speed_ki")
     if bandwidth is None or ki is None or bandwidth >= bag_identification.OBSERVER_OFF_BANDWIDTH or \
