@@ -94,10 +94,11 @@ void RobotBelief::reset(const base::Vector2& omega, double theta_dot)
   steady_command_.setZero();
   steady_time_.setZero();
   settle_needed_.setZero();
-  shortfall_runs_[0].clear();
-  release_runs_[0].clear();
-  release_runs_[1].clear();
-  shortfall_runs_[1].clear();
+  for (int i = 0; i < 2; ++i)
+  {
+    shortfall_runs_[i].clear();
+    release_runs_[i].clear();
+  }
   shortfall_jump_.setZero();
   jump_turn_.setZero();
   omega_rate_.setZero();
@@ -122,10 +123,11 @@ void RobotBelief::forgetSlowStates()
   p_yaw_.bottomRows<2>().setZero();
   p_yaw_.rightCols<2>().setZero();
   offset_run_.clear();
-  shortfall_runs_[0].clear();
-  release_runs_[0].clear();
-  release_runs_[1].clear();
-  shortfall_runs_[1].clear();
+  for (int i = 0; i < 2; ++i)
+  {
+    shortfall_runs_[i].clear();
+    release_runs_[i].clear();
+  }
   shortfall_jump_.setZero();
 }
 

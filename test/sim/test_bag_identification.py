@@ -475,6 +475,11 @@ class RobotModelOverlay(unittest.TestCase):
         lines = bag_fit.compensation_lines(motor, values)
         self.assertEqual(yaml.safe_load("\n".join(lines)), {"shortfall_compensation_limit": float("%.4g" % (1.036 / 6.987))})
         self.assertIn("proportional_limit / speed_kp = 1.036 / 6.987", "\n".join(lines))
+        self.assertEqual(bi.load_compensation(values), "integral")
+        self.assertEqual(bi.load_compensation(dict(values, speed_ki=0.005)), "none")
+        self.assertEqual(bi.load_compensation({"load_observer_bandwidth": 24.36}), "observer")
+        self.assertIsNone(bi.load_compensation({"load_observer_bandwidth": 0.0}))
+        self.assertIsNone(bi.has_observer({"speed_kp": 6.987}))
         # A load observer takes loads up, a proportional-only loop has no integral to wind up, and an
         # unfitted structure tells nothing: no bound.
         self.assertEqual(bag_fit.compensation_lines(motor, dict(values, load_observer_bandwidth=24.36)), [])

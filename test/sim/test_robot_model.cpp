@@ -463,7 +463,7 @@ double rmsSpeedError(const ClosedLoopRecord& r)
   return rmsError(r.set_point, r.v_true);
 }
 
-TEST(RobotModel, AShortfallBeyondASaturatedProportionalPathIsNotChased)
+TEST(RobotModel, AShortfallBeyondASaturatedProportionalPathIsNotChasedRegressionGuard)
 {
   // The slow break-away firmware (sim/config/variants/slow_breakaway.yaml): its proportional path
   // saturates at 0.065 rad/s of error and its integral path, without load observer, takes a

@@ -33,14 +33,19 @@ def overlay_values(values):
     return out
 
 
+def _streams(poor, form):
+    """The streams of ``poor`` ({stream: share}) as a list for a message, each by ``form`` % (its
+    label, its share in %)."""
+    return ", ".join(form % (bag_identification.STREAMS[k], 100.0 * v) for k, v in poor.items())
+
+
 def poor_fit_comment(poor):
     """The overlays' comment line naming the streams ``poor`` ({stream: share},
     bag_identification.poorly_reproduced()) the identified plant reproduces poorly; None when empty."""
     if not poor:
         return None
     return "# Poorly reproduced by the fit (RMS error / the stream's RMS above %g %%): %s." % (
-        100.0 * bag_identification.POOR_FIT_SHARE,
-        ", ".join("%s %.1f %%" % (bag_identification.STREAMS[k], 100.0 * v) for k, v in poor.items()))
+        100.0 * bag_identification.POOR_FIT_SHARE, _streams(poor, "%s %.1f %%"))
 
 
 def describe_poor_fit(poor):
@@ -51,8 +56,7 @@ def describe_poor_fit(poor):
             "payload's mass or position, the MCU's feed-forwards or the integral's error clamp; give those known "
             "with --overlay and identify again). The overlays written from this fit are doubtful: compare the "
             "robot model's with config/default.yaml in simulation (aic_compare.py, doc/tuning.md) before the robot."
-            % (", ".join("%s (%.1f %%)" % (bag_identification.STREAMS[k], 100.0 * v) for k, v in poor.items()),
-               100.0 * bag_identification.POOR_FIT_SHARE))
+            % (_streams(poor, "%s (%.1f %%)"), 100.0 * bag_identification.POOR_FIT_SHARE))
 
 
 def write_overlay(path, values, base, bag, cost, poor=None):
@@ -95,11 +99,9 @@ def turn_load_lines(values):
     model'). An integral path winds a turn's load up within the turn, so the error is a transient
     that the carried shortfall mistakes for a deficit (on the slow break-away firmware they cost its
     tracking 13 %: doc/robot_data.md). Returns [] otherwise, or when either was not fitted."""
-    bandwidth = values.get("load_observer_bandwidth")
-    ki = values.get("speed_ki")
-    if bandwidth is None or ki is None or bandwidth >= bag_identification.OBSERVER_OFF_BANDWIDTH or \
-            ki >= bag_identification.INTEGRAL_OFF_GAIN:
+    if bag_identification.load_compensation(values) != "none":
         return []
+    bandwidth, ki = values["load_observer_bandwidth"], values["speed_ki"]
     return ["# [rad/s^0.5] q_e: the identified wheel loop is proportional only (no load observer: bandwidth",
             "# %.3g 1/s; no integral path: speed_ki %.3g N m/rad), so a turn's scrub load stays a speed error:"
             % (bandwidth, ki),
@@ -118,11 +120,9 @@ def compensation_lines(motor, values):
     break-away firmware, doc/active_inference.md, 'The robot model'). Returns [] otherwise, or when
     either was not fitted. Raises ValueError (compensation_limit()) when a motor key it needs is
     missing or invalid."""
-    bandwidth = values.get("load_observer_bandwidth")
-    ki = values.get("speed_ki")
-    if bandwidth is None or ki is None or bandwidth >= bag_identification.OBSERVER_OFF_BANDWIDTH or \
-            ki < bag_identification.INTEGRAL_OFF_GAIN:
+    if bag_identification.load_compensation(values) != "integral":
         return []
+    bandwidth, ki = values["load_observer_bandwidth"], values["speed_ki"]
     limit = wheel_loop_model.compensation_limit(motor)
     return ["# [rad/s] e_c: the identified wheel loop has an integral path (speed_ki %.3g N m/rad) and no load"
             % ki,
@@ -160,11 +160,9 @@ def wheel_loop_lines(motor, fitted, base):
     load_observer_bandwidth fitted and below bag_identification.OBSERVER_OFF_BANDWIDTH). Each is
     commented with its equation and the motor values. Returns [] when none is written. Raises
     ValueError (model_key) when a motor key it needs is missing or invalid."""
-    bandwidth = fitted.get("load_observer_bandwidth")
     lines = []
     for key, meaning in WHEEL_LOOP_KEYS.items():
-        if key == "wheel_time_constant" and (bandwidth is None or
-                                             bandwidth >= bag_identification.OBSERVER_OFF_BANDWIDTH):
+        if key == "wheel_time_constant" and bag_identification.has_observer(fitted) is not False:
             continue
         value = wheel_loop_model.model_key(motor, key)
         ref = wheel_loop_model.model_key(base, key)
@@ -185,8 +183,7 @@ def describe_wheel_loop(lines, fitted):
     written = [line for line in lines if not line.startswith("#")]
     if written:
         return ", ".join(written)
-    bandwidth = fitted.get("load_observer_bandwidth")
-    observer = bandwidth is None or bandwidth >= bag_identification.OBSERVER_OFF_BANDWIDTH
+    observer = bag_identification.has_observer(fitted) is not False
     return "config/default.yaml's (L within %g %%%s)" % (
         100 * WHEEL_LOOP_UNCHANGED, "; T_w is identified only on a loop without load observer" if observer else "")
 

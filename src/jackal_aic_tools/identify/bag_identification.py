@@ -278,6 +278,30 @@ OBSERVER_OFF_BANDWIDTH = 0.2  # 1/s
 INTEGRAL_OFF_GAIN = 0.01
 
 
+def has_observer(values):
+    """Whether the fitted wheel loop ``values`` (fit_bag()'s fitted values by name) has a load
+    observer: its load_observer_bandwidth at least OBSERVER_OFF_BANDWIDTH (True), below it (False),
+    or None when the bandwidth was not fitted."""
+    bandwidth = values.get("load_observer_bandwidth")
+    return None if bandwidth is None else bandwidth >= OBSERVER_OFF_BANDWIDTH
+
+
+def load_compensation(values):
+    """How the fitted wheel loop ``values`` (fit_bag()'s fitted values by name) takes a load up:
+    'observer' (has_observer()), 'integral' (no observer, speed_ki at least INTEGRAL_OFF_GAIN),
+    'none' (neither: proportional only, a load stays a speed error), or None when the values that
+    decide it were not fitted."""
+    observer = has_observer(values)
+    if observer is None:
+        return None
+    if observer:
+        return "observer"
+    ki = values.get("speed_ki")
+    if ki is None:
+        return None
+    return "integral" if ki >= INTEGRAL_OFF_GAIN else "none"
+
+
 def motor_sets(values):
     """plant_replay --set strings of fitted values (load_observer_bandwidth -> the time constant)."""
     out = []
