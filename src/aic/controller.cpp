@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -784,12 +785,23 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
   const double pi_e = 1.0 / (params_.robot.encoder_noise * params_.robot.encoder_noise);
   // At rest the command is zero: the MCU holds the wheels, there is no shortfall to make up.
   // The shortfall at the goal's turn the command is for (the turn's part: RobotBelief::shortfallsAt()).
-  const base::Vector2 shortfall = at_rest ? base::Vector2::Zero() : robot_belief_.shortfallsAt(goal_turn);
+  // Not past a stall's unanswered jumps (RobotBelief::compensableShortfallsAt()).
+  const base::Vector2 shortfall = at_rest ? base::Vector2::Zero() : robot_belief_.compensableShortfallsAt(goal_turn);
+  // A stalled side's command stays within one kick of its steady command: a wheel that does not
+  // answer the MCU's feed-forward would otherwise be asked for one more kick every latency.
+  base::Vector2 reach = base::Vector2::Constant(std::numeric_limits<double>::infinity());
+  for (int s = 0; s < 2; ++s)
+  {
+    if (robot_belief_.stalled(s))
+    {
+      reach(s) = wheel_loop_.kickRange(h);
+    }
+  }
   // Made up only as far as the MCU's proportional path answers (shortfall_compensation_limit).
   const LatencyActionResult r =
       LatencyAction::step(wheel_loop_, robot_belief_.wheelSpeeds(),
                           LatencyAction::compensated(shortfall, params_.robot.shortfall_compensation_limit),
-                          robot_clock_, goal, a_, h, params_.robot.action_gain, params_.max_wheel_speed, pi_e);
+                          robot_clock_, goal, a_, h, params_.robot.action_gain, params_.max_wheel_speed, pi_e, reach);
   if (!r.command.allFinite())
   {
     runawayReset();

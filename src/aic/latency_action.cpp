@@ -83,7 +83,7 @@ base::Vector2 LatencyAction::compensated(const base::Vector2& shortfall, double 
 LatencyActionResult LatencyAction::step(const WheelLoopModel& loop, const base::Vector2& omega,
                                         const base::Vector2& shortfall, double now, const base::Vector2& goal,
                                         const base::Vector2& previous, double h_a, double gain, double max_speed,
-                                        double pi_e)
+                                        double pi_e, const base::Vector2& reach)
 {
   LatencyActionResult r;
   r.at_latency = loop.predict(omega, shortfall, now, now + loop.latency());
@@ -92,6 +92,14 @@ LatencyActionResult LatencyAction::step(const WheelLoopModel& loop, const base::
   {
     r.minimiser(s) = minimiser(loop, s, now, r.at_latency(s), shortfall(s), h_a, goal(s), previous(s), max_speed);
     r.command(s) = std::clamp(previous(s) + fraction * (r.minimiser(s) - previous(s)), -max_speed, max_speed);
+    if (std::isfinite(reach(s)))
+    {
+      // Both ends within the command's bound, so lo <= hi whatever the steady command.
+      const double steady = goal(s) + shortfall(s);
+      const double lo = std::clamp(steady - reach(s), -max_speed, max_speed);
+      const double hi = std::clamp(steady + reach(s), -max_speed, max_speed);
+      r.command(s) = std::clamp(r.command(s), lo, hi);
+    }
     r.predicted(s) =
         response(loop, r.at_latency(s), r.command(s), loop.rateOf(now, r.command(s), s), shortfall(s), h_a);
   }

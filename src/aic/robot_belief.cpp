@@ -101,6 +101,13 @@ void RobotBelief::reset(const base::Vector2& omega, double theta_dot)
   }
   shortfall_jump_.setZero();
   jump_turn_.setZero();
+  jump_wheel_.setZero();
+  compensation_cap_.setConstant(std::numeric_limits<double>::infinity());
+  for (int i = 0; i < 2; ++i)
+  {
+    stall_runs_[i].clear();
+    stalled_[i] = false;
+  }
   omega_rate_.setZero();
   yaw_rate_ = 0.0;
   f_sensory_ = 0.0;
@@ -129,6 +136,7 @@ void RobotBelief::forgetSlowStates()
     release_runs_[i].clear();
   }
   shortfall_jump_.setZero();
+  compensation_cap_.setConstant(std::numeric_limits<double>::infinity());
 }
 
 void RobotBelief::predict(double h, const WheelLoopModel& loop, const base::Vector2& u_at_wheels,
@@ -143,8 +151,7 @@ void RobotBelief::predict(double h, const WheelLoopModel& loop, const base::Vect
   {
     if (shortfall_jump_(i) != 0.0 && std::isfinite(turn) && !(std::abs(turn - jump_turn_(i)) <= kJumpTurnBand))
     {
-      side_[i](1) -= shortfall_jump_(i);
-      shortfall_jump_(i) = 0.0;
+      dropJumps(i);
     }
   }
   // Each side's command at the wheels: steady while it stays within kSteadyBand of where it
@@ -312,6 +319,7 @@ void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e,
   // standard deviations (sigma_e and d's uncertainty), all within kJumpThreshold sqrt(2) sigma_e of
   // the first (the wheel no longer moves: a loop still converging changes them), are a step in the
   // load; d takes their mean at once.
+  detectStall(side, y, used, r_e, *d, p);
   ResidualRun& run = shortfall_runs_[side];
   if (!used || steady_time_(side) < settle_needed_(side))
   {
@@ -330,8 +338,7 @@ void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e,
       shortfall_jump_(side) * wheel_command_(side) > 0.0 && r * wheel_command_(side) > 0.0 && std::abs(r) > limit;
   if (release_runs_[side].add(r, releases, std::numeric_limits<double>::infinity(), kShortfallJumpSamples))
   {
-    *d -= shortfall_jump_(side);
-    shortfall_jump_(side) = 0.0;
+    dropJumps(side);
     ++shortfall_releases_;
     run.clear();
     return;
@@ -344,12 +351,69 @@ void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e,
     const double target = std::clamp(*d + turn_part - run.mean(), std::min(0.0, u), std::max(0.0, u)) - turn_part;
     if (std::abs(target - *d) > limit)
     {
+      // Unanswered: the side's last jump was in the same direction and the wheel is where it found
+      // it. The compensation stays at what the side had before this jump.
+      const double wheel = run.mean() + (u - *d - turn_part);
+      if (shortfall_jump_(side) * (target - *d) > 0.0 &&
+          std::abs(wheel - jump_wheel_(side)) <= kJumpThreshold * std::sqrt(2.0 * r_e) &&
+          std::isinf(compensation_cap_(side)))
+      {
+        compensation_cap_(side) = std::abs(*d + turn_part);
+        ++unanswered_jumps_;
+      }
+      jump_wheel_(side) = wheel;
       shortfall_jump_(side) += target - *d;
       jump_turn_(side) = turn_;
       *d = target;
       ++shortfall_jumps_;
     }
   }
+}
+
+void RobotBelief::detectStall(int side, double y, bool used, double r_e, double d, const Eigen::Matrix3d& p)
+{
+  if (!used || !std::isfinite(y))
+  {
+    return;
+  }
+  const double u = wheel_command_(side);
+  const double band = kJumpThreshold * std::sqrt(2.0 * r_e);
+  const double limit = kJumpThreshold * std::sqrt(r_e + p(1, 1));
+  if (stalled_[side])
+  {
+    // Freed (the wheel moves) or asked for no more than it gives (the command came back to it).
+    if (std::abs(y - stall_wheel_(side)) > band || std::abs(u - y) <= limit)
+    {
+      stalled_[side] = false;
+      stall_runs_[side].clear();
+    }
+    return;
+  }
+  // How far the model's steady speed u - d is beyond the wheel, toward the command.
+  const double gap = (u - d - turn_signs_(side) * side_[side](2) - y) * (u >= 0.0 ? 1.0 : -1.0);
+  if (stall_runs_[side].add(y, gap > limit, band, kShortfallJumpSamples))
+  {
+    stalled_[side] = true;
+    stall_wheel_(side) = stall_runs_[side].mean();
+    ++stalls_;
+  }
+}
+
+void RobotBelief::dropJumps(int side)
+{
+  side_[side](1) -= shortfall_jump_(side);
+  shortfall_jump_(side) = 0.0;
+  compensation_cap_(side) = std::numeric_limits<double>::infinity();
+}
+
+base::Vector2 RobotBelief::compensableShortfallsAt(double turn) const
+{
+  base::Vector2 d = shortfallsAt(turn);
+  for (int s = 0; s < 2; ++s)
+  {
+    d(s) = std::clamp(d(s), -compensation_cap_(s), compensation_cap_(s));
+  }
+  return d;
 }
 
 base::Vector2 RobotBelief::turnSigns(double turn)

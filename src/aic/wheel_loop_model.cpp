@@ -83,6 +83,15 @@ base::Vector2 WheelLoopModel::lastCommand() const
   return line_[head_].u;
 }
 
+double WheelLoopModel::kickRange(double h) const
+{
+  const double decay = params_.wheel_time_constant > 0.0 ? std::exp(-h / params_.wheel_time_constant) : 0.0;
+  const double a_ff = params_.wheel_feedforward_acceleration;
+  const double lag = std::max(params_.wheel_acceleration - a_ff, 0.0) * h / (1.0 - decay);
+  const double feedforward = params_.wheel_feedforward > 0.0 ? a_ff * h / params_.wheel_feedforward : 0.0;
+  return lag + feedforward;
+}
+
 double WheelLoopModel::step(double omega, double u, double rate, double h, double* gain) const
 {
   const double decay = params_.wheel_time_constant > 0.0 ? std::exp(-h / params_.wheel_time_constant) : 0.0;

@@ -471,8 +471,10 @@ TEST(RobotModel, AShortfallBeyondASaturatedProportionalPathIsNotChasedRegression
   // winds that integral up, and the wheel overshoots when it breaks away. With
   // shortfall_compensation_limit at what plant_identify.py --bag writes for that firmware's bag
   // (proportional_limit / speed_kp = 1.036 / 6.987 = 0.148 rad/s): creep's RMS speed error
-  // 0.0173 m/s against 0.0242 without, and the 0.3 rad/s turn in place peaks at 0.31 rad/s against
-  // 0.64 without (the stock controller's 0.30). Regression guards of the measured pairs; the
+  // 0.0173 m/s against 0.0182 without, and the 0.3 rad/s turn in place peaks at 0.31 rad/s against
+  // 0.56 without (the stock controller's 0.30). Without the key, creep's chase of jumps is ended by
+  // the unanswered jumps' hold (RobotBelief::unansweredJumps(); 0.0242 m/s with that rule taken out,
+  // dev/ablations.txt 'unanswered_jump_hold'). Regression guards of the measured figures; the
   // ablation is the same run without the key.
   const analysis::TwistProfile profile = analysis::loadTwistProfileCsv(kRoot + "/sim/profiles/creep.csv");
   const std::vector<std::string> firmware{ "sim/config/variants/slow_breakaway.yaml" };
@@ -488,7 +490,8 @@ TEST(RobotModel, AShortfallBeyondASaturatedProportionalPathIsNotChasedRegression
   std::printf("slow break-away: creep RMS speed error %.4f m/s with the bound, %.4f without; 0.3 rad/s turn in "
               "place peaks at %.3f rad/s with, %.3f without, ends at %.3f with\n",
               on, off, peak_on, peak_off, windowMean(turn_on, turn_on.yaw_true, 5.0, 6.0));
-  EXPECT_LE(on, 0.8 * off);
+  EXPECT_LE(on, off);
+  EXPECT_LE(off, 0.020);
   EXPECT_LE(peak_on, 0.33);
   EXPECT_GE(peak_off, 0.45);
   EXPECT_NEAR(windowMean(turn_on, turn_on.yaw_true, 5.0, 6.0), 0.3, 0.015);
@@ -510,6 +513,25 @@ TEST(RobotModel, AStallThatFreesGivesItsShortfallBack)
   std::printf("stall that frees: %.3f rad/s stalled, %.3f rad/s from 2 s after it frees\n", stalled, freed);
   EXPECT_LT(stalled, 0.1);
   EXPECT_NEAR(freed, 1.0, 0.06);
+  EXPECT_EQ(r.runaways, 0u);
+}
+
+TEST(RobotModel, AStallDoesNotWindTheCommandUpRegressionGuard)
+{
+  // The stall of AStallThatFreesGivesItsShortfallBack. The wheels do not answer the MCU's
+  // feed-forward kicks: the side is stalled (RobotBelief::stalled()) and its command stays within
+  // one kick range of its steady command (WheelLoopModel::kickRange()); the jump whose raised
+  // command does not move the wheel is not made up (RobotBelief::unansweredJumps()). Measured: the
+  // command's yaw rate peaks at 2.75 rad/s in the stall and the freed turn at 1.54 rad/s (the stock
+  // controller: 1.04); without the two rules the command climbs to max_wheel_speed (7.0 rad/s of
+  // yaw) and the freed turn peaks at 2.58 rad/s. Regression guard of today's figures.
+  const ClosedLoopRecord r = run(robotModel(), 0.0, 1.0, 9.0, {}, { "payload set 100 1 4" });
+  ASSERT_FALSE(r.time.empty());
+  const double command = windowPeak(r, r.command_yaw, 1.0, 5.0);
+  const double freed = windowPeak(r, r.yaw_true, 5.0, 9.0);
+  std::printf("stall: the command's yaw rate peaks at %.3f rad/s, the freed turn at %.3f rad/s\n", command, freed);
+  EXPECT_LE(command, 3.0);
+  EXPECT_LE(freed, 1.7);
   EXPECT_EQ(r.runaways, 0u);
 }
 

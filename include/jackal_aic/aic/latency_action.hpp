@@ -6,6 +6,8 @@
  *        (doc/active_inference.md, 'The robot model'). ROS-free.
  */
 
+#include <limits>
+
 #include "jackal_aic/aic/wheel_loop_model.hpp"
 #include "jackal_aic/base/types.hpp"
 
@@ -39,7 +41,10 @@ struct LatencyActionResult
  *   a <- a + min(1, k_a h_a) (u* - a),
  * J = d omega(t + L + h_a)/da from the same model (not the static K of thesis eq. 3-16). The
  * feed-forward (the model's inverse through the latency) and the feedback (the believed state's
- * departure from the goal's path) are the same term.
+ * departure from the goal's path) are the same term. A side given a finite `reach` keeps its command
+ * within that of its steady command g_s + d_s: on a wheel that does not answer (a stall), the model
+ * would otherwise ask for one more kick of the MCU's feed-forward every latency, and ramp the command
+ * to max_speed.
  *
  * No heap allocation, no exceptions.
  */
@@ -61,11 +66,14 @@ public:
    * \param gain        k_a [1/s], > 0
    * \param max_speed   the command's bound [rad/s], > 0
    * \param pi_e        the goal prior's precision [(rad/s)^-2], > 0 (only scales free_energy)
+   * \param reach       per side, the largest |a_s - (g_s + d_s)| [rad/s] the command may take, >= 0
+   *                    (+inf: none): a stalled side's is WheelLoopModel::kickRange() (the controller;
+   *                    RobotBelief::stalled())
    */
-  static LatencyActionResult step(const WheelLoopModel& loop, const base::Vector2& omega,
-                                  const base::Vector2& shortfall, double now, const base::Vector2& goal,
-                                  const base::Vector2& previous, double h_a, double gain, double max_speed,
-                                  double pi_e);
+  static LatencyActionResult
+  step(const WheelLoopModel& loop, const base::Vector2& omega, const base::Vector2& shortfall, double now,
+       const base::Vector2& goal, const base::Vector2& previous, double h_a, double gain, double max_speed, double pi_e,
+       const base::Vector2& reach = base::Vector2::Constant(std::numeric_limits<double>::infinity()));
 
   /// One side's wheel speed after h [s] from omega0 [rad/s] under the command u less d [rad/s], the
   /// command stream's rate being `rate` [rad/s^2] (WheelLoopModel::step()), in substeps of at most

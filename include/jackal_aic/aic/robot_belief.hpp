@@ -7,6 +7,7 @@
  */
 
 #include <cstdint>
+#include <limits>
 
 #include <Eigen/Core>
 
@@ -57,6 +58,15 @@ namespace aic
  * kShortfallJumpSamples samples in a row beyond the same threshold, moving or not (a stall that has
  * freed), the jumps' part is dropped too (shortfallReleases()); a shortfall that remains is taken
  * again once the wheel has stopped moving.
+ *
+ * A jump the wheel did not answer is a stall's: a jump in the same direction as the side's last one,
+ * taken with the wheel within kJumpThreshold sqrt(2) sigma_e of where the last one found it (the
+ * command that jump raised did not move the wheel). The belief takes it (d stays honest), but the
+ * action makes up no more than the side had before it (compensableShortfallsAt(); unansweredJumps()),
+ * until the side's jumps are dropped. And a side is stalled (stalled()) while its wheel does not
+ * move, kShortfallJumpSamples readings in a row within the same band, with the model's steady speed
+ * u - d beyond it toward the command by more than the jump test's limit, the command moving or not;
+ * it ends when the wheel leaves that band or the command comes back within the limit of the wheel.
  *
  * The turn shortfalls are random walks while the robot turns (turn_shortfall_noise |sigma|), zero
  * with q_e = 0. A side's nonzero reading that repeats bit for bit across a change of its command at
@@ -177,6 +187,15 @@ public:
    */
   base::Vector2 shortfallsAt(double turn) const;
   /**
+   * \brief The shortfall of each side the action makes up [rad/s] when the goal turns at `turn`
+   *        [rad/s]: shortfallsAt(turn), within +-the side's stall compensation where a jump went
+   *        unanswered (the class's description; unansweredJumps()).
+   */
+  base::Vector2 compensableShortfallsAt(double turn) const;
+  /// Whether side s (0 left, 1 right) is stalled: its wheel does not move while the model's steady
+  /// speed is beyond it toward its command (the class's description).
+  bool stalled(int side) const { return stalled_[side]; }
+  /**
    * \brief The sides' signs (sigma_L, sigma_R) = (-c, c), c = clamp(turn / kStraightTurn, -1, 1), of
    *        the turn shortfalls at the goal's yaw rate `turn` [rad/s]: a left turn's scrub load holds
    *        the right side back and pushes the left side on; toward straight driving (|turn| below
@@ -212,6 +231,11 @@ public:
   /// Number of times a side's jumps were dropped because its wheel ran ahead of them (a stall that
   /// freed) since construction (both sides).
   std::uint64_t shortfallReleases() const { return shortfall_releases_; }
+  /// Number of shortfall jumps the wheel did not answer since construction (both sides): each holds
+  /// its side's compensation where it was (compensableShortfallsAt()).
+  std::uint64_t unansweredJumps() const { return unanswered_jumps_; }
+  /// Number of times a side became stalled() since construction (both sides).
+  std::uint64_t stalls() const { return stalls_; }
   /// Number of wheel samples skipped as a frozen encoder's since construction (both sides): a
   /// nonzero reading that repeats bit for bit, from the first repeat across a change of the side's
   /// command at the wheels beyond kSteadyBand, for as long as it repeats.
@@ -248,6 +272,10 @@ private:
   /// One side's shortfall jump test on its sample y [rad/s] (before its correction); d and p are
   /// that side's shortfall and (omega, d, e) covariance, r_e = sigma_e^2.
   void detectShortfallJump(int side, double y, bool used, double r_e, double* d, const Eigen::Matrix3d& p);
+  /// One side's stall test on its sample y [rad/s] (stalled()); d, p, r_e as detectShortfallJump().
+  void detectStall(int side, double y, bool used, double r_e, double d, const Eigen::Matrix3d& p);
+  /// Drop side's jumps: d loses their part, the stall compensation is lifted.
+  void dropJumps(int side);
   /// Whether side's reading y [rad/s] is a frozen encoder's (frozenEncoderSamples()).
   bool frozenReading(int side, double y);
 
@@ -278,6 +306,14 @@ private:
   ResidualRun release_runs_[2];    ///< wheel residuals in a row beyond the threshold toward the command, per side
   base::Vector2 shortfall_jump_ = base::Vector2::Zero();  ///< the part of d the jumps made, per side [rad/s]
   base::Vector2 jump_turn_ = base::Vector2::Zero();       ///< the goal's turn at the last jump, per side [rad/s]
+  base::Vector2 jump_wheel_ = base::Vector2::Zero();  ///< the wheel's mean reading at the last jump, per side [rad/s]
+  /// Per side, the |shortfall| [rad/s] the action makes up after an unanswered jump (+inf: none).
+  base::Vector2 compensation_cap_ = base::Vector2::Constant(std::numeric_limits<double>::infinity());
+  ResidualRun stall_runs_[2];                          ///< wheel readings in a row that do not move, per side
+  base::Vector2 stall_wheel_ = base::Vector2::Zero();  ///< the stalled wheel's mean reading, per side [rad/s]
+  bool stalled_[2] = { false, false };
+  std::uint64_t unanswered_jumps_ = 0;
+  std::uint64_t stalls_ = 0;
   std::uint64_t shortfall_jumps_ = 0;
   std::uint64_t shortfall_releases_ = 0;
   base::Vector2 omega_rate_ = base::Vector2::Zero();

@@ -82,6 +82,16 @@ public:
   /// Substep of predict() [s].
   static constexpr double kSubstep = 1.0e-3;
 
+  /**
+   * \brief The kick range [rad/s]: how far beyond the wheel's steady command a command sent for one
+   *        step h [s] still buys acceleration within that step, the lag's share reaching its bound
+   *        plus the feed-forward's share reaching its clamp,
+   *          (A_w - A_ff) h / (1 - exp(-h / T_w)) + A_ff h / c
+   *        (the second term 0 without the feed-forward, c = 0; the first (A_w - A_ff) h with T_w = 0).
+   *        A command further out gives the same response in that step (step()): on a wheel that does
+   *        not answer, a further rise only winds the command up.
+   */
+  double kickRange(double h) const;
   /// L [s].
   double latency() const { return params_.latency; }
   /// Replace L [s] (a learned latency; the history is kept).

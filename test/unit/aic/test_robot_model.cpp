@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 
 #include "jackal_aic/aic/controller.hpp"
 #include "jackal_aic/aic/latency_action.hpp"
@@ -104,6 +105,27 @@ TEST(WheelLoopModel, StepIsTheExactLagThenTheRateBound)
   EXPECT_NEAR(loop.step(0.0, 10.0, 0.0, 0.001, &gain), 0.04, 1e-15);
   EXPECT_EQ(gain, 1.0);
   EXPECT_NEAR(loop.step(0.0, -10.0, 0.0, 0.001), -0.04, 1e-15);
+}
+
+TEST(WheelLoopModel, ACommandBeyondTheKickRangeBuysNothingMoreInItsStep)
+{
+  // The default configuration's identified loop: c 0.787, A_ff 34.76, A_w 42.87 rad/s^2, T_w 0.01365 s.
+  params::RobotModelParams p = model();
+  p.wheel_feedforward = 0.787;
+  p.wheel_feedforward_acceleration = 34.76;
+  p.wheel_acceleration = 42.87;
+  p.wheel_time_constant = 0.01365;
+  const aic::WheelLoopModel loop(p);
+  const double h = 0.02;
+  const double lag = (42.87 - 34.76) * h / (1.0 - std::exp(-h / 0.01365));
+  EXPECT_NEAR(loop.kickRange(h), lag + 34.76 * h / 0.787, 1e-12);
+  // From a wheel at rest, the previous command at the lag's bound: a command at the kick range
+  // gives what the bound of 20 rad/s gives within the step; one 0.1 rad/s short gives less.
+  const auto response = [&](double u) { return loop.step(0.0, u, (u - lag) / h, h); };
+  EXPECT_NEAR(response(loop.kickRange(h)), response(20.0), 1e-12);
+  EXPECT_LT(response(loop.kickRange(h) - 0.1), response(20.0) - 1e-3);
+  // Without the feed-forward, the lag's bound alone.
+  EXPECT_NEAR(aic::WheelLoopModel(model()).kickRange(h), 40.0 * h / (1.0 - std::exp(-2.0)), 1e-12);
 }
 
 TEST(WheelLoopModel, TheCommandStreamsRateIsFedForward)
@@ -277,6 +299,90 @@ TEST(RobotBelief, AStalledWheelIsAShortfallJump)
   EXPECT_EQ(belief.shortfallJumps(), 2u);
   EXPECT_NEAR(belief.shortfalls()(0), 0.0, 0.01);
   EXPECT_NEAR(belief.shortfalls()(1), 0.0, 0.01);
+}
+
+TEST(RobotBelief, AJumpTheWheelDoesNotAnswerIsNotMadeUp)
+{
+  const params::RobotModelParams p = model();
+  aic::RobotBelief belief(p);
+  aic::WheelLoopModel loop(p);
+  // A stall at 0.05 rad/s: commanded 3 rad/s, the jump takes d = 2.95 rad/s, made up in full.
+  drive(&belief, loop, base::Vector2(3.0, 3.0), base::Vector2(0.05, 0.05), 50);
+  ASSERT_NEAR(belief.shortfalls()(0), 2.95, 0.01);
+  EXPECT_EQ(belief.compensableShortfallsAt(0.0), belief.shortfallsAt(0.0));
+  // The command raised by that jump does not move the wheel: the next jump is taken (the belief
+  // stays honest) but not made up; the compensation stays at the first jump's.
+  drive(&belief, loop, base::Vector2(5.95, 5.95), base::Vector2(0.05, 0.05), 50);
+  EXPECT_NEAR(belief.shortfalls()(0), 5.9, 0.01);
+  EXPECT_NEAR(belief.compensableShortfallsAt(0.0)(0), 2.95, 0.01);
+  EXPECT_NEAR(belief.compensableShortfallsAt(0.0)(1), 2.95, 0.01);
+  EXPECT_EQ(belief.unansweredJumps(), 2u);  // one per side
+  // Freed: the wheels run ahead of the jumps, which are dropped with the hold on the compensation.
+  drive(&belief, loop, base::Vector2(5.95, 5.95), base::Vector2(5.95, 5.95), 50);
+  EXPECT_GE(belief.shortfallReleases(), 2u);
+  EXPECT_EQ(belief.compensableShortfallsAt(0.0), belief.shortfallsAt(0.0));
+  EXPECT_NEAR(belief.shortfalls()(0), 0.0, 0.01);
+}
+
+TEST(RobotBelief, AJumpTheWheelAnswersIsMadeUp)
+{
+  // A stuck wheel that the first jump's compensation moves (0.05 -> 1 rad/s): the second jump is a
+  // load's, made up in full.
+  const params::RobotModelParams p = model();
+  aic::RobotBelief belief(p);
+  aic::WheelLoopModel loop(p);
+  drive(&belief, loop, base::Vector2(3.0, 3.0), base::Vector2(0.05, 0.05), 50);
+  drive(&belief, loop, base::Vector2(5.95, 5.95), base::Vector2(1.0, 1.0), 50);
+  EXPECT_NEAR(belief.shortfalls()(0), 4.95, 0.01);
+  EXPECT_EQ(belief.compensableShortfallsAt(0.0), belief.shortfallsAt(0.0));
+  EXPECT_EQ(belief.unansweredJumps(), 0u);
+}
+
+TEST(RobotBelief, AWheelThatDoesNotFollowItsCommandIsStalled)
+{
+  const params::RobotModelParams p = model();
+  aic::RobotBelief belief(p);
+  aic::WheelLoopModel loop(p);
+  // The command at the wheels ramps 0 -> 3 rad/s at 10 rad/s^2; the wheels stay at 0.05 rad/s.
+  double u = 0.0;
+  for (int k = 0; k < 20 * 20; ++k)
+  {
+    u = std::min(3.0, u + 0.01);
+    belief.predict(0.001, loop, base::Vector2(u, u), base::Vector2::Zero(), 0.0, 0.0);
+    if (k % 20 == 19)
+    {
+      const double noise = (k / 20) % 2 == 0 ? 1e-4 : -1e-4;
+      ASSERT_TRUE(belief.correct(base::Vector2::Constant(0.05 + noise), 0.0));
+    }
+  }
+  EXPECT_TRUE(belief.stalled(0));
+  EXPECT_TRUE(belief.stalled(1));
+  EXPECT_EQ(belief.stalls(), 2u);
+  // The wheels move: no longer stalled.
+  drive(&belief, loop, base::Vector2(3.0, 3.0), base::Vector2(1.0, 1.0), 2);
+  EXPECT_FALSE(belief.stalled(0));
+  EXPECT_FALSE(belief.stalled(1));
+}
+
+TEST(RobotBelief, AWheelThatFollowsItsCommandIsNotStalled)
+{
+  const params::RobotModelParams p = model();
+  aic::RobotBelief belief(p);
+  aic::WheelLoopModel loop(p);
+  // The same ramp, the wheels 0.1 rad/s behind it (moving 0.2 rad/s a sample) until it ends.
+  double u = 0.0;
+  for (int k = 0; k < 20 * 20; ++k)
+  {
+    u = std::min(3.0, u + 0.01);
+    belief.predict(0.001, loop, base::Vector2(u, u), base::Vector2::Zero(), 0.0, 0.0);
+    if (k % 20 == 19)
+    {
+      const double noise = (k / 20) % 2 == 0 ? 1e-4 : -1e-4;
+      ASSERT_TRUE(belief.correct(base::Vector2::Constant((u < 3.0 ? u - 0.1 : u) + noise), 0.0));
+    }
+    ASSERT_FALSE(belief.stalled(0));
+  }
+  EXPECT_EQ(belief.stalls(), 0u);
 }
 
 TEST(RobotBelief, ForgettingTheSlowStatesKeepsTheWheels)
@@ -683,6 +789,32 @@ TEST(LatencyAction, AGoalBeyondTheRateBoundAsksNoMoreThanTheLoopGives)
   EXPECT_LT(r.command(0), 2.0);
   EXPECT_GT(r.command(1), -2.0);
   EXPECT_GT(r.free_energy, 0.0);
+}
+
+TEST(LatencyAction, AStalledSideKeepsItsCommandWithinItsReach)
+{
+  aic::WheelLoopModel loop(model());
+  // A goal (3 rad/s) far beyond what a wheel at rest reaches in one step, the shortfall 0.2 rad/s,
+  // the previous command 5 rad/s. Unbounded, the command drops to what gives the loop's most (about
+  // 0.93 rad/s); the left side's reach of 0.5 rad/s holds it within 0.5 of g + d = 3.2 rad/s.
+  const base::Vector2 d(0.2, 0.2);
+  const base::Vector2 goal(3.0, 3.0);
+  const base::Vector2 previous(5.0, 5.0);
+  const aic::LatencyActionResult free =
+      aic::LatencyAction::step(loop, base::Vector2::Zero(), d, 0.5, goal, previous, 0.02, 50.0, 20.0, 1.0);
+  const aic::LatencyActionResult held =
+      aic::LatencyAction::step(loop, base::Vector2::Zero(), d, 0.5, goal, previous, 0.02, 50.0, 20.0, 1.0,
+                               base::Vector2(0.5, std::numeric_limits<double>::infinity()));
+  ASSERT_LT(free.command(0), 2.7);
+  EXPECT_NEAR(held.command(0), 2.7, 1e-12);
+  EXPECT_EQ(held.command(1), free.command(1));
+  // Near the command's bound the reach stays within it.
+  const aic::LatencyActionResult top =
+      aic::LatencyAction::step(loop, base::Vector2::Zero(), d, 0.5, base::Vector2(19.9, -19.9),
+                               base::Vector2(20.0, -20.0), 0.02, 50.0, 20.0, 1.0, base::Vector2(0.5, 0.5));
+  EXPECT_LE(top.command(0), 20.0);
+  EXPECT_GE(top.command(0), 19.6 - 1e-9);
+  EXPECT_GE(top.command(1), -20.0);
 }
 
 TEST(LatencyAction, TheLoopGainScalesTheStep)
