@@ -94,10 +94,12 @@ LatencyActionResult LatencyAction::step(const WheelLoopModel& loop, const base::
     r.command(s) = std::clamp(previous(s) + fraction * (r.minimiser(s) - previous(s)), -max_speed, max_speed);
     if (std::isfinite(reach(s)))
     {
-      // Both ends within the command's bound, so lo <= hi whatever the steady command.
+      // Both ends within the command's bound, so lo <= hi whatever the steady command (a negative
+      // reach is taken as 0).
       const double steady = goal(s) + shortfall(s);
-      const double lo = std::clamp(steady - reach(s), -max_speed, max_speed);
-      const double hi = std::clamp(steady + reach(s), -max_speed, max_speed);
+      const double within = std::max(reach(s), 0.0);
+      const double lo = std::clamp(steady - within, -max_speed, max_speed);
+      const double hi = std::clamp(steady + within, -max_speed, max_speed);
       r.command(s) = std::clamp(r.command(s), lo, hi);
     }
     r.predicted(s) =

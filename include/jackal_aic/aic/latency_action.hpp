@@ -67,8 +67,8 @@ public:
    * \param max_speed   the command's bound [rad/s], > 0
    * \param pi_e        the goal prior's precision [(rad/s)^-2], > 0 (only scales free_energy)
    * \param reach       per side, the largest |a_s - (g_s + d_s)| [rad/s] the command may take, >= 0
-   *                    (+inf: none): a stalled side's is WheelLoopModel::kickRange() (the controller;
-   *                    RobotBelief::stalled())
+   *                    (a negative one is taken as 0; +inf or NaN: none): a stalled side's is
+   *                    WheelLoopModel::kickRange() (the controller; RobotBelief::stalled())
    */
   static LatencyActionResult
   step(const WheelLoopModel& loop, const base::Vector2& omega, const base::Vector2& shortfall, double now,

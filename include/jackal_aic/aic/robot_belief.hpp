@@ -192,9 +192,9 @@ public:
    *        unanswered (the class's description; unansweredJumps()).
    */
   base::Vector2 compensableShortfallsAt(double turn) const;
-  /// Whether side s (0 left, 1 right) is stalled: its wheel does not move while the model's steady
-  /// speed is beyond it toward its command (the class's description).
-  bool stalled(int side) const { return stalled_[side]; }
+  /// Whether side s (0 left, 1 right; any other: false) is stalled: its wheel does not move while
+  /// the model's steady speed is beyond it toward its command (the class's description).
+  bool stalled(int side) const { return (side == 0 || side == 1) && stalled_[side]; }
   /**
    * \brief The sides' signs (sigma_L, sigma_R) = (-c, c), c = clamp(turn / kStraightTurn, -1, 1), of
    *        the turn shortfalls at the goal's yaw rate `turn` [rad/s]: a left turn's scrub load holds

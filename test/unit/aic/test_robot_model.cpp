@@ -338,25 +338,38 @@ TEST(RobotBelief, AJumpTheWheelAnswersIsMadeUp)
   EXPECT_EQ(belief.unansweredJumps(), 0u);
 }
 
+/// Ramp both sides' command at the wheels 0 -> 3 rad/s at 10 rad/s^2 for 0.4 s (1 ms predictions),
+/// each 20 ms sample reading `wheel(u)` [rad/s] (u the command then) with +-1e-4 rad/s of
+/// alternating noise; `each` is called after every prediction.
+void rampAgainst(
+    aic::RobotBelief* belief, const aic::WheelLoopModel& loop, const std::function<double(double)>& wheel,
+    const std::function<void()>& each = [] {})
+{
+  double u = 0.0;
+  for (int k = 0; k < 20 * 20; ++k)
+  {
+    u = std::min(3.0, u + 0.01);
+    belief->predict(0.001, loop, base::Vector2(u, u), base::Vector2::Zero(), 0.0, 0.0);
+    if (k % 20 == 19)
+    {
+      const double noise = (k / 20) % 2 == 0 ? 1e-4 : -1e-4;
+      ASSERT_TRUE(belief->correct(base::Vector2::Constant(wheel(u) + noise), 0.0));
+    }
+    each();
+  }
+}
+
 TEST(RobotBelief, AWheelThatDoesNotFollowItsCommandIsStalled)
 {
   const params::RobotModelParams p = model();
   aic::RobotBelief belief(p);
   aic::WheelLoopModel loop(p);
-  // The command at the wheels ramps 0 -> 3 rad/s at 10 rad/s^2; the wheels stay at 0.05 rad/s.
-  double u = 0.0;
-  for (int k = 0; k < 20 * 20; ++k)
-  {
-    u = std::min(3.0, u + 0.01);
-    belief.predict(0.001, loop, base::Vector2(u, u), base::Vector2::Zero(), 0.0, 0.0);
-    if (k % 20 == 19)
-    {
-      const double noise = (k / 20) % 2 == 0 ? 1e-4 : -1e-4;
-      ASSERT_TRUE(belief.correct(base::Vector2::Constant(0.05 + noise), 0.0));
-    }
-  }
+  // The command ramps, the wheels stay at 0.05 rad/s.
+  rampAgainst(&belief, loop, [](double) { return 0.05; });
   EXPECT_TRUE(belief.stalled(0));
   EXPECT_TRUE(belief.stalled(1));
+  EXPECT_FALSE(belief.stalled(2));  // no such side
+  EXPECT_FALSE(belief.stalled(-1));
   EXPECT_EQ(belief.stalls(), 2u);
   // The wheels move: no longer stalled.
   drive(&belief, loop, base::Vector2(3.0, 3.0), base::Vector2(1.0, 1.0), 2);
@@ -370,18 +383,8 @@ TEST(RobotBelief, AWheelThatFollowsItsCommandIsNotStalled)
   aic::RobotBelief belief(p);
   aic::WheelLoopModel loop(p);
   // The same ramp, the wheels 0.1 rad/s behind it (moving 0.2 rad/s a sample) until it ends.
-  double u = 0.0;
-  for (int k = 0; k < 20 * 20; ++k)
-  {
-    u = std::min(3.0, u + 0.01);
-    belief.predict(0.001, loop, base::Vector2(u, u), base::Vector2::Zero(), 0.0, 0.0);
-    if (k % 20 == 19)
-    {
-      const double noise = (k / 20) % 2 == 0 ? 1e-4 : -1e-4;
-      ASSERT_TRUE(belief.correct(base::Vector2::Constant((u < 3.0 ? u - 0.1 : u) + noise), 0.0));
-    }
-    ASSERT_FALSE(belief.stalled(0));
-  }
+  rampAgainst(
+      &belief, loop, [](double u) { return u < 3.0 ? u - 0.1 : u; }, [&] { ASSERT_FALSE(belief.stalled(0)); });
   EXPECT_EQ(belief.stalls(), 0u);
 }
 
@@ -815,6 +818,12 @@ TEST(LatencyAction, AStalledSideKeepsItsCommandWithinItsReach)
   EXPECT_LE(top.command(0), 20.0);
   EXPECT_GE(top.command(0), 19.6 - 1e-9);
   EXPECT_GE(top.command(1), -20.0);
+  // A negative reach is none beyond the steady command; NaN is no bound.
+  const aic::LatencyActionResult odd =
+      aic::LatencyAction::step(loop, base::Vector2::Zero(), d, 0.5, goal, previous, 0.02, 50.0, 20.0, 1.0,
+                               base::Vector2(-1.0, std::numeric_limits<double>::quiet_NaN()));
+  EXPECT_NEAR(odd.command(0), 3.2, 1e-12);
+  EXPECT_EQ(odd.command(1), free.command(1));
 }
 
 TEST(LatencyAction, TheLoopGainScalesTheStep)
