@@ -514,7 +514,7 @@ TEST(RobotModel, AStallThatFreesGivesItsShortfallBack)
   // In the stall the shortfall's jumps take it (the first 3.88 rad/s). When it frees, the wheels
   // run ahead of u - d at a held command, and the jumps are dropped
   // (RobotBelief::shortfallReleases()): the turn settles at the stock controller's 1.04 rad/s
-  // (mean over 6 to 8 s after the start: 1.000). Kept, the jumps left the robot turning at 1.55
+  // (mean over 6 to 8 s after the start: 1.000). Kept, the jumps left the robot turning at 2.09
   // rad/s (the ablation: the release rule taken out of RobotBelief::detectShortfallJump()).
   const ClosedLoopRecord& r = stalledTurnInPlace();
   ASSERT_FALSE(r.time.empty());
