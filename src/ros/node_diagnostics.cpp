@@ -49,6 +49,17 @@ ControllerReport ControllerReport::of(const aic::ActiveInferenceController& cont
                     controller.latencyLearner().lastStart());
       r.latency_learning = text;
     }
+    const aic::RobotBelief& belief = controller.robotBelief();
+    const bool left = belief.stalled(0);
+    const bool right = belief.stalled(1);
+    const char* stalled = left && right ? "both" : (left ? "left" : (right ? "right" : "none"));
+    char jumps[160];
+    std::snprintf(jumps, sizeof jumps, "%llu taken, %llu released, %llu unanswered, %llu stalls; stalled: %s",
+                  static_cast<unsigned long long>(belief.shortfallJumps()),
+                  static_cast<unsigned long long>(belief.shortfallReleases()),
+                  static_cast<unsigned long long>(belief.unansweredJumps()),
+                  static_cast<unsigned long long>(belief.stalls()), stalled);
+    r.shortfall_jumps = jumps;
   }
   if (params::learnsPrecision(controller.params()))
   {
@@ -260,6 +271,7 @@ void NodeDiagnostics::controller(diagnostic_updater::DiagnosticStatusWrapper& st
   stat.add("gyro offset learning", report.gyro_bias_learning);
   stat.addf("model latency L [s]", "%.4f", report.latency);
   stat.add("latency learning", report.latency_learning);
+  stat.add("shortfall jumps (robot model)", report.shortfall_jumps);
   stat.add("tip-over guard", report.tip_guard);
   stat.add("sensory precisions Pi_y^(0) [1/(rad/s)^2]", report.sensory_precisions);
   stat.add("sensory precision learning", report.precision_learning);

@@ -24,6 +24,8 @@ from an overlay with `latency:` ~start_latency) also:
 5. Diagnostics "controller" shows the L in use (`model latency L [s]`, 4 decimals): ~start_latency
    with "0 starts" in `latency learning` before the first start, the saved L after it, and
    ~start_latency again after the reset.
+6. After the arc, diagnostics "controller" counts the robot model's shortfall jumps
+   (`shortfall jumps (robot model)`) and shows no side stalled.
 """
 import math
 import os
@@ -78,14 +80,18 @@ class LearnedModelTest(unittest.TestCase):
                 with self.lock:
                     self.diagnostics = (msg.header.stamp.to_sec(), {kv.key: kv.value for kv in st.values})
 
-    def latency_shown(self, after):
-        """(L, its learning) from the first controller diagnostics stamped after ROS time `after`."""
+    def controller_diagnostics(self, after):
+        """The key -> value of the first controller diagnostics stamped after ROS time `after`."""
         def fresh():
             with self.lock:
                 return self.diagnostics[0] is not None and self.diagnostics[0] > after
         self.assertTrue(wait_for(fresh, 10.0), "no controller diagnostics after %.3f s" % after)
         with self.lock:
-            kv = self.diagnostics[1]
+            return dict(self.diagnostics[1])
+
+    def latency_shown(self, after):
+        """(L, its learning) from the first controller diagnostics stamped after ROS time `after`."""
+        kv = self.controller_diagnostics(after)
         return float(kv["model latency L [s]"]), kv["latency learning"]
 
     def save(self):
@@ -118,6 +124,10 @@ class LearnedModelTest(unittest.TestCase):
         self.twist.linear.x, self.twist.angular.z = 0.0, 0.0
         learned = self.b()
         rospy.loginfo("learned_model_check: b_hat %.4f m after %.1f s of arc (start %.4f m)", learned, drive_time, start)
+        if start_latency is not None:
+            # The robot model's shortfall jumps: counted, and no side stalled on a free arc.
+            jumps = self.controller_diagnostics(rospy.Time.now().to_sec()).get("shortfall jumps (robot model)", "")
+            self.assertRegex(jumps, r"^\d+ taken, \d+ released, \d+ unanswered, \d+ stalls; stalled: none$")
         self.assertGreater(abs(learned - start) / start, min_change, "b_hat did not learn on the arc")
         rospy.sleep(2.0)  # at rest: learning frozen, b_hat steady
         steady = self.b()

@@ -62,6 +62,10 @@ struct ControllerReport
   double latency = std::numeric_limits<double>::quiet_NaN();
   /// With learn_latency: "<n> starts, newest <L> s" (LatencyLearner::starts(), lastStart()); "off" otherwise.
   std::string latency_learning = "off";
+  /// The robot model's shortfall jumps, "<j> taken, <r> released, <u> unanswered, <s> stalls;
+  /// stalled: none|left|right|both" (RobotBelief::shortfallJumps(), shortfallReleases(),
+  /// unansweredJumps(), stalls(), stalled()); "off" for the other belief models.
+  std::string shortfall_jumps = "off";
   /// The tip-over guard's state, learned bounds and trips (statusText(const TipGuard&)) or "off".
   std::string tip_guard = "off";
   std::string precision_learning = "off";  ///< the precision learner's state (learning, near rest, ...) or "off"
