@@ -539,9 +539,14 @@ TEST(RobotModel, AStallDoesNotWindTheCommandUpRegressionGuard)
   ASSERT_FALSE(r.time.empty());
   const double command = windowPeak(r, r.command_yaw, 1.0, 5.0);
   const double freed = windowPeak(r, r.yaw_true, 5.0, 9.0);
-  std::printf("stall: the command's yaw rate peaks at %.3f rad/s, the freed turn at %.3f rad/s\n", command, freed);
+  std::printf("stall: the command's yaw rate peaks at %.3f rad/s, the freed turn at %.3f rad/s (%llu stalls, %llu "
+              "unanswered jumps)\n",
+              command, freed, static_cast<unsigned long long>(r.stalls),
+              static_cast<unsigned long long>(r.unanswered_jumps));
   EXPECT_LE(command, 3.0);
   EXPECT_LE(freed, 1.7);
+  EXPECT_GE(r.stalls, 2u);  // both sides: the rules acted
+  EXPECT_GE(r.unanswered_jumps, 2u);
 }
 
 TEST(RobotModel, TheTurnShortfallsKeepTheBeliefHonestOnAWheelLoopThatHoldsNoTurnLoad)

@@ -50,6 +50,8 @@
  *        with learn_precision (goal and unbiased models) "sensory_precisions" (the AIC's Pi_y^(0)
  *        per sensor channel at the end),
  *        with the robot model's learn_latency "learned_latency" (its wheel loop's L at the end [s]),
+ *        with the robot model "shortfall_jumps": {"taken", "released", "unanswered", "stalls"} (its
+ *        shortfall jumps' counts over the run, both sides: doc/active_inference.md, 'The robot model'),
  *        "plant": what the plant did over the profile's span, any controller: {"torque_limited" (share
  *        of the samples x sides with the motor torque clamped to its limit), "wheel_loop": {"vx", "wz"}
  *        (RMS of the wheel loops' set point in effect minus the true wheel speeds, as body twist
@@ -691,6 +693,12 @@ int main(int argc, char** argv)
   if (c.controller == LoopController::kAic && params::learnsLatency(c.aic))
   {
     std::cout << ", \"learned_latency\": " << base::jsonNumber(rec.latency);
+  }
+  if (c.controller == LoopController::kAic && c.aic.belief_model == params::BeliefModel::kRobot)
+  {
+    std::cout << ", \"shortfall_jumps\": {\"taken\": " << rec.shortfall_jumps
+              << ", \"released\": " << rec.shortfall_releases << ", \"unanswered\": " << rec.unanswered_jumps
+              << ", \"stalls\": " << rec.stalls << "}";
   }
   if (c.controller == LoopController::kAic && params::learnsPrecision(c.aic))
   {

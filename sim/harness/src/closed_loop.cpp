@@ -620,6 +620,11 @@ ClosedLoopRecord runClosedLoop(const RobotDescription& description, PlantParams 
     if (loop->controller().params().belief_model == params::BeliefModel::kRobot)
     {
       out.latency = loop->controller().wheelLoop().latency();
+      const aic::RobotBelief& belief = loop->controller().robotBelief();
+      out.shortfall_jumps = belief.shortfallJumps();
+      out.shortfall_releases = belief.shortfallReleases();
+      out.unanswered_jumps = belief.unansweredJumps();
+      out.stalls = belief.stalls();
     }
     out.tip_trips = loop->tipGuard().trips();
     out.tip_front = loop->tipGuard().learnedFront();

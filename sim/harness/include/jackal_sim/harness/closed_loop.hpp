@@ -245,6 +245,12 @@ struct ClosedLoopRecord
   std::uint64_t runaways = 0;  ///< AIC runaway resets during the run
   /// AIC, robot model: the wheel loop's latency L at the end [s] (learned with learn_latency; NaN otherwise).
   double latency = std::numeric_limits<double>::quiet_NaN();
+  /// AIC, robot model: its shortfall jumps' counts at the end, both sides (RobotBelief::shortfallJumps(),
+  /// shortfallReleases(), unansweredJumps(), stalls()); zero for the other models.
+  std::uint64_t shortfall_jumps = 0;
+  std::uint64_t shortfall_releases = 0;
+  std::uint64_t unanswered_jumps = 0;
+  std::uint64_t stalls = 0;
   /// AIC: the tip-over guard's trips during the run and its learned bounds at the end [m/s^2]
   /// (TipGuard::learnedFront(), learnedRear(); +inf: none learned).
   std::uint64_t tip_trips = 0;
