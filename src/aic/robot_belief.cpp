@@ -319,7 +319,12 @@ void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e,
   // standard deviations (sigma_e and d's uncertainty), all within kJumpThreshold sqrt(2) sigma_e of
   // the first (the wheel no longer moves: a loop still converging changes them), are a step in the
   // load; d takes their mean at once.
-  detectStall(side, y, used, r_e, *d, p);
+  // The jump test's limit on a residual, its band of a wheel that does not move, and the turn
+  // shortfall's part of the model's steady speed: shared by the stall, release and jump tests.
+  const double limit = kJumpThreshold * std::sqrt(r_e + p(1, 1));
+  const double band = kJumpThreshold * std::sqrt(2.0 * r_e);
+  const double turn_part = turn_signs_(side) * side_[side](2);
+  detectStall(side, y, used, *d + turn_part, limit, band);
   ResidualRun& run = shortfall_runs_[side];
   if (!used || steady_time_(side) < settle_needed_(side))
   {
@@ -327,9 +332,7 @@ void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e,
     release_runs_[side].clear();
     return;
   }
-  const double turn_part = turn_signs_(side) * side_[side](2);
   const double r = y - (wheel_command_(side) - *d - turn_part);
-  const double limit = kJumpThreshold * std::sqrt(r_e + p(1, 1));
   // The load the jumps took is gone (a stall that frees): the wheel runs faster than the model's
   // steady speed, toward its command, kShortfallJumpSamples samples in a row beyond the same limit,
   // still moving or not. The jumps are dropped, as at a turn's change; a shortfall that remains is
@@ -343,7 +346,7 @@ void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e,
     run.clear();
     return;
   }
-  if (run.add(r, std::abs(r) > limit, kJumpThreshold * std::sqrt(2.0 * r_e), kShortfallJumpSamples))
+  if (run.add(r, std::abs(r) > limit, band, kShortfallJumpSamples))
   {
     // A shortfall: the wheel delivers between nothing and the whole command (a wheel faster than
     // its command, pushed or rolling downhill, is left to the drift).
@@ -354,8 +357,7 @@ void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e,
       // Unanswered: the side's last jump was in the same direction and the wheel is where it found
       // it. The compensation stays at what the side had before this jump.
       const double wheel = run.mean() + (u - *d - turn_part);
-      if (shortfall_jump_(side) * (target - *d) > 0.0 &&
-          std::abs(wheel - jump_wheel_(side)) <= kJumpThreshold * std::sqrt(2.0 * r_e) &&
+      if (shortfall_jump_(side) * (target - *d) > 0.0 && std::abs(wheel - jump_wheel_(side)) <= band &&
           std::isinf(compensation_cap_(side)))
       {
         compensation_cap_(side) = std::abs(*d + turn_part);
@@ -370,15 +372,13 @@ void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e,
   }
 }
 
-void RobotBelief::detectStall(int side, double y, bool used, double r_e, double d, const Eigen::Matrix3d& p)
+void RobotBelief::detectStall(int side, double y, bool used, double shortfall, double limit, double band)
 {
   if (!used || !std::isfinite(y))
   {
     return;
   }
   const double u = wheel_command_(side);
-  const double band = kJumpThreshold * std::sqrt(2.0 * r_e);
-  const double limit = kJumpThreshold * std::sqrt(r_e + p(1, 1));
   if (stalled_[side])
   {
     // Freed (the wheel moves) or asked for no more than it gives (the command came back to it).
@@ -389,8 +389,8 @@ void RobotBelief::detectStall(int side, double y, bool used, double r_e, double 
     }
     return;
   }
-  // How far the model's steady speed u - d is beyond the wheel, toward the command.
-  const double gap = (u - d - turn_signs_(side) * side_[side](2) - y) * (u >= 0.0 ? 1.0 : -1.0);
+  // How far the model's steady speed u - d - sigma e is beyond the wheel, toward the command.
+  const double gap = (u - shortfall - y) * (u >= 0.0 ? 1.0 : -1.0);
   if (stall_runs_[side].add(y, gap > limit, band, kShortfallJumpSamples))
   {
     stalled_[side] = true;

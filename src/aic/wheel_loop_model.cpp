@@ -85,6 +85,10 @@ base::Vector2 WheelLoopModel::lastCommand() const
 
 double WheelLoopModel::kickRange(double h) const
 {
+  if (!(h > 0.0) || !std::isfinite(h))
+  {
+    return 0.0;
+  }
   const double decay = params_.wheel_time_constant > 0.0 ? std::exp(-h / params_.wheel_time_constant) : 0.0;
   const double a_ff = params_.wheel_feedforward_acceleration;
   const double lag = std::max(params_.wheel_acceleration - a_ff, 0.0) * h / (1.0 - decay);

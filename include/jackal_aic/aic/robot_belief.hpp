@@ -272,8 +272,10 @@ private:
   /// One side's shortfall jump test on its sample y [rad/s] (before its correction); d and p are
   /// that side's shortfall and (omega, d, e) covariance, r_e = sigma_e^2.
   void detectShortfallJump(int side, double y, bool used, double r_e, double* d, const Eigen::Matrix3d& p);
-  /// One side's stall test on its sample y [rad/s] (stalled()); d, p, r_e as detectShortfallJump().
-  void detectStall(int side, double y, bool used, double r_e, double d, const Eigen::Matrix3d& p);
+  /// One side's stall test on its sample y [rad/s] (stalled()): `shortfall` the side's d + sigma e
+  /// [rad/s], `limit` the jump test's limit on a residual and `band` its band of a wheel that does
+  /// not move [rad/s] (detectShortfallJump() computes them).
+  void detectStall(int side, double y, bool used, double shortfall, double limit, double band);
   /// Drop side's jumps: d loses their part, the stall compensation is lifted.
   void dropJumps(int side);
   /// Whether side's reading y [rad/s] is a frozen encoder's (frozenEncoderSamples()).

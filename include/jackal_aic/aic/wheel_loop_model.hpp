@@ -89,7 +89,7 @@ public:
    *          (A_w - A_ff) h / (1 - exp(-h / T_w)) + A_ff h / c
    *        (the second term 0 without the feed-forward, c = 0; the first (A_w - A_ff) h with T_w = 0).
    *        A command further out gives the same response in that step (step()): on a wheel that does
-   *        not answer, a further rise only winds the command up.
+   *        not answer, a further rise only winds the command up. 0 unless h is finite and > 0.
    */
   double kickRange(double h) const;
   /// L [s].

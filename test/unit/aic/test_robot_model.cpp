@@ -124,6 +124,11 @@ TEST(WheelLoopModel, ACommandBeyondTheKickRangeBuysNothingMoreInItsStep)
   const auto response = [&](double u) { return loop.step(0.0, u, (u - lag) / h, h); };
   EXPECT_NEAR(response(loop.kickRange(h)), response(20.0), 1e-12);
   EXPECT_LT(response(loop.kickRange(h) - 0.1), response(20.0) - 1e-3);
+  // A step that is no step reaches nothing.
+  EXPECT_EQ(loop.kickRange(0.0), 0.0);
+  EXPECT_EQ(loop.kickRange(-0.02), 0.0);
+  EXPECT_EQ(loop.kickRange(std::numeric_limits<double>::quiet_NaN()), 0.0);
+  EXPECT_EQ(loop.kickRange(std::numeric_limits<double>::infinity()), 0.0);
   // Without the feed-forward, the lag's bound alone.
   EXPECT_NEAR(aic::WheelLoopModel(model()).kickRange(h), 40.0 * h / (1.0 - std::exp(-2.0)), 1e-12);
 }
