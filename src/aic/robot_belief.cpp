@@ -102,6 +102,7 @@ void RobotBelief::reset(const base::Vector2& omega, double theta_dot)
   shortfall_jump_.setZero();
   jump_turn_.setZero();
   jump_wheel_.setZero();
+  jump_command_.setZero();
   compensation_cap_.setConstant(std::numeric_limits<double>::infinity());
   for (int i = 0; i < 2; ++i)
   {
@@ -354,16 +355,20 @@ void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e,
     const double target = std::clamp(*d + turn_part - run.mean(), std::min(0.0, u), std::max(0.0, u)) - turn_part;
     if (std::abs(target - *d) > limit)
     {
-      // Unanswered: the side's last jump was in the same direction and the wheel is where it found
-      // it. The compensation stays at what the side had before this jump.
+      // Unanswered: the side's last jump was in the same direction, the command has since been
+      // raised by more than the band (an answer would show) and the wheel is where the last jump
+      // found it. The compensation stays at what the side had before this jump.
       const double wheel = run.mean() + (u - *d - turn_part);
-      if (shortfall_jump_(side) * (target - *d) > 0.0 && std::abs(wheel - jump_wheel_(side)) <= band &&
+      const double direction = target - *d > 0.0 ? 1.0 : -1.0;
+      const bool raised = (u - jump_command_(side)) * direction > band;
+      if (shortfall_jump_(side) * direction > 0.0 && raised && std::abs(wheel - jump_wheel_(side)) <= band &&
           std::isinf(compensation_cap_(side)))
       {
         compensation_cap_(side) = std::abs(*d + turn_part);
         ++unanswered_jumps_;
       }
       jump_wheel_(side) = wheel;
+      jump_command_(side) = u;
       shortfall_jump_(side) += target - *d;
       jump_turn_(side) = turn_;
       *d = target;

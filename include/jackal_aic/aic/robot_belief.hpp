@@ -60,8 +60,9 @@ namespace aic
  * again once the wheel has stopped moving.
  *
  * A jump the wheel did not answer is a stall's: a jump in the same direction as the side's last one,
- * taken with the wheel within kJumpThreshold sqrt(2) sigma_e of where the last one found it (the
- * command that jump raised did not move the wheel). The belief takes it (d stays honest), but the
+ * taken with the command raised since that jump by more than kJumpThreshold sqrt(2) sigma_e (an
+ * answer would show) and the wheel within that band of where the last one found it (the raised
+ * command did not move the wheel). The belief takes it (d stays honest), but the
  * action makes up no more than the side had before it (compensableShortfallsAt(); unansweredJumps()),
  * until the side's jumps are dropped. And a side is stalled (stalled()) while its wheel does not
  * move, kShortfallJumpSamples readings in a row within the same band, with the model's steady speed
@@ -308,7 +309,8 @@ private:
   ResidualRun release_runs_[2];    ///< wheel residuals in a row beyond the threshold toward the command, per side
   base::Vector2 shortfall_jump_ = base::Vector2::Zero();  ///< the part of d the jumps made, per side [rad/s]
   base::Vector2 jump_turn_ = base::Vector2::Zero();       ///< the goal's turn at the last jump, per side [rad/s]
-  base::Vector2 jump_wheel_ = base::Vector2::Zero();  ///< the wheel's mean reading at the last jump, per side [rad/s]
+  base::Vector2 jump_wheel_ = base::Vector2::Zero();    ///< the wheel's mean reading at the last jump, per side [rad/s]
+  base::Vector2 jump_command_ = base::Vector2::Zero();  ///< the wheel command at the last jump, per side [rad/s]
   /// Per side, the |shortfall| [rad/s] the action makes up after an unanswered jump (+inf: none).
   base::Vector2 compensation_cap_ = base::Vector2::Constant(std::numeric_limits<double>::infinity());
   ResidualRun stall_runs_[2];                          ///< wheel readings in a row that do not move, per side

@@ -329,6 +329,26 @@ TEST(RobotBelief, AJumpTheWheelDoesNotAnswerIsNotMadeUp)
   EXPECT_NEAR(belief.shortfalls()(0), 0.0, 0.01);
 }
 
+TEST(RobotBelief, AJumpAfterACommandThatWasNotRaisedIsMadeUp)
+{
+  // The command stays at 3 rad/s after the first jump (the action did not make it up: past the
+  // MCU's proportional path), and the wheel settles a little lower, beyond the jump limit but within
+  // the band of a wheel that does not move. No raised command went unanswered: the second jump is
+  // made up too.
+  const params::RobotModelParams p = model();
+  const double band = aic::RobotBelief::kJumpThreshold * std::sqrt(2.0) * p.encoder_noise;
+  aic::RobotBelief belief(p);
+  aic::WheelLoopModel loop(p);
+  drive(&belief, loop, base::Vector2(3.0, 3.0), base::Vector2(2.0, 2.0), 50);
+  ASSERT_NEAR(belief.shortfalls()(0), 1.0, 0.01);
+  ASSERT_EQ(belief.shortfallJumps(), 2u);
+  drive(&belief, loop, base::Vector2(3.0, 3.0), base::Vector2::Constant(2.0 - 0.9 * band), 50);
+  EXPECT_EQ(belief.shortfallJumps(), 4u);
+  EXPECT_NEAR(belief.shortfalls()(0), 1.0 + 0.9 * band, 0.2 * band);
+  EXPECT_EQ(belief.compensableShortfallsAt(0.0), belief.shortfallsAt(0.0));
+  EXPECT_EQ(belief.unansweredJumps(), 0u);
+}
+
 TEST(RobotBelief, AJumpTheWheelAnswersIsMadeUp)
 {
   // A stuck wheel that the first jump's compensation moves (0.05 -> 1 rad/s): the second jump is a
