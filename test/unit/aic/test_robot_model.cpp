@@ -331,9 +331,9 @@ TEST(RobotBelief, AJumpTheWheelDoesNotAnswerIsNotMadeUp)
 
 TEST(RobotBelief, AJumpAfterACommandThatWasNotRaisedIsMadeUp)
 {
-  // The command stays at 3 rad/s after the first jump (the action did not make it up: past the
-  // MCU's proportional path), and the wheel settles a little lower, beyond the jump limit but within
-  // the band of a wheel that does not move. No raised command went unanswered: the second jump is
+  // The command at the wheels stays at 3 rad/s after the first jump (the raised command has not
+  // reached them yet, one latency behind the action, or was not made up), and the wheel settles a
+  // little lower, beyond the jump limit but within the band of a wheel that does not move. No raised command went unanswered: the second jump is
   // made up too.
   const params::RobotModelParams p = model();
   const double band = aic::RobotBelief::kJumpThreshold * std::sqrt(2.0) * p.encoder_noise;
