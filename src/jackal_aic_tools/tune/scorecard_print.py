@@ -67,7 +67,8 @@ def print_driving(crit, peer_config):
     """Print the driving tables (criterion 6) of scorecard()'s criteria; ``peer_config``: the
     classical peer's YAML as table 6j names it (printed where the peer ran)."""
     table("6a. Driving steps at %d phases of the 50 Hz clocks (step %s ms after the rest; the worst phase "
-          "judged: settling AIC / stock <= bound, overshoot <= %g %%)"
+          "judged: settling AIC / stock <= bound, overshoot <= %g %%; a phase's settle x is 0.000 where only "
+          "the stock controller never settled, '-' where the AIC did not)"
           % (len(driving.STEP_PHASES), ", ".join("%g" % (1e3 * p) for p in driving.STEP_PHASES),
              driving.STEP_OVERSHOOT),
           ["case", "AIC settle/os (worst)", "stock settle/os", "settle x per phase", "worst", "bound", "verdict"],
