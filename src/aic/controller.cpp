@@ -788,13 +788,19 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
   // Not past a stall's unanswered jumps (RobotBelief::compensableShortfallsAt()).
   const base::Vector2 shortfall = at_rest ? base::Vector2::Zero() : robot_belief_.compensableShortfallsAt(goal_turn);
   // A stalled side's command stays within one kick of its steady command: a wheel that does not
-  // answer the MCU's feed-forward would otherwise be asked for one more kick every latency.
+  // answer the MCU's feed-forward would otherwise be asked for one more kick every latency. A
+  // saturated side's speed does not depend on its command (F_a is flat in it): it is commanded
+  // the goal's wheel speed, which leaves nothing to overrun when it frees.
   base::Vector2 reach = base::Vector2::Constant(std::numeric_limits<double>::infinity());
   for (int s = 0; s < 2; ++s)
   {
     if (robot_belief_.stalled(s))
     {
       reach(s) = wheel_loop_.kickRange(h);
+    }
+    if (robot_belief_.saturated(s))
+    {
+      reach(s) = 0.0;
     }
   }
   // Made up only as far as the MCU's proportional path answers (shortfall_compensation_limit).

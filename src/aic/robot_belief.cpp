@@ -103,11 +103,11 @@ void RobotBelief::reset(const base::Vector2& omega, double theta_dot)
   jump_turn_.setZero();
   jump_wheel_.setZero();
   jump_command_.setZero();
-  compensation_cap_.setConstant(std::numeric_limits<double>::infinity());
   for (int i = 0; i < 2; ++i)
   {
     stall_runs_[i].clear();
     stalled_[i] = false;
+    saturated_[i] = false;
   }
   omega_rate_.setZero();
   yaw_rate_ = 0.0;
@@ -137,7 +137,8 @@ void RobotBelief::forgetSlowStates()
     release_runs_[i].clear();
   }
   shortfall_jump_.setZero();
-  compensation_cap_.setConstant(std::numeric_limits<double>::infinity());
+  saturated_[0] = false;
+  saturated_[1] = false;
 }
 
 void RobotBelief::predict(double h, const WheelLoopModel& loop, const base::Vector2& u_at_wheels,
@@ -175,6 +176,18 @@ void RobotBelief::predict(double h, const WheelLoopModel& loop, const base::Vect
   // A turn's load (its scrub torque) acts against the turn: it holds the right side back in a left
   // turn and pushes the left side on, and the other way in a right turn (turnSigns()).
   turn_signs_ = turnSigns(turn);
+  // A saturated side's wheel holds the speed its last jump found whatever the command: d follows
+  // the command at the wheels, so the model's steady speed u - d - sigma e stays that speed (the
+  // jumps' part takes the change, so dropping them leaves the drift's part).
+  for (int i = 0; i < 2; ++i)
+  {
+    if (saturated_[i])
+    {
+      const double d = u_at_wheels(i) - turn_signs_(i) * side_[i](2) - jump_wheel_(i);
+      shortfall_jump_(i) += d - side_[i](1);
+      side_[i](1) = d;
+    }
+  }
   predictSide(loop, params_, h, u_at_wheels(0), rate_at_wheels(0), turn_signs_(0), &side_[0], &p_side_[0]);
   predictSide(loop, params_, h, u_at_wheels(1), rate_at_wheels(1), turn_signs_(1), &side_[1], &p_side_[1]);
   // The yaw triple (theta_dot, s, beta): theta_dot' = ((1 - s) u - theta_dot) / T_s, u =
@@ -357,14 +370,14 @@ void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e,
     {
       // Unanswered: the side's last jump was in the same direction, the command has since been
       // raised by more than the band (an answer would show) and the wheel is where the last jump
-      // found it. The compensation stays at what the side had before this jump.
+      // found it. The side is saturated: its speed no longer depends on its command.
       const double wheel = run.mean() + (u - *d - turn_part);
       const double direction = target - *d > 0.0 ? 1.0 : -1.0;
       const bool raised = (u - jump_command_(side)) * direction > band;
       if (shortfall_jump_(side) * direction > 0.0 && raised && std::abs(wheel - jump_wheel_(side)) <= band &&
-          std::isinf(compensation_cap_(side)))
+          !saturated_[side])
       {
-        compensation_cap_(side) = std::abs(*d + turn_part);
+        saturated_[side] = true;
         ++unanswered_jumps_;
       }
       jump_wheel_(side) = wheel;
@@ -408,7 +421,7 @@ void RobotBelief::dropJumps(int side)
 {
   side_[side](1) -= shortfall_jump_(side);
   shortfall_jump_(side) = 0.0;
-  compensation_cap_(side) = std::numeric_limits<double>::infinity();
+  saturated_[side] = false;
 }
 
 base::Vector2 RobotBelief::compensableShortfallsAt(double turn) const
@@ -416,7 +429,10 @@ base::Vector2 RobotBelief::compensableShortfallsAt(double turn) const
   base::Vector2 d = shortfallsAt(turn);
   for (int s = 0; s < 2; ++s)
   {
-    d(s) = std::clamp(d(s), -compensation_cap_(s), compensation_cap_(s));
+    if (saturated_[s])
+    {
+      d(s) = 0.0;
+    }
   }
   return d;
 }

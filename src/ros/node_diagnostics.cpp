@@ -24,6 +24,15 @@ namespace
 constexpr int kFrequencyWindow = 5;
 /// Relative tolerance of the achieved loop rates before diagnostics warn [-].
 constexpr double kFrequencyTolerance = 0.1;
+
+/// The sides for which `holds` (a RobotBelief side test) is true: "both", "left", "right" or "none".
+template <typename Test>
+const char* sidesWhere(Test holds)
+{
+  const bool left = holds(0);
+  const bool right = holds(1);
+  return left && right ? "both" : (left ? "left" : (right ? "right" : "none"));
+}
 }  // namespace
 
 ControllerReport ControllerReport::of(const aic::ActiveInferenceController& controller, bool active)
@@ -50,15 +59,15 @@ ControllerReport ControllerReport::of(const aic::ActiveInferenceController& cont
       r.latency_learning = text;
     }
     const aic::RobotBelief& belief = controller.robotBelief();
-    const bool left = belief.stalled(0);
-    const bool right = belief.stalled(1);
-    const char* stalled = left && right ? "both" : (left ? "left" : (right ? "right" : "none"));
-    char jumps[160];
-    std::snprintf(jumps, sizeof jumps, "%llu taken, %llu released, %llu unanswered, %llu stalls; stalled: %s",
+    const char* stalled = sidesWhere([&belief](int side) { return belief.stalled(side); });
+    const char* saturated = sidesWhere([&belief](int side) { return belief.saturated(side); });
+    char jumps[192];
+    std::snprintf(jumps, sizeof jumps,
+                  "%llu taken, %llu released, %llu unanswered, %llu stalls; stalled: %s; saturated: %s",
                   static_cast<unsigned long long>(belief.shortfallJumps()),
                   static_cast<unsigned long long>(belief.shortfallReleases()),
                   static_cast<unsigned long long>(belief.unansweredJumps()),
-                  static_cast<unsigned long long>(belief.stalls()), stalled);
+                  static_cast<unsigned long long>(belief.stalls()), stalled, saturated);
     r.shortfall_jumps = jumps;
   }
   if (params::learnsPrecision(controller.params()))

@@ -127,7 +127,7 @@ class LearnedModelTest(unittest.TestCase):
         if start_latency is not None:
             # The robot model's shortfall jumps: counted, and no side stalled on a free arc.
             jumps = self.controller_diagnostics(rospy.Time.now().to_sec()).get("shortfall jumps (robot model)", "")
-            self.assertRegex(jumps, r"^\d+ taken, \d+ released, \d+ unanswered, \d+ stalls; stalled: none$")
+            self.assertRegex(jumps, r"^\d+ taken, \d+ released, \d+ unanswered, \d+ stalls; stalled: none; saturated: none$")
         self.assertGreater(abs(learned - start) / start, min_change, "b_hat did not learn on the arc")
         rospy.sleep(2.0)  # at rest: learning frozen, b_hat steady
         steady = self.b()

@@ -59,15 +59,18 @@ namespace aic
  * freed), the jumps' part is dropped too (shortfallReleases()); a shortfall that remains is taken
  * again once the wheel has stopped moving.
  *
- * A jump the wheel did not answer is a stall's: a jump in the same direction as the side's last one,
- * taken with the command raised since that jump by more than kJumpThreshold sqrt(2) sigma_e (an
- * answer would show) and the wheel within that band of where the last one found it (the raised
- * command did not move the wheel). The belief takes it (d stays honest), but the
- * action makes up no more than the side had before it (compensableShortfallsAt(); unansweredJumps()),
- * until the side's jumps are dropped. And a side is stalled (stalled()) while its wheel does not
- * move, kShortfallJumpSamples readings in a row within the same band, with the model's steady speed
- * u - d beyond it toward the command by more than the jump test's limit, the command moving or not;
- * it ends when the wheel leaves that band or the command comes back within the limit of the wheel.
+ * A jump the wheel did not answer is a torque limit's: a jump in the same direction as the side's
+ * last one, taken with the command raised since that jump by more than kJumpThreshold sqrt(2)
+ * sigma_e (an answer would show) and the wheel within that band of where the last one found it (the
+ * raised command did not move the wheel). The side is then saturated (saturated()): its wheel holds
+ * the speed the jump found whatever its command, so d is re-expressed on the command at the wheels
+ * at every predict() (u - d - sigma e stays that speed: the belief stays honest when the command
+ * changes), and the action makes none of it up (compensableShortfallsAt(); unansweredJumps()),
+ * until the side's jumps are dropped (a release, or the turn moving on). And a side is stalled
+ * (stalled()) while its wheel does not move, kShortfallJumpSamples readings in a row within the same
+ * band, with the model's steady speed u - d beyond it toward the command by more than the jump
+ * test's limit, the command moving or not; it ends when the wheel leaves that band or the command
+ * comes back within the limit of the wheel.
  *
  * The turn shortfalls are random walks while the robot turns (turn_shortfall_noise |sigma|), zero
  * with q_e = 0. A side's nonzero reading that repeats bit for bit across a change of its command at
@@ -189,13 +192,15 @@ public:
   base::Vector2 shortfallsAt(double turn) const;
   /**
    * \brief The shortfall of each side the action makes up [rad/s] when the goal turns at `turn`
-   *        [rad/s]: shortfallsAt(turn), within +-the side's stall compensation where a jump went
-   *        unanswered (the class's description; unansweredJumps()).
+   *        [rad/s]: shortfallsAt(turn), zero on a saturated() side (the class's description).
    */
   base::Vector2 compensableShortfallsAt(double turn) const;
   /// Whether side s (0 left, 1 right; any other: false) is stalled: its wheel does not move while
   /// the model's steady speed is beyond it toward its command (the class's description).
   bool stalled(int side) const { return (side == 0 || side == 1) && stalled_[side]; }
+  /// Whether side s (0 left, 1 right; any other: false) is saturated: a jump went unanswered, and
+  /// until its jumps are dropped its speed does not depend on its command (the class's description).
+  bool saturated(int side) const { return (side == 0 || side == 1) && saturated_[side]; }
   /**
    * \brief The sides' signs (sigma_L, sigma_R) = (-c, c), c = clamp(turn / kStraightTurn, -1, 1), of
    *        the turn shortfalls at the goal's yaw rate `turn` [rad/s]: a left turn's scrub load holds
@@ -232,8 +237,8 @@ public:
   /// Number of times a side's jumps were dropped because its wheel ran ahead of them (a stall that
   /// freed) since construction (both sides).
   std::uint64_t shortfallReleases() const { return shortfall_releases_; }
-  /// Number of shortfall jumps the wheel did not answer since construction (both sides): each holds
-  /// its side's compensation where it was (compensableShortfallsAt()).
+  /// Number of shortfall jumps the wheel did not answer since construction (both sides): each makes
+  /// its side saturated() until its jumps are dropped.
   std::uint64_t unansweredJumps() const { return unanswered_jumps_; }
   /// Number of times a side became stalled() since construction (both sides).
   std::uint64_t stalls() const { return stalls_; }
@@ -311,10 +316,9 @@ private:
   base::Vector2 jump_turn_ = base::Vector2::Zero();       ///< the goal's turn at the last jump, per side [rad/s]
   base::Vector2 jump_wheel_ = base::Vector2::Zero();    ///< the wheel's mean reading at the last jump, per side [rad/s]
   base::Vector2 jump_command_ = base::Vector2::Zero();  ///< the wheel command at the last jump, per side [rad/s]
-  /// Per side, the |shortfall| [rad/s] the action makes up after an unanswered jump (+inf: none).
-  base::Vector2 compensation_cap_ = base::Vector2::Constant(std::numeric_limits<double>::infinity());
-  ResidualRun stall_runs_[2];                          ///< wheel readings in a row that do not move, per side
-  base::Vector2 stall_wheel_ = base::Vector2::Zero();  ///< the stalled wheel's mean reading, per side [rad/s]
+  bool saturated_[2] = { false, false };                ///< per side: a jump went unanswered (saturated())
+  ResidualRun stall_runs_[2];                           ///< wheel readings in a row that do not move, per side
+  base::Vector2 stall_wheel_ = base::Vector2::Zero();   ///< the stalled wheel's mean reading, per side [rad/s]
   bool stalled_[2] = { false, false };
   std::uint64_t unanswered_jumps_ = 0;
   std::uint64_t stalls_ = 0;

@@ -306,7 +306,7 @@ TEST(RobotBelief, AStalledWheelIsAShortfallJump)
   EXPECT_NEAR(belief.shortfalls()(1), 0.0, 0.01);
 }
 
-TEST(RobotBelief, AJumpTheWheelDoesNotAnswerIsNotMadeUp)
+TEST(RobotBelief, AJumpTheWheelDoesNotAnswerSaturatesItsSide)
 {
   const params::RobotModelParams p = model();
   aic::RobotBelief belief(p);
@@ -315,16 +315,28 @@ TEST(RobotBelief, AJumpTheWheelDoesNotAnswerIsNotMadeUp)
   drive(&belief, loop, base::Vector2(3.0, 3.0), base::Vector2(0.05, 0.05), 50);
   ASSERT_NEAR(belief.shortfalls()(0), 2.95, 0.01);
   EXPECT_EQ(belief.compensableShortfallsAt(0.0), belief.shortfallsAt(0.0));
+  EXPECT_FALSE(belief.saturated(0));
   // The command raised by that jump does not move the wheel: the next jump is taken (the belief
-  // stays honest) but not made up; the compensation stays at the first jump's.
+  // stays honest) and the sides are saturated: none of their shortfall is made up.
   drive(&belief, loop, base::Vector2(5.95, 5.95), base::Vector2(0.05, 0.05), 50);
   EXPECT_NEAR(belief.shortfalls()(0), 5.9, 0.01);
-  EXPECT_NEAR(belief.compensableShortfallsAt(0.0)(0), 2.95, 0.01);
-  EXPECT_NEAR(belief.compensableShortfallsAt(0.0)(1), 2.95, 0.01);
+  EXPECT_EQ(belief.compensableShortfallsAt(0.0), base::Vector2::Zero());
   EXPECT_EQ(belief.unansweredJumps(), 2u);  // one per side
-  // Freed: the wheels run ahead of the jumps, which are dropped with the hold on the compensation.
-  drive(&belief, loop, base::Vector2(5.95, 5.95), base::Vector2(5.95, 5.95), 50);
+  EXPECT_TRUE(belief.saturated(0));
+  EXPECT_TRUE(belief.saturated(1));
+  EXPECT_FALSE(belief.saturated(2));  // no such side
+  // Its speed does not depend on its command: the command back at 3 rad/s, the model's wheel stays
+  // where the jump found it (d follows the command), and no jump or release is taken.
+  drive(&belief, loop, base::Vector2(3.0, 3.0), base::Vector2(0.05, 0.05), 50);
+  EXPECT_NEAR(belief.shortfalls()(0), 2.95, 0.01);
+  EXPECT_NEAR(belief.wheelSpeeds()(0), 0.05, 0.01);
+  EXPECT_EQ(belief.shortfallJumps(), 4u);
+  EXPECT_EQ(belief.shortfallReleases(), 0u);
+  EXPECT_TRUE(belief.saturated(0));
+  // Freed: the wheels run ahead of the jumps, which are dropped with the saturation.
+  drive(&belief, loop, base::Vector2(3.0, 3.0), base::Vector2(3.0, 3.0), 50);
   EXPECT_GE(belief.shortfallReleases(), 2u);
+  EXPECT_FALSE(belief.saturated(0));
   EXPECT_EQ(belief.compensableShortfallsAt(0.0), belief.shortfallsAt(0.0));
   EXPECT_NEAR(belief.shortfalls()(0), 0.0, 0.01);
 }
