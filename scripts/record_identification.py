@@ -41,9 +41,15 @@ def headless(argv):
 
 
 def main():
-    """The ROS node, or --headless. Returns the exit status."""
+    """The ROS node, or --headless; -h / --help prints both usages without a ROS master. Returns the
+    exit status."""
     if any(a == "--headless" or a.startswith("--headless=") for a in sys.argv[1:]):
         return headless(sys.argv[1:])
+    if any(a in ("-h", "--help") for a in sys.argv[1:]):
+        print(__doc__.strip())
+        print("\nOn the robot: rosrun jackal_aic record_identification.py [_PARAM:=VALUE ...] (the node's "
+              "parameters: jackal_aic_tools.identify.identification_recorder).\n")
+        return headless(["--help"])
     import rospy
     rospy.init_node("record_identification")
     try:

@@ -1118,8 +1118,28 @@ class ArcPriorTest(unittest.TestCase):
         self.assertIn("not measured (arc_effective_separation: no turn to measure)", buf.getvalue())
 
 
+class ScriptHelpTest(unittest.TestCase):
+    """Every command of scripts/ answers -h / --help with its usage and exit status 0, without a ROS
+    master (one that starts a node must not wait for a master to print its usage)."""
+
+    def test_every_script_prints_its_usage_without_a_master(self):
+        env = dict(os.environ, ROS_MASTER_URI="http://127.0.0.1:9", PYTHONPATH=os.pathsep.join(
+            p for p in (os.path.join(ROOT, "src"), os.environ.get("PYTHONPATH", "")) if p))
+        scripts = sorted(glob.glob(os.path.join(ROOT, "scripts", "*.py")))
+        self.assertGreater(len(scripts), 10)
+        for path in scripts:
+            name = os.path.basename(path)
+            try:
+                run = subprocess.run([sys.executable, path, "--help"], env=env, capture_output=True, text=True,
+                                     timeout=60)
+            except subprocess.TimeoutExpired:
+                self.fail("%s --help did not exit within 60 s" % name)
+            self.assertEqual(run.returncode, 0, "%s --help: %s" % (name, run.stderr[-500:]))
+            self.assertIn("usage", run.stdout.lower(), name)
+
+
 if __name__ == "__main__":
     import pyunit  # test/pyunit.py, beside this file
     pyunit.main("tool_logic", NodeWatchTest, RosProcessTest, SweepTest, ExperimentTest, SoakTest, ReportAndSummaryTest,
                 FailureSummaryTest, PlantLimitsTest, PeerTest, EndHeadingTest, PyunitTest, HonestBeliefTest, ArcPriorTest,
-                IdealCacheTest, MutantsListTest, AblationsListTest, StopReversalTest)
+                IdealCacheTest, MutantsListTest, AblationsListTest, StopReversalTest, ScriptHelpTest)
