@@ -785,10 +785,10 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
   const double pi_e = 1.0 / (params_.robot.encoder_noise * params_.robot.encoder_noise);
   // At rest the command is zero: the MCU holds the wheels, there is no shortfall to make up.
   // The shortfall at the goal's turn the command is for (the turn's part: RobotBelief::shortfallsAt()).
-  // None of it on a saturated side (RobotBelief::compensableShortfallsAt()).
+  // None of it on a saturated or stalled side (RobotBelief::compensableShortfallsAt()).
   const base::Vector2 shortfall = at_rest ? base::Vector2::Zero() : robot_belief_.compensableShortfallsAt(goal_turn);
-  // A stalled side's command stays within one kick of its steady command: a wheel that does not
-  // answer the MCU's feed-forward would otherwise be asked for one more kick every latency. A
+  // A stalled side's command stays within one kick of the goal's wheel speed: a held wheel that
+  // does not answer the MCU's feed-forward would otherwise be asked for one more kick every latency. A
   // saturated side's speed does not depend on its command (F_a is flat in it): it is commanded
   // the goal's wheel speed, which leaves nothing to overrun when it frees.
   base::Vector2 reach = base::Vector2::Constant(std::numeric_limits<double>::infinity());

@@ -397,22 +397,26 @@ void RobotBelief::detectStall(int side, double y, bool used, double shortfall, d
     return;
   }
   const double u = wheel_command_(side);
+  // How far the model's steady speed u - d - sigma e is beyond the wheel, toward the command.
+  const double steady = u - shortfall;
+  const double gap = (steady - y) * (u >= 0.0 ? 1.0 : -1.0);
   if (stalled_[side])
   {
-    // Freed (the wheel moves) or asked for no more than it gives (the command came back to it).
-    if (std::abs(y - stall_wheel_(side)) > band || std::abs(u - y) <= limit)
+    // Answered (the wheel gives the model's steady speed) or asked for no more than it gives (the
+    // command came back to it). Not on motion alone: a wheel that sticks and slips moves while it
+    // is held.
+    if (gap <= limit || std::abs(u - y) <= limit)
     {
       stalled_[side] = false;
       stall_runs_[side].clear();
     }
     return;
   }
-  // How far the model's steady speed u - d - sigma e is beyond the wheel, toward the command.
-  const double gap = (u - shortfall - y) * (u >= 0.0 ? 1.0 : -1.0);
-  if (stall_runs_[side].add(y, gap > limit, band, kShortfallJumpSamples))
+  // Held, not short: the wheel gives less than kHeldFraction of the model's steady speed.
+  const bool held = gap > limit && std::abs(y) <= kHeldFraction * std::abs(steady);
+  if (stall_runs_[side].add(y, held, band, kShortfallJumpSamples))
   {
     stalled_[side] = true;
-    stall_wheel_(side) = stall_runs_[side].mean();
     ++stalls_;
   }
 }
@@ -429,7 +433,7 @@ base::Vector2 RobotBelief::compensableShortfallsAt(double turn) const
   base::Vector2 d = shortfallsAt(turn);
   for (int s = 0; s < 2; ++s)
   {
-    if (saturated_[s])
+    if (saturated_[s] || stalled_[s])
     {
       d(s) = 0.0;
     }

@@ -473,8 +473,9 @@ TEST(RobotModel, AShortfallBeyondASaturatedProportionalPathIsNotChasedRegression
   // (proportional_limit / speed_kp = 1.036 / 6.987 = 0.148 rad/s): creep's RMS speed error
   // 0.0172 m/s against 0.0185 without. Without the key, creep's chase of jumps and the 0.3 rad/s
   // turn in place's are ended by the saturated sides (RobotBelief::saturated(): a jump the raised
-  // command did not answer): the turn peaks at 0.306 rad/s without the key, 0.323 with it (the
-  // stock controller's 0.30); with that rule taken out (dev/ablations.txt 'unanswered_jump_hold')
+  // command did not answer) and the stalled ones (RobotBelief::stalled(): a held wheel's shortfall
+  // is not made up): the turn peaks at 0.308 rad/s without the key, 0.337 with it (the stock
+  // controller's 0.30); with the unanswered jumps' rule taken out (dev/ablations.txt 'unanswered_jump_hold')
   // creep's error is 0.0238 m/s and the turn without the key peaks at 0.64 rad/s. Regression guards
   // of the measured figures; the ablation is the same run without the key.
   const analysis::TwistProfile profile = analysis::loadTwistProfileCsv(kRoot + "/sim/profiles/creep.csv");
@@ -493,7 +494,7 @@ TEST(RobotModel, AShortfallBeyondASaturatedProportionalPathIsNotChasedRegression
               on, off, peak_on, peak_off, windowMean(turn_on, turn_on.yaw_true, 5.0, 6.0));
   EXPECT_LE(on, off);
   EXPECT_LE(off, 0.020);
-  EXPECT_LE(peak_on, 0.33);
+  EXPECT_LE(peak_on, 0.35);
   EXPECT_LE(peak_off, 0.33);
   EXPECT_NEAR(windowMean(turn_off, turn_off.yaw_true, 5.0, 6.0), 0.3, 0.015);
   EXPECT_NEAR(windowMean(turn_on, turn_on.yaw_true, 5.0, 6.0), 0.3, 0.015);
@@ -534,8 +535,8 @@ TEST(RobotModel, AStallDoesNotWindTheCommandUpRegressionGuard)
   // (RobotBelief::stalled()) and its command stays within one kick range of its steady command
   // (WheelLoopModel::kickRange()); the jump whose raised command does not move the wheel saturates
   // the side (RobotBelief::saturated()): none of its shortfall is made up and it is commanded the
-  // goal's wheel speed. Measured: the command's yaw rate peaks at 2.74 rad/s in the stall (the
-  // first jump's compensation, before the second shows it unanswered) and the freed turn at 1.05
+  // goal's wheel speed. Measured: the command's yaw rate peaks at 2.96 rad/s in the stall (the
+  // first jump's compensation, before the second shows it unanswered) and the freed turn at 1.07
   // rad/s (the stock controller: 1.04); with the saturated side commanded as a stalled one, 1.32;
   // with its first jump's compensation held instead of none, 1.54; without the unanswered jumps
   // the command's yaw rate climbs to 6.97 rad/s and the freed turn peaks at 1.95 rad/s, and without
@@ -553,6 +554,31 @@ TEST(RobotModel, AStallDoesNotWindTheCommandUpRegressionGuard)
   EXPECT_LE(freed, 1.15);
   EXPECT_GE(r.stalls, 2u);  // both sides: the rules acted
   EXPECT_GE(r.unanswered_jumps, 2u);
+}
+
+TEST(RobotModel, AWheelThatSticksAndSlipsStaysStalledRegressionGuard)
+{
+  // The slow break-away firmware's 1 rad/s turn in place (sim/config/variants/slow_breakaway.yaml):
+  // its integral path takes the scrub up over seconds, and the wheels stick and slip until it has.
+  // Once a wheel has been held still below half the model's steady speed, its side stays stalled
+  // (RobotBelief::stalled()) through the slipping, until the wheel answers: its command stays
+  // within a kick of the goal's and none of its shortfall is made up. Measured: the command's yaw
+  // rate peaks at 2.55 rad/s, the turn at 1.17 rad/s, within 5 % from 3.77 s after the step (the
+  // stock controller: 1.03, from 3.26 s). With the stall ended when the wheel moves (before it
+  // answers), the command's yaw rate climbs to 6.0 rad/s and the turn peaks at 1.27 rad/s, within
+  // 5 % from 6.59 s. Regression guard of today's figures.
+  const ClosedLoopRecord r = run(robotModel(), 0.0, 1.0, 9.0, { "sim/config/variants/slow_breakaway.yaml" });
+  ASSERT_FALSE(r.time.empty());
+  const double command = windowPeak(r, r.command_yaw, 1.0, 9.0);
+  const double peak = windowPeak(r, r.yaw_true, 1.0, 9.0);
+  const double end = windowMean(r, r.yaw_true, 7.0, 9.0);
+  std::printf("slow break-away 1 rad/s turn in place: the command's yaw rate peaks at %.3f rad/s, the turn at %.3f "
+              "rad/s, %.3f rad/s over its last 2 s (%llu stalls)\n",
+              command, peak, end, static_cast<unsigned long long>(r.stalls));
+  EXPECT_LE(command, 3.0);
+  EXPECT_LE(peak, 1.22);
+  EXPECT_NEAR(end, 1.0, 0.03);
+  EXPECT_EQ(r.runaways, 0u);
 }
 
 TEST(RobotModel, TheTurnShortfallsKeepTheBeliefHonestOnAWheelLoopThatHoldsNoTurnLoad)

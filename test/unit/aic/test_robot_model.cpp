@@ -408,8 +408,19 @@ TEST(RobotBelief, AWheelThatDoesNotFollowItsCommandIsStalled)
   EXPECT_FALSE(belief.stalled(2));  // no such side
   EXPECT_FALSE(belief.stalled(-1));
   EXPECT_EQ(belief.stalls(), 2u);
-  // The wheels move: no longer stalled.
-  drive(&belief, loop, base::Vector2(3.0, 3.0), base::Vector2(1.0, 1.0), 2);
+  // A held wheel's shortfall is not made up.
+  EXPECT_EQ(belief.compensableShortfallsAt(0.0), base::Vector2::Zero());
+  // The wheels stick and slip, moving between 0.05 and 1 rad/s under the 3 rad/s command: still
+  // held, still stalled.
+  for (int k = 0; k < 10; ++k)
+  {
+    drive(&belief, loop, base::Vector2(3.0, 3.0), base::Vector2::Constant(k % 2 == 0 ? 1.0 : 0.05), 1);
+    ASSERT_TRUE(belief.stalled(0)) << "sample " << k;
+    ASSERT_TRUE(belief.stalled(1)) << "sample " << k;
+  }
+  EXPECT_EQ(belief.stalls(), 2u);
+  // The wheels answer their command: no longer stalled.
+  drive(&belief, loop, base::Vector2(3.0, 3.0), base::Vector2(3.0, 3.0), 2);
   EXPECT_FALSE(belief.stalled(0));
   EXPECT_FALSE(belief.stalled(1));
 }
