@@ -786,7 +786,15 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
   // At rest the command is zero: the MCU holds the wheels, there is no shortfall to make up.
   // The shortfall at the goal's turn the command is for (the turn's part: RobotBelief::shortfallsAt()).
   // None of it on a saturated or stalled side (RobotBelief::compensableShortfallsAt()).
-  const base::Vector2 shortfall = at_rest ? base::Vector2::Zero() : robot_belief_.compensableShortfallsAt(goal_turn);
+  base::Vector2 shortfall = at_rest ? base::Vector2::Zero() : robot_belief_.compensableShortfallsAt(goal_turn);
+  // In an arc, the speed's part only where the wheels are short of the goal's speed
+  // (LatencyAction::inArc()); not while a side is stalled or saturated, whose zero stays zero.
+  const bool held =
+      robot_belief_.stalled(0) || robot_belief_.stalled(1) || robot_belief_.saturated(0) || robot_belief_.saturated(1);
+  if (!at_rest && !held && std::abs(goal_turn) > RobotBelief::kStraightTurn)
+  {
+    shortfall = LatencyAction::inArc(shortfall, goal, robot_belief_.wheelSpeeds());
+  }
   // A stalled side's command stays within one kick of the goal's wheel speed: a held wheel that
   // does not answer the MCU's feed-forward would otherwise be asked for one more kick every latency. A
   // saturated side's speed does not depend on its command (F_a is flat in it): it is commanded

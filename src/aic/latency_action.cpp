@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace jackal_aic
 {
@@ -78,6 +79,26 @@ base::Vector2 LatencyAction::compensated(const base::Vector2& shortfall, double 
     }
   }
   return d;
+}
+
+base::Vector2 LatencyAction::inArc(const base::Vector2& shortfall, const base::Vector2& goal,
+                                   const base::Vector2& omega)
+{
+  if (!(goal.allFinite() && omega.allFinite()))
+  {
+    return base::Vector2::Constant(std::numeric_limits<double>::quiet_NaN());
+  }
+  if (!(goal(0) * goal(1) > 0.0))
+  {
+    return shortfall;
+  }
+  const double g_mean = 0.5 * (goal(0) + goal(1));
+  const double direction = g_mean > 0.0 ? 1.0 : -1.0;
+  const double short_of_goal = std::max(0.0, (g_mean - 0.5 * (omega(0) + omega(1))) * direction);
+  const double common = 0.5 * (shortfall(0) + shortfall(1));
+  const double turn = 0.5 * (shortfall(0) - shortfall(1));
+  const double made_up = std::copysign(std::min(std::abs(common), short_of_goal), common);
+  return base::Vector2(made_up + turn, made_up - turn);
 }
 
 LatencyActionResult LatencyAction::step(const WheelLoopModel& loop, const base::Vector2& omega,

@@ -87,6 +87,30 @@ public:
   /// (doc/active_inference.md, 'The robot model', 'Ending a chase of jumps'). The belief keeps the
   /// whole d. A NaN d passes unchanged (the caller's runaway check sees it); limit must be >= 0.
   static base::Vector2 compensated(const base::Vector2& shortfall, double limit);
+
+  /**
+   * \brief The shortfall the action makes up in an arc: its differential part in full, its common
+   *        part only as far as the wheels' mean speed falls short of the goal's.
+   *
+   * In an arc (both wheels' goals in one direction) the body couples the sides: a turn it resists
+   * (scrub) holds the outer wheel back and the body pushes the inner one over its command, so the
+   * wheels roll at the body's speed and only the outer one shows a shortfall. Made up on that side
+   * alone, it raises the body's speed, not its turn. With d = (d_L, d_R), the common part
+   * d_c = (d_L + d_R)/2 and the differential part d_t = (d_L - d_R)/2, the action makes up
+   *   (d_c' + d_t, d_c' - d_t),   d_c' = sign(d_c) min(|d_c|, max(0, sign(g_m) (g_m - omega_m))),
+   * g_m and omega_m the means of the goal's and the believed wheel speeds: the turn's part in full,
+   * the speed's only where the wheels are short of the goal's speed (doc/active_inference.md, 'The
+   * robot model', 'A shortfall in an arc').
+   *
+   * \param shortfall the shortfalls the action would make up otherwise (d_L, d_R) [rad/s]
+   * \param goal      the wheels' goal g [rad/s]
+   * \param omega     the believed wheel speeds [rad/s]
+   * \return the shortfalls to make up [rad/s]; `shortfall` unchanged unless both goals are nonzero
+   *         and of one sign (an arc; a turn in place or a stop is left alone); NaN where the goal
+   *         or a wheel speed is not finite (a non-finite shortfall passes through): the caller's
+   *         runaway check sees it.
+   */
+  static base::Vector2 inArc(const base::Vector2& shortfall, const base::Vector2& goal, const base::Vector2& omega);
 };
 
 }  // namespace aic

@@ -945,6 +945,33 @@ TEST(LatencyAction, TheShortfallMadeUpIsBoundedByTheCompensationLimit)
   EXPECT_EQ(out(1), 0.2);
 }
 
+TEST(LatencyAction, InAnArcTheTurnsShortfallIsMadeUpInFullAndTheSpeedsOnlyAsFarAsTheWheelsAreShort)
+{
+  // An arc at 1.6 / 0.46 rad/s (0.1 m/s, -0.2 rad/s): the outer (left) wheel 0.4 short, the wheels
+  // rolling at the goal's mean speed. The turn's part (0.2 each way) is made up, the speed's not.
+  const base::Vector2 goal(1.6, 0.46);
+  const base::Vector2 d(0.4, 0.0);
+  const base::Vector2 at_speed = aic::LatencyAction::inArc(d, goal, base::Vector2(1.03, 1.03));
+  EXPECT_NEAR(at_speed(0), 0.2, 1e-12);
+  EXPECT_NEAR(at_speed(1), -0.2, 1e-12);
+  EXPECT_NEAR(at_speed(0) - at_speed(1), d(0) - d(1), 1e-12);  // the turn's part in full
+  // The wheels 0.1 rad/s short of the goal's mean speed: that much of the speed's part too.
+  const base::Vector2 slow = aic::LatencyAction::inArc(d, goal, base::Vector2(0.93, 0.93));
+  EXPECT_NEAR(slow(0), 0.3, 1e-12);
+  EXPECT_NEAR(slow(1), -0.1, 1e-12);
+  // Far short (a payload): the whole shortfall, as without the rule.
+  EXPECT_NEAR((aic::LatencyAction::inArc(d, goal, base::Vector2(0.5, 0.5)) - d).norm(), 0.0, 1e-12);
+  // Backward, mirrored.
+  const base::Vector2 back = aic::LatencyAction::inArc(-d, -goal, base::Vector2(-1.03, -1.03));
+  EXPECT_NEAR(back(0), -0.2, 1e-12);
+  EXPECT_NEAR(back(1), 0.2, 1e-12);
+  // A turn in place, a stop: unchanged.
+  EXPECT_EQ(aic::LatencyAction::inArc(d, base::Vector2(-1.0, 1.0), base::Vector2::Zero()), d);
+  EXPECT_EQ(aic::LatencyAction::inArc(d, base::Vector2(0.0, 1.0), base::Vector2::Zero()), d);
+  // A non-finite wheel speed is left to the caller's runaway check.
+  EXPECT_FALSE(aic::LatencyAction::inArc(d, goal, base::Vector2(std::nan(""), 1.0)).allFinite());
+}
+
 TEST(ControllerRobotModel, TheCommandMakesUpAShortfallOnlyToTheCompensationLimit)
 {
   params::AicParams p = params::recommendedAicParams();
