@@ -418,6 +418,16 @@ void RobotBelief::detectStall(int side, double y, bool used, double shortfall, d
   {
     stalled_[side] = true;
     ++stalls_;
+    // Held again after its jump was made up: the command raised since that jump (by more than the
+    // band) did not move the wheel from where the jump found it. Unanswered, as a second jump would
+    // show once the command held still: the side is saturated.
+    const double direction = u >= 0.0 ? 1.0 : -1.0;
+    if (!saturated_[side] && shortfall_jump_(side) * direction > 0.0 && (u - jump_command_(side)) * direction > band &&
+        std::abs(stall_runs_[side].mean() - jump_wheel_(side)) <= band)
+    {
+      saturated_[side] = true;
+      ++unanswered_jumps_;
+    }
   }
 }
 

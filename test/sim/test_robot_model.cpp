@@ -526,7 +526,7 @@ TEST(RobotModel, AShortfallBeyondASaturatedProportionalPathIsNotChasedRegression
   // LatencyAction::inArc(); without that rule, 0.0172 against 0.0185). Without the key, creep's chase of jumps and the 0.3 rad/s
   // turn in place's are ended by the saturated sides (RobotBelief::saturated(): a jump the raised
   // command did not answer) and the stalled ones (RobotBelief::stalled(): a held wheel's shortfall
-  // is not made up): the turn peaks at 0.308 rad/s without the key, 0.337 with it (the stock
+  // is not made up): the turn peaks at 0.377 rad/s without the key, 0.329 with it (the stock
   // controller's 0.30); with the unanswered jumps' rule taken out (dev/ablations.txt 'unanswered_jump_hold')
   // creep's error is 0.0238 m/s and the turn without the key peaks at 0.64 rad/s. Regression guards
   // of the measured figures; the ablation is the same run without the key.
@@ -547,7 +547,7 @@ TEST(RobotModel, AShortfallBeyondASaturatedProportionalPathIsNotChasedRegression
   EXPECT_LE(on, 0.018);
   EXPECT_LE(off, 0.018);
   EXPECT_LE(peak_on, 0.35);
-  EXPECT_LE(peak_off, 0.33);
+  EXPECT_LE(peak_off, 0.40);
   EXPECT_NEAR(windowMean(turn_off, turn_off.yaw_true, 5.0, 6.0), 0.3, 0.015);
   EXPECT_NEAR(windowMean(turn_on, turn_on.yaw_true, 5.0, 6.0), 0.3, 0.015);
   EXPECT_EQ(turn_on.runaways, 0u);
@@ -587,9 +587,12 @@ TEST(RobotModel, AStallDoesNotWindTheCommandUpRegressionGuard)
   // (RobotBelief::stalled()) and its command stays within one kick range of its steady command
   // (WheelLoopModel::kickRange()); the jump whose raised command does not move the wheel saturates
   // the side (RobotBelief::saturated()): none of its shortfall is made up and it is commanded the
-  // goal's wheel speed. Measured: the command's yaw rate peaks at 2.96 rad/s in the stall (the
-  // first jump's compensation, before the second shows it unanswered) and the freed turn at 1.07
-  // rad/s (the stock controller: 1.04); with the saturated side commanded as a stalled one, 1.32;
+  // goal's wheel speed; a wheel held again after its jump's compensation saturates its side at
+  // once. The belief stays on the stalled wheel. Measured: the command's yaw rate peaks at 2.93
+  // rad/s in the stall (the first jump's compensation, before the wheel is held again), the freed
+  // turn at 1.03 rad/s (the stock controller: 1.04) and the believed yaw rate is within 0.003 rad/s
+  // of the truth from 1.5 s into the stall (0.14 without the held-again rule, which leaves the
+  // command swinging between the kick range and the jump's compensation); with the saturated side commanded as a stalled one, 1.32;
   // with its first jump's compensation held instead of none, 1.54; without the unanswered jumps
   // the command's yaw rate climbs to 6.97 rad/s and the freed turn peaks at 1.95 rad/s, and without
   // the stall's reach too to max_wheel_speed (7.0 rad/s of yaw) and 2.58 rad/s. Regression guard of
@@ -602,9 +605,21 @@ TEST(RobotModel, AStallDoesNotWindTheCommandUpRegressionGuard)
               "unanswered jumps)\n",
               command, freed, static_cast<unsigned long long>(r.stalls),
               static_cast<unsigned long long>(r.unanswered_jumps));
+  // The believed yaw rate against the truth from 1.5 s into the stall to its end (test time 2.5 to
+  // 4.9 s; the stall from 1 to 5 s).
+  double belief_off = 0.0;
+  for (std::size_t k = 0; k < r.time.size(); ++k)
+  {
+    if (r.time[k] >= 2.5 && r.time[k] <= 4.9)
+    {
+      belief_off = std::max(belief_off, std::abs(r.belief_yaw[k] - r.yaw_true[k]));
+    }
+  }
+  std::printf("stall: |belief - truth| of the yaw rate from 1.5 s into the stall at most %.4f rad/s\n", belief_off);
   EXPECT_LE(command, 3.0);
-  EXPECT_LE(freed, 1.15);
-  EXPECT_GE(r.stalls, 2u);  // both sides: the rules acted
+  EXPECT_LE(freed, 1.10);
+  EXPECT_LE(belief_off, 0.03);  // the stall bound on the beliefs
+  EXPECT_GE(r.stalls, 2u);      // both sides: the rules acted
   EXPECT_GE(r.unanswered_jumps, 2u);
 }
 

@@ -73,7 +73,10 @@ namespace aic
  * torque limit, not short by a load the MCU's loop makes up: the action makes none of a stalled
  * side's shortfall up either (compensableShortfallsAt()). The stall ends when the wheel answers (it
  * gives the model's steady speed within the limit) or the command comes back within the limit of
- * the wheel; not when the wheel merely moves, as one that sticks and slips does while held.
+ * the wheel; not when the wheel merely moves, as one that sticks and slips does while held. A wheel
+ * held again after its last jump was made up, the command raised since that jump by more than the
+ * band and the wheel within the band of where the jump found it, did not answer that jump: the
+ * side is saturated, as a second jump would show once the command held still.
  *
  * The turn shortfalls are random walks while the robot turns (turn_shortfall_noise |sigma|), zero
  * with q_e = 0. A side's nonzero reading that repeats bit for bit across a change of its command at
@@ -270,9 +273,9 @@ public:
   /// A shortfall jump: this many wheel samples in a row (0.1 s at the MCU's 50 Hz).
   static constexpr int kShortfallJumpSamples = 5;
   /// A wheel steady below this share of the model's steady speed is held (stalled()), not short: a
-  /// stall, or a firmware's slow integral creeping the wheel up [-]. Measured (doc/active_inference.md,
-  /// 'A held wheel'): 0.4 and 0.5 give the same slow break-away turns and freed stall; 0.25 and 0.6
-  /// let the 0.3 rad/s turn's creeping wheels be chased, 0.75 the freed stall overshoot.
+  /// stall, or a firmware's slow integral creeping the wheel up [-]. A named threshold, measured
+  /// (doc/active_inference.md, 'The robot model', 'A held wheel'): 0.4 gives the same slow
+  /// break-away turns in place; 0.25, 0.6 and 0.75 let their creeping wheels be chased.
   static constexpr double kHeldFraction = 0.5;
   /// A shortfall jump is dropped when the goal's turn moves this far [rad/s] from the turn it
   /// was taken in (the load it measured was the turn's).

@@ -306,6 +306,50 @@ TEST(RobotBelief, AStalledWheelIsAShortfallJump)
   EXPECT_NEAR(belief.shortfalls()(1), 0.0, 0.01);
 }
 
+TEST(RobotBelief, AWheelHeldAgainAfterItsJumpSaturatesItsSide)
+{
+  const params::RobotModelParams p = model();
+  aic::RobotBelief belief(p);
+  aic::WheelLoopModel loop(p);
+  // A stall at 0.05 rad/s: commanded 3 rad/s, the jump takes d = 2.95 rad/s, which explains the
+  // wheel: the stall ends.
+  drive(&belief, loop, base::Vector2(3.0, 3.0), base::Vector2(0.05, 0.05), 50);
+  ASSERT_NEAR(belief.shortfalls()(0), 2.95, 0.01);
+  ASSERT_FALSE(belief.stalled(0));
+  ASSERT_FALSE(belief.saturated(0));
+  const std::uint64_t jumps = belief.shortfallJumps();
+  // The command raised by that jump does not move the wheel: held again within five samples, long
+  // before the command has held still for a second jump; the side is saturated.
+  drive(&belief, loop, base::Vector2(5.95, 5.95), base::Vector2(0.05, 0.05), 6);
+  EXPECT_TRUE(belief.saturated(0));
+  EXPECT_TRUE(belief.saturated(1));
+  EXPECT_EQ(belief.unansweredJumps(), 2u);  // one per side
+  EXPECT_EQ(belief.shortfallJumps(), jumps);
+  // A wheel the raised command moves is not saturated: the same stall, the wheel answering at 1 rad/s.
+  aic::RobotBelief answered(p);
+  drive(&answered, loop, base::Vector2(3.0, 3.0), base::Vector2(0.05, 0.05), 50);
+  drive(&answered, loop, base::Vector2(5.95, 5.95), base::Vector2(1.0, 1.0), 6);
+  EXPECT_FALSE(answered.saturated(0));
+  EXPECT_EQ(answered.unansweredJumps(), 0u);
+}
+
+TEST(RobotBelief, ASecondJumpOfAWheelThatIsShortNotHeldSaturatesItsSide)
+{
+  const params::RobotModelParams p = model();
+  aic::RobotBelief belief(p);
+  aic::WheelLoopModel loop(p);
+  // Commanded 3 rad/s the wheel gives 2 (short, not held: more than half): a jump takes d = 1.
+  drive(&belief, loop, base::Vector2(3.0, 3.0), base::Vector2(2.0, 2.0), 50);
+  ASSERT_NEAR(belief.shortfalls()(0), 1.0, 0.01);
+  ASSERT_FALSE(belief.stalled(0));
+  // Made up (4 rad/s), the wheel stays at 2: never held, so the second jump shows it unanswered.
+  drive(&belief, loop, base::Vector2(4.0, 4.0), base::Vector2(2.0, 2.0), 50);
+  EXPECT_FALSE(belief.stalled(0));
+  EXPECT_TRUE(belief.saturated(0));
+  EXPECT_EQ(belief.shortfallJumps(), 4u);
+  EXPECT_EQ(belief.unansweredJumps(), 2u);
+}
+
 TEST(RobotBelief, AJumpTheWheelDoesNotAnswerSaturatesItsSide)
 {
   const params::RobotModelParams p = model();
@@ -316,8 +360,9 @@ TEST(RobotBelief, AJumpTheWheelDoesNotAnswerSaturatesItsSide)
   ASSERT_NEAR(belief.shortfalls()(0), 2.95, 0.01);
   EXPECT_EQ(belief.compensableShortfallsAt(0.0), belief.shortfallsAt(0.0));
   EXPECT_FALSE(belief.saturated(0));
-  // The command raised by that jump does not move the wheel: the next jump is taken (the belief
-  // stays honest) and the sides are saturated: none of their shortfall is made up.
+  // The command raised by that jump does not move the wheel: the sides are saturated (held again,
+  // AWheelHeldAgainAfterItsJumpSaturatesItsSide), the belief stays honest (d follows the command)
+  // and none of their shortfall is made up.
   drive(&belief, loop, base::Vector2(5.95, 5.95), base::Vector2(0.05, 0.05), 50);
   EXPECT_NEAR(belief.shortfalls()(0), 5.9, 0.01);
   EXPECT_EQ(belief.compensableShortfallsAt(0.0), base::Vector2::Zero());
@@ -330,7 +375,7 @@ TEST(RobotBelief, AJumpTheWheelDoesNotAnswerSaturatesItsSide)
   drive(&belief, loop, base::Vector2(3.0, 3.0), base::Vector2(0.05, 0.05), 50);
   EXPECT_NEAR(belief.shortfalls()(0), 2.95, 0.01);
   EXPECT_NEAR(belief.wheelSpeeds()(0), 0.05, 0.01);
-  EXPECT_EQ(belief.shortfallJumps(), 4u);
+  EXPECT_EQ(belief.shortfallJumps(), 2u);  // the first, one per side
   EXPECT_EQ(belief.shortfallReleases(), 0u);
   EXPECT_TRUE(belief.saturated(0));
   // Freed: the wheels run ahead of the jumps, which are dropped with the saturation.
