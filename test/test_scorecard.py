@@ -23,9 +23,10 @@ scorecard's verdicts, whose bounds are jackal_aic_tools.track.driving's and scor
 
 Regression guards (ScorecardRegressionGuards): the documented driving bounds config/default.yaml
 does not meet today on the turning plant (the arc's yaw overshoot on the gyro, <= 5 %, where the
-stock controller overshoots too; the tracking pairs' AIC / stock, <= 1.02 each; their geometric
-mean, <= 0.6; AIC / latency floor, geometric mean <= 1.20; all over the plant-following channels
-only, as the scorecard judges them). Each guard fails when the figure gets worse than
+stock controller overshoots too; the tracking pairs' geometric mean AIC / stock, <= 0.6; AIC /
+latency floor, geometric mean <= 1.20; all over the plant-following channels only, as the
+scorecard judges them). The tracking pairs' AIC / stock, <= 1.02 each, is met and is acceptance
+(test_every_plant_following_pair_is_within_its_bound). Each guard fails when the figure gets worse than
 today's plus a margin; its output names today's figure, the guard and the documented bound. A
 guard is not acceptance: when the default meets the documented bound, the row moves to the
 acceptance test.
@@ -45,23 +46,24 @@ from jackal_aic_tools.track import driving, plant_limits  # noqa: E402
 
 #: Regression guards: (what, today's figure, the guard, the documented bound). Today's figures are
 #: doc/results/scorecard.txt's (6a, 6b, 6d, 6e, 6g, 6h).
-GUARD_GMEAN = ("tracking, geometric mean AIC / stock (plant-following channels)", 0.736, 0.77,
+GUARD_GMEAN = ("tracking, geometric mean AIC / stock (plant-following channels)", 0.731, 0.77,
                driving.TRACK_GMEAN_BOUND)
 #: AIC / latency floor (table 6e) over the plant-following channels; the bound 1.20 removes three
 #: quarters of the error a controller acting through the plant's latency could avoid.
-GUARD_FLOOR = ("tracking, geometric mean AIC / latency floor (plant-following channels)", 1.376, 1.41, 1.20)
-GUARD_WORST_PAIR = ("tracking, worst plant-following channel AIC / stock", 1.476, 1.55, driving.TRACK_PAIR_BOUND)
+GUARD_FLOOR = ("tracking, geometric mean AIC / latency floor (plant-following channels)", 1.367, 1.41, 1.20)
 GUARD_ARC_OVERSHOOT = ("arc, yaw overshoot [%]", 6.3, 7.0, driving.STEP_OVERSHOOT)
 #: Tracking runs whose steady |belief - truth| is above its bound (table 6g; driving.BELIEF_BOUND where the
 #: plant follows, BELIEF_LIMITED_BOUND where it cannot): the robot tipping over its front wheels
 #: (`fast` on `front_heavy`), the slow-breakaway firmware's stick-slip and the turn-deficit
-#: firmware's turns (`planner_10hz`).
-GUARD_BELIEF = ("honest belief, tracking runs above their bound", 3, 4, 0)
+#: firmware's turns (`planner_10hz` on both).
+GUARD_BELIEF = ("honest belief, tracking runs above their bound", 2, 3, 0)
 #: Judged tracking runs whose end-of-profile |heading error| is above the stock controller's + 0.02 rad
 #: (table 6h; pairs whose plant follows both channels): `s_curves` on low friction, with the rated
-#: payload forward and on the turn-deficit firmware, `stop_and_go` on low friction, and
-#: `teleop_joystick` on `front_heavy` and at +20 % latency.
-GUARD_HEADING = ("end-of-profile heading, judged runs above their bound", 6, 7, 0)
+#: payload forward and on the turn-deficit firmware, `stop_and_go` on low friction,
+#: `teleop_joystick` on `front_heavy` and at +20 % latency, and `fast` with the rated payload and
+#: on the turn-deficit firmware (the cost of making an arc's shortfall up as the turn,
+#: doc/active_inference.md, 'A shortfall in an arc').
+GUARD_HEADING = ("end-of-profile heading, judged runs above their bound", 8, 9, 0)
 #: The arc's yaw overshoot is acceptance with the model's initial wheel separation at the plant's
 #: effective one (table 6i): what remains of GUARD_ARC_OVERSHOOT is the prior b_hat_0 (the thesis's
 #: 0.5621 m, identified on the robot) against the turning the plant assumes.
@@ -175,6 +177,14 @@ class ScorecardAcceptance(unittest.TestCase):
             self.assertEqual(r["pass"], all(x <= driving.TRACK_PAIR_BOUND for x in following), r)
         self.assertEqual(crit["driving_limited_gmean"]["n"], limited)
 
+    def test_every_plant_following_pair_is_within_its_bound(self):
+        # Acceptance: table 6d's per-pair bound, AIC / stock <= 1.02 on every plant-following
+        # channel (1.018 today, the slow break-away's `creep` vx).
+        rows = scorecard_report()["criteria"]["driving_tracking"]
+        worst = max(r[ch + "_ratio"] for r in rows for ch in ("vx", "wz") if r["limited_" + ch] is None)
+        self.assertLessEqual(worst, driving.TRACK_PAIR_BOUND,
+                             "worst plant-following pair AIC / stock %.3f > %.3f" % (worst, driving.TRACK_PAIR_BOUND))
+
 
 class ScorecardRegressionGuards(unittest.TestCase):
     """Documented driving bounds config/default.yaml does not meet: the figure may not get worse
@@ -205,11 +215,6 @@ class ScorecardRegressionGuards(unittest.TestCase):
     def test_regression_guard_end_of_profile_heading(self):
         rows = scorecard_report()["criteria"]["driving_tracking"]
         self.guard(GUARD_HEADING, sum(1 for r in rows if r["heading_judged"] and not r["heading_pass"]))
-
-    def test_regression_guard_tracking_worst_pair(self):
-        rows = scorecard_report()["criteria"]["driving_tracking"]
-        self.guard(GUARD_WORST_PAIR, max(r[ch + "_ratio"] for r in rows for ch in ("vx", "wz")
-                                         if r["limited_" + ch] is None))
 
 
 if __name__ == "__main__":
