@@ -789,9 +789,7 @@ ActiveInferenceController::Status ActiveInferenceController::updateRobotAction(d
   base::Vector2 shortfall = at_rest ? base::Vector2::Zero() : robot_belief_.compensableShortfallsAt(goal_turn);
   // In an arc, the speed's part only where the wheels are short of the goal's speed
   // (LatencyAction::inArc()); not while a side is stalled or saturated, whose zero stays zero.
-  const bool stalled_or_saturated =
-      robot_belief_.stalled(0) || robot_belief_.stalled(1) || robot_belief_.saturated(0) || robot_belief_.saturated(1);
-  if (!at_rest && !stalled_or_saturated && std::abs(goal_turn) > RobotBelief::kStraightTurn)
+  if (!at_rest && !robot_belief_.anySideHeld() && std::abs(goal_turn) > RobotBelief::kStraightTurn)
   {
     shortfall = LatencyAction::inArc(shortfall, goal, robot_belief_.wheelSpeeds());
   }

@@ -368,18 +368,9 @@ void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e,
     const double target = std::clamp(*d + turn_part - run.mean(), std::min(0.0, u), std::max(0.0, u)) - turn_part;
     if (std::abs(target - *d) > limit)
     {
-      // Unanswered: the side's last jump was in the same direction, the command has since been
-      // raised by more than the band (an answer would show) and the wheel is where the last jump
-      // found it. The side is saturated: its speed no longer depends on its command.
+      // A second jump in the direction of the last, the wheel where that one found it: unanswered.
       const double wheel = run.mean() + (u - *d - turn_part);
-      const double direction = target - *d > 0.0 ? 1.0 : -1.0;
-      const bool raised = (u - jump_command_(side)) * direction > band;
-      if (shortfall_jump_(side) * direction > 0.0 && raised && std::abs(wheel - jump_wheel_(side)) <= band &&
-          !saturated_[side])
-      {
-        saturated_[side] = true;
-        ++unanswered_jumps_;
-      }
+      saturateIfUnanswered(side, target - *d > 0.0 ? 1.0 : -1.0, wheel, band);
       jump_wheel_(side) = wheel;
       jump_command_(side) = u;
       shortfall_jump_(side) += target - *d;
@@ -397,9 +388,10 @@ void RobotBelief::detectStall(int side, double y, bool used, double shortfall, d
     return;
   }
   const double u = wheel_command_(side);
+  const double direction = u >= 0.0 ? 1.0 : -1.0;
   // How far the model's steady speed u - d - sigma e is beyond the wheel, toward the command.
   const double steady = u - shortfall;
-  const double gap = (steady - y) * (u >= 0.0 ? 1.0 : -1.0);
+  const double gap = (steady - y) * direction;
   if (stalled_[side])
   {
     // Answered (the wheel gives the model's steady speed) or asked for no more than it gives (the
@@ -418,16 +410,22 @@ void RobotBelief::detectStall(int side, double y, bool used, double shortfall, d
   {
     stalled_[side] = true;
     ++stalls_;
-    // Held again after its jump was made up: the command raised since that jump (by more than the
-    // band) did not move the wheel from where the jump found it. Unanswered, as a second jump would
-    // show once the command held still: the side is saturated.
-    const double direction = u >= 0.0 ? 1.0 : -1.0;
-    if (!saturated_[side] && shortfall_jump_(side) * direction > 0.0 && (u - jump_command_(side)) * direction > band &&
-        std::abs(stall_runs_[side].mean() - jump_wheel_(side)) <= band)
-    {
-      saturated_[side] = true;
-      ++unanswered_jumps_;
-    }
+    // Held again after its jump was made up: unanswered, as a second jump would show once the
+    // command held still.
+    saturateIfUnanswered(side, direction, stall_runs_[side].mean(), band);
+  }
+}
+
+void RobotBelief::saturateIfUnanswered(int side, double direction, double wheel, double band)
+{
+  // The side's last jump was in `direction`, the command has since been raised that way by more
+  // than the band (an answer would show), and the wheel is within the band of where that jump
+  // found it: the side is saturated, its speed no longer depends on its command.
+  if (!saturated_[side] && shortfall_jump_(side) * direction > 0.0 &&
+      (wheel_command_(side) - jump_command_(side)) * direction > band && std::abs(wheel - jump_wheel_(side)) <= band)
+  {
+    saturated_[side] = true;
+    ++unanswered_jumps_;
   }
 }
 

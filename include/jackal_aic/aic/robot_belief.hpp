@@ -208,6 +208,9 @@ public:
   /// Whether side s (0 left, 1 right; any other: false) is saturated: a jump went unanswered, and
   /// until its jumps are dropped its speed does not depend on its command (the class's description).
   bool saturated(int side) const { return (side == 0 || side == 1) && saturated_[side]; }
+  /// Whether either side is stalled() or saturated(): a wheel whose speed does not follow its
+  /// command, so the action's arc rule (LatencyAction::inArc()) does not apply.
+  bool anySideHeld() const { return stalled_[0] || stalled_[1] || saturated_[0] || saturated_[1]; }
   /**
    * \brief The sides' signs (sigma_L, sigma_R) = (-c, c), c = clamp(turn / kStraightTurn, -1, 1), of
    *        the turn shortfalls at the goal's yaw rate `turn` [rad/s]: a left turn's scrub load holds
@@ -294,6 +297,12 @@ private:
   /// [rad/s], `limit` the jump test's limit on a residual and `band` its band of a wheel that does
   /// not move [rad/s] (detectShortfallJump() computes them).
   void detectStall(int side, double y, bool used, double shortfall, double limit, double band);
+  /// Saturates side s (saturated()) when its jump went unanswered: its last jump was in
+  /// `direction` (+1 or -1, toward a larger command), the command has since been raised that way
+  /// by more than `band` [rad/s], and `wheel` [rad/s], the wheel's steady speed now, is within
+  /// `band` of where that jump found it. Called on a second jump (detectShortfallJump()) and on a
+  /// held wheel (detectStall()).
+  void saturateIfUnanswered(int side, double direction, double wheel, double band);
   /// Drop side's jumps: d loses their part, the stall compensation is lifted.
   void dropJumps(int side);
   /// Whether side's reading y [rad/s] is a frozen encoder's (frozenEncoderSamples()).
