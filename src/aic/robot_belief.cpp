@@ -368,7 +368,8 @@ void RobotBelief::detectShortfallJump(int side, double y, bool used, double r_e,
     const double target = std::clamp(*d + turn_part - run.mean(), std::min(0.0, u), std::max(0.0, u)) - turn_part;
     if (std::abs(target - *d) > limit)
     {
-      // A second jump in the direction of the last, the wheel where that one found it: unanswered.
+      // A second jump: unanswered if the last went the same way and the raised command left the wheel
+      // where it found it (saturateIfUnanswered()).
       const double wheel = run.mean() + (u - *d - turn_part);
       saturateIfUnanswered(side, target - *d > 0.0 ? 1.0 : -1.0, wheel, band);
       jump_wheel_(side) = wheel;

@@ -208,8 +208,8 @@ public:
   /// Whether side s (0 left, 1 right; any other: false) is saturated: a jump went unanswered, and
   /// until its jumps are dropped its speed does not depend on its command (the class's description).
   bool saturated(int side) const { return (side == 0 || side == 1) && saturated_[side]; }
-  /// Whether either side is stalled() or saturated(): a wheel whose speed does not follow its
-  /// command, so the action's arc rule (LatencyAction::inArc()) does not apply.
+  /// Whether either side is stalled() or saturated(): a side whose wheel speed does not follow its
+  /// command.
   bool anySideHeld() const { return stalled_[0] || stalled_[1] || saturated_[0] || saturated_[1]; }
   /**
    * \brief The sides' signs (sigma_L, sigma_R) = (-c, c), c = clamp(turn / kStraightTurn, -1, 1), of
