@@ -1066,18 +1066,26 @@ class ArcPriorTest(unittest.TestCase):
         def run(overshoot):
             return {key: [{"measured": {"overshoot": overshoot}}]}
 
-        res = {("step", "arc, speed", ph, "aic"): (run(7.0 + i), self.trace(0.5621, 0.5355) if i == 0 else None)
+        def result(overshoot):
+            return dict(run(overshoot), command_delay=0.1187)
+
+        res = {("step", "arc, speed", ph, "aic"): (result(7.0 + i), self.trace(0.5621, 0.5355) if i == 0 else None)
                for i, ph in enumerate(driving.STEP_PHASES)}
         seen = []
+        trace = self.trace
 
         class Runner:
             def run_all(self, jobs):
                 out = {}
                 for key_, controller, args, overlay, sets, want_trace in jobs:
                     self_sets = [a for a in args if a.startswith("wheel_separation=")]
-                    seen.append((controller, self_sets[0], overlay, want_trace))
+                    seen.append((controller, self_sets[0], overlay, want_trace, key_[2]))
                     factor = key_[1]
-                    out[key_] = (run(100.0 * (factor - 1.0) + 2.0), None)
+                    # The factor's trace: its ratio reaches the steady value from 0.3 s.
+                    tr = trace(factor * 0.5355, 0.5355) if want_trace else None
+                    if tr is not None:
+                        tr["yaw_true"][tr["t"] < 0.3] *= 0.9
+                    out[key_] = (result(100.0 * (factor - 1.0) + 2.0), tr)
                 return out
 
         arc = driving.arc_prior(Runner(), res)
@@ -1093,17 +1101,53 @@ class ArcPriorTest(unittest.TestCase):
             self.assertAlmostEqual(row["separation"], f * 0.5355, places=9)
             self.assertAlmostEqual(row["overshoot"], 100.0 * (f - 1.0) + 2.0, places=9)
             self.assertEqual(row["within"], row["overshoot"] <= driving.STEP_OVERSHOOT)
-        # Every factor at every phase, on the AIC, with the separation set and no trace.
+            # When the error shows: the made-up rise ends at 0.3 s; the peak is the run's largest yaw.
+            self.assertAlmostEqual(row["seen"], 0.3, places=9)
+            self.assertAlmostEqual(row["peak"], 0.3, places=9)
+            self.assertEqual(row["latency"], 0.1187)
+        # The configured row's timing is its first phase's trace: a constant turn, seen from the start.
+        self.assertEqual((rows[0]["seen"], rows[0]["peak"], rows[0]["latency"]), (0.0, 0.0, 0.1187))
+        # Every factor at every phase, on the AIC, with the separation set; the first phase's trace.
         self.assertEqual(len(seen), len(driving.ARC_PRIOR_FACTORS) * len(driving.STEP_PHASES))
-        self.assertTrue(all(c == "aic" and o is None and not w for c, _, o, w in seen))
-        self.assertIn("wheel_separation=%.5f" % (1.05 * 0.5355), [s for _, s, _, _ in seen])
+        self.assertTrue(all(c == "aic" and o is None and w == (ph == driving.STEP_PHASES[0])
+                            for c, _, o, w, ph in seen))
+        self.assertIn("wheel_separation=%.5f" % (1.05 * 0.5355), [s for _, s, _, _, _ in seen])
+
+    def test_the_prior_error_is_seen_once_the_ratio_holds_its_steady_value(self):
+        tr = self.trace(0.5621, 0.5355)
+        t = tr["t"]
+        # A rise: no turn until 0.1 s, then the body turns 10 % short of the wheels' steady ratio until
+        # 0.45 s (the tyres' grip at a speed change), then at its steady ratio; its peak at 0.6 s.
+        tr["yaw_odom"][t < 0.1] = 0.0
+        tr["yaw_true"][t < 0.1] = 0.0
+        tr["yaw_true"][(t >= 0.1) & (t < 0.45)] *= 0.9
+        tr["yaw_true"][np.isclose(t, 0.6)] *= 1.01
+        tr["yaw_odom"][np.isclose(t, 0.6)] *= 1.01
+        got = driving.prior_error_seen(tr)
+        self.assertAlmostEqual(got["seen"], 0.45, places=9)
+        self.assertAlmostEqual(got["peak"], 0.6, places=9)
+        # One sample beyond the tolerance later (before the steady window) moves it past that sample.
+        tr["yaw_true"][np.isclose(t, 1.2)] *= 1.0 + 1.5 * driving.ARC_RATIO_TOLERANCE
+        self.assertAlmostEqual(driving.prior_error_seen(tr)["seen"], 1.21, places=9)
+        # Within the tolerance it does not.
+        tr["yaw_true"][np.isclose(t, 1.2)] /= 1.0 + 1.5 * driving.ARC_RATIO_TOLERANCE
+        tr["yaw_true"][np.isclose(t, 1.2)] *= 1.0 + 0.5 * driving.ARC_RATIO_TOLERANCE
+        self.assertAlmostEqual(driving.prior_error_seen(tr)["seen"], 0.45, places=9)
+        # Samples before the step (t < 0) are not read.
+        tr["t"] = t - 0.05
+        self.assertAlmostEqual(driving.prior_error_seen(tr)["seen"], 0.40, places=9)
+
+    def test_no_turn_has_no_prior_error_to_see(self):
+        with self.assertRaisesRegex(ValueError, "no turn to measure"):
+            driving.prior_error_seen(self.trace(0.5621, 0.5355, yaw=0.01))
 
     def test_table_and_its_error_form_print(self):
         from jackal_aic_tools.tune import scorecard_print
         arc = {"b_eff": 0.5355, "b_hat_0": 0.5621,
                "rows": [{"separation": 0.5621, "factor": 0.5621 / 0.5355, "configured": True, "overshoot": 7.8,
-                         "within": False},
-                        {"separation": 0.5355, "factor": 1.0, "configured": False, "overshoot": 2.8, "within": True}]}
+                         "within": False, "seen": 0.47, "peak": 0.59, "latency": 0.1187},
+                        {"separation": 0.5355, "factor": 1.0, "configured": False, "overshoot": 2.8, "within": True,
+                         "seen": 0.47, "peak": 0.77, "latency": 0.1187}]}
         buf = io.StringIO()
         with contextlib.redirect_stdout(buf):
             scorecard_print.print_arc_prior(arc)
@@ -1111,7 +1155,8 @@ class ArcPriorTest(unittest.TestCase):
         self.assertIn("6i.", text)
         self.assertIn("is 0.5355 m; the configured b_hat_0 0.5621 m is 1.050 x b_eff", text)
         self.assertIn("0.5621 m (configured)", text)
-        self.assertRegex(text, r"0\.5355 m\s+1\.000\s+2\.8 %\s+yes")
+        self.assertRegex(text, r"0\.5355 m\s+1\.000\s+2\.8 %\s+yes\s+0\.47 s\s+0\.59 s\s+0\.77 s")
+        self.assertIn("within 2 % of its steady value", text)
         buf = io.StringIO()
         with contextlib.redirect_stdout(buf):
             scorecard_print.print_arc_prior({"error": "arc_effective_separation: no turn to measure"})

@@ -74,6 +74,10 @@ ROBUST_PLANTS = {
 ARC_PRIOR_FACTORS = (1.0, 1.025, 1.05)
 #: Window at the end of the arc run over which the plant's effective separation is measured [s].
 ARC_SEPARATION_WINDOW = 1.0
+#: The body's yaw rate over the wheels' (yaw_true / yaw_odom) reads its steady value b_hat_0 / b_eff
+#: once within this fraction of it: above the encoders' noise on the arc (the default's steady
+#: samples lie within 1.5 %), below the prior errors of table 6i (2.5 and 5 %).
+ARC_RATIO_TOLERANCE = 0.02
 #: Turn-deficit holds [rad/s]; steady error bound (fraction of the command) over the last second.
 DEFICIT_TURNS = (0.3, 0.5, 1.0)
 DEFICIT_HOLD = 3.0
@@ -233,6 +237,40 @@ def arc_effective_separation(trace, window=ARC_SEPARATION_WINDOW):
     return b0, b0 * yaw_odom / yaw_true
 
 
+def prior_error_seen(trace, window=ARC_SEPARATION_WINDOW, tolerance=ARC_RATIO_TOLERANCE):
+    """When an arc run's trace (closed_loop_run --csv columns t, yaw_odom, yaw_true) first shows the
+    model's prior separation error, and when the body's true yaw rate peaks.
+
+    In a steady turn the body's yaw rate over the wheels' yaw rate through b_hat_0, yaw_true /
+    yaw_odom, is b_hat_0 / b_eff (arc_effective_separation); in the turn's rise it is not: the body's
+    yaw lags the wheels' (the scrub lag), and while the wheels' common speed changes the tyres' grip
+    goes to the speed change and the body turns less than the wheels' differential says. ``seen`` is
+    the first time from which that ratio, at every sample up to the last ``window`` s, is within
+    ``tolerance`` of its mean over that window (a sample whose |yaw_odom| is below 10 % of that
+    window's mean counts as outside): before it no reading tells b_hat_0's error from the rise, so no
+    command informed by it reaches the wheels before seen + the latency.
+
+    Returns {"seen": s, "peak": s}, trace times from the step; peak: the time of the largest
+    |yaw_true|. Raises ValueError when the window's mean |yaw_true| or |yaw_odom| is below 0.05 rad/s
+    (no turn to measure)."""
+    t = np.asarray(trace["t"], dtype=float)
+    yaw_true = np.asarray(trace["yaw_true"], dtype=float)
+    yaw_odom = np.asarray(trace["yaw_odom"], dtype=float)
+    after = t >= 0.0
+    t, yaw_true, yaw_odom = t[after], yaw_true[after], yaw_odom[after]
+    steady = t >= t[-1] - window
+    true_mean, odom_mean = float(np.mean(yaw_true[steady])), float(np.mean(yaw_odom[steady]))
+    if not (abs(true_mean) >= 0.05 and abs(odom_mean) >= 0.05):
+        raise ValueError("prior_error_seen: mean yaw rates %.4f (true) and %.4f (wheels) rad/s over the last %g s: "
+                         "no turn to measure" % (true_mean, odom_mean, window))
+    turning = np.abs(yaw_odom) >= 0.1 * abs(odom_mean)
+    ratio = np.where(turning, yaw_true / np.where(turning, yaw_odom, 1.0), np.nan)
+    within = turning & (np.abs(ratio * odom_mean / true_mean - 1.0) <= tolerance)
+    outside = np.flatnonzero(~within & ~steady)
+    seen = t[outside[-1] + 1] if outside.size else t[0]
+    return {"seen": float(seen), "peak": float(t[np.argmax(np.abs(yaw_true))])}
+
+
 def arc_prior(runner, res):
     """Table 6i's rows: the arc step's yaw overshoot (on the gyro, the worst of STEP_PHASES) with the
     configured initial wheel separation (the runs ``res`` of evaluate(), key ("step", "arc, speed",
@@ -241,23 +279,29 @@ def arc_prior(runner, res):
     AIC's settings but wheel_separation, which a wheel_separation among the runner's own aic_sets
     would override). Returns {b_eff [m], b_hat_0 [m] (configured), rows: list of
     {separation [m], factor (separation / b_eff), overshoot [%], configured (bool), within (overshoot
-    <= STEP_OVERSHOOT)}}. Reported, not judged: it tells how much of the arc's overshoot the model's
-    prior separation decides. Raises ValueError as arc_effective_separation."""
+    <= STEP_OVERSHOOT), seen, peak [s] (prior_error_seen on the first phase's run), latency [s] (that
+    run's plant command_delay)}}. Reported, not judged: it tells how much of the arc's overshoot the
+    model's prior separation decides, and whether the prior's error shows in time to act on it (seen +
+    latency against peak). Raises ValueError as arc_effective_separation or prior_error_seen."""
     args, key = STEP_CASES["arc, yaw"]
     b0, b_eff = arc_effective_separation(res[("step", "arc, speed", STEP_PHASES[0], "aic")][1])
 
     def worst(runs):
         return max(r[key][0]["measured"]["overshoot"] or 0.0 for r in runs)
 
-    rows = [{"separation": b0, "factor": b0 / b_eff, "configured": True,
-             "overshoot": worst([res[("step", "arc, speed", ph, "aic")][0] for ph in STEP_PHASES])}]
+    def timing(run):  # the first phase's run: (result, trace)
+        return dict(prior_error_seen(run[1]), latency=float(run[0]["command_delay"]))
+
+    first = res[("step", "arc, speed", STEP_PHASES[0], "aic")]
+    rows = [dict(timing(first), separation=b0, factor=b0 / b_eff, configured=True,
+                 overshoot=worst([res[("step", "arc, speed", ph, "aic")][0] for ph in STEP_PHASES]))]
     jobs = [(("arc_prior", f, ph), "aic",
              args + ["--rest", "%.4f" % (1.0 + ph), "--aic-set", "wheel_separation=%.5f" % (f * b_eff)],
-             None, (), False) for f in ARC_PRIOR_FACTORS for ph in STEP_PHASES]
+             None, (), ph == STEP_PHASES[0]) for f in ARC_PRIOR_FACTORS for ph in STEP_PHASES]
     more = runner.run_all(jobs)
     for f in ARC_PRIOR_FACTORS:
-        rows.append({"separation": f * b_eff, "factor": f, "configured": False,
-                     "overshoot": worst([more[("arc_prior", f, ph)][0] for ph in STEP_PHASES])})
+        rows.append(dict(timing(more[("arc_prior", f, STEP_PHASES[0])]), separation=f * b_eff, factor=f,
+                         configured=False, overshoot=worst([more[("arc_prior", f, ph)][0] for ph in STEP_PHASES])))
     for r in rows:
         r["within"] = r["overshoot"] <= STEP_OVERSHOOT
     return {"b_eff": b_eff, "b_hat_0": b0, "rows": rows}

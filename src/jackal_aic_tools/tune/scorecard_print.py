@@ -226,12 +226,17 @@ def print_arc_prior(arc):
     table("6i. The arc step's yaw overshoot (on the gyro, worst of the %d phases; table 6a's 'arc, yaw') against "
           "the model's initial wheel separation b_hat_0 (reported): the plant's effective separation on this arc, "
           "b_eff = b_hat_0 x wheel-odometry yaw rate / true yaw rate over the last %g s, is %.4f m; the "
-          "configured b_hat_0 %.4f m is %.3f x b_eff"
+          "configured b_hat_0 %.4f m is %.3f x b_eff. 'error seen from': the first phase's run, the time after the "
+          "step from which the true yaw rate over the wheels' stays within %g %% of its steady value b_hat_0 / b_eff "
+          "(before it the turn's rise hides b_hat_0's error); a command informed by it reaches the wheels one "
+          "latency later ('+ latency'), against the time of the true yaw rate's peak"
           % (len(driving.STEP_PHASES), driving.ARC_SEPARATION_WINDOW, arc["b_eff"], arc["b_hat_0"],
-             arc["b_hat_0"] / arc["b_eff"]),
-          ["b_hat_0", "b_hat_0 / b_eff", "AIC yaw overshoot", "within %g %%" % driving.STEP_OVERSHOOT],
+             arc["b_hat_0"] / arc["b_eff"], 100.0 * driving.ARC_RATIO_TOLERANCE),
+          ["b_hat_0", "b_hat_0 / b_eff", "AIC yaw overshoot", "within %g %%" % driving.STEP_OVERSHOOT,
+           "error seen from", "+ latency", "true yaw peak"],
           [["%.4f m%s" % (r["separation"], " (configured)" if r["configured"] else ""), "%.3f" % r["factor"],
-            "%.1f %%" % r["overshoot"], "yes" if r["within"] else "no"] for r in arc["rows"]])
+            "%.1f %%" % r["overshoot"], "yes" if r["within"] else "no", "%.2f s" % r["seen"],
+            "%.2f s" % (r["seen"] + r["latency"]), "%.2f s" % r["peak"]] for r in arc["rows"]])
 
 
 def report(crit, ok, a, root):
