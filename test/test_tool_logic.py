@@ -1133,9 +1133,12 @@ class ArcPriorTest(unittest.TestCase):
         tr["yaw_true"][np.isclose(t, 1.2)] /= 1.0 + 1.5 * driving.ARC_RATIO_TOLERANCE
         tr["yaw_true"][np.isclose(t, 1.2)] *= 1.0 + 0.5 * driving.ARC_RATIO_TOLERANCE
         self.assertAlmostEqual(driving.prior_error_seen(tr)["seen"], 0.45, places=9)
-        # Samples before the step (t < 0) are not read.
+        # Samples before the step (t < 0) are not read: a larger yaw there is not the peak.
         tr["t"] = t - 0.05
-        self.assertAlmostEqual(driving.prior_error_seen(tr)["seen"], 0.40, places=9)
+        tr["yaw_true"][0] = tr["yaw_odom"][0] = 5.0
+        got = driving.prior_error_seen(tr)
+        self.assertAlmostEqual(got["seen"], 0.40, places=9)
+        self.assertAlmostEqual(got["peak"], 0.55, places=9)
 
     def test_no_turn_has_no_prior_error_to_see(self):
         with self.assertRaisesRegex(ValueError, "no turn to measure"):
