@@ -211,6 +211,14 @@ def floor_rms(profile, latency, cache=None, accel_linear=0.0, accel_angular=0.0,
     return out
 
 
+def steady_yaw_rates(t, yaw_true, yaw_odom, window):
+    """The steady part of an arc run's trace: the samples of its last ``window`` s (t, yaw_true,
+    yaw_odom: arrays of one length, s and rad/s) and the means of the true and the wheels' yaw rate
+    over them. Returns (mask, mean yaw_true, mean yaw_odom); a non-finite sample makes its mean NaN."""
+    steady = t >= t[-1] - window
+    return steady, float(np.mean(yaw_true[steady])), float(np.mean(yaw_odom[steady]))
+
+
 def arc_effective_separation(trace, window=ARC_SEPARATION_WINDOW):
     """The model's initial wheel separation b_hat_0 and the plant's effective separation b_eff [m] of
     an AIC arc run, from its trace (closed_loop_run --csv columns t, yaw_odom, yaw_true, separation):
@@ -226,10 +234,9 @@ def arc_effective_separation(trace, window=ARC_SEPARATION_WINDOW):
     finite = sep[np.isfinite(sep)]
     if finite.size == 0:
         raise ValueError("arc_effective_separation: the trace has no finite separation (not an AIC run?)")
-    t = np.asarray(trace["t"], dtype=float)
-    keep = t >= t[-1] - window
-    yaw_true = float(np.mean(np.asarray(trace["yaw_true"], dtype=float)[keep]))
-    yaw_odom = float(np.mean(np.asarray(trace["yaw_odom"], dtype=float)[keep]))
+    _, yaw_true, yaw_odom = steady_yaw_rates(np.asarray(trace["t"], dtype=float),
+                                             np.asarray(trace["yaw_true"], dtype=float),
+                                             np.asarray(trace["yaw_odom"], dtype=float), window)
     if not (abs(yaw_true) >= 0.05 and math.isfinite(yaw_odom)):
         raise ValueError("arc_effective_separation: mean yaw rate %.4f rad/s over the last %g s: no turn to "
                          "measure" % (yaw_true, window))
@@ -258,8 +265,7 @@ def prior_error_seen(trace, window=ARC_SEPARATION_WINDOW, tolerance=ARC_RATIO_TO
     yaw_odom = np.asarray(trace["yaw_odom"], dtype=float)
     after = t >= 0.0
     t, yaw_true, yaw_odom = t[after], yaw_true[after], yaw_odom[after]
-    steady = t >= t[-1] - window
-    true_mean, odom_mean = float(np.mean(yaw_true[steady])), float(np.mean(yaw_odom[steady]))
+    steady, true_mean, odom_mean = steady_yaw_rates(t, yaw_true, yaw_odom, window)
     if not (abs(true_mean) >= 0.05 and abs(odom_mean) >= 0.05):
         raise ValueError("prior_error_seen: mean yaw rates %.4f (true) and %.4f (wheels) rad/s over the last %g s: "
                          "no turn to measure" % (true_mean, odom_mean, window))
